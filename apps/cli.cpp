@@ -1,0 +1,105 @@
+#include "apps/cli.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+
+#include "gpu/vk_check.h"
+
+namespace aquaform::cli {
+
+namespace {
+
+const char* kUsage =
+    "usage: aquaform <command> [options]\n"
+    "commands:\n"
+    "  run SCENE.json [--frames N] [--out DIR] [--device NAME|INDEX] [--ply-every K]\n"
+    "                 [--no-png] [--resolution WxH] [--validation]\n"
+    "        simulate a scene; writes PNG frames, stats.csv, front.csv (dam breaks), PLY dumps\n"
+    "  info [--device NAME|INDEX]\n"
+    "        list Vulkan devices and the one aquaform would use\n"
+    "  bench sim [--sizes 16384,32768,...] [--iterations N] [--steps N] [--out FILE] [--device ...]\n"
+    "        time the solver and the neighbour search; writes bench_sim.json\n"
+    "  help  show this text\n";
+
+}  // namespace
+
+std::string Args::value(const std::string& flag, const std::string& fallback) const {
+    auto it = values.find(flag);
+    return it == values.end() ? fallback : it->second;
+}
+
+std::optional<Args> parse_args(const std::vector<std::string>& argv, const FlagSpec& spec,
+                               const std::string& command, std::string* error) {
+    Args args;
+    auto contains = [](const std::vector<std::string>& v, const std::string& s) {
+        return std::find(v.begin(), v.end(), s) != v.end();
+    };
+    for (size_t i = 0; i < argv.size(); ++i) {
+        const std::string& a = argv[i];
+        if (a.rfind("--", 0) != 0) {
+            args.positional.push_back(a);
+            continue;
+        }
+        if (contains(spec.switches, a)) {
+            args.switches[a] = true;
+        } else if (contains(spec.with_value, a)) {
+            if (i + 1 >= argv.size()) {
+                *error = "aquaform " + command + ": " + a + " needs a value";
+                return std::nullopt;
+            }
+            args.values[a] = argv[++i];
+        } else {
+            std::string known;
+            for (const auto& f : spec.with_value) known += " " + f;
+            for (const auto& f : spec.switches) known += " " + f;
+            *error = "aquaform " + command + ": unknown flag " + a + "; known flags:" +
+                     (known.empty() ? " (none)" : known) + " (see aquaform help)";
+            return std::nullopt;
+        }
+    }
+    return args;
+}
+
+std::optional<long> parse_positive(const std::string& flag, const std::string& text, std::string* error) {
+    char* end = nullptr;
+    long v = std::strtol(text.c_str(), &end, 10);
+    if (text.empty() || *end != '\0' || v <= 0) {
+        *error = flag + " must be a positive integer, got \"" + text + "\"";
+        return std::nullopt;
+    }
+    return v;
+}
+
+bool validation_requested(const Args& args) {
+    const char* env = std::getenv("AQUAFORM_VALIDATION");
+    return args.has("--validation") || (env && std::string(env) == "1");
+}
+
+int run_main(int argc, char** argv) {
+    std::vector<std::string> rest(argv + std::min(argc, 2), argv + argc);
+    const std::string command = argc >= 2 ? argv[1] : "";
+    try {
+        if (command == "run") return cmd_run(rest);
+        if (command == "info") return cmd_info(rest);
+        if (command == "bench") return cmd_bench(rest);
+        if (command == "help" || command == "--help" || command == "-h") {
+            std::fputs(kUsage, stdout);
+            return kExitOk;
+        }
+        if (command.empty())
+            std::fprintf(stderr, "aquaform: no command given\n%s", kUsage);
+        else
+            std::fprintf(stderr, "aquaform: unknown command \"%s\"\n%s", command.c_str(), kUsage);
+        return kExitUsage;
+    } catch (const gpu::VulkanError& e) {
+        std::fprintf(stderr, "aquaform: %s\n", e.what());
+        return kExitFailure;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "aquaform: %s\n", e.what());
+        return kExitFailure;
+    }
+}
+
+}  // namespace aquaform::cli

@@ -1,0 +1,47 @@
+// The `aquaform` command: argument parsing shared by its subcommands, and their entry points.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace aquaform::cli {
+
+/// Exit codes: 0 success, 1 runtime failure (device, memory, unstable run), 2 bad input.
+constexpr int kExitOk = 0;
+constexpr int kExitFailure = 1;
+constexpr int kExitUsage = 2;
+
+/// Parsed `--flag value` / `--switch` options and positional arguments of one subcommand.
+struct Args {
+    std::vector<std::string> positional;
+    std::map<std::string, std::string> values;  ///< flags that take a value
+    std::map<std::string, bool> switches;       ///< flags without a value
+
+    bool has(const std::string& flag) const { return values.count(flag) || switches.count(flag); }
+    std::string value(const std::string& flag, const std::string& fallback = "") const;
+};
+
+/// What a subcommand accepts; anything else is an error naming the flag.
+struct FlagSpec {
+    std::vector<std::string> with_value;
+    std::vector<std::string> switches;
+};
+
+/// Parses argv[first..]; on error returns nullopt and fills `error` (naming the flag and the fix).
+std::optional<Args> parse_args(const std::vector<std::string>& argv, const FlagSpec& spec,
+                               const std::string& command, std::string* error);
+
+/// Parses a positive integer flag value; on error fills `error`.
+std::optional<long> parse_positive(const std::string& flag, const std::string& text, std::string* error);
+
+int run_main(int argc, char** argv);
+int cmd_info(const std::vector<std::string>& argv);
+int cmd_run(const std::vector<std::string>& argv);
+int cmd_bench(const std::vector<std::string>& argv);
+
+/// Validation is on with --validation or AQUAFORM_VALIDATION=1 (the test suite sets it).
+bool validation_requested(const Args& args);
+
+}  // namespace aquaform::cli

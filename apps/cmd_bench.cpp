@@ -1,0 +1,139 @@
+// `aquaform bench sim`: solver speed and neighbour-search scaling on dam breaks of growing size.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "apps/cli.h"
+#include "gpu/context.h"
+#include "gpu/timer.h"
+#include "sim/neighbor_grid.h"
+#include "sim/pbf_solver.h"
+
+namespace aquaform::cli {
+
+namespace {
+
+/// A dam break with about `particles` particles: a column a x 2a x a in a 4a x 2.5a x a tank.
+Scene bench_scene(uint32_t particles, uint32_t iterations) {
+    Scene s;
+    s.name = "bench_dam_break_" + std::to_string(particles);
+    s.particle_spacing = 0.01f;
+    const float a = s.particle_spacing * std::cbrt(particles / 2.0f);
+    s.domain = {glm::vec3(0.0f), glm::vec3(4.0f * a, 2.5f * a, a)};
+    s.fluid_blocks = {{glm::vec3(0.0f), glm::vec3(a, 2.0f * a, a)}};
+    s.column_width = a;
+    s.solver.iterations = iterations;
+    s.solver.substeps = 2;
+    s.solver.viscosity = 0.01f;
+    s.solver.vorticity = 1.0e-4f;
+    return s;
+}
+
+std::vector<uint32_t> parse_sizes(const std::string& text, std::string* error) {
+    std::vector<uint32_t> sizes;
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        auto v = parse_positive("--sizes", item, error);
+        if (!v) return {};
+        sizes.push_back(static_cast<uint32_t>(*v));
+    }
+    return sizes;
+}
+
+const char* kGridPasses[] = {"grid_count", "grid_scan", "grid_scatter", "reorder"};
+
+}  // namespace
+
+int cmd_bench(const std::vector<std::string>& argv) {
+    std::string error;
+    auto args = parse_args(argv, {{"--sizes", "--iterations", "--steps", "--out", "--device", "--warmup"}, {"--validation"}},
+                           "bench", &error);
+    if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
+    if (args->positional.size() != 1 || args->positional[0] != "sim") {
+        std::fprintf(stderr, "aquaform bench: say what to measure: aquaform bench sim (the only benchmark so far)\n");
+        return kExitUsage;
+    }
+    std::vector<uint32_t> sizes = parse_sizes(args->value("--sizes", "16384,32768,65536,131072,262144"), &error);
+    auto iterations = parse_positive("--iterations", args->value("--iterations", "4"), &error);
+    auto steps = parse_positive("--steps", args->value("--steps", "10"), &error);
+    auto warmup = parse_positive("--warmup", args->value("--warmup", "20"), &error);
+    if (sizes.empty() || !iterations || !steps || !warmup) return std::fprintf(stderr, "aquaform bench: %s\n", error.c_str()), kExitUsage;
+    const std::string out_path = args->value("--out", "bench_sim.json");
+
+    gpu::Context ctx({args->value("--device"), validation_requested(*args)});
+    std::printf("bench sim on %s (%s), %ld iterations, %ld timed steps after %ld warm-up steps\n",
+                ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type), *iterations, *steps, *warmup);
+    std::printf("%10s %6s %12s %10s %14s %12s %10s\n", "particles", "iters", "ms/step", "steps/s", "grid ms/step",
+                "B/particle", "B/cell");
+    nlohmann::json records = nlohmann::json::array();
+    std::vector<double> log_n, log_grid;
+    for (uint32_t target : sizes) {
+        Scene scene = bench_scene(target, static_cast<uint32_t>(*iterations));
+        PbfSolver solver(ctx, scene);
+        gpu::GpuTimer timer(ctx);
+        solver.run_steps(static_cast<uint32_t>(*warmup), nullptr);  // let the column start to fall
+        const auto t0 = std::chrono::steady_clock::now();
+        solver.run_steps(static_cast<uint32_t>(*steps), &timer);
+        const double wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        const double ms_per_step = wall_ms / double(*steps);
+        nlohmann::json per_pass = nlohmann::json::object();
+        double grid_ms = 0.0;
+        for (const auto& [name, ms] : timer.totals_ms()) {
+            per_pass[name] = ms / double(*steps);
+            for (const char* g : kGridPasses)
+                if (name == g) grid_ms += ms / double(*steps);
+        }
+        uint64_t per_cell_bytes = uint64_t(kGridBytesPerCell) * solver.grid().geometry().cell_count();
+        uint64_t total = 0;
+        for (const auto& b : solver.memory_report()) total += b.bytes;
+        const double bytes_per_particle = double(total - per_cell_bytes) / solver.particle_count();
+        const uint32_t n = solver.particle_count();
+        std::printf("%10u %6ld %12.2f %10.2f %14.2f %12.1f %10u\n", n, *iterations, ms_per_step, 1000.0 / ms_per_step,
+                    grid_ms, bytes_per_particle, kGridBytesPerCell);
+        std::fflush(stdout);
+        records.push_back({{"particles", n},
+                           {"iterations", *iterations},
+                           {"ms_per_step", ms_per_step},
+                           {"ms_per_pass", per_pass},
+                           {"steps_per_s", 1000.0 / ms_per_step},
+                           {"neighbor_search_ms", grid_ms},
+                           {"gpu_bytes_per_particle", bytes_per_particle},
+                           {"gpu_bytes_per_cell", kGridBytesPerCell},
+                           {"grid_cells", solver.grid().geometry().cell_count()}});
+        log_n.push_back(std::log(double(n)));
+        log_grid.push_back(std::log(grid_ms));
+    }
+    // Least-squares slope of log(time) against log(N): the growth exponent.
+    double exponent = std::nan("");
+    if (log_n.size() >= 2) {
+        double mx = 0, my = 0;
+        for (size_t i = 0; i < log_n.size(); ++i) mx += log_n[i], my += log_grid[i];
+        mx /= log_n.size();
+        my /= log_n.size();
+        double sxy = 0, sxx = 0;
+        for (size_t i = 0; i < log_n.size(); ++i) {
+            sxy += (log_n[i] - mx) * (log_grid[i] - my);
+            sxx += (log_n[i] - mx) * (log_n[i] - mx);
+        }
+        exponent = sxy / sxx;
+        std::printf("neighbour search (grid build + reorder) grows as N^%.3f from %u to %u particles\n", exponent,
+                    records.front()["particles"].get<uint32_t>(), records.back()["particles"].get<uint32_t>());
+    }
+    nlohmann::json doc = {{"benchmark", "sim"},
+                          {"device", ctx.info().name},
+                          {"device_type", gpu::device_type_name(ctx.info().type)},
+                          {"records", records},
+                          {"neighbor_search_exponent", std::isnan(exponent) ? nlohmann::json(nullptr) : nlohmann::json(exponent)}};
+    std::ofstream out(out_path);
+    if (!out) return std::fprintf(stderr, "aquaform bench: cannot write %s; choose another path with --out\n", out_path.c_str()), kExitFailure;
+    out << doc.dump(2) << "\n";
+    std::printf("wrote %s\n", out_path.c_str());
+    return kExitOk;
+}
+
+}  // namespace aquaform::cli

@@ -1,0 +1,34 @@
+// `aquaform info`: the Vulkan devices and the one aquaform would use.
+#include <cstdio>
+
+#include "apps/cli.h"
+#include "gpu/context.h"
+
+namespace aquaform::cli {
+
+int cmd_info(const std::vector<std::string>& argv) {
+    std::string error;
+    auto args = parse_args(argv, {{"--device"}, {}}, "info", &error);
+    if (!args || !args->positional.empty()) {
+        std::fprintf(stderr, "%s\n", args ? "aquaform info takes no positional arguments" : error.c_str());
+        return kExitUsage;
+    }
+    auto devices = gpu::Context::list_devices();
+    std::printf("Vulkan devices:\n");
+    for (const auto& d : devices)
+        std::printf("  %u: %-40s %-16s Vulkan %u.%u  %.1f GiB  %s\n", d.index, d.name.c_str(),
+                    gpu::device_type_name(d.type), VK_API_VERSION_MAJOR(d.api_version),
+                    VK_API_VERSION_MINOR(d.api_version), double(d.device_local_bytes) / double(1ull << 30),
+                    d.usable ? "usable" : ("unusable: " + d.unusable_reason).c_str());
+    int chosen = gpu::Context::choose_device(devices, args->value("--device"), &error);
+    if (chosen < 0) {
+        std::fprintf(stderr, "aquaform: %s\n", error.c_str());
+        return kExitFailure;
+    }
+    std::printf("aquaform will use device %d: %s (%s)%s\n", chosen, devices[chosen].name.c_str(),
+                gpu::device_type_name(devices[chosen].type),
+                args->has("--device") ? " as requested by --device" : " (discrete GPU > GPU > software)");
+    return kExitOk;
+}
+
+}  // namespace aquaform::cli

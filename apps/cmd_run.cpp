@@ -1,0 +1,158 @@
+// `aquaform run SCENE`: simulate, and write frames, stats.csv, front.csv and PLY dumps.
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+
+#include "apps/cli.h"
+#include "apps/progress.h"
+#include "apps/run_report.h"
+#include "gpu/context.h"
+#include "gpu/timer.h"
+#include "render/impostor_view.h"
+#include "sim/particle_io.h"
+#include "sim/pbf_solver.h"
+
+namespace aquaform::cli {
+
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+
+void on_interrupt(int) { g_interrupted = true; }
+
+bool parse_resolution(const std::string& text, uint32_t* w, uint32_t* h) {
+    unsigned a = 0, b = 0;
+    char x = 0;
+    if (std::sscanf(text.c_str(), "%u%c%u", &a, &x, &b) != 3 || (x != 'x' && x != 'X')) return false;
+    if (a < 16 || b < 16 || a > 8192 || b > 8192) return false;
+    *w = a;
+    *h = b;
+    return true;
+}
+
+}  // namespace
+
+int cmd_run(const std::vector<std::string>& argv) {
+    std::string error;
+    const FlagSpec spec{{"--frames", "--out", "--device", "--ply-every", "--resolution"}, {"--no-png", "--validation"}};
+    auto args = parse_args(argv, spec, "run", &error);
+    if (!args) {
+        std::fprintf(stderr, "%s\n", error.c_str());
+        return kExitUsage;
+    }
+    if (args->positional.size() != 1) {
+        std::fprintf(stderr, "aquaform run: give exactly one scene file, e.g. aquaform run assets/scenes/dam_break.json\n");
+        return kExitUsage;
+    }
+    auto loaded = load_scene(args->positional[0]);
+    if (!loaded) {
+        std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str());
+        return kExitUsage;
+    }
+    const Scene& scene = loaded.value();
+    uint32_t frames = scene.frames;
+    uint32_t ply_every = 0;
+    uint32_t width = 640, height = 360;
+    if (args->has("--frames")) {
+        auto f = parse_positive("--frames", args->value("--frames"), &error);
+        if (!f) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
+        frames = static_cast<uint32_t>(*f);
+    }
+    if (args->has("--ply-every")) {
+        auto f = parse_positive("--ply-every", args->value("--ply-every"), &error);
+        if (!f) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
+        ply_every = static_cast<uint32_t>(*f);
+    }
+    if (args->has("--resolution") && !parse_resolution(args->value("--resolution"), &width, &height)) {
+        std::fprintf(stderr, "aquaform run: --resolution must look like 640x360 (16..8192 per side), got \"%s\"\n",
+                     args->value("--resolution").c_str());
+        return kExitUsage;
+    }
+    const std::filesystem::path out_dir = args->value("--out", "out/" + std::filesystem::path(args->positional[0]).stem().string());
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    if (ec) {
+        std::fprintf(stderr, "aquaform run: cannot create output directory %s (%s); choose another with --out\n",
+                     out_dir.string().c_str(), ec.message().c_str());
+        return kExitFailure;
+    }
+
+    gpu::Context ctx({args->value("--device"), validation_requested(*args)});
+    PbfSolver solver(ctx, scene);
+    print_run_header(ctx, solver);
+
+    RunFiles files(out_dir, scene);
+    if (!files.ok()) {
+        std::fprintf(stderr, "aquaform run: %s\n", files.error().c_str());
+        return kExitFailure;
+    }
+    std::unique_ptr<ImpostorView> view;
+    if (!args->has("--no-png")) view = std::make_unique<ImpostorView>(ctx, width, height);
+    const ViewCamera camera = camera_for_domain(scene.domain, float(width) / float(height));
+    ImpostorStyle style;
+    style.radius = 0.5f * scene.particle_spacing;
+    style.speed_for_full_color = std::max(1.0f, 0.5f * std::sqrt(2.0f * 9.81f * (scene.domain.max.y - scene.domain.min.y)));
+
+    gpu::GpuTimer timer(ctx);
+    g_interrupted = false;
+    auto previous = std::signal(SIGINT, on_interrupt);
+    ProgressBar progress("simulating " + scene.name, frames);
+    const auto start = std::chrono::steady_clock::now();
+    int status = kExitOk;
+    uint32_t done = 0;
+    for (uint32_t frame = 0; frame < frames && !g_interrupted; ++frame) {
+        FrameStats stats = solver.run_frame(&timer);
+        files.write_frame_stats(frame, stats);
+        if (view) {
+            Image image = view->render(solver.positions(), solver.velocities(), solver.particle_count(), camera,
+                                       style, scene.domain, scene.static_boxes);
+            char name[32];
+            std::snprintf(name, sizeof name, "frame_%04u.png", frame);
+            auto written = write_png(out_dir / name, image);
+            if (!written) {
+                std::fprintf(stderr, "\naquaform run: %s\n", written.error().c_str());
+                status = kExitFailure;
+                break;
+            }
+        }
+        if (ply_every && frame % ply_every == 0) {
+            char name[32];
+            std::snprintf(name, sizeof name, "particles_%04u.ply", frame);
+            auto written = write_particles_ply(out_dir / name, solver.snapshot());
+            if (!written) {
+                std::fprintf(stderr, "\naquaform run: %s\n", written.error().c_str());
+                status = kExitFailure;
+                break;
+            }
+        }
+        ++done;
+        char note[96];
+        std::snprintf(note, sizeof note, "density err %.2f%%  max speed %.2f m/s", 100.0 * stats.mean_density_error,
+                      stats.max_speed);
+        progress.update(done, note);
+        if (stats.non_finite > 0) {
+            progress.finish();
+            std::fprintf(stderr,
+                         "aquaform run: the simulation became unstable at frame %u (t = %.3f s): %u particles have "
+                         "non-finite positions or velocities; raise solver.substeps or lower solver.frame_dt, "
+                         "solver.vorticity or solver.scorr_k. Output so far is in %s\n",
+                         frame, stats.time_s, stats.non_finite, out_dir.string().c_str());
+            status = kExitFailure;
+            break;
+        }
+    }
+    progress.finish();
+    std::signal(SIGINT, previous);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (g_interrupted) std::fprintf(stderr, "aquaform run: interrupted; the %u frames done are written\n", done);
+    std::printf("%u frames (%.3f s simulated) in %s wall time, %.1f steps/s; output in %s\n", done, solver.time(),
+                format_duration(wall).c_str(), wall > 0 ? done * scene.solver.substeps / wall : 0.0,
+                out_dir.string().c_str());
+    return g_interrupted ? kExitFailure : status;
+}
+
+}  // namespace aquaform::cli

@@ -1,0 +1,70 @@
+#include "apps/run_report.h"
+
+#include <cstdio>
+
+#include "gpu/context.h"
+#include "sim/pbf_solver.h"
+
+namespace aquaform::cli {
+
+void print_run_header(const gpu::Context& ctx, const PbfSolver& solver) {
+    const Scene& scene = solver.scene();
+    const auto& p = solver.params();
+    std::printf("scene %s: %u particles, spacing %g m, h %g m, step %.4g ms x %u per frame, %u iterations\n",
+                scene.name.c_str(), solver.particle_count(), scene.particle_spacing, p.h, 1000.0 * p.dt,
+                scene.solver.substeps, scene.solver.iterations);
+    std::printf("device: %s (%s)\n", ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type));
+    std::string passes;
+    for (const auto& name : solver.enabled_passes()) passes += (passes.empty() ? "" : ", ") + name;
+    std::printf("passes: %s\nGPU memory:\n", passes.c_str());
+    uint64_t total = 0;
+    for (const auto& b : solver.memory_report()) {
+        std::printf("  %-22s %10.3f MiB\n", b.name.c_str(), double(b.bytes) / (1 << 20));
+        total += b.bytes;
+    }
+    std::printf("  %-22s %10.3f MiB (%.0f bytes per particle)\n", "total", double(total) / (1 << 20),
+                double(total) / std::max(1u, solver.particle_count()));
+    std::fflush(stdout);
+}
+
+RunFiles::RunFiles(const std::filesystem::path& dir, const Scene& scene) : dir_(dir) {
+    stats_.open(dir / "stats.csv");
+    if (!stats_) error_ = "cannot write " + (dir / "stats.csv").string() + "; check that the directory is writable";
+    has_front_ = scene.column_width.has_value();
+    if (has_front_) {
+        front_.open(dir / "front.csv");
+        if (!front_) error_ = "cannot write " + (dir / "front.csv").string();
+        front_ << "time_s,front_m\n";
+    }
+}
+
+void RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s) {
+    if (frame == 0 || pass_columns_.empty()) {
+        for (const auto& [name, ms] : s.gpu_ms) pass_columns_.push_back(name);
+        stats_ << "frame,time_s,particles,density_err_mean,density_err_max,density_dev_mean,kinetic_energy_j,"
+                  "max_speed_mps,outside,non_finite,gpu_ms_total";
+        for (const auto& name : pass_columns_) stats_ << ",gpu_ms_" << name;
+        stats_ << "\n";
+    }
+    double total = 0.0;
+    for (const auto& [name, ms] : s.gpu_ms) total += ms;
+    char row[512];
+    std::snprintf(row, sizeof row, "%u,%.6f,%u,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%u,%.4f", frame, s.time_s, s.particles,
+                  s.mean_density_error, s.max_density_error, s.mean_density_deviation, s.kinetic_energy, s.max_speed,
+                  s.outside, s.non_finite, total);
+    stats_ << row;
+    for (const auto& name : pass_columns_) {
+        auto it = s.gpu_ms.find(name);
+        std::snprintf(row, sizeof row, ",%.4f", it == s.gpu_ms.end() ? 0.0 : it->second);
+        stats_ << row;
+    }
+    stats_ << "\n";
+    stats_.flush();
+    if (has_front_ && s.front) {
+        std::snprintf(row, sizeof row, "%.6f,%.6f\n", s.time_s, *s.front);
+        front_ << row;
+        front_.flush();
+    }
+}
+
+}  // namespace aquaform::cli

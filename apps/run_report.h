@@ -1,0 +1,41 @@
+// What `aquaform run` prints at start and writes per frame.
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "sim/frame_stats.h"
+#include "sim/scene.h"
+
+namespace aquaform {
+class PbfSolver;
+namespace gpu {
+class Context;
+}
+}  // namespace aquaform
+
+namespace aquaform::cli {
+
+/// Prints the scene's size, the passes it enables and the GPU memory of every buffer.
+void print_run_header(const gpu::Context& ctx, const PbfSolver& solver);
+
+/// stats.csv (every frame) and front.csv (dam-break scenes, those with column_width).
+class RunFiles {
+public:
+    RunFiles(const std::filesystem::path& dir, const Scene& scene);
+    bool ok() const { return error_.empty(); }
+    const std::string& error() const { return error_; }
+    void write_frame_stats(uint32_t frame, const FrameStats& stats);
+
+private:
+    std::filesystem::path dir_;
+    std::ofstream stats_;
+    std::ofstream front_;
+    std::vector<std::string> pass_columns_;
+    bool has_front_ = false;
+    std::string error_;
+};
+
+}  // namespace aquaform::cli

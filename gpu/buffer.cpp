@@ -1,0 +1,104 @@
+#include "gpu/buffer.h"
+
+#include "gpu/context.h"
+#include "gpu/vk_check.h"
+
+namespace aquaform::gpu {
+
+Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size, MemoryUse use) {
+    if (size == 0) size = 4;  // Vulkan forbids empty buffers; an empty array still binds
+    if (size > ctx.info().max_storage_buffer_bytes)
+        throw VulkanError(VK_ERROR_OUT_OF_DEVICE_MEMORY,
+                          "buffer '" + name + "' needs " + std::to_string(size) +
+                              " bytes but " + ctx.info().name + " binds at most " +
+                              std::to_string(ctx.info().max_storage_buffer_bytes) +
+                              " bytes per storage buffer; use fewer particles (a larger "
+                              "particle_spacing) or a smaller domain");
+    Buffer b;
+    b.name = name;
+    b.size = size;
+    VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    info.size = size;
+    info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                 VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    VK_CHECK(vkCreateBuffer(ctx.device(), &info, nullptr, &b.buffer));
+    VkMemoryRequirements req{};
+    vkGetBufferMemoryRequirements(ctx.device(), b.buffer, &req);
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    alloc.allocationSize = req.size;
+    if (use == MemoryUse::host) {
+        const VkMemoryPropertyFlags hv = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+        alloc.memoryTypeIndex = ctx.find_memory_type(req.memoryTypeBits, hv | VK_MEMORY_PROPERTY_HOST_CACHED_BIT, hv);
+    } else {
+        alloc.memoryTypeIndex = ctx.find_memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0);
+    }
+    VkResult r = vkAllocateMemory(ctx.device(), &alloc, nullptr, &b.memory);
+    if (r != VK_SUCCESS) {
+        vkDestroyBuffer(ctx.device(), b.buffer, nullptr);
+        throw VulkanError(r, "cannot allocate " + std::to_string(size) + " bytes for buffer '" + name +
+                                 "' on " + ctx.info().name + " (" + vk_result_name(r) +
+                                 "); use fewer particles (a larger particle_spacing)");
+    }
+    VK_CHECK(vkBindBufferMemory(ctx.device(), b.buffer, b.memory, 0));
+    if (use == MemoryUse::host) VK_CHECK(vkMapMemory(ctx.device(), b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
+    return b;
+}
+
+void destroy_buffer(Context& ctx, Buffer& b) {
+    if (b.mapped) vkUnmapMemory(ctx.device(), b.memory);
+    if (b.buffer) vkDestroyBuffer(ctx.device(), b.buffer, nullptr);
+    if (b.memory) vkFreeMemory(ctx.device(), b.memory, nullptr);
+    b = Buffer{};
+}
+
+void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
+    if (bytes == 0) return;
+    Buffer staging = create_buffer(ctx, "staging", bytes, MemoryUse::host);
+    std::memcpy(staging.mapped, data, bytes);
+    ctx.submit_and_wait([&](VkCommandBuffer cmd) {
+        VkBufferCopy region{0, offset, bytes};
+        vkCmdCopyBuffer(cmd, staging.buffer, dst.buffer, 1, &region);
+    });
+    destroy_buffer(ctx, staging);
+}
+
+void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, VkDeviceSize offset) {
+    if (bytes == 0) return;
+    Buffer staging = create_buffer(ctx, "staging", bytes, MemoryUse::host);
+    ctx.submit_and_wait([&](VkCommandBuffer cmd) {
+        VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+        barrier.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0,
+                             1, &barrier, 0, nullptr, 0, nullptr);
+        VkBufferCopy region{offset, 0, bytes};
+        vkCmdCopyBuffer(cmd, src.buffer, staging.buffer, 1, &region);
+    });
+    std::memcpy(data, staging.mapped, bytes);
+    destroy_buffer(ctx, staging);
+}
+
+Buffer& BufferSet::add(const std::string& name, VkDeviceSize size, MemoryUse use) {
+    buffers_.push_back(std::make_unique<Buffer>(create_buffer(*ctx_, name, size, use)));
+    return *buffers_.back();
+}
+
+void BufferSet::release() {
+    for (auto& b : buffers_) destroy_buffer(*ctx_, *b);
+    buffers_.clear();
+}
+
+std::vector<BufferReport> BufferSet::report() const {
+    std::vector<BufferReport> out;
+    for (const auto& b : buffers_) out.push_back({b->name, b->size});
+    return out;
+}
+
+VkDeviceSize BufferSet::total_bytes() const {
+    VkDeviceSize total = 0;
+    for (const auto& b : buffers_) total += b->size;
+    return total;
+}
+
+}  // namespace aquaform::gpu

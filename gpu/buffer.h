@@ -1,0 +1,70 @@
+// GPU buffers: plain structs with explicit lifetimes, plus a registry that reports the memory
+// of every buffer by name (printed at start so a user sees what a scene costs).
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+namespace aquaform::gpu {
+
+class Context;
+
+struct Buffer {
+    VkBuffer buffer = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkDeviceSize size = 0;
+    std::string name;
+    void* mapped = nullptr;  ///< set for host-visible buffers
+};
+
+enum class MemoryUse { device, host };
+
+/// Creates a storage buffer (also usable as transfer source/destination). Host buffers are
+/// mapped for their whole life. Fails with a message naming the buffer when it exceeds the
+/// device's storage-buffer range.
+Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size,
+                     MemoryUse use = MemoryUse::device);
+void destroy_buffer(Context& ctx, Buffer& buffer);
+
+/// Copies host data into a device buffer through a staging buffer (waits for completion).
+void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+/// Copies a device buffer back to the host (waits for completion).
+void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+
+template <typename T>
+std::vector<T> download_vector(Context& ctx, const Buffer& src, size_t count) {
+    std::vector<T> out(count);
+    if (count) download(ctx, src, out.data(), count * sizeof(T));
+    return out;
+}
+
+/// One entry per buffer for the memory report.
+struct BufferReport {
+    std::string name;
+    VkDeviceSize bytes;
+};
+
+/// Owns a set of named device buffers and frees them together.
+class BufferSet {
+public:
+    explicit BufferSet(Context& ctx) : ctx_(&ctx) {}
+    ~BufferSet() { release(); }
+    BufferSet(const BufferSet&) = delete;
+    BufferSet& operator=(const BufferSet&) = delete;
+
+    Buffer& add(const std::string& name, VkDeviceSize size, MemoryUse use = MemoryUse::device);
+    void release();
+    std::vector<BufferReport> report() const;
+    VkDeviceSize total_bytes() const;
+
+private:
+    Context* ctx_;
+    std::vector<std::unique_ptr<Buffer>> buffers_;
+};
+
+}  // namespace aquaform::gpu

@@ -1,0 +1,122 @@
+#include "gpu/compute_pass.h"
+
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "gpu/context.h"
+#include "gpu/shader_registry.h"
+#include "gpu/vk_check.h"
+
+namespace aquaform::gpu {
+
+ComputePass::ComputePass(Context& ctx, const ComputePassDesc& desc) : ctx_(&ctx), desc_(desc) {
+    std::vector<VkDescriptorSetLayoutBinding> bindings(desc.bindings);
+    for (uint32_t i = 0; i < desc.bindings; ++i) {
+        bindings[i].binding = i;
+        bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        bindings[i].descriptorCount = 1;
+        bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+    }
+    VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    set_info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+    set_info.bindingCount = desc.bindings;
+    set_info.pBindings = bindings.data();
+    VK_CHECK(vkCreateDescriptorSetLayout(ctx.device(), &set_info, nullptr, &set_layout_));
+
+    VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, desc.push_bytes};
+    VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    layout_info.setLayoutCount = 1;
+    layout_info.pSetLayouts = &set_layout_;
+    layout_info.pushConstantRangeCount = desc.push_bytes ? 1 : 0;
+    layout_info.pPushConstantRanges = &range;
+    VK_CHECK(vkCreatePipelineLayout(ctx.device(), &layout_info, nullptr, &layout_));
+
+    VkShaderModule module = create_shader_module(ctx, desc.shader);
+    VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
+    VkSpecializationInfo spec{1, &entry, sizeof(uint32_t), &desc_.local_size};
+    VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    info.stage.module = module;
+    info.stage.pName = "main";
+    info.stage.pSpecializationInfo = &spec;
+    info.layout = layout_;
+    VkResult r = vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
+    vkDestroyShaderModule(ctx.device(), module, nullptr);
+    VK_CHECK(r);
+}
+
+ComputePass::~ComputePass() { destroy(); }
+
+ComputePass::ComputePass(ComputePass&& o) noexcept { *this = std::move(o); }
+
+ComputePass& ComputePass::operator=(ComputePass&& o) noexcept {
+    if (this != &o) {
+        destroy();
+        ctx_ = std::exchange(o.ctx_, nullptr);
+        desc_ = o.desc_;
+        set_layout_ = std::exchange(o.set_layout_, VK_NULL_HANDLE);
+        layout_ = std::exchange(o.layout_, VK_NULL_HANDLE);
+        pipeline_ = std::exchange(o.pipeline_, VK_NULL_HANDLE);
+    }
+    return *this;
+}
+
+void ComputePass::destroy() {
+    if (!ctx_) return;
+    VkDevice d = ctx_->device();
+    if (pipeline_) vkDestroyPipeline(d, pipeline_, nullptr);
+    if (layout_) vkDestroyPipelineLayout(d, layout_, nullptr);
+    if (set_layout_) vkDestroyDescriptorSetLayout(d, set_layout_, nullptr);
+    pipeline_ = VK_NULL_HANDLE;
+    layout_ = VK_NULL_HANDLE;
+    set_layout_ = VK_NULL_HANDLE;
+    ctx_ = nullptr;
+}
+
+void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads,
+                  const void* push, uint32_t push_bytes, std::initializer_list<const Buffer*> bindings) {
+    const ComputePassDesc& d = pass.desc();
+    if (push_bytes != d.push_bytes)
+        throw std::logic_error(d.shader + ": push constants of " + std::to_string(push_bytes) +
+                               " bytes given, the pass declares " + std::to_string(d.push_bytes));
+    if (bindings.size() != d.bindings)
+        throw std::logic_error(d.shader + ": " + std::to_string(bindings.size()) +
+                               " buffers given, the pass declares " + std::to_string(d.bindings));
+    if (threads == 0) return;
+
+    std::vector<VkDescriptorBufferInfo> infos;
+    infos.reserve(bindings.size());
+    for (const Buffer* b : bindings) infos.push_back({b->buffer, 0, VK_WHOLE_SIZE});
+    std::vector<VkWriteDescriptorSet> writes(bindings.size());
+    for (uint32_t i = 0; i < writes.size(); ++i) {
+        writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+        writes[i].dstBinding = i;
+        writes[i].descriptorCount = 1;
+        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        writes[i].pBufferInfo = &infos[i];
+    }
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pass.pipeline());
+    if (!writes.empty())
+        ctx.push_descriptor_fn()(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pass.layout(), 0,
+                                 static_cast<uint32_t>(writes.size()), writes.data());
+    if (push_bytes) vkCmdPushConstants(cmd, pass.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes, push);
+    const uint32_t groups = (threads + d.local_size - 1) / d.local_size;
+    const uint32_t max_x = ctx.limits().maxComputeWorkGroupCount[0];
+    if (groups > max_x)
+        throw std::logic_error(d.shader + ": " + std::to_string(groups) + " workgroups exceed the device limit");
+    vkCmdDispatch(cmd, groups, 1, 1);
+    compute_barrier(cmd);
+}
+
+void compute_barrier(VkCommandBuffer cmd) {
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
+                            VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    const VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
+    vkCmdPipelineBarrier(cmd, stages, stages, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+}
+
+}  // namespace aquaform::gpu

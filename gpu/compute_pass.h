@@ -1,0 +1,62 @@
+// A compute pass: one shader, its pipeline, its layout (storage buffers bound by push
+// descriptors) and its local size. `dispatch` checks push-constant size and binding count, so
+// a mismatch between C++ and GLSL fails loudly at the call rather than silently on the GPU.
+#pragma once
+
+#include <cstdint>
+#include <initializer_list>
+#include <string>
+
+#include <vulkan/vulkan.h>
+
+#include "gpu/buffer.h"
+
+namespace aquaform::gpu {
+
+class Context;
+
+struct ComputePassDesc {
+    std::string shader;          ///< embedded shader name, e.g. "sim/predict.comp"
+    uint32_t bindings = 0;       ///< storage buffers at bindings 0..bindings-1
+    uint32_t push_bytes = 0;     ///< push-constant block size (0 = none)
+    uint32_t local_size = 128;   ///< workgroup size, fed to the shader's local_size_x_id = 0
+};
+
+class ComputePass {
+public:
+    ComputePass() = default;
+    ComputePass(Context& ctx, const ComputePassDesc& desc);
+    ~ComputePass();
+    ComputePass(ComputePass&& other) noexcept;
+    ComputePass& operator=(ComputePass&& other) noexcept;
+    ComputePass(const ComputePass&) = delete;
+    ComputePass& operator=(const ComputePass&) = delete;
+
+    const ComputePassDesc& desc() const { return desc_; }
+    VkPipeline pipeline() const { return pipeline_; }
+    VkPipelineLayout layout() const { return layout_; }
+
+private:
+    void destroy();
+    Context* ctx_ = nullptr;
+    ComputePassDesc desc_;
+    VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+    VkPipelineLayout layout_ = VK_NULL_HANDLE;
+    VkPipeline pipeline_ = VK_NULL_HANDLE;
+};
+
+/// Records `threads` invocations of `pass` (rounded up to whole workgroups; the shader checks
+/// its own bound) followed by a barrier that makes its writes visible to the next pass.
+void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads,
+                  const void* push, uint32_t push_bytes, std::initializer_list<const Buffer*> bindings);
+
+template <typename Push>
+void dispatch(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads,
+              const Push& push, std::initializer_list<const Buffer*> bindings) {
+    dispatch_raw(ctx, cmd, pass, threads, &push, sizeof(Push), bindings);
+}
+
+/// Full compute/transfer barrier, for transfer commands (fills, copies) between passes.
+void compute_barrier(VkCommandBuffer cmd);
+
+}  // namespace aquaform::gpu

@@ -1,0 +1,362 @@
+#include "gpu/context.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstring>
+
+#include "gpu/vk_check.h"
+
+namespace aquaform::gpu {
+
+namespace {
+
+constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+constexpr uint32_t kRequiredApi = VK_API_VERSION_1_3;
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+    return s;
+}
+
+bool has_device_extension(VkPhysicalDevice pd, const char* name) {
+    uint32_t count = 0;
+    vkEnumerateDeviceExtensionProperties(pd, nullptr, &count, nullptr);
+    std::vector<VkExtensionProperties> exts(count);
+    vkEnumerateDeviceExtensionProperties(pd, nullptr, &count, exts.data());
+    for (const auto& e : exts)
+        if (std::strcmp(e.extensionName, name) == 0) return true;
+    return false;
+}
+
+/// A queue family that does graphics and compute and has timestamps; -1 if none.
+int find_queue_family(VkPhysicalDevice pd) {
+    uint32_t count = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &count, nullptr);
+    std::vector<VkQueueFamilyProperties> families(count);
+    vkGetPhysicalDeviceQueueFamilyProperties(pd, &count, families.data());
+    const VkQueueFlags need = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
+    for (uint32_t i = 0; i < count; ++i)
+        if ((families[i].queueFlags & need) == need && families[i].timestampValidBits > 0)
+            return static_cast<int>(i);
+    return -1;
+}
+
+VkInstance create_instance(bool validation, bool* debug_utils) {
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.pApplicationName = "aquaform";
+    app.apiVersion = kRequiredApi;
+
+    std::vector<const char*> layers;
+    std::vector<const char*> extensions;
+    *debug_utils = false;
+    if (validation) {
+        uint32_t count = 0;
+        vkEnumerateInstanceLayerProperties(&count, nullptr);
+        std::vector<VkLayerProperties> props(count);
+        vkEnumerateInstanceLayerProperties(&count, props.data());
+        bool found = std::any_of(props.begin(), props.end(), [](const VkLayerProperties& p) {
+            return std::strcmp(p.layerName, kValidationLayer) == 0;
+        });
+        if (!found)
+            throw VulkanError(VK_ERROR_LAYER_NOT_PRESENT,
+                              "validation was requested but VK_LAYER_KHRONOS_validation is not "
+                              "installed; install it with: apt-get install vulkan-validationlayers");
+        layers.push_back(kValidationLayer);
+        extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+        *debug_utils = true;
+    }
+    VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    info.pApplicationInfo = &app;
+    info.enabledLayerCount = static_cast<uint32_t>(layers.size());
+    info.ppEnabledLayerNames = layers.data();
+    info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+    info.ppEnabledExtensionNames = extensions.data();
+    VkInstance instance = VK_NULL_HANDLE;
+    VkResult r = vkCreateInstance(&info, nullptr, &instance);
+    if (r == VK_ERROR_INCOMPATIBLE_DRIVER)
+        throw VulkanError(r, "no Vulkan driver found; on a machine without a GPU install Mesa's "
+                             "software device with: apt-get install mesa-vulkan-drivers "
+                             "(scripts/setup.sh does this)");
+    VK_CHECK(r);
+    return instance;
+}
+
+DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
+    VkPhysicalDeviceProperties props{};
+    vkGetPhysicalDeviceProperties(pd, &props);
+    VkPhysicalDeviceMemoryProperties mem{};
+    vkGetPhysicalDeviceMemoryProperties(pd, &mem);
+    DeviceInfo d;
+    d.index = index;
+    d.name = props.deviceName;
+    d.type = props.deviceType;
+    d.api_version = props.apiVersion;
+    d.max_storage_buffer_bytes = props.limits.maxStorageBufferRange;
+    for (uint32_t h = 0; h < mem.memoryHeapCount; ++h)
+        if (mem.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+            d.device_local_bytes = std::max<uint64_t>(d.device_local_bytes, mem.memoryHeaps[h].size);
+    if (props.apiVersion < kRequiredApi)
+        d.unusable_reason = "needs Vulkan 1.3";
+    else if (find_queue_family(pd) < 0)
+        d.unusable_reason = "no queue with graphics, compute and timestamps";
+    else if (!has_device_extension(pd, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME))
+        d.unusable_reason = "lacks VK_KHR_push_descriptor";
+    d.usable = d.unusable_reason.empty();
+    return d;
+}
+
+int type_rank(VkPhysicalDeviceType t) {
+    switch (t) {
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 3;
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 2;
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 1;
+        default: return 0;  // CPU (software) and other
+    }
+}
+
+std::vector<VkPhysicalDevice> physical_devices(VkInstance instance) {
+    uint32_t count = 0;
+    VK_CHECK(vkEnumeratePhysicalDevices(instance, &count, nullptr));
+    std::vector<VkPhysicalDevice> devices(count);
+    VK_CHECK(vkEnumeratePhysicalDevices(instance, &count, devices.data()));
+    return devices;
+}
+
+}  // namespace
+
+const char* vk_result_name(VkResult result) {
+    switch (result) {
+#define AF_CASE(x) case x: return #x;
+        AF_CASE(VK_SUCCESS) AF_CASE(VK_NOT_READY) AF_CASE(VK_TIMEOUT) AF_CASE(VK_INCOMPLETE)
+        AF_CASE(VK_ERROR_OUT_OF_HOST_MEMORY) AF_CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY)
+        AF_CASE(VK_ERROR_INITIALIZATION_FAILED) AF_CASE(VK_ERROR_DEVICE_LOST)
+        AF_CASE(VK_ERROR_MEMORY_MAP_FAILED) AF_CASE(VK_ERROR_LAYER_NOT_PRESENT)
+        AF_CASE(VK_ERROR_EXTENSION_NOT_PRESENT) AF_CASE(VK_ERROR_FEATURE_NOT_PRESENT)
+        AF_CASE(VK_ERROR_INCOMPATIBLE_DRIVER) AF_CASE(VK_ERROR_TOO_MANY_OBJECTS)
+        AF_CASE(VK_ERROR_FORMAT_NOT_SUPPORTED) AF_CASE(VK_ERROR_OUT_OF_POOL_MEMORY)
+#undef AF_CASE
+        default: return "VK_ERROR_(other)";
+    }
+}
+
+void throw_vk_error(VkResult result, const char* call, const char* file, int line) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "%s:%d: %s failed with %s (%d)", file, line, call,
+                  vk_result_name(result), static_cast<int>(result));
+    std::string msg = buf;
+    if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY)
+        msg += "; the scene needs more memory than the device has: use fewer particles "
+               "(a larger particle_spacing)";
+    throw VulkanError(result, msg);
+}
+
+const char* device_type_name(VkPhysicalDeviceType type) {
+    switch (type) {
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_CPU: return "software (CPU)";
+        default: return "other";
+    }
+}
+
+std::vector<DeviceInfo> Context::list_devices() {
+    bool debug_utils = false;
+    VkInstance instance = create_instance(false, &debug_utils);
+    std::vector<DeviceInfo> out;
+    auto devices = physical_devices(instance);
+    for (uint32_t i = 0; i < devices.size(); ++i) out.push_back(describe(devices[i], i));
+    vkDestroyInstance(instance, nullptr);
+    return out;
+}
+
+int Context::choose_device(const std::vector<DeviceInfo>& devices, const std::string& request,
+                           std::string* error) {
+    auto available = [&] {
+        std::string s;
+        for (const auto& d : devices)
+            s += "\n  " + std::to_string(d.index) + ": " + d.name + " (" +
+                 device_type_name(d.type) + (d.usable ? "" : ", unusable: " + d.unusable_reason) + ")";
+        return s.empty() ? std::string("\n  (none)") : s;
+    };
+    if (devices.empty()) {
+        *error = "no Vulkan device found; on a machine without a GPU install Mesa's software "
+                 "device with: apt-get install mesa-vulkan-drivers (scripts/setup.sh does this)";
+        return -1;
+    }
+    if (!request.empty()) {
+        int found = -1;
+        bool numeric = std::all_of(request.begin(), request.end(), ::isdigit);
+        for (const auto& d : devices) {
+            bool match = numeric ? std::to_string(d.index) == request
+                                 : lower(d.name).find(lower(request)) != std::string::npos;
+            if (match) { found = static_cast<int>(d.index); break; }
+        }
+        if (found < 0) {
+            *error = "--device " + request + " matches no Vulkan device; give an index or part "
+                     "of a name from this list:" + available();
+            return -1;
+        }
+        if (!devices[found].usable) {
+            *error = "device " + request + " (" + devices[found].name + ") cannot run aquaform: " +
+                     devices[found].unusable_reason + "; choose another with --device:" + available();
+            return -1;
+        }
+        return found;
+    }
+    int best = -1;
+    for (const auto& d : devices)
+        if (d.usable && (best < 0 || type_rank(d.type) > type_rank(devices[best].type)))
+            best = static_cast<int>(d.index);
+    if (best < 0)
+        *error = "no usable Vulkan device (aquaform needs Vulkan 1.3, a graphics+compute queue "
+                 "and VK_KHR_push_descriptor):" + available() +
+                 "\ninstall Mesa's software device with: apt-get install mesa-vulkan-drivers";
+    return best;
+}
+
+VKAPI_ATTR VkBool32 VKAPI_CALL Context::debug_callback(
+    VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT,
+    const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+    auto* self = static_cast<Context*>(user);
+    if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
+        self->validation_errors_++;
+        self->last_validation_message_ = data->pMessage ? data->pMessage : "";
+        std::fprintf(stderr, "[vulkan validation error] %s\n", data->pMessage);
+    } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
+        std::fprintf(stderr, "[vulkan validation warning] %s\n", data->pMessage);
+    }
+    return VK_FALSE;
+}
+
+Context::Context(const ContextOptions& options) {
+    try {
+        create(options);
+    } catch (...) {
+        destroy();  // a constructor that throws runs no destructor
+        throw;
+    }
+}
+
+void Context::create(const ContextOptions& options) {
+    bool debug_utils = false;
+    instance_ = create_instance(options.validation, &debug_utils);
+    if (debug_utils) {
+        VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+        info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT |
+                               VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
+        info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                           VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                           VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+        info.pfnUserCallback = &Context::debug_callback;
+        info.pUserData = this;
+        auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+            vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
+        VK_CHECK(create(instance_, &info, nullptr, &messenger_));
+    }
+
+    auto devices = physical_devices(instance_);
+    std::vector<DeviceInfo> infos;
+    for (uint32_t i = 0; i < devices.size(); ++i) infos.push_back(describe(devices[i], i));
+    std::string error;
+    int chosen = choose_device(infos, options.device, &error);
+    if (chosen < 0) throw VulkanError(VK_ERROR_INITIALIZATION_FAILED, error);
+    physical_ = devices[chosen];
+    info_ = infos[chosen];
+    VkPhysicalDeviceProperties props{};
+    vkGetPhysicalDeviceProperties(physical_, &props);
+    limits_ = props.limits;
+    vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+    queue_family_ = static_cast<uint32_t>(find_queue_family(physical_));
+
+    float priority = 1.0f;
+    VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    queue_info.queueFamilyIndex = queue_family_;
+    queue_info.queueCount = 1;
+    queue_info.pQueuePriorities = &priority;
+
+    VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+    features13.dynamicRendering = VK_TRUE;
+    features13.synchronization2 = VK_TRUE;
+    VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    features.pNext = &features13;
+    const char* extensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    device_info.pNext = &features;
+    device_info.queueCreateInfoCount = 1;
+    device_info.pQueueCreateInfos = &queue_info;
+    device_info.enabledExtensionCount = 1;
+    device_info.ppEnabledExtensionNames = extensions;
+    VK_CHECK(vkCreateDevice(physical_, &device_info, nullptr, &device_));
+    vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+    push_descriptor_ = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
+        vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
+
+    VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pool_info.queueFamilyIndex = queue_family_;
+    VK_CHECK(vkCreateCommandPool(device_, &pool_info, nullptr, &command_pool_));
+    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    alloc.commandPool = command_pool_;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 1;
+    VK_CHECK(vkAllocateCommandBuffers(device_, &alloc, &command_buffer_));
+    VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VK_CHECK(vkCreateFence(device_, &fence_info, nullptr, &fence_));
+}
+
+Context::~Context() { destroy(); }
+
+void Context::destroy() {
+    if (device_) {
+        vkDeviceWaitIdle(device_);
+        if (fence_) vkDestroyFence(device_, fence_, nullptr);
+        if (command_pool_) vkDestroyCommandPool(device_, command_pool_, nullptr);
+        vkDestroyDevice(device_, nullptr);
+        device_ = VK_NULL_HANDLE;
+    }
+    if (messenger_) {
+        auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+            vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
+        destroy(instance_, messenger_, nullptr);
+        messenger_ = VK_NULL_HANDLE;
+    }
+    if (instance_) {
+        vkDestroyInstance(instance_, nullptr);
+        instance_ = VK_NULL_HANDLE;
+    }
+}
+
+uint32_t Context::find_memory_type(uint32_t type_bits, VkMemoryPropertyFlags wanted,
+                                   VkMemoryPropertyFlags fallback) const {
+    for (VkMemoryPropertyFlags flags : {wanted, fallback})
+        for (uint32_t i = 0; i < memory_.memoryTypeCount; ++i)
+            if ((type_bits & (1u << i)) && (memory_.memoryTypes[i].propertyFlags & flags) == flags)
+                return i;
+    throw VulkanError(VK_ERROR_FEATURE_NOT_PRESENT, "no suitable Vulkan memory type on " + info_.name);
+}
+
+void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) {
+    VK_CHECK(vkResetCommandBuffer(command_buffer_, 0));
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkBeginCommandBuffer(command_buffer_, &begin));
+    // Writes of earlier submissions become visible to this one (a fence wait alone does not
+    // make device writes visible to later device reads).
+    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    barrier.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    vkCmdPipelineBarrier(command_buffer_, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                         VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+    record(command_buffer_);
+    VK_CHECK(vkEndCommandBuffer(command_buffer_));
+    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &command_buffer_;
+    VK_CHECK(vkQueueSubmit(queue_, 1, &submit, fence_));
+    VK_CHECK(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX));
+    VK_CHECK(vkResetFences(device_, 1, &fence_));
+}
+
+}  // namespace aquaform::gpu

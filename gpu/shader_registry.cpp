@@ -1,0 +1,29 @@
+#include "gpu/shader_registry.h"
+
+#include <stdexcept>
+#include <string>
+
+#include "gpu/context.h"
+#include "gpu/vk_check.h"
+
+namespace aquaform::gpu {
+
+std::span<const uint32_t> find_shader(std::string_view name) {
+    for (const EmbeddedShader& s : embedded_shaders())
+        if (s.name == name) return s.spirv;
+    std::string known;
+    for (const EmbeddedShader& s : embedded_shaders()) known += " " + std::string(s.name);
+    throw std::invalid_argument("no shader named '" + std::string(name) + "'; known:" + known);
+}
+
+VkShaderModule create_shader_module(Context& ctx, std::string_view name) {
+    auto spirv = find_shader(name);
+    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    info.codeSize = spirv.size_bytes();
+    info.pCode = spirv.data();
+    VkShaderModule module = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateShaderModule(ctx.device(), &info, nullptr, &module));
+    return module;
+}
+
+}  // namespace aquaform::gpu

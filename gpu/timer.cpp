@@ -1,0 +1,59 @@
+#include "gpu/timer.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "gpu/context.h"
+#include "gpu/vk_check.h"
+
+namespace aquaform::gpu {
+
+GpuTimer::GpuTimer(Context& ctx, uint32_t max_scopes) : ctx_(&ctx), capacity_(max_scopes) {
+    VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    info.queryCount = 2 * max_scopes;
+    VK_CHECK(vkCreateQueryPool(ctx.device(), &info, nullptr, &pool_));
+}
+
+GpuTimer::~GpuTimer() { vkDestroyQueryPool(ctx_->device(), pool_, nullptr); }
+
+void GpuTimer::reset(VkCommandBuffer cmd) {
+    vkCmdResetQueryPool(cmd, pool_, 0, 2 * capacity_);
+    open_.clear();
+    stack_.clear();
+    used_ = 0;
+}
+
+void GpuTimer::begin(VkCommandBuffer cmd, const std::string& name) {
+    if (used_ >= capacity_)
+        throw std::logic_error("GpuTimer: more than " + std::to_string(capacity_) +
+                               " timed passes in one submission; submit more often");
+    open_.push_back(name);
+    stack_.push_back(used_);
+    vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, pool_, 2 * used_);
+    ++used_;
+}
+
+void GpuTimer::end(VkCommandBuffer cmd) {
+    if (stack_.empty()) throw std::logic_error("GpuTimer::end without begin");
+    vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_, 2 * stack_.back() + 1);
+    stack_.pop_back();
+}
+
+void GpuTimer::collect() {
+    if (used_ == 0) return;
+    std::vector<uint64_t> stamps(2 * used_);
+    VK_CHECK(vkGetQueryPoolResults(ctx_->device(), pool_, 0, 2 * used_, stamps.size() * sizeof(uint64_t),
+                                   stamps.data(), sizeof(uint64_t),
+                                   VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+    const double ns = ctx_->timestamp_period_ns();
+    for (uint32_t i = 0; i < used_; ++i) {
+        const double ms = double(stamps[2 * i + 1] - stamps[2 * i]) * ns * 1e-6;
+        if (std::find(order_.begin(), order_.end(), open_[i]) == order_.end()) order_.push_back(open_[i]);
+        totals_[open_[i]] += ms;
+    }
+    open_.clear();
+    used_ = 0;
+}
+
+}  // namespace aquaform::gpu

@@ -1,0 +1,64 @@
+// GPU timing with timestamp queries: every named pass is bracketed by two timestamps, and
+// the milliseconds are summed per name when the submission has finished.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+namespace aquaform::gpu {
+
+class Context;
+
+class GpuTimer {
+public:
+    explicit GpuTimer(Context& ctx, uint32_t max_scopes = 4096);
+    ~GpuTimer();
+    GpuTimer(const GpuTimer&) = delete;
+    GpuTimer& operator=(const GpuTimer&) = delete;
+
+    /// Call once at the start of a command buffer, before any scope.
+    void reset(VkCommandBuffer cmd);
+    void begin(VkCommandBuffer cmd, const std::string& name);
+    void end(VkCommandBuffer cmd);
+    /// After the submission completed: adds this submission's times to the running totals.
+    void collect();
+
+    /// Milliseconds per pass name accumulated since the last clear_totals().
+    const std::map<std::string, double>& totals_ms() const { return totals_; }
+    /// Pass names in the order they were first timed (a stable column order for reports).
+    const std::vector<std::string>& names() const { return order_; }
+    void clear_totals() { totals_.clear(); }
+
+private:
+    Context* ctx_;
+    VkQueryPool pool_ = VK_NULL_HANDLE;
+    uint32_t capacity_;
+    std::vector<std::string> open_;     // scope names of this submission, in order
+    std::vector<uint32_t> stack_;       // slots of the scopes still open (scopes may nest)
+    uint32_t used_ = 0;
+    std::map<std::string, double> totals_;
+    std::vector<std::string> order_;
+};
+
+/// RAII scope: `GpuScope s(timer, cmd, "pbf_lambda");`; a null timer times nothing.
+class GpuScope {
+public:
+    GpuScope(GpuTimer* timer, VkCommandBuffer cmd, const std::string& name) : timer_(timer), cmd_(cmd) {
+        if (timer_) timer_->begin(cmd_, name);
+    }
+    ~GpuScope() {
+        if (timer_) timer_->end(cmd_);
+    }
+    GpuScope(const GpuScope&) = delete;
+    GpuScope& operator=(const GpuScope&) = delete;
+
+private:
+    GpuTimer* timer_;
+    VkCommandBuffer cmd_;
+};
+
+}  // namespace aquaform::gpu

@@ -1,0 +1,69 @@
+#include "render/image_io.h"
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <system_error>
+
+// A private (static) copy of stb_image_write: no clash with the symbols of Debian's libstb,
+// whichever of the two the linker sees first. The pragmas silence its unused writers.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#define STB_IMAGE_WRITE_STATIC
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#include <stb/stb_image_write.h>
+#pragma GCC diagnostic pop
+
+namespace aquaform {
+
+namespace {
+
+void append(void* context, void* data, int size) {
+    auto* out = static_cast<std::vector<uint8_t>*>(context);
+    const auto* bytes = static_cast<const uint8_t*>(data);
+    out->insert(out->end(), bytes, bytes + size);
+}
+
+}  // namespace
+
+Result<bool> write_png(const std::filesystem::path& path, const Image& image) {
+    const std::string where = "cannot write PNG to " + path.string();
+    if (image.width == 0 || image.height == 0)
+        return Error{where + ": the image is empty (" + std::to_string(image.width) + "x" +
+                     std::to_string(image.height) + " pixels); render at least 1x1 pixels"};
+    if (image.rgba.size() != size_t(image.width) * image.height * 4)
+        return Error{where + ": the image holds " + std::to_string(image.rgba.size()) + " bytes but " +
+                     std::to_string(image.width) + "x" + std::to_string(image.height) +
+                     " RGBA pixels need " + std::to_string(size_t(image.width) * image.height * 4)};
+    // stb takes int sizes and strides
+    if (image.width > (1u << 24) || image.height > (1u << 24))
+        return Error{where + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                     " pixels is too large for the PNG writer; render a smaller image"};
+
+    const std::filesystem::path parent = path.parent_path();
+    std::error_code ec;
+    if (!parent.empty() && !std::filesystem::is_directory(parent, ec))
+        return Error{where + ": the directory " + parent.string() +
+                     " does not exist; create it first (or check that the directory exists and is writable)"};
+
+    std::vector<uint8_t> png;
+    png.reserve(image.rgba.size() / 2);
+    const int ok = stbi_write_png_to_func(&append, &png, int(image.width), int(image.height), 4,
+                                          image.rgba.data(), int(image.width * 4));
+    if (!ok) return Error{where + ": the PNG encoder failed (out of memory?)"};
+
+    std::ofstream file(path, std::ios::binary | std::ios::trunc);
+    if (!file)
+        return Error{where + " (" + std::strerror(errno) + "); check that the directory exists and is writable"};
+    file.write(reinterpret_cast<const char*>(png.data()), std::streamsize(png.size()));
+    file.close();
+    if (!file)
+        return Error{where + ": writing failed part-way (" + std::strerror(errno) +
+                     "); check that the disk has space and the directory is writable"};
+    return true;
+}
+
+}  // namespace aquaform

@@ -1,0 +1,424 @@
+#include "render/impostor_view.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "gpu/context.h"
+#include "gpu/shader_registry.h"
+#include "gpu/vk_check.h"
+#include "shaders/shared/impostor_layout.h"
+
+namespace aquaform {
+
+namespace {
+
+constexpr VkFormat kColorFormat = VK_FORMAT_R8G8B8A8_UNORM;
+constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+constexpr float kFloorAlbedo = 0.45f;
+constexpr float kBoxAlbedo = 0.88f;
+constexpr uint32_t kModeCount = 4;
+
+struct Image2D {
+    VkImage image = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;
+};
+
+Image2D create_image(gpu::Context& ctx, uint32_t w, uint32_t h, VkFormat format,
+                     VkImageUsageFlags usage, VkImageAspectFlags aspect) {
+    Image2D img;
+    VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    info.imageType = VK_IMAGE_TYPE_2D;
+    info.format = format;
+    info.extent = {w, h, 1};
+    info.mipLevels = 1;
+    info.arrayLayers = 1;
+    info.samples = VK_SAMPLE_COUNT_1_BIT;
+    info.tiling = VK_IMAGE_TILING_OPTIMAL;
+    info.usage = usage;
+    info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    VK_CHECK(vkCreateImage(ctx.device(), &info, nullptr, &img.image));
+    VkMemoryRequirements req{};
+    vkGetImageMemoryRequirements(ctx.device(), img.image, &req);
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    alloc.allocationSize = req.size;
+    alloc.memoryTypeIndex = ctx.find_memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0);
+    VK_CHECK(vkAllocateMemory(ctx.device(), &alloc, nullptr, &img.memory));
+    VK_CHECK(vkBindImageMemory(ctx.device(), img.image, img.memory, 0));
+    VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    view.image = img.image;
+    view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    view.format = format;
+    view.subresourceRange = {aspect, 0, 1, 0, 1};
+    VK_CHECK(vkCreateImageView(ctx.device(), &view, nullptr, &img.view));
+    return img;
+}
+
+void destroy_image(gpu::Context& ctx, Image2D& img) {
+    if (img.view) vkDestroyImageView(ctx.device(), img.view, nullptr);
+    if (img.image) vkDestroyImage(ctx.device(), img.image, nullptr);
+    if (img.memory) vkFreeMemory(ctx.device(), img.memory, nullptr);
+    img = Image2D{};
+}
+
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
+                   VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access, VkImageLayout old_layout,
+                   VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access, VkImageLayout new_layout) {
+    VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+    b.srcStageMask = src_stage;
+    b.srcAccessMask = src_access;
+    b.dstStageMask = dst_stage;
+    b.dstAccessMask = dst_access;
+    b.oldLayout = old_layout;
+    b.newLayout = new_layout;
+    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange = {aspect, 0, 1, 0, 1};
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dep.imageMemoryBarrierCount = 1;
+    dep.pImageMemoryBarriers = &b;
+    vkCmdPipelineBarrier2(cmd, &dep);
+}
+
+glm::vec4 with_w(const glm::vec3& v, float w) { return glm::vec4(v, w); }
+
+/// The camera's up, replaced when it is (nearly) parallel to the view direction so that the
+/// view matrix stays finite (looking straight down at the floor, say).
+glm::vec3 usable_up(const ViewCamera& camera) {
+    const glm::vec3 forward = glm::normalize(camera.target - camera.eye);
+    if (glm::length(glm::cross(forward, camera.up)) > 1e-4f * glm::length(camera.up)) return camera.up;
+    return std::abs(forward.z) < 0.9f ? glm::vec3(0.0f, 0.0f, -1.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
+}
+
+}  // namespace
+
+ViewCamera camera_for_domain(const Box& domain, float aspect) {
+    ViewCamera cam;
+    const glm::vec3 center = 0.5f * (domain.min + domain.max);
+    const float radius = std::max(0.5f * glm::length(domain.max - domain.min), 1e-3f);
+    const float half_y = glm::radians(cam.fov_y_degrees) * 0.5f;
+    const float half_x = std::atan(std::tan(half_y) * std::max(aspect, 1e-3f));
+    // The bounding sphere fits a cone of half-angle a when the distance is radius / sin(a).
+    const float distance = radius / std::sin(std::min(half_y, half_x));
+    const float elevation = glm::radians(20.0f);
+    const float azimuth = glm::radians(-25.0f);  // from +z, a little towards -x
+    const glm::vec3 dir{std::sin(azimuth) * std::cos(elevation), std::sin(elevation),
+                        std::cos(azimuth) * std::cos(elevation)};
+    cam.target = center;
+    cam.eye = center + dir * distance;
+    cam.up = {0.0f, 1.0f, 0.0f};
+    return cam;
+}
+
+glm::mat4 view_projection(const ViewCamera& camera, float aspect, const Box& domain) {
+    const glm::vec3 center = 0.5f * (domain.min + domain.max);
+    const float radius = std::max(0.5f * glm::length(domain.max - domain.min), 1e-3f);
+    const float distance = glm::length(camera.eye - center);
+    // Planes hug the domain (with room for particles that stray a radius outside) so the
+    // depth buffer keeps its precision where the fluid is.
+    const float far_plane = distance + 2.0f * radius;
+    const float near_plane = std::max(distance - 2.0f * radius, 1e-3f * far_plane);
+    glm::mat4 proj = glm::perspectiveRH_ZO(glm::radians(camera.fov_y_degrees), aspect, near_plane, far_plane);
+    proj[1][1] *= -1.0f;  // Vulkan clip space has y down; keeps world up at the top of the image
+    return proj * glm::lookAtRH(camera.eye, camera.target, usable_up(camera));
+}
+
+struct ImpostorView::Impl {
+    Image2D color, depth;
+    gpu::Buffer readback;  ///< host-visible copy of the colour image, tightly packed rows
+    gpu::Buffer dummy;     ///< bound when there are no particles (every draw shares the layout)
+    VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkPipeline pipelines[kModeCount] = {};
+
+    void destroy(gpu::Context& ctx) {
+        VkDevice d = ctx.device();
+        for (VkPipeline& p : pipelines) {
+            if (p) vkDestroyPipeline(d, p, nullptr);
+            p = VK_NULL_HANDLE;
+        }
+        if (layout) vkDestroyPipelineLayout(d, layout, nullptr);
+        if (set_layout) vkDestroyDescriptorSetLayout(d, set_layout, nullptr);
+        layout = VK_NULL_HANDLE;
+        set_layout = VK_NULL_HANDLE;
+        gpu::destroy_buffer(ctx, readback);
+        gpu::destroy_buffer(ctx, dummy);
+        destroy_image(ctx, color);
+        destroy_image(ctx, depth);
+    }
+
+    VkPipeline create_pipeline(gpu::Context& ctx, uint32_t mode, VkShaderModule vert, VkShaderModule frag);
+};
+
+VkPipeline ImpostorView::Impl::create_pipeline(gpu::Context& ctx, uint32_t mode, VkShaderModule vert,
+                                               VkShaderModule frag) {
+    VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
+    VkSpecializationInfo spec{1, &entry, sizeof(uint32_t), &mode};
+    VkPipelineShaderStageCreateInfo stages[2] = {};
+    stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT,
+                 vert, "main", &spec};
+    stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT,
+                 frag, "main", &spec};
+
+    VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    assembly.topology = mode == IMPOSTOR_MODE_LINES ? VK_PRIMITIVE_TOPOLOGY_LINE_LIST
+                                                    : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    viewport.viewportCount = 1;
+    viewport.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    raster.polygonMode = VK_POLYGON_MODE_FILL;
+    raster.cullMode = VK_CULL_MODE_NONE;  // quads and box faces are seen from either side
+    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    raster.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    // The sky is behind everything; lines are tested but not written, so fluid in front of a
+    // back edge hides it while front edges stay on top.
+    depth.depthTestEnable = mode != IMPOSTOR_MODE_SKY;
+    depth.depthWriteEnable = mode == IMPOSTOR_MODE_SOLID || mode == IMPOSTOR_MODE_PARTICLES;
+    depth.depthCompareOp = mode == IMPOSTOR_MODE_LINES ? VK_COMPARE_OP_LESS_OR_EQUAL : VK_COMPARE_OP_LESS;
+    VkPipelineColorBlendAttachmentState blend_attachment{};
+    blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                                      VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 1;
+    blend.pAttachments = &blend_attachment;
+    const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dynamic.dynamicStateCount = 2;
+    dynamic.pDynamicStates = dynamic_states;
+    const VkFormat color_format = kColorFormat;
+    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachmentFormats = &color_format;
+    rendering.depthAttachmentFormat = kDepthFormat;
+
+    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    info.pNext = &rendering;
+    info.stageCount = 2;
+    info.pStages = stages;
+    info.pVertexInputState = &vertex_input;
+    info.pInputAssemblyState = &assembly;
+    info.pViewportState = &viewport;
+    info.pRasterizationState = &raster;
+    info.pMultisampleState = &multisample;
+    info.pDepthStencilState = &depth;
+    info.pColorBlendState = &blend;
+    info.pDynamicState = &dynamic;
+    info.layout = layout;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateGraphicsPipelines(ctx.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline));
+    return pipeline;
+}
+
+ImpostorView::ImpostorView(gpu::Context& ctx, uint32_t width, uint32_t height)
+    : ctx_(&ctx), width_(width), height_(height), impl_(new Impl) {
+    try {
+        if (width == 0 || height == 0)
+            throw std::invalid_argument("impostor view of " + std::to_string(width) + "x" +
+                                        std::to_string(height) + " pixels; give a width and height of at least 1");
+        const auto& lim = ctx.limits();
+        if (width > lim.maxFramebufferWidth || height > lim.maxFramebufferHeight)
+            throw std::invalid_argument("impostor view of " + std::to_string(width) + "x" + std::to_string(height) +
+                                        " pixels exceeds the device's framebuffer limit of " +
+                                        std::to_string(lim.maxFramebufferWidth) + "x" +
+                                        std::to_string(lim.maxFramebufferHeight) + "; render a smaller image");
+        VkFormatProperties depth_props{};
+        vkGetPhysicalDeviceFormatProperties(ctx.physical_device(), kDepthFormat, &depth_props);
+        if (!(depth_props.optimalTilingFeatures & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT))
+            throw gpu::VulkanError(VK_ERROR_FORMAT_NOT_SUPPORTED,
+                                   ctx.info().name + " cannot render to a D32 depth image (impostor view)");
+
+        Impl& m = *impl_;
+        m.color = create_image(ctx, width, height, kColorFormat,
+                               VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                               VK_IMAGE_ASPECT_COLOR_BIT);
+        m.depth = create_image(ctx, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                               VK_IMAGE_ASPECT_DEPTH_BIT);
+        m.readback = gpu::create_buffer(ctx, "impostor readback", VkDeviceSize(width) * height * 4,
+                                        gpu::MemoryUse::host);
+        m.dummy = gpu::create_buffer(ctx, "impostor empty particles", 16);
+
+        VkDescriptorSetLayoutBinding bindings[2] = {};
+        for (uint32_t i = 0; i < 2; ++i)
+            bindings[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr};
+        VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+        set_info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+        set_info.bindingCount = 2;
+        set_info.pBindings = bindings;
+        VK_CHECK(vkCreateDescriptorSetLayout(ctx.device(), &set_info, nullptr, &m.set_layout));
+        VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                                  sizeof(shader::ImpostorPush)};
+        VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+        layout_info.setLayoutCount = 1;
+        layout_info.pSetLayouts = &m.set_layout;
+        layout_info.pushConstantRangeCount = 1;
+        layout_info.pPushConstantRanges = &range;
+        VK_CHECK(vkCreatePipelineLayout(ctx.device(), &layout_info, nullptr, &m.layout));
+
+        VkShaderModule vert = gpu::create_shader_module(ctx, "render/impostor.vert");
+        VkShaderModule frag = VK_NULL_HANDLE;
+        try {
+            frag = gpu::create_shader_module(ctx, "render/impostor.frag");
+            for (uint32_t mode = 0; mode < kModeCount; ++mode)
+                m.pipelines[mode] = m.create_pipeline(ctx, mode, vert, frag);
+        } catch (...) {
+            vkDestroyShaderModule(ctx.device(), vert, nullptr);
+            if (frag) vkDestroyShaderModule(ctx.device(), frag, nullptr);
+            throw;
+        }
+        vkDestroyShaderModule(ctx.device(), vert, nullptr);
+        vkDestroyShaderModule(ctx.device(), frag, nullptr);
+    } catch (...) {
+        impl_->destroy(ctx);  // a constructor that throws runs no destructor
+        delete impl_;
+        throw;
+    }
+}
+
+ImpostorView::~ImpostorView() {
+    impl_->destroy(*ctx_);
+    delete impl_;
+}
+
+Image ImpostorView::render(const gpu::Buffer& positions, const gpu::Buffer& velocities, uint32_t count,
+                           const ViewCamera& camera, const ImpostorStyle& style, const Box& domain,
+                           std::span<const Box> static_boxes) {
+    Impl& m = *impl_;
+    const VkDeviceSize need = VkDeviceSize(count) * sizeof(glm::vec4);
+    if (count > 0) {
+        for (const gpu::Buffer* b : {&positions, &velocities})
+            if (!b->buffer || b->size < need)
+                throw std::invalid_argument("impostor view: buffer '" + b->name + "' holds " + std::to_string(b->size) +
+                                            " bytes but " + std::to_string(count) + " particles need " +
+                                            std::to_string(need) + " (one vec4 each); pass the particle count "
+                                            "that the buffers were made for");
+        if (count > UINT32_MAX / 6)
+            throw std::invalid_argument("impostor view: " + std::to_string(count) + " particles exceed " +
+                                        std::to_string(UINT32_MAX / 6) + " (6 vertices each)");
+    }
+    if (!(style.radius > 0.0f) || !(style.speed_for_full_color > 0.0f))
+        throw std::invalid_argument("impostor view: radius and speed_for_full_color must be positive (got " +
+                                    std::to_string(style.radius) + " and " +
+                                    std::to_string(style.speed_for_full_color) + ")");
+
+    if (!(glm::length(camera.target - camera.eye) > 0.0f))
+        throw std::invalid_argument("impostor view: the camera's eye and target coincide (or are not finite); "
+                                    "place the eye away from the point it looks at");
+    const float aspect = float(width_) / float(height_);
+    const glm::vec3 forward = glm::normalize(camera.target - camera.eye);
+    const glm::vec3 right = glm::normalize(glm::cross(forward, usable_up(camera)));
+    const glm::vec3 up = glm::cross(right, forward);
+    shader::ImpostorPush push{};
+    push.view_proj = view_projection(camera, aspect, domain);
+    push.eye = with_w(camera.eye, style.radius);
+    push.up = with_w(up, 1.0f / style.speed_for_full_color);
+
+    const gpu::Buffer& pos = count > 0 ? positions : m.dummy;
+    const gpu::Buffer& vel = count > 0 ? velocities : m.dummy;
+
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
+        // The previous render's copy read the colour image; its contents are not kept.
+        image_barrier(cmd, m.color.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, 0,
+                      VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+        const VkPipelineStageFlags2 tests =
+            VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+        image_barrier(cmd, m.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, tests,
+                      VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_IMAGE_LAYOUT_UNDEFINED, tests,
+                      VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                      VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
+
+        VkRenderingAttachmentInfo color_att{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+        color_att.imageView = m.color.view;
+        color_att.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        color_att.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        color_att.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+        color_att.clearValue.color = {{0.0f, 0.0f, 0.0f, 1.0f}};
+        VkRenderingAttachmentInfo depth_att{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+        depth_att.imageView = m.depth.view;
+        depth_att.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+        depth_att.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        depth_att.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+        depth_att.clearValue.depthStencil = {1.0f, 0};
+        VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+        rendering.renderArea = {{0, 0}, {width_, height_}};
+        rendering.layerCount = 1;
+        rendering.colorAttachmentCount = 1;
+        rendering.pColorAttachments = &color_att;
+        rendering.pDepthAttachment = &depth_att;
+        vkCmdBeginRendering(cmd, &rendering);
+
+        VkViewport viewport{0.0f, 0.0f, float(width_), float(height_), 0.0f, 1.0f};
+        VkRect2D scissor{{0, 0}, {width_, height_}};
+        vkCmdSetViewport(cmd, 0, 1, &viewport);
+        vkCmdSetScissor(cmd, 0, 1, &scissor);
+        // Every pipeline shares the layout, so one push of the descriptors serves all draws.
+        VkDescriptorBufferInfo infos[2] = {{pos.buffer, 0, VK_WHOLE_SIZE}, {vel.buffer, 0, VK_WHOLE_SIZE}};
+        VkWriteDescriptorSet writes[2] = {};
+        for (uint32_t i = 0; i < 2; ++i) {
+            writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+            writes[i].dstBinding = i;
+            writes[i].descriptorCount = 1;
+            writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            writes[i].pBufferInfo = &infos[i];
+        }
+        ctx_->push_descriptor_fn()(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, m.layout, 0, 2, writes);
+        auto draw = [&](uint32_t mode, const Box& box, float albedo, uint32_t vertices, uint32_t first) {
+            push.box_min = with_w(box.min, albedo);
+            push.box_max = with_w(box.max, 0.0f);
+            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipelines[mode]);
+            vkCmdPushConstants(cmd, m.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                               sizeof push, &push);
+            vkCmdDraw(cmd, vertices, 1, first, 0);
+        };
+        draw(IMPOSTOR_MODE_SKY, domain, 0.0f, 3, 0);
+        draw(IMPOSTOR_MODE_SOLID, domain, kFloorAlbedo, 6, IMPOSTOR_FLOOR_FIRST);
+        for (const Box& b : static_boxes) draw(IMPOSTOR_MODE_SOLID, b, kBoxAlbedo, 36, 0);
+        if (count > 0) draw(IMPOSTOR_MODE_PARTICLES, domain, 0.0f, count * 6, 0);
+        draw(IMPOSTOR_MODE_LINES, domain, 0.0f, 24, 0);  // last: front edges stay on top of the fluid
+        vkCmdEndRendering(cmd);
+
+        image_barrier(cmd, m.color.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                      VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
+                      VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {width_, height_, 1};
+        vkCmdCopyImageToBuffer(cmd, m.color.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, m.readback.buffer, 1,
+                               &region);
+        // The host reads the copy after the fence wait; this makes the transfer write visible to it.
+        VkBufferMemoryBarrier2 to_host{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
+        to_host.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+        to_host.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+        to_host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
+        to_host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
+        to_host.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        to_host.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        to_host.buffer = m.readback.buffer;
+        to_host.size = VK_WHOLE_SIZE;
+        VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+        dep.bufferMemoryBarrierCount = 1;
+        dep.pBufferMemoryBarriers = &to_host;
+        vkCmdPipelineBarrier2(cmd, &dep);
+    });
+
+    Image out;
+    out.width = width_;
+    out.height = height_;
+    out.rgba.resize(size_t(width_) * height_ * 4);
+    std::memcpy(out.rgba.data(), m.readback.mapped, out.rgba.size());
+    return out;
+}
+
+}  // namespace aquaform

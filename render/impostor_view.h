@@ -1,0 +1,66 @@
+// A plain view of the particles as shaded sphere impostors (camera-facing quads with sphere
+// depth), drawn straight from the solver's GPU buffers; the image is read back only to be
+// written out. The ray-marching renderer replaces it for final images; this stays as the
+// quick preview.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include <glm/glm.hpp>
+#include <vulkan/vulkan.h>
+
+#include "gpu/buffer.h"
+#include "render/image_io.h"
+#include "sim/scene.h"
+
+namespace aquaform {
+
+namespace gpu {
+class Context;
+}
+
+struct ViewCamera {
+    glm::vec3 eye{0.0f, 0.0f, 3.0f};
+    glm::vec3 target{0.0f};
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
+    float fov_y_degrees = 40.0f;
+};
+
+/// A camera that frames the whole domain from the front, slightly above and to the side.
+ViewCamera camera_for_domain(const Box& domain, float aspect);
+
+/// World -> Vulkan clip space (y down, depth 0..1) of `camera`, with near and far planes set
+/// from the domain's bounding sphere; the matrix ImpostorView draws with (tests project with it).
+glm::mat4 view_projection(const ViewCamera& camera, float aspect, const Box& domain);
+
+struct ImpostorStyle {
+    float radius = 0.01f;          ///< sphere radius [m] (half the particle spacing)
+    float speed_for_full_color = 2.0f;  ///< speed [m/s] mapped to the end of the colour ramp
+};
+
+class ImpostorView {
+public:
+    ImpostorView(gpu::Context& ctx, uint32_t width, uint32_t height);
+    ~ImpostorView();
+    ImpostorView(const ImpostorView&) = delete;
+    ImpostorView& operator=(const ImpostorView&) = delete;
+
+    /// Draws `count` particles (positions: vec4 xyz; velocities: vec4 xyz, colour by speed)
+    /// over a background with the domain's floor and walls outlined and the static boxes shaded,
+    /// and returns the image.
+    Image render(const gpu::Buffer& positions, const gpu::Buffer& velocities, uint32_t count,
+                 const ViewCamera& camera, const ImpostorStyle& style, const Box& domain,
+                 std::span<const Box> static_boxes);
+
+    uint32_t width() const { return width_; }
+    uint32_t height() const { return height_; }
+
+private:
+    struct Impl;
+    gpu::Context* ctx_;
+    uint32_t width_, height_;
+    Impl* impl_;
+};
+
+}  // namespace aquaform

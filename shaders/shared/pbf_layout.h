@@ -1,0 +1,122 @@
+// Parameters and shared math of the position-based fluid solver (Macklin & Mueller 2013),
+// included by the GPU passes (shaders/sim/*.comp), the C++ solver and its CPU reference.
+//
+// Per-particle arrays (structure of arrays, all in GPU memory):
+//   x: position, w = particle id (as float: exact below 2^24)
+//   v: velocity, w = tag (fluid block the particle came from, as float)
+//   p: predicted position, w unused
+//   lambda, density: one float each
+#ifndef AQUAFORM_PBF_LAYOUT_H
+#define AQUAFORM_PBF_LAYOUT_H
+#include "compat.h"
+#include "sph_kernels.h"
+
+#define PBF_MAX_STATIC_BOXES 16
+#define PBF_STATS_WORKGROUP 256
+
+AF_BEGIN
+
+struct SimParams {
+    vec4 domain_min;      ///< xyz [m]; w: wall margin [m]
+    vec4 domain_max;      ///< xyz [m]
+    vec4 gravity;         ///< xyz [m/s^2]
+    vec4 grid_origin_cell;  ///< neighbour grid: xyz origin, w cell size (= h)
+    uvec4 grid_dims;      ///< neighbour grid: xyz cells, w cell count
+    float h;              ///< kernel radius [m]
+    float h2;
+    float mass;           ///< particle mass [kg], calibrated so a rest lattice has density rho0
+    float rest_density;   ///< rho0 [kg/m^3]
+    float volume;         ///< mass / rho0 [m^3]
+    float poly6_coeff;
+    float spiky_coeff;
+    float epsilon;        ///< relaxation of eq. 11, = relaxation * stiffness_ref
+    float scorr_k;        ///< eq. 13 k, divided by stiffness_ref (see sim/pbf_solver.cpp)
+    float scorr_n;
+    float scorr_inv_wdq;  ///< 1 / W(dq h)
+    float viscosity;      ///< XSPH c
+    float vorticity;      ///< vorticity confinement epsilon [m/s]
+    float max_speed;      ///< CFL cap [m/s]
+    float dt;             ///< step [s]
+    float inv_dt;
+    uint particle_count;
+    uint static_box_count;
+    float front_floor;    ///< a particle below this height counts as "on the floor" for the front
+    uint front_tag;       ///< tag whose leading edge front.csv follows
+    vec4 box_min[PBF_MAX_STATIC_BOXES];
+    vec4 box_max[PBF_MAX_STATIC_BOXES];
+};
+
+/// Push constants of the passes that only need the particle count.
+struct CountPush {
+    uint count;
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
+/// Per-workgroup partial sums of the stats pass; the host finishes the reduction.
+struct StatsPartial {
+    float sum_density_error;    ///< sum of max(rho / rho0 - 1, 0)
+    float max_density_error;
+    float sum_kinetic_energy;   ///< [J]
+    float max_speed;
+    float outside;              ///< particles outside the domain box
+    float non_finite;           ///< particles with a NaN or infinite position or velocity
+    float front;                ///< largest x of a front_tag particle below front_floor (-1e30 if none)
+    float sum_abs_density_dev;  ///< sum of |rho / rho0 - 1|, free-surface deficiency included
+};
+
+/// Keeps a predicted position inside the domain and outside every static box (projection to
+/// the nearest surface; PBF turns the correction into a velocity in the update).
+AF_FN vec3 pbf_collide(vec3 p, SimParams params) {
+    float m = params.domain_min.w;
+    vec3 lo = vec3(params.domain_min) + vec3(m);
+    vec3 hi = vec3(params.domain_max) - vec3(m);
+    p = clamp(p, lo, hi);
+    for (uint b = 0u; b < params.static_box_count; ++b) {
+        vec3 bmin = vec3(params.box_min[b]) - vec3(m);
+        vec3 bmax = vec3(params.box_max[b]) + vec3(m);
+        if (p.x > bmin.x && p.x < bmax.x && p.y > bmin.y && p.y < bmax.y && p.z > bmin.z && p.z < bmax.z) {
+            // push out through the nearest face
+            float dx0 = p.x - bmin.x, dx1 = bmax.x - p.x;
+            float dy0 = p.y - bmin.y, dy1 = bmax.y - p.y;
+            float dz0 = p.z - bmin.z, dz1 = bmax.z - p.z;
+            float best = min(min(min(dx0, dx1), min(dy0, dy1)), min(dz0, dz1));
+            if (best == dx0) p.x = bmin.x;
+            else if (best == dx1) p.x = bmax.x;
+            else if (best == dy0) p.y = bmin.y;
+            else if (best == dy1) p.y = bmax.y;
+            else if (best == dz0) p.z = bmin.z;
+            else p.z = bmax.z;
+        }
+    }
+    return p;
+}
+
+/// Caps a velocity at params.max_speed (the CFL condition: at most cfl * h per step).
+AF_FN vec3 pbf_cap_speed(vec3 v, SimParams params) {
+    float s2 = dot(v, v);
+    if (s2 > params.max_speed * params.max_speed) v *= params.max_speed / sqrt(s2);
+    return v;
+}
+
+/// Tensile-instability correction s_corr = -k (W(r) / W(dq))^n (eq. 13).
+AF_FN float pbf_scorr(float w, SimParams params) {
+    if (params.scorr_k == 0.0f) return 0.0f;
+    float ratio = w * params.scorr_inv_wdq;
+    if (params.scorr_n == 4.0f) {  // the paper's n; pow() costs several times more
+        float r2 = ratio * ratio;
+        return -params.scorr_k * r2 * r2;
+    }
+    return -params.scorr_k * pow(ratio, params.scorr_n);
+}
+
+AF_END
+
+#ifdef __cplusplus
+static_assert(sizeof(aquaform::shader::SimParams) == 5 * 16 + 20 * 4 + 2 * 16 * 16);
+static_assert(sizeof(aquaform::shader::CountPush) == 16);
+static_assert(sizeof(aquaform::shader::StatsPartial) == 32);
+#endif
+
+#endif

@@ -1,0 +1,45 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// PBF density constraint (eqs. 1, 2, 8, 9, 11): density rho_i, then the scaling factor
+//   lambda_i = -C_i / (sum_k |grad_k C_i|^2 + epsilon),  C_i = max(rho_i / rho0 - 1, 0).
+// The constraint is unilateral (only compression is corrected): a free-surface particle has a
+// partial neighbourhood, and pulling it to full density would clump the surface.
+#include "shared/grid_layout.h"
+#include "shared/pbf_layout.h"
+
+layout(local_size_x_id = 0) in;
+layout(std430, binding = 0) readonly buffer Params { SimParams params; };
+layout(std430, binding = 1) readonly buffer P { vec4 p[]; };
+layout(std430, binding = 2) readonly buffer CellRank { uint cell_rank[]; };
+layout(std430, binding = 3) readonly buffer CellStart { uint cell_start[]; };
+layout(std430, binding = 4) writeonly buffer Lambda { float lambda[]; };
+layout(std430, binding = 5) writeonly buffer Density { float density[]; };
+layout(push_constant) uniform Push { CountPush pc; };
+
+#include "common/grid_query.glsl"
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= pc.count) return;
+    vec3 pi = p[i].xyz;
+    float rho = 0.0;
+    vec3 grad_i = vec3(0.0);
+    float sum_grad2 = 0.0;
+    ivec3 c = grid_cell(pi, params.grid_origin_cell, params.grid_dims);
+    for (int k = 0; k < 27; ++k) {
+        uvec2 range = grid_neighbor_range(c, k, params.grid_dims);
+        for (uint j = range.x; j < range.y; ++j) {
+            vec3 r = pi - p[j].xyz;
+            float r2 = dot(r, r);
+            if (r2 >= params.h2) continue;
+            rho += poly6(r2, params.h2, params.poly6_coeff);
+            vec3 g = params.volume * spiky_gradient(r, sqrt(r2), params.h, params.spiky_coeff);
+            grad_i += g;
+            sum_grad2 += dot(g, g);
+        }
+    }
+    rho *= params.mass;
+    float constraint = max(rho / params.rest_density - 1.0, 0.0);
+    lambda[i] = -constraint / (sum_grad2 + dot(grad_i, grad_i) + params.epsilon);
+    density[i] = rho;
+}

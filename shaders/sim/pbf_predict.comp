@@ -1,0 +1,19 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// PBF step 1 (Algorithm 1, lines 1-4): apply gravity, cap the speed, predict positions.
+#include "shared/pbf_layout.h"
+
+layout(local_size_x_id = 0) in;
+layout(std430, binding = 0) readonly buffer Params { SimParams params; };
+layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
+layout(std430, binding = 2) buffer V { vec4 v[]; };
+layout(std430, binding = 3) writeonly buffer P { vec4 p[]; };
+layout(push_constant) uniform Push { CountPush pc; };
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= pc.count) return;
+    vec3 vi = pbf_cap_speed(v[i].xyz + params.dt * params.gravity.xyz, params);
+    v[i].xyz = vi;
+    p[i] = vec4(pbf_collide(x[i].xyz + params.dt * vi, params), 0.0);
+}

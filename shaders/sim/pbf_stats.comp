@@ -1,0 +1,63 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Frame statistics, reduced per workgroup on the GPU so that only a few bytes per 256
+// particles come back to the host: density error, kinetic energy, speed, leakage, NaNs and
+// the dam-break front.
+#include "shared/pbf_layout.h"
+
+layout(local_size_x_id = 0) in;
+layout(std430, binding = 0) readonly buffer Params { SimParams params; };
+layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
+layout(std430, binding = 2) readonly buffer V { vec4 v[]; };
+layout(std430, binding = 3) readonly buffer Density { float density[]; };
+layout(std430, binding = 4) writeonly buffer Partials { StatsPartial partials[]; };
+layout(push_constant) uniform Push { CountPush pc; };
+
+const float NO_FRONT = -1.0e30;
+shared StatsPartial group[PBF_STATS_WORKGROUP];
+
+StatsPartial combine(StatsPartial a, StatsPartial b) {
+    StatsPartial r;
+    r.sum_density_error = a.sum_density_error + b.sum_density_error;
+    r.max_density_error = max(a.max_density_error, b.max_density_error);
+    r.sum_kinetic_energy = a.sum_kinetic_energy + b.sum_kinetic_energy;
+    r.max_speed = max(a.max_speed, b.max_speed);
+    r.outside = a.outside + b.outside;
+    r.non_finite = a.non_finite + b.non_finite;
+    r.front = max(a.front, b.front);
+    r.sum_abs_density_dev = a.sum_abs_density_dev + b.sum_abs_density_dev;
+    return r;
+}
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    uint t = gl_LocalInvocationID.x;
+    StatsPartial s = StatsPartial(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, NO_FRONT, 0.0);
+    if (i < pc.count) {
+        vec4 xi = x[i];
+        vec4 vi = v[i];
+        bool finite = !any(isnan(xi.xyz)) && !any(isinf(xi.xyz)) && !any(isnan(vi.xyz)) && !any(isinf(vi.xyz));
+        if (finite) {
+            float dev = density[i] / params.rest_density - 1.0;
+            float speed2 = dot(vi.xyz, vi.xyz);
+            s.sum_density_error = max(dev, 0.0);
+            s.max_density_error = max(dev, 0.0);
+            s.sum_abs_density_dev = abs(dev);
+            s.sum_kinetic_energy = 0.5 * params.mass * speed2;
+            s.max_speed = sqrt(speed2);
+            bool inside = all(greaterThanEqual(xi.xyz, params.domain_min.xyz)) &&
+                          all(lessThanEqual(xi.xyz, params.domain_max.xyz));
+            s.outside = inside ? 0.0 : 1.0;
+            if (uint(vi.w) == params.front_tag && xi.y < params.front_floor) s.front = xi.x;
+        } else {
+            s.non_finite = 1.0;
+        }
+    }
+    group[t] = s;
+    barrier();
+    for (uint stride = PBF_STATS_WORKGROUP / 2u; stride > 0u; stride >>= 1u) {
+        if (t < stride) group[t] = combine(group[t], group[t + stride]);
+        barrier();
+    }
+    if (t == 0u) partials[gl_WorkGroupID.x] = group[0];
+}

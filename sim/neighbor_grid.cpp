@@ -1,0 +1,123 @@
+#include "sim/neighbor_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include "gpu/context.h"
+#include "gpu/timer.h"
+#include "shaders/shared/morton.h"
+
+namespace aquaform {
+
+shader::GridPush GridGeometry::push(uint32_t particle_count) const {
+    shader::GridPush p{};
+    p.origin_cell = glm::vec4(origin, cell_size);
+    p.dims = glm::uvec4(dims, cell_count());
+    p.count = particle_count;
+    return p;
+}
+
+Result<GridGeometry> grid_for_domain(glm::vec3 min, glm::vec3 max, float cell_size) {
+    GridGeometry g;
+    g.cell_size = cell_size;
+    g.origin = min - glm::vec3(cell_size);
+    const char* axes = "xyz";
+    for (int a = 0; a < 3; ++a) {
+        // (the 1e-4 keeps float noise in extent / cell_size from adding a whole layer of cells)
+        double cells = std::ceil(double(max[a] - min[a]) / cell_size - 1.0e-4) + 2.0;
+        if (!(cells <= shader::MORTON_MAX_CELLS_PER_AXIS))
+            return Error{"the domain is " + std::to_string(cells) + " kernel radii long on " + axes[a] +
+                         "; the neighbour grid holds at most " +
+                         std::to_string(shader::MORTON_MAX_CELLS_PER_AXIS) +
+                         " cells per axis: shrink the domain or increase particle_spacing"};
+        g.dims[a] = static_cast<uint32_t>(cells);
+    }
+    return g;
+}
+
+std::vector<uint32_t> morton_rank_table(const GridGeometry& grid) {
+    const uint32_t n = grid.cell_count();
+    std::vector<uint32_t> codes(n);
+    for (uint32_t z = 0; z < grid.dims.z; ++z)
+        for (uint32_t y = 0; y < grid.dims.y; ++y)
+            for (uint32_t x = 0; x < grid.dims.x; ++x)
+                codes[x + grid.dims.x * (y + grid.dims.y * z)] = shader::morton_encode(glm::uvec3(x, y, z));
+    std::vector<uint32_t> by_code(n);
+    std::iota(by_code.begin(), by_code.end(), 0u);
+    std::sort(by_code.begin(), by_code.end(), [&](uint32_t a, uint32_t b) { return codes[a] < codes[b]; });
+    std::vector<uint32_t> rank(n);
+    for (uint32_t r = 0; r < n; ++r) rank[by_code[r]] = r;
+    return rank;
+}
+
+NeighborGrid::NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const GridGeometry& geometry,
+                           uint32_t max_particles, const std::string& prefix)
+    : ctx_(&ctx), geometry_(geometry) {
+    const uint32_t cells = geometry.cell_count();
+    cell_rank_ = &buffers.add(prefix + ".cell_rank", uint64_t(cells) * 4);
+    cell_start_ = &buffers.add(prefix + ".cell_start", (uint64_t(cells) + 1) * 4);
+    keys_ = &buffers.add(prefix + ".keys", uint64_t(max_particles) * 4);
+    slots_ = &buffers.add(prefix + ".slots", uint64_t(max_particles) * 4);
+    order_ = &buffers.add(prefix + ".order", uint64_t(max_particles) * 4);
+    for (uint32_t n = cells + 1, level = 1; n > 1; ++level) {
+        n = (n + GRID_SCAN_BLOCK - 1) / GRID_SCAN_BLOCK;
+        scan_levels_.push_back(&buffers.add(prefix + ".scan_sums" + std::to_string(level), uint64_t(n) * 4));
+    }
+    auto rank = morton_rank_table(geometry);
+    gpu::upload(ctx, *cell_rank_, rank.data(), rank.size() * 4);
+
+    using shader::GridPush;
+    using shader::ScanPush;
+    count_pass_ = gpu::ComputePass(ctx, {"sim/grid_count.comp", 5, sizeof(GridPush)});
+    scatter_pass_ = gpu::ComputePass(ctx, {"sim/grid_scatter.comp", 4, sizeof(GridPush)});
+    scan_blocks_pass_ = gpu::ComputePass(ctx, {"sim/scan_blocks.comp", 2, sizeof(ScanPush), GRID_SCAN_WORKGROUP});
+    scan_add_pass_ = gpu::ComputePass(ctx, {"sim/scan_add.comp", 2, sizeof(ScanPush)});
+}
+
+void NeighborGrid::record_scan(VkCommandBuffer cmd, uint32_t level, gpu::Buffer& data, uint32_t count) {
+    const uint32_t blocks = (count + GRID_SCAN_BLOCK - 1) / GRID_SCAN_BLOCK;
+    gpu::Buffer& sums = *scan_levels_[level];
+    shader::ScanPush push{count};
+    gpu::dispatch(*ctx_, cmd, scan_blocks_pass_, blocks * GRID_SCAN_WORKGROUP, push, {&data, &sums});
+    if (blocks > 1) {
+        record_scan(cmd, level + 1, sums, blocks);
+        gpu::dispatch(*ctx_, cmd, scan_add_pass_, count, push, {&data, &sums});
+    }
+}
+
+void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
+                         gpu::GpuTimer* timer) {
+    const shader::GridPush push = geometry_.push(count);
+    {
+        gpu::GpuScope scope(timer, cmd, "grid_count");
+        vkCmdFillBuffer(cmd, cell_start_->buffer, 0, VK_WHOLE_SIZE, 0);
+        gpu::compute_barrier(cmd);
+        gpu::dispatch(*ctx_, cmd, count_pass_, count, push, {&positions, cell_rank_, cell_start_, keys_, slots_});
+    }
+    {
+        gpu::GpuScope scope(timer, cmd, "grid_scan");
+        record_scan(cmd, 0, *cell_start_, geometry_.cell_count() + 1);
+    }
+    {
+        gpu::GpuScope scope(timer, cmd, "grid_scatter");
+        gpu::dispatch(*ctx_, cmd, scatter_pass_, count, push, {keys_, slots_, cell_start_, order_});
+    }
+}
+
+void NeighborGrid::record_list_neighbors(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
+                                         float radius, uint32_t capacity, gpu::Buffer& counts, gpu::Buffer& lists) {
+    if (radius > geometry_.cell_size)
+        throw std::invalid_argument("neighbour query radius " + std::to_string(radius) + " exceeds the grid's cell size " +
+                                    std::to_string(geometry_.cell_size) + "; build a grid with larger cells");
+    if (!list_pass_.pipeline())
+        list_pass_ = gpu::ComputePass(*ctx_, {"sim/grid_list_neighbors.comp", 6, sizeof(shader::NeighborListPush)});
+    shader::NeighborListPush push{};
+    push.grid = geometry_.push(count);
+    push.radius = radius;
+    push.capacity = capacity;
+    gpu::dispatch(*ctx_, cmd, list_pass_, count, push, {&positions, order_, cell_rank_, cell_start_, &counts, &lists});
+}
+
+}  // namespace aquaform

@@ -1,0 +1,86 @@
+// The Morton-sorted neighbour grid: a counting sort of particles by the Morton rank of their
+// cell (cell size = kernel radius h) over a grid sized to the scene's domain. It is a reusable
+// object: the solver physically reorders its arrays by `order()`, other passes (the renderer)
+// can query it in place through `order()`, `cell_rank()` and `cell_start()`.
+// Layout and query rules: shaders/shared/grid_layout.h and shaders/common/grid_query.glsl.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gpu/buffer.h"
+#include "gpu/compute_pass.h"
+#include "shaders/shared/grid_layout.h"
+#include "sim/result.h"
+
+namespace aquaform {
+
+namespace gpu {
+class GpuTimer;
+}
+
+struct GridGeometry {
+    glm::vec3 origin{0.0f};
+    float cell_size = 1.0f;
+    glm::uvec3 dims{1u};
+
+    uint32_t cell_count() const { return dims.x * dims.y * dims.z; }
+    shader::GridPush push(uint32_t particle_count) const;
+};
+
+/// A grid of cells of `cell_size` covering [min, max] (one extra cell of slack on each axis
+/// end, so particles resting exactly on a wall share a cell layer with their neighbours).
+/// Fails, naming the axis and the fix, when an axis would need more than 1024 cells.
+Result<GridGeometry> grid_for_domain(glm::vec3 min, glm::vec3 max, float cell_size);
+
+/// rank[linear cell index] = position of that cell in Morton order among the grid's cells.
+std::vector<uint32_t> morton_rank_table(const GridGeometry& grid);
+
+/// GPU memory of the grid: per particle (keys, slots, order) and per cell (rank, start).
+constexpr uint32_t kGridBytesPerParticle = 3 * sizeof(uint32_t);
+constexpr uint32_t kGridBytesPerCell = 2 * sizeof(uint32_t);
+
+class NeighborGrid {
+public:
+    /// Allocates the grid's buffers in `buffers` (named with `prefix` for the memory report).
+    NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const GridGeometry& geometry,
+                 uint32_t max_particles, const std::string& prefix = "grid");
+
+    /// Records the build: count per cell, exclusive scan into starts, scatter into `order`.
+    void build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, gpu::GpuTimer* timer);
+
+    /// Records a query of the built grid: for every particle of `positions` (the buffer given
+    /// to build(), in its own order), the indices of the others within `radius` <= cell size.
+    /// counts[i] is the true count; lists hold at most `capacity` entries per particle.
+    void record_list_neighbors(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, float radius,
+                               uint32_t capacity, gpu::Buffer& counts, gpu::Buffer& lists);
+
+    const GridGeometry& geometry() const { return geometry_; }
+    const gpu::Buffer& cell_rank() const { return *cell_rank_; }
+    const gpu::Buffer& cell_start() const { return *cell_start_; }
+    /// order[sorted index] = index in the positions given to build().
+    const gpu::Buffer& order() const { return *order_; }
+    const gpu::Buffer& keys() const { return *keys_; }
+
+private:
+    void record_scan(VkCommandBuffer cmd, uint32_t level, gpu::Buffer& data, uint32_t count);
+
+    gpu::Context* ctx_;
+    GridGeometry geometry_;
+    gpu::Buffer* cell_rank_;
+    gpu::Buffer* cell_start_;  // cells + 1 entries; holds counts until the scan
+    gpu::Buffer* keys_;
+    gpu::Buffer* slots_;
+    gpu::Buffer* order_;
+    std::vector<gpu::Buffer*> scan_levels_;  // block sums of each scan level
+    gpu::ComputePass count_pass_;
+    gpu::ComputePass scatter_pass_;
+    gpu::ComputePass scan_blocks_pass_;
+    gpu::ComputePass scan_add_pass_;
+    gpu::ComputePass list_pass_;  // created on first use
+};
+
+}  // namespace aquaform

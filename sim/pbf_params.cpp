@@ -1,0 +1,73 @@
+#include "sim/pbf_params.h"
+
+#include <cmath>
+
+#include "shaders/shared/sph_kernels.h"
+
+namespace aquaform {
+
+PbfConstants pbf_constants(const Scene& scene) {
+    PbfConstants c;
+    const float s = scene.particle_spacing;
+    c.h = scene.solver.kernel_radius_factor * s;
+    const float h2 = c.h * c.h;
+    const float poly6_coeff = shader::poly6_coefficient(c.h);
+    const float spiky_coeff = shader::spiky_gradient_coefficient(c.h);
+    const int reach = static_cast<int>(std::ceil(scene.solver.kernel_radius_factor));
+    double w_sum = 0.0;
+    double grad2_sum = 0.0;  // sum |grad W|^2, to be scaled by the particle volume squared
+    for (int z = -reach; z <= reach; ++z)
+        for (int y = -reach; y <= reach; ++y)
+            for (int x = -reach; x <= reach; ++x) {
+                glm::vec3 r = glm::vec3(float(x), float(y), float(z)) * s;
+                float r2 = glm::dot(r, r);
+                w_sum += shader::poly6(r2, h2, poly6_coeff);
+                glm::vec3 g = shader::spiky_gradient(r, std::sqrt(r2), c.h, spiky_coeff);
+                grad2_sum += glm::dot(g, g);
+            }
+    c.mass = static_cast<float>(scene.rest_density / w_sum);
+    const double volume = 1.0 / w_sum;
+    c.stiffness_ref = static_cast<float>(volume * volume * grad2_sum);
+    return c;
+}
+
+shader::SimParams make_sim_params(const Scene& scene, const GridGeometry& grid, uint32_t particle_count) {
+    const PbfConstants c = pbf_constants(scene);
+    const SolverSettings& sv = scene.solver;
+    shader::SimParams p{};
+    // Particle centres stay a hair inside the walls so that "outside the domain" means leaked.
+    const float margin = 1.0e-3f * scene.particle_spacing;
+    p.domain_min = glm::vec4(scene.domain.min, margin);
+    p.domain_max = glm::vec4(scene.domain.max, 0.0f);
+    p.gravity = glm::vec4(scene.gravity, 0.0f);
+    p.grid_origin_cell = glm::vec4(grid.origin, grid.cell_size);
+    p.grid_dims = glm::uvec4(grid.dims, grid.cell_count());
+    p.h = c.h;
+    p.h2 = c.h * c.h;
+    p.mass = c.mass;
+    p.rest_density = scene.rest_density;
+    p.volume = c.mass / scene.rest_density;
+    p.poly6_coeff = shader::poly6_coefficient(c.h);
+    p.spiky_coeff = shader::spiky_gradient_coefficient(c.h);
+    p.epsilon = sv.relaxation * c.stiffness_ref;
+    p.scorr_k = sv.scorr_k / c.stiffness_ref;
+    p.scorr_n = sv.scorr_n;
+    const float dq = sv.scorr_dq * c.h;
+    p.scorr_inv_wdq = 1.0f / shader::poly6(dq * dq, p.h2, p.poly6_coeff);
+    p.viscosity = sv.viscosity;
+    p.vorticity = sv.vorticity;
+    p.dt = sv.frame_dt / float(sv.substeps);
+    p.inv_dt = 1.0f / p.dt;
+    p.max_speed = sv.cfl * c.h / p.dt;
+    p.particle_count = particle_count;
+    p.static_box_count = static_cast<uint32_t>(scene.static_boxes.size());
+    for (size_t b = 0; b < scene.static_boxes.size() && b < PBF_MAX_STATIC_BOXES; ++b) {
+        p.box_min[b] = glm::vec4(scene.static_boxes[b].min, 0.0f);
+        p.box_max[b] = glm::vec4(scene.static_boxes[b].max, 0.0f);
+    }
+    p.front_floor = scene.domain.min.y + c.h;
+    p.front_tag = 0;
+    return p;
+}
+
+}  // namespace aquaform

@@ -1,0 +1,28 @@
+// Turns a scene into the solver's GPU parameter block. Shared by the GPU solver and the CPU
+// reference so that both run exactly the same numbers.
+#pragma once
+
+#include "shaders/shared/pbf_layout.h"
+#include "sim/neighbor_grid.h"
+#include "sim/scene.h"
+
+namespace aquaform {
+
+/// Derived constants of a scene, with the choices the paper leaves open:
+/// - mass: calibrated so that an interior particle of the initial lattice has exactly rho0
+///   (m = rho0 / sum_j W(x_j) over the lattice), so a column at rest starts at rest;
+/// - stiffness_ref: sum_k |grad_k C|^2 of that lattice particle. epsilon = relaxation *
+///   stiffness_ref and the s_corr k is divided by it, so both are dimensionless and behave the
+///   same at every particle spacing (the paper's values assume unit mass and spacing).
+struct PbfConstants {
+    float h = 0.0f;
+    float mass = 0.0f;
+    float stiffness_ref = 0.0f;
+};
+
+PbfConstants pbf_constants(const Scene& scene);
+
+/// The parameter block for one solver step (dt = frame_dt / substeps).
+shader::SimParams make_sim_params(const Scene& scene, const GridGeometry& grid, uint32_t particle_count);
+
+}  // namespace aquaform

@@ -1,0 +1,260 @@
+#include "sim/pbf_solver.h"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <utility>
+
+#include "gpu/context.h"
+#include "gpu/timer.h"
+#include "gpu/vk_check.h"
+#include "sim/pbf_params.h"
+
+namespace aquaform {
+
+namespace {
+
+constexpr const char* kParticleBuffers[] = {"particles.x", "particles.v", "particles.p",
+                                            "particles.scratch0", "particles.scratch1", "particles.scratch2"};
+
+std::string gib(uint64_t bytes) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.2f GiB", double(bytes) / double(1ull << 30));
+    return buf;
+}
+
+uint32_t stats_groups(uint32_t count) { return (count + PBF_STATS_WORKGROUP - 1) / PBF_STATS_WORKGROUP; }
+
+}  // namespace
+
+uint64_t MemoryPlan::total_bytes() const {
+    uint64_t total = 0;
+    for (const auto& b : buffers) total += b.bytes;
+    return total;
+}
+
+Result<MemoryPlan> plan_memory(const Scene& scene) {
+    MemoryPlan plan;
+    plan.particles = scene.particle_count();
+    const float h = scene.solver.kernel_radius_factor * scene.particle_spacing;
+    auto grid = grid_for_domain(scene.domain.min, scene.domain.max, h);
+    if (!grid) return Error{scene.path.string() + ": " + grid.error()};
+    plan.grid = grid.value();
+    const uint64_t n = plan.particles;
+    const uint64_t cells = plan.grid.cell_count();
+    for (const char* name : kParticleBuffers) plan.buffers.push_back({name, n * 16});
+    plan.buffers.push_back({"particles.lambda", n * 4});
+    plan.buffers.push_back({"particles.density", n * 4});
+    plan.buffers.push_back({"grid.keys", n * 4});
+    plan.buffers.push_back({"grid.slots", n * 4});
+    plan.buffers.push_back({"grid.order", n * 4});
+    plan.buffers.push_back({"grid.cell_rank", cells * 4});
+    plan.buffers.push_back({"grid.cell_start", (cells + 1) * 4});
+    plan.buffers.push_back({"stats.partials", ((n + PBF_STATS_WORKGROUP - 1) / PBF_STATS_WORKGROUP) * 32});
+    plan.buffers.push_back({"params", sizeof(shader::SimParams)});
+    return plan;
+}
+
+Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::DeviceInfo& device) {
+    const std::string where = scene.path.empty() ? scene.name : scene.path.string();
+    char spacing[32];
+    std::snprintf(spacing, sizeof spacing, "%g", scene.particle_spacing);
+    const std::string fix = "; increase particle_spacing (now " + std::string(spacing) +
+                            " m; doubling it divides the particle count by 8) or shrink fluid_blocks";
+    if (plan.particles == 0)
+        return Error{where + ": the fluid blocks hold no particle at particle_spacing " + spacing +
+                     "; make the blocks larger than the spacing"};
+    if (plan.particles >= (1ull << 24))
+        return Error{where + ": " + std::to_string(plan.particles) +
+                     " particles is more than the 16,777,216 aquaform can index" + fix};
+    for (const auto& b : plan.buffers)
+        if (b.bytes > device.max_storage_buffer_bytes)
+            return Error{where + ": buffer " + b.name + " would need " + gib(b.bytes) + " for " +
+                         std::to_string(plan.particles) + " particles but " + device.name +
+                         " binds at most " + gib(device.max_storage_buffer_bytes) + " per buffer" + fix};
+    // Keep a quarter of the device for the renderer, the driver and other programs.
+    const uint64_t budget = device.device_local_bytes / 4 * 3;
+    if (plan.total_bytes() > budget)
+        return Error{where + ": the scene needs " + gib(plan.total_bytes()) + " of GPU memory for " +
+                     std::to_string(plan.particles) + " particles but " + device.name + " has " +
+                     gib(device.device_local_bytes) + " (aquaform uses at most 3/4 of it)" + fix};
+    return true;
+}
+
+PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_(scene), buffers_(ctx) {
+    if (scene.static_boxes.size() > PBF_MAX_STATIC_BOXES)
+        throw std::runtime_error(scene.path.string() + ": static_boxes has " +
+                                 std::to_string(scene.static_boxes.size()) + " boxes; the solver supports at most " +
+                                 std::to_string(PBF_MAX_STATIC_BOXES) + ": merge boxes");
+    auto plan = plan_memory(scene);
+    if (!plan) throw std::runtime_error(plan.error());
+    auto fits = check_fits(scene, plan.value(), ctx.info());
+    if (!fits) throw std::runtime_error(fits.error());
+    count_ = static_cast<uint32_t>(plan.value().particles);
+    const GridGeometry& geometry = plan.value().grid;
+    params_ = make_sim_params(scene, geometry, count_);
+    xsph_on_ = scene.solver.viscosity > 0.0f || scene.solver.vorticity > 0.0f;
+    vorticity_on_ = scene.solver.vorticity > 0.0f;
+
+    const uint64_t n = count_;
+    x_ = &buffers_.add(kParticleBuffers[0], n * 16);
+    v_ = &buffers_.add(kParticleBuffers[1], n * 16);
+    p_ = &buffers_.add(kParticleBuffers[2], n * 16);
+    s0_ = &buffers_.add(kParticleBuffers[3], n * 16);
+    s1_ = &buffers_.add(kParticleBuffers[4], n * 16);
+    s2_ = &buffers_.add(kParticleBuffers[5], n * 16);
+    lambda_ = &buffers_.add("particles.lambda", n * 4);
+    density_ = &buffers_.add("particles.density", n * 4);
+    grid_ = std::make_unique<NeighborGrid>(ctx, buffers_, geometry, count_);
+    partials_ = &buffers_.add("stats.partials", uint64_t(stats_groups(count_)) * sizeof(shader::StatsPartial));
+    params_buf_ = &buffers_.add("params", sizeof(shader::SimParams));
+    gpu::upload(ctx, *params_buf_, &params_, sizeof params_);
+
+
+    using shader::CountPush;
+    predict_ = gpu::ComputePass(ctx, {"sim/pbf_predict.comp", 4, sizeof(CountPush)});
+    reorder_ = gpu::ComputePass(ctx, {"sim/pbf_reorder.comp", 7, sizeof(CountPush)});
+    lambda_pass_ = gpu::ComputePass(ctx, {"sim/pbf_lambda.comp", 6, sizeof(CountPush)});
+    correct_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 6, sizeof(CountPush)});
+    velocity_ = gpu::ComputePass(ctx, {"sim/pbf_velocity.comp", 4, sizeof(CountPush)});
+    if (xsph_on_) xsph_curl_ = gpu::ComputePass(ctx, {"sim/pbf_xsph_curl.comp", 8, sizeof(CountPush)});
+    if (vorticity_on_) vorticity_ = gpu::ComputePass(ctx, {"sim/pbf_vorticity.comp", 7, sizeof(CountPush)});
+    stats_ = gpu::ComputePass(ctx, {"sim/pbf_stats.comp", 5, sizeof(CountPush), PBF_STATS_WORKGROUP});
+
+    std::vector<glm::vec4> x;
+    std::vector<uint32_t> block;
+    scene.generate_particles(x, block);
+    std::vector<glm::vec4> v(x.size());
+    for (size_t i = 0; i < x.size(); ++i) {
+        x[i].w = float(i);
+        v[i] = glm::vec4(0.0f, 0.0f, 0.0f, float(block[i]));
+    }
+    set_state(x, v);
+}
+
+PbfSolver::~PbfSolver() = default;
+
+std::vector<std::string> PbfSolver::enabled_passes() const {
+    std::vector<std::string> passes = {"predict", "grid_count", "grid_scan", "grid_scatter", "reorder",
+                                       "lambda x" + std::to_string(scene_.solver.iterations),
+                                       "correct x" + std::to_string(scene_.solver.iterations), "velocity"};
+    if (xsph_on_) passes.push_back(vorticity_on_ ? "xsph_curl" : "xsph");
+    if (vorticity_on_) passes.push_back("vorticity");
+    passes.push_back("stats (once per frame)");
+    return passes;
+}
+
+void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
+    const shader::CountPush push{count_};
+    const gpu::Buffer& rank = grid_->cell_rank();
+    const gpu::Buffer& start = grid_->cell_start();
+    {
+        gpu::GpuScope s(timer, cmd, "predict");
+        gpu::dispatch(*ctx_, cmd, predict_, count_, push, {params_buf_, x_, v_, p_});
+    }
+    record_sort(cmd, *p_, timer);
+    for (uint32_t it = 0; it < scene_.solver.iterations; ++it) {
+        {
+            gpu::GpuScope s(timer, cmd, "lambda");
+            gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push, {params_buf_, p_, &rank, &start, lambda_, density_});
+        }
+        gpu::GpuScope s(timer, cmd, "correct");
+        gpu::dispatch(*ctx_, cmd, correct_, count_, push, {params_buf_, p_, &rank, &start, lambda_, s0_});
+        std::swap(p_, s0_);
+    }
+    {
+        gpu::GpuScope s(timer, cmd, "velocity");
+        gpu::dispatch(*ctx_, cmd, velocity_, count_, push, {params_buf_, x_, v_, p_});
+    }
+    if (xsph_on_) {
+        gpu::GpuScope s(timer, cmd, "xsph_curl");
+        gpu::dispatch(*ctx_, cmd, xsph_curl_, count_, push, {params_buf_, x_, v_, &rank, &start, density_, s1_, s0_});
+        std::swap(v_, s1_);
+    }
+    if (vorticity_on_) {
+        gpu::GpuScope s(timer, cmd, "vorticity");
+        gpu::dispatch(*ctx_, cmd, vorticity_, count_, push, {params_buf_, x_, v_, &rank, &start, density_, s0_});
+    }
+    time_ += params_.dt;
+}
+
+void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer) {
+    grid_->build(cmd, key_positions, count_, timer);
+    gpu::GpuScope s(timer, cmd, "reorder");
+    const shader::CountPush push{count_};
+    gpu::dispatch(*ctx_, cmd, reorder_, count_, push, {&grid_->order(), x_, v_, p_, s0_, s1_, s2_});
+    std::swap(x_, s0_);
+    std::swap(v_, s1_);
+    std::swap(p_, s2_);
+}
+
+void PbfSolver::run_steps(uint32_t steps, gpu::GpuTimer* timer) {
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
+        if (timer) timer->reset(cmd);
+        for (uint32_t i = 0; i < steps; ++i) record_step(cmd, timer);
+    });
+    if (timer) timer->collect();
+}
+
+void PbfSolver::record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
+    const shader::CountPush push{count_};
+    gpu::GpuScope s(timer, cmd, "stats");
+    // Density at the final positions (the lambda pass on x; its lambda output is recomputed
+    // before any use), then the per-workgroup reduction.
+    gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
+                  {params_buf_, x_, &grid_->cell_rank(), &grid_->cell_start(), lambda_, density_});
+    gpu::dispatch(*ctx_, cmd, stats_, stats_groups(count_) * PBF_STATS_WORKGROUP, push,
+                  {params_buf_, x_, v_, density_, partials_});
+}
+
+FrameStats PbfSolver::measure(gpu::GpuTimer* timer) {
+    if (timer) timer->clear_totals();
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
+        if (timer) timer->reset(cmd);
+        record_stats(cmd, timer);
+    });
+    return collect_stats(timer);
+}
+
+FrameStats PbfSolver::run_frame(gpu::GpuTimer* timer) {
+    if (timer) timer->clear_totals();
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
+        if (timer) timer->reset(cmd);
+        for (uint32_t i = 0; i < scene_.solver.substeps; ++i) record_step(cmd, timer);
+        record_stats(cmd, timer);
+    });
+    return collect_stats(timer);
+}
+
+FrameStats PbfSolver::collect_stats(gpu::GpuTimer* timer) {
+    if (timer) timer->collect();
+    auto partials = gpu::download_vector<shader::StatsPartial>(*ctx_, *partials_, stats_groups(count_));
+    // The front is the fluid's leading edge: the foremost particle centre plus its radius.
+    std::optional<float> wall;
+    if (scene_.column_width) wall = scene_.domain.min.x - 0.5f * scene_.particle_spacing;
+    FrameStats stats = reduce_stats(partials, count_, wall);
+    stats.time_s = time_;
+    if (timer) stats.gpu_ms = timer->totals_ms();
+    return stats;
+}
+
+ParticleSnapshot PbfSolver::snapshot() {
+    ParticleSnapshot s;
+    s.x = gpu::download_vector<glm::vec4>(*ctx_, *x_, count_);
+    s.v = gpu::download_vector<glm::vec4>(*ctx_, *v_, count_);
+    s.density = gpu::download_vector<float>(*ctx_, *density_, count_);
+    return s;
+}
+
+void PbfSolver::set_state(const std::vector<glm::vec4>& x, const std::vector<glm::vec4>& v) {
+    if (x.size() != count_ || v.size() != count_)
+        throw std::invalid_argument("PbfSolver::set_state: " + std::to_string(x.size()) + " positions and " +
+                                    std::to_string(v.size()) + " velocities for " + std::to_string(count_) +
+                                    " particles");
+    gpu::upload(*ctx_, *x_, x.data(), x.size() * sizeof(glm::vec4));
+    gpu::upload(*ctx_, *v_, v.data(), v.size() * sizeof(glm::vec4));
+    // Sort by the new positions so that the grid is valid before the first step (measure()).
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) { record_sort(cmd, *x_, nullptr); });
+}
+
+}  // namespace aquaform

@@ -1,0 +1,108 @@
+// The position-based fluid solver on the GPU (Macklin & Mueller 2013). Particle state lives in
+// GPU buffers for the whole run; a step records predict, grid build + reorder, the constraint
+// iterations, the velocity update, XSPH and vorticity confinement, with nothing read back.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gpu/buffer.h"
+#include "gpu/compute_pass.h"
+#include "shaders/shared/pbf_layout.h"
+#include "sim/frame_stats.h"
+#include "sim/neighbor_grid.h"
+#include "sim/result.h"
+#include "sim/scene.h"
+
+namespace aquaform {
+
+namespace gpu {
+class Context;
+class GpuTimer;
+struct DeviceInfo;
+}  // namespace gpu
+
+/// GPU memory per particle of the solver's own arrays: x, v, p and three scratch vec4 arrays
+/// (reorder targets, Jacobi ping-pong, XSPH output, vorticity), lambda and density.
+constexpr uint32_t kSolverBytesPerParticle = 6 * 16 + 2 * 4;
+
+/// Every buffer the solver would allocate for `scene`, with its size, before allocating any.
+struct MemoryPlan {
+    uint64_t particles = 0;
+    GridGeometry grid;
+    std::vector<gpu::BufferReport> buffers;
+    uint64_t total_bytes() const;
+};
+Result<MemoryPlan> plan_memory(const Scene& scene);
+/// Checks a plan against a device: total against its device-local memory, each buffer against
+/// its storage-buffer range. The message names the scene's spacing and the fix.
+Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::DeviceInfo& device);
+
+/// A particle as read back for tests, PLY dumps and the front measurement.
+struct ParticleSnapshot {
+    std::vector<glm::vec4> x;    ///< w: particle id
+    std::vector<glm::vec4> v;    ///< w: tag (source fluid block)
+    std::vector<float> density;
+};
+
+class PbfSolver {
+public:
+    /// Allocates and uploads the scene's particles. Throws gpu::VulkanError or
+    /// std::runtime_error with a clear message when the scene does not fit the device.
+    PbfSolver(gpu::Context& ctx, const Scene& scene);
+    ~PbfSolver();
+
+    /// Records one solver step (dt = frame_dt / substeps).
+    void record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer);
+    /// Runs `steps` steps in one submission and waits.
+    void run_steps(uint32_t steps, gpu::GpuTimer* timer);
+    /// Runs one frame (scene.solver.substeps steps) and returns its statistics.
+    FrameStats run_frame(gpu::GpuTimer* timer);
+    /// Statistics of the current state (runs the density and reduction passes).
+    FrameStats measure(gpu::GpuTimer* timer);
+    ParticleSnapshot snapshot();
+    /// Replaces the particle state (tests); sizes must match particle_count().
+    void set_state(const std::vector<glm::vec4>& x, const std::vector<glm::vec4>& v);
+
+    uint32_t particle_count() const { return count_; }
+    double time() const { return time_; }
+    const shader::SimParams& params() const { return params_; }
+    const Scene& scene() const { return scene_; }
+    /// Names of the GPU passes this scene enables, in execution order.
+    std::vector<std::string> enabled_passes() const;
+    std::vector<gpu::BufferReport> memory_report() const { return buffers_.report(); }
+
+    // In-place access for the renderer: the current arrays and the grid they are sorted by.
+    const gpu::Buffer& positions() const { return *x_; }
+    const gpu::Buffer& velocities() const { return *v_; }
+    const gpu::Buffer& densities() const { return *density_; }
+    const NeighborGrid& grid() const { return *grid_; }
+
+private:
+    /// Builds the grid over `key_positions` and reorders x, v, p into its Morton order.
+    void record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer);
+    void record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer);
+    FrameStats collect_stats(gpu::GpuTimer* timer);
+
+    gpu::Context* ctx_;
+    Scene scene_;
+    uint32_t count_ = 0;
+    double time_ = 0.0;
+    shader::SimParams params_{};
+    bool xsph_on_ = false;
+    bool vorticity_on_ = false;
+    gpu::BufferSet buffers_;
+    gpu::Buffer* params_buf_;
+    gpu::Buffer *x_, *v_, *p_, *s0_, *s1_, *s2_;
+    gpu::Buffer* lambda_;
+    gpu::Buffer* density_;
+    gpu::Buffer* partials_;
+    std::unique_ptr<NeighborGrid> grid_;
+    gpu::ComputePass predict_, reorder_, lambda_pass_, correct_, velocity_, xsph_curl_, vorticity_, stats_;
+};
+
+}  // namespace aquaform

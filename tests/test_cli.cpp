@@ -1,0 +1,158 @@
+// The `aquaform` command as a user meets it: exit codes, messages and the files it writes.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+    int exit_code = -1;
+    std::string output;  // stdout and stderr together
+};
+
+Outcome run_aquaform(const std::string& args) {
+    const std::string cmd = std::string(AQUAFORM_BINARY) + " " + args + " 2>&1";
+    Outcome o;
+    FILE* pipe = popen(cmd.c_str(), "r");
+    if (!pipe) return o;
+    std::array<char, 4096> buf;
+    size_t n;
+    while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) o.output.append(buf.data(), n);
+    int status = pclose(pipe);
+    o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return o;
+}
+
+fs::path temp_dir(const std::string& name) {
+    fs::path dir = fs::temp_directory_path() / ("aquaform_cli_" + name + "_" + std::to_string(getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+fs::path write_file(const fs::path& path, const std::string& text) {
+    std::ofstream(path) << text;
+    return path;
+}
+
+std::string read_file(const fs::path& path) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+const char* kTinyDamBreak = R"({
+  "name": "tiny dam break",
+  "domain": {"min": [0, 0, 0], "max": [0.4, 0.2, 0.08]},
+  "particle_spacing": 0.02,
+  "fluid_blocks": [{"min": [0, 0, 0], "max": [0.1, 0.2, 0.08]}],
+  "column_width": 0.1,
+  "frames": 3
+})";
+
+TEST(Cli, UnknownCommandAndFlagAreUsageErrors) {
+    Outcome a = run_aquaform("frobnicate");
+    EXPECT_EQ(a.exit_code, 2);
+    EXPECT_NE(a.output.find("unknown command \"frobnicate\""), std::string::npos) << a.output;
+    Outcome b = run_aquaform("run assets/scenes/dam_break.json --fast");
+    EXPECT_EQ(b.exit_code, 2);
+    EXPECT_NE(b.output.find("unknown flag --fast"), std::string::npos) << b.output;
+    EXPECT_NE(b.output.find("--frames"), std::string::npos) << "the message should list the known flags";
+    Outcome c = run_aquaform("run");
+    EXPECT_EQ(c.exit_code, 2);
+}
+
+TEST(Cli, BadSceneFilesGetClearErrors) {
+    fs::path dir = temp_dir("bad_scenes");
+    struct Case {
+        std::string file, text, expect;
+    };
+    const std::vector<Case> cases = {
+        {"syntax.json", "{\"name\": \"x\",\n \"domain\": }", "line 2"},
+        {"unknown_key.json", R"({"name":"x","domain":{"min":[0,0,0],"max":[1,1,1]},"particle_spacing":0.1,
+           "fluid_blocks":[{"min":[0,0,0],"max":[0.5,0.5,0.5]}],"gravty":[0,-9.81,0]})", "gravity"},
+        {"wrong_type.json", R"({"name":"x","domain":{"min":[0,0,0],"max":[1,1,1]},"particle_spacing":"0.1",
+           "fluid_blocks":[{"min":[0,0,0],"max":[0.5,0.5,0.5]}]})", "particle_spacing"},
+        {"zero_spacing.json", R"({"name":"x","domain":{"min":[0,0,0],"max":[1,1,1]},"particle_spacing":0,
+           "fluid_blocks":[{"min":[0,0,0],"max":[0.5,0.5,0.5]}]})", "particle_spacing"},
+        {"outside.json", R"({"name":"x","domain":{"min":[0,0,0],"max":[1,1,1]},"particle_spacing":0.1,
+           "fluid_blocks":[{"min":[0,0,0],"max":[1.5,0.5,0.5]}]})", "fluid_blocks[0]"},
+        {"huge.json", R"({"name":"x","domain":{"min":[0,0,0],"max":[1,1,1]},"particle_spacing":0.0001,
+           "fluid_blocks":[{"min":[0,0,0],"max":[1,1,1]}]})", "particle_spacing"},
+    };
+    for (const auto& c : cases) {
+        Outcome o = run_aquaform("run " + write_file(dir / c.file, c.text).string() + " --frames 1 --out " +
+                                 (dir / "out").string());
+        EXPECT_EQ(o.exit_code, 2) << c.file << ": " << o.output;
+        EXPECT_NE(o.output.find(c.file), std::string::npos) << "message should name the file: " << o.output;
+        EXPECT_NE(o.output.find(c.expect), std::string::npos) << c.file << ": " << o.output;
+        EXPECT_EQ(o.output.find("terminate called"), std::string::npos) << o.output;
+    }
+    Outcome missing = run_aquaform("run " + (dir / "nope.json").string());
+    EXPECT_EQ(missing.exit_code, 2);
+    EXPECT_NE(missing.output.find("nope.json"), std::string::npos) << missing.output;
+    fs::remove_all(dir);
+}
+
+TEST(Cli, InfoNamesTheDeviceItWillUse) {
+    Outcome o = run_aquaform("info");
+    EXPECT_EQ(o.exit_code, 0) << o.output;
+    EXPECT_NE(o.output.find("aquaform will use device"), std::string::npos) << o.output;
+    Outcome bad = run_aquaform("info --device no-such-gpu");
+    EXPECT_EQ(bad.exit_code, 1) << bad.output;
+    EXPECT_NE(bad.output.find("no-such-gpu"), std::string::npos) << bad.output;
+}
+
+TEST(Cli, RunWritesFramesStatsFrontAndDumps) {
+    fs::path dir = temp_dir("run");
+    fs::path scene = write_file(dir / "tiny.json", kTinyDamBreak);
+    fs::path out = dir / "out";
+    Outcome o = run_aquaform("run " + scene.string() + " --out " + out.string() +
+                             " --ply-every 2 --resolution 160x90");
+    ASSERT_EQ(o.exit_code, 0) << o.output;
+    // The start-up report: passes and the memory of every buffer.
+    EXPECT_NE(o.output.find("passes: predict"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("particles.x"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("grid.cell_start"), std::string::npos) << o.output;
+    for (int f = 0; f < 3; ++f) {
+        char name[32];
+        std::snprintf(name, sizeof name, "frame_%04d.png", f);
+        EXPECT_TRUE(fs::exists(out / name)) << name;
+    }
+    EXPECT_TRUE(fs::exists(out / "particles_0000.ply"));
+    EXPECT_TRUE(fs::exists(out / "particles_0002.ply"));
+    EXPECT_FALSE(fs::exists(out / "particles_0001.ply"));
+    const std::string ply = read_file(out / "particles_0000.ply");
+    EXPECT_EQ(ply.rfind("ply\nformat binary_little_endian 1.0", 0), 0u);
+    EXPECT_NE(ply.find("element vertex 200\n"), std::string::npos);  // 5 x 10 x 4 particles
+
+    std::istringstream stats(read_file(out / "stats.csv"));
+    std::string header, line;
+    std::getline(stats, header);
+    for (const char* col : {"time_s", "density_err_mean", "density_err_max", "kinetic_energy_j", "max_speed_mps",
+                            "particles", "outside", "gpu_ms_lambda", "gpu_ms_grid_count"})
+        EXPECT_NE(header.find(col), std::string::npos) << col << " missing from " << header;
+    int rows = 0;
+    while (std::getline(stats, line)) ++rows;
+    EXPECT_EQ(rows, 3);
+    std::istringstream front(read_file(out / "front.csv"));
+    std::getline(front, header);
+    EXPECT_EQ(header, "time_s,front_m");
+    double t = 0, x = 0;
+    char comma = 0;
+    ASSERT_TRUE(front >> t >> comma >> x);
+    EXPECT_NEAR(t, 1.0 / 60.0, 1e-4);
+    EXPECT_GT(x, 0.09);  // the column is 0.1 wide: its front starts at about a
+    EXPECT_LT(x, 0.2);
+    fs::remove_all(dir);
+}
+
+}  // namespace

@@ -1,0 +1,126 @@
+// Physical checks of whole runs on the shipped scenes: numbers, not "it ran".
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "gpu/context.h"
+#include "sim/pbf_solver.h"
+#include "tests/gpu_test.h"
+
+namespace aquaform {
+namespace {
+
+class PhysicsTest : public testing::GpuTest {
+protected:
+    static Scene load(const std::string& name) {
+        auto scene = load_scene(std::string(AQUAFORM_ASSETS_DIR) + "/scenes/" + name);
+        EXPECT_TRUE(scene.ok()) << scene.error();
+        return scene.value();
+    }
+};
+
+TEST_F(PhysicsTest, HydrostaticColumnSettles) {
+    Scene scene = load("hydrostatic.json");
+    PbfSolver solver(ctx(), scene);
+    std::vector<FrameStats> frames;
+    for (uint32_t f = 0; f < scene.frames; ++f) {
+        frames.push_back(solver.run_frame(nullptr));
+        const FrameStats& s = frames.back();
+        ASSERT_EQ(s.non_finite, 0u) << "frame " << f;
+        ASSERT_EQ(s.outside, 0u) << "frame " << f << ": particles left the box";
+    }
+    const FrameStats& last = frames.back();
+    EXPECT_LT(last.mean_density_error, 0.01) << "mean compression at " << scene.solver.iterations << " iterations";
+    EXPECT_LT(last.max_density_error, 0.10);
+    // Kinetic energy: the column first sags under gravity, then the motion dies out.
+    double peak = 0.0;
+    for (const auto& s : frames) peak = std::max(peak, s.kinetic_energy);
+    auto mean_ke = [&](size_t from, size_t to) {
+        double sum = 0.0;
+        for (size_t i = from; i < to; ++i) sum += frames[i].kinetic_energy;
+        return sum / double(to - from);
+    };
+    const size_t n = frames.size();
+    EXPECT_GT(peak, 0.0);
+    EXPECT_LT(mean_ke(3 * n / 4, n), mean_ke(n / 4, n / 2)) << "kinetic energy does not decay";
+    EXPECT_LT(last.kinetic_energy, 0.1 * peak);
+    // A column at rest: nothing moves faster than a small fraction of the free-fall speed over a spacing.
+    EXPECT_LT(last.max_speed, 0.25);
+}
+
+TEST_F(PhysicsTest, DamBreakFrontAdvancesForOneSecond) {
+    Scene scene = load("dam_break.json");
+    ASSERT_TRUE(scene.column_width.has_value());
+    const float a = *scene.column_width;
+    PbfSolver solver(ctx(), scene);
+    const uint32_t frames = static_cast<uint32_t>(std::ceil(1.0 / scene.solver.frame_dt));
+    double best_front = 0.0;
+    std::vector<std::pair<double, double>> front;  // (time, front)
+    for (uint32_t f = 0; f < frames; ++f) {
+        FrameStats s = solver.run_frame(nullptr);
+        ASSERT_EQ(s.non_finite, 0u) << "frame " << f;
+        ASSERT_EQ(s.outside, 0u) << "frame " << f << ": leakage";
+        ASSERT_TRUE(s.front.has_value()) << "frame " << f;
+        // Monotone up to one particle spacing of jitter while the front is still free.
+        EXPECT_GE(*s.front, best_front - scene.particle_spacing) << "front retreated at t = " << s.time_s;
+        best_front = std::max(best_front, *s.front);
+        front.push_back({s.time_s, *s.front});
+    }
+    EXPECT_GE(solver.time(), 1.0 - 1e-6);
+    // Martin & Moyce (1952): the surge front reaches about twice the column width at
+    // T = t sqrt(2 g / a) = 2. Accept a broad band: the test is for gross errors.
+    const double t2 = 2.0 / std::sqrt(2.0 * 9.81 / a);
+    auto it = std::find_if(front.begin(), front.end(), [&](auto& p) { return p.first >= t2; });
+    ASSERT_NE(it, front.end());
+    EXPECT_GT(it->second / a, 1.4) << "front too slow at T = 2";
+    EXPECT_LT(it->second / a, 3.0) << "front too fast at T = 2";
+    // After one second the surge has crossed the tank floor (4.3 a to the far wall).
+    EXPECT_GT(best_front, 0.8 * (scene.domain.max.x - scene.domain.min.x));
+}
+
+TEST(MemoryPlan, SceneTooLargeForTheDeviceIsRefusedBeforeAllocation) {
+    Scene scene;
+    scene.name = "too_big";
+    scene.path = "scenes/too_big.json";
+    scene.particle_spacing = 0.0025f;
+    scene.domain = {glm::vec3(0.0f), glm::vec3(1.0f, 1.0f, 0.5f)};
+    scene.fluid_blocks = {{glm::vec3(0.0f), glm::vec3(0.5f, 1.0f, 0.5f)}};  // 16M particles
+    auto plan = plan_memory(scene);
+    ASSERT_TRUE(plan.ok()) << plan.error();
+    gpu::DeviceInfo small;
+    small.name = "tiny GPU";
+    small.device_local_bytes = 512ull << 20;
+    small.max_storage_buffer_bytes = 1ull << 30;
+    auto fits = check_fits(scene, plan.value(), small);
+    ASSERT_FALSE(fits.ok());
+    EXPECT_NE(fits.error().find("scenes/too_big.json"), std::string::npos) << fits.error();
+    EXPECT_NE(fits.error().find("tiny GPU"), std::string::npos) << fits.error();
+    EXPECT_NE(fits.error().find("particle_spacing"), std::string::npos) << fits.error();
+
+    small.device_local_bytes = 64ull << 30;  // enough memory, but each buffer is too large to bind
+    small.max_storage_buffer_bytes = 128ull << 20;
+    fits = check_fits(scene, plan.value(), small);
+    ASSERT_FALSE(fits.ok());
+    EXPECT_NE(fits.error().find("per buffer"), std::string::npos) << fits.error();
+
+    small.max_storage_buffer_bytes = 4ull << 30;
+    EXPECT_TRUE(check_fits(scene, plan.value(), small).ok());
+}
+
+TEST(MemoryPlan, BytesPerParticleAndCellStayWithinBudget) {
+    Scene scene;
+    scene.particle_spacing = 0.01f;
+    scene.domain = {glm::vec3(0.0f), glm::vec3(1.0f, 0.5f, 0.3f)};
+    scene.fluid_blocks = {{glm::vec3(0.0f), glm::vec3(0.3f, 0.4f, 0.3f)}};
+    auto plan = plan_memory(scene);
+    ASSERT_TRUE(plan.ok());
+    const uint64_t cells = plan.value().grid.cell_count();
+    const uint64_t per_cell = uint64_t(kGridBytesPerCell) * cells + 4;  // + the end sentinel
+    const double per_particle = double(plan.value().total_bytes() - per_cell) / plan.value().particles;
+    EXPECT_LE(per_particle, 160.0);
+    EXPECT_EQ(kGridBytesPerCell, 8u);
+}
+
+}  // namespace
+}  // namespace aquaform
