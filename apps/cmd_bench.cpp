@@ -45,7 +45,7 @@ std::vector<uint32_t> parse_sizes(const std::string& text, std::string* error) {
     return sizes;
 }
 
-const char* kGridPasses[] = {"grid_count", "grid_scan", "grid_scatter", "reorder"};
+const char* kGridPasses[] = {"grid_count", "grid_scan", "grid_scatter", "reorder", "neighbor_masks"};
 
 }  // namespace
 
@@ -121,7 +121,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
             sxx += (log_n[i] - mx) * (log_n[i] - mx);
         }
         exponent = sxy / sxx;
-        std::printf("neighbour search (grid build + reorder) grows as N^%.3f from %u to %u particles\n", exponent,
+        std::printf("neighbour search (grid build, reorder, neighbour masks) grows as N^%.3f from %u to %u particles\n", exponent,
                     records.front()["particles"].get<uint32_t>(), records.back()["particles"].get<uint32_t>());
     }
     nlohmann::json doc = {{"benchmark", "sim"},

@@ -61,6 +61,8 @@ NeighborGrid::NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const Gri
     keys_ = &buffers.add(prefix + ".keys", uint64_t(max_particles) * 4);
     slots_ = &buffers.add(prefix + ".slots", uint64_t(max_particles) * 4);
     order_ = &buffers.add(prefix + ".order", uint64_t(max_particles) * 4);
+    list_cell_ = &buffers.add(prefix + ".list_cell", uint64_t(max_particles) * 4);
+    masks_ = &buffers.add(prefix + ".neighbor_masks", uint64_t(max_particles) * NEIGHBOR_MASK_WORDS * 4);
     for (uint32_t n = cells + 1, level = 1; n > 1; ++level) {
         n = (n + GRID_SCAN_BLOCK - 1) / GRID_SCAN_BLOCK;
         scan_levels_.push_back(&buffers.add(prefix + ".scan_sums" + std::to_string(level), uint64_t(n) * 4));
@@ -74,6 +76,7 @@ NeighborGrid::NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const Gri
     scatter_pass_ = gpu::ComputePass(ctx, {"sim/grid_scatter.comp", 4, sizeof(GridPush)});
     scan_blocks_pass_ = gpu::ComputePass(ctx, {"sim/scan_blocks.comp", 2, sizeof(ScanPush), GRID_SCAN_WORKGROUP});
     scan_add_pass_ = gpu::ComputePass(ctx, {"sim/scan_add.comp", 2, sizeof(ScanPush)});
+    masks_pass_ = gpu::ComputePass(ctx, {"sim/neighbor_masks.comp", 5, sizeof(shader::NeighborMaskPush)});
 }
 
 void NeighborGrid::record_scan(VkCommandBuffer cmd, uint32_t level, gpu::Buffer& data, uint32_t count) {
@@ -106,11 +109,25 @@ void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint
     }
 }
 
-void NeighborGrid::record_list_neighbors(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
-                                         float radius, uint32_t capacity, gpu::Buffer& counts, gpu::Buffer& lists) {
+void NeighborGrid::record_neighbor_masks(VkCommandBuffer cmd, const gpu::Buffer& sorted_positions, uint32_t count,
+                                         float radius, gpu::GpuTimer* timer) {
+    check_radius(radius);
+    gpu::GpuScope scope(timer, cmd, "neighbor_masks");
+    shader::NeighborMaskPush push{};
+    push.grid = geometry_.push(count);
+    push.radius = radius;
+    gpu::dispatch(*ctx_, cmd, masks_pass_, count, push, {&sorted_positions, cell_rank_, cell_start_, list_cell_, masks_});
+}
+
+void NeighborGrid::check_radius(float radius) const {
     if (radius > geometry_.cell_size)
         throw std::invalid_argument("neighbour query radius " + std::to_string(radius) + " exceeds the grid's cell size " +
                                     std::to_string(geometry_.cell_size) + "; build a grid with larger cells");
+}
+
+void NeighborGrid::record_list_neighbors(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
+                                         float radius, uint32_t capacity, gpu::Buffer& counts, gpu::Buffer& lists) {
+    check_radius(radius);
     if (!list_pass_.pipeline())
         list_pass_ = gpu::ComputePass(*ctx_, {"sim/grid_list_neighbors.comp", 6, sizeof(shader::NeighborListPush)});
     shader::NeighborListPush push{};

@@ -39,8 +39,9 @@ Result<GridGeometry> grid_for_domain(glm::vec3 min, glm::vec3 max, float cell_si
 /// rank[linear cell index] = position of that cell in Morton order among the grid's cells.
 std::vector<uint32_t> morton_rank_table(const GridGeometry& grid);
 
-/// GPU memory of the grid: per particle (keys, slots, order) and per cell (rank, start).
-constexpr uint32_t kGridBytesPerParticle = 3 * sizeof(uint32_t);
+/// GPU memory of the grid: per particle (keys, slots, order, neighbour cell and masks) and per
+/// cell (rank, start).
+constexpr uint32_t kGridBytesPerParticle = 4 * sizeof(uint32_t) + NEIGHBOR_MASK_WORDS * sizeof(uint32_t);
 constexpr uint32_t kGridBytesPerCell = 2 * sizeof(uint32_t);
 
 class NeighborGrid {
@@ -51,6 +52,14 @@ public:
 
     /// Records the build: count per cell, exclusive scan into starts, scatter into `order`.
     void build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, gpu::GpuTimer* timer);
+
+    /// Records the neighbour masks of `sorted_positions` (particles already in this grid's
+    /// order, as the solver keeps them): which particles of the 27 surrounding cells lie within
+    /// `radius` <= cell size. Passes then visit neighbours with common/neighbor_list.glsl.
+    void record_neighbor_masks(VkCommandBuffer cmd, const gpu::Buffer& sorted_positions, uint32_t count,
+                               float radius, gpu::GpuTimer* timer);
+    const gpu::Buffer& list_cell() const { return *list_cell_; }
+    const gpu::Buffer& masks() const { return *masks_; }
 
     /// Records a query of the built grid: for every particle of `positions` (the buffer given
     /// to build(), in its own order), the indices of the others within `radius` <= cell size.
@@ -67,6 +76,7 @@ public:
 
 private:
     void record_scan(VkCommandBuffer cmd, uint32_t level, gpu::Buffer& data, uint32_t count);
+    void check_radius(float radius) const;
 
     gpu::Context* ctx_;
     GridGeometry geometry_;
@@ -75,11 +85,14 @@ private:
     gpu::Buffer* keys_;
     gpu::Buffer* slots_;
     gpu::Buffer* order_;
+    gpu::Buffer* list_cell_;
+    gpu::Buffer* masks_;
     std::vector<gpu::Buffer*> scan_levels_;  // block sums of each scan level
     gpu::ComputePass count_pass_;
     gpu::ComputePass scatter_pass_;
     gpu::ComputePass scan_blocks_pass_;
     gpu::ComputePass scan_add_pass_;
+    gpu::ComputePass masks_pass_;
     gpu::ComputePass list_pass_;  // created on first use
 };
 

@@ -22,7 +22,7 @@ PbfConstants pbf_constants(const Scene& scene) {
                 glm::vec3 r = glm::vec3(float(x), float(y), float(z)) * s;
                 float r2 = glm::dot(r, r);
                 w_sum += shader::poly6(r2, h2, poly6_coeff);
-                glm::vec3 g = shader::spiky_gradient(r, std::sqrt(r2), c.h, spiky_coeff);
+                glm::vec3 g = shader::spiky_gradient(r, r2, c.h, spiky_coeff);
                 grad2_sum += glm::dot(g, g);
             }
     c.mass = static_cast<float>(scene.rest_density / w_sum);

@@ -1,7 +1,9 @@
 // A CPU reference of the GPU solver: the same equations (the shared headers in
-// shaders/shared/), the same pass order and the same neighbour rule (cells assigned from the
-// predicted positions when the grid is built, queried around each particle's current cell).
-// Only the order of floating-point sums differs, so GPU and CPU agree to rounding.
+// shaders/shared/), the same pass order and the same neighbour rule (neighbours within h of
+// the predicted positions, found once per step and kept through the iterations). Only the
+// order of floating-point sums differs, so GPU and CPU agree to rounding. (One case differs
+// by design: a GPU cell holding more than 16 particles, twice the rest density, treats its
+// extra particles as candidates each pass; the test scenes never reach it.)
 #pragma once
 
 #include <cstdint>

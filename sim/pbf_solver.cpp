@@ -14,8 +14,8 @@ namespace aquaform {
 
 namespace {
 
-constexpr const char* kParticleBuffers[] = {"particles.x", "particles.v", "particles.p",
-                                            "particles.scratch0", "particles.scratch1", "particles.scratch2"};
+constexpr const char* kParticleBuffers[] = {"particles.x", "particles.v", "particles.p", "particles.scratch0",
+                                            "particles.scratch1"};
 
 std::string gib(uint64_t bytes) {
     char buf[64];
@@ -43,11 +43,12 @@ Result<MemoryPlan> plan_memory(const Scene& scene) {
     const uint64_t n = plan.particles;
     const uint64_t cells = plan.grid.cell_count();
     for (const char* name : kParticleBuffers) plan.buffers.push_back({name, n * 16});
-    plan.buffers.push_back({"particles.lambda", n * 4});
     plan.buffers.push_back({"particles.density", n * 4});
     plan.buffers.push_back({"grid.keys", n * 4});
     plan.buffers.push_back({"grid.slots", n * 4});
     plan.buffers.push_back({"grid.order", n * 4});
+    plan.buffers.push_back({"grid.list_cell", n * 4});
+    plan.buffers.push_back({"grid.neighbor_masks", n * NEIGHBOR_MASK_WORDS * 4});
     plan.buffers.push_back({"grid.cell_rank", cells * 4});
     plan.buffers.push_back({"grid.cell_start", (cells + 1) * 4});
     plan.buffers.push_back({"stats.partials", ((n + PBF_STATS_WORKGROUP - 1) / PBF_STATS_WORKGROUP) * 32});
@@ -102,8 +103,6 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_
     p_ = &buffers_.add(kParticleBuffers[2], n * 16);
     s0_ = &buffers_.add(kParticleBuffers[3], n * 16);
     s1_ = &buffers_.add(kParticleBuffers[4], n * 16);
-    s2_ = &buffers_.add(kParticleBuffers[5], n * 16);
-    lambda_ = &buffers_.add("particles.lambda", n * 4);
     density_ = &buffers_.add("particles.density", n * 4);
     grid_ = std::make_unique<NeighborGrid>(ctx, buffers_, geometry, count_);
     partials_ = &buffers_.add("stats.partials", uint64_t(stats_groups(count_)) * sizeof(shader::StatsPartial));
@@ -114,11 +113,11 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_
     using shader::CountPush;
     predict_ = gpu::ComputePass(ctx, {"sim/pbf_predict.comp", 4, sizeof(CountPush)});
     reorder_ = gpu::ComputePass(ctx, {"sim/pbf_reorder.comp", 7, sizeof(CountPush)});
-    lambda_pass_ = gpu::ComputePass(ctx, {"sim/pbf_lambda.comp", 6, sizeof(CountPush)});
-    correct_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 6, sizeof(CountPush)});
+    lambda_pass_ = gpu::ComputePass(ctx, {"sim/pbf_lambda.comp", 8, sizeof(CountPush)});
+    correct_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 7, sizeof(CountPush)});
     velocity_ = gpu::ComputePass(ctx, {"sim/pbf_velocity.comp", 4, sizeof(CountPush)});
-    if (xsph_on_) xsph_curl_ = gpu::ComputePass(ctx, {"sim/pbf_xsph_curl.comp", 8, sizeof(CountPush)});
-    if (vorticity_on_) vorticity_ = gpu::ComputePass(ctx, {"sim/pbf_vorticity.comp", 7, sizeof(CountPush)});
+    if (xsph_on_) xsph_curl_ = gpu::ComputePass(ctx, {"sim/pbf_xsph_curl.comp", 10, sizeof(CountPush)});
+    if (vorticity_on_) vorticity_ = gpu::ComputePass(ctx, {"sim/pbf_vorticity.comp", 9, sizeof(CountPush)});
     stats_ = gpu::ComputePass(ctx, {"sim/pbf_stats.comp", 5, sizeof(CountPush), PBF_STATS_WORKGROUP});
 
     std::vector<glm::vec4> x;
@@ -135,7 +134,7 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_
 PbfSolver::~PbfSolver() = default;
 
 std::vector<std::string> PbfSolver::enabled_passes() const {
-    std::vector<std::string> passes = {"predict", "grid_count", "grid_scan", "grid_scatter", "reorder",
+    std::vector<std::string> passes = {"predict", "grid_count", "grid_scan", "grid_scatter", "reorder", "neighbor_masks",
                                        "lambda x" + std::to_string(scene_.solver.iterations),
                                        "correct x" + std::to_string(scene_.solver.iterations), "velocity"};
     if (xsph_on_) passes.push_back(vorticity_on_ ? "xsph_curl" : "xsph");
@@ -148,19 +147,22 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     const shader::CountPush push{count_};
     const gpu::Buffer& rank = grid_->cell_rank();
     const gpu::Buffer& start = grid_->cell_start();
+    const gpu::Buffer& cells = grid_->list_cell();
+    const gpu::Buffer& masks = grid_->masks();
     {
         gpu::GpuScope s(timer, cmd, "predict");
         gpu::dispatch(*ctx_, cmd, predict_, count_, push, {params_buf_, x_, v_, p_});
     }
     record_sort(cmd, *p_, timer);
+    // Jacobi iterations: lambda writes q = (p, lambda) into scratch0, correct writes p back.
     for (uint32_t it = 0; it < scene_.solver.iterations; ++it) {
         {
             gpu::GpuScope s(timer, cmd, "lambda");
-            gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push, {params_buf_, p_, &rank, &start, lambda_, density_});
+            gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
+                          {params_buf_, p_, &rank, &start, &cells, &masks, s0_, density_});
         }
         gpu::GpuScope s(timer, cmd, "correct");
-        gpu::dispatch(*ctx_, cmd, correct_, count_, push, {params_buf_, p_, &rank, &start, lambda_, s0_});
-        std::swap(p_, s0_);
+        gpu::dispatch(*ctx_, cmd, correct_, count_, push, {params_buf_, s0_, &rank, &start, &cells, &masks, p_});
     }
     {
         gpu::GpuScope s(timer, cmd, "velocity");
@@ -168,24 +170,28 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     }
     if (xsph_on_) {
         gpu::GpuScope s(timer, cmd, "xsph_curl");
-        gpu::dispatch(*ctx_, cmd, xsph_curl_, count_, push, {params_buf_, x_, v_, &rank, &start, density_, s1_, s0_});
+        gpu::dispatch(*ctx_, cmd, xsph_curl_, count_, push,
+                      {params_buf_, x_, v_, &rank, &start, &cells, &masks, density_, s1_, s0_});
         std::swap(v_, s1_);
     }
     if (vorticity_on_) {
         gpu::GpuScope s(timer, cmd, "vorticity");
-        gpu::dispatch(*ctx_, cmd, vorticity_, count_, push, {params_buf_, x_, v_, &rank, &start, density_, s0_});
+        gpu::dispatch(*ctx_, cmd, vorticity_, count_, push,
+                      {params_buf_, x_, v_, &rank, &start, &cells, &masks, density_, s0_});
     }
     time_ += params_.dt;
 }
 
 void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer) {
     grid_->build(cmd, key_positions, count_, timer);
-    gpu::GpuScope s(timer, cmd, "reorder");
-    const shader::CountPush push{count_};
-    gpu::dispatch(*ctx_, cmd, reorder_, count_, push, {&grid_->order(), x_, v_, p_, s0_, s1_, s2_});
-    std::swap(x_, s0_);
-    std::swap(v_, s1_);
-    std::swap(p_, s2_);
+    {
+        gpu::GpuScope s(timer, cmd, "reorder");
+        const shader::CountPush push{count_};
+        gpu::dispatch(*ctx_, cmd, reorder_, count_, push, {params_buf_, &grid_->order(), x_, v_, s0_, s1_, p_});
+        std::swap(x_, s0_);
+        std::swap(v_, s1_);
+    }
+    grid_->record_neighbor_masks(cmd, *p_, count_, params_.h, timer);
 }
 
 void PbfSolver::run_steps(uint32_t steps, gpu::GpuTimer* timer) {
@@ -199,10 +205,11 @@ void PbfSolver::run_steps(uint32_t steps, gpu::GpuTimer* timer) {
 void PbfSolver::record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     const shader::CountPush push{count_};
     gpu::GpuScope s(timer, cmd, "stats");
-    // Density at the final positions (the lambda pass on x; its lambda output is recomputed
-    // before any use), then the per-workgroup reduction.
+    // Density at the final positions (the lambda pass on x, over this step's neighbours; its
+    // q output goes to scratch), then the per-workgroup reduction.
     gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
-                  {params_buf_, x_, &grid_->cell_rank(), &grid_->cell_start(), lambda_, density_});
+                  {params_buf_, x_, &grid_->cell_rank(), &grid_->cell_start(), &grid_->list_cell(), &grid_->masks(),
+                   s0_, density_});
     gpu::dispatch(*ctx_, cmd, stats_, stats_groups(count_) * PBF_STATS_WORKGROUP, push,
                   {params_buf_, x_, v_, density_, partials_});
 }

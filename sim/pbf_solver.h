@@ -26,9 +26,9 @@ class GpuTimer;
 struct DeviceInfo;
 }  // namespace gpu
 
-/// GPU memory per particle of the solver's own arrays: x, v, p and three scratch vec4 arrays
-/// (reorder targets, Jacobi ping-pong, XSPH output, vorticity), lambda and density.
-constexpr uint32_t kSolverBytesPerParticle = 6 * 16 + 2 * 4;
+/// GPU memory per particle of the solver's own arrays: x, v, p, two scratch vec4 arrays
+/// (reorder targets, (p, lambda) of the iterations, XSPH output, vorticity) and density.
+constexpr uint32_t kSolverBytesPerParticle = 5 * 16 + 4;
 
 /// Every buffer the solver would allocate for `scene`, with its size, before allocating any.
 struct MemoryPlan {
@@ -97,8 +97,7 @@ private:
     bool vorticity_on_ = false;
     gpu::BufferSet buffers_;
     gpu::Buffer* params_buf_;
-    gpu::Buffer *x_, *v_, *p_, *s0_, *s1_, *s2_;
-    gpu::Buffer* lambda_;
+    gpu::Buffer *x_, *v_, *p_, *s0_, *s1_;
     gpu::Buffer* density_;
     gpu::Buffer* partials_;
     std::unique_ptr<NeighborGrid> grid_;

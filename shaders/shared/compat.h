@@ -19,6 +19,7 @@ using glm::clamp;
 using glm::cross;
 using glm::dot;
 using glm::floor;
+using glm::inversesqrt;
 using glm::length;
 using glm::max;
 using glm::min;

@@ -15,6 +15,13 @@
 #define GRID_SCAN_PER_THREAD 4
 #define GRID_SCAN_BLOCK (GRID_SCAN_WORKGROUP * GRID_SCAN_PER_THREAD)
 
+// Neighbour masks: for particles sorted in the grid's order, which particles of each of the 27
+// surrounding cells are neighbours, one bit each (16 bits per cell, two cells per word). A
+// cell with more than 16 particles (twice the rest density) marks its first 16 and lists the
+// rest as candidates to be tested by distance, so nothing is ever dropped.
+#define NEIGHBOR_BITS_PER_CELL 16u
+#define NEIGHBOR_MASK_WORDS 14u
+
 AF_BEGIN
 
 struct GridPush {
@@ -34,6 +41,15 @@ struct ScanPush {
 };
 
 /// Push constants of the neighbour-list query (grid_list_neighbors.comp).
+/// Push constants of the neighbour-mask build (neighbor_masks.comp).
+struct NeighborMaskPush {
+    GridPush grid;
+    float radius;  ///< at most the cell size
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
 struct NeighborListPush {
     GridPush grid;
     float radius;    ///< at most the cell size
@@ -53,12 +69,17 @@ AF_FN uint grid_linear(ivec3 c, uvec4 dims) {
     return uint(c.x) + dims.x * (uint(c.y) + dims.y * uint(c.z));
 }
 
+AF_FN ivec3 grid_unlinear(uint index, uvec4 dims) {
+    return ivec3(int(index % dims.x), int((index / dims.x) % dims.y), int(index / (dims.x * dims.y)));
+}
+
 AF_END
 
 #ifdef __cplusplus
 static_assert(sizeof(aquaform::shader::GridPush) == 48);
 static_assert(sizeof(aquaform::shader::ScanPush) == 16);
 static_assert(sizeof(aquaform::shader::NeighborListPush) == 64);
+static_assert(sizeof(aquaform::shader::NeighborMaskPush) == 64);
 #endif
 
 #endif

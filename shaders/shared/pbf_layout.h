@@ -5,7 +5,8 @@
 //   x: position, w = particle id (as float: exact below 2^24)
 //   v: velocity, w = tag (fluid block the particle came from, as float)
 //   p: predicted position, w unused
-//   lambda, density: one float each
+//   q: scratch written by the lambda pass: xyz = p, w = lambda (one load per neighbour later)
+//   density: one float
 #ifndef AQUAFORM_PBF_LAYOUT_H
 #define AQUAFORM_PBF_LAYOUT_H
 #include "compat.h"
@@ -91,6 +92,12 @@ AF_FN vec3 pbf_collide(vec3 p, SimParams params) {
         }
     }
     return p;
+}
+
+/// The predicted position p = x + dt v, kept inside the walls (Algorithm 1, line 4). The
+/// reorder pass recomputes it with this same function instead of carrying p along.
+AF_FN vec3 pbf_predicted_position(vec3 x, vec3 v, SimParams params) {
+    return pbf_collide(x + params.dt * v, params);
 }
 
 /// Caps a velocity at params.max_speed (the CFL condition: at most cfl * h per step).

@@ -12,34 +12,38 @@ layout(std430, binding = 0) readonly buffer Params { SimParams params; };
 layout(std430, binding = 1) readonly buffer P { vec4 p[]; };
 layout(std430, binding = 2) readonly buffer CellRank { uint cell_rank[]; };
 layout(std430, binding = 3) readonly buffer CellStart { uint cell_start[]; };
-layout(std430, binding = 4) writeonly buffer Lambda { float lambda[]; };
-layout(std430, binding = 5) writeonly buffer Density { float density[]; };
+layout(std430, binding = 4) readonly buffer ListCell { uint list_cell[]; };
+layout(std430, binding = 5) readonly buffer Masks { uint masks[]; };
+layout(std430, binding = 6) writeonly buffer Q { vec4 q[]; };
+layout(std430, binding = 7) writeonly buffer Density { float density[]; };
 layout(push_constant) uniform Push { CountPush pc; };
 
-#include "common/grid_query.glsl"
+vec3 pi;
+float rho;
+vec3 grad_i;
+float sum_grad2;
+
+void visit(uint j) {
+    vec3 r = pi - p[j].xyz;
+    float r2 = dot(r, r);
+    rho += poly6(r2, params.h2, params.poly6_coeff);
+    vec3 g = params.volume * spiky_gradient(r, r2, params.h, params.spiky_coeff);
+    grad_i += g;
+    sum_grad2 += dot(g, g);
+}
+
+#include "common/neighbor_list.glsl"
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.count) return;
-    vec3 pi = p[i].xyz;
-    float rho = 0.0;
-    vec3 grad_i = vec3(0.0);
-    float sum_grad2 = 0.0;
-    ivec3 c = grid_cell(pi, params.grid_origin_cell, params.grid_dims);
-    for (int k = 0; k < 27; ++k) {
-        uvec2 range = grid_neighbor_range(c, k, params.grid_dims);
-        for (uint j = range.x; j < range.y; ++j) {
-            vec3 r = pi - p[j].xyz;
-            float r2 = dot(r, r);
-            if (r2 >= params.h2) continue;
-            rho += poly6(r2, params.h2, params.poly6_coeff);
-            vec3 g = params.volume * spiky_gradient(r, sqrt(r2), params.h, params.spiky_coeff);
-            grad_i += g;
-            sum_grad2 += dot(g, g);
-        }
-    }
+    pi = p[i].xyz;
+    rho = poly6(0.0, params.h2, params.poly6_coeff);  // the particle itself
+    grad_i = vec3(0.0);
+    sum_grad2 = 0.0;
+    for_each_neighbor(i, params.grid_dims);
     rho *= params.mass;
     float constraint = max(rho / params.rest_density - 1.0, 0.0);
-    lambda[i] = -constraint / (sum_grad2 + dot(grad_i, grad_i) + params.epsilon);
+    q[i] = vec4(pi, -constraint / (sum_grad2 + dot(grad_i, grad_i) + params.epsilon));
     density[i] = rho;
 }

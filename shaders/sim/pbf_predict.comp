@@ -15,5 +15,5 @@ void main() {
     if (i >= pc.count) return;
     vec3 vi = pbf_cap_speed(v[i].xyz + params.dt * params.gravity.xyz, params);
     v[i].xyz = vi;
-    p[i] = vec4(pbf_collide(x[i].xyz + params.dt * vi, params), 0.0);
+    p[i] = vec4(pbf_predicted_position(x[i].xyz, vi, params), 0.0);
 }

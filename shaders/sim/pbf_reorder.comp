@@ -1,13 +1,14 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Physically reorders the particle arrays into the grid's Morton order (a gather by `order`).
+// p is recomputed from the reordered x and v rather than gathered: it saves a scratch array.
 #include "shared/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
-layout(std430, binding = 0) readonly buffer Order { uint order[]; };
-layout(std430, binding = 1) readonly buffer XIn { vec4 x_in[]; };
-layout(std430, binding = 2) readonly buffer VIn { vec4 v_in[]; };
-layout(std430, binding = 3) readonly buffer PIn { vec4 p_in[]; };
+layout(std430, binding = 0) readonly buffer Params { SimParams params; };
+layout(std430, binding = 1) readonly buffer Order { uint order[]; };
+layout(std430, binding = 2) readonly buffer XIn { vec4 x_in[]; };
+layout(std430, binding = 3) readonly buffer VIn { vec4 v_in[]; };
 layout(std430, binding = 4) writeonly buffer XOut { vec4 x_out[]; };
 layout(std430, binding = 5) writeonly buffer VOut { vec4 v_out[]; };
 layout(std430, binding = 6) writeonly buffer POut { vec4 p_out[]; };
@@ -17,7 +18,9 @@ void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.count) return;
     uint src = order[i];
-    x_out[i] = x_in[src];
-    v_out[i] = v_in[src];
-    p_out[i] = p_in[src];
+    vec4 xi = x_in[src];
+    vec4 vi = v_in[src];
+    x_out[i] = xi;
+    v_out[i] = vi;
+    p_out[i] = vec4(pbf_predicted_position(xi.xyz, vi.xyz, params), 0.0);
 }

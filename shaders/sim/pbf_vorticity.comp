@@ -11,32 +11,36 @@ layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 2) buffer V { vec4 v[]; };
 layout(std430, binding = 3) readonly buffer CellRank { uint cell_rank[]; };
 layout(std430, binding = 4) readonly buffer CellStart { uint cell_start[]; };
-layout(std430, binding = 5) readonly buffer Density { float density[]; };
-layout(std430, binding = 6) readonly buffer Omega { vec4 omega[]; };
+layout(std430, binding = 5) readonly buffer ListCell { uint list_cell[]; };
+layout(std430, binding = 6) readonly buffer Masks { uint masks[]; };
+layout(std430, binding = 7) readonly buffer Density { float density[]; };
+layout(std430, binding = 8) readonly buffer Omega { vec4 omega[]; };
 layout(push_constant) uniform Push { CountPush pc; };
 
-#include "common/grid_query.glsl"
+vec3 xi;
+float wi;
+vec3 eta;
+
+void visit(uint j) {
+    vec3 r = xi - x[j].xyz;
+    float r2 = dot(r, r);
+    float vol_j = params.mass / max(density[j], 1.0e-6 * params.rest_density);
+    eta += vol_j * (omega[j].w - wi) * spiky_gradient(r, r2, params.h, params.spiky_coeff);
+}
+
+#include "common/neighbor_list.glsl"
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.count) return;
-    vec3 xi = x[i].xyz;
-    vec4 wi = omega[i];
-    vec3 eta = vec3(0.0);
-    ivec3 c = grid_cell(xi, params.grid_origin_cell, params.grid_dims);
-    for (int k = 0; k < 27; ++k) {
-        uvec2 range = grid_neighbor_range(c, k, params.grid_dims);
-        for (uint j = range.x; j < range.y; ++j) {
-            vec3 r = xi - x[j].xyz;
-            float r2 = dot(r, r);
-            if (r2 >= params.h2 || j == i) continue;
-            float vol_j = params.mass / max(density[j], 1.0e-6 * params.rest_density);
-            eta += vol_j * (omega[j].w - wi.w) * spiky_gradient(r, sqrt(r2), params.h, params.spiky_coeff);
-        }
-    }
+    xi = x[i].xyz;
+    vec4 omega_i = omega[i];
+    wi = omega_i.w;
+    eta = vec3(0.0);
+    for_each_neighbor(i, params.grid_dims);
     float len = length(eta);
     if (len > 1.0e-9) {
-        vec3 a = params.vorticity * cross(eta / len, wi.xyz);
+        vec3 a = params.vorticity * cross(eta / len, omega_i.xyz);
         v[i].xyz = pbf_cap_speed(v[i].xyz + params.dt * a, params);
     }
 }
