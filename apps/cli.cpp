@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <exception>
 
+#include "gpu/context.h"
 #include "gpu/vk_check.h"
 
 namespace aquaform::cli {
@@ -75,6 +76,13 @@ std::optional<long> parse_positive(const std::string& flag, const std::string& t
 bool validation_requested(const Args& args) {
     const char* env = std::getenv("AQUAFORM_VALIDATION");
     return args.has("--validation") || (env && std::string(env) == "1");
+}
+
+int exit_status(const gpu::Context& ctx, int status) {
+    if (ctx.validation_errors() == 0) return status;
+    std::fprintf(stderr, "aquaform: %u Vulkan validation errors (see above); this is a bug in aquaform, please report it\n",
+                 ctx.validation_errors());
+    return kExitFailure;
 }
 
 int run_main(int argc, char** argv) {

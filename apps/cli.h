@@ -6,6 +6,10 @@
 #include <string>
 #include <vector>
 
+namespace aquaform::gpu {
+class Context;
+}
+
 namespace aquaform::cli {
 
 /// Exit codes: 0 success, 1 runtime failure (device, memory, unstable run), 2 bad input.
@@ -43,5 +47,8 @@ int cmd_bench(const std::vector<std::string>& argv);
 
 /// Validation is on with --validation or AQUAFORM_VALIDATION=1 (the test suite sets it).
 bool validation_requested(const Args& args);
+/// `status`, or a failure when the validation layer reported errors during the command (so a
+/// test that runs the binary fails on them too).
+int exit_status(const gpu::Context& ctx, int status);
 
 }  // namespace aquaform::cli

@@ -133,7 +133,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
     if (!out) return std::fprintf(stderr, "aquaform bench: cannot write %s; choose another path with --out\n", out_path.c_str()), kExitFailure;
     out << doc.dump(2) << "\n";
     std::printf("wrote %s\n", out_path.c_str());
-    return kExitOk;
+    return exit_status(ctx, kExitOk);
 }
 
 }  // namespace aquaform::cli

@@ -152,7 +152,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     std::printf("%u frames (%.3f s simulated) in %s wall time, %.1f steps/s; output in %s\n", done, solver.time(),
                 format_duration(wall).c_str(), wall > 0 ? done * scene.solver.substeps / wall : 0.0,
                 out_dir.string().c_str());
-    return g_interrupted ? kExitFailure : status;
+    return exit_status(ctx, g_interrupted ? kExitFailure : status);
 }
 
 }  // namespace aquaform::cli

@@ -9,6 +9,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "gpu/context.h"
+#include "gpu/image.h"
 #include "gpu/shader_registry.h"
 #include "gpu/vk_check.h"
 #include "shaders/shared/impostor_layout.h"
@@ -22,69 +23,6 @@ constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 constexpr float kFloorAlbedo = 0.45f;
 constexpr float kBoxAlbedo = 0.88f;
 constexpr uint32_t kModeCount = 4;
-
-struct Image2D {
-    VkImage image = VK_NULL_HANDLE;
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-    VkImageView view = VK_NULL_HANDLE;
-};
-
-Image2D create_image(gpu::Context& ctx, uint32_t w, uint32_t h, VkFormat format,
-                     VkImageUsageFlags usage, VkImageAspectFlags aspect) {
-    Image2D img;
-    VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    info.imageType = VK_IMAGE_TYPE_2D;
-    info.format = format;
-    info.extent = {w, h, 1};
-    info.mipLevels = 1;
-    info.arrayLayers = 1;
-    info.samples = VK_SAMPLE_COUNT_1_BIT;
-    info.tiling = VK_IMAGE_TILING_OPTIMAL;
-    info.usage = usage;
-    info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    VK_CHECK(vkCreateImage(ctx.device(), &info, nullptr, &img.image));
-    VkMemoryRequirements req{};
-    vkGetImageMemoryRequirements(ctx.device(), img.image, &req);
-    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    alloc.allocationSize = req.size;
-    alloc.memoryTypeIndex = ctx.find_memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0);
-    VK_CHECK(vkAllocateMemory(ctx.device(), &alloc, nullptr, &img.memory));
-    VK_CHECK(vkBindImageMemory(ctx.device(), img.image, img.memory, 0));
-    VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    view.image = img.image;
-    view.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    view.format = format;
-    view.subresourceRange = {aspect, 0, 1, 0, 1};
-    VK_CHECK(vkCreateImageView(ctx.device(), &view, nullptr, &img.view));
-    return img;
-}
-
-void destroy_image(gpu::Context& ctx, Image2D& img) {
-    if (img.view) vkDestroyImageView(ctx.device(), img.view, nullptr);
-    if (img.image) vkDestroyImage(ctx.device(), img.image, nullptr);
-    if (img.memory) vkFreeMemory(ctx.device(), img.memory, nullptr);
-    img = Image2D{};
-}
-
-void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageAspectFlags aspect,
-                   VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access, VkImageLayout old_layout,
-                   VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access, VkImageLayout new_layout) {
-    VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-    b.srcStageMask = src_stage;
-    b.srcAccessMask = src_access;
-    b.dstStageMask = dst_stage;
-    b.dstAccessMask = dst_access;
-    b.oldLayout = old_layout;
-    b.newLayout = new_layout;
-    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = image;
-    b.subresourceRange = {aspect, 0, 1, 0, 1};
-    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dep.imageMemoryBarrierCount = 1;
-    dep.pImageMemoryBarriers = &b;
-    vkCmdPipelineBarrier2(cmd, &dep);
-}
 
 glm::vec4 with_w(const glm::vec3& v, float w) { return glm::vec4(v, w); }
 
@@ -130,7 +68,7 @@ glm::mat4 view_projection(const ViewCamera& camera, float aspect, const Box& dom
 }
 
 struct ImpostorView::Impl {
-    Image2D color, depth;
+    gpu::Image2D color, depth;
     gpu::Buffer readback;  ///< host-visible copy of the colour image, tightly packed rows
     gpu::Buffer dummy;     ///< bound when there are no particles (every draw shares the layout)
     VkDescriptorSetLayout set_layout = VK_NULL_HANDLE;
@@ -149,8 +87,8 @@ struct ImpostorView::Impl {
         set_layout = VK_NULL_HANDLE;
         gpu::destroy_buffer(ctx, readback);
         gpu::destroy_buffer(ctx, dummy);
-        destroy_image(ctx, color);
-        destroy_image(ctx, depth);
+        gpu::destroy_image(ctx, color);
+        gpu::destroy_image(ctx, depth);
     }
 
     VkPipeline create_pipeline(gpu::Context& ctx, uint32_t mode, VkShaderModule vert, VkShaderModule frag);
@@ -239,10 +177,10 @@ ImpostorView::ImpostorView(gpu::Context& ctx, uint32_t width, uint32_t height)
                                    ctx.info().name + " cannot render to a D32 depth image (impostor view)");
 
         Impl& m = *impl_;
-        m.color = create_image(ctx, width, height, kColorFormat,
+        m.color = gpu::create_image(ctx, width, height, kColorFormat,
                                VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                                VK_IMAGE_ASPECT_COLOR_BIT);
-        m.depth = create_image(ctx, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+        m.depth = gpu::create_image(ctx, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
                                VK_IMAGE_ASPECT_DEPTH_BIT);
         m.readback = gpu::create_buffer(ctx, "impostor readback", VkDeviceSize(width) * height * 4,
                                         gpu::MemoryUse::host);
@@ -328,12 +266,12 @@ Image ImpostorView::render(const gpu::Buffer& positions, const gpu::Buffer& velo
 
     ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
         // The previous render's copy read the colour image; its contents are not kept.
-        image_barrier(cmd, m.color.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, 0,
+        gpu::image_barrier(cmd, m.color.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, 0,
                       VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                       VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
         const VkPipelineStageFlags2 tests =
             VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
-        image_barrier(cmd, m.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, tests,
+        gpu::image_barrier(cmd, m.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, tests,
                       VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_IMAGE_LAYOUT_UNDEFINED, tests,
                       VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
                       VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
@@ -388,7 +326,7 @@ Image ImpostorView::render(const gpu::Buffer& positions, const gpu::Buffer& velo
         draw(IMPOSTOR_MODE_LINES, domain, 0.0f, 24, 0);  // last: front edges stay on top of the fluid
         vkCmdEndRendering(cmd);
 
-        image_barrier(cmd, m.color.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+        gpu::image_barrier(cmd, m.color.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                       VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
                       VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
