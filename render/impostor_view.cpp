@@ -39,17 +39,26 @@ glm::vec3 usable_up(const ViewCamera& camera) {
 ViewCamera camera_for_domain(const Box& domain, float aspect) {
     ViewCamera cam;
     const glm::vec3 center = 0.5f * (domain.min + domain.max);
-    const float radius = std::max(0.5f * glm::length(domain.max - domain.min), 1e-3f);
-    const float half_y = glm::radians(cam.fov_y_degrees) * 0.5f;
-    const float half_x = std::atan(std::tan(half_y) * std::max(aspect, 1e-3f));
-    // The bounding sphere fits a cone of half-angle a when the distance is radius / sin(a).
-    const float distance = radius / std::sin(std::min(half_y, half_x));
+    const float tan_y = std::tan(glm::radians(cam.fov_y_degrees) * 0.5f) * 0.92f;  // 8% margin
+    const float tan_x = tan_y * std::max(aspect, 1e-3f);
     const float elevation = glm::radians(20.0f);
     const float azimuth = glm::radians(-25.0f);  // from +z, a little towards -x
-    const glm::vec3 dir{std::sin(azimuth) * std::cos(elevation), std::sin(elevation),
-                        std::cos(azimuth) * std::cos(elevation)};
+    const glm::vec3 back{std::sin(azimuth) * std::cos(elevation), std::sin(elevation),
+                         std::cos(azimuth) * std::cos(elevation)};
+    const glm::vec3 right = glm::normalize(glm::cross(glm::vec3(0.0f, 1.0f, 0.0f), back));
+    const glm::vec3 up = glm::cross(back, right);
+    // The nearest distance at which every corner of the box projects inside the frame: a corner
+    // at (x, y, z) in camera axes needs distance >= z + |x| / tan_x (and likewise for y).
+    float distance = 1e-3f;
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec3 c{corner & 1 ? domain.max.x : domain.min.x, corner & 2 ? domain.max.y : domain.min.y,
+                          corner & 4 ? domain.max.z : domain.min.z};
+        const glm::vec3 d = c - center;
+        const float z = glm::dot(d, back);
+        distance = std::max({distance, z + std::abs(glm::dot(d, right)) / tan_x, z + std::abs(glm::dot(d, up)) / tan_y});
+    }
     cam.target = center;
-    cam.eye = center + dir * distance;
+    cam.eye = center + back * distance;
     cam.up = {0.0f, 1.0f, 0.0f};
     return cam;
 }
