@@ -21,6 +21,8 @@
 // rest as candidates to be tested by distance, so nothing is ever dropped.
 #define NEIGHBOR_BITS_PER_CELL 16u
 #define NEIGHBOR_MASK_WORDS 14u
+// Set in the last word (whose upper half is otherwise unused) when a cell is overfull.
+#define NEIGHBOR_OVERFLOW_FLAG 0x80000000u
 
 AF_BEGIN
 

@@ -109,13 +109,7 @@ AF_FN vec3 pbf_cap_speed(vec3 v, SimParams params) {
 
 /// Tensile-instability correction s_corr = -k (W(r) / W(dq))^n (eq. 13).
 AF_FN float pbf_scorr(float w, SimParams params) {
-    if (params.scorr_k == 0.0f) return 0.0f;
-    float ratio = w * params.scorr_inv_wdq;
-    if (params.scorr_n == 4.0f) {  // the paper's n; pow() costs several times more
-        float r2 = ratio * ratio;
-        return -params.scorr_k * r2 * r2;
-    }
-    return -params.scorr_k * pow(ratio, params.scorr_n);
+    return -params.scorr_k * pow(w * params.scorr_inv_wdq, params.scorr_n);
 }
 
 AF_END

@@ -24,8 +24,10 @@ void main() {
     ivec3 c = grid_cell(xi, pc.grid.origin_cell, pc.grid.dims);
     list_cell[i] = grid_linear(c, pc.grid.dims);
     uint word = 0u;
+    uint overflow = 0u;
     for (int k = 0; k < 27; ++k) {
         uvec2 range = grid_neighbor_range(c, k, pc.grid.dims);
+        if (range.y - range.x > NEIGHBOR_BITS_PER_CELL) overflow = NEIGHBOR_OVERFLOW_FLAG;
         uint end = min(range.y, range.x + NEIGHBOR_BITS_PER_CELL);
         uint bits = 0u;
         for (uint j = range.x; j < end; ++j) {
@@ -38,5 +40,5 @@ void main() {
             masks[i * NEIGHBOR_MASK_WORDS + uint(k / 2)] = word | (bits << 16u);
         }
     }
-    masks[i * NEIGHBOR_MASK_WORDS + 13u] = word;  // cell 26
+    masks[i * NEIGHBOR_MASK_WORDS + 13u] = word | overflow;  // cell 26 and the flag
 }
