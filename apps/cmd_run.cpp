@@ -147,6 +147,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     }
     progress.finish();
     std::signal(SIGINT, previous);
+    files.finish(scene);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (g_interrupted) std::fprintf(stderr, "aquaform run: interrupted; the %u frames done are written\n", done);
     std::printf("%u frames (%.3f s simulated) in %s wall time, %.1f steps/s; output in %s\n", done, solver.time(),

@@ -1,8 +1,12 @@
 #include "apps/run_report.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "gpu/context.h"
+#include "render/svg_chart.h"
+#include "sim/dam_break_reference.h"
 #include "sim/pbf_solver.h"
 
 namespace aquaform::cli {
@@ -66,7 +70,31 @@ void RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s) {
         std::snprintf(row, sizeof row, "%.6f,%.6f\n", s.time_s, *s.front);
         front_ << row;
         front_.flush();
+        front_samples_.push_back({s.time_s, *s.front});
     }
+}
+
+void RunFiles::finish(const Scene& scene) {
+    if (!has_front_ || front_samples_.empty()) return;
+    const double a = *scene.column_width;
+    const double g = std::max(1e-6f, std::abs(scene.gravity.y));
+    const auto run = nondimensional_front(front_samples_, a, g);
+    Chart chart{"Dam-break surge front: " + scene.name, "T = t sqrt(2g/a)", "Z = front / a", {}};
+    ChartSeries sim{"aquaform", {}, false, "#1f6fb4"};
+    for (const auto& s : run) sim.points.push_back({s.T, s.Z});
+    ChartSeries experiment{"Martin & Moyce 1952 (n^2 = 2)", {}, true, "#d62728"};
+    for (const auto& e : martin_moyce_front()) experiment.points.push_back({e.T, e.Z});
+    chart.series = {sim, experiment};
+    auto written = write_chart_svg(dir_ / "front.svg", chart);
+    if (!written) std::fprintf(stderr, "aquaform run: %s\n", written.error().c_str());
+
+    const Box& column = scene.fluid_blocks.front();
+    const bool comparable = scene.fluid_blocks.size() == 1 && std::abs((column.max.y - column.min.y) / a - 2.0) < 0.1;
+    auto cmp = compare_with_martin_moyce(run);
+    if (comparable && cmp)
+        std::printf("front against Martin & Moyce (1952): mean error %.1f %%, max %.1f %% over %d points (chart: %s)\n",
+                    100.0 * cmp->mean_relative, 100.0 * cmp->max_relative, cmp->points,
+                    (dir_ / "front.svg").string().c_str());
 }
 
 }  // namespace aquaform::cli

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <utility>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -28,6 +29,9 @@ public:
     bool ok() const { return error_.empty(); }
     const std::string& error() const { return error_; }
     void write_frame_stats(uint32_t frame, const FrameStats& stats);
+    /// Dam-break scenes: writes front.svg (the run against Martin & Moyce 1952) and, for a
+    /// single column of height 2a (their n^2 = 2), prints how far the front is from theirs.
+    void finish(const Scene& scene);
 
 private:
     std::filesystem::path dir_;
@@ -35,6 +39,7 @@ private:
     std::ofstream front_;
     std::vector<std::string> pass_columns_;
     bool has_front_ = false;
+    std::vector<std::pair<double, double>> front_samples_;  // (time, front)
     std::string error_;
 };
 

@@ -17,8 +17,8 @@ struct Outcome {
     std::string output;  // stdout and stderr together
 };
 
-Outcome run_aquaform(const std::string& args) {
-    const std::string cmd = std::string(AQUAFORM_BINARY) + " " + args + " 2>&1";
+Outcome run_aquaform_env(const std::string& env, const std::string& args) {
+    const std::string cmd = env + " " + std::string(AQUAFORM_BINARY) + " " + args + " 2>&1";
     Outcome o;
     FILE* pipe = popen(cmd.c_str(), "r");
     if (!pipe) return o;
@@ -29,6 +29,8 @@ Outcome run_aquaform(const std::string& args) {
     o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return o;
 }
+
+Outcome run_aquaform(const std::string& args) { return run_aquaform_env("", args); }
 
 fs::path temp_dir(const std::string& name) {
     fs::path dir = fs::temp_directory_path() / ("aquaform_cli_" + name + "_" + std::to_string(getpid()));
@@ -111,6 +113,24 @@ TEST(Cli, InfoNamesTheDeviceItWillUse) {
     EXPECT_NE(bad.output.find("no-such-gpu"), std::string::npos) << bad.output;
 }
 
+TEST(Cli, NoVulkanDriverSaysWhatToInstall) {
+    // Point the loader at a driver list that does not exist: what a machine without a GPU and
+    // without Mesa's software device looks like.
+    Outcome o = run_aquaform_env("VK_ICD_FILENAMES=/nonexistent/aquaform_no_icd.json", "info");
+    EXPECT_EQ(o.exit_code, 1) << o.output;
+    EXPECT_NE(o.output.find("mesa-vulkan-drivers"), std::string::npos) << o.output;
+    EXPECT_EQ(o.output.find("terminate called"), std::string::npos) << o.output;
+}
+
+TEST(Cli, BadFlagValuesAreUsageErrors) {
+    for (const char* args : {"--frames abc", "--frames 0", "--resolution 640", "--ply-every -2"}) {
+        Outcome o = run_aquaform(std::string("run ") + AQUAFORM_ASSETS_DIR + "/scenes/dam_break.json " + args);
+        EXPECT_EQ(o.exit_code, 2) << args << ": " << o.output;
+        EXPECT_NE(o.output.find(std::string(args).substr(0, std::string(args).find(' '))), std::string::npos)
+            << "the message should name the flag: " << o.output;
+    }
+}
+
 TEST(Cli, RunWritesFramesStatsFrontAndDumps) {
     fs::path dir = temp_dir("run");
     fs::path scene = write_file(dir / "tiny.json", kTinyDamBreak);
@@ -127,6 +147,7 @@ TEST(Cli, RunWritesFramesStatsFrontAndDumps) {
         std::snprintf(name, sizeof name, "frame_%04d.png", f);
         EXPECT_TRUE(fs::exists(out / name)) << name;
     }
+    EXPECT_TRUE(fs::exists(out / "front.svg"));
     EXPECT_TRUE(fs::exists(out / "particles_0000.ply"));
     EXPECT_TRUE(fs::exists(out / "particles_0002.ply"));
     EXPECT_FALSE(fs::exists(out / "particles_0001.ply"));
