@@ -15,11 +15,14 @@ namespace aquaform::gpu {
 
 class Context;
 
+/// Workgroup size of the passes that do not ask for another one.
+constexpr uint32_t kDefaultLocalSize = 128;
+
 struct ComputePassDesc {
     std::string shader;          ///< embedded shader name, e.g. "sim/predict.comp"
     uint32_t bindings = 0;       ///< storage buffers at bindings 0..bindings-1
     uint32_t push_bytes = 0;     ///< push-constant block size (0 = none)
-    uint32_t local_size = 128;   ///< workgroup size, fed to the shader's local_size_x_id = 0
+    uint32_t local_size = kDefaultLocalSize;  ///< workgroup size, fed to the shader's local_size_x_id = 0
 };
 
 class ComputePass {

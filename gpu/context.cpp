@@ -93,6 +93,7 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
     d.type = props.deviceType;
     d.api_version = props.apiVersion;
     d.max_storage_buffer_bytes = props.limits.maxStorageBufferRange;
+    d.max_workgroups_x = props.limits.maxComputeWorkGroupCount[0];
     for (uint32_t h = 0; h < mem.memoryHeapCount; ++h)
         if (mem.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
             d.device_local_bytes = std::max<uint64_t>(d.device_local_bytes, mem.memoryHeaps[h].size);

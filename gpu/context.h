@@ -19,6 +19,7 @@ struct DeviceInfo {
     uint32_t api_version = 0;
     uint64_t device_local_bytes = 0;     ///< size of the largest device-local heap
     uint64_t max_storage_buffer_bytes = 0;
+    uint32_t max_workgroups_x = 0;       ///< largest dispatch along x
     bool usable = false;                 ///< has the queue, Vulkan 1.3 and extensions we need
     std::string unusable_reason;
 };

@@ -68,6 +68,10 @@ Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::D
     if (plan.particles >= (1ull << 24))
         return Error{where + ": " + std::to_string(plan.particles) +
                      " particles is more than the 16,777,216 aquaform can index" + fix};
+    const uint64_t max_dispatch = uint64_t(device.max_workgroups_x) * gpu::kDefaultLocalSize;
+    if (plan.particles > max_dispatch)
+        return Error{where + ": " + std::to_string(plan.particles) + " particles is more than " + device.name +
+                     " can process in one dispatch (" + std::to_string(max_dispatch) + ")" + fix};
     for (const auto& b : plan.buffers)
         if (b.bytes > device.max_storage_buffer_bytes)
             return Error{where + ": buffer " + b.name + " would need " + gib(b.bytes) + " for " +

@@ -93,6 +93,7 @@ TEST(MemoryPlan, SceneTooLargeForTheDeviceIsRefusedBeforeAllocation) {
     small.name = "tiny GPU";
     small.device_local_bytes = 512ull << 20;
     small.max_storage_buffer_bytes = 1ull << 30;
+    small.max_workgroups_x = 1u << 20;
     auto fits = check_fits(scene, plan.value(), small);
     ASSERT_FALSE(fits.ok());
     EXPECT_NE(fits.error().find("scenes/too_big.json"), std::string::npos) << fits.error();
@@ -107,6 +108,11 @@ TEST(MemoryPlan, SceneTooLargeForTheDeviceIsRefusedBeforeAllocation) {
 
     small.max_storage_buffer_bytes = 4ull << 30;
     EXPECT_TRUE(check_fits(scene, plan.value(), small).ok());
+
+    small.max_workgroups_x = 65535;  // 8.4M particles per dispatch at 128 per workgroup
+    fits = check_fits(scene, plan.value(), small);
+    ASSERT_FALSE(fits.ok());
+    EXPECT_NE(fits.error().find("one dispatch"), std::string::npos) << fits.error();
 }
 
 TEST(MemoryPlan, BytesPerParticleAndCellStayWithinBudget) {
