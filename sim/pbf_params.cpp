@@ -2,9 +2,14 @@
 
 #include <cmath>
 
+#include "shaders/shared/pbf_layout.h"
 #include "shaders/shared/sph_kernels.h"
 
 namespace aquaform {
+
+namespace {
+constexpr double SPH_PI_D = 3.14159265358979323846;
+}  // namespace
 
 PbfConstants pbf_constants(const Scene& scene) {
     PbfConstants c;
@@ -15,6 +20,7 @@ PbfConstants pbf_constants(const Scene& scene) {
     const float spiky_coeff = shader::spiky_gradient_coefficient(c.h);
     const int reach = static_cast<int>(std::ceil(scene.solver.kernel_radius_factor));
     double w_sum = 0.0;
+    double w_half = 0.0;     // the particle's own layer and those on one side of it
     double grad2_sum = 0.0;  // sum |grad W|^2, to be scaled by the particle volume squared
     for (int z = -reach; z <= reach; ++z)
         for (int y = -reach; y <= reach; ++y)
@@ -22,12 +28,19 @@ PbfConstants pbf_constants(const Scene& scene) {
                 glm::vec3 r = glm::vec3(float(x), float(y), float(z)) * s;
                 float r2 = glm::dot(r, r);
                 w_sum += shader::poly6(r2, h2, poly6_coeff);
+                if (z >= 0) w_half += shader::poly6(r2, h2, poly6_coeff);
                 glm::vec3 g = shader::spiky_gradient(r, r2, c.h, spiky_coeff);
                 grad2_sum += glm::dot(g, g);
             }
     c.mass = static_cast<float>(scene.rest_density / w_sum);
     const double volume = 1.0 / w_sum;
     c.stiffness_ref = static_cast<float>(volume * volume * grad2_sum);
+    // The wall must supply the missing (1 - w_half / w_sum) of rho0 at distance s / 2, where
+    // its unscaled continuum integral is (pi c / 4) (F(h) - F(s / 2)).
+    const float d0 = 0.5f * s;
+    const double integral = SPH_PI_D * poly6_coeff / 4.0 *
+                            (shader::pbf_wall_antiderivative(c.h, h2) - shader::pbf_wall_antiderivative(d0, h2));
+    c.wall_phi = static_cast<float>((1.0 - w_half / w_sum) / integral);
     return c;
 }
 
@@ -67,6 +80,8 @@ shader::SimParams make_sim_params(const Scene& scene, const GridGeometry& grid, 
     }
     p.front_floor = scene.domain.min.y + c.h;
     p.front_tag = 0;
+    p.wall_scale = c.wall_phi * shader::SPH_PI * p.poly6_coeff / 4.0f;
+    p.wall_f_h = shader::pbf_wall_antiderivative(c.h, p.h2);
     return p;
 }
 

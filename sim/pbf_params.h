@@ -14,10 +14,13 @@ namespace aquaform {
 /// - stiffness_ref: sum_k |grad_k C|^2 of that lattice particle. epsilon = relaxation *
 ///   stiffness_ref and the s_corr k is divided by it, so both are dimensionless and behave the
 ///   same at every particle spacing (the paper's values assume unit mass and spacing).
+/// - wall_phi: scales the walls' continuum density (shaders/shared/pbf_layout.h,
+///   pbf_wall_term) so that a lattice particle half a spacing from a wall has exactly rho0.
 struct PbfConstants {
     float h = 0.0f;
     float mass = 0.0f;
     float stiffness_ref = 0.0f;
+    float wall_phi = 0.0f;
 };
 
 PbfConstants pbf_constants(const Scene& scene);

@@ -63,7 +63,9 @@ void reference_step(const SimParams& p, const ReferenceSettings& settings, CpuPa
                 grad_i += g;
                 sum_grad2 += glm::dot(g, g);
             }
-            rho *= p.mass;
+            const glm::vec4 wall = shader::pbf_wall_term(pi, p);
+            rho = p.mass * rho + p.rest_density * wall.w;
+            grad_i += glm::vec3(wall);
             float constraint = std::max(rho / p.rest_density - 1.0f, 0.0f);
             lambda[i] = -constraint / (sum_grad2 + glm::dot(grad_i, grad_i) + p.epsilon);
             s.density[i] = rho;
@@ -77,7 +79,8 @@ void reference_step(const SimParams& p, const ReferenceSettings& settings, CpuPa
                 float s_corr = shader::pbf_scorr(shader::poly6(r2, p.h2, p.poly6_coeff), p);
                 dp += (lambda[i] + lambda[j] + s_corr) * shader::spiky_gradient(r, r2, p.h, p.spiky_coeff);
             }
-            next[i] = glm::vec4(shader::pbf_collide(pi + p.volume * dp, p), 0.0f);
+            const glm::vec3 wall_dp = lambda[i] * glm::vec3(shader::pbf_wall_term(pi, p));
+            next[i] = glm::vec4(shader::pbf_collide(pi + p.volume * dp + wall_dp, p), 0.0f);
         }
         std::swap(pred, next);
     }

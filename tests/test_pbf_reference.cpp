@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <random>
 
+#include "sim/pbf_params.h"
 #include "sim/pbf_reference.h"
 #include "sim/pbf_solver.h"
 #include "tests/gpu_test.h"
@@ -76,6 +77,39 @@ TEST_F(PbfReferenceTest, GpuStepsMatchCpuReference) {
         // The comparison is meaningful only if particles really moved by much more than the tolerance.
         EXPECT_GT(mean_move, 100.0f * kTolerancePerH * h) << "step " << step;
     }
+}
+
+TEST(PbfWalls, WallCompletesTheDensityOfALatticeParticleAtTheFloor) {
+    Scene scene = small_splash_scene();
+    auto grid = grid_for_domain(scene.domain.min, scene.domain.max, 2.0f * scene.particle_spacing);
+    ASSERT_TRUE(grid.ok());
+    const shader::SimParams p = make_sim_params(scene, grid.value(), 1);
+    const float s = scene.particle_spacing;
+    // A particle of the bottom layer, far from the side walls, and its lattice neighbours above
+    // the floor (the floor is y = 0; the bottom layer sits at y = s / 2).
+    const glm::vec3 centre(0.2f + 0.5f * s, 0.5f * s, 0.1f + 0.5f * s);
+    float w_sum = 0.0f;
+    for (int z = -3; z <= 3; ++z)
+        for (int y = 0; y <= 3; ++y)
+            for (int x = -3; x <= 3; ++x) {
+                glm::vec3 r = glm::vec3(float(x), float(y), float(z)) * s;
+                w_sum += shader::poly6(glm::dot(r, r), p.h2, p.poly6_coeff);
+            }
+    const glm::vec4 wall = shader::pbf_wall_term(centre, p);
+    EXPECT_NEAR((p.mass * w_sum) / p.rest_density + wall.w, 1.0f, 1e-4f) << "wall share " << wall.w;
+    EXPECT_GT(wall.w, 0.1f);  // the wall supplies about a fifth of the density at h = 2 s
+    // The wall's part of grad C points into the floor: compression pushes the particle up.
+    EXPECT_LT(wall.y, 0.0f);
+    EXPECT_NEAR(wall.x, 0.0f, 1e-6f);
+    EXPECT_NEAR(wall.z, 0.0f, 1e-6f);
+    // Farther than h from every wall: no wall term at all.
+    const glm::vec4 none = shader::pbf_wall_term(glm::vec3(0.2f, 0.2f, 0.1f), p);
+    EXPECT_EQ(none, glm::vec4(0.0f));
+    // Its derivative matches the density it integrates (finite difference over the distance).
+    const float eps = 1e-4f;
+    const float dw = (shader::pbf_wall_term(centre + glm::vec3(0, eps, 0), p).w -
+                      shader::pbf_wall_term(centre - glm::vec3(0, eps, 0), p).w) / (2.0f * eps);
+    EXPECT_NEAR(dw, wall.y, 2e-2f * std::abs(wall.y));
 }
 
 }  // namespace

@@ -43,6 +43,10 @@ struct SimParams {
     uint static_box_count;
     float front_floor;    ///< a particle below this height counts as "on the floor" for the front
     uint front_tag;       ///< tag whose leading edge front.csv follows
+    float wall_scale;     ///< phi * pi * c_poly6 / 4, see pbf_wall_term
+    float wall_f_h;       ///< F(h) of pbf_wall_term
+    float pad0;
+    float pad1;
     vec4 box_min[PBF_MAX_STATIC_BOXES];
     vec4 box_max[PBF_MAX_STATIC_BOXES];
 };
@@ -107,6 +111,36 @@ AF_FN vec3 pbf_cap_speed(vec3 v, SimParams params) {
     return v;
 }
 
+/// Antiderivative F(z) of (h^2 - z^2)^4, for the wall integral below.
+AF_FN float pbf_wall_antiderivative(float z, float h2) {
+    float z2 = z * z;
+    float h4 = h2 * h2;
+    return z * (h4 * h4 - z2 * (4.0f / 3.0f * h4 * h2 - z2 * (1.2f * h4 - z2 * (4.0f / 7.0f * h2 - z2 / 9.0f))));
+}
+
+/// The domain walls as fluid at rest beyond them, so that a particle near a wall has a full
+/// neighbourhood (without it, wall particles are under-dense and the fluid presses into the
+/// walls). For a half-space at distance d the poly6 density integrates in closed form:
+///   rho_wall(d) / rho0 = phi (pi c / 4) (F(h) - F(d)),  d(rho_wall / rho0)/dd = -phi (pi c / 4) (h^2 - d^2)^4,
+/// with phi calibrated on the host so that a lattice particle half a spacing from a wall has
+/// exactly rho0. Returns xyz: grad_p of C_i from the walls; w: rho_wall / rho0.
+AF_FN vec4 pbf_wall_term(vec3 p, SimParams params) {
+    vec4 term = vec4(0.0f);
+    for (int axis = 0; axis < 3; ++axis) {
+        for (int side = 0; side < 2; ++side) {
+            float d = side == 0 ? p[axis] - params.domain_min[axis] : params.domain_max[axis] - p[axis];
+            d = max(d, 0.0f);
+            if (d >= params.h) continue;
+            float u = params.h2 - d * d;
+            vec3 inward = vec3(0.0f);
+            inward[axis] = side == 0 ? 1.0f : -1.0f;
+            term += vec4(-params.wall_scale * u * u * u * u * inward,
+                         params.wall_scale * (params.wall_f_h - pbf_wall_antiderivative(d, params.h2)));
+        }
+    }
+    return term;
+}
+
 /// Tensile-instability correction s_corr = -k (W(r) / W(dq))^n (eq. 13).
 AF_FN float pbf_scorr(float w, SimParams params) {
     return -params.scorr_k * pow(w * params.scorr_inv_wdq, params.scorr_n);
@@ -115,7 +149,7 @@ AF_FN float pbf_scorr(float w, SimParams params) {
 AF_END
 
 #ifdef __cplusplus
-static_assert(sizeof(aquaform::shader::SimParams) == 5 * 16 + 20 * 4 + 2 * 16 * 16);
+static_assert(sizeof(aquaform::shader::SimParams) == 5 * 16 + 24 * 4 + 2 * 16 * 16);
 static_assert(sizeof(aquaform::shader::CountPush) == 16);
 static_assert(sizeof(aquaform::shader::StatsPartial) == 32);
 #endif

@@ -37,5 +37,7 @@ void main() {
     li = qi.w;
     dp = vec3(0.0);
     for_each_neighbor(i, params.grid_dims);
-    p_out[i] = vec4(pbf_collide(pi + params.volume * dp, params), 0.0);
+    // The walls' share: lambda_i times the walls' part of grad C_i (pushes out of a wall).
+    vec3 wall_dp = li * pbf_wall_term(pi, params).xyz;
+    p_out[i] = vec4(pbf_collide(pi + params.volume * dp + wall_dp, params), 0.0);
 }

@@ -42,7 +42,9 @@ void main() {
     grad_i = vec3(0.0);
     sum_grad2 = 0.0;
     for_each_neighbor(i, params.grid_dims);
-    rho *= params.mass;
+    vec4 wall = pbf_wall_term(pi, params);
+    rho = params.mass * rho + params.rest_density * wall.w;
+    grad_i += wall.xyz;
     float constraint = max(rho / params.rest_density - 1.0, 0.0);
     q[i] = vec4(pi, -constraint / (sum_grad2 + dot(grad_i, grad_i) + params.epsilon));
     density[i] = rho;
