@@ -113,7 +113,6 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_
     params_buf_ = &buffers_.add("params", sizeof(shader::SimParams));
     gpu::upload(ctx, *params_buf_, &params_, sizeof params_);
 
-
     using shader::CountPush;
     predict_ = gpu::ComputePass(ctx, {"sim/pbf_predict.comp", 4, sizeof(CountPush)});
     reorder_ = gpu::ComputePass(ctx, {"sim/pbf_reorder.comp", 7, sizeof(CountPush)});

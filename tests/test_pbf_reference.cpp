@@ -79,6 +79,25 @@ TEST_F(PbfReferenceTest, GpuStepsMatchCpuReference) {
     }
 }
 
+TEST_F(PbfReferenceTest, MemoryPlanMatchesWhatTheSolverAllocates) {
+    Scene scene = small_splash_scene();
+    auto plan = plan_memory(scene);
+    ASSERT_TRUE(plan.ok()) << plan.error();
+    PbfSolver solver(ctx(), scene);
+    auto report = solver.memory_report();
+    for (const auto& planned : plan.value().buffers) {
+        auto it = std::find_if(report.begin(), report.end(), [&](const auto& b) { return b.name == planned.name; });
+        ASSERT_NE(it, report.end()) << planned.name << " is planned but not allocated";
+        EXPECT_EQ(it->bytes, planned.bytes) << planned.name;
+    }
+    for (const auto& b : report) {
+        const bool planned = std::any_of(plan.value().buffers.begin(), plan.value().buffers.end(),
+                                         [&](const auto& p) { return p.name == b.name; });
+        // The scan's per-level block sums are a few bytes per thousand cells; the plan omits them.
+        EXPECT_TRUE(planned || b.name.rfind("grid.scan_sums", 0) == 0) << b.name << " is allocated but not planned";
+    }
+}
+
 TEST(PbfWalls, WallCompletesTheDensityOfALatticeParticleAtTheFloor) {
     Scene scene = small_splash_scene();
     auto grid = grid_for_domain(scene.domain.min, scene.domain.max, 2.0f * scene.particle_spacing);
