@@ -5,29 +5,45 @@
 
 #include "common/grid_query.glsl"
 
-uint neighbor_cell_bits(uint base, int k) {
-    return (masks[base + uint(k >> 1)] >> (16u * uint(k & 1))) & 0xffffu;
+/// Index of the first particle of cell k around c, minus `bit_offset` (so that adding a mask
+/// bit position of that cell's half-word gives the particle directly).
+uint neighbor_cell_base(ivec3 c, int k, uvec4 dims, uint bit_offset) {
+    return grid_neighbor_range(c, k, dims).x - bit_offset;
 }
 
 void for_each_neighbor(uint i, uvec4 dims) {
     ivec3 c = grid_unlinear(list_cell[i], dims);
     uint base = i * NEIGHBOR_MASK_WORDS;
-    // One flat loop over this particle's neighbours, moving to the next non-empty cell when a
-    // cell's bits run out. On SIMD hardware (8 particles per instruction on the software
-    // device) a loop per cell would run as often as the busiest lane in every cell; the flat
-    // loop runs as often as the lane with the most neighbours in total.
-    int k = -1;
+    // One flat loop over this particle's neighbours, a mask word (two cells) at a time. On SIMD
+    // hardware (8 particles per instruction on the software device) every trip of a divergent
+    // loop costs more than a visit, so the loop takes up to three neighbours per trip and a
+    // whole word per advance, instead of looping per cell.
+    int w = -1;
     uint bits = 0u;
-    uint first = 0u;  // first particle of cell k
+    uint first_low = 0u;   // first particle of cell 2w
+    uint first_high = 0u;  // first particle of cell 2w + 1, minus 16
     while (true) {
-        while (bits == 0u && k < 26) {
-            ++k;
-            bits = neighbor_cell_bits(base, k);
-            if (bits != 0u) first = grid_neighbor_range(c, k, dims).x;
+        while (bits == 0u && w < int(NEIGHBOR_MASK_WORDS) - 1) {
+            ++w;
+            bits = masks[base + uint(w)];
+            if (w == int(NEIGHBOR_MASK_WORDS) - 1) bits &= 0xffffu;  // cell 26 only; drop the flag
+            if ((bits & 0xffffu) != 0u) first_low = neighbor_cell_base(c, 2 * w, dims, 0u);
+            if ((bits >> 16u) != 0u) first_high = neighbor_cell_base(c, 2 * w + 1, dims, 16u);
         }
         if (bits == 0u) break;
-        visit(first + uint(findLSB(bits)));
+        uint b = uint(findLSB(bits));
+        visit((b < 16u ? first_low : first_high) + b);
         bits &= bits - 1u;
+        if (bits != 0u) {
+            b = uint(findLSB(bits));
+            visit((b < 16u ? first_low : first_high) + b);
+            bits &= bits - 1u;
+            if (bits != 0u) {
+                b = uint(findLSB(bits));
+                visit((b < 16u ? first_low : first_high) + b);
+                bits &= bits - 1u;
+            }
+        }
     }
     // Rare: a cell with more than 16 particles (twice the rest density); its unmasked rest are
     // candidates.
