@@ -20,7 +20,7 @@ const char* kUsage =
     "        simulate a scene; writes PNG frames, stats.csv, front.csv (dam breaks), PLY dumps\n"
     "  info [--device NAME|INDEX]\n"
     "        list Vulkan devices and the one aquaform would use\n"
-    "  bench sim [--sizes 16384,32768,...] [--iterations N] [--steps N] [--out FILE] [--device ...]\n"
+    "  bench sim [--sizes 16384,32768,...] [--iterations N] [--steps N] [--repeats R] [--out FILE] [--device ...]\n"
     "        time the solver and the neighbour search; writes bench_sim.json\n"
     "  help  show this text\n";
 

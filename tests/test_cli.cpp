@@ -8,6 +8,8 @@
 #include <sstream>
 #include <sys/wait.h>
 
+#include <nlohmann/json.hpp>
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -173,6 +175,29 @@ TEST(Cli, RunWritesFramesStatsFrontAndDumps) {
     EXPECT_NEAR(t, 1.0 / 60.0, 1e-4);
     EXPECT_GT(x, 0.09);  // the column is 0.1 wide: its front starts at about a
     EXPECT_LT(x, 0.2);
+    fs::remove_all(dir);
+}
+
+TEST(Cli, BenchSimWritesItsRecords) {
+    fs::path dir = temp_dir("bench");
+    const fs::path out = dir / "bench_sim.json";
+    Outcome o = run_aquaform("bench sim --sizes 1500,3000 --steps 1 --repeats 1 --warmup 1 --out " + out.string());
+    ASSERT_EQ(o.exit_code, 0) << o.output;
+    EXPECT_NE(o.output.find("grows as N^"), std::string::npos) << o.output;
+    const auto doc = nlohmann::json::parse(read_file(out));
+    ASSERT_EQ(doc["records"].size(), 2u);
+    for (const auto& r : doc["records"]) {
+        for (const char* key : {"particles", "iterations", "ms_per_step", "ms_per_pass", "steps_per_s",
+                                "gpu_bytes_per_particle"})
+            EXPECT_TRUE(r.contains(key)) << key;
+        EXPECT_GT(r["ms_per_step"].get<double>(), 0.0);
+        EXPECT_TRUE(r["ms_per_pass"].contains("lambda"));
+        EXPECT_LE(r["gpu_bytes_per_particle"].get<double>(), 160.0);
+    }
+    EXPECT_LT(doc["records"][0]["particles"].get<int>(), doc["records"][1]["particles"].get<int>());
+    EXPECT_TRUE(doc["neighbor_search_exponent"].is_number());
+    Outcome bad = run_aquaform("bench render");
+    EXPECT_EQ(bad.exit_code, 2) << bad.output;
     fs::remove_all(dir);
 }
 
