@@ -12,8 +12,8 @@ Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size, M
                           "buffer '" + name + "' needs " + std::to_string(size) +
                               " bytes but " + ctx.info().name + " binds at most " +
                               std::to_string(ctx.info().max_storage_buffer_bytes) +
-                              " bytes per storage buffer; use fewer particles (a larger "
-                              "particle_spacing) or a smaller domain");
+                              " bytes per storage buffer; make what it holds smaller (fewer particles "
+                              "through a larger particle_spacing, a smaller domain or image)");
     Buffer b;
     b.name = name;
     b.size = size;
