@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "sim/pbf_params.h"
@@ -96,6 +97,47 @@ TEST_F(PbfReferenceTest, MemoryPlanMatchesWhatTheSolverAllocates) {
         // The scan's per-level block sums are a few bytes per thousand cells; the plan omits them.
         EXPECT_TRUE(planned || b.name.rfind("grid.scan_sums", 0) == 0) << b.name << " is allocated but not planned";
     }
+}
+
+TEST_F(PbfReferenceTest, FrameStatisticsMatchAHostComputation) {
+    Scene scene = small_splash_scene();
+    scene.column_width = 0.2f;  // makes the solver measure the front of block 0
+    PbfSolver solver(ctx(), scene);
+    ParticleSnapshot s = solver.snapshot();
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> speed(-1.0f, 1.0f);
+    for (auto& v : s.v) v = glm::vec4(speed(rng), speed(rng), speed(rng), v.w);
+    s.x[7] = glm::vec4(0.5f, 0.1f, 0.1f, s.x[7].w);  // outside the 0.4 m box
+    solver.set_state(s.x, s.v);
+    FrameStats stats = solver.measure(nullptr);
+    ParticleSnapshot after = solver.snapshot();
+
+    double ke = 0.0, max_speed = 0.0, sum_err = 0.0, max_err = 0.0, front = -1.0;
+    for (size_t i = 0; i < after.x.size(); ++i) {
+        const float v = glm::length(glm::vec3(after.v[i]));
+        ke += 0.5 * solver.params().mass * v * v;
+        max_speed = std::max<double>(max_speed, v);
+        const double err = std::max(0.0, after.density[i] / scene.rest_density - 1.0);
+        sum_err += err;
+        max_err = std::max(max_err, err);
+        if (after.v[i].w == 0.0f && after.x[i].y < solver.params().front_floor)
+            front = std::max<double>(front, after.x[i].x);
+    }
+    EXPECT_EQ(stats.particles, solver.particle_count());
+    EXPECT_EQ(stats.outside, 1u);
+    EXPECT_EQ(stats.non_finite, 0u);
+    EXPECT_NEAR(stats.kinetic_energy, ke, 1e-5 * ke);
+    EXPECT_NEAR(stats.max_speed, max_speed, 1e-6);
+    EXPECT_NEAR(stats.mean_density_error, sum_err / after.x.size(), 1e-6);
+    EXPECT_NEAR(stats.max_density_error, max_err, 1e-6);
+    ASSERT_TRUE(stats.front.has_value());
+    EXPECT_NEAR(*stats.front, front + 0.5 * scene.particle_spacing, 1e-6) << "front = foremost centre + radius";
+
+    s.x[3] = glm::vec4(NAN, 0.1f, 0.1f, s.x[3].w);  // a blown-up particle is counted, not averaged
+    solver.set_state(s.x, s.v);
+    stats = solver.measure(nullptr);
+    EXPECT_EQ(stats.non_finite, 1u);
+    EXPECT_TRUE(std::isfinite(stats.kinetic_energy));
 }
 
 TEST(PbfWalls, WallCompletesTheDensityOfALatticeParticleAtTheFloor) {
