@@ -18,6 +18,9 @@ const char* kUsage =
     "  run SCENE.json [--frames N] [--out DIR] [--device NAME|INDEX] [--ply-every K]\n"
     "                 [--no-png] [--resolution WxH] [--validation]\n"
     "        simulate a scene; writes PNG frames, stats.csv, front.csv (dam breaks), PLY dumps\n"
+    "  render SCENE.json [--frame K] [--out DIR] [--no-reference] [--device ...] [render flags]\n"
+    "        ray-march one frame; writes image.png, evals.png, tiles.png, classification.png,\n"
+    "        reference.png, depth_error.png and render.json (timings, metrics against the reference)\n"
     "  info [--device NAME|INDEX]\n"
     "        list Vulkan devices and the one aquaform would use\n"
     "  bench sim [--sizes 16384,32768,...] [--iterations N] [--steps N] [--repeats R] [--out FILE] [--device ...]\n"
@@ -91,6 +94,7 @@ int run_main(int argc, char** argv) {
     try {
         if (command == "run") return cmd_run(rest);
         if (command == "info") return cmd_info(rest);
+        if (command == "render") return cmd_render(rest);
         if (command == "bench") return cmd_bench(rest);
         if (command == "help" || command == "--help" || command == "-h") {
             std::fputs(kUsage, stdout);

@@ -44,6 +44,7 @@ int run_main(int argc, char** argv);
 int cmd_info(const std::vector<std::string>& argv);
 int cmd_run(const std::vector<std::string>& argv);
 int cmd_bench(const std::vector<std::string>& argv);
+int cmd_render(const std::vector<std::string>& argv);
 
 /// Validation is on with --validation or AQUAFORM_VALIDATION=1 (the test suite sets it).
 bool validation_requested(const Args& args);

@@ -9,6 +9,7 @@
 
 #include "apps/cli.h"
 #include "apps/progress.h"
+#include "apps/render_options.h"
 #include "apps/run_report.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
@@ -23,16 +24,6 @@ namespace {
 std::atomic<bool> g_interrupted{false};
 
 void on_interrupt(int) { g_interrupted = true; }
-
-bool parse_resolution(const std::string& text, uint32_t* w, uint32_t* h) {
-    unsigned a = 0, b = 0;
-    char x = 0;
-    if (std::sscanf(text.c_str(), "%u%c%u", &a, &x, &b) != 3 || (x != 'x' && x != 'X')) return false;
-    if (a < 16 || b < 16 || a > 8192 || b > 8192) return false;
-    *w = a;
-    *h = b;
-    return true;
-}
 
 }  // namespace
 

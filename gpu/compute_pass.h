@@ -59,6 +59,12 @@ void dispatch(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32
     dispatch_raw(ctx, cmd, pass, threads, &push, sizeof(Push), bindings);
 }
 
+/// For passes without push constants.
+inline void dispatch(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads,
+                     std::initializer_list<const Buffer*> bindings) {
+    dispatch_raw(ctx, cmd, pass, threads, nullptr, 0, bindings);
+}
+
 /// Full compute/transfer barrier, for transfer commands (fills, copies) between passes.
 void compute_barrier(VkCommandBuffer cmd);
 

@@ -3,11 +3,14 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <iterator>
+#include <limits>
+#include <memory>
 #include <string>
 #include <system_error>
 
-// A private (static) copy of stb_image_write: no clash with the symbols of Debian's libstb,
-// whichever of the two the linker sees first. The pragmas silence its unused writers.
+// Private (static) copies of stb_image_write and stb_image: no clash with the symbols of Debian's
+// libstb, whichever of the two the linker sees first. The pragmas silence their unused functions.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-function"
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
@@ -15,6 +18,10 @@
 #define STB_IMAGE_WRITE_STATIC
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <stb/stb_image_write.h>
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_PNG
+#include <stb/stb_image.h>
 #pragma GCC diagnostic pop
 
 namespace aquaform {
@@ -64,6 +71,32 @@ Result<bool> write_png(const std::filesystem::path& path, const Image& image) {
         return Error{where + ": writing failed part-way (" + std::strerror(errno) +
                      "); check that the disk has space and the directory is writable"};
     return true;
+}
+
+Result<Image> read_png(const std::filesystem::path& path) {
+    const std::string where = "cannot read PNG " + path.string();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec))
+        return Error{where + ": the file does not exist (or is not a regular file); check the path"};
+    std::ifstream file(path, std::ios::binary);
+    if (!file) return Error{where + " (" + std::strerror(errno) + "); check that the file is readable"};
+    const std::vector<uint8_t> bytes{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+    if (bytes.size() > size_t(std::numeric_limits<int>::max()))
+        return Error{where + ": the file is too large (" + std::to_string(bytes.size()) + " bytes)"};
+
+    int width = 0, height = 0, channels_in_file = 0;
+    const std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
+        stbi_load_from_memory(bytes.data(), int(bytes.size()), &width, &height, &channels_in_file, 4),
+        &stbi_image_free);
+    if (!pixels)
+        return Error{where + ": " + (stbi_failure_reason() ? stbi_failure_reason() : "unknown decoder error") +
+                     " (is it a valid PNG file?)"};
+
+    Image image;
+    image.width = uint32_t(width);
+    image.height = uint32_t(height);
+    image.rgba.assign(pixels.get(), pixels.get() + size_t(width) * size_t(height) * 4);
+    return image;
 }
 
 }  // namespace aquaform

@@ -1,4 +1,4 @@
-// Image output.
+// Image input and output (PNG).
 #pragma once
 
 #include <cstdint>
@@ -17,5 +17,8 @@ struct Image {
 
 /// Writes an RGBA8 image as PNG; the error names the path and the fix.
 Result<bool> write_png(const std::filesystem::path& path, const Image& image);
+
+/// Reads a PNG (any bit depth or channel count) as RGBA8; the error names the path and the reason.
+Result<Image> read_png(const std::filesystem::path& path);
 
 }  // namespace aquaform

@@ -36,6 +36,12 @@ glm::vec3 usable_up(const ViewCamera& camera) {
 
 }  // namespace
 
+glm::mat3 camera_axes(const ViewCamera& camera) {
+    const glm::vec3 forward = glm::normalize(camera.target - camera.eye);
+    const glm::vec3 right = glm::normalize(glm::cross(forward, usable_up(camera)));
+    return glm::mat3(right, glm::cross(right, forward), forward);
+}
+
 ViewCamera camera_for_domain(const Box& domain, float aspect) {
     ViewCamera cam;
     const glm::vec3 center = 0.5f * (domain.min + domain.max);
@@ -262,9 +268,7 @@ Image ImpostorView::render(const gpu::Buffer& positions, const gpu::Buffer& velo
         throw std::invalid_argument("impostor view: the camera's eye and target coincide (or are not finite); "
                                     "place the eye away from the point it looks at");
     const float aspect = float(width_) / float(height_);
-    const glm::vec3 forward = glm::normalize(camera.target - camera.eye);
-    const glm::vec3 right = glm::normalize(glm::cross(forward, usable_up(camera)));
-    const glm::vec3 up = glm::cross(right, forward);
+    const glm::vec3 up = camera_axes(camera)[1];
     shader::ImpostorPush push{};
     push.view_proj = view_projection(camera, aspect, domain);
     push.eye = with_w(camera.eye, style.radius);

@@ -27,6 +27,10 @@ struct ViewCamera {
     float fov_y_degrees = 40.0f;
 };
 
+/// The camera's orthonormal axes: columns right, up, forward (towards the target). The up vector
+/// is replaced when it is (nearly) parallel to the view direction, so the axes stay finite.
+glm::mat3 camera_axes(const ViewCamera& camera);
+
 /// A camera that frames the whole domain from the front, slightly above and to the side.
 ViewCamera camera_for_domain(const Box& domain, float aspect);
 

@@ -53,7 +53,7 @@ std::vector<uint32_t> morton_rank_table(const GridGeometry& grid) {
 }
 
 NeighborGrid::NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const GridGeometry& geometry,
-                           uint32_t max_particles, const std::string& prefix)
+                           uint32_t max_particles, const std::string& prefix, bool with_neighbor_masks)
     : ctx_(&ctx), geometry_(geometry) {
     const uint32_t cells = geometry.cell_count();
     cell_rank_ = &buffers.add(prefix + ".cell_rank", uint64_t(cells) * 4);
@@ -61,8 +61,10 @@ NeighborGrid::NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const Gri
     keys_ = &buffers.add(prefix + ".keys", uint64_t(max_particles) * 4);
     slots_ = &buffers.add(prefix + ".slots", uint64_t(max_particles) * 4);
     order_ = &buffers.add(prefix + ".order", uint64_t(max_particles) * 4);
-    list_cell_ = &buffers.add(prefix + ".list_cell", uint64_t(max_particles) * 4);
-    masks_ = &buffers.add(prefix + ".neighbor_masks", uint64_t(max_particles) * NEIGHBOR_MASK_WORDS * 4);
+    if (with_neighbor_masks) {
+        list_cell_ = &buffers.add(prefix + ".list_cell", uint64_t(max_particles) * 4);
+        masks_ = &buffers.add(prefix + ".neighbor_masks", uint64_t(max_particles) * NEIGHBOR_MASK_WORDS * 4);
+    }
     for (uint32_t n = cells + 1, level = 1; n > 1; ++level) {
         n = (n + GRID_SCAN_BLOCK - 1) / GRID_SCAN_BLOCK;
         scan_levels_.push_back(&buffers.add(prefix + ".scan_sums" + std::to_string(level), uint64_t(n) * 4));
@@ -76,7 +78,8 @@ NeighborGrid::NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const Gri
     scatter_pass_ = gpu::ComputePass(ctx, {"sim/grid_scatter.comp", 4, sizeof(GridPush)});
     scan_blocks_pass_ = gpu::ComputePass(ctx, {"sim/scan_blocks.comp", 2, sizeof(ScanPush), GRID_SCAN_WORKGROUP});
     scan_add_pass_ = gpu::ComputePass(ctx, {"sim/scan_add.comp", 2, sizeof(ScanPush)});
-    masks_pass_ = gpu::ComputePass(ctx, {"sim/neighbor_masks.comp", 5, sizeof(shader::NeighborMaskPush)});
+    if (with_neighbor_masks)
+        masks_pass_ = gpu::ComputePass(ctx, {"sim/neighbor_masks.comp", 5, sizeof(shader::NeighborMaskPush)});
 }
 
 void NeighborGrid::record_scan(VkCommandBuffer cmd, uint32_t level, gpu::Buffer& data, uint32_t count) {
@@ -111,6 +114,7 @@ void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint
 
 void NeighborGrid::record_neighbor_masks(VkCommandBuffer cmd, const gpu::Buffer& sorted_positions, uint32_t count,
                                          float radius, gpu::GpuTimer* timer) {
+    if (!masks_) throw std::logic_error("neighbour grid: built without neighbour masks, cannot record them");
     check_radius(radius);
     gpu::GpuScope scope(timer, cmd, "neighbor_masks");
     shader::NeighborMaskPush push{};

@@ -47,8 +47,10 @@ constexpr uint32_t kGridBytesPerCell = 2 * sizeof(uint32_t);
 class NeighborGrid {
 public:
     /// Allocates the grid's buffers in `buffers` (named with `prefix` for the memory report).
+    /// Without neighbour masks (queries that search cells themselves, like the renderer's) the
+    /// per-step mask buffers are not allocated and record_neighbor_masks must not be called.
     NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const GridGeometry& geometry,
-                 uint32_t max_particles, const std::string& prefix = "grid");
+                 uint32_t max_particles, const std::string& prefix = "grid", bool with_neighbor_masks = true);
 
     /// Records the build: count per cell, exclusive scan into starts, scatter into `order`.
     void build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, gpu::GpuTimer* timer);
@@ -85,8 +87,8 @@ private:
     gpu::Buffer* keys_;
     gpu::Buffer* slots_;
     gpu::Buffer* order_;
-    gpu::Buffer* list_cell_;
-    gpu::Buffer* masks_;
+    gpu::Buffer* list_cell_ = nullptr;
+    gpu::Buffer* masks_ = nullptr;
     std::vector<gpu::Buffer*> scan_levels_;  // block sums of each scan level
     gpu::ComputePass count_pass_;
     gpu::ComputePass scatter_pass_;

@@ -26,6 +26,10 @@ using glm::min;
 using glm::normalize;
 using glm::pow;
 using glm::sqrt;
+using glm::mat3;
+using glm::abs;
+using glm::outerProduct;
+using glm::transpose;
 }  // namespace aquaform::shader
 #define AF_BEGIN namespace aquaform::shader {
 #define AF_END }

@@ -1,0 +1,102 @@
+#include "apps/render_measure.h"
+
+#include <cstdio>
+#include <limits>
+
+#include "apps/progress.h"
+#include "gpu/context.h"
+#include "gpu/timer.h"
+
+namespace aquaform::cli {
+
+bool simulate_frames(PbfSolver& solver, uint32_t frames, const std::string& label) {
+    ProgressBar progress(label, frames);
+    for (uint32_t frame = 0; frame < frames; ++frame) {
+        FrameStats stats = solver.run_frame(nullptr);
+        progress.update(frame + 1);
+        if (stats.non_finite > 0) {
+            progress.finish();
+            std::fprintf(stderr,
+                         "aquaform: the simulation became unstable at frame %u: %u particles are not finite; raise "
+                         "solver.substeps or lower solver.frame_dt in the scene\n",
+                         frame, stats.non_finite);
+            return false;
+        }
+    }
+    progress.finish();
+    return true;
+}
+
+RenderMeasurement measure_render(gpu::Context& ctx, SurfaceRenderer& renderer, const gpu::Buffer& positions,
+                                 uint32_t count, const ViewCamera& camera, const SurfaceSettings& settings,
+                                 uint32_t repeats) {
+    RenderMeasurement best;
+    best.ms_total = std::numeric_limits<double>::infinity();
+    for (uint32_t run = 0; run < std::max(repeats, 1u); ++run) {
+        gpu::GpuTimer timer(ctx);
+        ctx.submit_and_wait([&](VkCommandBuffer cmd) {
+            timer.reset(cmd);
+            renderer.record(cmd, positions, count, camera, settings, &timer);
+        });
+        timer.collect();
+        double total = 0.0;
+        for (const auto& [name, ms] : timer.totals_ms()) total += ms;
+        if (total < best.ms_total) {
+            best.ms_total = total;
+            best.ms_per_pass = timer.totals_ms();
+        }
+    }
+    best.frame = renderer.read_frame();
+    best.rays = renderer.rays_cast();
+    return best;
+}
+
+nlohmann::json render_record(const std::string& label, const SurfaceSettings& settings, const SurfaceRenderer& renderer,
+                             const RenderMeasurement& m, const SurfaceComparison* cmp) {
+    nlohmann::json r;
+    r["label"] = label;
+    r["method"] = method_name(settings.method);
+    r["mask"] = settings.use_mask;
+    r["skip"] = settings.use_skip;
+    r["adaptive_resolution"] = settings.adaptive_resolution;
+    r["blend_normals"] = settings.blend_normals;
+    r["anisotropic"] = settings.anisotropic;
+    r["width"] = renderer.width();
+    r["height"] = renderer.height();
+    r["particles"] = renderer.params().particle_count;
+    r["ms_total"] = m.ms_total;
+    r["ms_per_pass"] = m.ms_per_pass;
+    r["rays"] = m.rays;
+    double evals = 0.0;
+    for (const auto& n : m.frame.normal) evals += n.w;
+    r["evals_per_ray"] = m.rays ? evals / m.rays : 0.0;
+    if (cmp) {
+        r["depth_err_mean"] = cmp->depth_err_mean;
+        r["depth_err_p95"] = cmp->depth_err_p95;
+        r["normal_err_deg_mean"] = cmp->normal_err_deg_mean;
+        r["normal_err_deg_p95"] = cmp->normal_err_deg_p95;
+        r["coverage_mismatch"] = cmp->coverage_mismatch;
+        r["psnr_db"] = cmp->psnr_db;
+    }
+    return r;
+}
+
+void print_render_header() {
+    std::printf("%-22s %9s %8s %9s %10s %10s %9s %8s\n", "method", "ms", "rays", "evals/ray", "depth err",
+                "normal err", "coverage", "PSNR");
+    std::printf("%-22s %9s %8s %9s %10s %10s %9s %8s\n", "", "", "", "", "[radii]", "[deg]", "mismatch", "[dB]");
+}
+
+void print_render_row(const std::string& label, const RenderMeasurement& m, const SurfaceComparison* cmp) {
+    double evals = 0.0;
+    for (const auto& n : m.frame.normal) evals += n.w;
+    const double per_ray = m.rays ? evals / m.rays : 0.0;
+    if (cmp)
+        std::printf("%-22s %9.1f %8u %9.1f %10.3f %10.2f %8.2f%% %8.1f\n", label.c_str(), m.ms_total, m.rays, per_ray,
+                    cmp->depth_err_mean, cmp->normal_err_deg_mean, 100.0 * cmp->coverage_mismatch, cmp->psnr_db);
+    else
+        std::printf("%-22s %9.1f %8u %9.1f %10s %10s %9s %8s\n", label.c_str(), m.ms_total, m.rays, per_ray, "-", "-",
+                    "-", "-");
+}
+
+}  // namespace aquaform::cli

@@ -1,0 +1,258 @@
+#include "render/surface_renderer.h"
+
+#include <cstring>
+#include <stdexcept>
+
+#include "gpu/context.h"
+#include "gpu/timer.h"
+
+namespace aquaform {
+
+namespace {
+
+using shader::SurfacePassPush;
+
+constexpr uint32_t kMissBits = 0xbf800000u;  // -1.0f: hit.w of a pixel without a surface
+
+void fill(VkCommandBuffer cmd, const gpu::Buffer& buffer, uint32_t value) {
+    vkCmdFillBuffer(cmd, buffer.buffer, 0, VK_WHOLE_SIZE, value);
+}
+
+SurfacePassPush axis_push(uint32_t axis) {
+    SurfacePassPush push{};
+    push.axis = axis;
+    return push;
+}
+
+}  // namespace
+
+SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const Scene& scene, uint32_t width, uint32_t height,
+                                 uint32_t max_particles)
+    : ctx_(&ctx), scene_(scene), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
+      buffers_(ctx) {
+    if (width < 16 || height < 16 || width > 8192 || height > 8192)
+        throw std::invalid_argument("surface renderer: resolution " + std::to_string(width) + "x" +
+                                    std::to_string(height) + " is outside 16..8192 per axis");
+    const uint64_t pixels = uint64_t(width) * height;
+    const uint64_t tiles = uint64_t((width + SURFACE_TILE - 1) / SURFACE_TILE) * ((height + SURFACE_TILE - 1) / SURFACE_TILE);
+    const uint64_t n = max_particles_;
+    params_buf_ = &buffers_.add("render.params", sizeof(shader::SurfaceParams), gpu::MemoryUse::host);
+    sorted_ = &buffers_.add("render.sorted", n * 16);
+    shape_ = &buffers_.add("render.shape", n * 48);
+    class_density_ = &buffers_.add("render.class_density", n * 4);
+    aggregate_ = &buffers_.add("render.aggregate", n * 4);
+    depth_all_ = &buffers_.add("render.depth_all", pixels * 4);
+    depth_agg_ = &buffers_.add("render.depth_agg", pixels * 4);
+    thickness_ = &buffers_.add("render.thickness", pixels * 4);
+    front_class_ = &buffers_.add("render.front_class", pixels * 4);
+    smooth_a_ = &buffers_.add("render.depth_smooth", pixels * 4);
+    smooth_b_ = &buffers_.add("render.depth_smooth_tmp", pixels * 4);
+    normal_screen_ = &buffers_.add("render.normal_screen", pixels * 16);
+    tile_level_ = &buffers_.add("render.tile_level", tiles * 4);
+    rays_ = &buffers_.add("render.rays", pixels * 4);
+    ray_count_ = &buffers_.add("render.ray_count", 16);
+    edge_rays_ = &buffers_.add("render.edge_rays", pixels * 4);
+    edge_count_ = &buffers_.add("render.edge_count", 16);
+    hit_ = &buffers_.add("render.hit", pixels * 16);
+    normal_ = &buffers_.add("render.normal", pixels * 16);
+    normal_tmp_ = &buffers_.add("render.normal_tmp", pixels * 16);
+    color_ = &buffers_.add("render.color", pixels * 4);
+
+    const uint32_t push = sizeof(SurfacePassPush);
+    gather_ = gpu::ComputePass(ctx, {"render/gather.comp", 4});
+    classify_shape_ = gpu::ComputePass(ctx, {"render/classify_shape.comp", 5});
+    classify_density_ = gpu::ComputePass(ctx, {"render/classify_density.comp", 7});
+    mask_convolve_ = gpu::ComputePass(ctx, {"render/mask_convolve.comp", 5, push});
+    mask_pack_ = gpu::ComputePass(ctx, {"render/mask_pack.comp", 4});
+    splat_ = gpu::ComputePass(ctx, {"render/splat.comp", 7, push});
+    depth_smooth_ = gpu::ComputePass(ctx, {"render/depth_smooth.comp", 3, push});
+    screen_normals_ = gpu::ComputePass(ctx, {"render/screen_normals.comp", 3});
+    tiles_ = gpu::ComputePass(ctx, {"render/tiles.comp", 5, 0, 64});
+    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 13, 0, 64});
+    upsample_ = gpu::ComputePass(ctx, {"render/upsample.comp", 6});
+    normal_filter_ = gpu::ComputePass(ctx, {"render/normal_filter.comp", 4, push});
+    compose_ = gpu::ComputePass(ctx, {"render/compose.comp", 5});
+    prepare_grid(render_radius(SurfaceSettings{}, scene));
+}
+
+SurfaceRenderer::~SurfaceRenderer() = default;
+
+void SurfaceRenderer::prepare_grid(float radius) {
+    if (grid_ && geometry_.cell_size == radius) return;
+    auto geometry = grid_for_domain(scene_.domain.min, scene_.domain.max, radius);
+    if (!geometry) throw std::runtime_error("surface renderer: " + geometry.error());
+    grid_.reset();
+    grid_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
+    geometry_ = geometry.value();
+    grid_ = std::make_unique<NeighborGrid>(*ctx_, *grid_buffers_, geometry_, max_particles_, "render.grid", false);
+    const uint64_t cells = geometry_.cell_count();
+    auto words = [](uint32_t cells_on_axis, uint32_t block) { return uint64_t((cells_on_axis + block - 1) / block); };
+    const uint64_t wx = words(geometry_.dims.x, MASK_BLOCK_X), wy = words(geometry_.dims.y, MASK_BLOCK_Y),
+                   wz = words(geometry_.dims.z, MASK_BLOCK_Z);
+    conv_a_ = &grid_buffers_->add("render.mask_counts", cells * 4);
+    conv_b_ = &grid_buffers_->add("render.mask_counts_tmp", cells * 4);
+    mask_ = &grid_buffers_->add("render.mask", wx * wy * wz * 4);
+    coarse_ = &grid_buffers_->add("render.mask_coarse",
+                                  words(wx, MASK_COARSE) * words(wy, MASK_COARSE) * words(wz, MASK_COARSE) * 4);
+}
+
+void SurfaceRenderer::record_mask(VkCommandBuffer cmd) {
+    fill(cmd, *coarse_, 0u);
+    gpu::compute_barrier(cmd);
+    const uint32_t cells = geometry_.cell_count();
+    // counts (from the grid) -x-> a -y-> b -z-> a
+    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(0), {params_buf_, &grid_->cell_rank(), &grid_->cell_start(), conv_b_, conv_a_});
+    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(1), {params_buf_, &grid_->cell_rank(), &grid_->cell_start(), conv_a_, conv_b_});
+    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(2), {params_buf_, &grid_->cell_rank(), &grid_->cell_start(), conv_b_, conv_a_});
+    gpu::dispatch(*ctx_, cmd, mask_pack_, params_.mask_dims.w, {params_buf_, conv_a_, mask_, coarse_});
+}
+
+void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
+                             const ViewCamera& camera, const SurfaceSettings& settings, gpu::GpuTimer* timer) {
+    if (auto valid = validate(settings); !valid) throw std::invalid_argument(valid.error());
+    if (count > max_particles_)
+        throw std::invalid_argument("surface renderer: " + std::to_string(count) + " particles, but it was made for " +
+                                    std::to_string(max_particles_));
+    if (positions.size < uint64_t(count) * 16)
+        throw std::invalid_argument("surface renderer: the positions buffer '" + positions.name + "' holds fewer than " +
+                                    std::to_string(count) + " vec4 positions");
+    if (!(glm::length(camera.target - camera.eye) > 0.0f))
+        throw std::invalid_argument("surface renderer: the camera's eye and target coincide; move the eye away");
+    prepare_grid(render_radius(settings, scene_));
+    count_ = count;
+    params_ = make_surface_params(settings, scene_, geometry_, camera, width_, height_, count);
+    std::memcpy(params_buf_->mapped, &params_, sizeof(params_));
+
+    const uint32_t pixels = width_ * height_;
+    const bool adaptive = params_.method == SURFACE_METHOD_ADAPTIVE;
+    const uint32_t particles = std::max(count, 1u);  // empty dispatches are fine; keep the barrier
+    {
+        gpu::GpuScope scope(timer, cmd, "render_grid");
+        grid_->build(cmd, positions, count, nullptr);
+        gpu::dispatch(*ctx_, cmd, gather_, particles, {params_buf_, &positions, &grid_->order(), sorted_});
+    }
+    if (adaptive) {
+        gpu::GpuScope scope(timer, cmd, "render_classify");
+        if (params_.flags & SURFACE_ANISOTROPIC)
+            gpu::dispatch(*ctx_, cmd, classify_shape_, particles, 
+                          {params_buf_, sorted_, &grid_->cell_rank(), &grid_->cell_start(), shape_});
+        gpu::dispatch(*ctx_, cmd, classify_density_, particles, 
+                      {params_buf_, sorted_, &grid_->cell_rank(), &grid_->cell_start(), shape_, class_density_, aggregate_});
+    } else {
+        fill(cmd, *aggregate_, 0u);
+        gpu::compute_barrier(cmd);
+    }
+    if (params_.flags & SURFACE_USE_MASK) {
+        gpu::GpuScope scope(timer, cmd, "render_mask");
+        record_mask(cmd);
+    }
+    {
+        gpu::GpuScope scope(timer, cmd, "render_splat");
+        fill(cmd, *depth_all_, DEPTH_EMPTY);
+        fill(cmd, *depth_agg_, DEPTH_EMPTY);
+        fill(cmd, *thickness_, 0u);
+        fill(cmd, *front_class_, 0u);
+        gpu::compute_barrier(cmd);
+        const std::initializer_list<const gpu::Buffer*> splat_buffers{
+            params_buf_, sorted_, aggregate_, depth_all_, depth_agg_, thickness_, front_class_};
+        gpu::dispatch(*ctx_, cmd, splat_, particles, axis_push(0), splat_buffers);
+        if (adaptive) gpu::dispatch(*ctx_, cmd, splat_, particles, axis_push(1), splat_buffers);
+    }
+    record_screen_passes(cmd, timer);
+    {
+        gpu::GpuScope scope(timer, cmd, "render_march");
+        fill(cmd, *hit_, kMissBits);
+        fill(cmd, *normal_, 0u);
+        gpu::compute_barrier(cmd);
+        gpu::dispatch(*ctx_, cmd, ray_march_, pixels, 
+                      {params_buf_, sorted_, &grid_->cell_rank(), &grid_->cell_start(), mask_, coarse_, depth_all_,
+                       depth_agg_, normal_screen_, rays_, ray_count_, hit_, normal_});
+    }
+    if (params_.flags & SURFACE_ADAPTIVE_RES) {
+        gpu::GpuScope scope(timer, cmd, "render_upsample");
+        fill(cmd, *edge_count_, 0u);
+        gpu::compute_barrier(cmd);
+        gpu::dispatch(*ctx_, cmd, upsample_, pixels, {params_buf_, tile_level_, hit_, normal_, edge_rays_, edge_count_});
+        gpu::dispatch(*ctx_, cmd, ray_march_, pixels,
+                      {params_buf_, sorted_, &grid_->cell_rank(), &grid_->cell_start(), mask_, coarse_, depth_all_,
+                       depth_agg_, normal_screen_, edge_rays_, edge_count_, hit_, normal_});
+    }
+    if (params_.flags & SURFACE_XIAO_NORMALS) {
+        gpu::GpuScope scope(timer, cmd, "render_normal_filter");
+        gpu::dispatch(*ctx_, cmd, normal_filter_, pixels, axis_push(0), {params_buf_, hit_, normal_, normal_tmp_});
+        gpu::dispatch(*ctx_, cmd, normal_filter_, pixels, axis_push(1), {params_buf_, hit_, normal_tmp_, normal_});
+    }
+    {
+        gpu::GpuScope scope(timer, cmd, "render_compose");
+        gpu::dispatch(*ctx_, cmd, compose_, pixels, {params_buf_, hit_, normal_, thickness_, color_});
+    }
+}
+
+void SurfaceRenderer::record_screen_passes(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
+    const uint32_t pixels = width_ * height_;
+    if (params_.flags & SURFACE_BLEND_NORMALS) {
+        {
+            gpu::GpuScope scope(timer, cmd, "render_smooth");
+            gpu::dispatch(*ctx_, cmd, depth_smooth_, pixels, axis_push(0), {params_buf_, depth_all_, smooth_b_});
+            gpu::dispatch(*ctx_, cmd, depth_smooth_, pixels, axis_push(1), {params_buf_, smooth_b_, smooth_a_});
+        }
+        gpu::GpuScope scope(timer, cmd, "render_screen_normals");
+        gpu::dispatch(*ctx_, cmd, screen_normals_, pixels, {params_buf_, smooth_a_, normal_screen_});
+    }
+    gpu::GpuScope scope(timer, cmd, "render_tiles");
+    fill(cmd, *ray_count_, 0u);
+    gpu::compute_barrier(cmd);
+    gpu::dispatch(*ctx_, cmd, tiles_, params_.screen.z * params_.screen.w, 
+                  {params_buf_, depth_all_, tile_level_, rays_, ray_count_});
+}
+
+SurfaceFrame SurfaceRenderer::render(const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
+                                     const SurfaceSettings& settings, gpu::GpuTimer* timer) {
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
+        if (timer) timer->reset(cmd);
+        record(cmd, positions, count, camera, settings, timer);
+    });
+    if (timer) timer->collect();
+    return read_frame();
+}
+
+SurfaceFrame SurfaceRenderer::read_frame() {
+    const size_t pixels = size_t(width_) * height_;
+    SurfaceFrame frame;
+    frame.width = width_;
+    frame.height = height_;
+    frame.hit = gpu::download_vector<glm::vec4>(*ctx_, *hit_, pixels);
+    frame.normal = gpu::download_vector<glm::vec4>(*ctx_, *normal_, pixels);
+    frame.color.width = width_;
+    frame.color.height = height_;
+    frame.color.rgba.resize(pixels * 4);
+    gpu::download(*ctx_, *color_, frame.color.rgba.data(), pixels * 4);
+    return frame;
+}
+
+std::vector<uint32_t> SurfaceRenderer::tile_levels() {
+    return gpu::download_vector<uint32_t>(*ctx_, *tile_level_, size_t(params_.screen.z) * params_.screen.w);
+}
+std::vector<uint32_t> SurfaceRenderer::front_classes() {
+    return gpu::download_vector<uint32_t>(*ctx_, *front_class_, size_t(width_) * height_);
+}
+std::vector<float> SurfaceRenderer::depth_all() { return gpu::download_vector<float>(*ctx_, *depth_all_, size_t(width_) * height_); }
+std::vector<float> SurfaceRenderer::depth_agg() { return gpu::download_vector<float>(*ctx_, *depth_agg_, size_t(width_) * height_); }
+std::vector<glm::vec4> SurfaceRenderer::sorted_positions() { return gpu::download_vector<glm::vec4>(*ctx_, *sorted_, count_); }
+std::vector<uint32_t> SurfaceRenderer::aggregate_flags() { return gpu::download_vector<uint32_t>(*ctx_, *aggregate_, count_); }
+std::vector<float> SurfaceRenderer::class_densities() { return gpu::download_vector<float>(*ctx_, *class_density_, count_); }
+std::vector<uint32_t> SurfaceRenderer::mask_words() { return gpu::download_vector<uint32_t>(*ctx_, *mask_, params_.mask_dims.w); }
+std::vector<uint32_t> SurfaceRenderer::coarse_words() { return gpu::download_vector<uint32_t>(*ctx_, *coarse_, params_.coarse_dims.w); }
+uint32_t SurfaceRenderer::rays_cast() {
+    uint32_t rays = gpu::download_vector<uint32_t>(*ctx_, *ray_count_, 1)[0];
+    if (params_.flags & SURFACE_ADAPTIVE_RES) rays += gpu::download_vector<uint32_t>(*ctx_, *edge_count_, 1)[0];
+    return rays;
+}
+
+std::vector<gpu::BufferReport> SurfaceRenderer::memory_report() const {
+    auto report = buffers_.report();
+    for (auto& entry : grid_buffers_->report()) report.push_back(entry);
+    return report;
+}
+
+}  // namespace aquaform

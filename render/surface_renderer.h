@@ -1,0 +1,103 @@
+// The surface renderer: turns the solver's particle buffer into a ray-marched fluid surface
+// without leaving the GPU. One object serves the three methods (render/surface_settings.h):
+// the adaptive ray marcher of Wu et al., the uniform ray caster of Xiao et al. and the
+// exhaustive reference. Passes, in order (each timed under its name):
+//   render_grid       the renderer's own Morton-sorted grid over the solver's positions (cell = r),
+//                     built by the solver's NeighborGrid code; render_gather copies the positions
+//                     into that order. The solver's grid is not reused: it was built from the
+//                     predicted positions at the start of the last step, and particles have moved
+//                     since, so queries on it could miss neighbours.
+//   render_classify   Yu-Turk weighted PCA and anisotropic density per particle (adaptive only)
+//   render_mask       binary density grid: separable (b, a, b) convolution of cell counts, packing
+//   render_splat      D_all, D_agg, thickness (and the classification view)
+//   render_smooth     bilateral smoothing of D_all; render_screen_normals
+//   render_tiles      tile resolution and the ray list
+//   render_march      ray marching; render_upsample (adaptive resolution: interpolation, then a
+//                     second march for pixels on silhouettes); render_normal_filter (Xiao)
+//   render_compose    shading
+// Layout and conventions: shaders/shared/surface_layout.h.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "gpu/buffer.h"
+#include "gpu/compute_pass.h"
+#include "render/impostor_view.h"
+#include "render/surface_frame.h"
+#include "render/surface_settings.h"
+#include "sim/neighbor_grid.h"
+#include "sim/scene.h"
+
+namespace aquaform {
+
+namespace gpu {
+class Context;
+class GpuTimer;
+}  // namespace gpu
+
+/// GPU memory of the renderer per pixel and per particle (beyond its grid).
+constexpr uint32_t kSurfaceBytesPerPixel = 9 * 4 + 4 * 16;
+constexpr uint32_t kSurfaceBytesPerParticle = 16 + 3 * 16 + 4 + 4;
+
+class SurfaceRenderer {
+public:
+    /// Allocates every buffer for `max_particles` particles of `scene` at width x height.
+    /// Throws std::runtime_error when the render grid does not fit (the message names the fix).
+    SurfaceRenderer(gpu::Context& ctx, const Scene& scene, uint32_t width, uint32_t height, uint32_t max_particles);
+    ~SurfaceRenderer();
+    SurfaceRenderer(const SurfaceRenderer&) = delete;
+    SurfaceRenderer& operator=(const SurfaceRenderer&) = delete;
+
+    /// Records the whole pipeline for `count` particles of `positions` (vec4, xyz in metres).
+    /// Writes the parameter block at once: record at most one frame per submission.
+    void record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
+                const SurfaceSettings& settings, gpu::GpuTimer* timer);
+    /// Records, submits, waits and reads the frame back.
+    SurfaceFrame render(const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
+                        const SurfaceSettings& settings, gpu::GpuTimer* timer = nullptr);
+    /// Reads back the last frame recorded.
+    SurfaceFrame read_frame();
+
+    // Diagnostics of the last frame, read back on request.
+    std::vector<uint32_t> tile_levels();      ///< per tile, TILE_*; row-major
+    std::vector<uint32_t> front_classes();    ///< per pixel: 0 none, 1 splash, 2 aggregate (adaptive)
+    std::vector<float> depth_all();           ///< per pixel eye depth, +inf where empty
+    std::vector<float> depth_agg();
+    std::vector<glm::vec4> sorted_positions();  ///< w: index in the solver's buffer
+    std::vector<uint32_t> aggregate_flags();    ///< per sorted particle
+    std::vector<float> class_densities();       ///< per sorted particle
+    std::vector<uint32_t> mask_words();         ///< the binary density grid (layout: surface_layout.h)
+    std::vector<uint32_t> coarse_words();
+    uint32_t rays_cast();                        ///< length of the last ray list
+
+    const GridGeometry& grid() const { return geometry_; }
+    const shader::SurfaceParams& params() const { return params_; }
+    uint32_t width() const { return width_; }
+    uint32_t height() const { return height_; }
+    std::vector<gpu::BufferReport> memory_report() const;
+
+private:
+    void prepare_grid(float radius);
+    void record_mask(VkCommandBuffer cmd);
+    void record_screen_passes(VkCommandBuffer cmd, gpu::GpuTimer* timer);
+
+    gpu::Context* ctx_;
+    Scene scene_;
+    uint32_t width_, height_, max_particles_;
+    uint32_t count_ = 0;
+    shader::SurfaceParams params_{};
+    gpu::BufferSet buffers_;
+    std::unique_ptr<gpu::BufferSet> grid_buffers_;
+    std::unique_ptr<NeighborGrid> grid_;
+    GridGeometry geometry_;
+    gpu::Buffer *params_buf_, *sorted_, *shape_, *class_density_, *aggregate_;
+    gpu::Buffer *depth_all_, *depth_agg_, *thickness_, *front_class_, *smooth_a_, *smooth_b_, *normal_screen_;
+    gpu::Buffer *tile_level_, *rays_, *ray_count_, *edge_rays_, *edge_count_, *hit_, *normal_, *normal_tmp_, *color_;
+    gpu::Buffer *conv_a_ = nullptr, *conv_b_ = nullptr, *mask_ = nullptr, *coarse_ = nullptr;
+    gpu::ComputePass gather_, classify_shape_, classify_density_, mask_convolve_, mask_pack_, splat_;
+    gpu::ComputePass depth_smooth_, screen_normals_, tiles_, ray_march_, upsample_, normal_filter_, compose_;
+};
+
+}  // namespace aquaform

@@ -1,0 +1,83 @@
+// Settings of the surface renderer: which method, which mechanisms, and every parameter, with
+// defaults and the reasons for them. Lengths a user sets are in particle radii (half the
+// particle spacing), so one setting means the same at any resolution of the simulation.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "render/impostor_view.h"
+#include "shaders/shared/surface_layout.h"
+#include "sim/neighbor_grid.h"
+#include "sim/result.h"
+#include "sim/scene.h"
+
+namespace aquaform {
+
+enum class SurfaceMethod {
+    uniform,    ///< Xiao et al. 2018: uniform steps from D_all, full resolution
+    adaptive,   ///< Wu et al.: mask, skip, adaptive resolution, blended normals
+    reference,  ///< exhaustive: fine uniform steps from the grid's bounds, exact density
+};
+
+const char* method_name(SurfaceMethod method);
+Result<SurfaceMethod> parse_method(const std::string& text);
+
+struct SurfaceSettings {
+    SurfaceMethod method = SurfaceMethod::adaptive;
+    // The adaptive method's mechanisms, each switchable so that it can be measured alone.
+    bool use_mask = true;
+    bool use_skip = true;
+    bool adaptive_resolution = true;
+    bool blend_normals = true;
+    bool anisotropic = true;  ///< Yu-Turk kernels for the classification (else isotropic)
+
+    /// Kernel support r in particle spacings; 0 = the solver's h (kernel_radius_factor), so
+    /// that the field is the one the solver's density constraint sees.
+    float radius_spacings = 0.0f;
+    /// Radius of a lone particle's iso-sphere, in particle radii: sets the iso value
+    /// sigma = V W(q r). 1 draws a lone droplet the size of its particle.
+    float lone_radius = 1.0f;
+    /// Marching step in particle radii. A lone droplet is two radii across, so a step of one
+    /// radius cannot jump over a droplet's centre.
+    float step_radii = 1.0f;
+    uint32_t max_steps = 256;      ///< density evaluations per ray before it gives up
+    uint32_t max_skip_evals = 8;   ///< maxSkipCounts: evaluations before the jump to D_agg
+    uint32_t refine_steps = 6;     ///< bisection steps: the hit is within step / 64
+    /// Weights (b, a, b) of the separable mask convolution; a = b = 1 is the exact conservative
+    /// bound of eq. 4.
+    float mask_a = 1.0f;
+    float mask_b = 1.0f;
+    /// Tile depth-variance thresholds eps1 < eps2, in particle radii squared.
+    float tile_eps1 = 0.02f;
+    float tile_eps2 = 0.2f;
+    /// Normal blending, eqs. 12-13: A per particle radius, B per pixel of particle size.
+    float blend_a = 0.5f;
+    float blend_b = 0.05f;
+    /// Bilateral filters (depth for the screen-space normals, Xiao's normal filter).
+    float smooth_sigma_px = 3.0f;
+    float smooth_sigma_depth_radii = 2.0f;
+    uint32_t smooth_radius_px = 6;
+    /// Xiao eq. 6.
+    float xiao_d = 10.0f;
+    float xiao_k = 0.998f;
+    /// The exhaustive reference: step in particle radii and bisection steps.
+    float reference_step_radii = 0.0625f;
+    uint32_t reference_refine_steps = 16;
+};
+
+/// Checks the ranges of every setting; the message names the setting, its value and the range.
+Result<bool> validate(const SurfaceSettings& settings);
+
+/// Kernel support r [m] for a scene.
+float render_radius(const SurfaceSettings& settings, const Scene& scene);
+
+/// The render grid: cells of size r over the scene's domain.
+Result<GridGeometry> render_grid(const SurfaceSettings& settings, const Scene& scene);
+
+/// The GPU parameter block for one frame.
+shader::SurfaceParams make_surface_params(const SurfaceSettings& settings, const Scene& scene,
+                                          const GridGeometry& grid, const ViewCamera& camera, uint32_t width,
+                                          uint32_t height, uint32_t particle_count);
+
+}  // namespace aquaform

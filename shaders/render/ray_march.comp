@@ -1,0 +1,195 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Ray marching of the iso-surface phi = sigma (Wu et al. algorithm 1; Xiao et al. section 3.2;
+// the exhaustive reference), one thread per ray of the ray list.
+//   - Entry: D_all (uniform, adaptive) or the grid's bounds (reference).
+//   - Mask (adaptive, reference): before each evaluation the binary density grid is asked about
+//     the current point, coarse level first; an unmarked coarse block, word block or cell is
+//     left at its exit without evaluating the density.
+//   - Skip (adaptive): after max_skip_evals evaluations without a hit the ray jumps once to
+//     D_agg, when that lies ahead. Where no aggregate covers the pixel the ray keeps marching,
+//     so splash-only pixels are not lost.
+//   - The first sample with phi >= sigma is refined by bisection against the previous sample.
+//   - Normals: the object-space normal -grad phi (eq. 11); adaptive blends it with the
+//     screen-space normal (eqs. 12-16); uniform uses Xiao's eqs. 2-6 (filtered afterwards).
+// hit = (x, t) or w = -1 on a miss; normal = (n, density evaluations of this ray).
+#include "shared/grid_layout.h"
+#include "shared/render_kernels.h"
+#include "shared/sph_kernels.h"
+#include "shared/anisotropy.h"
+#include "shared/surface_layout.h"
+
+layout(local_size_x_id = 0) in;
+layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };
+layout(std430, binding = 1) readonly buffer Sorted { vec4 sorted[]; };
+layout(std430, binding = 2) readonly buffer CellRank { uint cell_rank[]; };
+layout(std430, binding = 3) readonly buffer CellStart { uint cell_start[]; };
+layout(std430, binding = 4) readonly buffer Mask { uint mask[]; };
+layout(std430, binding = 5) readonly buffer Coarse { uint coarse[]; };
+layout(std430, binding = 6) readonly buffer DepthAll { uint depth_all[]; };
+layout(std430, binding = 7) readonly buffer DepthAgg { uint depth_agg[]; };
+layout(std430, binding = 8) readonly buffer NormalScreen { vec4 normal_screen[]; };
+layout(std430, binding = 9) readonly buffer Rays { uint rays[]; };
+layout(std430, binding = 10) readonly buffer RayCount { uint ray_count[]; };
+layout(std430, binding = 11) writeonly buffer Hit { vec4 hit[]; };
+layout(std430, binding = 12) writeonly buffer Normal { vec4 normal[]; };
+
+#define SURFACE_FIELD
+#include "common/surface_common.glsl"
+
+/// Where to continue when the mask says the point's cell cannot hold the surface: the exit t
+/// of the largest empty block around it (coarse block, word block or cell); -1 if marked.
+float mask_exit(vec3 p, vec3 eye, vec3 inv_dir) {
+    float cell = params.grid_origin_cell.w;
+    ivec3 c = clamp(ivec3(floor((p - grid_min()) / cell)), ivec3(0), ivec3(params.grid_dims.xyz) - 1);
+    uvec3 block = uvec3(MASK_BLOCK_X, MASK_BLOCK_Y, MASK_BLOCK_Z);
+    uvec3 w = uvec3(c) / block;
+    uvec3 k = w / MASK_COARSE;
+    uvec3 lo;
+    uvec3 size;
+    if (coarse[k.x + params.coarse_dims.x * (k.y + params.coarse_dims.y * k.z)] == 0u) {
+        lo = k * MASK_COARSE * block;
+        size = MASK_COARSE * block;
+    } else {
+        uint bits = mask[w.x + params.mask_dims.x * (w.y + params.mask_dims.y * w.z)];
+        uvec3 in_block = uvec3(c) - w * block;
+        if ((bits & (1u << (in_block.x + 4u * in_block.y + 16u * in_block.z))) != 0u) return -1.0;
+        lo = bits == 0u ? w * block : uvec3(c);
+        size = bits == 0u ? block : uvec3(1u);
+    }
+    vec3 box_lo = grid_min() + vec3(lo) * cell;
+    return box_span(box_lo, box_lo + vec3(size) * cell, eye, inv_dir).y;
+}
+
+/// Xiao et al. eqs. 2-6: the basic normal (spiky gradient) blended with the PCA normal (the
+/// least principal axis of the weighted neighbour covariance, turned to agree with the basic one).
+vec3 xiao_normal(vec3 x, vec3 fallback) {
+    float r = params.radius;
+    float spiky = spiky_gradient_coefficient(r);
+    vec3 basic = vec3(0.0);
+    float weight_sum = 0.0;
+    vec3 mean = vec3(0.0);
+    FOR_EACH_PARTICLE_NEAR(x, j) {
+        vec3 d = x - sorted[j].xyz;
+        float d2 = dot(d, d);
+        basic -= spiky_gradient(d, d2, r, spiky);
+        float q = min(sqrt(d2) * params.inv_radius, 1.0);
+        float w = 1.0 - q * q * q;
+        weight_sum += w;
+        mean += w * sorted[j].xyz;
+    }
+    END_FOR_EACH_PARTICLE_NEAR
+    basic = dot(basic, basic) > 0.0 ? normalize(basic) : fallback;
+    if (weight_sum <= 0.0) return basic;
+    mean /= weight_sum;
+    mat3 cov = mat3(0.0);
+    FOR_EACH_PARTICLE_NEAR(x, j) {
+        vec3 d = x - sorted[j].xyz;
+        float q = min(sqrt(dot(d, d)) * params.inv_radius, 1.0);
+        vec3 e = sorted[j].xyz - mean;
+        cov += (1.0 - q * q * q) * outerProduct(e, e);
+    }
+    END_FOR_EACH_PARTICLE_NEAR
+    vec3 pca = symmetric_eigen(cov / weight_sum).vectors[2];
+    if (dot(pca, basic) < 0.0) pca = -pca;
+    float w = min(1.0, exp(params.xiao_d * (dot(basic, pca) - params.xiao_k)));
+    vec3 n = (1.0 - w) * basic + w * pca;
+    return dot(n, n) > 0.0 ? normalize(n) : basic;
+}
+
+void main() {
+    uint ray = gl_GlobalInvocationID.x;
+    if (ray >= ray_count[0]) return;
+    uint packed = rays[ray];
+    uvec2 pixel = uvec2(packed & 0xffffu, packed >> 16u);
+    uint index = pixel_index(pixel);
+    vec3 eye = params.eye.xyz;
+    vec3 dir = pixel_ray(pixel);
+    vec3 safe_dir = mix(dir, vec3(1.0e-8), lessThan(abs(dir), vec3(1.0e-8)));
+    vec3 inv_dir = 1.0 / safe_dir;
+    vec2 span = box_span(grid_min(), grid_max(), eye, inv_dir);
+    float t_end = span.y;
+    float t = max(span.x, 0.0);
+    bool reference = params.method == SURFACE_METHOD_REFERENCE;
+    float t_entry = t;
+    if (!reference) {
+        uint bits = depth_all[index];
+        if (bits == DEPTH_EMPTY) {
+            hit[index] = vec4(0.0, 0.0, 0.0, -1.0);
+            normal[index] = vec4(0.0);
+            return;
+        }
+        t_entry = depth_to_t(uintBitsToFloat(bits), dir);
+        t = max(t, t_entry);
+    }
+    bool use_mask = (params.flags & SURFACE_USE_MASK) != 0u;
+    bool use_skip = (params.flags & SURFACE_USE_SKIP) != 0u;
+    float t_agg = -1.0;
+    if (use_skip && depth_agg[index] != DEPTH_EMPTY) t_agg = depth_to_t(uintBitsToFloat(depth_agg[index]), dir);
+
+    float nudge = 1.0e-4 * params.grid_origin_cell.w;
+    uint evals = 0u;
+    bool skipped = false;
+    bool found = false;
+    float t_prev = t;
+    // Each mask step leaves at least one cell, so a ray takes at most this many of them.
+    uint mask_steps_left = 2u * (params.grid_dims.x + params.grid_dims.y + params.grid_dims.z) + 8u;
+    while (t <= t_end && evals < params.max_steps) {
+        if (use_skip && !skipped && evals >= params.max_skip_evals) {
+            skipped = true;
+            if (t_agg > t) {
+                t = t_agg;
+                t_prev = t;
+                continue;
+            }
+        }
+        vec3 p = eye + dir * t;
+        if (use_mask && mask_steps_left > 0u) {
+            float exit_t = mask_exit(p, eye, inv_dir);
+            if (exit_t >= 0.0) {
+                --mask_steps_left;
+                t = max(exit_t, t) + nudge;
+                t_prev = t;
+                continue;
+            }
+        }
+        ++evals;
+        if (field_density(p) >= params.iso) {
+            found = true;
+            break;
+        }
+        t_prev = t;
+        t += params.step;
+    }
+    if (!found) {
+        hit[index] = vec4(0.0, 0.0, 0.0, -1.0);
+        normal[index] = vec4(0.0, 0.0, 0.0, float(evals));
+        return;
+    }
+    float lo = t_prev;
+    float hi = t;
+    for (uint i = 0u; i < params.refine_steps && hi > lo; ++i) {
+        float mid = 0.5 * (lo + hi);
+        ++evals;
+        if (field_density(eye + dir * mid) >= params.iso) hi = mid;
+        else lo = mid;
+    }
+    float t_hit = 0.5 * (lo + hi);
+    vec3 x = eye + dir * t_hit;
+    vec3 grad = field_gradient(x);
+    vec3 n = dot(grad, grad) > 0.0 ? -normalize(grad) : -dir;
+    if ((params.flags & SURFACE_XIAO_NORMALS) != 0u) {
+        n = xiao_normal(x, n);
+    } else if ((params.flags & SURFACE_BLEND_NORMALS) != 0u) {
+        vec3 screen = normal_screen[index].xyz;
+        if (dot(screen, screen) > 0.0) {
+            // Eq. 16 with d = the particle's diameter: R is the particle's size on screen [px].
+            float size_px = params.pixel_scale * 2.0 * params.particle_radius / max(dot(x - eye, params.forward.xyz), 1.0e-6);
+            float w = min(params.blend_a * (t_hit - t_entry) * exp(params.blend_b * size_px), 1.0);
+            vec3 blended = w * n + (1.0 - w) * screen;
+            n = dot(blended, blended) > 0.0 ? normalize(blended) : n;
+        }
+    }
+    hit[index] = vec4(x, t_hit);
+    normal[index] = vec4(n, float(evals));
+}

@@ -1,0 +1,74 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Depth sprites (Wu et al. section 4.2, Xiao et al. section 3.1): each particle is a
+// camera-facing quad, here walked by the particle's own thread over the pixels of its
+// projected square, with the exact sphere depth per pixel (the ray-sphere intersection, what a
+// fragment shader with depth replacement computes). Nearest depth wins through atomicMin on
+// the float bits (non-negative floats order like their bits).
+//   mode 0: D_all (all particles), D_agg (aggregates only), thickness (additive chord lengths
+//           of spheres of the particle radius, scaled to conserve volume);
+//   mode 1: the classification view: the class of the particle that won D_all at each pixel.
+#include "shared/surface_layout.h"
+
+layout(local_size_x_id = 0) in;
+layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };
+layout(std430, binding = 1) readonly buffer Sorted { vec4 sorted[]; };
+layout(std430, binding = 2) readonly buffer Aggregate { uint aggregate[]; };
+layout(std430, binding = 3) buffer DepthAll { uint depth_all[]; };
+layout(std430, binding = 4) buffer DepthAgg { uint depth_agg[]; };
+layout(std430, binding = 5) buffer Thickness { uint thickness[]; };
+layout(std430, binding = 6) writeonly buffer FrontClass { uint front_class[]; };
+layout(push_constant) uniform Push { SurfacePassPush pc; };
+
+#include "common/surface_common.glsl"
+
+// Thickness is summed in fixed point (micrometres): integer atomics are exact and available
+// everywhere, float atomics are not.
+const float THICKNESS_UNITS_PER_M = 1.0e6;
+
+void main() {
+    uint s = gl_GlobalInvocationID.x;
+    if (s >= params.particle_count) return;
+    vec3 center = sorted[s].xyz;
+    vec3 rel = center - params.eye.xyz;
+    float z = dot(rel, params.forward.xyz);
+    float radius = params.sprite_radius;
+    // A sphere that reaches the eye plane has no finite projection; it is not drawn.
+    if (z - radius <= 1.0e-4 * radius) return;
+    // Conservative screen square: the sphere's silhouette lies within radius / (z - radius) of
+    // the centre's projection, in tangent units.
+    float extent = radius / (z - radius);
+    vec2 ndc = vec2(dot(rel, params.right.xyz) / (z * params.forward.w), -dot(rel, params.up.xyz) / (z * params.right.w));
+    vec2 half_px = vec2(extent / params.forward.w, extent / params.right.w) * 0.5 * vec2(params.screen.xy);
+    vec2 center_px = (ndc * 0.5 + 0.5) * vec2(params.screen.xy) - 0.5;
+    ivec2 lo = max(ivec2(floor(center_px - half_px)), ivec2(0));
+    ivec2 hi = min(ivec2(ceil(center_px + half_px)), ivec2(params.screen.xy) - 1);
+
+    bool is_aggregate = aggregate[s] != 0u;
+    float rel2 = dot(rel, rel);
+    float small2 = params.particle_radius * params.particle_radius;
+    // A sphere of the particle radius fills pi/6 of its lattice cell; the chord sum is scaled
+    // back so that a slab of particles measures the slab's thickness.
+    float volume_scale = 6.0 / 3.14159265;
+    for (int y = lo.y; y <= hi.y; ++y) {
+        for (int x = lo.x; x <= hi.x; ++x) {
+            uvec2 pixel = uvec2(x, y);
+            vec3 dir = pixel_ray(pixel);
+            float b = dot(dir, rel);
+            float disc = b * b - (rel2 - radius * radius);
+            if (disc < 0.0) continue;
+            float depth = (b - sqrt(disc)) * dot(dir, params.forward.xyz);
+            uint bits = floatBitsToUint(depth);
+            uint index = pixel_index(pixel);
+            if (pc.axis == 0u) {
+                atomicMin(depth_all[index], bits);
+                if (is_aggregate) atomicMin(depth_agg[index], bits);
+                float chord2 = b * b - (rel2 - small2);
+                if (chord2 > 0.0)
+                    atomicAdd(thickness[index], uint(2.0 * sqrt(chord2) * volume_scale * THICKNESS_UNITS_PER_M));
+            } else if (depth_all[index] == bits) {
+                front_class[index] = is_aggregate ? 2u : 1u;
+            }
+        }
+    }
+}

@@ -1,0 +1,132 @@
+// Layout of the surface renderer (render/surface_renderer.h): the adaptive ray marcher of
+// Wu et al., the uniform ray caster of Xiao et al. and the exhaustive reference, all compute
+// passes over storage buffers. Binding 0 of every pass is the SurfaceParams block; per-pass
+// bindings are listed at the top of each shader under shaders/render/.
+//
+// Conventions:
+// - World space is the solver's (metres, y up). Pixel (x, y) has y down; its ray goes from the
+//   eye through the pixel centre: dir = normalize(forward + u tan_x right - v tan_y up) with
+//   u = (2 (x + 0.5) / W - 1), v = (2 (y + 0.5) / H - 1).
+// - Depth maps hold eye depth, the distance along `forward` (not along the ray), as the uint
+//   bits of a non-negative float so that atomicMin picks the nearest; DEPTH_EMPTY where no
+//   particle covers the pixel. A ray's parameter t (distance along the unit ray) is
+//   depth / dot(dir, forward).
+// - Per-pixel buffers are row-major, index y * W + x.
+// - Particles are read through the renderer's own Morton-sorted copy (`sorted`, w = index in
+//   the solver's buffer), built from the solver's buffer on the GPU each frame.
+#ifndef AQUAFORM_SURFACE_LAYOUT_H
+#define AQUAFORM_SURFACE_LAYOUT_H
+#include "compat.h"
+
+#define DEPTH_EMPTY 0x7f800000u  // +inf as float bits
+
+// Methods (SurfaceParams.method).
+#define SURFACE_METHOD_UNIFORM 0u    // Xiao et al. 2018
+#define SURFACE_METHOD_ADAPTIVE 1u   // Wu et al.
+#define SURFACE_METHOD_REFERENCE 2u  // exhaustive
+
+// Switches (SurfaceParams.flags).
+#define SURFACE_USE_MASK 1u          // adaptive step lengths from the binary density grid
+#define SURFACE_USE_SKIP 2u          // jump to D_agg after max_skip_evals evaluations
+#define SURFACE_ADAPTIVE_RES 4u      // per-tile full / half / quarter ray resolution
+#define SURFACE_BLEND_NORMALS 8u     // Wu eqs. 12-16 (else the object-space normal alone)
+#define SURFACE_ANISOTROPIC 16u      // Yu-Turk kernels for classification (else isotropic)
+#define SURFACE_XIAO_NORMALS 32u     // Xiao eqs. 2-6 + bilateral normal filter
+
+// Tiles of the adaptive resolution (section 4.3).
+#define SURFACE_TILE 16u
+#define TILE_EMPTY 0u     // no particle covers the tile: no rays
+#define TILE_FULL 1u      // a ray per pixel
+#define TILE_HALF 2u      // every 2nd pixel per axis (plus the last row and column)
+#define TILE_QUARTER 4u   // every 4th pixel per axis (plus the last row and column)
+
+// The binary density grid (section 4.1): one bit per cell of the render grid (cell = r);
+// a word packs a MASK_BLOCK_X x MASK_BLOCK_Y x MASK_BLOCK_Z block, so one fetch answers 32
+// cells and a zero word skips them all. The coarse level has one word per
+// MASK_COARSE^3 block of words: zero when the whole block is empty.
+#define MASK_BLOCK_X 4u
+#define MASK_BLOCK_Y 4u
+#define MASK_BLOCK_Z 2u
+#define MASK_COARSE 4u
+
+#define SURFACE_WORKGROUP_2D 8u  // 8 x 8 pixels per workgroup of the screen passes
+
+AF_BEGIN
+
+struct SurfaceParams {
+    // Camera (pinhole, see above).
+    vec4 eye;      ///< xyz [m]; w: unused
+    vec4 forward;  ///< unit; w: tan(fov_x / 2)
+    vec4 right;    ///< unit; w: tan(fov_y / 2)
+    vec4 up;       ///< unit; w: unused
+    uvec4 screen;  ///< x: width, y: height, z: tiles per row, w: tiles per column
+
+    // Render grid (cell size = r) and particles.
+    vec4 grid_origin_cell;  ///< xyz origin [m], w cell size [m]
+    uvec4 grid_dims;        ///< xyz cells per axis, w cell count
+    uvec4 mask_dims;        ///< xyz words per axis, w word count
+    uvec4 coarse_dims;      ///< xyz coarse words per axis, w coarse word count
+    vec4 domain_min;        ///< xyz: the scene's domain (floor height, walls); w: unused
+    vec4 domain_max;
+
+    // Field.
+    float radius;           ///< r: kernel support [m]
+    float inv_radius;
+    float kernel_coeff;     ///< cubic_coefficient(r)
+    float volume;           ///< V: spacing^3 [m^3]
+    float iso;              ///< sigma, in units of rest density
+    float particle_radius;  ///< spacing / 2 [m]
+    float sprite_radius;    ///< radius of the depth sprites [m]
+    uint particle_count;
+
+    // Marching.
+    float step;             ///< uniform step length [m]
+    uint max_steps;         ///< density evaluations per ray before giving up
+    uint max_skip_evals;    ///< maxSkipCounts
+    uint refine_steps;      ///< bisection steps after a hit
+    uint method;            ///< SURFACE_METHOD_*
+    uint flags;             ///< SURFACE_* switches
+    float mask_count_threshold;  ///< N_c at which a cell is marked: iso / (V W(0))
+    float mask_weight_a;    ///< centre weight a of the separable kernel (b, a, b)
+
+    float mask_weight_b;    ///< side weight b
+    float tile_eps1;        ///< variance thresholds of D_all per tile [m^2]
+    float tile_eps2;
+    float blend_a;          ///< A of eq. 12 [1/m]
+    float blend_b;          ///< B of eq. 13 [1/px]
+    float pixel_scale;      ///< h / (2 tan(fov_y / 2)): eq. 16 is R = pixel_scale d / |z|
+    float smooth_sigma_px;  ///< bilateral depth filter: spatial sigma [px]
+    float smooth_sigma_depth;  ///< bilateral depth filter: range sigma [m]
+
+    // Classification (Yu & Turk 2013 as Wu et al. use it).
+    float aniso_kr;         ///< max ratio of largest to smallest principal axis
+    float aniso_ks;         ///< scale of the principal axes
+    float aniso_kn;         ///< scale of a sparse neighbourhood's sphere
+    uint aniso_neps;        ///< neighbours below which a particle stays a sphere
+    float aggregate_density;  ///< classification threshold, in units of rest density
+    float xiao_d;           ///< Xiao eq. 6: d
+    float xiao_k;           ///< Xiao eq. 6: k
+    uint smooth_radius_px;  ///< bilateral filters: half width [px]
+
+    // Composition.
+    vec4 light_dir;         ///< unit, towards the light; w: specular exponent
+    vec4 fluid_color;       ///< xyz: absorption per metre of thickness (r, g, b); w: ior
+};
+
+/// Push block of the passes that need one more number than SurfaceParams (the separable
+/// convolution's axis, the bilateral filter's direction).
+struct SurfacePassPush {
+    uint axis;
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
+AF_END
+
+#ifdef __cplusplus
+static_assert(sizeof(aquaform::shader::SurfaceParams) == 11 * 16 + 8 * 4 * 4 + 2 * 16);
+static_assert(sizeof(aquaform::shader::SurfacePassPush) == 16);
+#endif
+
+#endif
