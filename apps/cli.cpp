@@ -1,4 +1,5 @@
 #include "apps/cli.h"
+#include "apps/render_options.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -16,8 +17,9 @@ const char* kUsage =
     "usage: aquaform <command> [options]\n"
     "commands:\n"
     "  run SCENE.json [--frames N] [--out DIR] [--device NAME|INDEX] [--ply-every K]\n"
-    "                 [--no-png] [--resolution WxH] [--validation]\n"
-    "        simulate a scene; writes PNG frames, stats.csv, front.csv (dam breaks), PLY dumps\n"
+    "                 [--no-png] [--preview] [--resolution WxH] [--validation] [render flags]\n"
+    "        simulate a scene; writes ray-marched PNG frames (--preview: quick sphere impostors),\n"
+    "        stats.csv, front.csv (dam breaks), PLY dumps\n"
     "  render SCENE.json [--frame K] [--out DIR] [--no-reference] [--device ...] [render flags]\n"
     "        ray-march one frame; writes image.png, evals.png, tiles.png, classification.png,\n"
     "        reference.png, depth_error.png and render.json (timings, metrics against the reference)\n"
@@ -25,6 +27,14 @@ const char* kUsage =
     "        list Vulkan devices and the one aquaform would use\n"
     "  bench sim [--sizes 16384,32768,...] [--iterations N] [--steps N] [--repeats R] [--out FILE] [--device ...]\n"
     "        time the solver and the neighbour search; writes bench_sim.json\n"
+    "  bench render [--particles N] [--frame K] [--resolution WxH] [--repeats R] [--out FILE]\n"
+    "               [--configs a,b,...] [--quick] [--device ...] [--validation] [render parameters]\n"
+    "        ray-march one dam-break frame (default 32768 particles at 512x512, on the frame where the front\n"
+    "        is halfway down the tank) with uniform, adaptive and each adaptive mechanism alone (mask_only,\n"
+    "        skip_only, adaptive_res_only, blend_only, mask_skip, adaptive_full_res); ms per pass, rays,\n"
+    "        evals/ray and errors against the exhaustive reference; checks the targets; writes\n"
+    "        bench_render.json (--quick: uniform, adaptive, mask_skip, adaptive_full_res, one render each);\n"
+    "        render parameters (--step, --eps1, ...) and --isotropic apply to every configuration\n"
     "  help  show this text\n";
 
 }  // namespace
@@ -98,6 +108,7 @@ int run_main(int argc, char** argv) {
         if (command == "bench") return cmd_bench(rest);
         if (command == "help" || command == "--help" || command == "-h") {
             std::fputs(kUsage, stdout);
+            std::fputs(render_flags_usage(), stdout);
             return kExitOk;
         }
         if (command.empty())

@@ -1,4 +1,6 @@
-// `aquaform bench sim`: solver speed and neighbour-search scaling on dam breaks of growing size.
+// `aquaform bench sim`: solver speed and neighbour-search scaling on dam breaks of growing size;
+// `aquaform bench render` lives in apps/cmd_bench_render.cpp.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -8,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "apps/bench_scenes.h"
 #include "apps/cli.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
@@ -17,22 +20,6 @@
 namespace aquaform::cli {
 
 namespace {
-
-/// A dam break with about `particles` particles: a column a x 2a x a in a 4a x 2.5a x a tank.
-Scene bench_scene(uint32_t particles, uint32_t iterations) {
-    Scene s;
-    s.name = "bench_dam_break_" + std::to_string(particles);
-    s.particle_spacing = 0.01f;
-    const float a = s.particle_spacing * std::cbrt(particles / 2.0f);
-    s.domain = {glm::vec3(0.0f), glm::vec3(4.0f * a, 2.5f * a, a)};
-    s.fluid_blocks = {{glm::vec3(0.0f), glm::vec3(a, 2.0f * a, a)}};
-    s.column_width = a;
-    s.solver.iterations = iterations;
-    s.solver.substeps = 2;
-    s.solver.viscosity = 0.01f;
-    s.solver.vorticity = 1.0e-4f;
-    return s;
-}
 
 std::vector<uint32_t> parse_sizes(const std::string& text, std::string* error) {
     std::vector<uint32_t> sizes;
@@ -48,17 +35,52 @@ std::vector<uint32_t> parse_sizes(const std::string& text, std::string* error) {
 
 const char* kGridPasses[] = {"grid_count", "grid_scan", "grid_scatter", "reorder", "neighbor_masks"};
 
+/// Flags of `bench sim`; `bench render`'s are bench_render_flags().
+FlagSpec bench_sim_flags() {
+    return {{"--sizes", "--iterations", "--steps", "--repeats", "--out", "--device", "--warmup"}, {"--validation"}};
+}
+
+/// Refuses a flag the chosen benchmark does not take (the parse accepted the flags of both).
+bool only_flags_of(const Args& args, const FlagSpec& spec, const std::string& bench, std::string* error) {
+    auto check = [&](const std::string& flag, const std::vector<std::string>& known) {
+        if (std::find(known.begin(), known.end(), flag) != known.end()) return true;
+        *error = "aquaform bench " + bench + ": " + flag + " is not a flag of bench " + bench + " (see aquaform help)";
+        return false;
+    };
+    for (const auto& [flag, value] : args.values)
+        if (!check(flag, spec.with_value)) return false;
+    for (const auto& [flag, on] : args.switches)
+        if (!check(flag, spec.switches)) return false;
+    return true;
+}
+
+/// The flags of both benchmarks, for the parse.
+FlagSpec all_bench_flags() {
+    FlagSpec all = bench_render_flags();
+    auto add = [](std::vector<std::string>& to, const std::vector<std::string>& from) {
+        for (const auto& f : from)
+            if (std::find(to.begin(), to.end(), f) == to.end()) to.push_back(f);
+    };
+    add(all.with_value, bench_sim_flags().with_value);
+    add(all.switches, bench_sim_flags().switches);
+    return all;
+}
+
 }  // namespace
 
 int cmd_bench(const std::vector<std::string>& argv) {
     std::string error;
-    auto args = parse_args(argv, {{"--sizes", "--iterations", "--steps", "--repeats", "--out", "--device", "--warmup"}, {"--validation"}},
-                           "bench", &error);
+    auto args = parse_args(argv, all_bench_flags(), "bench", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
-    if (args->positional.size() != 1 || args->positional[0] != "sim") {
-        std::fprintf(stderr, "aquaform bench: say what to measure: aquaform bench sim (the only benchmark so far)\n");
+    if (args->positional.size() != 1 || (args->positional[0] != "sim" && args->positional[0] != "render")) {
+        std::fprintf(stderr, "aquaform bench: say what to measure: aquaform bench sim (solver) or aquaform bench render "
+                             "(surface reconstruction)\n");
         return kExitUsage;
     }
+    const bool render = args->positional[0] == "render";
+    if (!only_flags_of(*args, render ? bench_render_flags() : bench_sim_flags(), args->positional[0], &error))
+        return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
+    if (render) return bench_render(*args);
     std::vector<uint32_t> sizes = parse_sizes(args->value("--sizes", "16384,32768,65536,131072,262144"), &error);
     auto iterations = parse_positive("--iterations", args->value("--iterations", "4"), &error);
     auto steps = parse_positive("--steps", args->value("--steps", "4"), &error);

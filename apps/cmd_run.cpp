@@ -14,6 +14,7 @@
 #include "gpu/context.h"
 #include "gpu/timer.h"
 #include "render/impostor_view.h"
+#include "render/surface_renderer.h"
 #include "sim/particle_io.h"
 #include "sim/pbf_solver.h"
 
@@ -29,7 +30,8 @@ void on_interrupt(int) { g_interrupted = true; }
 
 int cmd_run(const std::vector<std::string>& argv) {
     std::string error;
-    const FlagSpec spec{{"--frames", "--out", "--device", "--ply-every", "--resolution"}, {"--no-png", "--validation"}};
+    const FlagSpec spec = with_render_flags({{"--frames", "--out", "--device", "--ply-every", "--resolution"},
+                                             {"--no-png", "--preview", "--validation"}});
     auto args = parse_args(argv, spec, "run", &error);
     if (!args) {
         std::fprintf(stderr, "%s\n", error.c_str());
@@ -48,6 +50,8 @@ int cmd_run(const std::vector<std::string>& argv) {
     uint32_t frames = scene.frames;
     uint32_t ply_every = 0;
     uint32_t width = 640, height = 360;
+    auto settings = render_settings_from(*args, &error);
+    if (!settings) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
     if (args->has("--frames")) {
         auto f = parse_positive("--frames", args->value("--frames"), &error);
         if (!f) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
@@ -81,8 +85,13 @@ int cmd_run(const std::vector<std::string>& argv) {
         std::fprintf(stderr, "aquaform run: %s\n", files.error().c_str());
         return kExitFailure;
     }
+    // Frames are ray-marched; --preview draws the quick sphere impostors instead.
     std::unique_ptr<ImpostorView> view;
-    if (!args->has("--no-png")) view = std::make_unique<ImpostorView>(ctx, width, height);
+    std::unique_ptr<SurfaceRenderer> surface;
+    if (!args->has("--no-png")) {
+        if (args->has("--preview")) view = std::make_unique<ImpostorView>(ctx, width, height);
+        else surface = std::make_unique<SurfaceRenderer>(ctx, scene, width, height, solver.particle_count());
+    }
     const ViewCamera camera = camera_for_domain(scene.domain, float(width) / float(height));
     ImpostorStyle style;
     style.radius = 0.5f * scene.particle_spacing;
@@ -98,9 +107,10 @@ int cmd_run(const std::vector<std::string>& argv) {
     for (uint32_t frame = 0; frame < frames && !g_interrupted; ++frame) {
         FrameStats stats = solver.run_frame(&timer);
         files.write_frame_stats(frame, stats);
-        if (view) {
-            Image image = view->render(solver.positions(), solver.velocities(), solver.particle_count(), camera,
-                                       style, scene.domain, scene.static_boxes);
+        if (view || surface) {
+            Image image = view ? view->render(solver.positions(), solver.velocities(), solver.particle_count(), camera,
+                                              style, scene.domain, scene.static_boxes)
+                               : surface->render(solver.positions(), solver.particle_count(), camera, *settings).color;
             char name[32];
             std::snprintf(name, sizeof name, "frame_%04u.png", frame);
             auto written = write_png(out_dir / name, image);

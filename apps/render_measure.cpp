@@ -51,6 +51,12 @@ RenderMeasurement measure_render(gpu::Context& ctx, SurfaceRenderer& renderer, c
     return best;
 }
 
+double evals_per_ray(const RenderMeasurement& m) {
+    double evals = 0.0;
+    for (const auto& n : m.frame.normal) evals += n.w;
+    return m.rays ? evals / m.rays : 0.0;
+}
+
 nlohmann::json render_record(const std::string& label, const SurfaceSettings& settings, const SurfaceRenderer& renderer,
                              const RenderMeasurement& m, const SurfaceComparison* cmp) {
     nlohmann::json r;
@@ -67,9 +73,7 @@ nlohmann::json render_record(const std::string& label, const SurfaceSettings& se
     r["ms_total"] = m.ms_total;
     r["ms_per_pass"] = m.ms_per_pass;
     r["rays"] = m.rays;
-    double evals = 0.0;
-    for (const auto& n : m.frame.normal) evals += n.w;
-    r["evals_per_ray"] = m.rays ? evals / m.rays : 0.0;
+    r["evals_per_ray"] = evals_per_ray(m);
     if (cmp) {
         r["depth_err_mean"] = cmp->depth_err_mean;
         r["depth_err_p95"] = cmp->depth_err_p95;
@@ -88,9 +92,7 @@ void print_render_header() {
 }
 
 void print_render_row(const std::string& label, const RenderMeasurement& m, const SurfaceComparison* cmp) {
-    double evals = 0.0;
-    for (const auto& n : m.frame.normal) evals += n.w;
-    const double per_ray = m.rays ? evals / m.rays : 0.0;
+    const double per_ray = evals_per_ray(m);
     if (cmp)
         std::printf("%-22s %9.1f %8u %9.1f %10.3f %10.2f %8.2f%% %8.1f\n", label.c_str(), m.ms_total, m.rays, per_ray,
                     cmp->depth_err_mean, cmp->normal_err_deg_mean, 100.0 * cmp->coverage_mismatch, cmp->psnr_db);

@@ -30,6 +30,10 @@ RenderMeasurement measure_render(gpu::Context& ctx, SurfaceRenderer& renderer, c
                                  uint32_t count, const ViewCamera& camera, const SurfaceSettings& settings,
                                  uint32_t repeats);
 
+/// Mean density evaluations per ray cast: every evaluation of the frame (normal.w) over the
+/// length of the ray list; 0 when no ray was cast.
+double evals_per_ray(const RenderMeasurement& m);
+
 /// The record of one method: the fields bench_render.json and render.json share.
 nlohmann::json render_record(const std::string& label, const SurfaceSettings& settings, const SurfaceRenderer& renderer,
                              const RenderMeasurement& m, const SurfaceComparison* against_reference);

@@ -148,7 +148,7 @@ shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const Scene&
 
     p.light_dir = with_w(glm::normalize(glm::vec3(-0.4f, 0.8f, 0.45f)), 64.0f);
     // Absorption per metre of water-like blue-green; ior of water.
-    p.fluid_color = glm::vec4(2.2f, 0.45f, 0.2f, 1.33f);
+    p.fluid_color = glm::vec4(8.0f, 2.5f, 1.2f, 1.33f);
     return p;
 }
 

@@ -45,12 +45,23 @@ struct SurfaceSettings {
     uint32_t max_skip_evals = 8;   ///< maxSkipCounts: evaluations before the jump to D_agg
     uint32_t refine_steps = 6;     ///< bisection steps: the hit is within step / 64
     /// Weights (b, a, b) of the separable mask convolution; a = b = 1 is the exact conservative
-    /// bound of eq. 4.
+    /// bound of eq. 4 (the reference uses it). Measured on the dam break (4500 particles, frame
+    /// 40, 256x256, mask + skip, a ray per pixel) against the reference:
+    ///   a, b = 1, 1:       11.3 evaluations per ray, depth error 0.006 radii, coverage mismatch 0.20%
+    ///   a, b = 0.8, 0.3:   11.1,                     0.004,                   0.22%
+    ///   a, b = 0.6, 0.2:    9.9,                     0.017,                   0.28%
+    /// On that frame 0.8 / 0.3 looks free, but it is not: a lone droplet's own cell needs
+    /// a^3 >= sigma / (V W(0)) = 0.72 (lone_radius 1) to be marked at all, and the parts of its
+    /// iso-sphere that reach into the next cells need a^2 b >= 0.72, so any weight below 1 clips
+    /// or drops splash droplets (SurfaceTest.LoneParticle... fails at 0.8 / 0.3). Splashes are
+    /// what this renderer is for, so the default is the exact bound.
     float mask_a = 1.0f;
     float mask_b = 1.0f;
-    /// Tile depth-variance thresholds eps1 < eps2, in particle radii squared.
-    float tile_eps1 = 0.02f;
-    float tile_eps2 = 0.2f;
+    /// Tile depth-variance thresholds eps1 < eps2, in particle radii squared. Measured on the
+    /// same frame at 512x512: (1, 4) casts 58% of the full-resolution rays at 40.6 dB against the
+    /// reference (full resolution: 50.8 dB); (2, 8) 47% at 38.4 dB; (4, 16) 32% at 37.1 dB.
+    float tile_eps1 = 1.0f;
+    float tile_eps2 = 4.0f;
     /// Normal blending, eqs. 12-13: A per particle radius, B per pixel of particle size.
     float blend_a = 0.5f;
     float blend_b = 0.05f;

@@ -4,13 +4,14 @@
 // the variance of D_all over the tile and picks full (Var > eps2), half (eps1 < Var <= eps2) or
 // quarter (Var <= eps1) resolution, then appends the tile's rays to the ray list.
 // Choices the paper leaves open:
-// - A tile that is only partly covered holds a silhouette; it is cast at full resolution,
-//   because interpolating across the fluid's edge would smear the outline.
+// - The variance is taken over the pixels D_all covers. A silhouette inside a reduced tile is
+//   not smeared: the upsampling pass sends pixels whose surrounding rays disagree (surface and
+//   no surface, or far-apart depths) to a second march.
 // - Reduced tiles cast every 2nd / 4th pixel per axis plus the tile's last row and column, so
 //   that every pixel is interpolated from rays of its own tile (neighbouring tiles may have
 //   another resolution).
-// - Full-resolution tiles cast rays only where D_all has fluid: elsewhere no surface can be
-//   (the sprites are conservative). The reference casts every pixel of every tile.
+// - Rays are cast only where D_all has fluid: elsewhere no surface can be (the sprites are
+//   conservative). The reference casts every pixel of every tile.
 #include "shared/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
@@ -48,7 +49,7 @@ void main() {
     uint level = TILE_FULL;
     if (covered == 0u && !reference) {
         level = TILE_EMPTY;
-    } else if (covered == extent.x * extent.y && (params.flags & SURFACE_ADAPTIVE_RES) != 0u) {
+    } else if (covered > 0u && (params.flags & SURFACE_ADAPTIVE_RES) != 0u) {
         float mean = sum / float(covered);
         float variance = max(sum2 / float(covered) - mean * mean, 0.0);
         level = variance > params.tile_eps2 ? TILE_FULL : variance > params.tile_eps1 ? TILE_HALF : TILE_QUARTER;

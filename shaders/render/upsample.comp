@@ -19,7 +19,7 @@ layout(std430, binding = 3) buffer Normal { vec4 normal[]; };
 layout(std430, binding = 4) writeonly buffer EdgeRays { uint edge_rays[]; };
 layout(std430, binding = 5) buffer EdgeCount { uint edge_count[]; };
 
-const float EDGE_DEPTH_RADII = 2.0;
+const float EDGE_DEPTH_RADII = 4.0;
 
 #include "common/surface_common.glsl"
 

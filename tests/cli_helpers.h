@@ -1,0 +1,49 @@
+// Running the built `aquaform` binary from a test and reading what it wrote.
+#pragma once
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace aquaform::test_cli {
+
+struct Outcome {
+    int exit_code = -1;
+    std::string output;  // stdout and stderr together
+};
+
+/// Runs `AQUAFORM_BINARY args` with `env` (e.g. "VAR=1") prepended, capturing both streams.
+inline Outcome run_aquaform(const std::string& args, const std::string& env = "") {
+    const std::string cmd = env + " " + std::string(AQUAFORM_BINARY) + " " + args + " 2>&1";
+    Outcome o;
+    FILE* pipe = popen(cmd.c_str(), "r");
+    if (!pipe) return o;
+    std::array<char, 4096> buf;
+    size_t n;
+    while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) o.output.append(buf.data(), n);
+    const int status = pclose(pipe);
+    o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return o;
+}
+
+/// A fresh, empty directory under the system's temporary directory, unique to this process.
+inline std::filesystem::path temp_dir(const std::string& name) {
+    auto dir = std::filesystem::temp_directory_path() / ("aquaform_cli_" + name + "_" + std::to_string(getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+inline std::string read_file(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+}  // namespace aquaform::test_cli
