@@ -72,6 +72,7 @@ int cmd_render(const std::vector<std::string>& argv) {
         return exit_status(ctx, kExitFailure);
 
     SurfaceRenderer renderer(ctx, scene, width, height, solver.particle_count());
+    renderer.set_diagnostics(true);
     const ViewCamera camera = camera_for_domain(scene.domain, float(width) / float(height));
     RenderMeasurement m = measure_render(ctx, renderer, solver.positions(), solver.particle_count(), camera, *settings, 2);
     std::vector<std::pair<std::string, Image>> images{

@@ -156,7 +156,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         const std::initializer_list<const gpu::Buffer*> splat_buffers{
             params_buf_, sorted_, aggregate_, depth_all_, depth_agg_, thickness_, front_class_};
         gpu::dispatch(*ctx_, cmd, splat_, particles, axis_push(0), splat_buffers);
-        if (adaptive) gpu::dispatch(*ctx_, cmd, splat_, particles, axis_push(1), splat_buffers);
+        if (adaptive && diagnostics_) gpu::dispatch(*ctx_, cmd, splat_, particles, axis_push(1), splat_buffers);
     }
     record_screen_passes(cmd, timer);
     {

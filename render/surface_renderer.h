@@ -60,9 +60,12 @@ public:
     /// Reads back the last frame recorded.
     SurfaceFrame read_frame();
 
+    /// Also record the classification view (an extra sprite pass) for front_classes().
+    void set_diagnostics(bool on) { diagnostics_ = on; }
+
     // Diagnostics of the last frame, read back on request.
     std::vector<uint32_t> tile_levels();      ///< per tile, TILE_*; row-major
-    std::vector<uint32_t> front_classes();    ///< per pixel: 0 none, 1 splash, 2 aggregate (adaptive)
+    std::vector<uint32_t> front_classes();    ///< per pixel: 0 none, 1 splash, 2 aggregate (adaptive, diagnostics on)
     std::vector<float> depth_all();           ///< per pixel eye depth, +inf where empty
     std::vector<float> depth_agg();
     std::vector<glm::vec4> sorted_positions();  ///< w: index in the solver's buffer
@@ -87,6 +90,7 @@ private:
     Scene scene_;
     uint32_t width_, height_, max_particles_;
     uint32_t count_ = 0;
+    bool diagnostics_ = false;
     shader::SurfaceParams params_{};
     gpu::BufferSet buffers_;
     std::unique_ptr<gpu::BufferSet> grid_buffers_;

@@ -62,8 +62,11 @@ struct SurfaceSettings {
     /// reference (full resolution: 50.8 dB); (2, 8) 47% at 38.4 dB; (4, 16) 32% at 37.1 dB.
     float tile_eps1 = 1.0f;
     float tile_eps2 = 4.0f;
-    /// Normal blending, eqs. 12-13: A per particle radius, B per pixel of particle size.
-    float blend_a = 0.5f;
+    /// Normal blending, eqs. 12-13: A per particle radius, B per pixel of particle size. The
+    /// entry on a sprite of radius r lies about 3 particle radii before a flat surface, so A = 0.1
+    /// gives w1 ~ 0.3 there, rising to 1 where a ray passes ~10 radii behind its entry; B = 0.05
+    /// doubles the object-space share for a particle 14 px wide.
+    float blend_a = 0.1f;
     float blend_b = 0.05f;
     /// Bilateral filters (depth for the screen-space normals, Xiao's normal filter).
     float smooth_sigma_px = 3.0f;

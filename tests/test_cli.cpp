@@ -10,47 +10,23 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tests/cli_helpers.h"
+
+namespace aquaform {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Outcome {
-    int exit_code = -1;
-    std::string output;  // stdout and stderr together
-};
+using test_cli::Outcome;
+using test_cli::read_file;
+using test_cli::run_aquaform;
+using test_cli::temp_dir;
 
-Outcome run_aquaform_env(const std::string& env, const std::string& args) {
-    const std::string cmd = env + " " + std::string(AQUAFORM_BINARY) + " " + args + " 2>&1";
-    Outcome o;
-    FILE* pipe = popen(cmd.c_str(), "r");
-    if (!pipe) return o;
-    std::array<char, 4096> buf;
-    size_t n;
-    while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) o.output.append(buf.data(), n);
-    int status = pclose(pipe);
-    o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return o;
-}
-
-Outcome run_aquaform(const std::string& args) { return run_aquaform_env("", args); }
-
-fs::path temp_dir(const std::string& name) {
-    fs::path dir = fs::temp_directory_path() / ("aquaform_cli_" + name + "_" + std::to_string(getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+Outcome run_aquaform_env(const std::string& env, const std::string& args) { return run_aquaform(args, env); }
 
 fs::path write_file(const fs::path& path, const std::string& text) {
     std::ofstream(path) << text;
     return path;
-}
-
-std::string read_file(const fs::path& path) {
-    std::ifstream in(path);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
 }
 
 const char* kTinyDamBreak = R"({
@@ -196,9 +172,40 @@ TEST(Cli, BenchSimWritesItsRecords) {
     }
     EXPECT_LT(doc["records"][0]["particles"].get<int>(), doc["records"][1]["particles"].get<int>());
     EXPECT_TRUE(doc["neighbor_search_exponent"].is_number());
-    Outcome bad = run_aquaform("bench render");
+    Outcome bad = run_aquaform("bench frobnicate");
     EXPECT_EQ(bad.exit_code, 2) << bad.output;
     fs::remove_all(dir);
 }
 
+TEST(Cli, RenderWritesTheImageTheViewsAndMetricsAgainstTheReference) {
+    fs::path dir = temp_dir("render");
+    fs::path scene = write_file(dir / "tiny.json", kTinyDamBreak);
+    Outcome ok = run_aquaform("render " + scene.string() + " --frame 2 --resolution 64x48 --out " + (dir / "out").string());
+    ASSERT_EQ(ok.exit_code, 0) << ok.output;
+    for (const char* file : {"image.png", "evals.png", "tiles.png", "classification.png", "reference.png",
+                             "depth_error.png", "render.json"})
+        EXPECT_TRUE(fs::exists(dir / "out" / file)) << file << "\n" << ok.output;
+    const auto doc = nlohmann::json::parse(read_file(dir / "out" / "render.json"));
+    const auto& render = doc["render"];
+    EXPECT_EQ(render["method"], "adaptive");
+    EXPECT_EQ(render["width"], 64);
+    EXPECT_GT(render["rays"].get<int>(), 0);
+    EXPECT_GT(render["ms_per_pass"]["render_march"].get<double>(), 0.0);
+    EXPECT_LT(render["depth_err_mean"].get<double>(), 0.5);
+    EXPECT_GT(render["psnr_db"].get<double>(), 20.0);
+    EXPECT_EQ(doc["reference"]["method"], "reference");
+
+    Outcome bad_method = run_aquaform("render " + scene.string() + " --method fastest");
+    EXPECT_EQ(bad_method.exit_code, 2);
+    EXPECT_NE(bad_method.output.find("unknown render method 'fastest'"), std::string::npos) << bad_method.output;
+    Outcome bad_value = run_aquaform("render " + scene.string() + " --eps1 5 --eps2 1");
+    EXPECT_EQ(bad_value.exit_code, 2);
+    EXPECT_NE(bad_value.output.find("tile_eps2"), std::string::npos) << bad_value.output;
+    Outcome bad_frame = run_aquaform("render " + scene.string() + " --frame -3");
+    EXPECT_EQ(bad_frame.exit_code, 2);
+    EXPECT_NE(bad_frame.output.find("--frame"), std::string::npos) << bad_frame.output;
+    fs::remove_all(dir);
+}
+
 }  // namespace
+}  // namespace aquaform

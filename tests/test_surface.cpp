@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <filesystem>
+#include <string>
 #include <cmath>
 #include <vector>
 
@@ -320,6 +322,57 @@ TEST_F(DamBreakFrameTest, UniformAndAdaptiveAgreeWithTheReferenceAndAdaptiveEval
     // small size nearly every tile holds a silhouette; the flat slab test measures the tiles.)
     EXPECT_LT(total_evals(adaptive_frame), total_evals(uniform_frame));
     EXPECT_LE(stepping.evals_per_ray, uniform.evals_per_ray * 1.001);
+}
+
+}  // namespace
+}  // namespace aquaform
+
+namespace aquaform {
+namespace {
+
+/// Golden images: two small fixed scenes rendered and compared in CIELAB with a perceptual
+/// tolerance. On failure the actual image and a Delta E map are written to golden_output/ in
+/// the test's working directory; AQUAFORM_UPDATE_GOLDEN=1 rewrites the goldens.
+class GoldenTest : public SurfaceTest {
+protected:
+    void expect_matches_golden(const Image& image, const std::string& name) {
+        const auto golden = std::filesystem::path(AQUAFORM_SOURCE_DIR) / "tests" / "golden" / (name + ".png");
+        const GoldenCheck check = check_golden(image, golden, std::filesystem::current_path() / "golden_output");
+        EXPECT_TRUE(check.passed) << check.message;
+    }
+};
+
+TEST_F(GoldenTest, DropletsOverAPoolWithTheAdaptiveMethod) {
+    const float spacing = 0.02f;
+    Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.4f, 0.3f, 0.4f}}, spacing);
+    auto positions = slab({0.06f, 0.02f, 0.06f}, spacing, 15, 3, 15);
+    for (const glm::vec3 drop : {glm::vec3(0.15f, 0.17f, 0.2f), glm::vec3(0.25f, 0.2f, 0.18f), glm::vec3(0.2f, 0.24f, 0.26f)})
+        positions.emplace_back(drop, 0.0f);
+    for (const glm::vec3 d : {glm::vec3(0.0f), glm::vec3(spacing, 0.0f, 0.0f), glm::vec3(0.0f, spacing, 0.0f)})
+        positions.emplace_back(glm::vec3(0.3f, 0.13f, 0.28f) + d, 0.0f);
+    Particles particles(ctx(), positions);
+    ViewCamera camera;
+    camera.target = {0.2f, 0.1f, 0.2f};
+    camera.eye = camera.target + glm::vec3(-0.15f, 0.25f, 0.45f);
+    camera.fov_y_degrees = 40.0f;
+    SurfaceRenderer renderer(ctx(), scene, 128, 96, particles.count);
+    const SurfaceFrame frame = renderer.render(particles.buffer, particles.count, camera, SurfaceSettings{});
+    expect_matches_golden(frame.color, "droplets_adaptive");
+}
+
+TEST_F(GoldenTest, DamBreakColumnWithTheUniformMethod) {
+    auto loaded = load_scene(std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json");
+    ASSERT_TRUE(loaded) << loaded.error();
+    std::vector<glm::vec4> positions;
+    std::vector<uint32_t> blocks;
+    loaded.value().generate_particles(positions, blocks);
+    Particles particles(ctx(), positions);
+    SurfaceRenderer renderer(ctx(), loaded.value(), 128, 72, particles.count);
+    SurfaceSettings settings;
+    settings.method = SurfaceMethod::uniform;
+    const SurfaceFrame frame = renderer.render(particles.buffer, particles.count,
+                                               camera_for_domain(loaded.value().domain, 128.0f / 72.0f), settings);
+    expect_matches_golden(frame.color, "dam_break_column_uniform");
 }
 
 }  // namespace
