@@ -92,6 +92,12 @@ int cmd_run(const std::vector<std::string>& argv) {
         if (args->has("--preview")) view = std::make_unique<ImpostorView>(ctx, width, height);
         else surface = std::make_unique<SurfaceRenderer>(ctx, scene, width, height, solver.particle_count());
     }
+    if (surface) {
+        uint64_t bytes = 0;
+        for (const auto& b : surface->memory_report()) bytes += b.bytes;
+        std::printf("  renderer (%s, %ux%u)    %.3f MiB\n", method_name(settings->method), width, height,
+                    double(bytes) / (1024.0 * 1024.0));
+    }
     const ViewCamera camera = camera_for_domain(scene.domain, float(width) / float(height));
     ImpostorStyle style;
     style.radius = 0.5f * scene.particle_spacing;
