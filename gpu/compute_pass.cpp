@@ -75,8 +75,12 @@ void ComputePass::destroy() {
     ctx_ = nullptr;
 }
 
-void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads,
-                  const void* push, uint32_t push_bytes, std::initializer_list<const Buffer*> bindings) {
+namespace {
+
+/// Checks the push-constant size and binding count against the pass, then binds the pipeline,
+/// the buffers and the push constants.
+void bind_pass(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const void* push, uint32_t push_bytes,
+               std::initializer_list<const Buffer*> bindings) {
     const ComputePassDesc& d = pass.desc();
     if (push_bytes != d.push_bytes)
         throw std::logic_error(d.shader + ": push constants of " + std::to_string(push_bytes) +
@@ -84,8 +88,6 @@ void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, ui
     if (bindings.size() != d.bindings)
         throw std::logic_error(d.shader + ": " + std::to_string(bindings.size()) +
                                " buffers given, the pass declares " + std::to_string(d.bindings));
-    if (threads == 0) return;
-
     std::vector<VkDescriptorBufferInfo> infos;
     infos.reserve(bindings.size());
     for (const Buffer* b : bindings) infos.push_back({b->buffer, 0, VK_WHOLE_SIZE});
@@ -102,6 +104,15 @@ void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, ui
         ctx.push_descriptor_fn()(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pass.layout(), 0,
                                  static_cast<uint32_t>(writes.size()), writes.data());
     if (push_bytes) vkCmdPushConstants(cmd, pass.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes, push);
+}
+
+}  // namespace
+
+void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads,
+                  const void* push, uint32_t push_bytes, std::initializer_list<const Buffer*> bindings) {
+    bind_pass(ctx, cmd, pass, push, push_bytes, bindings);
+    if (threads == 0) return;
+    const ComputePassDesc& d = pass.desc();
     const uint32_t groups = (threads + d.local_size - 1) / d.local_size;
     const uint32_t max_x = ctx.limits().maxComputeWorkGroupCount[0];
     if (groups > max_x)
@@ -110,13 +121,21 @@ void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, ui
     compute_barrier(cmd);
 }
 
+void dispatch_indirect(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const Buffer& group_counts,
+                       std::initializer_list<const Buffer*> bindings) {
+    bind_pass(ctx, cmd, pass, nullptr, 0, bindings);
+    vkCmdDispatchIndirect(cmd, group_counts.buffer, 0);
+    compute_barrier(cmd);
+}
+
 void compute_barrier(VkCommandBuffer cmd) {
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT |
-                            VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
+    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+                            VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
     const VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
-    vkCmdPipelineBarrier(cmd, stages, stages, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+    vkCmdPipelineBarrier(cmd, stages, stages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, 0, 1, &barrier, 0, nullptr, 0,
+                         nullptr);
 }
 
 }  // namespace aquaform::gpu

@@ -65,6 +65,11 @@ inline void dispatch(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass,
     dispatch_raw(ctx, cmd, pass, threads, nullptr, 0, bindings);
 }
 
+/// Records a dispatch whose workgroup counts (uint x, y, z at offset 0) an earlier pass wrote
+/// into `group_counts`, followed by the same barrier as dispatch().
+void dispatch_indirect(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const Buffer& group_counts,
+                       std::initializer_list<const Buffer*> bindings);
+
 /// Full compute/transfer barrier, for transfer commands (fills, copies) between passes.
 void compute_barrier(VkCommandBuffer cmd);
 

@@ -53,6 +53,7 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const Scene& scene, uint32_t
     ray_count_ = &buffers_.add("render.ray_count", 16);
     edge_rays_ = &buffers_.add("render.edge_rays", pixels * 4);
     edge_count_ = &buffers_.add("render.edge_count", 16);
+    march_groups_ = &buffers_.add("render.march_groups", 16);
     hit_ = &buffers_.add("render.hit", pixels * 16);
     normal_ = &buffers_.add("render.normal", pixels * 16);
     normal_tmp_ = &buffers_.add("render.normal_tmp", pixels * 16);
@@ -68,7 +69,8 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const Scene& scene, uint32_t
     depth_smooth_ = gpu::ComputePass(ctx, {"render/depth_smooth.comp", 3, push});
     screen_normals_ = gpu::ComputePass(ctx, {"render/screen_normals.comp", 3});
     tiles_ = gpu::ComputePass(ctx, {"render/tiles.comp", 5, 0, 64});
-    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 13, 0, 64});
+    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 13, 0, RAY_MARCH_WORKGROUP});
+    ray_args_ = gpu::ComputePass(ctx, {"render/ray_args.comp", 2, 0, 1});
     upsample_ = gpu::ComputePass(ctx, {"render/upsample.comp", 6});
     normal_filter_ = gpu::ComputePass(ctx, {"render/normal_filter.comp", 4, push});
     compose_ = gpu::ComputePass(ctx, {"render/compose.comp", 5});
@@ -173,9 +175,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         fill(cmd, *edge_count_, 0u);
         gpu::compute_barrier(cmd);
         gpu::dispatch(*ctx_, cmd, upsample_, pixels, {params_buf_, tile_level_, hit_, normal_, edge_rays_, edge_count_});
-        gpu::dispatch(*ctx_, cmd, ray_march_, pixels,
-                      {params_buf_, sorted_, &grid_->cell_rank(), &grid_->cell_start(), mask_, coarse_, depth_all_,
-                       depth_agg_, normal_screen_, edge_rays_, edge_count_, hit_, normal_});
+        record_march(cmd, *edge_rays_, *edge_count_);
     }
     if (params_.flags & SURFACE_XIAO_NORMALS) {
         gpu::GpuScope scope(timer, cmd, "render_normal_filter");
@@ -186,6 +186,13 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         gpu::GpuScope scope(timer, cmd, "render_compose");
         gpu::dispatch(*ctx_, cmd, compose_, pixels, {params_buf_, hit_, normal_, thickness_, color_});
     }
+}
+
+void SurfaceRenderer::record_march(VkCommandBuffer cmd, const gpu::Buffer& rays, const gpu::Buffer& ray_count) {
+    gpu::dispatch(*ctx_, cmd, ray_args_, 1, {&ray_count, march_groups_});
+    gpu::dispatch_indirect(*ctx_, cmd, ray_march_, *march_groups_,
+                           {params_buf_, sorted_, &grid_->cell_rank(), &grid_->cell_start(), mask_, coarse_, depth_all_,
+                            depth_agg_, normal_screen_, &rays, &ray_count, hit_, normal_});
 }
 
 void SurfaceRenderer::record_screen_passes(VkCommandBuffer cmd, gpu::GpuTimer* timer) {

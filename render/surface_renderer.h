@@ -85,6 +85,8 @@ private:
     void prepare_grid(float radius);
     void record_mask(VkCommandBuffer cmd);
     void record_screen_passes(VkCommandBuffer cmd, gpu::GpuTimer* timer);
+    /// The march over one ray list, dispatched indirectly with one thread per ray.
+    void record_march(VkCommandBuffer cmd, const gpu::Buffer& rays, const gpu::Buffer& ray_count);
 
     gpu::Context* ctx_;
     Scene scene_;
@@ -98,10 +100,10 @@ private:
     GridGeometry geometry_;
     gpu::Buffer *params_buf_, *sorted_, *shape_, *class_density_, *aggregate_;
     gpu::Buffer *depth_all_, *depth_agg_, *thickness_, *front_class_, *smooth_a_, *smooth_b_, *normal_screen_;
-    gpu::Buffer *tile_level_, *rays_, *ray_count_, *edge_rays_, *edge_count_, *hit_, *normal_, *normal_tmp_, *color_;
+    gpu::Buffer *tile_level_, *rays_, *ray_count_, *edge_rays_, *edge_count_, *march_groups_, *hit_, *normal_, *normal_tmp_, *color_;
     gpu::Buffer *conv_a_ = nullptr, *conv_b_ = nullptr, *mask_ = nullptr, *coarse_ = nullptr;
     gpu::ComputePass gather_, classify_shape_, classify_density_, mask_convolve_, mask_pack_, splat_;
-    gpu::ComputePass depth_smooth_, screen_normals_, tiles_, ray_march_, upsample_, normal_filter_, compose_;
+    gpu::ComputePass depth_smooth_, screen_normals_, tiles_, ray_args_, ray_march_, upsample_, normal_filter_, compose_;
 };
 
 }  // namespace aquaform

@@ -49,7 +49,8 @@
 #define MASK_BLOCK_Z 2u
 #define MASK_COARSE 4u
 
-#define SURFACE_WORKGROUP_2D 8u  // 8 x 8 pixels per workgroup of the screen passes
+// Workgroup size of the ray march: its dispatch is indirect, sized to the ray list on the GPU.
+#define RAY_MARCH_WORKGROUP 64u
 
 AF_BEGIN
 

@@ -1,0 +1,15 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Workgroup counts of the indirect ray-march dispatch from the length of a ray list, so that
+// the march launches one thread per ray cast instead of one per pixel.
+#include "shared/surface_layout.h"
+
+layout(local_size_x = 1) in;
+layout(std430, binding = 0) readonly buffer RayCount { uint ray_count[]; };
+layout(std430, binding = 1) writeonly buffer GroupCounts { uint group_counts[]; };
+
+void main() {
+    group_counts[0] = (ray_count[0] + RAY_MARCH_WORKGROUP - 1u) / RAY_MARCH_WORKGROUP;
+    group_counts[1] = 1u;
+    group_counts[2] = 1u;
+}
