@@ -377,3 +377,26 @@ TEST_F(GoldenTest, DamBreakColumnWithTheUniformMethod) {
 
 }  // namespace
 }  // namespace aquaform
+
+namespace aquaform {
+namespace {
+
+uint64_t total_bytes(const SurfaceRenderer& r) {
+    uint64_t sum = 0;
+    for (const auto& b : r.memory_report()) sum += b.bytes;
+    return sum;
+}
+
+TEST_F(SurfaceTest, DocumentedBytesPerPixelAndPerParticleMatchTheAllocations) {
+    Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.2f, 0.2f, 0.2f}}, 0.02f);
+    // 64 x 64 and 128 x 64 both have whole tiles: the difference is 4096 pixels and 16 tiles.
+    const SurfaceRenderer small(ctx(), scene, 64, 64, 1000);
+    const SurfaceRenderer wide(ctx(), scene, 128, 64, 1000);
+    EXPECT_EQ(total_bytes(wide) - total_bytes(small), 4096u * kSurfaceBytesPerPixel + 16u * 4u);
+    const SurfaceRenderer more(ctx(), scene, 64, 64, 2000);
+    // Per particle: the renderer's arrays plus its grid's keys, slots and order.
+    EXPECT_EQ(total_bytes(more) - total_bytes(small), 1000u * (kSurfaceBytesPerParticle + 3u * 4u));
+}
+
+}  // namespace
+}  // namespace aquaform
