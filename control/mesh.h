@@ -1,0 +1,99 @@
+// Triangle meshes for mesh-controlled flow (Karpati et al., section 3.2): OBJ input, sanity checks and
+// placement in the scene. Hard input errors are refused with a message; topology problems that the
+// winding-number inside test tolerates (holes, duplicated vertices, ...) are only reported.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <glm/glm.hpp>
+
+#include "sim/result.h"
+#include "sim/scene.h"
+
+namespace aquaform::control {
+
+/// Indexed triangle mesh as it came from the file (after triangulation). Kept separate from the
+/// OpenMesh half-edge structure because OpenMesh drops faces it cannot represent (non-manifold or
+/// inconsistently oriented), while the inside test must still see every triangle.
+struct Mesh {
+    std::vector<glm::vec3> vertices;
+    std::vector<glm::uvec3> faces;
+
+    /// Three consecutive points per triangle, the input of the inside test and of place_inside().
+    std::vector<glm::vec3> triangle_soup() const;
+    /// Axis-aligned bounds of the vertices; min = max = 0 for a mesh without vertices.
+    Box bounds() const;
+};
+
+using HalfEdgeMesh = OpenMesh::TriMesh_ArrayKernelT<>;
+
+/// The mesh in OpenMesh's half-edge form. Faces OpenMesh refuses ("complex" faces: they would make an
+/// edge or vertex non-manifold, or they are oriented against their neighbours) and faces with a repeated
+/// vertex index are left out; their indices go to `rejected_faces` when it is given.
+HalfEdgeMesh to_half_edge_mesh(const Mesh& mesh, std::vector<uint32_t>* rejected_faces = nullptr);
+
+/// Problems that do not stop the mesh from being used, each as a count plus the first few offenders.
+struct MeshReport {
+    static constexpr size_t kMaxListed = 8;  ///< how many offending indices each list keeps
+
+    size_t vertex_count = 0;
+    size_t face_count = 0;
+    size_t boundary_edge_count = 0;        ///< edges with one face: holes, so not closed
+    size_t non_manifold_edge_count = 0;    ///< edges shared by three or more faces
+    size_t non_manifold_vertex_count = 0;  ///< vertices whose faces do not form one fan (OpenMesh)
+    size_t inconsistent_edge_count = 0;    ///< edges that two faces traverse in the same direction
+    size_t rejected_face_count = 0;        ///< faces OpenMesh could not add (non-manifold or flipped)
+    size_t degenerate_face_count = 0;      ///< zero-area faces (area < 1e-12 * bbox diagonal^2)
+    size_t duplicated_vertex_count = 0;    ///< vertices at exactly the position of an earlier vertex
+    double signed_volume = 0.0;            ///< sum of signed tetrahedron volumes; < 0: normals face inward
+
+    std::vector<glm::uvec2> boundary_edges;      ///< vertex index pairs
+    std::vector<glm::uvec2> non_manifold_edges;  ///< vertex index pairs
+    std::vector<uint32_t> non_manifold_vertices;
+    std::vector<glm::uvec2> inconsistent_edges;  ///< vertex index pairs
+    std::vector<uint32_t> rejected_faces;
+    std::vector<uint32_t> degenerate_faces;
+    std::vector<uint32_t> duplicated_vertices;  ///< the later copy of each duplicated position
+
+    bool inward_facing() const { return signed_volume < 0.0; }
+    /// Closed, manifold and consistently oriented: a ray-parity inside test would be reliable.
+    bool watertight() const;
+};
+
+MeshReport check_mesh(const Mesh& mesh);
+/// Multi-line human-readable summary of the report, one problem per line with the first offenders.
+std::string describe(const MeshReport& report);
+
+struct LoadedMesh {
+    Mesh mesh;
+    MeshReport report;
+};
+
+/// Coordinates beyond this magnitude are refused: float spacing there is > 0.06 units, so the
+/// geometry no longer means anything at simulation scale.
+inline constexpr double kMaxMeshCoordinate = 1e6;
+
+/// Load a Wavefront OBJ (polygons are triangulated) and check it. Refuses missing or unreadable
+/// files, text that is not OBJ, meshes without faces, and non-finite or huge coordinates.
+Result<LoadedMesh> load_obj(const std::filesystem::path& path);
+/// Write vertices and faces as OBJ (1-based indices), e.g. for generated primitives.
+Result<bool> write_obj(const std::filesystem::path& path, const Mesh& mesh);
+
+/// Where a mesh goes in the scene. Without fit_into: scale, then rotate (Euler degrees about X, then Y,
+/// then Z), then translate. With fit_into: rotate, then scale uniformly and centre so that the bounding
+/// box fits inside the box with its aspect ratio kept; `scale` and `position` are then ignored.
+struct MeshPlacement {
+    glm::vec3 position{0.0f};
+    glm::vec3 rotation_degrees{0.0f};
+    float scale = 1.0f;
+    std::optional<Box> fit_into;
+};
+
+void apply(const MeshPlacement& placement, Mesh& mesh);
+
+}  // namespace aquaform::control

@@ -1,0 +1,121 @@
+#include "control/placement.h"
+
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "control/inside.h"
+
+namespace aquaform::control {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double milliseconds_since(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+uint64_t cell_key(const glm::ivec3& cell) {
+    // 21 bits per axis is plenty for a thinning grid; wrap-around only costs a few extra comparisons.
+    const auto bits = [](int value) { return static_cast<uint64_t>(static_cast<uint32_t>(value) & 0x1fffffu); };
+    return bits(cell.x) | (bits(cell.y) << 21) | (bits(cell.z) << 42);
+}
+
+// Keeps candidates in order, dropping any closer than `min_distance` to one already kept.
+std::vector<glm::vec3> thin_out(const std::vector<glm::vec3>& candidates, float min_distance) {
+    std::vector<glm::vec3> kept;
+    std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
+    const float min_distance_squared = min_distance * min_distance;
+    for (const glm::vec3& candidate : candidates) {
+        const glm::ivec3 cell = glm::ivec3(glm::floor(candidate / min_distance));
+        bool too_close = false;
+        for (int dz = -1; dz <= 1 && !too_close; ++dz) {
+            for (int dy = -1; dy <= 1 && !too_close; ++dy) {
+                for (int dx = -1; dx <= 1 && !too_close; ++dx) {
+                    const auto found = grid.find(cell_key(cell + glm::ivec3(dx, dy, dz)));
+                    if (found == grid.end()) continue;
+                    for (uint32_t index : found->second) {
+                        const glm::vec3 offset = kept[index] - candidate;
+                        if (glm::dot(offset, offset) < min_distance_squared) {
+                            too_close = true;
+                            break;
+                        }
+                    }
+                }
+            }
+        }
+        if (too_close) continue;
+        grid[cell_key(cell)].push_back(static_cast<uint32_t>(kept.size()));
+        kept.push_back(candidate);
+    }
+    return kept;
+}
+
+}  // namespace
+
+ControlPoints place_on_vertices(const Mesh& mesh, float spacing) {
+    const auto start = Clock::now();
+    ControlPoints result;
+    result.method = "vertices";
+    if (!(spacing > 0.0f)) return result;
+
+    std::vector<glm::vec3> candidates = mesh.vertices;
+    std::unordered_set<uint64_t> visited_edges;
+    for (const glm::uvec3& face : mesh.faces) {
+        const uint32_t corners[3] = {face.x, face.y, face.z};
+        for (int i = 0; i < 3; ++i) {
+            const uint32_t from = std::min(corners[i], corners[(i + 1) % 3]);
+            const uint32_t to = std::max(corners[i], corners[(i + 1) % 3]);
+            if (!visited_edges.insert((uint64_t{from} << 32) | to).second) continue;
+            const glm::vec3 a = mesh.vertices[from];
+            const glm::vec3 b = mesh.vertices[to];
+            const int segments = static_cast<int>(std::ceil(glm::length(b - a) / spacing));
+            for (int s = 1; s < segments; ++s) candidates.push_back(glm::mix(a, b, float(s) / float(segments)));
+        }
+    }
+    result.points = thin_out(candidates, 0.5f * spacing);
+    result.ms = milliseconds_since(start);
+    return result;
+}
+
+ControlPoints place_inside(const std::vector<glm::vec3>& triangles, float spacing, bool jitter, uint32_t seed) {
+    const auto start = Clock::now();
+    ControlPoints result;
+    result.method = jitter ? "inside jittered" : "inside";
+    if (triangles.size() < 3 || !(spacing > 0.0f)) return result;
+
+    glm::vec3 low = triangles.front(), high = triangles.front();
+    for (const glm::vec3& point : triangles) {
+        low = glm::min(low, point);
+        high = glm::max(high, point);
+    }
+    const glm::vec3 extent = high - low;
+    const glm::ivec3 counts = glm::ivec3(glm::floor(extent / spacing)) + 1;
+    // Centring the lattice keeps the margin to the bounding box the same on both sides.
+    const glm::vec3 first = low + 0.5f * (extent - glm::vec3(counts - 1) * spacing);
+
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<float> offset(-0.25f * spacing, 0.25f * spacing);
+    std::vector<glm::vec3> lattice;
+    lattice.reserve(size_t(counts.x) * size_t(counts.y) * size_t(counts.z));
+    for (int z = 0; z < counts.z; ++z) {
+        for (int y = 0; y < counts.y; ++y) {
+            for (int x = 0; x < counts.x; ++x) {
+                glm::vec3 point = first + glm::vec3(x, y, z) * spacing;
+                if (jitter) point += glm::vec3(offset(random), offset(random), offset(random));
+                lattice.push_back(point);
+            }
+        }
+    }
+    const std::vector<bool> inside = inside_flags(triangles, lattice);
+    for (size_t i = 0; i < lattice.size(); ++i) {
+        if (inside[i]) result.points.push_back(lattice[i]);
+    }
+    result.ms = milliseconds_since(start);
+    return result;
+}
+
+}  // namespace aquaform::control
