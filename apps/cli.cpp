@@ -23,6 +23,8 @@ const char* kUsage =
     "  render SCENE.json [--frame K] [--out DIR] [--no-reference] [--device ...] [render flags]\n"
     "        ray-march one frame; writes image.png, evals.png, tiles.png, classification.png,\n"
     "        reference.png, depth_error.png and render.json (timings, metrics against the reference)\n"
+    "  control place MESH.obj [--method vertices|inside] [--spacing S] [--out DIR] [--no-png]\n"
+    "        check a mesh and place control points; writes points.ply, points.png and report.txt\n"
     "  info [--device NAME|INDEX]\n"
     "        list Vulkan devices and the one aquaform would use\n"
     "  bench sim [--sizes 16384,32768,...] [--iterations N] [--steps N] [--repeats R] [--out FILE] [--device ...]\n"
@@ -105,6 +107,7 @@ int run_main(int argc, char** argv) {
         if (command == "run") return cmd_run(rest);
         if (command == "info") return cmd_info(rest);
         if (command == "render") return cmd_render(rest);
+        if (command == "control") return cmd_control(rest);
         if (command == "bench") return cmd_bench(rest);
         if (command == "help" || command == "--help" || command == "-h") {
             std::fputs(kUsage, stdout);

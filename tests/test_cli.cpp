@@ -10,6 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "control/mesh.h"
+#include "control/primitives.h"
 #include "tests/cli_helpers.h"
 
 namespace aquaform {
@@ -204,6 +206,37 @@ TEST(Cli, RenderWritesTheImageTheViewsAndMetricsAgainstTheReference) {
     Outcome bad_frame = run_aquaform("render " + scene.string() + " --frame -3");
     EXPECT_EQ(bad_frame.exit_code, 2);
     EXPECT_NE(bad_frame.output.find("--frame"), std::string::npos) << bad_frame.output;
+    fs::remove_all(dir);
+}
+
+TEST(Cli, ControlPlaceWritesPointsReportAndPicture) {
+    fs::path dir = temp_dir("control");
+    ASSERT_TRUE(control::write_obj(dir / "ball.obj", control::make_sphere(0.1f, 3)));
+    for (const char* method : {"inside", "vertices"}) {
+        const fs::path out = dir / method;
+        Outcome ok = run_aquaform("control place " + (dir / "ball.obj").string() + " --method " + method +
+                                  " --spacing 0.02 --resolution 64x48 --out " + out.string());
+        ASSERT_EQ(ok.exit_code, 0) << ok.output;
+        EXPECT_NE(ok.output.find("watertight"), std::string::npos) << ok.output;
+        for (const char* file : {"points.ply", "points.png", "report.txt"}) EXPECT_TRUE(fs::exists(out / file)) << file;
+        const std::string ply = read_file(out / "points.ply");
+        const size_t at = ply.find("element vertex ");
+        ASSERT_NE(at, std::string::npos);
+        const long count = std::strtol(ply.c_str() + at + 15, nullptr, 10);
+        // Inside: about the ball's volume over spacing^3 (~524); on the surface: fewer.
+        if (std::string(method) == "inside") {
+            EXPECT_NEAR(double(count), 4.18879 * 1e-3 / 8e-6, 0.1 * 523.6);
+        } else {
+            EXPECT_GT(count, 100);
+        }
+    }
+    write_file(dir / "broken.obj", "v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    Outcome nan = run_aquaform("control place " + (dir / "broken.obj").string() + " --no-png");
+    EXPECT_EQ(nan.exit_code, 2);
+    EXPECT_NE(nan.output.find("non-finite"), std::string::npos) << nan.output;
+    Outcome method = run_aquaform("control place " + (dir / "ball.obj").string() + " --method raster");
+    EXPECT_EQ(method.exit_code, 2);
+    EXPECT_NE(method.output.find("--method"), std::string::npos) << method.output;
     fs::remove_all(dir);
 }
 
