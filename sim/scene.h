@@ -52,6 +52,9 @@ struct Scene {
     /// Dam-break scenes: width a of the column against the wall at domain.min.x. When set,
     /// `aquaform run` writes front.csv (leading edge of the first fluid block on the floor).
     std::optional<float> column_width;
+    /// The "control" section as JSON text (mesh control: meshes, timeline); parsed and validated
+    /// by control::load_control_section, since sim/ does not know about meshes.
+    std::optional<std::string> control_json;
 
     /// Number of particles the fluid blocks produce (computed without generating them, in
     /// 64 bits so that absurd spacings are caught before any allocation).

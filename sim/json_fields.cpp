@@ -1,0 +1,225 @@
+// Strict JSON field readers shared by every file format of aquaform (scenes, control sections):
+// each failure throws Invalid with a message naming the key path, the value and the fix.
+#include "sim/json_fields.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cfloat>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <set>
+
+namespace aquaform::json_fields {
+
+void fail(std::string message) { throw Invalid{std::move(message)}; }
+
+constexpr std::string_view kBoxKeys[] = {"min", "max"};
+constexpr const char* kAxis[] = {"x", "y", "z"};
+
+// ---- formatting ------------------------------------------------------------------------------
+
+/// The value as the file wrote it (re-serialised compactly, long values shortened).
+std::string written(const json& v) {
+    std::string s = v.dump();
+    if (s.size() > 60) s = s.substr(0, 57) + "...";
+    return s;
+}
+
+std::string kind_of(const json& v) {
+    switch (v.type()) {
+        case json::value_t::null: return "null";
+        case json::value_t::boolean: return "a boolean";
+        case json::value_t::string: return "a string";
+        case json::value_t::object: return "an object";
+        case json::value_t::array: return "an array of " + std::to_string(v.size()) + " elements";
+        default: return "a number";
+    }
+}
+
+std::string fmt(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", x);
+    return buf;
+}
+
+std::string fmt(const glm::vec3& v) {
+    std::string s = "[";  // appended, not "[" + ..., which trips a GCC 12 -Wrestrict false positive
+    s += fmt(v.x) + "," + fmt(v.y) + "," + fmt(v.z) + "]";
+    return s;
+}
+
+std::string fmt(const Box& b) { return fmt(b.min) + ".." + fmt(b.max); }
+
+std::string join(std::span<const std::string_view> keys) {
+    std::string s;
+    for (auto k : keys) s += (s.empty() ? "" : ", ") + std::string(k);
+    return s;
+}
+
+// ---- keys ------------------------------------------------------------------------------------
+
+namespace {
+
+size_t edit_distance(std::string_view a, std::string_view b) {
+    std::vector<size_t> row(b.size() + 1);
+    for (size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (size_t i = 1; i <= a.size(); ++i) {
+        size_t diag = row[0];
+        row[0] = i;
+        for (size_t j = 1; j <= b.size(); ++j) {
+            size_t up = row[j];
+            bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
+                        std::tolower(static_cast<unsigned char>(b[j - 1]));
+            row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (same ? 0 : 1)});
+            diag = up;
+        }
+    }
+    return row[b.size()];
+}
+
+}  // namespace
+
+/// `where` is "at top level" or "in <path>". Rejects keys outside `allowed`.
+void check_keys(const json& obj, const std::string& where, std::span<const std::string_view> allowed) {
+    for (const auto& [key, value] : obj.items()) {
+        if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+        std::string_view best;
+        size_t best_d = std::numeric_limits<size_t>::max();
+        for (auto k : allowed) {
+            size_t d = edit_distance(key, k);
+            if (d < best_d) best_d = d, best = k;
+        }
+        std::string msg = "unknown key \"" + key + "\" " + where;
+        if (best_d <= std::max<size_t>(2, best.size() / 3))
+            msg += "; did you mean \"" + std::string(best) + "\"?";
+        else
+            msg += "; remove it.";
+        fail(msg + " Allowed keys: " + join(allowed));
+    }
+}
+
+void require(const json& obj, std::string_view key, const std::string& where, const std::string& example) {
+    if (!obj.contains(key))
+        fail("missing required key \"" + std::string(key) + "\" " + where + "; add it, e.g. " + example);
+}
+
+std::string child(const std::string& parent, std::string_view key) {
+    return parent.empty() ? std::string(key) : parent + "." + std::string(key);
+}
+
+// ---- values ----------------------------------------------------------------------------------
+
+float read_number(const json& v, const std::string& path, const Range& r) {
+    if (!v.is_number()) fail(path + " must be " + r.what + ", got " + written(v) + " (" + kind_of(v) + ")");
+    double d = v.get<double>();
+    if (!r.contains(d)) fail(path + " is " + written(v) + "; it must be " + r.what);
+    float f = static_cast<float>(d);
+    if (!r.contains(f) || std::fabs(f) > FLT_MAX)
+        fail(path + " is " + written(v) + ", which a 32-bit float cannot hold; use a value between about 1e-30 "
+             "and 1e30 (it must be " + r.what + ")");
+    return f;
+}
+
+uint32_t read_integer(const json& v, const std::string& path, uint32_t lo, uint32_t hi) {
+    std::string what = "an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
+    if (!v.is_number()) fail(path + " must be " + what + ", got " + written(v) + " (" + kind_of(v) + ")");
+    double d = v.get<double>();
+    if (!std::isfinite(d) || std::floor(d) != d || d < lo || d > hi)
+        fail(path + " is " + written(v) + "; it must be " + what);
+    return static_cast<uint32_t>(d);
+}
+
+glm::vec3 read_vec3(const json& v, const std::string& path, const char* what) {
+    if (!v.is_array() || v.size() != 3)
+        fail(path + " must be " + what + ", got " + written(v) + " (" + kind_of(v) + ")");
+    glm::vec3 out;
+    for (int i = 0; i < 3; ++i) {
+        std::string elem = path + "[" + std::to_string(i) + "]";
+        const json& e = v[static_cast<size_t>(i)];
+        if (!e.is_number())
+            fail(elem + " must be a number, got " + written(e) + " (" + kind_of(e) + "); write " + path + " as " +
+                 what);
+        double d = e.get<double>();
+        if (!std::isfinite(d) || std::fabs(d) > 1e30)
+            fail(elem + " is " + written(e) + "; it must be a finite number between -1e30 and 1e30");
+        out[i] = static_cast<float>(d);
+    }
+    return out;
+}
+
+/// Reads {"min": [..], "max": [..]} and checks max > min on every axis.
+Box read_box(const json& v, const std::string& path, const std::string& example) {
+    if (!v.is_object())
+        fail(path + " must be an object {\"min\": [x, y, z], \"max\": [x, y, z]}, got " + written(v) + " (" +
+             kind_of(v) + ")");
+    check_keys(v, "in " + path, kBoxKeys);
+    require(v, "min", "in " + path, example);
+    require(v, "max", "in " + path, example);
+    const char* what = "an array of three numbers [x, y, z] in metres";
+    Box b{read_vec3(v["min"], path + ".min", what), read_vec3(v["max"], path + ".max", what)};
+    for (int a = 0; a < 3; ++a)
+        if (!(b.max[a] > b.min[a]))
+            fail(path + " max " + written(v["max"]) + " is not greater than min " + written(v["min"]) + " on " +
+                 kAxis[a] + "; make max larger than min on every axis");
+    return b;
+}
+
+/// nlohmann reports "... at line L, column C: what"; keep the "line L, column C" and "what" parts.
+std::string syntax_error(const json::parse_error& e, const std::string& origin) {
+    std::string msg = e.what();
+    size_t at = msg.find("line ");
+    size_t colon = msg.find(": ", at == std::string::npos ? 0 : at);
+    std::string where = "byte " + std::to_string(e.byte);
+    std::string what = msg;
+    if (at != std::string::npos && colon != std::string::npos) {
+        where = msg.substr(at, colon - at);
+        what = msg.substr(colon + 2);
+    }
+    return origin + ": invalid JSON at " + where + ": " + what +
+           "; fix the syntax there (look for a missing or trailing comma, an unclosed bracket or an unquoted key)";
+}
+
+/// nlohmann throws "number overflow parsing '1e400'" without a position; find the literal.
+std::string number_overflow(const json::exception& e, const std::string& text, const std::string& origin) {
+    std::string msg = e.what();
+    if (size_t p = msg.find("] "); p != std::string::npos) msg = msg.substr(p + 2);
+    std::string where;
+    size_t q1 = msg.find('\''), q2 = msg.rfind('\'');
+    if (q1 != std::string::npos && q2 > q1) {
+        size_t at = text.find(msg.substr(q1 + 1, q2 - q1 - 1));
+        if (at != std::string::npos)
+            where = " at line " + std::to_string(1 + std::count(text.begin(), text.begin() + at, '\n'));
+    }
+    return origin + ": cannot read the JSON" + where + ": " + msg +
+           "; use numbers of ordinary size (a 32-bit float holds up to about 3e38)";
+}
+
+json parse_strict(const std::string& text, const std::string& origin) {
+    try {
+        // Duplicate keys are legal JSON but nlohmann silently keeps the last; a file with two
+        // "particle_spacing" entries is a mistake, so report it.
+        std::vector<std::set<std::string>> open_objects;
+        std::optional<std::string> duplicate;
+        auto on_event = [&](int, json::parse_event_t event, json& parsed) {
+            if (event == json::parse_event_t::object_start) open_objects.emplace_back();
+            if (event == json::parse_event_t::object_end && !open_objects.empty()) open_objects.pop_back();
+            if (event == json::parse_event_t::key && !open_objects.empty() && !duplicate &&
+                !open_objects.back().insert(parsed.get<std::string>()).second)
+                duplicate = parsed.get<std::string>();
+            return true;
+        };
+        json j = json::parse(text, on_event);
+        if (duplicate)
+            fail("duplicate key \"" + *duplicate +
+                 "\" (written twice in the same object, and only the last would count); keep one of them");
+        return j;
+    } catch (const json::parse_error& e) {
+        throw Invalid{syntax_error(e, origin), true};
+    } catch (const json::out_of_range& e) {
+        throw Invalid{number_overflow(e, text, origin), true};
+    }
+}
+
+}  // namespace aquaform::json_fields

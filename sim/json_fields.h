@@ -1,0 +1,67 @@
+// Strict JSON field readers shared by aquaform's file formats (scene files and their control
+// section). Readers throw Invalid; the loader catches it and prefixes the file name, so every
+// message names the file, the key path, the value as written and the fix.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
+
+#include "sim/scene.h"
+
+namespace aquaform::json_fields {
+
+using json = nlohmann::json;
+
+struct Invalid {
+    std::string message;
+    bool has_origin = false;  ///< the message already starts with the file name
+};
+
+[[noreturn]] void fail(std::string message);
+
+/// The value as the file wrote it (re-serialised compactly, long values shortened).
+std::string written(const json& v);
+/// "a string", "an array of 3 elements", ...: what the file gave instead.
+std::string kind_of(const json& v);
+std::string fmt(double x);
+std::string fmt(const glm::vec3& v);
+std::string fmt(const Box& b);
+std::string join(std::span<const std::string_view> keys);
+
+/// `where` is "at top level" or "in <path>". Rejects keys outside `allowed`, suggesting the
+/// closest allowed key for a typo.
+void check_keys(const json& obj, const std::string& where, std::span<const std::string_view> allowed);
+void require(const json& obj, std::string_view key, const std::string& where, const std::string& example);
+/// "parent.key" (or "key" at top level).
+std::string child(const std::string& parent, std::string_view key);
+
+/// A closed or open interval with the phrase that tells the user what to write.
+struct Range {
+    double lo = -std::numeric_limits<double>::infinity();
+    double hi = std::numeric_limits<double>::infinity();
+    bool lo_open = false;
+    bool hi_open = false;
+    const char* what = "a number";
+
+    bool contains(double x) const {
+        return (lo_open ? x > lo : x >= lo) && (hi_open ? x < hi : x <= hi) && std::isfinite(x);
+    }
+};
+
+float read_number(const json& v, const std::string& path, const Range& r);
+uint32_t read_integer(const json& v, const std::string& path, uint32_t lo, uint32_t hi);
+glm::vec3 read_vec3(const json& v, const std::string& path, const char* what);
+/// Reads {"min": [..], "max": [..]} and checks max > min on every axis.
+Box read_box(const json& v, const std::string& path, const std::string& example);
+
+/// Parses JSON text, refusing duplicate keys. Syntax errors throw Invalid with `origin`, the
+/// line and column, and what to look for.
+json parse_strict(const std::string& text, const std::string& origin);
+
+}  // namespace aquaform::json_fields
