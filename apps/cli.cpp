@@ -11,6 +11,8 @@
 
 namespace aquaform::cli {
 
+int cmd_assets(const std::vector<std::string>& argv);  // apps/cmd_assets.cpp
+
 namespace {
 
 const char* kUsage =
@@ -23,8 +25,9 @@ const char* kUsage =
     "  render SCENE.json [--frame K] [--out DIR] [--no-reference] [--device ...] [render flags]\n"
     "        ray-march one frame; writes image.png, evals.png, tiles.png, classification.png,\n"
     "        reference.png, depth_error.png and render.json (timings, metrics against the reference)\n"
-    "  control place MESH.obj [--method vertices|inside] [--spacing S] [--out DIR] [--no-png]\n"
+    "  control place MESH.obj [--method vertices|inside|raster] [--spacing S] [--out DIR] [--no-png]\n"
     "        check a mesh and place control points; writes points.ply, points.png and report.txt\n"
+    "  assets [--out DIR]\n        write the shipped meshes (default DIR assets/meshes): sphere, torus, letters, character + walk\n"
     "  info [--device NAME|INDEX]\n"
     "        list Vulkan devices and the one aquaform would use\n"
     "  bench sim [--sizes 16384,32768,...] [--iterations N] [--steps N] [--repeats R] [--out FILE] [--device ...]\n"
@@ -108,6 +111,7 @@ int run_main(int argc, char** argv) {
         if (command == "info") return cmd_info(rest);
         if (command == "render") return cmd_render(rest);
         if (command == "control") return cmd_control(rest);
+        if (command == "assets") return cmd_assets(rest);
         if (command == "bench") return cmd_bench(rest);
         if (command == "help" || command == "--help" || command == "-h") {
             std::fputs(kUsage, stdout);

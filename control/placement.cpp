@@ -81,30 +81,46 @@ ControlPoints place_on_vertices(const Mesh& mesh, float spacing) {
     return result;
 }
 
-ControlPoints place_inside(const std::vector<glm::vec3>& triangles, float spacing, bool jitter, uint32_t seed) {
+Box bounds_of(const std::vector<glm::vec3>& points) {
+    if (points.empty()) return Box{};
+    Box box{points.front(), points.front()};
+    for (const glm::vec3& point : points) {
+        box.min = glm::min(box.min, point);
+        box.max = glm::max(box.max, point);
+    }
+    return box;
+}
+
+glm::vec3 centred_lattice_origin(const Box& bounds, float spacing) {
+    const glm::vec3 extent = bounds.max - bounds.min;
+    const glm::vec3 steps = glm::floor(extent / spacing);
+    return bounds.min + 0.5f * (extent - steps * spacing);
+}
+
+ControlPoints place_inside(const std::vector<glm::vec3>& triangles, float spacing, bool jitter, uint32_t seed,
+                           std::optional<glm::vec3> lattice_origin) {
     const auto start = Clock::now();
     ControlPoints result;
     result.method = jitter ? "inside jittered" : "inside";
     if (triangles.size() < 3 || !(spacing > 0.0f)) return result;
 
-    glm::vec3 low = triangles.front(), high = triangles.front();
-    for (const glm::vec3& point : triangles) {
-        low = glm::min(low, point);
-        high = glm::max(high, point);
-    }
-    const glm::vec3 extent = high - low;
-    const glm::ivec3 counts = glm::ivec3(glm::floor(extent / spacing)) + 1;
-    // Centring the lattice keeps the margin to the bounding box the same on both sides.
-    const glm::vec3 first = low + 0.5f * (extent - glm::vec3(counts - 1) * spacing);
+    const Box bounds = bounds_of(triangles);
+    const glm::vec3 origin = lattice_origin.value_or(centred_lattice_origin(bounds, spacing));
+    // Lattice indices inside the bounds; the 1e-3 keeps rounding from dropping a point on the
+    // box (for the centred origin this is exactly 0 .. floor(extent / spacing)).
+    const glm::ivec3 first = glm::ivec3(glm::ceil((bounds.min - origin) / spacing - 1e-3f));
+    const glm::ivec3 last = glm::ivec3(glm::floor((bounds.max - origin) / spacing + 1e-3f));
+    const glm::ivec3 counts = glm::max(last - first + 1, glm::ivec3(0));
 
     std::mt19937 random(seed);
     std::uniform_real_distribution<float> offset(-0.25f * spacing, 0.25f * spacing);
     std::vector<glm::vec3> lattice;
     lattice.reserve(size_t(counts.x) * size_t(counts.y) * size_t(counts.z));
-    for (int z = 0; z < counts.z; ++z) {
-        for (int y = 0; y < counts.y; ++y) {
-            for (int x = 0; x < counts.x; ++x) {
-                glm::vec3 point = first + glm::vec3(x, y, z) * spacing;
+    for (int z = first.z; z <= last.z; ++z) {
+        for (int y = first.y; y <= last.y; ++y) {
+            for (int x = first.x; x <= last.x; ++x) {
+                // The same expression as the rasteriser's (shaders/control/raster_fill.comp).
+                glm::vec3 point = origin + glm::vec3(x, y, z) * spacing;
                 if (jitter) point += glm::vec3(offset(random), offset(random), offset(random));
                 lattice.push_back(point);
             }

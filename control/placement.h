@@ -1,8 +1,10 @@
-// Control-particle placement (Karpati et al., section 3.2). Two of the paper's methods so far:
-// (a) on the mesh surface, from its vertices; (b) filling the inside, with the winding-number test.
+// Control-particle placement (Karpati et al., section 3.2): (a) on the mesh surface, from its
+// vertices; (b) filling the inside, with the winding-number test. (c), the GPU rasterisation that
+// fills the same lattice, is in control/raster_placement.h.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,7 +16,7 @@ namespace aquaform::control {
 
 struct ControlPoints {
     std::vector<glm::vec3> points;
-    std::string method;  ///< "vertices" or "inside" (+ " jittered")
+    std::string method;  ///< "vertices", "inside" (+ " jittered") or "raster"
     double ms = 0.0;     ///< wall time of the placement
 };
 
@@ -24,11 +26,20 @@ struct ControlPoints {
 /// the surface only; density still varies between spacing / 2 and spacing.
 ControlPoints place_on_vertices(const Mesh& mesh, float spacing);
 
-/// (b) Volume points: a cubic lattice with `spacing`, centred in the triangles' bounding box, keeping
-/// the points the generalized winding number classifies as inside. With `jitter` each lattice point is
-/// moved by up to spacing / 4 per axis (uniform, from `seed`) before the test, so every kept point is
-/// still inside. Cost O(lattice points * triangles).
+/// Axis-aligned bounds of a triangle soup (or any point list); min = max = 0 when it is empty.
+Box bounds_of(const std::vector<glm::vec3>& points);
+
+/// The origin of the lattice that place_inside() and place_raster() use by default: the points
+/// origin + spacing * (i, j, k) that fit in `bounds`, centred so that the margin to the box is the
+/// same on both sides of each axis. Sharing it lets methods (b) and (c) fill the same lattice.
+glm::vec3 centred_lattice_origin(const Box& bounds, float spacing);
+
+/// (b) Volume points: the cubic lattice origin + spacing * (i, j, k) inside the triangles' bounding
+/// box (origin: `lattice_origin`, by default centred_lattice_origin()), keeping the points the
+/// generalized winding number classifies as inside. With `jitter` each lattice point is moved by up to
+/// spacing / 4 per axis (uniform, from `seed`) before the test, so every kept point is still inside.
+/// Cost O(lattice points * triangles).
 ControlPoints place_inside(const std::vector<glm::vec3>& triangles, float spacing, bool jitter = false,
-                           uint32_t seed = 1);
+                           uint32_t seed = 1, std::optional<glm::vec3> lattice_origin = {});
 
 }  // namespace aquaform::control

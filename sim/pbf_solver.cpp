@@ -152,6 +152,7 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     const gpu::Buffer& start = grid_->cell_start();
     const gpu::Buffer& cells = grid_->list_cell();
     const gpu::Buffer& masks = grid_->masks();
+    if (step_force_) step_force_->record(cmd, *params_buf_, *x_, *v_, count_, timer);
     {
         gpu::GpuScope s(timer, cmd, "predict");
         gpu::dispatch(*ctx_, cmd, predict_, count_, push, {params_buf_, x_, v_, p_});

@@ -49,6 +49,16 @@ struct ParticleSnapshot {
     std::vector<float> density;
 };
 
+/// An acceleration added to the fluid every step, recorded before predict (where gravity is
+/// added): mesh control's driving force. The solver does not own it.
+class StepForce {
+public:
+    virtual ~StepForce() = default;
+    /// Adds dt * a(x) to v for `count` particles (x, v in the solver's current order).
+    virtual void record(VkCommandBuffer cmd, const gpu::Buffer& sim_params, const gpu::Buffer& x, gpu::Buffer& v,
+                        uint32_t count, gpu::GpuTimer* timer) = 0;
+};
+
 class PbfSolver {
 public:
     /// Allocates and uploads the scene's particles. Throws gpu::VulkanError or
@@ -68,6 +78,9 @@ public:
     /// Replaces the particle state (tests); sizes must match particle_count().
     void set_state(const std::vector<glm::vec4>& x, const std::vector<glm::vec4>& v);
 
+    /// Adds `force` to every following step (nullptr removes it); it must outlive its use.
+    void set_step_force(StepForce* force) { step_force_ = force; }
+
     uint32_t particle_count() const { return count_; }
     double time() const { return time_; }
     const shader::SimParams& params() const { return params_; }
@@ -80,6 +93,7 @@ public:
     const gpu::Buffer& positions() const { return *x_; }
     const gpu::Buffer& velocities() const { return *v_; }
     const gpu::Buffer& densities() const { return *density_; }
+    const gpu::Buffer& params_buffer() const { return *params_buf_; }
     const NeighborGrid& grid() const { return *grid_; }
 
 private:
@@ -101,6 +115,7 @@ private:
     gpu::Buffer* density_;
     gpu::Buffer* partials_;
     std::unique_ptr<NeighborGrid> grid_;
+    StepForce* step_force_ = nullptr;
     gpu::ComputePass predict_, reorder_, lambda_pass_, correct_, velocity_, xsph_curl_, vorticity_, stats_;
 };
 

@@ -234,7 +234,7 @@ TEST(Cli, ControlPlaceWritesPointsReportAndPicture) {
     Outcome nan = run_aquaform("control place " + (dir / "broken.obj").string() + " --no-png");
     EXPECT_EQ(nan.exit_code, 2);
     EXPECT_NE(nan.output.find("non-finite"), std::string::npos) << nan.output;
-    Outcome method = run_aquaform("control place " + (dir / "ball.obj").string() + " --method raster");
+    Outcome method = run_aquaform("control place " + (dir / "ball.obj").string() + " --method bogus");
     EXPECT_EQ(method.exit_code, 2);
     EXPECT_NE(method.output.find("--method"), std::string::npos) << method.output;
     fs::remove_all(dir);

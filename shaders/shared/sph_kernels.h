@@ -36,6 +36,13 @@ AF_FN vec3 spiky_gradient(vec3 r, float r2, float h, float coefficient) {
     return r * (-coefficient * d * d * inv_len);
 }
 
+/// grad W_poly6(r, h) = -6 * 315 / (64 pi h^9) (h^2 - r^2)^2 r for |r| < h, else 0. Unlike the
+/// spiky gradient it vanishes smoothly at r = 0, so a lattice of sources sums to a flat field.
+AF_FN vec3 poly6_gradient(vec3 r, float r2, float h2, float coefficient) {
+    float d = max(h2 - r2, 0.0f);
+    return r * (-6.0f * coefficient * d * d);
+}
+
 AF_END
 
 #endif

@@ -1,0 +1,47 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// The driving force of the control particles (shared/control_layout.h), added to the fluid's
+// velocities before the solver's predict step, like gravity. Control points are read from
+// their own Morton grid (cell = H), in grid order, so each fluid particle visits 27 cells.
+#include "shared/pbf_layout.h"
+#include "shared/grid_layout.h"
+#include "shared/control_layout.h"
+
+layout(local_size_x_id = 0) in;
+layout(std430, binding = 0) readonly buffer Sim { SimParams sim; };
+layout(std430, binding = 1) readonly buffer Control { ControlParams control; };
+layout(std430, binding = 2) readonly buffer X { vec4 x[]; };
+layout(std430, binding = 3) buffer V { vec4 v[]; };
+layout(std430, binding = 4) readonly buffer Points { vec4 points[]; };  // sorted; w = set index
+layout(std430, binding = 5) readonly buffer CellRank { uint cell_rank[]; };
+layout(std430, binding = 6) readonly buffer CellStart { uint cell_start[]; };
+layout(push_constant) uniform Push { CountPush pc; };
+
+#include "common/grid_query.glsl"
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= pc.count) return;
+    vec3 xi = x[i].xyz;
+    uint tag_bit = control_tag_bit(v[i].w);
+    vec3 acc = vec3(0.0);
+    float phi = 0.0;  // the weighted control density, ~1 inside a shape
+    ivec3 c = grid_cell(xi, control.grid_origin_cell, control.grid_dims);
+    for (int k = 0; k < 27; ++k) {
+        uvec2 range = grid_neighbor_range(c, k, control.grid_dims);
+        for (uint j = range.x; j < range.y; ++j) {
+            vec4 cp = points[j];
+            vec3 d = xi - cp.xyz;
+            float r2 = dot(d, d);
+            if (r2 >= control.support2) continue;
+            ControlSet set = control.sets[uint(cp.w)];
+            if ((set.tag_mask & tag_bit) == 0u) continue;
+            acc += set.coefficient * poly6_gradient(d, r2, control.support2, control.gradient_coeff);
+            phi += set.weight_volume * poly6(r2, control.support2, control.gradient_coeff);
+        }
+    }
+    // Damping inside the shape (implicit, so it never reverses a velocity): a shape is a closed
+    // container without walls, and the fluid inside would otherwise slosh for ever.
+    float keep = 1.0 / (1.0 + sim.dt * control.damping * min(phi, 1.0));
+    v[i].xyz = (v[i].xyz + sim.dt * acc) * keep;
+}

@@ -1,0 +1,220 @@
+// The driving force of mesh control: the GPU pass against a CPU sum, and whole runs that fill,
+// hold and release a shape, and a pressure sweep that finds where the fluid stops being quiet
+// (physical numbers, not "it ran").
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "control/control_force.h"
+#include "control/placement.h"
+#include "control/primitives.h"
+#include "control/shape_metrics.h"
+#include "control/strength.h"
+#include "gpu/context.h"
+#include "sim/pbf_params.h"
+#include "sim/pbf_solver.h"
+#include "tests/gpu_test.h"
+
+namespace aquaform::control {
+namespace {
+
+class ControlForceTest : public testing::GpuTest {};
+
+Scene box_scene(glm::vec3 size, float spacing) {
+    Scene scene;
+    scene.name = "control test";
+    scene.domain = {glm::vec3(0.0f), size};
+    scene.particle_spacing = spacing;
+    return scene;
+}
+
+TEST_F(ControlForceTest, GpuPassMatchesCpuSum) {
+    Scene scene = box_scene(glm::vec3(0.4f), 0.02f);
+    scene.fluid_blocks = {{glm::vec3(0.1f), glm::vec3(0.3f)}};
+    const float support = 0.05f, volume = 0.02f * 0.02f * 0.02f, damping = 3.0f;
+    ControlForce force(ctx(), scene, support, volume, damping);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0.05f, 0.35f);
+    std::vector<glm::vec4> points, x, v;
+    for (int i = 0; i < 500; ++i) points.emplace_back(u(rng), u(rng), u(rng), float(i % 2));
+    for (int i = 0; i < 300; ++i) {
+        x.emplace_back(u(rng), u(rng), u(rng), float(i));
+        v.emplace_back(0.1f, -0.2f, 0.3f, float(i % 3));  // tags 0, 1, 2
+    }
+    const std::vector<ForceSet> sets = {{2000.0f, 1.0f, 0b011u}, {500.0f, 0.5f, 0b110u}};
+    force.set_points(points);
+    force.set_sets(sets);
+    ASSERT_EQ(force.point_count(), points.size());
+
+    shader::SimParams params = make_sim_params(scene, grid_for_domain(scene.domain.min, scene.domain.max, 0.04f).value(),
+                                               uint32_t(x.size()));
+    gpu::BufferSet buffers(ctx());
+    gpu::Buffer& params_buf = buffers.add("params", sizeof params);
+    gpu::Buffer& xb = buffers.add("x", x.size() * 16);
+    gpu::Buffer& vb = buffers.add("v", v.size() * 16);
+    gpu::upload(ctx(), params_buf, &params, sizeof params);
+    gpu::upload(ctx(), xb, x.data(), x.size() * 16);
+    gpu::upload(ctx(), vb, v.data(), v.size() * 16);
+    ctx().submit_and_wait([&](VkCommandBuffer cmd) { force.record(cmd, params_buf, xb, vb, uint32_t(x.size()), nullptr); });
+    const auto gpu_v = gpu::download_vector<glm::vec4>(ctx(), vb, v.size());
+
+    const float h2 = support * support, coeff = shader::poly6_coefficient(support);
+    double worst = 0.0, largest = 0.0;
+    for (size_t i = 0; i < x.size(); ++i) {
+        glm::vec3 acc(0.0f);
+        float phi = 0.0f;
+        for (const glm::vec4& c : points) {
+            const ForceSet& set = sets[size_t(c.w)];
+            if (!(set.tag_mask & (1u << uint32_t(v[i].w)))) continue;
+            const glm::vec3 d = glm::vec3(x[i]) - glm::vec3(c);
+            const float r2 = glm::dot(d, d);
+            acc += set.pressure / scene.rest_density * volume * set.weight * shader::poly6_gradient(d, r2, h2, coeff);
+            phi += volume * set.weight * shader::poly6(r2, h2, coeff);
+        }
+        const glm::vec3 expected =
+            (glm::vec3(v[i]) + params.dt * acc) / (1.0f + params.dt * damping * std::min(phi, 1.0f));
+        worst = std::max(worst, double(glm::length(glm::vec3(gpu_v[i]) - expected)));
+        largest = std::max(largest, double(glm::length(expected - glm::vec3(v[i]))));
+        EXPECT_EQ(gpu_v[i].w, v[i].w) << "the tag must survive";
+    }
+    EXPECT_GT(largest, 0.05) << "the test must exercise a real force";
+    EXPECT_LT(worst, 1e-4 * std::max(1.0, largest));
+}
+
+/// A sphere of control points in mid-air, with a cube of fluid of about the same volume around
+/// its centre: the force must pull the cube into the sphere and hold it there against gravity.
+struct SphereFill {
+    static constexpr float kRadius = 0.12f;
+    const glm::vec3 centre{0.3f, 0.32f, 0.3f};
+    Scene scene = box_scene(glm::vec3(0.6f), 0.02f);
+    std::vector<glm::vec4> points;
+    Strength strength;
+    VoxelLattice lattice;
+    std::unordered_set<uint64_t> shape;
+
+    SphereFill() {
+        // 10 x 9 x 10 particles: 0.0072 m^3, the sphere's 0.00724 m^3 to within 1 %
+        const glm::vec3 half(0.1f, 0.09f, 0.1f);
+        scene.fluid_blocks = {{centre - half, centre + half}};
+        Mesh mesh = make_sphere(kRadius, 3);
+        for (auto& v : mesh.vertices) v += centre;
+        lattice = {scene.domain.min, scene.particle_spacing};
+        const auto placed =
+            place_inside(mesh.triangle_soup(), scene.particle_spacing, false, 1, lattice.centre(glm::ivec3(0))).points;
+        for (const auto& p : placed) points.emplace_back(p, 0.0f);
+        shape = voxel_keys(lattice, placed);
+        strength = automatic_strength({&scene, scene.particle_spacing, 2.0f * kRadius});
+        scene.solver.substeps = strength.substeps;
+    }
+};
+
+struct FillRun {
+    std::unique_ptr<PbfSolver> solver;
+    std::unique_ptr<ControlForce> force;
+    FrameStats stats;
+    double rms_speed = 0.0;
+
+    FillRun(gpu::Context& ctx, const SphereFill& fill, float pressure) {
+        solver = std::make_unique<PbfSolver>(ctx, fill.scene);
+        force = std::make_unique<ControlForce>(ctx, fill.scene, fill.strength.support,
+                                               std::pow(fill.scene.particle_spacing, 3.0f));
+        force->set_points(fill.points);
+        force->set_sets({{pressure, 1.0f, ~0u}});
+        solver->set_step_force(force.get());
+    }
+    /// Runs `seconds`; false when the state became non-finite.
+    bool advance(double seconds) {
+        const double end = solver->time() + seconds - 1e-6;
+        while (solver->time() < end) {
+            stats = solver->run_frame(nullptr);
+            if (stats.non_finite) return false;
+        }
+        const float mass = pbf_constants(solver->scene()).mass;
+        rms_speed = std::sqrt(2.0 * stats.kinetic_energy / (double(stats.particles) * mass));
+        return true;
+    }
+    ShapeMetrics metrics(const SphereFill& fill) {
+        const ParticleSnapshot s = solver->snapshot();
+        const PbfConstants k = pbf_constants(fill.scene);
+        return shape_metrics({&s.x, &s.v, ~0u, k.h, k.mass, fill.scene.rest_density}, fill.lattice, fill.shape);
+    }
+};
+
+/// The fluid is quiet when it comes to rest: its rms speed after the fill is below a tenth of the
+/// solver's speed cap (cfl h / dt), and its density error stays within the stated bound.
+bool quiet(const FillRun& run, const Scene& scene) {
+    const float cap = scene.solver.cfl * scene.solver.kernel_radius_factor * scene.particle_spacing /
+                      (scene.solver.frame_dt / float(scene.solver.substeps));
+    return run.rms_speed < 0.1 * cap && run.stats.max_density_error < kDensityErrorBound;
+}
+
+TEST_F(ControlForceTest, SphereFillsHoldsAndReleases) {
+    const SphereFill fill;
+    FillRun run(ctx(), fill, fill.strength.pressure);
+    ASSERT_TRUE(run.advance(1.0));
+    const ShapeMetrics held = run.metrics(fill);
+    std::printf("%s\nafter 1 s: IoU %.3f, fill %.3f, outside %.3f, rms speed %.3f m/s, max density error %.3f\n",
+                fill.strength.describe().c_str(), held.iou, held.fill_fraction, held.outside_fraction, run.rms_speed,
+                run.stats.max_density_error);
+    EXPECT_GE(held.iou, 0.8) << "a sphere must fill to IoU 0.8 within 1 s at the automatic strength";
+    EXPECT_TRUE(quiet(run, fill.scene)) << "rms speed " << run.rms_speed << ", density error "
+                                         << run.stats.max_density_error;
+
+    const auto mean_height = [&] {
+        double sum = 0.0;
+        const auto x = run.solver->snapshot().x;
+        for (const auto& p : x) sum += p.y;
+        return sum / double(x.size());
+    };
+    const double before = mean_height();
+    run.force->set_sets({});  // release
+    ASSERT_TRUE(run.advance(0.75));
+    const ShapeMetrics released = run.metrics(fill);
+    EXPECT_LT(mean_height(), 0.5 * before) << "released fluid must fall";
+    EXPECT_LT(released.fill_fraction, 0.05) << "no fluid may stay stuck in the released shape";
+}
+
+TEST_F(ControlForceTest, AutomaticStrengthIsInsideTheStableRange) {
+    const SphereFill fill;
+    // Doubling the pressure until the fluid is no longer quiet (the solver's speed cap keeps even
+    // extreme pressures finite here, so "blowing up" means churning at that cap).
+    float first_unstable = 0.0f;
+    for (float scale = 1.0f; scale <= 16.0f && first_unstable == 0.0f; scale *= 2.0f) {
+        FillRun run(ctx(), fill, fill.strength.pressure * scale);
+        const bool finite = run.advance(1.0);
+        std::printf("pressure x%-4g %8.0f Pa: rms speed %.3f m/s, max density error %.3f, IoU %.3f\n", scale,
+                    fill.strength.pressure * scale, run.rms_speed, run.stats.max_density_error,
+                    finite ? run.metrics(fill).iou : 0.0);
+        if (!finite || !quiet(run, fill.scene)) first_unstable = scale;
+        if (scale == 1.0f) {
+            EXPECT_NE(first_unstable, 1.0f) << "the automatic strength itself must be stable";
+        }
+    }
+    ASSERT_GT(first_unstable, 0.0f) << "the sweep must find where the fluid stops being quiet";
+    EXPECT_GE(first_unstable, 2.0f) << "the automatic strength must keep a margin of 2x below instability";
+    // The stated quiet limit must lie between the automatic pressure and the measured instability.
+    EXPECT_GE(fill.strength.stable_pressure, fill.strength.pressure);
+    EXPECT_LE(fill.strength.stable_pressure, fill.strength.pressure * first_unstable);
+}
+
+TEST(ControlStrength, FollowsShapeHeightAndRaisesSubsteps) {
+    Scene scene = box_scene(glm::vec3(1.0f), 0.02f);
+    const Strength small = automatic_strength({&scene, 0.02f, 0.1f});
+    const Strength tall = automatic_strength({&scene, 0.02f, 0.4f});
+    EXPECT_FLOAT_EQ(tall.hold_pressure, 4.0f * small.hold_pressure);
+    EXPECT_FLOAT_EQ(small.support, 0.04f) << "H = max(h, 2 control spacings)";
+    EXPECT_GT(tall.substeps, small.substeps) << "a taller shape needs a shorter step to stay quiet";
+    EXPECT_TRUE(tall.warning.empty());
+    const Strength fixed = automatic_strength({&scene, 0.02f, 0.4f}, {{}, {}, true});
+    EXPECT_EQ(fixed.substeps, scene.solver.substeps);
+    EXPECT_LT(fixed.pressure, fixed.hold_pressure) << "fixed substeps cap the pressure";
+    EXPECT_FALSE(fixed.warning.empty());
+    const Strength given = automatic_strength({&scene, 0.02f, 0.1f}, {0.08f, 1234.0f, false});
+    EXPECT_EQ(given.pressure, 1234.0f);
+    EXPECT_EQ(given.support, 0.08f);
+}
+
+}  // namespace
+}  // namespace aquaform::control
