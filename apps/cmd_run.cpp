@@ -6,11 +6,13 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 
 #include "apps/cli.h"
 #include "apps/progress.h"
 #include "apps/render_options.h"
 #include "apps/run_report.h"
+#include "control/control_driver.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
 #include "render/impostor_view.h"
@@ -46,7 +48,14 @@ int cmd_run(const std::vector<std::string>& argv) {
         std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str());
         return kExitUsage;
     }
-    const Scene& scene = loaded.value();
+    Scene& scene = loaded.value();
+    // Mesh control: its strength may raise the substeps, so it is prepared before the solver.
+    std::optional<control::PreparedControl> control;
+    if (scene.control_json) {
+        auto prepared = control::prepare_control_scene(scene);
+        if (!prepared) return std::fprintf(stderr, "aquaform: %s\n", prepared.error().c_str()), kExitUsage;
+        control = std::move(prepared.value());
+    }
     uint32_t frames = scene.frames;
     uint32_t ply_every = 0;
     uint32_t width = 640, height = 360;
@@ -78,6 +87,18 @@ int cmd_run(const std::vector<std::string>& argv) {
 
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});
     PbfSolver solver(ctx, scene);
+    std::unique_ptr<control::ControlDriver> driver;
+    if (control) {
+        for (const auto& m : control->section.meshes)
+            if (!m.report.watertight() && !m.file.empty())
+                std::printf("  control mesh %s (%s) is not watertight; the inside tests tolerate it:\n%s\n",
+                            m.name.c_str(), m.file.string().c_str(), control::describe(m.report).c_str());
+        std::printf("  %s\n", control->strength.describe().c_str());
+        if (!control->strength.warning.empty())
+            std::fprintf(stderr, "aquaform run: warning: %s\n", control->strength.warning.c_str());
+        driver = std::make_unique<control::ControlDriver>(ctx, scene, std::move(control->section), control->strength);
+        solver.set_step_force(&driver->force());
+    }
     print_run_header(ctx, solver);
 
     RunFiles files(out_dir, scene);
@@ -111,8 +132,14 @@ int cmd_run(const std::vector<std::string>& argv) {
     int status = kExitOk;
     uint32_t done = 0;
     for (uint32_t frame = 0; frame < frames && !g_interrupted; ++frame) {
+        if (driver) driver->update(solver.time());
         FrameStats stats = solver.run_frame(&timer);
-        files.write_frame_stats(frame, stats);
+        std::optional<ShapeColumns> shape;
+        if (driver) {
+            const control::ShapeMetrics m = driver->measure(solver.snapshot());
+            shape = ShapeColumns{m.iou, m.fill_fraction, m.outside_fraction, driver->active_description()};
+        }
+        files.write_frame_stats(frame, stats, shape ? &*shape : nullptr);
         if (view || surface) {
             Image image = view ? view->render(solver.positions(), solver.velocities(), solver.particle_count(), camera,
                                               style, scene.domain, scene.static_boxes)
@@ -138,8 +165,10 @@ int cmd_run(const std::vector<std::string>& argv) {
         }
         ++done;
         char note[96];
-        std::snprintf(note, sizeof note, "density err %.2f%%  max speed %.2f m/s", 100.0 * stats.mean_density_error,
-                      stats.max_speed);
+        int used = std::snprintf(note, sizeof note, "density err %.2f%%  max speed %.2f m/s",
+                                 100.0 * stats.mean_density_error, stats.max_speed);
+        if (shape && !driver->active().empty())
+            std::snprintf(note + used, sizeof note - used, "  shape IoU %.2f", shape->iou);
         progress.update(done, note);
         if (stats.non_finite > 0) {
             progress.finish();

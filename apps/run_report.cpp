@@ -44,11 +44,12 @@ RunFiles::RunFiles(const std::filesystem::path& dir, const Scene& scene) : dir_(
     }
 }
 
-void RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s) {
+void RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s, const ShapeColumns* shape) {
     if (frame == 0 || pass_columns_.empty()) {
         for (const auto& [name, ms] : s.gpu_ms) pass_columns_.push_back(name);
         stats_ << "frame,time_s,particles,density_err_mean,density_err_max,density_dev_mean,kinetic_energy_j,"
                   "max_speed_mps,outside,non_finite,gpu_ms_total";
+        if (shape) stats_ << ",shape_iou,shape_fill_fraction,fluid_outside_shape,active_shapes";
         for (const auto& name : pass_columns_) stats_ << ",gpu_ms_" << name;
         stats_ << "\n";
     }
@@ -59,6 +60,11 @@ void RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s) {
                   s.mean_density_error, s.max_density_error, s.mean_density_deviation, s.kinetic_energy, s.max_speed,
                   s.outside, s.non_finite, total);
     stats_ << row;
+    if (shape) {
+        std::snprintf(row, sizeof row, ",%.4f,%.4f,%.4f,\"%s\"", shape->iou, shape->fill_fraction, shape->outside_fraction,
+                      shape->active.c_str());
+        stats_ << row;
+    }
     for (const auto& name : pass_columns_) {
         auto it = s.gpu_ms.find(name);
         std::snprintf(row, sizeof row, ",%.4f", it == s.gpu_ms.end() ? 0.0 : it->second);

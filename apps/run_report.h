@@ -22,13 +22,22 @@ namespace aquaform::cli {
 /// Prints the scene's size, the passes it enables and the GPU memory of every buffer.
 void print_run_header(const gpu::Context& ctx, const PbfSolver& solver);
 
+/// How well the fluid takes the active control shapes in one frame (scenes with a control section).
+struct ShapeColumns {
+    double iou = 0.0;
+    double fill_fraction = 0.0;
+    double outside_fraction = 0.0;
+    std::string active;  ///< "ball (1.00)" or "none"
+};
+
 /// stats.csv (every frame) and front.csv (dam-break scenes, those with column_width).
 class RunFiles {
 public:
     RunFiles(const std::filesystem::path& dir, const Scene& scene);
     bool ok() const { return error_.empty(); }
     const std::string& error() const { return error_; }
-    void write_frame_stats(uint32_t frame, const FrameStats& stats);
+    /// `shape` adds the shape columns (give it every frame or never).
+    void write_frame_stats(uint32_t frame, const FrameStats& stats, const ShapeColumns* shape = nullptr);
     /// Dam-break scenes: writes front.svg (the run against Martin & Moyce 1952) and, for a
     /// single column of height 2a (their n^2 = 2), prints how far the front is from theirs.
     void finish(const Scene& scene);

@@ -137,9 +137,13 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_
 PbfSolver::~PbfSolver() = default;
 
 std::vector<std::string> PbfSolver::enabled_passes() const {
-    std::vector<std::string> passes = {"predict", "grid_count", "grid_scan", "grid_scatter", "reorder", "neighbor_masks",
-                                       "lambda x" + std::to_string(scene_.solver.iterations),
-                                       "correct x" + std::to_string(scene_.solver.iterations), "velocity"};
+    std::vector<std::string> passes;
+    if (step_force_) passes.push_back("control_force");
+    for (const char* pass : {"predict", "grid_count", "grid_scan", "grid_scatter", "reorder", "neighbor_masks"})
+        passes.push_back(pass);
+    passes.push_back("lambda x" + std::to_string(scene_.solver.iterations));
+    passes.push_back("correct x" + std::to_string(scene_.solver.iterations));
+    passes.push_back("velocity");
     if (xsph_on_) passes.push_back(vorticity_on_ ? "xsph_curl" : "xsph");
     if (vorticity_on_) passes.push_back("vorticity");
     passes.push_back("stats (once per frame)");

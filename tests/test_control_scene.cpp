@@ -1,0 +1,147 @@
+// The control section of scene files: the shape timeline, parsing with clear errors, the shipped
+// shape scenes, and `aquaform run` on a controlled scene (stats.csv gets the shape columns).
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "control/control_driver.h"
+#include "control/control_scene.h"
+#include "control/timeline.h"
+#include "sim/json_fields.h"
+#include "tests/cli_helpers.h"
+
+namespace aquaform::control {
+namespace {
+
+Timeline parse_timeline(const std::string& text, const std::vector<std::string>& names = {"a", "b"}) {
+    return Timeline::parse(nlohmann::json::parse(text), "control.timeline", names);
+}
+
+std::string timeline_error(const std::string& text) {
+    try {
+        parse_timeline(text);
+    } catch (const json_fields::Invalid& e) {
+        return e.message;
+    }
+    return "";
+}
+
+TEST(ControlTimeline, AttachMorphUnionRelease) {
+    const Timeline tl = parse_timeline(R"([
+        {"t": 0, "do": "attach", "mesh": "a", "tags": [1]},
+        {"t": 1, "do": "morph", "mesh": "b", "duration": 2},
+        {"t": 4, "do": "union", "mesh": "a"},
+        {"t": 5, "do": "release", "mesh": "b"},
+        {"t": 6, "do": "hold"},
+        {"t": 7, "do": "release"}])");
+    auto at = [&](double t) { return tl.active_at(t); };
+    ASSERT_EQ(at(0.5).size(), 1u);
+    EXPECT_EQ(at(0.5)[0].mesh, 0);
+    EXPECT_EQ(at(0.5)[0].tag_mask, 0b10u) << "tags select the fluid blocks a shape acts on";
+    const auto mid = at(2.0);  // halfway through the cross-fade
+    ASSERT_EQ(mid.size(), 2u);
+    EXPECT_FLOAT_EQ(mid[0].weight, 0.5f);
+    EXPECT_EQ(mid[1].mesh, 1);
+    EXPECT_FLOAT_EQ(mid[1].weight, 0.5f);
+    ASSERT_EQ(at(3.5).size(), 1u) << "the old shape is gone once the morph ends";
+    EXPECT_EQ(at(3.5)[0].mesh, 1);
+    EXPECT_EQ(at(4.5).size(), 2u) << "union adds a shape";
+    ASSERT_EQ(at(5.5).size(), 1u);
+    EXPECT_EQ(at(5.5)[0].mesh, 0) << "release by name keeps the others";
+    EXPECT_EQ(at(6.5).size(), 1u) << "hold changes nothing";
+    EXPECT_TRUE(at(7.0).empty()) << "release without a mesh releases all";
+    EXPECT_DOUBLE_EQ(tl.end_time(), 7.0);
+}
+
+TEST(ControlTimeline, ReplaceMorphSwitchesAtOnce) {
+    const Timeline tl = parse_timeline(R"([{"t": 0, "do": "attach", "mesh": "a"},
+                                           {"t": 1, "do": "morph", "mesh": "b", "mode": "replace"}])");
+    ASSERT_EQ(tl.active_at(1.0).size(), 1u);
+    EXPECT_EQ(tl.active_at(1.0)[0].mesh, 1);
+    EXPECT_EQ(tl.active_at(0.99)[0].mesh, 0);
+}
+
+TEST(ControlTimeline, ErrorsNameTheEventAndTheFix) {
+    EXPECT_NE(timeline_error(R"([{"t": 1, "do": "attach", "mesh": "a"}, {"t": 0.5, "do": "release"}])")
+                  .find("control.timeline[1].t"), std::string::npos);
+    EXPECT_NE(timeline_error(R"([{"t": 0, "do": "attach", "mesh": "ghost"}])").find("\"ghost\""), std::string::npos);
+    EXPECT_NE(timeline_error(R"([{"t": 0, "do": "attach", "mesh": "ghost"}])").find("\"a\", \"b\""), std::string::npos);
+    EXPECT_NE(timeline_error(R"([{"t": 0, "do": "explode"}])").find("attach, union, morph, hold, release"),
+              std::string::npos);
+    EXPECT_NE(timeline_error(R"([{"t": 0, "do": "morph", "mesh": "a"}])").find("duration"), std::string::npos);
+    EXPECT_NE(timeline_error(R"([{"t": 0, "do": "attach", "mesh": "a", "tags": [40]}])").find("tags[0]"),
+              std::string::npos);
+    EXPECT_NE(timeline_error(R"([{"t": 0, "do": "attach"}])").find("missing required key \"mesh\""), std::string::npos);
+    EXPECT_NE(timeline_error(R"([{"t": 0, "do": "attach", "mesh": "a", "tagz": [1]}])").find("did you mean \"tags\""),
+              std::string::npos);
+}
+
+Scene shipped(const std::string& name) {
+    auto scene = load_scene(std::string(AQUAFORM_ASSETS_DIR) + "/scenes/" + name);
+    EXPECT_TRUE(scene.ok()) << scene.error();
+    return scene.value();
+}
+
+TEST(ControlScene, ShippedShapeScenesLoadWithQuietStrength) {
+    for (const char* name : {"shape_fill.json", "morph.json", "character_walk.json", "separate_by_tag.json"}) {
+        Scene scene = shipped(name);
+        ASSERT_TRUE(scene.control_json) << name;
+        const uint32_t before = scene.solver.substeps;
+        auto prepared = prepare_control_scene(scene);
+        ASSERT_TRUE(prepared.ok()) << prepared.error();
+        const Strength& s = prepared.value().strength;
+        EXPECT_TRUE(s.warning.empty()) << name << ": " << s.warning;
+        EXPECT_GE(scene.solver.substeps, before);
+        EXPECT_GE(s.stable_pressure, s.pressure) << name;
+        EXPECT_GT(s.pressure, 0.0f);
+        for (const auto& m : prepared.value().section.meshes) EXPECT_FALSE(m.animation.placed_rest().vertices.empty());
+    }
+    Scene walk = shipped("character_walk.json");
+    auto prepared = prepare_control_scene(walk);
+    ASSERT_TRUE(prepared.ok());
+    EXPECT_EQ(prepared.value().section.meshes[0].method, PlacementMethod::raster)
+        << "a skinned mesh deforms, so it is re-placed by the rasteriser every frame";
+}
+
+TEST(ControlScene, BadSectionsGetClearErrors) {
+    const std::string dir = std::string(AQUAFORM_ASSETS_DIR) + "/scenes/";
+    auto error_of = [&](const std::string& control) {
+        auto scene = parse_scene(R"({"name": "t", "domain": {"min": [0,0,0], "max": [1,1,1]}, "particle_spacing": 0.05,
+            "fluid_blocks": [{"min": [0,0,0], "max": [0.5,0.5,0.5]}], "control": )" + control + "}",
+                                 "test.json");
+        EXPECT_TRUE(scene.ok()) << scene.error();
+        scene.value().path = dir + "test.json";
+        auto prepared = prepare_control_scene(scene.value());
+        return prepared.ok() ? std::string() : prepared.error();
+    };
+    const std::string missing = error_of(R"({"meshes": {"m": {"file": "../meshes/nope.obj"}}, "timeline": []})");
+    EXPECT_NE(missing.find("control.meshes.m.file"), std::string::npos) << missing;
+    EXPECT_NE(missing.find("nope.obj"), std::string::npos) << missing;
+    const std::string method = error_of(R"({"meshes": {"m": {"file": "../meshes/sphere.obj", "method": "magic"}}, "timeline": []})");
+    EXPECT_NE(method.find("\"vertices\", \"inside\" or \"raster\""), std::string::npos) << method;
+    const std::string no_timeline = error_of(R"({"meshes": {"m": {"file": "../meshes/sphere.obj"}}})");
+    EXPECT_NE(no_timeline.find("timeline"), std::string::npos) << no_timeline;
+    const std::string pressure = error_of(R"({"pressure": -3, "meshes": {"m": {"file": "../meshes/sphere.obj"}}, "timeline": []})");
+    EXPECT_NE(pressure.find("control.pressure"), std::string::npos) << pressure;
+}
+
+TEST(ControlCli, RunWritesShapeColumns) {
+    using namespace test_cli;
+    const auto dir = temp_dir("control_run");
+    const auto out = run_aquaform("run " + std::string(AQUAFORM_ASSETS_DIR) + "/scenes/morph.json --frames 12 --no-png --out " +
+                                  dir.string());
+    ASSERT_EQ(out.exit_code, 0) << out.output;
+    EXPECT_NE(out.output.find("control pressure"), std::string::npos) << out.output;
+    EXPECT_NE(out.output.find("control_force"), std::string::npos) << "the pass list names the force";
+    const std::string csv = read_file(dir / "stats.csv");
+    ASSERT_NE(csv.find("shape_iou,shape_fill_fraction,fluid_outside_shape,active_shapes"), std::string::npos) << csv;
+    EXPECT_NE(csv.find("\"ball (1.00)\""), std::string::npos);
+    // The IoU column of the last row: the fluid block starts inside the ball, so it overlaps it.
+    const auto last = csv.substr(csv.rfind('\n', csv.size() - 2) + 1);
+    size_t at = 0;
+    for (int i = 0; i < 11; ++i) at = last.find(',', at) + 1;
+    EXPECT_GT(std::stod(last.substr(at)), 0.5) << last;
+}
+
+}  // namespace
+}  // namespace aquaform::control
