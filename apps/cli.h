@@ -50,6 +50,7 @@ int cmd_control(const std::vector<std::string>& argv);
 /// flags; bench_render_flags() are the flags it takes.
 int bench_render(const Args& args);
 FlagSpec bench_render_flags();
+int bench_control(const Args& args); FlagSpec bench_control_flags();  ///< `aquaform bench control` (apps/cmd_bench_control.cpp)
 
 /// Validation is on with --validation or AQUAFORM_VALIDATION=1 (the test suite sets it).
 bool validation_requested(const Args& args);

@@ -1,5 +1,6 @@
 // `aquaform bench sim`: solver speed and neighbour-search scaling on dam breaks of growing size;
-// `aquaform bench render` lives in apps/cmd_bench_render.cpp.
+// `aquaform bench render` lives in apps/cmd_bench_render.cpp, `aquaform bench control` in
+// apps/cmd_bench_control.cpp.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -54,7 +55,7 @@ bool only_flags_of(const Args& args, const FlagSpec& spec, const std::string& be
     return true;
 }
 
-/// The flags of both benchmarks, for the parse.
+/// The flags of every benchmark, for the parse.
 FlagSpec all_bench_flags() {
     FlagSpec all = bench_render_flags();
     auto add = [](std::vector<std::string>& to, const std::vector<std::string>& from) {
@@ -63,6 +64,8 @@ FlagSpec all_bench_flags() {
     };
     add(all.with_value, bench_sim_flags().with_value);
     add(all.switches, bench_sim_flags().switches);
+    add(all.with_value, bench_control_flags().with_value);
+    add(all.switches, bench_control_flags().switches);
     return all;
 }
 
@@ -72,15 +75,17 @@ int cmd_bench(const std::vector<std::string>& argv) {
     std::string error;
     auto args = parse_args(argv, all_bench_flags(), "bench", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
-    if (args->positional.size() != 1 || (args->positional[0] != "sim" && args->positional[0] != "render")) {
-        std::fprintf(stderr, "aquaform bench: say what to measure: aquaform bench sim (solver) or aquaform bench render "
-                             "(surface reconstruction)\n");
+    const std::string which = args->positional.size() == 1 ? args->positional[0] : "";
+    if (which != "sim" && which != "render" && which != "control") {
+        std::fprintf(stderr, "aquaform bench: say what to measure: aquaform bench sim (solver), aquaform bench render "
+                             "(surface reconstruction) or aquaform bench control (mesh control)\n");
         return kExitUsage;
     }
-    const bool render = args->positional[0] == "render";
-    if (!only_flags_of(*args, render ? bench_render_flags() : bench_sim_flags(), args->positional[0], &error))
-        return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
+    const bool render = which == "render";
+    const FlagSpec spec = render ? bench_render_flags() : which == "control" ? bench_control_flags() : bench_sim_flags();
+    if (!only_flags_of(*args, spec, which, &error)) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     if (render) return bench_render(*args);
+    if (which == "control") return bench_control(*args);
     std::vector<uint32_t> sizes = parse_sizes(args->value("--sizes", "16384,32768,65536,131072,262144"), &error);
     auto iterations = parse_positive("--iterations", args->value("--iterations", "4"), &error);
     auto steps = parse_positive("--steps", args->value("--steps", "4"), &error);
