@@ -17,6 +17,7 @@
 #include "gpu/timer.h"
 #include "render/impostor_view.h"
 #include "render/surface_renderer.h"
+#include "render/wireframe.h"
 #include "sim/particle_io.h"
 #include "sim/pbf_solver.h"
 
@@ -33,7 +34,7 @@ void on_interrupt(int) { g_interrupted = true; }
 int cmd_run(const std::vector<std::string>& argv) {
     std::string error;
     const FlagSpec spec = with_render_flags({{"--frames", "--out", "--device", "--ply-every", "--resolution"},
-                                             {"--no-png", "--preview", "--validation"}});
+                                             {"--no-png", "--preview", "--validation", "--wireframe"}});
     auto args = parse_args(argv, spec, "run", &error);
     if (!args) {
         std::fprintf(stderr, "%s\n", error.c_str());
@@ -144,6 +145,9 @@ int cmd_run(const std::vector<std::string>& argv) {
             Image image = view ? view->render(solver.positions(), solver.velocities(), solver.particle_count(), camera,
                                               style, scene.domain, scene.static_boxes)
                                : surface->render(solver.positions(), solver.particle_count(), camera, *settings).color;
+            if (driver && args->has("--wireframe"))
+                for (const control::Mesh& mesh : driver->active_meshes())
+                    draw_wireframe(image, mesh.vertices, mesh.faces, camera);
             char name[32];
             std::snprintf(name, sizeof name, "frame_%04u.png", frame);
             auto written = write_png(out_dir / name, image);

@@ -147,4 +147,10 @@ std::string ControlDriver::active_description() const {
     return s;
 }
 
+std::vector<Mesh> ControlDriver::active_meshes() const {
+    std::vector<Mesh> meshes;
+    for (const ActiveShape& s : active_) meshes.push_back(section_.meshes[s.mesh].animation.mesh_at(last_t_));
+    return meshes;
+}
+
 }  // namespace aquaform::control

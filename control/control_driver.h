@@ -31,6 +31,8 @@ public:
     /// "ball (1.00), torus (0.40)" or "none".
     std::string active_description() const;
     const std::vector<ActiveShape>& active() const { return active_; }
+    /// The active shapes' meshes in scene coordinates at the last update (for overlays).
+    std::vector<Mesh> active_meshes() const;
     /// Wall time of the last update [ms] and its points.
     double update_ms() const { return update_ms_; }
     const ControlSection& section() const { return section_; }

@@ -73,13 +73,12 @@ shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const Scene&
                                           const ViewCamera& camera, uint32_t width, uint32_t height,
                                           uint32_t particle_count) {
     shader::SurfaceParams p{};
-    const glm::mat3 axes = camera_axes(camera);
-    const float tan_y = std::tan(glm::radians(camera.fov_y_degrees) * 0.5f);
-    const float tan_x = tan_y * float(width) / float(height);
-    p.eye = with_w(camera.eye, 0.0f);
-    p.forward = with_w(axes[2], tan_x);
-    p.right = with_w(axes[0], tan_y);
-    p.up = with_w(axes[1], 0.0f);
+    const CameraBlock view = camera_block(camera, width, height);
+    const float tan_y = view.right.w;
+    p.eye = view.eye;
+    p.forward = view.forward;
+    p.right = view.right;
+    p.up = view.up;
     p.screen = {width, height, ceil_div(width, SURFACE_TILE), ceil_div(height, SURFACE_TILE)};
 
     p.grid_origin_cell = with_w(grid.origin, grid.cell_size);
@@ -146,10 +145,16 @@ shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const Scene&
     p.xiao_k = s.xiao_k;
     p.smooth_radius_px = s.smooth_radius_px;
 
-    p.light_dir = with_w(glm::normalize(glm::vec3(-0.4f, 0.8f, 0.45f)), 64.0f);
-    // Absorption per metre of water-like blue-green; ior of water.
-    p.fluid_color = glm::vec4(8.0f, 2.5f, 1.2f, 1.33f);
+    p.light_dir = kLightDirection;
+    p.fluid_color = kFluidOptics;
     return p;
+}
+
+CameraBlock camera_block(const ViewCamera& camera, uint32_t width, uint32_t height) {
+    const glm::mat3 axes = camera_axes(camera);
+    const float tan_y = std::tan(glm::radians(camera.fov_y_degrees) * 0.5f);
+    const float tan_x = tan_y * float(width) / float(height);
+    return {with_w(camera.eye, 0.0f), with_w(axes[2], tan_x), with_w(axes[0], tan_y), with_w(axes[1], 0.0f)};
 }
 
 }  // namespace aquaform

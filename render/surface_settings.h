@@ -89,6 +89,18 @@ float render_radius(const SurfaceSettings& settings, const Scene& scene);
 /// The render grid: cells of size r over the scene's domain.
 Result<GridGeometry> render_grid(const SurfaceSettings& settings, const Scene& scene);
 
+/// The pinhole camera as every renderer's shaders take it (shared/surface_layout.h): eye,
+/// forward (w: tan(fov_x / 2)), right (w: tan(fov_y / 2)), up.
+struct CameraBlock {
+    glm::vec4 eye, forward, right, up;
+};
+CameraBlock camera_block(const ViewCamera& camera, uint32_t width, uint32_t height);
+
+/// Lighting every renderer shares: unit direction towards the light (w: specular exponent), and
+/// the fluid's optics: absorption per metre of a water-like blue-green (xyz) and water's ior (w).
+inline const glm::vec4 kLightDirection{glm::normalize(glm::vec3(-0.4f, 0.8f, 0.45f)), 64.0f};
+inline const glm::vec4 kFluidOptics{8.0f, 2.5f, 1.2f, 1.33f};
+
 /// The GPU parameter block for one frame.
 shader::SurfaceParams make_surface_params(const SurfaceSettings& settings, const Scene& scene,
                                           const GridGeometry& grid, const ViewCamera& camera, uint32_t width,

@@ -65,32 +65,15 @@ NeighborGrid::NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const Gri
         list_cell_ = &buffers.add(prefix + ".list_cell", uint64_t(max_particles) * 4);
         masks_ = &buffers.add(prefix + ".neighbor_masks", uint64_t(max_particles) * NEIGHBOR_MASK_WORDS * 4);
     }
-    for (uint32_t n = cells + 1, level = 1; n > 1; ++level) {
-        n = (n + GRID_SCAN_BLOCK - 1) / GRID_SCAN_BLOCK;
-        scan_levels_.push_back(&buffers.add(prefix + ".scan_sums" + std::to_string(level), uint64_t(n) * 4));
-    }
+    scan_ = gpu::PrefixSum(ctx, buffers, cells + 1, prefix);
     auto rank = morton_rank_table(geometry);
     gpu::upload(ctx, *cell_rank_, rank.data(), rank.size() * 4);
 
     using shader::GridPush;
-    using shader::ScanPush;
     count_pass_ = gpu::ComputePass(ctx, {"sim/grid_count.comp", 5, sizeof(GridPush)});
     scatter_pass_ = gpu::ComputePass(ctx, {"sim/grid_scatter.comp", 4, sizeof(GridPush)});
-    scan_blocks_pass_ = gpu::ComputePass(ctx, {"sim/scan_blocks.comp", 2, sizeof(ScanPush), GRID_SCAN_WORKGROUP});
-    scan_add_pass_ = gpu::ComputePass(ctx, {"sim/scan_add.comp", 2, sizeof(ScanPush)});
     if (with_neighbor_masks)
         masks_pass_ = gpu::ComputePass(ctx, {"sim/neighbor_masks.comp", 5, sizeof(shader::NeighborMaskPush)});
-}
-
-void NeighborGrid::record_scan(VkCommandBuffer cmd, uint32_t level, gpu::Buffer& data, uint32_t count) {
-    const uint32_t blocks = (count + GRID_SCAN_BLOCK - 1) / GRID_SCAN_BLOCK;
-    gpu::Buffer& sums = *scan_levels_[level];
-    shader::ScanPush push{count};
-    gpu::dispatch(*ctx_, cmd, scan_blocks_pass_, blocks * GRID_SCAN_WORKGROUP, push, {&data, &sums});
-    if (blocks > 1) {
-        record_scan(cmd, level + 1, sums, blocks);
-        gpu::dispatch(*ctx_, cmd, scan_add_pass_, count, push, {&data, &sums});
-    }
 }
 
 void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
@@ -104,7 +87,7 @@ void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint
     }
     {
         gpu::GpuScope scope(timer, cmd, "grid_scan");
-        record_scan(cmd, 0, *cell_start_, geometry_.cell_count() + 1);
+        scan_.record(cmd, *cell_start_, geometry_.cell_count() + 1);
     }
     {
         gpu::GpuScope scope(timer, cmd, "grid_scatter");

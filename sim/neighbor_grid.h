@@ -13,6 +13,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
+#include "gpu/prefix_sum.h"
 #include "shaders/shared/grid_layout.h"
 #include "sim/result.h"
 
@@ -77,7 +78,6 @@ public:
     const gpu::Buffer& keys() const { return *keys_; }
 
 private:
-    void record_scan(VkCommandBuffer cmd, uint32_t level, gpu::Buffer& data, uint32_t count);
     void check_radius(float radius) const;
 
     gpu::Context* ctx_;
@@ -89,11 +89,9 @@ private:
     gpu::Buffer* order_;
     gpu::Buffer* list_cell_ = nullptr;
     gpu::Buffer* masks_ = nullptr;
-    std::vector<gpu::Buffer*> scan_levels_;  // block sums of each scan level
+    gpu::PrefixSum scan_;
     gpu::ComputePass count_pass_;
     gpu::ComputePass scatter_pass_;
-    gpu::ComputePass scan_blocks_pass_;
-    gpu::ComputePass scan_add_pass_;
     gpu::ComputePass masks_pass_;
     gpu::ComputePass list_pass_;  // created on first use
 };

@@ -4,6 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gpu/buffer.h"
 #include "gpu/context.h"
 
 namespace aquaform::testing {
@@ -18,6 +24,21 @@ protected:
 
 private:
     uint32_t errors_at_start_ = 0;
+};
+
+/// A device buffer holding `positions` (vec4), freed with the object.
+struct DeviceParticles {
+    gpu::Context* ctx;
+    gpu::Buffer buffer;
+    uint32_t count;
+    DeviceParticles(gpu::Context& c, const std::vector<glm::vec4>& positions)
+        : ctx(&c), count(uint32_t(positions.size())) {
+        buffer = gpu::create_buffer(c, "test positions", std::max<size_t>(positions.size(), 1) * sizeof(glm::vec4));
+        if (!positions.empty()) gpu::upload(c, buffer, positions.data(), positions.size() * sizeof(glm::vec4));
+    }
+    ~DeviceParticles() { gpu::destroy_buffer(*ctx, buffer); }
+    DeviceParticles(const DeviceParticles&) = delete;
+    DeviceParticles& operator=(const DeviceParticles&) = delete;
 };
 
 }  // namespace aquaform::testing

@@ -31,18 +31,7 @@ Scene scene_with(const Box& domain, float spacing) {
     return scene;
 }
 
-/// A device buffer holding `positions`, freed with the object.
-struct Particles {
-    gpu::Context* ctx;
-    gpu::Buffer buffer;
-    uint32_t count;
-    Particles(gpu::Context& c, const std::vector<glm::vec4>& positions)
-        : ctx(&c), count(uint32_t(positions.size())) {
-        buffer = gpu::create_buffer(c, "test positions", std::max<size_t>(positions.size(), 1) * sizeof(glm::vec4));
-        if (!positions.empty()) gpu::upload(c, buffer, positions.data(), positions.size() * sizeof(glm::vec4));
-    }
-    ~Particles() { gpu::destroy_buffer(*ctx, buffer); }
-};
+using Particles = testing::DeviceParticles;
 
 /// Radius of a lone particle's iso-sphere for the renderer's current parameters.
 float lone_iso_radius(const shader::SurfaceParams& p) {

@@ -2,26 +2,7 @@
 // Include after declaring `params` (SurfaceParams), and, for the field, the buffers `sorted`
 // (vec4 positions in grid order), `cell_rank` and `cell_start`.
 
-uint pixel_index(uvec2 pixel) { return pixel.y * params.screen.x + pixel.x; }
-
-/// Unit direction of the ray through the centre of pixel (x, y), y down.
-vec3 pixel_ray(uvec2 pixel) {
-    float u = 2.0 * (float(pixel.x) + 0.5) / float(params.screen.x) - 1.0;
-    float v = 2.0 * (float(pixel.y) + 0.5) / float(params.screen.y) - 1.0;
-    return normalize(params.forward.xyz + u * params.forward.w * params.right.xyz - v * params.right.w * params.up.xyz);
-}
-
-/// Ray parameter t (distance along the unit ray) of an eye depth (distance along forward).
-float depth_to_t(float depth, vec3 dir) { return depth / dot(dir, params.forward.xyz); }
-
-/// Near and far t of the ray's passage through the box [lo, hi]; near > far when it misses.
-vec2 box_span(vec3 lo, vec3 hi, vec3 origin, vec3 inv_dir) {
-    vec3 a = (lo - origin) * inv_dir;
-    vec3 b = (hi - origin) * inv_dir;
-    vec3 near3 = min(a, b);
-    vec3 far3 = max(a, b);
-    return vec2(max(max(near3.x, near3.y), near3.z), min(min(far3.x, far3.y), far3.z));
-}
+#include "common/camera.glsl"
 
 vec3 grid_min() { return params.grid_origin_cell.xyz; }
 vec3 grid_max() { return params.grid_origin_cell.xyz + params.grid_origin_cell.w * vec3(params.grid_dims.xyz); }

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Exclusive prefix sum, down pass: adds each block's scanned offset to its elements.
-#include "shared/grid_layout.h"
+#include "shared/scan_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) buffer Data { uint data[]; };
@@ -11,5 +11,5 @@ layout(push_constant) uniform Push { ScanPush pc; };
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.count) return;
-    data[i] += block_sums[i / GRID_SCAN_BLOCK];
+    data[i] += block_sums[i / SCAN_BLOCK];
 }

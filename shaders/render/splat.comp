@@ -31,18 +31,9 @@ void main() {
     if (s >= params.particle_count) return;
     vec3 center = sorted[s].xyz;
     vec3 rel = center - params.eye.xyz;
-    float z = dot(rel, params.forward.xyz);
     float radius = params.sprite_radius;
-    // A sphere that reaches the eye plane has no finite projection; it is not drawn.
-    if (z - radius <= 1.0e-4 * radius) return;
-    // Conservative screen square: the sphere's silhouette lies within radius / (z - radius) of
-    // the centre's projection, in tangent units.
-    float extent = radius / (z - radius);
-    vec2 ndc = vec2(dot(rel, params.right.xyz) / (z * params.forward.w), -dot(rel, params.up.xyz) / (z * params.right.w));
-    vec2 half_px = vec2(extent / params.forward.w, extent / params.right.w) * 0.5 * vec2(params.screen.xy);
-    vec2 center_px = (ndc * 0.5 + 0.5) * vec2(params.screen.xy) - 0.5;
-    ivec2 lo = max(ivec2(floor(center_px - half_px)), ivec2(0));
-    ivec2 hi = min(ivec2(ceil(center_px + half_px)), ivec2(params.screen.xy) - 1);
+    ivec2 lo, hi;
+    if (!sphere_screen_rect(center, radius, lo, hi)) return;
 
     bool is_aggregate = aggregate[s] != 0u;
     float rel2 = dot(rel, rel);

@@ -11,10 +11,6 @@
 #define AQUAFORM_GRID_LAYOUT_H
 #include "compat.h"
 
-#define GRID_SCAN_WORKGROUP 256
-#define GRID_SCAN_PER_THREAD 4
-#define GRID_SCAN_BLOCK (GRID_SCAN_WORKGROUP * GRID_SCAN_PER_THREAD)
-
 // Neighbour masks: for particles sorted in the grid's order, which particles of each of the 27
 // surrounding cells are neighbours, one bit each (16 bits per cell, two cells per word). A
 // cell with more than 16 particles (twice the rest density) marks its first 16 and lists the
@@ -30,13 +26,6 @@ struct GridPush {
     vec4 origin_cell;  ///< xyz: grid origin [m]; w: cell size [m]
     uvec4 dims;        ///< xyz: cells per axis; w: number of cells
     uint count;        ///< particles
-    uint pad0;
-    uint pad1;
-    uint pad2;
-};
-
-struct ScanPush {
-    uint count;  ///< elements to scan at this level
     uint pad0;
     uint pad1;
     uint pad2;
@@ -79,7 +68,6 @@ AF_END
 
 #ifdef __cplusplus
 static_assert(sizeof(aquaform::shader::GridPush) == 48);
-static_assert(sizeof(aquaform::shader::ScanPush) == 16);
 static_assert(sizeof(aquaform::shader::NeighborListPush) == 64);
 static_assert(sizeof(aquaform::shader::NeighborMaskPush) == 64);
 #endif

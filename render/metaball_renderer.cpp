@@ -1,0 +1,283 @@
+#include "render/metaball_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+#include <stdexcept>
+
+#include "gpu/context.h"
+#include "gpu/timer.h"
+#include "render/surface_settings.h"
+
+namespace aquaform {
+
+namespace {
+
+using shader::MetaballCounters;
+using shader::MetaballPush;
+
+template <typename T>
+Result<bool> out_of_range(const char* name, T value, const char* range) {
+    std::ostringstream text;
+    text << "metaball setting " << name << " = " << value << " is out of range; use " << range;
+    return Error{text.str()};
+}
+
+MetaballPush mode_push(uint32_t mode) {
+    MetaballPush push{};
+    push.mode = mode;
+    return push;
+}
+
+uint32_t method_code(MetaballMethod method) {
+    switch (method) {
+    case MetaballMethod::brute_force: return METABALL_BRUTE_FORCE;
+    case MetaballMethod::a_buffer: return METABALL_A_BUFFER;
+    case MetaballMethod::s_buffer: return METABALL_S_BUFFER;
+    }
+    return METABALL_BRUTE_FORCE;
+}
+
+std::string mib(uint64_t bytes) {
+    std::ostringstream text;
+    text.precision(1);
+    text << std::fixed << double(bytes) / (1024.0 * 1024.0) << " MiB";
+    return text.str();
+}
+
+}  // namespace
+
+const char* method_name(MetaballMethod method) {
+    switch (method) {
+    case MetaballMethod::brute_force: return "brute";
+    case MetaballMethod::a_buffer: return "abuffer";
+    case MetaballMethod::s_buffer: return "sbuffer";
+    }
+    return "?";
+}
+
+Result<MetaballMethod> parse_metaball_method(const std::string& text) {
+    for (MetaballMethod m : {MetaballMethod::brute_force, MetaballMethod::a_buffer, MetaballMethod::s_buffer})
+        if (text == method_name(m)) return m;
+    return Error{"unknown metaball method '" + text + "'; use brute, abuffer or sbuffer"};
+}
+
+const char* visual_name(MetaballVisual visual) { return visual == MetaballVisual::gradient ? "gradient" : "real"; }
+
+Result<MetaballVisual> parse_visual(const std::string& text) {
+    for (MetaballVisual v : {MetaballVisual::gradient, MetaballVisual::real})
+        if (text == visual_name(v)) return v;
+    return Error{"unknown metaball visual '" + text + "'; use gradient (normal colours) or real (reflection and refraction)"};
+}
+
+Result<bool> validate(const MetaballSettings& s) {
+    if (!(s.size >= 0.5f && s.size <= 8.0f)) return out_of_range("size", s.size, "0.5..8 particle spacings");
+    if (!(s.iso > 0.0f && s.iso < 1.0f)) return out_of_range("iso", s.iso, "0 < iso < 1 (a lone ball's peak is 1)");
+    if (!(s.step_radii >= 0.01f && s.step_radii <= 4.0f)) return out_of_range("step", s.step_radii, "0.01..4 particle radii");
+    if (s.max_steps < 1 || s.max_steps > 1000000) return out_of_range("max_steps", s.max_steps, "1..1000000");
+    if (s.bisection_steps > 32) return out_of_range("bisection_steps", s.bisection_steps, "0..32");
+    if (s.recursion_depth < 1 || s.recursion_depth > METABALL_MAX_DEPTH)
+        return out_of_range("recursion_depth", s.recursion_depth, "1..4");
+    return true;
+}
+
+float metaball_radius(const MetaballSettings& settings, const Scene& scene) {
+    return settings.size * scene.particle_spacing;
+}
+
+uint32_t list_entry_bytes(MetaballMethod method) {
+    return method == MetaballMethod::a_buffer ? 8u : 4u;
+}
+
+std::string MetaballStats::describe() const {
+    std::ostringstream text;
+    if (list_capacity == 0) {
+        text << "brute force: no lists";
+        return text.str();
+    }
+    text << list_entries << " list entries of " << list_capacity;
+    if (overflow)
+        text << ": OVERFLOW, the lists were cut short; this frame needs " << mib(list_bytes_needed)
+             << " of list memory (give the renderer at least that, or make the metaballs smaller)";
+    return text.str();
+}
+
+MetaballRenderer::MetaballRenderer(gpu::Context& ctx, const Scene& scene, uint32_t width, uint32_t height,
+                                   uint32_t max_particles, uint64_t list_bytes)
+    : ctx_(&ctx), scene_(scene), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
+      buffers_(ctx) {
+    if (width < 16 || height < 16 || width > 8192 || height > 8192)
+        throw std::invalid_argument("metaball renderer: resolution " + std::to_string(width) + "x" +
+                                    std::to_string(height) + " is outside 16..8192 per axis");
+    const uint64_t pixels = uint64_t(width) * height;
+    list_bytes_ = list_bytes ? list_bytes : pixels * kDefaultListBytesPerPixel;
+    list_bytes_ = std::max<uint64_t>(list_bytes_ / 8 * 8, 8);
+    // The counters and node indices are 32-bit.
+    if (list_bytes_ / 4 >= METABALL_NIL)
+        throw std::invalid_argument("metaball renderer: " + mib(list_bytes_) +
+                                    " of list memory is more than 32-bit entry indices address; use less than 16 GiB");
+    params_buf_ = &buffers_.add("metaball.params", sizeof(shader::MetaballParams), gpu::MemoryUse::host);
+    counters_ = &buffers_.add("metaball.counters", sizeof(MetaballCounters));
+    heads_ = &buffers_.add("metaball.heads", pixels * 4);
+    entries_ = &buffers_.add("metaball.lists", list_bytes_);
+    offsets_ = &buffers_.add("metaball.offsets", (pixels + 1) * 4);
+    cursors_ = &buffers_.add("metaball.cursors", pixels * 4);
+    span_ = &buffers_.add("metaball.span", pixels * 8);
+    hit_ = &buffers_.add("metaball.hit", pixels * 16);
+    normal_ = &buffers_.add("metaball.normal", pixels * 16);
+    color_ = &buffers_.add("metaball.color", pixels * 4);
+    visits_ = &buffers_.add("metaball.visits", pixels * 4);
+    scan_ = gpu::PrefixSum(ctx, buffers_, uint32_t(pixels + 1), "metaball");
+
+    bounds_ = gpu::ComputePass(ctx, {"render/metaball_bounds.comp", 3, 0, METABALL_WORKGROUP});
+    lists_ = gpu::ComputePass(ctx, {"render/metaball_lists.comp", 9, sizeof(MetaballPush), METABALL_WORKGROUP});
+    march_ = gpu::ComputePass(ctx, {"render/metaball_march.comp", 12, 0, METABALL_WORKGROUP});
+}
+
+MetaballRenderer::~MetaballRenderer() = default;
+
+void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
+                              const ViewCamera& camera, const MetaballSettings& settings, gpu::GpuTimer* timer) {
+    if (auto valid = validate(settings); !valid) throw std::invalid_argument(valid.error());
+    if (count > max_particles_)
+        throw std::invalid_argument("metaball renderer: " + std::to_string(count) + " particles, but it was made for " +
+                                    std::to_string(max_particles_));
+    if (positions.size < uint64_t(count) * 16)
+        throw std::invalid_argument("metaball renderer: the positions buffer '" + positions.name +
+                                    "' holds fewer than " + std::to_string(count) + " vec4 positions");
+    if (!(glm::length(camera.target - camera.eye) > 0.0f))
+        throw std::invalid_argument("metaball renderer: the camera's eye and target coincide; move the eye away");
+
+    shader::MetaballParams& p = params_;
+    p = {};
+    const CameraBlock view = camera_block(camera, width_, height_);
+    p.eye = view.eye;
+    p.forward = view.forward;
+    p.right = view.right;
+    p.up = view.up;
+    p.screen = {width_, height_, 0u, 0u};
+    p.domain_min = glm::vec4(scene_.domain.min, 0.0f);
+    p.domain_max = glm::vec4(scene_.domain.max, 0.0f);
+    p.light_dir = kLightDirection;
+    p.fluid_color = kFluidOptics;
+    p.radius = metaball_radius(settings, scene_);
+    p.inv_radius2 = 1.0f / (p.radius * p.radius);
+    p.iso = settings.iso;
+    p.particle_radius = 0.5f * scene_.particle_spacing;
+    p.step = settings.step_radii * p.particle_radius;
+    p.max_steps = settings.max_steps;
+    p.refine_steps = settings.bisection_steps;
+    p.particle_count = count;
+    p.method = method_code(settings.method);
+    p.visual = settings.visual == MetaballVisual::gradient ? METABALL_GRADIENT : METABALL_REAL;
+    p.recursion_depth = settings.recursion_depth;
+    p.list_capacity = uint32_t(list_capacity(settings.method));
+    std::memcpy(params_buf_->mapped, &p, sizeof(p));
+
+    const uint32_t pixels = width_ * height_;
+    const uint32_t particles = std::max(count, 1u);
+    const std::initializer_list<const gpu::Buffer*> list_buffers{
+        params_buf_, &positions, counters_, heads_, entries_, offsets_, cursors_, entries_, span_};
+    {
+        gpu::GpuScope scope(timer, cmd, "metaball_bounds");
+        MetaballCounters init{};
+        init.bounds_min_x = init.bounds_min_y = init.bounds_min_z = 0xffffffffu;
+        vkCmdUpdateBuffer(cmd, counters_->buffer, 0, sizeof(init), &init);
+        gpu::compute_barrier(cmd);
+        gpu::dispatch(*ctx_, cmd, bounds_, particles, {params_buf_, &positions, counters_});
+    }
+    if (settings.method != MetaballMethod::brute_force) {
+        gpu::GpuScope scope(timer, cmd, "metaball_lists");
+        vkCmdFillBuffer(cmd, span_->buffer, 0, VK_WHOLE_SIZE, 0u);  // both keys 0: an empty list
+        gpu::compute_barrier(cmd);
+        if (settings.method == MetaballMethod::a_buffer) {
+            vkCmdFillBuffer(cmd, heads_->buffer, 0, VK_WHOLE_SIZE, METABALL_NIL);
+            gpu::compute_barrier(cmd);
+            gpu::dispatch(*ctx_, cmd, lists_, particles, mode_push(METABALL_LIST_A_INSERT), list_buffers);
+        } else {
+            vkCmdFillBuffer(cmd, offsets_->buffer, 0, VK_WHOLE_SIZE, 0u);
+            vkCmdFillBuffer(cmd, cursors_->buffer, 0, VK_WHOLE_SIZE, 0u);
+            gpu::compute_barrier(cmd);
+            gpu::dispatch(*ctx_, cmd, lists_, particles, mode_push(METABALL_LIST_S_COUNT), list_buffers);
+            scan_.record(cmd, *offsets_, pixels + 1);
+            gpu::dispatch(*ctx_, cmd, lists_, particles, mode_push(METABALL_LIST_S_FILL), list_buffers);
+        }
+    }
+    {
+        gpu::GpuScope scope(timer, cmd, "metaball_march");
+        gpu::dispatch(*ctx_, cmd, march_, pixels,
+                      {params_buf_, &positions, counters_, heads_, entries_, offsets_, entries_, span_, hit_, normal_,
+                       color_, visits_});
+    }
+    method_ = settings.method;
+}
+
+SurfaceFrame MetaballRenderer::render(const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
+                                      const MetaballSettings& settings, gpu::GpuTimer* timer) {
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
+        if (timer) timer->reset(cmd);
+        record(cmd, positions, count, camera, settings, timer);
+    });
+    if (timer) timer->collect();
+    return read_frame();
+}
+
+SurfaceFrame MetaballRenderer::read_frame() {
+    const size_t pixels = size_t(width_) * height_;
+    SurfaceFrame frame;
+    frame.width = width_;
+    frame.height = height_;
+    frame.hit = gpu::download_vector<glm::vec4>(*ctx_, *hit_, pixels);
+    frame.normal = gpu::download_vector<glm::vec4>(*ctx_, *normal_, pixels);
+    frame.color.width = width_;
+    frame.color.height = height_;
+    frame.color.rgba.resize(pixels * 4);
+    gpu::download(*ctx_, *color_, frame.color.rgba.data(), pixels * 4);
+    return frame;
+}
+
+MetaballStats MetaballRenderer::stats() {
+    const size_t pixels = size_t(width_) * height_;
+    MetaballStats s;
+    if (method_ == MetaballMethod::a_buffer) {
+        s.list_entries = gpu::download_vector<MetaballCounters>(*ctx_, *counters_, 1)[0].entries;
+    } else if (method_ == MetaballMethod::s_buffer) {
+        uint32_t total = 0;
+        gpu::download(*ctx_, *offsets_, &total, 4, pixels * 4);
+        s.list_entries = total;
+    }
+    if (method_ != MetaballMethod::brute_force) {
+        s.list_capacity = list_capacity(method_);
+        s.overflow = s.list_entries > s.list_capacity;
+        s.list_bytes_needed = s.list_entries * list_entry_bytes(method_);
+    }
+    for (uint32_t v : gpu::download_vector<uint32_t>(*ctx_, *visits_, pixels)) s.kernel_evaluations += v;
+    for (const glm::vec4& n : gpu::download_vector<glm::vec4>(*ctx_, *normal_, pixels))
+        s.field_evaluations += uint64_t(n.w);
+    return s;
+}
+
+std::vector<std::vector<uint32_t>> MetaballRenderer::pixel_lists() {
+    const size_t pixels = size_t(width_) * height_;
+    std::vector<std::vector<uint32_t>> lists(pixels);
+    if (method_ == MetaballMethod::a_buffer) {
+        const uint64_t used = std::min<uint64_t>(stats().list_entries, list_capacity(method_));
+        const auto heads = gpu::download_vector<uint32_t>(*ctx_, *heads_, pixels);
+        const auto nodes = gpu::download_vector<glm::uvec2>(*ctx_, *entries_, used);
+        for (size_t p = 0; p < pixels; ++p)
+            for (uint32_t at = heads[p]; at != METABALL_NIL && at < used; at = nodes[at].y) lists[p].push_back(nodes[at].x);
+    } else if (method_ == MetaballMethod::s_buffer) {
+        const auto offsets = gpu::download_vector<uint32_t>(*ctx_, *offsets_, pixels + 1);
+        const uint64_t used = std::min<uint64_t>(offsets[pixels], list_capacity(method_));
+        const auto ids = gpu::download_vector<uint32_t>(*ctx_, *entries_, used);
+        for (size_t p = 0; p < pixels; ++p)
+            for (uint64_t k = offsets[p]; k < std::min<uint64_t>(offsets[p + 1], used); ++k) lists[p].push_back(ids[k]);
+    }
+    for (auto& list : lists) std::sort(list.begin(), list.end());
+    return lists;
+}
+
+std::vector<gpu::BufferReport> MetaballRenderer::memory_report() const { return buffers_.report(); }
+
+}  // namespace aquaform

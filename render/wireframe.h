@@ -1,0 +1,28 @@
+// A mesh's edges drawn over a rendered image, in the ray marchers' pinhole camera (the one of
+// shared/surface_layout.h), so that a control mesh can be compared with the fluid it shapes.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "render/image_io.h"
+#include "render/impostor_view.h"
+
+namespace aquaform {
+
+struct WireframeStyle {
+    std::array<uint8_t, 3> colour{255, 140, 40};
+    float opacity = 0.9f;           ///< silhouette and border edges
+    float interior_opacity = 0.3f;  ///< every other edge
+};
+
+/// Draws the edges of the triangles `faces` (indices into `vertices`, world space; faces with an
+/// index out of range are skipped), clipped to the part in front of the eye: silhouette edges
+/// solid, the others faint. Edges wholly behind the eye or off screen draw nothing.
+void draw_wireframe(Image& image, const std::vector<glm::vec3>& vertices, const std::vector<glm::uvec3>& faces,
+                    const ViewCamera& camera, const WireframeStyle& style = {});
+
+}  // namespace aquaform

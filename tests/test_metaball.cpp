@@ -1,0 +1,281 @@
+// Metaball ray marching (Karpati et al. 3.4): the A-buffer and S-buffer lists hold exactly the
+// particles whose billboards cover each pixel (a CPU reference of the rule), the three methods
+// find the same surface, a lone ball is the analytic sphere of half its range, overflowing lists
+// are reported with what they need, and the recursive visual stays finite and costs more per level.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iterator>
+#include <cstdint>
+#include <vector>
+
+#include "render/metaball_renderer.h"
+#include "render/surface_settings.h"
+#include "tests/gpu_test.h"
+
+namespace aquaform {
+namespace {
+
+class MetaballTest : public testing::GpuTest {};
+
+using Particles = testing::DeviceParticles;
+
+constexpr float kSpacing = 0.02f;
+
+Scene scene_with(const Box& domain) {
+    Scene scene;
+    scene.name = "metaball test";
+    scene.domain = domain;
+    scene.particle_spacing = kSpacing;
+    return scene;
+}
+
+/// A jittered block of fluid and a few droplets above it: lists of every length, empty pixels.
+std::vector<glm::vec4> block_and_droplets(uint32_t seed) {
+    std::vector<glm::vec4> out;
+    uint32_t state = seed;
+    auto next = [&] {
+        state = state * 1664525u + 1013904223u;
+        return float(state >> 8) / float(1u << 24) - 0.5f;
+    };
+    for (int z = 0; z < 6; ++z)
+        for (int y = 0; y < 5; ++y)
+            for (int x = 0; x < 8; ++x) {
+                glm::vec3 p = glm::vec3(0.1f, 0.02f, 0.1f) + kSpacing * glm::vec3(x, y, z);
+                p += 0.2f * kSpacing * glm::vec3(next(), next(), next());
+                out.emplace_back(p, 0.0f);
+            }
+    for (int i = 0; i < 12; ++i)
+        out.emplace_back(glm::vec3(0.15f, 0.2f, 0.15f) + 0.1f * glm::vec3(next(), next(), next()), 0.0f);
+    return out;
+}
+
+ViewCamera front_camera() {
+    ViewCamera camera;
+    camera.eye = {0.17f, 0.2f, 0.55f};
+    camera.target = {0.17f, 0.08f, 0.15f};
+    camera.fov_y_degrees = 40.0f;
+    return camera;
+}
+
+/// The billboard rule of shared/metaball_layout.h on the CPU: pixel rays within R of a centre.
+/// Particles within `margin` (relative) of the rule's boundary are returned in `ambiguous`.
+void cpu_lists(const std::vector<glm::vec4>& particles, const ViewCamera& camera, uint32_t w, uint32_t h, float radius,
+               std::vector<std::vector<uint32_t>>& lists, std::vector<std::vector<uint32_t>>& ambiguous) {
+    const CameraBlock view = camera_block(camera, w, h);
+    lists.assign(size_t(w) * h, {});
+    ambiguous.assign(size_t(w) * h, {});
+    for (uint32_t y = 0; y < h; ++y)
+        for (uint32_t x = 0; x < w; ++x) {
+            const float u = 2.0f * (float(x) + 0.5f) / float(w) - 1.0f;
+            const float v = 2.0f * (float(y) + 0.5f) / float(h) - 1.0f;
+            const glm::vec3 dir = glm::normalize(glm::vec3(view.forward) + u * view.forward.w * glm::vec3(view.right) -
+                                                 v * view.right.w * glm::vec3(view.up));
+            for (uint32_t id = 0; id < particles.size(); ++id) {
+                const glm::vec3 rel = glm::vec3(particles[id]) - camera.eye;
+                const float b = glm::dot(dir, rel);
+                const float miss2 = glm::dot(rel, rel) - b * b;  // squared distance of the ray from the centre
+                const float r2 = radius * radius;
+                if (std::abs(miss2 - r2) < 1e-3f * r2) ambiguous[y * w + x].push_back(id);
+                else if (miss2 < r2) lists[y * w + x].push_back(id);
+            }
+        }
+}
+
+TEST_F(MetaballTest, ListsHoldExactlyTheParticlesWhoseBillboardsCoverEachPixel) {
+    const Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.4f, 0.4f, 0.4f}});
+    const auto positions = block_and_droplets(7);
+    Particles particles(ctx(), positions);
+    const uint32_t w = 64, h = 48;
+    const ViewCamera camera = front_camera();
+    MetaballRenderer renderer(ctx(), scene, w, h, particles.count);
+    std::vector<std::vector<uint32_t>> expected, ambiguous;
+    cpu_lists(positions, camera, w, h, kSpacing, expected, ambiguous);
+    size_t total = 0, longest = 0;
+    for (const auto& list : expected) {
+        total += list.size();
+        longest = std::max(longest, list.size());
+    }
+    ASSERT_GT(longest, 20u) << "the block should give long lists";
+    for (MetaballMethod method : {MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
+        MetaballSettings settings;
+        settings.method = method;
+        renderer.render(particles.buffer, particles.count, camera, settings);
+        const auto lists = renderer.pixel_lists();
+        const MetaballStats stats = renderer.stats();
+        EXPECT_FALSE(stats.overflow) << method_name(method);
+        size_t ambiguous_taken = 0;
+        for (size_t p = 0; p < lists.size(); ++p) {
+            // Every GPU entry is expected or borderline; every expected one is there.
+            std::vector<uint32_t> extra;
+            std::set_difference(lists[p].begin(), lists[p].end(), expected[p].begin(), expected[p].end(),
+                                std::back_inserter(extra));
+            for (uint32_t id : extra)
+                ASSERT_NE(std::find(ambiguous[p].begin(), ambiguous[p].end(), id), ambiguous[p].end())
+                    << method_name(method) << ": pixel " << p << " lists particle " << id << " whose billboard misses it";
+            ambiguous_taken += extra.size();
+            ASSERT_TRUE(std::includes(lists[p].begin(), lists[p].end(), expected[p].begin(), expected[p].end()))
+                << method_name(method) << ": pixel " << p << " lacks a covering particle";
+        }
+        EXPECT_EQ(stats.list_entries, total + ambiguous_taken) << method_name(method);
+    }
+}
+
+TEST_F(MetaballTest, BruteForceAbufferAndSbufferFindTheSameSurface) {
+    const Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.4f, 0.4f, 0.4f}});
+    Particles particles(ctx(), block_and_droplets(11));
+    const uint32_t w = 64, h = 48;
+    MetaballRenderer renderer(ctx(), scene, w, h, particles.count);
+    std::vector<SurfaceFrame> frames;
+    std::vector<uint64_t> visits;
+    for (MetaballMethod method : {MetaballMethod::brute_force, MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
+        MetaballSettings settings;
+        settings.method = method;
+        frames.push_back(renderer.render(particles.buffer, particles.count, front_camera(), settings));
+        visits.push_back(renderer.stats().kernel_evaluations);
+    }
+    // Agreement per pixel: both miss, or both hit within `tolerance` of each other.
+    auto agreement = [&](const SurfaceFrame& a, const SurfaceFrame& b, float tolerance) {
+        size_t agree = 0;
+        for (size_t i = 0; i < a.hit.size(); ++i)
+            agree += a.has_surface(i) == b.has_surface(i) &&
+                     (!a.has_surface(i) || std::abs(a.hit[i].w - b.hit[i].w) <= tolerance);
+        return double(agree) / double(a.hit.size());
+    };
+    const float radius = 0.5f * kSpacing;
+    // A- and S-buffer march the same span with the same lists (in another order): the same hits.
+    EXPECT_GE(agreement(frames[1], frames[2], 1e-3f * radius), 0.999);
+    // Brute force starts at the particles' box, the lists at the nearest sphere: other sample
+    // positions, so hits may differ by one bisection interval (step / 8), and a ray grazing a
+    // droplet between two samples may catch it with one and not the other.
+    EXPECT_GE(agreement(frames[0], frames[1], radius / 8.0f + 1e-5f), 0.98);
+    EXPECT_GE(agreement(frames[0], frames[2], radius / 8.0f + 1e-5f), 0.98);
+    size_t hits = 0;
+    for (size_t i = 0; i < frames[0].hit.size(); ++i) hits += frames[0].has_surface(i);
+    EXPECT_GT(hits, size_t(w * h) / 8);
+    // The lists' point: far fewer particles visited than brute force.
+    EXPECT_LT(visits[1] * 4, visits[0]);
+    EXPECT_LT(visits[2] * 4, visits[0]);
+}
+
+TEST_F(MetaballTest, LoneBallIsASphereOfHalfItsRange) {
+    const Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.4f, 0.4f, 0.4f}});
+    const glm::vec3 centre{0.2f, 0.2f, 0.2f};
+    Particles particles(ctx(), {glm::vec4(centre, 0.0f)});
+    ViewCamera camera;
+    camera.eye = centre + glm::vec3(0.0f, 0.0f, 0.5f);
+    camera.target = centre;
+    camera.fov_y_degrees = 6.0f;
+    MetaballRenderer renderer(ctx(), scene, 64, 64, 1);
+    for (MetaballMethod method : {MetaballMethod::brute_force, MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
+        for (float size : {1.0f, 2.0f}) {
+            MetaballSettings settings;
+            settings.method = method;
+            settings.size = size;
+            settings.bisection_steps = 8;
+            const SurfaceFrame frame = renderer.render(particles.buffer, particles.count, camera, settings);
+            const float expected = 0.5f * metaball_radius(settings, scene);
+            const float tolerance = renderer.params().step / 256.0f + 1e-5f;
+            size_t hits = 0;
+            for (size_t i = 0; i < frame.hit.size(); ++i) {
+                if (!frame.has_surface(i)) continue;
+                ++hits;
+                ASSERT_NEAR(glm::length(glm::vec3(frame.hit[i]) - centre), expected, tolerance)
+                    << method_name(method) << " size " << size;
+                // The outward normal of a sphere points away from its centre.
+                ASSERT_GT(glm::dot(glm::vec3(frame.normal[i]), glm::normalize(glm::vec3(frame.hit[i]) - centre)), 0.999f);
+            }
+            const float pixel = 2.0f * 0.5f * std::tan(glm::radians(3.0f)) / 64.0f;
+            const float area = 3.14159f * expected * expected / (pixel * pixel);
+            EXPECT_NEAR(float(hits), area, 0.1f * area) << method_name(method) << " size " << size;
+        }
+    }
+}
+
+TEST_F(MetaballTest, ListOverflowIsDetectedAndReportedWithTheMemoryItNeeds) {
+    const Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.4f, 0.4f, 0.4f}});
+    const auto positions = block_and_droplets(3);
+    Particles particles(ctx(), positions);
+    const uint32_t w = 64, h = 48;
+    const uint64_t small_bytes = 4096;  // 512 nodes or 1024 ids: far too few for this frame
+    MetaballRenderer renderer(ctx(), scene, w, h, particles.count, small_bytes);
+    MetaballRenderer roomy(ctx(), scene, w, h, particles.count);
+    for (MetaballMethod method : {MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
+        MetaballSettings settings;
+        settings.method = method;
+        roomy.render(particles.buffer, particles.count, front_camera(), settings);
+        const MetaballStats full = roomy.stats();
+        ASSERT_FALSE(full.overflow);
+        renderer.render(particles.buffer, particles.count, front_camera(), settings);
+        const MetaballStats stats = renderer.stats();
+        EXPECT_TRUE(stats.overflow) << method_name(method);
+        EXPECT_EQ(stats.list_capacity, small_bytes / list_entry_bytes(method));
+        // The count is exact even though the entries past the capacity were not stored.
+        EXPECT_EQ(stats.list_entries, full.list_entries) << method_name(method);
+        EXPECT_EQ(stats.list_bytes_needed, full.list_entries * list_entry_bytes(method));
+        EXPECT_NE(stats.describe().find("OVERFLOW"), std::string::npos) << stats.describe();
+        EXPECT_NE(stats.describe().find("MiB"), std::string::npos) << stats.describe();
+        size_t kept = 0;
+        for (const auto& list : renderer.pixel_lists()) kept += list.size();
+        EXPECT_LE(kept, stats.list_capacity) << method_name(method);
+        EXPECT_GT(kept, 0u) << method_name(method);
+    }
+}
+
+TEST_F(MetaballTest, RealVisualStaysFiniteAndDeeperRecursionCostsMore) {
+    const Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.4f, 0.4f, 0.4f}});
+    Particles particles(ctx(), block_and_droplets(5));
+    MetaballRenderer renderer(ctx(), scene, 48, 36, particles.count);
+    std::vector<uint64_t> evaluations;
+    std::vector<Image> images;
+    for (uint32_t depth : {1u, 2u, 4u}) {
+        MetaballSettings settings;
+        settings.visual = MetaballVisual::real;
+        settings.recursion_depth = depth;
+        const SurfaceFrame frame = renderer.render(particles.buffer, particles.count, front_camera(), settings);
+        for (const auto& n : frame.normal) ASSERT_TRUE(std::isfinite(n.x) && std::isfinite(n.w));
+        evaluations.push_back(renderer.stats().field_evaluations);
+        images.push_back(frame.color);
+    }
+    EXPECT_GT(evaluations[1], evaluations[0]);
+    EXPECT_GT(evaluations[2], evaluations[1]);
+    EXPECT_NE(images[0].rgba, images[1].rgba) << "a second bounce should change the picture";
+    // A gradient image of the same frame differs from the real one (a different visual).
+    MetaballSettings gradient;
+    const SurfaceFrame g = renderer.render(particles.buffer, particles.count, front_camera(), gradient);
+    EXPECT_NE(g.color.rgba, images[0].rgba);
+}
+
+TEST_F(MetaballTest, EmptyFrameHasNoSurface) {
+    const Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.4f, 0.4f, 0.4f}});
+    Particles particles(ctx(), {});
+    MetaballRenderer renderer(ctx(), scene, 32, 32, 16);
+    for (MetaballMethod method : {MetaballMethod::brute_force, MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
+        MetaballSettings settings;
+        settings.method = method;
+        const SurfaceFrame frame = renderer.render(particles.buffer, 0, front_camera(), settings);
+        for (size_t i = 0; i < frame.hit.size(); ++i) ASSERT_FALSE(frame.has_surface(i)) << method_name(method);
+        EXPECT_EQ(renderer.stats().list_entries, 0u);
+    }
+}
+
+TEST(MetaballSettingsTest, ValidationNamesTheSettingAndTheRange) {
+    MetaballSettings s;
+    EXPECT_TRUE(validate(s).ok());
+    s.recursion_depth = 5;
+    auto r = validate(s);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().find("recursion_depth"), std::string::npos) << r.error();
+    EXPECT_NE(r.error().find("1..4"), std::string::npos) << r.error();
+    s = {};
+    s.iso = 1.5f;
+    EXPECT_NE(validate(s).error().find("iso"), std::string::npos);
+    EXPECT_FALSE(parse_metaball_method("octree").ok());
+    EXPECT_NE(parse_metaball_method("octree").error().find("sbuffer"), std::string::npos);
+    EXPECT_EQ(parse_metaball_method("abuffer").value(), MetaballMethod::a_buffer);
+    EXPECT_EQ(parse_visual("real").value(), MetaballVisual::real);
+}
+
+}  // namespace
+}  // namespace aquaform
