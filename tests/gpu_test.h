@@ -11,6 +11,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/context.h"
+#include "sim/scene.h"
 
 namespace aquaform::testing {
 
@@ -25,6 +26,15 @@ protected:
 private:
     uint32_t errors_at_start_ = 0;
 };
+
+/// A scene of the given domain and spacing for tests that supply their own particles.
+inline Scene scene_with(const Box& domain, float spacing) {
+    Scene scene;
+    scene.name = "test";
+    scene.domain = domain;
+    scene.particle_spacing = spacing;
+    return scene;
+}
 
 /// A device buffer holding `positions` (vec4), freed with the object.
 struct DeviceParticles {

@@ -23,13 +23,7 @@ using Particles = testing::DeviceParticles;
 
 constexpr float kSpacing = 0.02f;
 
-Scene scene_with(const Box& domain) {
-    Scene scene;
-    scene.name = "metaball test";
-    scene.domain = domain;
-    scene.particle_spacing = kSpacing;
-    return scene;
-}
+Scene scene_with(const Box& domain) { return testing::scene_with(domain, kSpacing); }
 
 /// A jittered block of fluid and a few droplets above it: lists of every length, empty pixels.
 std::vector<glm::vec4> block_and_droplets(uint32_t seed) {

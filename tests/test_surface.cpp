@@ -23,13 +23,7 @@ namespace {
 class SurfaceTest : public testing::GpuTest {};
 
 /// A host-built scene around the given domain (particles are supplied by the test).
-Scene scene_with(const Box& domain, float spacing) {
-    Scene scene;
-    scene.name = "test";
-    scene.domain = domain;
-    scene.particle_spacing = spacing;
-    return scene;
-}
+using testing::scene_with;
 
 using Particles = testing::DeviceParticles;
 
