@@ -173,5 +173,27 @@ TEST(PbfWalls, WallCompletesTheDensityOfALatticeParticleAtTheFloor) {
     EXPECT_NEAR(dw, wall.y, 2e-2f * std::abs(wall.y));
 }
 
+TEST(PbfWalls, StaticBoxAcrossTheDepthPushesOutSidewaysNeverThroughAWall) {
+    // small_splash_scene's box spans the whole depth (z 0..0.2) and stands on the floor.
+    Scene scene = small_splash_scene();
+    auto grid = grid_for_domain(scene.domain.min, scene.domain.max, 2.0f * scene.particle_spacing);
+    ASSERT_TRUE(grid.ok());
+    const shader::SimParams p = make_sim_params(scene, grid.value(), 1);
+    const float m = p.domain_min.w;
+    const Box& box = scene.static_boxes[0];
+    // Inside the box, nearest to the back wall (z = 0), then to the floor: the exits are the box's
+    // sides and top.
+    for (const glm::vec3 start : {glm::vec3(0.28f, 0.03f, 0.001f), glm::vec3(0.28f, 0.001f, 0.199f)}) {
+        const glm::vec3 out = shader::pbf_collide(start, p);
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_GE(out[a], scene.domain.min[a] + m - 1e-6f) << "axis " << a;
+            EXPECT_LE(out[a], scene.domain.max[a] - m + 1e-6f) << "axis " << a;
+        }
+        const bool inside_box = out.x > box.min.x - m && out.x < box.max.x + m && out.y < box.max.y + m;
+        EXPECT_FALSE(inside_box) << out.x << " " << out.y << " " << out.z;
+        EXPECT_FLOAT_EQ(out.z, glm::clamp(start.z, m, scene.domain.max.z - m)) << "leaves sideways, not through the wall";
+    }
+}
+
 }  // namespace
 }  // namespace aquaform

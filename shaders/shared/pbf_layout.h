@@ -82,11 +82,14 @@ AF_FN vec3 pbf_collide(vec3 p, SimParams params) {
         vec3 bmin = vec3(params.box_min[b]) - vec3(m);
         vec3 bmax = vec3(params.box_max[b]) + vec3(m);
         if (p.x > bmin.x && p.x < bmax.x && p.y > bmin.y && p.y < bmax.y && p.z > bmin.z && p.z < bmax.z) {
-            // push out through the nearest face
-            float dx0 = p.x - bmin.x, dx1 = bmax.x - p.x;
-            float dy0 = p.y - bmin.y, dy1 = bmax.y - p.y;
-            float dz0 = p.z - bmin.z, dz1 = bmax.z - p.z;
+            // Push out through the nearest face that opens into the domain: a box that reaches a
+            // wall (across the whole depth, say) has no way out on that side.
+            const float none = 1.0e30f;
+            float dx0 = bmin.x > lo.x ? p.x - bmin.x : none, dx1 = bmax.x < hi.x ? bmax.x - p.x : none;
+            float dy0 = bmin.y > lo.y ? p.y - bmin.y : none, dy1 = bmax.y < hi.y ? bmax.y - p.y : none;
+            float dz0 = bmin.z > lo.z ? p.z - bmin.z : none, dz1 = bmax.z < hi.z ? bmax.z - p.z : none;
             float best = min(min(min(dx0, dx1), min(dy0, dy1)), min(dz0, dz1));
+            if (best >= none) continue;  // the box fills the domain: nowhere to go
             if (best == dx0) p.x = bmin.x;
             else if (best == dx1) p.x = bmax.x;
             else if (best == dy0) p.y = bmin.y;
