@@ -28,6 +28,9 @@ const char* kUsage =
     "        reference.png, depth_error.png and render.json (timings, metrics against the reference)\n"
     "  control place MESH.obj [--method vertices|inside|raster] [--spacing S] [--out DIR] [--no-png]\n"
     "        check a mesh and place control points; writes points.ply, points.png and report.txt\n"
+    "  study SPEC.json [--out DIR] [--no-charts] [--device ...] [--validation]\n"
+    "        comparative study: scenes x methods x resolutions x particle counts on the same frames;\n"
+    "        writes study.csv, study_passes.csv, solver_map.csv, study.md and charts/ (default DIR out/study/NAME)\n"
     "  assets [--out DIR]\n        write the shipped meshes (default DIR assets/meshes): sphere, torus, letters, character + walk\n"
     "  info [--device NAME|INDEX]\n"
     "        list Vulkan devices and the one aquaform would use\n"
@@ -114,6 +117,7 @@ int run_main(int argc, char** argv) {
         if (command == "control") return cmd_control(rest);
         if (command == "assets") return cmd_assets(rest);
         if (command == "bench") return cmd_bench(rest);
+        if (command == "study") return cmd_study(rest);
         if (command == "help" || command == "--help" || command == "-h") {
             std::fputs(kUsage, stdout);
             std::fputs(render_flags_usage(), stdout);

@@ -1,5 +1,6 @@
 #include "apps/render_measure.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <limits>
 
@@ -27,16 +28,15 @@ bool simulate_frames(PbfSolver& solver, uint32_t frames, const std::string& labe
     return true;
 }
 
-RenderMeasurement measure_render(gpu::Context& ctx, SurfaceRenderer& renderer, const gpu::Buffer& positions,
-                                 uint32_t count, const ViewCamera& camera, const SurfaceSettings& settings,
-                                 uint32_t repeats) {
-    RenderMeasurement best;
+PassTimes time_best_of(gpu::Context& ctx, uint32_t repeats,
+                       const std::function<void(VkCommandBuffer, gpu::GpuTimer*)>& record) {
+    PassTimes best;
     best.ms_total = std::numeric_limits<double>::infinity();
     for (uint32_t run = 0; run < std::max(repeats, 1u); ++run) {
         gpu::GpuTimer timer(ctx);
         ctx.submit_and_wait([&](VkCommandBuffer cmd) {
             timer.reset(cmd);
-            renderer.record(cmd, positions, count, camera, settings, &timer);
+            record(cmd, &timer);
         });
         timer.collect();
         double total = 0.0;
@@ -46,6 +46,18 @@ RenderMeasurement measure_render(gpu::Context& ctx, SurfaceRenderer& renderer, c
             best.ms_per_pass = timer.totals_ms();
         }
     }
+    return best;
+}
+
+RenderMeasurement measure_render(gpu::Context& ctx, SurfaceRenderer& renderer, const gpu::Buffer& positions,
+                                 uint32_t count, const ViewCamera& camera, const SurfaceSettings& settings,
+                                 uint32_t repeats) {
+    const PassTimes times = time_best_of(ctx, repeats, [&](VkCommandBuffer cmd, gpu::GpuTimer* timer) {
+        renderer.record(cmd, positions, count, camera, settings, timer);
+    });
+    RenderMeasurement best;
+    best.ms_total = times.ms_total;
+    best.ms_per_pass = times.ms_per_pass;
     best.frame = renderer.read_frame();
     best.rays = renderer.rays_cast();
     return best;

@@ -2,6 +2,7 @@
 // `aquaform render` and `aquaform bench render`.
 #pragma once
 
+#include <functional>
 #include <map>
 #include <string>
 
@@ -16,6 +17,17 @@ namespace aquaform::cli {
 /// Advances the solver by `frames` frames with a progress bar; false (after printing why) when
 /// the run becomes unstable.
 bool simulate_frames(PbfSolver& solver, uint32_t frames, const std::string& label);
+
+/// GPU milliseconds of a recorded frame: per named scope, and their sum.
+struct PassTimes {
+    std::map<std::string, double> ms_per_pass;
+    double ms_total = 0.0;
+};
+
+/// Submits `record` `repeats` times (at least once; the first run also warms caches and
+/// pipelines) and keeps the run with the fastest total.
+PassTimes time_best_of(gpu::Context& ctx, uint32_t repeats,
+                       const std::function<void(VkCommandBuffer, gpu::GpuTimer*)>& record);
 
 struct RenderMeasurement {
     SurfaceFrame frame;

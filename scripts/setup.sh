@@ -11,7 +11,7 @@ packages=(
   libvulkan-dev vulkan-validationlayers mesa-vulkan-drivers vulkan-tools
   glslang-dev glslang-tools spirv-tools
   libglfw3-dev libglm-dev libtinyobjloader-dev libopenmesh-dev
-  libgtest-dev googletest nlohmann-json3-dev libstb-dev
+  libgtest-dev googletest nlohmann-json3-dev libstb-dev python3-matplotlib
 )
 
 missing=()

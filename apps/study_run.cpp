@@ -1,0 +1,535 @@
+#include "apps/study_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include "apps/bench_scenes.h"
+#include "apps/render_measure.h"
+#include "gpu/context.h"
+#include "gpu/timer.h"
+#include "render/image_io.h"
+#include "render/image_metrics.h"
+#include "render/metaball_renderer.h"
+#include "render/screen_space.h"
+#include "render/surface_renderer.h"
+#include "sim/pbf_solver.h"
+
+namespace aquaform::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The metaball reference: steps of 1/4 particle radius (4x finer than the default, so it misses
+/// no feature the methods find; lone balls are 2 radii across at size 1) and 16 bisections on
+/// exact lists. Finer steps cost 4x more for nothing the depth error can see: a step only
+/// decides which sign change is found first, the bisections place it.
+constexpr float kMetaballReferenceStepRadii = 0.25f;
+constexpr uint32_t kMetaballReferenceBisections = 16;
+/// The reference may grow its list memory to this much to hold a frame's lists without overflow.
+constexpr uint64_t kMaxReferenceListBytes = 4ull << 30;
+
+void progress(const std::string& line) {
+    std::fprintf(stderr, "study: %s\n", line.c_str());
+    std::fflush(stderr);
+}
+
+std::string resolution_text(uint32_t w, uint32_t h) { return std::to_string(w) + "x" + std::to_string(h); }
+
+ViewCamera study_camera(const StudyCamera& spec, const Scene& scene, float aspect) {
+    if (spec.preset == "custom") return spec.custom;
+    ViewCamera camera = camera_for_domain(scene.domain, aspect);
+    if (spec.preset == "far") camera.eye = camera.target + 2.0f * (camera.eye - camera.target);
+    if (spec.preset == "closeup") {
+        // Near the fluid's centre of the first block, a few spacings outside it: particles come
+        // within a metaball range of the eye, the case where billboards are dropped.
+        const Box block = scene.fluid_blocks.empty() ? scene.domain : scene.fluid_blocks.front();
+        const glm::vec3 centre = 0.5f * (block.min + block.max);
+        const glm::vec3 dir = glm::normalize(camera.eye - camera.target);
+        camera.target = centre;
+        camera.eye = centre + dir * (0.5f * glm::length(block.max - block.min));
+    }
+    return camera;
+}
+
+/// `frame` at width x height, each pixel taken from the nearest pixel of `low` (a frame rendered
+/// at a fraction of the resolution with the same camera): what showing it full-screen gives.
+SurfaceFrame upsample_nearest(const SurfaceFrame& low, uint32_t width, uint32_t height) {
+    SurfaceFrame out;
+    out.width = width;
+    out.height = height;
+    out.hit.resize(size_t(width) * height);
+    out.normal.resize(out.hit.size());
+    out.color.width = width;
+    out.color.height = height;
+    out.color.rgba.resize(out.hit.size() * 4);
+    for (uint32_t y = 0; y < height; ++y)
+        for (uint32_t x = 0; x < width; ++x) {
+            const uint32_t lx = std::min(low.width - 1, uint32_t(uint64_t(x) * low.width / width));
+            const uint32_t ly = std::min(low.height - 1, uint32_t(uint64_t(y) * low.height / height));
+            const size_t i = size_t(y) * width + x, j = size_t(ly) * low.width + lx;
+            out.hit[i] = low.hit[j];
+            out.normal[i] = low.normal[j];
+            std::copy_n(&low.color.rgba[j * 4], 4, &out.color.rgba[i * 4]);
+        }
+    return out;
+}
+
+/// Everything one (case, particle count) needs: the solver frame and, per resolution, renderers.
+class StudyFrame {
+public:
+    StudyFrame(gpu::Context& ctx, const StudyCase& c, Scene scene, uint32_t repeats, fs::path images_dir)
+        : ctx_(ctx), case_(c), scene_(std::move(scene)), repeats_(repeats), images_dir_(std::move(images_dir)) {}
+
+    bool simulate() {
+        solver_ = std::make_unique<PbfSolver>(ctx_, scene_);
+        const uint32_t frames = case_.time_s ? uint32_t(std::lround(*case_.time_s / scene_.solver.frame_dt))
+                                             : bench_half_tank_frame(scene_);
+        return simulate_frames(*solver_, frames, "study " + case_.name + ": simulating " +
+                                                     std::to_string(solver_->particle_count()) + " particles");
+    }
+    uint32_t particles() const { return solver_->particle_count(); }
+
+    void measure(uint32_t w, uint32_t h, std::vector<StudyRow>& rows) {
+        width_ = w;
+        height_ = h;
+        camera_ = study_camera(case_.camera, scene_, float(w) / float(h));
+        sph_reference_.reset();
+        metaball_references_.clear();
+        surface_.clear();
+        metaball_.reset();
+        roomy_metaball_.reset();
+        screen_space_.reset();
+        for (const StudyMethod& m : case_.methods) {
+            StudyRow row = base_row(m);
+            try {
+                const Image image = run(m, row);
+                if (!images_dir_.empty()) write_image(row, image);
+            } catch (const std::exception& e) {
+                row.status = std::string("failed: ") + e.what();
+            }
+            progress(case_.name + ", " + std::to_string(row.particles) + " particles, " + resolution_text(w, h) + ": " +
+                     row.method + ": " + (row.status == "ok" ? fmt_ms(row.ms_total) : row.status));
+            rows.push_back(std::move(row));
+        }
+    }
+
+private:
+    static std::string fmt_ms(double ms) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%.1f ms", ms);
+        return buf;
+    }
+
+    /// images/<case>_<particles>_<WxH>_<method>.png, named in the row.
+    void write_image(StudyRow& row, const Image& image) const {
+        std::string name = row.case_name + "_" + std::to_string(row.particles) + "_" + resolution_text(row.width, row.height) +
+                           "_" + row.method + ".png";
+        for (char& ch : name)
+            if (ch == ' ') ch = '_';
+        auto written = write_png(images_dir_ / name, image);
+        if (written) row.image = "images/" + name;
+        else progress("cannot write an image: " + written.error());
+    }
+
+    StudyRow base_row(const StudyMethod& m) const {
+        StudyRow row;
+        row.case_name = case_.name;
+        row.scene = scene_.name;
+        row.method = m.label();
+        row.config = m;
+        row.width = width_;
+        row.height = height_;
+        row.particles = particles();
+        return row;
+    }
+
+    static void compare(StudyRow& row, const SurfaceFrame& reference, const SurfaceFrame& frame, float particle_radius,
+                        bool with_psnr) {
+        const SurfaceComparison cmp = compare_surfaces(reference, frame, particle_radius);
+        row.depth_err_mean = cmp.depth_err_mean;
+        row.depth_err_p95 = cmp.depth_err_p95;
+        row.normal_err_deg_mean = cmp.normal_err_deg_mean;
+        row.coverage_mismatch = cmp.coverage_mismatch;
+        if (with_psnr) row.psnr_db = cmp.psnr_db;
+    }
+
+    float particle_radius() const { return 0.5f * scene_.particle_spacing; }
+
+    SurfaceRenderer& surface(uint32_t w, uint32_t h) {
+        const uint64_t key = (uint64_t(w) << 32) | h;
+        auto& r = surface_[key];
+        if (!r) r = std::make_unique<SurfaceRenderer>(ctx_, scene_, w, h, particles());
+        return *r;
+    }
+
+    /// Renders with the SPH surface renderer at w x h, timed; returns the frame.
+    SurfaceFrame render_surface(const SurfaceSettings& settings, uint32_t w, uint32_t h, uint32_t repeats, StudyRow* row) {
+        SurfaceRenderer& r = surface(w, h);
+        RenderMeasurement m = measure_render(ctx_, r, solver_->positions(), particles(), camera_, settings, repeats);
+        if (row) {
+            row->ms_total = m.ms_total;
+            row->ms_per_pass = m.ms_per_pass;
+        }
+        return std::move(m.frame);
+    }
+
+    const SurfaceFrame& sph_reference(StudyRow* row = nullptr) {
+        if (!sph_reference_) {
+            SurfaceSettings s;
+            s.method = SurfaceMethod::reference;
+            StudyRow timing;
+            sph_reference_ = render_surface(s, width_, height_, 1, &timing);
+            sph_reference_ms_ = timing;
+        }
+        if (row) {
+            row->ms_total = sph_reference_ms_.ms_total;
+            row->ms_per_pass = sph_reference_ms_.ms_per_pass;
+        }
+        return *sph_reference_;
+    }
+
+    /// The case's metaball renderer (with its list budget), or, for the reference, one whose
+    /// lists hold at least `list_bytes`.
+    MetaballRenderer& metaball(uint64_t list_bytes = 0) {
+        if (list_bytes) {
+            if (!roomy_metaball_ || roomy_metaball_->list_bytes() < list_bytes)
+                roomy_metaball_ = std::make_unique<MetaballRenderer>(ctx_, scene_, width_, height_, particles(), list_bytes);
+            return *roomy_metaball_;
+        }
+        if (!metaball_)
+            metaball_ = std::make_unique<MetaballRenderer>(ctx_, scene_, width_, height_, particles(),
+                                                           uint64_t(case_.list_bytes_per_pixel) * width_ * height_);
+        return *metaball_;
+    }
+
+    /// The exact surface of the metaball field of range `size`, or nullptr (with the reason in
+    /// `why`) when its lists would not fit in kMaxReferenceListBytes.
+    const SurfaceFrame* metaball_reference(float size, std::string* why) {
+        auto it = metaball_references_.find(size);
+        if (it != metaball_references_.end()) return &it->second;
+        MetaballSettings s;
+        s.method = MetaballMethod::s_buffer;
+        s.size = size;
+        s.step_radii = kMetaballReferenceStepRadii;
+        s.bisection_steps = kMetaballReferenceBisections;
+        s.max_steps = 1000000;
+        MetaballRenderer& roomy = metaball(uint64_t(width_) * height_ * kDefaultListBytesPerPixel);
+        SurfaceFrame frame = roomy.render(solver_->positions(), particles(), camera_, s);
+        const MetaballStats stats = roomy.stats();
+        if (stats.overflow) {
+            if (stats.list_bytes_needed > kMaxReferenceListBytes) {
+                *why = "no reference: its lists need " + std::to_string(stats.list_bytes_needed >> 20) + " MiB";
+                return nullptr;
+            }
+            frame = metaball(stats.list_bytes_needed + 4096).render(solver_->positions(), particles(), camera_, s);
+        }
+        return &metaball_references_.emplace(size, std::move(frame)).first->second;
+    }
+
+    /// Renders `m` into `row` and returns the shaded image.
+    Image run(const StudyMethod& m, StudyRow& row) {
+        if (m.family == StudyFamily::surface) {
+            if (m.method == "reference") return sph_reference(&row).color;
+            SurfaceSettings s;
+            s.method = m.method == "uniform" ? SurfaceMethod::uniform : SurfaceMethod::adaptive;
+            uint32_t divisor = 1;
+            if (m.method == "adaptive" && m.resolution != "adaptive") {
+                s.adaptive_resolution = false;
+                divisor = m.resolution == "half" ? 2 : m.resolution == "quarter" ? 4 : 1;
+            }
+            const uint32_t w = std::max(16u, width_ / divisor), h = std::max(16u, height_ / divisor);
+            SurfaceFrame frame = render_surface(s, w, h, repeats_, &row);
+            if (divisor > 1) frame = upsample_nearest(frame, width_, height_);
+            compare(row, sph_reference(), frame, particle_radius(), true);
+            return frame.color;
+        }
+        if (m.family == StudyFamily::screen_space) {
+            if (!screen_space_) screen_space_ = std::make_unique<ScreenSpaceRenderer>(ctx_, scene_, width_, height_, particles());
+            ScreenSpaceSettings s;
+            auto filter = parse_filter(m.method);
+            if (!filter) throw std::invalid_argument(filter.error());
+            s.filter = filter.value();
+            const PassTimes t = time_best_of(ctx_, repeats_, [&](VkCommandBuffer cmd, gpu::GpuTimer* timer) {
+                screen_space_->record(cmd, solver_->positions(), particles(), camera_, s, timer);
+            });
+            row.ms_total = t.ms_total;
+            row.ms_per_pass = t.ms_per_pass;
+            SurfaceFrame frame = screen_space_->read_frame();
+            compare(row, sph_reference(), frame, particle_radius(), true);
+            return frame.color;
+        }
+        MetaballSettings s;
+        s.method = parse_metaball_method(m.method).value();
+        s.visual = m.visual == "real" ? MetaballVisual::real : MetaballVisual::gradient;
+        s.size = m.size;
+        s.recursion_depth = m.recursion;
+        s.bisection_steps = m.bisection;
+        std::string why;
+        const SurfaceFrame* reference = metaball_reference(m.size, &why);
+        MetaballRenderer& r = metaball();
+        const PassTimes t = time_best_of(ctx_, repeats_, [&](VkCommandBuffer cmd, gpu::GpuTimer* timer) {
+            r.record(cmd, solver_->positions(), particles(), camera_, s, timer);
+        });
+        row.ms_total = t.ms_total;
+        row.ms_per_pass = t.ms_per_pass;
+        const MetaballStats stats = r.stats();
+        if (stats.overflow) {
+            row.status = "overflow";
+            row.overflow_mib = double(stats.list_bytes_needed) / (1024.0 * 1024.0);
+        }
+        // The primary hit is the same for both visuals; only the gradient image is comparable.
+        SurfaceFrame frame = r.read_frame();
+        if (reference) compare(row, *reference, frame, particle_radius(), s.visual == MetaballVisual::gradient);
+        else if (row.status == "ok") row.status = why;
+        return frame.color;
+    }
+
+    gpu::Context& ctx_;
+    const StudyCase& case_;
+    Scene scene_;
+    uint32_t repeats_;
+    fs::path images_dir_;
+    std::unique_ptr<PbfSolver> solver_;
+    uint32_t width_ = 0, height_ = 0;
+    ViewCamera camera_;
+    std::optional<SurfaceFrame> sph_reference_;
+    StudyRow sph_reference_ms_;
+    std::map<float, SurfaceFrame> metaball_references_;
+    std::map<uint64_t, std::unique_ptr<SurfaceRenderer>> surface_;
+    std::unique_ptr<MetaballRenderer> metaball_, roomy_metaball_;
+    std::unique_ptr<ScreenSpaceRenderer> screen_space_;
+};
+
+std::string csv_number(const std::optional<double>& v) {
+    if (!v || !std::isfinite(*v)) return "";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", *v);
+    return buf;
+}
+
+/// CSV fields are quoted when they hold a comma or a quote.
+std::string csv_text(const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string out = "\"";
+    for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return out + "\"";
+}
+
+double fps(double ms) { return ms > 0.0 ? 1000.0 / ms : 0.0; }
+
+const StudyRow* find_row(const std::vector<StudyRow>& rows, const std::string& method, uint32_t particles, uint32_t w,
+                         uint32_t h) {
+    for (const auto& r : rows)
+        if (r.method == method && r.particles == particles && r.width == w && r.height == h && r.status.rfind("failed", 0) != 0) return &r;
+    return nullptr;
+}
+
+/// The row count closest to `target` among rows of `method` at w x h, or 0.
+uint32_t closest_count(const std::vector<StudyRow>& rows, const std::string& method, uint32_t target, uint32_t w, uint32_t h) {
+    uint32_t best = 0;
+    for (const auto& r : rows)
+        if (r.method == method && r.width == w && r.height == h &&
+            (!best || std::abs(std::log(double(r.particles) / target)) < std::abs(std::log(double(best) / target))))
+            best = r.particles;
+    return best;
+}
+
+}  // namespace
+
+std::vector<StudyRow> run_study_cases(gpu::Context& ctx, const StudySpec& spec, const fs::path& images_dir) {
+    std::vector<StudyRow> rows;
+    if (!images_dir.empty()) {
+        std::error_code ec;
+        fs::create_directories(images_dir, ec);
+    }
+    for (const StudyCase& c : spec.cases) {
+        std::vector<Scene> scenes;
+        if (c.scene == "dam_break") {
+            for (uint32_t n : c.particles) scenes.push_back(bench_scene(n, 4));
+        } else {
+            auto loaded = load_scene(c.scene);
+            if (!loaded) throw std::invalid_argument(loaded.error());
+            scenes.push_back(loaded.value());
+        }
+        for (Scene& scene : scenes) {
+            StudyFrame frame(ctx, c, std::move(scene), spec.repeats, images_dir);
+            if (!frame.simulate()) {
+                StudyRow failed;
+                failed.case_name = c.name;
+                failed.status = "failed: the simulation blew up before the frame";
+                rows.push_back(failed);
+                continue;
+            }
+            for (const auto& [w, h] : c.resolutions) frame.measure(w, h, rows);
+        }
+    }
+    return rows;
+}
+
+Result<bool> write_study_csv(const fs::path& dir, const std::vector<StudyRow>& rows) {
+    std::ofstream csv(dir / "study.csv"), passes(dir / "study_passes.csv");
+    if (!csv || !passes) return Error{"cannot write " + (dir / "study.csv").string() + "; check that the directory is writable"};
+    csv << "case,scene,method,width,height,particles,metaball_scale,recursion_depth,bisection_steps,visual,ms_total,fps,"
+           "depth_err_mean,depth_err_p95,normal_err_deg_mean,coverage_mismatch,psnr_db,overflow,status\n";
+    passes << "case,scene,method,width,height,particles,pass,ms\n";
+    for (const StudyRow& r : rows) {
+        const bool metaball = r.config.family == StudyFamily::metaball;
+        csv << csv_text(r.case_name) << ',' << csv_text(r.scene) << ',' << csv_text(r.method) << ',' << r.width << ','
+            << r.height << ',' << r.particles << ',' << (metaball ? csv_number(r.config.size) : "") << ','
+            << (metaball ? std::to_string(r.config.recursion) : "") << ','
+            << (metaball ? std::to_string(r.config.bisection) : "") << ',' << (metaball ? r.config.visual : "") << ','
+            << csv_number(r.ms_total) << ',' << csv_number(fps(r.ms_total)) << ',' << csv_number(r.depth_err_mean) << ','
+            << csv_number(r.depth_err_p95) << ',' << csv_number(r.normal_err_deg_mean) << ','
+            << csv_number(r.coverage_mismatch) << ',' << csv_number(r.psnr_db) << ',' << csv_number(r.overflow_mib) << ','
+            << csv_text(r.status) << '\n';
+        for (const auto& [pass, ms] : r.ms_per_pass)
+            passes << csv_text(r.case_name) << ',' << csv_text(r.scene) << ',' << csv_text(r.method) << ',' << r.width
+                   << ',' << r.height << ',' << r.particles << ',' << pass << ',' << csv_number(ms) << '\n';
+    }
+    if (!csv || !passes) return Error{"writing " + (dir / "study.csv").string() + " failed; is the disk full?"};
+    return true;
+}
+
+std::vector<std::string> study_targets(const std::vector<StudyRow>& rows) {
+    std::vector<std::string> lines;
+    char buf[512];
+    // S-buffer >= 3x faster than brute force at 4k particles, 512x512 (Karpati measured ~3x).
+    {
+        const std::string brute = "brute gradient x1 b3", sbuf = "sbuffer gradient x1 b3";
+        const uint32_t n = closest_count(rows, sbuf, 4096, 512, 512);
+        const StudyRow *b = find_row(rows, brute, n, 512, 512), *s = find_row(rows, sbuf, n, 512, 512);
+        if (b && s && s->ms_total > 0) {
+            const double ratio = b->ms_total / s->ms_total;
+            std::snprintf(buf, sizeof buf, "S-buffer vs brute force (target >= 3x at 4k particles, 512x512): %.1fx at %u particles (%.0f vs %.0f ms): %s",
+                          ratio, n, s->ms_total, b->ms_total, ratio >= 3.0 ? "MET" : "MISS");
+        } else {
+            std::snprintf(buf, sizeof buf, "S-buffer vs brute force (target >= 3x at 4k particles, 512x512): not measured (needs rows '%s' and '%s' at 512x512)",
+                          brute.c_str(), sbuf.c_str());
+        }
+        lines.push_back(buf);
+    }
+    // Adaptive >= 10x faster than the S-buffer at 100k at equal or lower depth error; crossover.
+    {
+        const std::string adaptive = "adaptive", sbuf = "sbuffer gradient x1 b3";
+        const uint32_t n = closest_count(rows, adaptive, 100000, 512, 512);
+        const StudyRow *a = find_row(rows, adaptive, n, 512, 512), *s = find_row(rows, sbuf, n, 512, 512);
+        if (a && s && a->ms_total > 0 && a->depth_err_mean && s->depth_err_mean) {
+            const double ratio = s->ms_total / a->ms_total;
+            const bool met = ratio >= 10.0 && *a->depth_err_mean <= *s->depth_err_mean;
+            std::snprintf(buf, sizeof buf, "adaptive vs S-buffer (target >= 10x at 100k particles, equal or lower depth error): %.1fx at %u particles (%.0f vs %.0f ms), depth error %.3f vs %.3f radii: %s",
+                          ratio, n, a->ms_total, s->ms_total, *a->depth_err_mean, *s->depth_err_mean, met ? "MET" : "MISS");
+        } else {
+            std::snprintf(buf, sizeof buf, "adaptive vs S-buffer (target >= 10x at 100k particles): not measured (needs rows 'adaptive' and '%s' at 512x512)", sbuf.c_str());
+        }
+        lines.push_back(buf);
+        // Crossover: the smallest count where adaptive is faster, interpolated in log-log.
+        std::vector<std::pair<uint32_t, double>> ratio_by_n;  // S-buffer ms / adaptive ms
+        for (const auto& r : rows)
+            if (r.method == adaptive && r.width == 512 && r.height == 512)
+                if (const StudyRow* s2 = find_row(rows, sbuf, r.particles, 512, 512); s2 && r.ms_total > 0)
+                    ratio_by_n.push_back({r.particles, s2->ms_total / r.ms_total});
+        std::sort(ratio_by_n.begin(), ratio_by_n.end());
+        std::string crossover = "not measured (needs both methods at two or more particle counts)";
+        if (ratio_by_n.size() >= 2) {
+            crossover = "not within the counts measured";
+            if (ratio_by_n.front().second >= 1.0) crossover = "at or below " + std::to_string(ratio_by_n.front().first) + " particles (adaptive is faster at every count measured)";
+            for (size_t i = 1; i < ratio_by_n.size(); ++i) {
+                const auto [n0, r0] = ratio_by_n[i - 1];
+                const auto [n1, r1] = ratio_by_n[i];
+                if (r0 < 1.0 && r1 >= 1.0) {
+                    const double f = (0.0 - std::log(r0)) / (std::log(r1) - std::log(r0));
+                    const double nx = std::exp(std::log(double(n0)) + f * (std::log(double(n1)) - std::log(double(n0))));
+                    crossover = "about " + std::to_string(long(std::lround(nx))) + " particles";
+                }
+            }
+        }
+        lines.push_back("adaptive overtakes the S-buffer at 512x512: " + crossover);
+    }
+    return lines;
+}
+
+Result<bool> write_study_markdown(const fs::path& path, const StudySpec& spec, const std::vector<StudyRow>& rows,
+                                  const std::vector<std::string>& target_lines) {
+    std::ofstream md(path);
+    if (!md) return Error{"cannot write " + path.string() + "; check that the directory is writable"};
+    auto num = [](const std::optional<double>& v, const char* format) {
+        if (!v) return std::string("–");
+        char buf[32];
+        std::snprintf(buf, sizeof buf, format, *v);
+        return std::string(buf);
+    };
+    md << "# Study: " << spec.name << "\n\nTimes are GPU milliseconds (best of " << spec.repeats
+       << "); errors are against the reference of the field each method draws (depth in particle radii).\n";
+    for (const StudyCase& c : spec.cases) {
+        md << "\n## " << c.name << "\n\n";
+        if (!c.note.empty()) md << c.note << "\n\n";
+        md << "| method | particles | resolution | ms | fps | depth err mean | p95 | normal err ° | coverage mismatch | PSNR dB | status |\n"
+              "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---|\n";
+        for (const StudyRow& r : rows) {
+            if (r.case_name != c.name) continue;
+            md << "| " << r.method << " | " << r.particles << " | " << resolution_text(r.width, r.height) << " | "
+               << num(r.ms_total, "%.1f") << " | " << num(fps(r.ms_total), "%.2f") << " | " << num(r.depth_err_mean, "%.3f")
+               << " | " << num(r.depth_err_p95, "%.3f") << " | " << num(r.normal_err_deg_mean, "%.1f") << " | "
+               << num(r.coverage_mismatch ? std::optional<double>(*r.coverage_mismatch * 100.0) : std::nullopt, "%.1f %%")
+               << " | " << num(r.psnr_db, "%.1f") << " | " << r.status
+               << (r.overflow_mib > 0 ? " (needs " + num(r.overflow_mib, "%.0f") + " MiB)" : "")
+               << (r.image.empty() ? "" : " [image](" + r.image + ")") << " |\n";
+        }
+        // Karpati Table 1's shape: frames per second per configuration, one column per list method.
+        bool metaballs = false;
+        for (const auto& m : c.methods) metaballs = metaballs || m.family == StudyFamily::metaball;
+        if (metaballs) {
+            md << "\nFrames per second, Karpati Table 1 layout:\n\n| visual | size | rec. | bin. | particles | Norm (brute) | A-buffer | S-buffer |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
+            std::vector<std::string> seen;
+            for (const StudyRow& r : rows) {
+                if (r.case_name != c.name || r.config.family != StudyFamily::metaball) continue;
+                StudyMethod key = r.config;
+                const std::string id = key.visual + std::to_string(key.size) + std::to_string(key.recursion) +
+                                       std::to_string(key.bisection) + std::to_string(r.particles) + resolution_text(r.width, r.height);
+                if (std::find(seen.begin(), seen.end(), id) != seen.end()) continue;
+                seen.push_back(id);
+                auto cell = [&](const char* method) {
+                    key.method = method;
+                    const StudyRow* x = find_row(rows, key.label(), r.particles, r.width, r.height);
+                    return x && x->case_name == c.name ? num(fps(x->ms_total), "%.2f") : std::string("–");
+                };
+                md << "| " << key.visual << " | ×" << key.size << " | " << key.recursion << " | " << key.bisection << " | "
+                   << r.particles << " | " << cell("brute") << " | " << cell("abuffer") << " | " << cell("sbuffer") << " |\n";
+            }
+        }
+        // Wu Table 2's shape: time per pass of the SPH and screen-space methods.
+        std::vector<std::string> passes;
+        for (const StudyRow& r : rows)
+            if (r.case_name == c.name && r.config.family != StudyFamily::metaball)
+                for (const auto& [pass, ms] : r.ms_per_pass)
+                    if (std::find(passes.begin(), passes.end(), pass) == passes.end()) passes.push_back(pass);
+        if (!passes.empty()) {
+            md << "\nTime per pass [ms], Wu Table 2 layout:\n\n| method | particles | resolution |";
+            for (const auto& p : passes) md << " " << p << " |";
+            md << "\n|---|---:|---|";
+            for (size_t i = 0; i < passes.size(); ++i) md << "---:|";
+            md << "\n";
+            for (const StudyRow& r : rows) {
+                if (r.case_name != c.name || r.config.family == StudyFamily::metaball || r.ms_per_pass.empty()) continue;
+                md << "| " << r.method << " | " << r.particles << " | " << resolution_text(r.width, r.height) << " |";
+                for (const auto& p : passes) {
+                    auto it = r.ms_per_pass.find(p);
+                    md << " " << (it == r.ms_per_pass.end() ? std::string("–") : num(it->second, "%.1f")) << " |";
+                }
+                md << "\n";
+            }
+        }
+    }
+    md << "\n## Targets\n\n";
+    for (const auto& line : target_lines) md << "- " << line << "\n";
+    if (!md) return Error{"writing " + path.string() + " failed; is the disk full?"};
+    return true;
+}
+
+}  // namespace aquaform::cli

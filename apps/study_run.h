@@ -1,0 +1,53 @@
+// The measurements of `aquaform study`: one row per (case, particles, resolution, method), each
+// rendered on the same solver frame and measured against the reference of the field it draws:
+// the SPH methods and the screen-space filters against the exhaustive SPH reference, the
+// metaball methods against a fine S-buffer march of their own field (whose lists are exact on
+// primary rays, so it is the brute-force surface at a fraction of the cost).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "apps/study_spec.h"
+#include "sim/result.h"
+
+namespace aquaform {
+namespace gpu {
+class Context;
+}
+}  // namespace aquaform
+
+namespace aquaform::cli {
+
+struct StudyRow {
+    std::string case_name, scene, method;
+    StudyMethod config;
+    uint32_t width = 0, height = 0, particles = 0;
+    double ms_total = 0.0;
+    std::map<std::string, double> ms_per_pass;
+    // Against the reference; empty when there is none (the reference itself, a failed run).
+    std::optional<double> depth_err_mean, depth_err_p95, normal_err_deg_mean, coverage_mismatch, psnr_db;
+    double overflow_mib = 0.0;  ///< list memory the frame needed, when the lists overflowed
+    std::string status = "ok";  ///< ok, overflow, or "failed: why"
+    std::string image;          ///< the shaded frame, relative to the output directory
+};
+
+/// Runs every case of the spec, printing progress to stderr; rows come in spec order. With an
+/// `images_dir`, every method's shaded frame is written there as PNG.
+std::vector<StudyRow> run_study_cases(gpu::Context& ctx, const StudySpec& spec, const std::filesystem::path& images_dir = {});
+
+/// study.csv and study_passes.csv (the columns scripts/study_charts.py reads).
+Result<bool> write_study_csv(const std::filesystem::path& dir, const std::vector<StudyRow>& rows);
+/// study.md: a table per case, the papers' table shapes (Karpati Table 1 as frames per second,
+/// Wu Table 1 as time and error per resolution, Wu Table 2 as time per pass), and the targets.
+Result<bool> write_study_markdown(const std::filesystem::path& path, const StudySpec& spec,
+                                  const std::vector<StudyRow>& rows, const std::vector<std::string>& target_lines);
+/// The targets, evaluated on whatever rows the spec produced (a line each; "not measured"
+/// when the spec lacks the rows a target needs).
+std::vector<std::string> study_targets(const std::vector<StudyRow>& rows);
+
+}  // namespace aquaform::cli

@@ -1,0 +1,218 @@
+#include "apps/study_solver_map.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <fstream>
+#include <memory>
+
+#include "control/control_driver.h"
+#include "gpu/context.h"
+#include "sim/pbf_solver.h"
+
+namespace aquaform::cli {
+
+namespace {
+
+/// Longest frame [steps] of one submission: tiny time steps get shorter frames instead of
+/// command buffers of thousands of steps.
+constexpr uint32_t kMaxStepsPerFrame = 256;
+/// More steps than this in one cell is a typo in dt or sim_time_s, not a study.
+constexpr double kMaxStepsPerCell = 1.0e6;
+/// Fewest steps a cell runs, past sim_time_s if need be: one or two steps of an absurd dt move
+/// the fluid by at most the speed cap's cfl * h each and would pass for stable.
+constexpr double kMinStepsPerCell = 16;
+
+template <typename... T>
+std::string fmt(const char* format, T... values) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf, format, values...);
+    return buf;
+}
+
+/// A CSV field: quoted when it holds a comma, a quote or a line break.
+std::string csv_field(const std::string& text) {
+    if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+    std::string out = "\"";
+    for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return out + "\"";
+}
+
+std::string csv_number(double v, const char* format = "%.6g") { return std::isfinite(v) ? fmt(format, v) : ""; }
+
+Result<bool> check_spec(const SolverMapSpec& spec, const Scene& scene) {
+    const std::string where = "solver map of " + spec.scene.string() + ": ";
+    if (spec.frame_dts.empty()) return Error{where + "no time steps given; list at least one dt in seconds, e.g. [0.002, 0.008]"};
+    if (spec.iterations.empty()) return Error{where + "no iteration counts given; list at least one, e.g. [1, 4]"};
+    for (float dt : spec.frame_dts)
+        if (!std::isfinite(dt) || dt <= 0.0f)
+            return Error{where + fmt("time step %g is not a positive number of seconds; use e.g. 0.004", double(dt))};
+    for (uint32_t it : spec.iterations)
+        if (it == 0) return Error{where + "0 constraint iterations leaves the fluid unconstrained; use 1 or more"};
+    if (!std::isfinite(spec.sim_time_s) || spec.sim_time_s <= 0.0f)
+        return Error{where + fmt("sim_time_s %g must be a positive number of seconds", double(spec.sim_time_s))};
+    for (float p : spec.control_pressures)
+        if (!std::isfinite(p) || p <= 0.0f)
+            return Error{where + fmt("control pressure %g Pa must be positive", double(p))};
+    if (!spec.control_pressures.empty() && !scene.control_json)
+        return Error{where + "control pressures are given but the scene has no \"control\" section; remove them or "
+                             "use a scene with mesh control"};
+    for (float dt : spec.frame_dts)
+        if (double(spec.sim_time_s) / dt > kMaxStepsPerCell)
+            return Error{where + fmt("dt %g s over %g s is %.3g steps per cell, more than %.0g; use a larger dt or a "
+                                     "shorter sim_time_s",
+                                     double(dt), double(spec.sim_time_s), double(spec.sim_time_s) / dt, kMaxStepsPerCell)};
+    return true;
+}
+
+/// One cell from the scene's initial state. Never throws for a blow-up: the first failing frame
+/// ends the cell.
+SolverMapRecord run_cell(gpu::Context& ctx, const Scene& base, const control::ControlSection* section,
+                         const SolverMapSpec& spec, const std::string& label, float dt, uint32_t iterations,
+                         std::optional<float> pressure) {
+    const auto start = std::chrono::steady_clock::now();
+    SolverMapRecord rec;
+    rec.scene = label;
+    rec.dt = dt;
+    rec.iterations = iterations;
+    rec.control_pressure = pressure;
+
+    // dt is the solver step itself (dt = frame_dt / substeps in sim/pbf_params.cpp): a frame of
+    // k steps keeps the scene's measurement cadence while every step is exactly dt.
+    Scene scene = base;
+    const double k = std::clamp(std::round(double(base.solver.frame_dt) / dt), 1.0, double(kMaxStepsPerFrame));
+    scene.solver.substeps = uint32_t(k);
+    scene.solver.frame_dt = float(k) * dt;
+    scene.solver.iterations = iterations;
+    const double seconds = std::max(double(spec.sim_time_s), kMinStepsPerCell * dt);
+    const uint32_t frames = uint32_t(std::ceil(seconds / scene.solver.frame_dt - 1e-6));
+
+    PbfSolver solver(ctx, scene);
+    std::unique_ptr<control::ControlDriver> driver;
+    if (section) {
+        // The map fixes dt, so the strength may not raise the substeps; a given pressure above
+        // what dt takes quietly is kept (and may blow up: that is what the map shows).
+        control::StrengthOverrides overrides = section->overrides;
+        overrides.fixed_substeps = true;
+        if (pressure) overrides.pressure = *pressure;
+        const control::Strength strength =
+            control::automatic_strength({&scene, section->spacing, section->shape_height(scene.gravity)}, overrides);
+        driver = std::make_unique<control::ControlDriver>(ctx, scene, *section, strength);
+        solver.set_step_force(&driver->force());
+    }
+
+    const BlowupBounds bounds = blowup_bounds(scene);
+    double sum_mean = 0.0;
+    uint32_t finite_frames = 0;
+    for (uint32_t f = 0; f < frames; ++f) {
+        if (driver) driver->update(solver.time());
+        const FrameStats stats = solver.run_frame(nullptr);
+        ++rec.frames;
+        if (std::isfinite(stats.max_density_error) && std::isfinite(stats.mean_density_error)) {
+            rec.density_err_max = std::max(rec.density_err_max, stats.max_density_error);
+            sum_mean += stats.mean_density_error;
+            ++finite_frames;
+        }
+        rec.failure = blowup_reason(stats, bounds);
+        if (!rec.failure.empty()) {
+            rec.stable = false;
+            rec.blowup_time_s = stats.time_s;
+            break;
+        }
+    }
+    rec.density_err_mean = finite_frames ? sum_mean / finite_frames : std::nan("");
+    if (!finite_frames) rec.density_err_max = std::nan("");
+    rec.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return rec;
+}
+
+}  // namespace
+
+BlowupBounds blowup_bounds(const Scene& scene) {
+    // Blow-up criterion, the one definition every cell uses:
+    //  - a particle is non-finite, or has left the domain (the walls clamp every step, so
+    //    leaving means the update itself failed);
+    //  - a speed above 10x the free fall over the domain's diagonal: no flow in this box gets
+    //    near it (Earth's gravity at least, so that a weightless scene gets a bound too). The
+    //    solver caps speeds at cfl * h / dt, so this fires only where that cap is higher: energy
+    //    blow-ups (vorticity, s_corr, control force) at small dt;
+    //  - a compression beyond rho = 1.5 rho0: the usual outcome at large dt, where the cap
+    //    keeps the fluid finite but the iterations no longer hold it. PBF stays within ~10 % at
+    //    usable settings (control/strength.h, kDensityErrorBound); half again the rest density
+    //    is no longer an incompressible fluid.
+    const double diagonal = glm::length(scene.domain.max - scene.domain.min);
+    const double g = std::max(double(glm::length(scene.gravity)), 9.81);
+    return {10.0 * std::sqrt(2.0 * g * diagonal), 0.5};
+}
+
+std::string blowup_reason(const FrameStats& s, const BlowupBounds& bounds) {
+    if (s.non_finite > 0) return fmt("%u particles have non-finite positions or velocities", s.non_finite);
+    if (s.outside > 0) return fmt("%u particles left the domain", s.outside);
+    if (!std::isfinite(s.max_speed) || s.max_speed > bounds.max_speed)
+        return fmt("max speed %.3g m/s is above the plausible %.3g m/s", s.max_speed, bounds.max_speed);
+    if (!std::isfinite(s.max_density_error) || s.max_density_error > bounds.max_density_error)
+        return fmt("max density error %.3g is above %.3g", s.max_density_error, bounds.max_density_error);
+    return "";
+}
+
+Result<std::vector<SolverMapRecord>> run_solver_map(gpu::Context& ctx, const SolverMapSpec& spec,
+                                                    const SolverMapProgress& progress) {
+    const auto say = [&](const std::string& line) {
+        if (progress) return progress(line);
+        std::fprintf(stderr, "solver map: %s\n", line.c_str());
+        std::fflush(stderr);
+    };
+    auto loaded = load_scene(spec.scene);
+    if (!loaded) return Error{loaded.error()};
+    const Scene& scene = loaded.value();
+    if (auto ok = check_spec(spec, scene); !ok) return Error{ok.error()};
+    std::optional<control::ControlSection> section;
+    if (scene.control_json) {
+        auto s = control::load_control_section(scene);
+        if (!s) return Error{s.error()};
+        section = std::move(s.value());
+    }
+    const std::string label = spec.scene.stem().string();
+    std::vector<std::optional<float>> pressures;
+    for (float p : spec.control_pressures) pressures.push_back(p);
+    if (pressures.empty()) pressures.push_back(std::nullopt);
+
+    std::vector<SolverMapRecord> records;
+    const size_t cells = pressures.size() * spec.iterations.size() * spec.frame_dts.size();
+    for (const std::optional<float>& pressure : pressures)
+        for (uint32_t iterations : spec.iterations)
+            for (float dt : spec.frame_dts) {
+                const std::string cell = fmt("%s, dt %g s, %u iterations", label.c_str(), double(dt), iterations) +
+                                         (pressure ? fmt(", control %g Pa", double(*pressure)) : "");
+                try {
+                    records.push_back(
+                        run_cell(ctx, scene, section ? &*section : nullptr, spec, label, dt, iterations, pressure));
+                } catch (const std::exception& e) {
+                    return Error{"solver map: " + cell + ": " + e.what()};
+                }
+                const SolverMapRecord& r = records.back();
+                say(fmt("[%zu/%zu] ", records.size(), cells) + cell + ": " +
+                    (r.stable ? std::string("stable") : fmt("blew up at %.3g s (", r.blowup_time_s) + r.failure + ")") +
+                    fmt("; max density error %.4g, mean %.4g (%u frames, %.1f s)", r.density_err_max,
+                        r.density_err_mean, r.frames, r.wall_s));
+            }
+    return records;
+}
+
+Result<bool> write_solver_map_csv(const std::filesystem::path& path, const std::vector<SolverMapRecord>& records) {
+    std::ofstream out(path);
+    if (!out) return Error{"cannot write " + path.string() + "; check that its directory exists and is writable"};
+    out << "scene,dt,iterations,control_pressure,density_err_max,density_err_mean,stable,blowup_time_s\n";
+    for (const SolverMapRecord& r : records)
+        out << csv_field(r.scene) << ',' << csv_number(r.dt, "%.9g") << ',' << r.iterations << ','
+            << (r.control_pressure ? csv_number(*r.control_pressure, "%.9g") : "") << ',' << csv_number(r.density_err_max)
+            << ',' << csv_number(r.density_err_mean) << ',' << (r.stable ? 1 : 0) << ','
+            << (r.stable ? "" : csv_number(r.blowup_time_s)) << '\n';
+    out.close();
+    if (!out) return Error{"cannot write " + path.string() + " (disk full?)"};
+    return true;
+}
+
+}  // namespace aquaform::cli

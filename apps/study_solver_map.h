@@ -1,0 +1,72 @@
+// The solver's stability map of a study: one scene run over a grid of time steps x constraint
+// iterations (x control pressures, for scenes with mesh control), recording the density error
+// and whether, and when, the run blew up. Written as solver_map.csv, charted by
+// scripts/study_charts.py.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/frame_stats.h"
+#include "sim/result.h"
+#include "sim/scene.h"
+
+namespace aquaform::gpu {
+class Context;
+}
+
+namespace aquaform::cli {
+
+struct SolverMapSpec {
+    std::filesystem::path scene;
+    /// Solver time steps dt [s] (one PBF step, not a frame). A cell runs at exactly dt; its frames
+    /// (measurement points) are round(scene frame_dt / dt) steps long, at least one.
+    std::vector<float> frame_dts;
+    std::vector<uint32_t> iterations;  ///< constraint iterations per step
+    /// Control pressures [Pa] to try; empty runs the scene as it is (its own or the automatic
+    /// pressure). Needs a scene with a control section.
+    std::vector<float> control_pressures;
+    float sim_time_s = 1.0f;  ///< simulated time per cell [s]
+};
+
+struct SolverMapRecord {
+    std::string scene;  ///< the scene file's stem
+    float dt = 0.0f;
+    uint32_t iterations = 0;
+    std::optional<float> control_pressure;  ///< empty: the scene as is
+    double density_err_max = 0.0;   ///< max over frames of the max compression rho/rho0 - 1
+    double density_err_mean = 0.0;  ///< mean over frames of the mean compression
+    bool stable = true;
+    double blowup_time_s = -1.0;    ///< simulated time of the first failing frame; -1 if stable
+    std::string failure;            ///< why it blew up (empty when stable); not in the CSV
+    uint32_t frames = 0;            ///< frames run (to the blow-up, or all)
+    double wall_s = 0.0;
+};
+
+/// Where a run counts as blown up: one definition for every cell (see blowup_reason).
+struct BlowupBounds {
+    double max_speed = 0.0;          ///< [m/s]
+    double max_density_error = 0.0;  ///< rho/rho0 - 1
+};
+BlowupBounds blowup_bounds(const Scene& scene);
+/// Empty when the frame is plausible, else what failed ("3 particles non-finite", ...).
+std::string blowup_reason(const FrameStats& stats, const BlowupBounds& bounds);
+
+/// A line of progress per cell; empty prints "solver map: ..." to stderr.
+using SolverMapProgress = std::function<void(const std::string& line)>;
+
+/// Runs every cell (dt x iterations x pressure) from the scene's initial state. A blown-up cell
+/// stops at its first failing frame and the map goes on; errors are for bad specs or scenes
+/// (naming the field and the fix) and for device failures.
+Result<std::vector<SolverMapRecord>> run_solver_map(gpu::Context& ctx, const SolverMapSpec& spec,
+                                                    const SolverMapProgress& progress = {});
+
+/// solver_map.csv: scene,dt,iterations,control_pressure,density_err_max,density_err_mean,stable,
+/// blowup_time_s (control_pressure empty for the scene as is; blowup_time_s empty when stable).
+Result<bool> write_solver_map_csv(const std::filesystem::path& path, const std::vector<SolverMapRecord>& records);
+
+}  // namespace aquaform::cli

@@ -1,0 +1,269 @@
+#include "apps/study_spec.h"
+
+#include <array>
+#include <fstream>
+#include <iterator>
+#include <set>
+#include <sstream>
+#include <string_view>
+
+#include "apps/render_options.h"
+#include "sim/json_fields.h"
+
+namespace aquaform::cli {
+
+namespace {
+
+using namespace json_fields;
+namespace fs = std::filesystem;
+
+constexpr std::array<std::string_view, 4> kTopKeys{"name", "repeats", "cases", "solver_map"};
+constexpr std::array<std::string_view, 9> kCaseKeys{"name", "scene", "particles", "time", "camera",
+                                                    "resolutions", "methods", "note", "list_bytes_per_pixel"};
+constexpr std::array<std::string_view, 6> kMethodKeys{"method", "visual", "size", "recursion", "bisection", "resolution"};
+constexpr std::array<std::string_view, 5> kMapKeys{"scene", "dt", "iterations", "control_pressure", "time"};
+constexpr std::array<std::string_view, 3> kCameraKeys{"eye", "target", "fov"};
+
+struct MethodKind {
+    const char* name;
+    StudyFamily family;
+};
+constexpr MethodKind kMethods[] = {
+    {"reference", StudyFamily::surface}, {"adaptive", StudyFamily::surface},
+    {"uniform", StudyFamily::surface},   {"brute", StudyFamily::metaball},
+    {"abuffer", StudyFamily::metaball},  {"sbuffer", StudyFamily::metaball},
+    {"bilateral", StudyFamily::screen_space}, {"curvature_flow", StudyFamily::screen_space},
+    {"narrow_range", StudyFamily::screen_space},
+};
+
+std::string read_string(const json& v, const std::string& path, const char* what) {
+    if (!v.is_string()) fail(path + " must be " + what + ", got " + written(v) + " (" + kind_of(v) + ")");
+    return v.get<std::string>();
+}
+
+/// A value or an array of values, each read by `one`.
+template <typename T, typename F>
+std::vector<T> read_list(const json& v, const std::string& path, F one) {
+    std::vector<T> out;
+    if (!v.is_array()) {
+        out.push_back(one(v, path));
+        return out;
+    }
+    if (v.empty()) fail(path + " is an empty array; give at least one value");
+    for (size_t i = 0; i < v.size(); ++i) out.push_back(one(v[i], path + "[" + std::to_string(i) + "]"));
+    return out;
+}
+
+std::vector<StudyMethod> read_methods(const json& v, const std::string& path) {
+    if (!v.is_array() || v.empty())
+        fail(path + " must be a non-empty array such as [{\"method\": \"sbuffer\"}, {\"method\": \"adaptive\"}], got " +
+             written(v));
+    std::vector<StudyMethod> out;
+    for (size_t i = 0; i < v.size(); ++i) {
+        const std::string where = path + "[" + std::to_string(i) + "]";
+        const json& m = v[i];
+        if (!m.is_object()) fail(where + " must be an object such as {\"method\": \"sbuffer\"}, got " + written(m));
+        check_keys(m, "in " + where, kMethodKeys);
+        require(m, "method", "in " + where, "\"method\": \"sbuffer\"");
+        const std::string name = read_string(m["method"], child(where, "method"), "a method name");
+        const MethodKind* kind = nullptr;
+        for (const auto& k : kMethods)
+            if (name == k.name) kind = &k;
+        if (!kind)
+            fail(child(where, "method") + " is \"" + name +
+                 "\"; use reference, adaptive, uniform, brute, abuffer, sbuffer, bilateral, curvature_flow or narrow_range");
+        const bool metaball = kind->family == StudyFamily::metaball;
+        for (const char* key : {"visual", "size", "recursion", "bisection"})
+            if (m.contains(key) && !metaball)
+                fail(child(where, key) + " applies to the metaball methods (brute, abuffer, sbuffer) only, not " + name);
+        if (m.contains("resolution") && name != "adaptive")
+            fail(child(where, "resolution") + " applies to the adaptive method only, not " + name);
+        auto strings = [&](const char* key, std::vector<std::string> fallback, std::set<std::string> allowed) {
+            if (!m.contains(key)) return fallback;
+            auto list = read_list<std::string>(m[key], child(where, key), [&](const json& x, const std::string& p) {
+                std::string s = read_string(x, p, "a string");
+                if (!allowed.count(s)) {
+                    std::string options;
+                    for (const auto& a : allowed) options += (options.empty() ? "" : ", ") + a;
+                    fail(p + " is \"" + s + "\"; use one of " + options);
+                }
+                return s;
+            });
+            return list;
+        };
+        auto numbers = [&](const char* key, float fallback, const Range& r) {
+            if (!m.contains(key)) return std::vector<float>{fallback};
+            return read_list<float>(m[key], child(where, key), [&](const json& x, const std::string& p) { return read_number(x, p, r); });
+        };
+        auto integers = [&](const char* key, uint32_t fallback, uint32_t lo, uint32_t hi) {
+            if (!m.contains(key)) return std::vector<uint32_t>{fallback};
+            return read_list<uint32_t>(m[key], child(where, key), [&](const json& x, const std::string& p) { return read_integer(x, p, lo, hi); });
+        };
+        const auto visuals = strings("visual", {"gradient"}, {"gradient", "real"});
+        const auto sizes = numbers("size", 1.0f, {0.5, 8.0, false, false, "a number of particle spacings from 0.5 to 8"});
+        const auto recursions = integers("recursion", 1, 1, 4);
+        const auto bisections = integers("bisection", 3, 0, 32);
+        const auto resolutions = strings("resolution", {"adaptive"}, {"full", "half", "quarter", "adaptive"});
+        for (const auto& visual : visuals)
+            for (float size : sizes)
+                for (uint32_t recursion : recursions)
+                    for (uint32_t bisection : bisections)
+                        for (const auto& resolution : resolutions) {
+                            StudyMethod sm;
+                            sm.method = name;
+                            sm.family = kind->family;
+                            sm.visual = visual;
+                            sm.size = size;
+                            sm.recursion = visual == "real" ? recursion : 1;
+                            sm.bisection = bisection;
+                            sm.resolution = resolution;
+                            bool seen = false;
+                            for (const auto& o : out) seen = seen || o.label() == sm.label();
+                            if (!seen) out.push_back(sm);
+                        }
+    }
+    return out;
+}
+
+StudyCamera read_camera(const json& v, const std::string& path) {
+    StudyCamera c;
+    if (v.is_string()) {
+        c.preset = v.get<std::string>();
+        if (c.preset != "front" && c.preset != "far" && c.preset != "closeup")
+            fail(path + " is \"" + c.preset + "\"; use front, far (twice the distance), closeup (inside the fluid's reach) "
+                 "or {\"eye\": [x, y, z], \"target\": [x, y, z], \"fov\": 40}");
+        return c;
+    }
+    if (!v.is_object()) fail(path + " must be a preset name or {\"eye\": [..], \"target\": [..]}, got " + written(v));
+    check_keys(v, "in " + path, kCameraKeys);
+    require(v, "eye", "in " + path, "\"eye\": [0.5, 0.4, 1.2]");
+    require(v, "target", "in " + path, "\"target\": [0.2, 0.1, 0.1]");
+    c.preset = "custom";
+    c.custom.eye = read_vec3(v["eye"], child(path, "eye"), "metres");
+    c.custom.target = read_vec3(v["target"], child(path, "target"), "metres");
+    if (v.contains("fov")) c.custom.fov_y_degrees = read_number(v["fov"], child(path, "fov"), {1.0, 170.0, false, false, "degrees from 1 to 170"});
+    if (!(glm::length(c.custom.eye - c.custom.target) > 0.0f)) fail(path + ": eye and target coincide; move the eye away");
+    return c;
+}
+
+StudyCase read_case(const json& v, const std::string& path, const fs::path& base_dir) {
+    if (!v.is_object()) fail(path + " must be an object with \"name\", \"resolutions\" and \"methods\", got " + written(v));
+    check_keys(v, "in " + path, kCaseKeys);
+    for (const char* key : {"name", "resolutions", "methods"}) require(v, key, "in " + path, std::string("\"") + key + "\": ...");
+    StudyCase c;
+    c.name = read_string(v["name"], child(path, "name"), "a name");
+    if (v.contains("scene")) {
+        c.scene = read_string(v["scene"], child(path, "scene"), "\"dam_break\" or a scene file path");
+        if (c.scene != "dam_break") {
+            c.scene = (base_dir / c.scene).lexically_normal().string();
+            std::error_code ec;
+            if (!fs::is_regular_file(c.scene, ec))
+                fail(child(path, "scene") + ": no scene file " + c.scene + "; paths are relative to the spec file");
+        }
+    }
+    if (v.contains("particles")) {
+        if (c.scene != "dam_break")
+            fail(child(path, "particles") + " sizes the generated dam break only; a scene file brings its own particles");
+        c.particles = read_list<uint32_t>(v["particles"], child(path, "particles"), [](const json& x, const std::string& p) {
+            return read_integer(x, p, 64, 64u << 20);
+        });
+    } else if (c.scene == "dam_break") {
+        c.particles = {4096};
+    }
+    if (v.contains("time") && !(v["time"].is_string() && v["time"] == "half_tank"))
+        c.time_s = read_number(v["time"], child(path, "time"), {0.0, 60.0, false, false, "\"half_tank\" or seconds from 0 to 60"});
+    if (v.contains("camera")) c.camera = read_camera(v["camera"], child(path, "camera"));
+    c.resolutions = read_list<std::pair<uint32_t, uint32_t>>(v["resolutions"], child(path, "resolutions"),
+                                                             [](const json& x, const std::string& p) {
+        std::pair<uint32_t, uint32_t> wh;
+        if (!x.is_string() || !parse_resolution(x.get<std::string>(), &wh.first, &wh.second) || wh.first < 16 || wh.second < 16)
+            fail(p + " must be a resolution such as \"512x512\" (16..8192 per axis), got " + written(x));
+        return wh;
+    });
+    c.methods = read_methods(v["methods"], child(path, "methods"));
+    if (v.contains("list_bytes_per_pixel"))
+        c.list_bytes_per_pixel = read_integer(v["list_bytes_per_pixel"], child(path, "list_bytes_per_pixel"), 8, 1u << 16);
+    if (v.contains("note")) c.note = read_string(v["note"], child(path, "note"), "a sentence");
+    return c;
+}
+
+SolverMapSpec read_map(const json& v, const std::string& path, const fs::path& base_dir) {
+    if (!v.is_object()) fail(path + " must be an object with \"scene\", \"dt\" and \"iterations\", got " + written(v));
+    check_keys(v, "in " + path, kMapKeys);
+    for (const char* key : {"scene", "dt", "iterations"}) require(v, key, "in " + path, std::string("\"") + key + "\": ...");
+    SolverMapSpec m;
+    m.scene = (base_dir / read_string(v["scene"], child(path, "scene"), "a scene file path")).lexically_normal();
+    std::error_code ec;
+    if (!fs::is_regular_file(m.scene, ec))
+        fail(child(path, "scene") + ": no scene file " + m.scene.string() + "; paths are relative to the spec file");
+    m.frame_dts = read_list<float>(v["dt"], child(path, "dt"), [](const json& x, const std::string& p) {
+        return read_number(x, p, {0.0, 0.1, true, false, "a time step in seconds, above 0 and at most 0.1"});
+    });
+    m.iterations = read_list<uint32_t>(v["iterations"], child(path, "iterations"),
+                                       [](const json& x, const std::string& p) { return read_integer(x, p, 1, 100); });
+    if (v.contains("control_pressure"))
+        m.control_pressures = read_list<float>(v["control_pressure"], child(path, "control_pressure"), [](const json& x, const std::string& p) {
+            return read_number(x, p, {0.0, 1e9, true, false, "a pressure in pascals above 0"});
+        });
+    if (v.contains("time")) m.sim_time_s = read_number(v["time"], child(path, "time"), {0.0, 60.0, true, false, "seconds above 0, at most 60"});
+    return m;
+}
+
+}  // namespace
+
+std::string StudyMethod::label() const {
+    std::ostringstream text;
+    text << method;
+    if (family == StudyFamily::metaball) {
+        text << " " << visual;
+        text << " x" << size;
+        if (visual == "real") text << " r" << recursion;
+        text << " b" << bisection;
+    }
+    if (method == "adaptive" && resolution != "adaptive") text << " " << resolution;
+    return text.str();
+}
+
+Result<StudySpec> parse_study_spec(const std::string& text, const std::string& origin, const fs::path& base_dir) {
+    try {
+        const json j = parse_strict(text, origin);
+        if (!j.is_object()) fail("the top level must be an object {\"name\": ..., \"cases\": [...]}, got " + written(j));
+        check_keys(j, "at top level", kTopKeys);
+        require(j, "cases", "at top level", "\"cases\": [{\"name\": \"small\", \"resolutions\": [\"256x256\"], \"methods\": [...]}]");
+        StudySpec spec;
+        spec.name = j.contains("name") ? read_string(j["name"], "name", "a name") : fs::path(origin).stem().string();
+        if (j.contains("repeats")) spec.repeats = read_integer(j["repeats"], "repeats", 1, 20);
+        if (!j["cases"].is_array() || j["cases"].empty()) fail("cases must be a non-empty array of cases, got " + written(j["cases"]));
+        std::set<std::string> names;
+        for (size_t i = 0; i < j["cases"].size(); ++i) {
+            spec.cases.push_back(read_case(j["cases"][i], "cases[" + std::to_string(i) + "]", base_dir));
+            if (!names.insert(spec.cases.back().name).second)
+                fail("cases[" + std::to_string(i) + "].name \"" + spec.cases.back().name + "\" is used twice; names label the rows");
+        }
+        if (j.contains("solver_map")) {
+            const json& maps = j["solver_map"];
+            if (maps.is_array()) {
+                for (size_t i = 0; i < maps.size(); ++i)
+                    spec.solver_maps.push_back(read_map(maps[i], "solver_map[" + std::to_string(i) + "]", base_dir));
+            } else {
+                spec.solver_maps.push_back(read_map(maps, "solver_map", base_dir));
+            }
+        }
+        return spec;
+    } catch (const Invalid& e) {
+        return Error{e.has_origin ? e.message : origin + ": " + e.message};
+    } catch (const std::exception& e) {
+        return Error{origin + ": " + std::string(e.what())};
+    }
+}
+
+Result<StudySpec> load_study_spec(const fs::path& path) {
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec))
+        return Error{"cannot open study spec \"" + path.string() + "\"; check the path (specs live in assets/studies/)"};
+    std::ifstream in(path, std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return parse_study_spec(text, path.string(), path.parent_path());
+}
+
+}  // namespace aquaform::cli

@@ -1,0 +1,82 @@
+// The spec of `aquaform study`: a matrix of cases (a scene at a time and a camera), particle
+// counts, resolutions and method configurations, plus an optional solver stability map. Every
+// array-valued method parameter is expanded, so {"method": "sbuffer", "size": [1, 2]} is two
+// configurations. Schema (unknown keys are refused, naming the closest known one):
+//
+// { "name": "default", "repeats": 2,
+//   "cases": [{ "name": "karpati_table1",
+//               "scene": "dam_break" | "path/relative/to/the/spec.json",
+//               "particles": [2000, 4000],        // generated dam breaks only
+//               "time": "half_tank" | 0.25,       // simulated seconds; half_tank: the front at mid-tank
+//               "camera": "front" | "far" | "closeup" | {"eye": [..], "target": [..], "fov": 40},
+//               "resolutions": ["512x512"],
+//               "list_bytes_per_pixel": 256,      // metaball list memory (a budget to overflow)
+//               "methods": [{"method": "sbuffer", "visual": "real", "size": [1, 2], "recursion": [1, 2, 4],
+//                            "bisection": [3]},
+//                           {"method": "adaptive", "resolution": ["full", "half", "quarter", "adaptive"]},
+//                           {"method": "narrow_range"}] }],
+//   "solver_map": { "scene": "path.json", "dt": [0.002, 0.004], "iterations": [1, 2, 4],
+//                   "control_pressure": [..], "time": 0.5 } }   (or an array of such maps)
+//
+// Methods: reference, adaptive, uniform (the SPH surface renderer); brute, abuffer, sbuffer
+// (metaballs); bilateral, curvature_flow, narrow_range (screen-space filters).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "apps/study_solver_map.h"
+#include "render/impostor_view.h"
+#include "sim/result.h"
+
+namespace aquaform::cli {
+
+enum class StudyFamily { surface, metaball, screen_space };
+
+/// One expanded method configuration.
+struct StudyMethod {
+    std::string method;                 ///< as in the spec
+    StudyFamily family = StudyFamily::surface;
+    std::string visual = "gradient";    ///< metaballs
+    float size = 1.0f;                  ///< metaballs: range in particle spacings
+    uint32_t recursion = 1;             ///< metaballs, real visual
+    uint32_t bisection = 3;             ///< metaballs
+    std::string resolution = "adaptive";  ///< adaptive method: full, half, quarter or adaptive
+
+    /// "sbuffer real x2 r4 b3", "adaptive half": unique within a case.
+    std::string label() const;
+};
+
+struct StudyCamera {
+    std::string preset = "front";  ///< front, far, closeup or custom
+    ViewCamera custom;
+};
+
+struct StudyCase {
+    std::string name;
+    std::string scene = "dam_break";        ///< "dam_break" or a scene file path (resolved)
+    std::vector<uint32_t> particles;        ///< dam breaks; empty for scene files
+    std::optional<double> time_s;           ///< empty: half_tank
+    StudyCamera camera;
+    std::vector<std::pair<uint32_t, uint32_t>> resolutions;
+    std::vector<StudyMethod> methods;
+    std::string note;  ///< what the case shows, for the report
+    uint32_t list_bytes_per_pixel = 0;  ///< metaball list memory; 0: the renderer's default
+};
+
+struct StudySpec {
+    std::string name;
+    uint32_t repeats = 2;
+    std::vector<StudyCase> cases;
+    std::vector<SolverMapSpec> solver_maps;  ///< "solver_map": one object or an array of them
+};
+
+/// Reads and checks a spec file; errors name the file, the key and the fix.
+Result<StudySpec> load_study_spec(const std::filesystem::path& path);
+Result<StudySpec> parse_study_spec(const std::string& text, const std::string& origin,
+                                   const std::filesystem::path& base_dir);
+
+}  // namespace aquaform::cli

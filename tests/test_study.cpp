@@ -1,0 +1,148 @@
+// `aquaform study`: the spec is read strictly (errors name the key and the fix), and the tiny
+// spec runs end to end on the software device, writing its CSV, tables and charts, with the
+// overflowing case reported as such.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "apps/study_spec.h"
+#include "tests/cli_helpers.h"
+
+namespace aquaform::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+Result<StudySpec> parse(const std::string& text) { return parse_study_spec(text, "spec.json", AQUAFORM_ASSETS_DIR "/studies"); }
+
+TEST(StudySpecTest, ArrayParametersExpandIntoConfigurations) {
+    auto spec = parse(R"({"cases": [{"name": "a", "resolutions": ["64x32", "32x32"], "particles": [1000, 2000],
+        "methods": [{"method": "sbuffer", "visual": ["gradient", "real"], "size": [1, 2], "recursion": [1, 4]},
+                    {"method": "adaptive", "resolution": ["full", "half"]}]}]})");
+    ASSERT_TRUE(spec.ok()) << spec.error();
+    const StudyCase& c = spec.value().cases[0];
+    EXPECT_EQ(c.resolutions.size(), 2u);
+    EXPECT_EQ(c.resolutions[0], std::make_pair(64u, 32u));
+    EXPECT_EQ(c.particles, (std::vector<uint32_t>{1000, 2000}));
+    // gradient x {1, 2} (recursion applies to real only) + real x {1, 2} x {1, 4} + adaptive x 2.
+    ASSERT_EQ(c.methods.size(), 2u + 4u + 2u);
+    EXPECT_EQ(c.methods[0].label(), "sbuffer gradient x1 b3");
+    EXPECT_EQ(c.methods.back().label(), "adaptive half");
+}
+
+TEST(StudySpecTest, ErrorsNameTheKeyAndTheFix) {
+    auto expect_error = [](const std::string& text, const std::vector<std::string>& parts) {
+        auto spec = parse(text);
+        ASSERT_FALSE(spec.ok()) << text;
+        for (const auto& part : parts) EXPECT_NE(spec.error().find(part), std::string::npos) << spec.error();
+    };
+    expect_error(R"({"cases": [{"name": "a", "resolutions": ["64x64"], "methods": [{"method": "octree"}]}]})",
+                 {"cases[0].methods[0].method", "octree", "sbuffer"});
+    expect_error(R"({"cases": [{"name": "a", "resolution": ["64x64"], "methods": [{"method": "brute"}]}]})",
+                 {"resolution", "resolutions"});
+    expect_error(R"({"cases": [{"name": "a", "resolutions": ["64 by 64"], "methods": [{"method": "brute"}]}]})",
+                 {"cases[0].resolutions", "512x512"});
+    expect_error(R"({"cases": [{"name": "a", "resolutions": ["64x64"], "methods": [{"method": "adaptive", "size": 2}]}]})",
+                 {"size", "metaball"});
+    expect_error(R"({"cases": [{"name": "a", "resolutions": ["64x64"], "methods": [{"method": "brute", "recursion": 9}]}]})",
+                 {"recursion"});
+    expect_error(R"({"cases": [{"name": "a", "scene": "nowhere.json", "resolutions": ["64x64"], "methods": [{"method": "brute"}]}]})",
+                 {"nowhere.json", "relative to the spec"});
+    expect_error(R"({"cases": []})", {"cases"});
+    expect_error(R"({"cases": [{"name": "a", "resolutions": ["64x64"], "methods": [{"method": "brute"}]},
+                               {"name": "a", "resolutions": ["64x64"], "methods": [{"method": "brute"}]}]})",
+                 {"used twice"});
+    expect_error("{\"cases\": [", {"spec.json"});
+}
+
+TEST(StudyCliTest, MissingSpecAndUnknownFlagAreRefused) {
+    auto missing = test_cli::run_aquaform("study /nonexistent/spec.json");
+    EXPECT_EQ(missing.exit_code, 2) << missing.output;
+    EXPECT_NE(missing.output.find("cannot open study spec"), std::string::npos) << missing.output;
+    auto flag = test_cli::run_aquaform("study " AQUAFORM_ASSETS_DIR "/studies/tiny.json --fast");
+    EXPECT_EQ(flag.exit_code, 2) << flag.output;
+    EXPECT_NE(flag.output.find("--fast"), std::string::npos) << flag.output;
+}
+
+/// Rows of a CSV file as fields (no quoted commas in what the tiny study writes, but for status).
+std::vector<std::vector<std::string>> read_csv(const fs::path& path) {
+    std::vector<std::vector<std::string>> rows;
+    std::istringstream in(test_cli::read_file(path));
+    std::string line;
+    while (std::getline(in, line)) {
+        std::vector<std::string> fields;
+        std::string field;
+        bool quoted = false;
+        for (char c : line) {
+            if (c == '"') quoted = !quoted;
+            else if (c == ',' && !quoted) fields.push_back(std::move(field)), field.clear();
+            else field += c;
+        }
+        fields.push_back(field);
+        rows.push_back(fields);
+    }
+    return rows;
+}
+
+TEST(StudyCliTest, TinySpecRunsEndToEndWithCsvTablesAndCharts) {
+    const fs::path out = test_cli::temp_dir("study");
+    auto run = test_cli::run_aquaform("study " AQUAFORM_ASSETS_DIR "/studies/tiny.json --out " + out.string(),
+                                      "AQUAFORM_VALIDATION=1");
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+    const auto rows = read_csv(out / "study.csv");
+    ASSERT_GT(rows.size(), 1u);
+    const auto& header = rows[0];
+    auto column = [&](const std::string& name) {
+        const auto it = std::find(header.begin(), header.end(), name);
+        EXPECT_NE(it, header.end()) << name;
+        return size_t(it - header.begin());
+    };
+    const size_t method = column("method"), status = column("status"), ms = column("ms_total"),
+                 depth = column("depth_err_mean"), overflow = column("overflow"), case_name = column("case");
+    std::vector<std::string> methods_seen;
+    bool overflow_seen = false;
+    for (size_t i = 1; i < rows.size(); ++i) {
+        const auto& r = rows[i];
+        ASSERT_EQ(r.size(), header.size()) << "row " << i;
+        EXPECT_GT(std::stod(r[ms]), 0.0) << r[method];
+        if (r[case_name] == "large_metaballs") {
+            EXPECT_EQ(r[status], "overflow") << "a 16-byte-per-pixel budget cannot hold x4 metaballs";
+            EXPECT_GT(std::stod(r[overflow]), 0.0) << "the memory the lists would need";
+            overflow_seen = true;
+            continue;
+        }
+        EXPECT_EQ(r[status], "ok") << r[method];
+        methods_seen.push_back(r[method].substr(0, r[method].find(' ')));
+        if (r[method] != "reference") {
+            ASSERT_FALSE(r[depth].empty()) << r[method] << " has no error against its reference";
+            // Each method draws its field's surface to within a few particle radii.
+            EXPECT_LT(std::stod(r[depth]), 4.0) << r[method];
+        }
+    }
+    EXPECT_TRUE(overflow_seen);
+    for (const char* m : {"reference", "adaptive", "uniform", "brute", "abuffer", "sbuffer", "bilateral", "curvature_flow", "narrow_range"})
+        EXPECT_NE(std::find(methods_seen.begin(), methods_seen.end(), m), methods_seen.end()) << m;
+    EXPECT_GT(read_csv(out / "study_passes.csv").size(), 10u);
+    size_t images = 0;
+    for (const auto& entry : fs::directory_iterator(out / "images")) images += entry.path().extension() == ".png";
+    EXPECT_EQ(images, rows.size() - 1) << "a picture of every measurement";
+    const auto map = read_csv(out / "solver_map.csv");
+    ASSERT_EQ(map.size(), 3u) << "a header and two cells";
+    const std::string md = test_cli::read_file(out / "study.md");
+    for (const char* part : {"Karpati Table 1", "Wu Table 2", "## Targets"}) EXPECT_NE(md.find(part), std::string::npos) << part;
+    EXPECT_NE(md.find("overflow (needs"), std::string::npos);
+    for (const char* chart : {"pareto", "time_vs_particles", "passes", "solver_map"})
+        for (const char* ext : {".png", ".svg"}) {
+            const fs::path file = out / "charts" / (std::string(chart) + ext);
+            ASSERT_TRUE(fs::exists(file)) << file;
+            EXPECT_GT(fs::file_size(file), 2000u) << file;
+        }
+    fs::remove_all(out);
+}
+
+}  // namespace
+}  // namespace aquaform::cli
