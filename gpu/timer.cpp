@@ -56,4 +56,12 @@ void GpuTimer::collect() {
     used_ = 0;
 }
 
+void submit_timed(Context& ctx, GpuTimer* timer, const std::function<void(VkCommandBuffer)>& record) {
+    ctx.submit_and_wait([&](VkCommandBuffer cmd) {
+        if (timer) timer->reset(cmd);
+        record(cmd);
+    });
+    if (timer) timer->collect();
+}
+
 }  // namespace aquaform::gpu

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -60,5 +61,8 @@ private:
     GpuTimer* timer_;
     VkCommandBuffer cmd_;
 };
+
+/// Records with `record`, submits and waits; with a timer, resets it before and collects after.
+void submit_timed(Context& ctx, GpuTimer* timer, const std::function<void(VkCommandBuffer)>& record);
 
 }  // namespace aquaform::gpu

@@ -199,26 +199,12 @@ void ScreenSpaceRenderer::record_filter(VkCommandBuffer cmd, const ScreenSpaceSe
 
 SurfaceFrame ScreenSpaceRenderer::render(const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
                                          const ScreenSpaceSettings& settings, gpu::GpuTimer* timer) {
-    ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
-        if (timer) timer->reset(cmd);
-        record(cmd, positions, count, camera, settings, timer);
-    });
-    if (timer) timer->collect();
+    gpu::submit_timed(*ctx_, timer, [&](VkCommandBuffer cmd) { record(cmd, positions, count, camera, settings, timer); });
     return read_frame();
 }
 
 SurfaceFrame ScreenSpaceRenderer::read_frame() {
-    const size_t pixels = size_t(width_) * height_;
-    SurfaceFrame frame;
-    frame.width = width_;
-    frame.height = height_;
-    frame.hit = gpu::download_vector<glm::vec4>(*ctx_, *hit_, pixels);
-    frame.normal = gpu::download_vector<glm::vec4>(*ctx_, *normal_, pixels);
-    frame.color.width = width_;
-    frame.color.height = height_;
-    frame.color.rgba.resize(pixels * 4);
-    gpu::download(*ctx_, *color_, frame.color.rgba.data(), pixels * 4);
-    return frame;
+    return download_surface_frame(*ctx_, width_, height_, *hit_, *normal_, *color_);
 }
 
 std::vector<float> ScreenSpaceRenderer::raw_depth() {

@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include "gpu/buffer.h"
 #include "render/image_io.h"
 
 namespace aquaform {
@@ -24,5 +25,9 @@ struct SurfaceFrame {
 
     bool has_surface(size_t pixel) const { return hit[pixel].w >= 0.0f; }
 };
+
+/// Reads a renderer's per-pixel hit and normal (vec4) and colour (RGBA8) buffers back.
+SurfaceFrame download_surface_frame(gpu::Context& ctx, uint32_t width, uint32_t height, const gpu::Buffer& hit,
+                                    const gpu::Buffer& normal, const gpu::Buffer& color);
 
 }  // namespace aquaform
