@@ -219,16 +219,18 @@ private:
         s.step_radii = kMetaballReferenceStepRadii;
         s.bisection_steps = kMetaballReferenceBisections;
         s.max_steps = 1000000;
-        MetaballRenderer& roomy = metaball(uint64_t(width_) * height_ * kDefaultListBytesPerPixel);
-        SurfaceFrame frame = roomy.render(solver_->positions(), particles(), camera_, s);
-        const MetaballStats stats = roomy.stats();
+        MetaballRenderer* roomy = &metaball(uint64_t(width_) * height_ * kDefaultListBytesPerPixel);
+        SurfaceFrame frame = roomy->render(solver_->positions(), particles(), camera_, s);
+        const MetaballStats stats = roomy->stats();
         if (stats.overflow) {
             if (stats.list_bytes_needed > kMaxReferenceListBytes) {
                 *why = "no reference: its lists need " + std::to_string(stats.list_bytes_needed >> 20) + " MiB";
                 return nullptr;
             }
-            frame = metaball(stats.list_bytes_needed + 4096).render(solver_->positions(), particles(), camera_, s);
+            roomy = &metaball(stats.list_bytes_needed + 4096);
+            frame = roomy->render(solver_->positions(), particles(), camera_, s);
         }
+        if (const uint64_t cut = roomy->stats().cut_pixels) metaball_reference_cut_[size] = cut;
         return &metaball_references_.emplace(size, std::move(frame)).first->second;
     }
 
@@ -283,6 +285,11 @@ private:
             row.status = "overflow";
             row.overflow_mib = double(stats.list_bytes_needed) / (1024.0 * 1024.0);
         }
+        // The software device ends long shader loops early (MetaballStats::cut_pixels).
+        if (stats.cut_pixels)
+            row.status = "cut: " + std::to_string(stats.cut_pixels) + " pixels stopped by the device's loop limit";
+        else if (reference && metaball_reference_cut_.count(m.size))
+            row.status = "reference cut: " + std::to_string(metaball_reference_cut_[m.size]) + " pixels";
         // The primary hit is the same for both visuals; only the gradient image is comparable.
         SurfaceFrame frame = r.read_frame();
         if (reference) compare(row, *reference, frame, particle_radius(), s.visual == MetaballVisual::gradient);
@@ -301,6 +308,7 @@ private:
     std::optional<SurfaceFrame> sph_reference_;
     StudyRow sph_reference_ms_;
     std::map<float, SurfaceFrame> metaball_references_;
+    std::map<float, uint64_t> metaball_reference_cut_;  // pixels of a reference the device cut short
     std::map<uint64_t, std::unique_ptr<SurfaceRenderer>> surface_;
     std::unique_ptr<MetaballRenderer> metaball_, roomy_metaball_;
     std::unique_ptr<ScreenSpaceRenderer> screen_space_;

@@ -92,14 +92,15 @@ uint32_t list_entry_bytes(MetaballMethod method) {
 
 std::string MetaballStats::describe() const {
     std::ostringstream text;
-    if (list_capacity == 0) {
-        text << "brute force: no lists";
-        return text.str();
-    }
-    text << list_entries << " list entries of " << list_capacity;
+    if (list_capacity == 0) text << "brute force: no lists";
+    else text << list_entries << " list entries of " << list_capacity;
     if (overflow)
         text << ": OVERFLOW, the lists were cut short; this frame needs " << mib(list_bytes_needed)
              << " of list memory (give the renderer at least that, or make the metaballs smaller)";
+    if (cut_pixels)
+        text << "; " << cut_pixels << " pixels CUT SHORT by the device's loop limit (the software device ends a shader "
+             << "invocation after 65535 loop iterations): their surface may be missing and the time is a lower bound; "
+             << "use fewer particles per ray (lists, smaller metaballs) or a hardware GPU";
     return text.str();
 }
 
@@ -238,7 +239,10 @@ MetaballStats MetaballRenderer::stats() {
         s.overflow = s.list_entries > s.list_capacity;
         s.list_bytes_needed = s.list_entries * list_entry_bytes(method_);
     }
-    for (uint32_t v : gpu::download_vector<uint32_t>(*ctx_, *visits_, pixels)) s.kernel_evaluations += v;
+    for (uint32_t v : gpu::download_vector<uint32_t>(*ctx_, *visits_, pixels)) {
+        s.kernel_evaluations += v & 0x7fffffffu;
+        s.cut_pixels += v >> 31;
+    }
     for (const glm::vec4& n : gpu::download_vector<glm::vec4>(*ctx_, *normal_, pixels))
         s.field_evaluations += uint64_t(n.w);
     return s;
@@ -262,6 +266,18 @@ std::vector<std::vector<uint32_t>> MetaballRenderer::pixel_lists() {
     }
     for (auto& list : lists) std::sort(list.begin(), list.end());
     return lists;
+}
+
+Box MetaballRenderer::particle_bounds() {
+    const MetaballCounters c = gpu::download_vector<MetaballCounters>(*ctx_, *counters_, 1)[0];
+    auto decode = [](uint32_t key) {
+        const uint32_t bits = shader::float_order_bits(key);
+        float f;
+        std::memcpy(&f, &bits, 4);
+        return f;
+    };
+    return {{decode(c.bounds_min_x), decode(c.bounds_min_y), decode(c.bounds_min_z)},
+            {decode(c.bounds_max_x), decode(c.bounds_max_y), decode(c.bounds_max_z)}};
 }
 
 std::vector<gpu::BufferReport> MetaballRenderer::memory_report() const { return buffers_.report(); }

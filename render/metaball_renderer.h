@@ -74,7 +74,10 @@ struct MetaballStats {
     uint64_t list_bytes_needed = 0;  ///< list entries needed times list_entry_bytes
     uint64_t kernel_evaluations = 0; ///< particle visits of every field and gradient evaluation
     uint64_t field_evaluations = 0;  ///< samples along every ray
-    std::string describe() const;    ///< one line; on overflow, what it needs and the fix
+    /// Pixels whose loops the device ended early (llvmpipe stops each shader invocation after
+    /// 65535 loop iterations in all): their surface may be missing and the time is a lower bound.
+    uint64_t cut_pixels = 0;
+    std::string describe() const;    ///< one line; on overflow or cut pixels, what it means and the fix
 };
 
 class MetaballRenderer {
@@ -101,6 +104,8 @@ public:
     /// Diagnostics: the particle ids of every pixel's list in the last frame, sorted (empty lists
     /// for brute force). Lists cut short by an overflow are returned as they are.
     std::vector<std::vector<uint32_t>> pixel_lists();
+    /// Diagnostics: the particles' bounding box the last frame found (min > max when empty).
+    Box particle_bounds();
 
     uint32_t width() const { return width_; }
     uint32_t height() const { return height_; }

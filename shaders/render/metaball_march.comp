@@ -12,7 +12,11 @@
 //   and use that pixel's list (the paper's reuse of the per-pixel structures); a sample that
 //   projects off screen has no list, so only brute force sees particles there.
 // Outputs per pixel: hit (first surface, w = t or -1), normal (w = field evaluations), colour,
-// and visits (kernel evaluations, the work the lists are meant to cut).
+// and visits (kernel evaluations, the work the lists are meant to cut; the top bit set when a
+// loop ended before its condition said so). The last is for the software device: llvmpipe ends
+// every loop of a shader invocation once they have run 65535 iterations together, silently, so a
+// brute-force ray over thousands of particles stops half way. Each loop here checks, after it
+// ends, that its own condition ended it; the pixel is reported instead of drawn wrong unnoticed.
 #include "shared/metaball_layout.h"
 
 layout(local_size_x_id = 0) in;
@@ -36,6 +40,7 @@ const uint NO_PIXEL = 0xffffffffu;
 
 uint g_evals = 0u;   // field evaluations by this pixel's rays
 uint g_visits = 0u;  // kernel evaluations by this pixel's rays
+bool g_cut = false;  // a loop was ended by the device, not by its condition
 
 // ---- particle lists -----------------------------------------------------------------------
 
@@ -51,20 +56,7 @@ Cursor open_list(uint pixel) {
     return Cursor(offsets[pixel], min(offsets[pixel + 1u], params.list_capacity));
 }
 
-bool next_particle(inout Cursor c, out uint id) {
-    id = 0u;
-    if (params.method == METABALL_A_BUFFER) {
-        if (c.at == METABALL_NIL) return false;
-        uvec2 node = nodes[c.at];
-        id = node.x;
-        c.at = node.y;
-        return true;
-    }
-    if (c.at >= c.end) return false;
-    id = params.method == METABALL_S_BUFFER ? ids[c.at] : c.at;
-    c.at += 1u;
-    return true;
-}
+bool list_done(Cursor c) { return params.method == METABALL_A_BUFFER ? c.at == METABALL_NIL : c.at >= c.end; }
 
 /// The pixel whose list serves point p: the primary ray's own pixel, or p back-projected.
 uint list_pixel(vec3 p, uint primary_pixel) {
@@ -80,29 +72,60 @@ uint list_pixel(vec3 p, uint primary_pixel) {
 
 // ---- the field ------------------------------------------------------------------------------
 
+// The particle loops visit LIST_UNROLL particles per iteration, so that the software device's
+// shared budget of 65535 loop iterations per invocation (see the top) covers that many times more
+// particle visits; on hardware the unrolling only saves loop overhead.
+#define LIST_UNROLL 8u
+
+/// xyz: the gradient (when `gradient`), w: the field, summed over the list of `pixel`.
+vec4 sum_field(vec3 p, uint pixel, bool gradient) {
+    Cursor c = open_list(pixel);
+    vec4 sum = vec4(0.0);
+    uint visited = 0u;
+#define VISIT(ID)                                                                   \
+    {                                                                               \
+        vec3 d_ = p - positions[ID].xyz;                                            \
+        float s_ = dot(d_, d_) * params.inv_radius2;                                \
+        sum.w += wyvill(s_);                                                        \
+        if (gradient) sum.xyz += wyvill_ds(s_) * d_;                                \
+    }
+    if (params.method == METABALL_A_BUFFER) {
+        // A linked list: follow LIST_UNROLL (8) links per iteration.
+#define LINK                                                                        \
+        if (c.at == METABALL_NIL) break;                                            \
+        { uvec2 node_ = nodes[c.at]; VISIT(node_.x) c.at = node_.y; visited += 1u; }
+        while (c.at != METABALL_NIL) { LINK LINK LINK LINK LINK LINK LINK LINK }
+#undef LINK
+    } else {
+        bool sbuffer = params.method == METABALL_S_BUFFER;
+        while (c.at + LIST_UNROLL <= c.end) {
+            VISIT(sbuffer ? ids[c.at] : c.at)
+            VISIT(sbuffer ? ids[c.at + 1u] : c.at + 1u)
+            VISIT(sbuffer ? ids[c.at + 2u] : c.at + 2u)
+            VISIT(sbuffer ? ids[c.at + 3u] : c.at + 3u)
+            VISIT(sbuffer ? ids[c.at + 4u] : c.at + 4u)
+            VISIT(sbuffer ? ids[c.at + 5u] : c.at + 5u)
+            VISIT(sbuffer ? ids[c.at + 6u] : c.at + 6u)
+            VISIT(sbuffer ? ids[c.at + 7u] : c.at + 7u)
+            c.at += LIST_UNROLL;
+            visited += LIST_UNROLL;
+        }
+        for (; c.at < c.end; ++c.at, ++visited) VISIT(sbuffer ? ids[c.at] : c.at)
+    }
+#undef VISIT
+    g_visits += visited;
+    if (!list_done(c)) g_cut = true;
+    return sum;
+}
+
 float field(vec3 p, uint primary_pixel) {
     g_evals += 1u;
-    Cursor c = open_list(list_pixel(p, primary_pixel));
-    float sum = 0.0;
-    uint id;
-    while (next_particle(c, id)) {
-        vec3 d = p - positions[id].xyz;
-        sum += wyvill(dot(d, d) * params.inv_radius2);
-        g_visits += 1u;
-    }
-    return sum;
+    return sum_field(p, list_pixel(p, primary_pixel), false).w;
 }
 
 /// Outward unit normal: the field rises into the fluid, so the normal is minus its gradient.
 vec3 surface_normal(vec3 p, uint primary_pixel) {
-    Cursor c = open_list(list_pixel(p, primary_pixel));
-    vec3 grad = vec3(0.0);
-    uint id;
-    while (next_particle(c, id)) {
-        vec3 d = p - positions[id].xyz;
-        grad += wyvill_ds(dot(d, d) * params.inv_radius2) * d;
-        g_visits += 1u;
-    }
+    vec3 grad = sum_field(p, list_pixel(p, primary_pixel), true).xyz;
     float len = length(grad);
     return len > 0.0 ? -grad / len : vec3(0.0);
 }
@@ -113,20 +136,24 @@ bool march(vec3 o, vec3 d, float t0, float t1, uint primary_pixel, bool inside, 
     t_hit = -1.0;
     float t_prev = t0;
     float t = t0;
-    for (uint k = 0u; k < params.max_steps && t <= t1; ++k) {
+    uint k = 0u;
+    for (; k < params.max_steps && t <= t1; ++k) {
         bool now_inside = field(o + t * d, primary_pixel) >= params.iso;
         if (now_inside != inside) {
             float a = t_prev, b = t;
-            for (uint r = 0u; r < params.refine_steps; ++r) {
+            uint r = 0u;
+            for (; r < params.refine_steps; ++r) {
                 float m = 0.5 * (a + b);
                 if ((field(o + m * d, primary_pixel) >= params.iso) != inside) b = m; else a = m;
             }
+            if (r < params.refine_steps) g_cut = true;
             t_hit = 0.5 * (a + b);
             return true;
         }
         t_prev = t;
         t = (t == t1) ? t1 + 1.0 : min(t + params.step, t1);  // the span's end is always sampled
     }
+    if (k < params.max_steps && t <= t1) g_cut = true;
     return false;
 }
 
@@ -209,6 +236,7 @@ vec3 trace_paths(vec3 eye_dir, float first_t, vec3 first_n, uint pixel) {
         stack[top++] = PathRay(q, reflect(ray.dir, facing), w * f, ray.depth + 1u, ray.inside);
         if (f < 1.0) stack[top++] = PathRay(q, through, w * (1.0 - f), ray.depth + 1u, !ray.inside);
     }
+    if (top > 0u) g_cut = true;
     return result;
 }
 
@@ -233,5 +261,5 @@ void main() {
         normal[index] = vec4(0.0, 0.0, 0.0, float(g_evals));
         color[index] = pack_srgb(environment(params.eye.xyz, dir));
     }
-    visits[index] = g_visits;
+    visits[index] = min(g_visits, 0x7fffffffu) | (g_cut ? 0x80000000u : 0u);
 }
