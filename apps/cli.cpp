@@ -28,6 +28,9 @@ const char* kUsage =
     "        reference.png, depth_error.png and render.json (timings, metrics against the reference)\n"
     "  control place MESH.obj [--method vertices|inside|raster] [--spacing S] [--out DIR] [--no-png]\n"
     "        check a mesh and place control points; writes points.ply, points.png and report.txt\n"
+    "  view SCENE.json [--size WxH] [--play] [--script FILE] [--record DIR] [--frames N] [--device ...] [render flags]\n"
+    "        interactive viewer: play/pause/step/reset, method switch, solver settings, GPU time per pass;\n"
+    "        mouse orbits/pans/zooms; keys: space play, N step, R reset, P screenshot, Esc quit\n"
     "  study SPEC.json [--out DIR] [--no-charts] [--device ...] [--validation]\n"
     "        comparative study: scenes x methods x resolutions x particle counts on the same frames;\n"
     "        writes study.csv, study_passes.csv, solver_map.csv, study.md and charts/ (default DIR out/study/NAME)\n"
@@ -118,6 +121,7 @@ int run_main(int argc, char** argv) {
         if (command == "assets") return cmd_assets(rest);
         if (command == "bench") return cmd_bench(rest);
         if (command == "study") return cmd_study(rest);
+        if (command == "view") return cmd_view(rest);
         if (command == "help" || command == "--help" || command == "-h") {
             std::fputs(kUsage, stdout);
             std::fputs(render_flags_usage(), stdout);

@@ -47,6 +47,7 @@ int cmd_bench(const std::vector<std::string>& argv);
 int cmd_render(const std::vector<std::string>& argv);
 int cmd_control(const std::vector<std::string>& argv);
 int cmd_study(const std::vector<std::string>& argv);
+int cmd_view(const std::vector<std::string>& argv);
 /// `aquaform bench render` (apps/cmd_bench_render.cpp), called by cmd_bench with its parsed
 /// flags; bench_render_flags() are the flags it takes.
 int bench_render(const Args& args);

@@ -42,13 +42,14 @@ int find_queue_family(VkPhysicalDevice pd) {
     return -1;
 }
 
-VkInstance create_instance(bool validation, bool* debug_utils) {
+VkInstance create_instance(bool validation, const std::vector<std::string>& extra_extensions, bool* debug_utils) {
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
     app.pApplicationName = "aquaform";
     app.apiVersion = kRequiredApi;
 
     std::vector<const char*> layers;
     std::vector<const char*> extensions;
+    for (const std::string& e : extra_extensions) extensions.push_back(e.c_str());
     *debug_utils = false;
     if (validation) {
         uint32_t count = 0;
@@ -164,7 +165,7 @@ const char* device_type_name(VkPhysicalDeviceType type) {
 
 std::vector<DeviceInfo> Context::list_devices() {
     bool debug_utils = false;
-    VkInstance instance = create_instance(false, &debug_utils);
+    VkInstance instance = create_instance(false, {}, &debug_utils);
     std::vector<DeviceInfo> out;
     auto devices = physical_devices(instance);
     for (uint32_t i = 0; i < devices.size(); ++i) out.push_back(describe(devices[i], i));
@@ -242,7 +243,7 @@ Context::Context(const ContextOptions& options) {
 
 void Context::create(const ContextOptions& options) {
     bool debug_utils = false;
-    instance_ = create_instance(options.validation, &debug_utils);
+    instance_ = create_instance(options.validation, options.instance_extensions, &debug_utils);
     if (debug_utils) {
         VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
         info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT |
@@ -270,6 +271,14 @@ void Context::create(const ContextOptions& options) {
     limits_ = props.limits;
     vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
     queue_family_ = static_cast<uint32_t>(find_queue_family(physical_));
+    if (options.make_surface) {
+        surface_ = options.make_surface(instance_);
+        VkBool32 presents = VK_FALSE;
+        VK_CHECK(vkGetPhysicalDeviceSurfaceSupportKHR(physical_, queue_family_, surface_, &presents));
+        if (!presents)
+            throw VulkanError(VK_ERROR_INITIALIZATION_FAILED,
+                              "device " + info_.name + " cannot present to this window; choose another with --device");
+    }
 
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -282,13 +291,14 @@ void Context::create(const ContextOptions& options) {
     features13.synchronization2 = VK_TRUE;
     VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     features.pNext = &features13;
-    const char* extensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    std::vector<const char*> extensions{VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+    if (surface_) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
     VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     device_info.pNext = &features;
     device_info.queueCreateInfoCount = 1;
     device_info.pQueueCreateInfos = &queue_info;
-    device_info.enabledExtensionCount = 1;
-    device_info.ppEnabledExtensionNames = extensions;
+    device_info.enabledExtensionCount = uint32_t(extensions.size());
+    device_info.ppEnabledExtensionNames = extensions.data();
     VK_CHECK(vkCreateDevice(physical_, &device_info, nullptr, &device_));
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
     push_descriptor_ = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
@@ -316,6 +326,10 @@ void Context::destroy() {
         if (command_pool_) vkDestroyCommandPool(device_, command_pool_, nullptr);
         vkDestroyDevice(device_, nullptr);
         device_ = VK_NULL_HANDLE;
+    }
+    if (surface_) {
+        vkDestroySurfaceKHR(instance_, surface_, nullptr);
+        surface_ = VK_NULL_HANDLE;
     }
     if (messenger_) {
         auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(

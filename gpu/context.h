@@ -29,6 +29,12 @@ const char* device_type_name(VkPhysicalDeviceType type);
 struct ContextOptions {
     std::string device;       ///< "" = automatic; else an index or a case-insensitive name part
     bool validation = false;  ///< enable VK_LAYER_KHRONOS_validation and count its errors
+    /// Presentation (the viewer): the instance extensions the window system needs, and a function
+    /// that makes the window's surface once the instance exists. With it the context enables
+    /// VK_KHR_swapchain, requires its queue to present to the surface, and destroys the surface
+    /// before the instance.
+    std::vector<std::string> instance_extensions;
+    std::function<VkSurfaceKHR(VkInstance)> make_surface;
 };
 
 class Context {
@@ -49,6 +55,7 @@ public:
     VkPhysicalDevice physical_device() const { return physical_; }
     VkDevice device() const { return device_; }
     VkQueue queue() const { return queue_; }
+    VkSurfaceKHR surface() const { return surface_; }  ///< VK_NULL_HANDLE without presentation
     uint32_t queue_family() const { return queue_family_; }
     const DeviceInfo& info() const { return info_; }
     const VkPhysicalDeviceLimits& limits() const { return limits_; }
@@ -78,6 +85,7 @@ private:
     VkPhysicalDevice physical_ = VK_NULL_HANDLE;
     VkDevice device_ = VK_NULL_HANDLE;
     VkQueue queue_ = VK_NULL_HANDLE;
+    VkSurfaceKHR surface_ = VK_NULL_HANDLE;
     uint32_t queue_family_ = 0;
     VkCommandPool command_pool_ = VK_NULL_HANDLE;
     VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;

@@ -114,6 +114,9 @@ public:
     uint64_t list_capacity(MetaballMethod method) const { return list_bytes_ / list_entry_bytes(method); }
     const shader::MetaballParams& params() const { return params_; }
     std::vector<gpu::BufferReport> memory_report() const;
+    /// The shaded image of the last frame recorded (RGBA8 per pixel, sRGB-encoded, row-major),
+    /// for presenting it without a trip through the host.
+    const gpu::Buffer& color_buffer() const { return *color_; }
 
 private:
     gpu::Context* ctx_;

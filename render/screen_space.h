@@ -130,6 +130,9 @@ public:
     uint32_t width() const { return width_; }
     uint32_t height() const { return height_; }
     std::vector<gpu::BufferReport> memory_report() const;
+    /// The shaded image of the last frame recorded (RGBA8 per pixel, sRGB-encoded, row-major),
+    /// for presenting it without a trip through the host.
+    const gpu::Buffer& color_buffer() const { return *color_; }
 
 private:
     void record_filter(VkCommandBuffer cmd, const ScreenSpaceSettings& settings);

@@ -12,6 +12,7 @@ packages=(
   glslang-dev glslang-tools spirv-tools
   libglfw3-dev libglm-dev libtinyobjloader-dev libopenmesh-dev
   libgtest-dev googletest nlohmann-json3-dev libstb-dev python3-matplotlib
+  libimgui-dev xvfb xauth
 )
 
 missing=()

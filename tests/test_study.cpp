@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/study_run.h"
 #include "apps/study_spec.h"
 #include "tests/cli_helpers.h"
 
@@ -57,6 +58,34 @@ TEST(StudySpecTest, ErrorsNameTheKeyAndTheFix) {
                                {"name": "a", "resolutions": ["64x64"], "methods": [{"method": "brute"}]}]})",
                  {"used twice"});
     expect_error("{\"cases\": [", {"spec.json"});
+}
+
+StudyRow row(const std::string& case_name, const std::string& method, uint32_t particles, double ms, double depth) {
+    StudyRow r;
+    r.case_name = case_name;
+    r.method = method;
+    r.particles = particles;
+    r.width = r.height = 512;
+    r.ms_total = ms;
+    r.depth_err_mean = depth;
+    return r;
+}
+
+TEST(StudyTargetsTest, ComparisonsStayWithinACaseAndTheCrossoverIsInterpolated) {
+    const std::string s = "sbuffer gradient x1 b3", b = "brute gradient x1 b3";
+    std::vector<StudyRow> rows{
+        // A case with brute force only, and one with both: the ratio comes from the second.
+        row("other", b, 4096, 1000.0, 0.1),
+        row("k", b, 4096, 900.0, 0.1), row("k", s, 4096, 100.0, 0.1),
+        // The S-buffer is 2x faster at 10k, the adaptive method 2x faster at 1M: equal at 100k.
+        row("scaling", "adaptive", 10000, 200.0, 0.01), row("scaling", s, 10000, 100.0, 0.05),
+        row("scaling", "adaptive", 1000000, 200.0, 0.01), row("scaling", s, 1000000, 400.0, 0.05)};
+    const auto lines = study_targets(rows);
+    ASSERT_EQ(lines.size(), 3u);
+    EXPECT_NE(lines[0].find("9.0x at 4096 particles in k"), std::string::npos) << lines[0];
+    EXPECT_NE(lines[0].find("MET"), std::string::npos) << lines[0];
+    EXPECT_NE(lines[1].find("MISS"), std::string::npos) << lines[1];
+    EXPECT_NE(lines[2].find("about 100000 particles"), std::string::npos) << lines[2];
 }
 
 TEST(StudyCliTest, MissingSpecAndUnknownFlagAreRefused) {

@@ -1,0 +1,446 @@
+// `aquaform view SCENE`: the interactive viewer. A GLFW window presents the renderer's image
+// straight from its GPU buffer (apps/view_window.h); Dear ImGui panels play, pause, step and
+// reset the simulation, switch the surface method and change solver settings, and chart the
+// GPU time per pass. The mouse orbits (left), pans (right) and zooms (wheel) the camera.
+// Keys: space play/pause, N one step, R reset, P screenshot, Esc quit. --script plays UI actions
+// at given frames (apps/view_script.h); --record DIR writes every frame drawn.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+
+#define GLFW_INCLUDE_VULKAN
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_vulkan.h>
+
+#include "apps/cli.h"
+#include "apps/render_options.h"
+#include "apps/view_script.h"
+#include "apps/view_window.h"
+#include "control/control_driver.h"
+#include "gpu/context.h"
+#include "gpu/timer.h"
+#include "gpu/vk_check.h"
+#include "render/image_io.h"
+#include "render/metaball_renderer.h"
+#include "render/screen_space.h"
+#include "render/surface_renderer.h"
+#include "sim/pbf_solver.h"
+
+namespace aquaform::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+/// The method menu: every renderer that is quick enough to watch.
+constexpr const char* kMethods[] = {"adaptive", "uniform", "sbuffer", "abuffer", "narrow_range", "bilateral", "curvature_flow"};
+constexpr size_t kHistory = 120;  // frames in the timing chart
+
+struct OrbitCamera {
+    glm::vec3 target{0.0f};
+    float yaw = 0.0f, pitch = 0.3f, distance = 1.0f, fov = 40.0f;
+
+    static OrbitCamera around(const ViewCamera& c) {
+        OrbitCamera o;
+        o.target = c.target;
+        const glm::vec3 d = c.eye - c.target;
+        o.distance = glm::length(d);
+        o.yaw = std::atan2(d.x, d.z);
+        o.pitch = std::asin(std::clamp(d.y / o.distance, -1.0f, 1.0f));
+        o.fov = c.fov_y_degrees;
+        return o;
+    }
+    ViewCamera camera() const {
+        ViewCamera c;
+        c.target = target;
+        c.eye = target + distance * glm::vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
+        c.fov_y_degrees = fov;
+        return c;
+    }
+};
+
+class Viewer {
+public:
+    Viewer(gpu::Context& ctx, ViewWindow& window, Scene scene, std::optional<control::PreparedControl> control,
+           SurfaceSettings surface_settings)
+        : ctx_(ctx), window_(window), scene_(std::move(scene)), control_(std::move(control)),
+          surface_settings_(surface_settings), render_timer_(ctx), sim_timer_(ctx) {
+        rebuild_solver(false);
+        int w = 0, h = 0;
+        glfwGetFramebufferSize(window_.handle(), &w, &h);
+        orbit_ = OrbitCamera::around(camera_for_domain(scene_.domain, float(std::max(w, 1)) / float(std::max(h, 1))));
+        init_ui();
+    }
+    ~Viewer() {
+        vkDeviceWaitIdle(ctx_.device());
+        ImGui_ImplVulkan_Shutdown();
+        ImGui_ImplGlfw_Shutdown();
+        ImGui::DestroyContext();
+        if (ui_pool_) vkDestroyDescriptorPool(ctx_.device(), ui_pool_, nullptr);
+    }
+
+    int run(const std::vector<ViewAction>& script, const fs::path& record_dir, uint32_t max_frames) {
+        size_t next_action = 0;
+        const auto start = std::chrono::steady_clock::now();
+        uint32_t frame = 0;
+        for (; !window_.should_close() && !quit_ && (max_frames == 0 || frame < max_frames); ++frame) {
+            glfwPollEvents();
+            while (next_action < script.size() && script[next_action].frame <= frame) apply(script[next_action++]);
+            if (quit_) break;
+            if (playing_ || step_once_) advance();
+            step_once_ = false;
+            if (!draw(frame)) continue;
+            if (!record_dir.empty()) {
+                char name[32];
+                std::snprintf(name, sizeof name, "frame_%04u.png", frame);
+                screenshot(record_dir / name);
+            }
+        }
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::printf("aquaform view: %u frames in %.1f s (%.2f frames/s, %u particles, %ux%u, %s)\n", frame, seconds,
+                    seconds > 0 ? frame / seconds : 0.0, solver_->particle_count(), render_w_, render_h_, method_.c_str());
+        return failed_ ? kExitFailure : kExitOk;
+    }
+
+    void set_screenshot_dir(const fs::path& dir) { screenshot_dir_ = dir; }
+    void set_method(const std::string& method) { method_ = method; }
+
+private:
+    // ---- simulation -------------------------------------------------------------------------
+
+    /// A fresh solver from the scene, or (keep_state) one with the new settings continuing from
+    /// the current particles: the solver's settings are fixed at construction.
+    void rebuild_solver(bool keep_state) {
+        std::optional<ParticleSnapshot> state;
+        if (keep_state && solver_) state = solver_->snapshot();
+        driver_.reset();
+        solver_ = std::make_unique<PbfSolver>(ctx_, scene_);
+        if (state) solver_->set_state(state->x, state->v);
+        if (control_) {
+            driver_ = std::make_unique<control::ControlDriver>(ctx_, scene_, control_->section, control_->strength);
+            solver_->set_step_force(&driver_->force());
+        }
+    }
+
+    void advance() {
+        if (driver_) driver_->update(solver_->time());
+        const FrameStats stats = solver_->run_frame(&sim_timer_);
+        sim_passes_ = sim_timer_.totals_ms();
+        if (stats.non_finite > 0 && playing_) {
+            playing_ = false;
+            status_ = "the simulation blew up (" + std::to_string(stats.non_finite) +
+                      " particles not finite): raise substeps or reset";
+        }
+    }
+
+    // ---- rendering --------------------------------------------------------------------------
+
+    /// Renderers match the window's framebuffer; they are made again when it changes size.
+    void ensure_renderers(uint32_t w, uint32_t h) {
+        if (w == render_w_ && h == render_h_) return;
+        vkDeviceWaitIdle(ctx_.device());
+        surface_.reset();
+        metaball_.reset();
+        screen_space_.reset();
+        render_w_ = w;
+        render_h_ = h;
+    }
+
+    const gpu::Buffer& record_render(VkCommandBuffer cmd) {
+        const ViewCamera camera = orbit_.camera();
+        const uint32_t n = solver_->particle_count();
+        if (method_ == "adaptive" || method_ == "uniform") {
+            if (!surface_) surface_ = std::make_unique<SurfaceRenderer>(ctx_, scene_, render_w_, render_h_, n);
+            SurfaceSettings s = surface_settings_;
+            s.method = method_ == "adaptive" ? SurfaceMethod::adaptive : SurfaceMethod::uniform;
+            surface_->record(cmd, solver_->positions(), n, camera, s, &render_timer_);
+            return surface_->color_buffer();
+        }
+        if (method_ == "sbuffer" || method_ == "abuffer") {
+            if (!metaball_) metaball_ = std::make_unique<MetaballRenderer>(ctx_, scene_, render_w_, render_h_, n);
+            MetaballSettings s;
+            s.method = parse_metaball_method(method_).value();
+            metaball_->record(cmd, solver_->positions(), n, camera, s, &render_timer_);
+            return metaball_->color_buffer();
+        }
+        if (!screen_space_) screen_space_ = std::make_unique<ScreenSpaceRenderer>(ctx_, scene_, render_w_, render_h_, n);
+        ScreenSpaceSettings s;
+        s.filter = parse_filter(method_).value();
+        screen_space_->record(cmd, solver_->positions(), n, camera, s, &render_timer_);
+        return screen_space_->color_buffer();
+    }
+
+    /// One window frame: render, blit, UI, present. False when nothing was drawn (minimised).
+    bool draw(uint32_t frame) {
+        VkCommandBuffer cmd = window_.begin_frame();
+        if (timer_pending_) {
+            timer_pending_ = false;
+            render_timer_.collect();
+            render_passes_ = render_timer_.totals_ms();
+            double total = 0.0;
+            for (const auto& [name, ms] : render_passes_) total += ms;
+            history_.push_back(float(total));
+            if (history_.size() > kHistory) history_.pop_front();
+        }
+        if (!cmd) return false;
+        const VkExtent2D extent = window_.extent();
+        ensure_renderers(std::max(extent.width, 16u), std::max(extent.height, 16u));
+        render_timer_.reset(cmd);
+        const gpu::Buffer& color = record_render(cmd);
+        last_color_ = &color;
+        window_.blit(cmd, color, render_w_, render_h_);
+        ImGui_ImplVulkan_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+        handle_input();
+        panel(frame);
+        ImGui::Render();
+        window_.begin_ui(cmd);
+        ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), cmd);
+        window_.end_ui(cmd);
+        window_.end_frame(cmd);
+        timer_pending_ = true;
+        return true;
+    }
+
+    /// The last rendered frame (without the UI) as PNG.
+    void screenshot(const fs::path& path) {
+        if (!last_color_) return;
+        vkDeviceWaitIdle(ctx_.device());
+        Image image;
+        image.width = render_w_;
+        image.height = render_h_;
+        image.rgba.resize(size_t(render_w_) * render_h_ * 4);
+        gpu::download(ctx_, *last_color_, image.rgba.data(), image.rgba.size());
+        std::error_code ec;
+        if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
+        auto written = write_png(path, image);
+        if (!written) {
+            std::fprintf(stderr, "aquaform view: %s\n", written.error().c_str());
+            failed_ = true;
+        } else {
+            status_ = "saved " + path.string();
+        }
+    }
+
+    // ---- interaction ------------------------------------------------------------------------
+
+    void apply(const ViewAction& a) {
+        if (a.what == "play") playing_ = true;
+        else if (a.what == "pause") playing_ = false;
+        else if (a.what == "step") step_once_ = true;
+        else if (a.what == "reset") rebuild_solver(false);
+        else if (a.what == "quit") quit_ = true;
+        else if (a.what == "screenshot") screenshot(fs::path(a.value).is_absolute() ? fs::path(a.value) : screenshot_dir_ / a.value);
+        else if (a.what == "method") set_method_checked(a.value);
+        else if (a.what == "iterations" || a.what == "substeps") {
+            (a.what == "iterations" ? scene_.solver.iterations : scene_.solver.substeps) = uint32_t(std::stoul(a.value));
+            rebuild_solver(true);
+        }
+    }
+
+    void set_method_checked(const std::string& method) {
+        if (std::find(std::begin(kMethods), std::end(kMethods), method) == std::end(kMethods)) {
+            std::fprintf(stderr, "aquaform view: unknown method \"%s\" in the script; use one of the method menu's\n",
+                         method.c_str());
+            failed_ = true;
+            return;
+        }
+        method_ = method;
+    }
+
+    void handle_input() {
+        ImGuiIO& io = ImGui::GetIO();
+        if (!io.WantCaptureMouse) {
+            if (ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
+                orbit_.yaw -= io.MouseDelta.x * 0.01f;
+                orbit_.pitch = std::clamp(orbit_.pitch + io.MouseDelta.y * 0.01f, -1.5f, 1.5f);
+            }
+            if (ImGui::IsMouseDragging(ImGuiMouseButton_Right)) {
+                const glm::mat3 axes = camera_axes(orbit_.camera());
+                const float scale = orbit_.distance * 0.002f;
+                orbit_.target += (-io.MouseDelta.x * axes[0] + io.MouseDelta.y * axes[1]) * scale;
+            }
+            if (io.MouseWheel != 0.0f) orbit_.distance *= std::pow(0.9f, io.MouseWheel);
+        }
+        // ImGui 1.86's GLFW backend indexes the key state by GLFW key codes.
+        if (!io.WantCaptureKeyboard) {
+            if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) playing_ = !playing_;
+            if (ImGui::IsKeyPressed(GLFW_KEY_N)) step_once_ = true;
+            if (ImGui::IsKeyPressed(GLFW_KEY_R)) rebuild_solver(false);
+            if (ImGui::IsKeyPressed(GLFW_KEY_P)) screenshot(screenshot_dir_ / ("screenshot_" + std::to_string(shots_++) + ".png"));
+            if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) quit_ = true;
+        }
+    }
+
+    void panel(uint32_t frame) {
+        ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+        ImGui::SetNextWindowSize(ImVec2(300, 0), ImGuiCond_FirstUseEver);
+        ImGui::Begin("aquaform");
+        ImGui::Text("%s: %u particles, t = %.3f s", scene_.name.c_str(), solver_->particle_count(), solver_->time());
+        ImGui::Text("frame %u, %.1f frames/s", frame, ImGui::GetIO().Framerate);
+        if (ImGui::Button(playing_ ? "Pause" : "Play")) playing_ = !playing_;
+        ImGui::SameLine();
+        if (ImGui::Button("Step")) step_once_ = true;
+        ImGui::SameLine();
+        if (ImGui::Button("Reset")) rebuild_solver(false);
+        if (ImGui::BeginCombo("method", method_.c_str())) {
+            for (const char* m : kMethods)
+                if (ImGui::Selectable(m, method_ == m)) method_ = m;
+            ImGui::EndCombo();
+        }
+        if (ImGui::CollapsingHeader("Solver", ImGuiTreeNodeFlags_DefaultOpen)) {
+            int iterations = int(scene_.solver.iterations), substeps = int(scene_.solver.substeps);
+            bool changed = ImGui::SliderInt("iterations", &iterations, 1, 16);
+            changed |= ImGui::SliderInt("substeps", &substeps, 1, 16);
+            changed |= ImGui::SliderFloat("viscosity", &scene_.solver.viscosity, 0.0f, 0.2f);
+            changed |= ImGui::SliderFloat("vorticity", &scene_.solver.vorticity, 0.0f, 0.01f, "%.4f");
+            if (changed && ImGui::IsItemDeactivatedAfterEdit()) {
+                scene_.solver.iterations = uint32_t(iterations);
+                scene_.solver.substeps = uint32_t(substeps);
+                rebuild_solver(true);
+            } else {
+                scene_.solver.iterations = uint32_t(iterations);
+                scene_.solver.substeps = uint32_t(substeps);
+            }
+        }
+        if (ImGui::CollapsingHeader("GPU time", ImGuiTreeNodeFlags_DefaultOpen)) {
+            std::vector<float> history(history_.begin(), history_.end());
+            if (!history.empty())
+                ImGui::PlotLines("render ms", history.data(), int(history.size()), 0, nullptr, 0.0f, FLT_MAX, ImVec2(0, 60));
+            for (const auto& [name, ms] : render_passes_) ImGui::Text("%-22s %8.2f ms", name.c_str(), ms);
+            double sim = 0.0;
+            for (const auto& [name, ms] : sim_passes_) sim += ms;
+            ImGui::Text("%-22s %8.2f ms", "simulation (frame)", sim);
+        }
+        if (!status_.empty()) ImGui::TextWrapped("%s", status_.c_str());
+        ImGui::End();
+    }
+
+    void init_ui() {
+        IMGUI_CHECKVERSION();
+        ImGui::CreateContext();
+        ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini beside the user's files
+        ImGui::StyleColorsDark();
+        VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 16}};
+        VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+        pool.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+        pool.maxSets = 16;
+        pool.poolSizeCount = 1;
+        pool.pPoolSizes = sizes;
+        VK_CHECK(vkCreateDescriptorPool(ctx_.device(), &pool, nullptr, &ui_pool_));
+        ImGui_ImplGlfw_InitForVulkan(window_.handle(), true);
+        ImGui_ImplVulkan_InitInfo info{};
+        info.Instance = ctx_.instance();
+        info.PhysicalDevice = ctx_.physical_device();
+        info.Device = ctx_.device();
+        info.QueueFamily = ctx_.queue_family();
+        info.Queue = ctx_.queue();
+        info.DescriptorPool = ui_pool_;
+        info.MinImageCount = std::max(window_.image_count(), 2u);
+        info.ImageCount = std::max(window_.image_count(), 2u);
+        info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
+        ImGui_ImplVulkan_Init(&info, window_.render_pass());
+        ctx_.submit_and_wait([](VkCommandBuffer cmd) { ImGui_ImplVulkan_CreateFontsTexture(cmd); });
+        ImGui_ImplVulkan_DestroyFontUploadObjects();
+    }
+
+    gpu::Context& ctx_;
+    ViewWindow& window_;
+    Scene scene_;
+    std::optional<control::PreparedControl> control_;
+    SurfaceSettings surface_settings_;
+    std::unique_ptr<PbfSolver> solver_;
+    std::unique_ptr<control::ControlDriver> driver_;
+    std::unique_ptr<SurfaceRenderer> surface_;
+    std::unique_ptr<MetaballRenderer> metaball_;
+    std::unique_ptr<ScreenSpaceRenderer> screen_space_;
+    uint32_t render_w_ = 0, render_h_ = 0;
+    const gpu::Buffer* last_color_ = nullptr;
+    gpu::GpuTimer render_timer_, sim_timer_;
+    bool timer_pending_ = false;
+    std::map<std::string, double> render_passes_, sim_passes_;
+    std::deque<float> history_;
+    OrbitCamera orbit_;
+    std::string method_ = "adaptive";
+    std::string status_;
+    fs::path screenshot_dir_ = ".";
+    uint32_t shots_ = 0;
+    bool playing_ = false, step_once_ = false, quit_ = false, failed_ = false;
+    VkDescriptorPool ui_pool_ = VK_NULL_HANDLE;
+};
+
+}  // namespace
+
+int cmd_view(const std::vector<std::string>& argv) {
+    std::string error;
+    const FlagSpec spec = with_render_flags({{"--device", "--script", "--record", "--size", "--frames"}, {"--validation", "--play"}});
+    auto args = parse_args(argv, spec, "view", &error);
+    if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
+    if (args->positional.size() != 1) {
+        std::fprintf(stderr, "aquaform view: give exactly one scene file, e.g. aquaform view assets/scenes/dam_break.json\n");
+        return kExitUsage;
+    }
+    auto loaded = load_scene(args->positional[0]);
+    if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
+    Scene scene = loaded.value();
+    std::optional<control::PreparedControl> control;
+    if (scene.control_json) {
+        auto prepared = control::prepare_control_scene(scene);
+        if (!prepared) return std::fprintf(stderr, "aquaform: %s\n", prepared.error().c_str()), kExitUsage;
+        control = std::move(prepared.value());
+    }
+    auto settings = render_settings_from(*args, &error);
+    if (!settings) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
+    std::vector<ViewAction> script;
+    if (args->has("--script")) {
+        auto loaded_script = load_view_script(args->value("--script"));
+        if (!loaded_script) return std::fprintf(stderr, "aquaform view: %s\n", loaded_script.error().c_str()), kExitUsage;
+        script = loaded_script.value();
+    }
+    if (args->has("--play")) script.insert(script.begin(), ViewAction{0, "play", ""});
+    uint32_t width = 480, height = 360;
+    if (args->has("--size") && !parse_resolution(args->value("--size"), &width, &height))
+        return std::fprintf(stderr, "aquaform view: --size must look like 480x360, got \"%s\"\n", args->value("--size").c_str()),
+               kExitUsage;
+    uint32_t max_frames = 0;
+    if (args->has("--frames")) {
+        auto f = parse_positive("--frames", args->value("--frames"), &error);
+        if (!f) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
+        max_frames = uint32_t(*f);
+    }
+    const fs::path record_dir = args->value("--record", "");
+    if (!record_dir.empty()) {
+        std::error_code ec;
+        fs::create_directories(record_dir, ec);
+        if (ec) return std::fprintf(stderr, "aquaform view: cannot create %s: %s\n", record_dir.string().c_str(), ec.message().c_str()),
+                      kExitFailure;
+    }
+
+    auto window = ViewWindow::open(int(width), int(height), "aquaform - " + scene.name);
+    if (!window) return std::fprintf(stderr, "aquaform view: %s\n", window.error().c_str()), kExitFailure;
+    ViewWindow& win = *window.value();
+    gpu::ContextOptions options{args->value("--device"), validation_requested(*args)};
+    options.instance_extensions = win.instance_extensions();
+    options.make_surface = [&win](VkInstance instance) { return win.create_surface(instance); };
+    gpu::Context ctx(options);
+    win.attach(ctx);
+    int status = kExitOk;
+    {
+        Viewer viewer(ctx, win, scene, std::move(control), *settings);
+        viewer.set_screenshot_dir(record_dir.empty() ? fs::path(".") : record_dir);
+        status = viewer.run(script, record_dir, max_frames);
+    }
+    win.detach();  // the swapchain goes before the device
+    return exit_status(ctx, status);
+}
+
+}  // namespace aquaform::cli

@@ -1,0 +1,77 @@
+#include "apps/view_script.h"
+
+#include <algorithm>
+#include <array>
+#include <fstream>
+#include <iterator>
+#include <string_view>
+
+#include "sim/json_fields.h"
+
+namespace aquaform::cli {
+
+namespace {
+
+using namespace json_fields;
+
+constexpr std::array<std::string_view, 4> kActionKeys{"frame", "do", "value", "file"};
+constexpr std::array<std::string_view, 8> kActions{"play", "pause", "step", "reset", "method", "iterations", "substeps",
+                                                   "screenshot"};
+
+}  // namespace
+
+Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const std::string& origin) {
+    try {
+        const json j = parse_strict(text, origin);
+        if (!j.is_object() || !j.contains("actions") || !j["actions"].is_array())
+            fail("a script is {\"actions\": [{\"frame\": 0, \"do\": \"play\"}, ...]}, got " + written(j));
+        std::array<std::string_view, 1> top{"actions"};
+        check_keys(j, "at top level", top);
+        std::vector<ViewAction> actions;
+        for (size_t i = 0; i < j["actions"].size(); ++i) {
+            const json& a = j["actions"][i];
+            const std::string where = "actions[" + std::to_string(i) + "]";
+            if (!a.is_object()) fail(where + " must be an object such as {\"frame\": 3, \"do\": \"pause\"}, got " + written(a));
+            check_keys(a, "in " + where, kActionKeys);
+            require(a, "frame", "in " + where, "\"frame\": 0");
+            require(a, "do", "in " + where, "\"do\": \"play\"");
+            ViewAction action;
+            action.frame = read_integer(a["frame"], child(where, "frame"), 0, 1u << 30);
+            if (!a["do"].is_string()) fail(child(where, "do") + " must be an action name, got " + written(a["do"]));
+            action.what = a["do"].get<std::string>();
+            const bool known = action.what == "quit" ||
+                               std::find(kActions.begin(), kActions.end(), action.what) != kActions.end();
+            if (!known)
+                fail(child(where, "do") + " is \"" + action.what +
+                     "\"; use play, pause, step, reset, method, iterations, substeps, screenshot or quit");
+            const char* key = action.what == "screenshot" ? "file" : "value";
+            const bool needs = action.what == "screenshot" || action.what == "method" || action.what == "iterations" ||
+                               action.what == "substeps";
+            if (needs) {
+                require(a, key, "in " + where, action.what == "screenshot" ? "\"file\": \"shot.png\"" : "\"value\": ...");
+                if (action.what == "iterations" || action.what == "substeps")
+                    action.value = std::to_string(read_integer(a[key], child(where, key), 1, 64));
+                else if (a[key].is_string())
+                    action.value = a[key].get<std::string>();
+                else
+                    fail(child(where, key) + " must be a string, got " + written(a[key]));
+            }
+            actions.push_back(action);
+        }
+        std::stable_sort(actions.begin(), actions.end(), [](const ViewAction& a, const ViewAction& b) { return a.frame < b.frame; });
+        return actions;
+    } catch (const Invalid& e) {
+        return Error{e.has_origin ? e.message : origin + ": " + e.message};
+    } catch (const std::exception& e) {
+        return Error{origin + ": " + std::string(e.what())};
+    }
+}
+
+Result<std::vector<ViewAction>> load_view_script(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return Error{"cannot open the script " + path.string() + "; check the path"};
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return parse_view_script(text, path.string());
+}
+
+}  // namespace aquaform::cli

@@ -1,0 +1,32 @@
+// Scripted viewer sessions (`aquaform view SCENE --script FILE`): UI actions at given viewer
+// frames, for tests and recordings. A script is JSON:
+//   {"actions": [{"frame": 0, "do": "play"},
+//                {"frame": 5, "do": "method", "value": "sbuffer"},
+//                {"frame": 6, "do": "screenshot", "file": "sbuffer.png"},
+//                {"frame": 9, "do": "quit"}]}
+// Actions: play, pause, step (one simulation frame), reset, method (any method of the method
+// menu), iterations / substeps (integer value, the solver restarts from the current state),
+// screenshot (the rendered frame as PNG; relative paths go to --record DIR or the working
+// directory), quit. Frames count from 0 at the first frame drawn; several actions may share one.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "sim/result.h"
+
+namespace aquaform::cli {
+
+struct ViewAction {
+    uint32_t frame = 0;
+    std::string what;   ///< play, pause, step, reset, method, iterations, substeps, screenshot, quit
+    std::string value;  ///< method name, integer, or file
+};
+
+/// Reads a script; errors name the file, the action's index and the fix. Actions come sorted by frame.
+Result<std::vector<ViewAction>> load_view_script(const std::filesystem::path& path);
+Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const std::string& origin);
+
+}  // namespace aquaform::cli
