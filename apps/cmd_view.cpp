@@ -1,7 +1,8 @@
 // `aquaform view SCENE`: the interactive viewer. A GLFW window presents the renderer's image
 // straight from its GPU buffer (apps/view_window.h); Dear ImGui panels play, pause, step and
 // reset the simulation, switch the surface method and change solver settings, and chart the
-// GPU time per pass. The mouse orbits (left), pans (right) and zooms (wheel) the camera.
+// GPU time per pass; an OBJ dropped on the window becomes the shape the fluid fills (Release lets
+// it go). The mouse orbits (left), pans (right) and zooms (wheel) the camera.
 // Keys: space play/pause, N one step, R reset, P screenshot, Esc quit. --script plays UI actions
 // at given frames (apps/view_script.h); --record DIR writes every frame drawn.
 #include <algorithm>
@@ -13,12 +14,14 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_vulkan.h>
+#include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
 #include "apps/render_options.h"
@@ -43,6 +46,13 @@ namespace fs = std::filesystem;
 /// The method menu: every renderer that is quick enough to watch.
 constexpr const char* kMethods[] = {"adaptive", "uniform", "sbuffer", "abuffer", "narrow_range", "bilateral", "curvature_flow"};
 constexpr size_t kHistory = 120;  // frames in the timing chart
+
+/// Files dropped onto the window since the last frame (GLFW calls back with no user data to
+/// spare: the ImGui backend owns the window's callbacks, and there is one viewer per process).
+std::vector<std::string> g_dropped;
+void on_drop(GLFWwindow*, int count, const char** paths) {
+    for (int i = 0; i < count; ++i) g_dropped.emplace_back(paths[i]);
+}
 
 struct OrbitCamera {
     glm::vec3 target{0.0f};
@@ -78,6 +88,7 @@ public:
         glfwGetFramebufferSize(window_.handle(), &w, &h);
         orbit_ = OrbitCamera::around(camera_for_domain(scene_.domain, float(std::max(w, 1)) / float(std::max(h, 1))));
         init_ui();
+        glfwSetDropCallback(window_.handle(), on_drop);
     }
     ~Viewer() {
         vkDeviceWaitIdle(ctx_.device());
@@ -94,6 +105,7 @@ public:
         for (; !window_.should_close() && !quit_ && (max_frames == 0 || frame < max_frames); ++frame) {
             glfwPollEvents();
             while (next_action < script.size() && script[next_action].frame <= frame) apply(script[next_action++]);
+            for (const std::string& file : std::exchange(g_dropped, {})) attach_mesh(file);
             if (quit_) break;
             if (playing_ || step_once_) advance();
             step_once_ = false;
@@ -241,10 +253,60 @@ private:
         else if (a.what == "quit") quit_ = true;
         else if (a.what == "screenshot") screenshot(fs::path(a.value).is_absolute() ? fs::path(a.value) : screenshot_dir_ / a.value);
         else if (a.what == "method") set_method_checked(a.value);
+        else if (a.what == "attach") attach_mesh(a.value);
+        else if (a.what == "release") release();
         else if (a.what == "iterations" || a.what == "substeps") {
             (a.what == "iterations" ? scene_.solver.iterations : scene_.solver.substeps) = uint32_t(std::stoul(a.value));
             rebuild_solver(true);
         }
+    }
+
+    /// Makes `file` (an OBJ) the shape the fluid fills from now on: a control section for it at the
+    /// automatic strength, fit into a cube above the fluid's centre that a sphere of the fluid's
+    /// volume would fill (or the largest the domain allows), standing on the floor. A mesh that
+    /// cannot be used leaves the simulation as it was and says why.
+    void attach_mesh(const fs::path& file) {
+        const ParticleSnapshot now = solver_->snapshot();
+        glm::vec3 centre = 0.5f * (scene_.domain.min + scene_.domain.max);
+        if (!now.x.empty()) {
+            glm::vec3 sum(0.0f);
+            for (const auto& x : now.x) sum += glm::vec3(x);
+            centre = sum / float(now.x.size());
+        }
+        const glm::vec3 extent = scene_.domain.max - scene_.domain.min;
+        const float volume = float(now.x.size()) * std::pow(scene_.particle_spacing, 3.0f);
+        const float size = std::min(std::cbrt(6.0f * volume / 3.14159265f), 0.9f * std::min({extent.x, extent.y, extent.z}));
+        centre.x = std::clamp(centre.x, scene_.domain.min.x + 0.5f * size, scene_.domain.max.x - 0.5f * size);
+        centre.z = std::clamp(centre.z, scene_.domain.min.z + 0.5f * size, scene_.domain.max.z - 0.5f * size);
+        const float floor = scene_.domain.min.y + scene_.particle_spacing;
+        const nlohmann::json section = {
+            {"meshes", {{"shape", {{"file", fs::absolute(file).string()}, {"method", "raster"},
+                                   {"placement", {{"fit_into", {{"min", {centre.x - 0.5f * size, floor, centre.z - 0.5f * size}},
+                                                                {"max", {centre.x + 0.5f * size, floor + size, centre.z + 0.5f * size}}}}}}}}}},
+            {"timeline", {{{"t", 0.0}, {"do", "attach"}, {"mesh", "shape"}}}}};
+        Scene trial = scene_;
+        trial.control_json = section.dump();
+        auto prepared = control::prepare_control_scene(trial);
+        if (!prepared) {
+            status_ = "cannot attach " + file.string() + ": " + prepared.error();
+            std::fprintf(stderr, "aquaform view: %s\n", status_.c_str());
+            return;
+        }
+        scene_ = trial;
+        control_ = std::move(prepared.value());
+        rebuild_solver(true);
+        status_ = "attached " + file.filename().string() + " (" + control_->strength.describe() + ")";
+        std::printf("aquaform view: %s\n", status_.c_str());
+    }
+
+    /// Control off: the fluid returns to plain physics from the current particles.
+    void release() {
+        if (!control_) return;
+        control_.reset();
+        scene_.control_json.reset();
+        rebuild_solver(true);
+        status_ = "released the control shape";
+        std::printf("aquaform view: %s\n", status_.c_str());
     }
 
     void set_method_checked(const std::string& method) {
@@ -292,6 +354,12 @@ private:
         if (ImGui::Button("Step")) step_once_ = true;
         ImGui::SameLine();
         if (ImGui::Button("Reset")) rebuild_solver(false);
+        if (control_) {
+            ImGui::SameLine();
+            if (ImGui::Button("Release")) release();
+        } else {
+            ImGui::TextDisabled("drop an OBJ file on the window to shape the fluid");
+        }
         if (ImGui::BeginCombo("method", method_.c_str())) {
             for (const char* m : kMethods)
                 if (ImGui::Selectable(m, method_ == m)) method_ = m;

@@ -15,8 +15,8 @@ namespace {
 using namespace json_fields;
 
 constexpr std::array<std::string_view, 4> kActionKeys{"frame", "do", "value", "file"};
-constexpr std::array<std::string_view, 8> kActions{"play", "pause", "step", "reset", "method", "iterations", "substeps",
-                                                   "screenshot"};
+constexpr std::array<std::string_view, 10> kActions{"play", "pause", "step", "reset", "method", "iterations", "substeps",
+                                                    "screenshot", "attach", "release"};
 
 }  // namespace
 
@@ -43,12 +43,12 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
                                std::find(kActions.begin(), kActions.end(), action.what) != kActions.end();
             if (!known)
                 fail(child(where, "do") + " is \"" + action.what +
-                     "\"; use play, pause, step, reset, method, iterations, substeps, screenshot or quit");
-            const char* key = action.what == "screenshot" ? "file" : "value";
-            const bool needs = action.what == "screenshot" || action.what == "method" || action.what == "iterations" ||
-                               action.what == "substeps";
+                     "\"; use play, pause, step, reset, method, iterations, substeps, screenshot, attach, release or quit");
+            const bool takes_file = action.what == "screenshot" || action.what == "attach";
+            const char* key = takes_file ? "file" : "value";
+            const bool needs = takes_file || action.what == "method" || action.what == "iterations" || action.what == "substeps";
             if (needs) {
-                require(a, key, "in " + where, action.what == "screenshot" ? "\"file\": \"shot.png\"" : "\"value\": ...");
+                require(a, key, "in " + where, takes_file ? "\"file\": \"shot.png\"" : "\"value\": ...");
                 if (action.what == "iterations" || action.what == "substeps")
                     action.value = std::to_string(read_integer(a[key], child(where, key), 1, 64));
                 else if (a[key].is_string())
@@ -71,7 +71,13 @@ Result<std::vector<ViewAction>> load_view_script(const std::filesystem::path& pa
     std::ifstream in(path, std::ios::binary);
     if (!in) return Error{"cannot open the script " + path.string() + "; check the path"};
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    return parse_view_script(text, path.string());
+    auto actions = parse_view_script(text, path.string());
+    if (!actions) return actions;
+    // Meshes to attach are named relative to the script (screenshots go to the output directory).
+    for (ViewAction& a : actions.value())
+        if (a.what == "attach" && std::filesystem::path(a.value).is_relative())
+            a.value = (path.parent_path() / a.value).lexically_normal().string();
+    return actions;
 }
 
 }  // namespace aquaform::cli

@@ -7,7 +7,8 @@
 // Actions: play, pause, step (one simulation frame), reset, method (any method of the method
 // menu), iterations / substeps (integer value, the solver restarts from the current state),
 // screenshot (the rendered frame as PNG; relative paths go to --record DIR or the working
-// directory), quit. Frames count from 0 at the first frame drawn; several actions may share one.
+// directory), attach (an OBJ "file", relative to the script, becomes the shape the fluid fills),
+// release (the shape lets go), quit. Frames count from 0 at the first frame drawn; several actions may share one.
 #pragma once
 
 #include <cstdint>
@@ -21,7 +22,7 @@ namespace aquaform::cli {
 
 struct ViewAction {
     uint32_t frame = 0;
-    std::string what;   ///< play, pause, step, reset, method, iterations, substeps, screenshot, quit
+    std::string what;   ///< play, pause, step, reset, method, iterations, substeps, screenshot, attach, release, quit
     std::string value;  ///< method name, integer, or file
 };
 

@@ -1,5 +1,6 @@
 // The viewer under Xvfb on the software device: it opens a real window, plays a scripted session
-// (play, switch method twice, pause, change the solver, step, quit), and the screenshots it takes
+// (play, switch method twice, attach a mesh, release it, pause, change the solver, step, quit),
+// and the screenshots it takes
 // show fluid where the dam break stands and change with the method. Without a display it says so
 // and points to `aquaform run`. The script format is checked on its own.
 #include <gtest/gtest.h>
@@ -69,8 +70,10 @@ TEST(ViewCliTest, ScriptedSessionUnderXvfbShowsFluidAndFollowsTheMethod) {
     }
     EXPECT_GT(mean_difference(shots[0], shots[1]), 2.0) << "switching to the S-buffer changed nothing";
     EXPECT_GT(mean_difference(shots[1], shots[2]), 2.0) << "switching to the narrow-range filter changed nothing";
+    EXPECT_NE(output.find("attached sphere.obj"), std::string::npos) << output;
+    EXPECT_NE(output.find("released the control shape"), std::string::npos) << output;
     // --record wrote every frame drawn before quit.
-    for (int f = 0; f < 9; ++f) {
+    for (int f = 0; f < 12; ++f) {
         char name[32];
         std::snprintf(name, sizeof name, "frame_%04d.png", f);
         EXPECT_TRUE(fs::exists(out / name)) << name;
@@ -88,6 +91,9 @@ TEST(ViewScriptTest, ActionsAreCheckedAndSortedByFrame) {
     ASSERT_FALSE(unknown.ok());
     EXPECT_NE(unknown.error().find("actions[0].do"), std::string::npos) << unknown.error();
     EXPECT_NE(unknown.error().find("screenshot"), std::string::npos) << unknown.error();
+    auto attach = cli::parse_view_script(R"({"actions": [{"frame": 2, "do": "attach", "file": "m.obj"}, {"frame": 3, "do": "release"}]})", "s.json");
+    ASSERT_TRUE(attach.ok()) << attach.error();
+    EXPECT_EQ(attach.value()[0].value, "m.obj");
     auto missing = cli::parse_view_script(R"({"actions": [{"frame": 1, "do": "screenshot"}]})", "s.json");
     ASSERT_FALSE(missing.ok());
     EXPECT_NE(missing.error().find("file"), std::string::npos) << missing.error();
