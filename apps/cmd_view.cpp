@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <cstdio>
 #include <deque>
 #include <filesystem>
@@ -32,6 +33,8 @@
 #include "gpu/timer.h"
 #include "gpu/vk_check.h"
 #include "render/image_io.h"
+#include "render/image_metrics.h"
+#include "render/surface_views.h"
 #include "render/metaball_renderer.h"
 #include "render/screen_space.h"
 #include "render/surface_renderer.h"
@@ -46,6 +49,9 @@ namespace fs = std::filesystem;
 /// The method menu: every renderer that is quick enough to watch.
 constexpr const char* kMethods[] = {"adaptive", "uniform", "sbuffer", "abuffer", "narrow_range", "bilateral", "curvature_flow"};
 constexpr size_t kHistory = 120;  // frames in the timing chart
+/// Debug views of the SPH renderer (Wu et al. Figs. 5-7 and the depth maps).
+constexpr const char* kViews[] = {"image", "steps per ray", "classification", "tile resolution", "D_all", "D_agg"};
+constexpr const char* kViewNames[] = {"image", "steps", "classification", "tiles", "depth_all", "depth_agg"};  // in scripts
 
 /// Files dropped onto the window since the last frame (GLFW calls back with no user data to
 /// spare: the ImGui backend owns the window's callbacks, and there is one viewer per process).
@@ -173,6 +179,7 @@ private:
             if (!surface_) surface_ = std::make_unique<SurfaceRenderer>(ctx_, scene_, render_w_, render_h_, n);
             SurfaceSettings s = surface_settings_;
             s.method = method_ == "adaptive" ? SurfaceMethod::adaptive : SurfaceMethod::uniform;
+            if (view_ != 0) return debug_view(camera, s);
             surface_->record(cmd, solver_->positions(), n, camera, s, &render_timer_);
             return surface_->color_buffer();
         }
@@ -188,6 +195,37 @@ private:
         s.filter = parse_filter(method_).value();
         screen_space_->record(cmd, solver_->positions(), n, camera, s, &render_timer_);
         return screen_space_->color_buffer();
+    }
+
+    /// A debug view of the SPH renderer: rendered in a submission of its own, read back and drawn
+    /// on the host (diagnostics only: the main view never leaves the GPU), then shown like a frame.
+    const gpu::Buffer& debug_view(const ViewCamera& camera, const SurfaceSettings& s) {
+        surface_->set_diagnostics(view_ == 2);
+        const SurfaceFrame frame = surface_->render(solver_->positions(), solver_->particle_count(), camera, s);
+        Image image;
+        // Depth maps: near bright, far dark, pixels no sprite covers left as the image.
+        auto depth_view = [&](std::vector<float> depth) {
+            float lo = INFINITY, hi = 0.0f;
+            for (float d : depth)
+                if (std::isfinite(d)) lo = std::min(lo, d), hi = std::max(hi, d);
+            const float range = std::max(hi - lo, 1e-6f);
+            for (float& d : depth) d = std::isfinite(d) ? 0.05f + (hi - d) / range : 0.0f;
+            return heat_map(depth, render_w_, render_h_, 1.05f, &frame.color);
+        };
+        switch (view_) {
+        case 1: image = evals_view(frame, float(s.max_steps) / 4.0f); break;
+        case 2: image = classification_view(frame.color, surface_->front_classes()); break;
+        case 3: image = tile_view(frame.color, surface_->tile_levels(), surface_->params().screen.z); break;
+        case 4: image = depth_view(surface_->depth_all()); break;
+        default: image = depth_view(surface_->depth_agg()); break;
+        }
+        const uint64_t bytes = image.rgba.size();
+        if (!debug_image_ || debug_image_->size < bytes) {
+            vkDeviceWaitIdle(ctx_.device());
+            debug_image_.reset(new gpu::Buffer(gpu::create_buffer(ctx_, "view.debug_image", bytes, gpu::MemoryUse::host)));
+        }
+        std::memcpy(debug_image_->mapped, image.rgba.data(), bytes);
+        return *debug_image_;
     }
 
     /// One window frame: render, blit, UI, present. False when nothing was drawn (minimised).
@@ -254,6 +292,7 @@ private:
         else if (a.what == "screenshot") screenshot(fs::path(a.value).is_absolute() ? fs::path(a.value) : screenshot_dir_ / a.value);
         else if (a.what == "method") set_method_checked(a.value);
         else if (a.what == "attach") attach_mesh(a.value);
+        else if (a.what == "view") set_view_checked(a.value);
         else if (a.what == "release") release();
         else if (a.what == "iterations" || a.what == "substeps") {
             (a.what == "iterations" ? scene_.solver.iterations : scene_.solver.substeps) = uint32_t(std::stoul(a.value));
@@ -307,6 +346,17 @@ private:
         rebuild_solver(true);
         status_ = "released the control shape";
         std::printf("aquaform view: %s\n", status_.c_str());
+    }
+
+    void set_view_checked(const std::string& name) {
+        const auto it = std::find(std::begin(kViewNames), std::end(kViewNames), name);
+        if (it == std::end(kViewNames)) {
+            std::fprintf(stderr, "aquaform view: unknown view \"%s\" in the script; use image, steps, classification, "
+                                 "tiles, depth_all or depth_agg\n", name.c_str());
+            failed_ = true;
+            return;
+        }
+        view_ = int(it - std::begin(kViewNames));
     }
 
     void set_method_checked(const std::string& method) {
@@ -380,6 +430,33 @@ private:
                 scene_.solver.substeps = uint32_t(substeps);
             }
         }
+        if ((method_ == "adaptive" || method_ == "uniform") && ImGui::CollapsingHeader("Renderer")) {
+            SurfaceSettings& r = surface_settings_;
+            const SurfaceSettings before = r;
+            ImGui::Combo("view", &view_, kViews, IM_ARRAYSIZE(kViews));
+            ImGui::Checkbox("mask", &r.use_mask);
+            ImGui::SameLine();
+            ImGui::Checkbox("skip", &r.use_skip);
+            ImGui::SameLine();
+            ImGui::Checkbox("adaptive res.", &r.adaptive_resolution);
+            ImGui::Checkbox("blend normals", &r.blend_normals);
+            ImGui::SameLine();
+            ImGui::Checkbox("anisotropic", &r.anisotropic);
+            ImGui::SliderFloat("iso (lone radius)", &r.lone_radius, 0.2f, 3.0f);
+            ImGui::SliderFloat("step [radii]", &r.step_radii, 0.1f, 4.0f);
+            ImGui::SliderFloat("mask a", &r.mask_a, 0.05f, 1.0f);
+            ImGui::SliderFloat("mask b", &r.mask_b, 0.05f, 1.0f);
+            ImGui::SliderFloat("eps1 [radii^2]", &r.tile_eps1, 0.0f, 16.0f);
+            ImGui::SliderFloat("eps2 [radii^2]", &r.tile_eps2, 0.1f, 64.0f);
+            ImGui::SliderFloat("blend A", &r.blend_a, 0.0f, 1.0f);
+            ImGui::SliderFloat("blend B", &r.blend_b, -0.5f, 0.5f);
+            int skip = int(r.max_skip_evals);
+            if (ImGui::SliderInt("maxSkipCounts", &skip, 1, 64)) r.max_skip_evals = uint32_t(skip);
+            if (auto valid = validate(r); !valid) {
+                status_ = valid.error();
+                r = before;  // keep the last settings the renderer accepts
+            }
+        }
         if (ImGui::CollapsingHeader("GPU time", ImGuiTreeNodeFlags_DefaultOpen)) {
             std::vector<float> history(history_.begin(), history_.end());
             if (!history.empty())
@@ -433,6 +510,12 @@ private:
     std::unique_ptr<ScreenSpaceRenderer> screen_space_;
     uint32_t render_w_ = 0, render_h_ = 0;
     const gpu::Buffer* last_color_ = nullptr;
+    struct BufferDeleter {
+        gpu::Context* ctx;
+        void operator()(gpu::Buffer* b) const { gpu::destroy_buffer(*ctx, *b); delete b; }
+    };
+    std::unique_ptr<gpu::Buffer, BufferDeleter> debug_image_{nullptr, BufferDeleter{&ctx_}};
+    int view_ = 0;  // index into kViews
     gpu::GpuTimer render_timer_, sim_timer_;
     bool timer_pending_ = false;
     std::map<std::string, double> render_passes_, sim_passes_;

@@ -15,8 +15,8 @@ namespace {
 using namespace json_fields;
 
 constexpr std::array<std::string_view, 4> kActionKeys{"frame", "do", "value", "file"};
-constexpr std::array<std::string_view, 10> kActions{"play", "pause", "step", "reset", "method", "iterations", "substeps",
-                                                    "screenshot", "attach", "release"};
+constexpr std::array<std::string_view, 11> kActions{"play", "pause", "step", "reset", "method", "iterations", "substeps",
+                                                    "screenshot", "attach", "release", "view"};
 
 }  // namespace
 
@@ -43,10 +43,11 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
                                std::find(kActions.begin(), kActions.end(), action.what) != kActions.end();
             if (!known)
                 fail(child(where, "do") + " is \"" + action.what +
-                     "\"; use play, pause, step, reset, method, iterations, substeps, screenshot, attach, release or quit");
+                     "\"; use play, pause, step, reset, method, view, iterations, substeps, screenshot, attach, release or quit");
             const bool takes_file = action.what == "screenshot" || action.what == "attach";
             const char* key = takes_file ? "file" : "value";
-            const bool needs = takes_file || action.what == "method" || action.what == "iterations" || action.what == "substeps";
+            const bool needs = takes_file || action.what == "method" || action.what == "view" || action.what == "iterations" ||
+                               action.what == "substeps";
             if (needs) {
                 require(a, key, "in " + where, takes_file ? "\"file\": \"shot.png\"" : "\"value\": ...");
                 if (action.what == "iterations" || action.what == "substeps")

@@ -5,10 +5,12 @@
 //                {"frame": 6, "do": "screenshot", "file": "sbuffer.png"},
 //                {"frame": 9, "do": "quit"}]}
 // Actions: play, pause, step (one simulation frame), reset, method (any method of the method
-// menu), iterations / substeps (integer value, the solver restarts from the current state),
-// screenshot (the rendered frame as PNG; relative paths go to --record DIR or the working
-// directory), attach (an OBJ "file", relative to the script, becomes the shape the fluid fills),
-// release (the shape lets go), quit. Frames count from 0 at the first frame drawn; several actions may share one.
+// menu), view (the SPH renderer's debug view: image, steps, classification, tiles, depth_all,
+// depth_agg), iterations / substeps (integer value; the solver restarts from the current state),
+// screenshot (the last frame drawn, before this frame's actions, as PNG; relative paths go to
+// --record DIR or the working directory), attach (an OBJ "file", relative to the script, becomes
+// the shape the fluid fills), release (the shape lets go), quit. Frames count from 0 at the first
+// frame drawn; actions of one frame run in the order written.
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,6 @@
 // The viewer under Xvfb on the software device: it opens a real window, plays a scripted session
-// (play, switch method twice, attach a mesh, release it, pause, change the solver, step, quit),
+// (play, a debug view, switch method twice, attach a mesh, release it, pause, change the solver,
+// step, quit),
 // and the screenshots it takes
 // show fluid where the dam break stands and change with the method. Without a display it says so
 // and points to `aquaform run`. The script format is checked on its own.
@@ -70,10 +71,14 @@ TEST(ViewCliTest, ScriptedSessionUnderXvfbShowsFluidAndFollowsTheMethod) {
     }
     EXPECT_GT(mean_difference(shots[0], shots[1]), 2.0) << "switching to the S-buffer changed nothing";
     EXPECT_GT(mean_difference(shots[1], shots[2]), 2.0) << "switching to the narrow-range filter changed nothing";
+    // The tile view tints the adaptive image's tiles: it differs from the plain image.
+    auto tiles = read_png(out / "tiles.png");
+    ASSERT_TRUE(tiles.ok()) << tiles.error();
+    EXPECT_GT(mean_difference(tiles.value(), shots[0]), 2.0) << "the tile-resolution view looks like the image";
     EXPECT_NE(output.find("attached sphere.obj"), std::string::npos) << output;
     EXPECT_NE(output.find("released the control shape"), std::string::npos) << output;
     // --record wrote every frame drawn before quit.
-    for (int f = 0; f < 12; ++f) {
+    for (int f = 0; f < 14; ++f) {
         char name[32];
         std::snprintf(name, sizeof name, "frame_%04d.png", f);
         EXPECT_TRUE(fs::exists(out / name)) << name;
