@@ -2,7 +2,8 @@
 // straight from its GPU buffer (apps/view_window.h); Dear ImGui panels play, pause, step and
 // reset the simulation, switch the surface method and change solver settings, and chart the
 // GPU time per pass; an OBJ dropped on the window becomes the shape the fluid fills (Release lets
-// it go). The mouse orbits (left), pans (right) and zooms (wheel) the camera.
+// it go). Dragging with the left button pushes the fluid; the right button orbits, the middle
+// pans and the wheel zooms the camera.
 // Keys: space play/pause, N one step, R reset, P screenshot, Esc quit. --script plays UI actions
 // at given frames (apps/view_script.h); --record DIR writes every frame drawn.
 #include <algorithm>
@@ -29,9 +30,11 @@
 #include "apps/view_script.h"
 #include "apps/view_window.h"
 #include "control/control_driver.h"
+#include "control/push_force.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
 #include "gpu/vk_check.h"
+#include "render/surface_settings.h"
 #include "render/image_io.h"
 #include "render/image_metrics.h"
 #include "render/surface_views.h"
@@ -88,7 +91,7 @@ public:
     Viewer(gpu::Context& ctx, ViewWindow& window, Scene scene, std::optional<control::PreparedControl> control,
            SurfaceSettings surface_settings)
         : ctx_(ctx), window_(window), scene_(std::move(scene)), control_(std::move(control)),
-          surface_settings_(surface_settings), render_timer_(ctx), sim_timer_(ctx) {
+          surface_settings_(surface_settings), render_timer_(ctx), sim_timer_(ctx), push_(ctx) {
         rebuild_solver(false);
         int w = 0, h = 0;
         glfwGetFramebufferSize(window_.handle(), &w, &h);
@@ -142,10 +145,9 @@ private:
         driver_.reset();
         solver_ = std::make_unique<PbfSolver>(ctx_, scene_);
         if (state) solver_->set_state(state->x, state->v);
-        if (control_) {
-            driver_ = std::make_unique<control::ControlDriver>(ctx_, scene_, control_->section, control_->strength);
-            solver_->set_step_force(&driver_->force());
-        }
+        if (control_) driver_ = std::make_unique<control::ControlDriver>(ctx_, scene_, control_->section, control_->strength);
+        forces_.forces = {driver_ ? &driver_->force() : nullptr, &push_};
+        solver_->set_step_force(&forces_);
     }
 
     void advance() {
@@ -369,18 +371,36 @@ private:
         method_ = method;
     }
 
+    /// Left drag pushes the fluid near the mouse ray along the drag; right drag orbits, middle
+    /// drag pans, the wheel zooms.
     void handle_input() {
         ImGuiIO& io = ImGui::GetIO();
+        push_.clear();
         if (!io.WantCaptureMouse) {
-            if (ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
+            const ViewCamera camera = orbit_.camera();
+            const glm::mat3 axes = camera_axes(camera);
+            // World metres per pixel at the orbit's target.
+            const float metres_per_px = 2.0f * orbit_.distance * std::tan(glm::radians(orbit_.fov) * 0.5f) /
+                                        std::max(io.DisplaySize.y, 1.0f);
+            if (ImGui::IsMouseDragging(ImGuiMouseButton_Left) && solver_) {
+                const CameraBlock view = camera_block(camera, uint32_t(std::max(io.DisplaySize.x, 1.0f)),
+                                                      uint32_t(std::max(io.DisplaySize.y, 1.0f)));
+                const float u = 2.0f * io.MousePos.x / std::max(io.DisplaySize.x, 1.0f) - 1.0f;
+                const float v = 2.0f * io.MousePos.y / std::max(io.DisplaySize.y, 1.0f) - 1.0f;
+                const glm::vec3 dir = glm::normalize(glm::vec3(view.forward) + u * view.forward.w * glm::vec3(view.right) -
+                                                     v * view.right.w * glm::vec3(view.up));
+                const glm::vec3 drag = (io.MouseDelta.x * axes[0] - io.MouseDelta.y * axes[1]) * metres_per_px;
+                // A drag of one centimetre per frame accelerates the fluid at about 1 g.
+                const glm::vec3 accel = drag * 1000.0f;
+                const float radius = std::max(4.0f * scene_.particle_spacing, 0.05f * orbit_.distance);
+                if (glm::length(accel) > 0.0f) push_.set(camera.eye, dir, radius, accel);
+            }
+            if (ImGui::IsMouseDragging(ImGuiMouseButton_Right)) {
                 orbit_.yaw -= io.MouseDelta.x * 0.01f;
                 orbit_.pitch = std::clamp(orbit_.pitch + io.MouseDelta.y * 0.01f, -1.5f, 1.5f);
             }
-            if (ImGui::IsMouseDragging(ImGuiMouseButton_Right)) {
-                const glm::mat3 axes = camera_axes(orbit_.camera());
-                const float scale = orbit_.distance * 0.002f;
-                orbit_.target += (-io.MouseDelta.x * axes[0] + io.MouseDelta.y * axes[1]) * scale;
-            }
+            if (ImGui::IsMouseDragging(ImGuiMouseButton_Middle))
+                orbit_.target += (-io.MouseDelta.x * axes[0] + io.MouseDelta.y * axes[1]) * metres_per_px;
             if (io.MouseWheel != 0.0f) orbit_.distance *= std::pow(0.9f, io.MouseWheel);
         }
         // ImGui 1.86's GLFW backend indexes the key state by GLFW key codes.
@@ -517,6 +537,8 @@ private:
     std::unique_ptr<gpu::Buffer, BufferDeleter> debug_image_{nullptr, BufferDeleter{&ctx_}};
     int view_ = 0;  // index into kViews
     gpu::GpuTimer render_timer_, sim_timer_;
+    control::PushForce push_;       // the drag brush
+    control::StepForces forces_;    // the control shape's force and the brush, for the solver
     bool timer_pending_ = false;
     std::map<std::string, double> render_passes_, sim_passes_;
     std::deque<float> history_;
