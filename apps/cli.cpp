@@ -31,7 +31,7 @@ const char* kUsage =
     "  view SCENE.json [--size WxH] [--play] [--script FILE] [--record DIR] [--frames N] [--device ...] [render flags]\n"
     "        interactive viewer: play/pause/step/reset, method switch, solver settings, GPU time per pass;\n"
     "        left drag pushes the fluid, right orbits, middle pans, wheel zooms; drop an OBJ to shape the fluid;\n"
-    "        keys: space play, N step, R reset, P screenshot, Esc quit\n"
+    "        keys: space play, N step, R reset, P screenshot, F fly camera (WASD, Q/E), Esc quit\n"
     "  study SPEC.json [--out DIR] [--no-charts] [--device ...] [--validation]\n"
     "        comparative study: scenes x methods x resolutions x particle counts on the same frames;\n"
     "        writes study.csv, study_passes.csv, solver_map.csv, study.md and charts/ (default DIR out/study/NAME)\n"

@@ -3,7 +3,8 @@
 // reset the simulation, switch the surface method and change solver settings, and chart the
 // GPU time per pass; an OBJ dropped on the window becomes the shape the fluid fills (Release lets
 // it go). Dragging with the left button pushes the fluid; the right button orbits, the middle
-// pans and the wheel zooms the camera.
+// pans and the wheel zooms the camera; F switches to a fly camera (right button looks around,
+// W/A/S/D/Q/E move).
 // Keys: space play/pause, N one step, R reset, P screenshot, Esc quit. --script plays UI actions
 // at given frames (apps/view_script.h); --record DIR writes every frame drawn.
 #include <algorithm>
@@ -77,12 +78,21 @@ struct OrbitCamera {
         o.fov = c.fov_y_degrees;
         return o;
     }
+    /// Unit vector from the target to the eye.
+    glm::vec3 back() const { return {std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw)}; }
     ViewCamera camera() const {
         ViewCamera c;
         c.target = target;
-        c.eye = target + distance * glm::vec3(std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw));
+        c.eye = target + distance * back();
         c.fov_y_degrees = fov;
         return c;
+    }
+    /// Turns the view by (dyaw, dpitch): about the target (orbit) or about the eye (fly).
+    void turn(float dyaw, float dpitch, bool about_eye) {
+        const glm::vec3 eye = camera().eye;
+        yaw += dyaw;
+        pitch = std::clamp(pitch + dpitch, -1.5f, 1.5f);
+        if (about_eye) target = eye - distance * back();
     }
 };
 
@@ -395,16 +405,24 @@ private:
                 const float radius = std::max(4.0f * scene_.particle_spacing, 0.05f * orbit_.distance);
                 if (glm::length(accel) > 0.0f) push_.set(camera.eye, dir, radius, accel);
             }
-            if (ImGui::IsMouseDragging(ImGuiMouseButton_Right)) {
-                orbit_.yaw -= io.MouseDelta.x * 0.01f;
-                orbit_.pitch = std::clamp(orbit_.pitch + io.MouseDelta.y * 0.01f, -1.5f, 1.5f);
-            }
+            if (ImGui::IsMouseDragging(ImGuiMouseButton_Right))
+                orbit_.turn(-io.MouseDelta.x * 0.01f, (fly_ ? -1.0f : 1.0f) * io.MouseDelta.y * 0.01f, fly_);
             if (ImGui::IsMouseDragging(ImGuiMouseButton_Middle))
                 orbit_.target += (-io.MouseDelta.x * axes[0] + io.MouseDelta.y * axes[1]) * metres_per_px;
             if (io.MouseWheel != 0.0f) orbit_.distance *= std::pow(0.9f, io.MouseWheel);
         }
         // ImGui 1.86's GLFW backend indexes the key state by GLFW key codes.
         if (!io.WantCaptureKeyboard) {
+            if (ImGui::IsKeyPressed(GLFW_KEY_F)) fly_ = !fly_;
+            if (fly_) {
+                // W/S forward and back, A/D sideways, Q/E down and up, half the domain per second.
+                const glm::mat3 axes = camera_axes(orbit_.camera());
+                const float speed = 0.5f * glm::length(scene_.domain.max - scene_.domain.min) * io.DeltaTime;
+                const std::pair<int, glm::vec3> moves[] = {{GLFW_KEY_W, axes[2]}, {GLFW_KEY_S, -axes[2]}, {GLFW_KEY_D, axes[0]},
+                                                           {GLFW_KEY_A, -axes[0]}, {GLFW_KEY_E, axes[1]}, {GLFW_KEY_Q, -axes[1]}};
+                for (const auto& [key, axis] : moves)
+                    if (ImGui::IsKeyDown(key)) orbit_.target += speed * axis;
+            }
             if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) playing_ = !playing_;
             if (ImGui::IsKeyPressed(GLFW_KEY_N)) step_once_ = true;
             if (ImGui::IsKeyPressed(GLFW_KEY_R)) rebuild_solver(false);
@@ -486,6 +504,7 @@ private:
             for (const auto& [name, ms] : sim_passes_) sim += ms;
             ImGui::Text("%-22s %8.2f ms", "simulation (frame)", sim);
         }
+        ImGui::Checkbox("fly camera (F; WASD, Q/E)", &fly_);
         if (!status_.empty()) ImGui::TextWrapped("%s", status_.c_str());
         ImGui::End();
     }
@@ -548,6 +567,7 @@ private:
     fs::path screenshot_dir_ = ".";
     uint32_t shots_ = 0;
     bool playing_ = false, step_once_ = false, quit_ = false, failed_ = false;
+    bool fly_ = false;  // the right button turns the view about the eye, WASD moves it
     VkDescriptorPool ui_pool_ = VK_NULL_HANDLE;
 };
 
