@@ -6,7 +6,8 @@
 // pans and the wheel zooms the camera; F switches to a fly camera (right button looks around,
 // W/A/S/D/Q/E move).
 // Keys: space play/pause, N one step, R reset, P screenshot, Esc quit. --script plays UI actions
-// at given frames (apps/view_script.h); --record DIR writes every frame drawn.
+// at given frames (apps/view_script.h); --record DIR writes every frame drawn. Shaders edited
+// while it runs are recompiled and reloaded (gpu/shader_compiler.h).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -33,6 +34,8 @@
 #include "control/control_driver.h"
 #include "control/push_force.h"
 #include "gpu/context.h"
+#include "gpu/shader_compiler.h"
+#include "gpu/shader_registry.h"
 #include "gpu/timer.h"
 #include "gpu/vk_check.h"
 #include "render/surface_settings.h"
@@ -125,6 +128,7 @@ public:
             glfwPollEvents();
             while (next_action < script.size() && script[next_action].frame <= frame) apply(script[next_action++]);
             for (const std::string& file : std::exchange(g_dropped, {})) attach_mesh(file);
+            if (watcher_ && frame % 15 == 0) reload_shaders();
             if (quit_) break;
             if (playing_ || step_once_) advance();
             step_once_ = false;
@@ -142,6 +146,8 @@ public:
     }
 
     void set_screenshot_dir(const fs::path& dir) { screenshot_dir_ = dir; }
+    /// Watch `dir` (a shader tree like shaders/) and reload shaders edited while the viewer runs.
+    void watch_shaders(const fs::path& dir) { watcher_ = std::make_unique<gpu::ShaderWatcher>(dir); }
     void set_method(const std::string& method) { method_ = method; }
 
 private:
@@ -169,6 +175,20 @@ private:
             status_ = "the simulation blew up (" + std::to_string(stats.non_finite) +
                       " particles not finite): raise substeps or reset";
         }
+    }
+
+    /// Recompiles edited shaders; passes are made again (renderers and solver), so they pick
+    /// the new code up. A shader that does not compile keeps its old code and shows the error.
+    void reload_shaders() {
+        const gpu::ShaderWatcher::Reload r = watcher_->poll();
+        for (const std::string& e : r.errors) std::fprintf(stderr, "aquaform view: %s\n", e.c_str());
+        if (!r.errors.empty()) status_ = r.errors.front();
+        if (r.reloaded.empty()) return;
+        vkDeviceWaitIdle(ctx_.device());
+        render_w_ = render_h_ = 0;  // renderers are rebuilt at the next frame
+        rebuild_solver(true);
+        if (r.errors.empty()) status_ = "reloaded " + std::to_string(r.reloaded.size()) + " shaders (" + r.reloaded.front() + (r.reloaded.size() > 1 ? ", ..." : "") + ")";
+        std::printf("aquaform view: %s\n", status_.c_str());
     }
 
     // ---- rendering --------------------------------------------------------------------------
@@ -542,6 +562,7 @@ private:
     Scene scene_;
     std::optional<control::PreparedControl> control_;
     SurfaceSettings surface_settings_;
+    std::unique_ptr<gpu::ShaderWatcher> watcher_;
     std::unique_ptr<PbfSolver> solver_;
     std::unique_ptr<control::ControlDriver> driver_;
     std::unique_ptr<SurfaceRenderer> surface_;
@@ -575,7 +596,8 @@ private:
 
 int cmd_view(const std::vector<std::string>& argv) {
     std::string error;
-    const FlagSpec spec = with_render_flags({{"--device", "--script", "--record", "--size", "--frames"}, {"--validation", "--play"}});
+    const FlagSpec spec =
+        with_render_flags({{"--device", "--script", "--record", "--size", "--frames", "--shaders"}, {"--validation", "--play"}});
     auto args = parse_args(argv, spec, "view", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     if (args->positional.size() != 1) {
@@ -630,6 +652,15 @@ int cmd_view(const std::vector<std::string>& argv) {
     {
         Viewer viewer(ctx, win, scene, std::move(control), *settings);
         viewer.set_screenshot_dir(record_dir.empty() ? fs::path(".") : record_dir);
+        // Hot reload watches --shaders DIR, else the source tree's shaders/ beside the build.
+        std::error_code ec;
+        const fs::path shaders = args->has("--shaders")
+                                     ? fs::path(args->value("--shaders"))
+                                     : fs::read_symlink("/proc/self/exe", ec).parent_path() / ".." / "shaders";
+        if (fs::is_directory(shaders)) viewer.watch_shaders(fs::weakly_canonical(shaders, ec));
+        else if (args->has("--shaders"))
+            std::fprintf(stderr, "aquaform view: --shaders %s is not a directory; shader hot reload is off\n",
+                         shaders.string().c_str());
         status = viewer.run(script, record_dir, max_frames);
     }
     win.detach();  // the swapchain goes before the device

@@ -1,5 +1,6 @@
 #include "gpu/shader_registry.h"
 
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -8,7 +9,21 @@
 
 namespace aquaform::gpu {
 
+namespace {
+std::map<std::string, std::vector<uint32_t>, std::less<>>& overrides() {
+    static std::map<std::string, std::vector<uint32_t>, std::less<>> table;
+    return table;
+}
+}  // namespace
+
+void set_shader_override(std::string_view name, std::vector<uint32_t> spirv) {
+    overrides()[std::string(name)] = std::move(spirv);
+}
+
+void clear_shader_overrides() { overrides().clear(); }
+
 std::span<const uint32_t> find_shader(std::string_view name) {
+    if (auto it = overrides().find(name); it != overrides().end()) return it->second;
     for (const EmbeddedShader& s : embedded_shaders())
         if (s.name == name) return s.spirv;
     std::string known;

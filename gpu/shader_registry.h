@@ -19,8 +19,14 @@ struct EmbeddedShader {
 
 /// Every embedded shader (for the test that builds a pipeline from each one).
 std::span<const EmbeddedShader> embedded_shaders();
-/// The SPIR-V for `name`; throws with the list of known names if there is none.
+/// The SPIR-V for `name` (an override when one is set); throws with the list of known names if
+/// there is none.
 std::span<const uint32_t> find_shader(std::string_view name);
+
+/// Replaces the embedded SPIR-V of `name` for passes created from now on (shader hot reload,
+/// gpu/shader_compiler.h); clear_shader_overrides() returns to the embedded code.
+void set_shader_override(std::string_view name, std::vector<uint32_t> spirv);
+void clear_shader_overrides();
 
 class Context;
 /// A shader module for `name`; the caller destroys it once its pipeline exists.
