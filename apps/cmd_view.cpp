@@ -323,7 +323,9 @@ private:
         else if (a.what == "quit") quit_ = true;
         else if (a.what == "screenshot") screenshot(fs::path(a.value).is_absolute() ? fs::path(a.value) : screenshot_dir_ / a.value);
         else if (a.what == "method") set_method_checked(a.value);
-        else if (a.what == "attach") attach_mesh(a.value);
+        else if (a.what == "attach") shape(ShapeOp::attach, a.value);
+        else if (a.what == "union") shape(ShapeOp::union_with, a.value);
+        else if (a.what == "morph") shape(ShapeOp::morph, a.value);
         else if (a.what == "view") set_view_checked(a.value);
         else if (a.what == "release") release();
         else if (a.what == "iterations" || a.what == "substeps") {
@@ -332,11 +334,17 @@ private:
         }
     }
 
-    /// Makes `file` (an OBJ) the shape the fluid fills from now on: a control section for it at the
-    /// automatic strength, fit into a cube above the fluid's centre that a sphere of the fluid's
-    /// volume would fill (or the largest the domain allows), standing on the floor. A mesh that
-    /// cannot be used leaves the simulation as it was and says why.
-    void attach_mesh(const fs::path& file) {
+    enum class ShapeOp { attach, union_with, morph };
+
+    /// Applies a shape operation with `file` (an OBJ): attach makes it the only shape, union adds
+    /// it to the shapes, morph hands the shapes over to it in one second. The control section is
+    /// made for the meshes at the automatic strength, each fit into a cube above the fluid's centre
+    /// that a sphere of the fluid's volume would fill (or the largest the domain allows), standing
+    /// on the floor; the solver continues from the current particles. A mesh that cannot be used
+    /// leaves the simulation as it was and says why.
+    void shape(ShapeOp op, const fs::path& file) {
+        std::vector<fs::path> meshes = op == ShapeOp::attach ? std::vector<fs::path>{} : shape_files_;
+        meshes.push_back(fs::absolute(file));
         const ParticleSnapshot now = solver_->snapshot();
         glm::vec3 centre = 0.5f * (scene_.domain.min + scene_.domain.max);
         if (!now.x.empty()) {
@@ -350,30 +358,41 @@ private:
         centre.x = std::clamp(centre.x, scene_.domain.min.x + 0.5f * size, scene_.domain.max.x - 0.5f * size);
         centre.z = std::clamp(centre.z, scene_.domain.min.z + 0.5f * size, scene_.domain.max.z - 0.5f * size);
         const float floor = scene_.domain.min.y + scene_.particle_spacing;
-        const nlohmann::json section = {
-            {"meshes", {{"shape", {{"file", fs::absolute(file).string()}, {"method", "raster"},
-                                   {"placement", {{"fit_into", {{"min", {centre.x - 0.5f * size, floor, centre.z - 0.5f * size}},
-                                                                {"max", {centre.x + 0.5f * size, floor + size, centre.z + 0.5f * size}}}}}}}}}},
-            {"timeline", {{{"t", 0.0}, {"do", "attach"}, {"mesh", "shape"}}}}};
+        const nlohmann::json box = {{"min", {centre.x - 0.5f * size, floor, centre.z - 0.5f * size}},
+                                    {"max", {centre.x + 0.5f * size, floor + size, centre.z + 0.5f * size}}};
+        nlohmann::json section = {{"meshes", nlohmann::json::object()}, {"timeline", nlohmann::json::array()}};
+        for (size_t i = 0; i < meshes.size(); ++i) {
+            const std::string key = "shape" + std::to_string(i);
+            section["meshes"][key] = {{"file", meshes[i].string()}, {"method", "raster"}, {"placement", {{"fit_into", box}}}};
+            const bool last = i + 1 == meshes.size();
+            const char* action = i == 0 ? "attach" : (last && op == ShapeOp::morph) ? "morph" : "union";
+            nlohmann::json event = {{"t", 0.0}, {"do", action}, {"mesh", key}};
+            if (std::string(action) == "morph") event["duration"] = 1.0;
+            section["timeline"].push_back(event);
+        }
         Scene trial = scene_;
         trial.control_json = section.dump();
         auto prepared = control::prepare_control_scene(trial);
         if (!prepared) {
-            status_ = "cannot attach " + file.string() + ": " + prepared.error();
+            status_ = "cannot use " + file.string() + ": " + prepared.error();
             std::fprintf(stderr, "aquaform view: %s\n", status_.c_str());
             return;
         }
         scene_ = trial;
         control_ = std::move(prepared.value());
+        shape_files_ = op == ShapeOp::morph ? std::vector<fs::path>{meshes.back()} : meshes;
         rebuild_solver(true);
-        status_ = "attached " + file.filename().string() + " (" + control_->strength.describe() + ")";
+        const char* verb = op == ShapeOp::attach ? "attached" : op == ShapeOp::union_with ? "added" : "morphing to";
+        status_ = std::string(verb) + " " + file.filename().string() + " (" + control_->strength.describe() + ")";
         std::printf("aquaform view: %s\n", status_.c_str());
     }
+    void attach_mesh(const fs::path& file) { shape(ShapeOp::attach, file); }
 
     /// Control off: the fluid returns to plain physics from the current particles.
     void release() {
         if (!control_) return;
         control_.reset();
+        shape_files_.clear();
         scene_.control_json.reset();
         rebuild_solver(true);
         status_ = "released the control shape";
@@ -462,12 +481,6 @@ private:
         if (ImGui::Button("Step")) step_once_ = true;
         ImGui::SameLine();
         if (ImGui::Button("Reset")) rebuild_solver(false);
-        if (control_) {
-            ImGui::SameLine();
-            if (ImGui::Button("Release")) release();
-        } else {
-            ImGui::TextDisabled("drop an OBJ file on the window to shape the fluid");
-        }
         if (ImGui::BeginCombo("method", method_.c_str())) {
             for (const char* m : kMethods)
                 if (ImGui::Selectable(m, method_ == m)) method_ = m;
@@ -487,6 +500,20 @@ private:
                 scene_.solver.iterations = uint32_t(iterations);
                 scene_.solver.substeps = uint32_t(substeps);
             }
+        }
+        if (ImGui::CollapsingHeader("Shape", ImGuiTreeNodeFlags_DefaultOpen)) {
+            ImGui::InputText("mesh", mesh_path_, sizeof mesh_path_);
+            if (ImGui::Button("Attach")) shape(ShapeOp::attach, mesh_path_);
+            ImGui::SameLine();
+            if (ImGui::Button("Union") && control_) shape(ShapeOp::union_with, mesh_path_);
+            ImGui::SameLine();
+            if (ImGui::Button("Morph") && control_) shape(ShapeOp::morph, mesh_path_);
+            ImGui::SameLine();
+            if (ImGui::Button("Release")) release();
+            if (control_)
+                for (const fs::path& f : shape_files_) ImGui::BulletText("%s", f.filename().string().c_str());
+            else
+                ImGui::TextDisabled("no shape: type a mesh path or drop an OBJ on the window");
         }
         if ((method_ == "adaptive" || method_ == "uniform") && ImGui::CollapsingHeader("Renderer")) {
             SurfaceSettings& r = surface_settings_;
@@ -589,6 +616,8 @@ private:
     uint32_t shots_ = 0;
     bool playing_ = false, step_once_ = false, quit_ = false, failed_ = false;
     bool fly_ = false;  // the right button turns the view about the eye, WASD moves it
+    std::vector<fs::path> shape_files_;  // meshes of the active control section, in its order
+    char mesh_path_[512] = "assets/meshes/sphere.obj";
     VkDescriptorPool ui_pool_ = VK_NULL_HANDLE;
 };
 

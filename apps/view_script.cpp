@@ -15,8 +15,8 @@ namespace {
 using namespace json_fields;
 
 constexpr std::array<std::string_view, 4> kActionKeys{"frame", "do", "value", "file"};
-constexpr std::array<std::string_view, 11> kActions{"play", "pause", "step", "reset", "method", "iterations", "substeps",
-                                                    "screenshot", "attach", "release", "view"};
+constexpr std::array<std::string_view, 13> kActions{"play", "pause", "step", "reset", "method", "iterations", "substeps",
+                                                    "screenshot", "attach", "union", "morph", "release", "view"};
 
 }  // namespace
 
@@ -43,8 +43,10 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
                                std::find(kActions.begin(), kActions.end(), action.what) != kActions.end();
             if (!known)
                 fail(child(where, "do") + " is \"" + action.what +
-                     "\"; use play, pause, step, reset, method, view, iterations, substeps, screenshot, attach, release or quit");
-            const bool takes_file = action.what == "screenshot" || action.what == "attach";
+                     "\"; use play, pause, step, reset, method, view, iterations, substeps, screenshot, attach, union, "
+                     "morph, release or quit");
+            const bool takes_file = action.what == "screenshot" || action.what == "attach" || action.what == "union" ||
+                                    action.what == "morph";
             const char* key = takes_file ? "file" : "value";
             const bool needs = takes_file || action.what == "method" || action.what == "view" || action.what == "iterations" ||
                                action.what == "substeps";
@@ -76,7 +78,7 @@ Result<std::vector<ViewAction>> load_view_script(const std::filesystem::path& pa
     if (!actions) return actions;
     // Meshes to attach are named relative to the script (screenshots go to the output directory).
     for (ViewAction& a : actions.value())
-        if (a.what == "attach" && std::filesystem::path(a.value).is_relative())
+        if ((a.what == "attach" || a.what == "union" || a.what == "morph") && std::filesystem::path(a.value).is_relative())
             a.value = (path.parent_path() / a.value).lexically_normal().string();
     return actions;
 }

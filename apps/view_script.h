@@ -9,7 +9,8 @@
 // depth_agg), iterations / substeps (integer value; the solver restarts from the current state),
 // screenshot (the last frame drawn, before this frame's actions, as PNG; relative paths go to
 // --record DIR or the working directory), attach (an OBJ "file", relative to the script, becomes
-// the shape the fluid fills), release (the shape lets go), quit. Frames count from 0 at the first
+// the shape the fluid fills), union (adds a mesh to the shapes), morph (the shapes hand over to a
+// mesh in one second), release (the shapes let go), quit. Frames count from 0 at the first
 // frame drawn; actions of one frame run in the order written.
 #pragma once
 
@@ -24,7 +25,7 @@ namespace aquaform::cli {
 
 struct ViewAction {
     uint32_t frame = 0;
-    std::string what;   ///< play, pause, step, reset, method, iterations, substeps, screenshot, attach, release, quit
+    std::string what;   ///< play, pause, step, reset, method, iterations, substeps, screenshot, attach, union, morph, release, quit
     std::string value;  ///< method name, integer, or file
 };
 

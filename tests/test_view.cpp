@@ -1,6 +1,6 @@
 // The viewer under Xvfb on the software device: it opens a real window, plays a scripted session
-// (play, a debug view, switch method twice, attach a mesh, release it, pause, change the solver,
-// step, quit),
+// (play, a debug view, switch method twice, attach a mesh, add a second, morph to it, release,
+// pause, change the solver, step, quit),
 // and the screenshots it takes
 // show fluid where the dam break stands and change with the method. Without a display it says so
 // and points to `aquaform run`. The script format is checked on its own.
@@ -76,9 +76,11 @@ TEST(ViewCliTest, ScriptedSessionUnderXvfbShowsFluidAndFollowsTheMethod) {
     ASSERT_TRUE(tiles.ok()) << tiles.error();
     EXPECT_GT(mean_difference(tiles.value(), shots[0]), 2.0) << "the tile-resolution view looks like the image";
     EXPECT_NE(output.find("attached sphere.obj"), std::string::npos) << output;
+    EXPECT_NE(output.find("added torus.obj"), std::string::npos) << output;
+    EXPECT_NE(output.find("morphing to torus.obj"), std::string::npos) << output;
     EXPECT_NE(output.find("released the control shape"), std::string::npos) << output;
     // --record wrote every frame drawn before quit.
-    for (int f = 0; f < 14; ++f) {
+    for (int f = 0; f < 15; ++f) {
         char name[32];
         std::snprintf(name, sizeof name, "frame_%04d.png", f);
         EXPECT_TRUE(fs::exists(out / name)) << name;
