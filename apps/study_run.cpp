@@ -175,6 +175,9 @@ private:
         if (row) {
             row->ms_total = m.ms_total;
             row->ms_per_pass = m.ms_per_pass;
+            // The software device ends long shader loops early (SurfaceRenderer::cut_rays).
+            if (const uint32_t cut = r.cut_rays())
+                row->status = "cut: " + std::to_string(cut) + " rays stopped by the device's loop limit";
         }
         return std::move(m.frame);
     }
@@ -190,8 +193,14 @@ private:
         if (row) {
             row->ms_total = sph_reference_ms_.ms_total;
             row->ms_per_pass = sph_reference_ms_.ms_per_pass;
+            row->status = sph_reference_ms_.status;
         }
         return *sph_reference_;
+    }
+
+    /// A row measured against an SPH reference the device cut short says so.
+    void note_reference_cut(StudyRow& row) {
+        if (row.status == "ok" && sph_reference_ms_.status != "ok") row.status = "reference " + sph_reference_ms_.status;
     }
 
     /// The case's metaball renderer (with its list budget), or, for the reference, one whose
@@ -249,6 +258,7 @@ private:
             SurfaceFrame frame = render_surface(s, w, h, repeats_, &row);
             if (divisor > 1) frame = upsample_nearest(frame, width_, height_);
             compare(row, sph_reference(), frame, particle_radius(), true);
+            note_reference_cut(row);
             return frame.color;
         }
         if (m.family == StudyFamily::screen_space) {
@@ -264,6 +274,7 @@ private:
             row.ms_per_pass = t.ms_per_pass;
             SurfaceFrame frame = screen_space_->read_frame();
             compare(row, sph_reference(), frame, particle_radius(), true);
+            note_reference_cut(row);
             return frame.color;
         }
         MetaballSettings s;

@@ -55,6 +55,7 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const Scene& scene, uint32_t
     edge_count_ = &buffers_.add("render.edge_count", 16);
     march_groups_ = &buffers_.add("render.march_groups", 16);
     hit_ = &buffers_.add("render.hit", pixels * 16);
+    march_cut_ = &buffers_.add("render.march_cut", 16);
     normal_ = &buffers_.add("render.normal", pixels * 16);
     normal_tmp_ = &buffers_.add("render.normal_tmp", pixels * 16);
     color_ = &buffers_.add("render.color", pixels * 4);
@@ -69,7 +70,7 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const Scene& scene, uint32_t
     depth_smooth_ = gpu::ComputePass(ctx, {"render/depth_smooth.comp", 3, push});
     screen_normals_ = gpu::ComputePass(ctx, {"render/screen_normals.comp", 3});
     tiles_ = gpu::ComputePass(ctx, {"render/tiles.comp", 5, 0, 64});
-    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 13, 0, RAY_MARCH_WORKGROUP});
+    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 14, 0, RAY_MARCH_WORKGROUP});
     ray_args_ = gpu::ComputePass(ctx, {"render/ray_args.comp", 2, 0, 1});
     upsample_ = gpu::ComputePass(ctx, {"render/upsample.comp", 6});
     normal_filter_ = gpu::ComputePass(ctx, {"render/normal_filter.comp", 4, push});
@@ -165,10 +166,11 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         gpu::GpuScope scope(timer, cmd, "render_march");
         fill(cmd, *hit_, kMissBits);
         fill(cmd, *normal_, 0u);
+        fill(cmd, *march_cut_, 0u);
         gpu::compute_barrier(cmd);
         gpu::dispatch(*ctx_, cmd, ray_march_, pixels, 
                       {params_buf_, sorted_, &grid_->cell_rank(), &grid_->cell_start(), mask_, coarse_, depth_all_,
-                       depth_agg_, normal_screen_, rays_, ray_count_, hit_, normal_});
+                       depth_agg_, normal_screen_, rays_, ray_count_, hit_, normal_, march_cut_});
     }
     if (params_.flags & SURFACE_ADAPTIVE_RES) {
         gpu::GpuScope scope(timer, cmd, "render_upsample");
@@ -192,7 +194,7 @@ void SurfaceRenderer::record_march(VkCommandBuffer cmd, const gpu::Buffer& rays,
     gpu::dispatch(*ctx_, cmd, ray_args_, 1, {&ray_count, march_groups_});
     gpu::dispatch_indirect(*ctx_, cmd, ray_march_, *march_groups_,
                            {params_buf_, sorted_, &grid_->cell_rank(), &grid_->cell_start(), mask_, coarse_, depth_all_,
-                            depth_agg_, normal_screen_, &rays, &ray_count, hit_, normal_});
+                            depth_agg_, normal_screen_, &rays, &ray_count, hit_, normal_, march_cut_});
 }
 
 void SurfaceRenderer::record_screen_passes(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
@@ -236,6 +238,8 @@ std::vector<uint32_t> SurfaceRenderer::aggregate_flags() { return gpu::download_
 std::vector<float> SurfaceRenderer::class_densities() { return gpu::download_vector<float>(*ctx_, *class_density_, count_); }
 std::vector<uint32_t> SurfaceRenderer::mask_words() { return gpu::download_vector<uint32_t>(*ctx_, *mask_, params_.mask_dims.w); }
 std::vector<uint32_t> SurfaceRenderer::coarse_words() { return gpu::download_vector<uint32_t>(*ctx_, *coarse_, params_.coarse_dims.w); }
+uint32_t SurfaceRenderer::cut_rays() { return gpu::download_vector<uint32_t>(*ctx_, *march_cut_, 1)[0]; }
+
 uint32_t SurfaceRenderer::rays_cast() {
     uint32_t rays = gpu::download_vector<uint32_t>(*ctx_, *ray_count_, 1)[0];
     if (params_.flags & SURFACE_ADAPTIVE_RES) rays += gpu::download_vector<uint32_t>(*ctx_, *edge_count_, 1)[0];

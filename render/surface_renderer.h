@@ -74,6 +74,9 @@ public:
     std::vector<uint32_t> mask_words();         ///< the binary density grid (layout: surface_layout.h)
     std::vector<uint32_t> coarse_words();
     uint32_t rays_cast();                        ///< length of the last ray list
+    /// Rays of the last frame whose loops the device ended early (the software device stops each
+    /// shader invocation after 65535 loop iterations): their pixels may lack a surface.
+    uint32_t cut_rays();
 
     const GridGeometry& grid() const { return geometry_; }
     const shader::SurfaceParams& params() const { return params_; }
@@ -104,6 +107,7 @@ private:
     gpu::Buffer *params_buf_, *sorted_, *shape_, *class_density_, *aggregate_;
     gpu::Buffer *depth_all_, *depth_agg_, *thickness_, *front_class_, *smooth_a_, *smooth_b_, *normal_screen_;
     gpu::Buffer *tile_level_, *rays_, *ray_count_, *edge_rays_, *edge_count_, *march_groups_, *hit_, *normal_, *normal_tmp_, *color_;
+    gpu::Buffer* march_cut_;
     gpu::Buffer *conv_a_ = nullptr, *conv_b_ = nullptr, *mask_ = nullptr, *coarse_ = nullptr;
     gpu::ComputePass gather_, classify_shape_, classify_density_, mask_convolve_, mask_pack_, splat_;
     gpu::ComputePass depth_smooth_, screen_normals_, tiles_, ray_args_, ray_march_, upsample_, normal_filter_, compose_;

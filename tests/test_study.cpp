@@ -144,7 +144,10 @@ TEST(StudyCliTest, TinySpecRunsEndToEndWithCsvTablesAndCharts) {
             overflow_seen = true;
             continue;
         }
-        EXPECT_EQ(r[status], "ok") << r[method];
+        // The software device ends very long shader loops early; the study says so per row ("cut",
+        // or "reference cut" when the reference was), hardware leaves every row "ok".
+        const bool cut = r[status].rfind("cut: ", 0) == 0 || r[status].rfind("reference cut: ", 0) == 0;
+        EXPECT_TRUE(r[status] == "ok" || cut) << r[method] << ": " << r[status];
         methods_seen.push_back(r[method].substr(0, r[method].find(' ')));
         if (r[method] != "reference") {
             ASSERT_FALSE(r[depth].empty()) << r[method] << " has no error against its reference";

@@ -383,3 +383,40 @@ TEST_F(SurfaceTest, DocumentedBytesPerPixelAndPerParticleMatchTheAllocations) {
 
 }  // namespace
 }  // namespace aquaform
+
+namespace aquaform {
+namespace {
+
+TEST_F(SurfaceTest, RaysTheDeviceEndsEarlyAreCounted) {
+    // The reference marches 1/16 particle radius per step from the grid's bounds: a ray grazing a
+    // long sheet of marked cells takes thousands of steps of 27-cell density sums, beyond what the
+    // software device lets one invocation loop. Hardware cuts nothing; then every ray must hit.
+    const float spacing = 0.02f;
+    Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {2.0f, 0.4f, 0.4f}}, spacing);
+    std::vector<glm::vec4> positions;
+    for (int x = 0; x < 95; ++x)
+        for (int z = 0; z < 3; ++z) positions.emplace_back(0.05f + spacing * x, 0.2f, 0.18f + spacing * z, 0.0f);
+    Particles particles(ctx(), positions);
+    ViewCamera camera;
+    camera.eye = {-0.5f, 0.2f + 0.5f * spacing, 0.2f};
+    camera.target = {2.0f, 0.2f + 0.5f * spacing, 0.2f};
+    camera.fov_y_degrees = 2.0f;
+    SurfaceRenderer renderer(ctx(), scene, 16, 16, particles.count);
+    SurfaceSettings settings;
+    settings.method = SurfaceMethod::reference;
+    settings.reference_step_radii = 0.01f;
+    const SurfaceFrame frame = renderer.render(particles.buffer, particles.count, camera, settings);
+    const uint32_t cut = renderer.cut_rays();
+    if (ctx().info().type == VK_PHYSICAL_DEVICE_TYPE_CPU) EXPECT_GT(cut, 0u) << "llvmpipe stops invocations at 65535 loop iterations";
+    if (cut == 0) {
+        size_t hits = 0;
+        for (size_t i = 0; i < frame.hit.size(); ++i) hits += frame.has_surface(i);
+        EXPECT_GT(hits, 0u) << "a ray along the sheet finds it when nothing is cut";
+    }
+    settings.method = SurfaceMethod::adaptive;
+    renderer.render(particles.buffer, particles.count, camera, settings);
+    EXPECT_EQ(renderer.cut_rays(), 0u) << "the adaptive march enters at the sprite depth and stays short";
+}
+
+}  // namespace
+}  // namespace aquaform

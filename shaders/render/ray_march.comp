@@ -33,6 +33,9 @@ layout(std430, binding = 9) readonly buffer Rays { uint rays[]; };
 layout(std430, binding = 10) readonly buffer RayCount { uint ray_count[]; };
 layout(std430, binding = 11) writeonly buffer Hit { vec4 hit[]; };
 layout(std430, binding = 12) writeonly buffer Normal { vec4 normal[]; };
+// Rays whose loops the device ended early: llvmpipe stops each invocation after 65535 loop
+// iterations in all, silently; a loop that ends with its own condition still true was cut.
+layout(std430, binding = 13) buffer MarchCut { uint march_cut[]; };
 
 #define SURFACE_FIELD
 #include "common/surface_common.glsl"
@@ -162,18 +165,21 @@ void main() {
         t += params.step;
     }
     if (!found) {
+        if (t <= t_end && evals < params.max_steps) atomicAdd(march_cut[0], 1u);
         hit[index] = vec4(0.0, 0.0, 0.0, -1.0);
         normal[index] = vec4(0.0, 0.0, 0.0, float(evals));
         return;
     }
     float lo = t_prev;
     float hi = t;
-    for (uint i = 0u; i < params.refine_steps && hi > lo; ++i) {
+    uint refined = 0u;
+    for (; refined < params.refine_steps && hi > lo; ++refined) {
         float mid = 0.5 * (lo + hi);
         ++evals;
         if (field_density(eye + dir * mid) >= params.iso) hi = mid;
         else lo = mid;
     }
+    if (refined < params.refine_steps && hi > lo) atomicAdd(march_cut[0], 1u);
     float t_hit = 0.5 * (lo + hi);
     vec3 x = eye + dir * t_hit;
     vec3 grad = field_gradient(x);
