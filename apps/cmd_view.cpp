@@ -25,11 +25,11 @@
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_vulkan.h>
-#include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
 #include "apps/render_options.h"
 #include "apps/view_script.h"
+#include "apps/view_shapes.h"
 #include "apps/view_window.h"
 #include "control/control_driver.h"
 #include "control/push_force.h"
@@ -66,38 +66,6 @@ std::vector<std::string> g_dropped;
 void on_drop(GLFWwindow*, int count, const char** paths) {
     for (int i = 0; i < count; ++i) g_dropped.emplace_back(paths[i]);
 }
-
-struct OrbitCamera {
-    glm::vec3 target{0.0f};
-    float yaw = 0.0f, pitch = 0.3f, distance = 1.0f, fov = 40.0f;
-
-    static OrbitCamera around(const ViewCamera& c) {
-        OrbitCamera o;
-        o.target = c.target;
-        const glm::vec3 d = c.eye - c.target;
-        o.distance = glm::length(d);
-        o.yaw = std::atan2(d.x, d.z);
-        o.pitch = std::asin(std::clamp(d.y / o.distance, -1.0f, 1.0f));
-        o.fov = c.fov_y_degrees;
-        return o;
-    }
-    /// Unit vector from the target to the eye.
-    glm::vec3 back() const { return {std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw)}; }
-    ViewCamera camera() const {
-        ViewCamera c;
-        c.target = target;
-        c.eye = target + distance * back();
-        c.fov_y_degrees = fov;
-        return c;
-    }
-    /// Turns the view by (dyaw, dpitch): about the target (orbit) or about the eye (fly).
-    void turn(float dyaw, float dpitch, bool about_eye) {
-        const glm::vec3 eye = camera().eye;
-        yaw += dyaw;
-        pitch = std::clamp(pitch + dpitch, -1.5f, 1.5f);
-        if (about_eye) target = eye - distance * back();
-    }
-};
 
 class Viewer {
 public:
@@ -334,44 +302,15 @@ private:
         }
     }
 
-    enum class ShapeOp { attach, union_with, morph };
-
     /// Applies a shape operation with `file` (an OBJ): attach makes it the only shape, union adds
-    /// it to the shapes, morph hands the shapes over to it in one second. The control section is
-    /// made for the meshes at the automatic strength, each fit into a cube above the fluid's centre
-    /// that a sphere of the fluid's volume would fill (or the largest the domain allows), standing
-    /// on the floor; the solver continues from the current particles. A mesh that cannot be used
-    /// leaves the simulation as it was and says why.
+    /// it to the shapes, morph hands the shapes over to it in one second (apps/view_shapes.h says
+    /// where it goes), at the automatic strength; the solver continues from the current particles.
+    /// A mesh that cannot be used leaves the simulation as it was and says why.
     void shape(ShapeOp op, const fs::path& file) {
         std::vector<fs::path> meshes = op == ShapeOp::attach ? std::vector<fs::path>{} : shape_files_;
         meshes.push_back(fs::absolute(file));
-        const ParticleSnapshot now = solver_->snapshot();
-        glm::vec3 centre = 0.5f * (scene_.domain.min + scene_.domain.max);
-        if (!now.x.empty()) {
-            glm::vec3 sum(0.0f);
-            for (const auto& x : now.x) sum += glm::vec3(x);
-            centre = sum / float(now.x.size());
-        }
-        const glm::vec3 extent = scene_.domain.max - scene_.domain.min;
-        const float volume = float(now.x.size()) * std::pow(scene_.particle_spacing, 3.0f);
-        const float size = std::min(std::cbrt(6.0f * volume / 3.14159265f), 0.9f * std::min({extent.x, extent.y, extent.z}));
-        centre.x = std::clamp(centre.x, scene_.domain.min.x + 0.5f * size, scene_.domain.max.x - 0.5f * size);
-        centre.z = std::clamp(centre.z, scene_.domain.min.z + 0.5f * size, scene_.domain.max.z - 0.5f * size);
-        const float floor = scene_.domain.min.y + scene_.particle_spacing;
-        const nlohmann::json box = {{"min", {centre.x - 0.5f * size, floor, centre.z - 0.5f * size}},
-                                    {"max", {centre.x + 0.5f * size, floor + size, centre.z + 0.5f * size}}};
-        nlohmann::json section = {{"meshes", nlohmann::json::object()}, {"timeline", nlohmann::json::array()}};
-        for (size_t i = 0; i < meshes.size(); ++i) {
-            const std::string key = "shape" + std::to_string(i);
-            section["meshes"][key] = {{"file", meshes[i].string()}, {"method", "raster"}, {"placement", {{"fit_into", box}}}};
-            const bool last = i + 1 == meshes.size();
-            const char* action = i == 0 ? "attach" : (last && op == ShapeOp::morph) ? "morph" : "union";
-            nlohmann::json event = {{"t", 0.0}, {"do", action}, {"mesh", key}};
-            if (std::string(action) == "morph") event["duration"] = 1.0;
-            section["timeline"].push_back(event);
-        }
         Scene trial = scene_;
-        trial.control_json = section.dump();
+        trial.control_json = shape_section(meshes, op, shape_box(scene_, solver_->snapshot().x));
         auto prepared = control::prepare_control_scene(trial);
         if (!prepared) {
             status_ = "cannot use " + file.string() + ": " + prepared.error();

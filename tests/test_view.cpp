@@ -11,6 +11,8 @@
 #include <string>
 
 #include "apps/view_script.h"
+#include "apps/view_shapes.h"
+#include "control/control_scene.h"
 #include "render/image_io.h"
 #include "tests/cli_helpers.h"
 
@@ -105,6 +107,49 @@ TEST(ViewScriptTest, ActionsAreCheckedAndSortedByFrame) {
     ASSERT_FALSE(missing.ok());
     EXPECT_NE(missing.error().find("file"), std::string::npos) << missing.error();
     EXPECT_FALSE(cli::load_view_script("/nonexistent.json").ok());
+}
+
+TEST(ViewShapesTest, SectionsAttachUnionAndMorphAndLoadAsControlSections) {
+    Scene scene;
+    scene.name = "shapes";
+    scene.domain = {glm::vec3(0.0f), glm::vec3(1.6f, 0.8f, 0.2f)};
+    scene.particle_spacing = 0.02f;
+    std::vector<glm::vec4> fluid;
+    for (int i = 0; i < 1000; ++i) fluid.emplace_back(0.3f, 0.1f, 0.1f, 0.0f);
+    const Box box = cli::shape_box(scene, fluid);
+    // The fluid's volume (1000 x 8 cm^3) as a sphere needs a 0.248 m cube; the depth allows 0.18.
+    EXPECT_NEAR(box.max.x - box.min.x, 0.18f, 1e-4f);
+    EXPECT_NEAR(0.5f * (box.min.x + box.max.x), 0.3f, 1e-5f) << "above the fluid's centre";
+    EXPECT_GE(box.min.z, 0.0f);
+    EXPECT_LE(box.max.z, 0.2f);
+    EXPECT_NEAR(box.min.y, 0.02f, 1e-6f) << "standing on the floor";
+    const fs::path sphere = fs::path(AQUAFORM_ASSETS_DIR) / "meshes/sphere.obj", torus = fs::path(AQUAFORM_ASSETS_DIR) / "meshes/torus.obj";
+    for (cli::ShapeOp op : {cli::ShapeOp::attach, cli::ShapeOp::union_with, cli::ShapeOp::morph}) {
+        const std::vector<fs::path> meshes = op == cli::ShapeOp::attach ? std::vector<fs::path>{sphere} : std::vector<fs::path>{sphere, torus};
+        Scene with = scene;
+        with.control_json = cli::shape_section(meshes, op, box);
+        auto section = control::load_control_section(with);
+        ASSERT_TRUE(section.ok()) << section.error();
+        EXPECT_EQ(section.value().meshes.size(), meshes.size());
+        const std::string text = *with.control_json;
+        EXPECT_EQ(text.find("\"morph\"") != std::string::npos, op == cli::ShapeOp::morph) << text;
+        EXPECT_EQ(text.find("\"union\"") != std::string::npos, op == cli::ShapeOp::union_with) << text;
+    }
+}
+
+TEST(ViewShapesTest, OrbitTurnsAboutTheTargetAndFlyAboutTheEye) {
+    ViewCamera start;
+    start.eye = {1.0f, 0.5f, 2.0f};
+    start.target = {0.0f, 0.2f, 0.0f};
+    cli::OrbitCamera cam = cli::OrbitCamera::around(start);
+    EXPECT_LT(glm::length(cam.camera().eye - start.eye), 1e-5f) << "around() reproduces the camera";
+    cli::OrbitCamera orbit = cam, fly = cam;
+    orbit.turn(0.3f, 0.1f, false);
+    fly.turn(0.3f, 0.1f, true);
+    EXPECT_LT(glm::length(orbit.camera().target - start.target), 1e-6f);
+    EXPECT_NEAR(glm::length(orbit.camera().eye - start.target), cam.distance, 1e-5f);
+    EXPECT_LT(glm::length(fly.camera().eye - start.eye), 1e-5f) << "flying turns the view about the eye";
+    EXPECT_GT(glm::length(fly.camera().target - start.target), 0.1f);
 }
 
 }  // namespace

@@ -1,0 +1,70 @@
+#include "apps/view_shapes.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <nlohmann/json.hpp>
+
+namespace aquaform::cli {
+
+OrbitCamera OrbitCamera::around(const ViewCamera& c) {
+    OrbitCamera o;
+    o.target = c.target;
+    const glm::vec3 d = c.eye - c.target;
+    o.distance = glm::length(d);
+    o.yaw = std::atan2(d.x, d.z);
+    o.pitch = std::asin(std::clamp(d.y / o.distance, -1.0f, 1.0f));
+    o.fov = c.fov_y_degrees;
+    return o;
+}
+
+glm::vec3 OrbitCamera::back() const {
+    return {std::cos(pitch) * std::sin(yaw), std::sin(pitch), std::cos(pitch) * std::cos(yaw)};
+}
+
+ViewCamera OrbitCamera::camera() const {
+    ViewCamera c;
+    c.target = target;
+    c.eye = target + distance * back();
+    c.fov_y_degrees = fov;
+    return c;
+}
+
+void OrbitCamera::turn(float dyaw, float dpitch, bool about_eye) {
+    const glm::vec3 eye = camera().eye;
+    yaw += dyaw;
+    pitch = std::clamp(pitch + dpitch, -1.5f, 1.5f);
+    if (about_eye) target = eye - distance * back();
+}
+
+Box shape_box(const Scene& scene, const std::vector<glm::vec4>& particles) {
+    glm::vec3 centre = 0.5f * (scene.domain.min + scene.domain.max);
+    if (!particles.empty()) {
+        glm::vec3 sum(0.0f);
+        for (const auto& x : particles) sum += glm::vec3(x);
+        centre = sum / float(particles.size());
+    }
+    const glm::vec3 extent = scene.domain.max - scene.domain.min;
+    const float volume = float(particles.size()) * std::pow(scene.particle_spacing, 3.0f);
+    const float size = std::min(std::cbrt(6.0f * volume / 3.14159265f), 0.9f * std::min({extent.x, extent.y, extent.z}));
+    centre.x = std::clamp(centre.x, scene.domain.min.x + 0.5f * size, scene.domain.max.x - 0.5f * size);
+    centre.z = std::clamp(centre.z, scene.domain.min.z + 0.5f * size, scene.domain.max.z - 0.5f * size);
+    const float floor = scene.domain.min.y + scene.particle_spacing;
+    return {{centre.x - 0.5f * size, floor, centre.z - 0.5f * size}, {centre.x + 0.5f * size, floor + size, centre.z + 0.5f * size}};
+}
+
+std::string shape_section(const std::vector<std::filesystem::path>& meshes, ShapeOp op, const Box& box) {
+    const nlohmann::json fit = {{"min", {box.min.x, box.min.y, box.min.z}}, {"max", {box.max.x, box.max.y, box.max.z}}};
+    nlohmann::json section = {{"meshes", nlohmann::json::object()}, {"timeline", nlohmann::json::array()}};
+    for (size_t i = 0; i < meshes.size(); ++i) {
+        const std::string key = "shape" + std::to_string(i);
+        section["meshes"][key] = {{"file", meshes[i].string()}, {"method", "raster"}, {"placement", {{"fit_into", fit}}}};
+        const bool morph = op == ShapeOp::morph && i > 0 && i + 1 == meshes.size();
+        nlohmann::json event = {{"t", 0.0}, {"do", i == 0 ? "attach" : morph ? "morph" : "union"}, {"mesh", key}};
+        if (morph) event["duration"] = 1.0;
+        section["timeline"].push_back(event);
+    }
+    return section.dump();
+}
+
+}  // namespace aquaform::cli

@@ -1,0 +1,39 @@
+// The viewer's pieces that need no window: its camera (orbit, or fly when turned about the eye)
+// and the control sections its Shape panel makes (attach, union, morph meshes the user picks).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "render/impostor_view.h"
+#include "sim/scene.h"
+
+namespace aquaform::cli {
+
+struct OrbitCamera {
+    glm::vec3 target{0.0f};
+    float yaw = 0.0f, pitch = 0.3f, distance = 1.0f, fov = 40.0f;
+
+    static OrbitCamera around(const ViewCamera& c);
+    /// Unit vector from the target to the eye.
+    glm::vec3 back() const;
+    ViewCamera camera() const;
+    /// Turns the view by (dyaw, dpitch): about the target (orbit) or about the eye (fly).
+    void turn(float dyaw, float dpitch, bool about_eye);
+};
+
+enum class ShapeOp { attach, union_with, morph };
+
+/// Where a picked mesh goes: a cube above the fluid's centre (x, z) that a sphere of the fluid's
+/// volume would fill (or the largest 90 % of the domain's smallest side allows), standing on the
+/// floor, inside the domain.
+Box shape_box(const Scene& scene, const std::vector<glm::vec4>& particles);
+
+/// A scene `control` section (JSON text) for `meshes` fit into `box`, from t = 0: the first is
+/// attached, the others are added (union), or for morph the last takes over in one second.
+std::string shape_section(const std::vector<std::filesystem::path>& meshes, ShapeOp op, const Box& box);
+
+}  // namespace aquaform::cli
