@@ -123,7 +123,12 @@ void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, ui
 
 void dispatch_indirect(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const Buffer& group_counts,
                        std::initializer_list<const Buffer*> bindings) {
-    bind_pass(ctx, cmd, pass, nullptr, 0, bindings);
+    dispatch_indirect_raw(ctx, cmd, pass, group_counts, nullptr, 0, bindings);
+}
+
+void dispatch_indirect_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const Buffer& group_counts,
+                           const void* push, uint32_t push_bytes, std::initializer_list<const Buffer*> bindings) {
+    bind_pass(ctx, cmd, pass, push, push_bytes, bindings);
     vkCmdDispatchIndirect(cmd, group_counts.buffer, 0);
     compute_barrier(cmd);
 }

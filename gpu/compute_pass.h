@@ -69,6 +69,14 @@ inline void dispatch(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass,
 /// into `group_counts`, followed by the same barrier as dispatch().
 void dispatch_indirect(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const Buffer& group_counts,
                        std::initializer_list<const Buffer*> bindings);
+void dispatch_indirect_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const Buffer& group_counts,
+                           const void* push, uint32_t push_bytes, std::initializer_list<const Buffer*> bindings);
+
+template <typename Push>
+void dispatch_indirect(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const Buffer& group_counts,
+                       const Push& push, std::initializer_list<const Buffer*> bindings) {
+    dispatch_indirect_raw(ctx, cmd, pass, group_counts, &push, sizeof(Push), bindings);
+}
 
 /// Full compute/transfer barrier, for transfer commands (fills, copies) between passes.
 void compute_barrier(VkCommandBuffer cmd);

@@ -56,6 +56,11 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const Scene& scene, uint32_t
     march_groups_ = &buffers_.add("render.march_groups", 16);
     hit_ = &buffers_.add("render.hit", pixels * 16);
     march_cut_ = &buffers_.add("render.march_cut", 16);
+    for (int k = 0; k < 2; ++k) {
+        resume_rays_[k] = &buffers_.add("render.resume_rays" + std::to_string(k), pixels * 4);
+        resume_count_[k] = &buffers_.add("render.resume_count" + std::to_string(k), 16);
+    }
+    resume_state_ = &buffers_.add("render.resume_state", pixels * 16);
     normal_ = &buffers_.add("render.normal", pixels * 16);
     normal_tmp_ = &buffers_.add("render.normal_tmp", pixels * 16);
     color_ = &buffers_.add("render.color", pixels * 4);
@@ -70,7 +75,7 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const Scene& scene, uint32_t
     depth_smooth_ = gpu::ComputePass(ctx, {"render/depth_smooth.comp", 3, push});
     screen_normals_ = gpu::ComputePass(ctx, {"render/screen_normals.comp", 3});
     tiles_ = gpu::ComputePass(ctx, {"render/tiles.comp", 5, 0, 64});
-    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 14, 0, RAY_MARCH_WORKGROUP});
+    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 17, push, RAY_MARCH_WORKGROUP});
     ray_args_ = gpu::ComputePass(ctx, {"render/ray_args.comp", 2, 0, 1});
     upsample_ = gpu::ComputePass(ctx, {"render/upsample.comp", 6});
     normal_filter_ = gpu::ComputePass(ctx, {"render/normal_filter.comp", 4, push});
@@ -167,10 +172,10 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         fill(cmd, *hit_, kMissBits);
         fill(cmd, *normal_, 0u);
         fill(cmd, *march_cut_, 0u);
+        fill(cmd, *resume_count_[0], 0u);
         gpu::compute_barrier(cmd);
-        gpu::dispatch(*ctx_, cmd, ray_march_, pixels, 
-                      {params_buf_, sorted_, &grid_->cell_rank(), &grid_->cell_start(), mask_, coarse_, depth_all_,
-                       depth_agg_, normal_screen_, rays_, ray_count_, hit_, normal_, march_cut_});
+        dispatch_march(cmd, rays_, *ray_count_, 0, 0);
+        record_resumes(cmd);
     }
     if (params_.flags & SURFACE_ADAPTIVE_RES) {
         gpu::GpuScope scope(timer, cmd, "render_upsample");
@@ -190,11 +195,36 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     }
 }
 
-void SurfaceRenderer::record_march(VkCommandBuffer cmd, const gpu::Buffer& rays, const gpu::Buffer& ray_count) {
+void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count,
+                                     uint32_t mode, int resume_out) {
+    const std::initializer_list<const gpu::Buffer*> buffers{
+        params_buf_, sorted_, &grid_->cell_rank(), &grid_->cell_start(), mask_, coarse_, depth_all_, depth_agg_,
+        normal_screen_, rays, &ray_count, hit_, normal_, march_cut_, resume_rays_[resume_out], resume_count_[resume_out],
+        resume_state_};
+    if (mode == 0 && rays == rays_) {
+        gpu::dispatch(*ctx_, cmd, ray_march_, width_ * height_, axis_push(0), buffers);  // the first march, per pixel
+        return;
+    }
     gpu::dispatch(*ctx_, cmd, ray_args_, 1, {&ray_count, march_groups_});
-    gpu::dispatch_indirect(*ctx_, cmd, ray_march_, *march_groups_,
-                           {params_buf_, sorted_, &grid_->cell_rank(), &grid_->cell_start(), mask_, coarse_, depth_all_,
-                            depth_agg_, normal_screen_, &rays, &ray_count, hit_, normal_, march_cut_});
+    gpu::dispatch_indirect(*ctx_, cmd, ray_march_, *march_groups_, axis_push(mode), buffers);
+}
+
+void SurfaceRenderer::record_march(VkCommandBuffer cmd, const gpu::Buffer& rays, const gpu::Buffer& ray_count) {
+    fill(cmd, *resume_count_[0], 0u);
+    gpu::compute_barrier(cmd);
+    dispatch_march(cmd, &rays, ray_count, 0, 0);
+    record_resumes(cmd);
+}
+
+void SurfaceRenderer::record_resumes(VkCommandBuffer cmd) {
+    // The rays the device cut short (list 0) are marched again, each pass with a fresh loop budget,
+    // ping-ponging between the two lists; the last pass counts what is still cut.
+    for (uint32_t pass = 1; pass <= kResumePasses; ++pass) {
+        const int in = int((pass + 1) % 2), out = int(pass % 2);
+        fill(cmd, *resume_count_[out], 0u);
+        gpu::compute_barrier(cmd);
+        dispatch_march(cmd, resume_rays_[in], *resume_count_[in], pass == kResumePasses ? 2u : 1u, out);
+    }
 }
 
 void SurfaceRenderer::record_screen_passes(VkCommandBuffer cmd, gpu::GpuTimer* timer) {

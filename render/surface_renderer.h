@@ -38,7 +38,7 @@ class GpuTimer;
 }  // namespace gpu
 
 /// GPU memory of the renderer per pixel and per particle (beyond its grid).
-constexpr uint32_t kSurfaceBytesPerPixel = 9 * 4 + 4 * 16;
+constexpr uint32_t kSurfaceBytesPerPixel = 11 * 4 + 5 * 16;
 constexpr uint32_t kSurfaceBytesPerParticle = 16 + 3 * 16 + 4 + 4;
 
 class SurfaceRenderer {
@@ -93,6 +93,13 @@ private:
     void record_screen_passes(VkCommandBuffer cmd, gpu::GpuTimer* timer);
     /// The march over one ray list, dispatched indirectly with one thread per ray.
     void record_march(VkCommandBuffer cmd, const gpu::Buffer& rays, const gpu::Buffer& ray_count);
+    /// One march dispatch: mode 0 first march (the main list per pixel, else indirect), 1 resume,
+    /// 2 last resume; cut rays go to resume list `resume_out`.
+    void dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count, uint32_t mode,
+                        int resume_out);
+    /// Marches again the rays the device cut short (shaders/render/ray_march.comp), kResumePasses times.
+    void record_resumes(VkCommandBuffer cmd);
+    static constexpr uint32_t kResumePasses = 8;
 
     gpu::Context* ctx_;
     Scene scene_;
@@ -108,6 +115,7 @@ private:
     gpu::Buffer *depth_all_, *depth_agg_, *thickness_, *front_class_, *smooth_a_, *smooth_b_, *normal_screen_;
     gpu::Buffer *tile_level_, *rays_, *ray_count_, *edge_rays_, *edge_count_, *march_groups_, *hit_, *normal_, *normal_tmp_, *color_;
     gpu::Buffer* march_cut_;
+    gpu::Buffer *resume_rays_[2], *resume_count_[2], *resume_state_;
     gpu::Buffer *conv_a_ = nullptr, *conv_b_ = nullptr, *mask_ = nullptr, *coarse_ = nullptr;
     gpu::ComputePass gather_, classify_shape_, classify_density_, mask_convolve_, mask_pack_, splat_;
     gpu::ComputePass depth_smooth_, screen_normals_, tiles_, ray_args_, ray_march_, upsample_, normal_filter_, compose_;

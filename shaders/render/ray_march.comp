@@ -35,7 +35,15 @@ layout(std430, binding = 11) writeonly buffer Hit { vec4 hit[]; };
 layout(std430, binding = 12) writeonly buffer Normal { vec4 normal[]; };
 // Rays whose loops the device ended early: llvmpipe stops each invocation after 65535 loop
 // iterations in all, silently; a loop that ends with its own condition still true was cut.
+// A ray that has spent RAY_MARCH_EVALS_PER_PASS evaluations, or was cut anyway, saves where it
+// was (resume_state) and joins the resume list; the renderer marches that list again (push axis
+// 1: resume), each pass with a fresh budget, and in its last pass (axis 2) counts the rays still
+// cut in march_cut instead.
 layout(std430, binding = 13) buffer MarchCut { uint march_cut[]; };
+layout(std430, binding = 14) writeonly buffer ResumeRays { uint resume_rays[]; };
+layout(std430, binding = 15) buffer ResumeCount { uint resume_count[]; };
+layout(std430, binding = 16) buffer ResumeState { vec4 resume_state[]; };  // t, t_prev, evals, skipped
+layout(push_constant) uniform Push { SurfacePassPush pc; };
 
 #define SURFACE_FIELD
 #include "common/surface_common.glsl"
@@ -135,9 +143,22 @@ void main() {
     bool skipped = false;
     bool found = false;
     float t_prev = t;
+    if (pc.axis != 0u) {  // a resumed ray continues where the device cut it
+        vec4 state = resume_state[index];
+        t = state.x;
+        t_prev = state.y;
+        evals = uint(state.z);
+        skipped = state.w > 0.0;
+    }
     // Each mask step leaves at least one cell, so a ray takes at most this many of them.
     uint mask_steps_left = 2u * (params.grid_dims.x + params.grid_dims.y + params.grid_dims.z) + 8u;
+    const uint yield_at = pc.axis == 2u ? 0xffffffffu : evals + RAY_MARCH_EVALS_PER_PASS;
     while (t <= t_end && evals < params.max_steps) {
+        if (evals >= yield_at) {  // a long ray: hand over to the next pass
+            resume_state[index] = vec4(t, t_prev, float(evals), skipped ? 1.0 : 0.0);
+            resume_rays[atomicAdd(resume_count[0], 1u)] = packed;
+            return;
+        }
         if (use_skip && !skipped && evals >= params.max_skip_evals) {
             skipped = true;
             if (t_agg > t) {
@@ -165,7 +186,15 @@ void main() {
         t += params.step;
     }
     if (!found) {
-        if (t <= t_end && evals < params.max_steps) atomicAdd(march_cut[0], 1u);
+        if (t <= t_end && evals < params.max_steps) {
+            if (pc.axis == 2u) {
+                atomicAdd(march_cut[0], 1u);
+            } else {
+                resume_state[index] = vec4(t, t_prev, float(evals), skipped ? 1.0 : 0.0);
+                resume_rays[atomicAdd(resume_count[0], 1u)] = packed;
+                return;
+            }
+        }
         hit[index] = vec4(0.0, 0.0, 0.0, -1.0);
         normal[index] = vec4(0.0, 0.0, 0.0, float(evals));
         return;

@@ -51,6 +51,10 @@
 
 // Workgroup size of the ray march: its dispatch is indirect, sized to the ray list on the GPU.
 #define RAY_MARCH_WORKGROUP 64u
+// Density evaluations a ray makes per march pass before it yields and is resumed by the next
+// pass: about 190 loop iterations each (27 cells and their particles), so a pass, its bisection
+// and its normal stay inside the 65535 loop iterations the software device allows an invocation.
+#define RAY_MARCH_EVALS_PER_PASS 256u
 
 AF_BEGIN
 
