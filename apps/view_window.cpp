@@ -53,7 +53,7 @@ ViewWindow::~ViewWindow() {
 void ViewWindow::detach() {
     if (!ctx_) return;
     VkDevice d = ctx_->device();
-    vkDeviceWaitIdle(d);
+    ctx_->wait_queue_idle();
     destroy_swapchain();
     gpu::destroy_image(*ctx_, staging_);
     if (render_pass_) vkDestroyRenderPass(d, render_pass_, nullptr);
@@ -206,7 +206,7 @@ VkCommandBuffer ViewWindow::begin_frame() {
     VK_CHECK(vkWaitForFences(d, 1, &fence_, VK_TRUE, UINT64_MAX));
     for (int attempt = 0; attempt < 2; ++attempt) {
         if (!swapchain_) {
-            vkDeviceWaitIdle(d);
+            ctx_->wait_queue_idle();
             destroy_swapchain();
             create_swapchain();
             if (!swapchain_) return VK_NULL_HANDLE;  // minimised: nothing to draw into
@@ -214,7 +214,7 @@ VkCommandBuffer ViewWindow::begin_frame() {
         VkResult r = vkAcquireNextImageKHR(d, swapchain_, UINT64_MAX, acquired_, VK_NULL_HANDLE, &image_index_);
         if (r == VK_SUCCESS || r == VK_SUBOPTIMAL_KHR) break;
         if (r != VK_ERROR_OUT_OF_DATE_KHR) VK_CHECK(r);
-        vkDeviceWaitIdle(d);
+        ctx_->wait_queue_idle();
         destroy_swapchain();  // resized: rebuild and try once more
         if (attempt == 1) return VK_NULL_HANDLE;
     }
@@ -228,7 +228,7 @@ VkCommandBuffer ViewWindow::begin_frame() {
 
 void ViewWindow::ensure_staging(uint32_t width, uint32_t height) {
     if (staging_.image && staging_w_ == width && staging_h_ == height) return;
-    vkDeviceWaitIdle(ctx_->device());
+    ctx_->wait_queue_idle();
     gpu::destroy_image(*ctx_, staging_);
     staging_ = gpu::create_image(*ctx_, width, height, VK_FORMAT_R8G8B8A8_UNORM,
                                  VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
@@ -287,6 +287,8 @@ void ViewWindow::end_frame(VkCommandBuffer cmd) {
     submit.pCommandBuffers = &cmd;
     submit.signalSemaphoreCount = 1;
     submit.pSignalSemaphores = &rendered_[image_index_];
+    // The queue is shared with the viewer's worker thread (gpu::Context::lock_queue).
+    std::unique_lock<std::mutex> queue = ctx_->lock_queue();
     VK_CHECK(vkQueueSubmit(ctx_->queue(), 1, &submit, fence_));
     VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
     present.waitSemaphoreCount = 1;
@@ -295,9 +297,10 @@ void ViewWindow::end_frame(VkCommandBuffer cmd) {
     present.pSwapchains = &swapchain_;
     present.pImageIndices = &image_index_;
     VkResult r = vkQueuePresentKHR(ctx_->queue(), &present);
+    queue.unlock();
     if (r == VK_ERROR_OUT_OF_DATE_KHR || r == VK_SUBOPTIMAL_KHR) {
         vkWaitForFences(ctx_->device(), 1, &fence_, VK_TRUE, UINT64_MAX);
-        vkDeviceWaitIdle(ctx_->device());
+        ctx_->wait_queue_idle();
         destroy_swapchain();  // rebuilt at the next begin_frame
     } else {
         VK_CHECK(r);

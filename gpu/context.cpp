@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cstdio>
 #include <cstring>
+#include <stdexcept>
 
 #include "gpu/vk_check.h"
 
@@ -224,6 +225,7 @@ VKAPI_ATTR VkBool32 VKAPI_CALL Context::debug_callback(
     auto* self = static_cast<Context*>(user);
     if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
         self->validation_errors_++;
+        std::lock_guard<std::mutex> lock(self->message_mutex_);
         self->last_validation_message_ = data->pMessage ? data->pMessage : "";
         std::fprintf(stderr, "[vulkan validation error] %s\n", data->pMessage);
     } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
@@ -304,17 +306,6 @@ void Context::create(const ContextOptions& options) {
     push_descriptor_ = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
         vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
 
-    VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    pool_info.queueFamilyIndex = queue_family_;
-    VK_CHECK(vkCreateCommandPool(device_, &pool_info, nullptr, &command_pool_));
-    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-    alloc.commandPool = command_pool_;
-    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-    alloc.commandBufferCount = 1;
-    VK_CHECK(vkAllocateCommandBuffers(device_, &alloc, &command_buffer_));
-    VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    VK_CHECK(vkCreateFence(device_, &fence_info, nullptr, &fence_));
 }
 
 Context::~Context() { destroy(); }
@@ -322,8 +313,11 @@ Context::~Context() { destroy(); }
 void Context::destroy() {
     if (device_) {
         vkDeviceWaitIdle(device_);
-        if (fence_) vkDestroyFence(device_, fence_, nullptr);
-        if (command_pool_) vkDestroyCommandPool(device_, command_pool_, nullptr);
+        for (auto& [thread, r] : recorders_) {
+            vkDestroyFence(device_, r->fence, nullptr);
+            vkDestroyCommandPool(device_, r->pool, nullptr);
+        }
+        recorders_.clear();
         vkDestroyDevice(device_, nullptr);
         device_ = VK_NULL_HANDLE;
     }
@@ -352,26 +346,84 @@ uint32_t Context::find_memory_type(uint32_t type_bits, VkMemoryPropertyFlags wan
     throw VulkanError(VK_ERROR_FEATURE_NOT_PRESENT, "no suitable Vulkan memory type on " + info_.name);
 }
 
-void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) {
-    VK_CHECK(vkResetCommandBuffer(command_buffer_, 0));
+Context::Recorder& Context::recorder() {
+    std::lock_guard<std::mutex> lock(recorders_mutex_);
+    std::unique_ptr<Recorder>& r = recorders_[std::this_thread::get_id()];
+    if (r) return *r;
+    r = std::make_unique<Recorder>();
+    VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pool_info.queueFamilyIndex = queue_family_;
+    VK_CHECK(vkCreateCommandPool(device_, &pool_info, nullptr, &r->pool));
+    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    alloc.commandPool = r->pool;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 1;
+    VK_CHECK(vkAllocateCommandBuffers(device_, &alloc, &r->cmd));
+    VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VK_CHECK(vkCreateFence(device_, &fence_info, nullptr, &r->fence));
+    return *r;
+}
+
+void Context::begin(Recorder& r) {
+    VK_CHECK(vkResetCommandBuffer(r.cmd, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(command_buffer_, &begin));
-    // Writes of earlier submissions become visible to this one (a fence wait alone does not
-    // make device writes visible to later device reads).
+    VK_CHECK(vkBeginCommandBuffer(r.cmd, &begin));
+    // Writes of earlier submissions (this thread's and others') become visible to this one, and
+    // its writes wait for their reads (a fence wait alone does not make device writes visible to
+    // later device reads).
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-    vkCmdPipelineBarrier(command_buffer_, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
-                         VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
-    record(command_buffer_);
-    VK_CHECK(vkEndCommandBuffer(command_buffer_));
+    vkCmdPipelineBarrier(r.cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &barrier, 0,
+                         nullptr, 0, nullptr);
+    r.recording = true;
+}
+
+void Context::submit(Recorder& r) {
+    r.recording = false;
+    VK_CHECK(vkEndCommandBuffer(r.cmd));
     VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &command_buffer_;
-    VK_CHECK(vkQueueSubmit(queue_, 1, &submit, fence_));
-    VK_CHECK(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX));
-    VK_CHECK(vkResetFences(device_, 1, &fence_));
+    submit.pCommandBuffers = &r.cmd;
+    {
+        std::lock_guard<std::mutex> lock(queue_mutex_);
+        VK_CHECK(vkQueueSubmit(queue_, 1, &submit, r.fence));
+    }
+    VK_CHECK(vkWaitForFences(device_, 1, &r.fence, VK_TRUE, UINT64_MAX));
+    VK_CHECK(vkResetFences(device_, 1, &r.fence));
+}
+
+void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) {
+    Recorder& r = recorder();
+    if (r.recording)
+        throw std::logic_error("gpu::Context::submit_and_wait called inside a recording on the same thread; make the "
+                               "objects that upload (renderers, buffers) before recording");
+    begin(r);
+    try {
+        record(r.cmd);
+    } catch (...) {
+        // Leave the command buffer reusable: a recording that threw is ended, never submitted.
+        r.recording = false;
+        vkEndCommandBuffer(r.cmd);
+        throw;
+    }
+    submit(r);
+}
+
+void Context::yield_queue(VkCommandBuffer cmd) {
+    Recorder& r = recorder();
+    if (!r.yielding || !r.recording || cmd != r.cmd) return;
+    submit(r);
+    begin(r);
+}
+
+void Context::set_yielding(bool on) { recorder().yielding = on; }
+
+void Context::wait_queue_idle() {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    VK_CHECK(vkQueueWaitIdle(queue_));
 }
 
 }  // namespace aquaform::gpu

@@ -1,11 +1,18 @@
 // The Vulkan context: instance, the chosen physical device, one queue that does compute and
-// graphics, a command pool, and validation-message accounting for tests.
+// graphics, a command pool per thread that submits, and validation-message accounting for tests.
+// Threads may share a context: the queue is locked around each submission (lock_queue() for
+// submissions made elsewhere, the viewer's frames), and each thread records into its own command
+// buffer.
 #pragma once
 
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <vulkan/vulkan.h>
@@ -65,15 +72,49 @@ public:
     uint32_t find_memory_type(uint32_t type_bits, VkMemoryPropertyFlags wanted,
                               VkMemoryPropertyFlags fallback) const;
 
-    /// Records commands with `record`, submits them and waits for completion.
+    /// Records commands with `record`, submits them and waits for completion (on this thread's
+    /// command buffer; the queue is held only while submitting, not while waiting).
     void submit_and_wait(const std::function<void(VkCommandBuffer)>& record);
+
+    /// A point in a long recording where other threads' work may take the queue. With yielding
+    /// on for this thread, the commands so far are submitted and waited for, and `cmd` (this
+    /// thread's command buffer inside submit_and_wait) begins again; otherwise it does nothing.
+    /// Call it only outside render passes and between timer scopes: the viewer's worker turns
+    /// yielding on so that the window's frames are not queued behind a whole simulation frame
+    /// (one queue on the software device runs submissions strictly in order).
+    void yield_queue(VkCommandBuffer cmd);
+    /// Turns yield_queue() on or off for the calling thread.
+    void set_yielding(bool on);
+    /// Whether yield_queue() yields on the calling thread (a pass may then split long work).
+    bool yielding() { return recorder().yielding; }
+
+    /// Held while calling vkQueueSubmit / vkQueuePresentKHR / vkQueueWaitIdle directly.
+    std::unique_lock<std::mutex> lock_queue() { return std::unique_lock<std::mutex>(queue_mutex_); }
+    /// Waits until the queue has finished everything submitted so far, by any thread (instead of
+    /// vkDeviceWaitIdle, which would need every thread's queue access stopped).
+    void wait_queue_idle();
 
     /// Validation errors reported since creation (or since the last reset).
     uint32_t validation_errors() const { return validation_errors_.load(); }
-    const std::string& last_validation_message() const { return last_validation_message_; }
+    std::string last_validation_message() const {
+        std::lock_guard<std::mutex> lock(message_mutex_);
+        return last_validation_message_;
+    }
     void reset_validation_errors() { validation_errors_ = 0; }
 
 private:
+    /// One thread's command buffer for submit_and_wait.
+    struct Recorder {
+        VkCommandPool pool = VK_NULL_HANDLE;
+        VkCommandBuffer cmd = VK_NULL_HANDLE;
+        VkFence fence = VK_NULL_HANDLE;
+        bool yielding = false;
+        bool recording = false;
+    };
+    Recorder& recorder();  ///< the calling thread's, made at its first use
+    void begin(Recorder& r);
+    void submit(Recorder& r);
+
     void create(const ContextOptions& options);
     void destroy();
     static VKAPI_ATTR VkBool32 VKAPI_CALL debug_callback(
@@ -87,14 +128,15 @@ private:
     VkQueue queue_ = VK_NULL_HANDLE;
     VkSurfaceKHR surface_ = VK_NULL_HANDLE;
     uint32_t queue_family_ = 0;
-    VkCommandPool command_pool_ = VK_NULL_HANDLE;
-    VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
-    VkFence fence_ = VK_NULL_HANDLE;
+    std::mutex queue_mutex_;
+    std::mutex recorders_mutex_;
+    std::map<std::thread::id, std::unique_ptr<Recorder>> recorders_;
     DeviceInfo info_;
     VkPhysicalDeviceLimits limits_{};
     VkPhysicalDeviceMemoryProperties memory_{};
     PFN_vkCmdPushDescriptorSetKHR push_descriptor_ = nullptr;
     std::atomic<uint32_t> validation_errors_{0};
+    mutable std::mutex message_mutex_;
     std::string last_validation_message_;
 };
 

@@ -25,6 +25,7 @@ struct ViewCamera {
     glm::vec3 target{0.0f};
     glm::vec3 up{0.0f, 1.0f, 0.0f};
     float fov_y_degrees = 40.0f;
+    bool operator==(const ViewCamera&) const = default;
 };
 
 /// The camera's orthonormal axes: columns right, up, forward (towards the target). The up vector

@@ -139,6 +139,8 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         grid_->build(cmd, positions, count, nullptr);
         gpu::dispatch(*ctx_, cmd, gather_, particles, {params_buf_, &positions, &grid_->order(), sorted_});
     }
+    // Between passes the viewer's window may take the queue (gpu::Context::yield_queue).
+    ctx_->yield_queue(cmd);
     if (adaptive) {
         gpu::GpuScope scope(timer, cmd, "render_classify");
         if (params_.flags & SURFACE_ANISOTROPIC)
@@ -150,6 +152,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         fill(cmd, *aggregate_, 0u);
         gpu::compute_barrier(cmd);
     }
+    ctx_->yield_queue(cmd);
     if (params_.flags & SURFACE_USE_MASK) {
         gpu::GpuScope scope(timer, cmd, "render_mask");
         record_mask(cmd);
@@ -166,17 +169,14 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         gpu::dispatch(*ctx_, cmd, splat_, particles, axis_push(0), splat_buffers);
         if (adaptive && diagnostics_) gpu::dispatch(*ctx_, cmd, splat_, particles, axis_push(1), splat_buffers);
     }
+    ctx_->yield_queue(cmd);
     record_screen_passes(cmd, timer);
+    record_first_march(cmd, timer);
     {
         gpu::GpuScope scope(timer, cmd, "render_march");
-        fill(cmd, *hit_, kMissBits);
-        fill(cmd, *normal_, 0u);
-        fill(cmd, *march_cut_, 0u);
-        fill(cmd, *resume_count_[0], 0u);
-        gpu::compute_barrier(cmd);
-        dispatch_march(cmd, rays_, *ray_count_, 0, 0);
         record_resumes(cmd);
     }
+    ctx_->yield_queue(cmd);
     if (params_.flags & SURFACE_ADAPTIVE_RES) {
         gpu::GpuScope scope(timer, cmd, "render_upsample");
         fill(cmd, *edge_count_, 0u);
@@ -195,18 +195,39 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     }
 }
 
+void SurfaceRenderer::record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
+    {
+        gpu::GpuScope scope(timer, cmd, "render_march");
+        fill(cmd, *hit_, kMissBits);
+        fill(cmd, *normal_, 0u);
+        fill(cmd, *march_cut_, 0u);
+        fill(cmd, *resume_count_[0], 0u);
+        gpu::compute_barrier(cmd);
+    }
+    // The list's length is only known on the GPU, so each slice takes every slices-th ray.
+    const uint32_t pixels = width_ * height_, slices = ctx_->yielding() ? kMarchSlices : 1;
+    for (uint32_t k = 0; k < slices; ++k) {
+        if (k > 0) ctx_->yield_queue(cmd);
+        gpu::GpuScope scope(timer, cmd, "render_march");  // the timer adds the slices up
+        dispatch_march(cmd, rays_, *ray_count_, 0, 0, k, slices, (pixels + slices - 1) / slices);
+    }
+}
+
 void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count,
-                                     uint32_t mode, int resume_out) {
+                                     uint32_t mode, int resume_out, uint32_t first, uint32_t stride, uint32_t threads) {
     const std::initializer_list<const gpu::Buffer*> buffers{
         params_buf_, sorted_, &grid_->cell_rank(), &grid_->cell_start(), mask_, coarse_, depth_all_, depth_agg_,
         normal_screen_, rays, &ray_count, hit_, normal_, march_cut_, resume_rays_[resume_out], resume_count_[resume_out],
         resume_state_};
-    if (mode == 0 && rays == rays_) {
-        gpu::dispatch(*ctx_, cmd, ray_march_, width_ * height_, axis_push(0), buffers);  // the first march, per pixel
+    SurfacePassPush push = axis_push(mode);
+    push.first = first;
+    push.stride = stride;
+    if (threads > 0) {
+        gpu::dispatch(*ctx_, cmd, ray_march_, threads, push, buffers);
         return;
     }
     gpu::dispatch(*ctx_, cmd, ray_args_, 1, {&ray_count, march_groups_});
-    gpu::dispatch_indirect(*ctx_, cmd, ray_march_, *march_groups_, axis_push(mode), buffers);
+    gpu::dispatch_indirect(*ctx_, cmd, ray_march_, *march_groups_, push, buffers);
 }
 
 void SurfaceRenderer::record_march(VkCommandBuffer cmd, const gpu::Buffer& rays, const gpu::Buffer& ray_count) {

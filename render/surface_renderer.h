@@ -93,10 +93,16 @@ private:
     void record_screen_passes(VkCommandBuffer cmd, gpu::GpuTimer* timer);
     /// The march over one ray list, dispatched indirectly with one thread per ray.
     void record_march(VkCommandBuffer cmd, const gpu::Buffer& rays, const gpu::Buffer& ray_count);
-    /// One march dispatch: mode 0 first march (the main list per pixel, else indirect), 1 resume,
-    /// 2 last resume; cut rays go to resume list `resume_out`.
+    /// One march dispatch: mode 0 first march, 1 resume, 2 last resume; cut rays go to resume
+    /// list `resume_out`. `threads` > 0: that many threads, thread i marching ray first + i * stride
+    /// of the list; else one thread per ray of the list's count, dispatched indirectly.
     void dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count, uint32_t mode,
-                        int resume_out);
+                        int resume_out, uint32_t first = 0, uint32_t stride = 1, uint32_t threads = 0);
+    /// The first march over the main ray list (up to one ray per pixel). It is a frame's longest
+    /// pass: where the context yields the queue (the viewer's worker) it runs as kMarchSlices
+    /// interleaved slices with a yield between them, so that the window draws in between.
+    void record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* timer);
+    static constexpr uint32_t kMarchSlices = 4;
     /// Marches again the rays the device cut short (shaders/render/ray_march.comp), kResumePasses times.
     void record_resumes(VkCommandBuffer cmd);
     static constexpr uint32_t kResumePasses = 8;

@@ -78,6 +78,7 @@ struct SurfaceSettings {
     /// The exhaustive reference: step in particle radii and bisection steps.
     float reference_step_radii = 0.0625f;
     uint32_t reference_refine_steps = 16;
+    bool operator==(const SurfaceSettings&) const = default;
 };
 
 /// Checks the ranges of every setting; the message names the setting, its value and the range.

@@ -45,14 +45,14 @@ void rasterise(CoverageMask& mask, uint32_t width, uint32_t height, glm::vec2 pa
 
 }  // namespace
 
-void draw_wireframe(Image& image, const std::vector<glm::vec3>& vertices, const std::vector<glm::uvec3>& faces,
-                    const ViewCamera& camera, const WireframeStyle& style) {
-    if (image.width == 0 || image.height == 0) return;
-    const Projector proj{camera_block(camera, image.width, image.height), float(image.width), float(image.height)};
+std::vector<WireEdge> project_wireframe(const std::vector<glm::vec3>& vertices, const std::vector<glm::uvec3>& faces,
+                                        const ViewCamera& camera, uint32_t width, uint32_t height) {
+    std::vector<WireEdge> out;
+    if (width == 0 || height == 0) return out;
+    const Projector proj{camera_block(camera, width, height), float(width), float(height)};
     const float near_z = 1e-4f;
     // Per edge, the facing of its faces: bit 0 one faces the eye, bit 1 one faces away. Both
-    // (or a border edge with one face) make a silhouette, drawn solid; the rest are drawn faintly,
-    // each pixel once, so that a dense mesh reads as a tint instead of a solid blot.
+    // (or a border edge with one face) make a silhouette.
     std::map<std::pair<uint32_t, uint32_t>, std::pair<uint8_t, int>> edges;
     for (const glm::uvec3& f : faces) {
         if (f.x >= vertices.size() || f.y >= vertices.size() || f.z >= vertices.size()) continue;
@@ -65,16 +65,24 @@ void draw_wireframe(Image& image, const std::vector<glm::vec3>& vertices, const 
             e.second += 1;
         }
     }
-    CoverageMask mask(size_t(image.width) * image.height, 0);
     for (const auto& [ends, info] : edges) {
         glm::vec3 a = proj.to_camera(vertices[ends.first]), b = proj.to_camera(vertices[ends.second]);
         if (a.z < near_z && b.z < near_z) continue;
         // Clip the part behind the eye plane.
         if (a.z < near_z) a = glm::mix(a, b, (near_z - a.z) / (b.z - a.z));
         if (b.z < near_z) b = glm::mix(b, a, (near_z - b.z) / (a.z - b.z));
-        const bool silhouette = info.first == 3u || info.second == 1;
-        rasterise(mask, image.width, image.height, proj.to_pixel(a), proj.to_pixel(b), silhouette ? 2 : 1);
+        out.push_back({proj.to_pixel(a), proj.to_pixel(b), info.first == 3u || info.second == 1});
     }
+    return out;
+}
+
+void draw_wireframe(Image& image, const std::vector<glm::vec3>& vertices, const std::vector<glm::uvec3>& faces,
+                    const ViewCamera& camera, const WireframeStyle& style) {
+    // Silhouettes are drawn solid, the other edges faintly, each pixel once, so that a dense mesh
+    // reads as a tint instead of a solid blot.
+    CoverageMask mask(size_t(image.width) * image.height, 0);
+    for (const WireEdge& e : project_wireframe(vertices, faces, camera, image.width, image.height))
+        rasterise(mask, image.width, image.height, e.a, e.b, e.silhouette ? 2 : 1);
     for (size_t i = 0; i < mask.size(); ++i) {
         if (!mask[i]) continue;
         const float opacity = mask[i] == 2 ? style.opacity : style.interior_opacity;

@@ -19,6 +19,18 @@ struct WireframeStyle {
     float interior_opacity = 0.3f;  ///< every other edge
 };
 
+/// A mesh edge on screen: its ends in pixels (pixel centres at integers, y down), and whether it
+/// is a silhouette (its faces look opposite ways, or it borders one face only).
+struct WireEdge {
+    glm::vec2 a, b;
+    bool silhouette = false;
+};
+
+/// The edges of `faces` (indices into `vertices`, world space; faces with an index out of range
+/// are skipped) projected for a width x height picture, clipped to the part in front of the eye.
+std::vector<WireEdge> project_wireframe(const std::vector<glm::vec3>& vertices, const std::vector<glm::uvec3>& faces,
+                                        const ViewCamera& camera, uint32_t width, uint32_t height);
+
 /// Draws the edges of the triangles `faces` (indices into `vertices`, world space; faces with an
 /// index out of range are skipped), clipped to the part in front of the eye: silhouette edges
 /// solid, the others faint. Edges wholly behind the eye or off screen draw nothing.

@@ -12,6 +12,7 @@
 
 #include "apps/view_script.h"
 #include "apps/view_shapes.h"
+#include "apps/view_worker.h"
 #include "control/control_scene.h"
 #include "render/image_io.h"
 #include "tests/cli_helpers.h"
@@ -88,6 +89,67 @@ TEST(ViewCliTest, ScriptedSessionUnderXvfbShowsFluidAndFollowsTheMethod) {
         EXPECT_TRUE(fs::exists(out / name)) << name;
     }
     fs::remove_all(out);
+}
+
+/// Runs `args` of `aquaform view` under Xvfb; the exit status and everything printed.
+std::pair<int, std::string> run_view_under_xvfb(const std::string& args) {
+    const std::string cmd = std::string("AQUAFORM_VALIDATION=1 xvfb-run -a -s '-screen 0 640x480x24' ") + AQUAFORM_BINARY +
+                            " view " + args + " 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    if (!pipe) return {-1, "popen failed"};
+    std::string output;
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) output.append(buf, n);
+    const int status = pclose(pipe);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+TEST(ViewCliTest, PlayingTheWindowDrawsMoreFramesThanTheFluidHasPictures) {
+    // Unscripted, the window does not wait for the simulation: while the worker makes one picture
+    // (a simulation frame and a ray-marched image, hundreds of ms here) the window draws many
+    // frames. A window that waited for every picture would draw exactly as many.
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
+    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --size 200x150 --play --frames 120");
+    ASSERT_EQ(status, 0) << output;
+    unsigned frames = 0, pictures = 0;
+    const size_t at = output.find("aquaform view: ");
+    ASSERT_NE(at, std::string::npos) << output;
+    const size_t p = output.find("window frames", at);
+    const size_t q = output.find("pictures of the fluid", at);
+    ASSERT_TRUE(p != std::string::npos && q != std::string::npos) << output;
+    frames = unsigned(std::stoul(output.substr(at + 15)));
+    pictures = unsigned(std::stoul(output.substr(output.rfind(';', q) + 1)));
+    EXPECT_EQ(frames, 120u) << output;
+    EXPECT_GE(pictures, 2u) << "the simulation did not run: " << output;
+    EXPECT_LT(pictures, frames) << "the window waited for the fluid's pictures: " << output;
+    EXPECT_EQ(output.find("validation error"), std::string::npos) << output;
+}
+
+TEST(ViewPictureSlotsTest, TheWorkerNeverDrawsIntoThePictureShownAndTheWindowGetsTheNewest) {
+    cli::PictureSlots slots;
+    EXPECT_EQ(slots.take(), -1) << "nothing to show before the first picture";
+    const int first = slots.back();
+    slots.publish();
+    EXPECT_EQ(slots.take(), first);
+    // The worker runs ahead: it publishes twice before the window looks again. Each back picture
+    // is never the one shown, and the window then gets the latest of the two.
+    int last = -1;
+    for (int i = 0; i < 2; ++i) {
+        EXPECT_NE(slots.back(), slots.shown());
+        last = slots.back();
+        slots.publish();
+    }
+    EXPECT_EQ(slots.take(), last);
+    // Whatever the order, over many rounds the back never equals the shown picture.
+    for (int round = 0; round < 50; ++round) {
+        for (int k = 0; k < round % 3; ++k) {
+            ASSERT_NE(slots.back(), slots.shown()) << "round " << round;
+            slots.publish();
+        }
+        if (round % 2) slots.take();
+        ASSERT_NE(slots.back(), slots.shown()) << "round " << round;
+    }
 }
 
 TEST(ViewScriptTest, ActionsAreCheckedAndSortedByFrame) {

@@ -109,7 +109,7 @@ vec3 xiao_normal(vec3 x, vec3 fallback) {
 }
 
 void main() {
-    uint ray = gl_GlobalInvocationID.x;
+    uint ray = pc.first + gl_GlobalInvocationID.x * max(pc.stride, 1u);
     if (ray >= ray_count[0]) return;
     uint packed = rays[ray];
     uvec2 pixel = uvec2(packed & 0xffffu, packed >> 16u);

@@ -119,11 +119,13 @@ struct SurfaceParams {
 };
 
 /// Push block of the passes that need one more number than SurfaceParams (the separable
-/// convolution's axis, the bilateral filter's direction).
+/// convolution's axis, the bilateral filter's direction; the ray march's mode and its first ray,
+/// as the first march may be dispatched in interleaved slices: thread i marches ray
+/// first + i * stride, stride 0 meaning 1).
 struct SurfacePassPush {
     uint axis;
-    uint pad0;
-    uint pad1;
+    uint first;
+    uint stride;
     uint pad2;
 };
 

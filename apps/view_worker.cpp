@@ -1,0 +1,451 @@
+#include "apps/view_worker.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "apps/view_shapes.h"
+#include "control/control_driver.h"
+#include "control/push_force.h"
+#include "gpu/compute_pass.h"
+#include "gpu/context.h"
+#include "gpu/shader_compiler.h"
+#include "gpu/timer.h"
+#include "render/image_metrics.h"
+#include "render/metaball_renderer.h"
+#include "render/screen_space.h"
+#include "render/surface_renderer.h"
+#include "render/surface_views.h"
+#include "sim/pbf_solver.h"
+
+namespace aquaform::cli {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+constexpr size_t kHistory = 120;                        // frames in the timing chart
+constexpr auto kShaderPoll = std::chrono::milliseconds(500);  // how often edited shaders are looked for
+constexpr auto kIdleWait = std::chrono::milliseconds(250);
+}  // namespace
+
+// ---- PictureSlots ---------------------------------------------------------------------------
+
+void PictureSlots::publish() {
+    newest_ = back_;
+    for (int i = 0; i < kCount; ++i)
+        if (i != newest_ && i != shown_) back_ = i;
+}
+
+int PictureSlots::take() {
+    shown_ = newest_;
+    return shown_;
+}
+
+// ---- what only the worker thread touches ------------------------------------------------------
+
+struct ViewWorker::Sim {
+    Sim(gpu::Context& c, Scene s, std::optional<control::PreparedControl> p)
+        : ctx(c), scene(std::move(s)), control(std::move(p)), render_timer(c), sim_timer(c), push(c) {}
+    ~Sim() {
+        if (debug_image.buffer) gpu::destroy_buffer(ctx, debug_image);
+    }
+
+    gpu::Context& ctx;
+    Scene scene;
+    std::optional<control::PreparedControl> control;
+    std::unique_ptr<PbfSolver> solver;
+    std::unique_ptr<control::ControlDriver> driver;
+    gpu::GpuTimer render_timer, sim_timer;
+    control::PushForce push;     // the drag brush
+    control::StepForces forces;  // the control shape's force and the brush, for the solver
+    std::unique_ptr<SurfaceRenderer> surface;
+    std::unique_ptr<MetaballRenderer> metaball;
+    std::unique_ptr<ScreenSpaceRenderer> screen_space;
+    uint32_t render_w = 0, render_h = 0;
+    gpu::Buffer debug_image{};  // a debug view, drawn on the host
+    std::unique_ptr<gpu::ShaderWatcher> watcher;
+    Clock::time_point next_poll = Clock::now();
+    std::optional<ViewControls> drawn;  // the controls of the last picture
+    bool halted = false;                // stopped after a blow-up until the window pauses
+    std::map<std::string, double> sim_ms;
+    std::string status;
+    uint32_t blowups = 0;
+    std::vector<fs::path> shape_files;
+
+    void say(std::string message) {
+        status = std::move(message);
+        std::printf("aquaform view: %s\n", status.c_str());
+        std::fflush(stdout);
+    }
+
+    /// A fresh solver from the scene, or (keep_state) one with the new settings continuing from
+    /// the current particles: the solver's settings are fixed at construction.
+    void rebuild_solver(bool keep_state) {
+        std::optional<ParticleSnapshot> state;
+        if (keep_state && solver) state = solver->snapshot();
+        driver.reset();
+        solver = std::make_unique<PbfSolver>(ctx, scene);
+        if (state) solver->set_state(state->x, state->v);
+        if (control) driver = std::make_unique<control::ControlDriver>(ctx, scene, control->section, control->strength);
+        forces.forces = {driver ? &driver->force() : nullptr, &push};
+        solver->set_step_force(&forces);
+    }
+
+    void advance() {
+        if (driver) driver->update(solver->time());
+        const FrameStats stats = solver->run_frame(&sim_timer);
+        sim_ms = sim_timer.totals_ms();
+        if (stats.non_finite > 0) {
+            halted = true;
+            ++blowups;
+            say("the simulation blew up (" + std::to_string(stats.non_finite) + " particles not finite): raise substeps or reset");
+        }
+    }
+
+    /// Applies a shape operation with `file` (an OBJ): attach makes it the only shape, union adds
+    /// it to the shapes, morph hands the shapes over to it in one second (apps/view_shapes.h says
+    /// where it goes), at the automatic strength; the solver continues from the current particles.
+    /// A mesh that cannot be used leaves the simulation as it was and says why.
+    void shape(ShapeOp op, const fs::path& file) {
+        std::vector<fs::path> meshes = op == ShapeOp::attach ? std::vector<fs::path>{} : shape_files;
+        meshes.push_back(fs::absolute(file));
+        Scene trial = scene;
+        trial.control_json = shape_section(meshes, op, shape_box(scene, solver->snapshot().x));
+        auto prepared = control::prepare_control_scene(trial);
+        if (!prepared) {
+            status = "cannot use " + file.string() + ": " + prepared.error();
+            std::fprintf(stderr, "aquaform view: %s\n", status.c_str());
+            return;
+        }
+        scene = trial;
+        control = std::move(prepared.value());
+        shape_files = op == ShapeOp::morph ? std::vector<fs::path>{meshes.back()} : meshes;
+        rebuild_solver(true);
+        const char* verb = op == ShapeOp::attach ? "attached" : op == ShapeOp::union_with ? "added" : "morphing to";
+        say(std::string(verb) + " " + file.filename().string() + " (" + control->strength.describe() + ")");
+    }
+
+    /// Control off: the fluid returns to plain physics from the current particles.
+    void release() {
+        if (!control) return;
+        control.reset();
+        shape_files.clear();
+        scene.control_json.reset();
+        rebuild_solver(true);
+        say("released the control shape");
+    }
+
+    /// Runs one command; true when the simulation should advance a frame (step).
+    bool apply(const ViewCommand& c) {
+        switch (c.op) {
+        case ViewOp::step: return true;
+        case ViewOp::reset: rebuild_solver(false); halted = false; break;
+        case ViewOp::attach: shape(ShapeOp::attach, c.file); break;
+        case ViewOp::union_with: shape(ShapeOp::union_with, c.file); break;
+        case ViewOp::morph: shape(ShapeOp::morph, c.file); break;
+        case ViewOp::release: release(); break;
+        case ViewOp::solver:
+            scene.solver = c.solver;
+            rebuild_solver(true);
+            break;
+        }
+        return false;
+    }
+
+    /// Recompiles edited shaders; the passes are made again (renderers and solver), so they pick
+    /// the new code up. A shader that does not compile keeps its old code and shows the error.
+    /// True when something was reloaded.
+    bool reload_shaders() {
+        if (!watcher || Clock::now() < next_poll) return false;
+        next_poll = Clock::now() + kShaderPoll;
+        const gpu::ShaderWatcher::Reload r = watcher->poll();
+        for (const std::string& e : r.errors) std::fprintf(stderr, "aquaform view: %s\n", e.c_str());
+        if (!r.errors.empty()) status = r.errors.front();
+        if (r.reloaded.empty()) return false;
+        render_w = render_h = 0;  // renderers are made again at the next picture
+        rebuild_solver(true);
+        if (r.errors.empty())
+            say("reloaded " + std::to_string(r.reloaded.size()) + " shaders (" + r.reloaded.front() +
+                (r.reloaded.size() > 1 ? ", ..." : "") + ")");
+        return true;
+    }
+
+    /// Renderers match the picture's size; they are made again when it changes. The worker's own
+    /// submissions are complete here, and the window never reads a renderer's buffers.
+    void ensure_renderers(uint32_t w, uint32_t h) {
+        if (w == render_w && h == render_h) return;
+        surface.reset();
+        metaball.reset();
+        screen_space.reset();
+        render_w = w;
+        render_h = h;
+    }
+
+    /// Makes the renderer `c` needs (outside any recording: making one submits work of its own).
+    void prepare_renderer(const ViewControls& c) {
+        const uint32_t n = solver->particle_count();
+        if (c.method == "adaptive" || c.method == "uniform") {
+            if (!surface) surface = std::make_unique<SurfaceRenderer>(ctx, scene, render_w, render_h, n);
+        } else if (c.method == "sbuffer" || c.method == "abuffer") {
+            if (!metaball) metaball = std::make_unique<MetaballRenderer>(ctx, scene, render_w, render_h, n);
+        } else if (!screen_space) {
+            screen_space = std::make_unique<ScreenSpaceRenderer>(ctx, scene, render_w, render_h, n);
+        }
+    }
+
+    /// Records the picture of `c` and returns the buffer that holds it (RGBA8, render_w x render_h).
+    const gpu::Buffer& record_render(VkCommandBuffer cmd, const ViewControls& c) {
+        const uint32_t n = solver->particle_count();
+        if (c.method == "adaptive" || c.method == "uniform") {
+            SurfaceSettings s = c.surface;
+            s.method = c.method == "adaptive" ? SurfaceMethod::adaptive : SurfaceMethod::uniform;
+            surface->record(cmd, solver->positions(), n, c.camera, s, &render_timer);
+            return surface->color_buffer();
+        }
+        if (c.method == "sbuffer" || c.method == "abuffer") {
+            MetaballSettings s;
+            s.method = parse_metaball_method(c.method).value();
+            metaball->record(cmd, solver->positions(), n, c.camera, s, &render_timer);
+            return metaball->color_buffer();
+        }
+        ScreenSpaceSettings s;
+        s.filter = parse_filter(c.method).value();
+        screen_space->record(cmd, solver->positions(), n, c.camera, s, &render_timer);
+        return screen_space->color_buffer();
+    }
+
+    /// A debug view of the SPH renderer: rendered, read back and drawn on the host (diagnostics
+    /// only: the main view never leaves the GPU); returns the host buffer that holds it.
+    const gpu::Buffer& debug_view(const ViewControls& c) {
+        SurfaceSettings s = c.surface;
+        s.method = c.method == "adaptive" ? SurfaceMethod::adaptive : SurfaceMethod::uniform;
+        surface->set_diagnostics(c.view == 2);
+        render_timer.clear_totals();
+        const SurfaceFrame frame = surface->render(solver->positions(), solver->particle_count(), c.camera, s, &render_timer);
+        Image image;
+        // Depth maps: near bright, far dark, pixels no sprite covers left as the image.
+        auto depth_view = [&](std::vector<float> depth) {
+            float lo = INFINITY, hi = 0.0f;
+            for (float d : depth)
+                if (std::isfinite(d)) lo = std::min(lo, d), hi = std::max(hi, d);
+            const float range = std::max(hi - lo, 1e-6f);
+            for (float& d : depth) d = std::isfinite(d) ? 0.05f + (hi - d) / range : 0.0f;
+            return heat_map(depth, render_w, render_h, 1.05f, &frame.color);
+        };
+        switch (c.view) {
+        case 1: image = evals_view(frame, float(s.max_steps) / 4.0f); break;
+        case 2: image = classification_view(frame.color, surface->front_classes()); break;
+        case 3: image = tile_view(frame.color, surface->tile_levels(), surface->params().screen.z); break;
+        case 4: image = depth_view(surface->depth_all()); break;
+        default: image = depth_view(surface->depth_agg()); break;
+        }
+        const uint64_t bytes = image.rgba.size();
+        if (debug_image.size < bytes) {
+            if (debug_image.buffer) gpu::destroy_buffer(ctx, debug_image);
+            debug_image = gpu::create_buffer(ctx, "view.debug_image", bytes, gpu::MemoryUse::host);
+        }
+        std::memcpy(debug_image.mapped, image.rgba.data(), bytes);
+        return debug_image;
+    }
+};
+
+// ---- the worker -------------------------------------------------------------------------------
+
+ViewWorker::ViewWorker(gpu::Context& ctx, Scene scene, std::optional<control::PreparedControl> control,
+                       const ViewControls& controls, const fs::path& watch_shaders)
+    : ctx_(ctx), sim_(std::make_unique<Sim>(ctx, std::move(scene), std::move(control))), controls_(controls) {
+    sim_->rebuild_solver(false);
+    if (!watch_shaders.empty()) sim_->watcher = std::make_unique<gpu::ShaderWatcher>(watch_shaders);
+    report_.particles = sim_->solver->particle_count();
+    report_.solver = sim_->scene.solver;
+}
+
+ViewWorker::~ViewWorker() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stop_ = true;
+    }
+    wake_.notify_all();
+    if (thread_.joinable()) thread_.join();
+    ctx_.wait_queue_idle();  // the window's last frames may still read a picture
+    for (Slot& s : pictures_)
+        if (s.rgba.buffer) gpu::destroy_buffer(ctx_, s.rgba);
+}
+
+void ViewWorker::start() { thread_ = std::thread([this] { loop(); }); }
+
+void ViewWorker::set_controls(const ViewControls& controls) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (controls_ == controls) return;
+        controls_ = controls;
+    }
+    wake_.notify_all();
+}
+
+void ViewWorker::add_stroke(const PushStroke& stroke) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        // Strokes add up until the worker's next frame: the drag is per simulated frame.
+        const glm::vec3 accel = stroke_ ? stroke_->accel + stroke.accel : stroke.accel;
+        stroke_ = stroke;
+        stroke_->accel = accel;
+    }
+    wake_.notify_all();
+}
+
+void ViewWorker::post(ViewCommand command) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        commands_.push_back(std::move(command));
+    }
+    wake_.notify_all();
+}
+
+uint64_t ViewWorker::request_frame() {
+    uint64_t ticket;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        ticket = ++requested_;
+    }
+    wake_.notify_all();
+    return ticket;
+}
+
+void ViewWorker::wait(uint64_t ticket) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    done_.wait(lock, [&] { return completed_ >= ticket || !report_.fatal.empty(); });
+}
+
+ViewReport ViewWorker::report() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return report_;
+}
+
+ViewWorker::Picture ViewWorker::take_picture() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const int i = slots_.take();
+    if (i < 0) return {};
+    return {&pictures_[i].rgba, pictures_[i].width, pictures_[i].height};
+}
+
+void ViewWorker::loop() {
+    ctx_.set_yielding(true);
+    auto last = Clock::now();
+    for (;;) {
+        ViewControls controls;
+        std::deque<ViewCommand> commands;
+        std::optional<PushStroke> stroke;
+        uint64_t serving = 0;
+        {
+            std::unique_lock<std::mutex> lock(mutex_);
+            // Sleep while paused with nothing new (waking now and then to look for edited shaders).
+            auto has_work = [&] {
+                return stop_ || requested_ > completed_ || !commands_.empty() || stroke_ ||
+                       (controls_.playing && !sim_->halted) || sim_->drawn != controls_;
+            };
+            if (!has_work()) wake_.wait_for(lock, kIdleWait, has_work);
+            if (stop_) return;
+            if (!controls_.playing) sim_->halted = false;  // the window saw the blow-up and paused
+            controls = controls_;
+            commands.swap(commands_);
+            stroke = std::exchange(stroke_, std::nullopt);
+            serving = requested_;
+        }
+        bool made = false;
+        std::string fatal;
+        try {
+            made = frame(controls, std::move(commands), stroke, serving > 0 && serving > completed_);
+        } catch (const std::exception& e) {
+            fatal = e.what();
+        }
+        const auto now = Clock::now();
+        std::lock_guard<std::mutex> lock(mutex_);
+        completed_ = std::max(completed_, serving);
+        if (made) {
+            const double dt = std::chrono::duration<double>(now - last).count();
+            last = now;
+            report_.frames_per_s = report_.frames == 0 ? 1.0 / std::max(dt, 1e-6)
+                                                       : 0.8 * report_.frames_per_s + 0.2 / std::max(dt, 1e-6);
+            ++report_.frames;
+        }
+        report_.particles = sim_->solver->particle_count();
+        report_.sim_time = sim_->solver->time();
+        report_.sim_ms = sim_->sim_ms;
+        report_.status = sim_->status;
+        report_.blowups = sim_->blowups;
+        report_.shape_files = sim_->shape_files;
+        report_.solver = sim_->scene.solver;
+        if (!sim_->driver) report_.shapes.reset();
+        else if (made) report_.shapes = std::make_shared<const std::vector<control::Mesh>>(sim_->driver->active_meshes());
+        if (!fatal.empty()) {
+            report_.fatal = fatal;
+            done_.notify_all();
+            return;
+        }
+        done_.notify_all();
+    }
+}
+
+bool ViewWorker::frame(const ViewControls& controls, std::deque<ViewCommand> commands, std::optional<PushStroke> stroke,
+                       bool forced) {
+    Sim& s = *sim_;
+    bool changed = s.reload_shaders() || !commands.empty();
+    bool step = false;
+    for (const ViewCommand& c : commands) step |= s.apply(c);
+    if (stroke && glm::length(stroke->accel) > 0.0f) s.push.set(stroke->origin, stroke->dir, stroke->radius, stroke->accel);
+    else s.push.clear();
+    if ((controls.playing && !s.halted) || step) {
+        s.advance();
+        changed = true;
+    }
+    s.push.clear();
+    if (!changed && !forced && s.drawn == controls) return false;
+
+    s.ensure_renderers(std::max(controls.width, 16u), std::max(controls.height, 16u));
+    int back;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        back = slots_.back();
+    }
+    Slot& slot = pictures_[back];
+    const uint64_t bytes = uint64_t(s.render_w) * s.render_h * 4;
+    if (slot.rgba.size < bytes) {
+        // The window may still read this buffer in a frame it submitted when it showed it.
+        ctx_.wait_queue_idle();
+        if (slot.rgba.buffer) gpu::destroy_buffer(ctx_, slot.rgba);
+        slot.rgba = gpu::create_buffer(ctx_, "view.picture" + std::to_string(back), bytes);
+    }
+    s.prepare_renderer(controls);
+    const bool debug = controls.view != 0 && (controls.method == "adaptive" || controls.method == "uniform");
+    const gpu::Buffer* source = debug ? &s.debug_view(controls) : nullptr;
+    if (!debug) s.render_timer.clear_totals();
+    gpu::submit_timed(ctx_, debug ? nullptr : &s.render_timer, [&](VkCommandBuffer cmd) {
+        if (!source) source = &s.record_render(cmd, controls);
+        gpu::compute_barrier(cmd);
+        VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+        barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT;
+        barrier.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
+        const VkBufferCopy copy{0, 0, bytes};
+        vkCmdCopyBuffer(cmd, source->buffer, slot.rgba.buffer, 1, &copy);
+    });
+    slot.width = s.render_w;
+    slot.height = s.render_h;
+    s.drawn = controls;
+
+    std::lock_guard<std::mutex> lock(mutex_);
+    slots_.publish();
+    report_.render_ms = s.render_timer.totals_ms();
+    double total = 0.0;
+    for (const auto& [name, ms] : report_.render_ms) total += ms;
+    report_.render_history.push_back(float(total));
+    if (report_.render_history.size() > kHistory) report_.render_history.pop_front();
+    return true;
+}
+
+}  // namespace aquaform::cli
