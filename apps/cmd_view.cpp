@@ -26,6 +26,7 @@
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_vulkan.h>
 
+#include "apps/bench_scenes.h"
 #include "apps/cli.h"
 #include "apps/render_options.h"
 #include "apps/view_script.h"
@@ -434,16 +435,26 @@ private:
 int cmd_view(const std::vector<std::string>& argv) {
     std::string error;
     const FlagSpec spec =
-        with_render_flags({{"--device", "--script", "--record", "--size", "--frames", "--shaders"}, {"--validation", "--play"}});
+        with_render_flags({{"--device", "--script", "--record", "--size", "--frames", "--shaders", "--particles"}, {"--validation", "--play"}});
     auto args = parse_args(argv, spec, "view", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
-    if (args->positional.size() != 1) {
-        std::fprintf(stderr, "aquaform view: give exactly one scene file, e.g. aquaform view assets/scenes/dam_break.json\n");
+    const bool generated = args->has("--particles");
+    if (args->positional.size() != (generated ? 0u : 1u)) {
+        std::fprintf(stderr, "aquaform view: give exactly one scene file, e.g. aquaform view assets/scenes/dam_break.json, "
+                             "or --particles N alone for a generated dam break\n");
         return kExitUsage;
     }
-    auto loaded = load_scene(args->positional[0]);
-    if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
-    Scene scene = loaded.value();
+    Scene scene;
+    if (generated) {
+        // The benchmarks' dam break (apps/bench_scenes.h), for frame rates at a chosen size.
+        auto n = parse_positive("--particles", args->value("--particles"), &error);
+        if (!n) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
+        scene = bench_scene(uint32_t(std::min<long>(*n, 1L << 26)), 4);
+    } else {
+        auto loaded = load_scene(args->positional[0]);
+        if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
+        scene = loaded.value();
+    }
     std::optional<control::PreparedControl> control;
     if (scene.control_json) {
         auto prepared = control::prepare_control_scene(scene);

@@ -164,10 +164,25 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         fill(cmd, *thickness_, 0u);
         fill(cmd, *front_class_, 0u);
         gpu::compute_barrier(cmd);
-        const std::initializer_list<const gpu::Buffer*> splat_buffers{
-            params_buf_, sorted_, aggregate_, depth_all_, depth_agg_, thickness_, front_class_};
-        gpu::dispatch(*ctx_, cmd, splat_, particles, axis_push(0), splat_buffers);
-        if (adaptive && diagnostics_) gpu::dispatch(*ctx_, cmd, splat_, particles, axis_push(1), splat_buffers);
+    }
+    const std::initializer_list<const gpu::Buffer*> splat_buffers{
+        params_buf_, sorted_, aggregate_, depth_all_, depth_agg_, thickness_, front_class_};
+    // The splat is a long pass too: where the context yields the queue it runs in slices of
+    // particles, the viewer's window drawing between them (as in record_first_march).
+    // Slices are whole workgroups: the shader only checks the particle count, so a slice's
+    // rounded-up last group must not reach into the next slice (it would splat twice).
+    const uint32_t slices = ctx_->yielding() ? kMarchSlices : 1, group = splat_.desc().local_size;
+    const uint32_t per_slice = ((particles + slices - 1) / slices + group - 1) / group * group;
+    for (uint32_t first = 0; first < particles; first += per_slice) {
+        ctx_->yield_queue(cmd);
+        gpu::GpuScope scope(timer, cmd, "render_splat");
+        SurfacePassPush push = axis_push(0);
+        push.first = first;
+        gpu::dispatch(*ctx_, cmd, splat_, std::min(per_slice, particles - first), push, splat_buffers);
+    }
+    if (adaptive && diagnostics_) {
+        gpu::GpuScope scope(timer, cmd, "render_splat");
+        gpu::dispatch(*ctx_, cmd, splat_, particles, axis_push(1), splat_buffers);
     }
     ctx_->yield_queue(cmd);
     record_screen_passes(cmd, timer);

@@ -27,7 +27,7 @@ layout(push_constant) uniform Push { SurfacePassPush pc; };
 const float THICKNESS_UNITS_PER_M = 1.0e6;
 
 void main() {
-    uint s = gl_GlobalInvocationID.x;
+    uint s = pc.first + gl_GlobalInvocationID.x;  // the renderer may splat in slices
     if (s >= params.particle_count) return;
     vec3 center = sorted[s].xyz;
     vec3 rel = center - params.eye.xyz;
