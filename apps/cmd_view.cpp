@@ -91,7 +91,7 @@ public:
         for (; !window_.should_close() && !quit_ && (max_frames == 0 || frame < max_frames); ++frame) {
             glfwPollEvents();
             while (next_action < script.size() && script[next_action].frame <= frame) apply(script[next_action++]);
-            for (const std::string& file : std::exchange(g_dropped, {})) worker_->post({ViewOp::attach, file, {}});
+            for (const std::string& file : std::exchange(g_dropped, {})) drop(file);
             if (quit_) break;
             read_report();
             if (!report_.fatal.empty()) break;
@@ -192,7 +192,19 @@ private:
 
     // ---- interaction ------------------------------------------------------------------------
 
-    void post(ViewOp op, const fs::path& file = {}) { worker_->post({op, file, solver_settings_}); }
+    void post(ViewOp op, const fs::path& file = {}, std::optional<glm::vec3> at = std::nullopt) {
+        worker_->post({op, file, solver_settings_, at});
+    }
+
+    /// A mesh dropped on the window becomes the shape, standing where the cursor points.
+    void drop(const fs::path& file) {
+        double x = 0.0, y = 0.0;
+        int w = 1, h = 1;
+        glfwGetCursorPos(window_.handle(), &x, &y);
+        glfwGetWindowSize(window_.handle(), &w, &h);
+        const glm::vec2 ndc(2.0f * float(x) / float(std::max(w, 1)) - 1.0f, 2.0f * float(y) / float(std::max(h, 1)) - 1.0f);
+        post(ViewOp::attach, file, point_under_cursor(orbit_.camera(), domain_, ndc, float(w) / float(std::max(h, 1))));
+    }
 
     void apply(const ViewAction& a) {
         if (a.what == "play") playing_ = true;

@@ -1,5 +1,7 @@
 #include "apps/view_shapes.h"
 
+#include <optional>
+
 #include <algorithm>
 #include <cmath>
 
@@ -37,9 +39,11 @@ void OrbitCamera::turn(float dyaw, float dpitch, bool about_eye) {
     if (about_eye) target = eye - distance * back();
 }
 
-Box shape_box(const Scene& scene, const std::vector<glm::vec4>& particles) {
+Box shape_box(const Scene& scene, const std::vector<glm::vec4>& particles, std::optional<glm::vec3> at) {
     glm::vec3 centre = 0.5f * (scene.domain.min + scene.domain.max);
-    if (!particles.empty()) {
+    if (at) {
+        centre = *at;
+    } else if (!particles.empty()) {
         glm::vec3 sum(0.0f);
         for (const auto& x : particles) sum += glm::vec3(x);
         centre = sum / float(particles.size());
@@ -51,6 +55,22 @@ Box shape_box(const Scene& scene, const std::vector<glm::vec4>& particles) {
     centre.z = std::clamp(centre.z, scene.domain.min.z + 0.5f * size, scene.domain.max.z - 0.5f * size);
     const float floor = scene.domain.min.y + scene.particle_spacing;
     return {{centre.x - 0.5f * size, floor, centre.z - 0.5f * size}, {centre.x + 0.5f * size, floor + size, centre.z + 0.5f * size}};
+}
+
+std::optional<glm::vec3> point_under_cursor(const ViewCamera& camera, const Box& domain, glm::vec2 ndc, float aspect) {
+    const glm::mat3 axes = camera_axes(camera);
+    const float tan_y = std::tan(glm::radians(camera.fov_y_degrees) * 0.5f), tan_x = tan_y * aspect;
+    const glm::vec3 dir = glm::normalize(axes[2] + ndc.x * tan_x * axes[0] - ndc.y * tan_y * axes[1]);
+    // The vertical plane through the domain's centre that faces the camera (horizontally).
+    glm::vec3 normal(axes[2].x, 0.0f, axes[2].z);
+    if (glm::length(normal) < 1e-4f) normal = glm::vec3(0.0f, 0.0f, 1.0f);  // looking straight down
+    normal = glm::normalize(normal);
+    const glm::vec3 centre = 0.5f * (domain.min + domain.max);
+    const float denom = glm::dot(dir, normal);
+    if (std::abs(denom) < 1e-6f) return std::nullopt;
+    const float t = glm::dot(centre - camera.eye, normal) / denom;
+    if (!(t > 0.0f)) return std::nullopt;
+    return glm::clamp(camera.eye + t * dir, domain.min, domain.max);
 }
 
 std::string shape_section(const std::vector<std::filesystem::path>& meshes, ShapeOp op, const Box& box) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,10 +28,15 @@ struct OrbitCamera {
 
 enum class ShapeOp { attach, union_with, morph };
 
-/// Where a picked mesh goes: a cube above the fluid's centre (x, z) that a sphere of the fluid's
-/// volume would fill (or the largest 90 % of the domain's smallest side allows), standing on the
-/// floor, inside the domain.
-Box shape_box(const Scene& scene, const std::vector<glm::vec4>& particles);
+/// Where a picked mesh goes: a cube above `at` (x, z), or the fluid's centre without it, that a
+/// sphere of the fluid's volume would fill (or the largest 90 % of the domain's smallest side
+/// allows), standing on the floor, inside the domain.
+Box shape_box(const Scene& scene, const std::vector<glm::vec4>& particles, std::optional<glm::vec3> at = std::nullopt);
+
+/// The point of the domain under the cursor (ndc in [-1, 1], y down; aspect = width / height):
+/// where the mouse ray meets the vertical plane through the domain's centre that faces the camera,
+/// clamped into the domain. Nothing when the ray runs away from that plane.
+std::optional<glm::vec3> point_under_cursor(const ViewCamera& camera, const Box& domain, glm::vec2 ndc, float aspect);
 
 /// A scene `control` section (JSON text) for `meshes` fit into `box`, from t = 0: the first is
 /// attached, the others are added (union), or for morph the last takes over in one second.

@@ -109,11 +109,11 @@ struct ViewWorker::Sim {
     /// it to the shapes, morph hands the shapes over to it in one second (apps/view_shapes.h says
     /// where it goes), at the automatic strength; the solver continues from the current particles.
     /// A mesh that cannot be used leaves the simulation as it was and says why.
-    void shape(ShapeOp op, const fs::path& file) {
+    void shape(ShapeOp op, const fs::path& file, std::optional<glm::vec3> at) {
         std::vector<fs::path> meshes = op == ShapeOp::attach ? std::vector<fs::path>{} : shape_files;
         meshes.push_back(fs::absolute(file));
         Scene trial = scene;
-        trial.control_json = shape_section(meshes, op, shape_box(scene, solver->snapshot().x));
+        trial.control_json = shape_section(meshes, op, shape_box(scene, solver->snapshot().x, at));
         auto prepared = control::prepare_control_scene(trial);
         if (!prepared) {
             status = "cannot use " + file.string() + ": " + prepared.error();
@@ -143,9 +143,9 @@ struct ViewWorker::Sim {
         switch (c.op) {
         case ViewOp::step: return true;
         case ViewOp::reset: rebuild_solver(false); halted = false; break;
-        case ViewOp::attach: shape(ShapeOp::attach, c.file); break;
-        case ViewOp::union_with: shape(ShapeOp::union_with, c.file); break;
-        case ViewOp::morph: shape(ShapeOp::morph, c.file); break;
+        case ViewOp::attach: shape(ShapeOp::attach, c.file, c.at); break;
+        case ViewOp::union_with: shape(ShapeOp::union_with, c.file, c.at); break;
+        case ViewOp::morph: shape(ShapeOp::morph, c.file, c.at); break;
         case ViewOp::release: release(); break;
         case ViewOp::solver:
             scene.solver = c.solver;

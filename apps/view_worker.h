@@ -72,6 +72,7 @@ struct ViewCommand {
     ViewOp op = ViewOp::step;
     std::filesystem::path file;  ///< the mesh of attach, union_with, morph
     SolverSettings solver;       ///< the settings of `solver` (the solver continues from its particles)
+    std::optional<glm::vec3> at; ///< where a shape goes (a mesh dropped under the cursor); else above the fluid
 };
 
 /// What the worker tells the window: its state after its last frame.

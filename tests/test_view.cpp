@@ -199,6 +199,31 @@ TEST(ViewShapesTest, SectionsAttachUnionAndMorphAndLoadAsControlSections) {
     }
 }
 
+TEST(ViewShapesTest, ADroppedMeshStandsUnderTheCursor) {
+    Scene scene;
+    scene.domain = {glm::vec3(0.0f), glm::vec3(1.6f, 0.8f, 0.2f)};
+    scene.particle_spacing = 0.02f;
+    const std::vector<glm::vec4> fluid(1000, glm::vec4(0.3f, 0.1f, 0.1f, 0.0f));
+    const ViewCamera camera = camera_for_domain(scene.domain, 4.0f / 3.0f);
+    auto centre = cli::point_under_cursor(camera, scene.domain, {0.0f, 0.0f}, 4.0f / 3.0f);
+    auto left = cli::point_under_cursor(camera, scene.domain, {-0.6f, 0.0f}, 4.0f / 3.0f);
+    auto right = cli::point_under_cursor(camera, scene.domain, {0.6f, 0.0f}, 4.0f / 3.0f);
+    ASSERT_TRUE(centre && left && right);
+    EXPECT_LT(left->x, centre->x - 0.2f) << "the left of the window is the left of the tank";
+    EXPECT_GT(right->x, centre->x + 0.2f);
+    for (const auto& p : {*centre, *left, *right}) {
+        EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, scene.domain.min)) && glm::all(glm::lessThanEqual(p, scene.domain.max)));
+    }
+    // The shape's cube stands above the point (clamped into the tank), not above the fluid.
+    const Box box = cli::shape_box(scene, fluid, right);
+    EXPECT_NEAR(0.5f * (box.min.x + box.max.x), std::min(right->x, scene.domain.max.x - 0.5f * (box.max.x - box.min.x)), 1e-5f);
+    EXPECT_GT(0.5f * (box.min.x + box.max.x), 0.5f) << "still above the fluid at x = 0.3";
+    // A camera turned away from the tank gives nothing rather than a point behind the eye.
+    ViewCamera away = camera;
+    away.target = camera.eye + (camera.eye - camera.target);
+    EXPECT_FALSE(cli::point_under_cursor(away, scene.domain, {0.0f, 0.0f}, 4.0f / 3.0f).has_value());
+}
+
 TEST(ViewShapesTest, OrbitTurnsAboutTheTargetAndFlyAboutTheEye) {
     ViewCamera start;
     start.eye = {1.0f, 0.5f, 2.0f};
