@@ -333,7 +333,7 @@ ViewWorker::Picture ViewWorker::take_picture() {
 }
 
 void ViewWorker::loop() {
-    ctx_.set_yielding(true);
+    ctx_.set_yielding(true, &stop_);
     auto last = Clock::now();
     for (;;) {
         ViewControls controls;
@@ -359,6 +359,8 @@ void ViewWorker::loop() {
         std::string fatal;
         try {
             made = frame(controls, std::move(commands), stroke, serving > 0 && serving > completed_);
+        } catch (const gpu::Cancelled&) {
+            return;  // the viewer is closing: the frame's state no longer matters
         } catch (const std::exception& e) {
             fatal = e.what();
         }

@@ -13,6 +13,7 @@
 // frame and waits for it instead, so that its frame numbers are the fluid's.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -156,7 +157,7 @@ private:
     std::deque<ViewCommand> commands_;
     std::optional<PushStroke> stroke_;
     uint64_t requested_ = 0, completed_ = 0;
-    bool stop_ = false;
+    std::atomic<bool> stop_{false};  // also ends a frame early, at its next queue yield
     ViewReport report_;
     PictureSlots slots_;
     struct Slot {

@@ -417,9 +417,14 @@ void Context::yield_queue(VkCommandBuffer cmd) {
     if (!r.yielding || !r.recording || cmd != r.cmd) return;
     submit(r);
     begin(r);
+    if (r.cancel && r.cancel->load()) throw Cancelled();
 }
 
-void Context::set_yielding(bool on) { recorder().yielding = on; }
+void Context::set_yielding(bool on, const std::atomic<bool>* cancel) {
+    Recorder& r = recorder();
+    r.yielding = on;
+    r.cancel = on ? cancel : nullptr;
+}
 
 void Context::wait_queue_idle() {
     std::lock_guard<std::mutex> lock(queue_mutex_);

@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <exception>
 #include <functional>
 #include <map>
 #include <memory>
@@ -32,6 +33,11 @@ struct DeviceInfo {
 };
 
 const char* device_type_name(VkPhysicalDeviceType type);
+
+/// Thrown by Context::yield_queue when the thread's cancel flag is set.
+struct Cancelled : std::exception {
+    const char* what() const noexcept override { return "cancelled at a queue yield"; }
+};
 
 struct ContextOptions {
     std::string device;       ///< "" = automatic; else an index or a case-insensitive name part
@@ -83,8 +89,10 @@ public:
     /// yielding on so that the window's frames are not queued behind a whole simulation frame
     /// (one queue on the software device runs submissions strictly in order).
     void yield_queue(VkCommandBuffer cmd);
-    /// Turns yield_queue() on or off for the calling thread.
-    void set_yielding(bool on);
+    /// Turns yield_queue() on or off for the calling thread. With `cancel`, a yield that finds it
+    /// set throws Cancelled (the recording is ended, not submitted), so that a thread asked to stop
+    /// leaves a long frame at its next yield.
+    void set_yielding(bool on, const std::atomic<bool>* cancel = nullptr);
     /// Whether yield_queue() yields on the calling thread (a pass may then split long work).
     bool yielding() { return recorder().yielding; }
 
@@ -110,6 +118,7 @@ private:
         VkFence fence = VK_NULL_HANDLE;
         bool yielding = false;
         bool recording = false;
+        const std::atomic<bool>* cancel = nullptr;
     };
     Recorder& recorder();  ///< the calling thread's, made at its first use
     void begin(Recorder& r);

@@ -1,7 +1,7 @@
 // The context shared by threads (the viewer's window and its worker): submissions from two
 // threads at once each get their own command buffer and finish correctly, a recording that yields
-// the queue has executed what came before the yield, and a recording may not submit again from
-// inside itself.
+// the queue has executed what came before the yield, a cancelled thread leaves its recording at
+// the next yield, and a recording may not submit again from inside itself.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -60,6 +60,29 @@ TEST_F(ContextThreadsTest, SubmittingInsideARecordingIsRefusedWithAMessage) {
     gpu::Buffer buffer = gpu::create_buffer(c, "test.after_refusal", 64, gpu::MemoryUse::host);
     c.submit_and_wait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, buffer.buffer, 0, VK_WHOLE_SIZE, 5u); });
     EXPECT_EQ(first_word(buffer), 5u);
+    gpu::destroy_buffer(c, buffer);
+}
+
+TEST_F(ContextThreadsTest, ACancelledThreadLeavesItsRecordingAtTheNextYield) {
+    gpu::Context& c = ctx();
+    gpu::Buffer buffer = gpu::create_buffer(c, "test.cancel", 64, gpu::MemoryUse::host);
+    std::memset(buffer.mapped, 0, 64);
+    std::atomic<bool> cancel{false};
+    c.set_yielding(true, &cancel);
+    bool reached_after = false;
+    EXPECT_THROW(c.submit_and_wait([&](VkCommandBuffer cmd) {
+        vkCmdFillBuffer(cmd, buffer.buffer, 0, VK_WHOLE_SIZE, 3u);
+        cancel = true;
+        c.yield_queue(cmd);  // runs what came before, then leaves
+        reached_after = true;
+        vkCmdFillBuffer(cmd, buffer.buffer, 0, VK_WHOLE_SIZE, 4u);
+    }),
+                 gpu::Cancelled);
+    c.set_yielding(false);
+    EXPECT_FALSE(reached_after);
+    EXPECT_EQ(first_word(buffer), 3u) << "the work before the yield ran, the rest was never submitted";
+    c.submit_and_wait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, buffer.buffer, 0, VK_WHOLE_SIZE, 6u); });
+    EXPECT_EQ(first_word(buffer), 6u) << "the thread's command buffer works again";
     gpu::destroy_buffer(c, buffer);
 }
 
