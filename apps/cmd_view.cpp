@@ -301,11 +301,11 @@ private:
 
     void panel(uint32_t frame) {
         ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-        ImGui::SetNextWindowSize(ImVec2(300, 0), ImGuiCond_FirstUseEver);
+        ImGui::SetNextWindowSize(ImVec2(340, 0), ImGuiCond_FirstUseEver);
         ImGui::Begin("aquaform");
         ImGui::Text("%s: %u particles, t = %.3f s", scene_name_.c_str(), report_.particles, report_.sim_time);
-        ImGui::Text("frame %u: window %.1f frames/s, fluid %.1f pictures/s", frame, ImGui::GetIO().Framerate,
-                    report_.frames_per_s);
+        ImGui::Text("frame %u: window %.1f frames/s", frame, ImGui::GetIO().Framerate);
+        ImGui::Text("fluid: %.2f pictures/s (%llu made)", report_.frames_per_s, (unsigned long long)report_.frames);
         if (ImGui::Button(playing_ ? "Pause" : "Play")) playing_ = !playing_;
         ImGui::SameLine();
         if (ImGui::Button("Step")) post(ViewOp::step);
@@ -377,13 +377,22 @@ private:
             }
         }
         if (ImGui::CollapsingHeader("GPU time", ImGuiTreeNodeFlags_DefaultOpen)) {
-            std::vector<float> history(report_.render_history.begin(), report_.render_history.end());
-            if (!history.empty())
-                ImGui::PlotLines("render ms", history.data(), int(history.size()), 0, nullptr, 0.0f, FLT_MAX, ImVec2(0, 60));
-            for (const auto& [name, ms] : report_.render_ms) ImGui::Text("%-22s %8.2f ms", name.c_str(), ms);
-            double sim = 0.0;
-            for (const auto& [name, ms] : report_.sim_ms) sim += ms;
-            ImGui::Text("%-22s %8.2f ms", "simulation (frame)", sim);
+            // The last pictures' GPU time: the render total and the simulation large, each render
+            // pass as a line of its own with its latest figure.
+            auto chart = [&](const std::string& name, const char* label, float height) {
+                const auto it = report_.history.find(name);
+                if (it == report_.history.end() || it->second.empty()) return;
+                const std::vector<float> h(it->second.begin(), it->second.end());
+                char overlay[64];
+                std::snprintf(overlay, sizeof overlay, "%.1f ms", h.back());
+                ImGui::PlotLines(label, h.data(), int(h.size()), 0, overlay, 0.0f, FLT_MAX, ImVec2(0, height));
+            };
+            chart("render", "render", 48.0f);
+            chart("simulation", "simulation", 48.0f);
+            for (const auto& [name, ms] : report_.render_ms) {
+                const std::string label = name.rfind("render_", 0) == 0 ? name.substr(7) : name;  // "render_march": "march"
+                chart(name, label.c_str(), 18.0f);
+            }
         }
         ImGui::Checkbox("fly camera (F; WASD, Q/E)", &fly_);
         if (!status_.empty()) ImGui::TextWrapped("%s", status_.c_str());

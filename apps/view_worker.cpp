@@ -258,6 +258,10 @@ ViewWorker::ViewWorker(gpu::Context& ctx, Scene scene, std::optional<control::Pr
                        const ViewControls& controls, const fs::path& watch_shaders)
     : ctx_(ctx), sim_(std::make_unique<Sim>(ctx, std::move(scene), std::move(control))), controls_(controls) {
     sim_->rebuild_solver(false);
+    // The scene's own shapes are listed like attached ones (union and morph start from them).
+    if (sim_->control)
+        for (const control::ControlMesh& m : sim_->control->section.meshes)
+            if (!m.file.empty()) sim_->shape_files.push_back(m.file);
     if (!watch_shaders.empty()) sim_->watcher = std::make_unique<gpu::ShaderWatcher>(watch_shaders);
     report_.particles = sim_->solver->particle_count();
     report_.solver = sim_->scene.solver;
@@ -400,10 +404,9 @@ bool ViewWorker::frame(const ViewControls& controls, std::deque<ViewCommand> com
     for (const ViewCommand& c : commands) step |= s.apply(c);
     if (stroke && glm::length(stroke->accel) > 0.0f) s.push.set(stroke->origin, stroke->dir, stroke->radius, stroke->accel);
     else s.push.clear();
-    if ((controls.playing && !s.halted) || step) {
-        s.advance();
-        changed = true;
-    }
+    const bool advanced = (controls.playing && !s.halted) || step;
+    if (advanced) s.advance();
+    changed |= advanced;
     s.push.clear();
     if (!changed && !forced && s.drawn == controls) return false;
 
@@ -443,10 +446,19 @@ bool ViewWorker::frame(const ViewControls& controls, std::deque<ViewCommand> com
     std::lock_guard<std::mutex> lock(mutex_);
     slots_.publish();
     report_.render_ms = s.render_timer.totals_ms();
+    auto record = [&](const std::string& name, double ms) {
+        std::deque<float>& h = report_.history[name];
+        h.push_back(float(ms));
+        if (h.size() > kHistory) h.pop_front();
+    };
     double total = 0.0;
-    for (const auto& [name, ms] : report_.render_ms) total += ms;
-    report_.render_history.push_back(float(total));
-    if (report_.render_history.size() > kHistory) report_.render_history.pop_front();
+    for (const auto& [name, ms] : report_.render_ms) total += ms, record(name, ms);
+    record("render", total);
+    if (advanced) {
+        double sim = 0.0;
+        for (const auto& [name, ms] : s.sim_ms) sim += ms;
+        record("simulation", sim);
+    }
     return true;
 }
 

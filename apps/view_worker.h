@@ -83,7 +83,9 @@ struct ViewReport {
     uint64_t frames = 0;        ///< pictures made
     double frames_per_s = 0.0;  ///< pictures per second of wall time, smoothed
     std::map<std::string, double> render_ms, sim_ms;  ///< GPU time per pass of the last frame
-    std::deque<float> render_history;                 ///< total render ms of recent frames
+    /// GPU ms of recent pictures: "render" (the total), each render pass, and "simulation" (the
+    /// frame's total, for pictures that advanced it).
+    std::map<std::string, std::deque<float>> history;
     std::string status;                               ///< the latest message for the user
     uint32_t blowups = 0;                             ///< times the simulation stopped being finite
     std::vector<std::filesystem::path> shape_files;   ///< meshes of the active shape, in its order
