@@ -517,6 +517,12 @@ int cmd_view(const std::vector<std::string>& argv) {
     options.make_surface = [&win](VkInstance instance) { return win.create_surface(instance); };
     gpu::Context ctx(options);
     win.attach(ctx);
+    // The swapchain goes before the device, also when an error (a scene too large for the
+    // device, say) unwinds this function.
+    struct DetachFirst {
+        ViewWindow& window;
+        ~DetachFirst() { window.detach(); }
+    } detach_first{win};
     int status = kExitOk;
     {
         // Hot reload watches --shaders DIR, else the source tree's shaders/ beside the build.
@@ -537,7 +543,6 @@ int cmd_view(const std::vector<std::string>& argv) {
         viewer.set_screenshot_dir(record_dir.empty() ? fs::path(".") : record_dir);
         status = viewer.run(script, record_dir, max_frames);
     }
-    win.detach();  // the swapchain goes before the device
     return exit_status(ctx, status);
 }
 

@@ -126,6 +126,18 @@ TEST(ViewCliTest, PlayingTheWindowDrawsMoreFramesThanTheFluidHasPictures) {
     EXPECT_EQ(output.find("validation error"), std::string::npos) << output;
 }
 
+TEST(ViewCliTest, AFluidTooLargeIsReportedWithTheFixAndNoCrash) {
+    // The error is thrown after the window and the device exist: both must still go in order.
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
+    auto [status, output] = run_view_under_xvfb("--particles 60000000 --frames 5");
+    EXPECT_EQ(status, 1) << output;
+    EXPECT_NE(output.find("more than the 16,777,216"), std::string::npos) << output;
+    EXPECT_NE(output.find("increase particle_spacing"), std::string::npos) << output;
+    auto [bad, usage] = run_view_under_xvfb("--particles lots");
+    EXPECT_EQ(bad, 2) << usage;
+    EXPECT_NE(usage.find("--particles must be a positive integer"), std::string::npos) << usage;
+}
+
 TEST(ViewPictureSlotsTest, TheWorkerNeverDrawsIntoThePictureShownAndTheWindowGetsTheNewest) {
     cli::PictureSlots slots;
     EXPECT_EQ(slots.take(), -1) << "nothing to show before the first picture";
