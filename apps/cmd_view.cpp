@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <cstdio>
 #include <filesystem>
@@ -120,6 +121,7 @@ public:
     }
 
     void set_screenshot_dir(const fs::path& dir) { screenshot_dir_ = dir; }
+    void set_picture_scale(float scale) { picture_scale_ = scale; }
 
 private:
     void read_report() {
@@ -144,8 +146,9 @@ private:
         const VkExtent2D extent = window_.extent();
         controls_.camera = orbit_.camera();
         controls_.playing = playing_;
-        controls_.width = std::max(extent.width, 16u);
-        controls_.height = std::max(extent.height, 16u);
+        // The picture may be smaller than the window (the blit scales it up): a quicker fluid.
+        controls_.width = std::max(uint32_t(std::lround(float(extent.width) * picture_scale_)), 16u);
+        controls_.height = std::max(uint32_t(std::lround(float(extent.height) * picture_scale_)), 16u);
         worker_->set_controls(controls_);
         if (lockstep_) worker_->wait(worker_->request_frame());
         picture_ = worker_->take_picture();
@@ -311,6 +314,8 @@ private:
         if (ImGui::Button("Step")) post(ViewOp::step);
         ImGui::SameLine();
         if (ImGui::Button("Reset")) post(ViewOp::reset);
+        ImGui::SliderFloat("picture scale", &picture_scale_, 0.25f, 1.0f, "%.2f");
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("the fluid's picture against the window's size: smaller is quicker");
         if (ImGui::BeginCombo("method", controls_.method.c_str())) {
             for (const char* m : kViewMethods)
                 if (ImGui::Selectable(m, controls_.method == m)) controls_.method = m;
@@ -447,6 +452,7 @@ private:
     bool playing_ = false, quit_ = false, failed_ = false;
     bool fly_ = false;  // the right button turns the view about the eye, WASD moves it
     bool show_shapes_ = true;
+    float picture_scale_ = 1.0f;  // the picture's size against the window's
     char mesh_path_[512] = "assets/meshes/sphere.obj";
     VkDescriptorPool ui_pool_ = VK_NULL_HANDLE;
 };
@@ -456,7 +462,7 @@ private:
 int cmd_view(const std::vector<std::string>& argv) {
     std::string error;
     const FlagSpec spec =
-        with_render_flags({{"--device", "--script", "--record", "--size", "--frames", "--shaders", "--particles"}, {"--validation", "--play"}});
+        with_render_flags({{"--device", "--script", "--record", "--size", "--frames", "--shaders", "--particles", "--scale"}, {"--validation", "--play"}});
     auto args = parse_args(argv, spec, "view", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     const bool generated = args->has("--particles");
@@ -495,6 +501,16 @@ int cmd_view(const std::vector<std::string>& argv) {
     if (args->has("--size") && !parse_resolution(args->value("--size"), &width, &height))
         return std::fprintf(stderr, "aquaform view: --size must look like 480x360, got \"%s\"\n", args->value("--size").c_str()),
                kExitUsage;
+    float picture_scale = 1.0f;
+    if (args->has("--scale")) {
+        char* end = nullptr;
+        const std::string text = args->value("--scale");
+        picture_scale = std::strtof(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !(picture_scale >= 0.1f && picture_scale <= 1.0f))
+            return std::fprintf(stderr, "aquaform view: --scale is the picture's size against the window's, 0.1 to 1; got \"%s\"\n",
+                                text.c_str()),
+                   kExitUsage;
+    }
     uint32_t max_frames = 0;
     if (args->has("--frames")) {
         auto f = parse_positive("--frames", args->value("--frames"), &error);
@@ -541,6 +557,7 @@ int cmd_view(const std::vector<std::string>& argv) {
         const bool lockstep = args->has("--script") || !record_dir.empty();
         Viewer viewer(ctx, win, scene, std::move(control), *settings, method, shaders, lockstep);
         viewer.set_screenshot_dir(record_dir.empty() ? fs::path(".") : record_dir);
+        viewer.set_picture_scale(picture_scale);
         status = viewer.run(script, record_dir, max_frames);
     }
     return exit_status(ctx, status);

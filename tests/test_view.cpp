@@ -138,6 +138,23 @@ TEST(ViewCliTest, AFluidTooLargeIsReportedWithTheFixAndNoCrash) {
     EXPECT_NE(usage.find("--particles must be a positive integer"), std::string::npos) << usage;
 }
 
+TEST(ViewCliTest, PictureScaleMakesTheFluidsPictureSmallerThanTheWindow) {
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
+    const fs::path out = test_cli::temp_dir("view_scale");
+    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --size 200x150 --scale 0.5 --frames 2 --record " +
+                                                out.string());
+    ASSERT_EQ(status, 0) << output;
+    auto frame = read_png(out / "frame_0001.png");
+    ASSERT_TRUE(frame.ok()) << frame.error() << "\n" << output;
+    EXPECT_EQ(frame.value().width, 100u);
+    EXPECT_EQ(frame.value().height, 75u);
+    EXPECT_GT(fluid_share(frame.value()), 0.02) << "no fluid in the smaller picture";
+    auto [bad, message] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --scale 3");
+    EXPECT_EQ(bad, 2) << message;
+    EXPECT_NE(message.find("0.1 to 1"), std::string::npos) << message;
+    fs::remove_all(out);
+}
+
 TEST(ViewPictureSlotsTest, TheWorkerNeverDrawsIntoThePictureShownAndTheWindowGetsTheNewest) {
     cli::PictureSlots slots;
     EXPECT_EQ(slots.take(), -1) << "nothing to show before the first picture";
