@@ -41,22 +41,6 @@ void progress(const std::string& line) {
 
 std::string resolution_text(uint32_t w, uint32_t h) { return std::to_string(w) + "x" + std::to_string(h); }
 
-ViewCamera study_camera(const StudyCamera& spec, const Scene& scene, float aspect) {
-    if (spec.preset == "custom") return spec.custom;
-    ViewCamera camera = camera_for_domain(scene.domain, aspect);
-    if (spec.preset == "far") camera.eye = camera.target + 2.0f * (camera.eye - camera.target);
-    if (spec.preset == "closeup") {
-        // Near the fluid's centre of the first block, a few spacings outside it: particles come
-        // within a metaball range of the eye, the case where billboards are dropped.
-        const Box block = scene.fluid_blocks.empty() ? scene.domain : scene.fluid_blocks.front();
-        const glm::vec3 centre = 0.5f * (block.min + block.max);
-        const glm::vec3 dir = glm::normalize(camera.eye - camera.target);
-        camera.target = centre;
-        camera.eye = centre + dir * (0.5f * glm::length(block.max - block.min));
-    }
-    return camera;
-}
-
 /// `frame` at width x height, each pixel taken from the nearest pixel of `low` (a frame rendered
 /// at a fraction of the resolution with the same camera): what showing it full-screen gives.
 SurfaceFrame upsample_nearest(const SurfaceFrame& low, uint32_t width, uint32_t height) {
@@ -372,6 +356,26 @@ std::vector<std::string> case_names(const std::vector<StudyRow>& rows) {
 }
 
 }  // namespace
+
+ViewCamera study_camera(const StudyCamera& spec, const Scene& scene, float aspect) {
+    if (spec.preset == "custom") return spec.custom;
+    ViewCamera camera = camera_for_domain(scene.domain, aspect);
+    if (spec.preset == "far") camera.eye = camera.target + 2.0f * (camera.eye - camera.target);
+    if (spec.preset == "closeup") {
+        // Looking at the centre of the first fluid block from the usual side, with the eye on the
+        // block's boundary: the outer particles (half a spacing inside it) come within a metaball
+        // range of the eye plane, the case where billboards are dropped and sprites blow up.
+        const Box block = scene.fluid_blocks.empty() ? scene.domain : scene.fluid_blocks.front();
+        const glm::vec3 centre = 0.5f * (block.min + block.max), half = 0.5f * (block.max - block.min);
+        const glm::vec3 dir = glm::normalize(camera.eye - camera.target);
+        float exit = INFINITY;  // where the ray from the centre along dir leaves the block
+        for (int a = 0; a < 3; ++a)
+            if (std::abs(dir[a]) > 1e-6f) exit = std::min(exit, half[a] / std::abs(dir[a]));
+        camera.target = centre;
+        camera.eye = centre + dir * exit;
+    }
+    return camera;
+}
 
 std::vector<StudyRow> run_study_cases(gpu::Context& ctx, const StudySpec& spec, const fs::path& images_dir) {
     std::vector<StudyRow> rows;

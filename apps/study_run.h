@@ -36,6 +36,10 @@ struct StudyRow {
     std::string image;          ///< the shaded frame, relative to the output directory
 };
 
+/// The camera of a case: the front view of the domain, twice as far ("far"), or "closeup": the
+/// eye on the boundary of the first fluid block, looking at its centre.
+ViewCamera study_camera(const StudyCamera& spec, const Scene& scene, float aspect);
+
 /// Runs every case of the spec, printing progress to stderr; rows come in spec order. With an
 /// `images_dir`, every method's shaded frame is written there as PNG.
 std::vector<StudyRow> run_study_cases(gpu::Context& ctx, const StudySpec& spec, const std::filesystem::path& images_dir = {});

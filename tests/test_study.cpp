@@ -4,13 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "apps/bench_scenes.h"
 #include "apps/study_run.h"
 #include "apps/study_spec.h"
+#include "render/metaball_renderer.h"
 #include "tests/cli_helpers.h"
 
 namespace aquaform::cli {
@@ -86,6 +89,31 @@ TEST(StudyTargetsTest, ComparisonsStayWithinACaseAndTheCrossoverIsInterpolated) 
     EXPECT_NE(lines[0].find("MET"), std::string::npos) << lines[0];
     EXPECT_NE(lines[1].find("MISS"), std::string::npos) << lines[1];
     EXPECT_NE(lines[2].find("about 100000 particles"), std::string::npos) << lines[2];
+}
+
+TEST(StudyCameraTest, TheCloseUpBringsParticlesWithinAMetaballRangeOfTheEyePlane) {
+    // The close-up case is where billboards are dropped: it must actually put particles that
+    // close, in view, with the eye on the fluid's surface rather than inside it.
+    const Scene scene = cli::bench_scene(4096, 4);
+    cli::StudyCamera spec;
+    spec.preset = "closeup";
+    const ViewCamera camera = cli::study_camera(spec, scene, 1.0f);
+    std::vector<glm::vec4> x;
+    std::vector<uint32_t> block;
+    scene.generate_particles(x, block);
+    const glm::vec3 forward = glm::normalize(camera.target - camera.eye);
+    const float range = metaball_radius(MetaballSettings{}, scene);
+    const float tan_half = std::tan(glm::radians(camera.fov_y_degrees) * 0.5f);
+    size_t near_plane = 0;
+    float nearest = INFINITY;
+    for (const glm::vec4& p : x) {
+        const glm::vec3 rel = glm::vec3(p) - camera.eye;
+        const float depth = glm::dot(rel, forward);
+        nearest = std::min(nearest, glm::length(rel));
+        if (depth > 0.0f && depth < range && glm::length(rel - depth * forward) < depth * tan_half + range) ++near_plane;
+    }
+    EXPECT_GT(near_plane, 0u) << "no particle within R = " << range << " m of the eye plane";
+    EXPECT_GE(nearest, 0.45f * scene.particle_spacing) << "the eye is inside the fluid";
 }
 
 TEST(StudyCliTest, MissingSpecAndUnknownFlagAreRefused) {
