@@ -85,6 +85,8 @@ public:
         camera_ = study_camera(case_.camera, scene_, float(w) / float(h));
         sph_reference_.reset();
         metaball_references_.clear();
+        metaball_reference_cut_.clear();
+        metaball_reference_dropped_.clear();
         surface_.clear();
         metaball_.reset();
         roomy_metaball_.reset();
@@ -223,7 +225,9 @@ private:
             roomy = &metaball(stats.list_bytes_needed + 4096);
             frame = roomy->render(solver_->positions(), particles(), camera_, s);
         }
-        if (const uint64_t cut = roomy->stats().cut_pixels) metaball_reference_cut_[size] = cut;
+        const MetaballStats final_stats = roomy->stats();
+        if (final_stats.cut_pixels) metaball_reference_cut_[size] = final_stats.cut_pixels;
+        if (final_stats.dropped_particles) metaball_reference_dropped_[size] = final_stats.dropped_particles;
         return &metaball_references_.emplace(size, std::move(frame)).first->second;
     }
 
@@ -285,6 +289,12 @@ private:
             row.status = "cut: " + std::to_string(stats.cut_pixels) + " pixels stopped by the device's loop limit";
         else if (reference && metaball_reference_cut_.count(m.size))
             row.status = "reference cut: " + std::to_string(metaball_reference_cut_[m.size]) + " pixels";
+        // A close-up: the lists (and the list-based reference) leave out the particles at the eye.
+        else if (stats.dropped_particles)
+            row.status = "dropped: " + std::to_string(stats.dropped_particles) + " particles at the eye plane are in no list";
+        else if (reference && metaball_reference_dropped_.count(m.size))
+            row.status = "reference dropped " + std::to_string(metaball_reference_dropped_[m.size]) +
+                         " particles at the eye plane (brute force keeps them)";
         // The primary hit is the same for both visuals; only the gradient image is comparable.
         SurfaceFrame frame = r.read_frame();
         if (reference) compare(row, *reference, frame, particle_radius(), s.visual == MetaballVisual::gradient);
@@ -304,6 +314,7 @@ private:
     StudyRow sph_reference_ms_;
     std::map<float, SurfaceFrame> metaball_references_;
     std::map<float, uint64_t> metaball_reference_cut_;  // pixels of a reference the device cut short
+    std::map<float, uint64_t> metaball_reference_dropped_;  // particles a close-up reference left out
     std::map<uint64_t, std::unique_ptr<SurfaceRenderer>> surface_;
     std::unique_ptr<MetaballRenderer> metaball_, roomy_metaball_;
     std::unique_ptr<ScreenSpaceRenderer> screen_space_;

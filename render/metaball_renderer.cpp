@@ -101,6 +101,9 @@ std::string MetaballStats::describe() const {
         text << "; " << cut_pixels << " pixels CUT SHORT by the device's loop limit (the software device ends a shader "
              << "invocation after 65535 loop iterations): their surface may be missing and the time is a lower bound; "
              << "use fewer particles per ray (lists, smaller metaballs) or a hardware GPU";
+    if (dropped_particles)
+        text << "; " << dropped_particles << " particles reach the eye plane and are in no list (no finite billboard): "
+             << "the surface near the eye is missing; move the camera back or use brute force";
     return text.str();
 }
 
@@ -227,8 +230,10 @@ SurfaceFrame MetaballRenderer::read_frame() {
 MetaballStats MetaballRenderer::stats() {
     const size_t pixels = size_t(width_) * height_;
     MetaballStats s;
+    const MetaballCounters counters = gpu::download_vector<MetaballCounters>(*ctx_, *counters_, 1)[0];
+    if (method_ != MetaballMethod::brute_force) s.dropped_particles = counters.dropped;
     if (method_ == MetaballMethod::a_buffer) {
-        s.list_entries = gpu::download_vector<MetaballCounters>(*ctx_, *counters_, 1)[0].entries;
+        s.list_entries = counters.entries;
     } else if (method_ == MetaballMethod::s_buffer) {
         uint32_t total = 0;
         gpu::download(*ctx_, *offsets_, &total, 4, pixels * 4);

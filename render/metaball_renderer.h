@@ -77,6 +77,9 @@ struct MetaballStats {
     /// Pixels whose loops the device ended early (llvmpipe stops each shader invocation after
     /// 65535 loop iterations in all): their surface may be missing and the time is a lower bound.
     uint64_t cut_pixels = 0;
+    /// Particles whose range reaches the eye plane: they have no billboard and are in no list
+    /// (brute force sees them), so a close-up's lists are no longer exact.
+    uint64_t dropped_particles = 0;
     std::string describe() const;    ///< one line; on overflow or cut pixels, what it means and the fix
 };
 

@@ -217,6 +217,37 @@ TEST_F(MetaballTest, ListOverflowIsDetectedAndReportedWithTheMemoryItNeeds) {
     }
 }
 
+TEST_F(MetaballTest, ParticlesAtTheEyePlaneAreCountedAsDroppedFromTheLists) {
+    // An eye inside the block's reach: the particles whose range reaches the eye plane have no
+    // finite billboard. The lists leave them out, and the stats must say how many (the CPU count
+    // of particles in front of the eye within R of its plane); brute force drops none.
+    const Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.4f, 0.4f, 0.4f}});
+    const auto positions = block_and_droplets(5);
+    Particles particles(ctx(), positions);
+    ViewCamera close;
+    close.eye = {0.17f, 0.06f, 0.215f};  // just outside the block's front face (z up to about 0.2)
+    close.target = {0.17f, 0.06f, 0.1f};
+    const glm::vec3 forward = glm::normalize(close.target - close.eye);
+    uint32_t expected = 0;
+    for (const glm::vec4& p : positions) {
+        const float z = glm::dot(glm::vec3(p) - close.eye, forward);
+        expected += z - kSpacing <= 1e-4f * kSpacing && z + kSpacing > 0.0f;
+    }
+    ASSERT_GT(expected, 3u) << "the camera should stand within the block's reach";
+    MetaballRenderer renderer(ctx(), scene, 64, 48, particles.count);
+    for (MetaballMethod method : {MetaballMethod::a_buffer, MetaballMethod::s_buffer, MetaballMethod::brute_force}) {
+        MetaballSettings settings;
+        settings.method = method;
+        renderer.render(particles.buffer, particles.count, close, settings);
+        const MetaballStats stats = renderer.stats();
+        EXPECT_EQ(stats.dropped_particles, method == MetaballMethod::brute_force ? 0u : expected) << method_name(method);
+        if (method != MetaballMethod::brute_force)
+            EXPECT_NE(stats.describe().find("reach the eye plane"), std::string::npos) << stats.describe();
+        renderer.render(particles.buffer, particles.count, front_camera(), settings);
+        EXPECT_EQ(renderer.stats().dropped_particles, 0u) << method_name(method) << " from afar";
+    }
+}
+
 TEST_F(MetaballTest, RealVisualStaysFiniteAndDeeperRecursionCostsMore) {
     const Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.4f, 0.4f, 0.4f}});
     Particles particles(ctx(), block_and_droplets(5));

@@ -32,8 +32,14 @@ void main() {
     if (id >= params.particle_count) return;
     vec3 center = positions[id].xyz;
     ivec2 lo, hi;
-    if (!sphere_screen_rect(center, params.radius, lo, hi)) return;
     vec3 rel = center - params.eye.xyz;
+    if (!sphere_screen_rect(center, params.radius, lo, hi)) {
+        // No finite billboard: counted once per frame (the fill pass repeats the count's walk).
+        float z = dot(rel, params.forward.xyz);
+        if (pc.mode != METABALL_LIST_S_FILL && z - params.radius <= 1.0e-4 * params.radius && z + params.radius > 0.0)
+            atomicAdd(counters.dropped, 1u);
+        return;
+    }
     float rel2 = dot(rel, rel);
     float r2 = params.radius * params.radius;
     for (int y = lo.y; y <= hi.y; ++y) {

@@ -75,12 +75,13 @@ struct MetaballPush {
 };
 
 /// counters[0]: entries the lists needed this frame (may exceed list_capacity: overflow);
-/// [1..6]: the particles' bounding box as order-preserving uint keys (min xyz, max xyz).
+/// [1..6]: the particles' bounding box as order-preserving uint keys (min xyz, max xyz);
+/// [7]: particles in front of the eye whose range reaches the eye plane, left out of the lists.
 struct MetaballCounters {
     uint entries;
     uint bounds_min_x, bounds_min_y, bounds_min_z;
     uint bounds_max_x, bounds_max_y, bounds_max_z;
-    uint pad0;
+    uint dropped;
 };
 
 /// The Wyvill "soft object" field of one metaball (Wyvill, McPheeters & Wyvill 1986):
