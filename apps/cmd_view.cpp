@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <thread>
 #include <utility>
 
 #define GLFW_INCLUDE_VULKAN
@@ -70,6 +71,7 @@ public:
         controls_.width = uint32_t(std::max(w, 16));
         controls_.height = uint32_t(std::max(h, 16));
         worker_ = std::make_unique<ViewWorker>(ctx_, std::move(scene), std::move(control), controls_, watch_shaders);
+        worker_->set_lockstep(lockstep_);
         init_ui();
         glfwSetDropCallback(window_.handle(), on_drop);
     }
@@ -222,9 +224,25 @@ private:
         else if (a.what == "morph") post(ViewOp::morph, a.value);
         else if (a.what == "view") set_view_checked(a.value);
         else if (a.what == "release") post(ViewOp::release);
+        else if (a.what == "resize") resize(a.value);
         else if (a.what == "iterations" || a.what == "substeps") {
             (a.what == "iterations" ? solver_settings_.iterations : solver_settings_.substeps) = uint32_t(std::stoul(a.value));
             post(ViewOp::solver);
+        }
+    }
+
+    /// Sets the window's size (a script's resize; the swapchain and the pictures follow).
+    void resize(const std::string& size) {
+        uint32_t w = 0, h = 0;
+        if (!parse_resolution(size, &w, &h)) return;  // checked when the script was read
+        glfwSetWindowSize(window_.handle(), int(w), int(h));
+        // Wait until the window system has applied it, so that this frame already uses it.
+        for (int i = 0; i < 100; ++i) {
+            int fw = 0, fh = 0;
+            glfwPollEvents();
+            glfwGetFramebufferSize(window_.handle(), &fw, &fh);
+            if (uint32_t(fw) == w && uint32_t(fh) == h) break;
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
         }
     }
 

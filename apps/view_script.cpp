@@ -6,6 +6,7 @@
 #include <iterator>
 #include <string_view>
 
+#include "apps/render_options.h"
 #include "sim/json_fields.h"
 
 namespace aquaform::cli {
@@ -15,8 +16,8 @@ namespace {
 using namespace json_fields;
 
 constexpr std::array<std::string_view, 4> kActionKeys{"frame", "do", "value", "file"};
-constexpr std::array<std::string_view, 13> kActions{"play", "pause", "step", "reset", "method", "iterations", "substeps",
-                                                    "screenshot", "attach", "union", "morph", "release", "view"};
+constexpr std::array<std::string_view, 14> kActions{"play", "pause", "step", "reset", "method", "iterations", "substeps",
+                                                    "screenshot", "attach", "union", "morph", "release", "view", "resize"};
 
 }  // namespace
 
@@ -44,12 +45,12 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
             if (!known)
                 fail(child(where, "do") + " is \"" + action.what +
                      "\"; use play, pause, step, reset, method, view, iterations, substeps, screenshot, attach, union, "
-                     "morph, release or quit");
+                     "morph, release, resize or quit");
             const bool takes_file = action.what == "screenshot" || action.what == "attach" || action.what == "union" ||
                                     action.what == "morph";
             const char* key = takes_file ? "file" : "value";
             const bool needs = takes_file || action.what == "method" || action.what == "view" || action.what == "iterations" ||
-                               action.what == "substeps";
+                               action.what == "substeps" || action.what == "resize";
             if (needs) {
                 require(a, key, "in " + where, takes_file ? "\"file\": \"shot.png\"" : "\"value\": ...");
                 if (action.what == "iterations" || action.what == "substeps")
@@ -58,6 +59,9 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
                     action.value = a[key].get<std::string>();
                 else
                     fail(child(where, key) + " must be a string, got " + written(a[key]));
+                uint32_t w = 0, h = 0;
+                if (action.what == "resize" && !parse_resolution(action.value, &w, &h))
+                    fail(child(where, key) + " must be a window size such as \"640x480\", got \"" + action.value + "\"");
             }
             actions.push_back(action);
         }

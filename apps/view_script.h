@@ -10,7 +10,8 @@
 // screenshot (the last frame drawn, before this frame's actions, as PNG; relative paths go to
 // --record DIR or the working directory), attach (an OBJ "file", relative to the script, becomes
 // the shape the fluid fills), union (adds a mesh to the shapes), morph (the shapes hand over to a
-// mesh in one second), release (the shapes let go), quit. Frames count from 0 at the first
+// mesh in one second), release (the shapes let go), resize (the window to "value": "640x480"),
+// quit. Frames count from 0 at the first
 // frame drawn; actions of one frame run in the order written.
 #pragma once
 

@@ -204,6 +204,14 @@ bool ViewWindow::should_close() const { return glfwWindowShouldClose(window_); }
 VkCommandBuffer ViewWindow::begin_frame() {
     VkDevice d = ctx_->device();
     VK_CHECK(vkWaitForFences(d, 1, &fence_, VK_TRUE, UINT64_MAX));
+    // Not every driver reports a resized window as out of date (the software device's X11
+    // presentation keeps presenting the old size): compare with the window itself.
+    int fb_w = 0, fb_h = 0;
+    glfwGetFramebufferSize(window_, &fb_w, &fb_h);
+    if (swapchain_ && (uint32_t(fb_w) != extent_.width || uint32_t(fb_h) != extent_.height)) {
+        ctx_->wait_queue_idle();
+        destroy_swapchain();
+    }
     for (int attempt = 0; attempt < 2; ++attempt) {
         if (!swapchain_) {
             ctx_->wait_queue_idle();

@@ -344,25 +344,31 @@ void ViewWorker::loop() {
         std::deque<ViewCommand> commands;
         std::optional<PushStroke> stroke;
         uint64_t serving = 0;
+        bool idle = false;  // woken only to look for edited shaders
         {
             std::unique_lock<std::mutex> lock(mutex_);
             // Sleep while paused with nothing new (waking now and then to look for edited shaders).
             auto has_work = [&] {
-                return stop_ || requested_ > completed_ || !commands_.empty() || stroke_ ||
-                       (controls_.playing && !sim_->halted) || sim_->drawn != controls_;
+                if (stop_ || requested_ > completed_) return true;
+                return !lockstep_ && (!commands_.empty() || stroke_ || (controls_.playing && !sim_->halted) ||
+                                      sim_->drawn != controls_);
             };
             if (!has_work()) wake_.wait_for(lock, kIdleWait, has_work);
             if (stop_) return;
+            idle = !has_work();
             if (!controls_.playing) sim_->halted = false;  // the window saw the blow-up and paused
-            controls = controls_;
-            commands.swap(commands_);
-            stroke = std::exchange(stroke_, std::nullopt);
-            serving = requested_;
+            if (!idle) {
+                controls = controls_;
+                commands.swap(commands_);
+                stroke = std::exchange(stroke_, std::nullopt);
+                serving = requested_;
+            }
         }
         bool made = false;
         std::string fatal;
         try {
-            made = frame(controls, std::move(commands), stroke, serving > 0 && serving > completed_);
+            if (!idle) made = frame(controls, std::move(commands), stroke, serving > 0 && serving > completed_);
+            else if (sim_->reload_shaders()) sim_->drawn.reset();  // drawn again when next asked
         } catch (const gpu::Cancelled&) {
             return;  // the viewer is closing: the frame's state no longer matters
         } catch (const std::exception& e) {

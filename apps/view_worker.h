@@ -123,6 +123,9 @@ public:
     ViewWorker& operator=(const ViewWorker&) = delete;
 
     void start();
+    /// Lockstep (scripts, recordings): the worker makes a frame only when one is requested, so
+    /// that the simulation advances exactly one frame per window frame while playing.
+    void set_lockstep(bool on) { lockstep_ = on; }
 
     void set_controls(const ViewControls& controls);
     void add_stroke(const PushStroke& stroke);
@@ -159,7 +162,8 @@ private:
     std::deque<ViewCommand> commands_;
     std::optional<PushStroke> stroke_;
     uint64_t requested_ = 0, completed_ = 0;
-    std::atomic<bool> stop_{false};  // also ends a frame early, at its next queue yield
+    std::atomic<bool> stop_{false};
+    bool lockstep_ = false;  // also ends a frame early, at its next queue yield
     ViewReport report_;
     PictureSlots slots_;
     struct Slot {

@@ -155,6 +155,26 @@ TEST(ViewCliTest, PictureScaleMakesTheFluidsPictureSmallerThanTheWindow) {
     fs::remove_all(out);
 }
 
+TEST(ViewCliTest, ResizingTheWindowResizesTheFluidsPicture) {
+    // Smaller, then larger than the first picture: the swapchain is rebuilt, the renderers are
+    // made again at the new size and the picture buffers grow, with no validation error.
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
+    const fs::path out = test_cli::temp_dir("view_resize");
+    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --size 320x240 --script " AQUAFORM_SOURCE_DIR
+                                                "/tests/data/view_resize.json --record " + out.string());
+    ASSERT_EQ(status, 0) << output;
+    const std::pair<const char*, std::pair<uint32_t, uint32_t>> shots[] = {{"smaller.png", {240, 180}}, {"larger.png", {400, 300}}};
+    for (const auto& [name, size] : shots) {
+        auto image = read_png(out / name);
+        ASSERT_TRUE(image.ok()) << image.error() << "\n" << output;
+        EXPECT_EQ(image.value().width, size.first) << name;
+        EXPECT_EQ(image.value().height, size.second) << name;
+        EXPECT_GT(fluid_share(image.value()), 0.02) << name << " shows no fluid";
+    }
+    EXPECT_EQ(output.find("validation error"), std::string::npos) << output;
+    fs::remove_all(out);
+}
+
 TEST(ViewPictureSlotsTest, TheWorkerNeverDrawsIntoThePictureShownAndTheWindowGetsTheNewest) {
     cli::PictureSlots slots;
     EXPECT_EQ(slots.take(), -1) << "nothing to show before the first picture";
