@@ -28,7 +28,7 @@ const char* kUsage =
     "        reference.png, depth_error.png and render.json (timings, metrics against the reference)\n"
     "  control place MESH.obj [--method vertices|inside|raster] [--spacing S] [--out DIR] [--no-png]\n"
     "        check a mesh and place control points; writes points.ply, points.png and report.txt\n"
-    "  view SCENE.json [--size WxH] [--scale S] [--play] [--script FILE] [--record DIR] [--frames N] [--shaders DIR]\n"
+    "  view SCENE.json [--size WxH] [--scale S] [--play] [--script FILE [--async]] [--record DIR] [--frames N] [--shaders DIR]\n"
     "                  [--device ...] [render flags]   (or view --particles N: a generated dam break)\n"
     "        interactive viewer: play/pause/step/reset, method switch, solver settings, GPU time per pass;\n"
     "        left drag pushes the fluid, right orbits, middle pans, wheel zooms; drop an OBJ to shape the fluid;\n"

@@ -216,7 +216,10 @@ private:
         else if (a.what == "pause") playing_ = false;
         else if (a.what == "step") post(ViewOp::step);
         else if (a.what == "reset") post(ViewOp::reset);
-        else if (a.what == "quit") quit_ = true;
+        else if (a.what == "quit") {
+            worker_->wait(worker_->request_frame());  // a script's actions all take effect first
+            quit_ = true;
+        }
         else if (a.what == "screenshot") screenshot(fs::path(a.value).is_absolute() ? fs::path(a.value) : screenshot_dir_ / a.value);
         else if (a.what == "method") set_method_checked(a.value);
         else if (a.what == "attach") post(ViewOp::attach, a.value);
@@ -480,7 +483,7 @@ private:
 int cmd_view(const std::vector<std::string>& argv) {
     std::string error;
     const FlagSpec spec =
-        with_render_flags({{"--device", "--script", "--record", "--size", "--frames", "--shaders", "--particles", "--scale"}, {"--validation", "--play"}});
+        with_render_flags({{"--device", "--script", "--record", "--size", "--frames", "--shaders", "--particles", "--scale"}, {"--validation", "--play", "--async"}});
     auto args = parse_args(argv, spec, "view", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     const bool generated = args->has("--particles");
@@ -572,7 +575,8 @@ int cmd_view(const std::vector<std::string>& argv) {
             shaders.clear();
         }
         const std::string method = settings->method == SurfaceMethod::uniform ? "uniform" : "adaptive";
-        const bool lockstep = args->has("--script") || !record_dir.empty();
+        // --async keeps a script's window free of the worker (a stress test of the threads).
+        const bool lockstep = (args->has("--script") || !record_dir.empty()) && !args->has("--async");
         Viewer viewer(ctx, win, scene, std::move(control), *settings, method, shaders, lockstep);
         viewer.set_screenshot_dir(record_dir.empty() ? fs::path(".") : record_dir);
         viewer.set_picture_scale(picture_scale);

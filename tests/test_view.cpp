@@ -175,6 +175,28 @@ TEST(ViewCliTest, ResizingTheWindowResizesTheFluidsPicture) {
     fs::remove_all(out);
 }
 
+TEST(ViewCliTest, AnUnsteppedScriptSwitchesShapesMethodsAndSizeWhileTheWorkerRuns) {
+    // --async: the script's actions land while the worker is in the middle of its frames (method
+    // switches, a shape, a resize, a debug view, release, reset, a solver change), checking the
+    // threads' hand-over under validation rather than pictures.
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
+    const fs::path out = test_cli::temp_dir("view_async");
+    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --size 320x240 --async --script " AQUAFORM_SOURCE_DIR
+                                                "/tests/data/view_async.json --record " + out.string());
+    ASSERT_EQ(status, 0) << output;
+    EXPECT_NE(output.find("attached sphere.obj"), std::string::npos) << output;
+    EXPECT_NE(output.find("released the control shape"), std::string::npos) << output;
+    EXPECT_NE(output.find("31 window frames"), std::string::npos) << output;
+    EXPECT_EQ(output.find("validation error"), std::string::npos) << output;
+    // Recording takes the picture shown while the worker draws the next one.
+    for (const char* name : {"frame_0000.png", "frame_0030.png"}) {
+        auto image = read_png(out / name);
+        ASSERT_TRUE(image.ok()) << image.error() << "\n" << output;
+        EXPECT_GT(fluid_share(image.value()), 0.02) << name;
+    }
+    fs::remove_all(out);
+}
+
 TEST(ViewPictureSlotsTest, TheWorkerNeverDrawsIntoThePictureShownAndTheWindowGetsTheNewest) {
     cli::PictureSlots slots;
     EXPECT_EQ(slots.take(), -1) << "nothing to show before the first picture";
