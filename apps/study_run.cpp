@@ -27,7 +27,7 @@ namespace fs = std::filesystem;
 
 /// The metaball reference: steps of 1/4 particle radius (4x finer than the default, so it misses
 /// no feature the methods find; lone balls are 2 radii across at size 1) and 16 bisections on
-/// exact lists. Finer steps cost 4x more for nothing the depth error can see: a step only
+/// exact lists (the particles at the eye plane kept: MetaballSettings::keep_near). Finer steps cost 4x more for nothing the depth error can see: a step only
 /// decides which sign change is found first, the bisections place it.
 constexpr float kMetaballReferenceStepRadii = 0.25f;
 constexpr uint32_t kMetaballReferenceBisections = 16;
@@ -86,7 +86,6 @@ public:
         sph_reference_.reset();
         metaball_references_.clear();
         metaball_reference_cut_.clear();
-        metaball_reference_dropped_.clear();
         surface_.clear();
         metaball_.reset();
         roomy_metaball_.reset();
@@ -214,6 +213,7 @@ private:
         s.step_radii = kMetaballReferenceStepRadii;
         s.bisection_steps = kMetaballReferenceBisections;
         s.max_steps = 1000000;
+        s.keep_near = true;  // exact in close-ups too: particles at the eye plane are visited from the near list
         MetaballRenderer* roomy = &metaball(uint64_t(width_) * height_ * kDefaultListBytesPerPixel);
         SurfaceFrame frame = roomy->render(solver_->positions(), particles(), camera_, s);
         const MetaballStats stats = roomy->stats();
@@ -227,7 +227,6 @@ private:
         }
         const MetaballStats final_stats = roomy->stats();
         if (final_stats.cut_pixels) metaball_reference_cut_[size] = final_stats.cut_pixels;
-        if (final_stats.dropped_particles) metaball_reference_dropped_[size] = final_stats.dropped_particles;
         return &metaball_references_.emplace(size, std::move(frame)).first->second;
     }
 
@@ -289,12 +288,9 @@ private:
             row.status = "cut: " + std::to_string(stats.cut_pixels) + " pixels stopped by the device's loop limit";
         else if (reference && metaball_reference_cut_.count(m.size))
             row.status = "reference cut: " + std::to_string(metaball_reference_cut_[m.size]) + " pixels";
-        // A close-up: the lists (and the list-based reference) leave out the particles at the eye.
+        // A close-up: the lists leave out the particles at the eye (the reference keeps them).
         else if (stats.dropped_particles)
             row.status = "dropped: " + std::to_string(stats.dropped_particles) + " particles at the eye plane are in no list";
-        else if (reference && metaball_reference_dropped_.count(m.size))
-            row.status = "reference dropped " + std::to_string(metaball_reference_dropped_[m.size]) +
-                         " particles at the eye plane (brute force keeps them)";
         // The primary hit is the same for both visuals; only the gradient image is comparable.
         SurfaceFrame frame = r.read_frame();
         if (reference) compare(row, *reference, frame, particle_radius(), s.visual == MetaballVisual::gradient);
@@ -314,7 +310,6 @@ private:
     StudyRow sph_reference_ms_;
     std::map<float, SurfaceFrame> metaball_references_;
     std::map<float, uint64_t> metaball_reference_cut_;  // pixels of a reference the device cut short
-    std::map<float, uint64_t> metaball_reference_dropped_;  // particles a close-up reference left out
     std::map<uint64_t, std::unique_ptr<SurfaceRenderer>> surface_;
     std::unique_ptr<MetaballRenderer> metaball_, roomy_metaball_;
     std::unique_ptr<ScreenSpaceRenderer> screen_space_;

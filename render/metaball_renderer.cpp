@@ -101,9 +101,11 @@ std::string MetaballStats::describe() const {
         text << "; " << cut_pixels << " pixels CUT SHORT by the device's loop limit (the software device ends a shader "
              << "invocation after 65535 loop iterations): their surface may be missing and the time is a lower bound; "
              << "use fewer particles per ray (lists, smaller metaballs) or a hardware GPU";
-    if (dropped_particles)
+    if (dropped_particles && near_kept)
+        text << "; " << dropped_particles << " particles reach the eye plane and were visited from the near list";
+    else if (dropped_particles)
         text << "; " << dropped_particles << " particles reach the eye plane and are in no list (no finite billboard): "
-             << "the surface near the eye is missing; move the camera back or use brute force";
+             << "the surface near the eye is missing; move the camera back, keep them (keep_near) or use brute force";
     return text.str();
 }
 
@@ -132,11 +134,12 @@ MetaballRenderer::MetaballRenderer(gpu::Context& ctx, const Scene& scene, uint32
     normal_ = &buffers_.add("metaball.normal", pixels * 16);
     color_ = &buffers_.add("metaball.color", pixels * 4);
     visits_ = &buffers_.add("metaball.visits", pixels * 4);
+    near_ = &buffers_.add("metaball.near", uint64_t(max_particles_) * 4);
     scan_ = gpu::PrefixSum(ctx, buffers_, uint32_t(pixels + 1), "metaball");
 
     bounds_ = gpu::ComputePass(ctx, {"render/metaball_bounds.comp", 3, 0, METABALL_WORKGROUP});
-    lists_ = gpu::ComputePass(ctx, {"render/metaball_lists.comp", 9, sizeof(MetaballPush), METABALL_WORKGROUP});
-    march_ = gpu::ComputePass(ctx, {"render/metaball_march.comp", 12, 0, METABALL_WORKGROUP});
+    lists_ = gpu::ComputePass(ctx, {"render/metaball_lists.comp", 10, sizeof(MetaballPush), METABALL_WORKGROUP});
+    march_ = gpu::ComputePass(ctx, {"render/metaball_march.comp", 13, 0, METABALL_WORKGROUP});
 }
 
 MetaballRenderer::~MetaballRenderer() = default;
@@ -177,12 +180,14 @@ void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions,
     p.visual = settings.visual == MetaballVisual::gradient ? METABALL_GRADIENT : METABALL_REAL;
     p.recursion_depth = settings.recursion_depth;
     p.list_capacity = uint32_t(list_capacity(settings.method));
+    p.flags = settings.keep_near ? METABALL_KEEP_NEAR : 0u;
+    keep_near_ = settings.keep_near;
     std::memcpy(params_buf_->mapped, &p, sizeof(p));
 
     const uint32_t pixels = width_ * height_;
     const uint32_t particles = std::max(count, 1u);
     const std::initializer_list<const gpu::Buffer*> list_buffers{
-        params_buf_, &positions, counters_, heads_, entries_, offsets_, cursors_, entries_, span_};
+        params_buf_, &positions, counters_, heads_, entries_, offsets_, cursors_, entries_, span_, near_};
     {
         gpu::GpuScope scope(timer, cmd, "metaball_bounds");
         MetaballCounters init{};
@@ -212,7 +217,7 @@ void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions,
         gpu::GpuScope scope(timer, cmd, "metaball_march");
         gpu::dispatch(*ctx_, cmd, march_, pixels,
                       {params_buf_, &positions, counters_, heads_, entries_, offsets_, entries_, span_, hit_, normal_,
-                       color_, visits_});
+                       color_, visits_, near_});
     }
     method_ = settings.method;
 }
@@ -231,7 +236,10 @@ MetaballStats MetaballRenderer::stats() {
     const size_t pixels = size_t(width_) * height_;
     MetaballStats s;
     const MetaballCounters counters = gpu::download_vector<MetaballCounters>(*ctx_, *counters_, 1)[0];
-    if (method_ != MetaballMethod::brute_force) s.dropped_particles = counters.dropped;
+    if (method_ != MetaballMethod::brute_force) {
+        s.dropped_particles = counters.dropped;
+        s.near_kept = keep_near_;
+    }
     if (method_ == MetaballMethod::a_buffer) {
         s.list_entries = counters.entries;
     } else if (method_ == MetaballMethod::s_buffer) {

@@ -52,6 +52,10 @@ struct MetaballSettings {
     uint32_t max_steps = 512;     ///< field evaluations per ray segment before it gives up
     uint32_t bisection_steps = 3; ///< the paper's Table 1 uses 2 and 3
     uint32_t recursion_depth = 1; ///< surface interactions of the "real" visual, 1..4
+    /// Keep the particles whose range reaches the eye plane (no finite billboard, so in no list)
+    /// in a near list every ray visits: the lists' field is then exact in close-ups too. Not the
+    /// paper's method (it drops them); the study's reference turns it on.
+    bool keep_near = false;
 };
 
 /// Checks ranges; the message names the setting, its value and the range.
@@ -78,8 +82,9 @@ struct MetaballStats {
     /// 65535 loop iterations in all): their surface may be missing and the time is a lower bound.
     uint64_t cut_pixels = 0;
     /// Particles whose range reaches the eye plane: they have no billboard and are in no list
-    /// (brute force sees them), so a close-up's lists are no longer exact.
+    /// (brute force sees them), so a close-up's lists are no longer exact, unless kept.
     uint64_t dropped_particles = 0;
+    bool near_kept = false;  ///< MetaballSettings::keep_near: they were visited from the near list
     std::string describe() const;    ///< one line; on overflow or cut pixels, what it means and the fix
 };
 
@@ -127,11 +132,12 @@ private:
     uint32_t width_, height_, max_particles_;
     uint64_t list_bytes_;
     MetaballMethod method_ = MetaballMethod::brute_force;  // of the last frame recorded
+    bool keep_near_ = false;                               // likewise
     shader::MetaballParams params_{};
     gpu::BufferSet buffers_;
     gpu::PrefixSum scan_;
     gpu::Buffer *params_buf_, *counters_, *heads_, *entries_, *offsets_, *cursors_, *span_;
-    gpu::Buffer *hit_, *normal_, *color_, *visits_;
+    gpu::Buffer *hit_, *normal_, *color_, *visits_, *near_;
     gpu::ComputePass bounds_, lists_, march_;
 };
 

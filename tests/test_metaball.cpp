@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "render/metaball_renderer.h"
+#include "render/image_metrics.h"
 #include "render/surface_settings.h"
 #include "tests/gpu_test.h"
 
@@ -245,6 +246,25 @@ TEST_F(MetaballTest, ParticlesAtTheEyePlaneAreCountedAsDroppedFromTheLists) {
             EXPECT_NE(stats.describe().find("reach the eye plane"), std::string::npos) << stats.describe();
         renderer.render(particles.buffer, particles.count, front_camera(), settings);
         EXPECT_EQ(renderer.stats().dropped_particles, 0u) << method_name(method) << " from afar";
+    }
+    // Kept in the near list, the lists' surface is brute force's again; dropped, it is not.
+    MetaballSettings brute;
+    brute.method = MetaballMethod::brute_force;
+    const SurfaceFrame truth = renderer.render(particles.buffer, particles.count, close, brute);
+    const float radius = 0.5f * kSpacing;
+    for (MetaballMethod method : {MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
+        MetaballSettings settings;
+        settings.method = method;
+        const SurfaceComparison dropped =
+            compare_surfaces(truth, renderer.render(particles.buffer, particles.count, close, settings), radius);
+        settings.keep_near = true;
+        const SurfaceFrame kept_frame = renderer.render(particles.buffer, particles.count, close, settings);
+        EXPECT_TRUE(renderer.stats().near_kept);
+        EXPECT_NE(renderer.stats().describe().find("near list"), std::string::npos) << renderer.stats().describe();
+        const SurfaceComparison kept = compare_surfaces(truth, kept_frame, radius);
+        EXPECT_GT(dropped.coverage_mismatch + dropped.depth_err_mean, 0.01) << method_name(method) << ": dropping changed nothing";
+        EXPECT_LT(kept.coverage_mismatch, 1e-3) << method_name(method);
+        EXPECT_LT(kept.depth_err_mean, 1e-3) << method_name(method);
     }
 }
 

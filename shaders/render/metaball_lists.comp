@@ -23,6 +23,7 @@ layout(std430, binding = 5) buffer Offsets { uint offsets[]; };
 layout(std430, binding = 6) buffer Cursors { uint cursors[]; };
 layout(std430, binding = 7) writeonly buffer Ids { uint ids[]; };
 layout(std430, binding = 8) buffer Span { uvec2 span[]; };
+layout(std430, binding = 9) writeonly buffer Near { uint near_ids[]; };
 layout(push_constant) uniform Push { MetaballPush pc; };
 
 #include "common/camera.glsl"
@@ -36,8 +37,10 @@ void main() {
     if (!sphere_screen_rect(center, params.radius, lo, hi)) {
         // No finite billboard: counted once per frame (the fill pass repeats the count's walk).
         float z = dot(rel, params.forward.xyz);
-        if (pc.mode != METABALL_LIST_S_FILL && z - params.radius <= 1.0e-4 * params.radius && z + params.radius > 0.0)
-            atomicAdd(counters.dropped, 1u);
+        if (pc.mode != METABALL_LIST_S_FILL && z - params.radius <= 1.0e-4 * params.radius && z + params.radius > 0.0) {
+            uint k = atomicAdd(counters.dropped, 1u);  // at most one slot per particle
+            if ((params.flags & METABALL_KEEP_NEAR) != 0u) near_ids[k] = id;
+        }
         return;
     }
     float rel2 = dot(rel, rel);

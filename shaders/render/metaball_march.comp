@@ -32,6 +32,7 @@ layout(std430, binding = 8) writeonly buffer Hit { vec4 hit[]; };
 layout(std430, binding = 9) writeonly buffer Normal { vec4 normal[]; };
 layout(std430, binding = 10) writeonly buffer Color { uint color[]; };
 layout(std430, binding = 11) writeonly buffer Visits { uint visits[]; };
+layout(std430, binding = 12) readonly buffer Near { uint near_ids[]; };
 
 #include "common/camera.glsl"
 #include "common/environment.glsl"
@@ -55,6 +56,8 @@ Cursor open_list(uint pixel) {
     if (params.method == METABALL_A_BUFFER) return Cursor(heads[pixel], 0u);
     return Cursor(offsets[pixel], min(offsets[pixel + 1u], params.list_capacity));
 }
+
+bool keep_near() { return params.method != METABALL_BRUTE_FORCE && (params.flags & METABALL_KEEP_NEAR) != 0u; }
 
 bool list_done(Cursor c) { return params.method == METABALL_A_BUFFER ? c.at == METABALL_NIL : c.at >= c.end; }
 
@@ -111,6 +114,13 @@ vec4 sum_field(vec3 p, uint pixel, bool gradient) {
             visited += LIST_UNROLL;
         }
         for (; c.at < c.end; ++c.at, ++visited) VISIT(sbuffer ? ids[c.at] : c.at)
+    }
+    // The particles at the eye plane, in no pixel's list (METABALL_KEEP_NEAR only).
+    if (keep_near()) {
+        uint k = 0u;
+        for (; k < counters.dropped; ++k) VISIT(near_ids[k])
+        visited += k;
+        if (k < counters.dropped) g_cut = true;
     }
 #undef VISIT
     g_visits += visited;
@@ -179,7 +189,19 @@ vec2 box_span_of(vec3 o, vec3 d) {
 vec2 primary_span(uint pixel, vec3 dir) {
     if (params.method == METABALL_BRUTE_FORCE) return box_span_of(params.eye.xyz, dir);
     uvec2 s = span[pixel];
-    return s.y == 0u ? vec2(1.0, 0.0) : vec2(uintBitsToFloat(~s.x), uintBitsToFloat(s.y));
+    vec2 t = s.y == 0u ? vec2(1.0e30, 0.0) : vec2(uintBitsToFloat(~s.x), uintBitsToFloat(s.y));
+    if (keep_near()) {
+        // The near particles' spheres along this ray widen the span (as the list pass does).
+        for (uint k = 0u; k < counters.dropped; ++k) {
+            vec3 rel = positions[near_ids[k]].xyz - params.eye.xyz;
+            float b = dot(dir, rel);
+            float disc = b * b - (dot(rel, rel) - params.radius * params.radius);
+            if (disc <= 0.0) continue;
+            float root = sqrt(disc);
+            t = vec2(min(t.x, max(b - root, 0.0)), max(t.y, b + root));
+        }
+    }
+    return t.y > 0.0 ? t : vec2(1.0, 0.0);
 }
 
 // ---- shading --------------------------------------------------------------------------------

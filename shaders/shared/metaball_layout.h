@@ -14,7 +14,9 @@
 // particle, the disc a billboard shader with discard would keep. A pixel's list therefore holds
 // exactly the particles whose field is non-zero somewhere on the pixel's primary ray, and the
 // field a list gives on that ray is the brute-force field. A particle whose range reaches the eye
-// plane has no finite billboard and is left out of every list (close-ups show the cost).
+// plane has no finite billboard and is left out of every list (close-ups show the cost). It is
+// counted; with METABALL_KEEP_NEAR (the study's exact reference) its id also goes to a short
+// "near" list that every ray visits besides its own list, so the lists' field is exact again.
 #ifndef AQUAFORM_METABALL_LAYOUT_H
 #define AQUAFORM_METABALL_LAYOUT_H
 #include "compat.h"
@@ -27,6 +29,9 @@
 // MetaballParams.visual
 #define METABALL_GRADIENT 0u  // the surface coloured by its normal (the paper's "Grad")
 #define METABALL_REAL 1u      // recursive reflection and refraction (the paper's "Real")
+
+// MetaballParams.flags
+#define METABALL_KEEP_NEAR 1u  // keep the particles at the eye plane in the near list
 
 #define METABALL_MAX_DEPTH 4u  // recursion depth limit of the "Real" visual
 #define METABALL_NIL 0xffffffffu  // end of an A-buffer list
@@ -65,6 +70,8 @@ struct MetaballParams {
     uint visual;           ///< METABALL_GRADIENT or METABALL_REAL
     uint recursion_depth;  ///< 1..METABALL_MAX_DEPTH: surface interactions a "Real" path may have
     uint list_capacity;    ///< entries the A-buffer nodes / S-buffer ids can hold
+    uint flags;            ///< METABALL_KEEP_NEAR
+    uint pad0, pad1, pad2;
 };
 
 struct MetaballPush {
@@ -104,7 +111,7 @@ AF_FN uint float_order_bits(uint key) { return (key & 0x80000000u) != 0u ? key &
 AF_END
 
 #ifdef __cplusplus
-static_assert(sizeof(aquaform::shader::MetaballParams) == 9 * 16 + 12 * 4);
+static_assert(sizeof(aquaform::shader::MetaballParams) == 9 * 16 + 16 * 4);
 static_assert(sizeof(aquaform::shader::MetaballPush) == 16);
 static_assert(sizeof(aquaform::shader::MetaballCounters) == 32);
 #endif
