@@ -3,6 +3,8 @@
 // reference on a dam-break frame, and the adaptive one spends fewer density evaluations.
 #include <gtest/gtest.h>
 
+#include <memory>
+
 #include <algorithm>
 #include <filesystem>
 #include <string>
@@ -260,36 +262,51 @@ TEST_F(SurfaceTest, FlatSlabHasFlatNormalsAndAnAggregateTopLayer) {
 namespace aquaform {
 namespace {
 
-/// The dam break of assets/scenes, advanced to a frame with a moving front and splashes.
-class DamBreakFrameTest : public SurfaceTest {};
+/// The dam break of assets/scenes, advanced to a frame with a moving front and splashes, and a
+/// renderer and camera for it at 160 x 120.
+class DamBreakFrameTest : public SurfaceTest {
+protected:
+    void SetUp() override {
+        SurfaceTest::SetUp();
+        auto loaded = load_scene(std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json");
+        ASSERT_TRUE(loaded) << loaded.error();
+        scene = loaded.value();
+        solver = std::make_unique<PbfSolver>(ctx(), scene);
+        for (int frame = 0; frame < 30; ++frame) solver->run_frame(nullptr);
+        renderer = std::make_unique<SurfaceRenderer>(ctx(), scene, w, h, solver->particle_count());
+        camera = camera_for_domain(scene.domain, float(w) / h);
+    }
+    /// The frame with `settings`.
+    SurfaceFrame render(const SurfaceSettings& settings) {
+        return renderer->render(solver->positions(), solver->particle_count(), camera, settings);
+    }
+
+    static constexpr uint32_t w = 160, h = 120;
+    Scene scene;
+    std::unique_ptr<PbfSolver> solver;
+    std::unique_ptr<SurfaceRenderer> renderer;
+    ViewCamera camera;
+};
 
 TEST_F(DamBreakFrameTest, UniformAndAdaptiveAgreeWithTheReferenceAndAdaptiveEvaluatesLess) {
-    auto loaded = load_scene(std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json");
-    ASSERT_TRUE(loaded) << loaded.error();
-    const Scene& scene = loaded.value();
-    PbfSolver solver(ctx(), scene);
-    for (int frame = 0; frame < 30; ++frame) solver.run_frame(nullptr);
-    const uint32_t w = 160, h = 120;
-    SurfaceRenderer renderer(ctx(), scene, w, h, solver.particle_count());
-    const ViewCamera camera = camera_for_domain(scene.domain, float(w) / h);
     SurfaceSettings settings;
     settings.method = SurfaceMethod::reference;
-    const SurfaceFrame reference = renderer.render(solver.positions(), solver.particle_count(), camera, settings);
-    const float radius = renderer.params().particle_radius;
+    const SurfaceFrame reference = render(settings);
+    const float radius = renderer->params().particle_radius;
     auto total_evals = [](const SurfaceFrame& f) {
         double sum = 0.0;
         for (const auto& n : f.normal) sum += n.w;
         return sum;
     };
     settings.method = SurfaceMethod::uniform;
-    const SurfaceFrame uniform_frame = renderer.render(solver.positions(), solver.particle_count(), camera, settings);
+    const SurfaceFrame uniform_frame = render(settings);
     const SurfaceComparison uniform = compare_surfaces(reference, uniform_frame, radius);
     settings.method = SurfaceMethod::adaptive;
-    const SurfaceFrame adaptive_frame = renderer.render(solver.positions(), solver.particle_count(), camera, settings);
+    const SurfaceFrame adaptive_frame = render(settings);
     const SurfaceComparison adaptive = compare_surfaces(reference, adaptive_frame, radius);
     settings.adaptive_resolution = false;
     const SurfaceComparison stepping =
-        compare_surfaces(reference, renderer.render(solver.positions(), solver.particle_count(), camera, settings), radius);
+        compare_surfaces(reference, render(settings), radius);
     for (const auto* c : {&uniform, &adaptive, &stepping}) {
         const char* name = c == &uniform ? "uniform" : c == &adaptive ? "adaptive" : "adaptive at full resolution";
         EXPECT_GT(c->both_hit, 1000u) << name;
@@ -310,22 +327,14 @@ TEST_F(DamBreakFrameTest, UniformAndAdaptiveAgreeWithTheReferenceAndAdaptiveEval
 TEST_F(DamBreakFrameTest, PassesSplitForTheViewersWindowDrawTheSameFrame) {
     // With the queue yielded between passes (the viewer's worker), the splat and the first march
     // run in slices with submissions in between; the frame must not change.
-    auto loaded = load_scene(std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json");
-    ASSERT_TRUE(loaded) << loaded.error();
-    const Scene& scene = loaded.value();
-    PbfSolver solver(ctx(), scene);
-    for (int frame = 0; frame < 30; ++frame) solver.run_frame(nullptr);
-    const uint32_t w = 160, h = 120;
-    SurfaceRenderer renderer(ctx(), scene, w, h, solver.particle_count());
-    const ViewCamera camera = camera_for_domain(scene.domain, float(w) / h);
     for (SurfaceMethod method : {SurfaceMethod::adaptive, SurfaceMethod::uniform}) {
         SurfaceSettings settings;
         settings.method = method;
-        const SurfaceFrame whole = renderer.render(solver.positions(), solver.particle_count(), camera, settings);
+        const SurfaceFrame whole = render(settings);
         ctx().set_yielding(true);
-        const SurfaceFrame sliced = renderer.render(solver.positions(), solver.particle_count(), camera, settings);
+        const SurfaceFrame sliced = render(settings);
         ctx().set_yielding(false);
-        const SurfaceComparison c = compare_surfaces(whole, sliced, renderer.params().particle_radius);
+        const SurfaceComparison c = compare_surfaces(whole, sliced, renderer->params().particle_radius);
         const char* name = method == SurfaceMethod::adaptive ? "adaptive" : "uniform";
         EXPECT_GT(c.both_hit, 1000u) << name;
         EXPECT_EQ(c.coverage_mismatch, 0.0) << name << ": slices lost or added rays";

@@ -41,6 +41,20 @@ double mean_difference(const Image& a, const Image& b) {
     return sum / double(a.rgba.size());
 }
 
+/// Runs `args` of `aquaform view` under Xvfb; the exit status and everything printed.
+std::pair<int, std::string> run_view_under_xvfb(const std::string& args) {
+    const std::string cmd = std::string("AQUAFORM_VALIDATION=1 xvfb-run -a -s '-screen 0 640x480x24' ") + AQUAFORM_BINARY +
+                            " view " + args + " 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    if (!pipe) return {-1, "popen failed"};
+    std::string output;
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) output.append(buf, n);
+    const int status = pclose(pipe);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
 TEST(ViewCliTest, WithoutADisplayItSaysSoAndSuggestsRun) {
     auto o = test_cli::run_aquaform("view " AQUAFORM_ASSETS_DIR "/scenes/dam_break.json", "DISPLAY= WAYLAND_DISPLAY=");
     EXPECT_EQ(o.exit_code, 1) << o.output;
@@ -51,18 +65,9 @@ TEST(ViewCliTest, WithoutADisplayItSaysSoAndSuggestsRun) {
 TEST(ViewCliTest, ScriptedSessionUnderXvfbShowsFluidAndFollowsTheMethod) {
     ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
     const fs::path out = test_cli::temp_dir("view");
-    const std::string cmd = std::string("xvfb-run -a -s '-screen 0 640x480x24' ") + AQUAFORM_BINARY + " view " AQUAFORM_ASSETS_DIR
-                            "/scenes/dam_break.json --size 320x240 --script " AQUAFORM_SOURCE_DIR
-                            "/tests/data/view_session.json --record " + out.string() + " 2>&1";
-    // run_aquaform prefixes the binary; this command starts the X server first, so run it directly.
-    FILE* pipe = popen(("AQUAFORM_VALIDATION=1 " + cmd).c_str(), "r");
-    ASSERT_NE(pipe, nullptr);
-    std::string output;
-    char buf[4096];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) output.append(buf, n);
-    const int status = pclose(pipe);
-    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --size 320x240 --script " AQUAFORM_SOURCE_DIR
+                                                "/tests/data/view_session.json --record " + out.string());
+    ASSERT_EQ(status, 0) << output;
     Image shots[3];
     const char* names[3] = {"adaptive.png", "sbuffer.png", "narrow_range.png"};
     for (int i = 0; i < 3; ++i) {
@@ -89,20 +94,6 @@ TEST(ViewCliTest, ScriptedSessionUnderXvfbShowsFluidAndFollowsTheMethod) {
         EXPECT_TRUE(fs::exists(out / name)) << name;
     }
     fs::remove_all(out);
-}
-
-/// Runs `args` of `aquaform view` under Xvfb; the exit status and everything printed.
-std::pair<int, std::string> run_view_under_xvfb(const std::string& args) {
-    const std::string cmd = std::string("AQUAFORM_VALIDATION=1 xvfb-run -a -s '-screen 0 640x480x24' ") + AQUAFORM_BINARY +
-                            " view " + args + " 2>&1";
-    FILE* pipe = popen(cmd.c_str(), "r");
-    if (!pipe) return {-1, "popen failed"};
-    std::string output;
-    char buf[4096];
-    size_t n;
-    while ((n = fread(buf, 1, sizeof buf, pipe)) > 0) output.append(buf, n);
-    const int status = pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
 TEST(ViewCliTest, PlayingTheWindowDrawsMoreFramesThanTheFluidHasPictures) {
