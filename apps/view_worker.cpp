@@ -393,12 +393,9 @@ void ViewWorker::loop() {
         report_.solver = sim_->scene.solver;
         if (!sim_->driver) report_.shapes.reset();
         else if (made) report_.shapes = std::make_shared<const std::vector<control::Mesh>>(sim_->driver->active_meshes());
-        if (!fatal.empty()) {
-            report_.fatal = fatal;
-            done_.notify_all();
-            return;
-        }
+        report_.fatal = fatal;
         done_.notify_all();
+        if (!fatal.empty()) return;
     }
 }
 
@@ -436,12 +433,9 @@ bool ViewWorker::frame(const ViewControls& controls, std::deque<ViewCommand> com
     if (!debug) s.render_timer.clear_totals();
     gpu::submit_timed(ctx_, debug ? nullptr : &s.render_timer, [&](VkCommandBuffer cmd) {
         if (!source) source = &s.record_render(cmd, controls);
+        // The render's last pass ends in a compute barrier; a debug view's host writes are visible
+        // to the submission that follows them.
         gpu::compute_barrier(cmd);
-        VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT;
-        barrier.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
-                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
         const VkBufferCopy copy{0, 0, bytes};
         vkCmdCopyBuffer(cmd, source->buffer, slot.rgba.buffer, 1, &copy);
     });
