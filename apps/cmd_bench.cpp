@@ -15,7 +15,7 @@
 #include "apps/cli.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
-#include "sim/neighbor_grid.h"
+#include "grid/neighbor_grid.h"
 #include "sim/pbf_solver.h"
 
 namespace aquaform::cli {

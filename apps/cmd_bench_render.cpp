@@ -341,7 +341,7 @@ int bench_render(const Args& args) {
     if (!simulate_frames(solver, frame, "simulating to frame " + std::to_string(frame)))
         return exit_status(ctx, kExitFailure);
 
-    SurfaceRenderer renderer(ctx, scene, width, height, n);
+    SurfaceRenderer renderer(ctx, scene.particle_domain(), width, height, n);
     const ViewCamera camera = camera_for_domain(scene.domain, float(width) / float(height));
     const size_t total = configs->size() + 1;
 

@@ -71,7 +71,7 @@ int cmd_render(const std::vector<std::string>& argv) {
     if (!simulate_frames(solver, frame, "simulating to frame " + std::to_string(frame)))
         return exit_status(ctx, kExitFailure);
 
-    SurfaceRenderer renderer(ctx, scene, width, height, solver.particle_count());
+    SurfaceRenderer renderer(ctx, scene.particle_domain(), width, height, solver.particle_count());
     renderer.set_diagnostics(true);
     const ViewCamera camera = camera_for_domain(scene.domain, float(width) / float(height));
     RenderMeasurement m = measure_render(ctx, renderer, solver.positions(), solver.particle_count(), camera, *settings, 2);

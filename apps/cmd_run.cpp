@@ -112,7 +112,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     std::unique_ptr<SurfaceRenderer> surface;
     if (!args->has("--no-png")) {
         if (args->has("--preview")) view = std::make_unique<ImpostorView>(ctx, width, height);
-        else surface = std::make_unique<SurfaceRenderer>(ctx, scene, width, height, solver.particle_count());
+        else surface = std::make_unique<SurfaceRenderer>(ctx, scene.particle_domain(), width, height, solver.particle_count());
     }
     if (surface) {
         uint64_t bytes = 0;

@@ -149,7 +149,7 @@ private:
     SurfaceRenderer& surface(uint32_t w, uint32_t h) {
         const uint64_t key = (uint64_t(w) << 32) | h;
         auto& r = surface_[key];
-        if (!r) r = std::make_unique<SurfaceRenderer>(ctx_, scene_, w, h, particles());
+        if (!r) r = std::make_unique<SurfaceRenderer>(ctx_, scene_.particle_domain(), w, h, particles());
         return *r;
     }
 
@@ -193,11 +193,11 @@ private:
     MetaballRenderer& metaball(uint64_t list_bytes = 0) {
         if (list_bytes) {
             if (!roomy_metaball_ || roomy_metaball_->list_bytes() < list_bytes)
-                roomy_metaball_ = std::make_unique<MetaballRenderer>(ctx_, scene_, width_, height_, particles(), list_bytes);
+                roomy_metaball_ = std::make_unique<MetaballRenderer>(ctx_, scene_.particle_domain(), width_, height_, particles(), list_bytes);
             return *roomy_metaball_;
         }
         if (!metaball_)
-            metaball_ = std::make_unique<MetaballRenderer>(ctx_, scene_, width_, height_, particles(),
+            metaball_ = std::make_unique<MetaballRenderer>(ctx_, scene_.particle_domain(), width_, height_, particles(),
                                                            uint64_t(case_.list_bytes_per_pixel) * width_ * height_);
         return *metaball_;
     }
@@ -249,7 +249,7 @@ private:
             return frame.color;
         }
         if (m.family == StudyFamily::screen_space) {
-            if (!screen_space_) screen_space_ = std::make_unique<ScreenSpaceRenderer>(ctx_, scene_, width_, height_, particles());
+            if (!screen_space_) screen_space_ = std::make_unique<ScreenSpaceRenderer>(ctx_, scene_.particle_domain(), width_, height_, particles());
             ScreenSpaceSettings s;
             auto filter = parse_filter(m.method);
             if (!filter) throw std::invalid_argument(filter.error());

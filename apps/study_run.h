@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "apps/study_spec.h"
-#include "sim/result.h"
+#include "core/result.h"
 
 namespace aquaform {
 namespace gpu {

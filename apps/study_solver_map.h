@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "sim/frame_stats.h"
-#include "sim/result.h"
+#include "core/result.h"
 #include "sim/scene.h"
 
 namespace aquaform::gpu {

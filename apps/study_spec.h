@@ -30,7 +30,7 @@
 
 #include "apps/study_solver_map.h"
 #include "render/impostor_view.h"
-#include "sim/result.h"
+#include "core/result.h"
 
 namespace aquaform::cli {
 

@@ -7,7 +7,7 @@
 #include <string_view>
 
 #include "apps/render_options.h"
-#include "sim/json_fields.h"
+#include "core/json_fields.h"
 
 namespace aquaform::cli {
 

@@ -13,7 +13,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/image.h"
-#include "sim/result.h"
+#include "core/result.h"
 
 struct GLFWwindow;
 

@@ -188,11 +188,11 @@ struct ViewWorker::Sim {
     void prepare_renderer(const ViewControls& c) {
         const uint32_t n = solver->particle_count();
         if (c.method == "adaptive" || c.method == "uniform") {
-            if (!surface) surface = std::make_unique<SurfaceRenderer>(ctx, scene, render_w, render_h, n);
+            if (!surface) surface = std::make_unique<SurfaceRenderer>(ctx, scene.particle_domain(), render_w, render_h, n);
         } else if (c.method == "sbuffer" || c.method == "abuffer") {
-            if (!metaball) metaball = std::make_unique<MetaballRenderer>(ctx, scene, render_w, render_h, n);
+            if (!metaball) metaball = std::make_unique<MetaballRenderer>(ctx, scene.particle_domain(), render_w, render_h, n);
         } else if (!screen_space) {
-            screen_space = std::make_unique<ScreenSpaceRenderer>(ctx, scene, render_w, render_h, n);
+            screen_space = std::make_unique<ScreenSpaceRenderer>(ctx, scene.particle_domain(), render_w, render_h, n);
         }
     }
 

@@ -51,5 +51,10 @@ std::span<const EmbeddedShader> embedded_shaders() { return kShaders; }
 }  // namespace aquaform::gpu
 ")
   add_library(${target} STATIC ${registry_cpp} ${generated_headers})
-  target_include_directories(${target} PUBLIC ${CMAKE_SOURCE_DIR})
+  # C++ includes the shared layout headers as "shaders/shared/..."; the table includes the
+  # registry's declaration from gpu/ (which links this library).
+  aquaform_layer_include_dir(shaders shaders_inc)
+  aquaform_layer_include_dir(gpu gpu_inc)
+  target_include_directories(${target} PUBLIC ${shaders_inc} PRIVATE ${gpu_inc})
+  target_link_libraries(${target} PRIVATE glm::glm)
 endfunction()

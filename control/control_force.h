@@ -13,7 +13,7 @@
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
 #include "shaders/shared/control_layout.h"
-#include "sim/neighbor_grid.h"
+#include "grid/neighbor_grid.h"
 #include "sim/pbf_solver.h"
 #include "sim/scene.h"
 

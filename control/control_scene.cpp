@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "control/control_force.h"
-#include "sim/json_fields.h"
+#include "core/json_fields.h"
 
 namespace aquaform::control {
 

@@ -21,7 +21,7 @@
 #include "control/mesh.h"
 #include "control/strength.h"
 #include "control/timeline.h"
-#include "sim/result.h"
+#include "core/result.h"
 #include "sim/scene.h"
 
 namespace aquaform::control {

@@ -12,7 +12,7 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <glm/glm.hpp>
 
-#include "sim/result.h"
+#include "core/result.h"
 #include "sim/scene.h"
 
 namespace aquaform::control {

@@ -10,7 +10,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "sim/json_fields.h"
+#include "core/json_fields.h"
 
 namespace aquaform::control {
 

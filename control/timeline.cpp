@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "sim/json_fields.h"
+#include "core/json_fields.h"
 
 namespace aquaform::control {
 

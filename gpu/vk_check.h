@@ -1,17 +1,18 @@
 // Vulkan error checks that name the file, the line and the call that failed.
 #pragma once
 
-#include <stdexcept>
 #include <string>
 
 #include <vulkan/vulkan.h>
 
+#include "core/error.h"
+
 namespace aquaform::gpu {
 
-/// Thrown when a Vulkan call fails; the CLI catches it at the top and exits non-zero.
-struct VulkanError : std::runtime_error {
+/// Thrown when a Vulkan call fails (a resource failure: the CLI prints it and exits non-zero).
+struct VulkanError : Failure {
     VkResult result;
-    VulkanError(VkResult r, const std::string& what) : std::runtime_error(what), result(r) {}
+    VulkanError(VkResult r, const std::string& what) : Failure(what, Kind::resource), result(r) {}
 };
 
 const char* vk_result_name(VkResult result);

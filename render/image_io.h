@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "sim/result.h"
+#include "core/result.h"
 
 namespace aquaform {
 

@@ -12,32 +12,14 @@
 
 #include "gpu/buffer.h"
 #include "render/image_io.h"
-#include "sim/scene.h"
+#include "core/box.h"
+#include "core/camera.h"
 
 namespace aquaform {
 
 namespace gpu {
 class Context;
 }
-
-struct ViewCamera {
-    glm::vec3 eye{0.0f, 0.0f, 3.0f};
-    glm::vec3 target{0.0f};
-    glm::vec3 up{0.0f, 1.0f, 0.0f};
-    float fov_y_degrees = 40.0f;
-    bool operator==(const ViewCamera&) const = default;
-};
-
-/// The camera's orthonormal axes: columns right, up, forward (towards the target). The up vector
-/// is replaced when it is (nearly) parallel to the view direction, so the axes stay finite.
-glm::mat3 camera_axes(const ViewCamera& camera);
-
-/// A camera that frames the whole domain from the front, slightly above and to the side.
-ViewCamera camera_for_domain(const Box& domain, float aspect);
-
-/// World -> Vulkan clip space (y down, depth 0..1) of `camera`, with near and far planes set
-/// from the domain's bounding sphere; the matrix ImpostorView draws with (tests project with it).
-glm::mat4 view_projection(const ViewCamera& camera, float aspect, const Box& domain);
 
 struct ImpostorStyle {
     float radius = 0.01f;          ///< sphere radius [m] (half the particle spacing)

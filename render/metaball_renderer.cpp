@@ -82,8 +82,8 @@ Result<bool> validate(const MetaballSettings& s) {
     return true;
 }
 
-float metaball_radius(const MetaballSettings& settings, const Scene& scene) {
-    return settings.size * scene.particle_spacing;
+float metaball_radius(const MetaballSettings& settings, const ParticleDomain& domain) {
+    return settings.size * domain.particle_spacing;
 }
 
 uint32_t list_entry_bytes(MetaballMethod method) {
@@ -109,9 +109,9 @@ std::string MetaballStats::describe() const {
     return text.str();
 }
 
-MetaballRenderer::MetaballRenderer(gpu::Context& ctx, const Scene& scene, uint32_t width, uint32_t height,
+MetaballRenderer::MetaballRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height,
                                    uint32_t max_particles, uint64_t list_bytes)
-    : ctx_(&ctx), scene_(scene), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
+    : ctx_(&ctx), domain_(domain), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
       buffers_(ctx) {
     if (width < 16 || height < 16 || width > 8192 || height > 8192)
         throw std::invalid_argument("metaball renderer: resolution " + std::to_string(width) + "x" +
@@ -164,14 +164,14 @@ void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions,
     p.right = view.right;
     p.up = view.up;
     p.screen = {width_, height_, 0u, 0u};
-    p.domain_min = glm::vec4(scene_.domain.min, 0.0f);
-    p.domain_max = glm::vec4(scene_.domain.max, 0.0f);
+    p.domain_min = glm::vec4(domain_.bounds.min, 0.0f);
+    p.domain_max = glm::vec4(domain_.bounds.max, 0.0f);
     p.light_dir = kLightDirection;
     p.fluid_color = kFluidOptics;
-    p.radius = metaball_radius(settings, scene_);
+    p.radius = metaball_radius(settings, domain_);
     p.inv_radius2 = 1.0f / (p.radius * p.radius);
     p.iso = settings.iso;
-    p.particle_radius = 0.5f * scene_.particle_spacing;
+    p.particle_radius = 0.5f * domain_.particle_spacing;
     p.step = settings.step_radii * p.particle_radius;
     p.max_steps = settings.max_steps;
     p.refine_steps = settings.bisection_steps;

@@ -16,12 +16,12 @@
 
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
-#include "gpu/prefix_sum.h"
+#include "grid/prefix_sum.h"
 #include "render/impostor_view.h"
 #include "render/surface_frame.h"
 #include "shaders/shared/metaball_layout.h"
-#include "sim/result.h"
-#include "sim/scene.h"
+#include "core/result.h"
+#include "core/box.h"
 
 namespace aquaform {
 
@@ -62,7 +62,7 @@ struct MetaballSettings {
 Result<bool> validate(const MetaballSettings& settings);
 
 /// Range R [m] of a metaball for a scene.
-float metaball_radius(const MetaballSettings& settings, const Scene& scene);
+float metaball_radius(const MetaballSettings& settings, const ParticleDomain& domain);
 
 /// Bytes one list entry costs: an A-buffer node (id, next) or an S-buffer id.
 uint32_t list_entry_bytes(MetaballMethod method);
@@ -93,7 +93,7 @@ public:
     /// Allocates every buffer for `max_particles` at width x height, with `list_bytes` of list
     /// memory (0: kDefaultListBytesPerPixel per pixel). Throws std::invalid_argument on a
     /// resolution outside 16..8192 and std::runtime_error when a buffer exceeds the device's limits.
-    MetaballRenderer(gpu::Context& ctx, const Scene& scene, uint32_t width, uint32_t height, uint32_t max_particles,
+    MetaballRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles,
                      uint64_t list_bytes = 0);
     ~MetaballRenderer();
     MetaballRenderer(const MetaballRenderer&) = delete;
@@ -128,7 +128,7 @@ public:
 
 private:
     gpu::Context* ctx_;
-    Scene scene_;
+    ParticleDomain domain_;
     uint32_t width_, height_, max_particles_;
     uint64_t list_bytes_;
     MetaballMethod method_ = MetaballMethod::brute_force;  // of the last frame recorded

@@ -98,9 +98,9 @@ Result<bool> validate(const ScreenSpaceSettings& s) {
     return true;
 }
 
-ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const Scene& scene, uint32_t width, uint32_t height,
+ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height,
                                          uint32_t max_particles)
-    : ctx_(&ctx), scene_(scene), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
+    : ctx_(&ctx), domain_(domain), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
       buffers_(ctx) {
     if (width < 16 || height < 16 || width > 8192 || height > 8192)
         throw std::invalid_argument("screen-space renderer: resolution " + std::to_string(width) + "x" +
@@ -147,8 +147,8 @@ void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positio
         throw std::invalid_argument("screen-space renderer: the camera's eye and target coincide; move the eye away");
     // The splat and compose passes read no grid; a one-cell grid keeps the block's field terms finite.
     SurfaceSettings surface;
-    GridGeometry no_grid{scene_.domain.min, render_radius(surface, scene_), glm::uvec3(1u)};
-    params_ = make_surface_params(surface, scene_, no_grid, camera, width_, height_, count);
+    GridGeometry no_grid{domain_.bounds.min, render_radius(surface, domain_), glm::uvec3(1u)};
+    params_ = make_surface_params(surface, domain_, no_grid, camera, width_, height_, count);
     params_.sprite_radius = settings.sprite_radius * params_.particle_radius;
     params_.flags = 0;  // none of the ray marchers' mechanisms run here
     filter_params_ = make_filter_params(settings, params_);

@@ -27,8 +27,8 @@
 #include "render/surface_frame.h"
 #include "shaders/shared/screen_space_layout.h"
 #include "shaders/shared/surface_layout.h"
-#include "sim/result.h"
-#include "sim/scene.h"
+#include "core/result.h"
+#include "core/box.h"
 
 namespace aquaform {
 
@@ -105,7 +105,7 @@ class ScreenSpaceRenderer {
 public:
     /// Allocates every buffer for `max_particles` particles of `scene` at width x height.
     /// Throws std::invalid_argument for a resolution outside 16..8192 per axis.
-    ScreenSpaceRenderer(gpu::Context& ctx, const Scene& scene, uint32_t width, uint32_t height, uint32_t max_particles);
+    ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles);
     ~ScreenSpaceRenderer();
     ScreenSpaceRenderer(const ScreenSpaceRenderer&) = delete;
     ScreenSpaceRenderer& operator=(const ScreenSpaceRenderer&) = delete;
@@ -138,7 +138,7 @@ private:
     void record_filter(VkCommandBuffer cmd, const ScreenSpaceSettings& settings);
 
     gpu::Context* ctx_;
-    Scene scene_;
+    ParticleDomain domain_;
     uint32_t width_, height_, max_particles_;
     shader::SurfaceParams params_{};
     shader::ScreenSpaceParams filter_params_{};

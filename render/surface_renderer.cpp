@@ -26,9 +26,9 @@ SurfacePassPush axis_push(uint32_t axis) {
 
 }  // namespace
 
-SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const Scene& scene, uint32_t width, uint32_t height,
+SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height,
                                  uint32_t max_particles)
-    : ctx_(&ctx), scene_(scene), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
+    : ctx_(&ctx), domain_(domain), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
       buffers_(ctx) {
     if (width < 16 || height < 16 || width > 8192 || height > 8192)
         throw std::invalid_argument("surface renderer: resolution " + std::to_string(width) + "x" +
@@ -80,14 +80,14 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const Scene& scene, uint32_t
     upsample_ = gpu::ComputePass(ctx, {"render/upsample.comp", 6});
     normal_filter_ = gpu::ComputePass(ctx, {"render/normal_filter.comp", 4, push});
     compose_ = gpu::ComputePass(ctx, {"render/compose.comp", 5});
-    prepare_grid(render_radius(SurfaceSettings{}, scene));
+    prepare_grid(render_radius(SurfaceSettings{}, domain));
 }
 
 SurfaceRenderer::~SurfaceRenderer() = default;
 
 void SurfaceRenderer::prepare_grid(float radius) {
     if (grid_ && geometry_.cell_size == radius) return;
-    auto geometry = grid_for_domain(scene_.domain.min, scene_.domain.max, radius);
+    auto geometry = grid_for_domain(domain_.bounds.min, domain_.bounds.max, radius);
     if (!geometry) throw std::runtime_error("surface renderer: " + geometry.error());
     grid_.reset();
     grid_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
@@ -126,9 +126,9 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
                                     std::to_string(count) + " vec4 positions");
     if (!(glm::length(camera.target - camera.eye) > 0.0f))
         throw std::invalid_argument("surface renderer: the camera's eye and target coincide; move the eye away");
-    prepare_grid(render_radius(settings, scene_));
+    prepare_grid(render_radius(settings, domain_));
     count_ = count;
-    params_ = make_surface_params(settings, scene_, geometry_, camera, width_, height_, count);
+    params_ = make_surface_params(settings, domain_, geometry_, camera, width_, height_, count);
     std::memcpy(params_buf_->mapped, &params_, sizeof(params_));
 
     const uint32_t pixels = width_ * height_;

@@ -27,8 +27,8 @@
 #include "render/impostor_view.h"
 #include "render/surface_frame.h"
 #include "render/surface_settings.h"
-#include "sim/neighbor_grid.h"
-#include "sim/scene.h"
+#include "grid/neighbor_grid.h"
+#include "core/box.h"
 
 namespace aquaform {
 
@@ -45,7 +45,7 @@ class SurfaceRenderer {
 public:
     /// Allocates every buffer for `max_particles` particles of `scene` at width x height.
     /// Throws std::runtime_error when the render grid does not fit (the message names the fix).
-    SurfaceRenderer(gpu::Context& ctx, const Scene& scene, uint32_t width, uint32_t height, uint32_t max_particles);
+    SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles);
     ~SurfaceRenderer();
     SurfaceRenderer(const SurfaceRenderer&) = delete;
     SurfaceRenderer& operator=(const SurfaceRenderer&) = delete;
@@ -108,7 +108,7 @@ private:
     static constexpr uint32_t kResumePasses = 8;
 
     gpu::Context* ctx_;
-    Scene scene_;
+    ParticleDomain domain_;
     uint32_t width_, height_, max_particles_;
     uint32_t count_ = 0;
     bool diagnostics_ = false;

@@ -60,16 +60,16 @@ Result<bool> validate(const SurfaceSettings& s) {
     return true;
 }
 
-float render_radius(const SurfaceSettings& settings, const Scene& scene) {
-    const float factor = settings.radius_spacings > 0.0f ? settings.radius_spacings : scene.solver.kernel_radius_factor;
-    return factor * scene.particle_spacing;
+float render_radius(const SurfaceSettings& settings, const ParticleDomain& domain) {
+    const float factor = settings.radius_spacings > 0.0f ? settings.radius_spacings : domain.kernel_radius_factor;
+    return factor * domain.particle_spacing;
 }
 
-Result<GridGeometry> render_grid(const SurfaceSettings& settings, const Scene& scene) {
-    return grid_for_domain(scene.domain.min, scene.domain.max, render_radius(settings, scene));
+Result<GridGeometry> render_grid(const SurfaceSettings& settings, const ParticleDomain& domain) {
+    return grid_for_domain(domain.bounds.min, domain.bounds.max, render_radius(settings, domain));
 }
 
-shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const Scene& scene, const GridGeometry& grid,
+shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const ParticleDomain& domain, const GridGeometry& grid,
                                           const ViewCamera& camera, uint32_t width, uint32_t height,
                                           uint32_t particle_count) {
     shader::SurfaceParams p{};
@@ -89,11 +89,11 @@ shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const Scene&
     const glm::uvec3 coarse{ceil_div(words.x, MASK_COARSE), ceil_div(words.y, MASK_COARSE),
                             ceil_div(words.z, MASK_COARSE)};
     p.coarse_dims = {coarse, coarse.x * coarse.y * coarse.z};
-    p.domain_min = with_w(scene.domain.min, 0.0f);
-    p.domain_max = with_w(scene.domain.max, 0.0f);
+    p.domain_min = with_w(domain.bounds.min, 0.0f);
+    p.domain_max = with_w(domain.bounds.max, 0.0f);
 
     const float r = grid.cell_size;
-    const float spacing = scene.particle_spacing;
+    const float spacing = domain.particle_spacing;
     const float particle_radius = 0.5f * spacing;
     p.radius = r;
     p.inv_radius = 1.0f / r;

@@ -8,9 +8,9 @@
 
 #include "render/impostor_view.h"
 #include "shaders/shared/surface_layout.h"
-#include "sim/neighbor_grid.h"
-#include "sim/result.h"
-#include "sim/scene.h"
+#include "grid/neighbor_grid.h"
+#include "core/result.h"
+#include "core/box.h"
 
 namespace aquaform {
 
@@ -85,10 +85,10 @@ struct SurfaceSettings {
 Result<bool> validate(const SurfaceSettings& settings);
 
 /// Kernel support r [m] for a scene.
-float render_radius(const SurfaceSettings& settings, const Scene& scene);
+float render_radius(const SurfaceSettings& settings, const ParticleDomain& domain);
 
 /// The render grid: cells of size r over the scene's domain.
-Result<GridGeometry> render_grid(const SurfaceSettings& settings, const Scene& scene);
+Result<GridGeometry> render_grid(const SurfaceSettings& settings, const ParticleDomain& domain);
 
 /// The pinhole camera as every renderer's shaders take it (shared/surface_layout.h): eye,
 /// forward (w: tan(fov_x / 2)), right (w: tan(fov_y / 2)), up.
@@ -103,7 +103,7 @@ inline const glm::vec4 kLightDirection{glm::normalize(glm::vec3(-0.4f, 0.8f, 0.4
 inline const glm::vec4 kFluidOptics{8.0f, 2.5f, 1.2f, 1.33f};
 
 /// The GPU parameter block for one frame.
-shader::SurfaceParams make_surface_params(const SurfaceSettings& settings, const Scene& scene,
+shader::SurfaceParams make_surface_params(const SurfaceSettings& settings, const ParticleDomain& domain,
                                           const GridGeometry& grid, const ViewCamera& camera, uint32_t width,
                                           uint32_t height, uint32_t particle_count);
 

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "sim/result.h"
+#include "core/result.h"
 
 namespace aquaform {
 

@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "sim/pbf_solver.h"
-#include "sim/result.h"
+#include "core/result.h"
 
 namespace aquaform {
 

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "shaders/shared/pbf_layout.h"
-#include "sim/neighbor_grid.h"
+#include "grid/neighbor_grid.h"
 #include "sim/scene.h"
 
 namespace aquaform {

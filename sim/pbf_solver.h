@@ -14,8 +14,8 @@
 #include "gpu/compute_pass.h"
 #include "shaders/shared/pbf_layout.h"
 #include "sim/frame_stats.h"
-#include "sim/neighbor_grid.h"
-#include "sim/result.h"
+#include "grid/neighbor_grid.h"
+#include "core/result.h"
 #include "sim/scene.h"
 
 namespace aquaform {

@@ -15,7 +15,7 @@
 #include <span>
 #include <string_view>
 
-#include "sim/json_fields.h"
+#include "core/json_fields.h"
 
 namespace aquaform {
 namespace {

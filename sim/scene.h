@@ -10,18 +10,14 @@
 
 #include <glm/glm.hpp>
 
-#include "sim/result.h"
+#include "core/box.h"
+#include "core/result.h"
 
 namespace aquaform {
 
 /// Largest particle count a scene file may ask for; parse_scene rejects more, so that a typo in
 /// particle_spacing fails with a message instead of exhausting memory.
 inline constexpr uint64_t kMaxSceneParticles = uint64_t{1} << 26;  // 67,108,864
-
-struct Box {
-    glm::vec3 min{0.0f};
-    glm::vec3 max{0.0f};
-};
 
 /// Solver settings (Macklin & Mueller 2013, "Position Based Fluids").
 struct SolverSettings {
@@ -56,6 +52,8 @@ struct Scene {
     /// by control::load_control_section, since sim/ does not know about meshes.
     std::optional<std::string> control_json;
 
+    /// The part of the scene a renderer needs: the domain and the particles' size.
+    ParticleDomain particle_domain() const { return {domain, particle_spacing, solver.kernel_radius_factor}; }
     /// Number of particles the fluid blocks produce (computed without generating them, in
     /// 64 bits so that absurd spacings are caught before any allocation).
     uint64_t particle_count() const;

@@ -15,7 +15,7 @@
 #include "control/animation.h"
 #include "control/primitives.h"
 #include "control/skinning.h"
-#include "sim/json_fields.h"
+#include "core/json_fields.h"
 
 namespace {
 

@@ -18,7 +18,7 @@
 #include "shaders/shared/anisotropy.h"
 #include "shaders/shared/render_kernels.h"
 #include "shaders/shared/surface_layout.h"
-#include "sim/neighbor_grid.h"
+#include "grid/neighbor_grid.h"
 #include "tests/gpu_test.h"
 
 namespace aquaform {

@@ -7,7 +7,7 @@
 #include "control/control_driver.h"
 #include "control/control_scene.h"
 #include "control/timeline.h"
-#include "sim/json_fields.h"
+#include "core/json_fields.h"
 #include "tests/cli_helpers.h"
 
 namespace aquaform::control {

@@ -84,7 +84,7 @@ TEST_F(MetaballTest, ListsHoldExactlyTheParticlesWhoseBillboardsCoverEachPixel) 
     Particles particles(ctx(), positions);
     const uint32_t w = 64, h = 48;
     const ViewCamera camera = front_camera();
-    MetaballRenderer renderer(ctx(), scene, w, h, particles.count);
+    MetaballRenderer renderer(ctx(), scene.particle_domain(), w, h, particles.count);
     std::vector<std::vector<uint32_t>> expected, ambiguous;
     cpu_lists(positions, camera, w, h, kSpacing, expected, ambiguous);
     size_t total = 0, longest = 0;
@@ -121,7 +121,7 @@ TEST_F(MetaballTest, BruteForceAbufferAndSbufferFindTheSameSurface) {
     const Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.4f, 0.4f, 0.4f}});
     Particles particles(ctx(), block_and_droplets(11));
     const uint32_t w = 64, h = 48;
-    MetaballRenderer renderer(ctx(), scene, w, h, particles.count);
+    MetaballRenderer renderer(ctx(), scene.particle_domain(), w, h, particles.count);
     std::vector<SurfaceFrame> frames;
     std::vector<uint64_t> visits;
     for (MetaballMethod method : {MetaballMethod::brute_force, MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
@@ -162,7 +162,7 @@ TEST_F(MetaballTest, LoneBallIsASphereOfHalfItsRange) {
     camera.eye = centre + glm::vec3(0.0f, 0.0f, 0.5f);
     camera.target = centre;
     camera.fov_y_degrees = 6.0f;
-    MetaballRenderer renderer(ctx(), scene, 64, 64, 1);
+    MetaballRenderer renderer(ctx(), scene.particle_domain(), 64, 64, 1);
     for (MetaballMethod method : {MetaballMethod::brute_force, MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
         for (float size : {1.0f, 2.0f}) {
             MetaballSettings settings;
@@ -170,7 +170,7 @@ TEST_F(MetaballTest, LoneBallIsASphereOfHalfItsRange) {
             settings.size = size;
             settings.bisection_steps = 8;
             const SurfaceFrame frame = renderer.render(particles.buffer, particles.count, camera, settings);
-            const float expected = 0.5f * metaball_radius(settings, scene);
+            const float expected = 0.5f * metaball_radius(settings, scene.particle_domain());
             const float tolerance = renderer.params().step / 256.0f + 1e-5f;
             size_t hits = 0;
             for (size_t i = 0; i < frame.hit.size(); ++i) {
@@ -194,8 +194,8 @@ TEST_F(MetaballTest, ListOverflowIsDetectedAndReportedWithTheMemoryItNeeds) {
     Particles particles(ctx(), positions);
     const uint32_t w = 64, h = 48;
     const uint64_t small_bytes = 4096;  // 512 nodes or 1024 ids: far too few for this frame
-    MetaballRenderer renderer(ctx(), scene, w, h, particles.count, small_bytes);
-    MetaballRenderer roomy(ctx(), scene, w, h, particles.count);
+    MetaballRenderer renderer(ctx(), scene.particle_domain(), w, h, particles.count, small_bytes);
+    MetaballRenderer roomy(ctx(), scene.particle_domain(), w, h, particles.count);
     for (MetaballMethod method : {MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
         MetaballSettings settings;
         settings.method = method;
@@ -235,7 +235,7 @@ TEST_F(MetaballTest, ParticlesAtTheEyePlaneAreCountedAsDroppedFromTheLists) {
         expected += z - kSpacing <= 1e-4f * kSpacing && z + kSpacing > 0.0f;
     }
     ASSERT_GT(expected, 3u) << "the camera should stand within the block's reach";
-    MetaballRenderer renderer(ctx(), scene, 64, 48, particles.count);
+    MetaballRenderer renderer(ctx(), scene.particle_domain(), 64, 48, particles.count);
     for (MetaballMethod method : {MetaballMethod::a_buffer, MetaballMethod::s_buffer, MetaballMethod::brute_force}) {
         MetaballSettings settings;
         settings.method = method;
@@ -271,7 +271,7 @@ TEST_F(MetaballTest, ParticlesAtTheEyePlaneAreCountedAsDroppedFromTheLists) {
 TEST_F(MetaballTest, RealVisualStaysFiniteAndDeeperRecursionCostsMore) {
     const Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.4f, 0.4f, 0.4f}});
     Particles particles(ctx(), block_and_droplets(5));
-    MetaballRenderer renderer(ctx(), scene, 48, 36, particles.count);
+    MetaballRenderer renderer(ctx(), scene.particle_domain(), 48, 36, particles.count);
     std::vector<uint64_t> evaluations;
     std::vector<Image> images;
     for (uint32_t depth : {1u, 2u, 4u}) {
@@ -308,7 +308,7 @@ TEST_F(MetaballTest, BoundsPassFindsTheParticlesBoxOverManyWorkgroups) {
         expected.max = glm::max(expected.max, p);
     }
     Particles particles(ctx(), positions);
-    MetaballRenderer renderer(ctx(), scene, 32, 32, particles.count);
+    MetaballRenderer renderer(ctx(), scene.particle_domain(), 32, 32, particles.count);
     MetaballSettings settings;
     settings.method = MetaballMethod::brute_force;
     renderer.render(particles.buffer, particles.count, front_camera(), settings);
@@ -335,7 +335,7 @@ TEST_F(MetaballTest, LoopsTheDeviceEndsEarlyAreReportedNotDrawnSilently) {
     camera.eye = {0.285f, 0.285f, 0.9f};
     camera.target = {0.285f, 0.285f, 0.0f};
     camera.fov_y_degrees = 4.0f;
-    MetaballRenderer renderer(ctx(), scene, 16, 16, particles.count);
+    MetaballRenderer renderer(ctx(), scene.particle_domain(), 16, 16, particles.count);
     MetaballSettings settings;
     settings.method = MetaballMethod::s_buffer;
     const SurfaceFrame lists = renderer.render(particles.buffer, particles.count, camera, settings);
@@ -358,7 +358,7 @@ TEST_F(MetaballTest, LoopsTheDeviceEndsEarlyAreReportedNotDrawnSilently) {
 TEST_F(MetaballTest, EmptyFrameHasNoSurface) {
     const Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.4f, 0.4f, 0.4f}});
     Particles particles(ctx(), {});
-    MetaballRenderer renderer(ctx(), scene, 32, 32, 16);
+    MetaballRenderer renderer(ctx(), scene.particle_domain(), 32, 32, 16);
     for (MetaballMethod method : {MetaballMethod::brute_force, MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
         MetaballSettings settings;
         settings.method = method;

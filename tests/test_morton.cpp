@@ -4,7 +4,7 @@
 #include <random>
 
 #include "shaders/shared/morton.h"
-#include "sim/neighbor_grid.h"
+#include "grid/neighbor_grid.h"
 
 namespace aquaform {
 namespace {

@@ -8,7 +8,7 @@
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "shaders/shared/morton.h"
-#include "sim/neighbor_grid.h"
+#include "grid/neighbor_grid.h"
 #include "sim/pbf_reference.h"
 #include "tests/gpu_test.h"
 

@@ -246,7 +246,7 @@ struct MixedView {
 void expect_matches_cpu_reference(gpu::Context& ctx, const ScreenSpaceSettings& settings) {
     const MixedView view;
     Particles particles(ctx, mixed_scene(view.scene.particle_spacing));
-    ScreenSpaceRenderer renderer(ctx, view.scene, 112, 96, particles.count);
+    ScreenSpaceRenderer renderer(ctx, view.scene.particle_domain(), 112, 96, particles.count);
     renderer.render(particles.buffer, particles.count, view.camera, settings);
     const auto raw = renderer.raw_depth();
     const auto gpu = renderer.filtered_depth();
@@ -342,7 +342,7 @@ TEST_F(ScreenSpaceTest, EachFilterFlattensAJitteredSlabAndStaysNearItsSurface) {
     Particles particles(ctx(), positions);
     const glm::vec3 centre{min.x + 0.5f * spacing * (n - 1), surface, min.z + 0.5f * spacing * (n - 1)};
     const ViewCamera camera = camera_above(centre, 0.8f, 30.0f);  // a particle radius is 2.4 px
-    ScreenSpaceRenderer renderer(ctx(), scene, 128, 128, particles.count);
+    ScreenSpaceRenderer renderer(ctx(), scene.particle_domain(), 128, 128, particles.count);
 
     // Inner pixels: their ray meets the surface plane more than 3 spacings inside the slab's edges.
     std::vector<bool> inner;
@@ -450,7 +450,7 @@ TEST_F(ScreenSpaceTest, NarrowRangeKeepsAStepBetweenTwoLayersSharp) {
     Particles particles(ctx(), positions);
     const ViewCamera camera = camera_above({x0, back_top, back_min.z + spacing * (n - 1) * 0.5f}, 0.8f, 30.0f);
     const int w = 128, h = 128;
-    ScreenSpaceRenderer renderer(ctx(), scene, w, h, particles.count);
+    ScreenSpaceRenderer renderer(ctx(), scene.particle_domain(), w, h, particles.count);
     const float split = camera.eye.y - (back_top + 0.5f * step);
     const int max_k = 24;
     // Sprites of 1.5 radii, so that neither layer shows gaps into what lies behind it (see the
@@ -500,11 +500,11 @@ TEST_F(ScreenSpaceTest, FrameFollowsSurfaceFrameAndIsMeasuredAgainstTheReference
     camera.eye = camera.target + glm::vec3(-0.15f, 0.3f, 0.4f);
     camera.fov_y_degrees = 40.0f;
     const uint32_t w = 96, h = 96;
-    SurfaceRenderer marcher(ctx(), scene, w, h, particles.count);
+    SurfaceRenderer marcher(ctx(), scene.particle_domain(), w, h, particles.count);
     SurfaceSettings exhaustive;
     exhaustive.method = SurfaceMethod::reference;
     const SurfaceFrame reference = marcher.render(particles.buffer, particles.count, camera, exhaustive);
-    ScreenSpaceRenderer renderer(ctx(), scene, w, h, particles.count);
+    ScreenSpaceRenderer renderer(ctx(), scene.particle_domain(), w, h, particles.count);
     gpu::GpuTimer timer(ctx());
     // Stated tolerances. Sprites of 1 radius lie about 2 radii behind the reference's iso-surface
     // (the field of a slab reaches the iso value well outside its particles) and show gaps;
@@ -570,10 +570,10 @@ uint64_t total_bytes(const ScreenSpaceRenderer& r) {
 
 TEST_F(ScreenSpaceTest, DocumentedBytesPerPixelAndPerParticleMatchTheAllocations) {
     Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.2f, 0.2f, 0.2f}}, 0.02f);
-    const ScreenSpaceRenderer small(ctx(), scene, 64, 64, 1000);
-    const ScreenSpaceRenderer wide(ctx(), scene, 128, 64, 1000);
+    const ScreenSpaceRenderer small(ctx(), scene.particle_domain(), 64, 64, 1000);
+    const ScreenSpaceRenderer wide(ctx(), scene.particle_domain(), 128, 64, 1000);
     EXPECT_EQ(total_bytes(wide) - total_bytes(small), 4096u * kScreenSpaceBytesPerPixel);
-    const ScreenSpaceRenderer more(ctx(), scene, 64, 64, 2000);
+    const ScreenSpaceRenderer more(ctx(), scene.particle_domain(), 64, 64, 2000);
     EXPECT_EQ(total_bytes(more) - total_bytes(small), 1000u * kScreenSpaceBytesPerParticle);
 }
 
@@ -619,13 +619,13 @@ TEST(ScreenSpaceSettingsTest, EachOutOfRangeSettingIsNamedInTheError) {
 TEST_F(ScreenSpaceTest, RecordRefusesInvalidSettingsAndTooManyParticles) {
     Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.2f, 0.2f, 0.2f}}, 0.02f);
     Particles particles(ctx(), {glm::vec4(0.1f, 0.1f, 0.1f, 0.0f), glm::vec4(0.12f, 0.1f, 0.1f, 0.0f)});
-    ScreenSpaceRenderer renderer(ctx(), scene, 32, 32, 1);
+    ScreenSpaceRenderer renderer(ctx(), scene.particle_domain(), 32, 32, 1);
     const ViewCamera camera = camera_for_domain(scene.domain, 1.0f);
     ScreenSpaceSettings bad;
     bad.flow_iterations = 0;
     EXPECT_THROW(renderer.render(particles.buffer, 1, camera, bad), std::invalid_argument);
     EXPECT_THROW(renderer.render(particles.buffer, 2, camera, ScreenSpaceSettings{}), std::invalid_argument);
-    EXPECT_THROW(ScreenSpaceRenderer(ctx(), scene, 8, 32, 1), std::invalid_argument);
+    EXPECT_THROW(ScreenSpaceRenderer(ctx(), scene.particle_domain(), 8, 32, 1), std::invalid_argument);
 }
 
 }  // namespace

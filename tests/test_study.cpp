@@ -102,7 +102,7 @@ TEST(StudyCameraTest, TheCloseUpBringsParticlesWithinAMetaballRangeOfTheEyePlane
     std::vector<uint32_t> block;
     scene.generate_particles(x, block);
     const glm::vec3 forward = glm::normalize(camera.target - camera.eye);
-    const float range = metaball_radius(MetaballSettings{}, scene);
+    const float range = metaball_radius(MetaballSettings{}, scene.particle_domain());
     const float tan_half = std::tan(glm::radians(camera.fov_y_degrees) * 0.5f);
     size_t near_plane = 0;
     float nearest = INFINITY;

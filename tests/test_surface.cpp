@@ -43,7 +43,7 @@ TEST_F(SurfaceTest, LoneParticleHitsTheAnalyticIsoSphereWithEveryMethod) {
     camera.eye = centre + glm::vec3(0.0f, 0.0f, 0.5f);
     camera.target = centre;
     camera.fov_y_degrees = 6.0f;
-    SurfaceRenderer renderer(ctx(), scene, 64, 64, 1);
+    SurfaceRenderer renderer(ctx(), scene.particle_domain(), 64, 64, 1);
     for (SurfaceMethod method : {SurfaceMethod::uniform, SurfaceMethod::adaptive, SurfaceMethod::reference}) {
         SurfaceSettings settings;
         settings.method = method;
@@ -128,7 +128,7 @@ TEST_F(SurfaceTest, MaskWithUnitWeightsMarksEveryCellWhereTheFieldReachesTheIso)
     Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.3f, 0.2f, 0.25f}}, spacing);
     const auto positions = clustered_particles(scene.domain, spacing, 7);
     Particles particles(ctx(), positions);
-    SurfaceRenderer renderer(ctx(), scene, 32, 32, particles.count);
+    SurfaceRenderer renderer(ctx(), scene.particle_domain(), 32, 32, particles.count);
     SurfaceSettings settings;
     settings.mask_a = settings.mask_b = 1.0f;  // the exact bound
     renderer.render(particles.buffer, particles.count, camera_for_domain(scene.domain, 1.0f), settings);
@@ -192,7 +192,7 @@ TEST_F(SurfaceTest, FlatSlabHasFlatNormalsAndAnAggregateTopLayer) {
     camera.target = {0.22f, top, 0.22f};
     camera.eye = camera.target + glm::vec3(0.0f, 0.5f, 0.35f);
     camera.fov_y_degrees = 30.0f;
-    SurfaceRenderer renderer(ctx(), scene, 96, 96, particles.count);
+    SurfaceRenderer renderer(ctx(), scene.particle_domain(), 96, 96, particles.count);
     for (SurfaceMethod method : {SurfaceMethod::adaptive, SurfaceMethod::uniform, SurfaceMethod::reference}) {
         SurfaceSettings settings;
         settings.method = method;
@@ -273,7 +273,7 @@ protected:
         scene = loaded.value();
         solver = std::make_unique<PbfSolver>(ctx(), scene);
         for (int frame = 0; frame < 30; ++frame) solver->run_frame(nullptr);
-        renderer = std::make_unique<SurfaceRenderer>(ctx(), scene, w, h, solver->particle_count());
+        renderer = std::make_unique<SurfaceRenderer>(ctx(), scene.particle_domain(), w, h, solver->particle_count());
         camera = camera_for_domain(scene.domain, float(w) / h);
     }
     /// The frame with `settings`.
@@ -379,7 +379,7 @@ TEST_F(GoldenTest, DropletsOverAPoolWithTheAdaptiveMethod) {
     camera.target = {0.2f, 0.1f, 0.2f};
     camera.eye = camera.target + glm::vec3(-0.15f, 0.25f, 0.45f);
     camera.fov_y_degrees = 40.0f;
-    SurfaceRenderer renderer(ctx(), scene, 128, 96, particles.count);
+    SurfaceRenderer renderer(ctx(), scene.particle_domain(), 128, 96, particles.count);
     const SurfaceFrame frame = renderer.render(particles.buffer, particles.count, camera, SurfaceSettings{});
     expect_matches_golden(frame.color, "droplets_adaptive");
 }
@@ -391,7 +391,7 @@ TEST_F(GoldenTest, DamBreakColumnWithTheUniformMethod) {
     std::vector<uint32_t> blocks;
     loaded.value().generate_particles(positions, blocks);
     Particles particles(ctx(), positions);
-    SurfaceRenderer renderer(ctx(), loaded.value(), 128, 72, particles.count);
+    SurfaceRenderer renderer(ctx(), loaded.value().particle_domain(), 128, 72, particles.count);
     SurfaceSettings settings;
     settings.method = SurfaceMethod::uniform;
     const SurfaceFrame frame = renderer.render(particles.buffer, particles.count,
@@ -414,10 +414,10 @@ uint64_t total_bytes(const SurfaceRenderer& r) {
 TEST_F(SurfaceTest, DocumentedBytesPerPixelAndPerParticleMatchTheAllocations) {
     Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.2f, 0.2f, 0.2f}}, 0.02f);
     // 64 x 64 and 128 x 64 both have whole tiles: the difference is 4096 pixels and 16 tiles.
-    const SurfaceRenderer small(ctx(), scene, 64, 64, 1000);
-    const SurfaceRenderer wide(ctx(), scene, 128, 64, 1000);
+    const SurfaceRenderer small(ctx(), scene.particle_domain(), 64, 64, 1000);
+    const SurfaceRenderer wide(ctx(), scene.particle_domain(), 128, 64, 1000);
     EXPECT_EQ(total_bytes(wide) - total_bytes(small), 4096u * kSurfaceBytesPerPixel + 16u * 4u);
-    const SurfaceRenderer more(ctx(), scene, 64, 64, 2000);
+    const SurfaceRenderer more(ctx(), scene.particle_domain(), 64, 64, 2000);
     // Per particle: the renderer's arrays plus its grid's keys, slots and order.
     EXPECT_EQ(total_bytes(more) - total_bytes(small), 1000u * (kSurfaceBytesPerParticle + 3u * 4u));
 }
@@ -442,7 +442,7 @@ TEST_F(SurfaceTest, RaysTheDeviceEndsEarlyAreCounted) {
     camera.eye = {-0.5f, 0.2f + 0.5f * spacing, 0.2f};
     camera.target = {2.0f, 0.2f + 0.5f * spacing, 0.2f};
     camera.fov_y_degrees = 2.0f;
-    SurfaceRenderer renderer(ctx(), scene, 16, 16, particles.count);
+    SurfaceRenderer renderer(ctx(), scene.particle_domain(), 16, 16, particles.count);
     SurfaceSettings settings;
     settings.method = SurfaceMethod::reference;
     settings.reference_step_radii = 0.01f;

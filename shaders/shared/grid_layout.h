@@ -1,4 +1,4 @@
-// Layout of the Morton-sorted neighbour grid, shared by its C++ object (sim/neighbor_grid.h)
+// Layout of the Morton-sorted neighbour grid, shared by its C++ object (grid/neighbor_grid.h)
 // and every shader that builds or queries it.
 //
 // A particle's cell is floor((x - origin) / cell_size), clamped into the grid, so a particle

@@ -1,4 +1,4 @@
-// Layout of the exclusive prefix sum over uint arrays (gpu/prefix_sum.h): each level scans blocks
+// Layout of the exclusive prefix sum over uint arrays (grid/prefix_sum.h): each level scans blocks
 // of SCAN_BLOCK elements in place and writes the block totals for the next level to scan.
 #ifndef AQUAFORM_SCAN_LAYOUT_H
 #define AQUAFORM_SCAN_LAYOUT_H

@@ -13,9 +13,9 @@
 
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
-#include "gpu/prefix_sum.h"
+#include "grid/prefix_sum.h"
 #include "shaders/shared/grid_layout.h"
-#include "sim/result.h"
+#include "core/result.h"
 
 namespace aquaform {
 

@@ -12,7 +12,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
-#include "sim/scene.h"
+#include "core/box.h"
 
 namespace aquaform::json_fields {
 

@@ -1,4 +1,4 @@
-#include "sim/neighbor_grid.h"
+#include "grid/neighbor_grid.h"
 
 #include <algorithm>
 #include <cmath>
@@ -70,10 +70,10 @@ NeighborGrid::NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const Gri
     gpu::upload(ctx, *cell_rank_, rank.data(), rank.size() * 4);
 
     using shader::GridPush;
-    count_pass_ = gpu::ComputePass(ctx, {"sim/grid_count.comp", 5, sizeof(GridPush)});
-    scatter_pass_ = gpu::ComputePass(ctx, {"sim/grid_scatter.comp", 4, sizeof(GridPush)});
+    count_pass_ = gpu::ComputePass(ctx, {"grid/grid_count.comp", 5, sizeof(GridPush)});
+    scatter_pass_ = gpu::ComputePass(ctx, {"grid/grid_scatter.comp", 4, sizeof(GridPush)});
     if (with_neighbor_masks)
-        masks_pass_ = gpu::ComputePass(ctx, {"sim/neighbor_masks.comp", 5, sizeof(shader::NeighborMaskPush)});
+        masks_pass_ = gpu::ComputePass(ctx, {"grid/neighbor_masks.comp", 5, sizeof(shader::NeighborMaskPush)});
 }
 
 void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
@@ -116,7 +116,7 @@ void NeighborGrid::record_list_neighbors(VkCommandBuffer cmd, const gpu::Buffer&
                                          float radius, uint32_t capacity, gpu::Buffer& counts, gpu::Buffer& lists) {
     check_radius(radius);
     if (!list_pass_.pipeline())
-        list_pass_ = gpu::ComputePass(*ctx_, {"sim/grid_list_neighbors.comp", 6, sizeof(shader::NeighborListPush)});
+        list_pass_ = gpu::ComputePass(*ctx_, {"grid/grid_list_neighbors.comp", 6, sizeof(shader::NeighborListPush)});
     shader::NeighborListPush push{};
     push.grid = geometry_.push(count);
     push.radius = radius;

@@ -1,4 +1,4 @@
-#include "gpu/prefix_sum.h"
+#include "grid/prefix_sum.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -16,8 +16,8 @@ PrefixSum::PrefixSum(Context& ctx, BufferSet& buffers, uint32_t max_count, const
         levels_.push_back(&buffers.add(prefix + ".scan_sums" + std::to_string(level++), uint64_t(n) * 4));
     } while (n > 1);
     using shader::ScanPush;
-    blocks_pass_ = ComputePass(ctx, {"gpu/scan_blocks.comp", 2, sizeof(ScanPush), SCAN_WORKGROUP});
-    add_pass_ = ComputePass(ctx, {"gpu/scan_add.comp", 2, sizeof(ScanPush)});
+    blocks_pass_ = ComputePass(ctx, {"grid/scan_blocks.comp", 2, sizeof(ScanPush), SCAN_WORKGROUP});
+    add_pass_ = ComputePass(ctx, {"grid/scan_add.comp", 2, sizeof(ScanPush)});
 }
 
 void PrefixSum::record(VkCommandBuffer cmd, Buffer& data, uint32_t count) const {

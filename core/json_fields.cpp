@@ -1,6 +1,6 @@
 // Strict JSON field readers shared by every file format of aquaform (scenes, control sections):
 // each failure throws Invalid with a message naming the key path, the value and the fix.
-#include "sim/json_fields.h"
+#include "core/json_fields.h"
 
 #include <algorithm>
 #include <cctype>
