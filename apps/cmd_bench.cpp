@@ -1,4 +1,5 @@
-// `aquaform bench sim`: solver speed and neighbour-search scaling on dam breaks of growing size;
+// `aquaform bench sim`: solver speed and neighbour-search scaling on dam breaks of growing size
+// (measured by study/bench_sim.h);
 // `aquaform bench render` lives in apps/cmd_bench_render.cpp, `aquaform bench control` in
 // apps/cmd_bench_control.cpp.
 #include <algorithm>
@@ -11,12 +12,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "apps/bench_scenes.h"
 #include "apps/cli.h"
 #include "gpu/context.h"
-#include "gpu/timer.h"
-#include "grid/neighbor_grid.h"
-#include "sim/pbf_solver.h"
+#include "study/bench_sim.h"
 
 namespace aquaform::cli {
 
@@ -33,8 +31,6 @@ std::vector<uint32_t> parse_sizes(const std::string& text, std::string* error) {
     }
     return sizes;
 }
-
-const char* kGridPasses[] = {"grid_count", "grid_scan", "grid_scatter", "reorder", "neighbor_masks"};
 
 /// Flags of `bench sim`; `bench render`'s are bench_render_flags().
 FlagSpec bench_sim_flags() {
@@ -99,67 +95,21 @@ int cmd_bench(const std::vector<std::string>& argv) {
                 ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type), *iterations, *repeats, *steps, *warmup);
     std::printf("%10s %6s %12s %10s %14s %12s %10s\n", "particles", "iters", "ms/step", "steps/s", "grid ms/step",
                 "B/particle", "B/cell");
+    const study::SolverBenchOptions options{uint32_t(*iterations), uint32_t(*steps), uint32_t(*repeats), uint32_t(*warmup)};
+    std::vector<study::SolverBenchRecord> measured;
     nlohmann::json records = nlohmann::json::array();
-    std::vector<double> log_n, log_grid;
     for (uint32_t target : sizes) {
-        Scene scene = bench_scene(target, static_cast<uint32_t>(*iterations));
-        PbfSolver solver(ctx, scene);
-        gpu::GpuTimer timer(ctx);
-        solver.run_steps(static_cast<uint32_t>(*warmup), nullptr);  // let the column start to fall
-        // The best of several runs: on a shared machine, noise only ever adds time.
-        double wall_ms = 0.0;
-        std::map<std::string, double> pass_ms;
-        for (long r = 0; r < *repeats; ++r) {
-            timer.clear_totals();
-            const auto t0 = std::chrono::steady_clock::now();
-            solver.run_steps(static_cast<uint32_t>(*steps), &timer);
-            const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-            if (r == 0 || ms < wall_ms) wall_ms = ms, pass_ms = timer.totals_ms();
-        }
-        const double ms_per_step = wall_ms / double(*steps);
-        nlohmann::json per_pass = nlohmann::json::object();
-        double grid_ms = 0.0;
-        for (const auto& [name, ms] : pass_ms) {
-            per_pass[name] = ms / double(*steps);
-            for (const char* g : kGridPasses)
-                if (name == g) grid_ms += ms / double(*steps);
-        }
-        uint64_t per_cell_bytes = uint64_t(kGridBytesPerCell) * solver.grid().geometry().cell_count();
-        uint64_t total = 0;
-        for (const auto& b : solver.memory_report()) total += b.bytes;
-        const double bytes_per_particle = double(total - per_cell_bytes) / solver.particle_count();
-        const uint32_t n = solver.particle_count();
-        std::printf("%10u %6ld %12.2f %10.2f %14.2f %12.1f %10u\n", n, *iterations, ms_per_step, 1000.0 / ms_per_step,
-                    grid_ms, bytes_per_particle, kGridBytesPerCell);
+        const study::SolverBenchRecord r = study::measure_solver(ctx, target, options);
+        std::printf("%10u %6u %12.2f %10.2f %14.2f %12.1f %10u\n", r.particles, r.iterations, r.ms_per_step, r.steps_per_s,
+                    r.neighbor_search_ms, r.gpu_bytes_per_particle, r.gpu_bytes_per_cell);
         std::fflush(stdout);
-        records.push_back({{"particles", n},
-                           {"iterations", *iterations},
-                           {"ms_per_step", ms_per_step},
-                           {"ms_per_pass", per_pass},
-                           {"steps_per_s", 1000.0 / ms_per_step},
-                           {"neighbor_search_ms", grid_ms},
-                           {"gpu_bytes_per_particle", bytes_per_particle},
-                           {"gpu_bytes_per_cell", kGridBytesPerCell},
-                           {"grid_cells", solver.grid().geometry().cell_count()}});
-        log_n.push_back(std::log(double(n)));
-        log_grid.push_back(std::log(grid_ms));
+        measured.push_back(r);
+        records.push_back(study::to_json(r));
     }
-    // Least-squares slope of log(time) against log(N): the growth exponent.
-    double exponent = std::nan("");
-    if (log_n.size() >= 2) {
-        double mx = 0, my = 0;
-        for (size_t i = 0; i < log_n.size(); ++i) mx += log_n[i], my += log_grid[i];
-        mx /= log_n.size();
-        my /= log_n.size();
-        double sxy = 0, sxx = 0;
-        for (size_t i = 0; i < log_n.size(); ++i) {
-            sxy += (log_n[i] - mx) * (log_grid[i] - my);
-            sxx += (log_n[i] - mx) * (log_n[i] - mx);
-        }
-        exponent = sxy / sxx;
-        std::printf("neighbour search (grid build, reorder, neighbour masks) grows as N^%.3f from %u to %u particles\n", exponent,
-                    records.front()["particles"].get<uint32_t>(), records.back()["particles"].get<uint32_t>());
-    }
+    const double exponent = study::neighbor_search_exponent(measured);
+    if (!std::isnan(exponent))
+        std::printf("neighbour search (grid build, reorder, neighbour masks) grows as N^%.3f from %u to %u particles\n",
+                    exponent, measured.front().particles, measured.back().particles);
     nlohmann::json doc = {{"benchmark", "sim"},
                           {"device", ctx.info().name},
                           {"device_type", gpu::device_type_name(ctx.info().type)},

@@ -1,9 +1,9 @@
 // `aquaform bench render`: the surface reconstruction on one fixed dam-break frame, with each
 // method and each of the adaptive method's mechanisms alone, measured against the exhaustive
 // reference; checks the targets of the adaptive method (evaluations per ray, adaptive
-// resolution, real-time on a GPU) and writes bench_render.json. The scene is bench_scene()'s dam
+// resolution, real-time on a GPU) and writes bench_render.json. The scene is study::bench_scene()'s dam
 // break; the default frame is the one where its front has run halfway down the tank
-// (bench_half_tank_frame() in apps/bench_scenes.h: 15 frames, 0.25 s, for 32,768 particles).
+// (bench_half_tank_frame() in study/bench_scenes.h: 15 frames, 0.25 s, for 32,768 particles).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "apps/bench_scenes.h"
+#include "study/bench_scenes.h"
 #include "apps/cli.h"
 #include "apps/render_measure.h"
 #include "apps/render_options.h"
@@ -308,9 +308,9 @@ int bench_render(const Args& args) {
     auto base = render_settings_from(args, &error);
     if (!base) return usage(error);
 
-    const Scene scene = bench_scene(uint32_t(*particles), 4);
+    const Scene scene = study::bench_scene(uint32_t(*particles), 4);
     if (scene.particle_count() == 0) return usage("--particles " + args.value("--particles") + " makes an empty dam break; ask for more");
-    uint32_t frame = bench_half_tank_frame(scene);
+    uint32_t frame = study::bench_half_tank_frame(scene);
     if (args.has("--frame")) {
         auto f = parse_frame(args.value("--frame"), &error);
         if (!f) return usage(error);

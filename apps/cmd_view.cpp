@@ -28,7 +28,7 @@
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_vulkan.h>
 
-#include "apps/bench_scenes.h"
+#include "study/bench_scenes.h"
 #include "apps/cli.h"
 #include "apps/render_options.h"
 #include "apps/view_script.h"
@@ -494,10 +494,10 @@ int cmd_view(const std::vector<std::string>& argv) {
     }
     Scene scene;
     if (generated) {
-        // The benchmarks' dam break (apps/bench_scenes.h), for frame rates at a chosen size.
+        // The benchmarks' dam break (study/bench_scenes.h), for frame rates at a chosen size.
         auto n = parse_positive("--particles", args->value("--particles"), &error);
         if (!n) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
-        scene = bench_scene(uint32_t(std::min<long>(*n, 1L << 26)), 4);
+        scene = study::bench_scene(uint32_t(std::min<long>(*n, 1L << 26)), 4);
     } else {
         auto loaded = load_scene(args->positional[0]);
         if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;

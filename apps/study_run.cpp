@@ -8,7 +8,7 @@
 #include <memory>
 #include <sstream>
 
-#include "apps/bench_scenes.h"
+#include "study/bench_scenes.h"
 #include "apps/render_measure.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
@@ -73,7 +73,7 @@ public:
     bool simulate() {
         solver_ = std::make_unique<PbfSolver>(ctx_, scene_);
         const uint32_t frames = case_.time_s ? uint32_t(std::lround(*case_.time_s / scene_.solver.frame_dt))
-                                             : bench_half_tank_frame(scene_);
+                                             : study::bench_half_tank_frame(scene_);
         return simulate_frames(*solver_, frames, "study " + case_.name + ": simulating " +
                                                      std::to_string(solver_->particle_count()) + " particles");
     }
@@ -392,7 +392,7 @@ std::vector<StudyRow> run_study_cases(gpu::Context& ctx, const StudySpec& spec, 
     for (const StudyCase& c : spec.cases) {
         std::vector<Scene> scenes;
         if (c.scene == "dam_break") {
-            for (uint32_t n : c.particles) scenes.push_back(bench_scene(n, 4));
+            for (uint32_t n : c.particles) scenes.push_back(study::bench_scene(n, 4));
         } else {
             auto loaded = load_scene(c.scene);
             if (!loaded) throw std::invalid_argument(loaded.error());

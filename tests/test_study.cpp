@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "apps/bench_scenes.h"
+#include "study/bench_scenes.h"
 #include "apps/study_run.h"
 #include "apps/study_spec.h"
 #include "render/metaball_renderer.h"
@@ -94,7 +94,7 @@ TEST(StudyTargetsTest, ComparisonsStayWithinACaseAndTheCrossoverIsInterpolated) 
 TEST(StudyCameraTest, TheCloseUpBringsParticlesWithinAMetaballRangeOfTheEyePlane) {
     // The close-up case is where billboards are dropped: it must actually put particles that
     // close, in view, with the eye on the fluid's surface rather than inside it.
-    const Scene scene = cli::bench_scene(4096, 4);
+    const Scene scene = study::bench_scene(4096, 4);
     cli::StudyCamera spec;
     spec.preset = "closeup";
     const ViewCamera camera = cli::study_camera(spec, scene, 1.0f);

@@ -8,7 +8,7 @@
 
 #include "sim/scene.h"
 
-namespace aquaform::cli {
+namespace aquaform::study {
 
 /// A dam break with about `particles` particles: a column a x 2a x a in a 4a x 2.5a x a tank
 /// (particle spacing 1 cm, so a grows as the cube root of the count).
@@ -43,4 +43,4 @@ inline uint32_t bench_half_tank_frame(const Scene& scene) {
     return uint32_t(std::lround(t / double(scene.solver.frame_dt)));
 }
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::study

@@ -1,0 +1,72 @@
+#include "study/bench_sim.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "gpu/context.h"
+#include "gpu/timer.h"
+#include "grid/neighbor_grid.h"
+#include "sim/pbf_solver.h"
+#include "study/bench_scenes.h"
+
+namespace aquaform::study {
+
+SolverBenchRecord measure_solver(gpu::Context& ctx, uint32_t target_particles, const SolverBenchOptions& options) {
+    PbfSolver solver(ctx, bench_scene(target_particles, options.iterations));
+    gpu::GpuTimer timer(ctx);
+    solver.run_steps(options.warmup, nullptr);
+    double wall_ms = 0.0;
+    std::map<std::string, double> pass_ms;
+    for (uint32_t r = 0; r < options.repeats; ++r) {
+        timer.clear_totals();
+        const auto t0 = std::chrono::steady_clock::now();
+        solver.run_steps(options.steps, &timer);
+        const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+        if (r == 0 || ms < wall_ms) wall_ms = ms, pass_ms = timer.totals_ms();
+    }
+    SolverBenchRecord rec;
+    rec.particles = solver.particle_count();
+    rec.iterations = options.iterations;
+    rec.ms_per_step = wall_ms / double(options.steps);
+    rec.steps_per_s = 1000.0 / rec.ms_per_step;
+    for (const auto& [name, ms] : pass_ms) {
+        rec.ms_per_pass[name] = ms / double(options.steps);
+        for (const char* g : kNeighborSearchPasses)
+            if (name == g) rec.neighbor_search_ms += ms / double(options.steps);
+    }
+    rec.grid_cells = solver.grid().geometry().cell_count();
+    rec.gpu_bytes_per_cell = kGridBytesPerCell;
+    uint64_t total = 0;
+    for (const auto& b : solver.memory_report()) total += b.bytes;
+    rec.gpu_bytes_per_particle = double(total - uint64_t(kGridBytesPerCell) * rec.grid_cells) / rec.particles;
+    return rec;
+}
+
+double neighbor_search_exponent(const std::vector<SolverBenchRecord>& records) {
+    if (records.size() < 2) return std::nan("");
+    double mx = 0, my = 0;
+    for (const auto& r : records) mx += std::log(double(r.particles)), my += std::log(r.neighbor_search_ms);
+    mx /= double(records.size());
+    my /= double(records.size());
+    double sxy = 0, sxx = 0;
+    for (const auto& r : records) {
+        const double dx = std::log(double(r.particles)) - mx;
+        sxy += dx * (std::log(r.neighbor_search_ms) - my);
+        sxx += dx * dx;
+    }
+    return sxy / sxx;
+}
+
+nlohmann::json to_json(const SolverBenchRecord& r) {
+    return {{"particles", r.particles},
+            {"iterations", r.iterations},
+            {"ms_per_step", r.ms_per_step},
+            {"ms_per_pass", r.ms_per_pass},
+            {"steps_per_s", r.steps_per_s},
+            {"neighbor_search_ms", r.neighbor_search_ms},
+            {"gpu_bytes_per_particle", r.gpu_bytes_per_particle},
+            {"gpu_bytes_per_cell", r.gpu_bytes_per_cell},
+            {"grid_cells", r.grid_cells}};
+}
+
+}  // namespace aquaform::study

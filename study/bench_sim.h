@@ -1,0 +1,51 @@
+// `aquaform bench sim`'s measurement: solver speed and neighbour-search cost on a dam break of a
+// chosen size (study/bench_scenes.h), the best of several timed runs after a warm-up.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace aquaform::gpu {
+class Context;
+}
+
+namespace aquaform::study {
+
+struct SolverBenchOptions {
+    uint32_t iterations = 4;  ///< constraint iterations per step
+    uint32_t steps = 4;       ///< steps per timed run
+    uint32_t repeats = 3;     ///< timed runs; the fastest counts (noise on a shared machine only adds time)
+    uint32_t warmup = 20;     ///< steps before timing, so that the column has started to fall
+};
+
+struct SolverBenchRecord {
+    uint32_t particles = 0;
+    uint32_t iterations = 0;
+    double ms_per_step = 0.0;
+    double steps_per_s = 0.0;
+    /// Grid build, reorder and neighbour masks per step (the passes of kNeighborSearchPasses).
+    double neighbor_search_ms = 0.0;
+    std::map<std::string, double> ms_per_pass;  ///< GPU ms per step of every pass
+    double gpu_bytes_per_particle = 0.0;        ///< every buffer but the grid's cells, per particle
+    uint32_t gpu_bytes_per_cell = 0;
+    uint32_t grid_cells = 0;
+};
+
+/// The passes that make up the neighbour search.
+inline constexpr const char* kNeighborSearchPasses[] = {"grid_count", "grid_scan", "grid_scatter", "reorder",
+                                                        "neighbor_masks"};
+
+/// Times the solver on study::bench_scene(target_particles).
+SolverBenchRecord measure_solver(gpu::Context& ctx, uint32_t target_particles, const SolverBenchOptions& options);
+
+/// Least-squares slope of log(neighbour-search time) against log(particles): the growth exponent
+/// of the neighbour search; NaN with fewer than two records.
+double neighbor_search_exponent(const std::vector<SolverBenchRecord>& records);
+
+nlohmann::json to_json(const SolverBenchRecord& record);
+
+}  // namespace aquaform::study
