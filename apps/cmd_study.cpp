@@ -7,7 +7,7 @@
 #include <filesystem>
 
 #include "apps/cli.h"
-#include "apps/study_charts.h"
+#include "study/study_charts.h"
 #include "apps/study_run.h"
 #include "apps/study_solver_map.h"
 #include "apps/study_spec.h"
@@ -69,7 +69,7 @@ int cmd_study(const std::vector<std::string>& argv) {
     std::printf("\n%zu measurements, %zu failed; tables in %s\n", rows.size(), failed, (out_dir / "study.md").string().c_str());
     for (const auto& line : targets) std::printf("  %s\n", line.c_str());
     if (!args->has("--no-charts")) {
-        auto charts = draw_study_charts(out_dir);
+        auto charts = study::draw_study_charts(out_dir);
         if (!charts) check(Error{"charts: " + charts.error()});
         else for (const auto& path : charts.value()) std::printf("  chart %s\n", path.c_str());
     }

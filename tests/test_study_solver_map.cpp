@@ -10,7 +10,7 @@
 #include <sstream>
 #include <string>
 
-#include "apps/study_charts.h"
+#include "study/study_charts.h"
 #include "apps/study_solver_map.h"
 #include "tests/cli_helpers.h"
 #include "tests/gpu_test.h"
@@ -260,7 +260,7 @@ protected:
 TEST_F(StudyCharts, DrawsEveryChartAsPngAndSvg) {
     const fs::path dir = temp_dir("study_charts");
     write_study_csvs(dir);
-    auto written = cli::draw_study_charts(dir);
+    auto written = study::draw_study_charts(dir);
     ASSERT_TRUE(written.ok()) << written.error();
     EXPECT_EQ(written.value().size(), 8u);
     for (const char* name : {"pareto", "time_vs_particles", "passes", "solver_map"}) {
@@ -280,13 +280,13 @@ TEST_F(StudyCharts, DrawsEveryChartAsPngAndSvg) {
 
 TEST_F(StudyCharts, MissingColumnOrFilesAreErrorsNamingThem) {
     const fs::path dir = temp_dir("study_charts_bad");
-    auto none = cli::draw_study_charts(dir);
+    auto none = study::draw_study_charts(dir);
     ASSERT_FALSE(none.ok());
     EXPECT_NE(none.error().find("study.csv"), std::string::npos) << none.error();
     EXPECT_NE(none.error().find("solver_map.csv"), std::string::npos) << none.error();
 
     write_study_csvs(dir, false);
-    auto missing = cli::draw_study_charts(dir);
+    auto missing = study::draw_study_charts(dir);
     ASSERT_FALSE(missing.ok());
     EXPECT_NE(missing.error().find("solver_map.csv"), std::string::npos) << missing.error();
     EXPECT_NE(missing.error().find("\"control_pressure\""), std::string::npos) << missing.error();

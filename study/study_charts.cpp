@@ -1,4 +1,4 @@
-#include "apps/study_charts.h"
+#include "study/study_charts.h"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -9,7 +9,7 @@
 #include <fstream>
 #include <sstream>
 
-namespace aquaform::cli {
+namespace aquaform::study {
 
 namespace {
 
@@ -111,4 +111,4 @@ Result<std::vector<std::string>> draw_study_charts(const fs::path& out_dir) {
     return written;
 }
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::study

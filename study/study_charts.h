@@ -7,7 +7,7 @@
 
 #include "core/result.h"
 
-namespace aquaform::cli {
+namespace aquaform::study {
 
 /// The chart script, found in this order: $AQUAFORM_SCRIPTS_DIR (an explicit choice wins),
 /// then beside the running executable (/proc/self/exe): <exe dir>/../scripts, <exe dir>/scripts,
@@ -21,4 +21,4 @@ Result<std::filesystem::path> find_study_charts_script();
 /// names what to install or what the script refused (a missing file or column).
 Result<std::vector<std::string>> draw_study_charts(const std::filesystem::path& out_dir);
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::study
