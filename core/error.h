@@ -22,4 +22,7 @@ private:
     Kind kind_;
 };
 
+inline Failure resource_failure(const std::string& message) { return Failure(message, Failure::Kind::resource); }
+inline Failure internal_failure(const std::string& message) { return Failure(message, Failure::Kind::internal); }
+
 }  // namespace aquaform
