@@ -11,6 +11,7 @@
 #include "apps/render_measure.h"
 #include "apps/render_options.h"
 #include "gpu/context.h"
+#include "render/registry.h"
 #include "render/surface_views.h"
 
 namespace aquaform::cli {
@@ -21,6 +22,57 @@ Result<bool> write_all(const std::filesystem::path& dir, const std::vector<std::
     for (const auto& [name, image] : images)
         if (auto written = write_png(dir / name, image); !written) return written;
     return true;
+}
+
+/// A method of another family than the SPH surface renderer's: the image, its timings and
+/// counters, and (unless --no-reference) its errors against the exhaustive SPH reference.
+int render_other_family(gpu::Context& ctx, Renderer& renderer, PbfSolver& solver, const ViewCamera& camera, const Args& args,
+                        uint32_t frame, const std::filesystem::path& out_dir) {
+    const uint32_t n = solver.particle_count();
+    RenderMeasurement m;
+    const PassTimes t = time_best_of(ctx, 2, [&](VkCommandBuffer cmd, gpu::GpuTimer* timer) {
+        renderer.record(cmd, solver.positions(), n, camera, timer);
+    });
+    m.ms_total = t.ms_total;
+    m.ms_per_pass = t.ms_per_pass;
+    m.frame = renderer.read_frame();
+    const RenderStats stats = renderer.stats();
+    m.rays = uint32_t(stats.rays);
+    std::vector<std::pair<std::string, Image>> images{{"image.png", m.frame.color}};
+    nlohmann::json record = {{"label", renderer.method()}, {"method", renderer.method()}, {"width", renderer.width()},
+                             {"height", renderer.height()}, {"particles", n}, {"ms_total", m.ms_total},
+                             {"ms_per_pass", m.ms_per_pass}, {"stats", stats.describe()}};
+    print_render_header();
+    if (!args.has("--no-reference")) {
+        auto reference = render_registry().create(ctx, solver.scene().particle_domain(), renderer.width(), renderer.height(), n,
+                                                  render_registry().find("reference")->defaults);
+        const SurfaceFrame ref = reference->render(solver.positions(), n, camera);
+        const float radius = 0.5f * solver.scene().particle_spacing;
+        const SurfaceComparison cmp = compare_surfaces(ref, m.frame, radius);
+        print_render_row(renderer.method(), m, &cmp);
+        record["depth_err_mean"] = cmp.depth_err_mean;
+        record["normal_err_deg_mean"] = cmp.normal_err_deg_mean;
+        record["coverage_mismatch"] = cmp.coverage_mismatch;
+        record["psnr_db"] = cmp.psnr_db;
+        images.emplace_back("reference.png", ref.color);
+        const SurfaceErrorMaps errors = surface_error_maps(ref, m.frame, radius);
+        images.emplace_back("depth_error.png", heat_map(errors.depth_err, renderer.width(), renderer.height(), 1.0f, &m.frame.color));
+    } else {
+        print_render_row(renderer.method(), m, nullptr);
+    }
+    std::printf("%s\n", stats.describe().c_str());
+    nlohmann::json report = {{"scene", args.positional[0]}, {"frame", frame}, {"device", ctx.info().name}, {"render", record}};
+    if (auto written = write_all(out_dir, images); !written)
+        return std::fprintf(stderr, "aquaform render: %s\n", written.error().c_str()), kExitFailure;
+    std::ofstream json(out_dir / "render.json");
+    json << report.dump(2) << "\n";
+    if (!json)
+        return std::fprintf(stderr, "aquaform render: cannot write %s; check the disk and permissions\n",
+                            (out_dir / "render.json").string().c_str()),
+               kExitFailure;
+    std::printf("wrote image.png%s and render.json to %s\n", args.has("--no-reference") ? "" : ", reference.png, depth_error.png",
+                out_dir.string().c_str());
+    return kExitOk;
 }
 
 }  // namespace
@@ -38,8 +90,9 @@ int cmd_render(const std::vector<std::string>& argv) {
     auto loaded = load_scene(args->positional[0]);
     if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
     const Scene& scene = loaded.value();
-    auto settings = render_settings_from(*args, &error);
-    if (!settings) return std::fprintf(stderr, "aquaform render: %s\n", error.c_str()), kExitUsage;
+    auto method = render_method_from(*args, &error);
+    if (!method) return std::fprintf(stderr, "aquaform render: %s\n", error.c_str()), kExitUsage;
+    const SurfaceSettings* settings = method->get<SurfaceSettings>();
     uint32_t frame = scene.frames / 2;
     if (args->has("--frame")) {
         const std::string text = args->value("--frame");
@@ -67,13 +120,16 @@ int cmd_render(const std::vector<std::string>& argv) {
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});
     PbfSolver solver(ctx, scene);
     std::printf("%s: %u particles on %s; rendering frame %u at %ux%u with the %s method\n", scene.name.c_str(),
-                solver.particle_count(), ctx.info().name.c_str(), frame, width, height, method_name(settings->method));
+                solver.particle_count(), ctx.info().name.c_str(), frame, width, height, method->method().c_str());
     if (!simulate_frames(solver, frame, "simulating to frame " + std::to_string(frame)))
         return exit_status(ctx, kExitFailure);
 
-    SurfaceRenderer renderer(ctx, scene.particle_domain(), width, height, solver.particle_count());
-    renderer.set_diagnostics(true);
     const ViewCamera camera = camera_for_domain(scene.domain, float(width) / float(height));
+    auto made = render_registry().create(ctx, scene.particle_domain(), width, height, solver.particle_count(), *method);
+    if (!settings)
+        return exit_status(ctx, render_other_family(ctx, *made, solver, camera, *args, frame, out_dir));
+    SurfaceRenderer& renderer = *concrete_of<SurfaceRenderer>(*made);
+    renderer.set_diagnostics(true);
     RenderMeasurement m = measure_render(ctx, renderer, solver.positions(), solver.particle_count(), camera, *settings, 2);
     std::vector<std::pair<std::string, Image>> images{
         {"image.png", m.frame.color},

@@ -16,7 +16,7 @@
 #include "gpu/context.h"
 #include "gpu/timer.h"
 #include "render/impostor_view.h"
-#include "render/surface_renderer.h"
+#include "render/registry.h"
 #include "render/wireframe.h"
 #include "sim/particle_io.h"
 #include "sim/pbf_solver.h"
@@ -60,7 +60,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     uint32_t frames = scene.frames;
     uint32_t ply_every = 0;
     uint32_t width = 640, height = 360;
-    auto settings = render_settings_from(*args, &error);
+    auto settings = render_method_from(*args, &error);
     if (!settings) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
     if (args->has("--frames")) {
         auto f = parse_positive("--frames", args->value("--frames"), &error);
@@ -109,15 +109,15 @@ int cmd_run(const std::vector<std::string>& argv) {
     }
     // Frames are ray-marched; --preview draws the quick sphere impostors instead.
     std::unique_ptr<ImpostorView> view;
-    std::unique_ptr<SurfaceRenderer> surface;
+    std::unique_ptr<Renderer> surface;
     if (!args->has("--no-png")) {
         if (args->has("--preview")) view = std::make_unique<ImpostorView>(ctx, width, height);
-        else surface = std::make_unique<SurfaceRenderer>(ctx, scene.particle_domain(), width, height, solver.particle_count());
+        else surface = render_registry().create(ctx, scene.particle_domain(), width, height, solver.particle_count(), *settings);
     }
     if (surface) {
         uint64_t bytes = 0;
         for (const auto& b : surface->memory_report()) bytes += b.bytes;
-        std::printf("  renderer (%s, %ux%u)    %.3f MiB\n", method_name(settings->method), width, height,
+        std::printf("  renderer (%s, %ux%u)    %.3f MiB\n", settings->method().c_str(), width, height,
                     double(bytes) / (1024.0 * 1024.0));
     }
     const ViewCamera camera = camera_for_domain(scene.domain, float(width) / float(height));
@@ -144,7 +144,7 @@ int cmd_run(const std::vector<std::string>& argv) {
         if (view || surface) {
             Image image = view ? view->render(solver.positions(), solver.velocities(), solver.particle_count(), camera,
                                               style, scene.domain, scene.static_boxes)
-                               : surface->render(solver.positions(), solver.particle_count(), camera, *settings).color;
+                               : surface->render(solver.positions(), solver.particle_count(), camera).color;
             if (driver && args->has("--wireframe"))
                 for (const control::Mesh& mesh : driver->active_meshes())
                     draw_wireframe(image, mesh.vertices, mesh.faces, camera);

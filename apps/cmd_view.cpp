@@ -261,7 +261,7 @@ private:
     }
 
     void set_method_checked(const std::string& method) {
-        if (std::find(std::begin(kViewMethods), std::end(kViewMethods), method) == std::end(kViewMethods)) {
+        if (std::find(view_methods().begin(), view_methods().end(), method) == view_methods().end()) {
             std::fprintf(stderr, "aquaform view: unknown method \"%s\" in the script; use one of the method menu's\n",
                          method.c_str());
             failed_ = true;
@@ -338,8 +338,8 @@ private:
         ImGui::SliderFloat("picture scale", &picture_scale_, 0.25f, 1.0f, "%.2f");
         if (ImGui::IsItemHovered()) ImGui::SetTooltip("the fluid's picture against the window's size: smaller is quicker");
         if (ImGui::BeginCombo("method", controls_.method.c_str())) {
-            for (const char* m : kViewMethods)
-                if (ImGui::Selectable(m, controls_.method == m)) controls_.method = m;
+            for (const std::string& m : view_methods())
+                if (ImGui::Selectable(m.c_str(), controls_.method == m)) controls_.method = m;
             ImGui::EndCombo();
         }
         if (ImGui::CollapsingHeader("Solver", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -509,8 +509,19 @@ int cmd_view(const std::vector<std::string>& argv) {
         if (!prepared) return std::fprintf(stderr, "aquaform: %s\n", prepared.error().c_str()), kExitUsage;
         control = std::move(prepared.value());
     }
-    auto settings = render_settings_from(*args, &error);
-    if (!settings) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
+    auto method_settings = render_method_from(*args, &error);
+    if (!method_settings) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
+    const std::string method = method_settings->method();
+    if (std::find(view_methods().begin(), view_methods().end(), method) == view_methods().end()) {
+        std::string menu;
+        for (const auto& m : view_methods()) menu += (menu.empty() ? "" : ", ") + m;
+        return std::fprintf(stderr, "aquaform view: --method %s is too slow to watch; use one of %s\n", method.c_str(),
+                            menu.c_str()),
+               kExitUsage;
+    }
+    // The panel edits the SPH surface methods' settings; the other methods start at their defaults.
+    const SurfaceSettings* given = method_settings->get<SurfaceSettings>();
+    const std::optional<SurfaceSettings> settings = given ? *given : SurfaceSettings{};
     std::vector<ViewAction> script;
     if (args->has("--script")) {
         auto loaded_script = load_view_script(args->value("--script"));
@@ -574,7 +585,6 @@ int cmd_view(const std::vector<std::string>& argv) {
                              shaders.string().c_str());
             shaders.clear();
         }
-        const std::string method = settings->method == SurfaceMethod::uniform ? "uniform" : "adaptive";
         // --async keeps a script's window free of the worker (a stress test of the threads).
         const bool lockstep = (args->has("--script") || !record_dir.empty()) && !args->has("--async");
         Viewer viewer(ctx, win, scene, std::move(control), *settings, method, shaders, lockstep);

@@ -1,5 +1,5 @@
-// Render flags shared by every command that draws ray-marched frames (run, render, bench render):
-// the method, its switches and parameters, and the resolution.
+// Render flags shared by every command that draws frames (run, render, view, bench render): the
+// method (any of render/registry.h), its switches and parameters, and the resolution.
 #pragma once
 
 #include <optional>
@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "apps/cli.h"
+#include "render/renderer.h"
 #include "render/surface_settings.h"
 
 namespace aquaform::cli {
@@ -17,7 +18,10 @@ const std::vector<std::string>& render_switches();
 /// Usage lines describing them.
 const char* render_flags_usage();
 
-/// Settings from the flags; nullopt with `error` naming the flag and the accepted values.
+/// The method of --method (default adaptive; any registered method, render/registry.h) with its
+/// settings from the flags; nullopt with `error` naming the flag and the accepted values.
+std::optional<MethodSettings> render_method_from(const Args& args, std::string* error);
+/// Likewise for commands that draw with the SPH surface renderer only (adaptive, uniform, reference).
 std::optional<SurfaceSettings> render_settings_from(const Args& args, std::string* error);
 
 /// "640x360" (16..8192 per side).

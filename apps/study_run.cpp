@@ -15,6 +15,7 @@
 #include "render/image_io.h"
 #include "render/image_metrics.h"
 #include "render/metaball_renderer.h"
+#include "render/registry.h"
 #include "render/screen_space.h"
 #include "render/surface_renderer.h"
 #include "sim/pbf_solver.h"
@@ -234,8 +235,7 @@ private:
     Image run(const StudyMethod& m, StudyRow& row) {
         if (m.family == StudyFamily::surface) {
             if (m.method == "reference") return sph_reference(&row).color;
-            SurfaceSettings s;
-            s.method = m.method == "uniform" ? SurfaceMethod::uniform : SurfaceMethod::adaptive;
+            SurfaceSettings s = render_registry().lookup(m.method).value()->defaults.as<SurfaceSettings>();
             uint32_t divisor = 1;
             if (m.method == "adaptive" && m.resolution != "adaptive") {
                 s.adaptive_resolution = false;
@@ -250,10 +250,7 @@ private:
         }
         if (m.family == StudyFamily::screen_space) {
             if (!screen_space_) screen_space_ = std::make_unique<ScreenSpaceRenderer>(ctx_, scene_.particle_domain(), width_, height_, particles());
-            ScreenSpaceSettings s;
-            auto filter = parse_filter(m.method);
-            if (!filter) throw std::invalid_argument(filter.error());
-            s.filter = filter.value();
+            const ScreenSpaceSettings s = render_registry().lookup(m.method).value()->defaults.as<ScreenSpaceSettings>();
             const PassTimes t = time_best_of(ctx_, repeats_, [&](VkCommandBuffer cmd, gpu::GpuTimer* timer) {
                 screen_space_->record(cmd, solver_->positions(), particles(), camera_, s, timer);
             });
@@ -264,8 +261,7 @@ private:
             note_reference_cut(row);
             return frame.color;
         }
-        MetaballSettings s;
-        s.method = parse_metaball_method(m.method).value();
+        MetaballSettings s = render_registry().lookup(m.method).value()->defaults.as<MetaballSettings>();
         s.visual = m.visual == "real" ? MetaballVisual::real : MetaballVisual::gradient;
         s.size = m.size;
         s.recursion_depth = m.recursion;

@@ -9,6 +9,7 @@
 
 #include "apps/render_options.h"
 #include "core/json_fields.h"
+#include "render/registry.h"
 
 namespace aquaform::cli {
 
@@ -24,17 +25,19 @@ constexpr std::array<std::string_view, 6> kMethodKeys{"method", "visual", "size"
 constexpr std::array<std::string_view, 5> kMapKeys{"scene", "dt", "iterations", "control_pressure", "time"};
 constexpr std::array<std::string_view, 3> kCameraKeys{"eye", "target", "fov"};
 
-struct MethodKind {
-    const char* name;
-    StudyFamily family;
-};
-constexpr MethodKind kMethods[] = {
-    {"reference", StudyFamily::surface}, {"adaptive", StudyFamily::surface},
-    {"uniform", StudyFamily::surface},   {"brute", StudyFamily::metaball},
-    {"abuffer", StudyFamily::metaball},  {"sbuffer", StudyFamily::metaball},
-    {"bilateral", StudyFamily::screen_space}, {"curvature_flow", StudyFamily::screen_space},
-    {"narrow_range", StudyFamily::screen_space},
-};
+StudyFamily family_of(const MethodEntry& entry) {
+    if (entry.family == "metaball") return StudyFamily::metaball;
+    if (entry.family == "screen_space") return StudyFamily::screen_space;
+    return StudyFamily::surface;
+}
+
+/// "the metaball methods (brute, abuffer, sbuffer)": the registered methods with spec key `key`.
+std::string methods_with_key(const std::string& key) {
+    std::string family, names;
+    for (const MethodEntry& e : render_registry().entries())
+        if (e.setting_by_spec_key(key)) family = e.family, names += (names.empty() ? "" : ", ") + e.name;
+    return "the " + family + " methods (" + names + ")";
+}
 
 std::string read_string(const json& v, const std::string& path, const char* what) {
     if (!v.is_string()) fail(path + " must be " + what + ", got " + written(v) + " (" + kind_of(v) + ")");
@@ -66,16 +69,11 @@ std::vector<StudyMethod> read_methods(const json& v, const std::string& path) {
         check_keys(m, "in " + where, kMethodKeys);
         require(m, "method", "in " + where, "\"method\": \"sbuffer\"");
         const std::string name = read_string(m["method"], child(where, "method"), "a method name");
-        const MethodKind* kind = nullptr;
-        for (const auto& k : kMethods)
-            if (name == k.name) kind = &k;
-        if (!kind)
-            fail(child(where, "method") + " is \"" + name +
-                 "\"; use reference, adaptive, uniform, brute, abuffer, sbuffer, bilateral, curvature_flow or narrow_range");
-        const bool metaball = kind->family == StudyFamily::metaball;
+        const MethodEntry* entry = render_registry().find(name);
+        if (!entry) fail(child(where, "method") + " is \"" + name + "\"; use " + render_registry().names());
         for (const char* key : {"visual", "size", "recursion", "bisection"})
-            if (m.contains(key) && !metaball)
-                fail(child(where, key) + " applies to the metaball methods (brute, abuffer, sbuffer) only, not " + name);
+            if (m.contains(key) && !entry->setting_by_spec_key(key))
+                fail(child(where, key) + " applies to " + methods_with_key(key) + " only, not " + name);
         if (m.contains("resolution") && name != "adaptive")
             fail(child(where, "resolution") + " applies to the adaptive method only, not " + name);
         auto strings = [&](const char* key, std::vector<std::string> fallback, std::set<std::string> allowed) {
@@ -111,7 +109,7 @@ std::vector<StudyMethod> read_methods(const json& v, const std::string& path) {
                         for (const auto& resolution : resolutions) {
                             StudyMethod sm;
                             sm.method = name;
-                            sm.family = kind->family;
+                            sm.family = family_of(*entry);
                             sm.visual = visual;
                             sm.size = size;
                             sm.recursion = visual == "real" ? recursion : 1;

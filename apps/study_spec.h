@@ -18,8 +18,9 @@
 //   "solver_map": { "scene": "path.json", "dt": [0.002, 0.004], "iterations": [1, 2, 4],
 //                   "control_pressure": [..], "time": 0.5 } }   (or an array of such maps)
 //
-// Methods: reference, adaptive, uniform (the SPH surface renderer); brute, abuffer, sbuffer
-// (metaballs); bilateral, curvature_flow, narrow_range (screen-space filters).
+// Methods: every method of render/registry.h (aquaform help lists them): reference, adaptive,
+// uniform (the SPH surface renderer); brute, abuffer, sbuffer (metaballs); bilateral,
+// curvature_flow, narrow_range (screen-space filters).
 #pragma once
 
 #include <cstdint>

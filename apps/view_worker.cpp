@@ -14,13 +14,22 @@
 #include "gpu/shader_compiler.h"
 #include "gpu/timer.h"
 #include "render/image_metrics.h"
-#include "render/metaball_renderer.h"
-#include "render/screen_space.h"
+#include "render/registry.h"
 #include "render/surface_renderer.h"
 #include "render/surface_views.h"
 #include "sim/pbf_solver.h"
 
 namespace aquaform::cli {
+
+const std::vector<std::string>& view_methods() {
+    static const std::vector<std::string> methods = [] {
+        std::vector<std::string> out;
+        for (const MethodEntry& e : render_registry().entries())
+            if (e.watchable) out.push_back(e.name);
+        return out;
+    }();
+    return methods;
+}
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
@@ -61,9 +70,8 @@ struct ViewWorker::Sim {
     gpu::GpuTimer render_timer, sim_timer;
     control::PushForce push;     // the drag brush
     control::StepForces forces;  // the control shape's force and the brush, for the solver
-    std::unique_ptr<SurfaceRenderer> surface;
-    std::unique_ptr<MetaballRenderer> metaball;
-    std::unique_ptr<ScreenSpaceRenderer> screen_space;
+    /// One renderer per family (a family's renderer draws each of its methods), by family name.
+    std::map<std::string, std::unique_ptr<Renderer>> renderers;
     uint32_t render_w = 0, render_h = 0;
     gpu::Buffer debug_image{};  // a debug view, drawn on the host
     std::unique_ptr<gpu::ShaderWatcher> watcher;
@@ -177,54 +185,52 @@ struct ViewWorker::Sim {
     /// submissions are complete here, and the window never reads a renderer's buffers.
     void ensure_renderers(uint32_t w, uint32_t h) {
         if (w == render_w && h == render_h) return;
-        surface.reset();
-        metaball.reset();
-        screen_space.reset();
+        renderers.clear();
         render_w = w;
         render_h = h;
     }
 
-    /// Makes the renderer `c` needs (outside any recording: making one submits work of its own).
-    void prepare_renderer(const ViewControls& c) {
-        const uint32_t n = solver->particle_count();
-        if (c.method == "adaptive" || c.method == "uniform") {
-            if (!surface) surface = std::make_unique<SurfaceRenderer>(ctx, scene.particle_domain(), render_w, render_h, n);
-        } else if (c.method == "sbuffer" || c.method == "abuffer") {
-            if (!metaball) metaball = std::make_unique<MetaballRenderer>(ctx, scene.particle_domain(), render_w, render_h, n);
-        } else if (!screen_space) {
-            screen_space = std::make_unique<ScreenSpaceRenderer>(ctx, scene.particle_domain(), render_w, render_h, n);
+    /// The settings of `c`'s method: its defaults, and the panel's for the SPH surface methods.
+    static MethodSettings method_settings(const ViewControls& c) {
+        auto entry = render_registry().lookup(c.method);
+        if (!entry) throw Failure(entry.error());
+        MethodSettings m = entry.value()->defaults;
+        if (SurfaceSettings* s = m.get<SurfaceSettings>()) {
+            const SurfaceMethod method = s->method;
+            *s = c.surface;
+            s->method = method;
         }
+        return m;
     }
+
+    /// The renderer of `c`'s method, configured with its settings.
+    Renderer& renderer(const ViewControls& c) {
+        const MethodSettings settings = method_settings(c);
+        auto& r = renderers[render_registry().find(c.method)->family];
+        if (!r) r = render_registry().create(ctx, scene.particle_domain(), render_w, render_h, solver->particle_count(), settings);
+        else r->configure(settings);
+        return *r;
+    }
+
+    /// Makes the renderer `c` needs (outside any recording: making one submits work of its own).
+    void prepare_renderer(const ViewControls& c) { renderer(c); }
 
     /// Records the picture of `c` and returns the buffer that holds it (RGBA8, render_w x render_h).
     const gpu::Buffer& record_render(VkCommandBuffer cmd, const ViewControls& c) {
-        const uint32_t n = solver->particle_count();
-        if (c.method == "adaptive" || c.method == "uniform") {
-            SurfaceSettings s = c.surface;
-            s.method = c.method == "adaptive" ? SurfaceMethod::adaptive : SurfaceMethod::uniform;
-            surface->record(cmd, solver->positions(), n, c.camera, s, &render_timer);
-            return surface->color_buffer();
-        }
-        if (c.method == "sbuffer" || c.method == "abuffer") {
-            MetaballSettings s;
-            s.method = parse_metaball_method(c.method).value();
-            metaball->record(cmd, solver->positions(), n, c.camera, s, &render_timer);
-            return metaball->color_buffer();
-        }
-        ScreenSpaceSettings s;
-        s.filter = parse_filter(c.method).value();
-        screen_space->record(cmd, solver->positions(), n, c.camera, s, &render_timer);
-        return screen_space->color_buffer();
+        Renderer& r = renderer(c);
+        r.record(cmd, solver->positions(), solver->particle_count(), c.camera, &render_timer);
+        return r.color_buffer();
     }
 
     /// A debug view of the SPH renderer: rendered, read back and drawn on the host (diagnostics
     /// only: the main view never leaves the GPU); returns the host buffer that holds it.
     const gpu::Buffer& debug_view(const ViewControls& c) {
-        SurfaceSettings s = c.surface;
-        s.method = c.method == "adaptive" ? SurfaceMethod::adaptive : SurfaceMethod::uniform;
+        Renderer& r = renderer(c);
+        SurfaceRenderer* surface = concrete_of<SurfaceRenderer>(r);
+        const SurfaceSettings& s = r.settings().as<SurfaceSettings>();
         surface->set_diagnostics(c.view == 2);
         render_timer.clear_totals();
-        const SurfaceFrame frame = surface->render(solver->positions(), solver->particle_count(), c.camera, s, &render_timer);
+        const SurfaceFrame frame = r.render(solver->positions(), solver->particle_count(), c.camera, &render_timer);
         Image image;
         // Depth maps: near bright, far dark, pixels no sprite covers left as the image.
         auto depth_view = [&](std::vector<float> depth) {
@@ -428,7 +434,8 @@ bool ViewWorker::frame(const ViewControls& controls, std::deque<ViewCommand> com
         slot.rgba = gpu::create_buffer(ctx_, "view.picture" + std::to_string(back), bytes);
     }
     s.prepare_renderer(controls);
-    const bool debug = controls.view != 0 && (controls.method == "adaptive" || controls.method == "uniform");
+    const MethodEntry* entry = render_registry().find(controls.method);
+    const bool debug = controls.view != 0 && entry && entry->family == "surface";
     const gpu::Buffer* source = debug ? &s.debug_view(controls) : nullptr;
     if (!debug) s.render_timer.clear_totals();
     gpu::submit_timed(ctx_, debug ? nullptr : &s.render_timer, [&](VkCommandBuffer cmd) {

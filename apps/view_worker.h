@@ -42,8 +42,8 @@ class ShaderWatcher;
 
 namespace aquaform::cli {
 
-/// The method menu: every renderer that is quick enough to watch.
-inline constexpr const char* kViewMethods[] = {"adaptive", "uniform", "sbuffer", "abuffer", "narrow_range", "bilateral", "curvature_flow"};
+/// The method menu: every registered method that is quick enough to watch (MethodEntry::watchable).
+const std::vector<std::string>& view_methods();
 /// Debug views of the SPH renderer (Wu et al. Figs. 5-7 and the depth maps), as the menu and
 /// scripts name them.
 inline constexpr const char* kDebugViews[] = {"image", "steps per ray", "classification", "tile resolution", "D_all", "D_agg"};

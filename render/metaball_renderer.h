@@ -56,6 +56,9 @@ struct MetaballSettings {
     /// in a near list every ray visits: the lists' field is then exact in close-ups too. Not the
     /// paper's method (it drops them); the study's reference turns it on.
     bool keep_near = false;
+    /// List memory per pixel of a renderer made from these settings (render/registry.h);
+    /// 0: kDefaultListBytesPerPixel. A renderer keeps the memory it was made with.
+    uint32_t list_bytes_per_pixel = 0;
 };
 
 /// Checks ranges; the message names the setting, its value and the range.

@@ -1,0 +1,73 @@
+// The SPH surface renderer's methods in the registry: adaptive (Wu et al.), uniform (Xiao et
+// al.) and the exhaustive reference. One SurfaceRenderer draws all three, so a renderer made for
+// one may be configured with another (a study's reference on the same buffers).
+#include "render/registry.h"
+#include "render/surface_renderer.h"
+
+namespace aquaform {
+
+namespace {
+
+class SurfaceMethodRenderer final : public FamilyRenderer<SurfaceRenderer, SurfaceSettings> {
+public:
+    using FamilyRenderer::FamilyRenderer;
+    RenderStats stats() override {
+        RenderStats s;
+        s.rays = impl_.rays_cast();
+        for (const glm::vec4& n : impl_.read_frame().normal) s.evaluations += uint64_t(n.w);
+        s.cut = impl_.cut_rays();
+        return s;
+    }
+};
+
+using S = SurfaceSettings;
+constexpr SettingType kNumber = SettingType::number, kInteger = SettingType::integer, kOff = SettingType::off_switch;
+
+std::vector<SettingSpec> surface_settings() {
+    return {
+        setting<S>("step", "--step", "step", kNumber, &S::step_radii, 0.01, 4, "0.01..4 particle radii",
+                   "marching step in particle radii"),
+        setting<S>("max_steps", "--max-steps", "max_steps", kInteger, &S::max_steps, 1, 100000, "1..100000",
+                   "density evaluations per ray before it gives up"),
+        setting<S>("max_skip_evals", "--max-skip", "max_skip", kInteger, &S::max_skip_evals, 0, 1e9, "0 or more",
+                   "maxSkipCounts: evaluations before the jump to D_agg"),
+        setting<S>("refine_steps", "--refine", "refine", kInteger, &S::refine_steps, 0, 32, "0..32", "bisection steps at the hit"),
+        setting<S>("mask_a", "--mask-a", "mask_a", kNumber, &S::mask_a, 0, 1, "0 < a <= 1", "centre weight of the mask convolution"),
+        setting<S>("mask_b", "--mask-b", "mask_b", kNumber, &S::mask_b, 0, 1, "0 < b <= a", "outer weight of the mask convolution"),
+        setting<S>("tile_eps1", "--eps1", "eps1", kNumber, &S::tile_eps1, 0, 1e9, "a value >= 0",
+                   "tile depth variance for half resolution, radii^2"),
+        setting<S>("tile_eps2", "--eps2", "eps2", kNumber, &S::tile_eps2, 0, 1e9, "a value above tile_eps1",
+                   "tile depth variance for quarter resolution, radii^2"),
+        setting<S>("blend_a", "--blend-a", "blend_a", kNumber, &S::blend_a, 0, 1e9, "A >= 0", "normal blending A per particle radius"),
+        setting<S>("blend_b", "--blend-b", "blend_b", kNumber, &S::blend_b, -1e9, 1e9, "a finite B", "normal blending B per pixel"),
+        setting<S>("lone_radius", "--lone-radius", "lone_radius", kNumber, &S::lone_radius, 0.05, 3.9,
+                   "0.05..3.9 particle radii (below the kernel support)", "iso-sphere radius of a lone particle"),
+        setting<S>("radius_spacings", "--radius", "radius", kNumber, &S::radius_spacings, 0, 4,
+                   "0 (the solver's h) or 1..4 spacings", "kernel support in spacings"),
+        setting<S>("use_mask", "--no-mask", "mask", kOff, &S::use_mask, 0, 1, "", "adaptive: no binary density mask"),
+        setting<S>("use_skip", "--no-skip", "skip", kOff, &S::use_skip, 0, 1, "", "adaptive: no skip to D_agg"),
+        setting<S>("adaptive_resolution", "--no-adaptive-res", "adaptive_resolution", kOff, &S::adaptive_resolution, 0, 1, "",
+                   "adaptive: every tile at full resolution"),
+        setting<S>("blend_normals", "--no-blend", "blend_normals", kOff, &S::blend_normals, 0, 1, "",
+                   "adaptive: screen-space normals only"),
+        setting<S>("anisotropic", "--isotropic", "anisotropic", kOff, &S::anisotropic, 0, 1, "",
+                   "isotropic kernels for the classification"),
+    };
+}
+
+void add(Registry& registry, SurfaceMethod method, const char* description) {
+    SurfaceSettings defaults;
+    defaults.method = method;
+    registry.add(family_entry<SurfaceMethodRenderer>(method_name(method), "surface", description,
+                                                     method != SurfaceMethod::reference, defaults, surface_settings()));
+}
+
+}  // namespace
+
+void register_surface_methods(Registry& registry) {
+    add(registry, SurfaceMethod::adaptive, "Wu et al.: adaptive ray marching (mask, skip, adaptive resolution, blended normals)");
+    add(registry, SurfaceMethod::uniform, "Xiao et al. 2018: uniform ray casting from D_all, PCA normals");
+    add(registry, SurfaceMethod::reference, "exhaustive SPH reference: fine steps from the grid's bounds (slow)");
+}
+
+}  // namespace aquaform
