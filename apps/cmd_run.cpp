@@ -12,12 +12,12 @@
 #include "apps/progress.h"
 #include "apps/render_options.h"
 #include "apps/run_report.h"
-#include "control/control_driver.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
 #include "render/impostor_view.h"
 #include "render/registry.h"
 #include "render/wireframe.h"
+#include "session/simulation_session.h"
 #include "sim/particle_io.h"
 #include "sim/pbf_solver.h"
 
@@ -49,15 +49,10 @@ int cmd_run(const std::vector<std::string>& argv) {
         std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str());
         return kExitUsage;
     }
-    Scene& scene = loaded.value();
-    // Mesh control: its strength may raise the substeps, so it is prepared before the solver.
-    std::optional<control::PreparedControl> control;
-    if (scene.control_json) {
-        auto prepared = control::prepare_control_scene(scene);
-        if (!prepared) return std::fprintf(stderr, "aquaform: %s\n", prepared.error().c_str()), kExitUsage;
-        control = std::move(prepared.value());
-    }
-    uint32_t frames = scene.frames;
+    // Mesh control: its strength may raise the substeps, so it is planned before the solver.
+    auto plan = session::plan_session(std::move(loaded.value()));
+    if (!plan) return std::fprintf(stderr, "aquaform: %s\n", plan.error().c_str()), kExitUsage;
+    uint32_t frames = plan.value().scene.frames;
     uint32_t ply_every = 0;
     uint32_t width = 640, height = 360;
     auto settings = render_method_from(*args, &error);
@@ -87,18 +82,15 @@ int cmd_run(const std::vector<std::string>& argv) {
     }
 
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});
-    PbfSolver solver(ctx, scene);
-    std::unique_ptr<control::ControlDriver> driver;
-    if (control) {
-        for (const auto& m : control->section.meshes)
-            if (!m.report.watertight() && !m.file.empty())
-                std::printf("  control mesh %s (%s) is not watertight; the inside tests tolerate it:\n%s\n",
-                            m.name.c_str(), m.file.string().c_str(), control::describe(m.report).c_str());
-        std::printf("  %s\n", control->strength.describe().c_str());
-        if (!control->strength.warning.empty())
-            std::fprintf(stderr, "aquaform run: warning: %s\n", control->strength.warning.c_str());
-        driver = std::make_unique<control::ControlDriver>(ctx, scene, std::move(control->section), control->strength);
-        solver.set_step_force(&driver->force());
+    const std::optional<session::ControlSummary> summary = plan.value().control_summary();
+    session::SimulationSession sim(ctx, std::move(plan.value()));
+    const Scene& scene = sim.scene();
+    PbfSolver& solver = sim.solver();
+    const control::ControlDriver* driver = sim.control();
+    if (summary) {
+        for (const std::string& note : summary->mesh_notes) std::printf("  %s\n", note.c_str());
+        std::printf("  %s\n", summary->strength.c_str());
+        if (!summary->warning.empty()) std::fprintf(stderr, "aquaform run: warning: %s\n", summary->warning.c_str());
     }
     print_run_header(ctx, solver);
 
@@ -133,13 +125,9 @@ int cmd_run(const std::vector<std::string>& argv) {
     int status = kExitOk;
     uint32_t done = 0;
     for (uint32_t frame = 0; frame < frames && !g_interrupted; ++frame) {
-        if (driver) driver->update(solver.time());
-        FrameStats stats = solver.run_frame(&timer);
-        std::optional<ShapeColumns> shape;
-        if (driver) {
-            const control::ShapeMetrics m = driver->measure(solver.snapshot());
-            shape = ShapeColumns{m.iou, m.fill_fraction, m.outside_fraction, driver->active_description()};
-        }
+        const session::FrameReport report = sim.run_frame(&timer);
+        const FrameStats& stats = report.stats;
+        const std::optional<ShapeColumns>& shape = report.shape;
         files.write_frame_stats(frame, stats, shape ? &*shape : nullptr);
         if (view || surface) {
             Image image = view ? view->render(solver.positions(), solver.velocities(), solver.particle_count(), camera,

@@ -58,10 +58,10 @@ class Viewer {
 public:
     /// `lockstep`: every window frame waits for a picture of the fluid made after that frame's
     /// actions (scripts, recordings); otherwise the window never waits for the worker.
-    Viewer(gpu::Context& ctx, ViewWindow& window, Scene scene, std::optional<control::PreparedControl> control,
-           SurfaceSettings surface_settings, const std::string& method, const fs::path& watch_shaders, bool lockstep)
-        : ctx_(ctx), window_(window), scene_name_(scene.name), domain_(scene.domain), spacing_(scene.particle_spacing),
-          solver_settings_(scene.solver), lockstep_(lockstep) {
+    Viewer(gpu::Context& ctx, ViewWindow& window, session::SessionPlan plan, SurfaceSettings surface_settings,
+           const std::string& method, const fs::path& watch_shaders, bool lockstep)
+        : ctx_(ctx), window_(window), scene_name_(plan.scene.name), domain_(plan.scene.domain),
+          spacing_(plan.scene.particle_spacing), solver_settings_(plan.scene.solver), lockstep_(lockstep) {
         int w = 0, h = 0;
         glfwGetFramebufferSize(window_.handle(), &w, &h);
         orbit_ = OrbitCamera::around(camera_for_domain(domain_, float(std::max(w, 1)) / float(std::max(h, 1))));
@@ -70,7 +70,7 @@ public:
         controls_.camera = orbit_.camera();
         controls_.width = uint32_t(std::max(w, 16));
         controls_.height = uint32_t(std::max(h, 16));
-        worker_ = std::make_unique<ViewWorker>(ctx_, std::move(scene), std::move(control), controls_, watch_shaders);
+        worker_ = std::make_unique<ViewWorker>(ctx_, std::move(plan), controls_, watch_shaders);
         worker_->set_lockstep(lockstep_);
         init_ui();
         glfwSetDropCallback(window_.handle(), on_drop);
@@ -503,12 +503,8 @@ int cmd_view(const std::vector<std::string>& argv) {
         if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
         scene = loaded.value();
     }
-    std::optional<control::PreparedControl> control;
-    if (scene.control_json) {
-        auto prepared = control::prepare_control_scene(scene);
-        if (!prepared) return std::fprintf(stderr, "aquaform: %s\n", prepared.error().c_str()), kExitUsage;
-        control = std::move(prepared.value());
-    }
+    auto plan = session::plan_session(scene);
+    if (!plan) return std::fprintf(stderr, "aquaform: %s\n", plan.error().c_str()), kExitUsage;
     auto method_settings = render_method_from(*args, &error);
     if (!method_settings) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
     const std::string method = method_settings->method();
@@ -587,7 +583,7 @@ int cmd_view(const std::vector<std::string>& argv) {
         }
         // --async keeps a script's window free of the worker (a stress test of the threads).
         const bool lockstep = (args->has("--script") || !record_dir.empty()) && !args->has("--async");
-        Viewer viewer(ctx, win, scene, std::move(control), *settings, method, shaders, lockstep);
+        Viewer viewer(ctx, win, std::move(plan.value()), *settings, method, shaders, lockstep);
         viewer.set_screenshot_dir(record_dir.empty() ? fs::path(".") : record_dir);
         viewer.set_picture_scale(picture_scale);
         status = viewer.run(script, record_dir, max_frames);

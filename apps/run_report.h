@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "session/simulation_session.h"
 #include "sim/frame_stats.h"
 #include "sim/scene.h"
 
@@ -22,13 +23,7 @@ namespace aquaform::cli {
 /// Prints the scene's size, the passes it enables and the GPU memory of every buffer.
 void print_run_header(const gpu::Context& ctx, const PbfSolver& solver);
 
-/// How well the fluid takes the active control shapes in one frame (scenes with a control section).
-struct ShapeColumns {
-    double iou = 0.0;
-    double fill_fraction = 0.0;
-    double outside_fraction = 0.0;
-    std::string active;  ///< "ball (1.00)" or "none"
-};
+using session::ShapeColumns;
 
 /// stats.csv (every frame) and front.csv (dam-break scenes, those with column_width).
 class RunFiles {

@@ -8,9 +8,8 @@
 #include <fstream>
 #include <memory>
 
-#include "control/control_driver.h"
 #include "gpu/context.h"
-#include "sim/pbf_solver.h"
+#include "session/simulation_session.h"
 
 namespace aquaform::cli {
 
@@ -89,26 +88,21 @@ SolverMapRecord run_cell(gpu::Context& ctx, const Scene& base, const control::Co
     const double seconds = std::max(double(spec.sim_time_s), kMinStepsPerCell * dt);
     const uint32_t frames = uint32_t(std::ceil(seconds / scene.solver.frame_dt - 1e-6));
 
-    PbfSolver solver(ctx, scene);
-    std::unique_ptr<control::ControlDriver> driver;
+    std::optional<control::ControlSection> control;
     if (section) {
         // The map fixes dt, so the strength may not raise the substeps; a given pressure above
         // what dt takes quietly is kept (and may blow up: that is what the map shows).
-        control::StrengthOverrides overrides = section->overrides;
-        overrides.fixed_substeps = true;
-        if (pressure) overrides.pressure = *pressure;
-        const control::Strength strength =
-            control::automatic_strength({&scene, section->spacing, section->shape_height(scene.gravity)}, overrides);
-        driver = std::make_unique<control::ControlDriver>(ctx, scene, *section, strength);
-        solver.set_step_force(&driver->force());
+        control = *section;
+        control->overrides.fixed_substeps = true;
+        if (pressure) control->overrides.pressure = *pressure;
     }
+    session::SimulationSession sim(ctx, session::plan_session(scene, std::move(control)), {.measure_shapes = false});
 
     const BlowupBounds bounds = blowup_bounds(scene);
     double sum_mean = 0.0;
     uint32_t finite_frames = 0;
     for (uint32_t f = 0; f < frames; ++f) {
-        if (driver) driver->update(solver.time());
-        const FrameStats stats = solver.run_frame(nullptr);
+        const FrameStats stats = sim.run_frame(nullptr).stats;
         ++rec.frames;
         if (std::isfinite(stats.max_density_error) && std::isfinite(stats.mean_density_error)) {
             rec.density_err_max = std::max(rec.density_err_max, stats.max_density_error);

@@ -5,8 +5,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <nlohmann/json.hpp>
-
 namespace aquaform::cli {
 
 OrbitCamera OrbitCamera::around(const ViewCamera& c) {
@@ -71,20 +69,6 @@ std::optional<glm::vec3> point_under_cursor(const ViewCamera& camera, const Box&
     const float t = glm::dot(centre - camera.eye, normal) / denom;
     if (!(t > 0.0f)) return std::nullopt;
     return glm::clamp(camera.eye + t * dir, domain.min, domain.max);
-}
-
-std::string shape_section(const std::vector<std::filesystem::path>& meshes, ShapeOp op, const Box& box) {
-    const nlohmann::json fit = {{"min", {box.min.x, box.min.y, box.min.z}}, {"max", {box.max.x, box.max.y, box.max.z}}};
-    nlohmann::json section = {{"meshes", nlohmann::json::object()}, {"timeline", nlohmann::json::array()}};
-    for (size_t i = 0; i < meshes.size(); ++i) {
-        const std::string key = "shape" + std::to_string(i);
-        section["meshes"][key] = {{"file", meshes[i].string()}, {"method", "raster"}, {"placement", {{"fit_into", fit}}}};
-        const bool morph = op == ShapeOp::morph && i > 0 && i + 1 == meshes.size();
-        nlohmann::json event = {{"t", 0.0}, {"do", i == 0 ? "attach" : morph ? "morph" : "union"}, {"mesh", key}};
-        if (morph) event["duration"] = 1.0;
-        section["timeline"].push_back(event);
-    }
-    return section.dump();
 }
 
 }  // namespace aquaform::cli

@@ -1,5 +1,5 @@
 // The viewer's pieces that need no window: its camera (orbit, or fly when turned about the eye)
-// and the control sections its Shape panel makes (attach, union, morph meshes the user picks).
+// and where the meshes its Shape panel attaches go (session/simulation_session.h makes their sections).
 #pragma once
 
 #include <filesystem>
@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "render/impostor_view.h"
+#include "session/simulation_session.h"
 #include "sim/scene.h"
 
 namespace aquaform::cli {
@@ -26,7 +27,7 @@ struct OrbitCamera {
     void turn(float dyaw, float dpitch, bool about_eye);
 };
 
-enum class ShapeOp { attach, union_with, morph };
+using session::ShapeOp;
 
 /// Where a picked mesh goes: a cube above `at` (x, z), or the fluid's centre without it, that a
 /// sphere of the fluid's volume would fill (or the largest 90 % of the domain's smallest side
@@ -37,9 +38,5 @@ Box shape_box(const Scene& scene, const std::vector<glm::vec4>& particles, std::
 /// where the mouse ray meets the vertical plane through the domain's centre that faces the camera,
 /// clamped into the domain. Nothing when the ray runs away from that plane.
 std::optional<glm::vec3> point_under_cursor(const ViewCamera& camera, const Box& domain, glm::vec2 ndc, float aspect);
-
-/// A scene `control` section (JSON text) for `meshes` fit into `box`, from t = 0: the first is
-/// attached, the others are added (union), or for morph the last takes over in one second.
-std::string shape_section(const std::vector<std::filesystem::path>& meshes, ShapeOp op, const Box& box);
 
 }  // namespace aquaform::cli

@@ -7,7 +7,6 @@
 #include <cstring>
 
 #include "apps/view_shapes.h"
-#include "control/control_driver.h"
 #include "control/push_force.h"
 #include "gpu/compute_pass.h"
 #include "gpu/context.h"
@@ -17,6 +16,7 @@
 #include "render/registry.h"
 #include "render/surface_renderer.h"
 #include "render/surface_views.h"
+#include "session/simulation_session.h"
 #include "sim/pbf_solver.h"
 
 namespace aquaform::cli {
@@ -56,20 +56,26 @@ int PictureSlots::take() {
 // ---- what only the worker thread touches ------------------------------------------------------
 
 struct ViewWorker::Sim {
-    Sim(gpu::Context& c, Scene s, std::optional<control::PreparedControl> p)
-        : ctx(c), scene(std::move(s)), control(std::move(p)), render_timer(c), sim_timer(c), push(c) {}
+    Sim(gpu::Context& c, session::SessionPlan plan)
+        : ctx(c), render_timer(c), sim_timer(c), push(c),
+          session(std::make_unique<session::SimulationSession>(c, std::move(plan), session::SessionOptions{false})),
+          scene(session->scene()), solver{session.get()} {
+        session->add_step_force(&push);
+    }
     ~Sim() {
         if (debug_image.buffer) gpu::destroy_buffer(ctx, debug_image);
     }
 
     gpu::Context& ctx;
-    Scene scene;
-    std::optional<control::PreparedControl> control;
-    std::unique_ptr<PbfSolver> solver;
-    std::unique_ptr<control::ControlDriver> driver;
     gpu::GpuTimer render_timer, sim_timer;
-    control::PushForce push;     // the drag brush
-    control::StepForces forces;  // the control shape's force and the brush, for the solver
+    control::PushForce push;  // the drag brush, a step force beside the control shape's
+    std::unique_ptr<session::SimulationSession> session;
+    const Scene& scene;  // the session's scene as it runs now
+    /// The session's current solver (it makes a new one on reset, settings and shape changes).
+    struct SolverRef {
+        session::SimulationSession* s;
+        PbfSolver* operator->() const { return &s->solver(); }
+    } solver;
     /// One renderer per family (a family's renderer draws each of its methods), by family name.
     std::map<std::string, std::unique_ptr<Renderer>> renderers;
     uint32_t render_w = 0, render_h = 0;
@@ -81,7 +87,6 @@ struct ViewWorker::Sim {
     std::map<std::string, double> sim_ms;
     std::string status;
     uint32_t blowups = 0;
-    std::vector<fs::path> shape_files;
 
     void say(std::string message) {
         status = std::move(message);
@@ -89,22 +94,8 @@ struct ViewWorker::Sim {
         std::fflush(stdout);
     }
 
-    /// A fresh solver from the scene, or (keep_state) one with the new settings continuing from
-    /// the current particles: the solver's settings are fixed at construction.
-    void rebuild_solver(bool keep_state) {
-        std::optional<ParticleSnapshot> state;
-        if (keep_state && solver) state = solver->snapshot();
-        driver.reset();
-        solver = std::make_unique<PbfSolver>(ctx, scene);
-        if (state) solver->set_state(state->x, state->v);
-        if (control) driver = std::make_unique<control::ControlDriver>(ctx, scene, control->section, control->strength);
-        forces.forces = {driver ? &driver->force() : nullptr, &push};
-        solver->set_step_force(&forces);
-    }
-
     void advance() {
-        if (driver) driver->update(solver->time());
-        const FrameStats stats = solver->run_frame(&sim_timer);
+        const FrameStats stats = session->run_frame(&sim_timer).stats;
         sim_ms = sim_timer.totals_ms();
         if (stats.non_finite > 0) {
             halted = true;
@@ -118,46 +109,32 @@ struct ViewWorker::Sim {
     /// where it goes), at the automatic strength; the solver continues from the current particles.
     /// A mesh that cannot be used leaves the simulation as it was and says why.
     void shape(ShapeOp op, const fs::path& file, std::optional<glm::vec3> at) {
-        std::vector<fs::path> meshes = op == ShapeOp::attach ? std::vector<fs::path>{} : shape_files;
-        meshes.push_back(fs::absolute(file));
-        Scene trial = scene;
-        trial.control_json = shape_section(meshes, op, shape_box(scene, solver->snapshot().x, at));
-        auto prepared = control::prepare_control_scene(trial);
-        if (!prepared) {
-            status = "cannot use " + file.string() + ": " + prepared.error();
+        auto applied = session->apply_shape(op, file, shape_box(scene, solver->snapshot().x, at));
+        if (!applied) {
+            status = "cannot use " + file.string() + ": " + applied.error();
             std::fprintf(stderr, "aquaform view: %s\n", status.c_str());
             return;
         }
-        scene = trial;
-        control = std::move(prepared.value());
-        shape_files = op == ShapeOp::morph ? std::vector<fs::path>{meshes.back()} : meshes;
-        rebuild_solver(true);
         const char* verb = op == ShapeOp::attach ? "attached" : op == ShapeOp::union_with ? "added" : "morphing to";
-        say(std::string(verb) + " " + file.filename().string() + " (" + control->strength.describe() + ")");
+        say(std::string(verb) + " " + file.filename().string() + " (" + session->strength()->describe() + ")");
     }
 
     /// Control off: the fluid returns to plain physics from the current particles.
     void release() {
-        if (!control) return;
-        control.reset();
-        shape_files.clear();
-        scene.control_json.reset();
-        rebuild_solver(true);
-        say("released the control shape");
+        if (session->release()) say("released the control shape");
     }
 
     /// Runs one command; true when the simulation should advance a frame (step).
     bool apply(const ViewCommand& c) {
         switch (c.op) {
         case ViewOp::step: return true;
-        case ViewOp::reset: rebuild_solver(false); halted = false; break;
+        case ViewOp::reset: session->reset(); halted = false; break;
         case ViewOp::attach: shape(ShapeOp::attach, c.file, c.at); break;
         case ViewOp::union_with: shape(ShapeOp::union_with, c.file, c.at); break;
         case ViewOp::morph: shape(ShapeOp::morph, c.file, c.at); break;
         case ViewOp::release: release(); break;
         case ViewOp::solver:
-            scene.solver = c.solver;
-            rebuild_solver(true);
+            session->set_solver_settings(c.solver);
             break;
         }
         return false;
@@ -174,7 +151,7 @@ struct ViewWorker::Sim {
         if (!r.errors.empty()) status = r.errors.front();
         if (r.reloaded.empty()) return false;
         render_w = render_h = 0;  // renderers are made again at the next picture
-        rebuild_solver(true);
+        session->restart();
         if (r.errors.empty())
             say("reloaded " + std::to_string(r.reloaded.size()) + " shaders (" + r.reloaded.front() +
                 (r.reloaded.size() > 1 ? ", ..." : "") + ")");
@@ -260,14 +237,9 @@ struct ViewWorker::Sim {
 
 // ---- the worker -------------------------------------------------------------------------------
 
-ViewWorker::ViewWorker(gpu::Context& ctx, Scene scene, std::optional<control::PreparedControl> control,
-                       const ViewControls& controls, const fs::path& watch_shaders)
-    : ctx_(ctx), sim_(std::make_unique<Sim>(ctx, std::move(scene), std::move(control))), controls_(controls) {
-    sim_->rebuild_solver(false);
-    // The scene's own shapes are listed like attached ones (union and morph start from them).
-    if (sim_->control)
-        for (const control::ControlMesh& m : sim_->control->section.meshes)
-            if (!m.file.empty()) sim_->shape_files.push_back(m.file);
+ViewWorker::ViewWorker(gpu::Context& ctx, session::SessionPlan plan, const ViewControls& controls,
+                       const fs::path& watch_shaders)
+    : ctx_(ctx), sim_(std::make_unique<Sim>(ctx, std::move(plan))), controls_(controls) {
     if (!watch_shaders.empty()) sim_->watcher = std::make_unique<gpu::ShaderWatcher>(watch_shaders);
     report_.particles = sim_->solver->particle_count();
     report_.solver = sim_->scene.solver;
@@ -395,10 +367,11 @@ void ViewWorker::loop() {
         report_.sim_ms = sim_->sim_ms;
         report_.status = sim_->status;
         report_.blowups = sim_->blowups;
-        report_.shape_files = sim_->shape_files;
+        report_.shape_files = sim_->session->shape_files();
         report_.solver = sim_->scene.solver;
-        if (!sim_->driver) report_.shapes.reset();
-        else if (made) report_.shapes = std::make_shared<const std::vector<control::Mesh>>(sim_->driver->active_meshes());
+        const control::ControlDriver* driver = sim_->session->control();
+        if (!driver) report_.shapes.reset();
+        else if (made) report_.shapes = std::make_shared<const std::vector<control::Mesh>>(driver->active_meshes());
         report_.fatal = fatal;
         done_.notify_all();
         if (!fatal.empty()) return;

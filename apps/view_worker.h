@@ -28,11 +28,11 @@
 
 #include <glm/glm.hpp>
 
-#include "control/control_driver.h"
 #include "control/mesh.h"
 #include "gpu/buffer.h"
 #include "render/impostor_view.h"
 #include "render/surface_settings.h"
+#include "session/simulation_session.h"
 #include "sim/scene.h"
 
 namespace aquaform::gpu {
@@ -114,9 +114,9 @@ private:
 
 class ViewWorker {
 public:
-    /// Makes the solver for `scene` (and its control section) on the calling thread; run() starts
+    /// Makes the session for `plan` (its scene and control) on the calling thread; run() starts
     /// the thread. `watch_shaders`: a shader tree to reload edited shaders from, or empty.
-    ViewWorker(gpu::Context& ctx, Scene scene, std::optional<control::PreparedControl> control, const ViewControls& controls,
+    ViewWorker(gpu::Context& ctx, session::SessionPlan plan, const ViewControls& controls,
                const std::filesystem::path& watch_shaders);
     ~ViewWorker();  ///< stops the thread after its current frame
     ViewWorker(const ViewWorker&) = delete;

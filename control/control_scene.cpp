@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "control/control_force.h"
+#include "control/section_builder.h"
 #include "core/json_fields.h"
 
 namespace aquaform::control {
@@ -27,32 +29,23 @@ ControlMesh read_mesh(const json& v, const std::string& name, const std::string&
     if (!v.is_object())
         fail(path + " must be an object such as {\"file\": \"../meshes/sphere.obj\"}, got " + written(v));
     check_keys(v, "in " + path, kMeshKeys);
-    ControlMesh mesh;
-    mesh.name = name;
-    if (v.contains("animation")) mesh.animation = parse_animation(v["animation"], path + ".animation", base_dir);
-    const bool sequence = std::holds_alternative<SequenceAnimation>(mesh.animation.kind());
+    MeshSpec spec;
+    if (v.contains("animation")) spec.animation = parse_animation(v["animation"], path + ".animation", base_dir);
+    const bool sequence = std::holds_alternative<SequenceAnimation>(spec.animation.kind());
     if (!sequence) require(v, "file", "in " + path, "\"file\": \"../meshes/sphere.obj\"");
-    if (v.contains("method")) mesh.method = read_method(v["method"], path + ".method");
-    if (mesh.animation.deforms()) {
-        if (v.contains("method") && mesh.method != PlacementMethod::raster)
-            fail(path + ".method is " + written(v["method"]) +
-                 " but the mesh deforms, so its points are placed again every frame by \"raster\" (the only method "
-                 "fast enough); write \"method\": \"raster\" or leave it out");
-        mesh.method = PlacementMethod::raster;
-    }
-    Mesh rest;
+    if (v.contains("method")) spec.method = read_method(v["method"], path + ".method");
+    if (v.contains("placement")) spec.placement = parse_placement(v["placement"], path + ".placement");
+    std::filesystem::path file;
+    std::optional<LoadedMesh> loaded;
     if (v.contains("file")) {
         if (!v["file"].is_string()) fail(path + ".file must be a path string, got " + written(v["file"]));
-        mesh.file = base_dir / v["file"].get<std::string>();
-        auto loaded = load_obj(mesh.file);
-        if (!loaded) fail(path + ".file: " + loaded.error());
-        rest = std::move(loaded.value().mesh);
-        mesh.report = loaded.value().report;
+        file = base_dir / v["file"].get<std::string>();
+        auto result = load_obj(file);
+        if (!result) fail(path + ".file: " + result.error());
+        loaded = std::move(result.value());
     }
-    const MeshPlacement placement = v.contains("placement") ? parse_placement(v["placement"], path + ".placement")
-                                                            : MeshPlacement{};
-    mesh.animation.bind(rest, placement);
-    return mesh;
+    return bind_control_mesh(name, file, loaded ? &loaded->mesh : nullptr, loaded ? loaded->report : MeshReport{},
+                             std::move(spec), path);
 }
 
 ControlSection read_section(const json& j, const Scene& scene, const std::filesystem::path& base_dir) {

@@ -10,10 +10,12 @@
 #include "control/control_force.h"
 #include "control/placement.h"
 #include "control/primitives.h"
+#include "control/section_builder.h"
 #include "control/shape_metrics.h"
 #include "control/strength.h"
 #include "gpu/context.h"
 #include "sim/pbf_params.h"
+#include "session/simulation_session.h"
 #include "sim/pbf_solver.h"
 #include "tests/gpu_test.h"
 
@@ -89,7 +91,7 @@ struct SphereFill {
     static constexpr float kRadius = 0.12f;
     const glm::vec3 centre{0.3f, 0.32f, 0.3f};
     Scene scene = box_scene(glm::vec3(0.6f), 0.02f);
-    std::vector<glm::vec4> points;
+    Mesh mesh;
     Strength strength;
     VoxelLattice lattice;
     std::unordered_set<uint64_t> shape;
@@ -98,45 +100,38 @@ struct SphereFill {
         // 10 x 9 x 10 particles: 0.0072 m^3, the sphere's 0.00724 m^3 to within 1 %
         const glm::vec3 half(0.1f, 0.09f, 0.1f);
         scene.fluid_blocks = {{centre - half, centre + half}};
-        Mesh mesh = make_sphere(kRadius, 3);
+        mesh = make_sphere(kRadius, 3);
         for (auto& v : mesh.vertices) v += centre;
         lattice = {scene.domain.min, scene.particle_spacing};
-        const auto placed =
-            place_inside(mesh.triangle_soup(), scene.particle_spacing, false, 1, lattice.centre(glm::ivec3(0))).points;
-        for (const auto& p : placed) points.emplace_back(p, 0.0f);
-        shape = voxel_keys(lattice, placed);
+        shape = voxel_keys(lattice, place_inside(mesh.triangle_soup(), scene.particle_spacing, false, 1,
+                                                 lattice.centre(glm::ivec3(0))).points);
         strength = automatic_strength({&scene, scene.particle_spacing, 2.0f * kRadius});
         scene.solver.substeps = strength.substeps;
     }
 };
 
+/// The sphere attached from t = 0 at `pressure`, at the automatic strength's substeps.
 struct FillRun {
-    std::unique_ptr<PbfSolver> solver;
-    std::unique_ptr<ControlForce> force;
+    std::unique_ptr<session::SimulationSession> sim;
     FrameStats stats;
     double rms_speed = 0.0;
 
     FillRun(gpu::Context& ctx, const SphereFill& fill, float pressure) {
-        solver = std::make_unique<PbfSolver>(ctx, fill.scene);
-        force = std::make_unique<ControlForce>(ctx, fill.scene, fill.strength.support,
-                                               std::pow(fill.scene.particle_spacing, 3.0f));
-        force->set_points(fill.points);
-        force->set_sets({{pressure, 1.0f, ~0u}});
-        solver->set_step_force(force.get());
+        auto section =
+            SectionBuilder(fill.scene).mesh("sphere", fill.mesh).pressure(pressure).fixed_substeps().attach("sphere").build();
+        EXPECT_TRUE(section.ok()) << section.error();
+        sim = std::make_unique<session::SimulationSession>(ctx, session::plan_session(fill.scene, std::move(section.value())),
+                                                           session::SessionOptions{false});
     }
     /// Runs `seconds`; false when the state became non-finite.
     bool advance(double seconds) {
-        const double end = solver->time() + seconds - 1e-6;
-        while (solver->time() < end) {
-            stats = solver->run_frame(nullptr);
-            if (stats.non_finite) return false;
-        }
-        const float mass = pbf_constants(solver->scene()).mass;
-        rms_speed = std::sqrt(2.0 * stats.kinetic_energy / (double(stats.particles) * mass));
+        stats = sim->advance(seconds);
+        if (stats.non_finite) return false;
+        rms_speed = session::rms_speed(stats, sim->scene());
         return true;
     }
     ShapeMetrics metrics(const SphereFill& fill) {
-        const ParticleSnapshot s = solver->snapshot();
+        const ParticleSnapshot s = sim->solver().snapshot();
         const PbfConstants k = pbf_constants(fill.scene);
         return shape_metrics({&s.x, &s.v, ~0u, k.h, k.mass, fill.scene.rest_density}, fill.lattice, fill.shape);
     }
@@ -164,12 +159,12 @@ TEST_F(ControlForceTest, SphereFillsHoldsAndReleases) {
 
     const auto mean_height = [&] {
         double sum = 0.0;
-        const auto x = run.solver->snapshot().x;
+        const auto x = run.sim->solver().snapshot().x;
         for (const auto& p : x) sum += p.y;
         return sum / double(x.size());
     };
     const double before = mean_height();
-    run.force->set_sets({});  // release
+    ASSERT_TRUE(run.sim->release());
     ASSERT_TRUE(run.advance(0.75));
     const ShapeMetrics released = run.metrics(fill);
     EXPECT_LT(mean_height(), 0.5 * before) << "released fluid must fall";

@@ -7,6 +7,7 @@
 
 #include "control/push_force.h"
 #include "gpu/context.h"
+#include "session/simulation_session.h"
 #include "sim/pbf_params.h"
 #include "tests/gpu_test.h"
 
@@ -61,18 +62,19 @@ TEST_F(PushForceTest, GpuPassMatchesTheBrushRule) {
 TEST_F(PushForceTest, PushingAlongXMovesTheFluidThatWay) {
     Scene scene = testing::scene_with({glm::vec3(0.0f), glm::vec3(0.6f, 0.3f, 0.2f)}, 0.02f);
     scene.fluid_blocks = {{glm::vec3(0.2f, 0.0f, 0.0f), glm::vec3(0.4f, 0.1f, 0.2f)}};
-    PbfSolver solver(ctx(), scene);
+    // The viewer's set-up: the brush is a step force of the session beside its (here absent) control.
+    session::SimulationSession sim(ctx(), session::plan_session(scene, std::nullopt), {.measure_shapes = false});
     auto centre_x = [&] {
         double sum = 0.0;
-        const auto s = solver.snapshot();
+        const auto s = sim.solver().snapshot();
         for (const auto& p : s.x) sum += p.x;
         return sum / double(s.x.size());
     };
     const double before = centre_x();
     control::PushForce push(ctx());
     push.set({0.3f, 0.05f, 1.0f}, {0.0f, 0.0f, -1.0f}, 0.15f, {20.0f, 0.0f, 0.0f});
-    solver.set_step_force(&push);
-    for (int f = 0; f < 6; ++f) solver.run_frame(nullptr);
+    sim.add_step_force(&push);
+    for (int f = 0; f < 6; ++f) sim.run_frame(nullptr);
     EXPECT_GT(centre_x() - before, 0.005) << "the fluid's centre should move along the push";
 }
 

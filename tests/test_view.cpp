@@ -233,7 +233,7 @@ TEST(ViewScriptTest, ActionsAreCheckedAndSortedByFrame) {
     EXPECT_FALSE(cli::load_view_script("/nonexistent.json").ok());
 }
 
-TEST(ViewShapesTest, SectionsAttachUnionAndMorphAndLoadAsControlSections) {
+TEST(ViewShapesTest, SectionsAttachUnionAndMorph) {
     Scene scene;
     scene.name = "shapes";
     scene.domain = {glm::vec3(0.0f), glm::vec3(1.6f, 0.8f, 0.2f)};
@@ -250,14 +250,16 @@ TEST(ViewShapesTest, SectionsAttachUnionAndMorphAndLoadAsControlSections) {
     const fs::path sphere = fs::path(AQUAFORM_ASSETS_DIR) / "meshes/sphere.obj", torus = fs::path(AQUAFORM_ASSETS_DIR) / "meshes/torus.obj";
     for (cli::ShapeOp op : {cli::ShapeOp::attach, cli::ShapeOp::union_with, cli::ShapeOp::morph}) {
         const std::vector<fs::path> meshes = op == cli::ShapeOp::attach ? std::vector<fs::path>{sphere} : std::vector<fs::path>{sphere, torus};
-        Scene with = scene;
-        with.control_json = cli::shape_section(meshes, op, box);
-        auto section = control::load_control_section(with);
+        auto section = session::shape_section(scene, meshes, op, box);
         ASSERT_TRUE(section.ok()) << section.error();
         EXPECT_EQ(section.value().meshes.size(), meshes.size());
-        const std::string text = *with.control_json;
-        EXPECT_EQ(text.find("\"morph\"") != std::string::npos, op == cli::ShapeOp::morph) << text;
-        EXPECT_EQ(text.find("\"union\"") != std::string::npos, op == cli::ShapeOp::union_with) << text;
+        const auto has = [&](control::TimelineAction action) {
+            for (const auto& e : section.value().timeline.events())
+                if (e.action == action) return true;
+            return false;
+        };
+        EXPECT_EQ(has(control::TimelineAction::morph), op == cli::ShapeOp::morph);
+        EXPECT_EQ(has(control::TimelineAction::union_with), op == cli::ShapeOp::union_with);
     }
 }
 

@@ -12,8 +12,9 @@ set(layers
   "sim|sim/scene.h|core,gpu,grid"
   "render|render/surface_frame.h|core,gpu,grid"
   "control|control/mesh.h|core,gpu,grid,sim"
+  "session|session/simulation_session.h|core,gpu,grid,sim,control"
   "study|study/bench_sim.h|core,gpu,grid,sim,render,control"
-  "apps|apps/cli.h|core,gpu,grid,sim,render,control,study")
+  "apps|apps/cli.h|core,gpu,grid,sim,render,control,session,study")
 
 file(READ ${BUILD_DIR}/compile_commands.json db)
 string(JSON count LENGTH "${db}")

@@ -1,0 +1,189 @@
+#include "session/simulation_session.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "control/section_builder.h"
+#include "gpu/context.h"
+#include "sim/pbf_params.h"
+
+namespace aquaform::session {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+control::Strength strength_for(const Scene& scene, const control::ControlSection& section) {
+    return control::automatic_strength({&scene, section.spacing, section.shape_height(scene.gravity)}, section.overrides);
+}
+
+std::optional<ControlSummary> summarize(const std::optional<control::PreparedControl>& control) {
+    if (!control) return std::nullopt;
+    ControlSummary s{control->strength.describe(), control->strength.warning, {}};
+    for (const control::ControlMesh& m : control->section.meshes)
+        if (!m.report.watertight() && !m.file.empty())
+            s.mesh_notes.push_back("control mesh " + m.name + " (" + m.file.string() +
+                                   ") is not watertight; the inside tests tolerate it:\n" + control::describe(m.report));
+    return s;
+}
+
+}  // namespace
+
+std::optional<ControlSummary> SessionPlan::control_summary() const { return summarize(control); }
+
+Result<SessionPlan> plan_session(Scene scene) {
+    SessionPlan plan;
+    if (scene.control_json) {
+        auto prepared = control::prepare_control_scene(scene);
+        if (!prepared) return Error{prepared.error()};
+        plan.control = std::move(prepared.value());
+    }
+    plan.scene = std::move(scene);
+    return plan;
+}
+
+SessionPlan plan_session(Scene scene, std::optional<control::ControlSection> section) {
+    SessionPlan plan;
+    if (section) {
+        const control::Strength strength = strength_for(scene, *section);
+        scene.solver.substeps = strength.substeps;
+        plan.control = control::PreparedControl{std::move(*section), strength};
+    }
+    plan.scene = std::move(scene);
+    return plan;
+}
+
+Result<control::ControlSection> shape_section(const Scene& scene, const std::vector<fs::path>& meshes, ShapeOp op,
+                                              const Box& box) {
+    control::SectionBuilder builder(scene);
+    for (size_t i = 0; i < meshes.size(); ++i) {
+        const std::string key = "shape" + std::to_string(i);
+        control::MeshSpec spec;
+        spec.method = control::PlacementMethod::raster;
+        spec.placement.fit_into = box;
+        builder.mesh(key, meshes[i], std::move(spec));
+        const bool morph = op == ShapeOp::morph && i > 0 && i + 1 == meshes.size();
+        if (i == 0) builder.attach(key);
+        else if (morph) builder.morph(key, 0.0, 1.0);
+        else builder.union_with(key);
+    }
+    return builder.build();
+}
+
+SimulationSession::SimulationSession(gpu::Context& ctx, SessionPlan plan, SessionOptions options)
+    : ctx_(&ctx), scene_(std::move(plan.scene)), control_(std::move(plan.control)), options_(options) {
+    rebuild(false);
+    // The scene's own shapes are listed like attached ones (union and morph start from them).
+    if (control_)
+        for (const control::ControlMesh& m : control_->section.meshes)
+            if (!m.file.empty()) shape_files_.push_back(m.file);
+}
+
+SimulationSession::~SimulationSession() = default;
+
+Result<std::unique_ptr<SimulationSession>> SimulationSession::create(gpu::Context& ctx, Scene scene, SessionOptions options) {
+    auto plan = plan_session(std::move(scene));
+    if (!plan) return Error{plan.error()};
+    return std::make_unique<SimulationSession>(ctx, std::move(plan.value()), options);
+}
+
+std::optional<ControlSummary> SimulationSession::control_summary() const { return summarize(control_); }
+
+void SimulationSession::rebuild(bool keep_particles) {
+    std::optional<ParticleSnapshot> state;
+    if (keep_particles && solver_) state = solver_->snapshot();
+    driver_.reset();
+    solver_.reset();
+    solver_ = std::make_unique<PbfSolver>(*ctx_, scene_);
+    if (state) solver_->set_state(state->x, state->v);
+    if (control_) {
+        driver_ = std::make_unique<control::ControlDriver>(*ctx_, scene_, control_->section, control_->strength);
+        driver_->update(solver_->time());  // its points and shapes are there before the first frame
+    }
+    connect_forces();
+}
+
+void SimulationSession::connect_forces() {
+    forces_.forces = {driver_ ? &driver_->force() : nullptr};
+    forces_.forces.insert(forces_.forces.end(), extra_forces_.begin(), extra_forces_.end());
+    // No force at all leaves the solver without one (its pass list then has no control_force).
+    solver_->set_step_force(driver_ || !extra_forces_.empty() ? &forces_ : nullptr);
+}
+
+FrameReport SimulationSession::run_frame(gpu::GpuTimer* timer) {
+    FrameReport report;
+    if (driver_) driver_->update(solver_->time());
+    report.stats = solver_->run_frame(timer);
+    if (driver_ && options_.measure_shapes) {
+        const control::ShapeMetrics m = driver_->measure(solver_->snapshot());
+        report.shape = ShapeColumns{m.iou, m.fill_fraction, m.outside_fraction, driver_->active_description()};
+    }
+    return report;
+}
+
+FrameStats SimulationSession::advance(double seconds) {
+    FrameStats stats;
+    const double end = solver_->time() + seconds - 1e-6;
+    while (solver_->time() < end) {
+        if (driver_) driver_->update(solver_->time());
+        stats = solver_->run_frame(nullptr);
+        if (stats.non_finite) break;
+    }
+    return stats;
+}
+
+double rms_speed(const FrameStats& stats, const Scene& scene) {
+    const float mass = pbf_constants(scene).mass;
+    return std::sqrt(2.0 * stats.kinetic_energy / (double(stats.particles) * mass));
+}
+
+void SimulationSession::add_step_force(StepForce* force) {
+    extra_forces_.push_back(force);
+    connect_forces();
+}
+
+void SimulationSession::remove_step_force(StepForce* force) {
+    std::erase(extra_forces_, force);
+    connect_forces();
+}
+
+void SimulationSession::reset() { rebuild(false); }
+
+void SimulationSession::set_solver_settings(const SolverSettings& settings) {
+    scene_.solver = settings;
+    rebuild(true);
+}
+
+void SimulationSession::restart() { rebuild(true); }
+
+void SimulationSession::set_control(std::optional<control::ControlSection> section) {
+    Scene scene = scene_;
+    scene.control_json.reset();  // the section now comes from code; the scene's text no longer describes it
+    SessionPlan plan = plan_session(std::move(scene), std::move(section));
+    scene_ = std::move(plan.scene);
+    control_ = std::move(plan.control);
+    shape_files_.clear();
+    if (control_)
+        for (const control::ControlMesh& m : control_->section.meshes)
+            if (!m.file.empty()) shape_files_.push_back(m.file);
+    rebuild(true);
+}
+
+Result<bool> SimulationSession::apply_shape(ShapeOp op, const fs::path& file, const Box& box) {
+    std::vector<fs::path> meshes = op == ShapeOp::attach ? std::vector<fs::path>{} : shape_files_;
+    meshes.push_back(fs::absolute(file));
+    auto section = shape_section(scene_, meshes, op, box);
+    if (!section) return Error{section.error()};
+    set_control(std::move(section.value()));
+    // After a morph only the last mesh is the shape (union and morph start from it).
+    if (op == ShapeOp::morph) shape_files_ = {meshes.back()};
+    return true;
+}
+
+bool SimulationSession::release() {
+    if (!control_) return false;
+    set_control(std::nullopt);
+    return true;
+}
+
+}  // namespace aquaform::session

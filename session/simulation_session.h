@@ -1,0 +1,146 @@
+// A simulation session: a scene, its PBF solver, its mesh control (when the scene has a control
+// section or one is given in code), extra step forces (the viewer's push brush) and the figures
+// of every frame. Every command, benchmark and test that runs the solver sets it up through here.
+//
+// Set-up is two steps so that bad input is refused before a device is opened: plan_session()
+// loads and checks the control section and derives its strength (which may raise the scene's
+// substeps); the session then makes the solver and the driver on a device. The library prints
+// nothing: control_summary() gives the caller the strength and the warnings to print.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "control/control_driver.h"
+#include "control/push_force.h"
+#include "core/result.h"
+#include "sim/frame_stats.h"
+#include "sim/pbf_solver.h"
+#include "sim/scene.h"
+
+namespace aquaform::gpu {
+class Context;
+class GpuTimer;
+}  // namespace aquaform::gpu
+
+namespace aquaform::session {
+
+/// How well the fluid takes the active control shapes in one frame (the shape columns of stats.csv).
+struct ShapeColumns {
+    double iou = 0.0;
+    double fill_fraction = 0.0;
+    double outside_fraction = 0.0;
+    std::string active;  ///< "ball (1.00)" or "none"
+};
+
+struct FrameReport {
+    FrameStats stats;
+    std::optional<ShapeColumns> shape;  ///< with mesh control and SessionOptions::measure_shapes
+};
+
+struct SessionOptions {
+    /// Shape metrics every frame (a read-back of the particles and a voxel count on the CPU).
+    bool measure_shapes = true;
+};
+
+/// What the caller reports about a session's control: Strength::describe(), the strength's
+/// warning (empty when the shape holds quietly) and a note per mesh that is not watertight.
+struct ControlSummary {
+    std::string strength;
+    std::string warning;
+    std::vector<std::string> mesh_notes;
+};
+
+/// The scene as it will run (substeps raised for its control) and its control, checked.
+struct SessionPlan {
+    Scene scene;
+    std::optional<control::PreparedControl> control;
+    std::optional<ControlSummary> control_summary() const;
+};
+/// Loads scene.control_json when there is one. Errors name the scene file, the key and the fix.
+Result<SessionPlan> plan_session(Scene scene);
+/// A section built in code (control::SectionBuilder) or loaded before; nullopt: no control.
+SessionPlan plan_session(Scene scene, std::optional<control::ControlSection> section);
+
+/// The viewer's shape operations: attach makes a mesh the only shape, union adds it to the
+/// shapes, morph hands the shapes over to it (in one second).
+enum class ShapeOp { attach, union_with, morph };
+
+/// A control section for `meshes` (OBJ files), all fit into `box` and placed by raster, from
+/// t = 0: the first is attached, the others are added (union), or for morph the last takes over
+/// in one second.
+Result<control::ControlSection> shape_section(const Scene& scene, const std::vector<std::filesystem::path>& meshes,
+                                              ShapeOp op, const Box& box);
+
+/// Root-mean-square particle speed of a frame [m/s], from its kinetic energy.
+double rms_speed(const FrameStats& stats, const Scene& scene);
+
+class SimulationSession {
+public:
+    SimulationSession(gpu::Context& ctx, SessionPlan plan, SessionOptions options = {});
+    ~SimulationSession();
+    SimulationSession(const SimulationSession&) = delete;
+    SimulationSession& operator=(const SimulationSession&) = delete;
+
+    /// plan_session(scene) and a session from it.
+    static Result<std::unique_ptr<SimulationSession>> create(gpu::Context& ctx, Scene scene, SessionOptions options = {});
+
+    /// One frame: the control shapes at the current time, the solver's substeps, the shape metrics.
+    FrameReport run_frame(gpu::GpuTimer* timer);
+    /// Frames for `seconds` of simulated time, without shape metrics; the last frame's figures.
+    /// Stops at the first frame whose state is not finite.
+    FrameStats advance(double seconds);
+
+    PbfSolver& solver() { return *solver_; }
+    const PbfSolver& solver() const { return *solver_; }
+    /// The mesh control, or null without a control section.
+    control::ControlDriver* control() { return driver_.get(); }
+    const control::ControlDriver* control() const { return driver_.get(); }
+    const control::Strength* strength() const { return control_ ? &control_->strength : nullptr; }
+    std::optional<ControlSummary> control_summary() const;
+    /// The scene as it runs now (substeps raised by its control, solver settings as last set).
+    const Scene& scene() const { return scene_; }
+
+    /// A force added to every step after the control force (the push brush); it must outlive the
+    /// session or be removed.
+    void add_step_force(StepForce* force);
+    void remove_step_force(StepForce* force);
+
+    /// The scene's initial particles again, with the current control (its timeline from t = 0).
+    void reset();
+    /// New solver settings (fixed at a solver's construction): a new solver continues from the
+    /// current particles.
+    void set_solver_settings(const SolverSettings& settings);
+    /// Solver and control made again, continuing from the current particles (after a shader reload).
+    void restart();
+
+    /// Replaces the control (nullopt: none); the strength is derived again and may raise the
+    /// substeps; the solver continues from the current particles, the timeline from t = 0.
+    void set_control(std::optional<control::ControlSection> section);
+    /// A shape operation with an OBJ file fit into `box` (shape_section), at the automatic
+    /// strength. A mesh that cannot be used leaves the session as it was and the error says why.
+    Result<bool> apply_shape(ShapeOp op, const std::filesystem::path& file, const Box& box);
+    /// Control off: plain physics from the current particles. False when there was no control.
+    bool release();
+    /// The meshes of the active shape, in its order (the scene's own meshes at the start).
+    const std::vector<std::filesystem::path>& shape_files() const { return shape_files_; }
+
+private:
+    void rebuild(bool keep_particles);
+    void connect_forces();
+
+    gpu::Context* ctx_;
+    Scene scene_;
+    std::optional<control::PreparedControl> control_;
+    SessionOptions options_;
+    std::unique_ptr<PbfSolver> solver_;
+    std::unique_ptr<control::ControlDriver> driver_;
+    std::vector<StepForce*> extra_forces_;
+    control::StepForces forces_;
+    std::vector<std::filesystem::path> shape_files_;
+};
+
+}  // namespace aquaform::session
