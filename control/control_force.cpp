@@ -5,6 +5,7 @@
 #include <string>
 
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "gpu/timer.h"
 
 namespace aquaform::control {
@@ -20,6 +21,7 @@ ControlForce::ControlForce(gpu::Context& ctx, const Scene& scene, float support,
     params_.support2 = support * support;
     params_.damping = damping;
     params_.gradient_coeff = shader::poly6_coefficient(support);
+    gpu::UploadBatch uploads(ctx);
     params_buffers_ = std::make_unique<gpu::BufferSet>(ctx);
     params_buf_ = &params_buffers_->add("control.params", sizeof(shader::ControlParams));
     gpu::upload(ctx, *params_buf_, &params_, sizeof params_);
@@ -48,6 +50,7 @@ void ControlForce::set_points(const std::vector<glm::vec4>& cpu_points, const st
                                  " control points is more than 16,777,216; increase the control spacing");
     count_ = uint32_t(total);
     reserve(count_);
+    gpu::UploadBatch uploads(*ctx_);  // the points join the grid's submission
     if (!cpu_points.empty()) gpu::upload(*ctx_, *points_, cpu_points.data(), cpu_points.size() * 16);
     if (count_ == 0) return;
     ctx_->submit_and_wait([&](VkCommandBuffer cmd) {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "render/surface_settings.h"
 
@@ -123,7 +124,7 @@ MetaballRenderer::MetaballRenderer(gpu::Context& ctx, const ParticleDomain& doma
     if (list_bytes_ / 4 >= METABALL_NIL)
         throw std::invalid_argument("metaball renderer: " + mib(list_bytes_) +
                                     " of list memory is more than 32-bit entry indices address; use less than 16 GiB");
-    params_buf_ = &buffers_.add("metaball.params", sizeof(shader::MetaballParams), gpu::MemoryUse::host);
+    params_buf_ = &buffers_.add("metaball.params", sizeof(shader::MetaballParams));
     counters_ = &buffers_.add("metaball.counters", sizeof(MetaballCounters));
     heads_ = &buffers_.add("metaball.heads", pixels * 4);
     entries_ = &buffers_.add("metaball.lists", list_bytes_);
@@ -182,7 +183,7 @@ void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions,
     p.list_capacity = uint32_t(list_capacity(settings.method));
     p.flags = settings.keep_near ? METABALL_KEEP_NEAR : 0u;
     keep_near_ = settings.keep_near;
-    std::memcpy(params_buf_->mapped, &p, sizeof(p));
+    gpu::record_upload(*ctx_, cmd, *params_buf_, &p, sizeof(p));
 
     const uint32_t pixels = width_ * height_;
     const uint32_t particles = std::max(count, 1u);

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "render/surface_settings.h"
 
@@ -106,8 +107,8 @@ ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain
         throw std::invalid_argument("screen-space renderer: resolution " + std::to_string(width) + "x" +
                                     std::to_string(height) + " is outside 16..8192 per axis");
     const uint64_t pixels = uint64_t(width) * height;
-    params_buf_ = &buffers_.add("ss.params", sizeof(shader::SurfaceParams), gpu::MemoryUse::host);
-    filter_params_buf_ = &buffers_.add("ss.filter_params", sizeof(shader::ScreenSpaceParams), gpu::MemoryUse::host);
+    params_buf_ = &buffers_.add("ss.params", sizeof(shader::SurfaceParams));
+    filter_params_buf_ = &buffers_.add("ss.filter_params", sizeof(shader::ScreenSpaceParams));
     aggregate_ = &buffers_.add("ss.aggregate", uint64_t(max_particles_) * 4);
     // The splat's D_agg and classification outputs: with no aggregates and mode 0 it writes
     // neither, so one small buffer stands in for both instead of two per-pixel maps.
@@ -152,8 +153,8 @@ void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positio
     params_.sprite_radius = settings.sprite_radius * params_.particle_radius;
     params_.flags = 0;  // none of the ray marchers' mechanisms run here
     filter_params_ = make_filter_params(settings, params_);
-    std::memcpy(params_buf_->mapped, &params_, sizeof(params_));
-    std::memcpy(filter_params_buf_->mapped, &filter_params_, sizeof(filter_params_));
+    gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof(params_));
+    gpu::record_upload(*ctx_, cmd, *filter_params_buf_, &filter_params_, sizeof(filter_params_));
 
     const uint32_t pixels = width_ * height_;
     {

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "gpu/timer.h"
 
 namespace aquaform {
@@ -16,6 +17,13 @@ constexpr uint32_t kMissBits = 0xbf800000u;  // -1.0f: hit.w of a pixel without 
 
 void fill(VkCommandBuffer cmd, const gpu::Buffer& buffer, uint32_t value) {
     vkCmdFillBuffer(cmd, buffer.buffer, 0, VK_WHOLE_SIZE, value);
+}
+
+/// Evaluations a ray makes per march pass before it yields to a resume pass: only where the
+/// device ends long loops (DeviceInfo::loop_iteration_limit), scaled to its limit; 0 = never.
+uint32_t march_evals_per_pass(const gpu::DeviceInfo& device) {
+    if (device.loop_iteration_limit == 0) return 0;
+    return std::max<uint32_t>(1, uint32_t(uint64_t(RAY_MARCH_EVALS_PER_PASS) * device.loop_iteration_limit / 65535u));
 }
 
 SurfacePassPush axis_push(uint32_t axis) {
@@ -36,7 +44,7 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     const uint64_t pixels = uint64_t(width) * height;
     const uint64_t tiles = uint64_t((width + SURFACE_TILE - 1) / SURFACE_TILE) * ((height + SURFACE_TILE - 1) / SURFACE_TILE);
     const uint64_t n = max_particles_;
-    params_buf_ = &buffers_.add("render.params", sizeof(shader::SurfaceParams), gpu::MemoryUse::host);
+    params_buf_ = &buffers_.add("render.params", sizeof(shader::SurfaceParams));
     sorted_ = &buffers_.add("render.sorted", n * 16);
     shape_ = &buffers_.add("render.shape", n * 48);
     class_density_ = &buffers_.add("render.class_density", n * 4);
@@ -85,6 +93,9 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
 
 SurfaceRenderer::~SurfaceRenderer() = default;
 
+// A new radius re-makes the grid, also inside a recording (its table is uploaded there); the old
+// grid's buffers are freed at once, so a frame with another radius than the one recorded before
+// it in the same submission must get a submission of its own.
 void SurfaceRenderer::prepare_grid(float radius) {
     if (grid_ && geometry_.cell_size == radius) return;
     auto geometry = grid_for_domain(domain_.bounds.min, domain_.bounds.max, radius);
@@ -129,7 +140,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     prepare_grid(render_radius(settings, domain_));
     count_ = count;
     params_ = make_surface_params(settings, domain_, geometry_, camera, width_, height_, count);
-    std::memcpy(params_buf_->mapped, &params_, sizeof(params_));
+    gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof(params_));
 
     const uint32_t pixels = width_ * height_;
     const bool adaptive = params_.method == SURFACE_METHOD_ADAPTIVE;
@@ -237,6 +248,7 @@ void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* ray
     SurfacePassPush push = axis_push(mode);
     push.first = first;
     push.stride = stride;
+    push.evals_per_pass = march_evals_per_pass(ctx_->info());
     if (threads > 0) {
         gpu::dispatch(*ctx_, cmd, ray_march_, threads, push, buffers);
         return;
@@ -253,6 +265,7 @@ void SurfaceRenderer::record_march(VkCommandBuffer cmd, const gpu::Buffer& rays,
 }
 
 void SurfaceRenderer::record_resumes(VkCommandBuffer cmd) {
+    if (march_evals_per_pass(ctx_->info()) == 0) return;  // the first march took every ray to its end
     // The rays the device cut short (list 0) are marched again, each pass with a fresh loop budget,
     // ping-ponging between the two lists; the last pass counts what is still cut.
     for (uint32_t pass = 1; pass <= kResumePasses; ++pass) {

@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "gpu/vk_check.h"
 #include "sim/pbf_params.h"
@@ -96,6 +97,7 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_
     auto fits = check_fits(scene, plan.value(), ctx.info());
     if (!fits) throw std::runtime_error(fits.error());
     count_ = static_cast<uint32_t>(plan.value().particles);
+    gpu::UploadBatch uploads(ctx);  // the grid's table, the parameters and the particles: one submission
     const GridGeometry& geometry = plan.value().grid;
     params_ = make_sim_params(scene, geometry, count_);
     xsph_on_ = scene.solver.viscosity > 0.0f || scene.solver.vorticity > 0.0f;
@@ -271,6 +273,7 @@ void PbfSolver::set_state(const std::vector<glm::vec4>& x, const std::vector<glm
         throw std::invalid_argument("PbfSolver::set_state: " + std::to_string(x.size()) + " positions and " +
                                     std::to_string(v.size()) + " velocities for " + std::to_string(count_) +
                                     " particles");
+    gpu::UploadBatch uploads(*ctx_);  // the uploads join the sort's submission
     gpu::upload(*ctx_, *x_, x.data(), x.size() * sizeof(glm::vec4));
     gpu::upload(*ctx_, *v_, v.data(), v.size() * sizeof(glm::vec4));
     // Sort by the new positions so that the grid is valid before the first step (measure()).
