@@ -18,6 +18,7 @@ void add(std::vector<VkBuffer>& set, VkBuffer b) {
 
 void BarrierTracker::access(VkCommandBuffer cmd, const VkBuffer* reads, size_t read_count, const VkBuffer* writes,
                             size_t write_count) {
+    ++commands_;
     bool needed = false;
     for (size_t i = 0; i < read_count && !needed; ++i) needed = contains(written_, reads[i]);
     for (size_t i = 0; i < write_count && !needed; ++i)

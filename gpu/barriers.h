@@ -27,12 +27,13 @@ public:
     void full_barrier(VkCommandBuffer cmd);
     /// A fresh command buffer (begun with a full barrier after everything earlier).
     void reset();
-    /// Barriers recorded since creation (tests count them).
+    /// Barriers recorded, and commands seen, since creation (tests and figures count them).
     uint64_t barriers() const { return barriers_; }
+    uint64_t commands() const { return commands_; }
 
 private:
     std::vector<VkBuffer> written_, read_;
-    uint64_t barriers_ = 0;
+    uint64_t barriers_ = 0, commands_ = 0;
 };
 
 }  // namespace aquaform::gpu

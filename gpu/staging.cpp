@@ -5,6 +5,7 @@
 #include <exception>
 #include <stdexcept>
 
+#include "gpu/barriers.h"
 #include "gpu/context.h"
 
 namespace aquaform::gpu {
@@ -112,7 +113,11 @@ void record_upload(Context& ctx, VkCommandBuffer cmd, Buffer& dst, const void* d
     if (offset + bytes > dst.size)
         throw std::logic_error("upload of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) +
                                " overruns buffer '" + dst.name + "' of " + std::to_string(dst.size) + " bytes");
-    barrier_before_copy(cmd);
+    // In the thread's recording the tracker orders the write (gpu/barriers.h); elsewhere barriers
+    // on both sides.
+    BarrierTracker* tracker = cmd == ctx.recording() ? &ctx.tracker() : nullptr;
+    if (tracker) tracker->access(cmd, {}, {dst.buffer});
+    else barrier_before_copy(cmd);
     if (bytes <= kInlineBytes && bytes % 4 == 0 && offset % 4 == 0) {
         vkCmdUpdateBuffer(cmd, dst.buffer, offset, bytes, data);
     } else {
@@ -124,7 +129,7 @@ void record_upload(Context& ctx, VkCommandBuffer cmd, Buffer& dst, const void* d
         VkBufferCopy region{src.offset, offset, bytes};
         vkCmdCopyBuffer(cmd, src.buffer, dst.buffer, 1, &region);
     }
-    barrier_after_copy(cmd);
+    if (!tracker) barrier_after_copy(cmd);
 }
 
 }  // namespace aquaform::gpu

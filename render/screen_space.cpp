@@ -159,11 +159,10 @@ void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positio
     const uint32_t pixels = width_ * height_;
     {
         gpu::GpuScope scope(timer, cmd, "ss_splat");
-        vkCmdFillBuffer(cmd, raw_->buffer, 0, VK_WHOLE_SIZE, DEPTH_EMPTY);
-        vkCmdFillBuffer(cmd, thickness_->buffer, 0, VK_WHOLE_SIZE, 0u);
-        gpu::compute_barrier(cmd);
+        gpu::fill(*ctx_, cmd, *raw_, DEPTH_EMPTY);
+        gpu::fill(*ctx_, cmd, *thickness_, 0u);
         gpu::dispatch(*ctx_, cmd, splat_, std::max(count, 1u), axis_push(0),
-                      {params_buf_, &positions, aggregate_, raw_, unused_, thickness_, unused_});
+                      {{"params", params_buf_}, {"sorted", &positions}, {"aggregate", aggregate_}, {"depth_all", raw_}, {"depth_agg", unused_}, {"thickness", thickness_}, {"front_class", unused_}});
     }
     {
         gpu::GpuScope scope(timer, cmd, "ss_filter");
@@ -171,12 +170,12 @@ void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positio
     }
     {
         gpu::GpuScope scope(timer, cmd, "ss_normals");
-        gpu::dispatch(*ctx_, cmd, normals_, pixels, {params_buf_, filtered_, normal_});
-        gpu::dispatch(*ctx_, cmd, hit_pass_, pixels, {params_buf_, filtered_, hit_});
+        gpu::dispatch(*ctx_, cmd, normals_, pixels, {{"params", params_buf_}, {"depth_smooth", filtered_}, {"normal_screen", normal_}});
+        gpu::dispatch(*ctx_, cmd, hit_pass_, pixels, {{"params", params_buf_}, {"depth", filtered_}, {"hit", hit_}});
     }
     {
         gpu::GpuScope scope(timer, cmd, "ss_compose");
-        gpu::dispatch(*ctx_, cmd, compose_, pixels, {params_buf_, hit_, normal_, thickness_, color_});
+        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}});
     }
 }
 
@@ -188,14 +187,14 @@ void ScreenSpaceRenderer::record_filter(VkCommandBuffer cmd, const ScreenSpaceSe
         const gpu::Buffer* src = raw_;
         for (uint32_t i = 0; i < n; ++i) {
             const gpu::Buffer* dst = (n - 1 - i) % 2 == 0 ? filtered_ : scratch_;
-            gpu::dispatch(*ctx_, cmd, curvature_flow_, pixels, {filter_params_buf_, src, dst});
+            gpu::dispatch(*ctx_, cmd, curvature_flow_, pixels, {{"ss", filter_params_buf_}, {"src", src}, {"dst", dst}});
             src = dst;
         }
         return;
     }
     const gpu::ComputePass& pass = settings.filter == ScreenSpaceFilter::bilateral ? bilateral_ : narrow_range_;
-    gpu::dispatch(*ctx_, cmd, pass, pixels, axis_push(0), {filter_params_buf_, raw_, scratch_});
-    gpu::dispatch(*ctx_, cmd, pass, pixels, axis_push(1), {filter_params_buf_, scratch_, filtered_});
+    gpu::dispatch(*ctx_, cmd, pass, pixels, axis_push(0), {{"ss", filter_params_buf_}, {"src", raw_}, {"dst", scratch_}});
+    gpu::dispatch(*ctx_, cmd, pass, pixels, axis_push(1), {{"ss", filter_params_buf_}, {"src", scratch_}, {"dst", filtered_}});
 }
 
 SurfaceFrame ScreenSpaceRenderer::render(const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
