@@ -15,11 +15,15 @@ int cmd_info(const std::vector<std::string>& argv) {
     }
     auto devices = gpu::Context::list_devices();
     std::printf("Vulkan devices:\n");
-    for (const auto& d : devices)
+    for (const auto& d : devices) {
         std::printf("  %u: %-40s %-16s Vulkan %u.%u  %.1f GiB  %s\n", d.index, d.name.c_str(),
                     gpu::device_type_name(d.type), VK_API_VERSION_MAJOR(d.api_version),
                     VK_API_VERSION_MINOR(d.api_version), double(d.device_local_bytes) / double(1ull << 30),
                     d.usable ? "usable" : ("unusable: " + d.unusable_reason).c_str());
+        if (d.loop_iteration_limit)
+            std::printf("     quirk: ends a shader invocation's loops after %u iterations in total (long ray "
+                        "marches yield and resume in further passes)\n", d.loop_iteration_limit);
+    }
     int chosen = gpu::Context::choose_device(devices, args->value("--device"), &error);
     if (chosen < 0) {
         std::fprintf(stderr, "aquaform: %s\n", error.c_str());

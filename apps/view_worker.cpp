@@ -413,11 +413,10 @@ bool ViewWorker::frame(const ViewControls& controls, std::deque<ViewCommand> com
     if (!debug) s.render_timer.clear_totals();
     gpu::submit_timed(ctx_, debug ? nullptr : &s.render_timer, [&](VkCommandBuffer cmd) {
         if (!source) source = &s.record_render(cmd, controls);
-        // The render's last pass ends in a compute barrier; a debug view's host writes are visible
-        // to the submission that follows them.
-        gpu::compute_barrier(cmd);
+        // The copy waits for the render's last pass (tracked like it); a debug view's host writes
+        // are visible to the submission that follows them.
         const VkBufferCopy copy{0, 0, bytes};
-        vkCmdCopyBuffer(cmd, source->buffer, slot.rgba.buffer, 1, &copy);
+        gpu::copy(ctx_, cmd, *source, slot.rgba, copy);
     });
     slot.width = s.render_w;
     slot.height = s.render_h;

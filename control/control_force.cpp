@@ -5,6 +5,7 @@
 #include <string>
 
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "gpu/timer.h"
 
 namespace aquaform::control {
@@ -20,6 +21,7 @@ ControlForce::ControlForce(gpu::Context& ctx, const Scene& scene, float support,
     params_.support2 = support * support;
     params_.damping = damping;
     params_.gradient_coeff = shader::poly6_coefficient(support);
+    gpu::UploadBatch uploads(ctx);
     params_buffers_ = std::make_unique<gpu::BufferSet>(ctx);
     params_buf_ = &params_buffers_->add("control.params", sizeof(shader::ControlParams));
     gpu::upload(ctx, *params_buf_, &params_, sizeof params_);
@@ -48,6 +50,7 @@ void ControlForce::set_points(const std::vector<glm::vec4>& cpu_points, const st
                                  " control points is more than 16,777,216; increase the control spacing");
     count_ = uint32_t(total);
     reserve(count_);
+    gpu::UploadBatch uploads(*ctx_);  // the points join the grid's submission
     if (!cpu_points.empty()) gpu::upload(*ctx_, *points_, cpu_points.data(), cpu_points.size() * 16);
     if (count_ == 0) return;
     ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
@@ -55,12 +58,11 @@ void ControlForce::set_points(const std::vector<glm::vec4>& cpu_points, const st
         for (const auto& g : gpu_points) {
             if (g.count == 0) continue;
             const VkBufferCopy copy{0, offset, VkDeviceSize(g.count) * 16};
-            vkCmdCopyBuffer(cmd, g.buffer->buffer, points_->buffer, 1, &copy);
+            gpu::copy(*ctx_, cmd, *g.buffer, *points_, copy);
             offset += copy.size;
         }
-        gpu::compute_barrier(cmd);
         grid_->build(cmd, *points_, count_, nullptr);
-        gpu::dispatch(*ctx_, cmd, gather_, count_, shader::CountPush{count_}, {points_, &grid_->order(), sorted_});
+        gpu::dispatch(*ctx_, cmd, gather_, count_, shader::CountPush{count_}, {{"points", points_}, {"order", &grid_->order()}, {"sorted", sorted_}});
     });
 }
 
@@ -84,7 +86,7 @@ void ControlForce::record(VkCommandBuffer cmd, const gpu::Buffer& sim_params, co
     if (!active_ || count_ == 0) return;  // released: the fluid runs plain physics at no cost
     gpu::GpuScope s(timer, cmd, "control_force");
     gpu::dispatch(*ctx_, cmd, force_, count, shader::CountPush{count},
-                  {&sim_params, params_buf_, &x, &v, sorted_, &grid_->cell_rank(), &grid_->cell_start()});
+                  {{"sim", &sim_params}, {"control", params_buf_}, {"x", &x}, {"v", &v}, {"points", sorted_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}});
 }
 
 std::vector<glm::vec4> ControlForce::download_points() const {

@@ -20,7 +20,7 @@ void PushForce::record(VkCommandBuffer cmd, const gpu::Buffer& sim_params, const
     gpu::GpuScope scope(timer, cmd, "push_force");
     shader::PushParams p = params_;
     p.count = count;
-    gpu::dispatch(*ctx_, cmd, pass_, count, p, {&sim_params, &x, &v});
+    gpu::dispatch(*ctx_, cmd, pass_, count, p, {{"sim", &sim_params}, {"x", &x}, {"v", &v}});
 }
 
 }  // namespace aquaform::control

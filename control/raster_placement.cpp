@@ -133,20 +133,19 @@ RasterStats RasterPlacer::place_on_gpu(const std::vector<glm::vec3>& triangles, 
     ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
         timer_.reset(cmd);
         const VkBufferCopy upload{0, 0, corner_bytes};
-        vkCmdCopyBuffer(cmd, triangles_staging_.buffer, triangles_.buffer, 1, &upload);
-        vkCmdFillBuffer(cmd, layer_count_.buffer, 0, VkDeviceSize(stats.pixels) * sizeof(uint32_t), 0);
-        vkCmdFillBuffer(cmd, counters_.buffer, 0, VK_WHOLE_SIZE, 0);
-        gpu::compute_barrier(cmd);
+        gpu::copy(*ctx_, cmd, triangles_staging_, triangles_, upload);
+        gpu::fill(*ctx_, cmd, layer_count_, 0, VkDeviceSize(stats.pixels) * sizeof(uint32_t));
+        gpu::fill(*ctx_, cmd, counters_, 0);
         {
             gpu::GpuScope scope(&timer_, cmd, "raster_layers");
-            gpu::dispatch(*ctx_, cmd, layers_pass_, triangle_count, push, {&triangles_, &layer_count_, &layers_});
+            gpu::dispatch(*ctx_, cmd, layers_pass_, triangle_count, push, {{"corners", &triangles_}, {"layer_count", &layer_count_}, {"layers", &layers_}});
         }
         {
             gpu::GpuScope scope(&timer_, cmd, "raster_fill");
-            gpu::dispatch(*ctx_, cmd, fill_pass_, stats.pixels, push, {&layer_count_, &layers_, &counters_, &points_});
+            gpu::dispatch(*ctx_, cmd, fill_pass_, stats.pixels, push, {{"layer_count", &layer_count_}, {"layers", &layers_}, {"counters", &counters_}, {"points", &points_}});
         }
         const VkBufferCopy readback{0, 0, RASTER_COUNTERS * sizeof(uint32_t)};
-        vkCmdCopyBuffer(cmd, counters_.buffer, counters_readback_.buffer, 1, &readback);
+        gpu::copy(*ctx_, cmd, counters_, counters_readback_, readback);
         VkMemoryBarrier to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
         to_host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
         to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;

@@ -1,6 +1,9 @@
 #include "gpu/buffer.h"
 
+#include <stdexcept>
+
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "gpu/vk_check.h"
 
 namespace aquaform::gpu {
@@ -54,13 +57,18 @@ void destroy_buffer(Context& ctx, Buffer& b) {
 
 void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
     if (bytes == 0) return;
-    Buffer staging = create_buffer(ctx, "staging", bytes, MemoryUse::host);
-    std::memcpy(staging.mapped, data, bytes);
-    ctx.submit_and_wait([&](VkCommandBuffer cmd) {
-        VkBufferCopy region{0, offset, bytes};
-        vkCmdCopyBuffer(cmd, staging.buffer, dst.buffer, 1, &region);
-    });
-    destroy_buffer(ctx, staging);
+    if (VkCommandBuffer cmd = ctx.recording()) {  // in order with the passes recorded around it
+        record_upload(ctx, cmd, dst, data, bytes, offset);
+        return;
+    }
+    StagingPool& pool = ctx.staging();
+    if (offset + bytes > dst.size)
+        throw std::logic_error("upload of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) +
+                               " overruns buffer '" + dst.name + "' of " + std::to_string(dst.size) + " bytes");
+    StagingPool::Region src = pool.allocate(ctx, bytes);
+    std::memcpy(src.mapped, data, bytes);
+    pool.defer(src, dst.buffer, offset, bytes);
+    if (pool.batch_depth == 0) ctx.submit_and_wait([](VkCommandBuffer) {});  // records the copy first
 }
 
 void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, VkDeviceSize offset) {

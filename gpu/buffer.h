@@ -31,7 +31,9 @@ Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size,
                      MemoryUse use = MemoryUse::device);
 void destroy_buffer(Context& ctx, Buffer& buffer);
 
-/// Copies host data into a device buffer through a staging buffer (waits for completion).
+/// Copies host data into a device buffer through staging memory (gpu/staging.h). Inside this
+/// thread's recording it records the copy there (in order with the passes around it); inside an
+/// UploadBatch it joins the batch's submission; otherwise it submits and waits.
 void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
 /// Copies a device buffer back to the host (waits for completion).
 void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);

@@ -4,23 +4,32 @@
 #include <utility>
 #include <vector>
 
+#include "gpu/barriers.h"
 #include "gpu/context.h"
 #include "gpu/shader_registry.h"
 #include "gpu/vk_check.h"
 
 namespace aquaform::gpu {
 
-ComputePass::ComputePass(Context& ctx, const ComputePassDesc& desc) : ctx_(&ctx), desc_(desc) {
-    std::vector<VkDescriptorSetLayoutBinding> bindings(desc.bindings);
-    for (uint32_t i = 0; i < desc.bindings; ++i) {
-        bindings[i].binding = i;
+ComputePass::ComputePass(Context& ctx, const ComputePassDesc& desc)
+    : ctx_(&ctx), desc_(desc), bindings_(reflect_bindings(find_shader(desc.shader), desc.shader)) {
+    for (const ShaderBinding& b : bindings_)
+        if (b.set != 0 || !b.storage)
+            throw std::logic_error(desc.shader + ": binding '" + b.name + "' must be a storage buffer in set 0");
+    if (desc.bindings != 0 && desc.bindings != bindings_.size())
+        throw std::logic_error(desc.shader + ": the pass expects " + std::to_string(desc.bindings) +
+                               " bindings, the shader declares " + std::to_string(bindings_.size()));
+    desc_.bindings = uint32_t(bindings_.size());
+    std::vector<VkDescriptorSetLayoutBinding> bindings(bindings_.size());
+    for (size_t i = 0; i < bindings_.size(); ++i) {
+        bindings[i].binding = bindings_[i].binding;
         bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         bindings[i].descriptorCount = 1;
         bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     }
     VkDescriptorSetLayoutCreateInfo set_info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     set_info.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
-    set_info.bindingCount = desc.bindings;
+    set_info.bindingCount = uint32_t(bindings.size());
     set_info.pBindings = bindings.data();
     VK_CHECK(vkCreateDescriptorSetLayout(ctx.device(), &set_info, nullptr, &set_layout_));
 
@@ -56,6 +65,7 @@ ComputePass& ComputePass::operator=(ComputePass&& o) noexcept {
         destroy();
         ctx_ = std::exchange(o.ctx_, nullptr);
         desc_ = o.desc_;
+        bindings_ = std::move(o.bindings_);
         set_layout_ = std::exchange(o.set_layout_, VK_NULL_HANDLE);
         layout_ = std::exchange(o.layout_, VK_NULL_HANDLE);
         pipeline_ = std::exchange(o.pipeline_, VK_NULL_HANDLE);
@@ -77,24 +87,61 @@ void ComputePass::destroy() {
 
 namespace {
 
-/// Checks the push-constant size and binding count against the pass, then binds the pipeline,
-/// the buffers and the push constants.
+std::string declared(const ComputePass& pass) {
+    std::string names;
+    for (const ShaderBinding& b : pass.bindings()) names += (names.empty() ? "" : ", ") + b.name;
+    return names;
+}
+
+/// The calling thread's barrier tracker when `cmd` is its recording, else null (commands then
+/// get a full barrier after each, as in any command buffer the tracking does not know).
+BarrierTracker* tracker_for(Context& ctx, VkCommandBuffer cmd) {
+    return cmd == ctx.recording() ? &ctx.tracker() : nullptr;
+}
+
+/// Checks the push-constant size and that every binding is given once by its name, then binds
+/// the pipeline, the buffers and the push constants; with a tracker, first records the barrier
+/// the dispatch needs (its reads and writes from the shader's access, plus `indirect`).
 void bind_pass(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const void* push, uint32_t push_bytes,
-               std::initializer_list<const Buffer*> bindings) {
+               Bindings bindings, BarrierTracker* tracker, const Buffer* indirect = nullptr) {
     const ComputePassDesc& d = pass.desc();
     if (push_bytes != d.push_bytes)
         throw std::logic_error(d.shader + ": push constants of " + std::to_string(push_bytes) +
                                " bytes given, the pass declares " + std::to_string(d.push_bytes));
-    if (bindings.size() != d.bindings)
-        throw std::logic_error(d.shader + ": " + std::to_string(bindings.size()) +
-                               " buffers given, the pass declares " + std::to_string(d.bindings));
+    const std::vector<ShaderBinding>& declared_bindings = pass.bindings();
+    std::vector<const Buffer*> by_index(declared_bindings.size(), nullptr);
+    for (const Binding& given : bindings) {
+        size_t i = 0;
+        while (i < declared_bindings.size() && declared_bindings[i].name != given.name) ++i;
+        if (i == declared_bindings.size())
+            throw std::logic_error(d.shader + ": no binding named '" + std::string(given.name) +
+                                   "'; the shader declares: " + declared(pass));
+        if (by_index[i])
+            throw std::logic_error(d.shader + ": binding '" + std::string(given.name) + "' given twice");
+        if (!given.buffer || !given.buffer->buffer)
+            throw std::logic_error(d.shader + ": binding '" + std::string(given.name) + "' given no buffer");
+        by_index[i] = given.buffer;
+    }
+    for (size_t i = 0; i < by_index.size(); ++i)
+        if (!by_index[i])
+            throw std::logic_error(d.shader + ": binding '" + declared_bindings[i].name + "' (binding " +
+                                   std::to_string(declared_bindings[i].binding) + ") is not given");
+    if (tracker) {
+        std::vector<VkBuffer> reads, writes;
+        for (size_t i = 0; i < by_index.size(); ++i) {
+            if (declared_bindings[i].reads) reads.push_back(by_index[i]->buffer);
+            if (declared_bindings[i].writes) writes.push_back(by_index[i]->buffer);
+        }
+        if (indirect) reads.push_back(indirect->buffer);
+        tracker->access(cmd, reads.data(), reads.size(), writes.data(), writes.size());
+    }
     std::vector<VkDescriptorBufferInfo> infos;
-    infos.reserve(bindings.size());
-    for (const Buffer* b : bindings) infos.push_back({b->buffer, 0, VK_WHOLE_SIZE});
-    std::vector<VkWriteDescriptorSet> writes(bindings.size());
+    infos.reserve(by_index.size());
+    for (const Buffer* b : by_index) infos.push_back({b->buffer, 0, VK_WHOLE_SIZE});
+    std::vector<VkWriteDescriptorSet> writes(by_index.size());
     for (uint32_t i = 0; i < writes.size(); ++i) {
         writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        writes[i].dstBinding = i;
+        writes[i].dstBinding = declared_bindings[i].binding;
         writes[i].descriptorCount = 1;
         writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         writes[i].pBufferInfo = &infos[i];
@@ -109,28 +156,44 @@ void bind_pass(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const
 }  // namespace
 
 void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads,
-                  const void* push, uint32_t push_bytes, std::initializer_list<const Buffer*> bindings) {
-    bind_pass(ctx, cmd, pass, push, push_bytes, bindings);
-    if (threads == 0) return;
+                  const void* push, uint32_t push_bytes, Bindings bindings) {
+    if (threads == 0) return bind_pass(ctx, cmd, pass, push, push_bytes, bindings, nullptr);  // checks only
+    BarrierTracker* tracker = tracker_for(ctx, cmd);
+    bind_pass(ctx, cmd, pass, push, push_bytes, bindings, tracker);
     const ComputePassDesc& d = pass.desc();
     const uint32_t groups = (threads + d.local_size - 1) / d.local_size;
     const uint32_t max_x = ctx.limits().maxComputeWorkGroupCount[0];
     if (groups > max_x)
         throw std::logic_error(d.shader + ": " + std::to_string(groups) + " workgroups exceed the device limit");
     vkCmdDispatch(cmd, groups, 1, 1);
-    compute_barrier(cmd);
+    if (!tracker) compute_barrier(cmd);
 }
 
 void dispatch_indirect(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const Buffer& group_counts,
-                       std::initializer_list<const Buffer*> bindings) {
+                       Bindings bindings) {
     dispatch_indirect_raw(ctx, cmd, pass, group_counts, nullptr, 0, bindings);
 }
 
 void dispatch_indirect_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const Buffer& group_counts,
-                           const void* push, uint32_t push_bytes, std::initializer_list<const Buffer*> bindings) {
-    bind_pass(ctx, cmd, pass, push, push_bytes, bindings);
+                           const void* push, uint32_t push_bytes, Bindings bindings) {
+    BarrierTracker* tracker = tracker_for(ctx, cmd);
+    bind_pass(ctx, cmd, pass, push, push_bytes, bindings, tracker, &group_counts);
     vkCmdDispatchIndirect(cmd, group_counts.buffer, 0);
-    compute_barrier(cmd);
+    if (!tracker) compute_barrier(cmd);
+}
+
+void fill(Context& ctx, VkCommandBuffer cmd, const Buffer& buffer, uint32_t value, VkDeviceSize bytes) {
+    BarrierTracker* tracker = tracker_for(ctx, cmd);
+    if (tracker) tracker->access(cmd, {}, {buffer.buffer});
+    vkCmdFillBuffer(cmd, buffer.buffer, 0, bytes, value);
+    if (!tracker) compute_barrier(cmd);
+}
+
+void copy(Context& ctx, VkCommandBuffer cmd, const Buffer& src, const Buffer& dst, const VkBufferCopy& region) {
+    BarrierTracker* tracker = tracker_for(ctx, cmd);
+    if (tracker) tracker->access(cmd, {src.buffer}, {dst.buffer});
+    vkCmdCopyBuffer(cmd, src.buffer, dst.buffer, 1, &region);
+    if (!tracker) compute_barrier(cmd);
 }
 
 void compute_barrier(VkCommandBuffer cmd) {

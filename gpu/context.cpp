@@ -6,6 +6,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "gpu/barriers.h"
+#include "gpu/staging.h"
 #include "gpu/vk_check.h"
 
 namespace aquaform::gpu {
@@ -84,9 +86,20 @@ VkInstance create_instance(bool validation, const std::vector<std::string>& extr
     return instance;
 }
 
+/// Loop iterations an invocation may run before the driver ends its loops (0 = unlimited).
+uint32_t loop_iteration_limit(VkDriverId driver) {
+    return driver == VK_DRIVER_ID_MESA_LLVMPIPE ? 65535u : 0u;
+}
+
 DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
     VkPhysicalDeviceProperties props{};
     vkGetPhysicalDeviceProperties(pd, &props);
+    VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+    if (props.apiVersion >= VK_API_VERSION_1_2) {  // the driver's identity is core from 1.2
+        VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+        props2.pNext = &driver;
+        vkGetPhysicalDeviceProperties2(pd, &props2);
+    }
     VkPhysicalDeviceMemoryProperties mem{};
     vkGetPhysicalDeviceMemoryProperties(pd, &mem);
     DeviceInfo d;
@@ -96,6 +109,8 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
     d.api_version = props.apiVersion;
     d.max_storage_buffer_bytes = props.limits.maxStorageBufferRange;
     d.max_workgroups_x = props.limits.maxComputeWorkGroupCount[0];
+    d.driver_id = driver.driverID;
+    d.loop_iteration_limit = loop_iteration_limit(driver.driverID);
     for (uint32_t h = 0; h < mem.memoryHeapCount; ++h)
         if (mem.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
             d.device_local_bytes = std::max<uint64_t>(d.device_local_bytes, mem.memoryHeaps[h].size);
@@ -314,6 +329,7 @@ void Context::destroy() {
     if (device_) {
         vkDeviceWaitIdle(device_);
         for (auto& [thread, r] : recorders_) {
+            r->staging->destroy(*this);
             vkDestroyFence(device_, r->fence, nullptr);
             vkDestroyCommandPool(device_, r->pool, nullptr);
         }
@@ -351,6 +367,8 @@ Context::Recorder& Context::recorder() {
     std::unique_ptr<Recorder>& r = recorders_[std::this_thread::get_id()];
     if (r) return *r;
     r = std::make_unique<Recorder>();
+    r->staging = std::make_unique<StagingPool>();
+    r->tracker = std::make_unique<BarrierTracker>();
     VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
     pool_info.queueFamilyIndex = queue_family_;
@@ -378,6 +396,8 @@ void Context::begin(Recorder& r) {
     barrier.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
     vkCmdPipelineBarrier(r.cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &barrier, 0,
                          nullptr, 0, nullptr);
+    r.staging->record_pending(r.cmd);  // uploads an UploadBatch held come first
+    r.tracker->reset();
     r.recording = true;
 }
 
@@ -393,13 +413,15 @@ void Context::submit(Recorder& r) {
     }
     VK_CHECK(vkWaitForFences(device_, 1, &r.fence, VK_TRUE, UINT64_MAX));
     VK_CHECK(vkResetFences(device_, 1, &r.fence));
+    ++submissions_;
+    r.staging->recycle(*this);
 }
 
 void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) {
     Recorder& r = recorder();
     if (r.recording)
-        throw std::logic_error("gpu::Context::submit_and_wait called inside a recording on the same thread; make the "
-                               "objects that upload (renderers, buffers) before recording");
+        throw std::logic_error("gpu::Context::submit_and_wait called inside a recording on the same thread; record "
+                               "into the command buffer being recorded instead (gpu::upload does so by itself)");
     begin(r);
     try {
         record(r.cmd);

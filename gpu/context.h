@@ -20,6 +20,9 @@
 
 namespace aquaform::gpu {
 
+class StagingPool;
+class BarrierTracker;
+
 struct DeviceInfo {
     uint32_t index = 0;
     std::string name;
@@ -28,6 +31,11 @@ struct DeviceInfo {
     uint64_t device_local_bytes = 0;     ///< size of the largest device-local heap
     uint64_t max_storage_buffer_bytes = 0;
     uint32_t max_workgroups_x = 0;       ///< largest dispatch along x
+    VkDriverId driver_id = VkDriverId(0);  ///< VkPhysicalDeviceDriverProperties::driverID
+    /// Quirk: loop iterations a shader invocation may run in total before the device silently
+    /// ends its loops (0 = no such limit). Lavapipe (VK_DRIVER_ID_MESA_LLVMPIPE) has 65535; the
+    /// passes that could exceed it split their work into resumable passes only where it is set.
+    uint32_t loop_iteration_limit = 0;
     bool usable = false;                 ///< has the queue, Vulkan 1.3 and extensions we need
     std::string unusable_reason;
 };
@@ -81,6 +89,17 @@ public:
     /// Records commands with `record`, submits them and waits for completion (on this thread's
     /// command buffer; the queue is held only while submitting, not while waiting).
     void submit_and_wait(const std::function<void(VkCommandBuffer)>& record);
+    /// The calling thread's command buffer while it records inside submit_and_wait, else
+    /// VK_NULL_HANDLE (gpu::upload records into it instead of submitting).
+    VkCommandBuffer recording() { Recorder& r = recorder(); return r.recording ? r.cmd : VK_NULL_HANDLE; }
+    /// The calling thread's staging memory, recycled after each of its submissions completes.
+    StagingPool& staging() { return *recorder().staging; }
+    /// The barrier state of the calling thread's command buffer (gpu/barriers.h).
+    BarrierTracker& tracker() { return *recorder().tracker; }
+    /// Test hook: pretends the device has (or lacks) the loop-iteration quirk.
+    void override_loop_iteration_limit(uint32_t limit) { info_.loop_iteration_limit = limit; }
+    /// Submissions made so far, by every thread (for tests and the batching figures).
+    uint64_t submissions() const { return submissions_.load(); }
 
     /// A point in a long recording where other threads' work may take the queue. With yielding
     /// on for this thread, the commands so far are submitted and waited for, and `cmd` (this
@@ -119,6 +138,8 @@ private:
         bool yielding = false;
         bool recording = false;
         const std::atomic<bool>* cancel = nullptr;
+        std::unique_ptr<StagingPool> staging;
+        std::unique_ptr<BarrierTracker> tracker;
     };
     Recorder& recorder();  ///< the calling thread's, made at its first use
     void begin(Recorder& r);
@@ -145,6 +166,7 @@ private:
     VkPhysicalDeviceMemoryProperties memory_{};
     PFN_vkCmdPushDescriptorSetKHR push_descriptor_ = nullptr;
     std::atomic<uint32_t> validation_errors_{0};
+    std::atomic<uint64_t> submissions_{0};
     mutable std::mutex message_mutex_;
     std::string last_validation_message_;
 };

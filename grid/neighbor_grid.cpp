@@ -81,9 +81,8 @@ void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint
     const shader::GridPush push = geometry_.push(count);
     {
         gpu::GpuScope scope(timer, cmd, "grid_count");
-        vkCmdFillBuffer(cmd, cell_start_->buffer, 0, VK_WHOLE_SIZE, 0);
-        gpu::compute_barrier(cmd);
-        gpu::dispatch(*ctx_, cmd, count_pass_, count, push, {&positions, cell_rank_, cell_start_, keys_, slots_});
+        gpu::fill(*ctx_, cmd, *cell_start_, 0);
+        gpu::dispatch(*ctx_, cmd, count_pass_, count, push, {{"positions", &positions}, {"cell_rank", cell_rank_}, {"cell_count", cell_start_}, {"keys", keys_}, {"slots", slots_}});
     }
     {
         gpu::GpuScope scope(timer, cmd, "grid_scan");
@@ -91,7 +90,7 @@ void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint
     }
     {
         gpu::GpuScope scope(timer, cmd, "grid_scatter");
-        gpu::dispatch(*ctx_, cmd, scatter_pass_, count, push, {keys_, slots_, cell_start_, order_});
+        gpu::dispatch(*ctx_, cmd, scatter_pass_, count, push, {{"keys", keys_}, {"slots", slots_}, {"cell_start", cell_start_}, {"order", order_}});
     }
 }
 
@@ -103,7 +102,7 @@ void NeighborGrid::record_neighbor_masks(VkCommandBuffer cmd, const gpu::Buffer&
     shader::NeighborMaskPush push{};
     push.grid = geometry_.push(count);
     push.radius = radius;
-    gpu::dispatch(*ctx_, cmd, masks_pass_, count, push, {&sorted_positions, cell_rank_, cell_start_, list_cell_, masks_});
+    gpu::dispatch(*ctx_, cmd, masks_pass_, count, push, {{"positions", &sorted_positions}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"list_cell", list_cell_}, {"masks", masks_}});
 }
 
 void NeighborGrid::check_radius(float radius) const {
@@ -121,7 +120,7 @@ void NeighborGrid::record_list_neighbors(VkCommandBuffer cmd, const gpu::Buffer&
     push.grid = geometry_.push(count);
     push.radius = radius;
     push.capacity = capacity;
-    gpu::dispatch(*ctx_, cmd, list_pass_, count, push, {&positions, order_, cell_rank_, cell_start_, &counts, &lists});
+    gpu::dispatch(*ctx_, cmd, list_pass_, count, push, {{"positions", &positions}, {"order", order_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"counts", &counts}, {"lists", &lists}});
 }
 
 }  // namespace aquaform

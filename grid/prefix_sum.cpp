@@ -31,10 +31,10 @@ void PrefixSum::record_level(VkCommandBuffer cmd, uint32_t level, Buffer& data, 
     const uint32_t blocks = (count + SCAN_BLOCK - 1) / SCAN_BLOCK;
     Buffer& sums = *levels_[level];
     shader::ScanPush push{count};
-    dispatch(*ctx_, cmd, blocks_pass_, blocks * SCAN_WORKGROUP, push, {&data, &sums});
+    dispatch(*ctx_, cmd, blocks_pass_, blocks * SCAN_WORKGROUP, push, {{"data", &data}, {"block_sums", &sums}});
     if (blocks > 1) {
         record_level(cmd, level + 1, sums, blocks);
-        dispatch(*ctx_, cmd, add_pass_, count, push, {&data, &sums});
+        dispatch(*ctx_, cmd, add_pass_, count, push, {{"data", &data}, {"block_sums", &sums}});
     }
 }
 

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "render/surface_settings.h"
 
@@ -123,7 +124,7 @@ MetaballRenderer::MetaballRenderer(gpu::Context& ctx, const ParticleDomain& doma
     if (list_bytes_ / 4 >= METABALL_NIL)
         throw std::invalid_argument("metaball renderer: " + mib(list_bytes_) +
                                     " of list memory is more than 32-bit entry indices address; use less than 16 GiB");
-    params_buf_ = &buffers_.add("metaball.params", sizeof(shader::MetaballParams), gpu::MemoryUse::host);
+    params_buf_ = &buffers_.add("metaball.params", sizeof(shader::MetaballParams));
     counters_ = &buffers_.add("metaball.counters", sizeof(MetaballCounters));
     heads_ = &buffers_.add("metaball.heads", pixels * 4);
     entries_ = &buffers_.add("metaball.lists", list_bytes_);
@@ -182,32 +183,28 @@ void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions,
     p.list_capacity = uint32_t(list_capacity(settings.method));
     p.flags = settings.keep_near ? METABALL_KEEP_NEAR : 0u;
     keep_near_ = settings.keep_near;
-    std::memcpy(params_buf_->mapped, &p, sizeof(p));
+    gpu::record_upload(*ctx_, cmd, *params_buf_, &p, sizeof(p));
 
     const uint32_t pixels = width_ * height_;
     const uint32_t particles = std::max(count, 1u);
-    const std::initializer_list<const gpu::Buffer*> list_buffers{
-        params_buf_, &positions, counters_, heads_, entries_, offsets_, cursors_, entries_, span_, near_};
+    const gpu::Bindings list_buffers{
+        {"params", params_buf_}, {"positions", &positions}, {"counters", counters_}, {"heads", heads_}, {"nodes", entries_}, {"offsets", offsets_}, {"cursors", cursors_}, {"ids", entries_}, {"span", span_}, {"near_ids", near_}};
     {
         gpu::GpuScope scope(timer, cmd, "metaball_bounds");
         MetaballCounters init{};
         init.bounds_min_x = init.bounds_min_y = init.bounds_min_z = 0xffffffffu;
-        vkCmdUpdateBuffer(cmd, counters_->buffer, 0, sizeof(init), &init);
-        gpu::compute_barrier(cmd);
-        gpu::dispatch(*ctx_, cmd, bounds_, particles, {params_buf_, &positions, counters_});
+        gpu::record_upload(*ctx_, cmd, *counters_, &init, sizeof(init));
+        gpu::dispatch(*ctx_, cmd, bounds_, particles, {{"params", params_buf_}, {"positions", &positions}, {"counters", counters_}});
     }
     if (settings.method != MetaballMethod::brute_force) {
         gpu::GpuScope scope(timer, cmd, "metaball_lists");
-        vkCmdFillBuffer(cmd, span_->buffer, 0, VK_WHOLE_SIZE, 0u);  // both keys 0: an empty list
-        gpu::compute_barrier(cmd);
+        gpu::fill(*ctx_, cmd, *span_, 0u);  // both keys 0: an empty list
         if (settings.method == MetaballMethod::a_buffer) {
-            vkCmdFillBuffer(cmd, heads_->buffer, 0, VK_WHOLE_SIZE, METABALL_NIL);
-            gpu::compute_barrier(cmd);
+            gpu::fill(*ctx_, cmd, *heads_, METABALL_NIL);
             gpu::dispatch(*ctx_, cmd, lists_, particles, mode_push(METABALL_LIST_A_INSERT), list_buffers);
         } else {
-            vkCmdFillBuffer(cmd, offsets_->buffer, 0, VK_WHOLE_SIZE, 0u);
-            vkCmdFillBuffer(cmd, cursors_->buffer, 0, VK_WHOLE_SIZE, 0u);
-            gpu::compute_barrier(cmd);
+            gpu::fill(*ctx_, cmd, *offsets_, 0u);
+            gpu::fill(*ctx_, cmd, *cursors_, 0u);
             gpu::dispatch(*ctx_, cmd, lists_, particles, mode_push(METABALL_LIST_S_COUNT), list_buffers);
             scan_.record(cmd, *offsets_, pixels + 1);
             gpu::dispatch(*ctx_, cmd, lists_, particles, mode_push(METABALL_LIST_S_FILL), list_buffers);
@@ -216,8 +213,7 @@ void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions,
     {
         gpu::GpuScope scope(timer, cmd, "metaball_march");
         gpu::dispatch(*ctx_, cmd, march_, pixels,
-                      {params_buf_, &positions, counters_, heads_, entries_, offsets_, entries_, span_, hit_, normal_,
-                       color_, visits_, near_});
+                      {{"params", params_buf_}, {"positions", &positions}, {"counters", counters_}, {"heads", heads_}, {"nodes", entries_}, {"offsets", offsets_}, {"ids", entries_}, {"span", span_}, {"hit", hit_}, {"normal", normal_}, {"color", color_}, {"visits", visits_}, {"near_ids", near_}});
     }
     method_ = settings.method;
 }

@@ -103,7 +103,7 @@ public:
     MetaballRenderer& operator=(const MetaballRenderer&) = delete;
 
     /// Records the passes for `count` particles of `positions` (vec4, xyz in metres). Writes the
-    /// parameter block at once: record at most one frame per submission.
+    /// parameter block is recorded into `cmd` too, so frames may share a submission.
     void record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
                 const MetaballSettings& settings, gpu::GpuTimer* timer);
     /// Records, submits, waits and reads the frame back.

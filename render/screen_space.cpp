@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "render/surface_settings.h"
 
@@ -106,8 +107,8 @@ ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain
         throw std::invalid_argument("screen-space renderer: resolution " + std::to_string(width) + "x" +
                                     std::to_string(height) + " is outside 16..8192 per axis");
     const uint64_t pixels = uint64_t(width) * height;
-    params_buf_ = &buffers_.add("ss.params", sizeof(shader::SurfaceParams), gpu::MemoryUse::host);
-    filter_params_buf_ = &buffers_.add("ss.filter_params", sizeof(shader::ScreenSpaceParams), gpu::MemoryUse::host);
+    params_buf_ = &buffers_.add("ss.params", sizeof(shader::SurfaceParams));
+    filter_params_buf_ = &buffers_.add("ss.filter_params", sizeof(shader::ScreenSpaceParams));
     aggregate_ = &buffers_.add("ss.aggregate", uint64_t(max_particles_) * 4);
     // The splat's D_agg and classification outputs: with no aggregates and mode 0 it writes
     // neither, so one small buffer stands in for both instead of two per-pixel maps.
@@ -152,17 +153,16 @@ void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positio
     params_.sprite_radius = settings.sprite_radius * params_.particle_radius;
     params_.flags = 0;  // none of the ray marchers' mechanisms run here
     filter_params_ = make_filter_params(settings, params_);
-    std::memcpy(params_buf_->mapped, &params_, sizeof(params_));
-    std::memcpy(filter_params_buf_->mapped, &filter_params_, sizeof(filter_params_));
+    gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof(params_));
+    gpu::record_upload(*ctx_, cmd, *filter_params_buf_, &filter_params_, sizeof(filter_params_));
 
     const uint32_t pixels = width_ * height_;
     {
         gpu::GpuScope scope(timer, cmd, "ss_splat");
-        vkCmdFillBuffer(cmd, raw_->buffer, 0, VK_WHOLE_SIZE, DEPTH_EMPTY);
-        vkCmdFillBuffer(cmd, thickness_->buffer, 0, VK_WHOLE_SIZE, 0u);
-        gpu::compute_barrier(cmd);
+        gpu::fill(*ctx_, cmd, *raw_, DEPTH_EMPTY);
+        gpu::fill(*ctx_, cmd, *thickness_, 0u);
         gpu::dispatch(*ctx_, cmd, splat_, std::max(count, 1u), axis_push(0),
-                      {params_buf_, &positions, aggregate_, raw_, unused_, thickness_, unused_});
+                      {{"params", params_buf_}, {"sorted", &positions}, {"aggregate", aggregate_}, {"depth_all", raw_}, {"depth_agg", unused_}, {"thickness", thickness_}, {"front_class", unused_}});
     }
     {
         gpu::GpuScope scope(timer, cmd, "ss_filter");
@@ -170,12 +170,12 @@ void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positio
     }
     {
         gpu::GpuScope scope(timer, cmd, "ss_normals");
-        gpu::dispatch(*ctx_, cmd, normals_, pixels, {params_buf_, filtered_, normal_});
-        gpu::dispatch(*ctx_, cmd, hit_pass_, pixels, {params_buf_, filtered_, hit_});
+        gpu::dispatch(*ctx_, cmd, normals_, pixels, {{"params", params_buf_}, {"depth_smooth", filtered_}, {"normal_screen", normal_}});
+        gpu::dispatch(*ctx_, cmd, hit_pass_, pixels, {{"params", params_buf_}, {"depth", filtered_}, {"hit", hit_}});
     }
     {
         gpu::GpuScope scope(timer, cmd, "ss_compose");
-        gpu::dispatch(*ctx_, cmd, compose_, pixels, {params_buf_, hit_, normal_, thickness_, color_});
+        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}});
     }
 }
 
@@ -187,14 +187,14 @@ void ScreenSpaceRenderer::record_filter(VkCommandBuffer cmd, const ScreenSpaceSe
         const gpu::Buffer* src = raw_;
         for (uint32_t i = 0; i < n; ++i) {
             const gpu::Buffer* dst = (n - 1 - i) % 2 == 0 ? filtered_ : scratch_;
-            gpu::dispatch(*ctx_, cmd, curvature_flow_, pixels, {filter_params_buf_, src, dst});
+            gpu::dispatch(*ctx_, cmd, curvature_flow_, pixels, {{"ss", filter_params_buf_}, {"src", src}, {"dst", dst}});
             src = dst;
         }
         return;
     }
     const gpu::ComputePass& pass = settings.filter == ScreenSpaceFilter::bilateral ? bilateral_ : narrow_range_;
-    gpu::dispatch(*ctx_, cmd, pass, pixels, axis_push(0), {filter_params_buf_, raw_, scratch_});
-    gpu::dispatch(*ctx_, cmd, pass, pixels, axis_push(1), {filter_params_buf_, scratch_, filtered_});
+    gpu::dispatch(*ctx_, cmd, pass, pixels, axis_push(0), {{"ss", filter_params_buf_}, {"src", raw_}, {"dst", scratch_}});
+    gpu::dispatch(*ctx_, cmd, pass, pixels, axis_push(1), {{"ss", filter_params_buf_}, {"src", scratch_}, {"dst", filtered_}});
 }
 
 SurfaceFrame ScreenSpaceRenderer::render(const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,

@@ -111,7 +111,7 @@ public:
     ScreenSpaceRenderer& operator=(const ScreenSpaceRenderer&) = delete;
 
     /// Records the whole pipeline for `count` particles of `positions` (vec4, xyz in metres).
-    /// Writes the parameter blocks at once: record at most one frame per submission. Throws
+    /// Records the parameter blocks into `cmd` too, so frames may share a submission. Throws
     /// std::invalid_argument for invalid settings, too many particles or a degenerate camera.
     void record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
                 const ScreenSpaceSettings& settings, gpu::GpuTimer* timer);

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "gpu/timer.h"
 
 namespace aquaform {
@@ -14,8 +15,11 @@ using shader::SurfacePassPush;
 
 constexpr uint32_t kMissBits = 0xbf800000u;  // -1.0f: hit.w of a pixel without a surface
 
-void fill(VkCommandBuffer cmd, const gpu::Buffer& buffer, uint32_t value) {
-    vkCmdFillBuffer(cmd, buffer.buffer, 0, VK_WHOLE_SIZE, value);
+/// Evaluations a ray makes per march pass before it yields to a resume pass: only where the
+/// device ends long loops (DeviceInfo::loop_iteration_limit), scaled to its limit; 0 = never.
+uint32_t march_evals_per_pass(const gpu::DeviceInfo& device) {
+    if (device.loop_iteration_limit == 0) return 0;
+    return std::max<uint32_t>(1, uint32_t(uint64_t(RAY_MARCH_EVALS_PER_PASS) * device.loop_iteration_limit / 65535u));
 }
 
 SurfacePassPush axis_push(uint32_t axis) {
@@ -36,7 +40,7 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     const uint64_t pixels = uint64_t(width) * height;
     const uint64_t tiles = uint64_t((width + SURFACE_TILE - 1) / SURFACE_TILE) * ((height + SURFACE_TILE - 1) / SURFACE_TILE);
     const uint64_t n = max_particles_;
-    params_buf_ = &buffers_.add("render.params", sizeof(shader::SurfaceParams), gpu::MemoryUse::host);
+    params_buf_ = &buffers_.add("render.params", sizeof(shader::SurfaceParams));
     sorted_ = &buffers_.add("render.sorted", n * 16);
     shape_ = &buffers_.add("render.shape", n * 48);
     class_density_ = &buffers_.add("render.class_density", n * 4);
@@ -85,6 +89,9 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
 
 SurfaceRenderer::~SurfaceRenderer() = default;
 
+// A new radius re-makes the grid, also inside a recording (its table is uploaded there); the old
+// grid's buffers are freed at once, so a frame with another radius than the one recorded before
+// it in the same submission must get a submission of its own.
 void SurfaceRenderer::prepare_grid(float radius) {
     if (grid_ && geometry_.cell_size == radius) return;
     auto geometry = grid_for_domain(domain_.bounds.min, domain_.bounds.max, radius);
@@ -105,14 +112,13 @@ void SurfaceRenderer::prepare_grid(float radius) {
 }
 
 void SurfaceRenderer::record_mask(VkCommandBuffer cmd) {
-    fill(cmd, *coarse_, 0u);
-    gpu::compute_barrier(cmd);
+    gpu::fill(*ctx_, cmd, *coarse_, 0u);
     const uint32_t cells = geometry_.cell_count();
     // counts (from the grid) -x-> a -y-> b -z-> a
-    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(0), {params_buf_, &grid_->cell_rank(), &grid_->cell_start(), conv_b_, conv_a_});
-    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(1), {params_buf_, &grid_->cell_rank(), &grid_->cell_start(), conv_a_, conv_b_});
-    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(2), {params_buf_, &grid_->cell_rank(), &grid_->cell_start(), conv_b_, conv_a_});
-    gpu::dispatch(*ctx_, cmd, mask_pack_, params_.mask_dims.w, {params_buf_, conv_a_, mask_, coarse_});
+    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(0), {{"params", params_buf_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"src", conv_b_}, {"dst", conv_a_}});
+    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(1), {{"params", params_buf_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"src", conv_a_}, {"dst", conv_b_}});
+    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(2), {{"params", params_buf_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"src", conv_b_}, {"dst", conv_a_}});
+    gpu::dispatch(*ctx_, cmd, mask_pack_, params_.mask_dims.w, {{"params", params_buf_}, {"counts", conv_a_}, {"mask", mask_}, {"coarse", coarse_}});
 }
 
 void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
@@ -129,7 +135,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     prepare_grid(render_radius(settings, domain_));
     count_ = count;
     params_ = make_surface_params(settings, domain_, geometry_, camera, width_, height_, count);
-    std::memcpy(params_buf_->mapped, &params_, sizeof(params_));
+    gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof(params_));
 
     const uint32_t pixels = width_ * height_;
     const bool adaptive = params_.method == SURFACE_METHOD_ADAPTIVE;
@@ -137,7 +143,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     {
         gpu::GpuScope scope(timer, cmd, "render_grid");
         grid_->build(cmd, positions, count, nullptr);
-        gpu::dispatch(*ctx_, cmd, gather_, particles, {params_buf_, &positions, &grid_->order(), sorted_});
+        gpu::dispatch(*ctx_, cmd, gather_, particles, {{"params", params_buf_}, {"positions", &positions}, {"order", &grid_->order()}, {"sorted", sorted_}});
     }
     // Between passes the viewer's window may take the queue (gpu::Context::yield_queue).
     ctx_->yield_queue(cmd);
@@ -145,12 +151,11 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         gpu::GpuScope scope(timer, cmd, "render_classify");
         if (params_.flags & SURFACE_ANISOTROPIC)
             gpu::dispatch(*ctx_, cmd, classify_shape_, particles, 
-                          {params_buf_, sorted_, &grid_->cell_rank(), &grid_->cell_start(), shape_});
+                          {{"params", params_buf_}, {"sorted", sorted_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"shape", shape_}});
         gpu::dispatch(*ctx_, cmd, classify_density_, particles, 
-                      {params_buf_, sorted_, &grid_->cell_rank(), &grid_->cell_start(), shape_, class_density_, aggregate_});
+                      {{"params", params_buf_}, {"sorted", sorted_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"shape", shape_}, {"class_density", class_density_}, {"aggregate", aggregate_}});
     } else {
-        fill(cmd, *aggregate_, 0u);
-        gpu::compute_barrier(cmd);
+        gpu::fill(*ctx_, cmd, *aggregate_, 0u);
     }
     ctx_->yield_queue(cmd);
     if (params_.flags & SURFACE_USE_MASK) {
@@ -159,14 +164,13 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     }
     {
         gpu::GpuScope scope(timer, cmd, "render_splat");
-        fill(cmd, *depth_all_, DEPTH_EMPTY);
-        fill(cmd, *depth_agg_, DEPTH_EMPTY);
-        fill(cmd, *thickness_, 0u);
-        fill(cmd, *front_class_, 0u);
-        gpu::compute_barrier(cmd);
+        gpu::fill(*ctx_, cmd, *depth_all_, DEPTH_EMPTY);
+        gpu::fill(*ctx_, cmd, *depth_agg_, DEPTH_EMPTY);
+        gpu::fill(*ctx_, cmd, *thickness_, 0u);
+        gpu::fill(*ctx_, cmd, *front_class_, 0u);
     }
-    const std::initializer_list<const gpu::Buffer*> splat_buffers{
-        params_buf_, sorted_, aggregate_, depth_all_, depth_agg_, thickness_, front_class_};
+    const gpu::Bindings splat_buffers{
+        {"params", params_buf_}, {"sorted", sorted_}, {"aggregate", aggregate_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_}, {"thickness", thickness_}, {"front_class", front_class_}};
     // The splat is a long pass too: where the context yields the queue it runs in slices of
     // particles, the viewer's window drawing between them (as in record_first_march).
     // Slices are whole workgroups: the shader only checks the particle count, so a slice's
@@ -194,30 +198,28 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     ctx_->yield_queue(cmd);
     if (params_.flags & SURFACE_ADAPTIVE_RES) {
         gpu::GpuScope scope(timer, cmd, "render_upsample");
-        fill(cmd, *edge_count_, 0u);
-        gpu::compute_barrier(cmd);
-        gpu::dispatch(*ctx_, cmd, upsample_, pixels, {params_buf_, tile_level_, hit_, normal_, edge_rays_, edge_count_});
+        gpu::fill(*ctx_, cmd, *edge_count_, 0u);
+        gpu::dispatch(*ctx_, cmd, upsample_, pixels, {{"params", params_buf_}, {"tile_level", tile_level_}, {"hit", hit_}, {"normal", normal_}, {"edge_rays", edge_rays_}, {"edge_count", edge_count_}});
         record_march(cmd, *edge_rays_, *edge_count_);
     }
     if (params_.flags & SURFACE_XIAO_NORMALS) {
         gpu::GpuScope scope(timer, cmd, "render_normal_filter");
-        gpu::dispatch(*ctx_, cmd, normal_filter_, pixels, axis_push(0), {params_buf_, hit_, normal_, normal_tmp_});
-        gpu::dispatch(*ctx_, cmd, normal_filter_, pixels, axis_push(1), {params_buf_, hit_, normal_tmp_, normal_});
+        gpu::dispatch(*ctx_, cmd, normal_filter_, pixels, axis_push(0), {{"params", params_buf_}, {"hit", hit_}, {"src", normal_}, {"dst", normal_tmp_}});
+        gpu::dispatch(*ctx_, cmd, normal_filter_, pixels, axis_push(1), {{"params", params_buf_}, {"hit", hit_}, {"src", normal_tmp_}, {"dst", normal_}});
     }
     {
         gpu::GpuScope scope(timer, cmd, "render_compose");
-        gpu::dispatch(*ctx_, cmd, compose_, pixels, {params_buf_, hit_, normal_, thickness_, color_});
+        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}});
     }
 }
 
 void SurfaceRenderer::record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     {
         gpu::GpuScope scope(timer, cmd, "render_march");
-        fill(cmd, *hit_, kMissBits);
-        fill(cmd, *normal_, 0u);
-        fill(cmd, *march_cut_, 0u);
-        fill(cmd, *resume_count_[0], 0u);
-        gpu::compute_barrier(cmd);
+        gpu::fill(*ctx_, cmd, *hit_, kMissBits);
+        gpu::fill(*ctx_, cmd, *normal_, 0u);
+        gpu::fill(*ctx_, cmd, *march_cut_, 0u);
+        gpu::fill(*ctx_, cmd, *resume_count_[0], 0u);
     }
     // The list's length is only known on the GPU, so each slice takes every slices-th ray.
     const uint32_t pixels = width_ * height_, slices = ctx_->yielding() ? kMarchSlices : 1;
@@ -230,35 +232,35 @@ void SurfaceRenderer::record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* tim
 
 void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count,
                                      uint32_t mode, int resume_out, uint32_t first, uint32_t stride, uint32_t threads) {
-    const std::initializer_list<const gpu::Buffer*> buffers{
-        params_buf_, sorted_, &grid_->cell_rank(), &grid_->cell_start(), mask_, coarse_, depth_all_, depth_agg_,
-        normal_screen_, rays, &ray_count, hit_, normal_, march_cut_, resume_rays_[resume_out], resume_count_[resume_out],
-        resume_state_};
+    const gpu::Bindings buffers{
+        {"params", params_buf_}, {"sorted", sorted_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"mask", mask_}, {"coarse", coarse_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_},
+        {"normal_screen", normal_screen_}, {"rays", rays}, {"ray_count", &ray_count}, {"hit", hit_}, {"normal", normal_}, {"march_cut", march_cut_}, {"resume_rays", resume_rays_[resume_out]}, {"resume_count", resume_count_[resume_out]},
+        {"resume_state", resume_state_}};
     SurfacePassPush push = axis_push(mode);
     push.first = first;
     push.stride = stride;
+    push.evals_per_pass = march_evals_per_pass(ctx_->info());
     if (threads > 0) {
         gpu::dispatch(*ctx_, cmd, ray_march_, threads, push, buffers);
         return;
     }
-    gpu::dispatch(*ctx_, cmd, ray_args_, 1, {&ray_count, march_groups_});
+    gpu::dispatch(*ctx_, cmd, ray_args_, 1, {{"ray_count", &ray_count}, {"group_counts", march_groups_}});
     gpu::dispatch_indirect(*ctx_, cmd, ray_march_, *march_groups_, push, buffers);
 }
 
 void SurfaceRenderer::record_march(VkCommandBuffer cmd, const gpu::Buffer& rays, const gpu::Buffer& ray_count) {
-    fill(cmd, *resume_count_[0], 0u);
-    gpu::compute_barrier(cmd);
+    gpu::fill(*ctx_, cmd, *resume_count_[0], 0u);
     dispatch_march(cmd, &rays, ray_count, 0, 0);
     record_resumes(cmd);
 }
 
 void SurfaceRenderer::record_resumes(VkCommandBuffer cmd) {
+    if (march_evals_per_pass(ctx_->info()) == 0) return;  // the first march took every ray to its end
     // The rays the device cut short (list 0) are marched again, each pass with a fresh loop budget,
     // ping-ponging between the two lists; the last pass counts what is still cut.
     for (uint32_t pass = 1; pass <= kResumePasses; ++pass) {
         const int in = int((pass + 1) % 2), out = int(pass % 2);
-        fill(cmd, *resume_count_[out], 0u);
-        gpu::compute_barrier(cmd);
+        gpu::fill(*ctx_, cmd, *resume_count_[out], 0u);
         dispatch_march(cmd, resume_rays_[in], *resume_count_[in], pass == kResumePasses ? 2u : 1u, out);
     }
 }
@@ -268,17 +270,16 @@ void SurfaceRenderer::record_screen_passes(VkCommandBuffer cmd, gpu::GpuTimer* t
     if (params_.flags & SURFACE_BLEND_NORMALS) {
         {
             gpu::GpuScope scope(timer, cmd, "render_smooth");
-            gpu::dispatch(*ctx_, cmd, depth_smooth_, pixels, axis_push(0), {params_buf_, depth_all_, smooth_b_});
-            gpu::dispatch(*ctx_, cmd, depth_smooth_, pixels, axis_push(1), {params_buf_, smooth_b_, smooth_a_});
+            gpu::dispatch(*ctx_, cmd, depth_smooth_, pixels, axis_push(0), {{"params", params_buf_}, {"src", depth_all_}, {"dst", smooth_b_}});
+            gpu::dispatch(*ctx_, cmd, depth_smooth_, pixels, axis_push(1), {{"params", params_buf_}, {"src", smooth_b_}, {"dst", smooth_a_}});
         }
         gpu::GpuScope scope(timer, cmd, "render_screen_normals");
-        gpu::dispatch(*ctx_, cmd, screen_normals_, pixels, {params_buf_, smooth_a_, normal_screen_});
+        gpu::dispatch(*ctx_, cmd, screen_normals_, pixels, {{"params", params_buf_}, {"depth_smooth", smooth_a_}, {"normal_screen", normal_screen_}});
     }
     gpu::GpuScope scope(timer, cmd, "render_tiles");
-    fill(cmd, *ray_count_, 0u);
-    gpu::compute_barrier(cmd);
+    gpu::fill(*ctx_, cmd, *ray_count_, 0u);
     gpu::dispatch(*ctx_, cmd, tiles_, params_.screen.z * params_.screen.w, 
-                  {params_buf_, depth_all_, tile_level_, rays_, ray_count_});
+                  {{"params", params_buf_}, {"depth_all", depth_all_}, {"tile_level", tile_level_}, {"rays", rays_}, {"ray_count", ray_count_}});
 }
 
 SurfaceFrame SurfaceRenderer::render(const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,

@@ -51,7 +51,7 @@ public:
     SurfaceRenderer& operator=(const SurfaceRenderer&) = delete;
 
     /// Records the whole pipeline for `count` particles of `positions` (vec4, xyz in metres).
-    /// Writes the parameter block at once: record at most one frame per submission.
+    /// The parameter block is recorded into `cmd` too, so frames may share a submission.
     void record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
                 const SurfaceSettings& settings, gpu::GpuTimer* timer);
     /// Records, submits, waits and reads the frame back.

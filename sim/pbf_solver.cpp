@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "gpu/vk_check.h"
 #include "sim/pbf_params.h"
@@ -96,6 +97,7 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_
     auto fits = check_fits(scene, plan.value(), ctx.info());
     if (!fits) throw std::runtime_error(fits.error());
     count_ = static_cast<uint32_t>(plan.value().particles);
+    gpu::UploadBatch uploads(ctx);  // the grid's table, the parameters and the particles: one submission
     const GridGeometry& geometry = plan.value().grid;
     params_ = make_sim_params(scene, geometry, count_);
     xsph_on_ = scene.solver.viscosity > 0.0f || scene.solver.vorticity > 0.0f;
@@ -159,7 +161,7 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     if (step_force_) step_force_->record(cmd, *params_buf_, *x_, *v_, count_, timer);
     {
         gpu::GpuScope s(timer, cmd, "predict");
-        gpu::dispatch(*ctx_, cmd, predict_, count_, push, {params_buf_, x_, v_, p_});
+        gpu::dispatch(*ctx_, cmd, predict_, count_, push, {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"p", p_}});
     }
     record_sort(cmd, *p_, timer);
     ctx_->yield_queue(cmd);  // the viewer's window may draw between the solver's phases
@@ -169,25 +171,25 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
         {
             gpu::GpuScope s(timer, cmd, "lambda");
             gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
-                          {params_buf_, p_, &rank, &start, &cells, &masks, s0_, density_});
+                          {{"params", params_buf_}, {"p", p_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"masks", &masks}, {"q", s0_}, {"density", density_}});
         }
         gpu::GpuScope s(timer, cmd, "correct");
-        gpu::dispatch(*ctx_, cmd, correct_, count_, push, {params_buf_, s0_, &rank, &start, &cells, &masks, p_});
+        gpu::dispatch(*ctx_, cmd, correct_, count_, push, {{"params", params_buf_}, {"q", s0_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"masks", &masks}, {"p_out", p_}});
     }
     {
         gpu::GpuScope s(timer, cmd, "velocity");
-        gpu::dispatch(*ctx_, cmd, velocity_, count_, push, {params_buf_, x_, v_, p_});
+        gpu::dispatch(*ctx_, cmd, velocity_, count_, push, {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"p", p_}});
     }
     if (xsph_on_) {
         gpu::GpuScope s(timer, cmd, "xsph_curl");
         gpu::dispatch(*ctx_, cmd, xsph_curl_, count_, push,
-                      {params_buf_, x_, v_, &rank, &start, &cells, &masks, density_, s1_, s0_});
+                      {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"masks", &masks}, {"density", density_}, {"v_out", s1_}, {"omega", s0_}});
         std::swap(v_, s1_);
     }
     if (vorticity_on_) {
         gpu::GpuScope s(timer, cmd, "vorticity");
         gpu::dispatch(*ctx_, cmd, vorticity_, count_, push,
-                      {params_buf_, x_, v_, &rank, &start, &cells, &masks, density_, s0_});
+                      {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"masks", &masks}, {"density", density_}, {"omega", s0_}});
     }
     time_ += params_.dt;
 }
@@ -197,7 +199,7 @@ void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_position
     {
         gpu::GpuScope s(timer, cmd, "reorder");
         const shader::CountPush push{count_};
-        gpu::dispatch(*ctx_, cmd, reorder_, count_, push, {params_buf_, &grid_->order(), x_, v_, s0_, s1_, p_});
+        gpu::dispatch(*ctx_, cmd, reorder_, count_, push, {{"params", params_buf_}, {"order", &grid_->order()}, {"x_in", x_}, {"v_in", v_}, {"x_out", s0_}, {"v_out", s1_}, {"p_out", p_}});
         std::swap(x_, s0_);
         std::swap(v_, s1_);
     }
@@ -218,10 +220,9 @@ void PbfSolver::record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     // Density at the final positions (the lambda pass on x, over this step's neighbours; its
     // q output goes to scratch), then the per-workgroup reduction.
     gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
-                  {params_buf_, x_, &grid_->cell_rank(), &grid_->cell_start(), &grid_->list_cell(), &grid_->masks(),
-                   s0_, density_});
+                  {{"params", params_buf_}, {"p", x_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"masks", &grid_->masks()}, {"q", s0_}, {"density", density_}});
     gpu::dispatch(*ctx_, cmd, stats_, stats_groups(count_) * PBF_STATS_WORKGROUP, push,
-                  {params_buf_, x_, v_, density_, partials_});
+                  {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"density", density_}, {"partials", partials_}});
 }
 
 FrameStats PbfSolver::measure(gpu::GpuTimer* timer) {
@@ -271,6 +272,7 @@ void PbfSolver::set_state(const std::vector<glm::vec4>& x, const std::vector<glm
         throw std::invalid_argument("PbfSolver::set_state: " + std::to_string(x.size()) + " positions and " +
                                     std::to_string(v.size()) + " velocities for " + std::to_string(count_) +
                                     " particles");
+    gpu::UploadBatch uploads(*ctx_);  // the uploads join the sort's submission
     gpu::upload(*ctx_, *x_, x.data(), x.size() * sizeof(glm::vec4));
     gpu::upload(*ctx_, *v_, v.data(), v.size() * sizeof(glm::vec4));
     // Sort by the new positions so that the grid is valid before the first step (measure()).

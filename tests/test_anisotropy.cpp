@@ -467,10 +467,10 @@ protected:
         ctx().submit_and_wait([&](VkCommandBuffer cmd) {
             if (anisotropic)
                 gpu::dispatch_raw(ctx(), cmd, shape_pass, n, nullptr, 0,
-                                  {&params_buffer, &positions, &grid.cell_rank(), &grid.cell_start(), &shape});
+                                  {{"params", &params_buffer}, {"sorted", &positions}, {"cell_rank", &grid.cell_rank()}, {"cell_start", &grid.cell_start()}, {"shape", &shape}});
             gpu::dispatch_raw(ctx(), cmd, density_pass, n, nullptr, 0,
-                              {&params_buffer, &positions, &grid.cell_rank(), &grid.cell_start(),
-                               anisotropic ? &shape : &dummy_shape, &density, &aggregate});
+                              {{"params", &params_buffer}, {"sorted", &positions}, {"cell_rank", &grid.cell_rank()}, {"cell_start", &grid.cell_start()},
+                               {"shape", anisotropic ? &shape : &dummy_shape}, {"class_density", &density}, {"aggregate", &aggregate}});
         });
         Result r;
         if (anisotropic) r.shape = gpu::download_vector<glm::vec4>(ctx(), shape, uint64_t(n) * 3);

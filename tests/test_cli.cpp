@@ -209,6 +209,22 @@ TEST(Cli, RenderWritesTheImageTheViewsAndMetricsAgainstTheReference) {
     fs::remove_all(dir);
 }
 
+TEST(Cli, RenderWithALargerRadiusRemakesTheGridWhileRecording) {
+    // `render --radius 2.5` re-makes the render grid inside the recording (issue 13): it used to
+    // fail with "submit_and_wait called inside a recording".
+    fs::path dir = temp_dir("render_radius");
+    fs::path scene = write_file(dir / "tiny.json", kTinyDamBreak);
+    Outcome o = run_aquaform("render " + scene.string() + " --frame 1 --resolution 64x48 --radius 2.5 --out " +
+                             (dir / "out").string());
+    ASSERT_EQ(o.exit_code, 0) << o.output;
+    const auto doc = nlohmann::json::parse(read_file(dir / "out" / "render.json"));
+    // The reference renders at its own (default) radius: a second re-make inside a recording.
+    EXPECT_GT(doc["render"]["rays"].get<int>(), 0);
+    EXPECT_GT(doc["render"]["evals_per_ray"].get<double>(), 0.0);
+    EXPECT_TRUE(fs::exists(dir / "out" / "image.png")) << o.output;
+    fs::remove_all(dir);
+}
+
 TEST(Cli, ControlPlaceWritesPointsReportAndPicture) {
     fs::path dir = temp_dir("control");
     ASSERT_TRUE(control::write_obj(dir / "ball.obj", control::make_sphere(0.1f, 3)));

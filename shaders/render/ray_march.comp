@@ -35,7 +35,8 @@ layout(std430, binding = 11) writeonly buffer Hit { vec4 hit[]; };
 layout(std430, binding = 12) writeonly buffer Normal { vec4 normal[]; };
 // Rays whose loops the device ended early: llvmpipe stops each invocation after 65535 loop
 // iterations in all, silently; a loop that ends with its own condition still true was cut.
-// A ray that has spent RAY_MARCH_EVALS_PER_PASS evaluations, or was cut anyway, saves where it
+// Where the device has that limit (the push's evals_per_pass > 0), a ray that has spent
+// evals_per_pass evaluations, or was cut anyway, saves where it
 // was (resume_state) and joins the resume list; the renderer marches that list again (push axis
 // 1: resume), each pass with a fresh budget, and in its last pass (axis 2) counts the rays still
 // cut in march_cut instead.
@@ -152,7 +153,7 @@ void main() {
     }
     // Each mask step leaves at least one cell, so a ray takes at most this many of them.
     uint mask_steps_left = 2u * (params.grid_dims.x + params.grid_dims.y + params.grid_dims.z) + 8u;
-    const uint yield_at = pc.axis == 2u ? 0xffffffffu : evals + RAY_MARCH_EVALS_PER_PASS;
+    const uint yield_at = pc.axis == 2u || pc.evals_per_pass == 0u ? 0xffffffffu : evals + pc.evals_per_pass;
     while (t <= t_end && evals < params.max_steps) {
         if (evals >= yield_at) {  // a long ray: hand over to the next pass
             resume_state[index] = vec4(t, t_prev, float(evals), skipped ? 1.0 : 0.0);
@@ -187,7 +188,7 @@ void main() {
     }
     if (!found) {
         if (t <= t_end && evals < params.max_steps) {
-            if (pc.axis == 2u) {
+            if (pc.axis == 2u || pc.evals_per_pass == 0u) {  // no pass follows: count it
                 atomicAdd(march_cut[0], 1u);
             } else {
                 resume_state[index] = vec4(t, t_prev, float(evals), skipped ? 1.0 : 0.0);

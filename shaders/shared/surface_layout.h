@@ -52,8 +52,10 @@
 // Workgroup size of the ray march: its dispatch is indirect, sized to the ray list on the GPU.
 #define RAY_MARCH_WORKGROUP 64u
 // Density evaluations a ray makes per march pass before it yields and is resumed by the next
-// pass: about 190 loop iterations each (27 cells and their particles), so a pass, its bisection
-// and its normal stay inside the 65535 loop iterations the software device allows an invocation.
+// pass, on a device that ends an invocation's loops after 65535 iterations (DeviceInfo::
+// loop_iteration_limit; the software device): about 190 loop iterations each (27 cells and their
+// particles), so a pass, its bisection and its normal stay inside that limit. Devices without
+// the limit march every ray to its end in one pass (SurfacePassPush.evals_per_pass = 0).
 #define RAY_MARCH_EVALS_PER_PASS 256u
 
 AF_BEGIN
@@ -121,12 +123,13 @@ struct SurfaceParams {
 /// Push block of the passes that need one more number than SurfaceParams (the separable
 /// convolution's axis, the bilateral filter's direction; the ray march's mode and its first ray,
 /// as the first march may be dispatched in interleaved slices: thread i marches ray
-/// first + i * stride, stride 0 meaning 1).
+/// first + i * stride, stride 0 meaning 1; and its evaluations per pass before a ray yields,
+/// 0 meaning never).
 struct SurfacePassPush {
     uint axis;
     uint first;
     uint stride;
-    uint pad2;
+    uint evals_per_pass;
 };
 
 AF_END

@@ -1,0 +1,135 @@
+#include "gpu/staging.h"
+
+#include <algorithm>
+#include <cstring>
+#include <exception>
+#include <stdexcept>
+
+#include "gpu/barriers.h"
+#include "gpu/context.h"
+
+namespace aquaform::gpu {
+
+namespace {
+
+constexpr VkDeviceSize kChunkBytes = VkDeviceSize(1) << 20;
+constexpr VkDeviceSize kAlign = 16;
+constexpr VkDeviceSize kInlineBytes = 65536;  // vkCmdUpdateBuffer's limit
+constexpr size_t kKeptChunks = 4;
+
+/// Earlier reads and writes of the destinations (any stage) before the transfer writes them.
+void barrier_before_copy(VkCommandBuffer cmd) {
+    VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    b.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
+    b.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &b, 0, nullptr,
+                         0, nullptr);
+}
+
+/// The transfer's writes before anything later reads or writes them.
+void barrier_after_copy(VkCommandBuffer cmd) {
+    VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+    b.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &b, 0, nullptr,
+                         0, nullptr);
+}
+
+}  // namespace
+
+StagingPool::Region StagingPool::allocate(Context& ctx, VkDeviceSize bytes) {
+    bytes = (bytes + kAlign - 1) / kAlign * kAlign;
+    for (Chunk& c : chunks_)
+        if (c.buffer.size - c.used >= bytes) {
+            Region r{c.buffer.buffer, c.used, static_cast<char*>(c.buffer.mapped) + c.used};
+            c.used += bytes;
+            return r;
+        }
+    chunks_.push_back({create_buffer(ctx, "staging", std::max(bytes, kChunkBytes), MemoryUse::host), bytes});
+    return {chunks_.back().buffer.buffer, 0, chunks_.back().buffer.mapped};
+}
+
+void StagingPool::defer(const Region& src, VkBuffer dst, VkDeviceSize dst_offset, VkDeviceSize bytes) {
+    pending_.push_back({src.buffer, dst, {src.offset, dst_offset, bytes}});
+}
+
+void StagingPool::record_pending(VkCommandBuffer cmd) {
+    if (pending_.empty()) return;
+    barrier_before_copy(cmd);
+    for (const Copy& c : pending_) vkCmdCopyBuffer(cmd, c.src, c.dst, 1, &c.region);
+    barrier_after_copy(cmd);
+    pending_.clear();
+}
+
+void StagingPool::discard_pending() { pending_.clear(); }
+
+void StagingPool::recycle(Context& ctx) {
+    if (!pending_.empty()) return;  // held copies still read their regions
+    // Keep a few standard chunks for the next frame; free oversized ones (one big upload).
+    size_t kept = 0;
+    for (size_t i = 0; i < chunks_.size();) {
+        if (chunks_[i].buffer.size > kChunkBytes || kept == kKeptChunks) {
+            destroy_buffer(ctx, chunks_[i].buffer);
+            chunks_.erase(chunks_.begin() + std::ptrdiff_t(i));
+            continue;
+        }
+        chunks_[i++].used = 0;
+        ++kept;
+    }
+}
+
+void StagingPool::destroy(Context& ctx) {
+    for (Chunk& c : chunks_) destroy_buffer(ctx, c.buffer);
+    chunks_.clear();
+    pending_.clear();
+}
+
+VkDeviceSize StagingPool::bytes_in_use() const {
+    VkDeviceSize total = 0;
+    for (const Chunk& c : chunks_) total += c.used;
+    return total;
+}
+
+UploadBatch::UploadBatch(Context& ctx) : ctx_(&ctx) { ++ctx.staging().batch_depth; }
+
+UploadBatch::~UploadBatch() noexcept(false) {
+    StagingPool& pool = ctx_->staging();
+    --pool.batch_depth;
+    if (pool.batch_depth > 0) return;  // an outer batch submits
+    if (std::uncaught_exceptions() > 0) {  // unwinding: the destinations may be gone
+        pool.discard_pending();
+        return;
+    }
+    if (pool.has_pending()) ctx_->submit_and_wait([](VkCommandBuffer) {});
+}
+
+void UploadBatch::submit() {
+    if (ctx_->staging().has_pending()) ctx_->submit_and_wait([](VkCommandBuffer) {});
+}
+
+void record_upload(Context& ctx, VkCommandBuffer cmd, Buffer& dst, const void* data, VkDeviceSize bytes,
+                   VkDeviceSize offset) {
+    if (bytes == 0) return;
+    if (offset + bytes > dst.size)
+        throw std::logic_error("upload of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) +
+                               " overruns buffer '" + dst.name + "' of " + std::to_string(dst.size) + " bytes");
+    // In the thread's recording the tracker orders the write (gpu/barriers.h); elsewhere barriers
+    // on both sides.
+    BarrierTracker* tracker = cmd == ctx.recording() ? &ctx.tracker() : nullptr;
+    if (tracker) tracker->access(cmd, {}, {dst.buffer});
+    else barrier_before_copy(cmd);
+    if (bytes <= kInlineBytes && bytes % 4 == 0 && offset % 4 == 0) {
+        vkCmdUpdateBuffer(cmd, dst.buffer, offset, bytes, data);
+    } else {
+        if (cmd != ctx.recording())
+            throw std::logic_error("gpu::record_upload: a staged upload into '" + dst.name +
+                                   "' needs the calling thread's recording (Context::submit_and_wait)");
+        StagingPool::Region src = ctx.staging().allocate(ctx, bytes);
+        std::memcpy(src.mapped, data, bytes);
+        VkBufferCopy region{src.offset, offset, bytes};
+        vkCmdCopyBuffer(cmd, src.buffer, dst.buffer, 1, &region);
+    }
+    if (!tracker) barrier_after_copy(cmd);
+}
+
+}  // namespace aquaform::gpu
