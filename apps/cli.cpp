@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
+#include <new>
 
+#include "core/error.h"
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
 
@@ -134,8 +136,12 @@ int run_main(int argc, char** argv) {
         else
             std::fprintf(stderr, "aquaform: unknown command \"%s\"\n%s", command.c_str(), kUsage);
         return kExitUsage;
-    } catch (const gpu::VulkanError& e) {
+    } catch (const Failure& e) {
+        // The libraries' one exception type (core/error.h): its message names the problem and the fix.
         std::fprintf(stderr, "aquaform: %s\n", e.what());
+        return kExitFailure;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "aquaform: out of host memory; use fewer particles (a larger particle_spacing) or a smaller image\n");
         return kExitFailure;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "aquaform: %s\n", e.what());

@@ -17,7 +17,7 @@
 
 #include "study/bench_scenes.h"
 #include "apps/cli.h"
-#include "apps/render_measure.h"
+#include "study/render_measure.h"
 #include "apps/render_options.h"
 #include "gpu/context.h"
 
@@ -104,7 +104,7 @@ SurfaceSettings settings_for(const Config& c, SurfaceSettings base) {
     return base;
 }
 
-double pass_ms(const RenderMeasurement& m, const char* pass) {
+double pass_ms(const study::RenderMeasurement& m, const char* pass) {
     auto it = m.ms_per_pass.find(pass);
     return it == m.ms_per_pass.end() ? 0.0 : it->second;
 }
@@ -112,7 +112,7 @@ double pass_ms(const RenderMeasurement& m, const char* pass) {
 struct Measured {
     const Config* config;
     SurfaceSettings settings;
-    RenderMeasurement m;
+    study::RenderMeasurement m;
     SurfaceComparison cmp;
 };
 
@@ -150,13 +150,13 @@ Verdict evals_target(const std::vector<Measured>& results) {
     const Measured* u = result_of(results, "uniform");
     const Measured* ms = result_of(results, "mask_skip");
     if (!u || !ms) return not_measured(name, target, "needs the uniform and mask_skip configurations");
-    const double base = evals_per_ray(u->m);
+    const double base = study::evals_per_ray(u->m);
     if (!(base > 0.0)) return not_measured(name, target, "the uniform baseline cast no rays");
-    const double ratio = evals_per_ray(ms->m) / base;
+    const double ratio = study::evals_per_ray(ms->m) / base;
     const bool pass = ratio <= kEvalsTarget && ms->cmp.depth_err_mean <= u->cmp.depth_err_mean;
     Verdict v;
     v.json = {{"target", target},
-              {"evals_per_ray", evals_per_ray(ms->m)},
+              {"evals_per_ray", study::evals_per_ray(ms->m)},
               {"uniform_evals_per_ray", base},
               {"ratio", ratio},
               {"ratio_max", kEvalsTarget},
@@ -166,7 +166,7 @@ Verdict evals_target(const std::vector<Measured>& results) {
               {"pass", pass}};
     v.line = fmt("mask+skip evals/ray = %.1f%% of uniform (%.2f vs %.2f; target <= %.0f%%), depth error %.3f vs %.3f "
                  "radii (target: equal or lower): %s",
-                 100.0 * ratio, evals_per_ray(ms->m), base, 100.0 * kEvalsTarget, ms->cmp.depth_err_mean,
+                 100.0 * ratio, study::evals_per_ray(ms->m), base, 100.0 * kEvalsTarget, ms->cmp.depth_err_mean,
                  u->cmp.depth_err_mean, status_of(pass));
     return v;
 }
@@ -225,7 +225,7 @@ Verdict gpu_target(const std::vector<Measured>& results, const gpu::DeviceInfo& 
 }
 
 /// Milliseconds per pass, one row per configuration, in the renderer's pass order.
-void print_pass_table(const std::vector<std::pair<std::string, const RenderMeasurement*>>& rows) {
+void print_pass_table(const std::vector<std::pair<std::string, const study::RenderMeasurement*>>& rows) {
     static const char* kPasses[] = {"render_grid",  "render_classify",       "render_mask",  "render_splat",
                                     "render_smooth", "render_screen_normals", "render_tiles", "render_march",
                                     "render_upsample", "render_normal_filter", "render_compose"};
@@ -338,7 +338,7 @@ int bench_render(const Args& args) {
                 frame, time_s, width, height, *repeats);
     std::fflush(stdout);
     std::fprintf(stderr, "bench render: simulating %u frames\n", frame);
-    if (!simulate_frames(solver, frame, "simulating to frame " + std::to_string(frame)))
+    if (!study::simulate_frames(solver, frame, "simulating to frame " + std::to_string(frame)))
         return exit_status(ctx, kExitFailure);
 
     SurfaceRenderer renderer(ctx, scene.particle_domain(), width, height, n);
@@ -348,27 +348,27 @@ int bench_render(const Args& args) {
     SurfaceSettings reference_settings = *base;
     reference_settings.method = SurfaceMethod::reference;
     std::fprintf(stderr, "bench render: rendering reference (1/%zu, exhaustive: the slowest)\n", total);
-    const RenderMeasurement ref = measure_render(ctx, renderer, solver.positions(), n, camera, reference_settings, 1);
+    const study::RenderMeasurement ref = study::measure_render(ctx, renderer, solver.positions(), n, camera, reference_settings, 1);
     const float radius = renderer.params().particle_radius;  // set by the first render
     nlohmann::json records = nlohmann::json::array();
-    records.push_back(render_record("reference", reference_settings, renderer, ref, nullptr));
+    records.push_back(study::render_record("reference", reference_settings, renderer, ref, nullptr));
 
     std::vector<Measured> results;
     results.reserve(configs->size());
     for (const Config* c : *configs) {
         std::fprintf(stderr, "bench render: rendering %s (%zu/%zu: %s)\n", c->label, results.size() + 2, total, c->what);
         Measured r{c, settings_for(*c, *base), {}, {}};
-        r.m = measure_render(ctx, renderer, solver.positions(), n, camera, r.settings, uint32_t(*repeats));
+        r.m = study::measure_render(ctx, renderer, solver.positions(), n, camera, r.settings, uint32_t(*repeats));
         r.cmp = compare_surfaces(ref.frame, r.m.frame, radius);
-        records.push_back(render_record(c->label, r.settings, renderer, r.m, &r.cmp));
+        records.push_back(study::render_record(c->label, r.settings, renderer, r.m, &r.cmp));
         results.push_back(std::move(r));
     }
 
     std::printf("\n");
-    print_render_header();
-    print_render_row("reference", ref, nullptr);
-    for (const Measured& r : results) print_render_row(r.config->label, r.m, &r.cmp);
-    std::vector<std::pair<std::string, const RenderMeasurement*>> pass_rows{{"reference", &ref}};
+    study::print_render_header();
+    study::print_render_row("reference", ref, nullptr);
+    for (const Measured& r : results) study::print_render_row(r.config->label, r.m, &r.cmp);
+    std::vector<std::pair<std::string, const study::RenderMeasurement*>> pass_rows{{"reference", &ref}};
     for (const Measured& r : results) pass_rows.emplace_back(r.config->label, &r.m);
     print_pass_table(pass_rows);
 

@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
-#include "apps/render_measure.h"
+#include "study/render_measure.h"
 #include "apps/render_options.h"
 #include "gpu/context.h"
 #include "render/registry.h"
@@ -29,8 +29,8 @@ Result<bool> write_all(const std::filesystem::path& dir, const std::vector<std::
 int render_other_family(gpu::Context& ctx, Renderer& renderer, PbfSolver& solver, const ViewCamera& camera, const Args& args,
                         uint32_t frame, const std::filesystem::path& out_dir) {
     const uint32_t n = solver.particle_count();
-    RenderMeasurement m;
-    const PassTimes t = time_best_of(ctx, 2, [&](VkCommandBuffer cmd, gpu::GpuTimer* timer) {
+    study::RenderMeasurement m;
+    const study::PassTimes t = study::time_best_of(ctx, 2, [&](VkCommandBuffer cmd, gpu::GpuTimer* timer) {
         renderer.record(cmd, solver.positions(), n, camera, timer);
     });
     m.ms_total = t.ms_total;
@@ -42,14 +42,14 @@ int render_other_family(gpu::Context& ctx, Renderer& renderer, PbfSolver& solver
     nlohmann::json record = {{"label", renderer.method()}, {"method", renderer.method()}, {"width", renderer.width()},
                              {"height", renderer.height()}, {"particles", n}, {"ms_total", m.ms_total},
                              {"ms_per_pass", m.ms_per_pass}, {"stats", stats.describe()}};
-    print_render_header();
+    study::print_render_header();
     if (!args.has("--no-reference")) {
         auto reference = render_registry().create(ctx, solver.scene().particle_domain(), renderer.width(), renderer.height(), n,
                                                   render_registry().find("reference")->defaults);
         const SurfaceFrame ref = reference->render(solver.positions(), n, camera);
         const float radius = 0.5f * solver.scene().particle_spacing;
         const SurfaceComparison cmp = compare_surfaces(ref, m.frame, radius);
-        print_render_row(renderer.method(), m, &cmp);
+        study::print_render_row(renderer.method(), m, &cmp);
         record["depth_err_mean"] = cmp.depth_err_mean;
         record["normal_err_deg_mean"] = cmp.normal_err_deg_mean;
         record["coverage_mismatch"] = cmp.coverage_mismatch;
@@ -58,7 +58,7 @@ int render_other_family(gpu::Context& ctx, Renderer& renderer, PbfSolver& solver
         const SurfaceErrorMaps errors = surface_error_maps(ref, m.frame, radius);
         images.emplace_back("depth_error.png", heat_map(errors.depth_err, renderer.width(), renderer.height(), 1.0f, &m.frame.color));
     } else {
-        print_render_row(renderer.method(), m, nullptr);
+        study::print_render_row(renderer.method(), m, nullptr);
     }
     std::printf("%s\n", stats.describe().c_str());
     nlohmann::json report = {{"scene", args.positional[0]}, {"frame", frame}, {"device", ctx.info().name}, {"render", record}};
@@ -121,7 +121,7 @@ int cmd_render(const std::vector<std::string>& argv) {
     PbfSolver solver(ctx, scene);
     std::printf("%s: %u particles on %s; rendering frame %u at %ux%u with the %s method\n", scene.name.c_str(),
                 solver.particle_count(), ctx.info().name.c_str(), frame, width, height, method->method().c_str());
-    if (!simulate_frames(solver, frame, "simulating to frame " + std::to_string(frame)))
+    if (!study::simulate_frames(solver, frame, "simulating to frame " + std::to_string(frame)))
         return exit_status(ctx, kExitFailure);
 
     const ViewCamera camera = camera_for_domain(scene.domain, float(width) / float(height));
@@ -130,7 +130,7 @@ int cmd_render(const std::vector<std::string>& argv) {
         return exit_status(ctx, render_other_family(ctx, *made, solver, camera, *args, frame, out_dir));
     SurfaceRenderer& renderer = *concrete_of<SurfaceRenderer>(*made);
     renderer.set_diagnostics(true);
-    RenderMeasurement m = measure_render(ctx, renderer, solver.positions(), solver.particle_count(), camera, *settings, 2);
+    study::RenderMeasurement m = study::measure_render(ctx, renderer, solver.positions(), solver.particle_count(), camera, *settings, 2);
     std::vector<std::pair<std::string, Image>> images{
         {"image.png", m.frame.color},
         {"evals.png", evals_view(m.frame, float(settings->max_steps) / 4.0f)},
@@ -143,23 +143,23 @@ int cmd_render(const std::vector<std::string>& argv) {
     report["scene"] = args->positional[0];
     report["frame"] = frame;
     report["device"] = ctx.info().name;
-    print_render_header();
+    study::print_render_header();
     if (settings->method != SurfaceMethod::reference && !args->has("--no-reference")) {
         SurfaceSettings reference_settings;
         reference_settings.method = SurfaceMethod::reference;
-        RenderMeasurement ref = measure_render(ctx, renderer, solver.positions(), solver.particle_count(), camera,
+        study::RenderMeasurement ref = study::measure_render(ctx, renderer, solver.positions(), solver.particle_count(), camera,
                                                reference_settings, 1);
         const SurfaceComparison cmp = compare_surfaces(ref.frame, m.frame, renderer.params().particle_radius);
-        print_render_row(method_name(settings->method), m, &cmp);
-        print_render_row("reference", ref, nullptr);
-        report["render"] = render_record(method_name(settings->method), *settings, renderer, m, &cmp);
-        report["reference"] = render_record("reference", reference_settings, renderer, ref, nullptr);
+        study::print_render_row(method_name(settings->method), m, &cmp);
+        study::print_render_row("reference", ref, nullptr);
+        report["render"] = study::render_record(method_name(settings->method), *settings, renderer, m, &cmp);
+        report["reference"] = study::render_record("reference", reference_settings, renderer, ref, nullptr);
         images.emplace_back("reference.png", ref.frame.color);
         const SurfaceErrorMaps errors = surface_error_maps(ref.frame, m.frame, renderer.params().particle_radius);
         images.emplace_back("depth_error.png", heat_map(errors.depth_err, width, height, 1.0f, &m.frame.color));
     } else {
-        print_render_row(method_name(settings->method), m, nullptr);
-        report["render"] = render_record(method_name(settings->method), *settings, renderer, m, nullptr);
+        study::print_render_row(method_name(settings->method), m, nullptr);
+        report["render"] = study::render_record(method_name(settings->method), *settings, renderer, m, nullptr);
     }
     if (auto written = write_all(out_dir, images); !written)
         return std::fprintf(stderr, "aquaform render: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);

@@ -9,7 +9,7 @@
 #include <optional>
 
 #include "apps/cli.h"
-#include "apps/progress.h"
+#include "core/progress.h"
 #include "apps/render_options.h"
 #include "apps/run_report.h"
 #include "gpu/context.h"

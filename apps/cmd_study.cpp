@@ -1,6 +1,6 @@
 // `aquaform study SPEC.json`: the comparative acceleration study. Runs the spec's matrix of cases
-// x particle counts x resolutions x methods on the same solver frames (apps/study_run.h), the
-// solver stability map when the spec has one (apps/study_solver_map.h), and writes study.csv,
+// x particle counts x resolutions x methods on the same solver frames (study/study_run.h), the
+// solver stability map when the spec has one (study/study_solver_map.h), and writes study.csv,
 // study_passes.csv, solver_map.csv, study.md (linking every frame under images/) and the charts
 // (scripts/study_charts.py).
 #include <cstdio>
@@ -8,9 +8,9 @@
 
 #include "apps/cli.h"
 #include "study/study_charts.h"
-#include "apps/study_run.h"
-#include "apps/study_solver_map.h"
-#include "apps/study_spec.h"
+#include "study/study_run.h"
+#include "study/study_solver_map.h"
+#include "study/study_spec.h"
 #include "gpu/context.h"
 
 namespace aquaform::cli {
@@ -26,7 +26,7 @@ int cmd_study(const std::vector<std::string>& argv) {
         std::fprintf(stderr, "aquaform study: give exactly one spec file, e.g. aquaform study assets/studies/default.json\n");
         return kExitUsage;
     }
-    auto spec = load_study_spec(args->positional[0]);
+    auto spec = study::load_study_spec(args->positional[0]);
     if (!spec) {
         std::fprintf(stderr, "aquaform study: %s\n", spec.error().c_str());
         return kExitUsage;
@@ -44,7 +44,7 @@ int cmd_study(const std::vector<std::string>& argv) {
                 spec.value().cases.size(), out_dir.string().c_str());
     std::fflush(stdout);
 
-    const std::vector<StudyRow> rows = run_study_cases(ctx, spec.value(), out_dir / "images");
+    const std::vector<study::StudyRow> rows = study::run_study_cases(ctx, spec.value(), out_dir / "images");
     int status = kExitOk;
     auto check = [&](const Result<bool>& written) {
         if (!written) {
@@ -52,18 +52,18 @@ int cmd_study(const std::vector<std::string>& argv) {
             status = kExitFailure;
         }
     };
-    check(write_study_csv(out_dir, rows));
-    std::vector<SolverMapRecord> map_records;
-    for (const SolverMapSpec& map_spec : spec.value().solver_maps) {
-        auto map = run_solver_map(ctx, map_spec, [](const std::string& line) {
+    check(study::write_study_csv(out_dir, rows));
+    std::vector<study::SolverMapRecord> map_records;
+    for (const study::SolverMapSpec& map_spec : spec.value().solver_maps) {
+        auto map = study::run_solver_map(ctx, map_spec, [](const std::string& line) {
             std::fprintf(stderr, "study: solver map: %s\n", line.c_str());
         });
         if (!map) check(Error{"solver map of " + map_spec.scene.string() + ": " + map.error()});
         else map_records.insert(map_records.end(), map.value().begin(), map.value().end());
     }
-    if (!map_records.empty()) check(write_solver_map_csv(out_dir / "solver_map.csv", map_records));
-    const std::vector<std::string> targets = study_targets(rows);
-    check(write_study_markdown(out_dir / "study.md", spec.value(), rows, targets));
+    if (!map_records.empty()) check(study::write_solver_map_csv(out_dir / "solver_map.csv", map_records));
+    const std::vector<std::string> targets = study::study_targets(rows);
+    check(study::write_study_markdown(out_dir / "study.md", spec.value(), rows, targets));
     size_t failed = 0;
     for (const auto& r : rows) failed += r.status.rfind("failed", 0) == 0;
     std::printf("\n%zu measurements, %zu failed; tables in %s\n", rows.size(), failed, (out_dir / "study.md").string().c_str());

@@ -45,15 +45,6 @@ std::optional<MethodSettings> render_method_from(const Args& args, std::string* 
     return settings.value();
 }
 
-bool parse_resolution(const std::string& text, uint32_t* w, uint32_t* h) {
-    unsigned a = 0, b = 0;
-    char x = 0;
-    if (std::sscanf(text.c_str(), "%u%c%u", &a, &x, &b) != 3 || (x != 'x' && x != 'X')) return false;
-    if (a < 16 || b < 16 || a > 8192 || b > 8192) return false;
-    *w = a;
-    *h = b;
-    return true;
-}
 
 FlagSpec with_render_flags(FlagSpec spec) {
     for (const auto& f : render_value_flags())

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "apps/cli.h"
+#include "render/registry.h"
 #include "render/renderer.h"
 #include "render/surface_settings.h"
 
@@ -23,9 +24,6 @@ const char* render_flags_usage();
 std::optional<MethodSettings> render_method_from(const Args& args, std::string* error);
 /// Likewise for commands that draw with the SPH surface renderer only (adaptive, uniform, reference).
 std::optional<SurfaceSettings> render_settings_from(const Args& args, std::string* error);
-
-/// "640x360" (16..8192 per side).
-bool parse_resolution(const std::string& text, uint32_t* width, uint32_t* height);
 
 /// FlagSpec of a command: its own flags plus the render flags.
 FlagSpec with_render_flags(FlagSpec spec);

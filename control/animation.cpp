@@ -13,6 +13,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/json_fields.h"
+#include "core/error.h"
 
 namespace aquaform::control {
 
@@ -333,7 +334,7 @@ void MeshAnimation::bind(const Mesh& rest, const MeshPlacement& placement) {
 }
 
 void MeshAnimation::require_bound(const char* what) const {
-    if (!bound_) throw std::logic_error(std::string("MeshAnimation::") + what + " called before bind()");
+    if (!bound_) throw internal_failure(std::string("MeshAnimation::") + what + " called before bind()");
 }
 
 glm::mat4 MeshAnimation::transform_at(double t) const {

@@ -7,13 +7,14 @@
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "gpu/timer.h"
+#include "core/error.h"
 
 namespace aquaform::control {
 
 ControlForce::ControlForce(gpu::Context& ctx, const Scene& scene, float support, float point_volume, float damping)
     : ctx_(&ctx), point_volume_(point_volume), rest_density_(scene.rest_density) {
     auto geometry = grid_for_domain(scene.domain.min, scene.domain.max, support);
-    if (!geometry) throw std::runtime_error("control support radius: " + geometry.error());
+    if (!geometry) throw resource_failure("control support radius: " + geometry.error());
     geometry_ = geometry.value();
     params_.grid_origin_cell = glm::vec4(geometry_.origin, geometry_.cell_size);
     params_.grid_dims = glm::uvec4(geometry_.dims, geometry_.cell_count());
@@ -46,7 +47,7 @@ void ControlForce::set_points(const std::vector<glm::vec4>& cpu_points, const st
     uint64_t total = cpu_points.size();
     for (const auto& g : gpu_points) total += g.count;
     if (total >= (1ull << 24))
-        throw std::runtime_error(std::to_string(total) +
+        throw resource_failure(std::to_string(total) +
                                  " control points is more than 16,777,216; increase the control spacing");
     count_ = uint32_t(total);
     reserve(count_);
@@ -68,7 +69,7 @@ void ControlForce::set_points(const std::vector<glm::vec4>& cpu_points, const st
 
 void ControlForce::set_sets(const std::vector<ForceSet>& sets) {
     if (sets.size() > CONTROL_MAX_SETS)
-        throw std::runtime_error(std::to_string(sets.size()) + " control sets are active at once; at most " +
+        throw resource_failure(std::to_string(sets.size()) + " control sets are active at once; at most " +
                                  std::to_string(CONTROL_MAX_SETS) + " can be: release some before attaching more");
     params_.set_count = uint32_t(sets.size());
     active_ = false;

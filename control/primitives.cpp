@@ -1,4 +1,5 @@
 #include "control/primitives.h"
+#include "core/error.h"
 
 #include <algorithm>
 #include <cmath>
@@ -143,7 +144,7 @@ void append(Mesh& to, const Mesh& part) {
 Mesh make_block_letter(char letter, float cell, float depth) {
     const auto found = block_font().find(letter);
     if (found == block_font().end())
-        throw std::invalid_argument(std::string("make_block_letter: no glyph for '") + letter + "'; letters: " +
+        throw Failure(std::string("make_block_letter: no glyph for '") + letter + "'; letters: " +
                                     std::string(kBlockLetters));
     const auto& rows = found->second;
     // Pixel (i, j) with j counted from the bottom; outside the glyph is empty.

@@ -28,7 +28,7 @@ inline constexpr std::string_view kBlockLetters = "AQUFORM";
 /// A capital from a 5x7 pixel font, each pixel a `cell` square, extruded `depth` along z; reads from +z.
 /// x spans [-2.5, 2.5] cells, y [0, 7] cells, z [-depth/2, depth/2]. The surface is the boundary of the
 /// union of the pixels (one closed, watertight mesh; the font has no pixels touching only diagonally).
-/// Throws std::invalid_argument for a letter outside kBlockLetters.
+/// Throws aquaform::Failure for a letter outside kBlockLetters.
 Mesh make_block_letter(char letter, float cell = 0.1f, float depth = 0.1f);
 
 /// A simple articulated humanoid for skinning: about 1.8 tall, feet at y = 0, facing +z, left side at +x,

@@ -9,6 +9,7 @@
 
 #include "gpu/context.h"
 #include "shaders/shared/raster_layout.h"
+#include "core/error.h"
 
 namespace aquaform::control {
 
@@ -39,7 +40,7 @@ glm::ivec4 pixel_rect(const Box& bounds, float spacing, glm::vec3 origin, double
     const double limit = double(1 << 30);
     if (!(std::abs(low.x) < limit && std::abs(low.y) < limit && std::abs(high.x) < limit &&
           std::abs(high.y) < limit && size.x * size.y <= max_pixels))
-        throw std::invalid_argument("raster placement: the mesh spans " + std::to_string(size.x) + " x " +
+        throw Failure("raster placement: the mesh spans " + std::to_string(size.x) + " x " +
                                     std::to_string(size.y) + " lattice columns at spacing " +
                                     std::to_string(spacing) + " (at most " + std::to_string(uint64_t(max_pixels)) +
                                     "); use a larger spacing or a lattice origin nearer the mesh");
@@ -93,17 +94,17 @@ RasterStats RasterPlacer::place_on_gpu(const std::vector<glm::vec3>& triangles, 
                                        glm::vec3 lattice_origin, float w_value) {
     const auto start = Clock::now();
     if (!(spacing > 0.0f) || !std::isfinite(spacing))
-        throw std::invalid_argument("raster placement: the spacing must be a positive number, got " +
+        throw Failure("raster placement: the spacing must be a positive number, got " +
                                     std::to_string(spacing));
     if (triangles.size() % 3 != 0)
-        throw std::invalid_argument("raster placement: " + std::to_string(triangles.size()) +
+        throw Failure("raster placement: " + std::to_string(triangles.size()) +
                                     " corners do not make whole triangles (three per triangle)");
     RasterStats stats;
     const uint32_t triangle_count = uint32_t(triangles.size() / 3);
     if (triangle_count == 0) return stats;
 
     if (triangle_count > max_threads(*ctx_, RASTER_LAYERS_WORKGROUP))
-        throw std::invalid_argument("raster placement: " + std::to_string(triangle_count) + " triangles, more than " +
+        throw Failure("raster placement: " + std::to_string(triangle_count) + " triangles, more than " +
                                     ctx_->info().name + " can rasterise in one pass; simplify the mesh");
     const glm::ivec4 rect = pixel_rect(bounds_of(triangles), spacing, lattice_origin,
                                        std::min(kMaxPixels, max_threads(*ctx_, RASTER_FILL_WORKGROUP)));
@@ -172,7 +173,7 @@ ControlPoints place_raster(gpu::Context& ctx, const std::vector<glm::vec3>& tria
     ControlPoints result;
     result.method = "raster";
     if (!(spacing > 0.0f) || !std::isfinite(spacing))
-        throw std::invalid_argument("raster placement: the spacing must be a positive number, got " +
+        throw Failure("raster placement: the spacing must be a positive number, got " +
                                     std::to_string(spacing));
     const Box bounds = bounds_of(triangles);
     const glm::vec3 origin = lattice_origin.value_or(centred_lattice_origin(bounds, spacing));

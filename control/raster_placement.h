@@ -49,7 +49,7 @@ public:
     /// Uploads the triangles (three points each), records and submits both passes, waits and reads
     /// back the counters only. The points stay on the GPU: the first `stats.points` entries of
     /// points(), vec4 (xyz, w = `w_value`), in no particular order. The lattice covers the triangles'
-    /// xy bounds; throws std::invalid_argument for a bad spacing or a lattice too large to rasterise.
+    /// xy bounds; throws aquaform::Failure for a bad spacing or a lattice too large to rasterise.
     RasterStats place_on_gpu(const std::vector<glm::vec3>& triangles, float spacing, glm::vec3 lattice_origin,
                              float w_value = 0.0f);
 

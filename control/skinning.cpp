@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/json_fields.h"
+#include "core/error.h"
 
 namespace aquaform::control {
 
@@ -216,7 +217,7 @@ SkinWeights compute_skin_weights(const std::vector<glm::vec3>& rest_vertices, co
 
 std::vector<glm::mat4> bone_matrices(const Skeleton& skeleton, const SkeletonPose& pose) {
     if (pose.rotations.size() != skeleton.bones.size())
-        throw std::invalid_argument("bone_matrices: the pose has " + std::to_string(pose.rotations.size()) +
+        throw Failure("bone_matrices: the pose has " + std::to_string(pose.rotations.size()) +
                                     " rotations for " + std::to_string(skeleton.bones.size()) + " bones");
     std::vector<glm::mat4> out(skeleton.bones.size());
     for (size_t i = 0; i < skeleton.bones.size(); ++i) {
@@ -232,7 +233,7 @@ std::vector<glm::mat4> bone_matrices(const Skeleton& skeleton, const SkeletonPos
 
 Mesh skin(const Mesh& rest, const SkinWeights& weights, const std::vector<glm::mat4>& matrices) {
     if (weights.bones.size() != rest.vertices.size())
-        throw std::invalid_argument("skin: weights for " + std::to_string(weights.bones.size()) +
+        throw Failure("skin: weights for " + std::to_string(weights.bones.size()) +
                                     " vertices, mesh has " + std::to_string(rest.vertices.size()));
     Mesh out;
     out.faces = rest.faces;

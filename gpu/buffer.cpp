@@ -5,6 +5,7 @@
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "gpu/vk_check.h"
+#include "core/error.h"
 
 namespace aquaform::gpu {
 
@@ -63,7 +64,7 @@ void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkD
     }
     StagingPool& pool = ctx.staging();
     if (offset + bytes > dst.size)
-        throw std::logic_error("upload of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) +
+        throw internal_failure("upload of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) +
                                " overruns buffer '" + dst.name + "' of " + std::to_string(dst.size) + " bytes");
     StagingPool::Region src = pool.allocate(ctx, bytes);
     std::memcpy(src.mapped, data, bytes);

@@ -8,6 +8,7 @@
 #include "gpu/context.h"
 #include "gpu/shader_registry.h"
 #include "gpu/vk_check.h"
+#include "core/error.h"
 
 namespace aquaform::gpu {
 
@@ -15,9 +16,9 @@ ComputePass::ComputePass(Context& ctx, const ComputePassDesc& desc)
     : ctx_(&ctx), desc_(desc), bindings_(reflect_bindings(find_shader(desc.shader), desc.shader)) {
     for (const ShaderBinding& b : bindings_)
         if (b.set != 0 || !b.storage)
-            throw std::logic_error(desc.shader + ": binding '" + b.name + "' must be a storage buffer in set 0");
+            throw internal_failure(desc.shader + ": binding '" + b.name + "' must be a storage buffer in set 0");
     if (desc.bindings != 0 && desc.bindings != bindings_.size())
-        throw std::logic_error(desc.shader + ": the pass expects " + std::to_string(desc.bindings) +
+        throw internal_failure(desc.shader + ": the pass expects " + std::to_string(desc.bindings) +
                                " bindings, the shader declares " + std::to_string(bindings_.size()));
     desc_.bindings = uint32_t(bindings_.size());
     std::vector<VkDescriptorSetLayoutBinding> bindings(bindings_.size());
@@ -106,7 +107,7 @@ void bind_pass(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const
                Bindings bindings, BarrierTracker* tracker, const Buffer* indirect = nullptr) {
     const ComputePassDesc& d = pass.desc();
     if (push_bytes != d.push_bytes)
-        throw std::logic_error(d.shader + ": push constants of " + std::to_string(push_bytes) +
+        throw internal_failure(d.shader + ": push constants of " + std::to_string(push_bytes) +
                                " bytes given, the pass declares " + std::to_string(d.push_bytes));
     const std::vector<ShaderBinding>& declared_bindings = pass.bindings();
     std::vector<const Buffer*> by_index(declared_bindings.size(), nullptr);
@@ -114,17 +115,17 @@ void bind_pass(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const
         size_t i = 0;
         while (i < declared_bindings.size() && declared_bindings[i].name != given.name) ++i;
         if (i == declared_bindings.size())
-            throw std::logic_error(d.shader + ": no binding named '" + std::string(given.name) +
+            throw internal_failure(d.shader + ": no binding named '" + std::string(given.name) +
                                    "'; the shader declares: " + declared(pass));
         if (by_index[i])
-            throw std::logic_error(d.shader + ": binding '" + std::string(given.name) + "' given twice");
+            throw internal_failure(d.shader + ": binding '" + std::string(given.name) + "' given twice");
         if (!given.buffer || !given.buffer->buffer)
-            throw std::logic_error(d.shader + ": binding '" + std::string(given.name) + "' given no buffer");
+            throw internal_failure(d.shader + ": binding '" + std::string(given.name) + "' given no buffer");
         by_index[i] = given.buffer;
     }
     for (size_t i = 0; i < by_index.size(); ++i)
         if (!by_index[i])
-            throw std::logic_error(d.shader + ": binding '" + declared_bindings[i].name + "' (binding " +
+            throw internal_failure(d.shader + ": binding '" + declared_bindings[i].name + "' (binding " +
                                    std::to_string(declared_bindings[i].binding) + ") is not given");
     if (tracker) {
         std::vector<VkBuffer> reads, writes;
@@ -164,7 +165,7 @@ void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, ui
     const uint32_t groups = (threads + d.local_size - 1) / d.local_size;
     const uint32_t max_x = ctx.limits().maxComputeWorkGroupCount[0];
     if (groups > max_x)
-        throw std::logic_error(d.shader + ": " + std::to_string(groups) + " workgroups exceed the device limit");
+        throw internal_failure(d.shader + ": " + std::to_string(groups) + " workgroups exceed the device limit");
     vkCmdDispatch(cmd, groups, 1, 1);
     if (!tracker) compute_barrier(cmd);
 }

@@ -9,6 +9,7 @@
 #include "gpu/barriers.h"
 #include "gpu/staging.h"
 #include "gpu/vk_check.h"
+#include "core/error.h"
 
 namespace aquaform::gpu {
 
@@ -420,7 +421,7 @@ void Context::submit(Recorder& r) {
 void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) {
     Recorder& r = recorder();
     if (r.recording)
-        throw std::logic_error("gpu::Context::submit_and_wait called inside a recording on the same thread; record "
+        throw internal_failure("gpu::Context::submit_and_wait called inside a recording on the same thread; record "
                                "into the command buffer being recorded instead (gpu::upload does so by itself)");
     begin(r);
     try {

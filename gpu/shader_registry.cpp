@@ -6,6 +6,7 @@
 
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
+#include "core/error.h"
 
 namespace aquaform::gpu {
 
@@ -28,7 +29,7 @@ std::span<const uint32_t> find_shader(std::string_view name) {
         if (s.name == name) return s.spirv;
     std::string known;
     for (const EmbeddedShader& s : embedded_shaders()) known += " " + std::string(s.name);
-    throw std::invalid_argument("no shader named '" + std::string(name) + "'; known:" + known);
+    throw Failure("no shader named '" + std::string(name) + "'; known:" + known);
 }
 
 VkShaderModule create_shader_module(Context& ctx, std::string_view name) {

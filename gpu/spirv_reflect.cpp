@@ -1,4 +1,5 @@
 #include "gpu/spirv_reflect.h"
+#include "core/error.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -48,12 +49,12 @@ void set_flag(std::vector<bool>& flags, uint32_t member) {
 
 std::vector<ShaderBinding> reflect_bindings(std::span<const uint32_t> spirv, std::string_view shader) {
     if (spirv.size() < 5 || spirv[0] != kMagic)
-        throw std::invalid_argument(std::string(shader) + ": not a SPIR-V module");
+        throw Failure(std::string(shader) + ": not a SPIR-V module");
     std::unordered_map<uint32_t, Id> ids;
     for (size_t at = 5; at < spirv.size();) {
         const uint32_t op = spirv[at] & 0xffff, count = spirv[at] >> 16;
         if (count == 0 || at + count > spirv.size())
-            throw std::invalid_argument(std::string(shader) + ": truncated SPIR-V instruction");
+            throw Failure(std::string(shader) + ": truncated SPIR-V instruction");
         const std::span<const uint32_t> w = spirv.subspan(at, count);
         switch (op) {
             case kOpName: ids[w[1]].name = literal(w.subspan(2)); break;

@@ -23,7 +23,7 @@ struct ShaderBinding {
     bool writes = true;       ///< false: NonWritable (`readonly`)
 };
 
-/// The module's buffer bindings, ordered by (set, binding). Throws std::invalid_argument when
+/// The module's buffer bindings, ordered by (set, binding). Throws aquaform::Failure when
 /// `spirv` is not a SPIR-V module; `shader` names it in the message.
 std::vector<ShaderBinding> reflect_bindings(std::span<const uint32_t> spirv, std::string_view shader);
 

@@ -7,6 +7,7 @@
 
 #include "gpu/barriers.h"
 #include "gpu/context.h"
+#include "core/error.h"
 
 namespace aquaform::gpu {
 
@@ -111,7 +112,7 @@ void record_upload(Context& ctx, VkCommandBuffer cmd, Buffer& dst, const void* d
                    VkDeviceSize offset) {
     if (bytes == 0) return;
     if (offset + bytes > dst.size)
-        throw std::logic_error("upload of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) +
+        throw internal_failure("upload of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) +
                                " overruns buffer '" + dst.name + "' of " + std::to_string(dst.size) + " bytes");
     // In the thread's recording the tracker orders the write (gpu/barriers.h); elsewhere barriers
     // on both sides.
@@ -122,7 +123,7 @@ void record_upload(Context& ctx, VkCommandBuffer cmd, Buffer& dst, const void* d
         vkCmdUpdateBuffer(cmd, dst.buffer, offset, bytes, data);
     } else {
         if (cmd != ctx.recording())
-            throw std::logic_error("gpu::record_upload: a staged upload into '" + dst.name +
+            throw internal_failure("gpu::record_upload: a staged upload into '" + dst.name +
                                    "' needs the calling thread's recording (Context::submit_and_wait)");
         StagingPool::Region src = ctx.staging().allocate(ctx, bytes);
         std::memcpy(src.mapped, data, bytes);

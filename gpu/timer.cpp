@@ -5,6 +5,7 @@
 
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
+#include "core/error.h"
 
 namespace aquaform::gpu {
 
@@ -26,7 +27,7 @@ void GpuTimer::reset(VkCommandBuffer cmd) {
 
 void GpuTimer::begin(VkCommandBuffer cmd, const std::string& name) {
     if (used_ >= capacity_)
-        throw std::logic_error("GpuTimer: more than " + std::to_string(capacity_) +
+        throw internal_failure("GpuTimer: more than " + std::to_string(capacity_) +
                                " timed passes in one submission; submit more often");
     open_.push_back(name);
     stack_.push_back(used_);
@@ -35,7 +36,7 @@ void GpuTimer::begin(VkCommandBuffer cmd, const std::string& name) {
 }
 
 void GpuTimer::end(VkCommandBuffer cmd) {
-    if (stack_.empty()) throw std::logic_error("GpuTimer::end without begin");
+    if (stack_.empty()) throw internal_failure("GpuTimer::end without begin");
     vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_, 2 * stack_.back() + 1);
     stack_.pop_back();
 }

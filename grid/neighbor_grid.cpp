@@ -8,6 +8,7 @@
 #include "gpu/context.h"
 #include "gpu/timer.h"
 #include "shaders/shared/morton.h"
+#include "core/error.h"
 
 namespace aquaform {
 
@@ -96,7 +97,7 @@ void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint
 
 void NeighborGrid::record_neighbor_masks(VkCommandBuffer cmd, const gpu::Buffer& sorted_positions, uint32_t count,
                                          float radius, gpu::GpuTimer* timer) {
-    if (!masks_) throw std::logic_error("neighbour grid: built without neighbour masks, cannot record them");
+    if (!masks_) throw internal_failure("neighbour grid: built without neighbour masks, cannot record them");
     check_radius(radius);
     gpu::GpuScope scope(timer, cmd, "neighbor_masks");
     shader::NeighborMaskPush push{};
@@ -107,7 +108,7 @@ void NeighborGrid::record_neighbor_masks(VkCommandBuffer cmd, const gpu::Buffer&
 
 void NeighborGrid::check_radius(float radius) const {
     if (radius > geometry_.cell_size)
-        throw std::invalid_argument("neighbour query radius " + std::to_string(radius) + " exceeds the grid's cell size " +
+        throw Failure("neighbour query radius " + std::to_string(radius) + " exceeds the grid's cell size " +
                                     std::to_string(geometry_.cell_size) + "; build a grid with larger cells");
 }
 

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "shaders/shared/scan_layout.h"
+#include "core/error.h"
 
 namespace aquaform::gpu {
 
@@ -22,7 +23,7 @@ PrefixSum::PrefixSum(Context& ctx, BufferSet& buffers, uint32_t max_count, const
 
 void PrefixSum::record(VkCommandBuffer cmd, Buffer& data, uint32_t count) const {
     if (count > max_count_)
-        throw std::logic_error("prefix sum: " + std::to_string(count) + " elements, but it was sized for " +
+        throw internal_failure("prefix sum: " + std::to_string(count) + " elements, but it was sized for " +
                                std::to_string(max_count_));
     if (count > 0) record_level(cmd, 0, data, count);
 }

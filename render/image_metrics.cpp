@@ -1,4 +1,5 @@
 #include "render/image_metrics.h"
+#include "core/error.h"
 
 #include <algorithm>
 #include <cmath>
@@ -33,7 +34,7 @@ size_t pixel_count(uint32_t width, uint32_t height) { return size_t(width) * siz
 void require_well_formed(const Image& image, const std::string& what) {
     const size_t bytes = pixel_count(image.width, image.height) * 4;
     if (image.rgba.size() != bytes)
-        throw std::invalid_argument(what + " is malformed: " + size_text(image.width, image.height) +
+        throw Failure(what + " is malformed: " + size_text(image.width, image.height) +
                                     " RGBA pixels need " + std::to_string(bytes) + " bytes but it holds " +
                                     std::to_string(image.rgba.size()));
 }
@@ -42,18 +43,18 @@ void require_same_size(const Image& a, const Image& b, const std::string& what) 
     require_well_formed(a, what + " (first image)");
     require_well_formed(b, what + " (second image)");
     if (a.width != b.width || a.height != b.height)
-        throw std::invalid_argument(what + ": the images differ in size (" + size_text(a.width, a.height) + " vs " +
+        throw Failure(what + ": the images differ in size (" + size_text(a.width, a.height) + " vs " +
                                     size_text(b.width, b.height) + ")");
 }
 
 void require_well_formed(const SurfaceFrame& frame, const std::string& what) {
     const size_t pixels = pixel_count(frame.width, frame.height);
     if (frame.hit.size() != pixels || frame.normal.size() != pixels)
-        throw std::invalid_argument(what + " frame is malformed: " + size_text(frame.width, frame.height) +
+        throw Failure(what + " frame is malformed: " + size_text(frame.width, frame.height) +
                                     " pixels but " + std::to_string(frame.hit.size()) + " hits and " +
                                     std::to_string(frame.normal.size()) + " normals");
     if (frame.color.width != frame.width || frame.color.height != frame.height)
-        throw std::invalid_argument(what + " frame is " + size_text(frame.width, frame.height) +
+        throw Failure(what + " frame is " + size_text(frame.width, frame.height) +
                                     " pixels but its colour image is " +
                                     size_text(frame.color.width, frame.color.height));
     require_well_formed(frame.color, what + " colour image");
@@ -63,11 +64,11 @@ void require_comparable(const SurfaceFrame& reference, const SurfaceFrame& test,
     require_well_formed(reference, "the reference");
     require_well_formed(test, "the test");
     if (reference.width != test.width || reference.height != test.height)
-        throw std::invalid_argument("cannot compare surfaces of different sizes: the reference is " +
+        throw Failure("cannot compare surfaces of different sizes: the reference is " +
                                     size_text(reference.width, reference.height) + " pixels, the test " +
                                     size_text(test.width, test.height));
     if (!(particle_radius > 0.0f) || !std::isfinite(particle_radius))
-        throw std::invalid_argument("cannot compare surfaces: the particle radius must be positive, not " +
+        throw Failure("cannot compare surfaces: the particle radius must be positive, not " +
                                     std::to_string(particle_radius));
 }
 
@@ -267,16 +268,16 @@ Image heat_map(const std::vector<float>& values, uint32_t width, uint32_t height
                const Image* background, bool legend) {
     const size_t pixels = pixel_count(width, height);
     if (values.size() != pixels)
-        throw std::invalid_argument("cannot draw a heat map: " + size_text(width, height) + " pixels but " +
+        throw Failure("cannot draw a heat map: " + size_text(width, height) + " pixels but " +
                                     std::to_string(values.size()) + " values");
     if (!(max_value > 0.0f) || !std::isfinite(max_value))
-        throw std::invalid_argument("cannot draw a heat map: the full-scale value must be positive and finite, not " +
+        throw Failure("cannot draw a heat map: the full-scale value must be positive and finite, not " +
                                     std::to_string(max_value));
     Image image{width, height, std::vector<uint8_t>(pixels * 4, 0)};
     if (background) {
         require_well_formed(*background, "the heat map's background");
         if (background->width != width || background->height != height)
-            throw std::invalid_argument("cannot draw a heat map: " + size_text(width, height) +
+            throw Failure("cannot draw a heat map: " + size_text(width, height) +
                                         " pixels but the background is " +
                                         size_text(background->width, background->height));
         // darkened so that the ramp's colours stand out against it

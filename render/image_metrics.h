@@ -19,7 +19,7 @@ namespace aquaform {
 constexpr double kPsnrCapDb = 99.0;
 
 /// PSNR [dB] of the RGB channels (alpha ignored) of two equally sized RGBA8 images, capped at
-/// kPsnrCapDb. Throws std::invalid_argument when the sizes differ or an image is malformed.
+/// kPsnrCapDb. Throws aquaform::Failure when the sizes differ or an image is malformed.
 double psnr(const Image& a, const Image& b);
 
 /// Per-pixel errors of a test frame against the reference, row-major like the frames.
@@ -28,7 +28,7 @@ struct SurfaceErrorMaps {
     std::vector<float> normal_err_deg;  ///< angle between the normals [deg]; 0 unless both hit
 };
 
-/// Throws std::invalid_argument when the frames differ in size or are malformed, or the radius is not positive.
+/// Throws aquaform::Failure when the frames differ in size or are malformed, or the radius is not positive.
 SurfaceErrorMaps surface_error_maps(const SurfaceFrame& reference, const SurfaceFrame& test, float particle_radius);
 
 struct SurfaceComparison {
@@ -50,7 +50,7 @@ struct SurfaceComparison {
     size_t rays = 0;             ///< test frame: pixels that cast a ray (normal.w > 0)
 };
 
-/// Compares `test` against `reference`; throws std::invalid_argument when the frames (or their
+/// Compares `test` against `reference`; throws aquaform::Failure when the frames (or their
 /// colour images) differ in size or are malformed, or the radius is not positive.
 SurfaceComparison compare_surfaces(const SurfaceFrame& reference, const SurfaceFrame& test, float particle_radius);
 
@@ -61,14 +61,14 @@ struct Lab {
 Lab srgb_to_lab(uint8_t r, uint8_t g, uint8_t b);
 
 /// Per-pixel CIE76 Delta E between the RGB (alpha ignored) of two equally sized images, row-major.
-/// Throws std::invalid_argument when the sizes differ or an image is malformed.
+/// Throws aquaform::Failure when the sizes differ or an image is malformed.
 std::vector<float> delta_e_map(const Image& a, const Image& b);
 
 /// `values` (row-major, width * height) as colours of an inferno-like ramp whose lightness rises
 /// with the value: 0 dark, `max_value` and above bright yellow. Pixels with value <= 0 (or NaN)
 /// show `background` darkened, or black without one. With `legend`, a small ramp bar with min and
 /// max ticks goes in the bottom-right corner when the image is at least 48x48 pixels. Throws
-/// std::invalid_argument on a size mismatch or a max_value that is not positive and finite.
+/// aquaform::Failure on a size mismatch or a max_value that is not positive and finite.
 Image heat_map(const std::vector<float>& values, uint32_t width, uint32_t height, float max_value,
                const Image* background = nullptr, bool legend = true);
 
@@ -93,7 +93,7 @@ struct GoldenCheck {
 /// there was something to compare) `<stem>.diff.png`, a Delta E heat map whose full scale is
 /// tol.pixel_delta_e, into `output_dir` (created if needed). With the environment variable
 /// AQUAFORM_UPDATE_GOLDEN=1, writes `actual` to `golden` instead (creating directories) and passes.
-/// Throws std::invalid_argument when `actual` is malformed.
+/// Throws aquaform::Failure when `actual` is malformed.
 GoldenCheck check_golden(const Image& actual, const std::filesystem::path& golden,
                          const std::filesystem::path& output_dir, const GoldenTolerance& tol = {});
 

@@ -13,6 +13,7 @@
 #include "gpu/shader_registry.h"
 #include "gpu/vk_check.h"
 #include "shaders/shared/impostor_layout.h"
+#include "core/error.h"
 
 namespace aquaform {
 
@@ -123,11 +124,11 @@ ImpostorView::ImpostorView(gpu::Context& ctx, uint32_t width, uint32_t height)
     : ctx_(&ctx), width_(width), height_(height), impl_(new Impl) {
     try {
         if (width == 0 || height == 0)
-            throw std::invalid_argument("impostor view of " + std::to_string(width) + "x" +
+            throw Failure("impostor view of " + std::to_string(width) + "x" +
                                         std::to_string(height) + " pixels; give a width and height of at least 1");
         const auto& lim = ctx.limits();
         if (width > lim.maxFramebufferWidth || height > lim.maxFramebufferHeight)
-            throw std::invalid_argument("impostor view of " + std::to_string(width) + "x" + std::to_string(height) +
+            throw Failure("impostor view of " + std::to_string(width) + "x" + std::to_string(height) +
                                         " pixels exceeds the device's framebuffer limit of " +
                                         std::to_string(lim.maxFramebufferWidth) + "x" +
                                         std::to_string(lim.maxFramebufferHeight) + "; render a smaller image");
@@ -197,21 +198,21 @@ Image ImpostorView::render(const gpu::Buffer& positions, const gpu::Buffer& velo
     if (count > 0) {
         for (const gpu::Buffer* b : {&positions, &velocities})
             if (!b->buffer || b->size < need)
-                throw std::invalid_argument("impostor view: buffer '" + b->name + "' holds " + std::to_string(b->size) +
+                throw Failure("impostor view: buffer '" + b->name + "' holds " + std::to_string(b->size) +
                                             " bytes but " + std::to_string(count) + " particles need " +
                                             std::to_string(need) + " (one vec4 each); pass the particle count "
                                             "that the buffers were made for");
         if (count > UINT32_MAX / 6)
-            throw std::invalid_argument("impostor view: " + std::to_string(count) + " particles exceed " +
+            throw Failure("impostor view: " + std::to_string(count) + " particles exceed " +
                                         std::to_string(UINT32_MAX / 6) + " (6 vertices each)");
     }
     if (!(style.radius > 0.0f) || !(style.speed_for_full_color > 0.0f))
-        throw std::invalid_argument("impostor view: radius and speed_for_full_color must be positive (got " +
+        throw Failure("impostor view: radius and speed_for_full_color must be positive (got " +
                                     std::to_string(style.radius) + " and " +
                                     std::to_string(style.speed_for_full_color) + ")");
 
     if (!(glm::length(camera.target - camera.eye) > 0.0f))
-        throw std::invalid_argument("impostor view: the camera's eye and target coincide (or are not finite); "
+        throw Failure("impostor view: the camera's eye and target coincide (or are not finite); "
                                     "place the eye away from the point it looks at");
     const float aspect = float(width_) / float(height_);
     const glm::vec3 up = camera_axes(camera)[1];

@@ -10,6 +10,7 @@
 #include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "render/surface_settings.h"
+#include "core/error.h"
 
 namespace aquaform {
 
@@ -115,14 +116,14 @@ MetaballRenderer::MetaballRenderer(gpu::Context& ctx, const ParticleDomain& doma
     : ctx_(&ctx), domain_(domain), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
       buffers_(ctx) {
     if (width < 16 || height < 16 || width > 8192 || height > 8192)
-        throw std::invalid_argument("metaball renderer: resolution " + std::to_string(width) + "x" +
+        throw Failure("metaball renderer: resolution " + std::to_string(width) + "x" +
                                     std::to_string(height) + " is outside 16..8192 per axis");
     const uint64_t pixels = uint64_t(width) * height;
     list_bytes_ = list_bytes ? list_bytes : pixels * kDefaultListBytesPerPixel;
     list_bytes_ = std::max<uint64_t>(list_bytes_ / 8 * 8, 8);
     // The counters and node indices are 32-bit.
     if (list_bytes_ / 4 >= METABALL_NIL)
-        throw std::invalid_argument("metaball renderer: " + mib(list_bytes_) +
+        throw Failure("metaball renderer: " + mib(list_bytes_) +
                                     " of list memory is more than 32-bit entry indices address; use less than 16 GiB");
     params_buf_ = &buffers_.add("metaball.params", sizeof(shader::MetaballParams));
     counters_ = &buffers_.add("metaball.counters", sizeof(MetaballCounters));
@@ -147,15 +148,15 @@ MetaballRenderer::~MetaballRenderer() = default;
 
 void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
                               const ViewCamera& camera, const MetaballSettings& settings, gpu::GpuTimer* timer) {
-    if (auto valid = validate(settings); !valid) throw std::invalid_argument(valid.error());
+    if (auto valid = validate(settings); !valid) throw Failure(valid.error());
     if (count > max_particles_)
-        throw std::invalid_argument("metaball renderer: " + std::to_string(count) + " particles, but it was made for " +
+        throw Failure("metaball renderer: " + std::to_string(count) + " particles, but it was made for " +
                                     std::to_string(max_particles_));
     if (positions.size < uint64_t(count) * 16)
-        throw std::invalid_argument("metaball renderer: the positions buffer '" + positions.name +
+        throw Failure("metaball renderer: the positions buffer '" + positions.name +
                                     "' holds fewer than " + std::to_string(count) + " vec4 positions");
     if (!(glm::length(camera.target - camera.eye) > 0.0f))
-        throw std::invalid_argument("metaball renderer: the camera's eye and target coincide; move the eye away");
+        throw Failure("metaball renderer: the camera's eye and target coincide; move the eye away");
 
     shader::MetaballParams& p = params_;
     p = {};

@@ -94,8 +94,8 @@ struct MetaballStats {
 class MetaballRenderer {
 public:
     /// Allocates every buffer for `max_particles` at width x height, with `list_bytes` of list
-    /// memory (0: kDefaultListBytesPerPixel per pixel). Throws std::invalid_argument on a
-    /// resolution outside 16..8192 and std::runtime_error when a buffer exceeds the device's limits.
+    /// memory (0: kDefaultListBytesPerPixel per pixel). Throws aquaform::Failure on a
+    /// resolution outside 16..8192 and aquaform::Failure (a resource failure) when a buffer exceeds the device's limits.
     MetaballRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles,
                      uint64_t list_bytes = 0);
     ~MetaballRenderer();

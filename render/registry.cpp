@@ -1,5 +1,7 @@
 #include "render/registry.h"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -249,6 +251,16 @@ const Registry& render_registry() {
         return r;
     }();
     return registry;
+}
+
+bool parse_resolution(const std::string& text, uint32_t* w, uint32_t* h) {
+    unsigned a = 0, b = 0;
+    char x = 0;
+    if (std::sscanf(text.c_str(), "%u%c%u", &a, &x, &b) != 3 || (x != 'x' && x != 'X')) return false;
+    if (a < 16 || b < 16 || a > 8192 || b > 8192) return false;
+    *w = a;
+    *h = b;
+    return true;
 }
 
 }  // namespace aquaform

@@ -9,6 +9,7 @@
 #include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "render/surface_settings.h"
+#include "core/error.h"
 
 namespace aquaform {
 
@@ -104,7 +105,7 @@ ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain
     : ctx_(&ctx), domain_(domain), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
       buffers_(ctx) {
     if (width < 16 || height < 16 || width > 8192 || height > 8192)
-        throw std::invalid_argument("screen-space renderer: resolution " + std::to_string(width) + "x" +
+        throw Failure("screen-space renderer: resolution " + std::to_string(width) + "x" +
                                     std::to_string(height) + " is outside 16..8192 per axis");
     const uint64_t pixels = uint64_t(width) * height;
     params_buf_ = &buffers_.add("ss.params", sizeof(shader::SurfaceParams));
@@ -137,15 +138,15 @@ ScreenSpaceRenderer::~ScreenSpaceRenderer() = default;
 
 void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
                                  const ViewCamera& camera, const ScreenSpaceSettings& settings, gpu::GpuTimer* timer) {
-    if (auto valid = validate(settings); !valid) throw std::invalid_argument(valid.error());
+    if (auto valid = validate(settings); !valid) throw Failure(valid.error());
     if (count > max_particles_)
-        throw std::invalid_argument("screen-space renderer: " + std::to_string(count) +
+        throw Failure("screen-space renderer: " + std::to_string(count) +
                                     " particles, but it was made for " + std::to_string(max_particles_));
     if (positions.size < uint64_t(count) * 16)
-        throw std::invalid_argument("screen-space renderer: the positions buffer '" + positions.name +
+        throw Failure("screen-space renderer: the positions buffer '" + positions.name +
                                     "' holds fewer than " + std::to_string(count) + " vec4 positions");
     if (!(glm::length(camera.target - camera.eye) > 0.0f))
-        throw std::invalid_argument("screen-space renderer: the camera's eye and target coincide; move the eye away");
+        throw Failure("screen-space renderer: the camera's eye and target coincide; move the eye away");
     // The splat and compose passes read no grid; a one-cell grid keeps the block's field terms finite.
     SurfaceSettings surface;
     GridGeometry no_grid{domain_.bounds.min, render_radius(surface, domain_), glm::uvec3(1u)};

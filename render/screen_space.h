@@ -104,7 +104,7 @@ constexpr uint32_t kScreenSpaceBytesPerParticle = 4;
 class ScreenSpaceRenderer {
 public:
     /// Allocates every buffer for `max_particles` particles of `scene` at width x height.
-    /// Throws std::invalid_argument for a resolution outside 16..8192 per axis.
+    /// Throws aquaform::Failure for a resolution outside 16..8192 per axis.
     ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles);
     ~ScreenSpaceRenderer();
     ScreenSpaceRenderer(const ScreenSpaceRenderer&) = delete;
@@ -112,7 +112,7 @@ public:
 
     /// Records the whole pipeline for `count` particles of `positions` (vec4, xyz in metres).
     /// Records the parameter blocks into `cmd` too, so frames may share a submission. Throws
-    /// std::invalid_argument for invalid settings, too many particles or a degenerate camera.
+    /// aquaform::Failure for invalid settings, too many particles or a degenerate camera.
     void record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
                 const ScreenSpaceSettings& settings, gpu::GpuTimer* timer);
     /// Records, submits, waits and reads the frame back.

@@ -6,6 +6,7 @@
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "gpu/timer.h"
+#include "core/error.h"
 
 namespace aquaform {
 
@@ -35,7 +36,7 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     : ctx_(&ctx), domain_(domain), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
       buffers_(ctx) {
     if (width < 16 || height < 16 || width > 8192 || height > 8192)
-        throw std::invalid_argument("surface renderer: resolution " + std::to_string(width) + "x" +
+        throw Failure("surface renderer: resolution " + std::to_string(width) + "x" +
                                     std::to_string(height) + " is outside 16..8192 per axis");
     const uint64_t pixels = uint64_t(width) * height;
     const uint64_t tiles = uint64_t((width + SURFACE_TILE - 1) / SURFACE_TILE) * ((height + SURFACE_TILE - 1) / SURFACE_TILE);
@@ -95,7 +96,7 @@ SurfaceRenderer::~SurfaceRenderer() = default;
 void SurfaceRenderer::prepare_grid(float radius) {
     if (grid_ && geometry_.cell_size == radius) return;
     auto geometry = grid_for_domain(domain_.bounds.min, domain_.bounds.max, radius);
-    if (!geometry) throw std::runtime_error("surface renderer: " + geometry.error());
+    if (!geometry) throw resource_failure("surface renderer: " + geometry.error());
     grid_.reset();
     grid_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
     geometry_ = geometry.value();
@@ -123,15 +124,15 @@ void SurfaceRenderer::record_mask(VkCommandBuffer cmd) {
 
 void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
                              const ViewCamera& camera, const SurfaceSettings& settings, gpu::GpuTimer* timer) {
-    if (auto valid = validate(settings); !valid) throw std::invalid_argument(valid.error());
+    if (auto valid = validate(settings); !valid) throw Failure(valid.error());
     if (count > max_particles_)
-        throw std::invalid_argument("surface renderer: " + std::to_string(count) + " particles, but it was made for " +
+        throw Failure("surface renderer: " + std::to_string(count) + " particles, but it was made for " +
                                     std::to_string(max_particles_));
     if (positions.size < uint64_t(count) * 16)
-        throw std::invalid_argument("surface renderer: the positions buffer '" + positions.name + "' holds fewer than " +
+        throw Failure("surface renderer: the positions buffer '" + positions.name + "' holds fewer than " +
                                     std::to_string(count) + " vec4 positions");
     if (!(glm::length(camera.target - camera.eye) > 0.0f))
-        throw std::invalid_argument("surface renderer: the camera's eye and target coincide; move the eye away");
+        throw Failure("surface renderer: the camera's eye and target coincide; move the eye away");
     prepare_grid(render_radius(settings, domain_));
     count_ = count;
     params_ = make_surface_params(settings, domain_, geometry_, camera, width_, height_, count);

@@ -44,7 +44,7 @@ constexpr uint32_t kSurfaceBytesPerParticle = 16 + 3 * 16 + 4 + 4;
 class SurfaceRenderer {
 public:
     /// Allocates every buffer for `max_particles` particles of `scene` at width x height.
-    /// Throws std::runtime_error when the render grid does not fit (the message names the fix).
+    /// Throws aquaform::Failure (a resource failure) when the render grid does not fit (the message names the fix).
     SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles);
     ~SurfaceRenderer();
     SurfaceRenderer(const SurfaceRenderer&) = delete;

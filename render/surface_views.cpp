@@ -5,6 +5,7 @@
 
 #include "render/image_metrics.h"
 #include "shaders/shared/surface_layout.h"
+#include "core/error.h"
 
 namespace aquaform {
 
@@ -30,7 +31,7 @@ Image evals_view(const SurfaceFrame& frame, float max_evals) {
 
 Image classification_view(const Image& image, const std::vector<uint32_t>& front_classes) {
     if (front_classes.size() != size_t(image.width) * image.height)
-        throw std::invalid_argument("classification view: one class per pixel expected");
+        throw Failure("classification view: one class per pixel expected");
     Image out = tint_image(image, {0, 0, 0}, 0.5f);
     for (size_t i = 0; i < front_classes.size(); ++i) {
         if (front_classes[i] == 1) blend_pixel(out, i, kSplashColour, 0.8f);
@@ -44,7 +45,7 @@ Image tile_view(const Image& image, const std::vector<uint32_t>& tile_levels, ui
     for (uint32_t y = 0; y < image.height; ++y) {
         for (uint32_t x = 0; x < image.width; ++x) {
             const size_t tile = size_t(y / SURFACE_TILE) * tiles_per_row + x / SURFACE_TILE;
-            if (tile >= tile_levels.size()) throw std::invalid_argument("tile view: fewer tile levels than tiles");
+            if (tile >= tile_levels.size()) throw Failure("tile view: fewer tile levels than tiles");
             const uint32_t level = tile_levels[tile];
             if (level == TILE_EMPTY) continue;
             const std::array<uint8_t, 3> colour = level == TILE_FULL   ? std::array<uint8_t, 3>{230, 50, 40}

@@ -10,6 +10,7 @@
 #include "gpu/timer.h"
 #include "gpu/vk_check.h"
 #include "sim/pbf_params.h"
+#include "core/error.h"
 
 namespace aquaform {
 
@@ -89,13 +90,13 @@ Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::D
 
 PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_(scene), buffers_(ctx) {
     if (scene.static_boxes.size() > PBF_MAX_STATIC_BOXES)
-        throw std::runtime_error(scene.path.string() + ": static_boxes has " +
+        throw resource_failure(scene.path.string() + ": static_boxes has " +
                                  std::to_string(scene.static_boxes.size()) + " boxes; the solver supports at most " +
                                  std::to_string(PBF_MAX_STATIC_BOXES) + ": merge boxes");
     auto plan = plan_memory(scene);
-    if (!plan) throw std::runtime_error(plan.error());
+    if (!plan) throw resource_failure(plan.error());
     auto fits = check_fits(scene, plan.value(), ctx.info());
-    if (!fits) throw std::runtime_error(fits.error());
+    if (!fits) throw resource_failure(fits.error());
     count_ = static_cast<uint32_t>(plan.value().particles);
     gpu::UploadBatch uploads(ctx);  // the grid's table, the parameters and the particles: one submission
     const GridGeometry& geometry = plan.value().grid;
@@ -269,7 +270,7 @@ ParticleSnapshot PbfSolver::snapshot() {
 
 void PbfSolver::set_state(const std::vector<glm::vec4>& x, const std::vector<glm::vec4>& v) {
     if (x.size() != count_ || v.size() != count_)
-        throw std::invalid_argument("PbfSolver::set_state: " + std::to_string(x.size()) + " positions and " +
+        throw Failure("PbfSolver::set_state: " + std::to_string(x.size()) + " positions and " +
                                     std::to_string(v.size()) + " velocities for " + std::to_string(count_) +
                                     " particles");
     gpu::UploadBatch uploads(*ctx_);  // the uploads join the sort's submission

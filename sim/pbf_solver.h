@@ -62,7 +62,7 @@ public:
 class PbfSolver {
 public:
     /// Allocates and uploads the scene's particles. Throws gpu::VulkanError or
-    /// std::runtime_error with a clear message when the scene does not fit the device.
+    /// aquaform::Failure (a resource failure) with a clear message when the scene does not fit the device.
     PbfSolver(gpu::Context& ctx, const Scene& scene);
     ~PbfSolver();
 

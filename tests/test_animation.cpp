@@ -12,6 +12,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/error.h"
 #include "control/animation.h"
 #include "control/primitives.h"
 #include "control/skinning.h"
@@ -125,7 +126,7 @@ TEST(AnimationRigid, LoopWrapsAndSpinsThroughKeysUnder180DegreesApart) {
 TEST(AnimationRigid, NoAnimationIsThePlacedMesh) {
     MeshAnimation none;
     EXPECT_FALSE(none.moves());
-    EXPECT_THROW(none.mesh_at(0.0), std::logic_error);
+    EXPECT_THROW(none.mesh_at(0.0), Failure);
     MeshPlacement placement;
     placement.scale = 2.0f;
     none.bind(make_sphere(0.5f, 1), placement);

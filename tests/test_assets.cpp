@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "cli_helpers.h"
 #include "control/animation.h"
 #include "control/mesh.h"
@@ -72,7 +73,7 @@ TEST(Assets, LettersAreWholePixelsOfTheFont) {
         EXPECT_NEAR(pixels, std::round(pixels), 1e-3) << name;
         EXPECT_GE(pixels, 10.0) << name;
     }
-    EXPECT_THROW(make_block_letter('z'), std::invalid_argument);
+    EXPECT_THROW(make_block_letter('z'), Failure);
 }
 
 TEST(Assets, RegeneratingReproducesTheCommittedFilesByteForByte) {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/error.h"
 #include "gpu/barriers.h"
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
@@ -56,7 +57,7 @@ TEST_F(ComputePassTest, ADispatchWithAWrongOrMissingNameIsRefusedNamingIt) {
     auto refused = [&](gpu::Bindings bindings) {
         try {
             ctx().submit_and_wait([&](VkCommandBuffer cmd) { gpu::dispatch(ctx(), cmd, pass, 1, bindings); });
-        } catch (const std::logic_error& e) {
+        } catch (const Failure& e) {
             return std::string(e.what());
         }
         return std::string("accepted");

@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "core/error.h"
 #include "gpu/buffer.h"
 #include "tests/gpu_test.h"
 
@@ -53,7 +54,7 @@ TEST_F(ContextThreadsTest, SubmittingInsideARecordingIsRefusedWithAMessage) {
     try {
         c.submit_and_wait([&](VkCommandBuffer) { c.submit_and_wait([](VkCommandBuffer) {}); });
         FAIL() << "a nested submission was accepted";
-    } catch (const std::logic_error& e) {
+    } catch (const Failure& e) {
         EXPECT_NE(std::string(e.what()).find("inside a recording"), std::string::npos) << e.what();
     }
     // The thread's command buffer is usable again.

@@ -16,6 +16,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/error.h"
 #include "render/image_io.h"
 #include "render/image_metrics.h"
 
@@ -211,16 +212,16 @@ TEST(ImageMetrics, SizeMismatchThrowsWithTheSizes) {
     smaller.color = solid_image(kW / 2, kH, 0, 0, 0);
     try {
         compare_surfaces(reference, smaller, kRadius);
-        FAIL() << "expected std::invalid_argument";
-    } catch (const std::invalid_argument& e) {
+        FAIL() << "expected aquaform::Failure";
+    } catch (const Failure& e) {
         EXPECT_NE(std::string(e.what()).find("32x24"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("16x24"), std::string::npos) << e.what();
     }
-    EXPECT_THROW(psnr(reference.color, smaller.color), std::invalid_argument);
-    EXPECT_THROW(compare_surfaces(reference, reference, 0.0f), std::invalid_argument);
+    EXPECT_THROW(psnr(reference.color, smaller.color), Failure);
+    EXPECT_THROW(compare_surfaces(reference, reference, 0.0f), Failure);
     SurfaceFrame truncated = reference;
     truncated.normal.pop_back();
-    EXPECT_THROW(compare_surfaces(reference, truncated, kRadius), std::invalid_argument);
+    EXPECT_THROW(compare_surfaces(reference, truncated, kRadius), Failure);
 }
 
 TEST(ImageMetrics, HeatMapRampGetsLighterWithTheValue) {
@@ -249,8 +250,8 @@ TEST(ImageMetrics, HeatMapRampGetsLighterWithTheValue) {
     EXPECT_GT(mixed.rgba[4], 0);
     EXPECT_EQ(mixed.rgba[8], mixed.rgba[4]);
     EXPECT_EQ(heat_map({0.0f}, 1, 1, 1.0f).rgba, (std::vector<uint8_t>{0, 0, 0, 255}));
-    EXPECT_THROW(heat_map({1.0f}, 2, 1, 1.0f), std::invalid_argument);
-    EXPECT_THROW(heat_map({1.0f}, 1, 1, 0.0f), std::invalid_argument);
+    EXPECT_THROW(heat_map({1.0f}, 2, 1, 1.0f), Failure);
+    EXPECT_THROW(heat_map({1.0f}, 1, 1, 0.0f), Failure);
 }
 
 TEST(ImageMetrics, HeatMapLegendSitsInTheBottomRightCorner) {

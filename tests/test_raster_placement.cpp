@@ -9,6 +9,7 @@
 #include <set>
 #include <tuple>
 
+#include "core/error.h"
 #include "control/inside.h"
 #include "control/primitives.h"
 #include "control/raster_placement.h"
@@ -190,12 +191,12 @@ TEST_F(RasterTest, FullPointBufferReportsTheDroppedPoints) {
 TEST_F(RasterTest, RejectsBadInputClearly) {
     RasterPlacer placer(ctx(), 16, 16, 16);
     const std::vector<glm::vec3> sphere = make_sphere(1.0f, 1).triangle_soup();
-    EXPECT_THROW(placer.place_on_gpu(sphere, 0.0f, glm::vec3(0.0f)), std::invalid_argument);
-    EXPECT_THROW(placer.place_on_gpu({glm::vec3(0.0f), glm::vec3(1.0f)}, 0.1f, glm::vec3(0.0f)), std::invalid_argument);
+    EXPECT_THROW(placer.place_on_gpu(sphere, 0.0f, glm::vec3(0.0f)), Failure);
+    EXPECT_THROW(placer.place_on_gpu({glm::vec3(0.0f), glm::vec3(1.0f)}, 0.1f, glm::vec3(0.0f)), Failure);
     try {
         placer.place_on_gpu(sphere, 1e-5f, glm::vec3(0.0f));
         FAIL() << "expected an exception";
-    } catch (const std::invalid_argument& e) {
+    } catch (const Failure& e) {
         EXPECT_NE(std::string(e.what()).find("larger spacing"), std::string::npos) << e.what();
     }
     EXPECT_EQ(placer.place_on_gpu({}, 0.1f, glm::vec3(0.0f)).points, 0u);

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/error.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "render/image_io.h"
@@ -262,8 +263,8 @@ TEST_F(RenderTest, ManyParticlesRenderTheSameTwice) {
 TEST_F(RenderTest, RejectsBuffersSmallerThanTheCount) {
     ImpostorView view(ctx(), kW, kH);
     Particles p(ctx(), {glm::vec4(kCentre, 0.0f)}, {glm::vec4(0.0f)});
-    EXPECT_THROW(view.render(p.pos, p.vel, 2, cam, style, kDomain, {}), std::invalid_argument);
-    EXPECT_THROW(ImpostorView(ctx(), 0, kH), std::invalid_argument);
+    EXPECT_THROW(view.render(p.pos, p.vel, 2, cam, style, kDomain, {}), Failure);
+    EXPECT_THROW(ImpostorView(ctx(), 0, kH), Failure);
 }
 
 uint32_t big_endian(const std::vector<char>& b, size_t at) {

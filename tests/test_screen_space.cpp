@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
@@ -623,9 +624,9 @@ TEST_F(ScreenSpaceTest, RecordRefusesInvalidSettingsAndTooManyParticles) {
     const ViewCamera camera = camera_for_domain(scene.domain, 1.0f);
     ScreenSpaceSettings bad;
     bad.flow_iterations = 0;
-    EXPECT_THROW(renderer.render(particles.buffer, 1, camera, bad), std::invalid_argument);
-    EXPECT_THROW(renderer.render(particles.buffer, 2, camera, ScreenSpaceSettings{}), std::invalid_argument);
-    EXPECT_THROW(ScreenSpaceRenderer(ctx(), scene.particle_domain(), 8, 32, 1), std::invalid_argument);
+    EXPECT_THROW(renderer.render(particles.buffer, 1, camera, bad), Failure);
+    EXPECT_THROW(renderer.render(particles.buffer, 2, camera, ScreenSpaceSettings{}), Failure);
+    EXPECT_THROW(ScreenSpaceRenderer(ctx(), scene.particle_domain(), 8, 32, 1), Failure);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <set>
 
+#include "core/error.h"
 #include "gpu/context.h"
 #include "gpu/shader_registry.h"
 #include "tests/gpu_test.h"
@@ -39,7 +40,7 @@ TEST(ShaderRegistry, UnknownNameListsTheKnownOnes) {
     try {
         gpu::find_shader("sim/no_such_shader.comp");
         FAIL() << "expected an exception";
-    } catch (const std::invalid_argument& e) {
+    } catch (const Failure& e) {
         EXPECT_NE(std::string(e.what()).find("sim/pbf_lambda.comp"), std::string::npos) << e.what();
     }
 }

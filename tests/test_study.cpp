@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "study/bench_scenes.h"
-#include "apps/study_run.h"
-#include "apps/study_spec.h"
+#include "study/study_run.h"
+#include "study/study_spec.h"
 #include "render/metaball_renderer.h"
 #include "tests/cli_helpers.h"
 
@@ -21,14 +21,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-Result<StudySpec> parse(const std::string& text) { return parse_study_spec(text, "spec.json", AQUAFORM_ASSETS_DIR "/studies"); }
+Result<study::StudySpec> parse(const std::string& text) { return study::parse_study_spec(text, "spec.json", AQUAFORM_ASSETS_DIR "/studies"); }
 
 TEST(StudySpecTest, ArrayParametersExpandIntoConfigurations) {
     auto spec = parse(R"({"cases": [{"name": "a", "resolutions": ["64x32", "32x32"], "particles": [1000, 2000],
         "methods": [{"method": "sbuffer", "visual": ["gradient", "real"], "size": [1, 2], "recursion": [1, 4]},
                     {"method": "adaptive", "resolution": ["full", "half"]}]}]})");
     ASSERT_TRUE(spec.ok()) << spec.error();
-    const StudyCase& c = spec.value().cases[0];
+    const study::StudyCase& c = spec.value().cases[0];
     EXPECT_EQ(c.resolutions.size(), 2u);
     EXPECT_EQ(c.resolutions[0], std::make_pair(64u, 32u));
     EXPECT_EQ(c.particles, (std::vector<uint32_t>{1000, 2000}));
@@ -63,8 +63,8 @@ TEST(StudySpecTest, ErrorsNameTheKeyAndTheFix) {
     expect_error("{\"cases\": [", {"spec.json"});
 }
 
-StudyRow row(const std::string& case_name, const std::string& method, uint32_t particles, double ms, double depth) {
-    StudyRow r;
+study::StudyRow row(const std::string& case_name, const std::string& method, uint32_t particles, double ms, double depth) {
+    study::StudyRow r;
     r.case_name = case_name;
     r.method = method;
     r.particles = particles;
@@ -76,14 +76,14 @@ StudyRow row(const std::string& case_name, const std::string& method, uint32_t p
 
 TEST(StudyTargetsTest, ComparisonsStayWithinACaseAndTheCrossoverIsInterpolated) {
     const std::string s = "sbuffer gradient x1 b3", b = "brute gradient x1 b3";
-    std::vector<StudyRow> rows{
+    std::vector<study::StudyRow> rows{
         // A case with brute force only, and one with both: the ratio comes from the second.
         row("other", b, 4096, 1000.0, 0.1),
         row("k", b, 4096, 900.0, 0.1), row("k", s, 4096, 100.0, 0.1),
         // The S-buffer is 2x faster at 10k, the adaptive method 2x faster at 1M: equal at 100k.
         row("scaling", "adaptive", 10000, 200.0, 0.01), row("scaling", s, 10000, 100.0, 0.05),
         row("scaling", "adaptive", 1000000, 200.0, 0.01), row("scaling", s, 1000000, 400.0, 0.05)};
-    const auto lines = study_targets(rows);
+    const auto lines = study::study_targets(rows);
     ASSERT_EQ(lines.size(), 3u);
     EXPECT_NE(lines[0].find("9.0x at 4096 particles in k"), std::string::npos) << lines[0];
     EXPECT_NE(lines[0].find("MET"), std::string::npos) << lines[0];
@@ -95,9 +95,9 @@ TEST(StudyCameraTest, TheCloseUpBringsParticlesWithinAMetaballRangeOfTheEyePlane
     // The close-up case is where billboards are dropped: it must actually put particles that
     // close, in view, with the eye on the fluid's surface rather than inside it.
     const Scene scene = study::bench_scene(4096, 4);
-    cli::StudyCamera spec;
+    study::StudyCamera spec;
     spec.preset = "closeup";
-    const ViewCamera camera = cli::study_camera(spec, scene, 1.0f);
+    const ViewCamera camera = study::study_camera(spec, scene, 1.0f);
     std::vector<glm::vec4> x;
     std::vector<uint32_t> block;
     scene.generate_particles(x, block);

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "study/study_charts.h"
-#include "apps/study_solver_map.h"
+#include "study/study_solver_map.h"
 #include "tests/cli_helpers.h"
 #include "tests/gpu_test.h"
 
@@ -20,7 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace aquaform::test_cli;
-using cli::SolverMapRecord;
+using study::SolverMapRecord;
 
 /// A column of 8 x 8 x 8 = 512 particles settling in a box twice its height: gravity compresses
 /// it against the floor by up to g dt^2 per step, which the iterations undo only in part.
@@ -54,14 +54,14 @@ fs::path write_scene(const fs::path& dir, const std::string& name, const std::st
     return path;
 }
 
-const SolverMapRecord* find(const std::vector<SolverMapRecord>& rs, float dt, uint32_t iterations,
+const study::SolverMapRecord* find(const std::vector<study::SolverMapRecord>& rs, float dt, uint32_t iterations,
                             std::optional<float> pressure = std::nullopt) {
     for (const auto& r : rs)
         if (r.dt == dt && r.iterations == iterations && r.control_pressure == pressure) return &r;
     return nullptr;
 }
 
-void print(const std::vector<SolverMapRecord>& rs) {
+void print(const std::vector<study::SolverMapRecord>& rs) {
     for (const auto& r : rs)
         std::printf("  %s dt %g s, %u iterations%s: max density error %.4f, mean %.5f, %s\n", r.scene.c_str(),
                     double(r.dt), r.iterations,
@@ -74,27 +74,27 @@ class SolverMap : public testing::GpuTest {};
 
 TEST_F(SolverMap, SmallStepsHoldALargeStepWithOneIterationBlowsUpAndErrorFollowsDtAndIterations) {
     const fs::path dir = temp_dir("solver_map");
-    cli::SolverMapSpec spec;
+    study::SolverMapSpec spec;
     spec.scene = write_scene(dir, "tiny_column", kTinyColumn);
     spec.frame_dts = {0.002f, 0.008f, 0.033f};
     spec.iterations = {1, 4};
     spec.sim_time_s = 0.5f;
     std::vector<std::string> lines;
-    auto map = cli::run_solver_map(ctx(), spec, [&](const std::string& l) { lines.push_back(l); });
+    auto map = study::run_solver_map(ctx(), spec, [&](const std::string& l) { lines.push_back(l); });
     ASSERT_TRUE(map.ok()) << map.error();
     const auto& rs = map.value();
     print(rs);
     ASSERT_EQ(rs.size(), 6u) << "one record per dt x iterations cell";
     EXPECT_EQ(lines.size(), 6u) << "one progress line per cell";
 
-    const SolverMapRecord* fine1 = find(rs, 0.002f, 1);
-    const SolverMapRecord* coarse1 = find(rs, 0.008f, 1);
-    const SolverMapRecord* huge1 = find(rs, 0.033f, 1);
-    const SolverMapRecord* fine4 = find(rs, 0.002f, 4);
-    const SolverMapRecord* coarse4 = find(rs, 0.008f, 4);
+    const study::SolverMapRecord* fine1 = find(rs, 0.002f, 1);
+    const study::SolverMapRecord* coarse1 = find(rs, 0.008f, 1);
+    const study::SolverMapRecord* huge1 = find(rs, 0.033f, 1);
+    const study::SolverMapRecord* fine4 = find(rs, 0.002f, 4);
+    const study::SolverMapRecord* coarse4 = find(rs, 0.008f, 4);
     ASSERT_TRUE(fine1 && coarse1 && huge1 && fine4 && coarse4);
     EXPECT_EQ(fine1->scene, "tiny_column");
-    for (const SolverMapRecord* r : {fine1, fine4, coarse4}) {
+    for (const study::SolverMapRecord* r : {fine1, fine4, coarse4}) {
         EXPECT_TRUE(r->stable) << "dt " << r->dt << ", " << r->iterations << " iterations: " << r->failure;
         EXPECT_EQ(r->blowup_time_s, -1.0);
         EXPECT_GE(r->frames, 30u) << "the whole half second in frames of about 1/60 s";
@@ -111,13 +111,13 @@ TEST_F(SolverMap, SmallStepsHoldALargeStepWithOneIterationBlowsUpAndErrorFollows
     // density within a few steps.
     EXPECT_FALSE(huge1->stable);
     EXPECT_NE(huge1->failure.find("density error"), std::string::npos) << huge1->failure;
-    EXPECT_GT(huge1->density_err_max, cli::blowup_bounds(load_scene(spec.scene).value()).max_density_error);
+    EXPECT_GT(huge1->density_err_max, study::blowup_bounds(load_scene(spec.scene).value()).max_density_error);
     EXPECT_GT(huge1->blowup_time_s, 0.0);
     EXPECT_LE(huge1->blowup_time_s, spec.sim_time_s + 1e-3);
     EXPECT_LT(huge1->frames, 16u) << "a blown-up cell stops at its first failing frame";
 
     const fs::path csv = dir / "solver_map.csv";
-    ASSERT_TRUE(cli::write_solver_map_csv(csv, rs).ok());
+    ASSERT_TRUE(study::write_solver_map_csv(csv, rs).ok());
     std::stringstream in(read_file(csv));
     std::string header, line;
     std::getline(in, header);
@@ -138,40 +138,40 @@ TEST_F(SolverMap, SmallStepsHoldALargeStepWithOneIterationBlowsUpAndErrorFollows
 
 TEST_F(SolverMap, ControlPressureDrivesTheDensityError) {
     const fs::path dir = temp_dir("solver_map_control");
-    cli::SolverMapSpec spec;
+    study::SolverMapSpec spec;
     spec.scene = write_scene(dir, "tiny_shape", tiny_shape_scene());
     spec.frame_dts = {0.004f};
     spec.iterations = {2};
     spec.control_pressures = {500.0f, 50000.0f};
     spec.sim_time_s = 0.5f;
-    auto map = cli::run_solver_map(ctx(), spec, [](const std::string&) {});
+    auto map = study::run_solver_map(ctx(), spec, [](const std::string&) {});
     ASSERT_TRUE(map.ok()) << map.error();
     print(map.value());
-    const SolverMapRecord* soft = find(map.value(), 0.004f, 2, 500.0f);
-    const SolverMapRecord* hard = find(map.value(), 0.004f, 2, 50000.0f);
+    const study::SolverMapRecord* soft = find(map.value(), 0.004f, 2, 500.0f);
+    const study::SolverMapRecord* hard = find(map.value(), 0.004f, 2, 50000.0f);
     ASSERT_TRUE(soft && hard);
     EXPECT_TRUE(soft->stable) << soft->failure;
     // 100x the pressure pushes the fluid into the ball's boundary layer 100x harder (measured ~30x
     // the error); equal errors would mean the pressure never reached the force.
     EXPECT_GT(hard->density_err_max, 5.0 * soft->density_err_max);
     const fs::path csv = dir / "solver_map.csv";
-    ASSERT_TRUE(cli::write_solver_map_csv(csv, map.value()).ok());
+    ASSERT_TRUE(study::write_solver_map_csv(csv, map.value()).ok());
     EXPECT_NE(read_file(csv).find("tiny_shape,0.00400000019,2,50000,"), std::string::npos) << read_file(csv);
     fs::remove_all(dir);
 }
 
 TEST_F(SolverMap, BadSpecsAreErrorsNamingTheProblem) {
     const fs::path dir = temp_dir("solver_map_bad");
-    cli::SolverMapSpec good;
+    study::SolverMapSpec good;
     good.scene = write_scene(dir, "tiny_column", kTinyColumn);
     good.frame_dts = {0.004f};
     good.iterations = {2};
     good.sim_time_s = 0.1f;
-    auto error_of = [&](cli::SolverMapSpec spec) {
-        auto r = cli::run_solver_map(ctx(), spec, [](const std::string&) {});
+    auto error_of = [&](study::SolverMapSpec spec) {
+        auto r = study::run_solver_map(ctx(), spec, [](const std::string&) {});
         return r.ok() ? std::string("(no error)") : r.error();
     };
-    cli::SolverMapSpec s = good;
+    study::SolverMapSpec s = good;
     s.control_pressures = {1000.0f};
     EXPECT_NE(error_of(s).find("no \"control\" section"), std::string::npos) << error_of(s);
     s = good;
@@ -193,28 +193,28 @@ TEST_F(SolverMap, BadSpecsAreErrorsNamingTheProblem) {
 TEST(SolverMapCriterion, EachFailureIsNamedAndAPlausibleFrameIsNot) {
     Scene scene;
     scene.domain = {glm::vec3(0.0f), glm::vec3(0.3f, 0.4f, 0.0f)};  // diagonal 0.5 m
-    const cli::BlowupBounds b = cli::blowup_bounds(scene);
+    const study::BlowupBounds b = study::blowup_bounds(scene);
     EXPECT_NEAR(b.max_speed, 10.0 * std::sqrt(2.0 * 9.81 * 0.5), 1e-3) << "10x free fall over the diagonal";
     EXPECT_DOUBLE_EQ(b.max_density_error, 0.5);
     FrameStats ok;
     ok.max_speed = 3.0;
     ok.max_density_error = 0.2;
-    EXPECT_EQ(cli::blowup_reason(ok, b), "");
+    EXPECT_EQ(study::blowup_reason(ok, b), "");
     FrameStats s = ok;
     s.non_finite = 3;
-    EXPECT_NE(cli::blowup_reason(s, b).find("3 particles have non-finite"), std::string::npos);
+    EXPECT_NE(study::blowup_reason(s, b).find("3 particles have non-finite"), std::string::npos);
     s = ok;
     s.outside = 2;
-    EXPECT_NE(cli::blowup_reason(s, b).find("2 particles left the domain"), std::string::npos);
+    EXPECT_NE(study::blowup_reason(s, b).find("2 particles left the domain"), std::string::npos);
     s = ok;
     s.max_speed = b.max_speed * 1.01;
-    EXPECT_NE(cli::blowup_reason(s, b).find("max speed"), std::string::npos);
+    EXPECT_NE(study::blowup_reason(s, b).find("max speed"), std::string::npos);
     s = ok;
     s.max_density_error = 0.51;
-    EXPECT_NE(cli::blowup_reason(s, b).find("density error"), std::string::npos);
+    EXPECT_NE(study::blowup_reason(s, b).find("density error"), std::string::npos);
     s = ok;
     s.max_density_error = std::nan("");
-    EXPECT_NE(cli::blowup_reason(s, b), "") << "a NaN error is a failure, not a pass of every comparison";
+    EXPECT_NE(study::blowup_reason(s, b), "") << "a NaN error is a failure, not a pass of every comparison";
 }
 
 }  // namespace

@@ -13,7 +13,7 @@ set(layers
   "render|render/surface_frame.h|core,gpu,grid"
   "control|control/mesh.h|core,gpu,grid,sim"
   "session|session/simulation_session.h|core,gpu,grid,sim,control"
-  "study|study/bench_sim.h|core,gpu,grid,sim,render,control"
+  "study|study/bench_sim.h|core,gpu,grid,sim,render,control,session"
   "apps|apps/cli.h|core,gpu,grid,sim,render,control,session,study")
 
 file(READ ${BUILD_DIR}/compile_commands.json db)

@@ -1,4 +1,4 @@
-#include "apps/study_run.h"
+#include "study/study_run.h"
 
 #include <algorithm>
 #include <chrono>
@@ -9,7 +9,7 @@
 #include <sstream>
 
 #include "study/bench_scenes.h"
-#include "apps/render_measure.h"
+#include "study/render_measure.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
 #include "render/image_io.h"
@@ -19,8 +19,9 @@
 #include "render/screen_space.h"
 #include "render/surface_renderer.h"
 #include "sim/pbf_solver.h"
+#include "core/error.h"
 
-namespace aquaform::cli {
+namespace aquaform::study {
 
 namespace {
 
@@ -391,7 +392,7 @@ std::vector<StudyRow> run_study_cases(gpu::Context& ctx, const StudySpec& spec, 
             for (uint32_t n : c.particles) scenes.push_back(study::bench_scene(n, 4));
         } else {
             auto loaded = load_scene(c.scene);
-            if (!loaded) throw std::invalid_argument(loaded.error());
+            if (!loaded) throw Failure(loaded.error());
             scenes.push_back(loaded.value());
         }
         for (Scene& scene : scenes) {
@@ -578,4 +579,4 @@ Result<bool> write_study_markdown(const fs::path& path, const StudySpec& spec, c
     return true;
 }
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::study

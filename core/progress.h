@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-namespace aquaform::cli {
+namespace aquaform {
 
 class ProgressBar {
 public:
@@ -26,4 +26,4 @@ private:
 
 std::string format_duration(double seconds);
 
-}  // namespace aquaform::cli
+}  // namespace aquaform

@@ -1,4 +1,4 @@
-#include "apps/study_spec.h"
+#include "study/study_spec.h"
 
 #include <array>
 #include <fstream>
@@ -7,11 +7,11 @@
 #include <sstream>
 #include <string_view>
 
-#include "apps/render_options.h"
+#include "render/registry.h"
 #include "core/json_fields.h"
 #include "render/registry.h"
 
-namespace aquaform::cli {
+namespace aquaform::study {
 
 namespace {
 
@@ -264,4 +264,4 @@ Result<StudySpec> load_study_spec(const fs::path& path) {
     return parse_study_spec(text, path.string(), path.parent_path());
 }
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::study

@@ -1,14 +1,14 @@
-#include "apps/render_measure.h"
+#include "study/render_measure.h"
 
 #include <algorithm>
 #include <cstdio>
 #include <limits>
 
-#include "apps/progress.h"
+#include "core/progress.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
 
-namespace aquaform::cli {
+namespace aquaform::study {
 
 bool simulate_frames(PbfSolver& solver, uint32_t frames, const std::string& label) {
     ProgressBar progress(label, frames);
@@ -113,4 +113,4 @@ void print_render_row(const std::string& label, const RenderMeasurement& m, cons
                     "-", "-");
 }
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::study

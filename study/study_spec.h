@@ -29,11 +29,11 @@
 #include <string>
 #include <vector>
 
-#include "apps/study_solver_map.h"
+#include "study/study_solver_map.h"
 #include "render/impostor_view.h"
 #include "core/result.h"
 
-namespace aquaform::cli {
+namespace aquaform::study {
 
 enum class StudyFamily { surface, metaball, screen_space };
 
@@ -80,4 +80,4 @@ Result<StudySpec> load_study_spec(const std::filesystem::path& path);
 Result<StudySpec> parse_study_spec(const std::string& text, const std::string& origin,
                                    const std::filesystem::path& base_dir);
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::study

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "apps/study_spec.h"
+#include "study/study_spec.h"
 #include "core/result.h"
 
 namespace aquaform {
@@ -21,7 +21,7 @@ class Context;
 }
 }  // namespace aquaform
 
-namespace aquaform::cli {
+namespace aquaform::study {
 
 struct StudyRow {
     std::string case_name, scene, method;
@@ -54,4 +54,4 @@ Result<bool> write_study_markdown(const std::filesystem::path& path, const Study
 /// when the spec lacks the rows a target needs).
 std::vector<std::string> study_targets(const std::vector<StudyRow>& rows);
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::study

@@ -12,7 +12,7 @@
 #include "render/surface_renderer.h"
 #include "sim/pbf_solver.h"
 
-namespace aquaform::cli {
+namespace aquaform::study {
 
 /// Advances the solver by `frames` frames with a progress bar; false (after printing why) when
 /// the run becomes unstable.
@@ -54,4 +54,4 @@ nlohmann::json render_record(const std::string& label, const SurfaceSettings& se
 void print_render_row(const std::string& label, const RenderMeasurement& m, const SurfaceComparison* cmp);
 void print_render_header();
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::study

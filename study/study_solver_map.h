@@ -19,7 +19,7 @@ namespace aquaform::gpu {
 class Context;
 }
 
-namespace aquaform::cli {
+namespace aquaform::study {
 
 struct SolverMapSpec {
     std::filesystem::path scene;
@@ -69,4 +69,4 @@ Result<std::vector<SolverMapRecord>> run_solver_map(gpu::Context& ctx, const Sol
 /// blowup_time_s (control_pressure empty for the scene as is; blowup_time_s empty when stable).
 Result<bool> write_solver_map_csv(const std::filesystem::path& path, const std::vector<SolverMapRecord>& records);
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::study

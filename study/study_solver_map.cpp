@@ -1,4 +1,4 @@
-#include "apps/study_solver_map.h"
+#include "study/study_solver_map.h"
 
 #include <algorithm>
 #include <chrono>
@@ -11,7 +11,7 @@
 #include "gpu/context.h"
 #include "session/simulation_session.h"
 
-namespace aquaform::cli {
+namespace aquaform::study {
 
 namespace {
 
@@ -209,4 +209,4 @@ Result<bool> write_solver_map_csv(const std::filesystem::path& path, const std::
     return true;
 }
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::study

@@ -1,9 +1,9 @@
-#include "apps/progress.h"
+#include "core/progress.h"
 
 #include <cstdio>
 #include <unistd.h>
 
-namespace aquaform::cli {
+namespace aquaform {
 
 std::string format_duration(double seconds) {
     char buf[32];
@@ -43,4 +43,4 @@ void ProgressBar::finish() {
     if (tty_) std::fprintf(stderr, "\n");
 }
 
-}  // namespace aquaform::cli
+}  // namespace aquaform
