@@ -17,6 +17,7 @@
 #include "sim/pbf_params.h"
 #include "session/simulation_session.h"
 #include "sim/pbf_solver.h"
+#include "study/bench_control.h"
 #include "tests/gpu_test.h"
 
 namespace aquaform::control {
@@ -86,56 +87,10 @@ TEST_F(ControlForceTest, GpuPassMatchesCpuSum) {
 }
 
 /// A sphere of control points in mid-air, with a cube of fluid of about the same volume around
-/// its centre: the force must pull the cube into the sphere and hold it there against gravity.
-struct SphereFill {
-    static constexpr float kRadius = 0.12f;
-    const glm::vec3 centre{0.3f, 0.32f, 0.3f};
-    Scene scene = box_scene(glm::vec3(0.6f), 0.02f);
-    Mesh mesh;
-    Strength strength;
-    VoxelLattice lattice;
-    std::unordered_set<uint64_t> shape;
-
-    SphereFill() {
-        // 10 x 9 x 10 particles: 0.0072 m^3, the sphere's 0.00724 m^3 to within 1 %
-        const glm::vec3 half(0.1f, 0.09f, 0.1f);
-        scene.fluid_blocks = {{centre - half, centre + half}};
-        mesh = make_sphere(kRadius, 3);
-        for (auto& v : mesh.vertices) v += centre;
-        lattice = {scene.domain.min, scene.particle_spacing};
-        shape = voxel_keys(lattice, place_inside(mesh.triangle_soup(), scene.particle_spacing, false, 1,
-                                                 lattice.centre(glm::ivec3(0))).points);
-        strength = automatic_strength({&scene, scene.particle_spacing, 2.0f * kRadius});
-        scene.solver.substeps = strength.substeps;
-    }
-};
-
-/// The sphere attached from t = 0 at `pressure`, at the automatic strength's substeps.
-struct FillRun {
-    std::unique_ptr<session::SimulationSession> sim;
-    FrameStats stats;
-    double rms_speed = 0.0;
-
-    FillRun(gpu::Context& ctx, const SphereFill& fill, float pressure) {
-        auto section =
-            SectionBuilder(fill.scene).mesh("sphere", fill.mesh).pressure(pressure).fixed_substeps().attach("sphere").build();
-        EXPECT_TRUE(section.ok()) << section.error();
-        sim = std::make_unique<session::SimulationSession>(ctx, session::plan_session(fill.scene, std::move(section.value())),
-                                                           session::SessionOptions{false});
-    }
-    /// Runs `seconds`; false when the state became non-finite.
-    bool advance(double seconds) {
-        stats = sim->advance(seconds);
-        if (stats.non_finite) return false;
-        rms_speed = session::rms_speed(stats, sim->scene());
-        return true;
-    }
-    ShapeMetrics metrics(const SphereFill& fill) {
-        const ParticleSnapshot s = sim->solver().snapshot();
-        const PbfConstants k = pbf_constants(fill.scene);
-        return shape_metrics({&s.x, &s.v, ~0u, k.h, k.mass, fill.scene.rest_density}, fill.lattice, fill.shape);
-    }
-};
+/// its centre (the sphere of `aquaform bench control`): the force must pull the cube into the
+/// sphere and hold it there against gravity.
+using study::FillRun;
+using SphereFill = study::ShapeScene;
 
 /// The fluid is quiet when it comes to rest: its rms speed after the fill is below a tenth of the
 /// solver's speed cap (cfl h / dt), and its density error stays within the stated bound.
@@ -146,7 +101,7 @@ bool quiet(const FillRun& run, const Scene& scene) {
 }
 
 TEST_F(ControlForceTest, SphereFillsHoldsAndReleases) {
-    const SphereFill fill;
+    const SphereFill fill = study::sphere_scene();
     FillRun run(ctx(), fill, fill.strength.pressure);
     ASSERT_TRUE(run.advance(1.0));
     const ShapeMetrics held = run.metrics(fill);
@@ -172,7 +127,7 @@ TEST_F(ControlForceTest, SphereFillsHoldsAndReleases) {
 }
 
 TEST_F(ControlForceTest, AutomaticStrengthIsInsideTheStableRange) {
-    const SphereFill fill;
+    const SphereFill fill = study::sphere_scene();
     // Doubling the pressure until the fluid is no longer quiet (the solver's speed cap keeps even
     // extreme pressures finite here, so "blowing up" means churning at that cap).
     float first_unstable = 0.0f;
