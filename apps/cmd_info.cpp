@@ -23,6 +23,9 @@ int cmd_info(const std::vector<std::string>& argv) {
         if (d.loop_iteration_limit)
             std::printf("     quirk: ends a shader invocation's loops after %u iterations in total (long ray "
                         "marches yield and resume in further passes)\n", d.loop_iteration_limit);
+        if (d.slow_in_order_queue)
+            std::printf("     quirk: runs on the CPU, one submission at a time (the viewer cuts its frames into "
+                        "slices so that the window keeps drawing)\n");
     }
     int chosen = gpu::Context::choose_device(devices, args->value("--device"), &error);
     if (chosen < 0) {

@@ -315,7 +315,8 @@ ViewWorker::Picture ViewWorker::take_picture() {
 }
 
 void ViewWorker::loop() {
-    ctx_.set_yielding(true, &stop_);
+    // The one place the viewer's frames are cut into slices, and only where the device needs it.
+    ctx_.share_queue({.enabled = ctx_.info().slow_in_order_queue, .long_pass_slices = 4, .cancel = &stop_});
     auto last = Clock::now();
     for (;;) {
         ViewControls controls;

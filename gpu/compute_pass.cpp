@@ -159,6 +159,7 @@ void bind_pass(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const
 void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads,
                   const void* push, uint32_t push_bytes, Bindings bindings) {
     if (threads == 0) return bind_pass(ctx, cmd, pass, push, push_bytes, bindings, nullptr);  // checks only
+    ctx.command_boundary(cmd);
     BarrierTracker* tracker = tracker_for(ctx, cmd);
     bind_pass(ctx, cmd, pass, push, push_bytes, bindings, tracker);
     const ComputePassDesc& d = pass.desc();
@@ -177,6 +178,7 @@ void dispatch_indirect(Context& ctx, VkCommandBuffer cmd, const ComputePass& pas
 
 void dispatch_indirect_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const Buffer& group_counts,
                            const void* push, uint32_t push_bytes, Bindings bindings) {
+    ctx.command_boundary(cmd);
     BarrierTracker* tracker = tracker_for(ctx, cmd);
     bind_pass(ctx, cmd, pass, push, push_bytes, bindings, tracker, &group_counts);
     vkCmdDispatchIndirect(cmd, group_counts.buffer, 0);
@@ -184,6 +186,7 @@ void dispatch_indirect_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass&
 }
 
 void fill(Context& ctx, VkCommandBuffer cmd, const Buffer& buffer, uint32_t value, VkDeviceSize bytes) {
+    ctx.command_boundary(cmd);
     BarrierTracker* tracker = tracker_for(ctx, cmd);
     if (tracker) tracker->access(cmd, {}, {buffer.buffer});
     vkCmdFillBuffer(cmd, buffer.buffer, 0, bytes, value);
@@ -191,6 +194,7 @@ void fill(Context& ctx, VkCommandBuffer cmd, const Buffer& buffer, uint32_t valu
 }
 
 void copy(Context& ctx, VkCommandBuffer cmd, const Buffer& src, const Buffer& dst, const VkBufferCopy& region) {
+    ctx.command_boundary(cmd);
     BarrierTracker* tracker = tracker_for(ctx, cmd);
     if (tracker) tracker->access(cmd, {src.buffer}, {dst.buffer});
     vkCmdCopyBuffer(cmd, src.buffer, dst.buffer, 1, &region);

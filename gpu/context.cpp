@@ -112,6 +112,7 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
     d.max_workgroups_x = props.limits.maxComputeWorkGroupCount[0];
     d.driver_id = driver.driverID;
     d.loop_iteration_limit = loop_iteration_limit(driver.driverID);
+    d.slow_in_order_queue = props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
     for (uint32_t h = 0; h < mem.memoryHeapCount; ++h)
         if (mem.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
             d.device_local_bytes = std::max<uint64_t>(d.device_local_bytes, mem.memoryHeaps[h].size);
@@ -424,6 +425,7 @@ void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record
         throw internal_failure("gpu::Context::submit_and_wait called inside a recording on the same thread; record "
                                "into the command buffer being recorded instead (gpu::upload does so by itself)");
     begin(r);
+    r.open_scopes = 0;
     try {
         record(r.cmd);
     } catch (...) {
@@ -437,16 +439,16 @@ void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record
 
 void Context::yield_queue(VkCommandBuffer cmd) {
     Recorder& r = recorder();
-    if (!r.yielding || !r.recording || cmd != r.cmd) return;
+    if (!r.sharing.enabled || !r.recording || cmd != r.cmd) return;
     submit(r);
     begin(r);
-    if (r.cancel && r.cancel->load()) throw Cancelled();
+    if (r.sharing.cancel && r.sharing.cancel->load()) throw Cancelled();
 }
 
-void Context::set_yielding(bool on, const std::atomic<bool>* cancel) {
+void Context::share_queue(const QueueSharing& sharing) {
     Recorder& r = recorder();
-    r.yielding = on;
-    r.cancel = on ? cancel : nullptr;
+    r.sharing = sharing;
+    if (!sharing.enabled) r.sharing.cancel = nullptr;
 }
 
 void Context::wait_queue_idle() {

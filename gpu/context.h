@@ -5,6 +5,7 @@
 // buffer.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <cstdint>
 #include <exception>
@@ -36,6 +37,10 @@ struct DeviceInfo {
     /// ends its loops (0 = no such limit). Lavapipe (VK_DRIVER_ID_MESA_LLVMPIPE) has 65535; the
     /// passes that could exceed it split their work into resumable passes only where it is set.
     uint32_t loop_iteration_limit = 0;
+    /// Quirk: the device is the CPU (the software device), so one submission of a simulation frame
+    /// holds its one in-order queue for a long time: an interactive caller shares the queue
+    /// (Context::QueueSharing) only here; on a GPU a frame's submission is short.
+    bool slow_in_order_queue = false;
     bool usable = false;                 ///< has the queue, Vulkan 1.3 and extensions we need
     std::string unusable_reason;
 };
@@ -101,19 +106,47 @@ public:
     /// Submissions made so far, by every thread (for tests and the batching figures).
     uint64_t submissions() const { return submissions_.load(); }
 
-    /// A point in a long recording where other threads' work may take the queue. With yielding
-    /// on for this thread, the commands so far are submitted and waited for, and `cmd` (this
-    /// thread's command buffer inside submit_and_wait) begins again; otherwise it does nothing.
-    /// Call it only outside render passes and between timer scopes: the viewer's worker turns
-    /// yielding on so that the window's frames are not queued behind a whole simulation frame
-    /// (one queue on the software device runs submissions strictly in order).
+    /// Sharing the queue: the one hook through which a caller (the viewer's worker) cuts its
+    /// thread's long recordings into several submissions, so that another thread's work (the
+    /// window's frames) is not queued behind a whole simulation frame on a device whose one queue
+    /// runs submissions strictly in order (the software device). The solver and the renderers
+    /// know nothing of it: the cut points are the starts of outermost timed scopes (GpuTimer) and,
+    /// with no scope open, every command the gpu helpers record (dispatch, fill, copy). A long
+    /// single pass may ask long_pass_slices() into how many dispatches to split itself.
+    struct QueueSharing {
+        bool enabled = false;
+        uint32_t long_pass_slices = 4;            ///< slices of one long pass while enabled
+        const std::atomic<bool>* cancel = nullptr;  ///< set: a cut throws Cancelled instead
+    };
+    /// Sets the calling thread's sharing. With `cancel`, a cut that finds it set throws Cancelled
+    /// (the recording is ended, not submitted), so that a thread asked to stop leaves a long frame
+    /// at its next cut.
+    void share_queue(const QueueSharing& sharing);
+    /// Whether the calling thread's recordings are cut.
+    bool yielding() { return recorder().sharing.enabled; }
+    /// Into how many dispatches a long pass splits itself on this thread: 1 unless sharing.
+    uint32_t long_pass_slices() {
+        const QueueSharing& s = recorder().sharing;
+        return s.enabled ? std::max(s.long_pass_slices, 1u) : 1u;
+    }
+    /// A cut: with sharing on for this thread, the commands so far are submitted and waited for,
+    /// and `cmd` (this thread's command buffer inside submit_and_wait) begins again; otherwise it
+    /// does nothing. Only outside render passes.
     void yield_queue(VkCommandBuffer cmd);
-    /// Turns yield_queue() on or off for the calling thread. With `cancel`, a yield that finds it
-    /// set throws Cancelled (the recording is ended, not submitted), so that a thread asked to stop
-    /// leaves a long frame at its next yield.
-    void set_yielding(bool on, const std::atomic<bool>* cancel = nullptr);
-    /// Whether yield_queue() yields on the calling thread (a pass may then split long work).
-    bool yielding() { return recorder().yielding; }
+    /// A cut point of the gpu helpers: a cut only while no timed scope is open on this thread
+    /// (a scope's time would otherwise include the other threads' work).
+    void command_boundary(VkCommandBuffer cmd) {
+        if (recorder().open_scopes == 0) yield_queue(cmd);
+    }
+    /// Timed scopes open on this thread (GpuTimer keeps count).
+    void enter_scope(VkCommandBuffer cmd) {
+        command_boundary(cmd);
+        ++recorder().open_scopes;
+    }
+    void leave_scope() {
+        Recorder& r = recorder();
+        if (r.open_scopes > 0) --r.open_scopes;
+    }
 
     /// Held while calling vkQueueSubmit / vkQueuePresentKHR / vkQueueWaitIdle directly.
     std::unique_lock<std::mutex> lock_queue() { return std::unique_lock<std::mutex>(queue_mutex_); }
@@ -135,9 +168,9 @@ private:
         VkCommandPool pool = VK_NULL_HANDLE;
         VkCommandBuffer cmd = VK_NULL_HANDLE;
         VkFence fence = VK_NULL_HANDLE;
-        bool yielding = false;
+        QueueSharing sharing;
+        uint32_t open_scopes = 0;
         bool recording = false;
-        const std::atomic<bool>* cancel = nullptr;
         std::unique_ptr<StagingPool> staging;
         std::unique_ptr<BarrierTracker> tracker;
     };

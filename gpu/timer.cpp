@@ -29,6 +29,7 @@ void GpuTimer::begin(VkCommandBuffer cmd, const std::string& name) {
     if (used_ >= capacity_)
         throw internal_failure("GpuTimer: more than " + std::to_string(capacity_) +
                                " timed passes in one submission; submit more often");
+    ctx_->enter_scope(cmd);  // the start of an outermost scope is where a shared queue is cut
     open_.push_back(name);
     stack_.push_back(used_);
     vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, pool_, 2 * used_);
@@ -39,6 +40,7 @@ void GpuTimer::end(VkCommandBuffer cmd) {
     if (stack_.empty()) throw internal_failure("GpuTimer::end without begin");
     vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_, 2 * stack_.back() + 1);
     stack_.pop_back();
+    ctx_->leave_scope();
 }
 
 void GpuTimer::collect() {

@@ -146,8 +146,6 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         grid_->build(cmd, positions, count, nullptr);
         gpu::dispatch(*ctx_, cmd, gather_, particles, {{"params", params_buf_}, {"positions", &positions}, {"order", &grid_->order()}, {"sorted", sorted_}});
     }
-    // Between passes the viewer's window may take the queue (gpu::Context::yield_queue).
-    ctx_->yield_queue(cmd);
     if (adaptive) {
         gpu::GpuScope scope(timer, cmd, "render_classify");
         if (params_.flags & SURFACE_ANISOTROPIC)
@@ -158,7 +156,6 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     } else {
         gpu::fill(*ctx_, cmd, *aggregate_, 0u);
     }
-    ctx_->yield_queue(cmd);
     if (params_.flags & SURFACE_USE_MASK) {
         gpu::GpuScope scope(timer, cmd, "render_mask");
         record_mask(cmd);
@@ -172,15 +169,15 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     }
     const gpu::Bindings splat_buffers{
         {"params", params_buf_}, {"sorted", sorted_}, {"aggregate", aggregate_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_}, {"thickness", thickness_}, {"front_class", front_class_}};
-    // The splat is a long pass too: where the context yields the queue it runs in slices of
-    // particles, the viewer's window drawing between them (as in record_first_march).
+    // The splat is a long pass too: where the caller shares the queue (gpu::Context::QueueSharing)
+    // it runs in slices of particles, each its own timed scope, so that the queue can be cut
+    // between them (as in record_first_march).
     // Slices are whole workgroups: the shader only checks the particle count, so a slice's
     // rounded-up last group must not reach into the next slice (it would splat twice).
-    const uint32_t slices = ctx_->yielding() ? kMarchSlices : 1, group = splat_.desc().local_size;
+    const uint32_t slices = ctx_->long_pass_slices(), group = splat_.desc().local_size;
     const uint32_t per_slice = ((particles + slices - 1) / slices + group - 1) / group * group;
     for (uint32_t first = 0; first < particles; first += per_slice) {
-        ctx_->yield_queue(cmd);
-        gpu::GpuScope scope(timer, cmd, "render_splat");
+            gpu::GpuScope scope(timer, cmd, "render_splat");
         SurfacePassPush push = axis_push(0);
         push.first = first;
         gpu::dispatch(*ctx_, cmd, splat_, std::min(per_slice, particles - first), push, splat_buffers);
@@ -189,14 +186,12 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         gpu::GpuScope scope(timer, cmd, "render_splat");
         gpu::dispatch(*ctx_, cmd, splat_, particles, axis_push(1), splat_buffers);
     }
-    ctx_->yield_queue(cmd);
     record_screen_passes(cmd, timer);
     record_first_march(cmd, timer);
     {
         gpu::GpuScope scope(timer, cmd, "render_march");
         record_resumes(cmd);
     }
-    ctx_->yield_queue(cmd);
     if (params_.flags & SURFACE_ADAPTIVE_RES) {
         gpu::GpuScope scope(timer, cmd, "render_upsample");
         gpu::fill(*ctx_, cmd, *edge_count_, 0u);
@@ -223,9 +218,8 @@ void SurfaceRenderer::record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* tim
         gpu::fill(*ctx_, cmd, *resume_count_[0], 0u);
     }
     // The list's length is only known on the GPU, so each slice takes every slices-th ray.
-    const uint32_t pixels = width_ * height_, slices = ctx_->yielding() ? kMarchSlices : 1;
+    const uint32_t pixels = width_ * height_, slices = ctx_->long_pass_slices();
     for (uint32_t k = 0; k < slices; ++k) {
-        if (k > 0) ctx_->yield_queue(cmd);
         gpu::GpuScope scope(timer, cmd, "render_march");  // the timer adds the slices up
         dispatch_march(cmd, rays_, *ray_count_, 0, 0, k, slices, (pixels + slices - 1) / slices);
     }

@@ -99,10 +99,9 @@ private:
     void dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count, uint32_t mode,
                         int resume_out, uint32_t first = 0, uint32_t stride = 1, uint32_t threads = 0);
     /// The first march over the main ray list (up to one ray per pixel). It is a frame's longest
-    /// pass: where the context yields the queue (the viewer's worker) it runs as kMarchSlices
-    /// interleaved slices with a yield between them, so that the window draws in between.
+    /// pass: where the caller shares the queue (the viewer's worker) it runs as
+    /// Context::long_pass_slices() interleaved slices, each a timed scope the queue may be cut before.
     void record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* timer);
-    static constexpr uint32_t kMarchSlices = 4;
     /// Marches again the rays the device cut short (shaders/render/ray_march.comp), kResumePasses times.
     void record_resumes(VkCommandBuffer cmd);
     static constexpr uint32_t kResumePasses = 8;

@@ -165,10 +165,8 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
         gpu::dispatch(*ctx_, cmd, predict_, count_, push, {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"p", p_}});
     }
     record_sort(cmd, *p_, timer);
-    ctx_->yield_queue(cmd);  // the viewer's window may draw between the solver's phases
     // Jacobi iterations: lambda writes q = (p, lambda) into scratch0, correct writes p back.
     for (uint32_t it = 0; it < scene_.solver.iterations; ++it) {
-        if (it > 0) ctx_->yield_queue(cmd);
         {
             gpu::GpuScope s(timer, cmd, "lambda");
             gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
@@ -241,7 +239,6 @@ FrameStats PbfSolver::run_frame(gpu::GpuTimer* timer) {
         if (timer) timer->reset(cmd);
         for (uint32_t i = 0; i < scene_.solver.substeps; ++i) {
             record_step(cmd, timer);
-            ctx_->yield_queue(cmd);
         }
         record_stats(cmd, timer);
     });

@@ -41,6 +41,8 @@ TEST_F(DeviceQuirkTest, TheSoftwareDeviceHasTheLoopIterationLimit) {
             const auto o = test_cli::run_aquaform("info");
             EXPECT_NE(o.output.find("quirk: ends a shader invocation's loops after 65535"), std::string::npos)
                 << o.output;
+            EXPECT_TRUE(d.slow_in_order_queue) << d.name;
+            EXPECT_NE(o.output.find("quirk: runs on the CPU, one submission at a time"), std::string::npos) << o.output;
         }
 }
 

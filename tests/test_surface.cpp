@@ -331,9 +331,9 @@ TEST_F(DamBreakFrameTest, PassesSplitForTheViewersWindowDrawTheSameFrame) {
         SurfaceSettings settings;
         settings.method = method;
         const SurfaceFrame whole = render(settings);
-        ctx().set_yielding(true);
+        ctx().share_queue({.enabled = true});
         const SurfaceFrame sliced = render(settings);
-        ctx().set_yielding(false);
+        ctx().share_queue({});
         const SurfaceComparison c = compare_surfaces(whole, sliced, renderer->params().particle_radius);
         const char* name = method == SurfaceMethod::adaptive ? "adaptive" : "uniform";
         EXPECT_GT(c.both_hit, 1000u) << name;
