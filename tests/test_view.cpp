@@ -10,9 +10,9 @@
 #include <filesystem>
 #include <string>
 
-#include "apps/view_script.h"
-#include "apps/view_shapes.h"
-#include "apps/view_worker.h"
+#include "viewer/view_script.h"
+#include "viewer/view_shapes.h"
+#include "viewer/view_worker.h"
 #include "control/control_scene.h"
 #include "render/image_io.h"
 #include "tests/cli_helpers.h"
@@ -189,7 +189,7 @@ TEST(ViewCliTest, AnUnsteppedScriptSwitchesShapesMethodsAndSizeWhileTheWorkerRun
 }
 
 TEST(ViewPictureSlotsTest, TheWorkerNeverDrawsIntoThePictureShownAndTheWindowGetsTheNewest) {
-    cli::PictureSlots slots;
+    viewer::PictureSlots slots;
     EXPECT_EQ(slots.take(), -1) << "nothing to show before the first picture";
     const int first = slots.back();
     slots.publish();
@@ -215,22 +215,22 @@ TEST(ViewPictureSlotsTest, TheWorkerNeverDrawsIntoThePictureShownAndTheWindowGet
 }
 
 TEST(ViewScriptTest, ActionsAreCheckedAndSortedByFrame) {
-    auto ok = cli::parse_view_script(R"({"actions": [{"frame": 5, "do": "quit"}, {"frame": 1, "do": "method", "value": "sbuffer"}]})", "s.json");
+    auto ok = viewer::parse_view_script(R"({"actions": [{"frame": 5, "do": "quit"}, {"frame": 1, "do": "method", "value": "sbuffer"}]})", "s.json");
     ASSERT_TRUE(ok.ok()) << ok.error();
     ASSERT_EQ(ok.value().size(), 2u);
     EXPECT_EQ(ok.value()[0].what, "method");
     EXPECT_EQ(ok.value()[0].value, "sbuffer");
-    auto unknown = cli::parse_view_script(R"({"actions": [{"frame": 1, "do": "fly"}]})", "s.json");
+    auto unknown = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "fly"}]})", "s.json");
     ASSERT_FALSE(unknown.ok());
     EXPECT_NE(unknown.error().find("actions[0].do"), std::string::npos) << unknown.error();
     EXPECT_NE(unknown.error().find("screenshot"), std::string::npos) << unknown.error();
-    auto attach = cli::parse_view_script(R"({"actions": [{"frame": 2, "do": "attach", "file": "m.obj"}, {"frame": 3, "do": "release"}]})", "s.json");
+    auto attach = viewer::parse_view_script(R"({"actions": [{"frame": 2, "do": "attach", "file": "m.obj"}, {"frame": 3, "do": "release"}]})", "s.json");
     ASSERT_TRUE(attach.ok()) << attach.error();
     EXPECT_EQ(attach.value()[0].value, "m.obj");
-    auto missing = cli::parse_view_script(R"({"actions": [{"frame": 1, "do": "screenshot"}]})", "s.json");
+    auto missing = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "screenshot"}]})", "s.json");
     ASSERT_FALSE(missing.ok());
     EXPECT_NE(missing.error().find("file"), std::string::npos) << missing.error();
-    EXPECT_FALSE(cli::load_view_script("/nonexistent.json").ok());
+    EXPECT_FALSE(viewer::load_view_script("/nonexistent.json").ok());
 }
 
 TEST(ViewShapesTest, SectionsAttachUnionAndMorph) {
@@ -240,7 +240,7 @@ TEST(ViewShapesTest, SectionsAttachUnionAndMorph) {
     scene.particle_spacing = 0.02f;
     std::vector<glm::vec4> fluid;
     for (int i = 0; i < 1000; ++i) fluid.emplace_back(0.3f, 0.1f, 0.1f, 0.0f);
-    const Box box = cli::shape_box(scene, fluid);
+    const Box box = viewer::shape_box(scene, fluid);
     // The fluid's volume (1000 x 8 cm^3) as a sphere needs a 0.248 m cube; the depth allows 0.18.
     EXPECT_NEAR(box.max.x - box.min.x, 0.18f, 1e-4f);
     EXPECT_NEAR(0.5f * (box.min.x + box.max.x), 0.3f, 1e-5f) << "above the fluid's centre";
@@ -248,8 +248,8 @@ TEST(ViewShapesTest, SectionsAttachUnionAndMorph) {
     EXPECT_LE(box.max.z, 0.2f);
     EXPECT_NEAR(box.min.y, 0.02f, 1e-6f) << "standing on the floor";
     const fs::path sphere = fs::path(AQUAFORM_ASSETS_DIR) / "meshes/sphere.obj", torus = fs::path(AQUAFORM_ASSETS_DIR) / "meshes/torus.obj";
-    for (cli::ShapeOp op : {cli::ShapeOp::attach, cli::ShapeOp::union_with, cli::ShapeOp::morph}) {
-        const std::vector<fs::path> meshes = op == cli::ShapeOp::attach ? std::vector<fs::path>{sphere} : std::vector<fs::path>{sphere, torus};
+    for (viewer::ShapeOp op : {viewer::ShapeOp::attach, viewer::ShapeOp::union_with, viewer::ShapeOp::morph}) {
+        const std::vector<fs::path> meshes = op == viewer::ShapeOp::attach ? std::vector<fs::path>{sphere} : std::vector<fs::path>{sphere, torus};
         auto section = session::shape_section(scene, meshes, op, box);
         ASSERT_TRUE(section.ok()) << section.error();
         EXPECT_EQ(section.value().meshes.size(), meshes.size());
@@ -258,8 +258,8 @@ TEST(ViewShapesTest, SectionsAttachUnionAndMorph) {
                 if (e.action == action) return true;
             return false;
         };
-        EXPECT_EQ(has(control::TimelineAction::morph), op == cli::ShapeOp::morph);
-        EXPECT_EQ(has(control::TimelineAction::union_with), op == cli::ShapeOp::union_with);
+        EXPECT_EQ(has(control::TimelineAction::morph), op == viewer::ShapeOp::morph);
+        EXPECT_EQ(has(control::TimelineAction::union_with), op == viewer::ShapeOp::union_with);
     }
 }
 
@@ -269,9 +269,9 @@ TEST(ViewShapesTest, ADroppedMeshStandsUnderTheCursor) {
     scene.particle_spacing = 0.02f;
     const std::vector<glm::vec4> fluid(1000, glm::vec4(0.3f, 0.1f, 0.1f, 0.0f));
     const ViewCamera camera = camera_for_domain(scene.domain, 4.0f / 3.0f);
-    auto centre = cli::point_under_cursor(camera, scene.domain, {0.0f, 0.0f}, 4.0f / 3.0f);
-    auto left = cli::point_under_cursor(camera, scene.domain, {-0.6f, 0.0f}, 4.0f / 3.0f);
-    auto right = cli::point_under_cursor(camera, scene.domain, {0.6f, 0.0f}, 4.0f / 3.0f);
+    auto centre = viewer::point_under_cursor(camera, scene.domain, {0.0f, 0.0f}, 4.0f / 3.0f);
+    auto left = viewer::point_under_cursor(camera, scene.domain, {-0.6f, 0.0f}, 4.0f / 3.0f);
+    auto right = viewer::point_under_cursor(camera, scene.domain, {0.6f, 0.0f}, 4.0f / 3.0f);
     ASSERT_TRUE(centre && left && right);
     EXPECT_LT(left->x, centre->x - 0.2f) << "the left of the window is the left of the tank";
     EXPECT_GT(right->x, centre->x + 0.2f);
@@ -279,22 +279,22 @@ TEST(ViewShapesTest, ADroppedMeshStandsUnderTheCursor) {
         EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, scene.domain.min)) && glm::all(glm::lessThanEqual(p, scene.domain.max)));
     }
     // The shape's cube stands above the point (clamped into the tank), not above the fluid.
-    const Box box = cli::shape_box(scene, fluid, right);
+    const Box box = viewer::shape_box(scene, fluid, right);
     EXPECT_NEAR(0.5f * (box.min.x + box.max.x), std::min(right->x, scene.domain.max.x - 0.5f * (box.max.x - box.min.x)), 1e-5f);
     EXPECT_GT(0.5f * (box.min.x + box.max.x), 0.5f) << "still above the fluid at x = 0.3";
     // A camera turned away from the tank gives nothing rather than a point behind the eye.
     ViewCamera away = camera;
     away.target = camera.eye + (camera.eye - camera.target);
-    EXPECT_FALSE(cli::point_under_cursor(away, scene.domain, {0.0f, 0.0f}, 4.0f / 3.0f).has_value());
+    EXPECT_FALSE(viewer::point_under_cursor(away, scene.domain, {0.0f, 0.0f}, 4.0f / 3.0f).has_value());
 }
 
 TEST(ViewShapesTest, OrbitTurnsAboutTheTargetAndFlyAboutTheEye) {
     ViewCamera start;
     start.eye = {1.0f, 0.5f, 2.0f};
     start.target = {0.0f, 0.2f, 0.0f};
-    cli::OrbitCamera cam = cli::OrbitCamera::around(start);
+    viewer::OrbitCamera cam = viewer::OrbitCamera::around(start);
     EXPECT_LT(glm::length(cam.camera().eye - start.eye), 1e-5f) << "around() reproduces the camera";
-    cli::OrbitCamera orbit = cam, fly = cam;
+    viewer::OrbitCamera orbit = cam, fly = cam;
     orbit.turn(0.3f, 0.1f, false);
     fly.turn(0.3f, 0.1f, true);
     EXPECT_LT(glm::length(orbit.camera().target - start.target), 1e-6f);

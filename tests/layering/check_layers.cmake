@@ -14,7 +14,8 @@ set(layers
   "control|control/mesh.h|core,gpu,grid,sim"
   "session|session/simulation_session.h|core,gpu,grid,sim,control"
   "study|study/bench_sim.h|core,gpu,grid,sim,render,control,session"
-  "apps|apps/cli.h|core,gpu,grid,sim,render,control,session,study")
+  "viewer|viewer/view_worker.h|core,gpu,grid,sim,render,control,session"
+  "apps|apps/cli.h|core,gpu,grid,sim,render,control,session,study,viewer")
 
 file(READ ${BUILD_DIR}/compile_commands.json db)
 string(JSON count LENGTH "${db}")

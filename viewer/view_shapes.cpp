@@ -1,11 +1,11 @@
-#include "apps/view_shapes.h"
+#include "viewer/view_shapes.h"
 
 #include <optional>
 
 #include <algorithm>
 #include <cmath>
 
-namespace aquaform::cli {
+namespace aquaform::viewer {
 
 OrbitCamera OrbitCamera::around(const ViewCamera& c) {
     OrbitCamera o;
@@ -71,4 +71,4 @@ std::optional<glm::vec3> point_under_cursor(const ViewCamera& camera, const Box&
     return glm::clamp(camera.eye + t * dir, domain.min, domain.max);
 }
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::viewer

@@ -1,4 +1,4 @@
-#include "apps/view_worker.h"
+#include "viewer/view_worker.h"
 
 #include <algorithm>
 #include <chrono>
@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <cstring>
 
-#include "apps/view_shapes.h"
+#include "viewer/view_shapes.h"
 #include "control/push_force.h"
 #include "gpu/compute_pass.h"
 #include "gpu/context.h"
@@ -19,7 +19,7 @@
 #include "session/simulation_session.h"
 #include "sim/pbf_solver.h"
 
-namespace aquaform::cli {
+namespace aquaform::viewer {
 
 const std::vector<std::string>& view_methods() {
     static const std::vector<std::string> methods = [] {
@@ -105,7 +105,7 @@ struct ViewWorker::Sim {
     }
 
     /// Applies a shape operation with `file` (an OBJ): attach makes it the only shape, union adds
-    /// it to the shapes, morph hands the shapes over to it in one second (apps/view_shapes.h says
+    /// it to the shapes, morph hands the shapes over to it in one second (viewer/view_shapes.h says
     /// where it goes), at the automatic strength; the solver continues from the current particles.
     /// A mesh that cannot be used leaves the simulation as it was and says why.
     void shape(ShapeOp op, const fs::path& file, std::optional<glm::vec3> at) {
@@ -442,4 +442,4 @@ bool ViewWorker::frame(const ViewControls& controls, std::deque<ViewCommand> com
     return true;
 }
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::viewer

@@ -1,16 +1,17 @@
 // The viewer's worker: a thread that owns the simulation and the renderers and makes the fluid's
 // pictures while the window thread draws the UI, so that the UI never waits for a frame of the
-// fluid (apps/cmd_view.cpp). The window sets what it wants (ViewControls: camera, method, settings,
+// fluid (viewer/viewer.h). The window sets what it wants (ViewControls: camera, method, settings,
 // size, play) and posts discrete operations (ViewCommand: step, reset, shapes, solver settings);
 // the worker reads them at the start of each of its frames, simulates when playing, renders into
 // one of three GPU picture buffers and publishes it. The window blits the newest published one;
 // neither ever waits for the other, and pictures stay on the GPU.
 //
-// On a device with one queue that runs submissions in order (the software device), the window's
-// frames would still queue behind a whole simulation frame: the worker therefore submits its work
-// in pieces (gpu::Context::yield_queue between the solver's phases and the renderer's passes),
-// and the window's frames slot in between. A scripted or recorded session (lockstep) asks for a
-// frame and waits for it instead, so that its frame numbers are the fluid's.
+// On a device with one queue that runs submissions in order and slowly (the software device,
+// DeviceInfo::slow_in_order_queue), the window's frames would still queue behind a whole
+// simulation frame: the worker then shares the queue (gpu::Context::QueueSharing, its one hook),
+// which cuts its recordings between timed passes, and the window's frames slot in between. A
+// scripted or recorded session (lockstep) asks for a frame and waits for it instead, so that its
+// frame numbers are the fluid's.
 #pragma once
 
 #include <atomic>
@@ -40,7 +41,7 @@ class Context;
 class ShaderWatcher;
 }  // namespace aquaform::gpu
 
-namespace aquaform::cli {
+namespace aquaform::viewer {
 
 /// The method menu: every registered method that is quick enough to watch (MethodEntry::watchable).
 const std::vector<std::string>& view_methods();
@@ -163,7 +164,7 @@ private:
     std::optional<PushStroke> stroke_;
     uint64_t requested_ = 0, completed_ = 0;
     std::atomic<bool> stop_{false};
-    bool lockstep_ = false;  // also ends a frame early, at its next queue yield
+    bool lockstep_ = false;
     ViewReport report_;
     PictureSlots slots_;
     struct Slot {
@@ -173,4 +174,4 @@ private:
     Slot pictures_[PictureSlots::kCount];
 };
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::viewer

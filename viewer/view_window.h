@@ -21,7 +21,7 @@ namespace aquaform::gpu {
 class Context;
 }
 
-namespace aquaform::cli {
+namespace aquaform::viewer {
 
 class ViewWindow {
 public:
@@ -82,4 +82,4 @@ private:
     uint32_t staging_w_ = 0, staging_h_ = 0;
 };
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::viewer

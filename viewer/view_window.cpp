@@ -1,4 +1,4 @@
-#include "apps/view_window.h"
+#include "viewer/view_window.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -10,7 +10,7 @@
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
 
-namespace aquaform::cli {
+namespace aquaform::viewer {
 
 namespace {
 
@@ -315,4 +315,4 @@ void ViewWindow::end_frame(VkCommandBuffer cmd) {
     }
 }
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::viewer

@@ -22,7 +22,7 @@
 
 #include "core/result.h"
 
-namespace aquaform::cli {
+namespace aquaform::viewer {
 
 struct ViewAction {
     uint32_t frame = 0;
@@ -34,4 +34,4 @@ struct ViewAction {
 Result<std::vector<ViewAction>> load_view_script(const std::filesystem::path& path);
 Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const std::string& origin);
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::viewer

@@ -1,4 +1,4 @@
-#include "apps/view_script.h"
+#include "viewer/view_script.h"
 
 #include <algorithm>
 #include <array>
@@ -6,10 +6,10 @@
 #include <iterator>
 #include <string_view>
 
-#include "apps/render_options.h"
+#include "render/registry.h"
 #include "core/json_fields.h"
 
-namespace aquaform::cli {
+namespace aquaform::viewer {
 
 namespace {
 
@@ -87,4 +87,4 @@ Result<std::vector<ViewAction>> load_view_script(const std::filesystem::path& pa
     return actions;
 }
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::viewer

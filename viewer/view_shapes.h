@@ -13,7 +13,7 @@
 #include "session/simulation_session.h"
 #include "sim/scene.h"
 
-namespace aquaform::cli {
+namespace aquaform::viewer {
 
 struct OrbitCamera {
     glm::vec3 target{0.0f};
@@ -39,4 +39,4 @@ Box shape_box(const Scene& scene, const std::vector<glm::vec4>& particles, std::
 /// clamped into the domain. Nothing when the ray runs away from that plane.
 std::optional<glm::vec3> point_under_cursor(const ViewCamera& camera, const Box& domain, glm::vec2 ndc, float aspect);
 
-}  // namespace aquaform::cli
+}  // namespace aquaform::viewer
