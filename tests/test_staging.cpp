@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "gpu/buffer.h"
+#include "gpu/compute_pass.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "render/surface_renderer.h"
@@ -25,11 +26,12 @@ TEST_F(StagingTest, UploadsInsideARecordingLandInOrderWithTheCommandsAroundThem)
     gpu::Buffer a = gpu::create_buffer(ctx(), "test.a", n * 4), b = gpu::create_buffer(ctx(), "test.b", n * 4);
     const uint64_t before = ctx().submissions();
     ctx().submit_and_wait([&](VkCommandBuffer cmd) {
-        vkCmdFillBuffer(cmd, a.buffer, 0, VK_WHOLE_SIZE, 7u);  // an earlier write the upload must follow
+        // Through the tracked helpers, so that the barriers between them and the uploads are the
+        // tracker's (the synchronization-validation run of this test checks them).
+        gpu::fill(ctx(), cmd, a, 7u);  // an earlier write the upload must follow
         gpu::upload(ctx(), a, big.data(), n * 4);
         gpu::upload(ctx(), a, small.data(), small.size() * 4, 64);  // inline, over part of the big one
-        const VkBufferCopy copy{0, 0, n * 4};
-        vkCmdCopyBuffer(cmd, a.buffer, b.buffer, 1, &copy);
+        gpu::copy(ctx(), cmd, a, b, VkBufferCopy{0, 0, n * 4});
         gpu::upload(ctx(), a, zeros.data(), n * 4);  // after the copy: b must not see it
     });
     EXPECT_EQ(ctx().submissions(), before + 1) << "uploads inside a recording submit nothing of their own";
