@@ -6,13 +6,16 @@
 #include "gpu/context.h"
 #include "gpu/timer.h"
 #include "grid/neighbor_grid.h"
+#include "session/simulation_session.h"
 #include "sim/pbf_solver.h"
 #include "study/bench_scenes.h"
 
 namespace aquaform::study {
 
 SolverBenchRecord measure_solver(gpu::Context& ctx, uint32_t target_particles, const SolverBenchOptions& options) {
-    PbfSolver solver(ctx, bench_scene(target_particles, options.iterations));
+    // The bench scene has no control: the session's solver alone, stepped without frame figures.
+    session::SimulationSession session(ctx, session::plan_session(bench_scene(target_particles, options.iterations), std::nullopt));
+    PbfSolver& solver = session.solver();
     gpu::GpuTimer timer(ctx);
     solver.run_steps(options.warmup, nullptr);
     double wall_ms = 0.0;
