@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <optional>
 #include <sstream>
 
@@ -21,6 +22,7 @@
 #include "study/render_measure.h"
 #include "apps/render_options.h"
 #include "gpu/context.h"
+#include "render/registry.h"
 
 namespace aquaform::cli {
 
@@ -149,26 +151,29 @@ int bench_render(const Args& args) {
     if (!study::simulate_frames(solver, frame, "simulating to frame " + std::to_string(frame)))
         return exit_status(ctx, kExitFailure);
 
-    SurfaceRenderer renderer(ctx, scene.particle_domain(), width, height, n);
+    // One renderer through the registry draws every configuration: they are all SPH surface
+    // methods, so each measurement only reconfigures it.
+    const MethodSettings reference_settings = study::reference_settings(*base);
+    const std::unique_ptr<Renderer> renderer =
+        render_registry().create(ctx, scene.particle_domain(), width, height, n, reference_settings);
     const ViewCamera camera = camera_for_domain(scene.domain, float(width) / float(height));
     const size_t total = configs.value().size() + 1;
 
-    SurfaceSettings reference_settings = *base;
-    reference_settings.method = SurfaceMethod::reference;
     std::fprintf(stderr, "bench render: rendering reference (1/%zu, exhaustive: the slowest)\n", total);
-    const study::RenderMeasurement ref = study::measure_render(ctx, renderer, solver.positions(), n, camera, reference_settings, 1);
-    const float radius = renderer.params().particle_radius;  // set by the first render
+    const study::RenderMeasurement ref = study::measure_render(ctx, *renderer, solver.positions(), n, camera, reference_settings, 1);
+    const float radius = scene.particle_domain().particle_radius();
     nlohmann::json records = nlohmann::json::array();
-    records.push_back(study::render_record("reference", reference_settings, renderer, ref, nullptr));
+    records.push_back(study::render_record("reference", ref, nullptr));
 
     std::vector<study::Measured> results;
     results.reserve(configs.value().size());
     for (const study::BenchConfig* c : configs.value()) {
         std::fprintf(stderr, "bench render: rendering %s (%zu/%zu: %s)\n", c->label, results.size() + 2, total, c->what);
-        study::Measured r{c, study::settings_for(*c, *base), {}, {}};
-        r.m = study::measure_render(ctx, renderer, solver.positions(), n, camera, r.settings, uint32_t(*repeats));
+        study::Measured r{c, study::measure_render(ctx, *renderer, solver.positions(), n, camera, study::settings_for(*c, *base),
+                                                   uint32_t(*repeats)),
+                          {}};
         r.cmp = compare_surfaces(ref.frame, r.m.frame, radius);
-        records.push_back(study::render_record(c->label, r.settings, renderer, r.m, &r.cmp));
+        records.push_back(study::render_record(c->label, r.m, &r.cmp));
         results.push_back(std::move(r));
     }
 

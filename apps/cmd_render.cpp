@@ -12,6 +12,7 @@
 #include "apps/render_options.h"
 #include "gpu/context.h"
 #include "render/registry.h"
+#include "render/surface_renderer.h"
 #include "render/surface_views.h"
 
 namespace aquaform::cli {
@@ -29,15 +30,9 @@ Result<bool> write_all(const std::filesystem::path& dir, const std::vector<std::
 int render_other_family(gpu::Context& ctx, Renderer& renderer, PbfSolver& solver, const ViewCamera& camera, const Args& args,
                         uint32_t frame, const std::filesystem::path& out_dir) {
     const uint32_t n = solver.particle_count();
-    study::RenderMeasurement m;
-    const study::PassTimes t = study::time_best_of(ctx, 2, [&](VkCommandBuffer cmd, gpu::GpuTimer* timer) {
-        renderer.record(cmd, solver.positions(), n, camera, timer);
-    });
-    m.ms_total = t.ms_total;
-    m.ms_per_pass = t.ms_per_pass;
-    m.frame = renderer.read_frame();
-    const RenderStats stats = renderer.stats();
-    m.rays = uint32_t(stats.rays);
+    const MethodSettings settings = renderer.settings();  // as made: measure_render configures it again
+    const study::RenderMeasurement m = study::measure_render(ctx, renderer, solver.positions(), n, camera, settings, 2);
+    const RenderStats& stats = m.stats;
     std::vector<std::pair<std::string, Image>> images{{"image.png", m.frame.color}};
     nlohmann::json record = {{"label", renderer.method()}, {"method", renderer.method()}, {"width", renderer.width()},
                              {"height", renderer.height()}, {"particles", n}, {"ms_total", m.ms_total},
@@ -128,9 +123,10 @@ int cmd_render(const std::vector<std::string>& argv) {
     auto made = render_registry().create(ctx, scene.particle_domain(), width, height, solver.particle_count(), *method);
     if (!settings)
         return exit_status(ctx, render_other_family(ctx, *made, solver, camera, *args, frame, out_dir));
+    // The surface renderer's diagnostic views (tiles, classes) are its own: reached once, here.
     SurfaceRenderer& renderer = *concrete_of<SurfaceRenderer>(*made);
     renderer.set_diagnostics(true);
-    study::RenderMeasurement m = study::measure_render(ctx, renderer, solver.positions(), solver.particle_count(), camera, *settings, 2);
+    study::RenderMeasurement m = study::measure_render(ctx, *made, solver.positions(), solver.particle_count(), camera, *method, 2);
     std::vector<std::pair<std::string, Image>> images{
         {"image.png", m.frame.color},
         {"evals.png", evals_view(m.frame, float(settings->max_steps) / 4.0f)},
@@ -145,21 +141,19 @@ int cmd_render(const std::vector<std::string>& argv) {
     report["device"] = ctx.info().name;
     study::print_render_header();
     if (settings->method != SurfaceMethod::reference && !args->has("--no-reference")) {
-        SurfaceSettings reference_settings;
-        reference_settings.method = SurfaceMethod::reference;
-        study::RenderMeasurement ref = study::measure_render(ctx, renderer, solver.positions(), solver.particle_count(), camera,
-                                               reference_settings, 1);
+        study::RenderMeasurement ref = study::measure_render(ctx, *made, solver.positions(), solver.particle_count(), camera,
+                                                             render_registry().find("reference")->defaults, 1);
         const SurfaceComparison cmp = compare_surfaces(ref.frame, m.frame, renderer.params().particle_radius);
         study::print_render_row(method_name(settings->method), m, &cmp);
         study::print_render_row("reference", ref, nullptr);
-        report["render"] = study::render_record(method_name(settings->method), *settings, renderer, m, &cmp);
-        report["reference"] = study::render_record("reference", reference_settings, renderer, ref, nullptr);
+        report["render"] = study::render_record(method_name(settings->method), m, &cmp);
+        report["reference"] = study::render_record("reference", ref, nullptr);
         images.emplace_back("reference.png", ref.frame.color);
         const SurfaceErrorMaps errors = surface_error_maps(ref.frame, m.frame, renderer.params().particle_radius);
         images.emplace_back("depth_error.png", heat_map(errors.depth_err, width, height, 1.0f, &m.frame.color));
     } else {
         study::print_render_row(method_name(settings->method), m, nullptr);
-        report["render"] = study::render_record(method_name(settings->method), *settings, renderer, m, nullptr);
+        report["render"] = study::render_record(method_name(settings->method), m, nullptr);
     }
     if (auto written = write_all(out_dir, images); !written)
         return std::fprintf(stderr, "aquaform render: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);

@@ -70,13 +70,25 @@ Result<std::vector<const BenchConfig*>> parse_configs(const std::string& text) {
     return configs;
 }
 
-SurfaceSettings settings_for(const BenchConfig& c, SurfaceSettings base) {
+namespace {
+
+/// The registry names a method's settings by the method (render/surface_methods.cpp).
+MethodSettings as_method(const SurfaceSettings& s) { return MethodSettings(method_name(s.method), s); }
+
+}  // namespace
+
+MethodSettings settings_for(const BenchConfig& c, SurfaceSettings base) {
     base.method = c.method;
     base.use_mask = c.mask;
     base.use_skip = c.skip;
     base.adaptive_resolution = c.adaptive_res;
     base.blend_normals = c.blend;
-    return base;
+    return as_method(base);
+}
+
+MethodSettings reference_settings(SurfaceSettings base) {
+    base.method = SurfaceMethod::reference;
+    return as_method(base);
 }
 
 namespace {

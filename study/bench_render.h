@@ -35,13 +35,14 @@ const BenchConfig* find_config(const std::string& label);
 std::string known_labels();
 /// --configs a,b,c in the table's order; the reference is always rendered.
 Result<std::vector<const BenchConfig*>> parse_configs(const std::string& text);
-/// `base` with the configuration's method and mechanisms.
-SurfaceSettings settings_for(const BenchConfig& c, SurfaceSettings base);
+/// `base` with the configuration's method and mechanisms, as that method's registry settings.
+MethodSettings settings_for(const BenchConfig& c, SurfaceSettings base);
+/// `base` drawn by the exhaustive reference.
+MethodSettings reference_settings(SurfaceSettings base);
 
 struct Measured {
     const BenchConfig* config;
-    SurfaceSettings settings;
-    RenderMeasurement m;
+    RenderMeasurement m;  ///< with the settings rendered
     SurfaceComparison cmp;
 };
 

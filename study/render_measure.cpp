@@ -7,6 +7,7 @@
 #include "core/progress.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
+#include "render/surface_settings.h"
 
 namespace aquaform::study {
 
@@ -49,42 +50,43 @@ PassTimes time_best_of(gpu::Context& ctx, uint32_t repeats,
     return best;
 }
 
-RenderMeasurement measure_render(gpu::Context& ctx, SurfaceRenderer& renderer, const gpu::Buffer& positions,
-                                 uint32_t count, const ViewCamera& camera, const SurfaceSettings& settings,
-                                 uint32_t repeats) {
+RenderMeasurement measure_render(gpu::Context& ctx, Renderer& renderer, const gpu::Buffer& positions, uint32_t count,
+                                 const ViewCamera& camera, const MethodSettings& settings, uint32_t repeats) {
+    renderer.configure(settings);
     const PassTimes times = time_best_of(ctx, repeats, [&](VkCommandBuffer cmd, gpu::GpuTimer* timer) {
-        renderer.record(cmd, positions, count, camera, settings, timer);
+        renderer.record(cmd, positions, count, camera, timer);
     });
     RenderMeasurement best;
+    best.settings = settings;
+    best.particles = count;
     best.ms_total = times.ms_total;
     best.ms_per_pass = times.ms_per_pass;
     best.frame = renderer.read_frame();
-    best.rays = renderer.rays_cast();
+    best.stats = renderer.stats();
     return best;
 }
 
 double evals_per_ray(const RenderMeasurement& m) {
-    double evals = 0.0;
-    for (const auto& n : m.frame.normal) evals += n.w;
-    return m.rays ? evals / m.rays : 0.0;
+    return m.stats.rays ? double(m.stats.evaluations) / double(m.stats.rays) : 0.0;
 }
 
-nlohmann::json render_record(const std::string& label, const SurfaceSettings& settings, const SurfaceRenderer& renderer,
-                             const RenderMeasurement& m, const SurfaceComparison* cmp) {
+nlohmann::json render_record(const std::string& label, const RenderMeasurement& m, const SurfaceComparison* cmp) {
     nlohmann::json r;
     r["label"] = label;
-    r["method"] = method_name(settings.method);
-    r["mask"] = settings.use_mask;
-    r["skip"] = settings.use_skip;
-    r["adaptive_resolution"] = settings.adaptive_resolution;
-    r["blend_normals"] = settings.blend_normals;
-    r["anisotropic"] = settings.anisotropic;
-    r["width"] = renderer.width();
-    r["height"] = renderer.height();
-    r["particles"] = renderer.params().particle_count;
+    r["method"] = m.settings.method();
+    if (const SurfaceSettings* s = m.settings.get<SurfaceSettings>()) {
+        r["mask"] = s->use_mask;
+        r["skip"] = s->use_skip;
+        r["adaptive_resolution"] = s->adaptive_resolution;
+        r["blend_normals"] = s->blend_normals;
+        r["anisotropic"] = s->anisotropic;
+    }
+    r["width"] = m.frame.width;
+    r["height"] = m.frame.height;
+    r["particles"] = m.particles;
     r["ms_total"] = m.ms_total;
     r["ms_per_pass"] = m.ms_per_pass;
-    r["rays"] = m.rays;
+    r["rays"] = m.stats.rays;
     r["evals_per_ray"] = evals_per_ray(m);
     if (cmp) {
         r["depth_err_mean"] = cmp->depth_err_mean;
@@ -105,11 +107,12 @@ void print_render_header() {
 
 void print_render_row(const std::string& label, const RenderMeasurement& m, const SurfaceComparison* cmp) {
     const double per_ray = evals_per_ray(m);
+    const unsigned long long rays = m.stats.rays;
     if (cmp)
-        std::printf("%-22s %9.1f %8u %9.1f %10.3f %10.2f %8.2f%% %8.1f\n", label.c_str(), m.ms_total, m.rays, per_ray,
+        std::printf("%-22s %9.1f %8llu %9.1f %10.3f %10.2f %8.2f%% %8.1f\n", label.c_str(), m.ms_total, rays, per_ray,
                     cmp->depth_err_mean, cmp->normal_err_deg_mean, 100.0 * cmp->coverage_mismatch, cmp->psnr_db);
     else
-        std::printf("%-22s %9.1f %8u %9.1f %10s %10s %9s %8s\n", label.c_str(), m.ms_total, m.rays, per_ray, "-", "-",
+        std::printf("%-22s %9.1f %8llu %9.1f %10s %10s %9s %8s\n", label.c_str(), m.ms_total, rays, per_ray, "-", "-",
                     "-", "-");
 }
 

@@ -1,5 +1,6 @@
 // Rendering a solver state with one method and measuring it against the reference: shared by
-// `aquaform render` and `aquaform bench render`.
+// `aquaform render`, `aquaform bench render` and `aquaform study`. Every method is measured
+// through the Renderer interface (render/renderer.h); its counters come from Renderer::stats().
 #pragma once
 
 #include <functional>
@@ -9,7 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "render/image_metrics.h"
-#include "render/surface_renderer.h"
+#include "render/renderer.h"
 #include "sim/pbf_solver.h"
 
 namespace aquaform::study {
@@ -30,25 +31,27 @@ PassTimes time_best_of(gpu::Context& ctx, uint32_t repeats,
                        const std::function<void(VkCommandBuffer, gpu::GpuTimer*)>& record);
 
 struct RenderMeasurement {
+    MethodSettings settings;  ///< what was rendered (a renderer is reconfigured between measurements)
+    uint32_t particles = 0;
     SurfaceFrame frame;
     std::map<std::string, double> ms_per_pass;
     double ms_total = 0.0;
-    uint32_t rays = 0;
+    RenderStats stats;  ///< the counters of the last frame: rays, evaluations, cut rays, lists
 };
 
-/// Renders `repeats` times (the first run warms caches and pipelines) and keeps the fastest
-/// total; the frame is the last one rendered.
-RenderMeasurement measure_render(gpu::Context& ctx, SurfaceRenderer& renderer, const gpu::Buffer& positions,
-                                 uint32_t count, const ViewCamera& camera, const SurfaceSettings& settings,
-                                 uint32_t repeats);
+/// Configures `renderer` with `settings` (of its family), renders `repeats` times (the first run
+/// warms caches and pipelines) and keeps the fastest total; the frame and the counters are the
+/// last run's.
+RenderMeasurement measure_render(gpu::Context& ctx, Renderer& renderer, const gpu::Buffer& positions, uint32_t count,
+                                 const ViewCamera& camera, const MethodSettings& settings, uint32_t repeats);
 
-/// Mean density evaluations per ray cast: every evaluation of the frame (normal.w) over the
-/// length of the ray list; 0 when no ray was cast.
+/// Mean density (or field) evaluations per ray cast: RenderStats::evaluations over its rays
+/// (the surface renderer's ray list); 0 when no ray was cast.
 double evals_per_ray(const RenderMeasurement& m);
 
-/// The record of one method: the fields bench_render.json and render.json share.
-nlohmann::json render_record(const std::string& label, const SurfaceSettings& settings, const SurfaceRenderer& renderer,
-                             const RenderMeasurement& m, const SurfaceComparison* against_reference);
+/// The record of one method: the fields bench_render.json and render.json share (the SPH
+/// surface methods also name their mechanisms).
+nlohmann::json render_record(const std::string& label, const RenderMeasurement& m, const SurfaceComparison* against_reference);
 
 /// A one-line summary per method for the terminal.
 void print_render_row(const std::string& label, const RenderMeasurement& m, const SurfaceComparison* cmp);

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <memory>
 #include <sstream>
+#include <tuple>
 
 #include "study/bench_scenes.h"
 #include "study/render_measure.h"
@@ -16,8 +17,6 @@
 #include "render/image_metrics.h"
 #include "render/metaball_renderer.h"
 #include "render/registry.h"
-#include "render/screen_space.h"
-#include "render/surface_renderer.h"
 #include "sim/pbf_solver.h"
 #include "core/error.h"
 
@@ -35,6 +34,11 @@ constexpr float kMetaballReferenceStepRadii = 0.25f;
 constexpr uint32_t kMetaballReferenceBisections = 16;
 /// The reference may grow its list memory to this much to hold a frame's lists without overflow.
 constexpr uint64_t kMaxReferenceListBytes = 4ull << 30;
+
+/// The most list memory per pixel a metaball renderer is made with (the setting's range).
+uint64_t max_list_bytes_per_pixel() {
+    return uint64_t(render_registry().find("sbuffer")->setting_by_spec_key("list_bytes_per_pixel")->max);
+}
 
 void progress(const std::string& line) {
     std::fprintf(stderr, "study: %s\n", line.c_str());
@@ -88,10 +92,9 @@ public:
         sph_reference_.reset();
         metaball_references_.clear();
         metaball_reference_cut_.clear();
-        surface_.clear();
-        metaball_.reset();
-        roomy_metaball_.reset();
-        screen_space_.reset();
+        renderers_.clear();
+        roomy_.reset();
+        roomy_bytes_per_pixel_ = 0;
         for (const StudyMethod& m : case_.methods) {
             StudyRow row = base_row(m);
             try {
@@ -148,33 +151,39 @@ private:
 
     float particle_radius() const { return 0.5f * scene_.particle_spacing; }
 
-    SurfaceRenderer& surface(uint32_t w, uint32_t h) {
-        const uint64_t key = (uint64_t(w) << 32) | h;
-        auto& r = surface_[key];
-        if (!r) r = std::make_unique<SurfaceRenderer>(ctx_, scene_.particle_domain(), w, h, particles());
+    /// The renderer of `settings`' family at w x h, made through the registry the first time:
+    /// the methods of a family share it (the surface renderer also draws the SPH reference; the
+    /// metaball renderer keeps the case's list memory, made with the first metaball method's).
+    Renderer& renderer(const MethodSettings& settings, uint32_t w, uint32_t h) {
+        auto& r = renderers_[{render_registry().find(settings.method())->family, w, h}];  // the spec checked the name
+        if (!r) r = render_registry().create(ctx_, scene_.particle_domain(), w, h, particles(), settings);
         return *r;
     }
 
-    /// Renders with the SPH surface renderer at w x h, timed; returns the frame.
-    SurfaceFrame render_surface(const SurfaceSettings& settings, uint32_t w, uint32_t h, uint32_t repeats, StudyRow* row) {
-        SurfaceRenderer& r = surface(w, h);
-        RenderMeasurement m = measure_render(ctx_, r, solver_->positions(), particles(), camera_, settings, repeats);
+    /// Renders `settings` at w x h, the fastest of `repeats`; the row (when given) gets the
+    /// times and what went wrong: lists that overflowed, loops the device ended early.
+    RenderMeasurement measure_method(const MethodSettings& settings, uint32_t w, uint32_t h, uint32_t repeats, StudyRow* row) {
+        RenderMeasurement m =
+            measure_render(ctx_, renderer(settings, w, h), solver_->positions(), particles(), camera_, settings, repeats);
         if (row) {
             row->ms_total = m.ms_total;
             row->ms_per_pass = m.ms_per_pass;
-            // The software device ends long shader loops early (SurfaceRenderer::cut_rays).
-            if (const uint32_t cut = r.cut_rays())
-                row->status = "cut: " + std::to_string(cut) + " rays stopped by the device's loop limit";
+            if (m.stats.list_overflow) {
+                row->status = "overflow";
+                row->overflow_mib = double(m.stats.list_bytes_needed) / (1024.0 * 1024.0);
+            }
+            // The software device ends long shader loops early (RenderStats::cut).
+            if (m.stats.cut)
+                row->status = "cut: " + std::to_string(m.stats.cut) + " " + m.stats.cut_unit +
+                              " stopped by the device's loop limit";
         }
-        return std::move(m.frame);
+        return m;
     }
 
     const SurfaceFrame& sph_reference(StudyRow* row = nullptr) {
         if (!sph_reference_) {
-            SurfaceSettings s;
-            s.method = SurfaceMethod::reference;
             StudyRow timing;
-            sph_reference_ = render_surface(s, width_, height_, 1, &timing);
+            sph_reference_ = measure_method(render_registry().find("reference")->defaults, width_, height_, 1, &timing).frame;
             sph_reference_ms_ = timing;
         }
         if (row) {
@@ -190,109 +199,87 @@ private:
         if (row.status == "ok" && sph_reference_ms_.status != "ok") row.status = "reference " + sph_reference_ms_.status;
     }
 
-    /// The case's metaball renderer (with its list budget), or, for the reference, one whose
-    /// lists hold at least `list_bytes`.
-    MetaballRenderer& metaball(uint64_t list_bytes = 0) {
-        if (list_bytes) {
-            if (!roomy_metaball_ || roomy_metaball_->list_bytes() < list_bytes)
-                roomy_metaball_ = std::make_unique<MetaballRenderer>(ctx_, scene_.particle_domain(), width_, height_, particles(), list_bytes);
-            return *roomy_metaball_;
+    /// The metaball reference's settings for metaballs of range `size`, with lists of
+    /// `bytes_per_pixel` (the registry's make fixes a renderer's list memory from them).
+    static MethodSettings metaball_reference_settings(float size, uint32_t bytes_per_pixel) {
+        const nlohmann::json object = {{"size", size},
+                                       {"step", kMetaballReferenceStepRadii},
+                                       {"bisection", kMetaballReferenceBisections},
+                                       {"max_steps", 1000000},
+                                       // exact in close-ups too: particles at the eye plane are visited from the near list
+                                       {"keep_near", true},
+                                       {"list_bytes_per_pixel", bytes_per_pixel}};
+        auto settings = render_registry().from_json("sbuffer", object, "the metaball reference");
+        if (!settings) throw internal_failure(settings.error());
+        return settings.value();
+    }
+
+    /// The reference's metaball renderer: lists of at least `bytes_per_pixel`, made anew (and
+    /// kept for later sizes) when the last one's are smaller.
+    Renderer& roomy(uint32_t bytes_per_pixel, float size) {
+        if (!roomy_ || roomy_bytes_per_pixel_ < bytes_per_pixel) {
+            roomy_ = render_registry().create(ctx_, scene_.particle_domain(), width_, height_, particles(),
+                                              metaball_reference_settings(size, bytes_per_pixel));
+            roomy_bytes_per_pixel_ = bytes_per_pixel;
         }
-        if (!metaball_)
-            metaball_ = std::make_unique<MetaballRenderer>(ctx_, scene_.particle_domain(), width_, height_, particles(),
-                                                           uint64_t(case_.list_bytes_per_pixel) * width_ * height_);
-        return *metaball_;
+        roomy_->configure(metaball_reference_settings(size, roomy_bytes_per_pixel_));
+        return *roomy_;
     }
 
     /// The exact surface of the metaball field of range `size`, or nullptr (with the reason in
-    /// `why`) when its lists would not fit in kMaxReferenceListBytes.
+    /// `why`) when its lists would not fit in kMaxReferenceListBytes (or in the most memory per
+    /// pixel a renderer takes).
     const SurfaceFrame* metaball_reference(float size, std::string* why) {
         auto it = metaball_references_.find(size);
         if (it != metaball_references_.end()) return &it->second;
-        MetaballSettings s;
-        s.method = MetaballMethod::s_buffer;
-        s.size = size;
-        s.step_radii = kMetaballReferenceStepRadii;
-        s.bisection_steps = kMetaballReferenceBisections;
-        s.max_steps = 1000000;
-        s.keep_near = true;  // exact in close-ups too: particles at the eye plane are visited from the near list
-        MetaballRenderer* roomy = &metaball(uint64_t(width_) * height_ * kDefaultListBytesPerPixel);
-        SurfaceFrame frame = roomy->render(solver_->positions(), particles(), camera_, s);
-        const MetaballStats stats = roomy->stats();
-        if (stats.overflow) {
-            if (stats.list_bytes_needed > kMaxReferenceListBytes) {
+        Renderer* r = &roomy(kDefaultListBytesPerPixel, size);
+        SurfaceFrame frame = r->render(solver_->positions(), particles(), camera_);
+        RenderStats stats = r->stats();
+        if (stats.list_overflow) {
+            const uint64_t pixels = uint64_t(width_) * height_;
+            const uint64_t per_pixel = (stats.list_bytes_needed + 4096 + pixels - 1) / pixels;
+            if (stats.list_bytes_needed > kMaxReferenceListBytes || per_pixel > max_list_bytes_per_pixel()) {
                 *why = "no reference: its lists need " + std::to_string(stats.list_bytes_needed >> 20) + " MiB";
                 return nullptr;
             }
-            roomy = &metaball(stats.list_bytes_needed + 4096);
-            frame = roomy->render(solver_->positions(), particles(), camera_, s);
+            r = &roomy(uint32_t(per_pixel), size);
+            frame = r->render(solver_->positions(), particles(), camera_);
+            stats = r->stats();
         }
-        const MetaballStats final_stats = roomy->stats();
-        if (final_stats.cut_pixels) metaball_reference_cut_[size] = final_stats.cut_pixels;
+        if (stats.cut) metaball_reference_cut_[size] = stats.cut;
         return &metaball_references_.emplace(size, std::move(frame)).first->second;
     }
 
     /// Renders `m` into `row` and returns the shaded image.
     Image run(const StudyMethod& m, StudyRow& row) {
-        if (m.family == StudyFamily::surface) {
-            if (m.method == "reference") return sph_reference(&row).color;
-            SurfaceSettings s = render_registry().lookup(m.method).value()->defaults.as<SurfaceSettings>();
-            uint32_t divisor = 1;
-            if (m.method == "adaptive" && m.resolution != "adaptive") {
-                s.adaptive_resolution = false;
-                divisor = m.resolution == "half" ? 2 : m.resolution == "quarter" ? 4 : 1;
-            }
-            const uint32_t w = std::max(16u, width_ / divisor), h = std::max(16u, height_ / divisor);
-            SurfaceFrame frame = render_surface(s, w, h, repeats_, &row);
-            if (divisor > 1) frame = upsample_nearest(frame, width_, height_);
-            compare(row, sph_reference(), frame, particle_radius(), true);
-            note_reference_cut(row);
-            return frame.color;
-        }
-        if (m.family == StudyFamily::screen_space) {
-            if (!screen_space_) screen_space_ = std::make_unique<ScreenSpaceRenderer>(ctx_, scene_.particle_domain(), width_, height_, particles());
-            const ScreenSpaceSettings s = render_registry().lookup(m.method).value()->defaults.as<ScreenSpaceSettings>();
-            const PassTimes t = time_best_of(ctx_, repeats_, [&](VkCommandBuffer cmd, gpu::GpuTimer* timer) {
-                screen_space_->record(cmd, solver_->positions(), particles(), camera_, s, timer);
-            });
-            row.ms_total = t.ms_total;
-            row.ms_per_pass = t.ms_per_pass;
-            SurfaceFrame frame = screen_space_->read_frame();
-            compare(row, sph_reference(), frame, particle_radius(), true);
-            note_reference_cut(row);
-            return frame.color;
-        }
-        MetaballSettings s = render_registry().lookup(m.method).value()->defaults.as<MetaballSettings>();
-        s.visual = m.visual == "real" ? MetaballVisual::real : MetaballVisual::gradient;
-        s.size = m.size;
-        s.recursion_depth = m.recursion;
-        s.bisection_steps = m.bisection;
+        if (m.method == "reference") return sph_reference(&row).color;
+        if (m.family == StudyFamily::metaball) return run_metaball(m, row);
+        // The SPH methods and the screen-space filters, against the SPH reference; a method at a
+        // fixed fraction of the resolution is compared (and shown) upsampled to the full one.
+        const uint32_t divisor = m.resolution_divisor();
+        const uint32_t w = std::max(16u, width_ / divisor), h = std::max(16u, height_ / divisor);
+        SurfaceFrame frame = measure_method(m.settings, w, h, repeats_, &row).frame;
+        if (divisor > 1) frame = upsample_nearest(frame, width_, height_);
+        compare(row, sph_reference(), frame, particle_radius(), true);
+        note_reference_cut(row);
+        return frame.color;
+    }
+
+    Image run_metaball(const StudyMethod& m, StudyRow& row) {
         std::string why;
         const SurfaceFrame* reference = metaball_reference(m.size, &why);
-        MetaballRenderer& r = metaball();
-        const PassTimes t = time_best_of(ctx_, repeats_, [&](VkCommandBuffer cmd, gpu::GpuTimer* timer) {
-            r.record(cmd, solver_->positions(), particles(), camera_, s, timer);
-        });
-        row.ms_total = t.ms_total;
-        row.ms_per_pass = t.ms_per_pass;
-        const MetaballStats stats = r.stats();
-        if (stats.overflow) {
-            row.status = "overflow";
-            row.overflow_mib = double(stats.list_bytes_needed) / (1024.0 * 1024.0);
+        const RenderMeasurement r = measure_method(m.settings, width_, height_, repeats_, &row);
+        if (!r.stats.cut) {
+            if (reference && metaball_reference_cut_.count(m.size))
+                row.status = "reference cut: " + std::to_string(metaball_reference_cut_[m.size]) + " pixels";
+            // A close-up: the lists leave out the particles at the eye (the reference keeps them).
+            else if (r.stats.dropped_particles)
+                row.status = "dropped: " + std::to_string(r.stats.dropped_particles) + " particles at the eye plane are in no list";
         }
-        // The software device ends long shader loops early (MetaballStats::cut_pixels).
-        if (stats.cut_pixels)
-            row.status = "cut: " + std::to_string(stats.cut_pixels) + " pixels stopped by the device's loop limit";
-        else if (reference && metaball_reference_cut_.count(m.size))
-            row.status = "reference cut: " + std::to_string(metaball_reference_cut_[m.size]) + " pixels";
-        // A close-up: the lists leave out the particles at the eye (the reference keeps them).
-        else if (stats.dropped_particles)
-            row.status = "dropped: " + std::to_string(stats.dropped_particles) + " particles at the eye plane are in no list";
         // The primary hit is the same for both visuals; only the gradient image is comparable.
-        SurfaceFrame frame = r.read_frame();
-        if (reference) compare(row, *reference, frame, particle_radius(), s.visual == MetaballVisual::gradient);
+        if (reference) compare(row, *reference, r.frame, particle_radius(), m.visual == "gradient");
         else if (row.status == "ok") row.status = why;
-        return frame.color;
+        return r.frame.color;
     }
 
     gpu::Context& ctx_;
@@ -307,9 +294,9 @@ private:
     StudyRow sph_reference_ms_;
     std::map<float, SurfaceFrame> metaball_references_;
     std::map<float, uint64_t> metaball_reference_cut_;  // pixels of a reference the device cut short
-    std::map<uint64_t, std::unique_ptr<SurfaceRenderer>> surface_;
-    std::unique_ptr<MetaballRenderer> metaball_, roomy_metaball_;
-    std::unique_ptr<ScreenSpaceRenderer> screen_space_;
+    std::map<std::tuple<std::string, uint32_t, uint32_t>, std::unique_ptr<Renderer>> renderers_;  // family, width, height
+    std::unique_ptr<Renderer> roomy_;  // the metaball reference's, with lists of roomy_bytes_per_pixel_
+    uint32_t roomy_bytes_per_pixel_ = 0;
 };
 
 std::string csv_number(const std::optional<double>& v) {

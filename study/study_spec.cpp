@@ -7,7 +7,6 @@
 #include <sstream>
 #include <string_view>
 
-#include "render/registry.h"
 #include "core/json_fields.h"
 #include "render/registry.h"
 
@@ -57,7 +56,26 @@ std::vector<T> read_list(const json& v, const std::string& path, F one) {
     return out;
 }
 
-std::vector<StudyMethod> read_methods(const json& v, const std::string& path) {
+/// The registry's settings of one expanded configuration at `where`, read by Registry::from_json
+/// (the method's defaults, ranges and cross-setting checks, as the CLI's flags get them): the
+/// expanded keys the method takes, a fixed resolution as adaptive_resolution off, and the case's
+/// list memory.
+MethodSettings settings_of(const StudyMethod& sm, uint32_t list_bytes_per_pixel, const std::string& where) {
+    const MethodEntry& entry = *render_registry().find(sm.method);
+    json object = json::object();
+    const std::pair<const char*, json> expanded[] = {
+        {"visual", sm.visual}, {"size", sm.size}, {"recursion", sm.recursion}, {"bisection", sm.bisection}};
+    for (const auto& [key, value] : expanded)
+        if (entry.setting_by_spec_key(key)) object[key] = value;
+    if (sm.resolution != "adaptive") object["adaptive_resolution"] = false;
+    if (list_bytes_per_pixel && entry.setting_by_spec_key("list_bytes_per_pixel"))
+        object["list_bytes_per_pixel"] = list_bytes_per_pixel;
+    auto settings = render_registry().from_json(sm.method, object, where);
+    if (!settings) fail(settings.error());
+    return settings.value();
+}
+
+std::vector<StudyMethod> read_methods(const json& v, const std::string& path, uint32_t list_bytes_per_pixel) {
     if (!v.is_array() || v.empty())
         fail(path + " must be a non-empty array such as [{\"method\": \"sbuffer\"}, {\"method\": \"adaptive\"}], got " +
              written(v));
@@ -117,7 +135,9 @@ std::vector<StudyMethod> read_methods(const json& v, const std::string& path) {
                             sm.resolution = resolution;
                             bool seen = false;
                             for (const auto& o : out) seen = seen || o.label() == sm.label();
-                            if (!seen) out.push_back(sm);
+                            if (seen) continue;
+                            sm.settings = settings_of(sm, list_bytes_per_pixel, where);
+                            out.push_back(std::move(sm));
                         }
     }
     return out;
@@ -178,9 +198,9 @@ StudyCase read_case(const json& v, const std::string& path, const fs::path& base
             fail(p + " must be a resolution such as \"512x512\" (16..8192 per axis), got " + written(x));
         return wh;
     });
-    c.methods = read_methods(v["methods"], child(path, "methods"));
     if (v.contains("list_bytes_per_pixel"))
         c.list_bytes_per_pixel = read_integer(v["list_bytes_per_pixel"], child(path, "list_bytes_per_pixel"), 8, 1u << 16);
+    c.methods = read_methods(v["methods"], child(path, "methods"), c.list_bytes_per_pixel);
     if (v.contains("note")) c.note = read_string(v["note"], child(path, "note"), "a sentence");
     return c;
 }
@@ -220,6 +240,10 @@ std::string StudyMethod::label() const {
     }
     if (method == "adaptive" && resolution != "adaptive") text << " " << resolution;
     return text.str();
+}
+
+uint32_t StudyMethod::resolution_divisor() const {
+    return resolution == "half" ? 2 : resolution == "quarter" ? 4 : 1;
 }
 
 Result<StudySpec> parse_study_spec(const std::string& text, const std::string& origin, const fs::path& base_dir) {

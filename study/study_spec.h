@@ -31,6 +31,7 @@
 
 #include "study/study_solver_map.h"
 #include "render/impostor_view.h"
+#include "render/renderer.h"
 #include "core/result.h"
 
 namespace aquaform::study {
@@ -46,9 +47,15 @@ struct StudyMethod {
     uint32_t recursion = 1;             ///< metaballs, real visual
     uint32_t bisection = 3;             ///< metaballs
     std::string resolution = "adaptive";  ///< adaptive method: full, half, quarter or adaptive
+    /// What the study renders with: the registry's settings of this configuration
+    /// (Registry::from_json), with a fixed resolution as adaptive_resolution off and, for
+    /// metaballs, the case's list memory.
+    MethodSettings settings;
 
     /// "sbuffer real x2 r4 b3", "adaptive half": unique within a case.
     std::string label() const;
+    /// How much smaller than the case's resolution the method renders (half: 2, quarter: 4).
+    uint32_t resolution_divisor() const;
 };
 
 struct StudyCamera {

@@ -14,6 +14,7 @@
 #include "study/study_run.h"
 #include "study/study_spec.h"
 #include "render/metaball_renderer.h"
+#include "render/surface_settings.h"
 #include "tests/cli_helpers.h"
 
 namespace aquaform::cli {
@@ -25,7 +26,7 @@ Result<study::StudySpec> parse(const std::string& text) { return study::parse_st
 
 TEST(StudySpecTest, ArrayParametersExpandIntoConfigurations) {
     auto spec = parse(R"({"cases": [{"name": "a", "resolutions": ["64x32", "32x32"], "particles": [1000, 2000],
-        "methods": [{"method": "sbuffer", "visual": ["gradient", "real"], "size": [1, 2], "recursion": [1, 4]},
+        "list_bytes_per_pixel": 64, "methods": [{"method": "sbuffer", "visual": ["gradient", "real"], "size": [1, 2], "recursion": [1, 4]},
                     {"method": "adaptive", "resolution": ["full", "half"]}]}]})");
     ASSERT_TRUE(spec.ok()) << spec.error();
     const study::StudyCase& c = spec.value().cases[0];
@@ -36,6 +37,19 @@ TEST(StudySpecTest, ArrayParametersExpandIntoConfigurations) {
     ASSERT_EQ(c.methods.size(), 2u + 4u + 2u);
     EXPECT_EQ(c.methods[0].label(), "sbuffer gradient x1 b3");
     EXPECT_EQ(c.methods.back().label(), "adaptive half");
+    // Each configuration carries the registry's settings the study draws it with.
+    const MetaballSettings* real = c.methods[2].settings.get<MetaballSettings>();
+    ASSERT_NE(real, nullptr) << c.methods[2].label();
+    EXPECT_EQ(c.methods[2].settings.method(), "sbuffer");
+    EXPECT_EQ(real->visual, MetaballVisual::real);
+    EXPECT_EQ(real->size, 1.0f);
+    EXPECT_EQ(real->recursion_depth, 1u);
+    EXPECT_EQ(real->list_bytes_per_pixel, 64u) << "the case's list memory";
+    const SurfaceSettings* half = c.methods.back().settings.get<SurfaceSettings>();
+    ASSERT_NE(half, nullptr);
+    EXPECT_FALSE(half->adaptive_resolution) << "a fixed resolution turns adaptive resolution off";
+    EXPECT_EQ(c.methods.back().resolution_divisor(), 2u);
+    EXPECT_FALSE(c.methods[c.methods.size() - 2].settings.as<SurfaceSettings>().adaptive_resolution) << "full, too";
 }
 
 TEST(StudySpecTest, ErrorsNameTheKeyAndTheFix) {
