@@ -139,7 +139,8 @@ int bench_render(const Args& args) {
     }
 
     gpu::Context ctx({args.value("--device"), validation_requested(args)});
-    PbfSolver solver(ctx, scene);
+    session::SimulationSession sim(ctx, session::plan_session(scene, std::nullopt), {.measure_shapes = false});
+    PbfSolver& solver = sim.solver();
     const uint32_t n = solver.particle_count();
     const double time_s = frame * double(scene.solver.frame_dt);
     std::printf("bench render on %s (%s): dam break of %u particles (column a = %.3f m), frame %u (t = %.3f s), %ux%u; "
@@ -148,7 +149,7 @@ int bench_render(const Args& args) {
                 frame, time_s, width, height, *repeats);
     std::fflush(stdout);
     std::fprintf(stderr, "bench render: simulating %u frames\n", frame);
-    if (!study::simulate_frames(solver, frame, "simulating to frame " + std::to_string(frame)))
+    if (!study::simulate_frames(sim, frame, "simulating to frame " + std::to_string(frame)))
         return exit_status(ctx, kExitFailure);
 
     // One renderer through the registry draws every configuration: they are all SPH surface

@@ -10,6 +10,7 @@
 #include "apps/cli.h"
 #include "study/render_measure.h"
 #include "apps/render_options.h"
+#include "apps/run_report.h"
 #include "gpu/context.h"
 #include "render/registry.h"
 #include "render/surface_renderer.h"
@@ -85,6 +86,9 @@ int cmd_render(const std::vector<std::string>& argv) {
     auto loaded = load_scene(args->positional[0]);
     if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
     const Scene& scene = loaded.value();
+    // The scene's control section too (checked before a device is opened): its frames are shaped.
+    auto plan = session::plan_session(scene);
+    if (!plan) return std::fprintf(stderr, "aquaform: %s\n", plan.error().c_str()), kExitUsage;
     auto method = render_method_from(*args, &error);
     if (!method) return std::fprintf(stderr, "aquaform render: %s\n", error.c_str()), kExitUsage;
     const SurfaceSettings* settings = method->get<SurfaceSettings>();
@@ -113,10 +117,13 @@ int cmd_render(const std::vector<std::string>& argv) {
                kExitFailure;
 
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});
-    PbfSolver solver(ctx, scene);
+    const std::optional<session::ControlSummary> summary = plan.value().control_summary();
+    session::SimulationSession sim(ctx, std::move(plan.value()), {.measure_shapes = false});
+    PbfSolver& solver = sim.solver();
+    if (summary) print_control_summary(*summary, "render");
     std::printf("%s: %u particles on %s; rendering frame %u at %ux%u with the %s method\n", scene.name.c_str(),
                 solver.particle_count(), ctx.info().name.c_str(), frame, width, height, method->method().c_str());
-    if (!study::simulate_frames(solver, frame, "simulating to frame " + std::to_string(frame)))
+    if (!study::simulate_frames(sim, frame, "simulating to frame " + std::to_string(frame)))
         return exit_status(ctx, kExitFailure);
 
     const ViewCamera camera = camera_for_domain(scene.domain, float(width) / float(height));

@@ -87,11 +87,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     const Scene& scene = sim.scene();
     PbfSolver& solver = sim.solver();
     const control::ControlDriver* driver = sim.control();
-    if (summary) {
-        for (const std::string& note : summary->mesh_notes) std::printf("  %s\n", note.c_str());
-        std::printf("  %s\n", summary->strength.c_str());
-        if (!summary->warning.empty()) std::fprintf(stderr, "aquaform run: warning: %s\n", summary->warning.c_str());
-    }
+    if (summary) print_control_summary(*summary, "run");
     print_run_header(ctx, solver);
 
     RunFiles files(out_dir, scene);

@@ -33,6 +33,12 @@ void print_run_header(const gpu::Context& ctx, const PbfSolver& solver) {
     std::fflush(stdout);
 }
 
+void print_control_summary(const session::ControlSummary& summary, const char* command) {
+    for (const std::string& note : summary.mesh_notes) std::printf("  %s\n", note.c_str());
+    std::printf("  %s\n", summary.strength.c_str());
+    if (!summary.warning.empty()) std::fprintf(stderr, "aquaform %s: warning: %s\n", command, summary.warning.c_str());
+}
+
 RunFiles::RunFiles(const std::filesystem::path& dir, const Scene& scene) : dir_(dir) {
     stats_.open(dir / "stats.csv");
     if (!stats_) error_ = "cannot write " + (dir / "stats.csv").string() + "; check that the directory is writable";

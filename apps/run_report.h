@@ -22,6 +22,8 @@ namespace aquaform::cli {
 
 /// Prints the scene's size, the passes it enables and the GPU memory of every buffer.
 void print_run_header(const gpu::Context& ctx, const PbfSolver& solver);
+/// Prints a session's control: its meshes' notes, the strength, and (on stderr) its warning.
+void print_control_summary(const session::ControlSummary& summary, const char* command);
 
 using session::ShapeColumns;
 

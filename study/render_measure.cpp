@@ -11,10 +11,10 @@
 
 namespace aquaform::study {
 
-bool simulate_frames(PbfSolver& solver, uint32_t frames, const std::string& label) {
+bool simulate_frames(session::SimulationSession& session, uint32_t frames, const std::string& label) {
     ProgressBar progress(label, frames);
     for (uint32_t frame = 0; frame < frames; ++frame) {
-        FrameStats stats = solver.run_frame(nullptr);
+        const FrameStats stats = session.run_frame(nullptr).stats;
         progress.update(frame + 1);
         if (stats.non_finite > 0) {
             progress.finish();

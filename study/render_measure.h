@@ -11,13 +11,14 @@
 
 #include "render/image_metrics.h"
 #include "render/renderer.h"
+#include "session/simulation_session.h"
 #include "sim/pbf_solver.h"
 
 namespace aquaform::study {
 
-/// Advances the solver by `frames` frames with a progress bar; false (after printing why) when
-/// the run becomes unstable.
-bool simulate_frames(PbfSolver& solver, uint32_t frames, const std::string& label);
+/// Advances the session (its solver, and its control when the scene has one) by `frames` frames
+/// with a progress bar; false (after printing why) when the run becomes unstable.
+bool simulate_frames(session::SimulationSession& session, uint32_t frames, const std::string& label);
 
 /// GPU milliseconds of a recorded frame: per named scope, and their sum.
 struct PassTimes {

@@ -77,11 +77,18 @@ public:
         : ctx_(ctx), case_(c), scene_(std::move(scene)), repeats_(repeats), images_dir_(std::move(images_dir)) {}
 
     bool simulate() {
-        solver_ = std::make_unique<PbfSolver>(ctx_, scene_);
+        // A session, so that a case's scene with a control section is simulated with its control.
+        auto made = session::SimulationSession::create(ctx_, scene_, {.measure_shapes = false});
+        if (!made) {
+            std::fprintf(stderr, "aquaform study: case %s: %s\n", case_.name.c_str(), made.error().c_str());
+            return false;
+        }
+        session_ = std::move(made.value());
+        solver_ = &session_->solver();
         const uint32_t frames = case_.time_s ? uint32_t(std::lround(*case_.time_s / scene_.solver.frame_dt))
                                              : study::bench_half_tank_frame(scene_);
-        return simulate_frames(*solver_, frames, "study " + case_.name + ": simulating " +
-                                                     std::to_string(solver_->particle_count()) + " particles");
+        return simulate_frames(*session_, frames, "study " + case_.name + ": simulating " +
+                                                      std::to_string(solver_->particle_count()) + " particles");
     }
     uint32_t particles() const { return solver_->particle_count(); }
 
@@ -287,7 +294,8 @@ private:
     Scene scene_;
     uint32_t repeats_;
     fs::path images_dir_;
-    std::unique_ptr<PbfSolver> solver_;
+    std::unique_ptr<session::SimulationSession> session_;
+    PbfSolver* solver_ = nullptr;  // the session's
     uint32_t width_ = 0, height_ = 0;
     ViewCamera camera_;
     std::optional<SurfaceFrame> sph_reference_;

@@ -39,6 +39,11 @@ inline std::filesystem::path temp_dir(const std::string& name) {
     return dir;
 }
 
+inline std::filesystem::path write_file(const std::filesystem::path& path, const std::string& text) {
+    std::ofstream(path) << text;
+    return path;
+}
+
 inline std::string read_file(const std::filesystem::path& path) {
     std::ifstream in(path);
     std::stringstream ss;

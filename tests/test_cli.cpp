@@ -26,10 +26,7 @@ using test_cli::temp_dir;
 
 Outcome run_aquaform_env(const std::string& env, const std::string& args) { return run_aquaform(args, env); }
 
-fs::path write_file(const fs::path& path, const std::string& text) {
-    std::ofstream(path) << text;
-    return path;
-}
+using test_cli::write_file;
 
 const char* kTinyDamBreak = R"({
   "name": "tiny dam break",

@@ -4,6 +4,8 @@
 
 #include <fstream>
 
+#include <nlohmann/json.hpp>
+
 #include "control/control_driver.h"
 #include "control/control_scene.h"
 #include "control/timeline.h"
@@ -141,6 +143,26 @@ TEST(ControlCli, RunWritesShapeColumns) {
     size_t at = 0;
     for (int i = 0; i < 11; ++i) at = last.find(',', at) + 1;
     EXPECT_GT(std::stod(last.substr(at)), 0.5) << last;
+}
+
+TEST(ControlCli, RenderSimulatesTheScenesControlBeforeItDraws) {
+    // render (like study and bench render) runs the scene through a session: a scene's control
+    // section shapes the frame it draws. The same scene without its control draws another frame.
+    using namespace test_cli;
+    const auto dir = temp_dir("control_render");
+    const std::string scene = std::string(AQUAFORM_ASSETS_DIR) + "/scenes/shape_fill.json";
+    auto plain = nlohmann::json::parse(read_file(scene));
+    plain.erase("control");
+    const auto plain_scene = write_file(dir / "plain.json", plain.dump());
+    const std::string flags = " --frame 20 --resolution 64x48 --method uniform --out ";
+    const auto with = run_aquaform("render " + scene + flags + (dir / "with").string());
+    const auto without = run_aquaform("render " + plain_scene.string() + flags + (dir / "without").string());
+    ASSERT_EQ(with.exit_code, 0) << with.output;
+    ASSERT_EQ(without.exit_code, 0) << without.output;
+    EXPECT_NE(with.output.find("control pressure"), std::string::npos) << with.output;
+    EXPECT_EQ(without.output.find("control pressure"), std::string::npos) << without.output;
+    EXPECT_NE(read_file(dir / "with" / "image.png"), read_file(dir / "without" / "image.png"))
+        << "the control section did not change the frame";
 }
 
 }  // namespace
