@@ -1,4 +1,6 @@
-// `aquaform run SCENE`: simulate, and write frames, stats.csv, front.csv and PLY dumps.
+// `aquaform run SCENE`: simulate, and write frames, stats.csv, front.csv and PLY dumps. Each
+// frame's image is drawn in the frame's own submission and copied into host memory there, and a
+// frame's files are written while the next frame runs on the device.
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -7,11 +9,14 @@
 #include <fstream>
 #include <memory>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "apps/cli.h"
 #include "core/progress.h"
 #include "apps/render_options.h"
 #include "apps/run_report.h"
+#include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
 #include "render/impostor_view.h"
@@ -28,6 +33,15 @@ namespace {
 std::atomic<bool> g_interrupted{false};
 
 void on_interrupt(int) { g_interrupted = true; }
+
+/// A frame whose device work has completed and whose files are not written yet.
+struct FinishedFrame {
+    uint32_t index = 0;
+    session::FrameReport report;
+    std::optional<Image> image;
+    std::optional<ParticleSnapshot> particles;  ///< for its PLY dump
+    std::string note;                           ///< the progress line's figures
+};
 
 }  // namespace
 
@@ -114,67 +128,109 @@ int cmd_run(const std::vector<std::string>& argv) {
     style.speed_for_full_color = std::max(1.0f, 0.5f * std::sqrt(2.0f * 9.81f * (scene.domain.max.y - scene.domain.min.y)));
 
     gpu::GpuTimer timer(ctx);
+    // The image is recorded after the solver's frame, in the same submission, and read back into
+    // host memory there (the impostor view has its own read-back buffer).
+    gpu::BufferSet readback(ctx);
+    const gpu::Buffer* color =
+        surface ? &readback.add("run.color", VkDeviceSize(width) * height * 4, gpu::MemoryUse::host) : nullptr;
+    auto record_image = [&](VkCommandBuffer cmd) {
+        if (view)
+            view->record(cmd, solver.positions(), solver.velocities(), solver.particle_count(), camera, style,
+                         scene.domain, scene.static_boxes);
+        if (surface) {
+            surface->record(cmd, solver.positions(), solver.particle_count(), camera, nullptr);
+            gpu::record_download(ctx, cmd, surface->color_buffer(), *color, color->size);
+        }
+    };
+    // After the frame's submission has completed, before the next one is recorded.
+    auto collect = [&](uint32_t frame, gpu::Submission submitted) {
+        FinishedFrame f{frame, sim.finish_frame(submitted, &timer), std::nullopt, std::nullopt, {}};
+        if (view) f.image = view->image();
+        if (color) {
+            const auto* bytes = static_cast<const uint8_t*>(color->mapped);
+            f.image = Image{width, height, std::vector<uint8_t>(bytes, bytes + color->size)};
+        }
+        if (f.image && driver && args->has("--wireframe"))
+            for (const control::Mesh& mesh : driver->active_meshes())
+                draw_wireframe(*f.image, mesh.vertices, mesh.faces, camera);
+        if (ply_every && frame % ply_every == 0) f.particles = solver.snapshot();
+        const FrameStats& stats = f.report.stats;
+        char note[96];
+        int used = std::snprintf(note, sizeof note, "density err %.2f%%  max speed %.2f m/s",
+                                 100.0 * stats.mean_density_error, stats.max_speed);
+        if (f.report.shape && !driver->active().empty())
+            std::snprintf(note + used, sizeof note - used, "  shape IoU %.2f", f.report.shape->iou);
+        f.note = note;
+        return f;
+    };
+
     g_interrupted = false;
     auto previous = std::signal(SIGINT, on_interrupt);
     ProgressBar progress("simulating " + scene.name, frames);
     const auto start = std::chrono::steady_clock::now();
     int status = kExitOk;
     uint32_t done = 0;
-    for (uint32_t frame = 0; frame < frames && !g_interrupted; ++frame) {
-        const session::FrameReport report = sim.run_frame(&timer);
-        const FrameStats& stats = report.stats;
-        const std::optional<ShapeColumns>& shape = report.shape;
-        files.write_frame_stats(frame, stats, shape ? &*shape : nullptr);
-        if (view || surface) {
-            Image image = view ? view->render(solver.positions(), solver.velocities(), solver.particle_count(), camera,
-                                              style, scene.domain, scene.static_boxes)
-                               : surface->render(solver.positions(), solver.particle_count(), camera).color;
-            if (driver && args->has("--wireframe"))
-                for (const control::Mesh& mesh : driver->active_meshes())
-                    draw_wireframe(image, mesh.vertices, mesh.faces, camera);
-            char name[32];
-            std::snprintf(name, sizeof name, "frame_%04u.png", frame);
-            auto written = write_png(out_dir / name, image);
-            if (!written) {
+    double simulated = 0.0;
+    // Writes a finished frame's files; false ends the run.
+    auto write_frame = [&](const FinishedFrame& f) {
+        const FrameStats& stats = f.report.stats;
+        files.write_frame_stats(f.index, stats, f.report.shape ? &*f.report.shape : nullptr);
+        char name[32];
+        if (f.image) {
+            std::snprintf(name, sizeof name, "frame_%04u.png", f.index);
+            if (auto written = write_png(out_dir / name, *f.image); !written) {
                 std::fprintf(stderr, "\naquaform run: %s\n", written.error().c_str());
-                status = kExitFailure;
-                break;
+                return false;
             }
         }
-        if (ply_every && frame % ply_every == 0) {
-            char name[32];
-            std::snprintf(name, sizeof name, "particles_%04u.ply", frame);
-            auto written = write_particles_ply(out_dir / name, solver.snapshot());
-            if (!written) {
+        if (f.particles) {
+            std::snprintf(name, sizeof name, "particles_%04u.ply", f.index);
+            if (auto written = write_particles_ply(out_dir / name, *f.particles); !written) {
                 std::fprintf(stderr, "\naquaform run: %s\n", written.error().c_str());
-                status = kExitFailure;
-                break;
+                return false;
             }
         }
         ++done;
-        char note[96];
-        int used = std::snprintf(note, sizeof note, "density err %.2f%%  max speed %.2f m/s",
-                                 100.0 * stats.mean_density_error, stats.max_speed);
-        if (shape && !driver->active().empty())
-            std::snprintf(note + used, sizeof note - used, "  shape IoU %.2f", shape->iou);
-        progress.update(done, note);
+        simulated = stats.time_s;
+        progress.update(done, f.note);
         if (stats.non_finite > 0) {
             progress.finish();
             std::fprintf(stderr,
                          "aquaform run: the simulation became unstable at frame %u (t = %.3f s): %u particles have "
                          "non-finite positions or velocities; raise solver.substeps or lower solver.frame_dt, "
                          "solver.vorticity or solver.scorr_k. Output so far is in %s\n",
-                         frame, stats.time_s, stats.non_finite, out_dir.string().c_str());
-            status = kExitFailure;
+                         f.index, stats.time_s, stats.non_finite, out_dir.string().c_str());
+            return false;
+        }
+        return true;
+    };
+    // Frame N's files are written while frame N+1 runs on the device.
+    std::optional<FinishedFrame> finished;
+    for (uint32_t frame = 0;; ++frame) {
+        const bool more = frame < frames && !g_interrupted;
+        gpu::Submission next;
+        try {
+            if (more) next = sim.submit_frame(&timer, record_image);
+        } catch (...) {
+            if (finished) write_frame(*finished);  // the frame before a failure is still written
+            throw;
+        }
+        const bool written = !finished || write_frame(*finished);
+        finished.reset();
+        if (!written) status = kExitFailure;
+        if (!more) break;
+        if (!written) {
+            ctx.wait(next);  // the next frame is dropped, not left running
             break;
         }
+        finished = collect(frame, next);
     }
     progress.finish();
     std::signal(SIGINT, previous);
     files.finish(scene);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (g_interrupted) std::fprintf(stderr, "aquaform run: interrupted; the %u frames done are written\n", done);
-    std::printf("%u frames (%.3f s simulated) in %s wall time, %.1f steps/s; output in %s\n", done, solver.time(),
+    std::printf("%u frames (%.3f s simulated) in %s wall time, %.1f steps/s; output in %s\n", done, simulated,
                 format_duration(wall).c_str(), wall > 0 ? done * scene.solver.substeps / wall : 0.0,
                 out_dir.string().c_str());
     return exit_status(ctx, g_interrupted ? kExitFailure : status);

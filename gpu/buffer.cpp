@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "gpu/compute_pass.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "gpu/vk_check.h"
@@ -75,17 +76,19 @@ void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkD
 void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, VkDeviceSize offset) {
     if (bytes == 0) return;
     Buffer staging = create_buffer(ctx, "staging", bytes, MemoryUse::host);
-    ctx.submit_and_wait([&](VkCommandBuffer cmd) {
-        VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-        barrier.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0,
-                             1, &barrier, 0, nullptr, 0, nullptr);
-        VkBufferCopy region{offset, 0, bytes};
-        vkCmdCopyBuffer(cmd, src.buffer, staging.buffer, 1, &region);
-    });
+    ctx.submit_and_wait([&](VkCommandBuffer cmd) { record_download(ctx, cmd, src, staging, bytes, offset); });
     std::memcpy(data, staging.mapped, bytes);
     destroy_buffer(ctx, staging);
+}
+
+void record_download(Context& ctx, VkCommandBuffer cmd, const Buffer& src, const Buffer& dst, VkDeviceSize bytes,
+                     VkDeviceSize offset) {
+    if (!dst.mapped || offset + bytes > src.size || bytes > dst.size)
+        throw internal_failure("download of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) + " of '" +
+                               src.name + "' (" + std::to_string(src.size) + " bytes) into '" + dst.name + "' (" +
+                               std::to_string(dst.size) + (dst.mapped ? " bytes)" : " bytes, not host-visible)"));
+    copy(ctx, cmd, src, dst, {offset, 0, bytes});
+    host_read_barrier(cmd);
 }
 
 Buffer& BufferSet::add(const std::string& name, VkDeviceSize size, MemoryUse use) {

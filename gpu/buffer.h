@@ -37,6 +37,10 @@ void destroy_buffer(Context& ctx, Buffer& buffer);
 void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
 /// Copies a device buffer back to the host (waits for completion).
 void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+/// Records a copy of `bytes` of `src` from `offset` into the host-visible `dst`, readable by the
+/// host (dst.mapped) once the submission has completed: a download kept in flight.
+void record_download(Context& ctx, VkCommandBuffer cmd, const Buffer& src, const Buffer& dst, VkDeviceSize bytes,
+                     VkDeviceSize offset = 0);
 
 template <typename T>
 std::vector<T> download_vector(Context& ctx, const Buffer& src, size_t count) {

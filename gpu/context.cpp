@@ -332,7 +332,7 @@ void Context::destroy() {
         vkDeviceWaitIdle(device_);
         for (auto& [thread, r] : recorders_) {
             r->staging->destroy(*this);
-            vkDestroyFence(device_, r->fence, nullptr);
+            for (Slot& slot : r->slots) vkDestroyFence(device_, slot.fence, nullptr);
             vkDestroyCommandPool(device_, r->pool, nullptr);
         }
         recorders_.clear();
@@ -379,69 +379,119 @@ Context::Recorder& Context::recorder() {
     alloc.commandPool = r->pool;
     alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     alloc.commandBufferCount = 1;
-    VK_CHECK(vkAllocateCommandBuffers(device_, &alloc, &r->cmd));
     VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-    VK_CHECK(vkCreateFence(device_, &fence_info, nullptr, &r->fence));
+    for (Slot& slot : r->slots) {
+        VK_CHECK(vkAllocateCommandBuffers(device_, &alloc, &slot.cmd));
+        VK_CHECK(vkCreateFence(device_, &fence_info, nullptr, &slot.fence));
+    }
+    r->current = &r->slots[0];
     return *r;
 }
 
-void Context::begin(Recorder& r) {
-    VK_CHECK(vkResetCommandBuffer(r.cmd, 0));
+void Context::retire(Slot& slot) {
+    if (slot.serial == 0) return;
+    VK_CHECK(vkWaitForFences(device_, 1, &slot.fence, VK_TRUE, UINT64_MAX));
+    VK_CHECK(vkResetFences(device_, 1, &slot.fence));
+    slot.serial = 0;
+}
+
+void Context::recycle(Recorder& r) {
+    // Every submission older than the oldest still in flight has been waited for.
+    uint64_t completed = r.submitted;
+    for (const Slot& slot : r.slots)
+        if (slot.serial) completed = std::min(completed, slot.serial - 1);
+    r.staging->recycle(*this, completed);
+}
+
+Context::Slot& Context::free_slot(Recorder& r) {
+    Slot* oldest = &r.slots[0];
+    for (Slot& s : r.slots) {
+        if (!s.serial) return s;
+        if (s.serial < oldest->serial) oldest = &s;
+    }
+    retire(*oldest);  // all busy: the oldest is freed first
+    recycle(r);
+    return *oldest;
+}
+
+void Context::begin(Recorder& r, Slot& slot) {
+    r.current = &slot;
+    VK_CHECK(vkResetCommandBuffer(slot.cmd, 0));
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
     begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(r.cmd, &begin));
+    VK_CHECK(vkBeginCommandBuffer(slot.cmd, &begin));
     // Writes of earlier submissions (this thread's and others') become visible to this one, and
     // its writes wait for their reads (a fence wait alone does not make device writes visible to
     // later device reads).
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
     barrier.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-    vkCmdPipelineBarrier(r.cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &barrier, 0,
-                         nullptr, 0, nullptr);
-    r.staging->record_pending(r.cmd);  // uploads an UploadBatch held come first
+    vkCmdPipelineBarrier(slot.cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1,
+                         &barrier, 0, nullptr, 0, nullptr);
+    r.staging->record_pending(slot.cmd);  // uploads an UploadBatch held come first
     r.tracker->reset();
     r.recording = true;
 }
 
-void Context::submit(Recorder& r) {
+uint64_t Context::flush(Recorder& r) {
     r.recording = false;
-    VK_CHECK(vkEndCommandBuffer(r.cmd));
+    Slot& slot = *r.current;
+    VK_CHECK(vkEndCommandBuffer(slot.cmd));
     VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &r.cmd;
+    submit.pCommandBuffers = &slot.cmd;
     {
         std::lock_guard<std::mutex> lock(queue_mutex_);
-        VK_CHECK(vkQueueSubmit(queue_, 1, &submit, r.fence));
+        VK_CHECK(vkQueueSubmit(queue_, 1, &submit, slot.fence));
     }
-    VK_CHECK(vkWaitForFences(device_, 1, &r.fence, VK_TRUE, UINT64_MAX));
-    VK_CHECK(vkResetFences(device_, 1, &r.fence));
+    slot.serial = ++r.submitted;
     ++submissions_;
-    r.staging->recycle(*this);
+    r.staging->seal(slot.serial);  // what it staged stays until it has completed
+    return slot.serial;
 }
 
-void Context::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) {
+Submission Context::submit(const Recording& record) {
     Recorder& r = recorder();
     if (r.recording)
-        throw internal_failure("gpu::Context::submit_and_wait called inside a recording on the same thread; record "
+        throw internal_failure("gpu::Context::submit called inside a recording on the same thread; record "
                                "into the command buffer being recorded instead (gpu::upload does so by itself)");
-    begin(r);
+    begin(r, free_slot(r));
     r.open_scopes = 0;
     try {
-        record(r.cmd);
+        record(r.current->cmd);
     } catch (...) {
         // Leave the command buffer reusable: a recording that threw is ended, never submitted.
         r.recording = false;
-        vkEndCommandBuffer(r.cmd);
+        vkEndCommandBuffer(r.current->cmd);
         throw;
     }
-    submit(r);
+    return {flush(r), std::this_thread::get_id()};
+}
+
+void Context::wait(Submission s) {
+    if (s.serial == 0) return;
+    if (s.thread != std::this_thread::get_id())
+        throw internal_failure("gpu::Context::wait on a submission of another thread; wait on the thread that submitted");
+    Recorder& r = recorder();
+    for (Slot& slot : r.slots)
+        if (slot.serial && slot.serial <= s.serial) retire(slot);
+    recycle(r);
+}
+
+bool Context::done(Submission s) {
+    if (s.serial == 0) return true;
+    if (s.thread != std::this_thread::get_id())
+        throw internal_failure("gpu::Context::done on a submission of another thread; ask on the thread that submitted");
+    for (const Slot& slot : recorder().slots)
+        if (slot.serial && slot.serial <= s.serial && vkGetFenceStatus(device_, slot.fence) != VK_SUCCESS) return false;
+    return true;
 }
 
 void Context::yield_queue(VkCommandBuffer cmd) {
     Recorder& r = recorder();
-    if (!r.sharing.enabled || !r.recording || cmd != r.cmd) return;
-    submit(r);
-    begin(r);
+    if (!r.sharing.enabled || !r.recording || cmd != r.current->cmd) return;
+    wait({flush(r), std::this_thread::get_id()});
+    begin(r, *r.current);  // the same command buffer: the caller records on into `cmd`
     if (r.sharing.cancel && r.sharing.cancel->load()) throw Cancelled();
 }
 

@@ -2,7 +2,9 @@
 // graphics, a command pool per thread that submits, and validation-message accounting for tests.
 // Threads may share a context: the queue is locked around each submission (lock_queue() for
 // submissions made elsewhere, the viewer's frames), and each thread records into its own command
-// buffer.
+// buffers. A thread may keep a few submissions in flight (submit() and wait()): each has its own
+// command buffer, fence and staging memory, so the host can prepare or consume one frame while
+// the device runs the next.
 #pragma once
 
 #include <algorithm>
@@ -46,6 +48,12 @@ struct DeviceInfo {
 };
 
 const char* device_type_name(VkPhysicalDeviceType type);
+
+/// A submission in flight (Context::submit): a ticket for Context::wait on the thread that made it.
+struct Submission {
+    uint64_t serial = 0;  ///< the thread's count of submissions at this one; 0: none
+    std::thread::id thread;
+};
 
 /// Thrown by Context::yield_queue when the thread's cancel flag is set.
 struct Cancelled : std::exception {
@@ -91,13 +99,26 @@ public:
     uint32_t find_memory_type(uint32_t type_bits, VkMemoryPropertyFlags wanted,
                               VkMemoryPropertyFlags fallback) const;
 
-    /// Records commands with `record`, submits them and waits for completion (on this thread's
-    /// command buffer; the queue is held only while submitting, not while waiting).
-    void submit_and_wait(const std::function<void(VkCommandBuffer)>& record);
-    /// The calling thread's command buffer while it records inside submit_and_wait, else
-    /// VK_NULL_HANDLE (gpu::upload records into it instead of submitting).
-    VkCommandBuffer recording() { Recorder& r = recorder(); return r.recording ? r.cmd : VK_NULL_HANDLE; }
-    /// The calling thread's staging memory, recycled after each of its submissions completes.
+    using Recording = std::function<void(VkCommandBuffer)>;
+    /// Submissions a thread keeps in flight at most: submit() waits for the oldest beyond them.
+    static constexpr uint32_t kInFlight = 3;
+
+    /// Records commands with `record` into one of this thread's command buffers and submits them
+    /// without waiting (the queue is held only while submitting). Memory the recording staged is
+    /// reused only once the submission has completed. Host-visible results may be read after
+    /// wait(); until then the buffers it uses must stay alive and unwritten by the host.
+    Submission submit(const Recording& record);
+    /// Returns once `s` and every earlier submission of this thread have completed (at once for
+    /// those already waited for). Only on the thread that submitted.
+    void wait(Submission s);
+    /// Whether `s` has completed, without waiting.
+    bool done(Submission s);
+    /// submit() and wait().
+    void submit_and_wait(const Recording& record) { wait(submit(record)); }
+    /// The calling thread's command buffer while it records inside submit, else VK_NULL_HANDLE
+    /// (gpu::upload records into it instead of submitting).
+    VkCommandBuffer recording() { Recorder& r = recorder(); return r.recording ? r.current->cmd : VK_NULL_HANDLE; }
+    /// The calling thread's staging memory; a submission's part is recycled once it completes.
     StagingPool& staging() { return *recorder().staging; }
     /// The barrier state of the calling thread's command buffer (gpu/barriers.h).
     BarrierTracker& tracker() { return *recorder().tracker; }
@@ -130,8 +151,8 @@ public:
         return s.enabled ? std::max(s.long_pass_slices, 1u) : 1u;
     }
     /// A cut: with sharing on for this thread, the commands so far are submitted and waited for,
-    /// and `cmd` (this thread's command buffer inside submit_and_wait) begins again; otherwise it
-    /// does nothing. Only outside render passes.
+    /// and recording continues in `cmd` (this thread's command buffer inside submit, which is
+    /// begun again); otherwise it does nothing. Only outside render passes.
     void yield_queue(VkCommandBuffer cmd);
     /// A cut point of the gpu helpers: a cut only while no timed scope is open on this thread
     /// (a scope's time would otherwise include the other threads' work).
@@ -163,11 +184,18 @@ public:
     void reset_validation_errors() { validation_errors_ = 0; }
 
 private:
-    /// One thread's command buffer for submit_and_wait.
-    struct Recorder {
-        VkCommandPool pool = VK_NULL_HANDLE;
+    /// A command buffer of a thread and the fence of its last submission.
+    struct Slot {
         VkCommandBuffer cmd = VK_NULL_HANDLE;
         VkFence fence = VK_NULL_HANDLE;
+        uint64_t serial = 0;  ///< of the submission in flight in it; 0: free
+    };
+    /// One thread's command buffers: a ring of kInFlight slots.
+    struct Recorder {
+        VkCommandPool pool = VK_NULL_HANDLE;
+        Slot slots[kInFlight];
+        Slot* current = nullptr;  ///< the slot being (or last) recorded
+        uint64_t submitted = 0;   ///< serial of the thread's last submission
         QueueSharing sharing;
         uint32_t open_scopes = 0;
         bool recording = false;
@@ -175,8 +203,11 @@ private:
         std::unique_ptr<BarrierTracker> tracker;
     };
     Recorder& recorder();  ///< the calling thread's, made at its first use
-    void begin(Recorder& r);
-    void submit(Recorder& r);
+    Slot& free_slot(Recorder& r);  ///< a slot to record into (waits for the oldest when all are busy)
+    void begin(Recorder& r, Slot& slot);
+    uint64_t flush(Recorder& r);  ///< ends and submits the recording; its serial
+    void retire(Slot& slot);  ///< waits for a slot's submission and frees the slot
+    void recycle(Recorder& r);  ///< staging of every completed submission back to the pool
 
     void create(const ContextOptions& options);
     void destroy();

@@ -41,12 +41,12 @@ void barrier_after_copy(VkCommandBuffer cmd) {
 StagingPool::Region StagingPool::allocate(Context& ctx, VkDeviceSize bytes) {
     bytes = (bytes + kAlign - 1) / kAlign * kAlign;
     for (Chunk& c : chunks_)
-        if (c.buffer.size - c.used >= bytes) {
+        if (c.serial == 0 && c.buffer.size - c.used >= bytes) {
             Region r{c.buffer.buffer, c.used, static_cast<char*>(c.buffer.mapped) + c.used};
             c.used += bytes;
             return r;
         }
-    chunks_.push_back({create_buffer(ctx, "staging", std::max(bytes, kChunkBytes), MemoryUse::host), bytes});
+    chunks_.push_back({create_buffer(ctx, "staging", std::max(bytes, kChunkBytes), MemoryUse::host), bytes, 0});
     return {chunks_.back().buffer.buffer, 0, chunks_.back().buffer.mapped};
 }
 
@@ -64,18 +64,27 @@ void StagingPool::record_pending(VkCommandBuffer cmd) {
 
 void StagingPool::discard_pending() { pending_.clear(); }
 
-void StagingPool::recycle(Context& ctx) {
-    if (!pending_.empty()) return;  // held copies still read their regions
-    // Keep a few standard chunks for the next frame; free oversized ones (one big upload).
+void StagingPool::seal(uint64_t serial) {
+    // (Held copies were recorded at the start of this submission: their chunks are sealed too.)
+    for (Chunk& c : chunks_)
+        if (c.serial == 0 && c.used > 0) c.serial = serial;
+}
+
+void StagingPool::recycle(Context& ctx, uint64_t completed) {
+    for (Chunk& c : chunks_)
+        if (c.serial != 0 && c.serial <= completed) c.used = c.serial = 0;
+    // Keep a few standard free chunks for the next frames; free oversized ones (one big upload).
     size_t kept = 0;
     for (size_t i = 0; i < chunks_.size();) {
-        if (chunks_[i].buffer.size > kChunkBytes || kept == kKeptChunks) {
-            destroy_buffer(ctx, chunks_[i].buffer);
+        Chunk& c = chunks_[i];
+        const bool free = c.serial == 0 && c.used == 0;
+        if (free && (c.buffer.size > kChunkBytes || kept == kKeptChunks)) {
+            destroy_buffer(ctx, c.buffer);
             chunks_.erase(chunks_.begin() + std::ptrdiff_t(i));
             continue;
         }
-        chunks_[i++].used = 0;
-        ++kept;
+        kept += free;
+        ++i;
     }
 }
 

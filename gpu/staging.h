@@ -1,8 +1,10 @@
 // Batched staging uploads, structured after nvpro_core2's nvvk::StagingUploader: host data is
 // copied into host-visible chunks, a copy into the destination is recorded, and the chunks are
 // recycled once the submission that reads them has completed (each thread's Context recorder
-// owns one pool; its submissions wait on a fence, after which the pool is recycled).
-// - Inside a recording (Context::submit_and_wait on the same thread) an upload records into that
+// owns one pool; a submission seals the chunks it staged into with its serial, and they return
+// to the pool when the context has seen that submission's fence signal, so a submission still in
+// flight never has its staging memory overwritten by a later one's).
+// - Inside a recording (Context::submit on the same thread) an upload records into that
 //   command buffer between barriers, so it lands in order with the passes around it. Small ones
 //   (up to 64 KiB, 4-byte aligned: parameter blocks) go inline with vkCmdUpdateBuffer, needing no
 //   staging memory at all.
@@ -29,7 +31,8 @@ public:
         VkDeviceSize offset = 0;
         void* mapped = nullptr;
     };
-    /// Host-visible memory for `bytes`, valid until recycle().
+    /// Host-visible memory for `bytes`, in a chunk no submission in flight reads, valid until
+    /// the submission that seals it has completed.
     Region allocate(Context& ctx, VkDeviceSize bytes);
     /// Holds a copy from a region until record_pending() (an open UploadBatch).
     void defer(const Region& src, VkBuffer dst, VkDeviceSize dst_offset, VkDeviceSize bytes);
@@ -37,8 +40,10 @@ public:
     void discard_pending();
     /// Records the held copies into `cmd` (with the barriers around them) and forgets them.
     void record_pending(VkCommandBuffer cmd);
-    /// Once every submission that read the regions has completed: their memory is reused.
-    void recycle(Context& ctx);
+    /// The chunks allocated from since the last seal belong to submission `serial`.
+    void seal(uint64_t serial);
+    /// Every submission up to serial `completed` has completed: their chunks are reused.
+    void recycle(Context& ctx, uint64_t completed);
     void destroy(Context& ctx);
     VkDeviceSize bytes_in_use() const;
 
@@ -48,6 +53,7 @@ private:
     struct Chunk {
         Buffer buffer;
         VkDeviceSize used = 0;
+        uint64_t serial = 0;  ///< the submission in flight that reads it; 0: open to allocate
     };
     struct Copy {
         VkBuffer src, dst;

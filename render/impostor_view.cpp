@@ -193,6 +193,15 @@ ImpostorView::~ImpostorView() {
 Image ImpostorView::render(const gpu::Buffer& positions, const gpu::Buffer& velocities, uint32_t count,
                            const ViewCamera& camera, const ImpostorStyle& style, const Box& domain,
                            std::span<const Box> static_boxes) {
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
+        record(cmd, positions, velocities, count, camera, style, domain, static_boxes);
+    });
+    return image();
+}
+
+void ImpostorView::record(VkCommandBuffer cmd, const gpu::Buffer& positions, const gpu::Buffer& velocities,
+                          uint32_t count, const ViewCamera& camera, const ImpostorStyle& style, const Box& domain,
+                          std::span<const Box> static_boxes) {
     Impl& m = *impl_;
     const VkDeviceSize need = VkDeviceSize(count) * sizeof(glm::vec4);
     if (count > 0) {
@@ -224,93 +233,101 @@ Image ImpostorView::render(const gpu::Buffer& positions, const gpu::Buffer& velo
     const gpu::Buffer& pos = count > 0 ? positions : m.dummy;
     const gpu::Buffer& vel = count > 0 ? velocities : m.dummy;
 
-    ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
-        // The previous render's copy read the colour image; its contents are not kept.
-        gpu::image_barrier(cmd, m.color.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, 0,
-                      VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
-        const VkPipelineStageFlags2 tests =
-            VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
-        gpu::image_barrier(cmd, m.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, tests,
-                      VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_IMAGE_LAYOUT_UNDEFINED, tests,
-                      VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-                      VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
+    // The solver's compute passes may have written the particles earlier in this command buffer.
+    const VkMemoryBarrier2 particles{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2, nullptr,
+                                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
+                                     VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                                     VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT};
+    const VkDependencyInfo particles_dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO, nullptr, 0, 1, &particles};
+    vkCmdPipelineBarrier2(cmd, &particles_dep);
+    // The previous render's copy read the colour image; its contents are not kept.
+    gpu::image_barrier(cmd, m.color.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_PIPELINE_STAGE_2_COPY_BIT, 0,
+                       VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                       VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+    const VkPipelineStageFlags2 tests =
+        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+    gpu::image_barrier(cmd, m.depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, tests,
+                       VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT, VK_IMAGE_LAYOUT_UNDEFINED, tests,
+                       VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                       VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
 
-        VkRenderingAttachmentInfo color_att{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-        color_att.imageView = m.color.view;
-        color_att.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-        color_att.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        color_att.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-        color_att.clearValue.color = {{0.0f, 0.0f, 0.0f, 1.0f}};
-        VkRenderingAttachmentInfo depth_att{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-        depth_att.imageView = m.depth.view;
-        depth_att.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-        depth_att.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        depth_att.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-        depth_att.clearValue.depthStencil = {1.0f, 0};
-        VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
-        rendering.renderArea = {{0, 0}, {width_, height_}};
-        rendering.layerCount = 1;
-        rendering.colorAttachmentCount = 1;
-        rendering.pColorAttachments = &color_att;
-        rendering.pDepthAttachment = &depth_att;
-        vkCmdBeginRendering(cmd, &rendering);
+    VkRenderingAttachmentInfo color_att{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color_att.imageView = m.color.view;
+    color_att.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color_att.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    color_att.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    color_att.clearValue.color = {{0.0f, 0.0f, 0.0f, 1.0f}};
+    VkRenderingAttachmentInfo depth_att{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    depth_att.imageView = m.depth.view;
+    depth_att.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    depth_att.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    depth_att.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    depth_att.clearValue.depthStencil = {1.0f, 0};
+    VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    rendering.renderArea = {{0, 0}, {width_, height_}};
+    rendering.layerCount = 1;
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachments = &color_att;
+    rendering.pDepthAttachment = &depth_att;
+    vkCmdBeginRendering(cmd, &rendering);
 
-        VkViewport viewport{0.0f, 0.0f, float(width_), float(height_), 0.0f, 1.0f};
-        VkRect2D scissor{{0, 0}, {width_, height_}};
-        vkCmdSetViewport(cmd, 0, 1, &viewport);
-        vkCmdSetScissor(cmd, 0, 1, &scissor);
-        // Every pipeline shares the layout, so one push of the descriptors serves all draws.
-        VkDescriptorBufferInfo infos[2] = {{pos.buffer, 0, VK_WHOLE_SIZE}, {vel.buffer, 0, VK_WHOLE_SIZE}};
-        VkWriteDescriptorSet writes[2] = {};
-        for (uint32_t i = 0; i < 2; ++i) {
-            writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-            writes[i].dstBinding = i;
-            writes[i].descriptorCount = 1;
-            writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-            writes[i].pBufferInfo = &infos[i];
-        }
-        ctx_->push_descriptor_fn()(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, m.layout, 0, 2, writes);
-        auto draw = [&](uint32_t mode, const Box& box, float albedo, uint32_t vertices, uint32_t first) {
-            push.box_min = with_w(box.min, albedo);
-            push.box_max = with_w(box.max, 0.0f);
-            vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipelines[mode]);
-            vkCmdPushConstants(cmd, m.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                               sizeof push, &push);
-            vkCmdDraw(cmd, vertices, 1, first, 0);
-        };
-        draw(IMPOSTOR_MODE_SKY, domain, 0.0f, 3, 0);
-        draw(IMPOSTOR_MODE_SOLID, domain, kFloorAlbedo, 6, IMPOSTOR_FLOOR_FIRST);
-        for (const Box& b : static_boxes) draw(IMPOSTOR_MODE_SOLID, b, kBoxAlbedo, 36, 0);
-        if (count > 0) draw(IMPOSTOR_MODE_PARTICLES, domain, 0.0f, count * 6, 0);
-        draw(IMPOSTOR_MODE_LINES, domain, 0.0f, 24, 0);  // last: front edges stay on top of the fluid
-        vkCmdEndRendering(cmd);
+    VkViewport viewport{0.0f, 0.0f, float(width_), float(height_), 0.0f, 1.0f};
+    VkRect2D scissor{{0, 0}, {width_, height_}};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+    // Every pipeline shares the layout, so one push of the descriptors serves all draws.
+    VkDescriptorBufferInfo infos[2] = {{pos.buffer, 0, VK_WHOLE_SIZE}, {vel.buffer, 0, VK_WHOLE_SIZE}};
+    VkWriteDescriptorSet writes[2] = {};
+    for (uint32_t i = 0; i < 2; ++i) {
+        writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
+        writes[i].dstBinding = i;
+        writes[i].descriptorCount = 1;
+        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        writes[i].pBufferInfo = &infos[i];
+    }
+    ctx_->push_descriptor_fn()(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, m.layout, 0, 2, writes);
+    auto draw = [&](uint32_t mode, const Box& box, float albedo, uint32_t vertices, uint32_t first) {
+        push.box_min = with_w(box.min, albedo);
+        push.box_max = with_w(box.max, 0.0f);
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipelines[mode]);
+        vkCmdPushConstants(cmd, m.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                           sizeof push, &push);
+        vkCmdDraw(cmd, vertices, 1, first, 0);
+    };
+    draw(IMPOSTOR_MODE_SKY, domain, 0.0f, 3, 0);
+    draw(IMPOSTOR_MODE_SOLID, domain, kFloorAlbedo, 6, IMPOSTOR_FLOOR_FIRST);
+    for (const Box& b : static_boxes) draw(IMPOSTOR_MODE_SOLID, b, kBoxAlbedo, 36, 0);
+    if (count > 0) draw(IMPOSTOR_MODE_PARTICLES, domain, 0.0f, count * 6, 0);
+    draw(IMPOSTOR_MODE_LINES, domain, 0.0f, 24, 0);  // last: front edges stay on top of the fluid
+    vkCmdEndRendering(cmd);
 
-        gpu::image_barrier(cmd, m.color.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
-                      VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                      VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
-                      VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-        VkBufferImageCopy region{};
-        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        region.imageExtent = {width_, height_, 1};
-        vkCmdCopyImageToBuffer(cmd, m.color.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, m.readback.buffer, 1,
-                               &region);
-        // The host reads the copy after the fence wait; this makes the transfer write visible to it.
-        VkBufferMemoryBarrier2 to_host{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
-        to_host.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
-        to_host.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-        to_host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
-        to_host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
-        to_host.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-        to_host.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-        to_host.buffer = m.readback.buffer;
-        to_host.size = VK_WHOLE_SIZE;
-        VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-        dep.bufferMemoryBarrierCount = 1;
-        dep.pBufferMemoryBarriers = &to_host;
-        vkCmdPipelineBarrier2(cmd, &dep);
-    });
+    gpu::image_barrier(cmd, m.color.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
+                       VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                       VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
+                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    VkBufferImageCopy region{};
+    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    region.imageExtent = {width_, height_, 1};
+    vkCmdCopyImageToBuffer(cmd, m.color.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, m.readback.buffer, 1,
+                           &region);
+    // The host reads the copy after the fence wait; this makes the transfer write visible to it.
+    VkBufferMemoryBarrier2 to_host{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
+    to_host.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+    to_host.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+    to_host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
+    to_host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
+    to_host.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    to_host.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    to_host.buffer = m.readback.buffer;
+    to_host.size = VK_WHOLE_SIZE;
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dep.bufferMemoryBarrierCount = 1;
+    dep.pBufferMemoryBarriers = &to_host;
+    vkCmdPipelineBarrier2(cmd, &dep);
+}
 
+Image ImpostorView::image() const {
+    const Impl& m = *impl_;
     Image out;
     out.width = width_;
     out.height = height_;

@@ -39,6 +39,12 @@ public:
     Image render(const gpu::Buffer& positions, const gpu::Buffer& velocities, uint32_t count,
                  const ViewCamera& camera, const ImpostorStyle& style, const Box& domain,
                  std::span<const Box> static_boxes);
+    /// render() in two halves, for a frame kept in flight: records the drawing and the image's
+    /// copy into host-visible memory into `cmd`; image() reads it once the submission completed.
+    void record(VkCommandBuffer cmd, const gpu::Buffer& positions, const gpu::Buffer& velocities, uint32_t count,
+                const ViewCamera& camera, const ImpostorStyle& style, const Box& domain,
+                std::span<const Box> static_boxes);
+    Image image() const;
 
     uint32_t width() const { return width_; }
     uint32_t height() const { return height_; }

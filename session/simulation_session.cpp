@@ -110,10 +110,20 @@ void SimulationSession::connect_forces() {
     solver_->set_step_force(driver_ || !extra_forces_.empty() ? &forces_ : nullptr);
 }
 
-FrameReport SimulationSession::run_frame(gpu::GpuTimer* timer) {
-    FrameReport report;
+FrameReport SimulationSession::run_frame(gpu::GpuTimer* timer) { return finish_frame(submit_frame(timer), timer); }
+
+gpu::Submission SimulationSession::submit_frame(gpu::GpuTimer* timer, const std::function<void(VkCommandBuffer)>& also) {
     if (driver_) driver_->update(solver_->time());
-    report.stats = solver_->run_frame(timer);
+    return ctx_->submit([&](VkCommandBuffer cmd) {
+        solver_->record_frame(cmd, timer);
+        if (also) also(cmd);
+    });
+}
+
+FrameReport SimulationSession::finish_frame(gpu::Submission frame, gpu::GpuTimer* timer) {
+    ctx_->wait(frame);
+    FrameReport report;
+    report.stats = solver_->collect_stats(timer);
     if (driver_ && options_.measure_shapes) {
         const control::ShapeMetrics m = driver_->measure(solver_->snapshot());
         report.shape = ShapeColumns{m.iou, m.fill_fraction, m.outside_fraction, driver_->active_description()};

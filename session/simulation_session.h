@@ -9,6 +9,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -24,6 +25,7 @@
 namespace aquaform::gpu {
 class Context;
 class GpuTimer;
+struct Submission;
 }  // namespace aquaform::gpu
 
 namespace aquaform::session {
@@ -90,6 +92,12 @@ public:
 
     /// One frame: the control shapes at the current time, the solver's substeps, the shape metrics.
     FrameReport run_frame(gpu::GpuTimer* timer);
+    /// run_frame in two halves, so that the caller works on the host while the frame runs: the
+    /// control shapes are updated, and the frame is recorded with `also` after it (commands that
+    /// read this frame's particles: a render and its read-back) and submitted, not waited for.
+    gpu::Submission submit_frame(gpu::GpuTimer* timer, const std::function<void(VkCommandBuffer)>& also = {});
+    /// Waits for the frame and gives its figures. Call it before the next frame is submitted.
+    FrameReport finish_frame(gpu::Submission frame, gpu::GpuTimer* timer);
     /// Frames for `seconds` of simulated time, without shape metrics; the last frame's figures.
     /// Stops at the first frame whose state is not finite.
     FrameStats advance(double seconds);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <span>
 #include <stdexcept>
 #include <utility>
 
@@ -112,7 +113,8 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_
     s1_ = &buffers_.add(kParticleBuffers[4], n * 16);
     density_ = &buffers_.add("particles.density", n * 4);
     grid_ = std::make_unique<NeighborGrid>(ctx, buffers_, geometry, count_);
-    partials_ = &buffers_.add("stats.partials", uint64_t(stats_groups(count_)) * sizeof(shader::StatsPartial));
+    partials_ = &buffers_.add("stats.partials", uint64_t(stats_groups(count_)) * sizeof(shader::StatsPartial),
+                              gpu::MemoryUse::host);
     params_buf_ = &buffers_.add("params", sizeof(shader::SimParams));
     gpu::upload(ctx, *params_buf_, &params_, sizeof params_);
 
@@ -222,6 +224,7 @@ void PbfSolver::record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
                   {{"params", params_buf_}, {"p", x_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"masks", &grid_->masks()}, {"q", s0_}, {"density", density_}});
     gpu::dispatch(*ctx_, cmd, stats_, stats_groups(count_) * PBF_STATS_WORKGROUP, push,
                   {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"density", density_}, {"partials", partials_}});
+    gpu::host_read_barrier(cmd);
 }
 
 FrameStats PbfSolver::measure(gpu::GpuTimer* timer) {
@@ -234,20 +237,23 @@ FrameStats PbfSolver::measure(gpu::GpuTimer* timer) {
 }
 
 FrameStats PbfSolver::run_frame(gpu::GpuTimer* timer) {
-    if (timer) timer->clear_totals();
-    ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
-        if (timer) timer->reset(cmd);
-        for (uint32_t i = 0; i < scene_.solver.substeps; ++i) {
-            record_step(cmd, timer);
-        }
-        record_stats(cmd, timer);
-    });
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) { record_frame(cmd, timer); });
     return collect_stats(timer);
+}
+
+void PbfSolver::record_frame(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
+    if (timer) {
+        timer->clear_totals();
+        timer->reset(cmd);
+    }
+    for (uint32_t i = 0; i < scene_.solver.substeps; ++i) record_step(cmd, timer);
+    record_stats(cmd, timer);
 }
 
 FrameStats PbfSolver::collect_stats(gpu::GpuTimer* timer) {
     if (timer) timer->collect();
-    auto partials = gpu::download_vector<shader::StatsPartial>(*ctx_, *partials_, stats_groups(count_));
+    const std::span<const shader::StatsPartial> partials(static_cast<const shader::StatsPartial*>(partials_->mapped),
+                                                         stats_groups(count_));
     // The front is the fluid's leading edge: the foremost particle centre plus its radius.
     std::optional<float> wall;
     if (scene_.column_width) wall = scene_.domain.min.x - 0.5f * scene_.particle_spacing;

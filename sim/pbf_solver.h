@@ -72,6 +72,12 @@ public:
     void run_steps(uint32_t steps, gpu::GpuTimer* timer);
     /// Runs one frame (scene.solver.substeps steps) and returns its statistics.
     FrameStats run_frame(gpu::GpuTimer* timer);
+    /// run_frame in two halves, for a caller that keeps the frame in flight: records the frame
+    /// (the timer reset first, then the steps and the statistics' reduction) into `cmd`; once
+    /// that submission has completed, collect_stats() gives its statistics. Record no other
+    /// frame before collecting.
+    void record_frame(VkCommandBuffer cmd, gpu::GpuTimer* timer);
+    FrameStats collect_stats(gpu::GpuTimer* timer);
     /// Statistics of the current state (runs the density and reduction passes).
     FrameStats measure(gpu::GpuTimer* timer);
     ParticleSnapshot snapshot();
@@ -100,7 +106,6 @@ private:
     /// Builds the grid over `key_positions` and reorders x, v, p into its Morton order.
     void record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer);
     void record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer);
-    FrameStats collect_stats(gpu::GpuTimer* timer);
 
     gpu::Context* ctx_;
     Scene scene_;
@@ -113,7 +118,7 @@ private:
     gpu::Buffer* params_buf_;
     gpu::Buffer *x_, *v_, *p_, *s0_, *s1_;
     gpu::Buffer* density_;
-    gpu::Buffer* partials_;
+    gpu::Buffer* partials_;  ///< host-visible: the host reduces them after the frame's fence
     std::unique_ptr<NeighborGrid> grid_;
     StepForce* step_force_ = nullptr;
     gpu::ComputePass predict_, reorder_, lambda_pass_, correct_, velocity_, xsph_curl_, vorticity_, stats_;

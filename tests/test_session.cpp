@@ -1,16 +1,20 @@
 // The simulation session (session/simulation_session.h): a control section pulls the fluid into
 // its shape through the session; reset and new solver settings keep what they promise; a section
 // built in code is the section the JSON loader reads; bad input is refused with a message that
-// names the problem.
+// names the problem; a frame kept in flight with its render matches the frame run, then rendered.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include "control/placement.h"
 #include "control/section_builder.h"
 #include "control/shape_metrics.h"
+#include "core/camera.h"
+#include "gpu/context.h"
+#include "render/registry.h"
 #include "session/simulation_session.h"
 #include "sim/pbf_params.h"
 #include "tests/gpu_test.h"
@@ -122,6 +126,43 @@ TEST_F(SessionTest, WithoutControlTheCubeFallsOutOfTheSphere) {
     std::printf("without control: IoU %.3f after 0.75 s\n", iou);
     EXPECT_LT(iou, 0.1);
     EXPECT_FALSE(sim.run_frame(nullptr).shape) << "no shape columns without control";
+}
+
+TEST_F(SessionTest, AFrameKeptInFlightWithItsRenderMatchesTheFrameRunThenRendered) {
+    // `aquaform run` records the image after the solver's frame in one submission and reads it
+    // back there; it must be the frame rendered on its own after run_frame, figures and all.
+    const Scene scene = cube_in_air();
+    const uint32_t w = 96, h = 64;
+    const ViewCamera camera = camera_for_domain(scene.domain, float(w) / float(h));
+    auto make = [&] {
+        return std::make_unique<SimulationSession>(ctx(), plan_session(cube_in_air(), sphere_section(cube_in_air())));
+    };
+    auto apart = make(), together = make();
+    auto renderer = [&](SimulationSession& sim) {
+        return render_registry().create(ctx(), sim.scene().particle_domain(), w, h, sim.solver().particle_count(),
+                                        render_registry().find("adaptive")->defaults);
+    };
+    auto apart_renderer = renderer(*apart), together_renderer = renderer(*together);
+    gpu::BufferSet host(ctx());
+    const gpu::Buffer& color = host.add("test.color", VkDeviceSize(w) * h * 4, gpu::MemoryUse::host);
+    for (int frame = 0; frame < 3; ++frame) {
+        const FrameReport a = apart->run_frame(nullptr);
+        const Image image = apart_renderer->render(apart->solver().positions(), apart->solver().particle_count(), camera).color;
+        const gpu::Submission in_flight = together->submit_frame(nullptr, [&](VkCommandBuffer cmd) {
+            together_renderer->record(cmd, together->solver().positions(), together->solver().particle_count(), camera, nullptr);
+            gpu::record_download(ctx(), cmd, together_renderer->color_buffer(), color, color.size);
+        });
+        const FrameReport b = together->finish_frame(in_flight, nullptr);
+        EXPECT_NEAR(a.stats.mean_density_error, b.stats.mean_density_error, 1e-6) << frame;
+        EXPECT_NEAR(a.stats.kinetic_energy, b.stats.kinetic_energy, 1e-6 * a.stats.kinetic_energy) << frame;
+        ASSERT_TRUE(a.shape && b.shape);
+        EXPECT_NEAR(a.shape->iou, b.shape->iou, 1e-3) << frame;
+        // (Equal up to the order of float sums where the grid's atomics order a cell's particles.)
+        size_t differing = 0;
+        const auto* bytes = static_cast<const uint8_t*>(color.mapped);
+        for (size_t i = 0; i < image.rgba.size(); ++i) differing += std::abs(int(image.rgba[i]) - int(bytes[i])) > 2;
+        EXPECT_LE(differing, image.rgba.size() / 1000) << "frame " << frame << ": the image in the frame's submission differs";
+    }
 }
 
 TEST_F(SessionTest, ResetRestoresTheInitialParticles) {
