@@ -14,6 +14,7 @@
 #include "control/shape_metrics.h"
 #include "core/camera.h"
 #include "gpu/context.h"
+#include "render/impostor_view.h"
 #include "render/registry.h"
 #include "session/simulation_session.h"
 #include "sim/pbf_params.h"
@@ -153,16 +154,40 @@ TEST_F(SessionTest, AFrameKeptInFlightWithItsRenderMatchesTheFrameRunThenRendere
             gpu::record_download(ctx(), cmd, together_renderer->color_buffer(), color, color.size);
         });
         const FrameReport b = together->finish_frame(in_flight, nullptr);
-        EXPECT_NEAR(a.stats.mean_density_error, b.stats.mean_density_error, 1e-6) << frame;
-        EXPECT_NEAR(a.stats.kinetic_energy, b.stats.kinetic_energy, 1e-6 * a.stats.kinetic_energy) << frame;
+        // (Equal up to the order of float sums where the grid's atomics order a cell's particles:
+        // measured up to 5e-6 relative in the kinetic energy.)
+        EXPECT_NEAR(a.stats.mean_density_error, b.stats.mean_density_error, 1e-5) << frame;
+        EXPECT_NEAR(a.stats.kinetic_energy, b.stats.kinetic_energy, 1e-4 * a.stats.kinetic_energy) << frame;
         ASSERT_TRUE(a.shape && b.shape);
         EXPECT_NEAR(a.shape->iou, b.shape->iou, 1e-3) << frame;
-        // (Equal up to the order of float sums where the grid's atomics order a cell's particles.)
         size_t differing = 0;
         const auto* bytes = static_cast<const uint8_t*>(color.mapped);
         for (size_t i = 0; i < image.rgba.size(); ++i) differing += std::abs(int(image.rgba[i]) - int(bytes[i])) > 2;
         EXPECT_LE(differing, image.rgba.size() / 1000) << "frame " << frame << ": the image in the frame's submission differs";
     }
+}
+
+TEST_F(SessionTest, TheImpostorViewDrawsAFrameInTheFramesOwnSubmission) {
+    // `aquaform run --preview`: the impostors read the particles that the solver's passes wrote
+    // earlier in the same command buffer (a hazard under synchronization validation without the
+    // view's own barrier); the image is the one drawn afterwards from the same particles.
+    SimulationSession sim(ctx(), plan_session(cube_in_air(), std::nullopt));
+    ImpostorView view(ctx(), 96, 64);
+    const ViewCamera camera = camera_for_domain(sim.scene().domain, 1.5f);
+    const ImpostorStyle style{0.5f * sim.scene().particle_spacing, 2.0f};
+    PbfSolver& solver = sim.solver();
+    auto record = [&](VkCommandBuffer cmd) {
+        view.record(cmd, solver.positions(), solver.velocities(), solver.particle_count(), camera, style,
+                    sim.scene().domain, sim.scene().static_boxes);
+    };
+    sim.finish_frame(sim.submit_frame(nullptr, record), nullptr);
+    const Image in_frame = view.image();
+    const Image after = view.render(solver.positions(), solver.velocities(), solver.particle_count(), camera, style,
+                                    sim.scene().domain, sim.scene().static_boxes);
+    EXPECT_EQ(in_frame.rgba, after.rgba);
+    const Image empty = view.render(solver.positions(), solver.velocities(), 0, camera, style, sim.scene().domain,
+                                    sim.scene().static_boxes);
+    EXPECT_NE(in_frame.rgba, empty.rgba) << "the particles are drawn";
 }
 
 TEST_F(SessionTest, ResetRestoresTheInitialParticles) {
