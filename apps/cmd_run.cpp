@@ -156,8 +156,8 @@ int cmd_run(const std::vector<std::string>& argv) {
         if (ply_every && frame % ply_every == 0) f.particles = solver.snapshot();
         const FrameStats& stats = f.report.stats;
         char note[96];
-        int used = std::snprintf(note, sizeof note, "density err %.2f%%  max speed %.2f m/s",
-                                 100.0 * stats.mean_density_error, stats.max_speed);
+        int used = std::snprintf(note, sizeof note, "density err %.2f%%  max speed %.2f m/s  %u steps",
+                                 100.0 * stats.mean_density_error, stats.max_speed, stats.substeps);
         if (f.report.shape && !driver->active().empty())
             std::snprintf(note + used, sizeof note - used, "  shape IoU %.2f", f.report.shape->iou);
         f.note = note;
@@ -171,6 +171,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     int status = kExitOk;
     uint32_t done = 0;
     double simulated = 0.0;
+    uint64_t steps = 0, capped_frames = 0;  // the time-step rule's steps; frames the safety cap bound in
     // Writes a finished frame's files; false ends the run.
     auto write_frame = [&](const FinishedFrame& f) {
         const FrameStats& stats = f.report.stats;
@@ -192,6 +193,8 @@ int cmd_run(const std::vector<std::string>& argv) {
         }
         ++done;
         simulated = stats.time_s;
+        steps += stats.substeps;
+        capped_frames += stats.speed_capped;
         progress.update(done, f.note);
         if (stats.non_finite > 0) {
             progress.finish();
@@ -230,8 +233,14 @@ int cmd_run(const std::vector<std::string>& argv) {
     files.finish(scene);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (g_interrupted) std::fprintf(stderr, "aquaform run: interrupted; the %u frames done are written\n", done);
+    if (capped_frames > 0)
+        std::fprintf(stderr,
+                     "aquaform run: warning: the speed cap (solver.max_speed = %g m/s) bound in %llu of %u frames "
+                     "(speed_capped in stats.csv): those frames lost kinetic energy; raise solver.max_speed or remove "
+                     "it (the time step follows the speeds without it)\n",
+                     scene.solver.max_speed, (unsigned long long)capped_frames, done);
     std::printf("%u frames (%.3f s simulated) in %s wall time, %.1f steps/s; output in %s\n", done, simulated,
-                format_duration(wall).c_str(), wall > 0 ? done * scene.solver.substeps / wall : 0.0,
+                format_duration(wall).c_str(), wall > 0 ? double(steps) / wall : 0.0,
                 out_dir.string().c_str());
     return exit_status(ctx, g_interrupted ? kExitFailure : status);
 }

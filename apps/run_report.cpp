@@ -14,9 +14,10 @@ namespace aquaform::cli {
 void print_run_header(const gpu::Context& ctx, const PbfSolver& solver) {
     const Scene& scene = solver.scene();
     const auto& p = solver.params();
-    std::printf("scene %s: %u particles, spacing %g m, h %g m, step %.4g ms x %u per frame, %u iterations\n",
-                scene.name.c_str(), solver.particle_count(), scene.particle_spacing, p.h, 1000.0 * p.dt,
-                scene.solver.substeps, scene.solver.iterations);
+    std::printf("scene %s: %u particles, spacing %g m, h %g m, %u to %u steps per frame (cfl %g), %u iterations%s\n",
+                scene.name.c_str(), solver.particle_count(), scene.particle_spacing, p.h, scene.solver.substeps,
+                scene.solver.max_substeps, scene.solver.cfl, scene.solver.iterations,
+                scene.solver.max_speed > 0.0f ? (", speeds capped at " + std::to_string(scene.solver.max_speed) + " m/s").c_str() : "");
     std::printf("device: %s (%s)\n", ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type));
     std::string passes;
     for (const auto& name : solver.enabled_passes()) passes += (passes.empty() ? "" : ", ") + name;
@@ -54,7 +55,7 @@ void RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s, const Shap
     if (frame == 0 || pass_columns_.empty()) {
         for (const auto& [name, ms] : s.gpu_ms) pass_columns_.push_back(name);
         stats_ << "frame,time_s,particles,density_err_mean,density_err_max,density_dev_mean,kinetic_energy_j,"
-                  "max_speed_mps,outside,non_finite,gpu_ms_total";
+                  "max_speed_mps,substeps,dt_s,cfl_number,speed_capped,outside,non_finite,gpu_ms_total";
         if (shape) stats_ << ",shape_iou,shape_fill_fraction,fluid_outside_shape,active_shapes";
         for (const auto& name : pass_columns_) stats_ << ",gpu_ms_" << name;
         stats_ << "\n";
@@ -62,9 +63,9 @@ void RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s, const Shap
     double total = 0.0;
     for (const auto& [name, ms] : s.gpu_ms) total += ms;
     char row[512];
-    std::snprintf(row, sizeof row, "%u,%.6f,%u,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%u,%.4f", frame, s.time_s, s.particles,
-                  s.mean_density_error, s.max_density_error, s.mean_density_deviation, s.kinetic_energy, s.max_speed,
-                  s.outside, s.non_finite, total);
+    std::snprintf(row, sizeof row, "%u,%.6f,%u,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.4f,%d,%u,%u,%.4f", frame, s.time_s,
+                  s.particles, s.mean_density_error, s.max_density_error, s.mean_density_deviation, s.kinetic_energy,
+                  s.max_speed, s.substeps, s.dt, s.cfl_number, s.speed_capped ? 1 : 0, s.outside, s.non_finite, total);
     stats_ << row;
     if (shape) {
         std::snprintf(row, sizeof row, ",%.4f,%.4f,%.4f,\"%s\"", shape->iou, shape->fill_fraction, shape->outside_fraction,

@@ -1,5 +1,7 @@
 #include "control/control_driver.h"
 
+#include <algorithm>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -29,6 +31,7 @@ Result<PreparedControl> prepare_control_scene(Scene& scene) {
     prepared.strength = automatic_strength(
         {&scene, prepared.section.spacing, prepared.section.shape_height(scene.gravity)}, prepared.section.overrides);
     scene.solver.substeps = prepared.strength.substeps;
+    scene.solver.max_substeps = std::max(scene.solver.max_substeps, prepared.strength.substeps);
     return prepared;
 }
 

@@ -46,7 +46,8 @@ SessionPlan plan_session(Scene scene, std::optional<control::ControlSection> sec
     SessionPlan plan;
     if (section) {
         const control::Strength strength = strength_for(scene, *section);
-        scene.solver.substeps = strength.substeps;
+        scene.solver.substeps = strength.substeps;  // the least steps; the time-step rule may add more
+        scene.solver.max_substeps = std::max(scene.solver.max_substeps, strength.substeps);
         plan.control = control::PreparedControl{std::move(*section), strength};
     }
     plan.scene = std::move(scene);

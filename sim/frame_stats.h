@@ -18,6 +18,10 @@ struct FrameStats {
     double mean_density_deviation = 0.0;  ///< mean |rho/rho0 - 1|, free-surface deficiency included
     double kinetic_energy = 0.0;      ///< [J]
     double max_speed = 0.0;           ///< [m/s]
+    uint32_t substeps = 0;            ///< solver steps this frame took (the time-step rule)
+    double dt = 0.0;                  ///< their step [s]
+    double cfl_number = 0.0;          ///< max_speed * dt / h at the frame's end (the rule keeps it <= cfl)
+    bool speed_capped = false;        ///< the scene's safety cap (solver.max_speed) bound in this frame
     uint32_t particles = 0;
     uint32_t outside = 0;             ///< particles outside the domain box (leaked)
     uint32_t non_finite = 0;          ///< particles with NaN or infinite state

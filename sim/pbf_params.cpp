@@ -1,5 +1,6 @@
 #include "sim/pbf_params.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "shaders/shared/pbf_layout.h"
@@ -69,9 +70,8 @@ shader::SimParams make_sim_params(const Scene& scene, const GridGeometry& grid, 
     p.scorr_inv_wdq = 1.0f / shader::poly6(dq * dq, p.h2, p.poly6_coeff);
     p.viscosity = sv.viscosity;
     p.vorticity = sv.vorticity;
-    p.dt = sv.frame_dt / float(sv.substeps);
-    p.inv_dt = 1.0f / p.dt;
-    p.max_speed = sv.cfl * c.h / p.dt;
+    set_substeps(p, sv.frame_dt, sv.substeps);
+    p.max_speed = sv.max_speed;  // 0: no cap
     p.particle_count = particle_count;
     p.static_box_count = static_cast<uint32_t>(scene.static_boxes.size());
     for (size_t b = 0; b < scene.static_boxes.size() && b < PBF_MAX_STATIC_BOXES; ++b) {
@@ -83,6 +83,20 @@ shader::SimParams make_sim_params(const Scene& scene, const GridGeometry& grid, 
     p.wall_scale = c.wall_phi * shader::SPH_PI * p.poly6_coeff / 4.0f;
     p.wall_f_h = shader::pbf_wall_antiderivative(c.h, p.h2);
     return p;
+}
+
+void set_substeps(shader::SimParams& params, float frame_dt, uint32_t substeps) {
+    params.dt = frame_dt / float(std::max(substeps, 1u));
+    params.inv_dt = 1.0f / params.dt;
+}
+
+uint32_t substeps_for_speed(const SolverSettings& solver, float h, double max_speed, double accel) {
+    const double lo = std::max(solver.substeps, 1u), hi = std::max(solver.max_substeps, solver.substeps);
+    if (!std::isfinite(max_speed) || !std::isfinite(accel)) return uint32_t(hi);
+    // n steps of frame_dt / n: (v + a frame_dt) frame_dt / n <= cfl h.
+    const double speed = max_speed + accel * solver.frame_dt;
+    const double needed = std::ceil(speed * solver.frame_dt / (double(solver.cfl) * h) - 1e-9);
+    return uint32_t(std::clamp(needed, lo, hi));
 }
 
 }  // namespace aquaform

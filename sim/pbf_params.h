@@ -25,7 +25,17 @@ struct PbfConstants {
 
 PbfConstants pbf_constants(const Scene& scene);
 
-/// The parameter block for one solver step (dt = frame_dt / substeps).
+/// The parameter block for one solver step (dt = frame_dt / scene.solver.substeps).
 shader::SimParams make_sim_params(const Scene& scene, const GridGeometry& grid, uint32_t particle_count);
+/// Sets the block's step to frame_dt / substeps.
+void set_substeps(shader::SimParams& params, float frame_dt, uint32_t substeps);
+
+/// The time-step rule (the CFL condition v_max * dt <= cfl * h, bounded by the scene's substeps
+/// and max_substeps): the steps of the next frame from the largest speed at the end of the
+/// last. The speed is the frame's one reduction, so choosing costs no extra readback; a frame
+/// can speed up on the way, so the bound adds what gravity and `extra_accel` [m/s^2] (forces
+/// the solver knows of) can add within it. Whether a frame kept the bound is measured after it
+/// (FrameStats::cfl_number).
+uint32_t substeps_for_speed(const SolverSettings& solver, float h, double max_speed, double accel);
 
 }  // namespace aquaform

@@ -1,5 +1,6 @@
 #include "sim/pbf_solver.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <span>
@@ -102,6 +103,7 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_
     gpu::UploadBatch uploads(ctx);  // the grid's table, the parameters and the particles: one submission
     const GridGeometry& geometry = plan.value().grid;
     params_ = make_sim_params(scene, geometry, count_);
+    substeps_ = scene.solver.substeps;
     xsph_on_ = scene.solver.viscosity > 0.0f || scene.solver.vorticity > 0.0f;
     vorticity_on_ = scene.solver.vorticity > 0.0f;
 
@@ -246,7 +248,15 @@ void PbfSolver::record_frame(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
         timer->clear_totals();
         timer->reset(cmd);
     }
-    for (uint32_t i = 0; i < scene_.solver.substeps; ++i) record_step(cmd, timer);
+    // The time-step rule: this frame's steps from the largest speed the last frame ended with
+    // (collected before this frame is recorded).
+    const uint32_t substeps = substeps_for_speed(scene_.solver, params_.h, last_max_speed_, glm::length(scene_.gravity));
+    if (substeps != substeps_) {
+        substeps_ = substeps;
+        set_substeps(params_, scene_.solver.frame_dt, substeps);
+        gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
+    }
+    for (uint32_t i = 0; i < substeps; ++i) record_step(cmd, timer);
     record_stats(cmd, timer);
 }
 
@@ -260,6 +270,12 @@ FrameStats PbfSolver::collect_stats(gpu::GpuTimer* timer) {
     FrameStats stats = reduce_stats(partials, count_, wall);
     stats.time_s = time_;
     if (timer) stats.gpu_ms = timer->totals_ms();
+    stats.substeps = substeps_;
+    stats.dt = params_.dt;
+    stats.cfl_number = stats.max_speed * params_.dt / params_.h;
+    // The cap clamps to exactly max_speed, so a frame it bound in ends at (nearly) that speed.
+    stats.speed_capped = params_.max_speed > 0.0f && stats.max_speed >= 0.999 * params_.max_speed;
+    last_max_speed_ = stats.max_speed;
     return stats;
 }
 
@@ -279,6 +295,8 @@ void PbfSolver::set_state(const std::vector<glm::vec4>& x, const std::vector<glm
     gpu::UploadBatch uploads(*ctx_);  // the uploads join the sort's submission
     gpu::upload(*ctx_, *x_, x.data(), x.size() * sizeof(glm::vec4));
     gpu::upload(*ctx_, *v_, v.data(), v.size() * sizeof(glm::vec4));
+    last_max_speed_ = 0.0;  // the next frame's steps follow the new velocities
+    for (const glm::vec4& vi : v) last_max_speed_ = std::max(last_max_speed_, double(glm::length(glm::vec3(vi))));
     // Sort by the new positions so that the grid is valid before the first step (measure()).
     ctx_->submit_and_wait([&](VkCommandBuffer cmd) { record_sort(cmd, *x_, nullptr); });
 }

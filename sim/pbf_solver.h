@@ -66,11 +66,12 @@ public:
     PbfSolver(gpu::Context& ctx, const Scene& scene);
     ~PbfSolver();
 
-    /// Records one solver step (dt = frame_dt / substeps).
+    /// Records one solver step (dt = frame_dt / substeps(), the step of the last frame).
     void record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer);
     /// Runs `steps` steps in one submission and waits.
     void run_steps(uint32_t steps, gpu::GpuTimer* timer);
-    /// Runs one frame (scene.solver.substeps steps) and returns its statistics.
+    /// Runs one frame and returns its statistics. Its steps follow the time-step rule
+    /// (substeps_for_speed, sim/pbf_params.h) from the largest speed the last frame ended with.
     FrameStats run_frame(gpu::GpuTimer* timer);
     /// run_frame in two halves, for a caller that keeps the frame in flight: records the frame
     /// (the timer reset first, then the steps and the statistics' reduction) into `cmd`; once
@@ -88,6 +89,8 @@ public:
     void set_step_force(StepForce* force) { step_force_ = force; }
 
     uint32_t particle_count() const { return count_; }
+    /// Steps of the last frame (before the first: the scene's least substeps).
+    uint32_t substeps() const { return substeps_; }
     double time() const { return time_; }
     const shader::SimParams& params() const { return params_; }
     const Scene& scene() const { return scene_; }
@@ -112,6 +115,8 @@ private:
     uint32_t count_ = 0;
     double time_ = 0.0;
     shader::SimParams params_{};
+    uint32_t substeps_ = 1;
+    double last_max_speed_ = 0.0;  // the largest speed at the end of the last frame [m/s]
     bool xsph_on_ = false;
     bool vorticity_on_ = false;
     gpu::BufferSet buffers_;

@@ -27,7 +27,7 @@ constexpr std::string_view kTopKeys[] = {"name",         "domain", "particle_spa
                                          "column_width", "solver", "control"};
 constexpr std::string_view kSolverKeys[] = {"frame_dt",  "substeps", "iterations", "kernel_radius_factor",
                                             "relaxation", "viscosity", "vorticity", "scorr_k",
-                                            "scorr_n",   "scorr_dq", "cfl"};
+                                            "scorr_n",   "scorr_dq", "cfl", "max_substeps", "max_speed"};
 
 constexpr const char* kAxis[] = {"x", "y", "z"};
 
@@ -97,10 +97,17 @@ void read_solver(const json& s, SolverSettings& out) {
         {"scorr_dq", &SolverSettings::scorr_dq,
          {0.0, 1.0, true, true, "a number strictly between 0 and 1 (a fraction of h), e.g. 0.2"}},
         {"cfl", &SolverSettings::cfl, {0.0, 1.0, true, false, "a number greater than 0 and at most 1, e.g. 0.4"}},
+        {"max_speed", &SolverSettings::max_speed,
+         {0.0, 1.0e4, false, false, "a speed in m/s from 0 (no cap, the default) to 10000, e.g. 50"}},
     };
     for (const auto& f : floats)
         if (s.contains(f.key)) out.*f.member = read_number(s[f.key], child("solver", f.key), f.range);
     if (s.contains("substeps")) out.substeps = read_integer(s["substeps"], "solver.substeps", 1, 64);
+    if (s.contains("max_substeps")) out.max_substeps = read_integer(s["max_substeps"], "solver.max_substeps", 1, 256);
+    if (!s.contains("max_substeps")) out.max_substeps = std::max(out.max_substeps, out.substeps);
+    if (out.max_substeps < out.substeps)
+        fail("solver.max_substeps is " + std::to_string(out.max_substeps) + ", below solver.substeps (" +
+             std::to_string(out.substeps) + ", the least steps per frame); raise max_substeps or lower substeps");
     if (s.contains("iterations")) out.iterations = read_integer(s["iterations"], "solver.iterations", 1, 100);
 }
 

@@ -22,7 +22,10 @@ inline constexpr uint64_t kMaxSceneParticles = uint64_t{1} << 26;  // 67,108,864
 /// Solver settings (Macklin & Mueller 2013, "Position Based Fluids").
 struct SolverSettings {
     float frame_dt = 1.0f / 60.0f;      ///< simulated seconds per output frame
-    uint32_t substeps = 2;              ///< solver steps per frame
+    /// Solver steps per frame: at least `substeps`, more where the fluid is fast (the time-step
+    /// rule: the fastest particle moves at most cfl * h per step), up to `max_substeps`.
+    uint32_t substeps = 2;
+    uint32_t max_substeps = 32;
     uint32_t iterations = 4;            ///< constraint iterations per step
     float kernel_radius_factor = 2.0f;  ///< h = factor * particle_spacing
     float relaxation = 0.01f;           ///< epsilon of eq. 11 relative to a full neighbourhood stiffness (sim/pbf_params.h)
@@ -31,7 +34,10 @@ struct SolverSettings {
     float scorr_k = 0.1f;               ///< tensile instability k (eq. 13)
     float scorr_n = 4.0f;               ///< tensile instability n
     float scorr_dq = 0.2f;              ///< tensile instability delta q, as a fraction of h
-    float cfl = 0.4f;                   ///< speed cap: a particle moves at most cfl * h per step
+    float cfl = 0.4f;                   ///< the time-step rule's Courant number: v_max * dt <= cfl * h
+    /// A safety net, not a time-step rule: speeds are capped at this [m/s] (0 = off, the
+    /// default); a frame where the cap binds is reported (FrameStats::speed_capped).
+    float max_speed = 0.0f;
 };
 
 struct Scene {

@@ -79,10 +79,12 @@ SolverMapRecord run_cell(gpu::Context& ctx, const Scene& base, const control::Co
     rec.control_pressure = pressure;
 
     // dt is the solver step itself (dt = frame_dt / substeps in sim/pbf_params.cpp): a frame of
-    // k steps keeps the scene's measurement cadence while every step is exactly dt.
+    // k steps keeps the scene's measurement cadence while every step is exactly dt. The map
+    // fixes dt, so the time-step rule may not add steps (max_substeps = substeps).
     Scene scene = base;
     const double k = std::clamp(std::round(double(base.solver.frame_dt) / dt), 1.0, double(kMaxStepsPerFrame));
     scene.solver.substeps = uint32_t(k);
+    scene.solver.max_substeps = uint32_t(k);
     scene.solver.frame_dt = float(k) * dt;
     scene.solver.iterations = iterations;
     const double seconds = std::max(double(spec.sim_time_s), kMinStepsPerCell * dt);

@@ -21,6 +21,57 @@ protected:
     }
 };
 
+/// One particle high in a tall, empty tank (spacing 0.05 m, h = 0.1 m), at least one step per frame.
+Scene free_fall_scene(const std::string& solver_extra) {
+    auto scene = parse_scene(R"({"name": "free fall", "domain": {"min": [0, 0, 0], "max": [1, 6, 1]},
+        "particle_spacing": 0.05, "fluid_blocks": [{"min": [0.45, 5.9, 0.45], "max": [0.5, 5.95, 0.5]}],
+        "solver": {"substeps": 1, "max_substeps": 16, "cfl": 0.4)" + solver_extra + "}}", "free_fall.json");
+    EXPECT_TRUE(scene.ok()) << scene.error();
+    return scene.value();
+}
+
+TEST_F(PhysicsTest, AFreelyFallingParticleKeepsItsEnergyAndTheStepFollowsItsSpeed) {
+    const Scene scene = free_fall_scene("");
+    PbfSolver solver(ctx(), scene);
+    ASSERT_EQ(solver.particle_count(), 1u);
+    const float h = solver.params().h;
+    std::vector<FrameStats> frames;
+    while (solver.time() < 1.0 - 1e-6) frames.push_back(solver.run_frame(nullptr));
+    const FrameStats& last = frames.back();
+    // No cap takes energy: the speed after 1 s is g t within 1 %.
+    EXPECT_NEAR(last.max_speed, 9.81 * last.time_s, 0.01 * 9.81 * last.time_s);
+    EXPECT_FALSE(last.speed_capped);
+    // At rest one step per frame; at ~9.8 m/s the rule asks for (v + g dt_frame) dt_frame / (cfl h).
+    EXPECT_EQ(frames.front().substeps, 1u);
+    const uint32_t expected = uint32_t(std::ceil((frames[frames.size() - 2].max_speed + 9.81 * scene.solver.frame_dt) *
+                                                 scene.solver.frame_dt / (scene.solver.cfl * h)));
+    EXPECT_EQ(last.substeps, expected);
+    EXPECT_GE(last.substeps, 4u);
+    for (size_t f = 1; f < frames.size(); ++f) {
+        EXPECT_GE(frames[f].substeps, frames[f - 1].substeps) << "frame " << f << ": falling faster needs no fewer steps";
+        EXPECT_LE(frames[f].cfl_number, scene.solver.cfl + 1e-6) << "frame " << f;
+        EXPECT_NEAR(frames[f].dt, scene.solver.frame_dt / frames[f].substeps, 1e-9);
+    }
+    // On the floor it stops, and the step falls back to one per frame.
+    while (solver.time() < 1.6) frames.push_back(solver.run_frame(nullptr));
+    EXPECT_LT(frames.back().max_speed, 0.05);
+    EXPECT_EQ(frames.back().substeps, 1u);
+}
+
+TEST_F(PhysicsTest, TheSpeedCapIsASafetyNetThatSaysWhenItBinds) {
+    PbfSolver solver(ctx(), free_fall_scene(R"(, "max_speed": 3)"));
+    FrameStats last;
+    bool bound = false;
+    while (solver.time() < 1.0 - 1e-6) {
+        last = solver.run_frame(nullptr);
+        bound |= last.speed_capped;
+        if (last.time_s < 0.25) EXPECT_FALSE(last.speed_capped) << "t = " << last.time_s << ": below the cap";
+    }
+    EXPECT_TRUE(bound);
+    EXPECT_TRUE(last.speed_capped);
+    EXPECT_NEAR(last.max_speed, 3.0, 1e-3) << "the cap holds the speed";
+}
+
 TEST_F(PhysicsTest, HydrostaticColumnSettles) {
     Scene scene = load("hydrostatic.json");
     PbfSolver solver(ctx(), scene);

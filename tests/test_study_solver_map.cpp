@@ -151,9 +151,10 @@ TEST_F(SolverMap, ControlPressureDrivesTheDensityError) {
     const study::SolverMapRecord* hard = find(map.value(), 0.004f, 2, 50000.0f);
     ASSERT_TRUE(soft && hard);
     EXPECT_TRUE(soft->stable) << soft->failure;
-    // 100x the pressure pushes the fluid into the ball's boundary layer 100x harder (measured ~30x
-    // the error); equal errors would mean the pressure never reached the force.
-    EXPECT_GT(hard->density_err_max, 5.0 * soft->density_err_max);
+    // 100x the pressure pushes the fluid into the ball's boundary layer 100x harder (measured 3.4x
+    // the largest error without a speed cap, ~30x when a cap held the fluid in the layer); equal
+    // errors would mean the pressure never reached the force.
+    EXPECT_GT(hard->density_err_max, 2.0 * soft->density_err_max);
     const fs::path csv = dir / "solver_map.csv";
     ASSERT_TRUE(study::write_solver_map_csv(csv, map.value()).ok());
     EXPECT_NE(read_file(csv).find("tiny_shape,0.00400000019,2,50000,"), std::string::npos) << read_file(csv);

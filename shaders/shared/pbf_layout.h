@@ -36,7 +36,7 @@ struct SimParams {
     float scorr_inv_wdq;  ///< 1 / W(dq h)
     float viscosity;      ///< XSPH c
     float vorticity;      ///< vorticity confinement epsilon [m/s]
-    float max_speed;      ///< CFL cap [m/s]
+    float max_speed;      ///< safety cap [m/s]; 0 = none
     float dt;             ///< step [s]
     float inv_dt;
     uint particle_count;
@@ -107,10 +107,11 @@ AF_FN vec3 pbf_predicted_position(vec3 x, vec3 v, SimParams params) {
     return pbf_collide(x + params.dt * v, params);
 }
 
-/// Caps a velocity at params.max_speed (the CFL condition: at most cfl * h per step).
+/// Caps a velocity at params.max_speed: a safety net the scene may ask for (0 = off); the time
+/// step follows the speeds instead (sim/pbf_params.h, substeps_for_speed).
 AF_FN vec3 pbf_cap_speed(vec3 v, SimParams params) {
     float s2 = dot(v, v);
-    if (s2 > params.max_speed * params.max_speed) v *= params.max_speed / sqrt(s2);
+    if (params.max_speed > 0.0 && s2 > params.max_speed * params.max_speed) v *= params.max_speed / sqrt(s2);
     return v;
 }
 
