@@ -40,7 +40,7 @@ void ControlForce::reserve(uint32_t points) {
     point_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
     points_ = &point_buffers_->add("control.points", uint64_t(capacity_) * 16);
     sorted_ = &point_buffers_->add("control.sorted_points", uint64_t(capacity_) * 16);
-    grid_ = std::make_unique<NeighborGrid>(*ctx_, *point_buffers_, geometry_, capacity_, "control.grid", false);
+    grid_ = std::make_unique<NeighborGrid>(*ctx_, *point_buffers_, geometry_, capacity_, "control.grid");
 }
 
 void ControlForce::set_points(const std::vector<glm::vec4>& cpu_points, const std::vector<GpuPoints>& gpu_points) {

@@ -1,5 +1,6 @@
 #include "gpu/buffer.h"
 
+#include <mutex>
 #include <stdexcept>
 
 #include "gpu/compute_pass.h"
@@ -24,8 +25,8 @@ Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size, M
     b.size = size;
     VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     info.size = size;
-    info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                 VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
+                 VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     VK_CHECK(vkCreateBuffer(ctx.device(), &info, nullptr, &b.buffer));
     VkMemoryRequirements req{};
@@ -51,10 +52,58 @@ Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size, M
 }
 
 void destroy_buffer(Context& ctx, Buffer& b) {
+    for (Buffer::TexelView& v : b.views)
+        if (v.view) vkDestroyBufferView(ctx.device(), v.view, nullptr);
     if (b.mapped) vkUnmapMemory(ctx.device(), b.memory);
     if (b.buffer) vkDestroyBuffer(ctx.device(), b.buffer, nullptr);
     if (b.memory) vkFreeMemory(ctx.device(), b.memory, nullptr);
     b = Buffer{};
+}
+
+namespace {
+
+uint32_t format_bytes(VkFormat format) {
+    switch (format) {
+        case VK_FORMAT_R32G32B32A32_SFLOAT:
+        case VK_FORMAT_R32G32B32A32_UINT: return 16;
+        case VK_FORMAT_R32G32_SFLOAT:
+        case VK_FORMAT_R32G32_UINT: return 8;
+        case VK_FORMAT_R32_SFLOAT:
+        case VK_FORMAT_R32_UINT:
+        case VK_FORMAT_R32_SINT: return 4;
+        default: throw internal_failure("texel_view: unsupported format " + std::to_string(int(format)));
+    }
+}
+
+std::mutex& view_mutex() {
+    static std::mutex m;  // views are made lazily while any thread records
+    return m;
+}
+
+}  // namespace
+
+VkBufferView texel_view(Context& ctx, const Buffer& b, VkFormat format) {
+    std::lock_guard<std::mutex> lock(view_mutex());
+    for (const Buffer::TexelView& v : b.views)
+        if (v.format == format) return v.view;
+    Buffer::TexelView* free = nullptr;
+    for (Buffer::TexelView& v : b.views)
+        if (!v.view && !free) free = &v;
+    if (!free) throw internal_failure("buffer '" + b.name + "' viewed in more formats than it keeps views for");
+    const uint64_t elements = b.size / format_bytes(format);
+    if (elements > ctx.limits().maxTexelBufferElements)
+        throw VulkanError(VK_ERROR_OUT_OF_DEVICE_MEMORY,
+                          "buffer '" + b.name + "' holds " + std::to_string(elements) + " elements but " +
+                              ctx.info().name + " reads at most " + std::to_string(ctx.limits().maxTexelBufferElements) +
+                              " through a texel buffer; use fewer particles (a larger particle_spacing)");
+    VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    info.buffer = b.buffer;
+    info.format = format;
+    info.offset = 0;
+    info.range = elements * format_bytes(format);
+    VK_CHECK(vkCreateBufferView(ctx.device(), &info, nullptr, &free->view));
+    free->format = format;
+    return free->view;
 }
 
 void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset) {

@@ -20,6 +20,12 @@ struct Buffer {
     VkDeviceSize size = 0;
     std::string name;
     void* mapped = nullptr;  ///< set for host-visible buffers
+    /// Views as a storage texel buffer, made on first use by texel_view() (one per format).
+    struct TexelView {
+        VkFormat format = VK_FORMAT_UNDEFINED;
+        VkBufferView view = VK_NULL_HANDLE;
+    };
+    mutable TexelView views[2];
 };
 
 enum class MemoryUse { device, host };
@@ -30,6 +36,11 @@ enum class MemoryUse { device, host };
 Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size,
                      MemoryUse use = MemoryUse::device);
 void destroy_buffer(Context& ctx, Buffer& buffer);
+
+/// The buffer seen as a storage texel buffer of `format` (whole size), made on first use and
+/// destroyed with the buffer. Fails with a message naming the buffer when it holds more
+/// elements than the device's texel-buffer limit.
+VkBufferView texel_view(Context& ctx, const Buffer& buffer, VkFormat format);
 
 /// Copies host data into a device buffer through staging memory (gpu/staging.h). Inside this
 /// thread's recording it records the copy there (in order with the passes around it); inside an

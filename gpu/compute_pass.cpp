@@ -12,11 +12,38 @@
 
 namespace aquaform::gpu {
 
+namespace {
+
+/// The view format of a storage texel buffer from its SPIR-V image format.
+VkFormat texel_vk_format(const ShaderBinding& b, const std::string& shader) {
+    switch (b.texel_format) {
+        case 1: return VK_FORMAT_R32G32B32A32_SFLOAT;
+        case 3: return VK_FORMAT_R32_SFLOAT;
+        case 6: return VK_FORMAT_R32G32_SFLOAT;
+        case 24: return VK_FORMAT_R32_SINT;
+        case 30: return VK_FORMAT_R32G32B32A32_UINT;
+        case 33: return VK_FORMAT_R32_UINT;
+        case 35: return VK_FORMAT_R32G32_UINT;
+        default:
+            throw internal_failure(shader + ": texel buffer '" + b.name + "' has image format " +
+                                   std::to_string(b.texel_format) + "; use rgba32f, rg32f, r32f, rgba32ui, rg32ui, r32ui or r32i");
+    }
+}
+
+VkDescriptorType descriptor_type(const ShaderBinding& b) {
+    if (!b.storage) return VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+    return b.texel_format ? VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+}
+
+}  // namespace
+
 ComputePass::ComputePass(Context& ctx, const ComputePassDesc& desc)
     : ctx_(&ctx), desc_(desc), bindings_(reflect_bindings(find_shader(desc.shader), desc.shader)) {
-    for (const ShaderBinding& b : bindings_)
-        if (b.set != 0 || !b.storage)
-            throw internal_failure(desc.shader + ": binding '" + b.name + "' must be a storage buffer in set 0");
+    for (const ShaderBinding& b : bindings_) {
+        if (b.set != 0)
+            throw internal_failure(desc.shader + ": binding '" + b.name + "' must be in descriptor set 0");
+        if (b.texel_format) texel_vk_format(b, desc.shader);  // a format the pass can view
+    }
     if (desc.bindings != 0 && desc.bindings != bindings_.size())
         throw internal_failure(desc.shader + ": the pass expects " + std::to_string(desc.bindings) +
                                " bindings, the shader declares " + std::to_string(bindings_.size()));
@@ -24,7 +51,7 @@ ComputePass::ComputePass(Context& ctx, const ComputePassDesc& desc)
     std::vector<VkDescriptorSetLayoutBinding> bindings(bindings_.size());
     for (size_t i = 0; i < bindings_.size(); ++i) {
         bindings[i].binding = bindings_[i].binding;
-        bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        bindings[i].descriptorType = descriptor_type(bindings_[i]);
         bindings[i].descriptorCount = 1;
         bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
     }
@@ -136,16 +163,26 @@ void bind_pass(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const
         if (indirect) reads.push_back(indirect->buffer);
         tracker->access(cmd, reads.data(), reads.size(), writes.data(), writes.size());
     }
-    std::vector<VkDescriptorBufferInfo> infos;
-    infos.reserve(by_index.size());
-    for (const Buffer* b : by_index) infos.push_back({b->buffer, 0, VK_WHOLE_SIZE});
+    std::vector<VkDescriptorBufferInfo> infos(by_index.size());
+    std::vector<VkBufferView> views(by_index.size(), VK_NULL_HANDLE);
     std::vector<VkWriteDescriptorSet> writes(by_index.size());
     for (uint32_t i = 0; i < writes.size(); ++i) {
+        const ShaderBinding& declared_binding = declared_bindings[i];
         writes[i].sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-        writes[i].dstBinding = declared_bindings[i].binding;
+        writes[i].dstBinding = declared_binding.binding;
         writes[i].descriptorCount = 1;
-        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-        writes[i].pBufferInfo = &infos[i];
+        writes[i].descriptorType = descriptor_type(declared_binding);
+        if (declared_binding.texel_format) {
+            views[i] = texel_view(ctx, *by_index[i], texel_vk_format(declared_binding, d.shader));
+            writes[i].pTexelBufferView = &views[i];
+        } else {
+            if (!declared_binding.storage && by_index[i]->size > ctx.limits().maxUniformBufferRange)
+                throw internal_failure(d.shader + ": uniform block '" + declared_binding.name + "' bound to buffer '" +
+                                       by_index[i]->name + "' of " + std::to_string(by_index[i]->size) +
+                                       " bytes, more than the device's uniform-buffer range");
+            infos[i] = {by_index[i]->buffer, 0, VK_WHOLE_SIZE};
+            writes[i].pBufferInfo = &infos[i];
+        }
     }
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pass.pipeline());
     if (!writes.empty())
@@ -204,7 +241,7 @@ void copy(Context& ctx, VkCommandBuffer cmd, const Buffer& src, const Buffer& ds
 void compute_barrier(VkCommandBuffer cmd) {
     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
     barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
+    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_UNIFORM_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
                             VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
     const VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
     vkCmdPipelineBarrier(cmd, stages, stages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, 0, 1, &barrier, 0, nullptr, 0,

@@ -11,11 +11,12 @@ namespace {
 
 // Opcodes, decorations and storage classes of the SPIR-V specification (unified 1.6).
 constexpr uint32_t kMagic = 0x07230203;
-constexpr uint32_t kOpName = 5, kOpMemberName = 6, kOpTypeStruct = 30, kOpTypePointer = 32, kOpVariable = 59,
+constexpr uint32_t kOpName = 5, kOpMemberName = 6, kOpTypeImage = 25, kOpTypeStruct = 30, kOpTypePointer = 32, kOpVariable = 59,
                    kOpDecorate = 71, kOpMemberDecorate = 72;
 constexpr uint32_t kDecorationBufferBlock = 3, kDecorationNonWritable = 24, kDecorationNonReadable = 25,
                    kDecorationBinding = 33, kDecorationDescriptorSet = 34;
-constexpr uint32_t kStorageUniform = 2, kStorageBuffer = 12;
+constexpr uint32_t kStorageUniformConstant = 0, kStorageUniform = 2, kStorageBuffer = 12;
+constexpr uint32_t kDimBuffer = 5, kSampledStorage = 2;  // OpTypeImage's Dim and Sampled operands
 
 struct Id {
     std::string name;
@@ -27,6 +28,7 @@ struct Id {
     uint32_t pointee = 0, storage = ~0u;  // OpTypePointer / OpVariable
     uint32_t type = 0;                    // OpVariable's pointer type
     bool variable = false, pointer = false;
+    uint32_t texel_format = 0;  // OpTypeImage of a storage texel buffer: its image format
 };
 
 std::string literal(std::span<const uint32_t> words) {
@@ -65,6 +67,10 @@ std::vector<ShaderBinding> reflect_bindings(std::span<const uint32_t> spirv, std
                 break;
             }
             case kOpTypeStruct: ids[w[1]].members = count - 2; break;
+            case kOpTypeImage:
+                // A storage texel buffer always names its format (GLSL needs layout(format)).
+                if (count > 8 && w[3] == kDimBuffer && w[7] == kSampledStorage) ids[w[1]].texel_format = w[8];
+                break;
             case kOpTypePointer: {
                 Id& id = ids[w[1]];
                 id.pointer = true;
@@ -101,10 +107,11 @@ std::vector<ShaderBinding> reflect_bindings(std::span<const uint32_t> spirv, std
     std::vector<ShaderBinding> out;
     for (const auto& [key, var] : ids) {
         if (!var.variable || var.binding < 0) continue;
-        if (var.storage != kStorageBuffer && var.storage != kStorageUniform) continue;
         auto pointer = ids.find(var.type);
         if (pointer == ids.end()) continue;
         const Id& block = ids[pointer->second.pointee];
+        const bool texel = var.storage == kStorageUniformConstant && block.texel_format != 0;
+        if (var.storage != kStorageBuffer && var.storage != kStorageUniform && !texel) continue;
         // Every member NonWritable (or the variable itself) makes the buffer read-only.
         auto all = [&](const std::vector<bool>& flags) {
             if (block.members == 0 || flags.size() < block.members) return false;
@@ -113,7 +120,8 @@ std::vector<ShaderBinding> reflect_bindings(std::span<const uint32_t> spirv, std
         ShaderBinding b;
         b.set = uint32_t(var.set);
         b.binding = uint32_t(var.binding);
-        b.storage = var.storage == kStorageBuffer || block.buffer_block;
+        b.storage = var.storage == kStorageBuffer || block.buffer_block || texel;
+        b.texel_format = texel ? block.texel_format : 0;
         b.writes = b.storage && !(var.non_writable || all(block.member_non_writable));
         b.reads = !(var.non_readable || all(block.member_non_readable));
         if (!var.name.empty()) b.name = var.name;

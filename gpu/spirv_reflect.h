@@ -1,6 +1,7 @@
 // The descriptor bindings a SPIR-V module declares, read back from the module itself (after the
 // approach of zeux/niagara's parseShader): binding numbers, names, and whether the shader only
-// reads (NonWritable, GLSL `readonly`) or only writes (NonReadable, `writeonly`) each buffer.
+// reads (NonWritable, GLSL `readonly`) or only writes (NonReadable, `writeonly`) each buffer,
+// and for a storage texel buffer (imageBuffer) the format its view must have.
 // A binding's name is its GLSL instance name, or for a block without one (`buffer Sorted
 // { vec4 sorted[]; };`, the house style) the name of its only member (`sorted`), else the
 // block's type name. Bindings are named once, in GLSL; C++ passes them by those names.
@@ -18,7 +19,10 @@ struct ShaderBinding {
     uint32_t set = 0;
     uint32_t binding = 0;
     std::string name;
-    bool storage = true;      ///< storage buffer (else a uniform buffer)
+    bool storage = true;      ///< storage buffer or storage texel buffer (else a uniform buffer)
+    /// A storage texel buffer (`layout(rgba32f) uniform imageBuffer`): the SPIR-V image format
+    /// of its elements (1 rgba32f, 3 r32f, 30 rgba32ui, 33 r32ui, ...); 0 for a buffer block.
+    uint32_t texel_format = 0;
     bool reads = true;        ///< false: NonReadable (`writeonly`)
     bool writes = true;       ///< false: NonWritable (`readonly`)
 };

@@ -38,6 +38,12 @@ Result<GridGeometry> grid_for_domain(glm::vec3 min, glm::vec3 max, float cell_si
     return g;
 }
 
+uint32_t neighbor_list_capacity(float radius_in_spacings) {
+    const double f = radius_in_spacings;
+    const double lattice = 4.0 / 3.0 * 3.14159265358979 * f * f * f;
+    return std::max(8u, uint32_t(std::ceil(1.4 * lattice / 8.0)) * 8u);
+}
+
 std::vector<uint32_t> morton_rank_table(const GridGeometry& grid) {
     const uint32_t n = grid.cell_count();
     std::vector<uint32_t> codes(n);
@@ -54,17 +60,18 @@ std::vector<uint32_t> morton_rank_table(const GridGeometry& grid) {
 }
 
 NeighborGrid::NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const GridGeometry& geometry,
-                           uint32_t max_particles, const std::string& prefix, bool with_neighbor_masks)
-    : ctx_(&ctx), geometry_(geometry) {
+                           uint32_t max_particles, const std::string& prefix, uint32_t neighbor_capacity)
+    : ctx_(&ctx), geometry_(geometry), neighbor_capacity_(neighbor_capacity) {
     const uint32_t cells = geometry.cell_count();
     cell_rank_ = &buffers.add(prefix + ".cell_rank", uint64_t(cells) * 4);
     cell_start_ = &buffers.add(prefix + ".cell_start", (uint64_t(cells) + 1) * 4);
     keys_ = &buffers.add(prefix + ".keys", uint64_t(max_particles) * 4);
     slots_ = &buffers.add(prefix + ".slots", uint64_t(max_particles) * 4);
     order_ = &buffers.add(prefix + ".order", uint64_t(max_particles) * 4);
-    if (with_neighbor_masks) {
+    if (neighbor_capacity) {
         list_cell_ = &buffers.add(prefix + ".list_cell", uint64_t(max_particles) * 4);
-        masks_ = &buffers.add(prefix + ".neighbor_masks", uint64_t(max_particles) * NEIGHBOR_MASK_WORDS * 4);
+        neighbor_count_ = &buffers.add(prefix + ".neighbor_count", uint64_t(max_particles) * 4);
+        neighbors_ = &buffers.add(prefix + ".neighbors", uint64_t(max_particles) * neighbor_capacity * 4);
     }
     scan_ = gpu::PrefixSum(ctx, buffers, cells + 1, prefix);
     auto rank = morton_rank_table(geometry);
@@ -73,8 +80,8 @@ NeighborGrid::NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const Gri
     using shader::GridPush;
     count_pass_ = gpu::ComputePass(ctx, {"grid/grid_count.comp", 5, sizeof(GridPush)});
     scatter_pass_ = gpu::ComputePass(ctx, {"grid/grid_scatter.comp", 4, sizeof(GridPush)});
-    if (with_neighbor_masks)
-        masks_pass_ = gpu::ComputePass(ctx, {"grid/neighbor_masks.comp", 5, sizeof(shader::NeighborMaskPush)});
+    if (neighbor_capacity)
+        neighbors_pass_ = gpu::ComputePass(ctx, {"grid/neighbor_lists.comp", 6, sizeof(shader::NeighborListPush)});
 }
 
 void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
@@ -95,15 +102,16 @@ void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint
     }
 }
 
-void NeighborGrid::record_neighbor_masks(VkCommandBuffer cmd, const gpu::Buffer& sorted_positions, uint32_t count,
+void NeighborGrid::record_neighbor_lists(VkCommandBuffer cmd, const gpu::Buffer& sorted_positions, uint32_t count,
                                          float radius, gpu::GpuTimer* timer) {
-    if (!masks_) throw internal_failure("neighbour grid: built without neighbour masks, cannot record them");
+    if (!neighbors_) throw internal_failure("neighbour grid: built without neighbour lists, cannot record them");
     check_radius(radius);
-    gpu::GpuScope scope(timer, cmd, "neighbor_masks");
-    shader::NeighborMaskPush push{};
+    gpu::GpuScope scope(timer, cmd, "neighbor_lists");
+    shader::NeighborListPush push{};
     push.grid = geometry_.push(count);
     push.radius = radius;
-    gpu::dispatch(*ctx_, cmd, masks_pass_, count, push, {{"positions", &sorted_positions}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"list_cell", list_cell_}, {"masks", masks_}});
+    push.capacity = neighbor_capacity_;
+    gpu::dispatch(*ctx_, cmd, neighbors_pass_, count, push, {{"positions", &sorted_positions}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"list_cell", list_cell_}, {"neighbor_count", neighbor_count_}, {"neighbors", neighbors_}});
 }
 
 void NeighborGrid::check_radius(float radius) const {

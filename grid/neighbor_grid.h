@@ -40,29 +40,38 @@ Result<GridGeometry> grid_for_domain(glm::vec3 min, glm::vec3 max, float cell_si
 /// rank[linear cell index] = position of that cell in Morton order among the grid's cells.
 std::vector<uint32_t> morton_rank_table(const GridGeometry& grid);
 
-/// GPU memory of the grid: per particle (keys, slots, order, neighbour cell and masks) and per
-/// cell (rank, start).
-constexpr uint32_t kGridBytesPerParticle = 4 * sizeof(uint32_t) + NEIGHBOR_MASK_WORDS * sizeof(uint32_t);
+/// Neighbour-list entries per particle for a radius of `radius_in_spacings` particle spacings:
+/// the particles of a rest lattice within that radius, (4/3) pi f^3, with 40 % to spare for
+/// compression, rounded up to a multiple of 8 (33 neighbours and 48 entries at the solver's
+/// usual h = 2 spacings). A particle beyond it is still handled, by a slower cell scan.
+uint32_t neighbor_list_capacity(float radius_in_spacings);
+
+/// GPU memory of the grid: per particle (keys, slots, order, neighbour cell and count, and the
+/// list of `capacity` entries) and per cell (rank, start).
+constexpr uint32_t grid_bytes_per_particle(uint32_t capacity) { return (5 + capacity) * sizeof(uint32_t); }
 constexpr uint32_t kGridBytesPerCell = 2 * sizeof(uint32_t);
 
 class NeighborGrid {
 public:
     /// Allocates the grid's buffers in `buffers` (named with `prefix` for the memory report).
-    /// Without neighbour masks (queries that search cells themselves, like the renderer's) the
-    /// per-step mask buffers are not allocated and record_neighbor_masks must not be called.
+    /// With a `neighbor_capacity` of 0 (queries that search cells themselves, like the
+    /// renderer's) the per-step list buffers are not allocated and record_neighbor_lists must
+    /// not be called.
     NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const GridGeometry& geometry,
-                 uint32_t max_particles, const std::string& prefix = "grid", bool with_neighbor_masks = true);
+                 uint32_t max_particles, const std::string& prefix = "grid", uint32_t neighbor_capacity = 0);
 
     /// Records the build: count per cell, exclusive scan into starts, scatter into `order`.
     void build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, gpu::GpuTimer* timer);
 
-    /// Records the neighbour masks of `sorted_positions` (particles already in this grid's
-    /// order, as the solver keeps them): which particles of the 27 surrounding cells lie within
-    /// `radius` <= cell size. Passes then visit neighbours with common/neighbor_list.glsl.
-    void record_neighbor_masks(VkCommandBuffer cmd, const gpu::Buffer& sorted_positions, uint32_t count,
+    /// Records the neighbour lists of `sorted_positions` (particles already in this grid's
+    /// order, as the solver keeps them): the particles of the 27 surrounding cells that lie
+    /// within `radius` <= cell size. Passes then visit them with common/neighbor_list.glsl.
+    void record_neighbor_lists(VkCommandBuffer cmd, const gpu::Buffer& sorted_positions, uint32_t count,
                                float radius, gpu::GpuTimer* timer);
+    uint32_t neighbor_capacity() const { return neighbor_capacity_; }
     const gpu::Buffer& list_cell() const { return *list_cell_; }
-    const gpu::Buffer& masks() const { return *masks_; }
+    const gpu::Buffer& neighbor_count() const { return *neighbor_count_; }
+    const gpu::Buffer& neighbors() const { return *neighbors_; }
 
     /// Records a query of the built grid: for every particle of `positions` (the buffer given
     /// to build(), in its own order), the indices of the others within `radius` <= cell size.
@@ -87,12 +96,14 @@ private:
     gpu::Buffer* keys_;
     gpu::Buffer* slots_;
     gpu::Buffer* order_;
+    uint32_t neighbor_capacity_ = 0;
     gpu::Buffer* list_cell_ = nullptr;
-    gpu::Buffer* masks_ = nullptr;
+    gpu::Buffer* neighbor_count_ = nullptr;
+    gpu::Buffer* neighbors_ = nullptr;
     gpu::PrefixSum scan_;
     gpu::ComputePass count_pass_;
     gpu::ComputePass scatter_pass_;
-    gpu::ComputePass masks_pass_;
+    gpu::ComputePass neighbors_pass_;
     gpu::ComputePass list_pass_;  // created on first use
 };
 

@@ -100,7 +100,7 @@ void SurfaceRenderer::prepare_grid(float radius) {
     grid_.reset();
     grid_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
     geometry_ = geometry.value();
-    grid_ = std::make_unique<NeighborGrid>(*ctx_, *grid_buffers_, geometry_, max_particles_, "render.grid", false);
+    grid_ = std::make_unique<NeighborGrid>(*ctx_, *grid_buffers_, geometry_, max_particles_, "render.grid");
     const uint64_t cells = geometry_.cell_count();
     auto words = [](uint32_t cells_on_axis, uint32_t block) { return uint64_t((cells_on_axis + block - 1) / block); };
     const uint64_t wx = words(geometry_.dims.x, MASK_BLOCK_X), wy = words(geometry_.dims.y, MASK_BLOCK_Y),

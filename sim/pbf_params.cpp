@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "shaders/shared/pbf_layout.h"
+#include "grid/neighbor_grid.h"
+#include "shaders/shared/pbf_physics.h"
 #include "shaders/shared/sph_kernels.h"
 
 namespace aquaform {
@@ -66,6 +67,7 @@ shader::SimParams make_sim_params(const Scene& scene, const GridGeometry& grid, 
     p.epsilon = sv.relaxation * c.stiffness_ref;
     p.scorr_k = sv.scorr_k / c.stiffness_ref;
     p.scorr_n = sv.scorr_n;
+    p.neighbor_capacity = neighbor_list_capacity(sv.kernel_radius_factor);
     const float dq = sv.scorr_dq * c.h;
     p.scorr_inv_wdq = 1.0f / shader::poly6(dq * dq, p.h2, p.poly6_coeff);
     p.viscosity = sv.viscosity;

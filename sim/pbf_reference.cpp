@@ -13,7 +13,7 @@ using shader::SimParams;
 glm::vec3 xyz(const glm::vec4& v) { return glm::vec3(v); }
 
 /// Neighbours of every particle within h at the predicted positions, found once per step
-/// like the GPU's neighbour masks (PBF Algorithm 1, before the solver loop). Candidates come
+/// like the GPU's neighbour lists (PBF Algorithm 1, before the solver loop). Candidates come
 /// from a bucket grid with the GPU's cell rule; the GPU visits them in a different order,
 /// which changes float sums only by rounding.
 std::vector<std::vector<uint32_t>> find_neighbors(const SimParams& p, const std::vector<glm::vec4>& pos) {

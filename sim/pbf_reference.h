@@ -11,7 +11,7 @@
 
 #include <glm/glm.hpp>
 
-#include "shaders/shared/pbf_layout.h"
+#include "shaders/shared/pbf_physics.h"
 
 namespace aquaform {
 

@@ -52,7 +52,8 @@ Result<MemoryPlan> plan_memory(const Scene& scene) {
     plan.buffers.push_back({"grid.slots", n * 4});
     plan.buffers.push_back({"grid.order", n * 4});
     plan.buffers.push_back({"grid.list_cell", n * 4});
-    plan.buffers.push_back({"grid.neighbor_masks", n * NEIGHBOR_MASK_WORDS * 4});
+    plan.buffers.push_back({"grid.neighbor_count", n * 4});
+    plan.buffers.push_back({"grid.neighbors", n * neighbor_list_capacity(scene.solver.kernel_radius_factor) * 4});
     plan.buffers.push_back({"grid.cell_rank", cells * 4});
     plan.buffers.push_back({"grid.cell_start", (cells + 1) * 4});
     plan.buffers.push_back({"stats.partials", ((n + PBF_STATS_WORKGROUP - 1) / PBF_STATS_WORKGROUP) * 32});
@@ -114,7 +115,7 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_
     s0_ = &buffers_.add(kParticleBuffers[3], n * 16);
     s1_ = &buffers_.add(kParticleBuffers[4], n * 16);
     density_ = &buffers_.add("particles.density", n * 4);
-    grid_ = std::make_unique<NeighborGrid>(ctx, buffers_, geometry, count_);
+    grid_ = std::make_unique<NeighborGrid>(ctx, buffers_, geometry, count_, "grid", params_.neighbor_capacity);
     partials_ = &buffers_.add("stats.partials", uint64_t(stats_groups(count_)) * sizeof(shader::StatsPartial),
                               gpu::MemoryUse::host);
     params_buf_ = &buffers_.add("params", sizeof(shader::SimParams));
@@ -123,11 +124,11 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_
     using shader::CountPush;
     predict_ = gpu::ComputePass(ctx, {"sim/pbf_predict.comp", 4, sizeof(CountPush)});
     reorder_ = gpu::ComputePass(ctx, {"sim/pbf_reorder.comp", 7, sizeof(CountPush)});
-    lambda_pass_ = gpu::ComputePass(ctx, {"sim/pbf_lambda.comp", 8, sizeof(CountPush)});
-    correct_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 7, sizeof(CountPush)});
+    lambda_pass_ = gpu::ComputePass(ctx, {"sim/pbf_lambda.comp", 9, sizeof(CountPush)});
+    correct_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 8, sizeof(CountPush)});
     velocity_ = gpu::ComputePass(ctx, {"sim/pbf_velocity.comp", 4, sizeof(CountPush)});
-    if (xsph_on_) xsph_curl_ = gpu::ComputePass(ctx, {"sim/pbf_xsph_curl.comp", 10, sizeof(CountPush)});
-    if (vorticity_on_) vorticity_ = gpu::ComputePass(ctx, {"sim/pbf_vorticity.comp", 9, sizeof(CountPush)});
+    if (xsph_on_) xsph_curl_ = gpu::ComputePass(ctx, {"sim/pbf_xsph_curl.comp", 11, sizeof(CountPush)});
+    if (vorticity_on_) vorticity_ = gpu::ComputePass(ctx, {"sim/pbf_vorticity.comp", 10, sizeof(CountPush)});
     stats_ = gpu::ComputePass(ctx, {"sim/pbf_stats.comp", 5, sizeof(CountPush), PBF_STATS_WORKGROUP});
 
     std::vector<glm::vec4> x;
@@ -146,7 +147,7 @@ PbfSolver::~PbfSolver() = default;
 std::vector<std::string> PbfSolver::enabled_passes() const {
     std::vector<std::string> passes;
     if (step_force_) passes.push_back("control_force");
-    for (const char* pass : {"predict", "grid_count", "grid_scan", "grid_scatter", "reorder", "neighbor_masks"})
+    for (const char* pass : {"predict", "grid_count", "grid_scan", "grid_scatter", "reorder", "neighbor_lists"})
         passes.push_back(pass);
     passes.push_back("lambda x" + std::to_string(scene_.solver.iterations));
     passes.push_back("correct x" + std::to_string(scene_.solver.iterations));
@@ -162,7 +163,8 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     const gpu::Buffer& rank = grid_->cell_rank();
     const gpu::Buffer& start = grid_->cell_start();
     const gpu::Buffer& cells = grid_->list_cell();
-    const gpu::Buffer& masks = grid_->masks();
+    const gpu::Buffer& counts = grid_->neighbor_count();
+    const gpu::Buffer& neighbors = grid_->neighbors();
     if (step_force_) step_force_->record(cmd, *params_buf_, *x_, *v_, count_, timer);
     {
         gpu::GpuScope s(timer, cmd, "predict");
@@ -174,10 +176,10 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
         {
             gpu::GpuScope s(timer, cmd, "lambda");
             gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
-                          {{"params", params_buf_}, {"p", p_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"masks", &masks}, {"q", s0_}, {"density", density_}});
+                          {{"params", params_buf_}, {"p", p_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"q", s0_}, {"density", density_}});
         }
         gpu::GpuScope s(timer, cmd, "correct");
-        gpu::dispatch(*ctx_, cmd, correct_, count_, push, {{"params", params_buf_}, {"q", s0_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"masks", &masks}, {"p_out", p_}});
+        gpu::dispatch(*ctx_, cmd, correct_, count_, push, {{"params", params_buf_}, {"q", s0_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"p_out", p_}});
     }
     {
         gpu::GpuScope s(timer, cmd, "velocity");
@@ -186,13 +188,13 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     if (xsph_on_) {
         gpu::GpuScope s(timer, cmd, "xsph_curl");
         gpu::dispatch(*ctx_, cmd, xsph_curl_, count_, push,
-                      {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"masks", &masks}, {"density", density_}, {"v_out", s1_}, {"omega", s0_}});
+                      {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"density", density_}, {"v_out", s1_}, {"omega", s0_}});
         std::swap(v_, s1_);
     }
     if (vorticity_on_) {
         gpu::GpuScope s(timer, cmd, "vorticity");
         gpu::dispatch(*ctx_, cmd, vorticity_, count_, push,
-                      {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"masks", &masks}, {"density", density_}, {"omega", s0_}});
+                      {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"density", density_}, {"omega", s0_}});
     }
     time_ += params_.dt;
 }
@@ -206,7 +208,7 @@ void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_position
         std::swap(x_, s0_);
         std::swap(v_, s1_);
     }
-    grid_->record_neighbor_masks(cmd, *p_, count_, params_.h, timer);
+    grid_->record_neighbor_lists(cmd, *p_, count_, params_.h, timer);
 }
 
 void PbfSolver::run_steps(uint32_t steps, gpu::GpuTimer* timer) {
@@ -223,7 +225,7 @@ void PbfSolver::record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     // Density at the final positions (the lambda pass on x, over this step's neighbours; its
     // q output goes to scratch), then the per-workgroup reduction.
     gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
-                  {{"params", params_buf_}, {"p", x_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"masks", &grid_->masks()}, {"q", s0_}, {"density", density_}});
+                  {{"params", params_buf_}, {"p", x_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"neighbor_count", &grid_->neighbor_count()}, {"neighbors", &grid_->neighbors()}, {"q", s0_}, {"density", density_}});
     gpu::dispatch(*ctx_, cmd, stats_, stats_groups(count_) * PBF_STATS_WORKGROUP, push,
                   {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"density", density_}, {"partials", partials_}});
     gpu::host_read_barrier(cmd);

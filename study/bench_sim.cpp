@@ -39,6 +39,7 @@ SolverBenchRecord measure_solver(gpu::Context& ctx, uint32_t target_particles, c
     }
     rec.grid_cells = solver.grid().geometry().cell_count();
     rec.gpu_bytes_per_cell = kGridBytesPerCell;
+    rec.neighbor_list_bytes_per_particle = solver.grid().neighbor_capacity() * 4;
     uint64_t total = 0;
     for (const auto& b : solver.memory_report()) total += b.bytes;
     rec.gpu_bytes_per_particle = double(total - uint64_t(kGridBytesPerCell) * rec.grid_cells) / rec.particles;
@@ -69,6 +70,7 @@ nlohmann::json to_json(const SolverBenchRecord& r) {
             {"neighbor_search_ms", r.neighbor_search_ms},
             {"gpu_bytes_per_particle", r.gpu_bytes_per_particle},
             {"gpu_bytes_per_cell", r.gpu_bytes_per_cell},
+            {"neighbor_list_bytes_per_particle", r.neighbor_list_bytes_per_particle},
             {"grid_cells", r.grid_cells}};
 }
 

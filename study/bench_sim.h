@@ -27,17 +27,18 @@ struct SolverBenchRecord {
     uint32_t iterations = 0;
     double ms_per_step = 0.0;
     double steps_per_s = 0.0;
-    /// Grid build, reorder and neighbour masks per step (the passes of kNeighborSearchPasses).
+    /// Grid build, reorder and neighbour lists per step (the passes of kNeighborSearchPasses).
     double neighbor_search_ms = 0.0;
     std::map<std::string, double> ms_per_pass;  ///< GPU ms per step of every pass
     double gpu_bytes_per_particle = 0.0;        ///< every buffer but the grid's cells, per particle
+    uint32_t neighbor_list_bytes_per_particle = 0;  ///< of which the neighbour lists
     uint32_t gpu_bytes_per_cell = 0;
     uint32_t grid_cells = 0;
 };
 
 /// The passes that make up the neighbour search.
 inline constexpr const char* kNeighborSearchPasses[] = {"grid_count", "grid_scan", "grid_scatter", "reorder",
-                                                        "neighbor_masks"};
+                                                        "neighbor_lists"};
 
 /// Times the solver on study::bench_scene(target_particles).
 SolverBenchRecord measure_solver(gpu::Context& ctx, uint32_t target_particles, const SolverBenchOptions& options);

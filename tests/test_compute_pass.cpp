@@ -40,6 +40,28 @@ TEST(SpirvReflect, TheRayMarchDeclaresItsSeventeenBuffersByName) {
     EXPECT_TRUE(bindings[13].reads && bindings[13].writes);  // march_cut: read and written
 }
 
+TEST(SpirvReflect, TexelBuffersCarryTheirFormatAndParameterBlocksAreUniform) {
+    // The lambda pass reads its parameters as a uniform block and its neighbours' positions and
+    // the grid through storage texel buffers (grid_query.glsl says why); the pass must bind
+    // each with its own descriptor type and view format.
+    const auto bindings = gpu::reflect_bindings(gpu::find_shader("sim/pbf_lambda.comp"), "sim/pbf_lambda.comp");
+    auto find = [&](const std::string& name) {
+        for (const auto& b : bindings)
+            if (b.name == name) return b;
+        ADD_FAILURE() << "no binding " << name;
+        return gpu::ShaderBinding{};
+    };
+    const gpu::ShaderBinding params = find("params"), p = find("p"), rank = find("cell_rank"), q = find("q");
+    EXPECT_FALSE(params.storage);
+    EXPECT_EQ(params.texel_format, 0u);
+    EXPECT_TRUE(p.storage);
+    EXPECT_EQ(p.texel_format, 1u);  // SPIR-V Rgba32f
+    EXPECT_FALSE(p.writes);
+    EXPECT_EQ(rank.texel_format, 33u);  // R32ui
+    EXPECT_EQ(q.texel_format, 0u);  // written as a plain storage buffer
+    EXPECT_TRUE(q.writes);
+}
+
 TEST(SpirvReflect, EveryEmbeddedComputeShaderNamesEachBindingOnce) {
     for (const gpu::EmbeddedShader& s : gpu::embedded_shaders()) {
         if (!s.name.ends_with(".comp")) continue;

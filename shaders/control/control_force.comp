@@ -8,13 +8,13 @@
 #include "shared/control_layout.h"
 
 layout(local_size_x_id = 0) in;
-layout(std430, binding = 0) readonly buffer Sim { SimParams sim; };
+layout(std140, binding = 0) uniform Sim { SimParams sim; };
 layout(std430, binding = 1) readonly buffer Control { ControlParams control; };
 layout(std430, binding = 2) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 3) buffer V { vec4 v[]; };
 layout(std430, binding = 4) readonly buffer Points { vec4 points[]; };  // sorted; w = set index
-layout(std430, binding = 5) readonly buffer CellRank { uint cell_rank[]; };
-layout(std430, binding = 6) readonly buffer CellStart { uint cell_start[]; };
+layout(binding = 5, r32ui) readonly uniform uimageBuffer cell_rank;
+layout(binding = 6, r32ui) readonly uniform uimageBuffer cell_start;
 layout(push_constant) uniform Push { CountPush pc; };
 
 #include "common/grid_query.glsl"

@@ -6,7 +6,7 @@
 #include "shared/push_layout.h"
 
 layout(local_size_x_id = 0) in;
-layout(std430, binding = 0) readonly buffer Sim { SimParams sim; };
+layout(std140, binding = 0) uniform Sim { SimParams sim; };
 layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 2) buffer V { vec4 v[]; };
 layout(push_constant) uniform Push { PushParams push; };

@@ -9,8 +9,8 @@
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = 1) readonly buffer Order { uint order[]; };
-layout(std430, binding = 2) readonly buffer CellRank { uint cell_rank[]; };
-layout(std430, binding = 3) readonly buffer CellStart { uint cell_start[]; };
+layout(binding = 2, r32ui) readonly uniform uimageBuffer cell_rank;
+layout(binding = 3, r32ui) readonly uniform uimageBuffer cell_start;
 layout(std430, binding = 4) writeonly buffer Counts { uint counts[]; };
 layout(std430, binding = 5) writeonly buffer Lists { uint lists[]; };
 layout(push_constant) uniform Push { NeighborListPush pc; };

@@ -18,8 +18,8 @@
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };
 layout(std430, binding = 1) readonly buffer Sorted { vec4 sorted[]; };
-layout(std430, binding = 2) readonly buffer CellRank { uint cell_rank[]; };
-layout(std430, binding = 3) readonly buffer CellStart { uint cell_start[]; };
+layout(binding = 2, r32ui) readonly uniform uimageBuffer cell_rank;
+layout(binding = 3, r32ui) readonly uniform uimageBuffer cell_start;
 layout(std430, binding = 4) writeonly buffer Shape { vec4 shape[]; };
 
 #include "common/grid_query.glsl"

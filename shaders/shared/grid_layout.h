@@ -11,14 +11,13 @@
 #define AQUAFORM_GRID_LAYOUT_H
 #include "compat.h"
 
-// Neighbour masks: for particles sorted in the grid's order, which particles of each of the 27
-// surrounding cells are neighbours, one bit each (16 bits per cell, two cells per word). A
-// cell with more than 16 particles (twice the rest density) marks its first 16 and lists the
-// rest as candidates to be tested by distance, so nothing is ever dropped.
-#define NEIGHBOR_BITS_PER_CELL 16u
-#define NEIGHBOR_MASK_WORDS 14u
-// Set in the last word (whose upper half is otherwise unused) when a cell is overfull.
-#define NEIGHBOR_OVERFLOW_FLAG 0x80000000u
+// Neighbour lists (grid/neighbor_lists.comp, visited with common/neighbor_list.glsl): for
+// particles sorted in the grid's order, the indices of every particle within the radius, found
+// once per step, four to a uvec4. Entries 4g..4g+3 of particle i are at g * count + i: g-major,
+// so that the lanes of a subgroup (consecutive particles) read consecutive memory. neighbor_count[i] is the true count;
+// a particle with more neighbours than the capacity has its list cut short, and its visits
+// scan the 27 cells around it instead (kernels vanish beyond h: the extra candidates add
+// nothing), so nothing is ever dropped.
 
 AF_BEGIN
 
@@ -31,16 +30,8 @@ struct GridPush {
     uint pad2;
 };
 
-/// Push constants of the neighbour-list query (grid_list_neighbors.comp).
-/// Push constants of the neighbour-mask build (neighbor_masks.comp).
-struct NeighborMaskPush {
-    GridPush grid;
-    float radius;  ///< at most the cell size
-    uint pad0;
-    uint pad1;
-    uint pad2;
-};
-
+/// Push constants of the neighbour-list build (neighbor_lists.comp) and query
+/// (grid_list_neighbors.comp).
 struct NeighborListPush {
     GridPush grid;
     float radius;    ///< at most the cell size
@@ -69,7 +60,6 @@ AF_END
 #ifdef __cplusplus
 static_assert(sizeof(aquaform::shader::GridPush) == 48);
 static_assert(sizeof(aquaform::shader::NeighborListPush) == 64);
-static_assert(sizeof(aquaform::shader::NeighborMaskPush) == 64);
 #endif
 
 #endif

@@ -8,14 +8,16 @@
 #include "shared/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
-layout(std430, binding = 0) readonly buffer Params { SimParams params; };
-layout(std430, binding = 1) readonly buffer P { vec4 p[]; };
-layout(std430, binding = 2) readonly buffer CellRank { uint cell_rank[]; };
-layout(std430, binding = 3) readonly buffer CellStart { uint cell_start[]; };
-layout(std430, binding = 4) readonly buffer ListCell { uint list_cell[]; };
-layout(std430, binding = 5) readonly buffer Masks { uint masks[]; };
-layout(std430, binding = 6) writeonly buffer Q { vec4 q[]; };
-layout(std430, binding = 7) writeonly buffer Density { float density[]; };
+layout(std140, binding = 0) uniform Params { SimParams params; };
+#include "shared/pbf_physics.h"
+layout(binding = 1, rgba32f) readonly uniform imageBuffer p;
+layout(binding = 2, r32ui) readonly uniform uimageBuffer cell_rank;
+layout(binding = 3, r32ui) readonly uniform uimageBuffer cell_start;
+layout(binding = 4, r32ui) readonly uniform uimageBuffer list_cell;
+layout(binding = 5, r32ui) readonly uniform uimageBuffer neighbor_count;
+layout(binding = 6, rgba32ui) readonly uniform uimageBuffer neighbors;
+layout(std430, binding = 7) writeonly buffer Q { vec4 q[]; };
+layout(std430, binding = 8) writeonly buffer Density { float density[]; };
 layout(push_constant) uniform Push { CountPush pc; };
 
 vec3 pi;
@@ -24,7 +26,7 @@ vec3 grad_i;
 float sum_grad2;
 
 void visit(uint j) {
-    vec3 r = pi - p[j].xyz;
+    vec3 r = pi - imageLoad(p, int(j)).xyz;
     float r2 = dot(r, r);
     rho += poly6(r2, params.h2, params.poly6_coeff);
     vec3 g = params.volume * spiky_gradient(r, r2, params.h, params.spiky_coeff);
@@ -37,12 +39,12 @@ void visit(uint j) {
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.count) return;
-    pi = p[i].xyz;
+    pi = imageLoad(p, int(i)).xyz;
     rho = poly6(0.0, params.h2, params.poly6_coeff);  // the particle itself
     grad_i = vec3(0.0);
     sum_grad2 = 0.0;
-    for_each_neighbor(i, params.grid_dims);
-    vec4 wall = pbf_wall_term(pi, params);
+    for_each_neighbor(i, pc.count, params.neighbor_capacity, params.grid_dims);
+    vec4 wall = pbf_wall_term(pi);
     rho = params.mass * rho + params.rest_density * wall.w;
     grad_i += wall.xyz;
     float constraint = max(rho / params.rest_density - 1.0, 0.0);

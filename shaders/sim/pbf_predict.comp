@@ -4,7 +4,8 @@
 #include "shared/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
-layout(std430, binding = 0) readonly buffer Params { SimParams params; };
+layout(std140, binding = 0) uniform Params { SimParams params; };
+#include "shared/pbf_physics.h"
 layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 2) buffer V { vec4 v[]; };
 layout(std430, binding = 3) writeonly buffer P { vec4 p[]; };
@@ -13,7 +14,7 @@ layout(push_constant) uniform Push { CountPush pc; };
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.count) return;
-    vec3 vi = pbf_cap_speed(v[i].xyz + params.dt * params.gravity.xyz, params);
+    vec3 vi = pbf_cap_speed(v[i].xyz + params.dt * params.gravity.xyz);
     v[i].xyz = vi;
-    p[i] = vec4(pbf_predicted_position(x[i].xyz, vi, params), 0.0);
+    p[i] = vec4(pbf_predicted_position(x[i].xyz, vi), 0.0);
 }

@@ -5,7 +5,8 @@
 #include "shared/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
-layout(std430, binding = 0) readonly buffer Params { SimParams params; };
+layout(std140, binding = 0) uniform Params { SimParams params; };
+#include "shared/pbf_physics.h"
 layout(std430, binding = 1) readonly buffer Order { uint order[]; };
 layout(std430, binding = 2) readonly buffer XIn { vec4 x_in[]; };
 layout(std430, binding = 3) readonly buffer VIn { vec4 v_in[]; };
@@ -22,5 +23,5 @@ void main() {
     vec4 vi = v_in[src];
     x_out[i] = xi;
     v_out[i] = vi;
-    p_out[i] = vec4(pbf_predicted_position(xi.xyz, vi.xyz, params), 0.0);
+    p_out[i] = vec4(pbf_predicted_position(xi.xyz, vi.xyz), 0.0);
 }

@@ -6,7 +6,7 @@
 #include "shared/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
-layout(std430, binding = 0) readonly buffer Params { SimParams params; };
+layout(std140, binding = 0) uniform Params { SimParams params; };
 layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 2) readonly buffer V { vec4 v[]; };
 layout(std430, binding = 3) readonly buffer Density { float density[]; };

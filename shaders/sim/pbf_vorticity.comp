@@ -6,15 +6,17 @@
 #include "shared/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
-layout(std430, binding = 0) readonly buffer Params { SimParams params; };
-layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
+layout(std140, binding = 0) uniform Params { SimParams params; };
+#include "shared/pbf_physics.h"
+layout(binding = 1, rgba32f) readonly uniform imageBuffer x;
 layout(std430, binding = 2) buffer V { vec4 v[]; };
-layout(std430, binding = 3) readonly buffer CellRank { uint cell_rank[]; };
-layout(std430, binding = 4) readonly buffer CellStart { uint cell_start[]; };
-layout(std430, binding = 5) readonly buffer ListCell { uint list_cell[]; };
-layout(std430, binding = 6) readonly buffer Masks { uint masks[]; };
-layout(std430, binding = 7) readonly buffer Density { float density[]; };
-layout(std430, binding = 8) readonly buffer Omega { vec4 omega[]; };
+layout(binding = 3, r32ui) readonly uniform uimageBuffer cell_rank;
+layout(binding = 4, r32ui) readonly uniform uimageBuffer cell_start;
+layout(binding = 5, r32ui) readonly uniform uimageBuffer list_cell;
+layout(binding = 6, r32ui) readonly uniform uimageBuffer neighbor_count;
+layout(binding = 7, rgba32ui) readonly uniform uimageBuffer neighbors;
+layout(binding = 8, r32f) readonly uniform imageBuffer density;
+layout(binding = 9, rgba32f) readonly uniform imageBuffer omega;
 layout(push_constant) uniform Push { CountPush pc; };
 
 vec3 xi;
@@ -22,10 +24,10 @@ float wi;
 vec3 eta;
 
 void visit(uint j) {
-    vec3 r = xi - x[j].xyz;
+    vec3 r = xi - imageLoad(x, int(j)).xyz;
     float r2 = dot(r, r);
-    float vol_j = params.mass / max(density[j], 1.0e-6 * params.rest_density);
-    eta += vol_j * (omega[j].w - wi) * spiky_gradient(r, r2, params.h, params.spiky_coeff);
+    float vol_j = params.mass / max(imageLoad(density, int(j)).x, 1.0e-6 * params.rest_density);
+    eta += vol_j * (imageLoad(omega, int(j)).w - wi) * spiky_gradient(r, r2, params.h, params.spiky_coeff);
 }
 
 #include "common/neighbor_list.glsl"
@@ -33,14 +35,14 @@ void visit(uint j) {
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.count) return;
-    xi = x[i].xyz;
-    vec4 omega_i = omega[i];
+    xi = imageLoad(x, int(i)).xyz;
+    vec4 omega_i = imageLoad(omega, int(i));
     wi = omega_i.w;
     eta = vec3(0.0);
-    for_each_neighbor(i, params.grid_dims);
+    for_each_neighbor(i, pc.count, params.neighbor_capacity, params.grid_dims);
     float len = length(eta);
     if (len > 1.0e-9) {
         vec3 a = params.vorticity * cross(eta / len, omega_i.xyz);
-        v[i].xyz = pbf_cap_speed(v[i].xyz + params.dt * a, params);
+        v[i].xyz = pbf_cap_speed(v[i].xyz + params.dt * a);
     }
 }
