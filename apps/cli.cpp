@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
+#include "sim/scene.h"
 
 namespace aquaform::cli {
 
@@ -20,23 +21,28 @@ namespace {
 const char* kUsage =
     "usage: aquaform <command> [options]\n"
     "commands:\n"
-    "  run SCENE.json [--frames N] [--out DIR] [--device NAME|INDEX] [--ply-every K]\n"
+    "  run SCENE.json [--frames N] [--out DIR] [--device NAME|INDEX] [--ply-every K] [--particles N]\n"
     "                 [--no-png] [--preview] [--wireframe] [--resolution WxH] [--validation] [render flags]\n"
     "        simulate a scene; writes ray-marched PNG frames (--preview: quick sphere impostors;\n"
     "        --wireframe: the active control meshes drawn over them),\n"
-    "        stats.csv, front.csv (dam breaks), PLY dumps\n"
-    "  render SCENE.json [--frame K] [--out DIR] [--no-reference] [--device ...] [render flags]\n"
+    "        stats.csv (with splash fraction, droplets, runup), front.csv (dam breaks), PLY dumps\n"
+    "  --particles N (run, render, view, study, bench render): the scene's particle spacing re-derived so\n"
+    "        that it holds about N particles (64 to 67108864; sizes in metres stay), e.g. 10000 for CI,\n"
+    "        1000000 for the papers' scenes\n"
+    "  render SCENE.json [--frame K] [--out DIR] [--no-reference] [--particles N] [--device ...] [render flags]\n"
     "        ray-march one frame; writes image.png, evals.png, tiles.png, classification.png,\n"
     "        reference.png, depth_error.png and render.json (timings, metrics against the reference)\n"
     "  control place MESH.obj [--method vertices|inside|raster] [--spacing S] [--out DIR] [--no-png]\n"
     "        check a mesh and place control points; writes points.ply, points.png and report.txt\n"
     "  view SCENE.json [--size WxH] [--scale S] [--play] [--script FILE [--async]] [--record DIR] [--frames N] [--shaders DIR]\n"
-    "                  [--device ...] [render flags]   (or view --particles N: a generated dam break)\n"
+    "                  [--particles N] [--device ...] [render flags]   (or view --particles N alone: a generated dam break)\n"
     "        interactive viewer: play/pause/step/reset, method switch, solver settings, GPU time per pass;\n"
     "        left drag pushes the fluid, right orbits, middle pans, wheel zooms; drop an OBJ to shape the fluid;\n"
     "        keys: space play, N step, R reset, P screenshot, F fly camera (WASD, Q/E), Esc quit\n"
-    "  study SPEC.json [--out DIR] [--no-charts] [--device ...] [--validation]\n"
+    "  study SPEC.json [--out DIR] [--no-charts] [--particles N] [--device ...] [--validation]\n"
     "        comparative study: scenes x methods x resolutions x particle counts on the same frames;\n"
+    "        --particles N runs every case at about N (a generated dam break's list becomes N, a scene file\n"
+    "        is scaled to it; the solver map keeps its scene);\n"
     "        writes study.csv, study_passes.csv, solver_map.csv, study.md and charts/ (default DIR out/study/NAME)\n"
     "  assets [--out DIR]\n        write the shipped meshes (default DIR assets/meshes): sphere, torus, letters, character + walk\n"
     "  info [--device NAME|INDEX]\n"
@@ -100,6 +106,29 @@ std::optional<long> parse_positive(const std::string& flag, const std::string& t
         return std::nullopt;
     }
     return v;
+}
+
+std::optional<uint64_t> particles_flag(const Args& args, std::string* error) {
+    error->clear();
+    if (!args.has("--particles")) return std::nullopt;
+    const std::string text = args.value("--particles");
+    char* end = nullptr;
+    const long long v = std::strtoll(text.c_str(), &end, 10);
+    if (text.empty() || *end != '\0' || v < (long long)kMinSceneParticles || v > (long long)kMaxSceneParticles) {
+        *error = "--particles must be a particle count from " + std::to_string(kMinSceneParticles) + " to " +
+                 std::to_string(kMaxSceneParticles) + ", got \"" + text + "\"";
+        return std::nullopt;
+    }
+    return uint64_t(v);
+}
+
+bool scale_to_particles_flag(const Args& args, Scene& scene, std::string* error) {
+    const std::optional<uint64_t> n = particles_flag(args, error);
+    if (!n) return error->empty();
+    auto scaled = with_particle_count(scene, *n);
+    if (!scaled) return *error = scaled.error(), false;
+    scene = std::move(scaled.value());
+    return true;
 }
 
 bool validation_requested(const Args& args) {

@@ -6,6 +6,9 @@
 #include <string>
 #include <vector>
 
+namespace aquaform {
+struct Scene;
+}
 namespace aquaform::gpu {
 class Context;
 }
@@ -39,6 +42,14 @@ std::optional<Args> parse_args(const std::vector<std::string>& argv, const FlagS
 
 /// Parses a positive integer flag value; on error fills `error`.
 std::optional<long> parse_positive(const std::string& flag, const std::string& text, std::string* error);
+
+/// `--particles N`, the one flag that sizes a scene on run, render, bench render, study and view:
+/// nullopt without the flag (error left empty) or when N is not a count from kMinSceneParticles
+/// to kMaxSceneParticles (error set, naming the flag and the range).
+std::optional<uint64_t> particles_flag(const Args& args, std::string* error);
+/// Re-derives `scene`'s spacing for `--particles N` when given (with_particle_count, sim/scene.h);
+/// false with `error` set when N is bad or the scene cannot be sized so.
+bool scale_to_particles_flag(const Args& args, Scene& scene, std::string* error);
 
 int run_main(int argc, char** argv);
 int cmd_info(const std::vector<std::string>& argv);

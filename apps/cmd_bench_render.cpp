@@ -96,10 +96,8 @@ int bench_render(const Args& args) {
     if (args.has("--method"))
         return usage("--method does not apply: bench render renders every method; choose configurations with --configs " +
                      study::known_labels());
-    auto particles = parse_positive("--particles", args.value("--particles", "32768"), &error);
-    if (!particles) return usage(error);
-    if (*particles > long(kMaxSceneParticles))
-        return usage("--particles must be at most " + std::to_string(kMaxSceneParticles) + ", got " + args.value("--particles"));
+    const uint64_t particles = particles_flag(args, &error).value_or(32768);
+    if (!error.empty()) return usage(error);
     const bool quick = args.has("--quick");
     auto repeats = parse_positive("--repeats", args.value("--repeats", quick ? "1" : "2"), &error);
     if (!repeats) return usage(error);
@@ -118,7 +116,7 @@ int bench_render(const Args& args) {
     auto base = render_settings_from(args, &error);
     if (!base) return usage(error);
 
-    const Scene scene = study::bench_scene(uint32_t(*particles), 4);
+    const Scene scene = study::bench_scene(uint32_t(particles), 4);
     if (scene.particle_count() == 0) return usage("--particles " + args.value("--particles") + " makes an empty dam break; ask for more");
     uint32_t frame = study::bench_half_tank_frame(scene);
     if (args.has("--frame")) {
@@ -157,7 +155,7 @@ int bench_render(const Args& args) {
     const MethodSettings reference_settings = study::reference_settings(*base);
     const std::unique_ptr<Renderer> renderer =
         render_registry().create(ctx, scene.particle_domain(), width, height, n, reference_settings);
-    const ViewCamera camera = camera_for_domain(scene.domain, float(width) / float(height));
+    const ViewCamera camera = scene_camera(scene, float(width) / float(height));
     const size_t total = configs.value().size() + 1;
 
     std::fprintf(stderr, "bench render: rendering reference (1/%zu, exhaustive: the slowest)\n", total);
@@ -187,7 +185,7 @@ int bench_render(const Args& args) {
     print_pass_table(pass_rows);
 
     const study::Verdict verdicts[] = {study::evals_target(results), study::resolution_target(results),
-                                       study::gpu_target(results, ctx.info(), *particles, n, width, height)};
+                                       study::gpu_target(results, ctx.info(), long(particles), n, width, height)};
     const char* keys[] = {"mask_skip_evals", "adaptive_resolution", "realtime_1m_1080p"};
     nlohmann::json targets = nlohmann::json::object();
     std::printf("\ntargets\n");

@@ -75,7 +75,7 @@ int render_other_family(gpu::Context& ctx, Renderer& renderer, PbfSolver& solver
 
 int cmd_render(const std::vector<std::string>& argv) {
     std::string error;
-    const FlagSpec spec = with_render_flags({{"--frame", "--out", "--device", "--resolution"}, {"--no-reference", "--validation"}});
+    const FlagSpec spec = with_render_flags({{"--frame", "--out", "--device", "--resolution", "--particles"}, {"--no-reference", "--validation"}});
     auto args = parse_args(argv, spec, "render", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     if (args->positional.size() != 1) {
@@ -85,6 +85,8 @@ int cmd_render(const std::vector<std::string>& argv) {
     }
     auto loaded = load_scene(args->positional[0]);
     if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
+    if (!scale_to_particles_flag(*args, loaded.value(), &error))
+        return std::fprintf(stderr, "aquaform render: %s\n", error.c_str()), kExitUsage;
     const Scene& scene = loaded.value();
     // The scene's control section too (checked before a device is opened): its frames are shaped.
     auto plan = session::plan_session(scene);
@@ -126,7 +128,7 @@ int cmd_render(const std::vector<std::string>& argv) {
     if (!study::simulate_frames(sim, frame, "simulating to frame " + std::to_string(frame)))
         return exit_status(ctx, kExitFailure);
 
-    const ViewCamera camera = camera_for_domain(scene.domain, float(width) / float(height));
+    const ViewCamera camera = scene_camera(scene, float(width) / float(height));
     auto made = render_registry().create(ctx, scene.particle_domain(), width, height, solver.particle_count(), *method);
     if (!settings)
         return exit_status(ctx, render_other_family(ctx, *made, solver, camera, *args, frame, out_dir));

@@ -47,7 +47,7 @@ struct FinishedFrame {
 
 int cmd_run(const std::vector<std::string>& argv) {
     std::string error;
-    const FlagSpec spec = with_render_flags({{"--frames", "--out", "--device", "--ply-every", "--resolution"},
+    const FlagSpec spec = with_render_flags({{"--frames", "--out", "--device", "--ply-every", "--resolution", "--particles"},
                                              {"--no-png", "--preview", "--validation", "--wireframe"}});
     auto args = parse_args(argv, spec, "run", &error);
     if (!args) {
@@ -63,6 +63,8 @@ int cmd_run(const std::vector<std::string>& argv) {
         std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str());
         return kExitUsage;
     }
+    if (!scale_to_particles_flag(*args, loaded.value(), &error))
+        return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
     // Mesh control: its strength may raise the substeps, so it is planned before the solver.
     auto plan = session::plan_session(std::move(loaded.value()));
     if (!plan) return std::fprintf(stderr, "aquaform: %s\n", plan.error().c_str()), kExitUsage;
@@ -97,7 +99,9 @@ int cmd_run(const std::vector<std::string>& argv) {
 
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});
     const std::optional<session::ControlSummary> summary = plan.value().control_summary();
-    session::SimulationSession sim(ctx, std::move(plan.value()));
+    session::SessionOptions options;
+    options.measure_droplets = true;  // stats.csv has the droplet count
+    session::SimulationSession sim(ctx, std::move(plan.value()), options);
     const Scene& scene = sim.scene();
     PbfSolver& solver = sim.solver();
     const control::ControlDriver* driver = sim.control();
@@ -122,7 +126,7 @@ int cmd_run(const std::vector<std::string>& argv) {
         std::printf("  renderer (%s, %ux%u)    %.3f MiB\n", settings->method().c_str(), width, height,
                     double(bytes) / (1024.0 * 1024.0));
     }
-    const ViewCamera camera = camera_for_domain(scene.domain, float(width) / float(height));
+    const ViewCamera camera = scene_camera(scene, float(width) / float(height));
     ImpostorStyle style;
     style.radius = 0.5f * scene.particle_spacing;
     style.speed_for_full_color = std::max(1.0f, 0.5f * std::sqrt(2.0f * 9.81f * (scene.domain.max.y - scene.domain.min.y)));

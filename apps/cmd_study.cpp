@@ -17,7 +17,7 @@ namespace aquaform::cli {
 
 int cmd_study(const std::vector<std::string>& argv) {
     std::string error;
-    auto args = parse_args(argv, {{"--out", "--device"}, {"--no-charts", "--validation"}}, "study", &error);
+    auto args = parse_args(argv, {{"--out", "--device", "--particles"}, {"--no-charts", "--validation"}}, "study", &error);
     if (!args) {
         std::fprintf(stderr, "%s\n", error.c_str());
         return kExitUsage;
@@ -30,6 +30,12 @@ int cmd_study(const std::vector<std::string>& argv) {
     if (!spec) {
         std::fprintf(stderr, "aquaform study: %s\n", spec.error().c_str());
         return kExitUsage;
+    }
+    if (const auto n = particles_flag(*args, &error); n) {
+        if (auto scaled = study::set_particle_count(spec.value(), *n); !scaled)
+            return std::fprintf(stderr, "aquaform study: --particles: %s\n", scaled.error().c_str()), kExitUsage;
+    } else if (!error.empty()) {
+        return std::fprintf(stderr, "aquaform study: %s\n", error.c_str()), kExitUsage;
     }
     const std::filesystem::path out_dir = args->value("--out", "out/study/" + spec.value().name);
     std::error_code ec;

@@ -29,23 +29,26 @@ int cmd_view(const std::vector<std::string>& argv) {
         with_render_flags({{"--device", "--script", "--record", "--size", "--frames", "--shaders", "--particles", "--scale"}, {"--validation", "--play", "--async"}});
     auto args = parse_args(argv, spec, "view", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
-    const bool generated = args->has("--particles");
+    // --particles alone: a generated dam break of that size; with a scene: the scene scaled to it.
+    const bool generated = args->has("--particles") && args->positional.empty();
     if (args->positional.size() != (generated ? 0u : 1u)) {
         std::fprintf(stderr, "aquaform view: give exactly one scene file, e.g. aquaform view assets/scenes/dam_break.json, "
-                             "or --particles N alone for a generated dam break\n");
+                             "or --particles N alone for a generated dam break (with a scene, --particles N scales it)\n");
         return kExitUsage;
     }
     Scene scene;
     if (generated) {
         // The benchmarks' dam break (study/bench_scenes.h), for frame rates at a chosen size.
-        auto n = parse_positive("--particles", args->value("--particles"), &error);
+        auto n = particles_flag(*args, &error);
         if (!n) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
-        scene = study::bench_scene(uint32_t(std::min<long>(*n, 1L << 26)), 4);
+        scene = study::bench_scene(uint32_t(*n), 4);
     } else {
         auto loaded = load_scene(args->positional[0]);
         if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
         scene = loaded.value();
     }
+    if (!generated && !scale_to_particles_flag(*args, scene, &error))
+        return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
     auto plan = session::plan_session(scene);
     if (!plan) return std::fprintf(stderr, "aquaform: %s\n", plan.error().c_str()), kExitUsage;
     auto method_settings = render_method_from(*args, &error);

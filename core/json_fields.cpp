@@ -166,6 +166,23 @@ Box read_box(const json& v, const std::string& path, const std::string& example)
     return b;
 }
 
+ViewCamera read_view_camera(const json& v, const std::string& path) {
+    static constexpr std::string_view kCameraKeys[] = {"eye", "target", "fov"};
+    if (!v.is_object())
+        fail(path + " must be an object {\"eye\": [x, y, z], \"target\": [x, y, z], \"fov\": 40}, got " + written(v) +
+             " (" + kind_of(v) + ")");
+    check_keys(v, "in " + path, kCameraKeys);
+    require(v, "eye", "in " + path, "\"eye\": [0.5, 0.4, 1.2]");
+    require(v, "target", "in " + path, "\"target\": [0.2, 0.1, 0.1]");
+    ViewCamera c;
+    c.eye = read_vec3(v["eye"], child(path, "eye"), "an array of three numbers [x, y, z] in metres");
+    c.target = read_vec3(v["target"], child(path, "target"), "an array of three numbers [x, y, z] in metres");
+    if (v.contains("fov"))
+        c.fov_y_degrees = read_number(v["fov"], child(path, "fov"), {1.0, 170.0, false, false, "degrees from 1 to 170"});
+    if (!(glm::length(c.eye - c.target) > 0.0f)) fail(path + ": eye and target coincide; move the eye away");
+    return c;
+}
+
 /// nlohmann reports "... at line L, column C: what"; keep the "line L, column C" and "what" parts.
 std::string syntax_error(const json::parse_error& e, const std::string& origin) {
     std::string msg = e.what();

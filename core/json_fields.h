@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/box.h"
+#include "core/camera.h"
 
 namespace aquaform::json_fields {
 
@@ -59,6 +60,9 @@ uint32_t read_integer(const json& v, const std::string& path, uint32_t lo, uint3
 glm::vec3 read_vec3(const json& v, const std::string& path, const char* what);
 /// Reads {"min": [..], "max": [..]} and checks max > min on every axis.
 Box read_box(const json& v, const std::string& path, const std::string& example);
+
+/// Reads {"eye": [..], "target": [..], "fov": degrees (optional)}: a camera placed by hand.
+ViewCamera read_view_camera(const json& v, const std::string& path);
 
 /// Parses JSON text, refusing duplicate keys. Syntax errors throw Invalid with `origin`, the
 /// line and column, and what to look for.

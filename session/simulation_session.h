@@ -46,6 +46,9 @@ struct FrameReport {
 struct SessionOptions {
     /// Shape metrics every frame (a read-back of the particles and a voxel count on the CPU).
     bool measure_shapes = true;
+    /// The droplet count every frame (a read-back of the positions in the frame's submission and
+    /// a connected-groups pass on the host: PbfSolver::set_measure_droplets); for stats.csv.
+    bool measure_droplets = false;
 };
 
 /// What the caller reports about a session's control: Strength::describe(), the strength's

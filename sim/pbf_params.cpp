@@ -84,6 +84,7 @@ shader::SimParams make_sim_params(const Scene& scene, const GridGeometry& grid, 
     p.front_tag = 0;
     p.wall_scale = c.wall_phi * shader::SPH_PI * p.poly6_coeff / 4.0f;
     p.wall_f_h = shader::pbf_wall_antiderivative(c.h, p.h2);
+    p.constraint_min = sv.density_constraint == DensityConstraint::two_sided ? -1.0e30f : 0.0f;
     return p;
 }
 

@@ -66,7 +66,7 @@ void reference_step(const SimParams& p, const ReferenceSettings& settings, CpuPa
             const glm::vec4 wall = shader::pbf_wall_term(pi, p);
             rho = p.mass * rho + p.rest_density * wall.w;
             grad_i += glm::vec3(wall);
-            float constraint = std::max(rho / p.rest_density - 1.0f, 0.0f);
+            float constraint = std::max(rho / p.rest_density - 1.0f, p.constraint_min);
             lambda[i] = -constraint / (sum_grad2 + glm::dot(grad_i, grad_i) + p.epsilon);
             s.density[i] = rho;
         }

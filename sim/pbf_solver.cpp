@@ -56,7 +56,7 @@ Result<MemoryPlan> plan_memory(const Scene& scene) {
     plan.buffers.push_back({"grid.neighbors", n * neighbor_list_capacity(scene.solver.kernel_radius_factor) * 4});
     plan.buffers.push_back({"grid.cell_rank", cells * 4});
     plan.buffers.push_back({"grid.cell_start", (cells + 1) * 4});
-    plan.buffers.push_back({"stats.partials", ((n + PBF_STATS_WORKGROUP - 1) / PBF_STATS_WORKGROUP) * 32});
+    plan.buffers.push_back({"stats.partials", ((n + PBF_STATS_WORKGROUP - 1) / PBF_STATS_WORKGROUP) * sizeof(shader::StatsPartial)});
     plan.buffers.push_back({"params", sizeof(shader::SimParams)});
     return plan;
 }
@@ -91,7 +91,8 @@ Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::D
     return true;
 }
 
-PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_(scene), buffers_(ctx) {
+PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene)
+    : ctx_(&ctx), scene_(scene), buffers_(ctx), readback_(ctx) {
     if (scene.static_boxes.size() > PBF_MAX_STATIC_BOXES)
         throw resource_failure(scene.path.string() + ": static_boxes has " +
                                  std::to_string(scene.static_boxes.size()) + " boxes; the solver supports at most " +
@@ -129,7 +130,7 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_
     velocity_ = gpu::ComputePass(ctx, {"sim/pbf_velocity.comp", 4, sizeof(CountPush)});
     if (xsph_on_) xsph_curl_ = gpu::ComputePass(ctx, {"sim/pbf_xsph_curl.comp", 11, sizeof(CountPush)});
     if (vorticity_on_) vorticity_ = gpu::ComputePass(ctx, {"sim/pbf_vorticity.comp", 10, sizeof(CountPush)});
-    stats_ = gpu::ComputePass(ctx, {"sim/pbf_stats.comp", 5, sizeof(CountPush), PBF_STATS_WORKGROUP});
+    stats_ = gpu::ComputePass(ctx, {"sim/pbf_stats.comp", 10, sizeof(shader::StatsPush), PBF_STATS_WORKGROUP});
 
     std::vector<glm::vec4> x;
     std::vector<uint32_t> block;
@@ -137,7 +138,7 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene) : ctx_(&ctx), scene_
     std::vector<glm::vec4> v(x.size());
     for (size_t i = 0; i < x.size(); ++i) {
         x[i].w = float(i);
-        v[i] = glm::vec4(0.0f, 0.0f, 0.0f, float(block[i]));
+        v[i] = glm::vec4(scene.fill_of(block[i]).velocity, float(block[i]));
     }
     set_state(x, v);
 }
@@ -226,8 +227,14 @@ void PbfSolver::record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     // q output goes to scratch), then the per-workgroup reduction.
     gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
                   {{"params", params_buf_}, {"p", x_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"neighbor_count", &grid_->neighbor_count()}, {"neighbors", &grid_->neighbors()}, {"q", s0_}, {"density", density_}});
-    gpu::dispatch(*ctx_, cmd, stats_, stats_groups(count_) * PBF_STATS_WORKGROUP, push,
-                  {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"density", density_}, {"partials", partials_}});
+    // Runup: particles within a spacing of the far wall of a dam break.
+    const float runup_x = scene_.column_width ? scene_.domain.max.x - scene_.particle_spacing : 1.0e30f;
+    const float splash = float(kSplashNeighborFraction * full_neighbor_count(scene_.solver.kernel_radius_factor));
+    const shader::StatsPush stats_push{count_, splash, runup_x, 0u};
+    gpu::dispatch(*ctx_, cmd, stats_, stats_groups(count_) * PBF_STATS_WORKGROUP, stats_push,
+                  {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"density", density_}, {"partials", partials_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"neighbor_count", &grid_->neighbor_count()}, {"neighbors", &grid_->neighbors()}});
+    // The droplet count's positions come back in the frame's own submission (no wait of their own).
+    if (positions_readback_) gpu::record_download(*ctx_, cmd, *x_, *positions_readback_, uint64_t(count_) * 16);
     gpu::host_read_barrier(cmd);
 }
 
@@ -269,7 +276,10 @@ FrameStats PbfSolver::collect_stats(gpu::GpuTimer* timer) {
     // The front is the fluid's leading edge: the foremost particle centre plus its radius.
     std::optional<float> wall;
     if (scene_.column_width) wall = scene_.domain.min.x - 0.5f * scene_.particle_spacing;
-    FrameStats stats = reduce_stats(partials, count_, wall);
+    FrameStats stats = reduce_stats(partials, count_, wall, 0.5f * scene_.particle_spacing - scene_.domain.min.y);
+    if (positions_readback_)
+        stats.droplets = count_droplets({static_cast<const glm::vec4*>(positions_readback_->mapped), count_}, params_.h,
+                                        droplet_size_limit(count_));
     stats.time_s = time_;
     if (timer) stats.gpu_ms = timer->totals_ms();
     stats.substeps = substeps_;
@@ -279,6 +289,18 @@ FrameStats PbfSolver::collect_stats(gpu::GpuTimer* timer) {
     stats.speed_capped = params_.max_speed > 0.0f && stats.max_speed >= 0.999 * params_.max_speed;
     last_max_speed_ = stats.max_speed;
     return stats;
+}
+
+void PbfSolver::set_measure_droplets(bool on) {
+    if (on == (positions_readback_ != nullptr)) return;
+    readback_.release();
+    positions_readback_ = on ? &readback_.add("stats.positions", uint64_t(count_) * 16, gpu::MemoryUse::host) : nullptr;
+}
+
+std::vector<gpu::BufferReport> PbfSolver::memory_report() const {
+    std::vector<gpu::BufferReport> report = buffers_.report();
+    for (const gpu::BufferReport& b : readback_.report()) report.push_back(b);
+    return report;
 }
 
 ParticleSnapshot PbfSolver::snapshot() {

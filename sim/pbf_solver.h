@@ -96,7 +96,12 @@ public:
     const Scene& scene() const { return scene_; }
     /// Names of the GPU passes this scene enables, in execution order.
     std::vector<std::string> enabled_passes() const;
-    std::vector<gpu::BufferReport> memory_report() const { return buffers_.report(); }
+    std::vector<gpu::BufferReport> memory_report() const;
+    /// The droplet count (FrameStats::droplets) every frame: the frame's submission also copies
+    /// the positions into host memory (16 bytes per particle, allocated here) and collect_stats
+    /// finds the connected groups on the host (sim/frame_stats.h, count_droplets). Off by default:
+    /// only what writes stats.csv asks for it.
+    void set_measure_droplets(bool on);
 
     // In-place access for the renderer: the current arrays and the grid they are sorted by.
     const gpu::Buffer& positions() const { return *x_; }
@@ -124,6 +129,8 @@ private:
     gpu::Buffer *x_, *v_, *p_, *s0_, *s1_;
     gpu::Buffer* density_;
     gpu::Buffer* partials_;  ///< host-visible: the host reduces them after the frame's fence
+    gpu::BufferSet readback_;                    ///< host memory of the droplet count, when on
+    gpu::Buffer* positions_readback_ = nullptr;  ///< the frame's positions, for count_droplets
     std::unique_ptr<NeighborGrid> grid_;
     StepForce* step_force_ = nullptr;
     gpu::ComputePass predict_, reorder_, lambda_pass_, correct_, velocity_, xsph_curl_, vorticity_, stats_;

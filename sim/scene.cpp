@@ -24,10 +24,11 @@ using namespace json_fields;
 
 constexpr std::string_view kTopKeys[] = {"name",         "domain", "particle_spacing", "rest_density",
                                          "gravity",      "fluid_blocks", "static_boxes", "frames",
-                                         "column_width", "solver", "control"};
+                                         "column_width", "solver", "control", "camera"};
 constexpr std::string_view kSolverKeys[] = {"frame_dt",  "substeps", "iterations", "kernel_radius_factor",
                                             "relaxation", "viscosity", "vorticity", "scorr_k",
-                                            "scorr_n",   "scorr_dq", "cfl", "max_substeps", "max_speed"};
+                                            "scorr_n",   "scorr_dq", "cfl", "max_substeps", "max_speed",
+                                            "density_constraint"};
 
 constexpr const char* kAxis[] = {"x", "y", "z"};
 
@@ -67,6 +68,44 @@ uint64_t block_count(const Box& b, float spacing) {
     uint64_t n = 1;
     for (int a = 0; a < 3; ++a) n = saturating_mul(n, lattice_points(b.max[a] - b.min[a], spacing));
     return n;
+}
+
+/// The lattice points of a block, row by row: fn(j, k, i0, i1) for the points i0 <= i < i1 of
+/// row (j, k). A sphere keeps the points of its bounding box's lattice within its radius.
+/// Returns false (having called nothing) when the block's box holds more than `cap` points.
+template <typename Fn>
+bool for_each_row(const Box& b, const BlockFill& fill, float spacing, uint64_t cap, Fn fn) {
+    uint64_t n[3];
+    for (int a = 0; a < 3; ++a) n[a] = lattice_points(b.max[a] - b.min[a], spacing);
+    if (block_count(b, spacing) > cap) return false;
+    const double s = spacing;
+    const glm::dvec3 c = 0.5 * (glm::dvec3(b.min) + glm::dvec3(b.max));
+    for (uint64_t k = 0; k < n[2]; ++k)
+        for (uint64_t j = 0; j < n[1]; ++j) {
+            if (!fill.sphere_radius) {
+                fn(j, k, uint64_t{0}, n[0]);
+                continue;
+            }
+            const double dy = b.min.y + s * (j + 0.5) - c.y, dz = b.min.z + s * (k + 0.5) - c.z;
+            const double r = *fill.sphere_radius, rem = r * r - dy * dy - dz * dz;
+            if (rem < 0.0) continue;
+            // x_i = min.x + s (i + 0.5) within c.x -+ w.
+            const double w = std::sqrt(rem);
+            const double lo = std::ceil((c.x - w - b.min.x) / s - 0.5), hi = std::floor((c.x + w - b.min.x) / s - 0.5) + 1.0;
+            const uint64_t i0 = uint64_t(std::clamp(lo, 0.0, double(n[0]))), i1 = uint64_t(std::clamp(hi, 0.0, double(n[0])));
+            if (i1 > i0) fn(j, k, i0, i1);
+        }
+    return true;
+}
+
+/// Particles of one block (saturated; a box too large to list gives its box count, which is
+/// over the limit anyway).
+uint64_t fill_count(const Box& b, const BlockFill& fill, float spacing) {
+    uint64_t count = 0;
+    const uint64_t cap = 8 * kMaxSceneParticles;
+    if (!for_each_row(b, fill, spacing, cap, [&](uint64_t, uint64_t, uint64_t i0, uint64_t i1) { count += i1 - i0; }))
+        return block_count(b, spacing);
+    return count;
 }
 
 // ---- the scene -------------------------------------------------------------------------------
@@ -109,6 +148,14 @@ void read_solver(const json& s, SolverSettings& out) {
         fail("solver.max_substeps is " + std::to_string(out.max_substeps) + ", below solver.substeps (" +
              std::to_string(out.substeps) + ", the least steps per frame); raise max_substeps or lower substeps");
     if (s.contains("iterations")) out.iterations = read_integer(s["iterations"], "solver.iterations", 1, 100);
+    if (s.contains("density_constraint")) {
+        const json& c = s["density_constraint"];
+        const bool known = c.is_string() && (c == "clamped" || c == "two_sided");
+        if (!known)
+            fail("solver.density_constraint is " + written(c) + "; use \"clamped\" (only compression is corrected, "
+                 "the default) or \"two_sided\" (under-dense particles are pulled together too)");
+        out.density_constraint = c == "two_sided" ? DensityConstraint::two_sided : DensityConstraint::clamped;
+    }
 }
 
 std::vector<Box> read_boxes(const json& v, const std::string& key, const Box& domain) {
@@ -122,6 +169,49 @@ std::vector<Box> read_boxes(const json& v, const std::string& key, const Box& do
         check_inside(boxes.back(), v[i], path, domain);
     }
     return boxes;
+}
+
+constexpr std::string_view kBoxBlockKeys[] = {"shape", "min", "max", "velocity"};
+constexpr std::string_view kSphereBlockKeys[] = {"shape", "center", "radius", "velocity"};
+
+/// A fluid block: a box {min, max} or {"shape": "sphere", center, radius}, either with an
+/// optional start "velocity".
+std::pair<Box, BlockFill> read_fluid_block(const json& v, const std::string& path, const Box& domain) {
+    if (!v.is_object())
+        fail(path + " must be an object such as " + std::string(kBlockExample) + " or {\"shape\": \"sphere\", "
+             "\"center\": [x, y, z], \"radius\": r}, got " + written(v) + " (" + kind_of(v) + ")");
+    const json* shape = v.contains("shape") ? &v["shape"] : nullptr;
+    if (shape && !(shape->is_string() && (*shape == "box" || *shape == "sphere")))
+        fail(path + ".shape is " + written(*shape) + "; use \"box\" (with min and max) or \"sphere\" (with center and radius)");
+    Box box;
+    BlockFill fill;
+    if (shape && *shape == "sphere") {
+        check_keys(v, "in " + path, kSphereBlockKeys);
+        require(v, "center", "in " + path, "\"center\": [0.5, 0.6, 0.5]");
+        require(v, "radius", "in " + path, "\"radius\": 0.1");
+        const glm::vec3 c = read_vec3(v["center"], path + ".center", "an array of three numbers [x, y, z] in metres");
+        const float r = read_number(v["radius"], path + ".radius", {0.0, HUGE_VAL, true, false, "a positive number of metres"});
+        box = {c - glm::vec3(r), c + glm::vec3(r)};
+        fill.sphere_radius = r;
+        for (int a = 0; a < 3; ++a)
+            if (box.min[a] < domain.min[a] || box.max[a] > domain.max[a])
+                fail(path + " (center " + written(v["center"]) + ", radius " + written(v["radius"]) +
+                     ") reaches outside the domain " + fmt(domain) + " on " + kAxis[a] +
+                     "; move the sphere inside the domain or make it smaller");
+    } else {
+        check_keys(v, "in " + path, kBoxBlockKeys);
+        json plain = v;  // read_box knows only min and max
+        plain.erase("shape");
+        plain.erase("velocity");
+        box = read_box(plain, path, "\"max\": [0.3, 0.6, 0.2]");
+        check_inside(box, v, path, domain);
+    }
+    if (v.contains("velocity")) {
+        fill.velocity = read_vec3(v["velocity"], path + ".velocity", "an array of three numbers [x, y, z] in m/s");
+        if (!(glm::length(fill.velocity) <= 100.0f))
+            fail(path + ".velocity " + written(v["velocity"]) + " is faster than 100 m/s; give a speed in m/s, e.g. [0, -2, 0]");
+    }
+    return {box, fill};
 }
 
 Scene read_scene(const json& j) {
@@ -157,7 +247,15 @@ Scene read_scene(const json& j) {
 
     if (j.contains("static_boxes")) scene.static_boxes = read_boxes(j["static_boxes"], "static_boxes", scene.domain);
     const json& blocks = j["fluid_blocks"];
-    scene.fluid_blocks = read_boxes(blocks, "fluid_blocks", scene.domain);
+    if (!blocks.is_array())
+        fail("fluid_blocks must be an array of blocks such as [" + std::string(kBlockExample) + "], got " +
+             written(blocks) + " (" + kind_of(blocks) + ")");
+    for (size_t i = 0; i < blocks.size(); ++i) {
+        auto [box, fill] = read_fluid_block(blocks[i], "fluid_blocks[" + std::to_string(i) + "]", scene.domain);
+        scene.fluid_blocks.push_back(box);
+        scene.block_fills.push_back(fill);
+    }
+    if (j.contains("camera")) scene.camera = read_view_camera(j["camera"], "camera");
     if (scene.fluid_blocks.empty())
         fail("fluid_blocks is [] (empty); add at least one block, e.g. [" + std::string(kBlockExample) + "]");
 
@@ -165,7 +263,8 @@ Scene read_scene(const json& j) {
         const Box& b = scene.fluid_blocks[i];
         std::string path = "fluid_blocks[" + std::to_string(i) + "]";
         for (int a = 0; a < 3; ++a)
-            if (lattice_points(b.max[a] - b.min[a], scene.particle_spacing) == 0)
+            if (lattice_points(b.max[a] - b.min[a], scene.particle_spacing) == 0 ||
+                fill_count(b, scene.fill_of(i), scene.particle_spacing) == 0)
                 fail(path + " " + fmt(b) + " is thinner on " + kAxis[a] + " than particle_spacing " +
                      written(j["particle_spacing"]) + ", so it holds no particles; widen the block or reduce "
                      "particle_spacing");
@@ -186,6 +285,9 @@ Scene read_scene(const json& j) {
         float a = read_number(cw, "column_width", {0.0, HUGE_VAL, true, false,
                                                    "a positive number of metres (the x-extent of fluid_blocks[0])"});
         const Box& b = scene.fluid_blocks[0];
+        if (scene.fill_of(0).sphere_radius)
+            fail("column_width is " + written(cw) + " but fluid_blocks[0] is a sphere; a dam break's column is a box "
+                 "against the wall at domain.min.x: make it fluid_blocks[0] or remove column_width");
         float extent = b.max.x - b.min.x;
         if (std::fabs(a - extent) > 1e-4f * std::max(a, extent))
             fail("column_width is " + written(cw) + " but fluid_blocks[0] is " + fmt(extent) + " m wide on x (" +
@@ -211,8 +313,8 @@ Scene read_scene(const json& j) {
 
 uint64_t Scene::particle_count() const {
     uint64_t total = 0;
-    for (const Box& b : fluid_blocks) {
-        uint64_t n = block_count(b, particle_spacing);
+    for (size_t i = 0; i < fluid_blocks.size(); ++i) {
+        uint64_t n = fill_count(fluid_blocks[i], fill_of(i), particle_spacing);
         total = n > std::numeric_limits<uint64_t>::max() - total ? std::numeric_limits<uint64_t>::max() : total + n;
     }
     return total;
@@ -227,17 +329,46 @@ void Scene::generate_particles(std::vector<glm::vec4>& positions, std::vector<ui
     const double s = particle_spacing;
     for (size_t bi = 0; bi < fluid_blocks.size(); ++bi) {
         const Box& b = fluid_blocks[bi];
-        uint64_t n[3];
-        for (int a = 0; a < 3; ++a) n[a] = lattice_points(b.max[a] - b.min[a], particle_spacing);
-        for (uint64_t k = 0; k < n[2]; ++k)
-            for (uint64_t j = 0; j < n[1]; ++j)
-                for (uint64_t i = 0; i < n[0]; ++i) {
-                    positions.emplace_back(static_cast<float>(b.min.x + s * (i + 0.5)),
-                                           static_cast<float>(b.min.y + s * (j + 0.5)),
-                                           static_cast<float>(b.min.z + s * (k + 0.5)), 0.0f);
-                    block_of.push_back(static_cast<uint32_t>(bi));
-                }
+        for_each_row(b, fill_of(bi), particle_spacing, std::numeric_limits<uint64_t>::max(),
+                     [&](uint64_t j, uint64_t k, uint64_t i0, uint64_t i1) {
+                         for (uint64_t i = i0; i < i1; ++i) {
+                             positions.emplace_back(static_cast<float>(b.min.x + s * (i + 0.5)),
+                                                    static_cast<float>(b.min.y + s * (j + 0.5)),
+                                                    static_cast<float>(b.min.z + s * (k + 0.5)), 0.0f);
+                             block_of.push_back(static_cast<uint32_t>(bi));
+                         }
+                     });
     }
+}
+
+Result<Scene> with_particle_count(const Scene& scene, uint64_t particles, const std::string& flag) {
+    if (particles < kMinSceneParticles || particles > kMaxSceneParticles)
+        return Error{flag + " " + std::to_string(particles) + " is out of range; ask for " +
+                     std::to_string(kMinSceneParticles) + " to " + std::to_string(kMaxSceneParticles) + " particles"};
+    Scene out = scene;
+    const uint64_t now = scene.particle_count();
+    if (now == 0) return Error{flag + ": " + scene.name + " holds no particle to scale; give its fluid blocks a size"};
+    // The count goes as spacing^-3; a few corrections absorb the lattice's rounding at the blocks' faces.
+    double spacing = scene.particle_spacing * std::cbrt(double(now) / double(particles));
+    float best = scene.particle_spacing;
+    double best_error = INFINITY;
+    for (int round = 0; round < 8; ++round) {
+        out.particle_spacing = float(spacing);
+        const uint64_t n = out.particle_count();
+        const double error = std::abs(double(n) - double(particles)) / double(particles);
+        if (error < best_error) best_error = error, best = out.particle_spacing;
+        if (error < 0.005 || n == 0) break;
+        spacing *= std::cbrt(double(n) / double(particles));
+    }
+    out.particle_spacing = best;
+    if (out.particle_count() == 0 || best_error > 0.5)
+        return Error{flag + " " + std::to_string(particles) + " cannot be met by " + scene.name +
+                     ": its thinnest fluid block holds no particle at that size; ask for more particles"};
+    return out;
+}
+
+ViewCamera scene_camera(const Scene& scene, float aspect) {
+    return scene.camera ? *scene.camera : camera_for_domain(scene.domain, aspect);
 }
 
 Result<Scene> parse_scene(const std::string& json_text, const std::string& origin) {

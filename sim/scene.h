@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "core/box.h"
+#include "core/camera.h"
 #include "core/result.h"
 
 namespace aquaform {
@@ -20,6 +21,9 @@ namespace aquaform {
 inline constexpr uint64_t kMaxSceneParticles = uint64_t{1} << 26;  // 67,108,864
 
 /// Solver settings (Macklin & Mueller 2013, "Position Based Fluids").
+/// Which densities the PBF constraint corrects (shaders/sim/pbf_lambda.comp explains the choice).
+enum class DensityConstraint { clamped, two_sided };
+
 struct SolverSettings {
     float frame_dt = 1.0f / 60.0f;      ///< simulated seconds per output frame
     /// Solver steps per frame: at least `substeps`, more where the fluid is fast (the time-step
@@ -38,6 +42,16 @@ struct SolverSettings {
     /// A safety net, not a time-step rule: speeds are capped at this [m/s] (0 = off, the
     /// default); a frame where the cap binds is reported (FrameStats::speed_capped).
     float max_speed = 0.0f;
+    /// clamped: C = max(rho / rho0 - 1, 0), only compression is corrected (the default);
+    /// two_sided: C = rho / rho0 - 1, under-dense particles are pulled together too.
+    DensityConstraint density_constraint = DensityConstraint::clamped;
+};
+
+/// How a fluid block is filled beyond its box (Scene::fluid_blocks keeps the box; a sphere's is
+/// its bounding box, so every check on boxes holds for spheres too).
+struct BlockFill {
+    std::optional<float> sphere_radius;  ///< a ball of this radius about the box's centre, not the whole box
+    glm::vec3 velocity{0.0f};            ///< the block's particles start with it [m/s]
 };
 
 struct Scene {
@@ -48,6 +62,7 @@ struct Scene {
     float rest_density = 1000.0f;        ///< rho0 [kg/m^3]
     glm::vec3 gravity{0.0f, -9.81f, 0.0f};
     std::vector<Box> fluid_blocks;       ///< filled with particles on a lattice at t = 0
+    std::vector<BlockFill> block_fills;  ///< per fluid block; a block without one is a box at rest
     std::vector<Box> static_boxes;       ///< solid obstacles inside the domain
     SolverSettings solver;
     uint32_t frames = 60;                ///< default number of frames for `aquaform run`
@@ -57,6 +72,10 @@ struct Scene {
     /// The "control" section as JSON text (mesh control: meshes, timeline); parsed and validated
     /// by control::load_control_section, since sim/ does not know about meshes.
     std::optional<std::string> control_json;
+    /// The scene's own view (the "camera" key); without it views frame the domain (scene_camera).
+    std::optional<ViewCamera> camera;
+
+    BlockFill fill_of(size_t block) const { return block < block_fills.size() ? block_fills[block] : BlockFill{}; }
 
     /// The part of the scene a renderer needs: the domain and the particles' size.
     ParticleDomain particle_domain() const { return {domain, particle_spacing, solver.kernel_radius_factor}; }
@@ -66,6 +85,18 @@ struct Scene {
     /// The lattice positions of every fluid particle, with the index of the block each came from.
     void generate_particles(std::vector<glm::vec4>& positions, std::vector<uint32_t>& block_of) const;
 };
+
+/// Fewest particles `--particles` may ask for: below it a scene is a few particles, not a fluid.
+inline constexpr uint64_t kMinSceneParticles = 64;
+
+/// The scene with its particle spacing re-derived so that its fluid blocks hold about
+/// `particles` (within a few per cent; a lattice cannot hit every count). Everything else keeps
+/// its size in metres: the kernel radius follows the spacing (kernel_radius_factor). The error
+/// names `flag` (e.g. "--particles") and the range kMinSceneParticles..kMaxSceneParticles.
+Result<Scene> with_particle_count(const Scene& scene, uint64_t particles, const std::string& flag = "--particles");
+
+/// The camera of every view of the scene: its own, or one that frames the domain.
+ViewCamera scene_camera(const Scene& scene, float aspect);
 
 /// Reads and validates a scene file.
 Result<Scene> load_scene(const std::filesystem::path& path);

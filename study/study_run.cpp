@@ -357,7 +357,7 @@ std::vector<std::string> case_names(const std::vector<StudyRow>& rows) {
 
 ViewCamera study_camera(const StudyCamera& spec, const Scene& scene, float aspect) {
     if (spec.preset == "custom") return spec.custom;
-    ViewCamera camera = camera_for_domain(scene.domain, aspect);
+    ViewCamera camera = scene_camera(scene, aspect);
     if (spec.preset == "far") camera.eye = camera.target + 2.0f * (camera.eye - camera.target);
     if (spec.preset == "closeup") {
         // Looking at the centre of the first fluid block from the usual side, with the eye on the
@@ -387,6 +387,8 @@ std::vector<StudyRow> run_study_cases(gpu::Context& ctx, const StudySpec& spec, 
             for (uint32_t n : c.particles) scenes.push_back(study::bench_scene(n, 4));
         } else {
             auto loaded = load_scene(c.scene);
+            if (!loaded) throw Failure(loaded.error());
+            if (c.scene_particles) loaded = with_particle_count(loaded.value(), *c.scene_particles);
             if (!loaded) throw Failure(loaded.error());
             scenes.push_back(loaded.value());
         }

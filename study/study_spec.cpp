@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "core/json_fields.h"
+#include "sim/scene.h"
 #include "render/registry.h"
 
 namespace aquaform::study {
@@ -22,7 +23,6 @@ constexpr std::array<std::string_view, 9> kCaseKeys{"name", "scene", "particles"
                                                     "resolutions", "methods", "note", "list_bytes_per_pixel"};
 constexpr std::array<std::string_view, 6> kMethodKeys{"method", "visual", "size", "recursion", "bisection", "resolution"};
 constexpr std::array<std::string_view, 5> kMapKeys{"scene", "dt", "iterations", "control_pressure", "time"};
-constexpr std::array<std::string_view, 3> kCameraKeys{"eye", "target", "fov"};
 
 StudyFamily family_of(const MethodEntry& entry) {
     if (entry.family == "metaball") return StudyFamily::metaball;
@@ -153,14 +153,8 @@ StudyCamera read_camera(const json& v, const std::string& path) {
         return c;
     }
     if (!v.is_object()) fail(path + " must be a preset name or {\"eye\": [..], \"target\": [..]}, got " + written(v));
-    check_keys(v, "in " + path, kCameraKeys);
-    require(v, "eye", "in " + path, "\"eye\": [0.5, 0.4, 1.2]");
-    require(v, "target", "in " + path, "\"target\": [0.2, 0.1, 0.1]");
     c.preset = "custom";
-    c.custom.eye = read_vec3(v["eye"], child(path, "eye"), "metres");
-    c.custom.target = read_vec3(v["target"], child(path, "target"), "metres");
-    if (v.contains("fov")) c.custom.fov_y_degrees = read_number(v["fov"], child(path, "fov"), {1.0, 170.0, false, false, "degrees from 1 to 170"});
-    if (!(glm::length(c.custom.eye - c.custom.target) > 0.0f)) fail(path + ": eye and target coincide; move the eye away");
+    c.custom = read_view_camera(v, path);
     return c;
 }
 
@@ -277,6 +271,21 @@ Result<StudySpec> parse_study_spec(const std::string& text, const std::string& o
     } catch (const std::exception& e) {
         return Error{origin + ": " + std::string(e.what())};
     }
+}
+
+Result<bool> set_particle_count(StudySpec& spec, uint64_t particles) {
+    for (StudyCase& c : spec.cases) {
+        if (c.scene == "dam_break") {  // sized by its count (study/bench_scenes.h)
+            c.particles = {uint32_t(particles)};
+            continue;
+        }
+        auto loaded = load_scene(c.scene);
+        if (!loaded) return Error{loaded.error()};
+        auto sized = with_particle_count(loaded.value(), particles);
+        if (!sized) return Error{"case " + c.name + ": " + sized.error()};
+        c.scene_particles = particles;
+    }
+    return true;
 }
 
 Result<StudySpec> load_study_spec(const fs::path& path) {

@@ -67,6 +67,7 @@ struct StudyCase {
     std::string name;
     std::string scene = "dam_break";        ///< "dam_break" or a scene file path (resolved)
     std::vector<uint32_t> particles;        ///< dam breaks; empty for scene files
+    std::optional<uint64_t> scene_particles;  ///< a scene file scaled to about this many (study --particles)
     std::optional<double> time_s;           ///< empty: half_tank
     StudyCamera camera;
     std::vector<std::pair<uint32_t, uint32_t>> resolutions;
@@ -81,6 +82,10 @@ struct StudySpec {
     std::vector<StudyCase> cases;
     std::vector<SolverMapSpec> solver_maps;  ///< "solver_map": one object or an array of them
 };
+
+/// `study --particles N`: every case at about N particles: a generated dam break's list becomes
+/// {N}, a scene file is scaled to it (with_particle_count). Refuses a scene that cannot be.
+Result<bool> set_particle_count(StudySpec& spec, uint64_t particles);
 
 /// Reads and checks a spec file; errors name the file, the key and the fix.
 Result<StudySpec> load_study_spec(const std::filesystem::path& path);

@@ -28,7 +28,7 @@ TEST_F(BenchSimTest, MeasuresTheSolverOnADamBreakOfTheAskedSize) {
     EXPECT_GT(r.ms_per_pass.at("lambda"), 0.0);
     EXPECT_LT(r.neighbor_search_ms, r.ms_per_step);
     EXPECT_GT(r.grid_cells, 0u);
-    EXPECT_GT(r.gpu_bytes_per_particle, 100.0);  // positions, velocities, grid entries, masks...
+    EXPECT_GT(r.gpu_bytes_per_particle, 100.0);  // positions, velocities, grid entries, neighbour lists...
 }
 
 TEST(BenchSimExponent, IsTheSlopeOfLogTimeAgainstLogParticles) {

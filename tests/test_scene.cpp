@@ -82,10 +82,10 @@ TEST(SceneFile, DoubleDamBreakLoadsWithExpectedCount) {
     ASSERT_TRUE(r.ok()) << r.error();
     const Scene& s = r.value();
     ASSERT_EQ(s.fluid_blocks.size(), 2u);
-    ASSERT_EQ(s.static_boxes.size(), 1u);
-    EXPECT_EQ(s.particle_count(), 2u * 15u * 30u * 10u);
-    ASSERT_TRUE(s.column_width.has_value());
-    EXPECT_FLOAT_EQ(*s.column_width, 0.3f);
+    EXPECT_TRUE(s.static_boxes.empty());
+    EXPECT_EQ(s.particle_count(), 2u * 16u * 24u * 16u);  // two 0.4 x 0.6 x 0.4 m columns in opposite corners
+    EXPECT_FALSE(s.column_width.has_value()) << "the second column stands at the far wall: no front, no runup";
+    EXPECT_TRUE(s.camera.has_value());
 }
 
 TEST(SceneFile, HydrostaticLoadsWithExpectedCount) {
@@ -130,7 +130,7 @@ TEST(SceneFile, UnknownKeySuggestsTheClosestAllowedKey) {
 
     j = valid_scene();
     j["fluid_blocks"][1]["maximum"] = {1, 1, 1};
-    EXPECT_TRUE(mentions(error_of(j), {"\"maximum\"", "in fluid_blocks[1]", "Allowed keys: min, max"}));
+    EXPECT_TRUE(mentions(error_of(j), {"\"maximum\"", "in fluid_blocks[1]", "Allowed keys: shape, min, max, velocity"}));
 }
 
 TEST(SceneFile, WrongTypeNamesKeyValueAndType) {
@@ -342,7 +342,7 @@ TEST(SceneFile, GeneratedParticlesMatchCountAndLieInTheirBlocks) {
     EXPECT_NEAR(positions[1].x - positions[0].x, h, 1e-6f);
     EXPECT_EQ(positions[1].y, positions[0].y);
     EXPECT_EQ(positions[1].z, positions[0].z);
-    EXPECT_NEAR(positions[15].y - positions[0].y, h, 1e-6f);  // 15 points per row in x
+    EXPECT_NEAR(positions[16].y - positions[0].y, h, 1e-6f);  // 16 points per row in x
 }
 
 }  // namespace

@@ -126,7 +126,7 @@ TEST(ViewCliTest, AFluidTooLargeIsReportedWithTheFixAndNoCrash) {
     EXPECT_NE(output.find("increase particle_spacing"), std::string::npos) << output;
     auto [bad, usage] = run_view_under_xvfb("--particles lots");
     EXPECT_EQ(bad, 2) << usage;
-    EXPECT_NE(usage.find("--particles must be a positive integer"), std::string::npos) << usage;
+    EXPECT_NE(usage.find("--particles must be a particle count from 64"), std::string::npos) << usage;
 }
 
 TEST(ViewCliTest, PictureScaleMakesTheFluidsPictureSmallerThanTheWindow) {

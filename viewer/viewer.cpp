@@ -46,7 +46,7 @@ public:
           picture_scale_(options.picture_scale) {
         int w = 0, h = 0;
         glfwGetFramebufferSize(window_.handle(), &w, &h);
-        orbit_ = OrbitCamera::around(camera_for_domain(domain_, float(std::max(w, 1)) / float(std::max(h, 1))));
+        orbit_ = OrbitCamera::around(scene_camera(plan.scene, float(std::max(w, 1)) / float(std::max(h, 1))));
         controls_.surface = options.surface;
         controls_.method = options.method;
         controls_.camera = orbit_.camera();

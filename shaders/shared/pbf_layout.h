@@ -53,7 +53,7 @@ struct SimParams {
     float wall_scale;     ///< phi * pi * c_poly6 / 4, see pbf_wall_term
     float wall_f_h;       ///< F(h) of pbf_wall_term
     uint neighbor_capacity;  ///< neighbour-list entries per particle (shared/grid_layout.h)
-    float pad1;
+    float constraint_min; ///< C_i = max(rho_i / rho0 - 1, constraint_min): 0 one-sided, -1e30 two-sided
     vec4 box_min[PBF_MAX_STATIC_BOXES];
     vec4 box_max[PBF_MAX_STATIC_BOXES];
 };
@@ -76,6 +76,16 @@ struct StatsPartial {
     float non_finite;           ///< particles with a NaN or infinite position or velocity
     float front;                ///< largest x of a front_tag particle below front_floor (-1e30 if none)
     float sum_abs_density_dev;  ///< sum of |rho / rho0 - 1|, free-surface deficiency included
+    float splash;               ///< particles with fewer neighbours than StatsPush::splash_neighbors
+    float runup;                ///< largest y of a particle with x above StatsPush::runup_x (-1e30 if none)
+};
+
+/// Push constants of the stats pass (sim/frame_stats.h explains the splash threshold).
+struct StatsPush {
+    uint count;
+    float splash_neighbors;  ///< fewer neighbours within h than this make a splash particle
+    float runup_x;           ///< particles beyond this x touch the far wall (1e30: no runup measured)
+    uint pad0;
 };
 
 AF_END
@@ -83,7 +93,8 @@ AF_END
 #ifdef __cplusplus
 static_assert(sizeof(aquaform::shader::SimParams) == 5 * 16 + 24 * 4 + 2 * 16 * 16);
 static_assert(sizeof(aquaform::shader::CountPush) == 16);
-static_assert(sizeof(aquaform::shader::StatsPartial) == 32);
+static_assert(sizeof(aquaform::shader::StatsPartial) == 40);
+static_assert(sizeof(aquaform::shader::StatsPush) == 16);
 #endif
 
 #endif

@@ -2,19 +2,37 @@
 #extension GL_GOOGLE_include_directive : require
 // Frame statistics, reduced per workgroup on the GPU so that only a few bytes per 256
 // particles come back to the host: density error, kinetic energy, speed, leakage, NaNs and
-// the dam-break front.
+// the dam-break front, the splash count (particles with few neighbours) and the runup on the
+// far wall.
+#include "shared/grid_layout.h"
 #include "shared/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Params { SimParams params; };
-layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
+layout(binding = 1, rgba32f) readonly uniform imageBuffer x;
 layout(std430, binding = 2) readonly buffer V { vec4 v[]; };
 layout(std430, binding = 3) readonly buffer Density { float density[]; };
 layout(std430, binding = 4) writeonly buffer Partials { StatsPartial partials[]; };
-layout(push_constant) uniform Push { CountPush pc; };
+layout(binding = 5, r32ui) readonly uniform uimageBuffer cell_rank;
+layout(binding = 6, r32ui) readonly uniform uimageBuffer cell_start;
+layout(binding = 7, r32ui) readonly uniform uimageBuffer list_cell;
+layout(binding = 8, r32ui) readonly uniform uimageBuffer neighbor_count;
+layout(binding = 9, rgba32ui) readonly uniform uimageBuffer neighbors;
+layout(push_constant) uniform Push { StatsPush pc; };
 
-const float NO_FRONT = -1.0e30;
+const float NONE = -1.0e30;
 shared StatsPartial group[PBF_STATS_WORKGROUP];
+
+vec3 pos_i;
+uint near_count;
+
+// This step's neighbours (found at the predicted positions) still within h at the final ones.
+void visit(uint j) {
+    vec3 r = pos_i - imageLoad(x, int(j)).xyz;
+    if (dot(r, r) < params.h2) ++near_count;
+}
+
+#include "common/neighbor_list.glsl"
 
 StatsPartial combine(StatsPartial a, StatsPartial b) {
     StatsPartial r;
@@ -26,15 +44,17 @@ StatsPartial combine(StatsPartial a, StatsPartial b) {
     r.non_finite = a.non_finite + b.non_finite;
     r.front = max(a.front, b.front);
     r.sum_abs_density_dev = a.sum_abs_density_dev + b.sum_abs_density_dev;
+    r.splash = a.splash + b.splash;
+    r.runup = max(a.runup, b.runup);
     return r;
 }
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
     uint t = gl_LocalInvocationID.x;
-    StatsPartial s = StatsPartial(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, NO_FRONT, 0.0);
+    StatsPartial s = StatsPartial(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, NONE, 0.0, 0.0, NONE);
     if (i < pc.count) {
-        vec4 xi = x[i];
+        vec4 xi = imageLoad(x, int(i));
         vec4 vi = v[i];
         bool finite = !any(isnan(xi.xyz)) && !any(isinf(xi.xyz)) && !any(isnan(vi.xyz)) && !any(isinf(vi.xyz));
         if (finite) {
@@ -49,6 +69,11 @@ void main() {
                           all(lessThanEqual(xi.xyz, params.domain_max.xyz));
             s.outside = inside ? 0.0 : 1.0;
             if (uint(vi.w) == params.front_tag && xi.y < params.front_floor) s.front = xi.x;
+            if (xi.x > pc.runup_x) s.runup = xi.y;
+            pos_i = xi.xyz;
+            near_count = 0u;
+            for_each_neighbor(i, pc.count, params.neighbor_capacity, params.grid_dims);
+            s.splash = float(near_count) < pc.splash_neighbors ? 1.0 : 0.0;
         } else {
             s.non_finite = 1.0;
         }
