@@ -132,7 +132,6 @@ void read_solver(const json& s, SolverSettings& out) {
         {"vorticity", &SolverSettings::vorticity,
          {0.0, HUGE_VAL, false, false, "a number >= 0, e.g. 0.0001 (0 turns it off)"}},
         {"scorr_k", &SolverSettings::scorr_k, {0.0, HUGE_VAL, false, false, "a number >= 0, e.g. 0.1 (0 turns it off)"}},
-        {"scorr_n", &SolverSettings::scorr_n, {1.0, HUGE_VAL, false, false, "a number >= 1, e.g. 4"}},
         {"scorr_dq", &SolverSettings::scorr_dq,
          {0.0, 1.0, true, true, "a number strictly between 0 and 1 (a fraction of h), e.g. 0.2"}},
         {"cfl", &SolverSettings::cfl, {0.0, 1.0, true, false, "a number greater than 0 and at most 1, e.g. 0.4"}},
@@ -148,6 +147,8 @@ void read_solver(const json& s, SolverSettings& out) {
         fail("solver.max_substeps is " + std::to_string(out.max_substeps) + ", below solver.substeps (" +
              std::to_string(out.substeps) + ", the least steps per frame); raise max_substeps or lower substeps");
     if (s.contains("iterations")) out.iterations = read_integer(s["iterations"], "solver.iterations", 1, 100);
+    // An integer power: the GPU raises to it by squarings, without pow (sim/pbf_physics.h).
+    if (s.contains("scorr_n")) out.scorr_n = float(read_integer(s["scorr_n"], "solver.scorr_n", 1, 15));
     if (s.contains("density_constraint")) {
         const json& c = s["density_constraint"];
         const bool known = c.is_string() && (c == "clamped" || c == "two_sided");

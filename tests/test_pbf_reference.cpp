@@ -140,6 +140,19 @@ TEST_F(PbfReferenceTest, FrameStatisticsMatchAHostComputation) {
     EXPECT_TRUE(std::isfinite(stats.kinetic_energy));
 }
 
+TEST(PbfScorr, TheIntegerPowerBySquaringsIsPowForEveryAllowedExponent) {
+    shader::SimParams p{};
+    p.scorr_k = 0.1f;
+    p.scorr_inv_wdq = 2.0f;
+    for (int n = 1; n <= 15; ++n) {
+        p.scorr_n = float(n);
+        for (float w : {0.05f, 0.3f, 0.49f, 0.8f}) {
+            const double expected = -0.1 * std::pow(double(w) * 2.0, double(n));
+            EXPECT_NEAR(shader::pbf_scorr(w, p), expected, 1e-5 * std::max(1.0, std::abs(expected))) << "n " << n;
+        }
+    }
+}
+
 TEST(PbfWalls, WallCompletesTheDensityOfALatticeParticleAtTheFloor) {
     Scene scene = small_splash_scene();
     auto grid = grid_for_domain(scene.domain.min, scene.domain.max, 2.0f * scene.particle_spacing);

@@ -271,6 +271,10 @@ TEST(SceneFile, SolverValueOutOfRangeIsRejected) {
     j = valid_scene();
     j["solver"]["kernel_radius_factor"] = 5;
     EXPECT_TRUE(mentions(error_of(j), {"solver.kernel_radius_factor is 5;", "from 1.0 to 4.0"}));
+
+    j = valid_scene();
+    j["solver"]["scorr_n"] = 4.5;  // the GPU raises to an integer power by squarings
+    EXPECT_TRUE(mentions(error_of(j), {"solver.scorr_n is 4.5;", "an integer from 1 to 15"}));
 }
 
 TEST(SceneFile, NumberTooLargeForJsonIsLocated) {

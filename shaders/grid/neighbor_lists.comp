@@ -24,43 +24,40 @@ void main() {
     float r2max = pc.radius * pc.radius;
     ivec3 c = grid_cell(xi, pc.grid.origin_cell, pc.grid.dims);
     list_cell[i] = grid_linear(c, pc.grid.dims);
-    // Entries are stored four at a time from a buffer of sixteen, and only after each cell: the
-    // software device runs the body of a branch, masked, even when no lane takes it, so a
-    // store inside the candidate loop would cost a store per candidate (most of this pass).
-    // A particle that finds more than 13 neighbours in one cell (buffer full; a cell holds 8
-    // at rest density) is marked as over capacity and scans cells when visited.
+    // Per cell, the candidates within the radius are first marked as bits (one select each),
+    // then the bits are turned into entries, stored four at a time. On SIMD hardware the body of
+    // a branch runs, masked, even when no lane takes it: a store or a buffer insert in the
+    // candidate loop itself would cost every candidate that price (it was most of this pass).
+    // A cell holding more than 16 particles (twice the rest density) marks the particle as over
+    // capacity: its visits then scan the cells.
     uint n = 0u;        // neighbours found
     uint groups = 0u;   // groups of four stored
-    uint pending = 0u;  // entries in the buffer
-    uvec4 b0 = uvec4(0u), b1 = uvec4(0u), b2 = uvec4(0u), b3 = uvec4(0u);
+    uint pending = 0u;  // entries in `four`
+    uvec4 four = uvec4(0u);
     const uvec4 lane = uvec4(0u, 1u, 2u, 3u);
     uint max_groups = pc.capacity / 4u;
-    bool full = false;
+    bool overfull = false;
     for (int k = 0; k < 27; ++k) {
         uvec2 range = grid_neighbor_range(c, k, pc.grid.dims);
-        for (uint j = range.x; j < range.y; ++j) {
+        overfull = overfull || range.y - range.x > 16u;
+        uint end = min(range.y, range.x + 16u);
+        uint bits = 0u;
+        for (uint j = range.x; j < end; ++j) {
             vec3 d = xi - imageLoad(positions, int(j)).xyz;
-            bool near = j != i && dot(d, d) < r2max;
-            uvec4 slot = uvec4(near ? pending : 99u);
-            b0 = mix(b0, uvec4(j), equal(slot, lane));
-            b1 = mix(b1, uvec4(j), equal(slot, lane + 4u));
-            b2 = mix(b2, uvec4(j), equal(slot, lane + 8u));
-            b3 = mix(b3, uvec4(j), equal(slot, lane + 12u));
-            full = full || (near && pending == 16u);
-            pending += near && pending < 16u ? 1u : 0u;
-            n += near ? 1u : 0u;
+            bits |= j != i && dot(d, d) < r2max ? 1u << (j - range.x) : 0u;
         }
-        // Store what the cell completed (pending <= 3 afterwards).
-        for (int g = 0; g < 4 && pending >= 4u; ++g) {
-            if (groups < max_groups) imageStore(neighbors, int(groups * pc.grid.count + i), b0);
-            ++groups;
-            b0 = b1;
-            b1 = b2;
-            b2 = b3;
-            pending -= 4u;
+        n += uint(bitCount(bits));
+        while (bits != 0u) {
+            four = mix(four, uvec4(range.x + uint(findLSB(bits))), equal(uvec4(pending), lane));
+            bits &= bits - 1u;
+            if (++pending == 4u) {
+                if (groups < max_groups) imageStore(neighbors, int(groups * pc.grid.count + i), four);
+                ++groups;
+                pending = 0u;
+            }
         }
     }
-    if (pending > 0u && groups < max_groups) imageStore(neighbors, int(groups * pc.grid.count + i), b0);
-    if (full) n = pc.capacity + 1u;  // entries were lost: visits scan the cells
+    if (pending > 0u && groups < max_groups) imageStore(neighbors, int(groups * pc.grid.count + i), four);
+    if (overfull) n = max(n, pc.capacity + 1u);  // candidates were left out: visits scan the cells
     neighbor_count[i] = n;
 }

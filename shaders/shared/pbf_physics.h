@@ -96,9 +96,13 @@ AF_FN vec4 pbf_wall_term(vec3 p PBF_PARAMS) {
 /// Tensile-instability correction s_corr = -k (W(r) / W(dq))^n (eq. 13).
 AF_FN float pbf_scorr(float w PBF_PARAMS) {
     float t = w * params.scorr_inv_wdq;
-    // The paper's n = 4 as two squarings: pow is exp2(n log2 t), several times dearer, and it
-    // runs once per neighbour of every particle in each iteration.
-    float tn = params.scorr_n == 4.0f ? (t * t) * (t * t) : pow(t, params.scorr_n);
+    // t^n for the integer n from 1 to 15 the scene allows, by squarings and selects: no pow
+    // (exp2 of a log2, several times dearer) and no branch (SIMD devices run both sides), once
+    // per neighbour of every particle in each iteration.
+    uint n = uint(params.scorr_n);
+    float t2 = t * t, t4 = t2 * t2, t8 = t4 * t4;
+    float tn = ((n & 1u) != 0u ? t : 1.0f) * ((n & 2u) != 0u ? t2 : 1.0f) * ((n & 4u) != 0u ? t4 : 1.0f) *
+               ((n & 8u) != 0u ? t8 : 1.0f);
     return -params.scorr_k * tn;
 }
 
