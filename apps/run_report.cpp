@@ -8,6 +8,7 @@
 #include "render/svg_chart.h"
 #include "sim/dam_break_reference.h"
 #include "sim/pbf_solver.h"
+#include "study/front_chart.h"
 
 namespace aquaform::cli {
 
@@ -98,12 +99,7 @@ void RunFiles::finish(const Scene& scene) {
     const double a = *scene.column_width;
     const double g = std::max(1e-6f, std::abs(scene.gravity.y));
     const auto run = nondimensional_front(front_samples_, a, g);
-    Chart chart{"Dam-break surge front: " + scene.name, "T = t sqrt(2g/a)", "Z = front / a", {}};
-    ChartSeries sim{"aquaform", {}, false, "#1f6fb4"};
-    for (const auto& s : run) sim.points.push_back({s.T, s.Z});
-    ChartSeries experiment{"Martin & Moyce 1952 (n^2 = 2)", {}, true, "#d62728"};
-    for (const auto& e : martin_moyce_front()) experiment.points.push_back({e.T, e.Z});
-    chart.series = {sim, experiment};
+    const Chart chart = study::front_chart("Dam-break surge front: " + scene.name, {study::front_series("aquaform", run, "#1f6fb4")});
     auto written = write_chart_svg(dir_ / "front.svg", chart);
     if (!written) std::fprintf(stderr, "aquaform run: %s\n", written.error().c_str());
 

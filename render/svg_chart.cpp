@@ -81,13 +81,19 @@ std::string chart_svg(const Chart& chart) {
                 if (std::isfinite(x) && std::isfinite(y))
                     svg += fmt("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3.5\" fill=\"none\" ", px(x), py(y)) + "stroke=\"" + s.color + "\"/>\n";
         } else {
-            svg += "<polyline fill=\"none\" stroke-width=\"2\" stroke=\"" + s.color + "\" points=\"";
+            svg += "<polyline fill=\"none\" stroke-width=\"2\" stroke=\"" + s.color + "\"" +
+                   (s.dashed ? " stroke-dasharray=\"6,4\"" : "") + " points=\"";
             for (const auto& [x, y] : s.points)
                 if (std::isfinite(x) && std::isfinite(y)) svg += fmt("%.1f,%.1f ", px(x), py(y));
             svg += "\"/>\n";
         }
         const double ly = kTop + 16 + 18 * double(i);
-        svg += fmt("<rect x=\"%.0f\" y=\"%.0f\" width=\"14\" height=\"4\" ", kLeft + 12, ly - 6) + "fill=\"" + s.color + "\"/>\n";
+        if (s.dashed)
+            svg += fmt("<line x1=\"%.0f\" y1=\"%.0f\" ", kLeft + 8, ly - 4) +
+                   fmt("x2=\"%.0f\" y2=\"%.0f\" stroke-width=\"2\" stroke-dasharray=\"6,4\" ", kLeft + 28, ly - 4) +
+                   "stroke=\"" + s.color + "\"/>\n";
+        else
+            svg += fmt("<rect x=\"%.0f\" y=\"%.0f\" width=\"14\" height=\"4\" ", kLeft + 12, ly - 6) + "fill=\"" + s.color + "\"/>\n";
         svg += fmt("<text x=\"%.0f\" y=\"%.0f\">", kLeft + 32, ly) + escape(s.name) + "</text>\n";
     }
     svg += "</svg>\n";

@@ -16,6 +16,7 @@ struct ChartSeries {
     std::vector<std::pair<double, double>> points;
     bool markers = false;  ///< points as circles (measurements) rather than a line
     std::string color = "#1f6fb4";
+    bool dashed = false;  ///< a dashed line, to tell apart two runs drawn in one colour
 };
 
 struct Chart {

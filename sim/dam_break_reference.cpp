@@ -24,10 +24,11 @@ std::vector<FrontSample> nondimensional_front(std::span<const std::pair<double, 
     return out;
 }
 
-std::optional<FrontComparison> compare_with_martin_moyce(std::span<const FrontSample> run) {
+std::optional<FrontComparison> compare_with_martin_moyce(std::span<const FrontSample> run, double T_min, double T_max) {
     FrontComparison c;
     double sum = 0.0;
     for (const FrontSample& e : kMartinMoyce) {
+        if (e.T < T_min || e.T > T_max) continue;
         auto after = std::find_if(run.begin(), run.end(), [&](const FrontSample& s) { return s.T >= e.T; });
         if (after == run.begin() || after == run.end()) continue;
         const FrontSample& b = *(after - 1);

@@ -30,8 +30,10 @@ struct FrontComparison {
     double max_relative = 0.0;
 };
 
-/// Compares a run (linear interpolation in T) with every experimental point it spans; empty
-/// when it spans none.
-std::optional<FrontComparison> compare_with_martin_moyce(std::span<const FrontSample> run);
+/// Compares a run (linear interpolation in T) with every experimental point it spans whose T
+/// lies in [T_min, T_max] (runs of different lengths are compared over one range so that their
+/// errors mean the same thing); empty when it spans none.
+std::optional<FrontComparison> compare_with_martin_moyce(std::span<const FrontSample> run, double T_min = 0.0,
+                                                         double T_max = 1.0e30);
 
 }  // namespace aquaform

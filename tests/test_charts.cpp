@@ -23,6 +23,25 @@ TEST(MartinMoyce, IdenticalRunHasNoErrorAndScaledRunHasItsScale) {
     EXPECT_NEAR(faster->max_relative, 0.1, 1e-9);
 }
 
+TEST(MartinMoyce, ErrorIsTakenOnlyOverTheGivenTRange) {
+    // A constructed front: exact up to T = 2, then 20 % ahead. Over [0, 2] it has no error;
+    // over [2.1, 4] it is 20 % off at every point; over everything, in between.
+    std::vector<FrontSample> run = {{0.0, 1.0}};
+    for (const FrontSample& e : martin_moyce_front()) run.push_back({e.T, e.T <= 2.0 ? e.Z : 1.2 * e.Z});
+    const auto early = compare_with_martin_moyce(run, 0.0, 2.0);
+    const auto late = compare_with_martin_moyce(run, 2.1, 4.0);
+    const auto all = compare_with_martin_moyce(run);
+    ASSERT_TRUE(early && late && all);
+    EXPECT_EQ(early->points, 7) << "M&M points with T <= 2: 0.41 .. 1.98";
+    EXPECT_EQ(late->points, 8);
+    EXPECT_EQ(all->points, 15);
+    EXPECT_NEAR(early->max_relative, 0.0, 1e-12);
+    EXPECT_NEAR(late->mean_relative, 0.2, 1e-9);
+    EXPECT_NEAR(late->max_relative, 0.2, 1e-9);
+    EXPECT_NEAR(all->mean_relative, 0.2 * 8.0 / 15.0, 1e-9);
+    EXPECT_FALSE(compare_with_martin_moyce(run, 3.5, 4.0).has_value()) << "no experimental point in the range";
+}
+
 TEST(MartinMoyce, RunOutsideTheExperimentsTimeSpanIsNotCompared) {
     std::vector<FrontSample> early = {{0.0, 1.0}, {0.2, 1.01}};
     EXPECT_FALSE(compare_with_martin_moyce(early).has_value());
@@ -50,6 +69,16 @@ TEST(SvgChart, DrawsEverySeriesWithLegendAndEscapedText) {
     EXPECT_NE(svg.find(">line</text>"), std::string::npos);
     EXPECT_NE(svg.find(">points</text>"), std::string::npos);
     EXPECT_EQ(svg.substr(svg.size() - 7), "</svg>\n");
+}
+
+TEST(SvgChart, DashedSeriesIsDrawnDashedAndOnlyIt) {
+    Chart chart{"two runs", "T", "Z", {}};
+    chart.series.push_back({"solid", {{0, 1}, {1, 2}}, false, "#123456"});
+    chart.series.push_back({"dashed", {{0, 1}, {1, 3}}, false, "#123456", true});
+    const std::string svg = chart_svg(chart);
+    const std::regex dash("stroke-dasharray");
+    EXPECT_EQ(std::distance(std::sregex_iterator(svg.begin(), svg.end(), dash), std::sregex_iterator()), 2)
+        << "the dashed line and its legend entry, nothing else: " << svg;
 }
 
 TEST(SvgChart, EmptyAndNonFiniteDataStillGiveAValidChart) {
