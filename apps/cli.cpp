@@ -57,6 +57,13 @@ const char* kUsage =
     "        evals/ray and errors against the exhaustive reference; checks the targets; writes\n"
     "        bench_render.json (--quick: uniform, adaptive, mask_skip, adaptive_full_res, one render each);\n"
     "        render parameters (--step, --eps1, ...) and --isotropic apply to every configuration\n"
+    "  bench convergence [--quick] [--depth-layers N] [--particles N] [--front-scene FILE] [--violent-scene FILE]\n"
+    "                    [--out DIR] [--device ...] [--validation]\n"
+    "        the Martin & Moyce front at spacings a/15, a/30, a/60 and cfl 0.4, 0.2 (quasi-2-D tank N = 6\n"
+    "        spacings deep), its error against the experiment; the violent dam break's max runup and mean\n"
+    "        splash fraction at cfl 0.4 against 0.2 (N = 20000 particles), checked against 10 %; writes\n"
+    "        convergence.json and convergence_front.svg in DIR (default out/bench_convergence);\n"
+    "        --quick: spacings a/6, a/10 to T = 1.5, 2000 particles for 0.75 s\n"
     "  help  show this text\n";
 
 }  // namespace

@@ -64,6 +64,7 @@ int cmd_view(const std::vector<std::string>& argv);
 int bench_render(const Args& args);
 FlagSpec bench_render_flags();
 int bench_control(const Args& args); FlagSpec bench_control_flags();  ///< `aquaform bench control` (apps/cmd_bench_control.cpp)
+int bench_convergence(const Args& args); FlagSpec bench_convergence_flags();  ///< `aquaform bench convergence` (apps/cmd_bench_convergence.cpp)
 
 /// Validation is on with --validation or AQUAFORM_VALIDATION=1 (the test suite sets it).
 bool validation_requested(const Args& args);

@@ -1,7 +1,7 @@
 // `aquaform bench sim`: solver speed and neighbour-search scaling on dam breaks of growing size
 // (measured by study/bench_sim.h);
 // `aquaform bench render` lives in apps/cmd_bench_render.cpp, `aquaform bench control` in
-// apps/cmd_bench_control.cpp.
+// apps/cmd_bench_control.cpp, `aquaform bench convergence` in apps/cmd_bench_convergence.cpp.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -62,6 +62,8 @@ FlagSpec all_bench_flags() {
     add(all.switches, bench_sim_flags().switches);
     add(all.with_value, bench_control_flags().with_value);
     add(all.switches, bench_control_flags().switches);
+    add(all.with_value, bench_convergence_flags().with_value);
+    add(all.switches, bench_convergence_flags().switches);
     return all;
 }
 
@@ -72,16 +74,21 @@ int cmd_bench(const std::vector<std::string>& argv) {
     auto args = parse_args(argv, all_bench_flags(), "bench", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     const std::string which = args->positional.size() == 1 ? args->positional[0] : "";
-    if (which != "sim" && which != "render" && which != "control") {
+    if (which != "sim" && which != "render" && which != "control" && which != "convergence") {
         std::fprintf(stderr, "aquaform bench: say what to measure: aquaform bench sim (solver), aquaform bench render "
-                             "(surface reconstruction) or aquaform bench control (mesh control)\n");
+                             "(surface reconstruction), aquaform bench control (mesh control) or aquaform bench "
+                             "convergence (the dam-break front against Martin & Moyce in space and time step)\n");
         return kExitUsage;
     }
     const bool render = which == "render";
-    const FlagSpec spec = render ? bench_render_flags() : which == "control" ? bench_control_flags() : bench_sim_flags();
+    const FlagSpec spec = render                    ? bench_render_flags()
+                          : which == "control"      ? bench_control_flags()
+                          : which == "convergence"  ? bench_convergence_flags()
+                                                    : bench_sim_flags();
     if (!only_flags_of(*args, spec, which, &error)) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     if (render) return bench_render(*args);
     if (which == "control") return bench_control(*args);
+    if (which == "convergence") return bench_convergence(*args);
     std::vector<uint32_t> sizes = parse_sizes(args->value("--sizes", "16384,32768,65536,131072,262144"), &error);
     auto iterations = parse_positive("--iterations", args->value("--iterations", "4"), &error);
     auto steps = parse_positive("--steps", args->value("--steps", "4"), &error);
