@@ -57,6 +57,7 @@ void RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s, const Shap
         for (const auto& [name, ms] : s.gpu_ms) pass_columns_.push_back(name);
         stats_ << "frame,time_s,particles,density_err_mean,density_err_max,density_dev_mean,kinetic_energy_j,"
                   "max_speed_mps,substeps,dt_s,cfl_number,speed_capped,outside,non_finite,splash_fraction,droplets,runup_m,"
+                  "list_overflow,"
                   "gpu_ms_total";
         if (shape) stats_ << ",shape_iou,shape_fill_fraction,fluid_outside_shape,active_shapes";
         for (const auto& name : pass_columns_) stats_ << ",gpu_ms_" << name;
@@ -69,10 +70,10 @@ void RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s, const Shap
     const std::string droplets = s.droplets ? std::to_string(*s.droplets) : "";
     char runup[32] = "";
     if (s.runup) std::snprintf(runup, sizeof runup, "%.5f", *s.runup);
-    std::snprintf(row, sizeof row, "%u,%.6f,%u,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.4f,%d,%u,%u,%.5f,%s,%s,%.4f", frame,
+    std::snprintf(row, sizeof row, "%u,%.6f,%u,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.4f,%d,%u,%u,%.5f,%s,%s,%.5f,%.4f", frame,
                   s.time_s, s.particles, s.mean_density_error, s.max_density_error, s.mean_density_deviation,
                   s.kinetic_energy, s.max_speed, s.substeps, s.dt, s.cfl_number, s.speed_capped ? 1 : 0, s.outside,
-                  s.non_finite, s.splash_fraction, droplets.c_str(), runup, total);
+                  s.non_finite, s.splash_fraction, droplets.c_str(), runup, s.list_overflow_fraction, total);
     stats_ << row;
     if (shape) {
         std::snprintf(row, sizeof row, ",%.4f,%.4f,%.4f,\"%s\"", shape->iou, shape->fill_fraction, shape->outside_fraction,

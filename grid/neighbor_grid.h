@@ -41,9 +41,9 @@ Result<GridGeometry> grid_for_domain(glm::vec3 min, glm::vec3 max, float cell_si
 std::vector<uint32_t> morton_rank_table(const GridGeometry& grid);
 
 /// Neighbour-list entries per particle for a radius of `radius_in_spacings` particle spacings:
-/// the particles of a rest lattice within that radius, (4/3) pi f^3, with 40 % to spare for
-/// compression, rounded up to a multiple of 8 (33 neighbours and 48 entries at the solver's
-/// usual h = 2 spacings). A particle beyond it is still handled, by a slower cell scan.
+/// the particles of a rest lattice within that radius, (4/3) pi f^3, with 90 % to spare,
+/// rounded up to a multiple of 8 (33 neighbours and 64 entries at the solver's usual h = 2
+/// spacings). A particle beyond it is still handled, by a slower cell scan.
 uint32_t neighbor_list_capacity(float radius_in_spacings);
 
 /// GPU memory of the grid: per particle (keys, slots, order, neighbour cell and count, and the

@@ -16,7 +16,7 @@ FrameStats reduce_stats(std::span<const shader::StatsPartial> partials, uint32_t
                         std::optional<float> front_wall_x, float runup_offset) {
     FrameStats s;
     s.particles = particles;
-    double sum_err = 0.0, sum_dev = 0.0, outside = 0.0, non_finite = 0.0, splash = 0.0;
+    double sum_err = 0.0, sum_dev = 0.0, outside = 0.0, non_finite = 0.0, splash = 0.0, overflow = 0.0;
     double front = -1.0e30, runup = -1.0e30;
     for (const auto& p : partials) {
         sum_err += p.sum_density_error;
@@ -28,12 +28,14 @@ FrameStats reduce_stats(std::span<const shader::StatsPartial> partials, uint32_t
         non_finite += p.non_finite;
         front = std::max<double>(front, p.front);
         splash += p.splash;
+        overflow += p.list_overflow;
         runup = std::max<double>(runup, p.runup);
     }
     if (particles) {
         s.mean_density_error = sum_err / particles;
         s.mean_density_deviation = sum_dev / particles;
         s.splash_fraction = splash / particles;
+        s.list_overflow_fraction = overflow / particles;
     }
     s.outside = static_cast<uint32_t>(outside + 0.5);
     s.non_finite = static_cast<uint32_t>(non_finite + 0.5);

@@ -34,6 +34,9 @@ struct FrameStats {
     std::optional<double> runup;
     /// Connected groups smaller than droplet_size_limit() (PbfSolver::set_measure_droplets).
     std::optional<uint32_t> droplets;
+    /// Fraction of the particles with more neighbours than their list holds: they, and on SIMD
+    /// hardware the particles sharing their instructions, scan 27 cells instead (a slow step).
+    double list_overflow_fraction = 0.0;
     std::map<std::string, double> gpu_ms;  ///< GPU time per pass during this frame
 };
 

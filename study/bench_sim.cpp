@@ -37,6 +37,7 @@ SolverBenchRecord measure_solver(gpu::Context& ctx, uint32_t target_particles, c
         for (const char* g : kNeighborSearchPasses)
             if (name == g) rec.neighbor_search_ms += ms / double(options.steps);
     }
+    rec.list_overflow_fraction = solver.measure(nullptr).list_overflow_fraction;
     rec.grid_cells = solver.grid().geometry().cell_count();
     rec.gpu_bytes_per_cell = kGridBytesPerCell;
     rec.neighbor_list_bytes_per_particle = solver.grid().neighbor_capacity() * 4;
@@ -71,7 +72,8 @@ nlohmann::json to_json(const SolverBenchRecord& r) {
             {"gpu_bytes_per_particle", r.gpu_bytes_per_particle},
             {"gpu_bytes_per_cell", r.gpu_bytes_per_cell},
             {"neighbor_list_bytes_per_particle", r.neighbor_list_bytes_per_particle},
-            {"grid_cells", r.grid_cells}};
+            {"grid_cells", r.grid_cells},
+            {"list_overflow_fraction", r.list_overflow_fraction}};
 }
 
 }  // namespace aquaform::study

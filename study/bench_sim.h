@@ -34,6 +34,8 @@ struct SolverBenchRecord {
     uint32_t neighbor_list_bytes_per_particle = 0;  ///< of which the neighbour lists
     uint32_t gpu_bytes_per_cell = 0;
     uint32_t grid_cells = 0;
+    /// Particles with more neighbours than their list holds at the end (they scan cells instead).
+    double list_overflow_fraction = 0.0;
 };
 
 /// The passes that make up the neighbour search.

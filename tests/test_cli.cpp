@@ -169,7 +169,8 @@ TEST(Cli, BenchSimWritesItsRecords) {
         EXPECT_TRUE(r["ms_per_pass"].contains("lambda"));
         // The budget: 160 B per particle besides the neighbour lists (4 B per entry, the trade
         // the README's "Neighbour search" states).
-        EXPECT_EQ(r["neighbor_list_bytes_per_particle"].get<int>(), 4 * 48);
+        EXPECT_EQ(r["neighbor_list_bytes_per_particle"].get<int>(), 4 * 64);
+        EXPECT_TRUE(r["list_overflow_fraction"].is_number());
         EXPECT_LE(r["gpu_bytes_per_particle"].get<double>() - r["neighbor_list_bytes_per_particle"].get<double>(), 160.0);
     }
     EXPECT_LT(doc["records"][0]["particles"].get<int>(), doc["records"][1]["particles"].get<int>());

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
+#include <tuple>
 #include <random>
 
 #include "gpu/buffer.h"
@@ -48,6 +50,36 @@ protected:
         r.cell_start = gpu::download_vector<uint32_t>(ctx(), grid.cell_start(), r.geometry.cell_count() + 1);
         r.counts = gpu::download_vector<uint32_t>(ctx(), counts, n);
         r.lists = gpu::download_vector<uint32_t>(ctx(), lists, uint64_t(n) * capacity);
+        return r;
+    }
+
+    /// The solver's per-step lists (record_neighbor_lists) of `positions` put in the grid's
+    /// order first, as the solver keeps them: the sorted positions, counts and decoded lists.
+    struct StepLists {
+        std::vector<glm::vec4> sorted;
+        std::vector<uint32_t> counts;
+        std::vector<std::vector<uint32_t>> lists;  // the stored entries, at most the capacity
+    };
+    StepLists step_lists(const std::vector<glm::vec4>& positions, uint32_t capacity) {
+        auto geometry = grid_for_domain(kMin, kMax, kCell);
+        EXPECT_TRUE(geometry.ok());
+        gpu::BufferSet buffers(ctx());
+        const uint32_t n = static_cast<uint32_t>(positions.size());
+        NeighborGrid grid(ctx(), buffers, geometry.value(), n, "grid", capacity);
+        gpu::Buffer& pos = buffers.add("positions", n * sizeof(glm::vec4));
+        gpu::upload(ctx(), pos, positions.data(), n * sizeof(glm::vec4));
+        ctx().submit_and_wait([&](VkCommandBuffer cmd) { grid.build(cmd, pos, n, nullptr); });
+        StepLists r;
+        for (uint32_t i : gpu::download_vector<uint32_t>(ctx(), grid.order(), n)) r.sorted.push_back(positions[i]);
+        gpu::upload(ctx(), pos, r.sorted.data(), n * sizeof(glm::vec4));
+        ctx().submit_and_wait([&](VkCommandBuffer cmd) { grid.record_neighbor_lists(cmd, pos, n, kCell, nullptr); });
+        r.counts = gpu::download_vector<uint32_t>(ctx(), grid.neighbor_count(), n);
+        // Entries 4g..4g+3 of particle i sit at uvec4 g * n + i (shared/grid_layout.h).
+        const auto entries = gpu::download_vector<uint32_t>(ctx(), grid.neighbors(), uint64_t(n) * capacity);
+        r.lists.resize(n);
+        for (uint32_t i = 0; i < n; ++i)
+            for (uint32_t k = 0; k < std::min(r.counts[i], capacity); ++k)
+                r.lists[i].push_back(entries[(uint64_t(k / 4) * n + i) * 4 + k % 4]);
         return r;
     }
 
@@ -144,6 +176,47 @@ TEST_F(NeighborGridTest, OutOfDomainMatchesBruteForce) {
     p.push_back(glm::vec4(kMax.x + 0.1f, 1.0f, 0.7f, 0.0f));  // just outside, with neighbours inside
     p.push_back(glm::vec4(kMax.x - 0.05f, 1.0f, 0.7f, 0.0f));
     expect_sets_match_brute_force(p, 256);
+}
+
+TEST_F(NeighborGridTest, StepListsHoldEveryNeighbourOfCrowdedCells) {
+    // A sparse background with two crowded cells: 60 particles in one (more than one word of
+    // candidate bits, 32) and 300 in another (more neighbours than the list holds). The count is
+    // the true one wherever the list has room (a crowded cell is no reason to scan cells), the
+    // stored entries are the brute-force set, and beyond the capacity the count still says so,
+    // so that visits scan the cells.
+    auto p = uniform_random(1200, kMin, kMax, 8);
+    auto crowded = uniform_random(60, glm::vec3(1.0f, 1.0f, 0.5f), glm::vec3(1.25f, 1.25f, 0.75f), 9);
+    auto overfull = uniform_random(300, glm::vec3(3.0f, 0.5f, 0.75f), glm::vec3(3.25f, 0.75f, 1.0f), 10);
+    p.insert(p.end(), crowded.begin(), crowded.end());
+    p.insert(p.end(), overfull.begin(), overfull.end());
+    const uint32_t capacity = 128;
+    StepLists r = step_lists(p, capacity);
+    auto expected = brute_force_neighbors(r.sorted, kCell);
+    auto cell_of = [](glm::vec4 x) { return glm::ivec3(glm::floor(glm::vec3(x) / kCell)); };
+    std::map<std::tuple<int, int, int>, uint32_t> per_cell;
+    for (const glm::vec4& x : r.sorted) {
+        const glm::ivec3 c = cell_of(x);
+        ++per_cell[{c.x, c.y, c.z}];
+    }
+    uint32_t listed = 0, overflowing = 0, in_crowded_cells = 0;
+    for (uint32_t i = 0; i < p.size(); ++i) {
+        const uint32_t truth = uint32_t(expected[i].size());
+        if (truth > capacity) {
+            ++overflowing;
+            ASSERT_GT(r.counts[i], capacity) << "particle " << i << " has " << truth << " neighbours";
+            continue;
+        }
+        ASSERT_EQ(r.counts[i], truth) << "particle " << i;
+        std::vector<uint32_t> got = r.lists[i];
+        std::sort(got.begin(), got.end());
+        ASSERT_EQ(got, expected[i]) << "particle " << i;
+        ++listed;
+        const glm::ivec3 c = cell_of(r.sorted[i]);
+        if (per_cell[{c.x, c.y, c.z}] > 32) ++in_crowded_cells;
+    }
+    EXPECT_GE(in_crowded_cells, 60u) << "listed particles in cells beyond one word of candidate bits (32)";
+    EXPECT_GT(overflowing, 10u) << "some particles must exceed the capacity";
+    EXPECT_GT(listed, 1200u);
 }
 
 }  // namespace

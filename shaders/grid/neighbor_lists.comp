@@ -28,36 +28,35 @@ void main() {
     // then the bits are turned into entries, stored four at a time. On SIMD hardware the body of
     // a branch runs, masked, even when no lane takes it: a store or a buffer insert in the
     // candidate loop itself would cost every candidate that price (it was most of this pass).
-    // A cell holding more than 16 particles (twice the rest density) marks the particle as over
-    // capacity: its visits then scan the cells.
+    // A cell's candidates go 32 at a time (one word of bits): a cell holds about f^3 particles
+    // at rest (8 at h = 2 spacings, 27 at 3), and a crowded cell just takes another trip.
     uint n = 0u;        // neighbours found
     uint groups = 0u;   // groups of four stored
     uint pending = 0u;  // entries in `four`
     uvec4 four = uvec4(0u);
     const uvec4 lane = uvec4(0u, 1u, 2u, 3u);
     uint max_groups = pc.capacity / 4u;
-    bool overfull = false;
     for (int k = 0; k < 27; ++k) {
         uvec2 range = grid_neighbor_range(c, k, pc.grid.dims);
-        overfull = overfull || range.y - range.x > 16u;
-        uint end = min(range.y, range.x + 16u);
-        uint bits = 0u;
-        for (uint j = range.x; j < end; ++j) {
-            vec3 d = xi - imageLoad(positions, int(j)).xyz;
-            bits |= j != i && dot(d, d) < r2max ? 1u << (j - range.x) : 0u;
-        }
-        n += uint(bitCount(bits));
-        while (bits != 0u) {
-            four = mix(four, uvec4(range.x + uint(findLSB(bits))), equal(uvec4(pending), lane));
-            bits &= bits - 1u;
-            if (++pending == 4u) {
-                if (groups < max_groups) imageStore(neighbors, int(groups * pc.grid.count + i), four);
-                ++groups;
-                pending = 0u;
+        for (uint base = range.x; base < range.y; base += 32u) {
+            uint end = min(range.y, base + 32u);
+            uint bits = 0u;
+            for (uint j = base; j < end; ++j) {
+                vec3 d = xi - imageLoad(positions, int(j)).xyz;
+                bits |= j != i && dot(d, d) < r2max ? 1u << (j - base) : 0u;
+            }
+            n += uint(bitCount(bits));
+            while (bits != 0u) {
+                four = mix(four, uvec4(base + uint(findLSB(bits))), equal(uvec4(pending), lane));
+                bits &= bits - 1u;
+                if (++pending == 4u) {
+                    if (groups < max_groups) imageStore(neighbors, int(groups * pc.grid.count + i), four);
+                    ++groups;
+                    pending = 0u;
+                }
             }
         }
     }
     if (pending > 0u && groups < max_groups) imageStore(neighbors, int(groups * pc.grid.count + i), four);
-    if (overfull) n = max(n, pc.capacity + 1u);  // candidates were left out: visits scan the cells
     neighbor_count[i] = n;
 }

@@ -78,6 +78,7 @@ struct StatsPartial {
     float sum_abs_density_dev;  ///< sum of |rho / rho0 - 1|, free-surface deficiency included
     float splash;               ///< particles with fewer neighbours than StatsPush::splash_neighbors
     float runup;                ///< largest y of a particle with x above StatsPush::runup_x (-1e30 if none)
+    float list_overflow;        ///< particles with more neighbours than the list holds (they scan cells)
 };
 
 /// Push constants of the stats pass (sim/frame_stats.h explains the splash threshold).
@@ -93,7 +94,7 @@ AF_END
 #ifdef __cplusplus
 static_assert(sizeof(aquaform::shader::SimParams) == 5 * 16 + 24 * 4 + 2 * 16 * 16);
 static_assert(sizeof(aquaform::shader::CountPush) == 16);
-static_assert(sizeof(aquaform::shader::StatsPartial) == 40);
+static_assert(sizeof(aquaform::shader::StatsPartial) == 44);
 static_assert(sizeof(aquaform::shader::StatsPush) == 16);
 #endif
 

@@ -3,7 +3,7 @@
 // Frame statistics, reduced per workgroup on the GPU so that only a few bytes per 256
 // particles come back to the host: density error, kinetic energy, speed, leakage, NaNs and
 // the dam-break front, the splash count (particles with few neighbours) and the runup on the
-// far wall.
+// far wall, and how many particles overflowed their neighbour list (a slow step's usual cause).
 #include "shared/grid_layout.h"
 #include "shared/pbf_layout.h"
 
@@ -46,13 +46,14 @@ StatsPartial combine(StatsPartial a, StatsPartial b) {
     r.sum_abs_density_dev = a.sum_abs_density_dev + b.sum_abs_density_dev;
     r.splash = a.splash + b.splash;
     r.runup = max(a.runup, b.runup);
+    r.list_overflow = a.list_overflow + b.list_overflow;
     return r;
 }
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
     uint t = gl_LocalInvocationID.x;
-    StatsPartial s = StatsPartial(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, NONE, 0.0, 0.0, NONE);
+    StatsPartial s = StatsPartial(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, NONE, 0.0, 0.0, NONE, 0.0);
     if (i < pc.count) {
         vec4 xi = imageLoad(x, int(i));
         vec4 vi = v[i];
@@ -74,6 +75,7 @@ void main() {
             near_count = 0u;
             for_each_neighbor(i, pc.count, params.neighbor_capacity, params.grid_dims);
             s.splash = float(near_count) < pc.splash_neighbors ? 1.0 : 0.0;
+            s.list_overflow = imageLoad(neighbor_count, int(i)).x > params.neighbor_capacity ? 1.0 : 0.0;
         } else {
             s.non_finite = 1.0;
         }
