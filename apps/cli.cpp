@@ -26,7 +26,7 @@ const char* kUsage =
     "        simulate a scene; writes ray-marched PNG frames (--preview: quick sphere impostors;\n"
     "        --wireframe: the active control meshes drawn over them),\n"
     "        stats.csv (with splash fraction, droplets, runup), front.csv (dam breaks), PLY dumps\n"
-    "  --particles N (run, render, view, study, bench render): the scene's particle spacing re-derived so\n"
+    "  --particles N (run, render, view, study, bench render, bench control): the scene's particle spacing re-derived so\n"
     "        that it holds about N particles (64 to 67108864; sizes in metres stay), e.g. 10000 for CI,\n"
     "        1000000 for the papers' scenes\n"
     "  render SCENE.json [--frame K] [--out DIR] [--no-reference] [--particles N] [--device ...] [render flags]\n"
@@ -64,6 +64,11 @@ const char* kUsage =
     "        splash fraction at cfl 0.4 against 0.2 (N = 20000 particles), checked against 10 %; writes\n"
     "        convergence.json and convergence_front.svg in DIR (default out/bench_convergence);\n"
     "        --quick: spacings a/6, a/10 to T = 1.5, 2000 particles for 0.75 s\n"
+    "  bench control [--quick] [--particles N] [--scales 0.25,...,16] [--out DIR] [--device ...] [--validation]\n"
+    "        control-point placement per method, the control force's share of a step, and IoU against the\n"
+    "        control pressure on a sphere and a flat torus (about 900 particles each; --particles N fills\n"
+    "        them with about N at a finer spacing; --scales: the pressure multiples swept); writes\n"
+    "        bench_control.json in DIR (default out/bench_control)\n"
     "  help  show this text\n";
 
 }  // namespace

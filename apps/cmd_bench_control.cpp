@@ -1,7 +1,9 @@
 // `aquaform bench control`: mesh control measured (study/bench_control.h: placement time per
 // method, the control force's share of a step, IoU against the control pressure on a sphere and
 // a flat torus); prints the tables, checks the targets and writes bench_control.json.
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -62,15 +64,35 @@ Verdict verdict(const std::string& name, const std::string& target, std::optiona
 void print_sweep_row(const study::SweepRow& r) {
     std::printf("%-7s %6g %9.0f %7s %7s %8s %9.3f %8.3f %9.4f %7s", r.shape.c_str(), r.scale, double(r.pressure),
                 r.finite ? fmt("%.3f", r.m.iou).c_str() : "-", r.finite ? fmt("%.3f", r.m.fill_fraction).c_str() : "-",
-                r.finite ? fmt("%.3f", r.m.outside_fraction).c_str() : "-", r.rms_speed, r.speed_cap,
+                r.finite ? fmt("%.3f", r.m.outside_fraction).c_str() : "-", r.rms_speed, r.cfl_speed,
                 r.max_density_error, r.stable ? "yes" : "NO");
     if (r.iou_later) std::printf("   IoU %.3f after %.2g s", *r.iou_later, r.later_seconds);
     std::printf("\n");
 }
 
+/// "0.5,1,2": pressure multiples, each a positive finite number.
+std::optional<std::vector<double>> parse_scales(const std::string& text, std::string* error) {
+    std::vector<double> scales;
+    size_t start = 0;
+    while (start <= text.size()) {
+        const size_t comma = std::min(text.find(',', start), text.size());
+        const std::string item = text.substr(start, comma - start);
+        char* end = nullptr;
+        const double v = item.empty() ? 0.0 : std::strtod(item.c_str(), &end);
+        if (item.empty() || *end != '\0' || !std::isfinite(v) || v <= 0.0 || v > 1000.0) {
+            *error = "--scales takes pressure multiples of the automatic strength, like 0.5,1,2 (each above 0 and at "
+                     "most 1000), got \"" + item + "\" in \"" + text + "\"";
+            return std::nullopt;
+        }
+        scales.push_back(v);
+        start = comma + 1;
+    }
+    return scales;
+}
+
 }  // namespace
 
-FlagSpec bench_control_flags() { return {{"--out", "--device"}, {"--validation", "--quick"}}; }
+FlagSpec bench_control_flags() { return {{"--out", "--device", "--particles", "--scales"}, {"--validation", "--quick"}}; }
 
 int bench_control(const Args& args) {
     const bool quick = args.has("--quick");
@@ -85,10 +107,21 @@ int bench_control(const Args& args) {
                    kExitFailure;
     }
     const std::filesystem::path out_path = out_dir / "bench_control.json";
+    std::string error;
+    const std::optional<uint64_t> particles = particles_flag(args, &error);
+    if (!error.empty()) return std::fprintf(stderr, "aquaform bench control: %s\n", error.c_str()), kExitUsage;
+    // The shapes keep their size; --particles refines the spacing (the force cost and the sweep
+    // then run at that size, and the automatic strength re-derives itself from the spacing).
+    const float spacing = particles ? study::shape_spacing_for(uint32_t(*particles)) : study::kShapeSpacing;
 
     const std::vector<uint32_t> sizes = quick ? std::vector<uint32_t>{10000} : std::vector<uint32_t>{10000, 100000};
-    const std::vector<double> scales =
+    std::vector<double> scales =
         quick ? std::vector<double>{1.0, 4.0} : std::vector<double>{0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0};
+    if (args.has("--scales")) {
+        auto given = parse_scales(args.value("--scales"), &error);
+        if (!given) return std::fprintf(stderr, "aquaform bench control: %s\n", error.c_str()), kExitUsage;
+        scales = *given;
+    }
     const double seconds = quick ? 0.5 : 1.0;     // simulated per sweep run
     const double later_seconds = quick ? 0.0 : 1.5;  // the automatic strength also runs on to this
     const double warm_s = quick ? 0.25 : 0.5;
@@ -111,7 +144,7 @@ int bench_control(const Args& args) {
         }
 
     // (2) the force's share of a step
-    const study::ShapeScene sphere = study::sphere_scene();
+    const study::ShapeScene sphere = study::sphere_scene(spacing);
     const study::Overhead o = study::measure_overhead(ctx, sphere, warm_s, overhead_steps, overhead_repeats, progress);
     const double added = o.added, share = o.share;
     const double gpu_added = o.gpu_with_vs_without - 1.0, wall_added = o.wall_with_vs_without - 1.0;
@@ -140,7 +173,7 @@ int bench_control(const Args& args) {
     }
 
     // (3) IoU against pressure
-    const study::ShapeScene torus = study::torus_scene();
+    const study::ShapeScene torus = study::torus_scene(spacing);
     std::vector<std::pair<const study::ShapeScene*, std::vector<study::SweepRow>>> sweeps = {{&sphere, {}}, {&torus, {}}};
     for (auto& [shape, rows] : sweeps) {
         progress(fmt("%s: %s; %llu particles (%.5f m^3 of fluid for %.5f m^3 of shape), %zu control points; %s",
@@ -184,7 +217,7 @@ int bench_control(const Args& args) {
         std::printf("%s: %s\n  %s\n", shape->name.c_str(), shape->layout.c_str(), shape->strength.describe().c_str());
     }
     std::printf("%-7s %6s %9s %7s %7s %8s %9s %8s %9s %7s\n", "shape", "scale", "P [Pa]", "IoU", "fill", "outside",
-                "rms m/s", "cap m/s", "max drho", "stable");
+                "rms m/s", "cfl m/s", "max drho", "stable");
     for (const auto& [shape, rows] : sweeps)
         for (const study::SweepRow& r : rows) print_sweep_row(r);
 
@@ -246,6 +279,7 @@ int bench_control(const Args& args) {
                       {"device_type", gpu::device_type_name(ctx.info().type)},
                       {"quick", quick},
                       {"sweep_seconds", seconds},
+                      {"shape_spacing", spacing},
                       {"records", records},
                       {"targets", targets}};
     std::ofstream out(out_path);

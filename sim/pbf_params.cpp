@@ -93,11 +93,11 @@ void set_substeps(shader::SimParams& params, float frame_dt, uint32_t substeps) 
     params.inv_dt = 1.0f / params.dt;
 }
 
-uint32_t substeps_for_speed(const SolverSettings& solver, float h, double max_speed, double accel) {
+uint32_t substeps_for_speed(const SolverSettings& solver, float h, double max_speed, double accel, double growth) {
     const double lo = std::max(solver.substeps, 1u), hi = std::max(solver.max_substeps, solver.substeps);
-    if (!std::isfinite(max_speed) || !std::isfinite(accel)) return uint32_t(hi);
-    // n steps of frame_dt / n: (v + a frame_dt) frame_dt / n <= cfl h.
-    const double speed = max_speed + accel * solver.frame_dt;
+    if (!std::isfinite(max_speed) || !std::isfinite(accel) || !std::isfinite(growth)) return uint32_t(hi);
+    // n steps of frame_dt / n: (v + max(a frame_dt, growth)) frame_dt / n <= cfl h.
+    const double speed = max_speed + std::max(accel * solver.frame_dt, growth);
     const double needed = std::ceil(speed * solver.frame_dt / (double(solver.cfl) * h) - 1e-9);
     return uint32_t(std::clamp(needed, lo, hi));
 }

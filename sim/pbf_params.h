@@ -33,9 +33,10 @@ void set_substeps(shader::SimParams& params, float frame_dt, uint32_t substeps);
 /// The time-step rule (the CFL condition v_max * dt <= cfl * h, bounded by the scene's substeps
 /// and max_substeps): the steps of the next frame from the largest speed at the end of the
 /// last. The speed is the frame's one reduction, so choosing costs no extra readback; a frame
-/// can speed up on the way, so the bound adds what gravity and `extra_accel` [m/s^2] (forces
-/// the solver knows of) can add within it. Whether a frame kept the bound is measured after it
-/// (FrameStats::cfl_number).
-uint32_t substeps_for_speed(const SolverSettings& solver, float h, double max_speed, double accel);
+/// can speed up on the way, so the bound adds the larger of what `accel` [m/s^2] (gravity) can
+/// add within it and `growth` [m/s], how much the largest speed grew over the last frame (a
+/// wave hitting a wall throws spray faster than anything before it: one frame's growth is taken
+/// to repeat). Whether a frame kept the bound is measured after it (FrameStats::cfl_number).
+uint32_t substeps_for_speed(const SolverSettings& solver, float h, double max_speed, double accel, double growth = 0.0);
 
 }  // namespace aquaform

@@ -122,6 +122,7 @@ private:
     shader::SimParams params_{};
     uint32_t substeps_ = 1;
     double last_max_speed_ = 0.0;  // the largest speed at the end of the last frame [m/s]
+    double last_speed_growth_ = 0.0;  // how much it grew over that frame [m/s]
     bool xsph_on_ = false;
     bool vorticity_on_ = false;
     gpu::BufferSet buffers_;

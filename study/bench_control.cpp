@@ -167,52 +167,55 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
 // ---- shapes for the solver -------------------------------------------------------------------
 
 
-constexpr float kSpacing = 0.02f;
 constexpr float kSphereRadius = 0.12f;
 const glm::vec3 kCentre{0.3f, 0.32f, 0.3f};
 
+float shape_spacing_for(uint32_t particles) {
+    return kShapeSpacing * float(std::cbrt(double(kShapeParticles) / double(std::max(particles, 1u))));
+}
+
 ShapeScene make_shape_scene(const std::string& name, control::Mesh mesh, float shape_height, std::vector<Box> blocks,
-                            const std::string& layout, double shape_volume) {
+                            const std::string& layout, double shape_volume, float spacing) {
     ShapeScene s;
     s.name = name;
     s.layout = layout;
     s.scene.name = "bench control " + name;
     s.scene.domain = {glm::vec3(0.0f), glm::vec3(0.6f)};
-    s.scene.particle_spacing = kSpacing;
+    s.scene.particle_spacing = spacing;
     s.scene.fluid_blocks = std::move(blocks);
     for (auto& v : mesh.vertices) v += kCentre;
     s.mesh = mesh;
-    s.lattice = {s.scene.domain.min, kSpacing};
+    s.lattice = {s.scene.domain.min, spacing};
     const auto placed =
-        control::place_inside(mesh.triangle_soup(), kSpacing, false, 1, s.lattice.centre(glm::ivec3(0))).points;
+        control::place_inside(mesh.triangle_soup(), spacing, false, 1, s.lattice.centre(glm::ivec3(0))).points;
     for (const auto& p : placed) s.points.emplace_back(p, 0.0f);
     s.shape = control::voxel_keys(s.lattice, placed);
-    s.strength = control::automatic_strength({&s.scene, kSpacing, shape_height});
+    s.strength = control::automatic_strength({&s.scene, spacing, shape_height});
     s.scene.solver.substeps = s.strength.substeps;  // before any solver is built
     s.shape_volume = shape_volume;
-    s.fluid_volume = double(s.scene.particle_count()) * kSpacing * kSpacing * kSpacing;
+    s.fluid_volume = double(s.scene.particle_count()) * spacing * spacing * spacing;
     return s;
 }
 
-ShapeScene sphere_scene() {
-    // 10 x 9 x 10 particles: 0.0072 m^3, the sphere's 0.00724 m^3 to within 1 %
+ShapeScene sphere_scene(float spacing) {
+    // 0.0072 m^3 (10 x 9 x 10 particles at 0.02 m), the sphere's 0.00724 m^3 to within 1 %
     const glm::vec3 half(0.1f, 0.09f, 0.1f);
     const double volume = 4.0 / 3.0 * M_PI * std::pow(kSphereRadius, 3.0);
     return make_shape_scene("sphere", control::make_sphere(kSphereRadius, 3), 2.0f * kSphereRadius,
-                            {{kCentre - half, kCentre + half}}, "box 0.2 x 0.18 x 0.2 m around the centre", volume);
+                            {{kCentre - half, kCentre + half}}, "box 0.2 x 0.18 x 0.2 m around the centre", volume, spacing);
 }
 
 /// A torus of the sphere's volume (R = 3 r), lying flat: its ring in the xz plane. The fluid starts
-/// as a square frame of four boxes (4 particles thick) over the ring, so that none starts over the
+/// as a square frame of four boxes (0.08 m thick) over the ring, so that none starts over the
 /// hole, where no control point pulls it.
-ShapeScene torus_scene() {
+ShapeScene torus_scene(float spacing) {
     const double volume = 4.0 / 3.0 * M_PI * std::pow(kSphereRadius, 3.0);
     const float minor = 0.05f;
     const float major = float(volume / (2.0 * M_PI * M_PI * minor * minor));  // 0.1467 m
     control::Mesh mesh = control::make_torus(major, minor);
     for (auto& v : mesh.vertices) v = glm::vec3(v.x, v.z, -v.y);  // axis z -> y: a proper rotation
     // Frame: outer half-side 0.18, inner 0.10 (the ring spans 0.097 .. 0.197), 0.08 thick:
-    // 224 particles per layer x 4 = 896, the torus's 905 to within 1 %.
+    // 0.00717 m^3 (at 0.02 m: 224 particles per layer x 4 = 896), the torus's 905 to within 1 %.
     const float a = 0.18f, b = 0.10f, t = 0.04f;
     const glm::vec3 c = kCentre;
     std::vector<Box> frame = {
@@ -225,7 +228,7 @@ ShapeScene torus_scene() {
                             fmt("flat torus R = %.4f m, r = %.3f m; fluid: square frame 0.36 m outside, 0.2 m hole, "
                                 "0.08 m thick, over the ring",
                                 double(major), double(minor)),
-                            volume);
+                            volume, spacing);
 }
 
 FillRun::FillRun(gpu::Context& ctx, const ShapeScene& s, float pressure) {
@@ -251,8 +254,14 @@ control::ShapeMetrics FillRun::metrics(const ShapeScene& s) {
 }
 
 bool FillRun::stable(bool finite) const {
-    return finite && std::isfinite(rms_speed) && rms_speed < 0.1 * sim->solver().params().max_speed &&
+    return finite && std::isfinite(rms_speed) && rms_speed < 0.1 * cfl_speed() &&
            stats.max_density_error < control::kDensityErrorBound;
+}
+
+double FillRun::cfl_speed() const {
+    const Scene& scene = sim->scene();
+    const double h = double(scene.solver.kernel_radius_factor) * scene.particle_spacing;
+    return double(scene.solver.cfl) * h / double(sim->solver().params().dt);
 }
 
 // ---- (2) the force's share of a step --------------------------------------------------------
@@ -343,7 +352,7 @@ json to_json(const SweepRow& r, const ShapeScene& s) {
               {"finite", r.finite},
               {"stable", r.stable},
               {"rms_speed", std::isfinite(r.rms_speed) ? json(r.rms_speed) : json(nullptr)},
-              {"speed_cap", r.speed_cap},
+              {"cfl_speed", r.cfl_speed},
               {"max_density_error", std::isfinite(r.max_density_error) ? json(r.max_density_error) : json(nullptr)},
               {"wall_s", r.wall_s}};
     if (r.iou_later) j["iou_after_" + fmt("%.2g", r.later_seconds) + "_s"] = *r.iou_later;
@@ -359,7 +368,7 @@ SweepRow sweep_one(gpu::Context& ctx, const ShapeScene& s, double scale, double 
     const auto t0 = Clock::now();
     FillRun run(ctx, s, row.pressure);
     row.finite = run.advance(seconds);
-    row.speed_cap = run.sim->solver().params().max_speed;
+    row.cfl_speed = run.cfl_speed();
     row.rms_speed = run.rms_speed;
     row.max_density_error = run.stats.max_density_error;
     row.stable = run.stable(row.finite);

@@ -61,6 +61,14 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
 
 // ---- shapes for the solver -------------------------------------------------------------------
 
+/// The shapes' particle spacing by default: about 900 particles fill either shape.
+inline constexpr float kShapeSpacing = 0.02f;
+inline constexpr uint32_t kShapeParticles = 900;
+
+/// The spacing at which a shape's fluid holds about `particles` particles (the shapes and the
+/// fluid's starting blocks keep their size in metres; only the spacing changes).
+float shape_spacing_for(uint32_t particles);
+
 /// A control shape in a 0.6 m box, with fluid of about the shape's volume laid out around it
 /// (tests/test_control_force.cpp fills the sphere too).
 struct ShapeScene {
@@ -76,9 +84,10 @@ struct ShapeScene {
     double fluid_volume = 0.0;
 };
 
-ShapeScene sphere_scene();
+/// A sphere of radius 0.12 m, the fluid a box of its volume around its centre.
+ShapeScene sphere_scene(float spacing = kShapeSpacing);
 /// A torus of the sphere's volume lying flat, the fluid a square frame over its ring.
-ShapeScene torus_scene();
+ShapeScene torus_scene(float spacing = kShapeSpacing);
 
 /// A controlled run of one shape at one pressure from t = 0, at the automatic strength's substeps.
 struct FillRun {
@@ -91,8 +100,11 @@ struct FillRun {
     /// Runs `seconds`; false when the state became non-finite.
     bool advance(double seconds);
     control::ShapeMetrics metrics(const ShapeScene& s);
-    /// Quiet: rms speed below a tenth of the solver's speed cap, density error within the bound.
+    /// Quiet: rms speed below a tenth of cfl_speed(), density error within the bound.
     bool stable(bool finite) const;
+    /// cfl h / dt: the speed at which a particle crosses cfl kernel radii a step (the time-step
+    /// rule's bound; the scale a quiet fluid's speeds are measured against).
+    double cfl_speed() const;
 };
 
 // ---- (2) the force's share of a step --------------------------------------------------------
@@ -127,7 +139,7 @@ struct SweepRow {
     float pressure = 0.0f;
     bool finite = false, stable = false;
     control::ShapeMetrics m;
-    double rms_speed = 0.0, speed_cap = 0.0, max_density_error = 0.0, seconds = 0.0, wall_s = 0.0;
+    double rms_speed = 0.0, cfl_speed = 0.0, max_density_error = 0.0, seconds = 0.0, wall_s = 0.0;
     std::optional<double> iou_later;  // at the automatic strength: IoU after `later_seconds`
     double later_seconds = 0.0;
 };

@@ -77,7 +77,7 @@ TEST(BenchControl, QuickRunWritesPlacementForceAndSweepRecords) {
 }
 
 TEST(BenchControl, BadFlagsAreUsageErrorsNamingTheFlag) {
-    for (const char* args : {"--bogus", "--particles 3000", "--sizes 1000"}) {
+    for (const char* args : {"--bogus", "--particles 0", "--particles lots", "--scales 1,,2", "--scales -1", "--scales nan", "--sizes 1000"}) {
         const Outcome o = run_aquaform(std::string("bench control ") + args);
         EXPECT_EQ(o.exit_code, 2) << args << ": " << o.output;
         const std::string flag = std::string(args).substr(0, std::string(args).find(' '));

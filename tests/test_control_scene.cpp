@@ -85,7 +85,8 @@ Scene shipped(const std::string& name) {
 }
 
 TEST(ControlScene, ShippedShapeScenesLoadWithQuietStrength) {
-    for (const char* name : {"shape_fill.json", "morph.json", "character_walk.json", "separate_by_tag.json"}) {
+    for (const char* name : {"shape_fill.json", "morph.json", "character_walk.json", "separate_by_tag.json",
+                             "shape_fill_50k.json", "character_walk_50k.json"}) {
         Scene scene = shipped(name);
         ASSERT_TRUE(scene.control_json) << name;
         const uint32_t before = scene.solver.substeps;
@@ -98,6 +99,9 @@ TEST(ControlScene, ShippedShapeScenesLoadWithQuietStrength) {
         EXPECT_GT(s.pressure, 0.0f);
         for (const auto& m : prepared.value().section.meshes) EXPECT_FALSE(m.animation.placed_rest().vertices.empty());
     }
+    // The large variants: the same scenes at a finer spacing, where the strength re-derives itself.
+    for (const char* name : {"shape_fill_50k.json", "character_walk_50k.json"})
+        EXPECT_GE(shipped(name).particle_count(), 50000u) << name;
     Scene walk = shipped("character_walk.json");
     auto prepared = prepare_control_scene(walk);
     ASSERT_TRUE(prepared.ok());

@@ -6,6 +6,7 @@
 
 #include "gpu/context.h"
 #include "sim/dam_break_reference.h"
+#include "sim/pbf_params.h"
 #include "sim/pbf_solver.h"
 #include "tests/gpu_test.h"
 
@@ -56,6 +57,24 @@ TEST_F(PhysicsTest, AFreelyFallingParticleKeepsItsEnergyAndTheStepFollowsItsSpee
     while (solver.time() < 1.6) frames.push_back(solver.run_frame(nullptr));
     EXPECT_LT(frames.back().max_speed, 0.05);
     EXPECT_EQ(frames.back().substeps, 1u);
+}
+
+TEST(TimeStepRule, ASuddenSpeedUpIsTakenToRepeat) {
+    // A wave hitting a wall: the largest speed jumped by 3 m/s over the last frame, far more than
+    // gravity adds in one (0.16 m/s); the next frame's steps allow for the same jump again.
+    SolverSettings solver;
+    solver.frame_dt = 1.0f / 60.0f;
+    solver.cfl = 0.4f;
+    solver.substeps = 1;
+    solver.max_substeps = 64;
+    const float h = 0.05f;
+    const auto steps = [&](double speed) { return uint32_t(std::ceil(speed * solver.frame_dt / (solver.cfl * h))); };
+    EXPECT_EQ(substeps_for_speed(solver, h, 2.0, 9.81), steps(2.0 + 9.81 * solver.frame_dt));
+    EXPECT_EQ(substeps_for_speed(solver, h, 2.0, 9.81, 3.0), steps(5.0));
+    EXPECT_GT(steps(5.0), steps(2.0 + 9.81 * solver.frame_dt));
+    EXPECT_EQ(substeps_for_speed(solver, h, 2.0, 9.81, 0.01), steps(2.0 + 9.81 * solver.frame_dt))
+        << "growth below gravity's changes nothing";
+    EXPECT_EQ(substeps_for_speed(solver, h, 2.0, 9.81, std::nan("")), 64u) << "no trust in a NaN: the most steps";
 }
 
 TEST_F(PhysicsTest, TheSpeedCapIsASafetyNetThatSaysWhenItBinds) {
