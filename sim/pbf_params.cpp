@@ -102,4 +102,13 @@ uint32_t substeps_for_speed(const SolverSettings& solver, float h, double max_sp
     return uint32_t(std::clamp(needed, lo, hi));
 }
 
+uint32_t substeps_for_compression(const SolverSettings& solver, uint32_t steps, uint32_t last_steps,
+                                  double max_density_error) {
+    const double hi = std::max(solver.max_substeps, solver.substeps);
+    if (!std::isfinite(max_density_error)) return uint32_t(hi);
+    if (max_density_error <= kStepDensityErrorBound) return steps;
+    const double more = std::ceil(double(last_steps) * std::sqrt(max_density_error / kStepDensityErrorBound) - 1e-9);
+    return std::max(steps, uint32_t(std::min(more, hi)));
+}
+
 }  // namespace aquaform

@@ -259,8 +259,10 @@ void PbfSolver::record_frame(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     }
     // The time-step rule: this frame's steps from the largest speed the last frame ended with
     // (collected before this frame is recorded).
-    const uint32_t substeps = substeps_for_speed(scene_.solver, params_.h, last_max_speed_, glm::length(scene_.gravity),
-                                                 last_speed_growth_);
+    const uint32_t substeps = substeps_for_compression(
+        scene_.solver,
+        substeps_for_speed(scene_.solver, params_.h, last_max_speed_, glm::length(scene_.gravity), last_speed_growth_),
+        substeps_, last_max_density_error_);
     if (substeps != substeps_) {
         substeps_ = substeps;
         set_substeps(params_, scene_.solver.frame_dt, substeps);
@@ -290,6 +292,7 @@ FrameStats PbfSolver::collect_stats(gpu::GpuTimer* timer) {
     stats.speed_capped = params_.max_speed > 0.0f && stats.max_speed >= 0.999 * params_.max_speed;
     last_speed_growth_ = std::max(0.0, stats.max_speed - last_max_speed_);
     last_max_speed_ = stats.max_speed;
+    last_max_density_error_ = stats.max_density_error;
     return stats;
 }
 
@@ -323,6 +326,7 @@ void PbfSolver::set_state(const std::vector<glm::vec4>& x, const std::vector<glm
     gpu::upload(*ctx_, *v_, v.data(), v.size() * sizeof(glm::vec4));
     last_max_speed_ = 0.0;  // the next frame's steps follow the new velocities
     last_speed_growth_ = 0.0;
+    last_max_density_error_ = 0.0;
     for (const glm::vec4& vi : v) last_max_speed_ = std::max(last_max_speed_, double(glm::length(glm::vec3(vi))));
     // Sort by the new positions so that the grid is valid before the first step (measure()).
     ctx_->submit_and_wait([&](VkCommandBuffer cmd) { record_sort(cmd, *x_, nullptr); });

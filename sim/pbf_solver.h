@@ -123,6 +123,7 @@ private:
     uint32_t substeps_ = 1;
     double last_max_speed_ = 0.0;  // the largest speed at the end of the last frame [m/s]
     double last_speed_growth_ = 0.0;  // how much it grew over that frame [m/s]
+    double last_max_density_error_ = 0.0;  // its largest density error (substeps_for_compression)
     bool xsph_on_ = false;
     bool vorticity_on_ = false;
     gpu::BufferSet buffers_;

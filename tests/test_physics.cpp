@@ -77,6 +77,19 @@ TEST(TimeStepRule, ASuddenSpeedUpIsTakenToRepeat) {
     EXPECT_EQ(substeps_for_speed(solver, h, 2.0, 9.81, std::nan("")), 64u) << "no trust in a NaN: the most steps";
 }
 
+TEST(TimeStepRule, ACompressedFrameTakesSmallerSteps) {
+    SolverSettings solver;
+    solver.substeps = 3;
+    solver.max_substeps = 32;
+    EXPECT_EQ(substeps_for_compression(solver, 4, 4, 0.05), 4u) << "within the bound the speed rule decides";
+    EXPECT_EQ(substeps_for_compression(solver, 4, 4, kStepDensityErrorBound), 4u);
+    // 0.4 is 4x the bound: the compression a step leaves grows as dt^2, so twice the steps.
+    EXPECT_EQ(substeps_for_compression(solver, 4, 4, 0.4), 8u);
+    EXPECT_EQ(substeps_for_compression(solver, 12, 4, 0.4), 12u) << "never fewer than the speed rule asked for";
+    EXPECT_EQ(substeps_for_compression(solver, 4, 20, 40.0), 32u) << "at most max_substeps";
+    EXPECT_EQ(substeps_for_compression(solver, 4, 4, std::nan("")), 32u);
+}
+
 TEST_F(PhysicsTest, TheSpeedCapIsASafetyNetThatSaysWhenItBinds) {
     PbfSolver solver(ctx(), free_fall_scene(R"(, "max_speed": 3)"));
     FrameStats last;
