@@ -30,7 +30,8 @@ struct FrameStats {
     std::optional<double> front;      ///< dam-break front [m from the wall], when the scene has one
     double splash_fraction = 0.0;     ///< fraction of the particles with few neighbours (kSplashNeighborFraction)
     /// Dam breaks: the highest fluid point on the far wall (domain.max.x), the top of the highest
-    /// particle within a spacing of it, above the floor [m]; empty when no particle touches it.
+    /// particle within a spacing of it that is not spray (kSplashNeighborFraction: the sheet
+    /// climbing the wall, not droplets flying up it), above the floor [m]; empty when none.
     std::optional<double> runup;
     /// Connected groups smaller than droplet_size_limit() (PbfSolver::set_measure_droplets).
     std::optional<uint32_t> droplets;

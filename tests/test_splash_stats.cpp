@@ -68,27 +68,37 @@ TEST_F(SplashStats, CountsSplashParticlesAndDropletsOfAConstructedState) {
     EXPECT_FALSE(solver.measure(nullptr).droplets.has_value());
 }
 
-TEST_F(SplashStats, RunupIsTheTopOfTheHighestParticleAtTheFarWall) {
+TEST_F(SplashStats, RunupIsTheTopOfTheSheetOnTheFarWall) {
     Scene scene = splash_scene();
     scene.column_width = 0.16f;
     scene.fluid_blocks[0] = lattice(glm::vec3(0.0f), 8, 10, 10);  // the pool ends 2 spacings before the far wall
     PbfSolver solver(ctx(), scene);
     EXPECT_FALSE(solver.measure(nullptr).runup.has_value()) << "nothing touches the far wall (x = 0.2)";
     ParticleSnapshot s = solver.snapshot();
-    // Three particles moved to the far wall: two within a spacing of it, one 1.5 spacings away.
-    int moved = 0;
+    // From the pool: a sheet of 3 x 6 x 6 particles on the far wall, 0.5 to 2.5 spacings from it,
+    // from y = 0.30 to 0.40; a lone droplet within a spacing of the wall higher up (spray, not
+    // the sheet); and a particle 1.5 spacings from the wall higher still.
+    size_t moved = 0;
     for (auto& x : s.x) {
-        if (x.y < 0.25f || moved == 3) continue;
-        const float heights[] = {0.31f, 0.43f, 0.77f};
-        const float gaps[] = {0.5f * kS, 0.9f * kS, 1.5f * kS};
-        x = glm::vec4(0.2f - gaps[moved], heights[moved], 0.1f, x.w);
+        if (x.y > 0.25f) continue;
+        if (moved < 108) {
+            const int ix = int(moved % 3), iy = int(moved / 3 % 6), iz = int(moved / 18);
+            x = glm::vec4(0.2f - (0.5f + ix) * kS, 0.30f + iy * kS, 0.1f + (iz - 2.5f) * kS, x.w);
+        } else if (moved == 108) {
+            x = glm::vec4(0.2f - 0.5f * kS, 0.77f, 0.1f, x.w);
+        } else if (moved == 109) {
+            x = glm::vec4(0.2f - 1.5f * kS, 0.85f, 0.1f, x.w);
+        } else {
+            break;
+        }
         ++moved;
     }
-    ASSERT_EQ(moved, 3);
+    ASSERT_EQ(moved, 110u);
     solver.set_state(s.x, s.v);
     FrameStats stats = solver.measure(nullptr);
     ASSERT_TRUE(stats.runup.has_value());
-    EXPECT_NEAR(*stats.runup, 0.43 + 0.5 * kS, 1e-6) << "the highest particle within a spacing, plus its radius";
+    EXPECT_NEAR(*stats.runup, 0.30 + 5 * kS + 0.5 * kS, 1e-6)
+        << "the sheet's top particle within a spacing of the wall, plus its radius; not the droplet at 0.77";
 }
 
 TEST(Droplets, GroupsAreConnectedThroughChainsAndCountedBelowTheLimit) {

@@ -70,11 +70,14 @@ void main() {
                           all(lessThanEqual(xi.xyz, params.domain_max.xyz));
             s.outside = inside ? 0.0 : 1.0;
             if (uint(vi.w) == params.front_tag && xi.y < params.front_floor) s.front = xi.x;
-            if (xi.x > pc.runup_x) s.runup = xi.y;
             pos_i = xi.xyz;
             near_count = 0u;
             for_each_neighbor(i, pc.count, params.neighbor_capacity, params.grid_dims);
-            s.splash = float(near_count) < pc.splash_neighbors ? 1.0 : 0.0;
+            bool spray = float(near_count) < pc.splash_neighbors;
+            s.splash = spray ? 1.0 : 0.0;
+            // Runup is the sheet's climb: a spray droplet flying up the wall is counted by the
+            // splash fraction, not as fluid standing on the wall.
+            if (xi.x > pc.runup_x && !spray) s.runup = xi.y;
             s.list_overflow = imageLoad(neighbor_count, int(i)).x > params.neighbor_capacity ? 1.0 : 0.0;
         } else {
             s.non_finite = 1.0;
