@@ -257,8 +257,8 @@ void PbfSolver::record_frame(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
         timer->clear_totals();
         timer->reset(cmd);
     }
-    // The time-step rule: this frame's steps from the largest speed the last frame ended with
-    // (collected before this frame is recorded).
+    // The time-step rule: this frame's steps from the largest speed, its growth and the largest
+    // density error the last frame ended with (collected before this frame is recorded).
     const uint32_t substeps = substeps_for_compression(
         scene_.solver,
         substeps_for_speed(scene_.solver, params_.h, last_max_speed_, glm::length(scene_.gravity), last_speed_growth_),

@@ -259,9 +259,8 @@ bool FillRun::stable(bool finite) const {
 }
 
 double FillRun::cfl_speed() const {
-    const Scene& scene = sim->scene();
-    const double h = double(scene.solver.kernel_radius_factor) * scene.particle_spacing;
-    return double(scene.solver.cfl) * h / double(sim->solver().params().dt);
+    const shader::SimParams& p = sim->solver().params();
+    return double(sim->scene().solver.cfl) * p.h / p.dt;
 }
 
 // ---- (2) the force's share of a step --------------------------------------------------------

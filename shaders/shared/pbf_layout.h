@@ -77,7 +77,7 @@ struct StatsPartial {
     float front;                ///< largest x of a front_tag particle below front_floor (-1e30 if none)
     float sum_abs_density_dev;  ///< sum of |rho / rho0 - 1|, free-surface deficiency included
     float splash;               ///< particles with fewer neighbours than StatsPush::splash_neighbors
-    float runup;                ///< largest y of a particle with x above StatsPush::runup_x (-1e30 if none)
+    float runup;                ///< largest y of a non-spray particle with x above StatsPush::runup_x (-1e30 if none)
     float list_overflow;        ///< particles with more neighbours than the list holds (they scan cells)
 };
 
