@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <string>
 
+#include <unistd.h>
+
 #include "viewer/view_script.h"
 #include "viewer/view_shapes.h"
 #include "viewer/view_worker.h"
@@ -43,8 +45,12 @@ double mean_difference(const Image& a, const Image& b) {
 
 /// Runs `args` of `aquaform view` under Xvfb; the exit status and everything printed.
 std::pair<int, std::string> run_view_under_xvfb(const std::string& args) {
-    const std::string cmd = std::string("AQUAFORM_VALIDATION=1 xvfb-run -a -s '-screen 0 640x480x24' ") + AQUAFORM_BINARY +
-                            " view " + args + " 2>&1";
+    // xvfb-run -a alone starts every search at display 99, and tests running side by side (ctest
+    // --parallel) can race for the same one; starting from a number of this process's own makes
+    // that unlikely, and -a still steps past a display in use.
+    const std::string server = std::to_string(100 + getpid() % 20000);
+    const std::string cmd = "AQUAFORM_VALIDATION=1 xvfb-run -a -n " + server + " -s '-screen 0 640x480x24' " +
+                            std::string(AQUAFORM_BINARY) + " view " + args + " 2>&1";
     FILE* pipe = popen(cmd.c_str(), "r");
     if (!pipe) return {-1, "popen failed"};
     std::string output;
