@@ -1,9 +1,8 @@
-// `aquaform bench render`: the surface reconstruction on one fixed dam-break frame, with each
-// method and each of the adaptive method's mechanisms alone, measured against the exhaustive
-// reference; checks the targets of the adaptive method (evaluations per ray, adaptive
-// resolution, real-time on a GPU) and writes bench_render.json. The scene is study::bench_scene()'s dam
-// break; the default frame is the one where its front has run halfway down the tank
-// (bench_half_tank_frame() in study/bench_scenes.h: 15 frames, 0.25 s, for 32,768 particles).
+// `aquaform bench render`: the surface reconstruction on the benchmark's frames (study/
+// bench_frames.h: a calm dam break, a constructed curtain of droplets and the splashy frames of
+// the paper scenes), with each method and each of the adaptive method's mechanisms alone,
+// measured against the exhaustive reference; checks the targets of the adaptive method per
+// frame (march steps, adaptive resolution, real-time on a GPU) and writes bench_render.json.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -16,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "study/bench_scenes.h"
+#include "study/bench_frames.h"
 #include "apps/cli.h"
 #include "study/bench_render.h"
 #include "study/render_measure.h"
@@ -73,8 +72,9 @@ std::optional<uint32_t> parse_frame(const std::string& text, std::string* error)
 }  // namespace
 
 FlagSpec bench_render_flags() {
-    FlagSpec spec{{"--particles", "--frame", "--resolution", "--repeats", "--out", "--device", "--configs"},
-                  {"--validation", "--quick", "--isotropic"}};
+    FlagSpec spec{{"--particles", "--frames", "--frame", "--scene-dir", "--resolution", "--repeats", "--out", "--device",
+                   "--configs"},
+                  {"--validation", "--quick", "--isotropic", "--mask-sweep"}};
     for (const auto& f : parameter_flags()) spec.with_value.push_back(f);
     // Accepted only to be refused with a reason: the configurations set the method and mechanisms.
     spec.with_value.push_back("--method");
@@ -83,93 +83,77 @@ FlagSpec bench_render_flags() {
     return spec;
 }
 
-int bench_render(const Args& args) {
-    std::string error;
-    auto usage = [&](const std::string& message) {
-        std::fprintf(stderr, "aquaform bench render: %s\n", message.c_str());
-        return kExitUsage;
-    };
-    for (const auto& f : render_switches())
-        if (f != "--isotropic" && args.has(f))
-            return usage(f + " does not apply: bench render sets the method and mechanisms per configuration; choose "
-                             "configurations with --configs " + study::known_labels());
-    if (args.has("--method"))
-        return usage("--method does not apply: bench render renders every method; choose configurations with --configs " +
-                     study::known_labels());
-    const uint64_t particles = particles_flag(args, &error).value_or(32768);
-    if (!error.empty()) return usage(error);
-    const bool quick = args.has("--quick");
-    auto repeats = parse_positive("--repeats", args.value("--repeats", quick ? "1" : "2"), &error);
-    if (!repeats) return usage(error);
-    uint32_t width = 512, height = 512;
-    if (args.has("--resolution") && !parse_resolution(args.value("--resolution"), &width, &height))
-        return usage("--resolution must look like 512x512 (16..8192 per side), got \"" + args.value("--resolution") + "\"");
-    std::string list = args.value("--configs");
-    if (!args.has("--configs")) {
-        if (quick)
-            for (const std::string& c : study::quick_bench_configs()) list += (list.empty() ? "" : ",") + c;
-        else
-            for (const study::BenchConfig& c : study::bench_configs()) list += std::string(list.empty() ? "" : ",") + c.label;
-    }
-    auto configs = study::parse_configs(list);
-    if (!configs) return usage(configs.error());
-    auto base = render_settings_from(args, &error);
-    if (!base) return usage(error);
+namespace {
 
-    const Scene scene = study::bench_scene(uint32_t(particles), 4);
-    if (scene.particle_count() == 0) return usage("--particles " + args.value("--particles") + " makes an empty dam break; ask for more");
-    uint32_t frame = study::bench_half_tank_frame(scene);
-    if (args.has("--frame")) {
-        auto f = parse_frame(args.value("--frame"), &error);
-        if (!f) return usage(error);
-        frame = *f;
-    }
-    const std::filesystem::path out_path = args.value("--out", "bench_render.json");
-    {
-        // Fail before minutes of work when the output cannot go where asked.
-        const std::filesystem::path dir = out_path.parent_path().empty() ? "." : out_path.parent_path();
-        std::error_code ec;
-        if (!std::filesystem::is_directory(dir, ec))
-            return std::fprintf(stderr, "aquaform bench render: cannot write %s: directory %s does not exist; choose "
-                                        "another path with --out\n",
-                                out_path.string().c_str(), dir.string().c_str()),
-                   kExitFailure;
-    }
+/// What a frame's measurement left for the JSON and the summary.
+struct FrameResult {
+    nlohmann::json json;
+    std::vector<std::string> verdict_lines;
+    std::vector<study::SweepPoint> sweep;
+};
 
-    gpu::Context ctx({args.value("--device"), validation_requested(args)});
+/// Mask + skip at every weight pair of study::mask_sweep_weights(), against the reference; the
+/// step counts do not depend on the device, so each pair is rendered once.
+std::vector<study::SweepPoint> sweep_mask_weights(gpu::Context& ctx, Renderer& renderer, const gpu::Buffer& positions,
+                                                  uint32_t n, const ViewCamera& camera, const SurfaceSettings& base,
+                                                  const SurfaceFrame& reference, float radius, const char* frame_name) {
+    const study::BenchConfig* uniform = study::find_config("uniform");
+    const study::BenchConfig* mask_skip = study::find_config("mask_skip");
+    const study::RenderMeasurement u = study::measure_render(ctx, renderer, positions, n, camera, study::settings_for(*uniform, base), 1);
+    const auto weights = study::mask_sweep_weights();
+    std::vector<study::SweepPoint> points;
+    std::printf("\nmask weights (mask + skip; uniform: %.2f steps/ray)\n%6s %6s %10s %8s %10s %9s\n", study::steps_per_ray(u),
+                "a", "b", "steps/ray", "/uniform", "depth err", "coverage");
+    for (const auto& [a, b] : weights) {
+        std::fprintf(stderr, "bench render: %s: mask sweep a = %.2f, b = %.2f (%zu/%zu)\n", frame_name, a, b,
+                     points.size() + 1, weights.size());
+        SurfaceSettings s = base;
+        s.mask_a = a;
+        s.mask_b = b;
+        const study::RenderMeasurement m = study::measure_render(ctx, renderer, positions, n, camera, study::settings_for(*mask_skip, s), 1);
+        study::SweepPoint p{frame_name, a, b, study::steps_per_ray(m), study::steps_per_ray(u), compare_surfaces(reference, m.frame, radius)};
+        std::printf("%6.2f %6.2f %10.2f %7.1f%% %10.3f %8.2f%%\n", a, b, p.steps_per_ray, 100.0 * p.steps_per_ray / p.uniform_steps_per_ray,
+                    p.cmp.depth_err_mean, 100.0 * p.cmp.coverage_mismatch);
+        points.push_back(p);
+    }
+    return points;
+}
+
+/// Simulates `scene` to `frame`, renders the reference and every configuration, prints the
+/// tables and returns the frame's record. nullopt when the simulation became unstable.
+std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFrame& bench, const Scene& scene, uint32_t frame,
+                                         const std::vector<const study::BenchConfig*>& configs, const SurfaceSettings& base,
+                                         uint32_t width, uint32_t height, uint32_t repeats, long requested_particles,
+                                         bool mask_sweep) {
     session::SimulationSession sim(ctx, session::plan_session(scene, std::nullopt), {.measure_shapes = false});
     PbfSolver& solver = sim.solver();
     const uint32_t n = solver.particle_count();
     const double time_s = frame * double(scene.solver.frame_dt);
-    std::printf("bench render on %s (%s): dam break of %u particles (column a = %.3f m), frame %u (t = %.3f s), %ux%u; "
-                "fastest of %ld renders per configuration; metrics against the exhaustive reference\n",
-                ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type), n, double(scene.column_width.value_or(0.0f)),
-                frame, time_s, width, height, *repeats);
+    std::printf("\n== %s: %s\n   %s, %u particles, frame %u (t = %.3f s), %ux%u\n", bench.name, bench.what,
+                scene.name.c_str(), n, frame, time_s, width, height);
     std::fflush(stdout);
-    std::fprintf(stderr, "bench render: simulating %u frames\n", frame);
-    if (!study::simulate_frames(sim, frame, "simulating to frame " + std::to_string(frame)))
-        return exit_status(ctx, kExitFailure);
+    if (!study::simulate_frames(sim, frame, std::string(bench.name) + ": simulating to frame " + std::to_string(frame)))
+        return std::nullopt;
 
     // One renderer through the registry draws every configuration: they are all SPH surface
     // methods, so each measurement only reconfigures it.
-    const MethodSettings reference_settings = study::reference_settings(*base);
+    const MethodSettings reference_settings = study::reference_settings(base);
     const std::unique_ptr<Renderer> renderer =
         render_registry().create(ctx, scene.particle_domain(), width, height, n, reference_settings);
     const ViewCamera camera = scene_camera(scene, float(width) / float(height));
-    const size_t total = configs.value().size() + 1;
-
-    std::fprintf(stderr, "bench render: rendering reference (1/%zu, exhaustive: the slowest)\n", total);
+    const size_t total = configs.size() + 1;
+    std::fprintf(stderr, "bench render: %s: rendering reference (1/%zu, exhaustive: the slowest)\n", bench.name, total);
     const study::RenderMeasurement ref = study::measure_render(ctx, *renderer, solver.positions(), n, camera, reference_settings, 1);
     const float radius = scene.particle_domain().particle_radius();
     nlohmann::json records = nlohmann::json::array();
     records.push_back(study::render_record("reference", ref, nullptr));
 
     std::vector<study::Measured> results;
-    results.reserve(configs.value().size());
-    for (const study::BenchConfig* c : configs.value()) {
-        std::fprintf(stderr, "bench render: rendering %s (%zu/%zu: %s)\n", c->label, results.size() + 2, total, c->what);
-        study::Measured r{c, study::measure_render(ctx, *renderer, solver.positions(), n, camera, study::settings_for(*c, *base),
-                                                   uint32_t(*repeats)),
+    results.reserve(configs.size());
+    for (const study::BenchConfig* c : configs) {
+        std::fprintf(stderr, "bench render: %s: rendering %s (%zu/%zu: %s)\n", bench.name, c->label, results.size() + 2, total,
+                     c->what);
+        study::Measured r{c, study::measure_render(ctx, *renderer, solver.positions(), n, camera, study::settings_for(*c, base), repeats),
                           {}};
         r.cmp = compare_surfaces(ref.frame, r.m.frame, radius);
         records.push_back(study::render_record(c->label, r.m, &r.cmp));
@@ -184,27 +168,135 @@ int bench_render(const Args& args) {
     for (const study::Measured& r : results) pass_rows.emplace_back(r.config->label, &r.m);
     print_pass_table(pass_rows);
 
-    const study::Verdict verdicts[] = {study::evals_target(results), study::resolution_target(results),
-                                       study::gpu_target(results, ctx.info(), long(particles), n, width, height)};
-    const char* keys[] = {"mask_skip_evals", "adaptive_resolution", "realtime_1m_1080p"};
+    const study::Verdict verdicts[] = {study::steps_target(results), study::resolution_target(results),
+                                       study::gpu_target(results, ctx.info(), requested_particles, n, width, height)};
+    const char* keys[] = {"mask_skip_steps", "adaptive_resolution", "realtime_1m_1080p"};
+    FrameResult out;
     nlohmann::json targets = nlohmann::json::object();
-    std::printf("\ntargets\n");
+    std::printf("\ntargets on %s\n", bench.name);
     for (size_t i = 0; i < std::size(verdicts); ++i) {
         std::printf("  %s\n", verdicts[i].line.c_str());
         targets[keys[i]] = verdicts[i].json;
+        out.verdict_lines.push_back(verdicts[i].line);
     }
+    out.json = {{"name", bench.name},   {"what", bench.what}, {"scene", scene.name}, {"particles", n},
+                {"frame", frame},       {"time_s", time_s},   {"records", records},  {"targets", targets}};
+    if (mask_sweep) {
+        out.sweep = sweep_mask_weights(ctx, *renderer, solver.positions(), n, camera, base, ref.frame, radius, bench.name);
+        nlohmann::json sweep = nlohmann::json::array();
+        for (const study::SweepPoint& p : out.sweep)
+            sweep.push_back({{"a", p.a},
+                             {"b", p.b},
+                             {"steps_per_ray", p.steps_per_ray},
+                             {"uniform_steps_per_ray", p.uniform_steps_per_ray},
+                             {"depth_err_mean", p.cmp.depth_err_mean},
+                             {"coverage_mismatch", p.cmp.coverage_mismatch},
+                             {"psnr_db", p.cmp.psnr_db}});
+        out.json["mask_sweep"] = sweep;
+    }
+    return out;
+}
+
+}  // namespace
+
+int bench_render(const Args& args) {
+    std::string error;
+    auto usage = [&](const std::string& message) {
+        std::fprintf(stderr, "aquaform bench render: %s\n", message.c_str());
+        return kExitUsage;
+    };
+    for (const auto& f : render_switches())
+        if (f != "--isotropic" && args.has(f))
+            return usage(f + " does not apply: bench render sets the method and mechanisms per configuration; choose "
+                             "configurations with --configs " + study::known_labels());
+    if (args.has("--method"))
+        return usage("--method does not apply: bench render renders every method; choose configurations with --configs " +
+                     study::known_labels());
+    const std::optional<uint64_t> particles = particles_flag(args, &error);
+    if (!error.empty()) return usage(error);
+    const bool quick = args.has("--quick");
+    auto repeats = parse_positive("--repeats", args.value("--repeats", quick ? "1" : "2"), &error);
+    if (!repeats) return usage(error);
+    uint32_t width = 512, height = 512;
+    if (args.has("--resolution") && !parse_resolution(args.value("--resolution"), &width, &height))
+        return usage("--resolution must look like 512x512 (16..8192 per side), got \"" + args.value("--resolution") + "\"");
+    auto join = [](const auto& items, auto name) {
+        std::string list;
+        for (const auto& item : items) list += std::string(list.empty() ? "" : ",") + name(item);
+        return list;
+    };
+    const std::string config_list =
+        args.has("--configs") ? args.value("--configs")
+        : quick               ? join(study::quick_bench_configs(), [](const std::string& c) { return c; })
+                              : join(study::bench_configs(), [](const study::BenchConfig& c) { return std::string(c.label); });
+    auto configs = study::parse_configs(config_list);
+    if (!configs) return usage(configs.error());
+    const std::string frame_list =
+        args.has("--frames") ? args.value("--frames")
+        : quick              ? join(study::quick_bench_frames(), [](const std::string& f) { return f; })
+                             : join(study::bench_frames(), [](const study::BenchFrame& f) { return std::string(f.name); });
+    auto frames = study::parse_bench_frames(frame_list);
+    if (!frames) return usage(frames.error());
+    std::optional<uint32_t> frame_override;
+    if (args.has("--frame")) {
+        frame_override = parse_frame(args.value("--frame"), &error);
+        if (!frame_override) return usage(error);
+    }
+    auto base = render_settings_from(args, &error);
+    if (!base) return usage(error);
+    const bool mask_sweep = args.has("--mask-sweep");
+    const std::filesystem::path out_path = args.value("--out", "bench_render.json");
+    {
+        // Fail before minutes of work when the output cannot go where asked.
+        const std::filesystem::path dir = out_path.parent_path().empty() ? "." : out_path.parent_path();
+        std::error_code ec;
+        if (!std::filesystem::is_directory(dir, ec))
+            return std::fprintf(stderr, "aquaform bench render: cannot write %s: directory %s does not exist; choose "
+                                        "another path with --out\n",
+                                out_path.string().c_str(), dir.string().c_str()),
+                   kExitFailure;
+    }
+
+    // Every scene is loaded before any work, so a bad one is reported at once.
+    const std::filesystem::path scene_dir = args.has("--scene-dir") ? std::filesystem::path(args.value("--scene-dir")) : study::default_scene_dir();
+    const uint64_t default_particles = quick ? 3000 : 32768;
+    std::vector<Scene> scenes;
+    for (const study::BenchFrame* f : frames.value()) {
+        auto scene = study::bench_frame_scene(*f, particles.value_or(default_particles), scene_dir);
+        if (!scene) return usage(scene.error());
+        scenes.push_back(std::move(scene.value()));
+    }
+
+    gpu::Context ctx({args.value("--device"), validation_requested(args)});
+    std::printf("bench render on %s (%s): %zu frame(s) at %ux%u, about %llu particles each; fastest of %ld renders per "
+                "configuration; metrics against the exhaustive reference. steps: density evaluations of the march "
+                "(Wu et al.'s count); bisect: evaluations refining the hit; evals: both\n",
+                ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type), frames.value().size(), width, height,
+                (unsigned long long)particles.value_or(default_particles), *repeats);
+    nlohmann::json frame_records = nlohmann::json::array();
+    std::vector<study::SweepPoint> sweep;
+    std::vector<std::pair<std::string, std::vector<std::string>>> summary;
+    for (size_t i = 0; i < frames.value().size(); ++i) {
+        const study::BenchFrame& f = *frames.value()[i];
+        const uint32_t frame = frame_override.value_or(study::bench_frame_index(f, scenes[i]));
+        auto result = measure_frame(ctx, f, scenes[i], frame, configs.value(), *base, width, height, uint32_t(*repeats),
+                                    long(particles.value_or(default_particles)), mask_sweep);
+        if (!result) return exit_status(ctx, kExitFailure);
+        frame_records.push_back(result->json);
+        sweep.insert(sweep.end(), result->sweep.begin(), result->sweep.end());
+        summary.emplace_back(f.name, result->verdict_lines);
+    }
+    std::printf("\nsummary of the targets\n");
+    for (const auto& [name, lines] : summary)
+        for (const std::string& line : lines) std::printf("  %-17s %s\n", name.c_str(), line.c_str());
 
     nlohmann::json doc = {{"benchmark", "render"},
                           {"device", ctx.info().name},
                           {"device_type", gpu::device_type_name(ctx.info().type)},
-                          {"particles", n},
-                          {"frame", frame},
-                          {"time_s", time_s},
                           {"width", width},
                           {"height", height},
                           {"repeats", *repeats},
-                          {"records", records},
-                          {"targets", targets}};
+                          {"frames", frame_records}};
     std::ofstream out(out_path);
     out << doc.dump(2) << "\n";
     out.close();
@@ -213,6 +305,15 @@ int bench_render(const Args& args) {
                             out_path.string().c_str()),
                exit_status(ctx, kExitFailure);
     std::printf("wrote %s\n", out_path.string().c_str());
+    if (mask_sweep) {
+        const std::string stem = (out_path.parent_path() / out_path.stem()).string();
+        for (const auto& [suffix, chart] : {std::pair{"_mask_sweep_depth.svg", study::mask_sweep_depth_chart(sweep)},
+                                           std::pair{"_mask_sweep_coverage.svg", study::mask_sweep_coverage_chart(sweep)}}) {
+            if (auto written = write_chart_svg(stem + suffix, chart); !written)
+                return std::fprintf(stderr, "aquaform bench render: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
+            std::printf("wrote %s%s\n", stem.c_str(), suffix);
+        }
+    }
     return exit_status(ctx, kExitOk);
 }
 

@@ -54,6 +54,10 @@ private:
 struct RenderStats {
     uint64_t rays = 0;           ///< rays cast (the surface renderer's ray list; a ray per covered pixel otherwise)
     uint64_t evaluations = 0;    ///< density or field evaluations along every ray
+    // The SPH surface methods split the evaluations (zero for the other families):
+    uint64_t march_steps = 0;    ///< evaluations of the stepping loops: Wu et al.'s steps
+    uint64_t bisection_evaluations = 0;  ///< evaluations refining hits
+    uint64_t mask_leaps = 0;     ///< jumps over empty cells of the binary density grid (a lookup each)
     uint64_t cut = 0;            ///< rays or pixels whose loops the device ended early (cut_unit)
     const char* cut_unit = "rays";
     bool list_overflow = false;  ///< per-pixel lists needed more than their memory (metaballs)

@@ -14,7 +14,12 @@ public:
     RenderStats stats() override {
         RenderStats s;
         s.rays = impl_.rays_cast();
-        for (const glm::vec4& n : impl_.read_frame().normal) s.evaluations += uint64_t(n.w);
+        for (const RayCounts& c : impl_.ray_counts()) {
+            s.march_steps += c.march;
+            s.bisection_evaluations += c.bisection;
+            s.mask_leaps += c.leaps;
+        }
+        s.evaluations = s.march_steps + s.bisection_evaluations;
         s.cut = impl_.cut_rays();
         return s;
     }

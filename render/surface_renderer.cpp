@@ -66,6 +66,8 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
         resume_count_[k] = &buffers_.add("render.resume_count" + std::to_string(k), 16);
     }
     resume_state_ = &buffers_.add("render.resume_state", pixels * 16);
+    ray_counts_ = &buffers_.add("render.ray_counts", pixels * 8);
+    blend_weights_ = &buffers_.add("render.blend_weights", pixels * 8);
     normal_ = &buffers_.add("render.normal", pixels * 16);
     normal_tmp_ = &buffers_.add("render.normal_tmp", pixels * 16);
     color_ = &buffers_.add("render.color", pixels * 4);
@@ -80,7 +82,7 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     depth_smooth_ = gpu::ComputePass(ctx, {"render/depth_smooth.comp", 3, push});
     screen_normals_ = gpu::ComputePass(ctx, {"render/screen_normals.comp", 3});
     tiles_ = gpu::ComputePass(ctx, {"render/tiles.comp", 5, 0, 64});
-    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 17, push, RAY_MARCH_WORKGROUP});
+    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 19, push, RAY_MARCH_WORKGROUP});
     ray_args_ = gpu::ComputePass(ctx, {"render/ray_args.comp", 2, 0, 1});
     upsample_ = gpu::ComputePass(ctx, {"render/upsample.comp", 6});
     normal_filter_ = gpu::ComputePass(ctx, {"render/normal_filter.comp", 4, push});
@@ -214,6 +216,8 @@ void SurfaceRenderer::record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* tim
         gpu::GpuScope scope(timer, cmd, "render_march");
         gpu::fill(*ctx_, cmd, *hit_, kMissBits);
         gpu::fill(*ctx_, cmd, *normal_, 0u);
+        gpu::fill(*ctx_, cmd, *ray_counts_, 0u);
+        gpu::fill(*ctx_, cmd, *blend_weights_, kMissBits);
         gpu::fill(*ctx_, cmd, *march_cut_, 0u);
         gpu::fill(*ctx_, cmd, *resume_count_[0], 0u);
     }
@@ -230,7 +234,7 @@ void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* ray
     const gpu::Bindings buffers{
         {"params", params_buf_}, {"sorted", sorted_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"mask", mask_}, {"coarse", coarse_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_},
         {"normal_screen", normal_screen_}, {"rays", rays}, {"ray_count", &ray_count}, {"hit", hit_}, {"normal", normal_}, {"march_cut", march_cut_}, {"resume_rays", resume_rays_[resume_out]}, {"resume_count", resume_count_[resume_out]},
-        {"resume_state", resume_state_}};
+        {"resume_state", resume_state_}, {"ray_counts", ray_counts_}, {"blend_weights", blend_weights_}};
     SurfacePassPush push = axis_push(mode);
     push.first = first;
     push.stride = stride;
@@ -300,6 +304,16 @@ std::vector<uint32_t> SurfaceRenderer::aggregate_flags() { return gpu::download_
 std::vector<float> SurfaceRenderer::class_densities() { return gpu::download_vector<float>(*ctx_, *class_density_, count_); }
 std::vector<uint32_t> SurfaceRenderer::mask_words() { return gpu::download_vector<uint32_t>(*ctx_, *mask_, params_.mask_dims.w); }
 std::vector<uint32_t> SurfaceRenderer::coarse_words() { return gpu::download_vector<uint32_t>(*ctx_, *coarse_, params_.coarse_dims.w); }
+std::vector<RayCounts> SurfaceRenderer::ray_counts() {
+    const auto packed = gpu::download_vector<glm::uvec2>(*ctx_, *ray_counts_, size_t(width_) * height_);
+    std::vector<RayCounts> counts(packed.size());
+    for (size_t i = 0; i < packed.size(); ++i)
+        counts[i] = {packed[i].x, packed[i].y & ((1u << RAY_COUNT_BISECTION_BITS) - 1u), packed[i].y >> RAY_COUNT_BISECTION_BITS};
+    return counts;
+}
+std::vector<glm::vec2> SurfaceRenderer::blend_weights() {
+    return gpu::download_vector<glm::vec2>(*ctx_, *blend_weights_, size_t(width_) * height_);
+}
 uint32_t SurfaceRenderer::cut_rays() { return gpu::download_vector<uint32_t>(*ctx_, *march_cut_, 1)[0]; }
 
 uint32_t SurfaceRenderer::rays_cast() {

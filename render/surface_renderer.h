@@ -38,7 +38,15 @@ class GpuTimer;
 }  // namespace gpu
 
 /// GPU memory of the renderer per pixel and per particle (beyond its grid).
-constexpr uint32_t kSurfaceBytesPerPixel = 11 * 4 + 5 * 16;
+constexpr uint32_t kSurfaceBytesPerPixel = 11 * 4 + 5 * 16 + 2 * 8;
+
+/// What one pixel's ray spent (shaders/shared/surface_layout.h, RAY_COUNT_BISECTION_BITS).
+struct RayCounts {
+    uint32_t march = 0;      ///< density evaluations of the stepping loop: Wu et al.'s steps
+    uint32_t bisection = 0;  ///< density evaluations refining the hit
+    uint32_t leaps = 0;      ///< jumps over cells the binary density grid marks empty (no evaluation)
+    uint32_t evaluations() const { return march + bisection; }
+};
 constexpr uint32_t kSurfaceBytesPerParticle = 16 + 3 * 16 + 4 + 4;
 
 class SurfaceRenderer {
@@ -74,6 +82,10 @@ public:
     std::vector<uint32_t> mask_words();         ///< the binary density grid (layout: surface_layout.h)
     std::vector<uint32_t> coarse_words();
     uint32_t rays_cast();                        ///< length of the last ray list
+    /// Per pixel: what its ray spent (zero for pixels filled by interpolation or without a ray).
+    std::vector<RayCounts> ray_counts();
+    /// Per pixel: (w1, w2) of Wu et al. eqs. 12-13 where the normals were blended, else (-1, -1).
+    std::vector<glm::vec2> blend_weights();
     /// Rays of the last frame whose loops the device ended early (the software device stops each
     /// shader invocation after 65535 loop iterations): their pixels may lack a surface.
     uint32_t cut_rays();
@@ -120,6 +132,7 @@ private:
     gpu::Buffer *depth_all_, *depth_agg_, *thickness_, *front_class_, *smooth_a_, *smooth_b_, *normal_screen_;
     gpu::Buffer *tile_level_, *rays_, *ray_count_, *edge_rays_, *edge_count_, *march_groups_, *hit_, *normal_, *normal_tmp_, *color_;
     gpu::Buffer* march_cut_;
+    gpu::Buffer *ray_counts_, *blend_weights_;
     gpu::Buffer *resume_rays_[2], *resume_count_[2], *resume_state_;
     gpu::Buffer *conv_a_ = nullptr, *conv_b_ = nullptr, *mask_ = nullptr, *coarse_ = nullptr;
     gpu::ComputePass gather_, classify_shape_, classify_density_, mask_convolve_, mask_pack_, splat_;

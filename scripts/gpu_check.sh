@@ -3,7 +3,7 @@
 #   - `aquaform info` (the devices, and the one used),
 #   - the GPU test subset (the suites whose tests run passes on the device),
 #   - `bench sim` at 1M particles (3 iterations),
-#   - `bench render` at 1M particles and 1920x1080,
+#   - `bench render` at 1M particles and 1920x1080 (a calm, a curtain and a splashy frame),
 #   - a 600-frame headless `run` of a 1M-particle dam break rendered at 1920x1080.
 # `--quick` runs the same steps on whatever device there is (the software one here) at small
 # sizes; the test suite runs it that way (tests/test_gpu_check.cpp), so the script cannot rot.
@@ -55,12 +55,14 @@ fi
 if ((quick)); then
   particles=4000; resolution=128x128; frames=6; limit=120
   sim_flags=(--sizes 4096 --steps 2 --repeats 1)
-  render_flags=(--particles "$particles" --resolution "$resolution" --quick --repeats 1)
+  render_flags=(--particles "$particles" --resolution "$resolution" --quick --repeats 1 --scene-dir "$root/assets/scenes")
   test_filter='NeighborGridTest.*:PrefixSum*'
 else
   particles=1000000; resolution=1920x1080; frames=600; limit=300
   sim_flags=(--sizes 1000000 --iterations 3 --repeats 2)
-  render_flags=(--particles "$particles" --resolution "$resolution" --quick --repeats 1)
+  # The calm frame, the droplet curtain and the violent dam break's wave on the far wall.
+  render_flags=(--particles "$particles" --resolution "$resolution" --quick --frames calm,curtain,violent_wall --repeats 1
+                --scene-dir "$root/assets/scenes")
   test_filter='NeighborGrid*:PrefixSum*:Pbf*:Physics*:Surface*:Metaball*:ScreenSpace*:Anisotropy*:Raster*:ControlForce*'
 fi
 

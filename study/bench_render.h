@@ -14,6 +14,7 @@
 #include "gpu/context.h"
 #include "render/image_metrics.h"
 #include "render/surface_settings.h"
+#include "render/svg_chart.h"
 #include "study/render_measure.h"
 
 namespace aquaform::study {
@@ -52,10 +53,30 @@ struct Verdict {
     std::string line;
 };
 
-/// Mask + skip evaluations per ray against uniform's (target <= 40 % at equal or lower depth error).
-Verdict evals_target(const std::vector<Measured>& results);
+/// Mask + skip march steps per ray against uniform's (target <= 50 % at equal or lower depth
+/// error: Wu et al. section 5 report about 50 %). Steps are the march's density evaluations;
+/// the bisection that follows a hit is the same for both and is reported beside them.
+Verdict steps_target(const std::vector<Measured>& results);
 /// Adaptive resolution: march + upsample against the full-resolution march, PSNR against it.
 Verdict resolution_target(const std::vector<Measured>& results);
+/// The mask weights (a, b) of eq. 5 that `bench render --mask-sweep` measures: b <= a <= 1,
+/// from the exact bound (1, 1) down to where lone droplets lose their cells (a^3 or a^2 b
+/// below the marking threshold, 0.72 counts at the default iso).
+std::vector<std::pair<float, float>> mask_sweep_weights();
+
+/// One sweep point: mask + skip at weights (a, b) on one frame, against the reference.
+struct SweepPoint {
+    std::string frame;
+    float a = 1.0f, b = 1.0f;
+    double steps_per_ray = 0.0;
+    double uniform_steps_per_ray = 0.0;
+    SurfaceComparison cmp;
+};
+/// The sweep's charts: march steps per ray (as a fraction of uniform's on the same frame)
+/// against the mean depth error, and against the coverage mismatch; a series per frame.
+Chart mask_sweep_depth_chart(const std::vector<SweepPoint>& points);
+Chart mask_sweep_coverage_chart(const std::vector<SweepPoint>& points);
+
 /// Real time on a GPU: the adaptive reconstruction of 1M particles at 1920x1080 within 10 ms.
 /// `requested`: --particles (the lattice holds a little fewer: 986,078 for 1,000,000).
 Verdict gpu_target(const std::vector<Measured>& results, const gpu::DeviceInfo& device, long requested, uint32_t particles,

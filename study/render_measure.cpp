@@ -66,9 +66,14 @@ RenderMeasurement measure_render(gpu::Context& ctx, Renderer& renderer, const gp
     return best;
 }
 
-double evals_per_ray(const RenderMeasurement& m) {
-    return m.stats.rays ? double(m.stats.evaluations) / double(m.stats.rays) : 0.0;
-}
+namespace {
+double per_ray(const RenderMeasurement& m, uint64_t count) { return m.stats.rays ? double(count) / double(m.stats.rays) : 0.0; }
+}  // namespace
+
+double evals_per_ray(const RenderMeasurement& m) { return per_ray(m, m.stats.evaluations); }
+double steps_per_ray(const RenderMeasurement& m) { return per_ray(m, m.stats.march_steps); }
+double bisection_per_ray(const RenderMeasurement& m) { return per_ray(m, m.stats.bisection_evaluations); }
+double leaps_per_ray(const RenderMeasurement& m) { return per_ray(m, m.stats.mask_leaps); }
 
 nlohmann::json render_record(const std::string& label, const RenderMeasurement& m, const SurfaceComparison* cmp) {
     nlohmann::json r;
@@ -88,6 +93,11 @@ nlohmann::json render_record(const std::string& label, const RenderMeasurement& 
     r["ms_per_pass"] = m.ms_per_pass;
     r["rays"] = m.stats.rays;
     r["evals_per_ray"] = evals_per_ray(m);
+    if (m.settings.get<SurfaceSettings>()) {
+        r["steps_per_ray"] = steps_per_ray(m);
+        r["bisection_per_ray"] = bisection_per_ray(m);
+        r["mask_leaps_per_ray"] = leaps_per_ray(m);
+    }
     if (cmp) {
         r["depth_err_mean"] = cmp->depth_err_mean;
         r["depth_err_p95"] = cmp->depth_err_p95;
@@ -100,20 +110,21 @@ nlohmann::json render_record(const std::string& label, const RenderMeasurement& 
 }
 
 void print_render_header() {
-    std::printf("%-22s %9s %8s %9s %10s %10s %9s %8s\n", "method", "ms", "rays", "evals/ray", "depth err",
-                "normal err", "coverage", "PSNR");
-    std::printf("%-22s %9s %8s %9s %10s %10s %9s %8s\n", "", "", "", "", "[radii]", "[deg]", "mismatch", "[dB]");
+    std::printf("%-22s %9s %8s %7s %7s %7s %10s %10s %9s %8s\n", "method", "ms", "rays", "steps", "bisect", "evals",
+                "depth err", "normal err", "coverage", "PSNR");
+    std::printf("%-22s %9s %8s %7s %7s %7s %10s %10s %9s %8s\n", "", "", "", "/ray", "/ray", "/ray", "[radii]", "[deg]",
+                "mismatch", "[dB]");
 }
 
 void print_render_row(const std::string& label, const RenderMeasurement& m, const SurfaceComparison* cmp) {
-    const double per_ray = evals_per_ray(m);
     const unsigned long long rays = m.stats.rays;
+    std::printf("%-22s %9.1f %8llu %7.2f %7.2f %7.2f", label.c_str(), m.ms_total, rays, steps_per_ray(m),
+                bisection_per_ray(m), evals_per_ray(m));
     if (cmp)
-        std::printf("%-22s %9.1f %8llu %9.1f %10.3f %10.2f %8.2f%% %8.1f\n", label.c_str(), m.ms_total, rays, per_ray,
-                    cmp->depth_err_mean, cmp->normal_err_deg_mean, 100.0 * cmp->coverage_mismatch, cmp->psnr_db);
+        std::printf(" %10.3f %10.2f %8.2f%% %8.1f\n", cmp->depth_err_mean, cmp->normal_err_deg_mean,
+                    100.0 * cmp->coverage_mismatch, cmp->psnr_db);
     else
-        std::printf("%-22s %9.1f %8llu %9.1f %10s %10s %9s %8s\n", label.c_str(), m.ms_total, rays, per_ray, "-", "-",
-                    "-", "-");
+        std::printf(" %10s %10s %9s %8s\n", "-", "-", "-", "-");
 }
 
 }  // namespace aquaform::study

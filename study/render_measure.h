@@ -49,6 +49,11 @@ RenderMeasurement measure_render(gpu::Context& ctx, Renderer& renderer, const gp
 /// Mean density (or field) evaluations per ray cast: RenderStats::evaluations over its rays
 /// (the surface renderer's ray list); 0 when no ray was cast.
 double evals_per_ray(const RenderMeasurement& m);
+/// The SPH surface methods' split of evals_per_ray: march steps (Wu et al.'s count) and
+/// bisection evaluations per ray, and mask leaps per ray; 0 for the other families.
+double steps_per_ray(const RenderMeasurement& m);
+double bisection_per_ray(const RenderMeasurement& m);
+double leaps_per_ray(const RenderMeasurement& m);
 
 /// The record of one method: the fields bench_render.json and render.json share (the SPH
 /// surface methods also name their mechanisms).

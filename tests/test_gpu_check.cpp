@@ -45,7 +45,8 @@ TEST(GpuCheck, QuickRunWritesEveryStepAndFigureIntoOneJson) {
     EXPECT_GT(sim[0].at("particles").get<double>(), 1000.0);
     EXPECT_GT(sim[0].at("ms_per_step").get<double>(), 0.0);
 
-    const auto& render = j.at("bench_render").at("records");
+    ASSERT_FALSE(j.at("bench_render").at("frames").empty());
+    const auto& render = j.at("bench_render").at("frames")[0].at("records");
     ASSERT_FALSE(render.empty());
     bool adaptive = false;
     for (const auto& r : render) adaptive |= r.at("label") == "adaptive" && r.at("ms_total").get<double>() > 0.0;

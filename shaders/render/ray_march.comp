@@ -12,7 +12,11 @@
 //   - The first sample with phi >= sigma is refined by bisection against the previous sample.
 //   - Normals: the object-space normal -grad phi (eq. 11); adaptive blends it with the
 //     screen-space normal (eqs. 12-16); uniform uses Xiao's eqs. 2-6 (filtered afterwards).
-// hit = (x, t) or w = -1 on a miss; normal = (n, density evaluations of this ray).
+//   - The first sample lies one step past the entry: the entry is the front of the nearest
+//     sphere of radius r along the ray (D_all's sprites), so every particle is at least r from
+//     it and the field there is exactly zero; evaluating it would only spend a step.
+// hit = (x, t) or w = -1 on a miss; normal = (n, density evaluations of this ray);
+// ray_counts and blend_weights: see RAY_COUNT_BISECTION_BITS in shared/surface_layout.h.
 #include "shared/grid_layout.h"
 #include "shared/render_kernels.h"
 #include "shared/sph_kernels.h"
@@ -43,7 +47,10 @@ layout(std430, binding = 12) writeonly buffer Normal { vec4 normal[]; };
 layout(std430, binding = 13) buffer MarchCut { uint march_cut[]; };
 layout(std430, binding = 14) writeonly buffer ResumeRays { uint resume_rays[]; };
 layout(std430, binding = 15) buffer ResumeCount { uint resume_count[]; };
-layout(std430, binding = 16) buffer ResumeState { vec4 resume_state[]; };  // t, t_prev, evals, skipped
+// t, t_prev, evals, mask leaps (negative: -(leaps + 1) once the ray has taken its skip)
+layout(std430, binding = 16) buffer ResumeState { vec4 resume_state[]; };
+layout(std430, binding = 17) writeonly buffer RayCounts { uvec2 ray_counts[]; };
+layout(std430, binding = 18) writeonly buffer BlendWeights { vec2 blend_weights[]; };
 layout(push_constant) uniform Push { SurfacePassPush pc; };
 
 #define SURFACE_FIELD
@@ -109,6 +116,10 @@ vec3 xiao_normal(vec3 x, vec3 fallback) {
     return dot(n, n) > 0.0 ? normalize(n) : basic;
 }
 
+void save_state(uint index, float t, float t_prev, uint evals, uint leaps, bool skipped) {
+    resume_state[index] = vec4(t, t_prev, float(evals), skipped ? -float(leaps) - 1.0 : float(leaps));
+}
+
 void main() {
     uint ray = pc.first + gl_GlobalInvocationID.x * max(pc.stride, 1u);
     if (ray >= ray_count[0]) return;
@@ -134,6 +145,9 @@ void main() {
         t_entry = depth_to_t(uintBitsToFloat(bits), dir);
         t = max(t, t_entry);
     }
+    float t_prev = t;
+    // The field is zero at the entry (see the top): start one step on, bracketed by it.
+    if (!reference && t == t_entry) t += params.step;
     bool use_mask = (params.flags & SURFACE_USE_MASK) != 0u;
     bool use_skip = (params.flags & SURFACE_USE_SKIP) != 0u;
     float t_agg = -1.0;
@@ -141,22 +155,23 @@ void main() {
 
     float nudge = 1.0e-4 * params.grid_origin_cell.w;
     uint evals = 0u;
+    uint leaps = 0u;
     bool skipped = false;
     bool found = false;
-    float t_prev = t;
     if (pc.axis != 0u) {  // a resumed ray continues where the device cut it
         vec4 state = resume_state[index];
         t = state.x;
         t_prev = state.y;
         evals = uint(state.z);
-        skipped = state.w > 0.0;
+        skipped = state.w < 0.0;
+        leaps = uint(skipped ? -state.w - 1.0 : state.w);
     }
     // Each mask step leaves at least one cell, so a ray takes at most this many of them.
     uint mask_steps_left = 2u * (params.grid_dims.x + params.grid_dims.y + params.grid_dims.z) + 8u;
     const uint yield_at = pc.axis == 2u || pc.evals_per_pass == 0u ? 0xffffffffu : evals + pc.evals_per_pass;
     while (t <= t_end && evals < params.max_steps) {
         if (evals >= yield_at) {  // a long ray: hand over to the next pass
-            resume_state[index] = vec4(t, t_prev, float(evals), skipped ? 1.0 : 0.0);
+            save_state(index, t, t_prev, evals, leaps, skipped);
             resume_rays[atomicAdd(resume_count[0], 1u)] = packed;
             return;
         }
@@ -173,6 +188,7 @@ void main() {
             float exit_t = mask_exit(p, eye, inv_dir);
             if (exit_t >= 0.0) {
                 --mask_steps_left;
+                ++leaps;
                 t = max(exit_t, t) + nudge;
                 t_prev = t;
                 continue;
@@ -191,15 +207,18 @@ void main() {
             if (pc.axis == 2u || pc.evals_per_pass == 0u) {  // no pass follows: count it
                 atomicAdd(march_cut[0], 1u);
             } else {
-                resume_state[index] = vec4(t, t_prev, float(evals), skipped ? 1.0 : 0.0);
+                save_state(index, t, t_prev, evals, leaps, skipped);
                 resume_rays[atomicAdd(resume_count[0], 1u)] = packed;
                 return;
             }
         }
         hit[index] = vec4(0.0, 0.0, 0.0, -1.0);
         normal[index] = vec4(0.0, 0.0, 0.0, float(evals));
+        ray_counts[index] = uvec2(evals, leaps << RAY_COUNT_BISECTION_BITS);
+        blend_weights[index] = vec2(-1.0);
         return;
     }
+    uint march_evals = evals;
     float lo = t_prev;
     float hi = t;
     uint refined = 0u;
@@ -214,6 +233,7 @@ void main() {
     vec3 x = eye + dir * t_hit;
     vec3 grad = field_gradient(x);
     vec3 n = dot(grad, grad) > 0.0 ? -normalize(grad) : -dir;
+    vec2 weights = vec2(-1.0);
     if ((params.flags & SURFACE_XIAO_NORMALS) != 0u) {
         n = xiao_normal(x, n);
     } else if ((params.flags & SURFACE_BLEND_NORMALS) != 0u) {
@@ -221,11 +241,14 @@ void main() {
         if (dot(screen, screen) > 0.0) {
             // Eq. 16 with d = the particle's diameter: R is the particle's size on screen [px].
             float size_px = params.pixel_scale * 2.0 * params.particle_radius / max(dot(x - eye, params.forward.xyz), 1.0e-6);
-            float w = min(params.blend_a * (t_hit - t_entry) * exp(params.blend_b * size_px), 1.0);
+            weights = vec2(params.blend_a * (t_hit - t_entry), exp(params.blend_b * size_px));
+            float w = min(weights.x * weights.y, 1.0);
             vec3 blended = w * n + (1.0 - w) * screen;
             n = dot(blended, blended) > 0.0 ? normalize(blended) : n;
         }
     }
     hit[index] = vec4(x, t_hit);
     normal[index] = vec4(n, float(evals));
+    ray_counts[index] = uvec2(march_evals, (evals - march_evals) | (leaps << RAY_COUNT_BISECTION_BITS));
+    blend_weights[index] = weights;
 }

@@ -58,6 +58,15 @@
 // the limit march every ray to its end in one pass (SurfacePassPush.evals_per_pass = 0).
 #define RAY_MARCH_EVALS_PER_PASS 256u
 
+// Per-pixel counters of the march (render.ray_counts, uvec2), so that the two parts of a ray's
+// cost are seen apart: x = march evaluations, the density evaluations of the stepping loop (Wu et
+// al.'s "steps": Algorithm 1 evaluates the density once per step); y = bisection evaluations
+// (bits 0-7) and mask leaps (bits 8-31: jumps over cells the binary density grid marks empty,
+// which cost a grid lookup and no evaluation). Pixels filled by interpolation count 0.
+#define RAY_COUNT_BISECTION_BITS 8u
+// Per-pixel blend weights of the normals (render.blend_weights, vec2): (w1, w2) of Wu et al.
+// eqs. 12-13 where the adaptive method blended; (-1, -1) elsewhere.
+
 AF_BEGIN
 
 struct SurfaceParams {

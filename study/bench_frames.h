@@ -1,0 +1,47 @@
+// The frames `aquaform bench render` draws: each chosen to exercise one part of the adaptive
+// ray marcher of Wu et al. (a calm frame for the baseline, a constructed curtain of droplets for
+// the mask and the skip, and the splashy frames of the paper scenes), so that the benchmark
+// measures the method where it is meant to matter and where it is not.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "sim/scene.h"
+
+namespace aquaform::study {
+
+struct BenchFrame {
+    const char* name;
+    /// A scene file under the scene directory, or nullptr for bench_scene()'s dam break.
+    const char* scene_file;
+    /// Simulated time [s]; negative: the bench dam break's half-tank frame (bench_half_tank_frame).
+    double time_s;
+    const char* what;
+};
+
+/// Every frame, in the table's order, and the ones --quick draws.
+const std::vector<BenchFrame>& bench_frames();
+const std::vector<std::string>& quick_bench_frames();
+/// "calm, curtain, ...": what --frames accepts.
+std::string known_frame_names();
+/// --frames a,b,c in the table's order.
+Result<std::vector<const BenchFrame*>> parse_bench_frames(const std::string& text);
+
+/// The frame's scene with about `particles` particles (a scene file is scaled to it; nullopt:
+/// the file's own count; the calm dam break is made at `particles` or 32,768). `scene_dir`
+/// holds the scene files (assets/scenes/ of the source tree by default).
+Result<Scene> bench_frame_scene(const BenchFrame& frame, std::optional<uint64_t> particles,
+                                const std::filesystem::path& scene_dir);
+/// Where the shipped scene files are: assets/scenes under the working directory, else beside
+/// the binary's source tree (the binary in build/: ../assets/scenes); the first that exists.
+std::filesystem::path default_scene_dir();
+
+/// The solver frame to draw: the frame's time in the scene's frames.
+uint32_t bench_frame_index(const BenchFrame& frame, const Scene& scene);
+
+}  // namespace aquaform::study
