@@ -69,7 +69,8 @@ int cmd_study(const std::vector<std::string>& argv) {
     }
     if (!map_records.empty()) check(study::write_solver_map_csv(out_dir / "solver_map.csv", map_records));
     const std::vector<std::string> targets = study::study_targets(rows);
-    check(study::write_study_markdown(out_dir / "study.md", spec.value(), rows, targets));
+    check(study::write_study_markdown(out_dir / "study.md", spec.value(), rows, targets,
+                                      ctx.info().name + " (" + gpu::device_type_name(ctx.info().type) + ")"));
     size_t failed = 0;
     for (const auto& r : rows) failed += r.status.rfind("failed", 0) == 0;
     std::printf("\n%zu measurements, %zu failed; tables in %s\n", rows.size(), failed, (out_dir / "study.md").string().c_str());

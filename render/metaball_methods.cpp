@@ -14,6 +14,8 @@ public:
         RenderStats s;
         s.rays = uint64_t(impl_.width()) * impl_.height();
         s.evaluations = m.field_evaluations;
+        s.list_entries = m.list_entries;
+        s.particle_visits = m.kernel_evaluations;
         s.cut = m.cut_pixels;
         s.cut_unit = "pixels";
         s.list_overflow = m.overflow;

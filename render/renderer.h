@@ -60,6 +60,8 @@ struct RenderStats {
     uint64_t mask_leaps = 0;     ///< jumps over empty cells of the binary density grid (a lookup each)
     uint64_t cut = 0;            ///< rays or pixels whose loops the device ended early (cut_unit)
     const char* cut_unit = "rays";
+    uint64_t list_entries = 0;   ///< entries the per-pixel lists needed (A-/S-buffer metaballs)
+    uint64_t particle_visits = 0;  ///< particles visited by every field evaluation (metaballs; not counted for SPH)
     bool list_overflow = false;  ///< per-pixel lists needed more than their memory (metaballs)
     uint64_t list_bytes_needed = 0;
     uint64_t dropped_particles = 0;  ///< particles at the eye plane left out of every list

@@ -29,6 +29,12 @@ Image evals_view(const SurfaceFrame& frame, float max_evals) {
     return heat_map(evals, frame.width, frame.height, max_evals, &frame.color);
 }
 
+Image steps_view(const SurfaceFrame& frame, const std::vector<uint32_t>& march_steps, float max_steps) {
+    if (march_steps.size() != frame.normal.size()) throw Failure("steps view: one step count per pixel expected");
+    return heat_map(std::vector<float>(march_steps.begin(), march_steps.end()), frame.width, frame.height, max_steps,
+                    &frame.color);
+}
+
 Image classification_view(const Image& image, const std::vector<uint32_t>& front_classes) {
     if (front_classes.size() != size_t(image.width) * image.height)
         throw Failure("classification view: one class per pixel expected");

@@ -12,6 +12,9 @@ namespace aquaform {
 /// Heat map of the density evaluations each ray spent, over the dimmed image; full scale at
 /// `max_evals` (interpolated pixels show as no ray).
 Image evals_view(const SurfaceFrame& frame, float max_evals);
+/// Heat map of the march steps each ray took (Wu et al. Fig. 5: density evaluations of the
+/// stepping, no bisection), over the dimmed image; full scale at `max_steps`.
+Image steps_view(const SurfaceFrame& frame, const std::vector<uint32_t>& march_steps, float max_steps);
 
 /// The image with the particle in front at each pixel tinted: splashes yellow, aggregates green.
 /// `front_classes`: per pixel 0 (none), 1 (splash), 2 (aggregate).

@@ -25,10 +25,7 @@ const BenchFrame kFrames[] = {
     {"crown", "crown_splash.json", 0.25, "Wu et al. Fig. 10d: the crown of a ball thrown into a pool"},
 };
 
-/// A scene of one bulk block and lone droplets (blocks that hold one particle: the curtain)
-/// scaled to about `particles`: the bulk block takes the new spacing and each droplet stays a
-/// single particle at its centre (scaled like the bulk, a droplet smaller than the new spacing
-/// would vanish, and one larger would become a clump).
+/// scaled_scene for a scene of one bulk block and lone droplets.
 Result<Scene> with_lone_droplets_scaled(const Scene& scene, uint64_t particles) {
     Scene bulk = scene;
     bulk.fluid_blocks.resize(1);
@@ -103,8 +100,12 @@ Result<Scene> bench_frame_scene(const BenchFrame& frame, std::optional<uint64_t>
     if (!scene)
         return Error{scene.error() + " (frame '" + frame.name + "' needs it; give the directory of the shipped scenes with --scene-dir)"};
     if (!particles) return scene;
-    if (holds_lone_droplets(scene.value())) return with_lone_droplets_scaled(scene.value(), *particles);
-    return with_particle_count(scene.value(), *particles);
+    return scaled_scene(scene.value(), *particles);
+}
+
+Result<Scene> scaled_scene(const Scene& scene, uint64_t particles) {
+    if (holds_lone_droplets(scene)) return with_lone_droplets_scaled(scene, particles);
+    return with_particle_count(scene, particles);
 }
 
 std::filesystem::path default_scene_dir() {

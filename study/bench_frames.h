@@ -32,6 +32,12 @@ std::string known_frame_names();
 /// --frames a,b,c in the table's order.
 Result<std::vector<const BenchFrame*>> parse_bench_frames(const std::string& text);
 
+/// `scene` with about `particles` particles, its sizes in metres kept (with_particle_count); a
+/// scene of one bulk block and lone droplets (blocks that hold one particle, like the curtain)
+/// keeps each droplet a single particle at its centre: scaled like the bulk it would vanish at a
+/// coarser spacing, or become a clump at a finer one.
+Result<Scene> scaled_scene(const Scene& scene, uint64_t particles);
+
 /// The frame's scene with about `particles` particles (a scene file is scaled to it; nullopt:
 /// the file's own count; the calm dam break is made at `particles` or 32,768). `scene_dir`
 /// holds the scene files (assets/scenes/ of the source tree by default).

@@ -7,6 +7,7 @@
 #include "core/progress.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
+#include "render/surface_renderer.h"
 #include "render/surface_settings.h"
 
 namespace aquaform::study {
@@ -63,6 +64,12 @@ RenderMeasurement measure_render(gpu::Context& ctx, Renderer& renderer, const gp
     best.ms_per_pass = times.ms_per_pass;
     best.frame = renderer.read_frame();
     best.stats = renderer.stats();
+    if (SurfaceRenderer* surface = concrete_of<SurfaceRenderer>(renderer)) {
+        const std::vector<RayCounts> counts = surface->ray_counts();
+        best.march_steps.reserve(counts.size());
+        for (const RayCounts& c : counts) best.march_steps.push_back(c.march);
+    }
+    for (const gpu::BufferReport& b : renderer.memory_report()) best.memory_bytes += b.bytes;
     return best;
 }
 

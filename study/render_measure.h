@@ -38,6 +38,8 @@ struct RenderMeasurement {
     std::map<std::string, double> ms_per_pass;
     double ms_total = 0.0;
     RenderStats stats;  ///< the counters of the last frame: rays, evaluations, cut rays, lists
+    std::vector<uint32_t> march_steps;  ///< per pixel, the SPH surface methods only (Wu et al. Fig. 5)
+    uint64_t memory_bytes = 0;          ///< the renderer's GPU memory
 };
 
 /// Configures `renderer` with `settings` (of its family), renders `repeats` times (the first run

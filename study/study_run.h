@@ -34,6 +34,15 @@ struct StudyRow {
     double overflow_mib = 0.0;  ///< list memory the frame needed, when the lists overflowed
     std::string status = "ok";  ///< ok, overflow, or "failed: why"
     std::string image;          ///< the shaded frame, relative to the output directory
+    std::string steps_image;    ///< SPH methods: march steps per pixel (Wu et al. Fig. 5)
+    // What the frame cost, counted rather than timed: the same on every device.
+    uint64_t rays = 0;
+    std::optional<double> steps_per_ray, bisection_per_ray;  ///< SPH methods (render/renderer.h)
+    double evals_per_ray = 0.0;        ///< density or field evaluations per ray
+    std::optional<double> leaps_per_ray;  ///< SPH methods with the mask: empty cells leapt per ray
+    std::optional<double> list_entries_per_pixel, list_bytes_per_pixel;  ///< A-/S-buffer metaballs
+    std::optional<double> particle_visits_per_pixel;  ///< metaballs
+    double memory_bytes_per_pixel = 0.0;  ///< the renderer's GPU memory over the pixels
 };
 
 /// The camera of a case: the front view of the domain, twice as far ("far"), or "closeup": the
@@ -48,8 +57,10 @@ std::vector<StudyRow> run_study_cases(gpu::Context& ctx, const StudySpec& spec, 
 Result<bool> write_study_csv(const std::filesystem::path& dir, const std::vector<StudyRow>& rows);
 /// study.md: a table per case, the papers' table shapes (Karpati Table 1 as frames per second,
 /// Wu Table 1 as time and error per resolution, Wu Table 2 as time per pass), and the targets.
+/// `device`: the name of the device the times come from (study.md says which conclusions depend on it).
 Result<bool> write_study_markdown(const std::filesystem::path& path, const StudySpec& spec,
-                                  const std::vector<StudyRow>& rows, const std::vector<std::string>& target_lines);
+                                  const std::vector<StudyRow>& rows, const std::vector<std::string>& target_lines,
+                                  const std::string& device = "");
 /// The targets, evaluated on whatever rows the spec produced (a line each; "not measured"
 /// when the spec lacks the rows a target needs).
 std::vector<std::string> study_targets(const std::vector<StudyRow>& rows);

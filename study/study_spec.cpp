@@ -8,8 +8,10 @@
 #include <string_view>
 
 #include "core/json_fields.h"
+#include "study/bench_frames.h"
 #include "sim/scene.h"
 #include "render/registry.h"
+#include "render/surface_settings.h"
 
 namespace aquaform::study {
 
@@ -21,7 +23,8 @@ namespace fs = std::filesystem;
 constexpr std::array<std::string_view, 4> kTopKeys{"name", "repeats", "cases", "solver_map"};
 constexpr std::array<std::string_view, 9> kCaseKeys{"name", "scene", "particles", "time", "camera",
                                                     "resolutions", "methods", "note", "list_bytes_per_pixel"};
-constexpr std::array<std::string_view, 6> kMethodKeys{"method", "visual", "size", "recursion", "bisection", "resolution"};
+constexpr std::array<std::string_view, 7> kMethodKeys{"method",    "visual",     "size",    "recursion",
+                                                      "bisection", "resolution", "stepping"};
 constexpr std::array<std::string_view, 5> kMapKeys{"scene", "dt", "iterations", "control_pressure", "time"};
 
 StudyFamily family_of(const MethodEntry& entry) {
@@ -72,6 +75,15 @@ MethodSettings settings_of(const StudyMethod& sm, uint32_t list_bytes_per_pixel,
         object["list_bytes_per_pixel"] = list_bytes_per_pixel;
     auto settings = render_registry().from_json(sm.method, object, where);
     if (!settings) fail(settings.error());
+    // Wu et al. Fig. 5's configurations: the binary density grid alone (section 4.1), or with
+    // the skip to D_agg (4.2); a ray per pixel, so that every pixel has its own step count.
+    if (sm.stepping != "all") {
+        SurfaceSettings* s = settings.value().get<SurfaceSettings>();
+        if (!s) fail(where + ".stepping applies to the adaptive method only");
+        s->use_mask = true;
+        s->use_skip = sm.stepping == "mask_skip";
+        s->adaptive_resolution = false;
+    }
     return settings.value();
 }
 
@@ -92,8 +104,12 @@ std::vector<StudyMethod> read_methods(const json& v, const std::string& path, ui
         for (const char* key : {"visual", "size", "recursion", "bisection"})
             if (m.contains(key) && !entry->setting_by_spec_key(key))
                 fail(child(where, key) + " applies to " + methods_with_key(key) + " only, not " + name);
-        if (m.contains("resolution") && name != "adaptive")
-            fail(child(where, "resolution") + " applies to the adaptive method only, not " + name);
+        for (const char* key : {"resolution", "stepping"})
+            if (m.contains(key) && name != "adaptive")
+                fail(child(where, key) + " applies to the adaptive method only, not " + name);
+        if (m.contains("stepping") && m.contains("resolution"))
+            fail(child(where, "stepping") + " draws a ray per pixel (full resolution); drop \"resolution\" or give the "
+                 "stepping configurations a method entry of their own");
         auto strings = [&](const char* key, std::vector<std::string> fallback, std::set<std::string> allowed) {
             if (!m.contains(key)) return fallback;
             auto list = read_list<std::string>(m[key], child(where, key), [&](const json& x, const std::string& p) {
@@ -120,11 +136,13 @@ std::vector<StudyMethod> read_methods(const json& v, const std::string& path, ui
         const auto recursions = integers("recursion", 1, 1, 4);
         const auto bisections = integers("bisection", 3, 0, 32);
         const auto resolutions = strings("resolution", {"adaptive"}, {"full", "half", "quarter", "adaptive"});
+        const auto steppings = strings("stepping", {"all"}, {"all", "mask", "mask_skip"});
         for (const auto& visual : visuals)
             for (float size : sizes)
                 for (uint32_t recursion : recursions)
                     for (uint32_t bisection : bisections)
-                        for (const auto& resolution : resolutions) {
+                        for (const auto& resolution : resolutions)
+                        for (const auto& stepping : steppings) {
                             StudyMethod sm;
                             sm.method = name;
                             sm.family = family_of(*entry);
@@ -133,6 +151,7 @@ std::vector<StudyMethod> read_methods(const json& v, const std::string& path, ui
                             sm.recursion = visual == "real" ? recursion : 1;
                             sm.bisection = bisection;
                             sm.resolution = resolution;
+                            sm.stepping = stepping;
                             bool seen = false;
                             for (const auto& o : out) seen = seen || o.label() == sm.label();
                             if (seen) continue;
@@ -174,8 +193,6 @@ StudyCase read_case(const json& v, const std::string& path, const fs::path& base
         }
     }
     if (v.contains("particles")) {
-        if (c.scene != "dam_break")
-            fail(child(path, "particles") + " sizes the generated dam break only; a scene file brings its own particles");
         c.particles = read_list<uint32_t>(v["particles"], child(path, "particles"), [](const json& x, const std::string& p) {
             return read_integer(x, p, 64, 64u << 20);
         });
@@ -233,6 +250,8 @@ std::string StudyMethod::label() const {
         text << " b" << bisection;
     }
     if (method == "adaptive" && resolution != "adaptive") text << " " << resolution;
+    if (stepping == "mask") text << " mask";
+    if (stepping == "mask_skip") text << " mask+skip";
     return text.str();
 }
 
@@ -281,9 +300,9 @@ Result<bool> set_particle_count(StudySpec& spec, uint64_t particles) {
         }
         auto loaded = load_scene(c.scene);
         if (!loaded) return Error{loaded.error()};
-        auto sized = with_particle_count(loaded.value(), particles);
+        auto sized = scaled_scene(loaded.value(), particles);
         if (!sized) return Error{"case " + c.name + ": " + sized.error()};
-        c.scene_particles = particles;
+        c.particles = {uint32_t(particles)};
     }
     return true;
 }

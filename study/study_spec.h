@@ -6,7 +6,7 @@
 // { "name": "default", "repeats": 2,
 //   "cases": [{ "name": "karpati_table1",
 //               "scene": "dam_break" | "path/relative/to/the/spec.json",
-//               "particles": [2000, 4000],        // generated dam breaks only
+//               "particles": [2000, 4000],        // a scene file is scaled to each (default: its own)
 //               "time": "half_tank" | 0.25,       // simulated seconds; half_tank: the front at mid-tank
 //               "camera": "front" | "far" | "closeup" | {"eye": [..], "target": [..], "fov": 40},
 //               "resolutions": ["512x512"],
@@ -14,6 +14,7 @@
 //               "methods": [{"method": "sbuffer", "visual": "real", "size": [1, 2], "recursion": [1, 2, 4],
 //                            "bisection": [3]},
 //                           {"method": "adaptive", "resolution": ["full", "half", "quarter", "adaptive"]},
+//                           {"method": "adaptive", "stepping": ["mask", "mask_skip"]},
 //                           {"method": "narrow_range"}] }],
 //   "solver_map": { "scene": "path.json", "dt": [0.002, 0.004], "iterations": [1, 2, 4],
 //                   "control_pressure": [..], "time": 0.5 } }   (or an array of such maps)
@@ -47,6 +48,9 @@ struct StudyMethod {
     uint32_t recursion = 1;             ///< metaballs, real visual
     uint32_t bisection = 3;             ///< metaballs
     std::string resolution = "adaptive";  ///< adaptive method: full, half, quarter or adaptive
+    /// Adaptive method, Wu et al. Fig. 5: "all" mechanisms (default), "mask" (the binary density
+    /// grid alone) or "mask_skip" (with the skip to D_agg); the last two at full resolution.
+    std::string stepping = "all";
     /// What the study renders with: the registry's settings of this configuration
     /// (Registry::from_json), with a fixed resolution as adaptive_resolution off and, for
     /// metaballs, the case's list memory.
@@ -66,8 +70,9 @@ struct StudyCamera {
 struct StudyCase {
     std::string name;
     std::string scene = "dam_break";        ///< "dam_break" or a scene file path (resolved)
-    std::vector<uint32_t> particles;        ///< dam breaks; empty for scene files
-    std::optional<uint64_t> scene_particles;  ///< a scene file scaled to about this many (study --particles)
+    /// Particle counts: the generated dam break's (default 4096), or a scene file scaled to each
+    /// (scaled_scene in study/bench_frames.h; empty: the file's own particles).
+    std::vector<uint32_t> particles;
     std::optional<double> time_s;           ///< empty: half_tank
     StudyCamera camera;
     std::vector<std::pair<uint32_t, uint32_t>> resolutions;

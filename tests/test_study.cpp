@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -52,6 +53,43 @@ TEST(StudySpecTest, ArrayParametersExpandIntoConfigurations) {
     EXPECT_FALSE(c.methods[c.methods.size() - 2].settings.as<SurfaceSettings>().adaptive_resolution) << "full, too";
 }
 
+TEST(StudySpecTest, ShippedSpecsLoadWithTheirScenes) {
+    for (const char* name : {"default.json", "tiny.json"}) {
+        auto spec = study::load_study_spec(fs::path(AQUAFORM_ASSETS_DIR) / "studies" / name);
+        ASSERT_TRUE(spec.ok()) << name << ": " << spec.error();
+        EXPECT_GE(spec.value().cases.size(), 2u) << name;
+    }
+    // The default study measures on splashy frames and the curtain, with Wu et al. Fig. 5's stepping.
+    const auto spec = study::load_study_spec(fs::path(AQUAFORM_ASSETS_DIR) / "studies" / "default.json").value();
+    for (const char* name : {"calm", "curtain", "double_collision", "violent_wall", "crown"}) {
+        auto c = std::find_if(spec.cases.begin(), spec.cases.end(), [&](const study::StudyCase& x) { return x.name == name; });
+        ASSERT_NE(c, spec.cases.end()) << name;
+        bool mask_skip = false;
+        for (const auto& m : c->methods) mask_skip |= m.label() == "adaptive mask+skip";
+        EXPECT_TRUE(mask_skip) << name;
+    }
+}
+
+TEST(StudySpecTest, SteppingConfigurationsAreWuFigureFivesMechanisms) {
+    auto spec = parse(R"({"cases": [{"name": "a", "resolutions": ["64x64"],
+        "methods": [{"method": "adaptive", "stepping": ["all", "mask", "mask_skip"]}]}]})");
+    ASSERT_TRUE(spec.ok()) << spec.error();
+    const auto& m = spec.value().cases[0].methods;
+    ASSERT_EQ(m.size(), 3u);
+    EXPECT_EQ(m[0].label(), "adaptive");
+    EXPECT_EQ(m[1].label(), "adaptive mask");
+    EXPECT_EQ(m[2].label(), "adaptive mask+skip");
+    const SurfaceSettings& all = m[0].settings.as<SurfaceSettings>();
+    EXPECT_TRUE(all.use_mask && all.use_skip && all.adaptive_resolution);
+    const SurfaceSettings& mask = m[1].settings.as<SurfaceSettings>();
+    EXPECT_TRUE(mask.use_mask);
+    EXPECT_FALSE(mask.use_skip);
+    EXPECT_FALSE(mask.adaptive_resolution) << "a ray per pixel, so that every pixel has its step count";
+    const SurfaceSettings& mask_skip = m[2].settings.as<SurfaceSettings>();
+    EXPECT_TRUE(mask_skip.use_mask && mask_skip.use_skip);
+    EXPECT_FALSE(mask_skip.adaptive_resolution);
+}
+
 TEST(StudySpecTest, ErrorsNameTheKeyAndTheFix) {
     auto expect_error = [](const std::string& text, const std::vector<std::string>& parts) {
         auto spec = parse(text);
@@ -75,6 +113,13 @@ TEST(StudySpecTest, ErrorsNameTheKeyAndTheFix) {
                                {"name": "a", "resolutions": ["64x64"], "methods": [{"method": "brute"}]}]})",
                  {"used twice"});
     expect_error("{\"cases\": [", {"spec.json"});
+    expect_error(R"({"cases": [{"name": "a", "resolutions": ["64x64"], "methods": [{"method": "uniform", "stepping": "mask"}]}]})",
+                 {"stepping", "adaptive method only"});
+    expect_error(R"({"cases": [{"name": "a", "resolutions": ["64x64"], "methods": [{"method": "adaptive", "stepping": "skip"}]}]})",
+                 {"stepping", "mask_skip"});
+    expect_error(R"({"cases": [{"name": "a", "resolutions": ["64x64"],
+                                "methods": [{"method": "adaptive", "stepping": "mask", "resolution": "half"}]}]})",
+                 {"stepping", "full resolution"});
 }
 
 study::StudyRow row(const std::string& case_name, const std::string& method, uint32_t particles, double ms, double depth) {
@@ -89,20 +134,39 @@ study::StudyRow row(const std::string& case_name, const std::string& method, uin
 }
 
 TEST(StudyTargetsTest, ComparisonsStayWithinACaseAndTheCrossoverIsInterpolated) {
-    const std::string s = "sbuffer gradient x1 b3", b = "brute gradient x1 b3";
+    const std::string s = "sbuffer gradient x1 b3", s2 = "sbuffer gradient x2 b3", b = "brute gradient x1 b3";
     std::vector<study::StudyRow> rows{
         // A case with brute force only, and one with both: the ratio comes from the second.
         row("other", b, 4096, 1000.0, 0.1),
         row("k", b, 4096, 900.0, 0.1), row("k", s, 4096, 100.0, 0.1),
-        // The S-buffer is 2x faster at 10k, the adaptive method 2x faster at 1M: equal at 100k.
-        row("scaling", "adaptive", 10000, 200.0, 0.01), row("scaling", s, 10000, 100.0, 0.05),
-        row("scaling", "adaptive", 1000000, 200.0, 0.01), row("scaling", s, 1000000, 400.0, 0.05)};
+        // The S-buffer x2 is 2x faster at 10k, the adaptive method 2x faster at 1M: equal at 100k.
+        row("scaling", "adaptive", 10000, 200.0, 0.01), row("scaling", s2, 10000, 100.0, 0.05),
+        row("scaling", "adaptive", 1000000, 200.0, 0.01), row("scaling", s2, 1000000, 400.0, 0.05)};
+    // March steps: 40 % of uniform's at the same depth error in one case, 60 % in another.
+    for (const auto& [c, steps] : {std::pair{"curtain", 4.0}, std::pair{"calm", 6.0}}) {
+        rows.push_back(row(c, "uniform", 1000, 10.0, 0.02));
+        rows.back().steps_per_ray = 10.0;
+        rows.push_back(row(c, "adaptive mask+skip", 1000, 10.0, 0.02));
+        rows.back().steps_per_ray = steps;
+    }
+    // Adaptive resolution: march + upsample at half the full-resolution march.
+    rows.push_back(row("calm", "adaptive", 1000, 10.0, 0.02));
+    rows.back().ms_per_pass = {{"render_march", 4.0}, {"render_upsample", 1.0}};
+    rows.push_back(row("calm", "adaptive full", 1000, 10.0, 0.02));
+    rows.back().ms_per_pass = {{"render_march", 10.0}};
     const auto lines = study::study_targets(rows);
-    ASSERT_EQ(lines.size(), 3u);
+    ASSERT_EQ(lines.size(), 6u);
     EXPECT_NE(lines[0].find("9.0x at 4096 particles in k"), std::string::npos) << lines[0];
     EXPECT_NE(lines[0].find("MET"), std::string::npos) << lines[0];
     EXPECT_NE(lines[1].find("MISS"), std::string::npos) << lines[1];
     EXPECT_NE(lines[2].find("about 100000 particles"), std::string::npos) << lines[2];
+    EXPECT_NE(lines[3].find("in curtain"), std::string::npos) << lines[3];
+    EXPECT_NE(lines[3].find("40.0%"), std::string::npos) << lines[3];
+    EXPECT_NE(lines[3].find("MET"), std::string::npos) << lines[3];
+    EXPECT_NE(lines[4].find("in calm"), std::string::npos) << lines[4];
+    EXPECT_NE(lines[4].find("MISS"), std::string::npos) << lines[4];
+    EXPECT_NE(lines[5].find("0.50x"), std::string::npos) << lines[5];
+    EXPECT_NE(lines[5].find("MET"), std::string::npos) << lines[5];
 }
 
 TEST(StudyCameraTest, TheCloseUpBringsParticlesWithinAMetaballRangeOfTheEyePlane) {
@@ -173,7 +237,11 @@ TEST(StudyCliTest, TinySpecRunsEndToEndWithCsvTablesAndCharts) {
         return size_t(it - header.begin());
     };
     const size_t method = column("method"), status = column("status"), ms = column("ms_total"),
-                 depth = column("depth_err_mean"), overflow = column("overflow"), case_name = column("case");
+                 depth = column("depth_err_mean"), overflow = column("overflow"), case_name = column("case"),
+                 steps = column("steps_per_ray"), bisect = column("bisection_per_ray"), evals = column("evals_per_ray"),
+                 list_entries = column("list_entries_per_pixel"), memory = column("memory_bytes_per_pixel");
+    size_t sph_rows = 0;
+    std::map<std::string, double> curtain_steps;
     std::vector<std::string> methods_seen;
     bool overflow_seen = false;
     for (size_t i = 1; i < rows.size(); ++i) {
@@ -191,6 +259,21 @@ TEST(StudyCliTest, TinySpecRunsEndToEndWithCsvTablesAndCharts) {
         const bool cut = r[status].rfind("cut: ", 0) == 0 || r[status].rfind("reference cut: ", 0) == 0;
         EXPECT_TRUE(r[status] == "ok" || cut) << r[method] << ": " << r[status];
         methods_seen.push_back(r[method].substr(0, r[method].find(' ')));
+        // Counted costs: steps and bisection add up to the evaluations of the SPH methods; the
+        // list methods count their entries; every renderer has memory.
+        EXPECT_GT(std::stod(r[memory]), 0.0) << r[method];
+        const std::string family = methods_seen.back();
+        if (family == "reference" || family == "adaptive" || family == "uniform") {
+            ++sph_rows;
+            ASSERT_FALSE(r[steps].empty()) << r[method];
+            EXPECT_NEAR(std::stod(r[steps]) + std::stod(r[bisect]), std::stod(r[evals]), 1e-3 * std::stod(r[evals])) << r[method];
+            if (r[case_name] == "curtain") curtain_steps[r[method]] = std::stod(r[steps]);
+        } else {
+            EXPECT_TRUE(r[steps].empty()) << r[method];
+        }
+        if (family == "abuffer" || family == "sbuffer") {
+            EXPECT_GT(std::stod(r[list_entries]), 0.0) << r[method];
+        }
         if (r[method] != "reference") {
             ASSERT_FALSE(r[depth].empty()) << r[method] << " has no error against its reference";
             // Each method draws its field's surface to within a few particle radii.
@@ -203,11 +286,17 @@ TEST(StudyCliTest, TinySpecRunsEndToEndWithCsvTablesAndCharts) {
     EXPECT_GT(read_csv(out / "study_passes.csv").size(), 10u);
     size_t images = 0;
     for (const auto& entry : fs::directory_iterator(out / "images")) images += entry.path().extension() == ".png";
-    EXPECT_EQ(images, rows.size() - 1) << "a picture of every measurement";
+    EXPECT_EQ(images, rows.size() - 1 + sph_rows) << "a picture of every measurement, and the SPH methods' steps";
+    // Wu et al. Fig. 5 on the curtain: the mask saves steps, the skip more.
+    ASSERT_EQ(curtain_steps.size(), 4u);
+    EXPECT_LT(curtain_steps["adaptive mask"], curtain_steps["uniform"]);
+    EXPECT_LT(curtain_steps["adaptive mask+skip"], curtain_steps["adaptive mask"]);
     const auto map = read_csv(out / "solver_map.csv");
     ASSERT_EQ(map.size(), 3u) << "a header and two cells";
     const std::string md = test_cli::read_file(out / "study.md");
-    for (const char* part : {"Karpati Table 1", "Wu Table 2", "## Targets"}) EXPECT_NE(md.find(part), std::string::npos) << part;
+    for (const char* part : {"Karpati Table 1", "Wu Table 2", "## Targets", "Wu et al. Fig. 5 layout", "Cost, counted",
+                             "Which conclusions depend on the device", "_steps.png", "mask+skip steps/ray in curtain"})
+        EXPECT_NE(md.find(part), std::string::npos) << part;
     EXPECT_NE(md.find("overflow (needs"), std::string::npos);
     for (const char* chart : {"pareto", "time_vs_particles", "passes", "solver_map"})
         for (const char* ext : {".png", ".svg"}) {
