@@ -125,7 +125,7 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFr
                                          const std::vector<const study::BenchConfig*>& configs, const SurfaceSettings& base,
                                          uint32_t width, uint32_t height, uint32_t repeats, long requested_particles,
                                          bool mask_sweep) {
-    session::SimulationSession sim(ctx, session::plan_session(scene, std::nullopt), {.measure_shapes = false});
+    session::SimulationSession sim(ctx, session::plan_session(scene, std::nullopt), {.measure_shapes = false, .frame_grid = true});
     PbfSolver& solver = sim.solver();
     const uint32_t n = solver.particle_count();
     const double time_s = frame * double(scene.solver.frame_dt);
@@ -140,6 +140,7 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFr
     const MethodSettings reference_settings = study::reference_settings(base);
     const std::unique_ptr<Renderer> renderer =
         render_registry().create(ctx, scene.particle_domain(), width, height, n, reference_settings);
+    renderer->share_grid(sim.frame_grid());
     const ViewCamera camera = scene_camera(scene, float(width) / float(height));
     const size_t total = configs.size() + 1;
     std::fprintf(stderr, "bench render: %s: rendering reference (1/%zu, exhaustive: the slowest)\n", bench.name, total);

@@ -42,6 +42,7 @@ int render_other_family(gpu::Context& ctx, Renderer& renderer, PbfSolver& solver
     if (!args.has("--no-reference")) {
         auto reference = render_registry().create(ctx, solver.scene().particle_domain(), renderer.width(), renderer.height(), n,
                                                   render_registry().find("reference")->defaults);
+        reference->share_grid(solver.frame_grid() ? &solver.grid() : nullptr);
         const SurfaceFrame ref = reference->render(solver.positions(), n, camera);
         const float radius = 0.5f * solver.scene().particle_spacing;
         const SurfaceComparison cmp = compare_surfaces(ref, m.frame, radius);
@@ -120,7 +121,7 @@ int cmd_render(const std::vector<std::string>& argv) {
 
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});
     const std::optional<session::ControlSummary> summary = plan.value().control_summary();
-    session::SimulationSession sim(ctx, std::move(plan.value()), {.measure_shapes = false});
+    session::SimulationSession sim(ctx, std::move(plan.value()), {.measure_shapes = false, .frame_grid = true});
     PbfSolver& solver = sim.solver();
     if (summary) print_control_summary(*summary, "render");
     std::printf("%s: %u particles on %s; rendering frame %u at %ux%u with the %s method\n", scene.name.c_str(),
@@ -130,6 +131,7 @@ int cmd_render(const std::vector<std::string>& argv) {
 
     const ViewCamera camera = scene_camera(scene, float(width) / float(height));
     auto made = render_registry().create(ctx, scene.particle_domain(), width, height, solver.particle_count(), *method);
+    made->share_grid(sim.frame_grid());
     if (!settings)
         return exit_status(ctx, render_other_family(ctx, *made, solver, camera, *args, frame, out_dir));
     // The surface renderer's diagnostic views (tiles, classes) are its own: reached once, here.

@@ -101,6 +101,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     const std::optional<session::ControlSummary> summary = plan.value().control_summary();
     session::SessionOptions options;
     options.measure_droplets = true;  // stats.csv has the droplet count
+    options.frame_grid = true;        // the renderer reads the particles in place
     session::SimulationSession sim(ctx, std::move(plan.value()), options);
     const Scene& scene = sim.scene();
     PbfSolver& solver = sim.solver();
@@ -142,6 +143,7 @@ int cmd_run(const std::vector<std::string>& argv) {
             view->record(cmd, solver.positions(), solver.velocities(), solver.particle_count(), camera, style,
                          scene.domain, scene.static_boxes);
         if (surface) {
+            surface->share_grid(sim.frame_grid());
             surface->record(cmd, solver.positions(), solver.particle_count(), camera, nullptr);
             gpu::record_download(ctx, cmd, surface->color_buffer(), *color, color->size);
         }

@@ -23,6 +23,7 @@ namespace aquaform {
 namespace gpu {
 class GpuTimer;
 }  // namespace gpu
+class NeighborGrid;
 
 /// The settings of one method: its name and its family's settings struct (SurfaceSettings,
 /// MetaballSettings, ScreenSpaceSettings, ...), which the registry's descriptors read and write.
@@ -95,6 +96,11 @@ public:
     virtual const gpu::Buffer& color_buffer() const = 0;
     /// Counters of the last frame (reads them back).
     virtual RenderStats stats() = 0;
+    /// The positions given to record() are sorted by `grid`, a grid of those very positions (the
+    /// solver's frame grid): a family that searches neighbours on a grid of the same cells reads
+    /// the particles in place instead of building its own (SurfaceRenderer::share_grid); the
+    /// others ignore it. nullptr: no shared grid. It must outlive its use.
+    virtual void share_grid(const NeighborGrid* grid) = 0;
     virtual std::vector<gpu::BufferReport> memory_report() const = 0;
     virtual uint32_t width() const = 0;
     virtual uint32_t height() const = 0;
@@ -144,6 +150,9 @@ public:
         return impl_.render(positions, count, camera, typed(), timer);
     }
     SurfaceFrame read_frame() override { return impl_.read_frame(); }
+    void share_grid(const NeighborGrid* grid) override {
+        if constexpr (requires(Concrete& c) { c.share_grid(grid); }) impl_.share_grid(grid);
+    }
     const gpu::Buffer& color_buffer() const override { return impl_.color_buffer(); }
     std::vector<gpu::BufferReport> memory_report() const override { return impl_.memory_report(); }
     uint32_t width() const override { return impl_.width(); }

@@ -42,7 +42,6 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     const uint64_t tiles = uint64_t((width + SURFACE_TILE - 1) / SURFACE_TILE) * ((height + SURFACE_TILE - 1) / SURFACE_TILE);
     const uint64_t n = max_particles_;
     params_buf_ = &buffers_.add("render.params", sizeof(shader::SurfaceParams));
-    sorted_ = &buffers_.add("render.sorted", n * 16);
     shape_ = &buffers_.add("render.shape", n * 48);
     class_density_ = &buffers_.add("render.class_density", n * 4);
     aggregate_ = &buffers_.add("render.aggregate", n * 4);
@@ -87,40 +86,56 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     upsample_ = gpu::ComputePass(ctx, {"render/upsample.comp", 6});
     normal_filter_ = gpu::ComputePass(ctx, {"render/normal_filter.comp", 4, push});
     compose_ = gpu::ComputePass(ctx, {"render/compose.comp", 5});
+    // The default grid now, so that a scene whose grid cannot fit fails at construction.
     prepare_grid(render_radius(SurfaceSettings{}, domain));
 }
 
 SurfaceRenderer::~SurfaceRenderer() = default;
 
-// A new radius re-makes the grid, also inside a recording (its table is uploaded there); the old
-// grid's buffers are freed at once, so a frame with another radius than the one recorded before
-// it in the same submission must get a submission of its own.
+// A new radius re-makes the grid's geometry and the mask's buffers, also inside a recording
+// (the render grid's table is uploaded there); the old buffers are freed at once, so a frame
+// with another radius than the one recorded before it in the same submission must get a
+// submission of its own.
 void SurfaceRenderer::prepare_grid(float radius) {
-    if (grid_ && geometry_.cell_size == radius) return;
+    if (mask_buffers_ && geometry_.cell_size == radius) return;
     auto geometry = grid_for_domain(domain_.bounds.min, domain_.bounds.max, radius);
     if (!geometry) throw resource_failure("surface renderer: " + geometry.error());
-    grid_.reset();
-    grid_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
+    own_grid_.reset();
+    own_buffers_.reset();
+    mask_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
     geometry_ = geometry.value();
-    grid_ = std::make_unique<NeighborGrid>(*ctx_, *grid_buffers_, geometry_, max_particles_, "render.grid");
     const uint64_t cells = geometry_.cell_count();
     auto words = [](uint32_t cells_on_axis, uint32_t block) { return uint64_t((cells_on_axis + block - 1) / block); };
     const uint64_t wx = words(geometry_.dims.x, MASK_BLOCK_X), wy = words(geometry_.dims.y, MASK_BLOCK_Y),
                    wz = words(geometry_.dims.z, MASK_BLOCK_Z);
-    conv_a_ = &grid_buffers_->add("render.mask_counts", cells * 4);
-    conv_b_ = &grid_buffers_->add("render.mask_counts_tmp", cells * 4);
-    mask_ = &grid_buffers_->add("render.mask", wx * wy * wz * 4);
-    coarse_ = &grid_buffers_->add("render.mask_coarse",
+    conv_a_ = &mask_buffers_->add("render.mask_counts", cells * 4);
+    conv_b_ = &mask_buffers_->add("render.mask_counts_tmp", cells * 4);
+    mask_ = &mask_buffers_->add("render.mask", wx * wy * wz * 4);
+    coarse_ = &mask_buffers_->add("render.mask_coarse",
                                   words(wx, MASK_COARSE) * words(wy, MASK_COARSE) * words(wz, MASK_COARSE) * 4);
+}
+
+// Made on first use: a renderer that reads the solver's grid in place never needs it.
+void SurfaceRenderer::prepare_own_grid() {
+    if (own_grid_) return;
+    own_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
+    own_grid_ = std::make_unique<NeighborGrid>(*ctx_, *own_buffers_, geometry_, max_particles_, "render.grid");
+    own_sorted_ = &own_buffers_->add("render.sorted", uint64_t(max_particles_) * 16);
+}
+
+bool SurfaceRenderer::reads_in_place() const {
+    const GridGeometry* shared = shared_grid_ ? &shared_grid_->geometry() : nullptr;
+    return shared && shared->cell_size == geometry_.cell_size && shared->origin == geometry_.origin &&
+           shared->dims == geometry_.dims;
 }
 
 void SurfaceRenderer::record_mask(VkCommandBuffer cmd) {
     gpu::fill(*ctx_, cmd, *coarse_, 0u);
     const uint32_t cells = geometry_.cell_count();
     // counts (from the grid) -x-> a -y-> b -z-> a
-    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(0), {{"params", params_buf_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"src", conv_b_}, {"dst", conv_a_}});
-    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(1), {{"params", params_buf_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"src", conv_a_}, {"dst", conv_b_}});
-    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(2), {{"params", params_buf_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"src", conv_b_}, {"dst", conv_a_}});
+    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(0), {{"params", params_buf_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"src", conv_b_}, {"dst", conv_a_}});
+    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(1), {{"params", params_buf_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"src", conv_a_}, {"dst", conv_b_}});
+    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(2), {{"params", params_buf_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"src", conv_b_}, {"dst", conv_a_}});
     gpu::dispatch(*ctx_, cmd, mask_pack_, params_.mask_dims.w, {{"params", params_buf_}, {"counts", conv_a_}, {"mask", mask_}, {"coarse", coarse_}});
 }
 
@@ -143,18 +158,27 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     const uint32_t pixels = width_ * height_;
     const bool adaptive = params_.method == SURFACE_METHOD_ADAPTIVE;
     const uint32_t particles = std::max(count, 1u);  // empty dispatches are fine; keep the barrier
-    {
+    if (reads_in_place()) {
+        // The solver's frame grid: the particles are sorted by it and each lies in its cell.
+        particles_ = &positions;
+        cell_rank_ = &shared_grid_->cell_rank();
+        cell_start_ = &shared_grid_->cell_start();
+    } else {
         gpu::GpuScope scope(timer, cmd, "render_grid");
-        grid_->build(cmd, positions, count, nullptr);
-        gpu::dispatch(*ctx_, cmd, gather_, particles, {{"params", params_buf_}, {"positions", &positions}, {"order", &grid_->order()}, {"sorted", sorted_}});
+        prepare_own_grid();
+        own_grid_->build(cmd, positions, count, nullptr);
+        gpu::dispatch(*ctx_, cmd, gather_, particles, {{"params", params_buf_}, {"positions", &positions}, {"order", &own_grid_->order()}, {"sorted", own_sorted_}});
+        particles_ = own_sorted_;
+        cell_rank_ = &own_grid_->cell_rank();
+        cell_start_ = &own_grid_->cell_start();
     }
     if (adaptive) {
         gpu::GpuScope scope(timer, cmd, "render_classify");
         if (params_.flags & SURFACE_ANISOTROPIC)
             gpu::dispatch(*ctx_, cmd, classify_shape_, particles, 
-                          {{"params", params_buf_}, {"sorted", sorted_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"shape", shape_}});
+                          {{"params", params_buf_}, {"sorted", particles_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"shape", shape_}});
         gpu::dispatch(*ctx_, cmd, classify_density_, particles, 
-                      {{"params", params_buf_}, {"sorted", sorted_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"shape", shape_}, {"class_density", class_density_}, {"aggregate", aggregate_}});
+                      {{"params", params_buf_}, {"sorted", particles_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"shape", shape_}, {"class_density", class_density_}, {"aggregate", aggregate_}});
     } else {
         gpu::fill(*ctx_, cmd, *aggregate_, 0u);
     }
@@ -170,7 +194,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         gpu::fill(*ctx_, cmd, *front_class_, 0u);
     }
     const gpu::Bindings splat_buffers{
-        {"params", params_buf_}, {"sorted", sorted_}, {"aggregate", aggregate_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_}, {"thickness", thickness_}, {"front_class", front_class_}};
+        {"params", params_buf_}, {"sorted", particles_}, {"aggregate", aggregate_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_}, {"thickness", thickness_}, {"front_class", front_class_}};
     // The splat is a long pass too: where the caller shares the queue (gpu::Context::QueueSharing)
     // it runs in slices of particles, each its own timed scope, so that the queue can be cut
     // between them (as in record_first_march).
@@ -232,7 +256,7 @@ void SurfaceRenderer::record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* tim
 void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count,
                                      uint32_t mode, int resume_out, uint32_t first, uint32_t stride, uint32_t threads) {
     const gpu::Bindings buffers{
-        {"params", params_buf_}, {"sorted", sorted_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"mask", mask_}, {"coarse", coarse_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_},
+        {"params", params_buf_}, {"sorted", particles_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"mask", mask_}, {"coarse", coarse_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_},
         {"normal_screen", normal_screen_}, {"rays", rays}, {"ray_count", &ray_count}, {"hit", hit_}, {"normal", normal_}, {"march_cut", march_cut_}, {"resume_rays", resume_rays_[resume_out]}, {"resume_count", resume_count_[resume_out]},
         {"resume_state", resume_state_}, {"ray_counts", ray_counts_}, {"blend_weights", blend_weights_}};
     SurfacePassPush push = axis_push(mode);
@@ -299,7 +323,9 @@ std::vector<uint32_t> SurfaceRenderer::front_classes() {
 }
 std::vector<float> SurfaceRenderer::depth_all() { return gpu::download_vector<float>(*ctx_, *depth_all_, size_t(width_) * height_); }
 std::vector<float> SurfaceRenderer::depth_agg() { return gpu::download_vector<float>(*ctx_, *depth_agg_, size_t(width_) * height_); }
-std::vector<glm::vec4> SurfaceRenderer::sorted_positions() { return gpu::download_vector<glm::vec4>(*ctx_, *sorted_, count_); }
+std::vector<glm::vec4> SurfaceRenderer::sorted_positions() {
+    return particles_ ? gpu::download_vector<glm::vec4>(*ctx_, *particles_, count_) : std::vector<glm::vec4>{};
+}
 std::vector<uint32_t> SurfaceRenderer::aggregate_flags() { return gpu::download_vector<uint32_t>(*ctx_, *aggregate_, count_); }
 std::vector<float> SurfaceRenderer::class_densities() { return gpu::download_vector<float>(*ctx_, *class_density_, count_); }
 std::vector<uint32_t> SurfaceRenderer::mask_words() { return gpu::download_vector<uint32_t>(*ctx_, *mask_, params_.mask_dims.w); }
@@ -324,7 +350,9 @@ uint32_t SurfaceRenderer::rays_cast() {
 
 std::vector<gpu::BufferReport> SurfaceRenderer::memory_report() const {
     auto report = buffers_.report();
-    for (auto& entry : grid_buffers_->report()) report.push_back(entry);
+    for (const gpu::BufferSet* set : {mask_buffers_.get(), own_buffers_.get()})
+        if (set)
+            for (auto& entry : set->report()) report.push_back(entry);
     return report;
 }
 

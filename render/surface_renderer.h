@@ -2,11 +2,16 @@
 // without leaving the GPU. One object serves the three methods (render/surface_settings.h):
 // the adaptive ray marcher of Wu et al., the uniform ray caster of Xiao et al. and the
 // exhaustive reference. Passes, in order (each timed under its name):
-//   render_grid       the renderer's own Morton-sorted grid over the solver's positions (cell = r),
-//                     built by the solver's NeighborGrid code; render_gather copies the positions
-//                     into that order. The solver's grid is not reused: it was built from the
-//                     predicted positions at the start of the last step, and particles have moved
-//                     since, so queries on it could miss neighbours.
+//   (grid)            the particles sorted by a grid of cells of size r. Where the caller shares
+//                     the solver's frame grid (share_grid; PbfSolver::set_frame_grid: a grid of the
+//                     frame's final positions, which the solver's arrays are sorted by) and its
+//                     cells are r, every pass reads the solver's positions and grid in place: no
+//                     copy. Otherwise (another radius, no shared grid) render_grid builds the
+//                     renderer's own grid over the positions and copies them into its order (16 B
+//                     per particle, plus the grid's 12 B per particle and 8 B per cell). The
+//                     solver's step grid cannot serve: it was built from the predicted positions at
+//                     the start of the last step, and particles have moved since, so queries on it
+//                     could miss neighbours.
 //   render_classify   Yu-Turk weighted PCA and anisotropic density per particle (adaptive only)
 //   render_mask       binary density grid: separable (b, a, b) convolution of cell counts, packing
 //   render_splat      D_all, D_agg, thickness (and the classification view)
@@ -47,7 +52,10 @@ struct RayCounts {
     uint32_t leaps = 0;      ///< jumps over cells the binary density grid marks empty (no evaluation)
     uint32_t evaluations() const { return march + bisection; }
 };
-constexpr uint32_t kSurfaceBytesPerParticle = 16 + 3 * 16 + 4 + 4;
+constexpr uint32_t kSurfaceBytesPerParticle = 3 * 16 + 4 + 4;
+/// Without a shared grid, the renderer's own grid (keys, slots, order; and 8 B per cell) and
+/// its sorted copy of the positions.
+constexpr uint32_t kOwnGridBytesPerParticle = 3 * 4 + 16;
 
 class SurfaceRenderer {
 public:
@@ -68,6 +76,14 @@ public:
     /// Reads back the last frame recorded.
     SurfaceFrame read_frame();
 
+    /// Read the particles in place: the positions given to record() are sorted by `grid`, a grid
+    /// of those very positions (the solver's frame grid, PbfSolver::set_frame_grid); used
+    /// whenever its cells are the renderer's (radius r = its cell size), else the renderer
+    /// builds its own. nullptr: always build. The grid must outlive its use.
+    void share_grid(const NeighborGrid* grid) { shared_grid_ = grid; }
+    /// Whether the next frame (at the current radius) reads the shared grid in place.
+    bool reads_in_place() const;
+
     /// Also record the classification view (an extra sprite pass) for front_classes().
     void set_diagnostics(bool on) { diagnostics_ = on; }
 
@@ -76,7 +92,7 @@ public:
     std::vector<uint32_t> front_classes();    ///< per pixel: 0 none, 1 splash, 2 aggregate (adaptive, diagnostics on)
     std::vector<float> depth_all();           ///< per pixel eye depth, +inf where empty
     std::vector<float> depth_agg();
-    std::vector<glm::vec4> sorted_positions();  ///< w: index in the solver's buffer
+    std::vector<glm::vec4> sorted_positions();  ///< in grid order; w: the index in the given buffer (own grid) or the particle id (in place)
     std::vector<uint32_t> aggregate_flags();    ///< per sorted particle
     std::vector<float> class_densities();       ///< per sorted particle
     std::vector<uint32_t> mask_words();         ///< the binary density grid (layout: surface_layout.h)
@@ -101,6 +117,7 @@ public:
 
 private:
     void prepare_grid(float radius);
+    void prepare_own_grid();
     void record_mask(VkCommandBuffer cmd);
     void record_screen_passes(VkCommandBuffer cmd, gpu::GpuTimer* timer);
     /// The march over one ray list, dispatched indirectly with one thread per ray.
@@ -125,10 +142,15 @@ private:
     bool diagnostics_ = false;
     shader::SurfaceParams params_{};
     gpu::BufferSet buffers_;
-    std::unique_ptr<gpu::BufferSet> grid_buffers_;
-    std::unique_ptr<NeighborGrid> grid_;
+    std::unique_ptr<gpu::BufferSet> mask_buffers_;  // per radius
+    std::unique_ptr<gpu::BufferSet> own_buffers_;   // the renderer's own grid and sorted copy, when needed
+    std::unique_ptr<NeighborGrid> own_grid_;
+    gpu::Buffer* own_sorted_ = nullptr;
+    const NeighborGrid* shared_grid_ = nullptr;
     GridGeometry geometry_;
-    gpu::Buffer *params_buf_, *sorted_, *shape_, *class_density_, *aggregate_;
+    // What the frame's passes read: the shared or the own grid's particles and cells.
+    const gpu::Buffer *particles_ = nullptr, *cell_rank_ = nullptr, *cell_start_ = nullptr;
+    gpu::Buffer *params_buf_, *shape_, *class_density_, *aggregate_;
     gpu::Buffer *depth_all_, *depth_agg_, *thickness_, *front_class_, *smooth_a_, *smooth_b_, *normal_screen_;
     gpu::Buffer *tile_level_, *rays_, *ray_count_, *edge_rays_, *edge_count_, *march_groups_, *hit_, *normal_, *normal_tmp_, *color_;
     gpu::Buffer* march_cut_;

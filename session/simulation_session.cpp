@@ -97,6 +97,7 @@ void SimulationSession::rebuild(bool keep_particles) {
     solver_.reset();
     solver_ = std::make_unique<PbfSolver>(*ctx_, scene_);
     solver_->set_measure_droplets(options_.measure_droplets);
+    solver_->set_frame_grid(options_.frame_grid);
     if (state) solver_->set_state(state->x, state->v);
     if (control_) {
         driver_ = std::make_unique<control::ControlDriver>(*ctx_, scene_, control_->section, control_->strength);

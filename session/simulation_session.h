@@ -49,6 +49,10 @@ struct SessionOptions {
     /// The droplet count every frame (a read-back of the positions in the frame's submission and
     /// a connected-groups pass on the host: PbfSolver::set_measure_droplets); for stats.csv.
     bool measure_droplets = false;
+    /// Sort the particles by a grid of their final positions at the end of every frame, so that
+    /// renderers read them in place (PbfSolver::set_frame_grid, frame_grid() below): for every
+    /// caller that renders the frames.
+    bool frame_grid = false;
 };
 
 /// What the caller reports about a session's control: Strength::describe(), the strength's
@@ -107,6 +111,10 @@ public:
 
     PbfSolver& solver() { return *solver_; }
     const PbfSolver& solver() const { return *solver_; }
+    /// The grid the solver's positions are sorted by after each frame (SessionOptions::
+    /// frame_grid), for Renderer::share_grid; nullptr when the option is off. It changes when
+    /// the solver is made again (set_solver_settings, restart, set_control): ask each frame.
+    const NeighborGrid* frame_grid() const { return options_.frame_grid ? &solver_->grid() : nullptr; }
     /// The mesh control, or null without a control section.
     control::ControlDriver* control() { return driver_.get(); }
     const control::ControlDriver* control() const { return driver_.get(); }

@@ -200,7 +200,7 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     time_ += params_.dt;
 }
 
-void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer) {
+void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer, bool lists_of_x) {
     grid_->build(cmd, key_positions, count_, timer);
     {
         gpu::GpuScope s(timer, cmd, "reorder");
@@ -209,7 +209,7 @@ void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_position
         std::swap(x_, s0_);
         std::swap(v_, s1_);
     }
-    grid_->record_neighbor_lists(cmd, *p_, count_, params_.h, timer);
+    grid_->record_neighbor_lists(cmd, lists_of_x ? *x_ : *p_, count_, params_.h, timer);
 }
 
 void PbfSolver::run_steps(uint32_t steps, gpu::GpuTimer* timer) {
@@ -269,6 +269,10 @@ void PbfSolver::record_frame(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
         gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
     }
     for (uint32_t i = 0; i < substeps; ++i) record_step(cmd, timer);
+    if (frame_grid_) {
+        gpu::GpuScope s(timer, cmd, "frame_grid");
+        record_sort(cmd, *x_, nullptr, true);
+    }
     record_stats(cmd, timer);
 }
 

@@ -103,6 +103,15 @@ public:
     /// only what writes stats.csv asks for it.
     void set_measure_droplets(bool on);
 
+    /// The frame grid, for a renderer that reads the particles in place (SurfaceRenderer::
+    /// share_grid): every frame ends with one more sort, by a grid of the final positions (and
+    /// neighbour lists of them, which the frame's statistics then use), so that after a frame
+    /// positions() is sorted by grid() and grid() holds every particle in its current cell. Off,
+    /// the arrays are sorted by the last step's predicted positions, which particles have left
+    /// since. Costs one sort per frame; the renderer saves its own grid and sorted copy.
+    void set_frame_grid(bool on) { frame_grid_ = on; }
+    bool frame_grid() const { return frame_grid_; }
+
     // In-place access for the renderer: the current arrays and the grid they are sorted by.
     const gpu::Buffer& positions() const { return *x_; }
     const gpu::Buffer& velocities() const { return *v_; }
@@ -111,8 +120,10 @@ public:
     const NeighborGrid& grid() const { return *grid_; }
 
 private:
-    /// Builds the grid over `key_positions` and reorders x, v, p into its Morton order.
-    void record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer);
+    /// Builds the grid over `key_positions` and reorders x, v, p into its Morton order, then
+    /// lists the neighbours of the (reordered) predicted positions p, or of x itself with
+    /// `lists_of_x` (the frame grid: the lists the statistics use at x).
+    void record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer, bool lists_of_x = false);
     void record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer);
 
     gpu::Context* ctx_;
@@ -126,6 +137,7 @@ private:
     double last_max_density_error_ = 0.0;  // its largest density error (substeps_for_compression)
     bool xsph_on_ = false;
     bool vorticity_on_ = false;
+    bool frame_grid_ = false;
     gpu::BufferSet buffers_;
     gpu::Buffer* params_buf_;
     gpu::Buffer *x_, *v_, *p_, *s0_, *s1_;

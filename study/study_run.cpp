@@ -84,7 +84,7 @@ public:
 
     bool simulate() {
         // A session, so that a case's scene with a control section is simulated with its control.
-        auto made = session::SimulationSession::create(ctx_, scene_, {.measure_shapes = false});
+        auto made = session::SimulationSession::create(ctx_, scene_, {.measure_shapes = false, .frame_grid = true});
         if (!made) {
             std::fprintf(stderr, "aquaform study: case %s: %s\n", case_.name.c_str(), made.error().c_str());
             return false;
@@ -176,6 +176,7 @@ private:
     Renderer& renderer(const MethodSettings& settings, uint32_t w, uint32_t h) {
         auto& r = renderers_[{render_registry().find(settings.method())->family, w, h}];  // the spec checked the name
         if (!r) r = render_registry().create(ctx_, scene_.particle_domain(), w, h, particles(), settings);
+        r->share_grid(session_->frame_grid());
         return *r;
     }
 

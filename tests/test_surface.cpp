@@ -417,9 +417,18 @@ TEST_F(SurfaceTest, DocumentedBytesPerPixelAndPerParticleMatchTheAllocations) {
     const SurfaceRenderer small(ctx(), scene.particle_domain(), 64, 64, 1000);
     const SurfaceRenderer wide(ctx(), scene.particle_domain(), 128, 64, 1000);
     EXPECT_EQ(total_bytes(wide) - total_bytes(small), 4096u * kSurfaceBytesPerPixel + 16u * 4u);
-    const SurfaceRenderer more(ctx(), scene.particle_domain(), 64, 64, 2000);
-    // Per particle: the renderer's arrays plus its grid's keys, slots and order.
-    EXPECT_EQ(total_bytes(more) - total_bytes(small), 1000u * (kSurfaceBytesPerParticle + 3u * 4u));
+    SurfaceRenderer more(ctx(), scene.particle_domain(), 64, 64, 2000);
+    // Per particle: the renderer's arrays; its own grid (keys, slots, order) and sorted copy only
+    // once a frame needs them (no shared grid).
+    EXPECT_EQ(total_bytes(more) - total_bytes(small), 1000u * kSurfaceBytesPerParticle);
+    const uint64_t before = total_bytes(more);
+    testing::DeviceParticles one(ctx(), {glm::vec4(0.1f, 0.1f, 0.1f, 0.0f)});
+    more.render(one.buffer, one.count, camera_for_domain(scene.domain, 1.0f), SurfaceSettings{});
+    EXPECT_FALSE(more.reads_in_place());
+    const GridGeometry& g = more.grid();
+    uint64_t scan_sums = 0;  // the prefix sum's partial sums, per cell block
+    for (const auto& b : more.memory_report()) scan_sums += b.name.find(".scan_sums") != std::string::npos ? b.bytes : 0;
+    EXPECT_EQ(total_bytes(more) - before, 2000u * kOwnGridBytesPerParticle + (uint64_t(g.cell_count()) * 2u + 1u) * 4u + scan_sums);
 }
 
 }  // namespace

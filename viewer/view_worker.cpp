@@ -58,7 +58,7 @@ int PictureSlots::take() {
 struct ViewWorker::Sim {
     Sim(gpu::Context& c, session::SessionPlan plan)
         : ctx(c), render_timer(c), sim_timer(c), push(c),
-          session(std::make_unique<session::SimulationSession>(c, std::move(plan), session::SessionOptions{false})),
+          session(std::make_unique<session::SimulationSession>(c, std::move(plan), session::SessionOptions{.measure_shapes = false, .frame_grid = true})),
           scene(session->scene()), solver{session.get()} {
         session->add_step_force(&push);
     }
@@ -195,6 +195,7 @@ struct ViewWorker::Sim {
     /// Records the picture of `c` and returns the buffer that holds it (RGBA8, render_w x render_h).
     const gpu::Buffer& record_render(VkCommandBuffer cmd, const ViewControls& c) {
         Renderer& r = renderer(c);
+        r.share_grid(session->frame_grid());  // the session makes a new solver on reset and settings
         r.record(cmd, solver->positions(), solver->particle_count(), c.camera, &render_timer);
         return r.color_buffer();
     }
