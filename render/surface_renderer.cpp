@@ -47,6 +47,7 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     aggregate_ = &buffers_.add("render.aggregate", n * 4);
     depth_all_ = &buffers_.add("render.depth_all", pixels * 4);
     depth_agg_ = &buffers_.add("render.depth_agg", pixels * 4);
+    depth_splash_back_ = &buffers_.add("render.depth_splash_back", pixels * 4);
     thickness_ = &buffers_.add("render.thickness", pixels * 4);
     front_class_ = &buffers_.add("render.front_class", pixels * 4);
     smooth_a_ = &buffers_.add("render.depth_smooth", pixels * 4);
@@ -77,11 +78,11 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     classify_density_ = gpu::ComputePass(ctx, {"render/classify_density.comp", 7});
     mask_convolve_ = gpu::ComputePass(ctx, {"render/mask_convolve.comp", 5, push});
     mask_pack_ = gpu::ComputePass(ctx, {"render/mask_pack.comp", 4});
-    splat_ = gpu::ComputePass(ctx, {"render/splat.comp", 7, push});
+    splat_ = gpu::ComputePass(ctx, {"render/splat.comp", 8, push});
     depth_smooth_ = gpu::ComputePass(ctx, {"render/depth_smooth.comp", 3, push});
     screen_normals_ = gpu::ComputePass(ctx, {"render/screen_normals.comp", 3});
     tiles_ = gpu::ComputePass(ctx, {"render/tiles.comp", 5, 0, 64});
-    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 19, push, RAY_MARCH_WORKGROUP});
+    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 20, push, RAY_MARCH_WORKGROUP});
     ray_args_ = gpu::ComputePass(ctx, {"render/ray_args.comp", 2, 0, 1});
     upsample_ = gpu::ComputePass(ctx, {"render/upsample.comp", 6});
     normal_filter_ = gpu::ComputePass(ctx, {"render/normal_filter.comp", 4, push});
@@ -190,11 +191,13 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         gpu::GpuScope scope(timer, cmd, "render_splat");
         gpu::fill(*ctx_, cmd, *depth_all_, DEPTH_EMPTY);
         gpu::fill(*ctx_, cmd, *depth_agg_, DEPTH_EMPTY);
+        gpu::fill(*ctx_, cmd, *depth_splash_back_, 0u);
         gpu::fill(*ctx_, cmd, *thickness_, 0u);
         gpu::fill(*ctx_, cmd, *front_class_, 0u);
     }
     const gpu::Bindings splat_buffers{
-        {"params", params_buf_}, {"sorted", particles_}, {"aggregate", aggregate_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_}, {"thickness", thickness_}, {"front_class", front_class_}};
+        {"params", params_buf_}, {"sorted", particles_}, {"aggregate", aggregate_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_}, {"thickness", thickness_}, {"front_class", front_class_},
+        {"depth_splash_back", depth_splash_back_}};
     // The splat is a long pass too: where the caller shares the queue (gpu::Context::QueueSharing)
     // it runs in slices of particles, each its own timed scope, so that the queue can be cut
     // between them (as in record_first_march).
@@ -207,6 +210,10 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         SurfacePassPush push = axis_push(0);
         push.first = first;
         gpu::dispatch(*ctx_, cmd, splat_, std::min(per_slice, particles - first), push, splat_buffers);
+    }
+    if ((params_.flags & SURFACE_USE_SKIP) && !(params_.flags & SURFACE_WU_SKIP)) {  // the exact skip's D_splash_back
+        gpu::GpuScope scope(timer, cmd, "render_splat");
+        gpu::dispatch(*ctx_, cmd, splat_, particles, axis_push(2), splat_buffers);
     }
     if (adaptive && diagnostics_) {
         gpu::GpuScope scope(timer, cmd, "render_splat");
@@ -258,7 +265,8 @@ void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* ray
     const gpu::Bindings buffers{
         {"params", params_buf_}, {"sorted", particles_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"mask", mask_}, {"coarse", coarse_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_},
         {"normal_screen", normal_screen_}, {"rays", rays}, {"ray_count", &ray_count}, {"hit", hit_}, {"normal", normal_}, {"march_cut", march_cut_}, {"resume_rays", resume_rays_[resume_out]}, {"resume_count", resume_count_[resume_out]},
-        {"resume_state", resume_state_}, {"ray_counts", ray_counts_}, {"blend_weights", blend_weights_}};
+        {"resume_state", resume_state_}, {"ray_counts", ray_counts_}, {"blend_weights", blend_weights_},
+        {"depth_splash_back", depth_splash_back_}};
     SurfacePassPush push = axis_push(mode);
     push.first = first;
     push.stride = stride;
@@ -322,6 +330,9 @@ std::vector<uint32_t> SurfaceRenderer::front_classes() {
     return gpu::download_vector<uint32_t>(*ctx_, *front_class_, size_t(width_) * height_);
 }
 std::vector<float> SurfaceRenderer::depth_all() { return gpu::download_vector<float>(*ctx_, *depth_all_, size_t(width_) * height_); }
+std::vector<float> SurfaceRenderer::depth_splash_back() {
+    return gpu::download_vector<float>(*ctx_, *depth_splash_back_, size_t(width_) * height_);
+}
 std::vector<float> SurfaceRenderer::depth_agg() { return gpu::download_vector<float>(*ctx_, *depth_agg_, size_t(width_) * height_); }
 std::vector<glm::vec4> SurfaceRenderer::sorted_positions() {
     return particles_ ? gpu::download_vector<glm::vec4>(*ctx_, *particles_, count_) : std::vector<glm::vec4>{};

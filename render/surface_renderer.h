@@ -43,7 +43,7 @@ class GpuTimer;
 }  // namespace gpu
 
 /// GPU memory of the renderer per pixel and per particle (beyond its grid).
-constexpr uint32_t kSurfaceBytesPerPixel = 11 * 4 + 5 * 16 + 2 * 8;
+constexpr uint32_t kSurfaceBytesPerPixel = 12 * 4 + 5 * 16 + 2 * 8;
 
 /// What one pixel's ray spent (shaders/shared/surface_layout.h, RAY_COUNT_BISECTION_BITS).
 struct RayCounts {
@@ -92,6 +92,7 @@ public:
     std::vector<uint32_t> front_classes();    ///< per pixel: 0 none, 1 splash, 2 aggregate (adaptive, diagnostics on)
     std::vector<float> depth_all();           ///< per pixel eye depth, +inf where empty
     std::vector<float> depth_agg();
+    std::vector<float> depth_splash_back();  ///< per pixel eye depth of the farthest splash sphere's back, 0 where none
     std::vector<glm::vec4> sorted_positions();  ///< in grid order; w: the index in the given buffer (own grid) or the particle id (in place)
     std::vector<uint32_t> aggregate_flags();    ///< per sorted particle
     std::vector<float> class_densities();       ///< per sorted particle
@@ -151,7 +152,7 @@ private:
     // What the frame's passes read: the shared or the own grid's particles and cells.
     const gpu::Buffer *particles_ = nullptr, *cell_rank_ = nullptr, *cell_start_ = nullptr;
     gpu::Buffer *params_buf_, *shape_, *class_density_, *aggregate_;
-    gpu::Buffer *depth_all_, *depth_agg_, *thickness_, *front_class_, *smooth_a_, *smooth_b_, *normal_screen_;
+    gpu::Buffer *depth_all_, *depth_agg_, *depth_splash_back_, *thickness_, *front_class_, *smooth_a_, *smooth_b_, *normal_screen_;
     gpu::Buffer *tile_level_, *rays_, *ray_count_, *edge_rays_, *edge_count_, *march_groups_, *hit_, *normal_, *normal_tmp_, *color_;
     gpu::Buffer* march_cut_;
     gpu::Buffer *ray_counts_, *blend_weights_;

@@ -119,6 +119,7 @@ shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const Partic
     // The reference skips only what the exact (a = b = 1) mask proves empty.
     if (reference || (adaptive && s.use_mask)) flags |= SURFACE_USE_MASK;
     if (adaptive && s.use_skip) flags |= SURFACE_USE_SKIP;
+    if (adaptive && s.use_skip && !s.exact_skip) flags |= SURFACE_WU_SKIP;
     if (adaptive && s.adaptive_resolution) flags |= SURFACE_ADAPTIVE_RES;
     if (adaptive && s.blend_normals) flags |= SURFACE_BLEND_NORMALS;
     if (s.method == SurfaceMethod::uniform) flags |= SURFACE_XIAO_NORMALS;

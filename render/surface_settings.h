@@ -42,7 +42,15 @@ struct SurfaceSettings {
     /// radius cannot jump over a droplet's centre.
     float step_radii = 1.0f;
     uint32_t max_steps = 256;      ///< density evaluations per ray before it gives up
-    uint32_t max_skip_evals = 8;   ///< maxSkipCounts: evaluations before the jump to D_agg
+    /// The skip to D_agg waits until the ray has passed every splash particle's sphere on its
+    /// pixel (D_splash_back), so it jumps only over space where the field is zero and loses
+    /// nothing. Off: Wu et al.'s skip after max_skip_evals evaluations, wherever the ray is,
+    /// which jumps over splash surfaces in front of the bulk. Measured by bench render (32k
+    /// particles, 512x512, mask + skip): Wu's skip raised the mean depth error from 0.13 to
+    /// 2.7 particle radii on the double dam break's collision, from 0.11 to 1.5 on the violent
+    /// dam break's wave and from 0.20 to 6.8 on the crown splash.
+    bool exact_skip = true;
+    uint32_t max_skip_evals = 8;   ///< maxSkipCounts: evaluations before Wu et al.'s jump to D_agg
     uint32_t refine_steps = 6;     ///< bisection steps: the hit is within step / 64
     /// Weights (b, a, b) of the separable mask convolution; a = b = 1 is the exact conservative
     /// bound of eq. 4 (the reference uses it). Measured on the dam break (4500 particles, frame

@@ -20,6 +20,8 @@ const BenchConfig kConfigs[] = {
     {"adaptive_res_only", kAdaptive, false, false, true, false, "adaptive with only adaptive resolution"},
     {"blend_only", kAdaptive, false, false, false, true, "adaptive with only blended normals"},
     {"mask_skip", kAdaptive, true, true, false, false, "adaptive stepping with skip: mask and skip"},
+    {"mask_wu_skip", kAdaptive, true, true, false, false,
+     "mask and Wu et al.'s skip after maxSkipCounts evaluations (jumps over splashes)", true},
     {"adaptive_full_res", kAdaptive, true, true, false, true, "every mechanism but adaptive resolution"},
 };
 
@@ -83,6 +85,7 @@ MethodSettings settings_for(const BenchConfig& c, SurfaceSettings base) {
     base.use_skip = c.skip;
     base.adaptive_resolution = c.adaptive_res;
     base.blend_normals = c.blend;
+    base.exact_skip = !c.wu_skip;
     return as_method(base);
 }
 

@@ -25,6 +25,7 @@ struct BenchConfig {
     SurfaceMethod method;
     bool mask, skip, adaptive_res, blend;
     const char* what;
+    bool wu_skip = false;  ///< Wu et al.'s skip after maxSkipCounts instead of the exact one
 };
 
 /// Every configuration, in the table's order (the reference is rendered first and always: every

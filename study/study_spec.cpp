@@ -81,7 +81,8 @@ MethodSettings settings_of(const StudyMethod& sm, uint32_t list_bytes_per_pixel,
         SurfaceSettings* s = settings.value().get<SurfaceSettings>();
         if (!s) fail(where + ".stepping applies to the adaptive method only");
         s->use_mask = true;
-        s->use_skip = sm.stepping == "mask_skip";
+        s->use_skip = sm.stepping != "mask";
+        s->exact_skip = sm.stepping != "mask_wu_skip";
         s->adaptive_resolution = false;
     }
     return settings.value();
@@ -136,7 +137,7 @@ std::vector<StudyMethod> read_methods(const json& v, const std::string& path, ui
         const auto recursions = integers("recursion", 1, 1, 4);
         const auto bisections = integers("bisection", 3, 0, 32);
         const auto resolutions = strings("resolution", {"adaptive"}, {"full", "half", "quarter", "adaptive"});
-        const auto steppings = strings("stepping", {"all"}, {"all", "mask", "mask_skip"});
+        const auto steppings = strings("stepping", {"all"}, {"all", "mask", "mask_skip", "mask_wu_skip"});
         for (const auto& visual : visuals)
             for (float size : sizes)
                 for (uint32_t recursion : recursions)
@@ -252,6 +253,7 @@ std::string StudyMethod::label() const {
     if (method == "adaptive" && resolution != "adaptive") text << " " << resolution;
     if (stepping == "mask") text << " mask";
     if (stepping == "mask_skip") text << " mask+skip";
+    if (stepping == "mask_wu_skip") text << " mask+wu-skip";
     return text.str();
 }
 

@@ -49,7 +49,8 @@ struct StudyMethod {
     uint32_t bisection = 3;             ///< metaballs
     std::string resolution = "adaptive";  ///< adaptive method: full, half, quarter or adaptive
     /// Adaptive method, Wu et al. Fig. 5: "all" mechanisms (default), "mask" (the binary density
-    /// grid alone) or "mask_skip" (with the skip to D_agg); the last two at full resolution.
+    /// grid alone), "mask_skip" (with the skip to D_agg) or "mask_wu_skip" (with Wu et al.'s skip
+    /// after maxSkipCounts, which can jump over splashes); but "all" at full resolution.
     std::string stepping = "all";
     /// What the study renders with: the registry's settings of this configuration
     /// (Registry::from_json), with a fixed resolution as adaptive_resolution off and, for

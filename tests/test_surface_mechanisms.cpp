@@ -2,7 +2,9 @@
 // computed here, so that a broken mechanism fails (Wu et al. sections 4.1-4.4):
 // - the binary density grid is the separable convolution of eqs. 4-5, cell for cell (a mask that
 //   marks every cell, or ignores the weights, fails), and it saves march steps on the curtain;
-// - the skip to D_agg saves steps on the curtain (switched off, it cannot);
+// - the skip to D_agg saves steps on the curtain (switched off, it cannot), and waits until the
+//   ray has passed every splash sphere, so it loses no droplet behind another (Wu et al.'s skip
+//   after maxSkipCounts does);
 // - D_agg holds the aggregates only: the curtain's droplets are in D_all and not in D_agg;
 // - the first sample lies one step past the entry (the field is zero at the entry);
 // - the blend weights w1 and w2 of eqs. 12-13 match values computed by hand for a lone particle.
@@ -200,6 +202,53 @@ TEST_F(CurtainTest, DaggHoldsTheSlabAndNotTheDroplets) {
     }
     EXPECT_EQ(droplets_seen, 60u);
     EXPECT_EQ(splash, 60u) << "every lone droplet is a splash particle";
+}
+
+class SkipTest : public testing::GpuTest {};
+
+TEST_F(SkipTest, TheSkipWaitsUntilTheRayHasPassedEverySplashAndLosesNone) {
+    // A slab at the back; on the centre pixel's ray, a droplet the ray grazes (it enters the
+    // droplet's sphere of radius r but misses its iso-sphere) and, 0.1 m behind it, a droplet the
+    // ray hits. Wu et al.'s skip jumps to the slab after maxSkipCounts evaluations, from inside
+    // the first sphere, over the second droplet; the exact skip waits until the ray has passed
+    // the back of every splash sphere on the pixel.
+    const float spacing = 0.02f;
+    Scene scene = testing::scene_with({{0.0f, 0.0f, 0.0f}, {0.4f, 0.4f, 0.5f}}, spacing);
+    std::vector<glm::vec4> particles;
+    for (int x = 0; x < 16; ++x)
+        for (int y = 0; y < 16; ++y)
+            for (int z = 0; z < 3; ++z) particles.emplace_back(0.05f + spacing * x, 0.05f + spacing * y, 0.01f + spacing * z, 0.0f);
+    const glm::vec3 centre{0.2f, 0.2f, 0.0f};
+    const float r = 2.0f * spacing;  // the kernel radius (kernel_radius_factor 2)
+    const glm::vec3 hit_droplet = centre + glm::vec3(0.0f, 0.0f, 0.25f);
+    particles.emplace_back(centre + glm::vec3(0.6f * r, 0.0f, 0.35f), 0.0f);  // grazed
+    particles.emplace_back(hit_droplet, 0.0f);
+    DeviceParticles device(ctx(), particles);
+    ViewCamera camera;
+    camera.eye = centre + glm::vec3(0.0f, 0.0f, 1.0f);
+    camera.target = centre;
+    camera.fov_y_degrees = 4.0f;
+    constexpr uint32_t kSize = 32;
+    SurfaceRenderer renderer(ctx(), scene.particle_domain(), kSize, kSize, device.count);
+    SurfaceSettings settings;
+    settings.adaptive_resolution = false;
+    settings.use_mask = false;  // the skip alone
+    settings.max_skip_evals = 2;
+    const size_t centre_pixel = size_t(kSize / 2) * kSize + kSize / 2;
+    auto hit_z = [&](bool exact) {
+        settings.exact_skip = exact;
+        const SurfaceFrame f = renderer.render(device.buffer, device.count, camera, settings);
+        EXPECT_TRUE(f.has_surface(centre_pixel));
+        return f.hit[centre_pixel].z;
+    };
+    const float lone_iso = 0.5f * spacing;  // lone_radius 1: a particle radius
+    EXPECT_NEAR(hit_z(true), hit_droplet.z + lone_iso, 0.2f * lone_iso) << "the exact skip finds the second droplet";
+    EXPECT_LT(hit_z(false), 0.1f) << "Wu et al.'s skip was expected to jump over the second droplet to the slab";
+    // Both droplets are splashes: D_splash_back is the back of the second one's sphere.
+    settings.exact_skip = true;
+    renderer.render(device.buffer, device.count, camera, settings);
+    const float back = renderer.depth_splash_back()[centre_pixel];
+    EXPECT_NEAR(back, camera.eye.z - (hit_droplet.z - r), 0.002f);
 }
 
 class LoneParticleTest : public testing::GpuTest {};

@@ -370,6 +370,8 @@ private:
             ImGui::SliderFloat("eps2 [radii^2]", &r.tile_eps2, 0.1f, 64.0f);
             ImGui::SliderFloat("blend A", &r.blend_a, 0.0f, 1.0f);
             ImGui::SliderFloat("blend B", &r.blend_b, -0.5f, 0.5f);
+            bool wu_skip = !r.exact_skip;
+            if (ImGui::Checkbox("Wu's skip (after maxSkipCounts; can jump over splashes)", &wu_skip)) r.exact_skip = !wu_skip;
             int skip = int(r.max_skip_evals);
             if (ImGui::SliderInt("maxSkipCounts", &skip, 1, 64)) r.max_skip_evals = uint32_t(skip);
             if (auto valid = validate(r); !valid) {

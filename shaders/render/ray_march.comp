@@ -6,9 +6,13 @@
 //   - Mask (adaptive, reference): before each evaluation the binary density grid is asked about
 //     the current point, coarse level first; an unmarked coarse block, word block or cell is
 //     left at its exit without evaluating the density.
-//   - Skip (adaptive): after max_skip_evals evaluations without a hit the ray jumps once to
-//     D_agg, when that lies ahead. Where no aggregate covers the pixel the ray keeps marching,
-//     so splash-only pixels are not lost.
+//   - Skip (adaptive): the ray jumps once to D_agg, when that lies ahead, as soon as it has
+//     passed D_splash_back, the back of every splash particle's sphere on its pixel: from there
+//     to D_agg no particle is within r of the ray, the field is zero, and nothing is lost; the
+//     first sample after the jump is one step past D_agg (the field is zero there too). Wu et
+//     al.'s skip (SURFACE_WU_SKIP) jumps after max_skip_evals evaluations instead, wherever the
+//     ray is, and so jumps over any splash surface between it and D_agg. Where no aggregate
+//     covers the pixel the ray keeps marching, so splash-only pixels are not lost.
 //   - The first sample with phi >= sigma is refined by bisection against the previous sample.
 //   - Normals: the object-space normal -grad phi (eq. 11); adaptive blends it with the
 //     screen-space normal (eqs. 12-16); uniform uses Xiao's eqs. 2-6 (filtered afterwards).
@@ -51,6 +55,7 @@ layout(std430, binding = 15) buffer ResumeCount { uint resume_count[]; };
 layout(std430, binding = 16) buffer ResumeState { vec4 resume_state[]; };
 layout(std430, binding = 17) writeonly buffer RayCounts { uvec2 ray_counts[]; };
 layout(std430, binding = 18) writeonly buffer BlendWeights { vec2 blend_weights[]; };
+layout(std430, binding = 19) readonly buffer DepthSplashBack { uint depth_splash_back[]; };
 layout(push_constant) uniform Push { SurfacePassPush pc; };
 
 #define SURFACE_FIELD
@@ -150,8 +155,10 @@ void main() {
     if (!reference && t == t_entry) t += params.step;
     bool use_mask = (params.flags & SURFACE_USE_MASK) != 0u;
     bool use_skip = (params.flags & SURFACE_USE_SKIP) != 0u;
+    bool wu_skip = (params.flags & SURFACE_WU_SKIP) != 0u;
     float t_agg = -1.0;
     if (use_skip && depth_agg[index] != DEPTH_EMPTY) t_agg = depth_to_t(uintBitsToFloat(depth_agg[index]), dir);
+    float t_splash_back = use_skip ? depth_to_t(uintBitsToFloat(depth_splash_back[index]), dir) : 0.0;
 
     float nudge = 1.0e-4 * params.grid_origin_cell.w;
     uint evals = 0u;
@@ -175,11 +182,11 @@ void main() {
             resume_rays[atomicAdd(resume_count[0], 1u)] = packed;
             return;
         }
-        if (use_skip && !skipped && evals >= params.max_skip_evals) {
+        if (use_skip && !skipped && (wu_skip ? evals >= params.max_skip_evals : t >= t_splash_back)) {
             skipped = true;
             if (t_agg > t) {
-                t = t_agg;
-                t_prev = t;
+                t_prev = t_agg;
+                t = wu_skip ? t_agg : t_agg + params.step;
                 continue;
             }
         }

@@ -27,11 +27,12 @@
 
 // Switches (SurfaceParams.flags).
 #define SURFACE_USE_MASK 1u          // adaptive step lengths from the binary density grid
-#define SURFACE_USE_SKIP 2u          // jump to D_agg after max_skip_evals evaluations
+#define SURFACE_USE_SKIP 2u          // jump to D_agg (see SURFACE_WU_SKIP)
 #define SURFACE_ADAPTIVE_RES 4u      // per-tile full / half / quarter ray resolution
 #define SURFACE_BLEND_NORMALS 8u     // Wu eqs. 12-16 (else the object-space normal alone)
 #define SURFACE_ANISOTROPIC 16u      // Yu-Turk kernels for classification (else isotropic)
 #define SURFACE_XIAO_NORMALS 32u     // Xiao eqs. 2-6 + bilateral normal filter
+#define SURFACE_WU_SKIP 64u          // the skip after max_skip_evals evaluations (else once past D_splash_back)
 
 // Tiles of the adaptive resolution (section 4.3).
 #define SURFACE_TILE 16u
