@@ -111,8 +111,8 @@ ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain
     params_buf_ = &buffers_.add("ss.params", sizeof(shader::SurfaceParams));
     filter_params_buf_ = &buffers_.add("ss.filter_params", sizeof(shader::ScreenSpaceParams));
     aggregate_ = &buffers_.add("ss.aggregate", uint64_t(max_particles_) * 4);
-    // The splat's D_agg and classification outputs: with no aggregates and mode 0 it writes
-    // neither, so one small buffer stands in for both instead of two per-pixel maps.
+    // The splat's D_agg, classification and D_splash_back outputs: with no aggregates and mode 0
+    // it writes none, so one small buffer stands in for them instead of three per-pixel maps.
     unused_ = &buffers_.add("ss.unused_splat_outputs", 16);
     raw_ = &buffers_.add("ss.depth_raw", pixels * 4);
     filtered_ = &buffers_.add("ss.depth_filtered", pixels * 4);
@@ -123,7 +123,7 @@ ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain
     color_ = &buffers_.add("ss.color", pixels * 4);
 
     const uint32_t push = sizeof(SurfacePassPush);
-    splat_ = gpu::ComputePass(ctx, {"render/splat.comp", 7, push});
+    splat_ = gpu::ComputePass(ctx, {"render/splat.comp", 8, push});
     bilateral_ = gpu::ComputePass(ctx, {"render/ss_bilateral.comp", 3, push});
     narrow_range_ = gpu::ComputePass(ctx, {"render/ss_narrow_range.comp", 3, push});
     curvature_flow_ = gpu::ComputePass(ctx, {"render/ss_curvature_flow.comp", 3});
@@ -163,7 +163,7 @@ void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positio
         gpu::fill(*ctx_, cmd, *raw_, DEPTH_EMPTY);
         gpu::fill(*ctx_, cmd, *thickness_, 0u);
         gpu::dispatch(*ctx_, cmd, splat_, std::max(count, 1u), axis_push(0),
-                      {{"params", params_buf_}, {"sorted", &positions}, {"aggregate", aggregate_}, {"depth_all", raw_}, {"depth_agg", unused_}, {"thickness", thickness_}, {"front_class", unused_}});
+                      {{"params", params_buf_}, {"sorted", &positions}, {"aggregate", aggregate_}, {"depth_all", raw_}, {"depth_agg", unused_}, {"thickness", thickness_}, {"front_class", unused_}, {"depth_splash_back", unused_}});
     }
     {
         gpu::GpuScope scope(timer, cmd, "ss_filter");
