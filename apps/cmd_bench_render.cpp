@@ -108,6 +108,7 @@ std::vector<study::SweepPoint> sweep_mask_weights(gpu::Context& ctx, Renderer& r
         std::fprintf(stderr, "bench render: %s: mask sweep a = %.2f, b = %.2f (%zu/%zu)\n", frame_name, a, b,
                      points.size() + 1, weights.size());
         SurfaceSettings s = base;
+        s.tight_mask = false;  // the weights are Wu et al.'s convolution's
         s.mask_a = a;
         s.mask_b = b;
         const study::RenderMeasurement m = study::measure_render(ctx, renderer, positions, n, camera, study::settings_for(*mask_skip, s), 1);

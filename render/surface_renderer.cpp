@@ -77,6 +77,7 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     classify_shape_ = gpu::ComputePass(ctx, {"render/classify_shape.comp", 5});
     classify_density_ = gpu::ComputePass(ctx, {"render/classify_density.comp", 7});
     mask_convolve_ = gpu::ComputePass(ctx, {"render/mask_convolve.comp", 5, push});
+    mask_bound_ = gpu::ComputePass(ctx, {"render/mask_bound.comp", 5});
     mask_pack_ = gpu::ComputePass(ctx, {"render/mask_pack.comp", 4});
     splat_ = gpu::ComputePass(ctx, {"render/splat.comp", 8, push});
     depth_smooth_ = gpu::ComputePass(ctx, {"render/depth_smooth.comp", 3, push});
@@ -130,13 +131,17 @@ bool SurfaceRenderer::reads_in_place() const {
            shared->dims == geometry_.dims;
 }
 
-void SurfaceRenderer::record_mask(VkCommandBuffer cmd) {
+void SurfaceRenderer::record_mask(VkCommandBuffer cmd, bool tight) {
     gpu::fill(*ctx_, cmd, *coarse_, 0u);
     const uint32_t cells = geometry_.cell_count();
-    // counts (from the grid) -x-> a -y-> b -z-> a
-    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(0), {{"params", params_buf_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"src", conv_b_}, {"dst", conv_a_}});
-    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(1), {{"params", params_buf_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"src", conv_a_}, {"dst", conv_b_}});
-    gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(2), {{"params", params_buf_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"src", conv_b_}, {"dst", conv_a_}});
+    if (tight) {
+        gpu::dispatch(*ctx_, cmd, mask_bound_, cells, {{"params", params_buf_}, {"sorted", particles_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"dst", conv_a_}});
+    } else {
+        // counts (from the grid) -x-> a -y-> b -z-> a
+        gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(0), {{"params", params_buf_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"src", conv_b_}, {"dst", conv_a_}});
+        gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(1), {{"params", params_buf_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"src", conv_a_}, {"dst", conv_b_}});
+        gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(2), {{"params", params_buf_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"src", conv_b_}, {"dst", conv_a_}});
+    }
     gpu::dispatch(*ctx_, cmd, mask_pack_, params_.mask_dims.w, {{"params", params_buf_}, {"counts", conv_a_}, {"mask", mask_}, {"coarse", coarse_}});
 }
 
@@ -185,7 +190,8 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     }
     if (params_.flags & SURFACE_USE_MASK) {
         gpu::GpuScope scope(timer, cmd, "render_mask");
-        record_mask(cmd);
+        // The reference's mask is exact either way; the tight bound is the smaller.
+        record_mask(cmd, settings.tight_mask || params_.method == SURFACE_METHOD_REFERENCE);
     }
     {
         gpu::GpuScope scope(timer, cmd, "render_splat");

@@ -119,7 +119,8 @@ public:
 private:
     void prepare_grid(float radius);
     void prepare_own_grid();
-    void record_mask(VkCommandBuffer cmd);
+    /// The binary density grid: the tight bound (mask_bound.comp) or Wu et al.'s convolution.
+    void record_mask(VkCommandBuffer cmd, bool tight);
     void record_screen_passes(VkCommandBuffer cmd, gpu::GpuTimer* timer);
     /// The march over one ray list, dispatched indirectly with one thread per ray.
     void record_march(VkCommandBuffer cmd, const gpu::Buffer& rays, const gpu::Buffer& ray_count);
@@ -158,7 +159,7 @@ private:
     gpu::Buffer *ray_counts_, *blend_weights_;
     gpu::Buffer *resume_rays_[2], *resume_count_[2], *resume_state_;
     gpu::Buffer *conv_a_ = nullptr, *conv_b_ = nullptr, *mask_ = nullptr, *coarse_ = nullptr;
-    gpu::ComputePass gather_, classify_shape_, classify_density_, mask_convolve_, mask_pack_, splat_;
+    gpu::ComputePass gather_, classify_shape_, classify_density_, mask_convolve_, mask_bound_, mask_pack_, splat_;
     gpu::ComputePass depth_smooth_, screen_normals_, tiles_, ray_args_, ray_march_, upsample_, normal_filter_, compose_;
 };
 

@@ -123,52 +123,61 @@ std::vector<glm::vec4> clustered_particles(const Box& domain, float spacing, uin
     return out;
 }
 
-TEST_F(SurfaceTest, MaskWithUnitWeightsMarksEveryCellWhereTheFieldReachesTheIso) {
+TEST_F(SurfaceTest, MasksMarkEveryCellWhereTheFieldReachesTheIso) {
     const float spacing = 0.02f;
     Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.3f, 0.2f, 0.25f}}, spacing);
     const auto positions = clustered_particles(scene.domain, spacing, 7);
     Particles particles(ctx(), positions);
     SurfaceRenderer renderer(ctx(), scene.particle_domain(), 32, 32, particles.count);
-    SurfaceSettings settings;
-    settings.mask_a = settings.mask_b = 1.0f;  // the exact bound
-    renderer.render(particles.buffer, particles.count, camera_for_domain(scene.domain, 1.0f), settings);
-    const auto& p = renderer.params();
-    const auto words = renderer.mask_words();
-    const auto coarse = renderer.coarse_words();
-    const GridGeometry& g = renderer.grid();
-    constexpr int kSamples = 6;  // per cell and axis, including both faces
-    uint32_t marked = 0, needed = 0;
-    for (uint32_t z = 0; z < g.dims.z; ++z)
-        for (uint32_t y = 0; y < g.dims.y; ++y)
-            for (uint32_t x = 0; x < g.dims.x; ++x) {
-                const bool bit = mask_bit(p, words, {x, y, z});
-                marked += bit;
-                const glm::uvec3 k = glm::uvec3(x / MASK_BLOCK_X, y / MASK_BLOCK_Y, z / MASK_BLOCK_Z) / MASK_COARSE;
-                if (bit) {
-                    ASSERT_NE(coarse[k.x + p.coarse_dims.x * (k.y + p.coarse_dims.y * k.z)], 0u);
+    // The tight bound (the default) and Wu et al.'s count bound with unit weights are both exact.
+    uint32_t marked_by[2] = {0, 0};
+    for (const bool tight : {true, false}) {
+        SurfaceSettings settings;
+        settings.tight_mask = tight;
+        settings.mask_a = settings.mask_b = 1.0f;
+        renderer.render(particles.buffer, particles.count, camera_for_domain(scene.domain, 1.0f), settings);
+        const auto& p = renderer.params();
+        const auto words = renderer.mask_words();
+        const auto coarse = renderer.coarse_words();
+        const GridGeometry& g = renderer.grid();
+        constexpr int kSamples = 6;  // per cell and axis, including both faces
+        uint32_t marked = 0, needed = 0;
+        for (uint32_t z = 0; z < g.dims.z; ++z)
+            for (uint32_t y = 0; y < g.dims.y; ++y)
+                for (uint32_t x = 0; x < g.dims.x; ++x) {
+                    const bool bit = mask_bit(p, words, {x, y, z});
+                    marked += bit;
+                    const glm::uvec3 k = glm::uvec3(x / MASK_BLOCK_X, y / MASK_BLOCK_Y, z / MASK_BLOCK_Z) / MASK_COARSE;
+                    if (bit) {
+                        ASSERT_NE(coarse[k.x + p.coarse_dims.x * (k.y + p.coarse_dims.y * k.z)], 0u);
+                    }
+                    float peak = 0.0f;
+                    for (int s = 0; s < kSamples * kSamples * kSamples; ++s) {
+                        const glm::vec3 f{float(s % kSamples), float(s / kSamples % kSamples), float(s / (kSamples * kSamples))};
+                        const glm::vec3 at = g.origin + (glm::vec3(x, y, z) + f / float(kSamples - 1)) * g.cell_size;
+                        peak = std::max(peak, cpu_field(p, positions, at));
+                    }
+                    if (peak >= p.iso) {
+                        ++needed;
+                        ASSERT_TRUE(bit) << (tight ? "tight" : "Wu") << ": cell " << x << "," << y << "," << z << " reaches phi " << peak;
+                    }
                 }
-                float peak = 0.0f;
-                for (int s = 0; s < kSamples * kSamples * kSamples; ++s) {
-                    const glm::vec3 f{float(s % kSamples), float(s / kSamples % kSamples), float(s / (kSamples * kSamples))};
-                    const glm::vec3 at = g.origin + (glm::vec3(x, y, z) + f / float(kSamples - 1)) * g.cell_size;
-                    peak = std::max(peak, cpu_field(p, positions, at));
-                }
-                if (peak >= p.iso) {
-                    ++needed;
-                    ASSERT_TRUE(bit) << "cell " << x << "," << y << "," << z << " reaches phi " << peak;
-                }
-            }
-    EXPECT_GT(needed, 10u);
-    // Conservative, but not everything: the empty space between clusters stays unmarked.
-    EXPECT_LT(marked, g.cell_count() / 2);
+        EXPECT_GT(needed, 10u);
+        // Conservative, but not everything: the empty space between clusters stays unmarked.
+        EXPECT_LT(marked, g.cell_count() / 2);
+        marked_by[tight ? 0 : 1] = marked;
+    }
+    EXPECT_LT(marked_by[0], marked_by[1]) << "the tight bound marks fewer cells than the count bound";
 
+    SurfaceSettings settings;
+    settings.tight_mask = false;
     settings.mask_a = 0.5f;
     settings.mask_b = 0.25f;
     renderer.render(particles.buffer, particles.count, camera_for_domain(scene.domain, 1.0f), settings);
     const auto tighter = renderer.mask_words();
     uint32_t tighter_marked = 0;
     for (uint32_t w : tighter) tighter_marked += __builtin_popcount(w);
-    EXPECT_LT(tighter_marked, marked) << "weights below 1 mark fewer cells";
+    EXPECT_LT(tighter_marked, marked_by[1]) << "weights below 1 mark fewer cells";
 }
 
 /// A lattice slab of nx x ny x nz particles whose top layer is at y = top.

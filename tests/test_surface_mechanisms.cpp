@@ -102,6 +102,7 @@ TEST_F(CurtainTest, TheSceneIsASlabWithSixtyLoneDropletsInFrontOfIt) {
 TEST_F(CurtainTest, MaskIsTheSeparableConvolutionOfTheCellCountsCellForCell) {
     for (const glm::vec2 ab : {glm::vec2(1.0f, 1.0f), glm::vec2(0.8f, 0.3f)}) {
         SurfaceSettings settings = adaptive(true, true);
+        settings.tight_mask = false;
         settings.mask_a = ab.x;
         settings.mask_b = ab.y;
         render(settings);
@@ -143,6 +144,57 @@ TEST_F(CurtainTest, MaskIsTheSeparableConvolutionOfTheCellCountsCellForCell) {
     }
 }
 
+TEST_F(CurtainTest, TightMaskIsTheNearestPointBoundCellForCellAndMarksLessThanWus) {
+    SurfaceSettings settings = adaptive(true, true);
+    render(settings);
+    const shader::SurfaceParams& p = renderer->params();
+    const GridGeometry& g = renderer->grid();
+    const glm::ivec3 dims(g.dims);
+    const auto words = renderer->mask_words();
+    auto bit = [&](glm::ivec3 c, const std::vector<uint32_t>& w) {
+        const glm::uvec3 word = glm::uvec3(c) / glm::uvec3(MASK_BLOCK_X, MASK_BLOCK_Y, MASK_BLOCK_Z);
+        const glm::uvec3 in = glm::uvec3(c) - word * glm::uvec3(MASK_BLOCK_X, MASK_BLOCK_Y, MASK_BLOCK_Z);
+        return bool((w[word.x + p.mask_dims.x * (word.y + p.mask_dims.y * word.z)] >> (in.x + 4 * in.y + 16 * in.z)) & 1u);
+    };
+    // phi_max(c) = V sum_j W(distance from x_j to the box of c), by brute force over every particle.
+    uint32_t marked = 0, compared = 0;
+    for (int z = 0; z < dims.z; ++z)
+        for (int y = 0; y < dims.y; ++y)
+            for (int x = 0; x < dims.x; ++x) {
+                const glm::vec3 lo = g.origin + glm::vec3(x, y, z) * g.cell_size, hi = lo + glm::vec3(g.cell_size);
+                float bound = 0.0f;
+                for (const glm::vec4& q : positions) {
+                    const glm::vec3 outside = glm::max(lo - glm::vec3(q), glm::vec3(0.0f)) + glm::max(glm::vec3(q) - hi, glm::vec3(0.0f));
+                    bound += shader::cubic_kernel(glm::dot(outside, outside), p.inv_radius, p.kernel_coeff);
+                }
+                bound *= p.volume;
+                const bool b = bit({x, y, z}, words);
+                marked += b;
+                if (std::abs(bound - p.iso) < 1e-4f * p.iso) continue;  // float order decides
+                ++compared;
+                ASSERT_EQ(b, bound >= p.iso) << "cell " << x << "," << y << "," << z << ": bound " << bound << ", iso " << p.iso;
+            }
+    EXPECT_GT(compared, g.cell_count() * 9 / 10);
+    // Wu et al.'s count bound with the exact weights marks every cell within a cell of a particle.
+    settings.tight_mask = false;
+    render(settings);
+    const auto wu_words = renderer->mask_words();
+    uint32_t wu_marked = 0;
+    for (uint32_t w : wu_words) wu_marked += __builtin_popcount(w);
+    EXPECT_LT(marked, wu_marked);
+    // Around a lone droplet the tight bound marks a few cells, Wu's all 27 around it.
+    uint32_t droplet_cells_tight = 0, droplet_cells_wu = 0;
+    for (const glm::vec3& d : droplets) {
+        const glm::ivec3 c = shader::grid_cell(d, p.grid_origin_cell, p.grid_dims);
+        for (int k = 0; k < 27; ++k) {
+            const glm::ivec3 n = c + glm::ivec3(k % 3, k / 3 % 3, k / 9) - glm::ivec3(1);
+            droplet_cells_tight += bit(n, words);
+            droplet_cells_wu += bit(n, wu_words);
+        }
+    }
+    EXPECT_LT(droplet_cells_tight * 2, droplet_cells_wu) << droplet_cells_tight << " vs " << droplet_cells_wu;
+}
+
 TEST_F(CurtainTest, MaskAndSkipEachSaveMarchStepsAtTheSameDepth) {
     SurfaceSettings reference_settings;
     reference_settings.method = SurfaceMethod::reference;
@@ -169,6 +221,16 @@ TEST_F(CurtainTest, MaskAndSkipEachSaveMarchStepsAtTheSameDepth) {
         const SurfaceComparison c = compare_surfaces(reference, f->surface, radius);
         EXPECT_LT(c.depth_err_mean, 0.05) << "steps/ray " << f->steps_per_ray;
         EXPECT_LT(c.coverage_mismatch, 0.01) << "steps/ray " << f->steps_per_ray;
+    }
+    // The mask only removes samples that cannot reach the iso value: every pixel finds the same
+    // surface as without it (the samples stay on the lattice of steps from the entry).
+    for (size_t i = 0; i < none.surface.hit.size(); ++i) {
+        ASSERT_EQ(none.surface.has_surface(i), mask.surface.has_surface(i)) << "pixel " << i;
+        if (none.surface.has_surface(i)) {
+            // (to the bisection's last interval: the samples agree to rounding, which may tip one halving)
+            const float resolution = renderer->params().step / float(1u << renderer->params().refine_steps);
+            ASSERT_NEAR(none.surface.hit[i].w, mask.surface.hit[i].w, 1.01f * resolution) << "pixel " << i;
+        }
     }
     // The march's evaluations and the bisection's add up to what the normal buffer counts.
     for (size_t i = 0; i < both.counts.size(); ++i)

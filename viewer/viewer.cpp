@@ -364,6 +364,8 @@ private:
             ImGui::Checkbox("anisotropic", &r.anisotropic);
             ImGui::SliderFloat("iso (lone radius)", &r.lone_radius, 0.2f, 3.0f);
             ImGui::SliderFloat("step [radii]", &r.step_radii, 0.1f, 4.0f);
+            bool wu_mask = !r.tight_mask;
+            if (ImGui::Checkbox("Wu's mask (counts x W(0), weights a, b)", &wu_mask)) r.tight_mask = !wu_mask;
             ImGui::SliderFloat("mask a", &r.mask_a, 0.05f, 1.0f);
             ImGui::SliderFloat("mask b", &r.mask_b, 0.05f, 1.0f);
             ImGui::SliderFloat("eps1 [radii^2]", &r.tile_eps1, 0.0f, 16.0f);

@@ -51,7 +51,8 @@ layout(std430, binding = 12) writeonly buffer Normal { vec4 normal[]; };
 layout(std430, binding = 13) buffer MarchCut { uint march_cut[]; };
 layout(std430, binding = 14) writeonly buffer ResumeRays { uint resume_rays[]; };
 layout(std430, binding = 15) buffer ResumeCount { uint resume_count[]; };
-// t, t_prev, evals, mask leaps (negative: -(leaps + 1) once the ray has taken its skip)
+// t, t_phase (the sample lattice's start), evals, mask leaps (negative: -(leaps + 1) once the
+// ray has taken its skip)
 layout(std430, binding = 16) buffer ResumeState { vec4 resume_state[]; };
 layout(std430, binding = 17) writeonly buffer RayCounts { uvec2 ray_counts[]; };
 layout(std430, binding = 18) writeonly buffer BlendWeights { vec2 blend_weights[]; };
@@ -121,8 +122,8 @@ vec3 xiao_normal(vec3 x, vec3 fallback) {
     return dot(n, n) > 0.0 ? normalize(n) : basic;
 }
 
-void save_state(uint index, float t, float t_prev, uint evals, uint leaps, bool skipped) {
-    resume_state[index] = vec4(t, t_prev, float(evals), skipped ? -float(leaps) - 1.0 : float(leaps));
+void save_state(uint index, float t, float t_phase, uint evals, uint leaps, bool skipped) {
+    resume_state[index] = vec4(t, t_phase, float(evals), skipped ? -float(leaps) - 1.0 : float(leaps));
 }
 
 void main() {
@@ -150,6 +151,11 @@ void main() {
         t_entry = depth_to_t(uintBitsToFloat(bits), dir);
         t = max(t, t_entry);
     }
+    // Samples lie on a lattice of steps from t_phase (the entry, or D_agg after the skip), so
+    // that a mask leap only removes samples, never moves them: the mask can then change
+    // nothing but the count. (Re-started at a cell's border, the samples would fall elsewhere
+    // on small droplets than uniform steps from the entry do, and find or miss other ones.)
+    float t_phase = t;
     float t_prev = t;
     // The field is zero at the entry (see the top): start one step on, bracketed by it.
     if (!reference && t == t_entry) t += params.step;
@@ -168,7 +174,8 @@ void main() {
     if (pc.axis != 0u) {  // a resumed ray continues where the device cut it
         vec4 state = resume_state[index];
         t = state.x;
-        t_prev = state.y;
+        t_phase = state.y;
+        t_prev = max(t - params.step, t_phase);  // the sample before, or the lattice's start
         evals = uint(state.z);
         skipped = state.w < 0.0;
         leaps = uint(skipped ? -state.w - 1.0 : state.w);
@@ -178,13 +185,14 @@ void main() {
     const uint yield_at = pc.axis == 2u || pc.evals_per_pass == 0u ? 0xffffffffu : evals + pc.evals_per_pass;
     while (t <= t_end && evals < params.max_steps) {
         if (evals >= yield_at) {  // a long ray: hand over to the next pass
-            save_state(index, t, t_prev, evals, leaps, skipped);
+            save_state(index, t, t_phase, evals, leaps, skipped);
             resume_rays[atomicAdd(resume_count[0], 1u)] = packed;
             return;
         }
         if (use_skip && !skipped && (wu_skip ? evals >= params.max_skip_evals : t >= t_splash_back)) {
             skipped = true;
             if (t_agg > t) {
+                t_phase = t_agg;
                 t_prev = t_agg;
                 t = wu_skip ? t_agg : t_agg + params.step;
                 continue;
@@ -196,8 +204,9 @@ void main() {
             if (exit_t >= 0.0) {
                 --mask_steps_left;
                 ++leaps;
-                t = max(exit_t, t) + nudge;
-                t_prev = t;
+                // The first lattice sample past the empty block; the one before lies in it.
+                t = t_phase + ceil((max(exit_t, t) + nudge - t_phase) / params.step) * params.step;
+                t_prev = t - params.step;
                 continue;
             }
         }
@@ -214,7 +223,7 @@ void main() {
             if (pc.axis == 2u || pc.evals_per_pass == 0u) {  // no pass follows: count it
                 atomicAdd(march_cut[0], 1u);
             } else {
-                save_state(index, t, t_prev, evals, leaps, skipped);
+                save_state(index, t, t_phase, evals, leaps, skipped);
                 resume_rays[atomicAdd(resume_count[0], 1u)] = packed;
                 return;
             }
