@@ -148,7 +148,9 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFr
     const study::RenderMeasurement ref = study::measure_render(ctx, *renderer, solver.positions(), n, camera, reference_settings, 1);
     const float radius = scene.particle_domain().particle_radius();
     nlohmann::json records = nlohmann::json::array();
-    records.push_back(study::render_record("reference", ref, nullptr));
+    // The reference's own roughness: the bumps of the SPH field itself, the floor for the methods.
+    const SurfaceComparison ref_self = compare_surfaces(ref.frame, ref.frame, scene.particle_domain().particle_radius());
+    records.push_back(study::render_record("reference", ref, &ref_self));
 
     std::vector<study::Measured> results;
     results.reserve(configs.size());
@@ -164,7 +166,7 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFr
 
     std::printf("\n");
     study::print_render_header();
-    study::print_render_row("reference", ref, nullptr);
+    study::print_render_row("reference", ref, &ref_self);
     for (const study::Measured& r : results) study::print_render_row(r.config->label, r.m, &r.cmp);
     std::vector<std::pair<std::string, const study::RenderMeasurement*>> pass_rows{{"reference", &ref}};
     for (const study::Measured& r : results) pass_rows.emplace_back(r.config->label, &r.m);

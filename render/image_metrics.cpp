@@ -1,4 +1,6 @@
 #include "render/image_metrics.h"
+
+#include "shaders/shared/anisotropy.h"
 #include "core/error.h"
 
 #include <algorithm>
@@ -237,8 +239,69 @@ SurfaceComparison compare_surfaces(const SurfaceFrame& reference, const SurfaceF
     result.coverage_mismatch =
         double(result.only_reference + result.only_test) / double(std::max<size_t>(1, with_surface));
     result.psnr_db = psnr(reference.color, test.color);
+    const SurfaceRoughness roughness = surface_roughness(reference, test, particle_radius);
+    result.roughness_deg = roughness.rms_deg;
+    result.flat_pixels = roughness.flat_pixels;
     result.evals_per_ray = result.rays == 0 ? 0.0 : evaluations / double(result.rays);
     return result;
+}
+
+SurfaceRoughness surface_roughness(const SurfaceFrame& reference, const SurfaceFrame& test, float particle_radius) {
+    if (reference.width != test.width || reference.height != test.height || reference.hit.size() != test.hit.size())
+        throw Failure("surface roughness: the frames differ in size");
+    const int w = int(reference.width), h = int(reference.height);
+    auto at = [&](int x, int y) { return size_t(y) * size_t(w) + size_t(x); };
+    double sum_sq = 0.0;
+    size_t flat = 0;
+    for (int y = 1; y + 1 < h; y += int(kRoughnessStride))
+        for (int x = 1; x + 1 < w; x += int(kRoughnessStride)) {
+            const size_t p = at(x, y);
+            if (!reference.has_surface(p) || !test.has_surface(p)) continue;
+            // The window's half width in pixels: half the window's width over this pixel's
+            // footprint, the least distance to a neighbour's surface point (a step in the
+            // surface lengthens the others).
+            float footprint = INFINITY;
+            for (const size_t q : {at(x - 1, y), at(x + 1, y), at(x, y - 1), at(x, y + 1)})
+                if (reference.has_surface(q))
+                    footprint = std::min(footprint, glm::length(glm::vec3(reference.hit[q]) - glm::vec3(reference.hit[p])));
+            if (!(footprint > 0.0f && footprint < INFINITY)) continue;
+            const int half = int(std::lround(0.5f * kRoughnessWindowRadii * particle_radius / footprint));
+            if (half < 2 || half > 16 || x - half < 0 || y - half < 0 || x + half >= w || y + half >= h) continue;
+            // The plane through the window's surface points (their covariance's least axis).
+            const float t0 = reference.hit[p].w;
+            glm::dvec3 mean(0.0);
+            std::vector<glm::vec3> points;
+            bool continuous = true;
+            for (int dy = -half; dy <= half && continuous; ++dy)
+                for (int dx = -half; dx <= half; ++dx) {
+                    const glm::vec4& q = reference.hit[at(x + dx, y + dy)];
+                    if (q.w < 0.0f || std::abs(q.w - t0) > kRoughnessWindowRadii * particle_radius) {
+                        continuous = false;
+                        break;
+                    }
+                    points.emplace_back(q);
+                    mean += glm::dvec3(q);
+                }
+            if (!continuous) continue;
+            mean /= double(points.size());
+            glm::mat3 covariance(0.0f);
+            for (const glm::vec3& q : points) {
+                const glm::vec3 d = (q - glm::vec3(mean)) / particle_radius;  // of order 1 (symmetric_eigen)
+                covariance += glm::outerProduct(d, d);
+            }
+            covariance /= float(points.size());
+            const shader::SymmetricEigen e = shader::symmetric_eigen(covariance);
+            if (!(std::sqrt(std::max(e.values[2], 0.0f)) <= kFlatResidualRadii)) continue;  // not flat
+            glm::vec3 plane = glm::normalize(e.vectors[2]);
+            if (glm::dot(plane, glm::vec3(reference.normal[p])) < 0.0f) plane = -plane;
+            const glm::vec3 n(test.normal[p]);
+            const float len = glm::length(n);
+            if (!(len > 0.0f)) continue;
+            const double angle = glm::degrees(std::acos(std::clamp(double(glm::dot(plane, n / len)), -1.0, 1.0)));
+            sum_sq += angle * angle;
+            ++flat;
+        }
+    return {flat ? std::sqrt(sum_sq / double(flat)) : 0.0, flat};
 }
 
 Lab srgb_to_lab(uint8_t r, uint8_t g, uint8_t b) {

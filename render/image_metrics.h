@@ -46,6 +46,10 @@ struct SurfaceComparison {
     double coverage_mismatch = 0.0;
 
     double psnr_db = 0.0;        ///< of the shaded colour images, capped at kPsnrCapDb
+    /// Smoothness (surface_roughness): the test frame's rms normal deviation [deg] from the plane
+    /// the reference's surface fits, over the regions the reference shows flat; 0 when none.
+    double roughness_deg = 0.0;
+    size_t flat_pixels = 0;      ///< pixels (on a stride) in those regions
     double evals_per_ray = 0.0;  ///< test frame: mean density evaluations over the pixels that cast a ray
     size_t rays = 0;             ///< test frame: pixels that cast a ray (normal.w > 0)
 };
@@ -53,6 +57,23 @@ struct SurfaceComparison {
 /// Compares `test` against `reference`; throws aquaform::Failure when the frames (or their
 /// colour images) differ in size or are malformed, or the radius is not positive.
 SurfaceComparison compare_surfaces(const SurfaceFrame& reference, const SurfaceFrame& test, float particle_radius);
+
+/// How bumpy a method draws surfaces that are flat: every particle showing as a bump is what
+/// blended normals and anisotropic kernels exist to prevent, and depth error cannot see it (the
+/// bumps are a fraction of a radius deep, but tilt the normals by tens of degrees). On a stride
+/// of kRoughnessStride pixels, a region is flat where the reference's surface points within a
+/// window kRoughnessWindowRadii particle radii wide (in the pixels that span it there) are all
+/// present, continuous and fit by a plane within kFlatResidualRadii particle radii (rms); there
+/// the test frame's normal is compared with that plane's. The reference's own normals measure
+/// the bumps of the SPH field itself (compare a frame with itself for that floor).
+struct SurfaceRoughness {
+    double rms_deg = 0.0;
+    size_t flat_pixels = 0;
+};
+constexpr uint32_t kRoughnessStride = 3;
+constexpr float kRoughnessWindowRadii = 6.0f;
+constexpr float kFlatResidualRadii = 0.25f;
+SurfaceRoughness surface_roughness(const SurfaceFrame& reference, const SurfaceFrame& test, float particle_radius);
 
 /// CIELAB (D65 white) of an 8-bit sRGB colour: L* in 0..100.
 struct Lab {

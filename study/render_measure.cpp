@@ -112,15 +112,17 @@ nlohmann::json render_record(const std::string& label, const RenderMeasurement& 
         r["normal_err_deg_p95"] = cmp->normal_err_deg_p95;
         r["coverage_mismatch"] = cmp->coverage_mismatch;
         r["psnr_db"] = cmp->psnr_db;
+        r["roughness_deg"] = cmp->roughness_deg;
+        r["flat_pixels"] = cmp->flat_pixels;
     }
     return r;
 }
 
 void print_render_header() {
-    std::printf("%-22s %9s %8s %7s %7s %7s %10s %10s %9s %8s\n", "method", "ms", "rays", "steps", "bisect", "evals",
-                "depth err", "normal err", "coverage", "PSNR");
-    std::printf("%-22s %9s %8s %7s %7s %7s %10s %10s %9s %8s\n", "", "", "", "/ray", "/ray", "/ray", "[radii]", "[deg]",
-                "mismatch", "[dB]");
+    std::printf("%-22s %9s %8s %7s %7s %7s %10s %10s %9s %8s %9s\n", "method", "ms", "rays", "steps", "bisect", "evals",
+                "depth err", "normal err", "coverage", "PSNR", "roughness");
+    std::printf("%-22s %9s %8s %7s %7s %7s %10s %10s %9s %8s %9s\n", "", "", "", "/ray", "/ray", "/ray", "[radii]", "[deg]",
+                "mismatch", "[dB]", "[deg]");
 }
 
 void print_render_row(const std::string& label, const RenderMeasurement& m, const SurfaceComparison* cmp) {
@@ -128,10 +130,10 @@ void print_render_row(const std::string& label, const RenderMeasurement& m, cons
     std::printf("%-22s %9.1f %8llu %7.2f %7.2f %7.2f", label.c_str(), m.ms_total, rays, steps_per_ray(m),
                 bisection_per_ray(m), evals_per_ray(m));
     if (cmp)
-        std::printf(" %10.3f %10.2f %8.2f%% %8.1f\n", cmp->depth_err_mean, cmp->normal_err_deg_mean,
-                    100.0 * cmp->coverage_mismatch, cmp->psnr_db);
+        std::printf(" %10.3f %10.2f %8.2f%% %8.1f %9.2f\n", cmp->depth_err_mean, cmp->normal_err_deg_mean,
+                    100.0 * cmp->coverage_mismatch, cmp->psnr_db, cmp->roughness_deg);
     else
-        std::printf(" %10s %10s %9s %8s\n", "-", "-", "-", "-");
+        std::printf(" %10s %10s %9s %8s %9s\n", "-", "-", "-", "-", "-");
 }
 
 }  // namespace aquaform::study

@@ -166,6 +166,7 @@ private:
         row.normal_err_deg_mean = cmp.normal_err_deg_mean;
         row.coverage_mismatch = cmp.coverage_mismatch;
         if (with_psnr) row.psnr_db = cmp.psnr_db;
+        if (cmp.flat_pixels) row.roughness_deg = cmp.roughness_deg;
     }
 
     float particle_radius() const { return 0.5f * scene_.particle_spacing; }
@@ -316,7 +317,12 @@ private:
 
     /// Renders `m` into `row` and returns the shaded image.
     Image run(const StudyMethod& m, StudyRow& row) {
-        if (m.method == "reference") return sph_reference(&row).color;
+        if (m.method == "reference") {
+            const SurfaceFrame& reference = sph_reference(&row);
+            const SurfaceRoughness own = surface_roughness(reference, reference, particle_radius());
+            if (own.flat_pixels) row.roughness_deg = own.rms_deg;
+            return reference.color;
+        }
         if (m.family == StudyFamily::metaball) return run_metaball(m, row);
         // The SPH methods and the screen-space filters, against the SPH reference; a method at a
         // fixed fraction of the resolution is compared (and shown) upsampled to the full one.
@@ -473,7 +479,7 @@ Result<bool> write_study_csv(const fs::path& dir, const std::vector<StudyRow>& r
     csv << "case,scene,method,width,height,particles,metaball_scale,recursion_depth,bisection_steps,visual,ms_total,fps,"
            "depth_err_mean,depth_err_p95,normal_err_deg_mean,coverage_mismatch,psnr_db,overflow,status,rays,steps_per_ray,"
            "bisection_per_ray,evals_per_ray,mask_leaps_per_ray,list_entries_per_pixel,list_bytes_per_pixel,"
-           "particle_visits_per_pixel,memory_bytes_per_pixel\n";
+           "particle_visits_per_pixel,memory_bytes_per_pixel,roughness_deg\n";
     passes << "case,scene,method,width,height,particles,pass,ms\n";
     for (const StudyRow& r : rows) {
         const bool metaball = r.config.family == StudyFamily::metaball;
@@ -487,7 +493,8 @@ Result<bool> write_study_csv(const fs::path& dir, const std::vector<StudyRow>& r
             << csv_text(r.status) << ',' << r.rays << ',' << csv_number(r.steps_per_ray) << ','
             << csv_number(r.bisection_per_ray) << ',' << csv_number(r.evals_per_ray) << ',' << csv_number(r.leaps_per_ray)
             << ',' << csv_number(r.list_entries_per_pixel) << ',' << csv_number(r.list_bytes_per_pixel) << ','
-            << csv_number(r.particle_visits_per_pixel) << ',' << csv_number(r.memory_bytes_per_pixel) << '\n';
+            << csv_number(r.particle_visits_per_pixel) << ',' << csv_number(r.memory_bytes_per_pixel) << ','
+            << csv_number(r.roughness_deg) << '\n';
         for (const auto& [pass, ms] : r.ms_per_pass)
             passes << csv_text(r.case_name) << ',' << csv_text(r.scene) << ',' << csv_text(r.method) << ',' << r.width
                    << ',' << r.height << ',' << r.particles << ',' << pass << ',' << csv_number(ms) << '\n';
@@ -677,20 +684,23 @@ Result<bool> write_study_markdown(const fs::path& path, const StudySpec& spec, c
     };
     md << "# Study: " << spec.name << "\n\nTimes are GPU milliseconds (best of " << spec.repeats << ")"
        << (device.empty() ? std::string() : " on " + device)
-       << "; errors are against the reference of the field each method draws (depth in particle radii).\n\n"
+       << "; errors are against the reference of the field each method draws (depth in particle radii). Roughness is "
+          "the rms angle [deg] between a method's normals and the plane the reference's surface fits, over the regions "
+          "where it fits one (within a quarter particle radius over a window six radii wide): every particle showing "
+          "as a bump raises it; the reference row gives the SPH field's own.\n\n"
        << kDeviceNote << "\n";
     for (const StudyCase& c : spec.cases) {
         md << "\n## " << c.name << "\n\n";
         if (!c.note.empty()) md << c.note << "\n\n";
-        md << "| method | particles | resolution | ms | fps | depth err mean | p95 | normal err ° | coverage mismatch | PSNR dB | status |\n"
-              "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---|\n";
+        md << "| method | particles | resolution | ms | fps | depth err mean | p95 | normal err ° | coverage mismatch | PSNR dB | roughness ° | status |\n"
+              "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
         for (const StudyRow& r : rows) {
             if (r.case_name != c.name) continue;
             md << "| " << r.method << " | " << r.particles << " | " << resolution_text(r.width, r.height) << " | "
                << num(r.ms_total, "%.1f") << " | " << num(fps(r.ms_total), "%.2f") << " | " << num(r.depth_err_mean, "%.3f")
                << " | " << num(r.depth_err_p95, "%.3f") << " | " << num(r.normal_err_deg_mean, "%.1f") << " | "
                << num(r.coverage_mismatch ? std::optional<double>(*r.coverage_mismatch * 100.0) : std::nullopt, "%.1f %%")
-               << " | " << num(r.psnr_db, "%.1f") << " | " << r.status
+               << " | " << num(r.psnr_db, "%.1f") << " | " << num(r.roughness_deg, "%.1f") << " | " << r.status
                << (r.overflow_mib > 0 ? " (needs " + num(r.overflow_mib, "%.0f") + " MiB)" : "")
                << (r.image.empty() ? "" : " [image](" + r.image + ")") << " |\n";
         }

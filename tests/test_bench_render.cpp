@@ -65,7 +65,7 @@ TEST(BenchRender, QuickRunWritesRecordsAgainstTheReferenceForEveryFrame) {
             ASSERT_TRUE(r["ms_per_pass"].is_object()) << label;
             EXPECT_TRUE(r["ms_per_pass"].contains("render_march")) << label;
             if (r["label"] == "reference") continue;
-            for (const char* key : {"depth_err_mean", "normal_err_deg_mean", "psnr_db"}) {
+            for (const char* key : {"depth_err_mean", "normal_err_deg_mean", "psnr_db", "roughness_deg"}) {
                 ASSERT_TRUE(r.contains(key)) << label << ": " << key;
                 EXPECT_TRUE(finite_number(r[key])) << label << ": " << key << " = " << r[key];
             }

@@ -364,5 +364,49 @@ TEST(ImageMetrics, UpdateGoldenVariableWritesTheGolden) {
     EXPECT_TRUE(after.passed) << after.message;
 }
 
+/// A plane z = 0 seen head-on: pixel (x, y) hits (x f, y f, 0) at distance 1 with normal `n(x, y)`;
+/// `height(x, y)` displaces the points along z.
+template <typename Normal, typename Height>
+SurfaceFrame plane_frame(uint32_t size, float footprint, Normal n, Height height) {
+    SurfaceFrame f;
+    f.width = f.height = size;
+    f.color.width = f.color.height = size;
+    f.color.rgba.assign(size_t(size) * size * 4, 255);
+    for (uint32_t y = 0; y < size; ++y)
+        for (uint32_t x = 0; x < size; ++x) {
+            const float z = height(x, y);
+            f.hit.emplace_back(float(x) * footprint, float(y) * footprint, z, 1.0f - z);
+            f.normal.emplace_back(n(x, y), 5.0f);
+        }
+    return f;
+}
+
+TEST(SurfaceRoughness, SeesBumpyNormalsOnAFlatSurfaceAndOnlyWhereTheReferenceIsFlat) {
+    const float radius = 0.01f, footprint = 0.006f;  // a particle radius spans about 1.7 pixels
+    const auto flat = [](uint32_t, uint32_t) { return 0.0f; };
+    const auto up = [](uint32_t, uint32_t) { return glm::vec3(0.0f, 0.0f, 1.0f); };
+    // Each particle a bump: normals tilted by 20 degrees one way and the other, every 3 pixels.
+    const float tilt = glm::radians(20.0f);
+    const auto bumpy = [&](uint32_t x, uint32_t) {
+        const float a = (x / 3) % 2 ? tilt : -tilt;
+        return glm::vec3(std::sin(a), 0.0f, std::cos(a));
+    };
+    const SurfaceFrame reference = plane_frame(64, footprint, up, flat);
+    const SurfaceRoughness smooth = surface_roughness(reference, reference, radius);
+    EXPECT_GT(smooth.flat_pixels, 100u);
+    EXPECT_LT(smooth.rms_deg, 0.01);
+    const SurfaceRoughness rough = surface_roughness(reference, plane_frame(64, footprint, bumpy, flat), radius);
+    EXPECT_EQ(rough.flat_pixels, smooth.flat_pixels);
+    EXPECT_NEAR(rough.rms_deg, 20.0, 0.01);
+    // A reference whose points leave the plane by more than the flat residual: no region counts.
+    const auto corrugated = [&](uint32_t x, uint32_t) { return (x / 4) % 2 ? 0.6f * radius : -0.6f * radius; };
+    const SurfaceFrame wavy = plane_frame(64, footprint, up, corrugated);
+    EXPECT_EQ(surface_roughness(wavy, plane_frame(64, footprint, bumpy, flat), radius).flat_pixels, 0u);
+    // compare_surfaces reports it.
+    const SurfaceComparison c = compare_surfaces(reference, plane_frame(64, footprint, bumpy, flat), radius);
+    EXPECT_NEAR(c.roughness_deg, 20.0, 0.01);
+    EXPECT_EQ(c.flat_pixels, smooth.flat_pixels);
+}
+
 }  // namespace
 }  // namespace aquaform

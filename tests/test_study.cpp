@@ -240,6 +240,7 @@ TEST(StudyCliTest, TinySpecRunsEndToEndWithCsvTablesAndCharts) {
                  depth = column("depth_err_mean"), overflow = column("overflow"), case_name = column("case"),
                  steps = column("steps_per_ray"), bisect = column("bisection_per_ray"), evals = column("evals_per_ray"),
                  list_entries = column("list_entries_per_pixel"), memory = column("memory_bytes_per_pixel");
+    column("roughness_deg");
     size_t sph_rows = 0;
     std::map<std::string, double> curtain_steps;
     std::vector<std::string> methods_seen;
