@@ -74,7 +74,7 @@ std::optional<uint32_t> parse_frame(const std::string& text, std::string* error)
 FlagSpec bench_render_flags() {
     FlagSpec spec{{"--particles", "--frames", "--frame", "--scene-dir", "--resolution", "--repeats", "--out", "--device",
                    "--configs"},
-                  {"--validation", "--quick", "--isotropic", "--mask-sweep"}};
+                  {"--validation", "--quick", "--isotropic", "--mask-sweep", "--blend-sweep"}};
     for (const auto& f : parameter_flags()) spec.with_value.push_back(f);
     // Accepted only to be refused with a reason: the configurations set the method and mechanisms.
     spec.with_value.push_back("--method");
@@ -85,39 +85,58 @@ FlagSpec bench_render_flags() {
 
 namespace {
 
+/// Which parameter sweeps a frame also runs.
+struct Sweeps {
+    bool mask = false, blend = false;
+};
+
 /// What a frame's measurement left for the JSON and the summary.
 struct FrameResult {
     nlohmann::json json;
     std::vector<std::string> verdict_lines;
-    std::vector<study::SweepPoint> sweep;
+    std::vector<study::SweepPoint> mask_sweep, blend_sweep;
 };
 
-/// Mask + skip at every weight pair of study::mask_sweep_weights(), against the reference; the
-/// step counts do not depend on the device, so each pair is rendered once.
-std::vector<study::SweepPoint> sweep_mask_weights(gpu::Context& ctx, Renderer& renderer, const gpu::Buffer& positions,
-                                                  uint32_t n, const ViewCamera& camera, const SurfaceSettings& base,
-                                                  const SurfaceFrame& reference, float radius, const char* frame_name) {
+/// The sweep's configuration at every pair, against the reference; step counts and errors do
+/// not depend on the device, so each pair is rendered once.
+std::vector<study::SweepPoint> run_sweep(gpu::Context& ctx, Renderer& renderer, const gpu::Buffer& positions, uint32_t n,
+                                         const ViewCamera& camera, const SurfaceSettings& base, const SurfaceFrame& reference,
+                                         float radius, const char* frame_name, const study::Sweep& sweep) {
     const study::BenchConfig* uniform = study::find_config("uniform");
-    const study::BenchConfig* mask_skip = study::find_config("mask_skip");
+    const study::BenchConfig* config = study::find_config(sweep.config);
     const study::RenderMeasurement u = study::measure_render(ctx, renderer, positions, n, camera, study::settings_for(*uniform, base), 1);
-    const auto weights = study::mask_sweep_weights();
     std::vector<study::SweepPoint> points;
-    std::printf("\nmask weights (mask + skip; uniform: %.2f steps/ray)\n%6s %6s %10s %8s %10s %9s\n", study::steps_per_ray(u),
-                "a", "b", "steps/ray", "/uniform", "depth err", "coverage");
-    for (const auto& [a, b] : weights) {
-        std::fprintf(stderr, "bench render: %s: mask sweep a = %.2f, b = %.2f (%zu/%zu)\n", frame_name, a, b,
-                     points.size() + 1, weights.size());
-        SurfaceSettings s = base;
-        s.tight_mask = false;  // the weights are Wu et al.'s convolution's
-        s.mask_a = a;
-        s.mask_b = b;
-        const study::RenderMeasurement m = study::measure_render(ctx, renderer, positions, n, camera, study::settings_for(*mask_skip, s), 1);
+    std::printf("\n%s sweep (%s; uniform: %.2f steps/ray)\n%6s %6s %10s %8s %10s %9s %10s %9s\n", sweep.name, sweep.config,
+                study::steps_per_ray(u), sweep.a_name, sweep.b_name, "steps/ray", "/uniform", "depth err", "coverage",
+                "normal err", "roughness");
+    for (const auto& [a, b] : sweep.pairs) {
+        std::fprintf(stderr, "bench render: %s: %s sweep %s = %.2f, %s = %.2f (%zu/%zu)\n", frame_name, sweep.name, sweep.a_name,
+                     a, sweep.b_name, b, points.size() + 1, sweep.pairs.size());
+        const MethodSettings settings = study::settings_for(*config, sweep.apply(base, a, b));
+        const study::RenderMeasurement m = study::measure_render(ctx, renderer, positions, n, camera, settings, 1);
         study::SweepPoint p{frame_name, a, b, study::steps_per_ray(m), study::steps_per_ray(u), compare_surfaces(reference, m.frame, radius)};
-        std::printf("%6.2f %6.2f %10.2f %7.1f%% %10.3f %8.2f%%\n", a, b, p.steps_per_ray, 100.0 * p.steps_per_ray / p.uniform_steps_per_ray,
-                    p.cmp.depth_err_mean, 100.0 * p.cmp.coverage_mismatch);
+        std::printf("%6.2f %6.2f %10.2f %7.1f%% %10.3f %8.2f%% %10.2f %9.2f\n", a, b, p.steps_per_ray,
+                    100.0 * p.steps_per_ray / p.uniform_steps_per_ray, p.cmp.depth_err_mean, 100.0 * p.cmp.coverage_mismatch,
+                    p.cmp.normal_err_deg_mean, p.cmp.roughness_deg);
         points.push_back(p);
     }
     return points;
+}
+
+/// The JSON of a sweep's points.
+nlohmann::json sweep_json(const std::vector<study::SweepPoint>& points) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const study::SweepPoint& p : points)
+        out.push_back({{"a", p.a},
+                       {"b", p.b},
+                       {"steps_per_ray", p.steps_per_ray},
+                       {"uniform_steps_per_ray", p.uniform_steps_per_ray},
+                       {"depth_err_mean", p.cmp.depth_err_mean},
+                       {"coverage_mismatch", p.cmp.coverage_mismatch},
+                       {"normal_err_deg_mean", p.cmp.normal_err_deg_mean},
+                       {"roughness_deg", p.cmp.roughness_deg},
+                       {"psnr_db", p.cmp.psnr_db}});
+    return out;
 }
 
 /// Simulates `scene` to `frame`, renders the reference and every configuration, prints the
@@ -125,7 +144,7 @@ std::vector<study::SweepPoint> sweep_mask_weights(gpu::Context& ctx, Renderer& r
 std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFrame& bench, const Scene& scene, uint32_t frame,
                                          const std::vector<const study::BenchConfig*>& configs, const SurfaceSettings& base,
                                          uint32_t width, uint32_t height, uint32_t repeats, long requested_particles,
-                                         bool mask_sweep) {
+                                         Sweeps sweeps) {
     session::SimulationSession sim(ctx, session::plan_session(scene, std::nullopt), {.measure_shapes = false, .frame_grid = true});
     PbfSolver& solver = sim.solver();
     const uint32_t n = solver.particle_count();
@@ -185,18 +204,13 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFr
     }
     out.json = {{"name", bench.name},   {"what", bench.what}, {"scene", scene.name}, {"particles", n},
                 {"frame", frame},       {"time_s", time_s},   {"records", records},  {"targets", targets}};
-    if (mask_sweep) {
-        out.sweep = sweep_mask_weights(ctx, *renderer, solver.positions(), n, camera, base, ref.frame, radius, bench.name);
-        nlohmann::json sweep = nlohmann::json::array();
-        for (const study::SweepPoint& p : out.sweep)
-            sweep.push_back({{"a", p.a},
-                             {"b", p.b},
-                             {"steps_per_ray", p.steps_per_ray},
-                             {"uniform_steps_per_ray", p.uniform_steps_per_ray},
-                             {"depth_err_mean", p.cmp.depth_err_mean},
-                             {"coverage_mismatch", p.cmp.coverage_mismatch},
-                             {"psnr_db", p.cmp.psnr_db}});
-        out.json["mask_sweep"] = sweep;
+    if (sweeps.mask) {
+        out.mask_sweep = run_sweep(ctx, *renderer, solver.positions(), n, camera, base, ref.frame, radius, bench.name, study::mask_sweep());
+        out.json["mask_sweep"] = sweep_json(out.mask_sweep);
+    }
+    if (sweeps.blend) {
+        out.blend_sweep = run_sweep(ctx, *renderer, solver.positions(), n, camera, base, ref.frame, radius, bench.name, study::blend_sweep());
+        out.json["blend_sweep"] = sweep_json(out.blend_sweep);
     }
     return out;
 }
@@ -248,7 +262,7 @@ int bench_render(const Args& args) {
     }
     auto base = render_settings_from(args, &error);
     if (!base) return usage(error);
-    const bool mask_sweep = args.has("--mask-sweep");
+    const Sweeps sweeps{args.has("--mask-sweep"), args.has("--blend-sweep")};
     const std::filesystem::path out_path = args.value("--out", "bench_render.json");
     {
         // Fail before minutes of work when the output cannot go where asked.
@@ -278,16 +292,17 @@ int bench_render(const Args& args) {
                 ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type), frames.value().size(), width, height,
                 (unsigned long long)particles.value_or(default_particles), *repeats);
     nlohmann::json frame_records = nlohmann::json::array();
-    std::vector<study::SweepPoint> sweep;
+    std::vector<study::SweepPoint> mask_points, blend_points;
     std::vector<std::pair<std::string, std::vector<std::string>>> summary;
     for (size_t i = 0; i < frames.value().size(); ++i) {
         const study::BenchFrame& f = *frames.value()[i];
         const uint32_t frame = frame_override.value_or(study::bench_frame_index(f, scenes[i]));
         auto result = measure_frame(ctx, f, scenes[i], frame, configs.value(), *base, width, height, uint32_t(*repeats),
-                                    long(particles.value_or(default_particles)), mask_sweep);
+                                    long(particles.value_or(default_particles)), sweeps);
         if (!result) return exit_status(ctx, kExitFailure);
         frame_records.push_back(result->json);
-        sweep.insert(sweep.end(), result->sweep.begin(), result->sweep.end());
+        mask_points.insert(mask_points.end(), result->mask_sweep.begin(), result->mask_sweep.end());
+        blend_points.insert(blend_points.end(), result->blend_sweep.begin(), result->blend_sweep.end());
         summary.emplace_back(f.name, result->verdict_lines);
     }
     std::printf("\nsummary of the targets\n");
@@ -309,14 +324,17 @@ int bench_render(const Args& args) {
                             out_path.string().c_str()),
                exit_status(ctx, kExitFailure);
     std::printf("wrote %s\n", out_path.string().c_str());
-    if (mask_sweep) {
-        const std::string stem = (out_path.parent_path() / out_path.stem()).string();
-        for (const auto& [suffix, chart] : {std::pair{"_mask_sweep_depth.svg", study::mask_sweep_depth_chart(sweep)},
-                                           std::pair{"_mask_sweep_coverage.svg", study::mask_sweep_coverage_chart(sweep)}}) {
-            if (auto written = write_chart_svg(stem + suffix, chart); !written)
-                return std::fprintf(stderr, "aquaform bench render: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
-            std::printf("wrote %s%s\n", stem.c_str(), suffix);
-        }
+    const std::string stem = (out_path.parent_path() / out_path.stem()).string();
+    std::vector<std::pair<std::string, Chart>> charts;
+    if (sweeps.mask) {
+        charts.emplace_back("_mask_sweep_depth.svg", study::mask_sweep_depth_chart(mask_points));
+        charts.emplace_back("_mask_sweep_coverage.svg", study::mask_sweep_coverage_chart(mask_points));
+    }
+    if (sweeps.blend) charts.emplace_back("_blend_sweep.svg", study::blend_sweep_chart(blend_points));
+    for (const auto& [suffix, chart] : charts) {
+        if (auto written = write_chart_svg(stem + suffix, chart); !written)
+            return std::fprintf(stderr, "aquaform bench render: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
+        std::printf("wrote %s%s\n", stem.c_str(), suffix.c_str());
     }
     return exit_status(ctx, kExitOk);
 }

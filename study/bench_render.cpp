@@ -187,41 +187,74 @@ Verdict resolution_target(const std::vector<Measured>& results) {
     return v;
 }
 
-std::vector<std::pair<float, float>> mask_sweep_weights() {
-    std::vector<std::pair<float, float>> weights;
-    for (float a : {1.0f, 0.9f, 0.8f, 0.6f})
-        for (float b : {1.0f, 0.9f, 0.75f, 0.6f, 0.4f, 0.2f})
-            if (b <= a) weights.emplace_back(a, b);
-    return weights;
+const Sweep& mask_sweep() {
+    static const Sweep sweep = [] {
+        Sweep s{"mask", "mask_skip", "a", "b", {}, [](SurfaceSettings base, float a, float b) {
+                    base.tight_mask = false;  // the weights are Wu et al.'s convolution's
+                    base.mask_a = a;
+                    base.mask_b = b;
+                    return base;
+                }};
+        for (float a : {1.0f, 0.9f, 0.8f, 0.6f})
+            for (float b : {1.0f, 0.9f, 0.75f, 0.6f, 0.4f, 0.2f})
+                if (b <= a) s.pairs.emplace_back(a, b);
+        return s;
+    }();
+    return sweep;
+}
+
+const Sweep& blend_sweep() {
+    static const Sweep sweep = [] {
+        Sweep s{"blend", "adaptive_full_res", "A", "B", {}, [](SurfaceSettings base, float a, float b) {
+                    base.blend_a = a;
+                    base.blend_b = b;
+                    return base;
+                }};
+        for (float a : {0.0f, 0.03f, 0.1f, 0.3f, 1.0f})
+            for (float b : {0.0f, 0.05f, 0.15f}) s.pairs.emplace_back(a, b);
+        return s;
+    }();
+    return sweep;
 }
 
 namespace {
 
-Chart sweep_chart(const std::vector<SweepPoint>& points, const std::string& title, const std::string& y_label,
-                  double (*y)(const SweepPoint&)) {
+Chart sweep_chart(const std::vector<SweepPoint>& points, const std::string& title, const std::string& x_label,
+                  double (*x)(const SweepPoint&), const std::string& y_label, double (*y)(const SweepPoint&)) {
     static const char* kColors[] = {"#1f6fb4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"};
-    Chart chart{title, "march steps per ray / uniform's", y_label, {}};
+    Chart chart{title, x_label, y_label, {}};
     for (const SweepPoint& p : points) {
         auto it = std::find_if(chart.series.begin(), chart.series.end(), [&](const ChartSeries& s) { return s.name == p.frame; });
         if (it == chart.series.end()) {
             chart.series.push_back({p.frame, {}, true, kColors[chart.series.size() % std::size(kColors)]});
             it = chart.series.end() - 1;
         }
-        if (p.uniform_steps_per_ray > 0.0) it->points.emplace_back(p.steps_per_ray / p.uniform_steps_per_ray, y(p));
+        if (p.uniform_steps_per_ray > 0.0) it->points.emplace_back(x(p), y(p));
     }
     return chart;
 }
+
+double steps_fraction(const SweepPoint& p) { return p.steps_per_ray / p.uniform_steps_per_ray; }
 
 }  // namespace
 
 Chart mask_sweep_depth_chart(const std::vector<SweepPoint>& points) {
     return sweep_chart(points, "Mask weights (a, b): march steps against depth error (mask + skip)",
-                       "mean depth error [particle radii]", [](const SweepPoint& p) { return p.cmp.depth_err_mean; });
+                       "march steps per ray / uniform's", steps_fraction, "mean depth error [particle radii]",
+                       [](const SweepPoint& p) { return p.cmp.depth_err_mean; });
 }
 
 Chart mask_sweep_coverage_chart(const std::vector<SweepPoint>& points) {
     return sweep_chart(points, "Mask weights (a, b): march steps against coverage mismatch (mask + skip)",
-                       "coverage mismatch [%]", [](const SweepPoint& p) { return 100.0 * p.cmp.coverage_mismatch; });
+                       "march steps per ray / uniform's", steps_fraction, "coverage mismatch [%]",
+                       [](const SweepPoint& p) { return 100.0 * p.cmp.coverage_mismatch; });
+}
+
+Chart blend_sweep_chart(const std::vector<SweepPoint>& points) {
+    return sweep_chart(points, "Normal blending (A, B): roughness on flat regions against normal error",
+                       "mean normal error against the field's gradient [deg]",
+                       [](const SweepPoint& p) { return p.cmp.normal_err_deg_mean; }, "roughness [deg]",
+                       [](const SweepPoint& p) { return p.cmp.roughness_deg; });
 }
 
 /// `requested`: --particles (the lattice holds a little fewer: 986,078 for 1,000,000).

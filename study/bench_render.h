@@ -60,12 +60,26 @@ struct Verdict {
 Verdict steps_target(const std::vector<Measured>& results);
 /// Adaptive resolution: march + upsample against the full-resolution march, PSNR against it.
 Verdict resolution_target(const std::vector<Measured>& results);
-/// The mask weights (a, b) of eq. 5 that `bench render --mask-sweep` measures: b <= a <= 1,
-/// from the exact bound (1, 1) down to where lone droplets lose their cells (a^3 or a^2 b
-/// below the marking threshold, 0.72 counts at the default iso).
-std::vector<std::pair<float, float>> mask_sweep_weights();
+/// A sweep of two of the adaptive method's parameters (`bench render --mask-sweep`,
+/// `--blend-sweep`): the configuration it draws and the pairs it sets.
+struct Sweep {
+    const char* name;        ///< "mask", "blend"
+    const char* config;      ///< the bench configuration drawn at each pair
+    const char* a_name;      ///< the parameters' names in the table
+    const char* b_name;
+    std::vector<std::pair<float, float>> pairs;
+    /// `base` with the pair set.
+    SurfaceSettings (*apply)(SurfaceSettings base, float a, float b);
+};
+/// Wu et al.'s mask weights (a, b) of eq. 5 (their count convolution): b <= a <= 1, from the
+/// exact bound (1, 1) down to where lone droplets lose their cells (b^3 below the marking
+/// threshold, 0.72 counts at the default iso).
+const Sweep& mask_sweep();
+/// The normal blending's A (per particle radius, eq. 12) and B (per pixel of particle size,
+/// eq. 13), from the screen-space normal alone (A = 0) to the object-space one (A large).
+const Sweep& blend_sweep();
 
-/// One sweep point: mask + skip at weights (a, b) on one frame, against the reference.
+/// One sweep point on one frame, against the reference.
 struct SweepPoint {
     std::string frame;
     float a = 1.0f, b = 1.0f;
@@ -73,10 +87,12 @@ struct SweepPoint {
     double uniform_steps_per_ray = 0.0;
     SurfaceComparison cmp;
 };
-/// The sweep's charts: march steps per ray (as a fraction of uniform's on the same frame)
+/// The mask sweep's charts: march steps per ray (as a fraction of uniform's on the same frame)
 /// against the mean depth error, and against the coverage mismatch; a series per frame.
 Chart mask_sweep_depth_chart(const std::vector<SweepPoint>& points);
 Chart mask_sweep_coverage_chart(const std::vector<SweepPoint>& points);
+/// The blend sweep's chart: roughness against the normal error (vs the field's gradient).
+Chart blend_sweep_chart(const std::vector<SweepPoint>& points);
 
 /// Real time on a GPU: the adaptive reconstruction of 1M particles at 1920x1080 within 10 ms.
 /// `requested`: --particles (the lattice holds a little fewer: 986,078 for 1,000,000).

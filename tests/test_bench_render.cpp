@@ -85,6 +85,36 @@ TEST(BenchRender, QuickRunWritesRecordsAgainstTheReferenceForEveryFrame) {
     fs::remove_all(dir);
 }
 
+TEST(BenchRender, SweepsWriteTheirPointsAndCharts) {
+    const fs::path dir = temp_dir("bench_render_sweeps");
+    const fs::path out = dir / "s.json";
+    const Outcome o = run_aquaform("bench render --frames curtain --configs uniform --mask-sweep --blend-sweep --particles 3000 "
+                                   "--resolution 64x64 --repeats 1 --scene-dir " + std::string(AQUAFORM_ASSETS_DIR) +
+                                   "/scenes --out " + out.string());
+    ASSERT_EQ(o.exit_code, 0) << o.output;
+    const auto doc = nlohmann::json::parse(read_file(out));
+    const auto& frame = doc["frames"][0];
+    ASSERT_EQ(frame["mask_sweep"].size(), 18u);
+    ASSERT_EQ(frame["blend_sweep"].size(), 15u);
+    // The first pair is Wu et al.'s exact bound, the last the lowest weights: those mark fewer cells.
+    const auto& exact = frame["mask_sweep"][0];
+    const auto& lowest = frame["mask_sweep"][17];
+    EXPECT_EQ(exact["a"], 1.0);
+    EXPECT_EQ(exact["b"], 1.0);
+    EXPECT_LT(lowest["steps_per_ray"].get<double>(), exact["steps_per_ray"].get<double>());
+    // Blending: A = 0 draws the smoothed screen-space normals alone, the smoothest.
+    double screen_only = -1.0, object_heavy = -1.0;
+    for (const auto& p : frame["blend_sweep"]) {
+        EXPECT_TRUE(finite_number(p["roughness_deg"])) << p.dump();
+        if (p["a"] == 0.0 && p["b"] == 0.0) screen_only = p["normal_err_deg_mean"].get<double>();
+        if (p["a"] == 1.0 && p["b"] == 0.15) object_heavy = p["normal_err_deg_mean"].get<double>();
+    }
+    EXPECT_GT(screen_only, object_heavy) << "the object-space normal is the field's gradient: less normal error";
+    for (const char* chart : {"s_mask_sweep_depth.svg", "s_mask_sweep_coverage.svg", "s_blend_sweep.svg"})
+        EXPECT_GT(fs::file_size(dir / chart), 1000u) << chart;
+    fs::remove_all(dir);
+}
+
 TEST(BenchRender, BadFlagsAreUsageErrorsNamingTheFlag) {
     for (const char* args : {"--particles abc", "--particles 0", "--resolution 96", "--repeats x", "--frame -3",
                              "--configs uniform,nope", "--sizes 1000", "--frames calm,nope", "--frames \"\""}) {
