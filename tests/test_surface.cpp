@@ -18,6 +18,7 @@
 #include "sim/pbf_solver.h"
 #include "shaders/shared/render_kernels.h"
 #include "tests/gpu_test.h"
+#include "tests/surface_field.h"
 
 namespace aquaform {
 namespace {
@@ -85,15 +86,7 @@ TEST_F(SurfaceTest, LoneParticleHitsTheAnalyticIsoSphereWithEveryMethod) {
 namespace aquaform {
 namespace {
 
-/// phi(p) by brute force over every particle.
-float cpu_field(const shader::SurfaceParams& p, const std::vector<glm::vec4>& particles, const glm::vec3& x) {
-    float sum = 0.0f;
-    for (const auto& q : particles) {
-        const glm::vec3 d = x - glm::vec3(q);
-        sum += shader::cubic_kernel(glm::dot(d, d), p.inv_radius, p.kernel_coeff);
-    }
-    return p.volume * sum;
-}
+using testing::cpu_field;
 
 bool mask_bit(const shader::SurfaceParams& p, const std::vector<uint32_t>& words, glm::uvec3 c) {
     const glm::uvec3 block{MASK_BLOCK_X, MASK_BLOCK_Y, MASK_BLOCK_Z};

@@ -21,21 +21,14 @@
 #include "shaders/shared/grid_layout.h"
 #include "shaders/shared/render_kernels.h"
 #include "tests/gpu_test.h"
+#include "tests/surface_field.h"
 
 namespace aquaform {
 namespace {
 
 using testing::DeviceParticles;
 
-/// phi(x) by brute force over every particle.
-float cpu_field(const shader::SurfaceParams& p, const std::vector<glm::vec4>& particles, const glm::vec3& x) {
-    float sum = 0.0f;
-    for (const auto& q : particles) {
-        const glm::vec3 d = x - glm::vec3(q);
-        sum += shader::cubic_kernel(glm::dot(d, d), p.inv_radius, p.kernel_coeff);
-    }
-    return p.volume * sum;
-}
+using testing::cpu_field;
 
 /// The unit ray through the centre of `pixel` (shared/surface_layout.h's convention).
 glm::vec3 pixel_ray(const shader::SurfaceParams& p, glm::uvec2 pixel) {
