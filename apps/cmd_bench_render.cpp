@@ -152,7 +152,9 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFr
     std::printf("\n== %s: %s\n   %s, %u particles, frame %u (t = %.3f s), %ux%u\n", bench.name, bench.what,
                 scene.name.c_str(), n, frame, time_s, width, height);
     std::fflush(stdout);
-    if (!study::simulate_frames(sim, frame, std::string(bench.name) + ": simulating to frame " + std::to_string(frame)))
+    std::map<std::string, double> last_frame_ms;
+    if (!study::simulate_frames(sim, frame, std::string(bench.name) + ": simulating to frame " + std::to_string(frame),
+                                &last_frame_ms))
         return std::nullopt;
 
     // One renderer through the registry draws every configuration: they are all SPH surface
@@ -191,6 +193,40 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFr
     for (const study::Measured& r : results) pass_rows.emplace_back(r.config->label, &r.m);
     print_pass_table(pass_rows);
 
+    // What reading the solver's grid in place saved: the adaptive method once more with a grid
+    // and sorted copy of its own, against the solver's frame grid (one more sort per frame).
+    nlohmann::json in_place;
+    {
+        const study::BenchConfig* adaptive = study::find_config("adaptive");
+        renderer->share_grid(nullptr);
+        const study::RenderMeasurement own =
+            study::measure_render(ctx, *renderer, solver.positions(), n, camera, study::settings_for(*adaptive, base), repeats);
+        uint64_t own_bytes = 0;  // the own grid's buffers and the sorted copy (kept once made)
+        for (const gpu::BufferReport& b : renderer->memory_report())
+            if (b.name == "render.sorted" || b.name.rfind("render.grid.", 0) == 0) own_bytes += b.bytes;
+        renderer->share_grid(sim.frame_grid());
+        auto ms = [](const std::map<std::string, double>& m, const char* pass) {
+            auto it = m.find(pass);
+            return it == m.end() ? 0.0 : it->second;
+        };
+        const double own_grid_ms = ms(own.ms_per_pass, "render_grid"), frame_grid_ms = ms(last_frame_ms, "frame_grid");
+        const double saved_mib = double(own_bytes) / (1024.0 * 1024.0);
+        double frame_ms = 0.0;
+        for (const auto& [pass, t] : last_frame_ms) frame_ms += t;
+        std::printf("\nthe solver's grid in place: the renderer's own grid and sorted copy would take %.2f ms a frame "
+                    "(render_grid) and %.2f MiB more; ",
+                    own_grid_ms, saved_mib);
+        if (last_frame_ms.empty())
+            std::printf("the solver's frame grid is its initial sort here (no frame simulated)\n");
+        else
+            std::printf("the solver's frame grid (one more sort per frame) took %.2f ms of the last frame's %.2f\n",
+                        frame_grid_ms, frame_ms);
+        in_place = {{"own_grid_ms", own_grid_ms},
+                     {"own_grid_extra_mib", saved_mib},
+                     {"solver_frame_grid_ms", frame_grid_ms},
+                     {"renderer_mib_in_place", double(own.memory_bytes - own_bytes) / (1024.0 * 1024.0)}};
+    }
+
     const study::Verdict verdicts[] = {study::steps_target(results), study::resolution_target(results),
                                        study::gpu_target(results, ctx.info(), requested_particles, n, width, height)};
     const char* keys[] = {"mask_skip_steps", "adaptive_resolution", "realtime_1m_1080p"};
@@ -203,7 +239,8 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFr
         out.verdict_lines.push_back(verdicts[i].line);
     }
     out.json = {{"name", bench.name},   {"what", bench.what}, {"scene", scene.name}, {"particles", n},
-                {"frame", frame},       {"time_s", time_s},   {"records", records},  {"targets", targets}};
+                {"frame", frame},       {"time_s", time_s},   {"records", records},  {"targets", targets},
+                {"in_place", in_place}};
     if (sweeps.mask) {
         out.mask_sweep = run_sweep(ctx, *renderer, solver.positions(), n, camera, base, ref.frame, radius, bench.name, study::mask_sweep());
         out.json["mask_sweep"] = sweep_json(out.mask_sweep);

@@ -89,6 +89,7 @@ public:
     void set_step_force(StepForce* force) { step_force_ = force; }
 
     uint32_t particle_count() const { return count_; }
+    gpu::Context& context() const { return *ctx_; }
     /// Steps of the last frame (before the first: the scene's least substeps).
     uint32_t substeps() const { return substeps_; }
     double time() const { return time_; }

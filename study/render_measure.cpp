@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <limits>
+#include <optional>
 
 #include "core/progress.h"
 #include "gpu/context.h"
@@ -12,10 +13,15 @@
 
 namespace aquaform::study {
 
-bool simulate_frames(session::SimulationSession& session, uint32_t frames, const std::string& label) {
+bool simulate_frames(session::SimulationSession& session, uint32_t frames, const std::string& label,
+                     std::map<std::string, double>* last_frame_ms) {
     ProgressBar progress(label, frames);
+    std::optional<gpu::GpuTimer> timer;
+    if (last_frame_ms) timer.emplace(session.solver().context());
     for (uint32_t frame = 0; frame < frames; ++frame) {
-        const FrameStats stats = session.run_frame(nullptr).stats;
+        const bool timed = timer && frame + 1 == frames;
+        const FrameStats stats = session.run_frame(timed ? &*timer : nullptr).stats;
+        if (timed) *last_frame_ms = stats.gpu_ms;
         progress.update(frame + 1);
         if (stats.non_finite > 0) {
             progress.finish();

@@ -43,6 +43,13 @@ TEST(BenchRender, QuickRunWritesRecordsAgainstTheReferenceForEveryFrame) {
         const std::string name = frame.value("name", "?");
         EXPECT_GT(frame["particles"].get<int>(), 2000) << name;
         EXPECT_LE(frame["particles"].get<int>(), 3100) << name;
+        // What reading the solver's grid in place saves: the own grid's time and memory.
+        ASSERT_TRUE(frame.contains("in_place")) << name;
+        EXPECT_GT(frame["in_place"]["own_grid_extra_mib"].get<double>(), 0.0) << name;
+        EXPECT_GT(frame["in_place"]["own_grid_ms"].get<double>(), 0.0) << name;
+        if (name == "calm") {
+            EXPECT_GT(frame["in_place"]["solver_frame_grid_ms"].get<double>(), 0.0);
+        }
         for (const char* key : {"mask_skip_steps", "adaptive_resolution", "realtime_1m_1080p"}) {
             ASSERT_TRUE(frame["targets"].contains(key)) << name << ": " << key;
             EXPECT_TRUE(frame["targets"][key].contains("status")) << name << ": " << key;
