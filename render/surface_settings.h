@@ -58,17 +58,21 @@ struct SurfaceSettings {
     /// Wu et al.'s bound, the particle count of the 27 cells times W(0) (eq. 3), convolved with
     /// the weights below (eqs. 4-5).
     bool tight_mask = true;
-    /// Weights (b, a, b) of Wu et al.'s separable mask convolution (tight_mask off); a = b = 1 is the exact conservative
-    /// bound of eq. 4 (the reference uses it). Measured on the dam break (4500 particles, frame
-    /// 40, 256x256, mask + skip, a ray per pixel) against the reference:
-    ///   a, b = 1, 1:       11.3 evaluations per ray, depth error 0.006 radii, coverage mismatch 0.20%
-    ///   a, b = 0.8, 0.3:   11.1,                     0.004,                   0.22%
-    ///   a, b = 0.6, 0.2:    9.9,                     0.017,                   0.28%
-    /// On that frame 0.8 / 0.3 looks free, but it is not: a lone droplet's own cell needs
-    /// a^3 >= sigma / (V W(0)) = 0.72 (lone_radius 1) to be marked at all, and the parts of its
-    /// iso-sphere that reach into the next cells need a^2 b >= 0.72, so any weight below 1 clips
-    /// or drops splash droplets (SurfaceTest.LoneParticle... fails at 0.8 / 0.3). Splashes are
-    /// what this renderer is for, so the default is the exact bound.
+    /// Weights (b, a, b) of Wu et al.'s separable mask convolution (tight_mask off); a = b = 1 is
+    /// their exact bound. `bench render --mask-sweep` (32k particles, 512x512, mask + exact
+    /// skip, march steps per ray as a share of uniform's, mean depth error in particle radii):
+    ///                      curtain          double dam break    violent wall
+    ///   tight (default)    29 %   0.016     43 %   0.166        72 %   0.101
+    ///   Wu 1, 1 / 1, 0.9   39 %   0.016     68 %   0.166        94 %   0.101
+    ///   Wu 1, 0.75         37 %   0.024     60 %   0.170        90 %   0.101
+    ///   Wu 1, 0.6          33 %   0.142     53 %   0.212        86 %   0.108
+    ///   Wu 0.8, 0.6        30 %   0.649     49 %   0.565        82 %   0.159
+    /// Wu et al. set b < a < 1, but at the default iso every weight below the bound clips lone
+    /// droplets: a droplet's cell and the 26 around it need b^3 >= sigma / (V W(0)) = 0.72
+    /// (lone_radius 1), i.e. b >= 0.9, and then the weights save nothing. Every pair that saves
+    /// steps raises the depth error (the curtain's droplets go first), and none reaches the tight
+    /// bound's steps, which loses nothing: the tight bound is the default, and a = b = 1 remain
+    /// the defaults of Wu's mask.
     float mask_a = 1.0f;
     float mask_b = 1.0f;
     /// Tile depth-variance thresholds eps1 < eps2, in particle radii squared. Measured on the

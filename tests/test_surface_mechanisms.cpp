@@ -205,8 +205,10 @@ TEST_F(CurtainTest, MaskAndSkipEachSaveMarchStepsAtTheSameDepth) {
     // Rays that pass a droplet cross 0.2 m (10 particle radii' worth of steps, and more) of
     // empty space to the slab: the mask leaps over it, the skip jumps to D_agg after 8 steps.
     EXPECT_LT(mask.steps_per_ray, 0.8 * uniform.steps_per_ray) << "the mask saves no steps on the curtain";
-    EXPECT_LT(skip.steps_per_ray, 0.95 * uniform.steps_per_ray) << "the skip saves no steps on the curtain";
-    EXPECT_LT(both.steps_per_ray, 0.97 * mask.steps_per_ray) << "the skip adds nothing to the mask on the curtain";
+    EXPECT_LT(skip.steps_per_ray, 0.8 * uniform.steps_per_ray) << "the skip saves no steps on the curtain";
+    // With the tight mask the skip has little left to jump over (it re-starts the lattice at
+    // D_agg, which may cost a step here and there), but it must not cost more than that.
+    EXPECT_LT(both.steps_per_ray, 1.05 * mask.steps_per_ray);
     uint64_t leaps = 0;
     for (const RayCounts& c : mask.counts) leaps += c.leaps;
     EXPECT_GT(leaps, 0u);
