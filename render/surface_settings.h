@@ -82,10 +82,23 @@ struct SurfaceSettings {
     float tile_eps2 = 4.0f;
     /// Normal blending, eqs. 12-13: A per particle radius, B per pixel of particle size. The
     /// entry on a sprite of radius r lies about 3 particle radii before a flat surface, so A = 0.1
-    /// gives w1 ~ 0.3 there, rising to 1 where a ray passes ~10 radii behind its entry; B = 0.05
-    /// doubles the object-space share for a particle 14 px wide.
+    /// gives w1 ~ 0.3 there, rising to 1 where a ray passes ~10 radii behind its entry. Set from
+    /// `bench render --blend-sweep` (32k particles, 512x512, every mechanism at full resolution):
+    /// roughness on flat regions [deg] (render/image_metrics.h) and mean normal error against the
+    /// field's gradient [deg], on the calm / double dam break / crown frames:
+    ///   A = 0 (screen-space normals alone)   3.4 / 6.1 / 10.3    13.4 / 29.0 / 32.8
+    ///   A = 0.03, B = 0.05                   2.7 / 4.9 / 6.6      9.3 / 15.0 / 16.6
+    ///   A = 0.1, B = 0 (default)             2.4 / 4.6 / 5.2      4.4 / 8.9 / 8.8
+    ///   A = 0.1, B = 0.05                    2.7 / 5.1 / 5.2      3.4 / 6.6 / 6.1
+    ///   A = 0.1, B = 0.15                    3.4 / 7.9 / 7.6      1.7 / 1.9 / 1.7
+    ///   A >= 0.3 (the object-space normal)   5.0 / 9.0 / 8.0      0.0 / 0.8 / 0.8
+    /// The field's own normals show every particle as a bump (5-9 deg; the reference has the
+    /// same), the screen-space ones are smooth where the depth map is but wrong at splashes;
+    /// roughness is least at A = 0.1, B = 0 on all three frames. B > 0 weights the object normal
+    /// more for particles many pixels wide (Wu et al.'s close-ups); none of these frames has them.
+    /// Xiao et al.'s filtered PCA normals measure 1.3 / 2.7 / 3.0: the smoothest of all.
     float blend_a = 0.1f;
-    float blend_b = 0.05f;
+    float blend_b = 0.0f;
     /// Bilateral filters (depth for the screen-space normals, Xiao's normal filter).
     float smooth_sigma_px = 3.0f;
     float smooth_sigma_depth_radii = 2.0f;

@@ -327,6 +327,7 @@ TEST_F(LoneParticleTest, MarchStartsOneStepPastTheEntryAndBlendWeightsFollowEqua
         settings.adaptive_resolution = false;
         settings.use_mask = false;
         settings.use_skip = false;
+        settings.blend_b = 0.05f;  // w2 = 1 at the default B = 0: test a B that weighs
         const SurfaceFrame frame = renderer.render(particle.buffer, particle.count, camera, settings);
         const auto counts = renderer.ray_counts();
         const auto weights = renderer.blend_weights();
