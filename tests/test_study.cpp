@@ -139,6 +139,8 @@ TEST(StudyTargetsTest, ComparisonsStayWithinACaseAndTheCrossoverIsInterpolated) 
         // A case with brute force only, and one with both: the ratio comes from the second.
         row("other", b, 4096, 1000.0, 0.1),
         row("k", b, 4096, 900.0, 0.1), row("k", s, 4096, 100.0, 0.1),
+        // A case of one count far from 100k: the comparison takes the case that comes nearer.
+        row("small", "adaptive", 2000, 100.0, 0.01), row("small", s2, 2000, 900.0, 0.05),
         // The S-buffer x2 is 2x faster at 10k, the adaptive method 2x faster at 1M: equal at 100k.
         row("scaling", "adaptive", 10000, 200.0, 0.01), row("scaling", s2, 10000, 100.0, 0.05),
         row("scaling", "adaptive", 1000000, 200.0, 0.01), row("scaling", s2, 1000000, 400.0, 0.05)};
@@ -159,6 +161,7 @@ TEST(StudyTargetsTest, ComparisonsStayWithinACaseAndTheCrossoverIsInterpolated) 
     EXPECT_NE(lines[0].find("9.0x at 4096 particles in k"), std::string::npos) << lines[0];
     EXPECT_NE(lines[0].find("MET"), std::string::npos) << lines[0];
     EXPECT_NE(lines[1].find("MISS"), std::string::npos) << lines[1];
+    EXPECT_NE(lines[1].find("in scaling"), std::string::npos) << lines[1];
     EXPECT_NE(lines[2].find("about 100000 particles"), std::string::npos) << lines[2];
     EXPECT_NE(lines[3].find("in curtain"), std::string::npos) << lines[3];
     EXPECT_NE(lines[3].find("40.0%"), std::string::npos) << lines[3];
