@@ -118,11 +118,13 @@ std::optional<Args> parse_args(const std::vector<std::string>& argv, const FlagS
     return args;
 }
 
-std::optional<long> parse_positive(const std::string& flag, const std::string& text, std::string* error) {
-    char* end = nullptr;
-    long v = std::strtol(text.c_str(), &end, 10);
-    if (text.empty() || *end != '\0' || v <= 0) {
-        *error = flag + " must be a positive integer, got \"" + text + "\"";
+std::optional<long> parse_positive(const std::string& flag, const std::string& text, std::string* error, long max) {
+    // Digits only (no sign, space or exponent), and few enough that the value cannot wrap.
+    const bool digits = !text.empty() && text.size() <= 18 &&
+                        std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+    const long v = digits ? std::stol(text) : 0;
+    if (!digits || v < 1 || v > max) {
+        *error = flag + " must be a whole number from 1 to " + std::to_string(max) + ", got \"" + text + "\"";
         return std::nullopt;
     }
     return v;

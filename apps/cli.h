@@ -40,8 +40,14 @@ struct FlagSpec {
 std::optional<Args> parse_args(const std::vector<std::string>& argv, const FlagSpec& spec,
                                const std::string& command, std::string* error);
 
-/// Parses a positive integer flag value; on error fills `error`.
-std::optional<long> parse_positive(const std::string& flag, const std::string& text, std::string* error);
+/// A whole number from 1 to `max` (the same limit as the scene file's key, where there is one);
+/// nullopt with `error` naming the flag, the range and the text otherwise.
+std::optional<long> parse_positive(const std::string& flag, const std::string& text, std::string* error, long max);
+/// Frames of a run or a scene file's "frames" (sim/scene.cpp), and solver iterations.
+constexpr long kMaxFrames = 1000000;
+constexpr long kMaxIterations = 100;
+/// Repeats and counts of benchmark steps.
+constexpr long kMaxRepeats = 1000;
 
 /// `--particles N`, the one flag that sizes a scene on run, render, bench render, study and view:
 /// nullopt without the flag (error left empty) or when N is not a count from kMinSceneParticles

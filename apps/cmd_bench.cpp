@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
+#include "sim/scene.h"
 #include "gpu/context.h"
 #include "study/bench_sim.h"
 
@@ -25,7 +26,7 @@ std::vector<uint32_t> parse_sizes(const std::string& text, std::string* error) {
     std::stringstream ss(text);
     std::string item;
     while (std::getline(ss, item, ',')) {
-        auto v = parse_positive("--sizes", item, error);
+        auto v = parse_positive("--sizes", item, error, long(kMaxSceneParticles));
         if (!v) return {};
         sizes.push_back(static_cast<uint32_t>(*v));
     }
@@ -90,10 +91,10 @@ int cmd_bench(const std::vector<std::string>& argv) {
     if (which == "control") return bench_control(*args);
     if (which == "convergence") return bench_convergence(*args);
     std::vector<uint32_t> sizes = parse_sizes(args->value("--sizes", "16384,32768,65536,131072,262144"), &error);
-    auto iterations = parse_positive("--iterations", args->value("--iterations", "4"), &error);
-    auto steps = parse_positive("--steps", args->value("--steps", "4"), &error);
-    auto repeats = parse_positive("--repeats", args->value("--repeats", "3"), &error);
-    auto warmup = parse_positive("--warmup", args->value("--warmup", "20"), &error);
+    auto iterations = parse_positive("--iterations", args->value("--iterations", "4"), &error, kMaxIterations);
+    auto steps = parse_positive("--steps", args->value("--steps", "4"), &error, kMaxRepeats);
+    auto repeats = parse_positive("--repeats", args->value("--repeats", "3"), &error, kMaxRepeats);
+    auto warmup = parse_positive("--warmup", args->value("--warmup", "20"), &error, kMaxRepeats);
     if (sizes.empty() || !iterations || !steps || !repeats || !warmup) return std::fprintf(stderr, "aquaform bench: %s\n", error.c_str()), kExitUsage;
     const std::string out_path = args->value("--out", "bench_sim.json");
 

@@ -65,8 +65,9 @@ int bench_convergence(const Args& args) {
     std::string error;
     const bool quick = args.has("--quick");
     const std::vector<uint32_t> divisions = quick ? std::vector<uint32_t>{6, 10} : std::vector<uint32_t>{15, 30, 60};
-    auto depth = parse_positive("--depth-layers", args.value("--depth-layers", "6"), &error);
-    auto violent_particles = parse_positive("--particles", args.value("--particles", quick ? "2000" : "20000"), &error);
+    auto depth = parse_positive("--depth-layers", args.value("--depth-layers", "6"), &error, kMaxRepeats);
+    auto violent_particles =
+        parse_positive("--particles", args.value("--particles", quick ? "2000" : "20000"), &error, long(kMaxSceneParticles));
     if (!depth || !violent_particles) return std::fprintf(stderr, "aquaform bench convergence: %s\n", error.c_str()), kExitUsage;
     const double violent_seconds = quick ? 0.75 : 2.0;
     const double T_end = quick ? kQuickTEnd : kTEnd, T_max = quick ? kQuickTMax : kTMax;

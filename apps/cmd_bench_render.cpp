@@ -270,7 +270,7 @@ int bench_render(const Args& args) {
     const std::optional<uint64_t> particles = particles_flag(args, &error);
     if (!error.empty()) return usage(error);
     const bool quick = args.has("--quick");
-    auto repeats = parse_positive("--repeats", args.value("--repeats", quick ? "1" : "2"), &error);
+    auto repeats = parse_positive("--repeats", args.value("--repeats", quick ? "1" : "2"), &error, kMaxRepeats);
     if (!repeats) return usage(error);
     uint32_t width = 512, height = 512;
     if (args.has("--resolution") && !parse_resolution(args.value("--resolution"), &width, &height))

@@ -74,12 +74,12 @@ int cmd_run(const std::vector<std::string>& argv) {
     auto settings = render_method_from(*args, &error);
     if (!settings) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
     if (args->has("--frames")) {
-        auto f = parse_positive("--frames", args->value("--frames"), &error);
+        auto f = parse_positive("--frames", args->value("--frames"), &error, kMaxFrames);
         if (!f) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
         frames = static_cast<uint32_t>(*f);
     }
     if (args->has("--ply-every")) {
-        auto f = parse_positive("--ply-every", args->value("--ply-every"), &error);
+        auto f = parse_positive("--ply-every", args->value("--ply-every"), &error, kMaxFrames);
         if (!f) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
         ply_every = static_cast<uint32_t>(*f);
     }

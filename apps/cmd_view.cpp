@@ -87,7 +87,7 @@ int cmd_view(const std::vector<std::string>& argv) {
                    kExitUsage;
     }
     if (args->has("--frames")) {
-        auto f = parse_positive("--frames", args->value("--frames"), &error);
+        auto f = parse_positive("--frames", args->value("--frames"), &error, kMaxFrames);
         if (!f) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
         options.max_frames = uint32_t(*f);
     }

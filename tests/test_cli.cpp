@@ -108,6 +108,24 @@ TEST(Cli, BadFlagValuesAreUsageErrors) {
     }
 }
 
+TEST(Cli, IntegerFlagsAreStrictAndRangeCheckedNeverWrapped) {
+    // Values past 2^32 once wrapped (4294967296 frames ran 0 frames with exit 0); a sign, a space
+    // or an exponent was taken by strtol. Each is refused naming the flag and its range.
+    const std::string scene = std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json";
+    for (const char* args : {"run SCENE --frames 4294967296", "run SCENE --frames 4294967297", "run SCENE --frames 1000000000000",
+                             "run SCENE --frames 1000001", "run SCENE --ply-every 4294967296", "run SCENE --frames +5",
+                             "run SCENE --frames \" 5\"", "run SCENE --frames 1e3", "bench sim --iterations 4294967296",
+                             "bench sim --sizes 99999999999", "bench sim --repeats 101x", "bench render --repeats 18446744073709551617",
+                             "bench convergence --depth-layers 4294967296"}) {
+        std::string command = args;
+        if (const size_t at = command.find("SCENE"); at != std::string::npos) command.replace(at, 5, scene);
+        const Outcome o = run_aquaform(command);
+        EXPECT_EQ(o.exit_code, 2) << args << ": " << o.output;
+        const std::string flag = command.substr(command.find("--"), command.find(' ', command.find("--")) - command.find("--"));
+        EXPECT_NE(o.output.find(flag + " must be a whole number from 1 to "), std::string::npos) << args << ": " << o.output;
+    }
+}
+
 TEST(Cli, RunWritesFramesStatsFrontAndDumps) {
     fs::path dir = temp_dir("run");
     fs::path scene = write_file(dir / "tiny.json", kTinyDamBreak);
