@@ -1,9 +1,7 @@
 // `aquaform run SCENE`: simulate, and write frames, stats.csv, front.csv and PLY dumps. Each
 // frame's image is drawn in the frame's own submission and copied into host memory there, and a
 // frame's files are written while the next frame runs on the device.
-#include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +11,7 @@
 #include <vector>
 
 #include "apps/cli.h"
+#include "core/interrupt.h"
 #include "core/progress.h"
 #include "apps/render_options.h"
 #include "apps/run_report.h"
@@ -29,10 +28,6 @@
 namespace aquaform::cli {
 
 namespace {
-
-std::atomic<bool> g_interrupted{false};
-
-void on_interrupt(int) { g_interrupted = true; }
 
 /// A frame whose device work has completed and whose files are not written yet.
 struct FinishedFrame {
@@ -170,8 +165,7 @@ int cmd_run(const std::vector<std::string>& argv) {
         return f;
     };
 
-    g_interrupted = false;
-    auto previous = std::signal(SIGINT, on_interrupt);
+    std::optional<InterruptScope> ctrl_c(std::in_place);
     ProgressBar progress("simulating " + scene.name, frames);
     const auto start = std::chrono::steady_clock::now();
     int status = kExitOk;
@@ -216,7 +210,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     // Frame N's files are written while frame N+1 runs on the device.
     std::optional<FinishedFrame> finished;
     for (uint32_t frame = 0;; ++frame) {
-        const bool more = frame < frames && !g_interrupted;
+        const bool more = frame < frames && !interrupted();
         gpu::Submission next;
         try {
             if (more) next = sim.submit_frame(&timer, record_image);
@@ -235,10 +229,11 @@ int cmd_run(const std::vector<std::string>& argv) {
         finished = collect(frame, next);
     }
     progress.finish();
-    std::signal(SIGINT, previous);
+    const bool stopped = interrupted();
+    ctrl_c.reset();
     files.finish(scene);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (g_interrupted) std::fprintf(stderr, "aquaform run: interrupted; the %u frames done are written\n", done);
+    if (stopped) std::fprintf(stderr, "aquaform run: interrupted; the %u frames done are written\n", done);
     if (capped_frames > 0)
         std::fprintf(stderr,
                      "aquaform run: warning: the speed cap (solver.max_speed = %g m/s) bound in %llu of %u frames "
@@ -248,7 +243,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     std::printf("%u frames (%.3f s simulated) in %s wall time, %.1f steps/s; output in %s\n", done, simulated,
                 format_duration(wall).c_str(), wall > 0 ? double(steps) / wall : 0.0,
                 out_dir.string().c_str());
-    return exit_status(ctx, g_interrupted ? kExitFailure : status);
+    return exit_status(ctx, stopped ? kExitInterrupted : status);
 }
 
 }  // namespace aquaform::cli
