@@ -1,7 +1,13 @@
 // `aquaform control place MESH.obj`: check a mesh and place control points in or on it, so a user
 // can inspect a mesh before using it: points (PLY), the check report and a picture.
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
+#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -11,6 +17,7 @@
 #include "control/mesh.h"
 #include "control/placement.h"
 #include "control/raster_placement.h"
+#include "core/interrupt.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "render/impostor_view.h"
@@ -18,6 +25,88 @@
 #include "sim/particle_io.h"
 
 namespace aquaform::cli {
+
+namespace {
+
+constexpr float kMinSpacingFraction = 1.0f / 2000.0f;  // of the mesh's diagonal
+constexpr float kMaxSpacingFraction = 0.5f;
+/// Share of MemAvailable a placement may plan to use: the rest is for the system and the picture.
+constexpr double kMemoryShare = 0.8;
+
+// --spacing: a finite length in [diagonal / 2000, diagonal / 2], so that the lattice has at least a
+// few points and at most 2000 along the diagonal.
+std::optional<float> parse_spacing(const std::string& text, float diagonal, std::string* error) {
+    const float low = diagonal * kMinSpacingFraction, high = diagonal * kMaxSpacingFraction;
+    char* end = nullptr;
+    // Decimal only: strtod alone also reads leading spaces, hex, "inf" and "nan".
+    const bool decimal = !text.empty() && text.find_first_not_of("0123456789.eE+-") == std::string::npos;
+    const double value = decimal ? std::strtod(text.c_str(), &end) : NAN;
+    if (std::isfinite(value) && end && *end == '\0' && value >= low && value <= high) return float(value);
+    char message[320];
+    std::snprintf(message, sizeof message,
+                  "--spacing must be a length from %g to %g (1/2000 to 1/2 of the mesh's diagonal, %g), got \"%s\"", low,
+                  high, diagonal, text.c_str());
+    *error = message;
+    return std::nullopt;
+}
+
+// --resolution WxH, digits only (parse_resolution alone also reads "640x480junk").
+bool parse_resolution_flag(const std::string& text, uint32_t* width, uint32_t* height) {
+    const size_t x = text.find_first_of("xX");
+    const auto digits = [](const std::string& part) {
+        return !part.empty() && part.size() <= 5 && std::all_of(part.begin(), part.end(), ::isdigit);
+    };
+    return x != std::string::npos && digits(text.substr(0, x)) && digits(text.substr(x + 1)) &&
+           parse_resolution(text, width, height);
+}
+
+// A request whose estimate exceeds the memory there is: the message names the need, what is
+// available and the --spacing that would fit (the need grows as spacing^-exponent).
+std::optional<std::string> memory_refusal(const char* what, double bytes, double available, float spacing,
+                                          double exponent) {
+    if (bytes <= kMemoryShare * available) return std::nullopt;
+    const double fit = spacing * std::pow(bytes / (kMemoryShare * available), 1.0 / exponent) * 1.05;
+    char message[400];
+    std::snprintf(message, sizeof message,
+                  "%s at --spacing %g needs about %.0f MB but %.0f MB are available; use --spacing %.3g or larger", what,
+                  spacing, bytes / 1048576.0, available / 1048576.0, fit);
+    return std::string(message);
+}
+
+// Host (and for raster device) memory of the placement, checked before anything is allocated.
+std::optional<std::string> check_memory(const std::string& method, const control::Mesh& mesh, float spacing,
+                                        const std::function<gpu::Context&()>& context) {
+    const Box bounds = mesh.bounds();
+    const double host = double(control::available_memory_bytes().value_or(UINT64_MAX));
+    if (method == "vertices")
+        return memory_refusal("--method vertices", control::place_on_vertices_bytes(mesh, spacing), host, spacing, 1.0);
+    // Writing the points takes a particle snapshot of them (xyzw, velocity, density: 36 bytes each).
+    const double snapshot = 36.0 * control::lattice_point_count(bounds, spacing);
+    if (method == "inside")
+        return memory_refusal("--method inside",
+                              control::place_inside_bytes(bounds, spacing, mesh.faces.size()) + snapshot, host, spacing, 3.0);
+    // raster: the layer lists per lattice column, the points (at most the lattice) and the triangles.
+    const glm::dvec3 cells = glm::dvec3(bounds.max - bounds.min) / double(spacing) + 1.0;
+    const double columns = (cells.x + 3.0) * (cells.y + 3.0);
+    const double points = control::lattice_point_count(bounds, spacing);
+    const double over = std::max(columns / double(1u << 26), points / double(1u << 30));
+    if (over > 1.0) {  // the rasteriser's own limits (2^26 columns) and 32-bit point counts
+        char message[300];
+        std::snprintf(message, sizeof message,
+                      "--method raster at --spacing %g needs %.3g lattice columns and up to %.3g points (at most %u and "
+                      "%u); use --spacing %.3g or larger",
+                      spacing, columns, points, 1u << 26, 1u << 30, spacing * std::sqrt(over) * 1.05);
+        return std::string(message);
+    }
+    const double device = 1.25 * (columns * (4.0 + RASTER_MAX_LAYERS * 8.0) + double(mesh.faces.size()) * 48.0) +
+                          points * 16.0;
+    if (auto refusal = memory_refusal("--method raster (host copy of the points)", points * 28.0 + snapshot, host, spacing, 3.0))
+        return refusal;
+    return memory_refusal("--method raster (device memory)", device, double(context().info().device_local_bytes),
+                          spacing, 3.0);
+}
+
+}  // namespace
 
 int cmd_control(const std::vector<std::string>& argv) {
     std::string error;
@@ -34,26 +123,34 @@ int cmd_control(const std::vector<std::string>& argv) {
         return std::fprintf(stderr, "aquaform control: unknown --method '%s'; use vertices, inside or raster\n",
                             method.c_str()),
                kExitUsage;
+    uint32_t width = 640, height = 480;
+    if (args->has("--resolution") && !parse_resolution_flag(args->value("--resolution"), &width, &height))
+        return std::fprintf(stderr, "aquaform control: --resolution must be WIDTHxHEIGHT, each 16 to 8192, got \"%s\"\n",
+                            args->value("--resolution").c_str()),
+               kExitUsage;
+    InterruptScope interrupt_scope;
     auto loaded = control::load_obj(args->positional[1]);
+    if (!loaded && interrupted())
+        return std::fprintf(stderr, "aquaform control: interrupted while reading the mesh; nothing written\n"),
+               kExitInterrupted;
     if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
     const control::Mesh& mesh = loaded.value().mesh;
     const Box bounds = mesh.bounds();
     const float diagonal = glm::length(bounds.max - bounds.min);
     float spacing = diagonal / 40.0f;  // default: about 40 points across the mesh's diagonal
     if (args->has("--spacing")) {
-        const std::string text = args->value("--spacing");
-        char* end = nullptr;
-        spacing = std::strtof(text.c_str(), &end);
-        if (text.empty() || *end != '\0' || !(spacing > 0.0f) || !(spacing >= diagonal / 2000.0f))
-            return std::fprintf(stderr,
-                                "aquaform control: --spacing must be a positive length of at least 1/2000 of the mesh's "
-                                "diagonal (%g), got \"%s\"\n",
-                                diagonal, text.c_str()),
-                   kExitUsage;
+        const std::optional<float> parsed = parse_spacing(args->value("--spacing"), diagonal, &error);
+        if (!parsed) return std::fprintf(stderr, "aquaform control: %s\n", error.c_str()), kExitUsage;
+        spacing = *parsed;
     }
-    uint32_t width = 640, height = 480;
-    if (args->has("--resolution") && !parse_resolution(args->value("--resolution"), &width, &height))
-        return std::fprintf(stderr, "aquaform control: --resolution must look like 640x480\n"), kExitUsage;
+    // The raster method and the picture need the GPU; the context is made once, when first needed.
+    std::unique_ptr<gpu::Context> ctx;
+    const std::function<gpu::Context&()> context = [&]() -> gpu::Context& {
+        if (!ctx) ctx = std::make_unique<gpu::Context>(gpu::ContextOptions{args->value("--device"), validation_requested(*args)});
+        return *ctx;
+    };
+    if (auto refusal = check_memory(method, mesh, spacing, context))
+        return std::fprintf(stderr, "aquaform control: %s\n", refusal->c_str()), kExitUsage;
     const std::filesystem::path out_dir = args->value("--out", "out/control_" + std::filesystem::path(args->positional[1]).stem().string());
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);
@@ -64,12 +161,6 @@ int cmd_control(const std::vector<std::string>& argv) {
 
     const std::string report = control::describe(loaded.value().report);
     std::printf("%s\n", report.c_str());
-    // The raster method and the picture need the GPU; the context is made once, when first needed.
-    std::unique_ptr<gpu::Context> ctx;
-    const auto context = [&]() -> gpu::Context& {
-        if (!ctx) ctx = std::make_unique<gpu::Context>(gpu::ContextOptions{args->value("--device"), validation_requested(*args)});
-        return *ctx;
-    };
     control::ControlPoints points;
     control::RasterStats raster;
     if (method == "vertices") points = control::place_on_vertices(mesh, spacing);
@@ -79,6 +170,12 @@ int cmd_control(const std::vector<std::string>& argv) {
     std::snprintf(summary, sizeof summary, "method %s, spacing %g: %zu control points in %.1f ms", method.c_str(), spacing,
                   points.points.size(), points.ms);
     std::string line = summary;
+    if (method == "inside") {
+        std::snprintf(summary, sizeof summary, " (memory planned for at most %.0f MB, PLY snapshot included)",
+                      (control::place_inside_bytes(bounds, spacing, mesh.faces.size()) +
+                       36.0 * control::lattice_point_count(bounds, spacing)) / 1048576.0);
+        line += summary;
+    }
     if (method == "raster") {
         std::snprintf(summary, sizeof summary, " (placement %.2f ms, GPU %.2f ms, %u lattice columns)", raster.ms,
                       raster.gpu_ms, raster.pixels);
@@ -91,7 +188,16 @@ int cmd_control(const std::vector<std::string>& argv) {
                     " columns pass through holes in the mesh and were left empty";
     }
     std::printf("%s\n", line.c_str());
+    if (!points.complete)
+        return std::fprintf(stderr, "aquaform control: interrupted during the inside test; nothing written\n"),
+               kExitInterrupted;
     std::ofstream(out_dir / "report.txt") << report << "\n" << line << "\n";
+    if (points.points.empty())
+        return std::fprintf(stderr,
+                            "aquaform control: no control point fits in '%s' at --spacing %g (the mesh is thinner "
+                            "than that everywhere); use a smaller --spacing, e.g. %g (report.txt written)\n",
+                            args->positional[1].c_str(), spacing, spacing / 4.0f),
+               ctx ? exit_status(*ctx, kExitUsage) : kExitUsage;
     ParticleSnapshot snapshot;
     for (const glm::vec3& p : points.points) {
         snapshot.x.emplace_back(p, float(snapshot.x.size()));
@@ -100,7 +206,7 @@ int cmd_control(const std::vector<std::string>& argv) {
     }
     if (auto written = write_particles_ply(out_dir / "points.ply", snapshot); !written)
         return std::fprintf(stderr, "aquaform control: %s\n", written.error().c_str()), kExitFailure;
-    if (args->has("--no-png") || points.points.empty()) return ctx ? exit_status(*ctx, kExitOk) : kExitOk;
+    if (args->has("--no-png")) return ctx ? exit_status(*ctx, kExitOk) : kExitOk;
 
     gpu::Context& device = context();
     ImpostorView view(device, width, height);

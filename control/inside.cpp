@@ -3,9 +3,51 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <thread>
 
+#include "core/interrupt.h"
+#include "core/progress.h"
+
 namespace aquaform::control {
+
+namespace {
+
+// Twice the signed area of (a, b, p) in the xy plane, computed the same way whichever triangle asks
+// (endpoints in a fixed order, the sign flipped after), so two triangles sharing the edge a-b get
+// exactly opposite values and a point on it is never counted by both or neither.
+double edge_function(const glm::dvec2& a, const glm::dvec2& b, const glm::dvec2& p) {
+    const bool ordered = a.x < b.x || (a.x == b.x && a.y < b.y);
+    const glm::dvec2& from = ordered ? a : b;
+    const glm::dvec2& to = ordered ? b : a;
+    const double value = (to.x - from.x) * (p.y - from.y) - (to.y - from.y) * (p.x - from.x);
+    return ordered ? value : -value;
+}
+
+// Top-left rule of rasterisers: a point exactly on an edge belongs to the triangle that runs the edge
+// (counter-clockwise) in this half of the directions; the neighbour runs it the other way.
+bool owns_edge(const glm::dvec2& a, const glm::dvec2& b) {
+    const glm::dvec2 d = b - a;
+    return d.y < 0.0 || (d.y == 0.0 && d.x > 0.0);
+}
+
+// Rays run along +z, as the raster placement's columns do (control/raster_placement.h).
+glm::dvec2 xy(const glm::vec3& p) { return {p.x, p.y}; }
+
+// Cells of the xy grid a triangle's projected bounds cover.
+glm::ivec4 cell_range(const glm::vec3* t, glm::dvec2 origin, glm::dvec2 size, glm::ivec2 cells) {
+    const glm::dvec2 low = glm::min(xy(t[0]), glm::min(xy(t[1]), xy(t[2])));
+    const glm::dvec2 high = glm::max(xy(t[0]), glm::max(xy(t[1]), xy(t[2])));
+    const glm::ivec2 a = glm::clamp(glm::ivec2(glm::floor((low - origin) / size)), glm::ivec2(0), cells - 1);
+    const glm::ivec2 b = glm::clamp(glm::ivec2(glm::floor((high - origin) / size)), glm::ivec2(0), cells - 1);
+    return {a, b};
+}
+
+// A bounded grid: about one cell per triangle, fewer when large triangles would cover too many cells.
+constexpr uint64_t kMaxCells = uint64_t(1) << 22;
+constexpr uint64_t kMaxEntriesPerTriangle = 16;
+
+}  // namespace
 
 double winding_number(const std::vector<glm::vec3>& triangles, const glm::vec3& point) {
     const glm::dvec3 origin(point);
@@ -30,22 +72,105 @@ bool is_inside(const std::vector<glm::vec3>& triangles, const glm::vec3& point) 
     return std::abs(winding_number(triangles, point)) > 0.5;
 }
 
-std::vector<bool> inside_flags(const std::vector<glm::vec3>& triangles, const std::vector<glm::vec3>& points) {
+uint64_t InsideTest::estimated_bytes(uint64_t triangle_count) {
+    const uint64_t cells = std::min(std::max<uint64_t>(triangle_count, 1), kMaxCells);
+    return cells * sizeof(uint64_t) + triangle_count * kMaxEntriesPerTriangle * sizeof(uint32_t);
+}
+
+InsideTest::InsideTest(const std::vector<glm::vec3>& triangles) : triangles_(triangles) {
+    const size_t count = triangles.size() / 3;
+    if (count == 0) return;
+    glm::dvec2 low = xy(triangles[0]), high = low;
+    for (const glm::vec3& p : triangles) {
+        low = glm::min(low, xy(p));
+        high = glm::max(high, xy(p));
+    }
+    const glm::dvec2 extent = glm::max(high - low, glm::dvec2(1e-30));
+    for (uint64_t target = std::min<uint64_t>(count, kMaxCells);; target = std::max<uint64_t>(1, target / 4)) {
+        const double side = std::sqrt(extent.x * extent.y / double(target));
+        cells_ = glm::clamp(glm::ivec2(glm::ceil(extent / side)), glm::ivec2(1), glm::ivec2(int(kMaxCells)));
+        while (uint64_t(cells_.x) * uint64_t(cells_.y) > kMaxCells) cells_ = glm::max(cells_ / 2, glm::ivec2(1));
+        origin_ = low;
+        cell_size_ = extent / glm::dvec2(cells_) * (1.0 + 1e-9);
+        uint64_t entries = 0;
+        for (size_t t = 0; t < count; ++t) {
+            const glm::ivec4 r = cell_range(&triangles[3 * t], origin_, cell_size_, cells_);
+            entries += uint64_t(r.z - r.x + 1) * uint64_t(r.w - r.y + 1);
+        }
+        if (entries <= count * kMaxEntriesPerTriangle || target == 1) break;
+    }
+    first_.assign(size_t(cells_.x) * size_t(cells_.y) + 1, 0);
+    const auto for_each_cell = [&](size_t t, auto&& visit) {
+        const glm::ivec4 r = cell_range(&triangles[3 * t], origin_, cell_size_, cells_);
+        for (int z = r.y; z <= r.w; ++z)
+            for (int y = r.x; y <= r.z; ++y) visit(size_t(z) * size_t(cells_.x) + size_t(y));
+    };
+    for (size_t t = 0; t < count; ++t) for_each_cell(t, [&](size_t cell) { ++first_[cell + 1]; });
+    for (size_t c = 1; c < first_.size(); ++c) first_[c] += first_[c - 1];
+    entries_.resize(first_.back());
+    std::vector<uint64_t> fill(first_.begin(), first_.end() - 1);
+    for (size_t t = 0; t < count; ++t) for_each_cell(t, [&](size_t cell) { entries_[fill[cell]++] = uint32_t(t); });
+}
+
+bool InsideTest::contains(const glm::vec3& point) const {
+    if (cells_.x == 0) return false;
+    const glm::dvec2 p = xy(point);
+    const glm::dvec2 at = glm::floor((p - origin_) / cell_size_);
+    if (at.x < 0.0 || at.y < 0.0 || at.x >= cells_.x || at.y >= cells_.y) return false;
+    const size_t cell = size_t(at.y) * size_t(cells_.x) + size_t(at.x);
+    int ahead = 0, total = 0;  // signed crossings beyond the point, and along the whole line
+    bool on_surface = false;
+    for (uint64_t e = first_[cell]; e < first_[cell + 1]; ++e) {
+        const glm::vec3* t = &triangles_[3 * size_t(entries_[e])];
+        glm::dvec2 a = xy(t[0]), b = xy(t[1]), c = xy(t[2]);
+        glm::dvec3 depth(t[0].z, t[1].z, t[2].z);
+        const double area = edge_function(a, b, c);
+        if (area == 0.0) continue;  // seen edge-on: its neighbours decide
+        const int sign = area > 0.0 ? 1 : -1;  // the sign of the normal's z component
+        if (area < 0.0) std::swap(b, c), std::swap(depth.y, depth.z);
+        const double w0 = edge_function(b, c, p), w1 = edge_function(c, a, p), w2 = edge_function(a, b, p);
+        const auto covers = [](double w, const glm::dvec2& from, const glm::dvec2& to) {
+            return w > 0.0 || (w == 0.0 && owns_edge(from, to));
+        };
+        if (!covers(w0, b, c) || !covers(w1, c, a) || !covers(w2, a, b)) continue;
+        total += sign;
+        const double hit = (w0 * depth.x + w1 * depth.y + w2 * depth.z) / (w0 + w1 + w2);
+        on_surface |= hit == double(point.z);
+        if (hit > double(point.z)) ahead += sign;
+    }
+    // A point exactly on the surface is outside, as in the raster fill (strictly between layers).
+    if (total == 0) return ahead != 0 && !on_surface;
+    ++fallbacks_;  // the line passes through a hole: the crossings do not add up
+    return is_inside(triangles_, point);
+}
+
+std::vector<bool> inside_flags(const std::vector<glm::vec3>& triangles, const std::vector<glm::vec3>& points,
+                               const std::string& progress_label, bool* complete) {
+    const InsideTest test(triangles);
     // One byte per point so that threads never write to the same word (std::vector<bool> packs bits).
     std::vector<unsigned char> inside(points.size(), 0);
-    const size_t thread_count =
-        std::clamp<size_t>(std::thread::hardware_concurrency(), 1, std::max<size_t>(1, points.size() / 64));
-    const size_t chunk = (points.size() + thread_count - 1) / thread_count;
-    const auto classify = [&](size_t begin, size_t end) {
-        for (size_t i = begin; i < end; ++i) inside[i] = is_inside(triangles, points[i]) ? 1 : 0;
+    constexpr size_t kChunk = 4096;
+    std::atomic<size_t> next{0}, done{0};
+    std::atomic<bool> stopped{false};
+    std::optional<ProgressBar> progress;
+    if (!progress_label.empty()) progress.emplace(progress_label, points.size());
+    const auto classify = [&](bool report) {
+        for (size_t begin; (begin = next.fetch_add(kChunk)) < points.size();) {
+            if (stopped || interrupted()) return void(stopped = true);
+            const size_t end = std::min(points.size(), begin + kChunk);
+            for (size_t i = begin; i < end; ++i) inside[i] = test.contains(points[i]) ? 1 : 0;
+            done += end - begin;
+            if (report && progress) progress->update(done);
+        }
     };
+    const size_t thread_count =
+        std::clamp<size_t>(std::thread::hardware_concurrency(), 1, std::max<size_t>(1, points.size() / kChunk));
     std::vector<std::thread> workers;
-    for (size_t t = 1; t < thread_count; ++t) {
-        const size_t begin = std::min(points.size(), t * chunk);
-        workers.emplace_back(classify, begin, std::min(points.size(), begin + chunk));
-    }
-    classify(0, std::min(points.size(), chunk));
+    for (size_t t = 1; t < thread_count; ++t) workers.emplace_back(classify, false);
+    classify(true);
     for (std::thread& worker : workers) worker.join();
+    if (progress) progress->finish();
+    if (complete) *complete = !stopped;
     return std::vector<bool>(inside.begin(), inside.end());
 }
 

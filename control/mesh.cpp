@@ -1,17 +1,24 @@
 #include "control/mesh.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
+#include <numeric>
+#include <span>
 #include <sstream>
+#include <string_view>
 #include <unordered_map>
 
 #include <OpenMesh/Core/System/omstream.hh>
 #include <glm/gtc/matrix_transform.hpp>
-#include <tiny_obj_loader.h>
+
+#include "core/interrupt.h"
+#include "core/progress.h"
 
 namespace aquaform::control {
 
@@ -44,48 +51,276 @@ std::string format_number(double value) {
     return out.str();
 }
 
-// tinyobjloader silently reads "nan", "inf" or garbage as 0, so vertex lines are checked here first.
-std::optional<Error> check_vertex_lines(const std::filesystem::path& path, const std::string& text) {
-    std::istringstream lines(text);
-    std::string line;
-    size_t line_number = 0;
-    size_t vertex_index = 0;
-    while (std::getline(lines, line)) {
-        ++line_number;
-        size_t start = line.find_first_not_of(" \t");
-        if (start == std::string::npos || line[start] != 'v' || start + 1 >= line.size() ||
-            (line[start + 1] != ' ' && line[start + 1] != '\t')) {
-            continue;
-        }
-        std::istringstream tokens(line.substr(start + 2));
-        const std::string where =
-            "vertex " + std::to_string(vertex_index) + " (line " + std::to_string(line_number) + ")";
-        for (int axis = 0; axis < 3; ++axis) {
-            std::string token;
-            if (!(tokens >> token)) {
-                return mesh_error(path, where + " has fewer than three coordinates",
-                                  "every 'v' line needs x y z; re-export the mesh as Wavefront OBJ");
-            }
-            char* end = nullptr;
-            const double value = std::strtod(token.c_str(), &end);
-            if (end == token.c_str() || *end != '\0') {
-                return mesh_error(path, where + " has a coordinate '" + token + "' that is not a number",
-                                  "re-export the mesh as Wavefront OBJ");
-            }
-            if (!std::isfinite(value)) {
-                return mesh_error(path, where + " has a non-finite coordinate '" + token + "' (NaN or infinity)",
-                                  "repair or re-export the mesh; a modelling tool can usually find such vertices");
-            }
-            if (std::abs(value) > kMaxMeshCoordinate) {
-                return mesh_error(path,
-                                  where + " has coordinate " + format_number(value) + ", too large: beyond +-" +
-                                      format_number(kMaxMeshCoordinate) + " float precision is meaningless",
-                                  "scale the mesh down in the modelling tool (the scene placement can scale it up)");
-            }
-        }
-        ++vertex_index;
+// A token echoed back in a message: printable ASCII only, at most 24 characters, so binary junk
+// cannot break the one-line message.
+std::string shown(std::string_view token) {
+    std::string out;
+    for (const char c : token.substr(0, 24)) out += (c >= 32 && c < 127) ? c : '?';
+    return token.size() > 24 ? out + "..." : out;
+}
+
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
+
+// Concave polygons with more corners than this are refused: ear clipping is O(n^2) or worse.
+constexpr size_t kMaxEarClipCorners = 256;
+
+// Convex (or flat-degenerate) polygons as a fan; concave ones by ear clipping in the plane of the
+// Newell normal. False for a concave polygon too large to clip.
+bool triangulate(const std::vector<glm::vec3>& vertices, const std::vector<uint32_t>& corners,
+                 std::vector<glm::uvec3>& faces) {
+    const size_t n = corners.size();
+    const auto fan = [&](const std::vector<size_t>& ring) {
+        for (size_t k = 1; k + 1 < ring.size(); ++k)
+            faces.emplace_back(corners[ring[0]], corners[ring[k]], corners[ring[k + 1]]);
+    };
+    std::vector<size_t> ring(n);
+    std::iota(ring.begin(), ring.end(), size_t{0});
+    glm::dvec3 normal(0.0);
+    for (size_t i = 0; i < n; ++i) {
+        const glm::dvec3 a(vertices[corners[i]]), b(vertices[corners[(i + 1) % n]]);
+        normal += glm::dvec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
     }
-    return std::nullopt;
+    const glm::dvec3 size = glm::abs(normal);
+    const int drop = size.x >= size.y && size.x >= size.z ? 0 : (size.y >= size.z ? 1 : 2);
+    const double sign = normal[drop] >= 0.0 ? 1.0 : -1.0;
+    std::vector<glm::dvec2> p(n);
+    for (size_t i = 0; i < n; ++i)
+        p[i] = {vertices[corners[i]][(drop + 1) % 3], vertices[corners[i]][(drop + 2) % 3]};
+    const auto turn = [&](size_t a, size_t b, size_t c) {
+        return sign * ((p[b].x - p[a].x) * (p[c].y - p[a].y) - (p[b].y - p[a].y) * (p[c].x - p[a].x));
+    };
+    bool convex = true;
+    for (size_t i = 0; i < n && convex; ++i) convex = turn(i, (i + 1) % n, (i + 2) % n) >= 0.0;
+    if (convex || normal == glm::dvec3(0.0)) return fan(ring), true;
+    if (n > kMaxEarClipCorners) return false;
+    while (ring.size() > 3) {
+        bool clipped = false;
+        for (size_t i = 0; i < ring.size() && !clipped; ++i) {
+            const size_t a = ring[(i + ring.size() - 1) % ring.size()], b = ring[i], c = ring[(i + 1) % ring.size()];
+            if (turn(a, b, c) <= 0.0) continue;
+            bool empty = true;
+            for (size_t k : ring)
+                if (k != a && k != b && k != c && turn(a, b, k) >= 0.0 && turn(b, c, k) >= 0.0 && turn(c, a, k) >= 0.0)
+                    empty = false;
+            if (!empty) continue;
+            faces.emplace_back(corners[a], corners[b], corners[c]);
+            ring.erase(ring.begin() + std::ptrdiff_t(i));
+            clipped = true;
+        }
+        if (!clipped) break;  // self-intersecting outline: no ear left, the rest becomes a fan
+    }
+    return fan(ring), true;
+}
+
+// Hand-written rather than tinyobjloader, which reads garbage, "nan" and fractional indices as
+// numbers, wraps huge indices onto the last vertex and counts nothing in its messages.
+class ObjReader {
+public:
+    ObjReader(const std::filesystem::path& path, std::string_view text) : path_(path), text_(text) {}
+
+    Result<Mesh> read() {
+        ProgressBar progress("reading " + path_.filename().string(), text_.size());
+        size_t position = 0;
+        std::string joined;  // a statement continued over several lines with a trailing backslash
+        while (position < text_.size()) {
+            ++line_;
+            const size_t end = std::min(text_.find('\n', position), text_.size());
+            std::string_view line = text_.substr(position, end - position);
+            position = end + 1;
+            if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+            if (!line.empty() && line.back() == '\\') {
+                if (joined.empty()) first_line_ = line_;
+                joined.append(line.substr(0, line.size() - 1)).push_back(' ');
+                continue;
+            }
+            const size_t reported_line = joined.empty() ? line_ : first_line_;
+            if (!joined.empty()) line = joined.append(line);
+            if (auto error = statement(line, reported_line)) return *error;
+            joined.clear();
+            if ((line_ & 0xffff) == 0) {
+                progress.update(position);
+                if (interrupted()) return mesh_error(path_, "interrupted while reading", "run again to load it");
+            }
+        }
+        progress.finish();
+        return std::move(mesh_);
+    }
+
+private:
+    Error fail(size_t line, const std::string& problem, const std::string& fix) const {
+        return mesh_error(path_, "line " + std::to_string(line) + ": " + problem, fix);
+    }
+
+    std::optional<Error> statement(std::string_view line, size_t at) {
+        if (const size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
+        std::vector<std::string_view> tokens;
+        for (size_t i = 0; i < line.size();) {
+            while (i < line.size() && is_space(line[i])) ++i;
+            const size_t start = i;
+            while (i < line.size() && !is_space(line[i])) ++i;
+            if (i > start) tokens.push_back(line.substr(start, i - start));
+        }
+        if (tokens.empty()) return std::nullopt;
+        const std::string_view key = tokens[0];
+        const std::span<const std::string_view> values(tokens.begin() + 1, tokens.end());
+        if (key == "v") return vertex(values, at);
+        if (key == "vt") return numbers(values, at, "texture coordinate", 1, 3, ++texcoords_);
+        if (key == "vn") return numbers(values, at, "normal", 3, 3, ++normals_);
+        if (key == "f") return face(values, at);
+        for (const char* ignored : {"vp", "o", "g", "s", "usemtl", "mtllib", "mg", "l", "p", "lod", "maplib", "usemap",
+                                    "shadow_obj", "trace_obj", "bevel", "c_interp", "d_interp"})
+            if (key == ignored) return std::nullopt;
+        for (const char* freeform : {"cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm", "trim", "hole",
+                                     "scrv", "sp", "end", "con"})
+            if (key == freeform)
+                return fail(at, "free-form geometry ('" + std::string(key) + "') is not supported",
+                            "export the mesh as polygons (triangles or quads)");
+        return fail(at, "not an OBJ statement: '" + shown(key) + "'",
+                    "remove the line, or export the mesh again as Wavefront OBJ (ASCII or UTF-8)");
+    }
+
+    // Strict: the whole token is a number (strtod also reads "inf", "nan" and hex, refused below).
+    std::optional<double> number(std::string_view token) const {
+        const std::string text(token);
+        // Decimal only: strtod also reads hexadecimal ("0x1p3"); "inf" and "nan" get their own message.
+        if (text.find_first_not_of("0123456789.eE+-infatyINFATY") != std::string::npos) return std::nullopt;
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size()) return std::nullopt;
+        return value;
+    }
+
+    std::optional<Error> numbers(std::span<const std::string_view> values, size_t at, const std::string& what,
+                                 size_t min_count, size_t max_count, size_t ordinal, double* out = nullptr) {
+        const std::string element = what + " " + std::to_string(ordinal);
+        if (values.size() < min_count || values.size() > max_count)
+            return fail(at, element + " has " + std::to_string(values.size()) + " numbers",
+                        "it needs " + (min_count == max_count ? std::to_string(min_count)
+                                                              : std::to_string(min_count) + " to " + std::to_string(max_count)) +
+                            (what == "vertex" ? " (x y z, optionally w or r g b)" : "") + "; repair or re-export the mesh");
+        for (size_t i = 0; i < values.size(); ++i) {
+            const std::optional<double> value = number(values[i]);
+            if (!value)
+                return fail(at, element + " has '" + shown(values[i]) + "', which is not a number",
+                            "write plain decimal numbers, or re-export the mesh");
+            if (!std::isfinite(*value))
+                return fail(at, element + " has a non-finite number '" + shown(values[i]) + "' (NaN or infinity)",
+                            "repair or re-export the mesh; a modelling tool can usually find such vertices");
+            if (out && i < 3) {
+                if (std::abs(*value) > kMaxMeshCoordinate)
+                    return fail(at, element + " has coordinate " + format_number(*value) + ", too large: beyond +-" +
+                                        format_number(kMaxMeshCoordinate) + " float precision is meaningless",
+                                "scale the mesh down in the modelling tool (the scene placement can scale it up)");
+                out[i] = *value;
+            }
+        }
+        return std::nullopt;
+    }
+
+    std::optional<Error> vertex(std::span<const std::string_view> values, size_t at) {
+        double xyz[3] = {0, 0, 0};
+        if (mesh_.vertices.size() >= kMaxVertices)
+            return fail(at, "more than " + std::to_string(kMaxVertices) + " vertices", "simplify the mesh");
+        if (values.size() == 5)  // neither x y z w nor x y z r g b
+            return fail(at, "vertex " + std::to_string(mesh_.vertices.size() + 1) + " has 5 numbers",
+                        "it needs x y z, optionally w or r g b; repair or re-export the mesh");
+        if (auto error = numbers(values, at, "vertex", 3, 6, mesh_.vertices.size() + 1, xyz)) return error;
+        mesh_.vertices.emplace_back(float(xyz[0]), float(xyz[1]), float(xyz[2]));
+        return std::nullopt;
+    }
+
+    // One index of a corner: 1-based, or negative counting back from the last element defined so far.
+    std::optional<Error> index(std::string_view token, size_t defined, const std::string& kind, size_t at,
+                               const std::string& where, uint32_t* out) const {
+        int64_t value = 0;
+        const char* first = token.data() + (!token.empty() && token[0] == '+');
+        const auto [end, error] = std::from_chars(first, token.data() + token.size(), value);
+        if (token.empty() || end != token.data() + token.size() || error == std::errc::invalid_argument)
+            return fail(at, where + " has " + kind + " index '" + shown(token) + "', not a whole number",
+                        "OBJ indices are whole numbers counting from 1 (negative ones count back from the last " + kind + ")");
+        const bool too_large = error == std::errc::result_out_of_range;
+        if (!too_large && value == 0)
+            return fail(at, where + " has " + kind + " index 0",
+                        "OBJ indices count from 1 (negative ones count back from the last " + kind + ")");
+        const int64_t resolved = value > 0 ? value - 1 : int64_t(defined) + value;
+        if (too_large || resolved < 0 || resolved >= int64_t(defined))
+            return fail(at, where + " refers to " + kind + " " + shown(token) + " but " + std::to_string(defined) + " " +
+                                (defined == 1 ? kind + " is" : (kind == "vertex" ? "vertices" : kind + "s") + " are") +
+                                " defined above this line",
+                        "correct the index (1 to " + std::to_string(defined) + ", or -1 to -" + std::to_string(defined) +
+                            ") or re-export the mesh");
+        if (out) *out = uint32_t(resolved);
+        return std::nullopt;
+    }
+
+    std::optional<Error> face(std::span<const std::string_view> values, size_t at) {
+        ++face_number_;
+        const std::string element = "face " + std::to_string(face_number_);
+        if (values.size() < 3)
+            return fail(at, element + " has " + std::to_string(values.size()) + " corner" + (values.size() == 1 ? "" : "s"),
+                        "a face needs at least 3 vertex indices ('f 1 2 3'); repair or re-export the mesh");
+        std::vector<uint32_t> corners(values.size());
+        for (size_t c = 0; c < values.size(); ++c) {
+            const std::string where = element + " corner " + std::to_string(c + 1);
+            std::string_view parts[3];
+            size_t count = 0;
+            for (std::string_view rest = values[c];; ++count) {
+                const size_t slash = rest.find('/');
+                if (count == 3) return fail(at, where + " '" + shown(values[c]) + "' has more than three parts",
+                                            "write v, v/vt, v//vn or v/vt/vn");
+                parts[count] = rest.substr(0, slash);
+                if (slash == std::string_view::npos) { ++count; break; }
+                rest = rest.substr(slash + 1);
+            }
+            if (auto error = index(parts[0], mesh_.vertices.size(), "vertex", at, where, &corners[c])) return error;
+            if (count > 1 && (count == 2 || !parts[1].empty()))
+                if (auto error = index(parts[1], texcoords_, "texture coordinate", at, where, nullptr)) return error;
+            if (count == 3)
+                if (auto error = index(parts[2], normals_, "normal", at, where, nullptr)) return error;
+        }
+        if (!triangulate(mesh_.vertices, corners, mesh_.faces))
+            return fail(at, element + " is a concave polygon with " + std::to_string(corners.size()) + " corners",
+                        "triangulate it in the modelling tool (at most " + std::to_string(kMaxEarClipCorners) +
+                            " corners are triangulated here)");
+        return std::nullopt;
+    }
+
+    static constexpr size_t kMaxVertices = size_t(1) << 31;
+
+    const std::filesystem::path& path_;
+    std::string_view text_;
+    Mesh mesh_;
+    size_t line_ = 0, first_line_ = 0, face_number_ = 0, texcoords_ = 0, normals_ = 0;
+};
+
+// Groups boundary edges into holes (union-find on their vertices) and sums |vector area| of each
+// hole's boundary loop: the area a flat patch over it needs. Per hole, so that holes at the two ends
+// of a tube do not cancel.
+template <typename EdgeMap>
+void measure_holes(const Mesh& mesh, const EdgeMap& edges, MeshReport& report) {
+    std::unordered_map<uint32_t, uint32_t> parent;
+    const auto root = [&](uint32_t v) {
+        while (parent[v] != v) v = parent[v] = parent[parent[v]];
+        return v;
+    };
+    for (const auto& [key, use] : edges) {
+        if (use.faces != 1) continue;
+        const glm::uvec2 e = edge_from_key(key);
+        parent.try_emplace(e.x, e.x);
+        parent.try_emplace(e.y, e.y);
+        parent[root(e.x)] = root(e.y);
+    }
+    const Box box = mesh.bounds();
+    const glm::dvec3 centre = (glm::dvec3(box.min) + glm::dvec3(box.max)) * 0.5;
+    std::unordered_map<uint32_t, glm::dvec3> loop_area;
+    for (const auto& [key, use] : edges) {
+        if (use.faces != 1) continue;
+        glm::uvec2 e = edge_from_key(key);  // low to high; the face runs it so when low_to_high
+        if (!use.low_to_high) std::swap(e.x, e.y);
+        loop_area[root(e.x)] += 0.5 * glm::cross(glm::dvec3(mesh.vertices[e.x]) - centre, glm::dvec3(mesh.vertices[e.y]) - centre);
+    }
+    report.hole_count = loop_area.size();
+    for (const auto& [hole, area] : loop_area) report.hole_area += glm::length(area);
 }
 
 }  // namespace
@@ -173,6 +408,7 @@ MeshReport check_mesh(const Mesh& mesh) {
         keep_first(keys, MeshReport::kMaxListed);
         for (uint64_t key : keys) listed.push_back(edge_from_key(key));
     };
+    measure_holes(mesh, edges, report);
     list_edges(boundary, report.boundary_edge_count, report.boundary_edges);
     list_edges(non_manifold, report.non_manifold_edge_count, report.non_manifold_edges);
     list_edges(inconsistent, report.inconsistent_edge_count, report.inconsistent_edges);
@@ -208,6 +444,7 @@ MeshReport check_mesh(const Mesh& mesh) {
     const Box box = mesh.bounds();
     const glm::dvec3 centre = (glm::dvec3(box.min) + glm::dvec3(box.max)) * 0.5;
     const glm::dvec3 diagonal = glm::dvec3(box.max) - glm::dvec3(box.min);
+    report.bounds_size = diagonal;
     const double min_area = 1e-12 * glm::dot(diagonal, diagonal);
     for (uint32_t face_index = 0; face_index < mesh.faces.size(); ++face_index) {
         const glm::uvec3& face = mesh.faces[face_index];
@@ -220,8 +457,103 @@ MeshReport check_mesh(const Mesh& mesh) {
             ++report.degenerate_face_count;
         }
         report.signed_volume += glm::dot(a, glm::cross(b, c)) / 6.0;
+        report.surface_area += area;
     }
     return report;
+}
+
+size_t orient_consistently(Mesh& mesh) {
+    // (edge, face, direction) sorted by edge: the faces of a manifold edge are then neighbours in the list.
+    struct Use {
+        uint64_t edge;
+        uint32_t face;
+        bool low_to_high;
+    };
+    std::vector<Use> uses;
+    uses.reserve(mesh.faces.size() * 3);
+    for (uint32_t f = 0; f < mesh.faces.size(); ++f) {
+        const glm::uvec3& face = mesh.faces[f];
+        if (has_repeated_index(face)) continue;
+        for (int i = 0; i < 3; ++i) uses.push_back({edge_key(face[i], face[(i + 1) % 3]), f, face[i] < face[(i + 1) % 3]});
+    }
+    std::sort(uses.begin(), uses.end(), [](const Use& a, const Use& b) { return a.edge < b.edge; });
+    // Up to three neighbours per face; `same` marks one that runs the shared edge the same way (flipped).
+    struct Link {
+        uint32_t face;
+        bool same;
+    };
+    std::vector<std::array<Link, 3>> links(mesh.faces.size());
+    std::vector<uint8_t> link_count(mesh.faces.size(), 0);
+    for (size_t i = 0; i + 1 < uses.size(); ++i) {
+        if (uses[i].edge != uses[i + 1].edge || (i + 2 < uses.size() && uses[i + 2].edge == uses[i].edge) ||
+            (i > 0 && uses[i - 1].edge == uses[i].edge) || uses[i].face == uses[i + 1].face)
+            continue;  // only edges with exactly two faces: a non-manifold edge gives no reliable neighbour
+        const bool same = uses[i].low_to_high == uses[i + 1].low_to_high;
+        for (const auto& [from, to] : {std::pair{uses[i].face, uses[i + 1].face}, std::pair{uses[i + 1].face, uses[i].face}})
+            if (link_count[from] < 3) links[from][link_count[from]++] = {to, same};
+    }
+    const Box box = mesh.bounds();
+    const glm::dvec3 centre = (glm::dvec3(box.min) + glm::dvec3(box.max)) * 0.5;
+    std::vector<int8_t> flip(mesh.faces.size(), -1);  // -1: not reached yet
+    size_t turned = 0;
+    std::vector<uint32_t> part;
+    for (uint32_t seed = 0; seed < mesh.faces.size(); ++seed) {
+        if (flip[seed] >= 0) continue;
+        part.assign(1, seed);
+        flip[seed] = 0;
+        for (size_t next = 0; next < part.size(); ++next) {
+            const uint32_t f = part[next];
+            for (uint8_t k = 0; k < link_count[f]; ++k) {
+                const Link& link = links[f][k];
+                if (flip[link.face] >= 0) continue;  // a conflict here means a non-orientable part: left as is
+                flip[link.face] = int8_t(flip[f] ^ int8_t(link.same));
+                part.push_back(link.face);
+            }
+        }
+        // Keep the orientation most of the part's area had; on a tie, the one that gives positive volume.
+        double kept_area = 0.0, turned_area = 0.0, volume = 0.0;
+        for (const uint32_t f : part) {
+            const glm::uvec3& face = mesh.faces[f];
+            const glm::dvec3 a = glm::dvec3(mesh.vertices[face.x]) - centre;
+            const glm::dvec3 b = glm::dvec3(mesh.vertices[face.y]) - centre;
+            const glm::dvec3 c = glm::dvec3(mesh.vertices[face.z]) - centre;
+            const double area = glm::length(glm::cross(b - a, c - a));
+            (flip[f] ? turned_area : kept_area) += area;
+            volume += (flip[f] ? -1.0 : 1.0) * glm::dot(a, glm::cross(b, c));
+        }
+        const bool tie = std::abs(kept_area - turned_area) <= 1e-9 * (kept_area + turned_area);
+        const bool invert = tie ? volume < 0.0 : turned_area > kept_area;
+        for (const uint32_t f : part) {
+            if (bool(flip[f]) == invert) continue;
+            std::swap(mesh.faces[f].y, mesh.faces[f].z);
+            ++turned;
+        }
+    }
+    return turned;
+}
+
+std::string unusable_reason(const MeshReport& report) {
+    const glm::dvec3 size = report.bounds_size;
+    const double diagonal = glm::length(size);
+    std::ostringstream out;
+    out.precision(3);
+    if (!(std::abs(report.signed_volume) > 1e-6 * diagonal * diagonal * diagonal)) {
+        out << "the mesh encloses no volume (" << std::abs(report.signed_volume) << " in a bounding box of " << size.x
+            << " x " << size.y << " x " << size.z
+            << "): it is flat or its faces are degenerate, so no control point would be placed and the fluid would "
+               "fill nothing; use a closed solid mesh (a modelling tool's Solidify or Extrude gives a flat shape thickness)";
+        return out.str();
+    }
+    if (report.hole_fraction() > kMaxHoleFraction) {
+        out << "the mesh is open: " << report.boundary_edge_count << " boundary edges in " << report.hole_count
+            << " hole(s) that would need " << 100.0 * report.hole_fraction() << "% of its surface area to close (at most "
+            << 100.0 * kMaxHoleFraction
+            << "% is tolerated), so the inside test would fill it only partly and the raster fill would leave every "
+               "column through a hole empty; close the holes in a modelling tool (Blender: Select > All by Trait > "
+               "Non Manifold, then Face > Fill) and export again";
+        return out.str();
+    }
+    return {};
 }
 
 std::string describe(const MeshReport& report) {
@@ -274,10 +606,29 @@ std::string describe(const MeshReport& report) {
         list(report.duplicated_vertices);
         out << '\n';
     }
+    if (report.reoriented_face_count) {
+        out << report.reoriented_face_count
+            << " faces were turned to agree with their neighbours (they were flipped; the mesh is used repaired)\n";
+    }
+    if (report.hole_count) {
+        out << report.hole_count << " holes; closing them would take " << 100.0 * report.hole_fraction()
+            << "% of the surface area (points near them may be missing)\n";
+    }
     if (report.inward_facing()) {
-        out << "negative volume: the face normals point inward (the inside test still works)\n";
+        out << "negative volume: all face normals point inward; placement does not depend on it\n";
     }
     return out.str();
+}
+
+std::optional<uint64_t> available_memory_bytes() {
+    std::ifstream meminfo("/proc/meminfo");
+    std::string key;
+    uint64_t kilobytes = 0;
+    while (meminfo >> key >> kilobytes) {
+        if (key == "MemAvailable:") return kilobytes * 1024;
+        meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+    }
+    return std::nullopt;
 }
 
 Result<LoadedMesh> load_obj(const std::filesystem::path& path) {
@@ -289,72 +640,52 @@ Result<LoadedMesh> load_obj(const std::filesystem::path& path) {
     if (!std::filesystem::is_regular_file(path, error)) {
         return mesh_error(path, "not a regular file", "give the path of a Wavefront .obj file");
     }
+    const uint64_t bytes = std::filesystem::file_size(path, error);
+    if (!error && bytes == 0) return mesh_error(path, "the file is empty (0 bytes)", "export the mesh again as Wavefront OBJ");
+    // The text, the parsed mesh and the checks' edge tables together take about three times the file.
+    const std::optional<uint64_t> available = available_memory_bytes();
+    if (!error && available && 3 * bytes > *available)
+        return mesh_error(path,
+                          "reading this " + std::to_string(bytes >> 20) + " MB file needs about " +
+                              std::to_string((3 * bytes) >> 20) + " MB of memory but " +
+                              std::to_string(*available >> 20) + " MB are available",
+                          "simplify (decimate) the mesh in a modelling tool, or free memory");
     std::ifstream file(path, std::ios::binary);
     std::ostringstream contents;
     if (!file || !(contents << file.rdbuf()) || file.bad()) {
-        if (std::filesystem::file_size(path, error) == 0 && !error) {
-            return mesh_error(path, "the file is empty (0 bytes)", "export the mesh again as Wavefront OBJ");
-        }
         return mesh_error(path, "cannot read the file", "check that it is readable (permissions)");
     }
-    const std::string text = contents.str();
-    if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
+    std::string text = contents.str();
+    std::string_view body = text;
+    if (body.starts_with("\xEF\xBB\xBF")) body.remove_prefix(3);  // UTF-8 byte order mark
+    if (body.starts_with("\xFF\xFE") || body.starts_with("\xFE\xFF"))
+        return mesh_error(path, "the file is UTF-16 text", "save it as UTF-8 or ASCII (Wavefront OBJ is plain text)");
+    if (const size_t zero = body.find('\0'); zero != std::string_view::npos)
+        return mesh_error(path, "not OBJ text: byte " + std::to_string(zero + 1) +
+                                    " is 0 (a binary file, or UTF-16 text without a byte order mark)",
+                          "give a Wavefront OBJ text file, saved as UTF-8 or ASCII");
+    if (body.find_first_not_of(" \t\r\n") == std::string_view::npos) {
         return mesh_error(path, "the file is empty", "export the mesh again as Wavefront OBJ");
     }
-    if (auto vertex_error = check_vertex_lines(path, text)) return *vertex_error;
-
-    tinyobj::attrib_t attributes;
-    std::vector<tinyobj::shape_t> shapes;
-    std::vector<tinyobj::material_t> materials;
-    std::string warnings, errors;
-    std::istringstream stream(text);
-    // No material reader: materials are irrelevant here and must not make the load touch other files.
-    const bool parsed = tinyobj::LoadObj(&attributes, &shapes, &materials, &warnings, &errors, &stream, nullptr,
-                                         /*triangulate=*/true);
-    if (!parsed || !errors.empty()) {
-        return mesh_error(path, "not a valid OBJ file: " + (errors.empty() ? std::string("parser failed") : errors),
-                          "export the mesh as Wavefront OBJ");
-    }
-    if (attributes.vertices.empty()) {
+    Result<Mesh> read = ObjReader(path, body).read();
+    if (!read) return Error{read.error()};
+    LoadedMesh loaded;
+    loaded.mesh = std::move(read).value();
+    text.clear();
+    text.shrink_to_fit();
+    if (loaded.mesh.vertices.empty()) {
         return mesh_error(path, "not an OBJ file: no vertices ('v x y z' lines) found",
                           "export the mesh as Wavefront OBJ (.obj)");
     }
-
-    LoadedMesh loaded;
-    Mesh& mesh = loaded.mesh;
-    const size_t vertex_count = attributes.vertices.size() / 3;
-    mesh.vertices.reserve(vertex_count);
-    for (size_t i = 0; i < vertex_count; ++i) {
-        mesh.vertices.emplace_back(attributes.vertices[3 * i], attributes.vertices[3 * i + 1],
-                                   attributes.vertices[3 * i + 2]);
-    }
-    for (const tinyobj::shape_t& shape : shapes) {
-        size_t offset = 0;
-        for (const unsigned char corners : shape.mesh.num_face_vertices) {
-            // With triangulation on every face has 3 corners; anything else is skipped, not misread.
-            if (corners == 3) {
-                glm::uvec3 face;
-                for (int corner = 0; corner < 3; ++corner) {
-                    const int index = shape.mesh.indices[offset + corner].vertex_index;
-                    if (index < 0 || static_cast<size_t>(index) >= vertex_count) {
-                        return mesh_error(path,
-                                          "face " + std::to_string(mesh.faces.size()) + " refers to vertex " +
-                                              std::to_string(index) + " but the file has " +
-                                              std::to_string(vertex_count) + " vertices",
-                                          "repair or re-export the mesh");
-                    }
-                    face[corner] = static_cast<uint32_t>(index);
-                }
-                mesh.faces.push_back(face);
-            }
-            offset += corners;
-        }
-    }
-    if (mesh.faces.empty()) {
-        return mesh_error(path, "empty mesh: " + std::to_string(vertex_count) + " vertices but no faces",
+    if (loaded.mesh.faces.empty()) {
+        return mesh_error(path, "empty mesh: " + std::to_string(loaded.mesh.vertices.size()) + " vertices but no faces",
                           "the mesh needs triangles or polygons ('f' lines); export faces, not only points");
     }
-    loaded.report = check_mesh(mesh);
+    // Repair rather than refuse: which side is inside is clear once neighbours agree (see orient_consistently).
+    const size_t turned = orient_consistently(loaded.mesh);
+    loaded.report = check_mesh(loaded.mesh);
+    loaded.report.reoriented_face_count = turned;
+    if (const std::string reason = unusable_reason(loaded.report); !reason.empty()) return Error{"mesh '" + path.string() + "': " + reason};
     return loaded;
 }
 

@@ -1,6 +1,8 @@
 // Triangle meshes for mesh-controlled flow (Karpati et al., section 3.2): OBJ input, sanity checks and
-// placement in the scene. Hard input errors are refused with a message; topology problems that the
-// winding-number inside test tolerates (holes, duplicated vertices, ...) are only reported.
+// placement in the scene. Hard input errors are refused with a message naming the file, the line and
+// the element; meshes that cannot be filled (no volume, large holes) are refused; faces flipped against
+// their neighbours are turned back and reported; problems the inside test tolerates (small holes,
+// duplicated vertices, ...) are only reported.
 #pragma once
 
 #include <cstdint>
@@ -51,6 +53,11 @@ struct MeshReport {
     size_t degenerate_face_count = 0;      ///< zero-area faces (area < 1e-12 * bbox diagonal^2)
     size_t duplicated_vertex_count = 0;    ///< vertices at exactly the position of an earlier vertex
     double signed_volume = 0.0;            ///< sum of signed tetrahedron volumes; < 0: normals face inward
+    double surface_area = 0.0;
+    glm::dvec3 bounds_size{0.0};         ///< extent of the vertices' bounding box
+    size_t hole_count = 0;                 ///< connected groups of boundary edges
+    double hole_area = 0.0;                ///< sum over holes of |vector area| of their boundary loops
+    size_t reoriented_face_count = 0;      ///< faces load_obj() turned to agree with their neighbours
 
     std::vector<glm::uvec2> boundary_edges;      ///< vertex index pairs
     std::vector<glm::uvec2> non_manifold_edges;  ///< vertex index pairs
@@ -61,11 +68,26 @@ struct MeshReport {
     std::vector<uint32_t> duplicated_vertices;  ///< the later copy of each duplicated position
 
     bool inward_facing() const { return signed_volume < 0.0; }
+    /// The area a flat patch over each hole would need, against the surface: 0 for a closed mesh.
+    double hole_fraction() const { return surface_area > 0.0 ? hole_area / surface_area : 0.0; }
     /// Closed, manifold and consistently oriented: a ray-parity inside test would be reliable.
     bool watertight() const;
 };
 
 MeshReport check_mesh(const Mesh& mesh);
+
+/// Turns faces so that every face agrees with its neighbours across manifold edges (walking each
+/// connected part from face to face); each part keeps the orientation most of its area had (on a tie,
+/// the one with positive volume), so a part authored inward (a cavity) stays so. Returns how many
+/// faces were turned.
+size_t orient_consistently(Mesh& mesh);
+
+/// Holes bigger than this share of the surface make a mesh unusable: the winding number inside the
+/// mesh falls towards 0.5 and the raster fill leaves every column through a hole empty.
+inline constexpr double kMaxHoleFraction = 0.01;
+/// Why the inside test and the raster fill cannot use the mesh (no volume, large holes), with the
+/// fix; empty when it can be used.
+std::string unusable_reason(const MeshReport& report);
 /// Multi-line human-readable summary of the report, one problem per line with the first offenders.
 std::string describe(const MeshReport& report);
 
@@ -78,9 +100,15 @@ struct LoadedMesh {
 /// geometry no longer means anything at simulation scale.
 inline constexpr double kMaxMeshCoordinate = 1e6;
 
-/// Load a Wavefront OBJ (polygons are triangulated) and check it. Refuses missing or unreadable
-/// files, text that is not OBJ, meshes without faces, and non-finite or huge coordinates.
+/// Load a Wavefront OBJ (polygons are triangulated), orient its faces consistently and check it.
+/// Refuses missing, unreadable, binary or UTF-16 files, any line that is not valid OBJ (a number that
+/// is not finite or too large, an index that is 0, fractional or out of range, a face with fewer than
+/// three corners, ...; the message names the line, 1-based), meshes without faces, and meshes that
+/// unusable_reason() rejects. Shows progress on a large file; stops with an error when interrupted().
 Result<LoadedMesh> load_obj(const std::filesystem::path& path);
+
+/// Host memory the system can still give (MemAvailable of /proc/meminfo); nullopt when unknown.
+std::optional<uint64_t> available_memory_bytes();
 /// Write vertices and faces as OBJ (1-based indices), e.g. for generated primitives.
 Result<bool> write_obj(const std::filesystem::path& path, const Mesh& mesh);
 

@@ -1,5 +1,6 @@
 #include "control/placement.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <random>
@@ -7,6 +8,7 @@
 #include <unordered_set>
 
 #include "control/inside.h"
+#include "core/error.h"
 
 namespace aquaform::control {
 
@@ -97,6 +99,26 @@ glm::vec3 centred_lattice_origin(const Box& bounds, float spacing) {
     return bounds.min + 0.5f * (extent - steps * spacing);
 }
 
+double lattice_point_count(const Box& bounds, float spacing) {
+    const glm::dvec3 steps = glm::floor(glm::dvec3(bounds.max - bounds.min) / double(spacing)) + 1.0;
+    return steps.x * steps.y * steps.z;
+}
+
+double place_inside_bytes(const Box& bounds, float spacing, size_t triangle_count) {
+    // Per lattice point: its position, a byte and a bit of flags, and (at worst) a kept copy.
+    constexpr double kPerPoint = 2.0 * sizeof(glm::vec3) + 1.0 + 0.125;
+    return lattice_point_count(bounds, spacing) * kPerPoint + double(InsideTest::estimated_bytes(triangle_count));
+}
+
+double place_on_vertices_bytes(const Mesh& mesh, float spacing) {
+    double edge_points = 0.0;  // every edge is seen twice in a closed mesh; the estimate may be high
+    for (const glm::uvec3& face : mesh.faces)
+        for (int i = 0; i < 3; ++i)
+            edge_points += std::ceil(glm::length(mesh.vertices[face[(i + 1) % 3]] - mesh.vertices[face[i]]) / spacing);
+    // Candidates, kept points and the thinning grid's entries (a hash node per point).
+    return (double(mesh.vertices.size()) + edge_points) * (2.0 * sizeof(glm::vec3) + 48.0);
+}
+
 ControlPoints place_inside(const std::vector<glm::vec3>& triangles, float spacing, bool jitter, uint32_t seed,
                            std::optional<glm::vec3> lattice_origin) {
     const auto start = Clock::now();
@@ -108,6 +130,9 @@ ControlPoints place_inside(const std::vector<glm::vec3>& triangles, float spacin
     const glm::vec3 origin = lattice_origin.value_or(centred_lattice_origin(bounds, spacing));
     // Lattice indices inside the bounds; the 1e-3 keeps rounding from dropping a point on the
     // box (for the centred origin this is exactly 0 .. floor(extent / spacing)).
+    if (lattice_point_count(bounds, spacing) > 4294967296.0)
+        throw Failure("inside placement: " + std::to_string(lattice_point_count(bounds, spacing)) +
+                      " lattice points at spacing " + std::to_string(spacing) + "; use a larger spacing");
     const glm::ivec3 first = glm::ivec3(glm::ceil((bounds.min - origin) / spacing - 1e-3f));
     const glm::ivec3 last = glm::ivec3(glm::floor((bounds.max - origin) / spacing + 1e-3f));
     const glm::ivec3 counts = glm::max(last - first + 1, glm::ivec3(0));
@@ -126,7 +151,8 @@ ControlPoints place_inside(const std::vector<glm::vec3>& triangles, float spacin
             }
         }
     }
-    const std::vector<bool> inside = inside_flags(triangles, lattice);
+    const std::vector<bool> inside = inside_flags(triangles, lattice, "inside test", &result.complete);
+    result.points.reserve(size_t(std::count(inside.begin(), inside.end(), true)));  // exact: no doubling
     for (size_t i = 0; i < lattice.size(); ++i) {
         if (inside[i]) result.points.push_back(lattice[i]);
     }

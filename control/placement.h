@@ -18,7 +18,16 @@ struct ControlPoints {
     std::vector<glm::vec3> points;
     std::string method;  ///< "vertices", "inside" (+ " jittered") or "raster"
     double ms = 0.0;     ///< wall time of the placement
+    bool complete = true;  ///< false when Ctrl-C stopped the placement: `points` is then partial
 };
+
+/// Lattice points (b) and (c) consider inside `bounds` at `spacing`: a double, since it can be huge.
+double lattice_point_count(const Box& bounds, float spacing);
+/// Host bytes place_inside() needs at most (lattice, flags, kept points and the inside test's grid);
+/// for refusing a request before it allocates.
+double place_inside_bytes(const Box& bounds, float spacing, size_t triangle_count);
+/// Host bytes place_on_vertices() needs at most (the candidates along the edges, kept points, grid).
+double place_on_vertices_bytes(const Mesh& mesh, float spacing);
 
 /// (a) Surface points: the mesh vertices plus points inserted along every edge longer than `spacing`
 /// (evenly, so no gap exceeds `spacing`), then thinned with a hash grid so that no two kept points are
@@ -38,7 +47,9 @@ glm::vec3 centred_lattice_origin(const Box& bounds, float spacing);
 /// box (origin: `lattice_origin`, by default centred_lattice_origin()), keeping the points the
 /// generalized winding number classifies as inside. With `jitter` each lattice point is moved by up to
 /// spacing / 4 per axis (uniform, from `seed`) before the test, so every kept point is still inside.
-/// Cost O(lattice points * triangles).
+/// Cost about O(lattice points + triangles) with InsideTest (control/inside.h). A progress bar shows on
+/// a terminal; Ctrl-C (aquaform::interrupted()) stops it with `complete` false. Throws
+/// aquaform::Failure for a lattice of more than 2^32 points.
 ControlPoints place_inside(const std::vector<glm::vec3>& triangles, float spacing, bool jitter = false,
                            uint32_t seed = 1, std::optional<glm::vec3> lattice_origin = {});
 

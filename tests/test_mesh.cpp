@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <random>
 
 #include "control/inside.h"
 #include "control/mesh.h"
@@ -170,10 +171,15 @@ TEST_F(MeshTest, MeshDegenerateFaceIsReported) {
 TEST_F(MeshTest, MeshInconsistentOrientationIsReported) {
     Mesh box = make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)});
     std::swap(box.faces[3].y, box.faces[3].z);
+    const MeshReport report = check_mesh(box);
+    EXPECT_FALSE(report.watertight());
+    EXPECT_EQ(report.inconsistent_edge_count, 3u);
+    EXPECT_GE(report.rejected_face_count, 1u);
+    // load_obj() turns the face back and says so.
     const LoadedMesh loaded = round_trip(box);
-    EXPECT_FALSE(loaded.report.watertight());
-    EXPECT_EQ(loaded.report.inconsistent_edge_count, 3u);
-    EXPECT_GE(loaded.report.rejected_face_count, 1u);
+    EXPECT_TRUE(loaded.report.watertight()) << describe(loaded.report);
+    EXPECT_EQ(loaded.report.reoriented_face_count, 1u);
+    EXPECT_NE(describe(loaded.report).find("1 faces were turned"), std::string::npos) << describe(loaded.report);
 }
 
 TEST_F(MeshTest, MeshRefusesBadFilesWithClearErrors) {
@@ -183,7 +189,7 @@ TEST_F(MeshTest, MeshRefusesBadFilesWithClearErrors) {
 
     const std::string not_a_number = load_error(write_text("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"));
     EXPECT_NE(not_a_number.find("non-finite"), std::string::npos) << not_a_number;
-    EXPECT_NE(not_a_number.find("vertex 1"), std::string::npos) << not_a_number;
+    EXPECT_NE(not_a_number.find("line 2: vertex 2 "), std::string::npos) << not_a_number << " (1-based, as OBJ counts)";
 
     const std::string json =
         load_error(write_text("scene.json", "{\n  \"particles\": 1000,\n  \"gravity\": -9.8\n}\n"));
@@ -192,7 +198,7 @@ TEST_F(MeshTest, MeshRefusesBadFilesWithClearErrors) {
 
     const std::string huge = load_error(write_text("huge.obj", "v 1e30 0 0\nv 0 0 0\nv 0 1 0\nf 1 2 3\n"));
     EXPECT_NE(huge.find("too large"), std::string::npos) << huge;
-    EXPECT_NE(huge.find("vertex 0"), std::string::npos) << huge;
+    EXPECT_NE(huge.find("line 1: vertex 1 "), std::string::npos) << huge;
 
     const std::string no_faces = load_error(write_text("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"));
     EXPECT_NE(no_faces.find("no faces"), std::string::npos) << no_faces;
@@ -248,6 +254,175 @@ TEST_F(MeshTest, MeshVertexPlacementResamplesTheSurface) {
         float nearest = 1e9f;
         for (const glm::vec3& point : placed.points) nearest = std::min(nearest, glm::length(point - vertex));
         EXPECT_LT(nearest, 0.5f * spacing);
+    }
+}
+
+// Every bad line is refused on one line naming the file, the line (1-based) and the element.
+TEST_F(MeshTest, MeshObjRefusesEachBadLineNamingLineAndElement) {
+    const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    const struct {
+        std::string text;
+        std::vector<std::string> expected;
+    } cases[] = {
+        {tri + "f 1 2 99999999999999999999\n", {"line 4: face 1 corner 3", "refers to vertex 99999999999999999999", "3 vertices are defined"}},
+        {tri + "f 1 2 4\n", {"line 4: face 1 corner 3 refers to vertex 4"}},
+        {tri + "f 1.5 2 3\n", {"line 4: face 1 corner 1", "'1.5', not a whole number"}},
+        {tri + "f 0 1 2\n", {"line 4: face 1 corner 1 has vertex index 0", "count from 1"}},
+        {tri + "f -4 1 2\n", {"line 4: face 1 corner 1 refers to vertex -4"}},
+        {tri + "f 1 2 3\nf 1 2\n", {"line 5: face 2 has 2 corners", "at least 3"}},
+        {tri + "f 1/1 2/1 3/1\n", {"line 4: face 1 corner 1 refers to texture coordinate 1 but 0"}},
+        {tri + "vn 0 0 1\nf 1//1 2//2 3//1\n", {"line 5: face 1 corner 2 refers to normal 2"}},
+        {tri + "f 1/1/1/1 2 3\n", {"line 4: face 1 corner 1", "more than three parts"}},
+        {tri + "f 1 2 3x\n", {"line 4", "'3x', not a whole number"}},
+        {"v 1 2\n", {"line 1: vertex 1 has 2 numbers", "x y z"}},
+        {"v 1 2 3 4 5\n", {"line 1: vertex 1 has 5 numbers"}},
+        {"v 0 0 0\nv 1 2 abc\n", {"line 2: vertex 2 has 'abc', which is not a number"}},
+        {"v 0 0 0\nv 1 2 0x1p3\n", {"line 2: vertex 2 has '0x1p3'"}},
+        {"v inf 0 0\n", {"line 1: vertex 1 has a non-finite number 'inf'"}},
+        {"v 0 0 -1e300\n", {"line 1: vertex 1 has coordinate -1e+300, too large"}},
+        {"v 0 0 0\nvt 0.5 nan\n", {"line 2: texture coordinate 1 has a non-finite number"}},
+        {tri + "bogus 1 2 3\n", {"line 4: not an OBJ statement: 'bogus'"}},
+        {tri + "\x01\x02\xff\n", {"line 4: not an OBJ statement: '???'"}},
+        {tri + "curv 0 1 1 2\n", {"line 4: free-form geometry ('curv')"}},
+        {"\xEF\xBB\xBF" "v 0 0 0\r\nv 1 0 0\r\nf 1 2 3\r\n", {"line 3: face 1 corner 3 refers to vertex 3 but 2 vertices"}},
+        {"# comment\n" + tri + "f 1 \\\n 2 9\n", {"line 5: face 1 corner 3"}},
+        {"", {"empty"}},
+        {" \n\t\n", {"empty"}},
+        {std::string("v 0 0 0\n\0\0\0", 11), {"byte 9 is 0", "binary"}},
+        {"\xFF\xFEv\0 \0" "0\0", {"UTF-16"}},
+    };
+    int number = 0;
+    for (const auto& c : cases) {
+        const std::string name = "bad_" + std::to_string(++number) + ".obj";
+        const std::string error = load_error(write_text(name, c.text));
+        EXPECT_NE(error.find(name), std::string::npos) << error;
+        EXPECT_EQ(error.find('\n'), std::string::npos) << "one line: " << error;
+        for (const std::string& part : c.expected) EXPECT_NE(error.find(part), std::string::npos) << error;
+    }
+}
+
+TEST_F(MeshTest, MeshObjAcceptsBomCrlfQuadsAndIndexForms) {
+    // A unit cube as quads with texture and normal indices, negative (relative) indices, CRLF line
+    // ends and a UTF-8 byte order mark that must not swallow the first vertex.
+    std::string text = "\xEF\xBB\xBF" "v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nv 0 1 0\r\nv 0 0 1\r\nv 1 0 1\r\nv 1 1 1\r\nv 0 1 1\r\n";
+    text += "vt 0 0\r\nvn 0 0 1\r\no cube\r\ng side\r\ns off\r\nusemtl none\r\n";
+    text += "f 1/1/1 4/1/1 3/1/1 2/1/1\r\nf 5//1 6//1 7//1 8//1\r\nf -8/1 -7/1 -3/1 -4/1\r\n";
+    text += "f 2 3 7 6\r\nf 3 4 8 7\r\nf 4 1 5 8\r\n";
+    const Result<LoadedMesh> loaded = load_obj(write_text("cube.obj", text));
+    ASSERT_TRUE(loaded.ok()) << loaded.error();
+    EXPECT_EQ(loaded.value().mesh.vertices.size(), 8u);
+    EXPECT_EQ(loaded.value().mesh.vertices[0], glm::vec3(0.0f));
+    EXPECT_EQ(loaded.value().mesh.faces.size(), 12u);
+    EXPECT_TRUE(loaded.value().report.watertight()) << describe(loaded.value().report);
+    EXPECT_NEAR(loaded.value().report.signed_volume, 1.0, 1e-6);
+}
+
+TEST_F(MeshTest, MeshConcavePolygonsAreEarClipped) {
+    // An L-shaped prism whose caps are concave hexagons listed from a corner where a fan would fold
+    // over itself (and leave a triangle flipped against its neighbours).
+    const glm::vec2 outline[] = {{2, 1}, {1, 1}, {1, 2}, {0, 2}, {0, 0}, {2, 0}};
+    std::string text;
+    for (float z : {0.0f, 1.0f})
+        for (const glm::vec2& p : outline) text += "v " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(z) + "\n";
+    text += "f 6 5 4 3 2 1\nf 7 8 9 10 11 12\n";
+    for (int i = 0; i < 6; ++i) {
+        const int j = (i + 1) % 6;
+        text += "f " + std::to_string(i + 1) + " " + std::to_string(j + 1) + " " + std::to_string(j + 7) + " " +
+                std::to_string(i + 7) + "\n";
+    }
+    const Result<LoadedMesh> loaded = load_obj(write_text("l_prism.obj", text));
+    ASSERT_TRUE(loaded.ok()) << loaded.error();
+    const MeshReport& report = loaded.value().report;
+    EXPECT_EQ(report.reoriented_face_count, 0u) << describe(report);
+    EXPECT_TRUE(report.watertight()) << describe(report);
+    EXPECT_EQ(report.degenerate_face_count, 0u);
+    EXPECT_NEAR(std::abs(report.signed_volume), 3.0, 1e-5);
+    EXPECT_NEAR(report.surface_area, 2 * 3.0 + 8.0, 1e-5);
+}
+
+TEST_F(MeshTest, MeshWithoutVolumeIsRefused) {
+    const std::string plane = load_error(write_text("plane.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n"));
+    const std::string triangle = load_error(write_text("triangle.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+    const std::string degenerate = load_error(write_text(
+        "degenerate.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3\nf 2 3 4\nf 1 3 4\nf 1 2 4\n"));
+    for (const std::string& error : {plane, triangle, degenerate}) {
+        EXPECT_NE(error.find("encloses no volume"), std::string::npos) << error;
+        EXPECT_NE(error.find("use a closed solid mesh"), std::string::npos) << error;
+    }
+    EXPECT_NE(unusable_reason(check_mesh(make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f, 1.0f, 1e-3f)}))), "x")
+        << "a thin but solid box is fine";
+    EXPECT_EQ(unusable_reason(check_mesh(make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f, 1.0f, 1e-3f)}))), "");
+}
+
+TEST_F(MeshTest, MeshOpenShellIsRefused) {
+    Mesh box = make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)});
+    box.faces.resize(10);  // one side missing
+    const std::string error = load_error((write_obj(directory_ / "open.obj", box), directory_ / "open.obj"));
+    EXPECT_NE(error.find("the mesh is open: 4 boundary edges in 1 hole(s)"), std::string::npos) << error;
+    EXPECT_NE(error.find("20% of its surface"), std::string::npos) << error;
+    EXPECT_NE(error.find("close the holes"), std::string::npos) << error;
+    // A tube open at both ends: the two holes must not cancel each other.
+    Mesh tube = make_tube({0, 0, 0}, {0, 2, 0}, 0.5f, 0.5f, 4, 16);
+    const MeshReport closed = check_mesh(tube);
+    EXPECT_EQ(closed.hole_count, 0u);
+    const uint32_t sides = 16;
+    std::erase_if(tube.faces, [&](const glm::uvec3& f) { return f.x >= 4 * sides || f.y >= 4 * sides || f.z >= 4 * sides; });
+    const MeshReport open = check_mesh(tube);
+    EXPECT_EQ(open.hole_count, 2u);
+    EXPECT_GT(open.hole_fraction(), 0.1);
+    EXPECT_NE(unusable_reason(open), "");
+}
+
+TEST_F(MeshTest, MeshFlippedFacesAreTurnedBackAndFilled) {
+    Mesh sphere = make_sphere(1.0f, 3);
+    for (size_t f = 0; f < sphere.faces.size(); f += 2) std::swap(sphere.faces[f].y, sphere.faces[f].z);
+    const float spacing = 0.1f;
+    const size_t broken = place_inside(sphere.triangle_soup(), spacing).points.size();
+    const LoadedMesh loaded = round_trip(sphere);
+    EXPECT_EQ(loaded.report.reoriented_face_count, sphere.faces.size() / 2);
+    EXPECT_TRUE(loaded.report.watertight()) << describe(loaded.report);
+    const ControlPoints placed = place_inside(loaded.mesh.triangle_soup(), spacing);
+    expect_count_matches_volume(placed, std::abs(loaded.report.signed_volume), spacing);
+    EXPECT_LT(double(broken), 0.8 * double(placed.points.size())) << "without the repair the flipped mesh fills badly";
+}
+
+TEST_F(MeshTest, MeshCavityKeepsItsInwardOrientation) {
+    // A hollow box: the inner shell faces inward, on purpose; the repair must not turn it outward.
+    Mesh hollow = make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)});
+    const Mesh inner = make_box(Box{glm::vec3(0.25f), glm::vec3(0.75f)});
+    const uint32_t offset = uint32_t(hollow.vertices.size());
+    hollow.vertices.insert(hollow.vertices.end(), inner.vertices.begin(), inner.vertices.end());
+    for (const glm::uvec3& f : inner.faces) hollow.faces.push_back(glm::uvec3(f.x, f.z, f.y) + offset);
+    const LoadedMesh loaded = round_trip(hollow);
+    EXPECT_EQ(loaded.report.reoriented_face_count, 0u);
+    EXPECT_NEAR(loaded.report.signed_volume, 1.0 - 0.125, 1e-6);
+    const std::vector<glm::vec3> soup = loaded.mesh.triangle_soup();
+    EXPECT_FALSE(InsideTest(soup).contains(glm::vec3(0.5f)));
+    EXPECT_TRUE(InsideTest(soup).contains(glm::vec3(0.1f)));
+}
+
+// The accelerated inside test gives the brute-force winding number's answer, also where parts overlap
+// (the character's limbs) and near a hole, where it falls back to the winding number.
+TEST_F(MeshTest, MeshInsideTestAgreesWithTheWindingNumber) {
+    Mesh holed = make_sphere(1.0f, 3);
+    holed.faces.erase(holed.faces.begin(), holed.faces.begin() + 4);
+    const std::vector<glm::vec3> meshes[] = {make_character().mesh.triangle_soup(),
+                                             make_torus(1.0f, 0.4f, 24, 12).triangle_soup(), holed.triangle_soup()};
+    std::mt19937 random(3);
+    for (const std::vector<glm::vec3>& soup : meshes) {
+        const Box box = bounds_of(soup);
+        std::uniform_real_distribution<float> x(box.min.x, box.max.x), y(box.min.y, box.max.y), z(box.min.z, box.max.z);
+        const InsideTest test(soup);
+        size_t disagree = 0, inside = 0;
+        for (int i = 0; i < 3000; ++i) {
+            const glm::vec3 p(x(random), y(random), z(random));
+            const bool expected = is_inside(soup, p);
+            inside += expected;
+            disagree += test.contains(p) != expected;
+        }
+        EXPECT_GT(inside, 100u);
+        EXPECT_LE(disagree, 3u) << "points within float rounding of the surface only";
+        EXPECT_EQ(test.fallbacks() > 0, &soup == &meshes[2]) << "only rays through the hole fall back";
     }
 }
 
