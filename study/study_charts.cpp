@@ -17,8 +17,6 @@ namespace fs = std::filesystem;
 
 constexpr const char* kScriptName = "study_charts.py";
 constexpr const char* kScriptsDirVariable = "AQUAFORM_SCRIPTS_DIR";
-// study_charts.py's exit status when its Python has no matplotlib.
-constexpr int kExitNoMatplotlib = 3;
 
 /// 'text' for /bin/sh, with embedded quotes closed, escaped and reopened.
 std::string shell_quoted(const std::string& text) {
@@ -41,36 +39,48 @@ std::string read_all(const fs::path& path) {
 
 }  // namespace
 
-Result<fs::path> find_study_charts_script() {
-    std::vector<fs::path> tried;
-    if (const char* dir = std::getenv(kScriptsDirVariable); dir && *dir) {
-        const fs::path p = fs::path(dir) / kScriptName;
-        if (fs::is_regular_file(p)) return p;
-        tried.push_back(p);
-    }
+Result<fs::path> find_study_charts_script(const fs::path& exe_path) {
+    std::vector<fs::path> candidates;
+    if (const char* dir = std::getenv(kScriptsDirVariable); dir && *dir) candidates.push_back(fs::path(dir) / kScriptName);
     std::error_code ec;
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+    const fs::path exe = exe_path.empty() ? fs::read_symlink("/proc/self/exe", ec) : exe_path;
     if (!ec) {
         const fs::path dir = exe.parent_path();
-        for (const fs::path& p : {dir / ".." / "scripts" / kScriptName, dir / "scripts" / kScriptName,
-                                  dir / ".." / ".." / "scripts" / kScriptName}) {
-            if (fs::is_regular_file(p)) return fs::weakly_canonical(p, ec);
-            tried.push_back(p.lexically_normal());
-        }
+        for (const fs::path& p : {dir / ".." / "scripts", dir / "scripts", dir / ".." / ".." / "scripts"})
+            candidates.push_back(p / kScriptName);
     }
+#ifdef AQUAFORM_SOURCE_SCRIPTS_DIR
+    candidates.push_back(fs::path(AQUAFORM_SOURCE_SCRIPTS_DIR) / kScriptName);
+#endif
+    std::error_code found;
+    for (const fs::path& p : candidates)
+        if (fs::is_regular_file(p, found)) return fs::weakly_canonical(p, found);
     std::string message = std::string("cannot find the chart script ") + kScriptName + "; looked at";
-    for (const fs::path& p : tried) message.append(" ").append(p.string());
+    for (const fs::path& p : candidates) message.append(" ").append(p.lexically_normal().string());
     if (ec) message += " (the executable's own path is unreadable: " + ec.message() + ")";
-    message += std::string("; set ") + kScriptsDirVariable + " to the scripts/ directory of the aquaform sources";
+    message += std::string("; set ") + kScriptsDirVariable + " to the scripts/ folder of the aquaform sources";
     return Error{message};
 }
 
-Result<std::vector<std::string>> draw_study_charts(const fs::path& out_dir) {
+Result<std::string> find_chart_python(const std::vector<std::string>& candidates) {
+    // python3 on PATH first (a venv the user chose), then Debian's, which python3-matplotlib serves.
+    const std::vector<std::string> pythons = candidates.empty() ? std::vector<std::string>{"python3", "/usr/bin/python3"} : candidates;
+    for (const std::string& python : pythons) {
+        const std::string probe = shell_quoted(python) + " -c 'import matplotlib' >/dev/null 2>&1";
+        if (std::system(probe.c_str()) == 0) return python;
+    }
+    std::string tried;
+    for (const std::string& python : pythons) tried += (tried.empty() ? "" : ", ") + python;
+    return Error{"no Python with matplotlib (tried " + tried + "); install it (Debian: apt-get install "
+                 "python3-matplotlib) and draw the charts later with python3 scripts/study_charts.py OUT_DIR"};
+}
+
+Result<StudyCharts> draw_study_charts(const fs::path& out_dir) {
     auto script = find_study_charts_script();
-    if (!script) return Error{script.error()};
-    // Debian's python3 is the one python3-matplotlib installs into; a pyenv or venv python3
-    // earlier on PATH usually lacks it.
-    const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+    if (!script) return StudyCharts{{}, script.error()};
+    auto found = find_chart_python();
+    if (!found) return StudyCharts{{}, found.error()};
+    const std::string& python = found.value();
 
     // stdout carries the written paths; stderr goes to a file, for the message on failure.
     std::string err_path = (fs::temp_directory_path() / "aquaform_study_charts_XXXXXX").string();
@@ -93,22 +103,16 @@ Result<std::vector<std::string>> draw_study_charts(const fs::path& out_dir) {
     fs::remove(err_path);
 
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    if (code == 127)
-        return Error{"cannot run " + python + " for the study charts: install Python 3 with matplotlib (Debian: "
-                     "apt-get install python3-matplotlib)"};
-    if (code == kExitNoMatplotlib)
-        return Error{"the study charts need matplotlib for " + python + ": install it (Debian: apt-get install "
-                     "python3-matplotlib; scripts/setup.sh does)"};
     if (code != 0)
         return Error{"the chart script " + script.value().string() + " failed (exit status " + std::to_string(code) +
                      ")" + (messages.empty() ? std::string() : ": " + messages)};
     // Notes on charts left out (no usable rows) are worth seeing even when others were drawn.
     if (!messages.empty()) std::fprintf(stderr, "%s\n", messages.c_str());
-    std::vector<std::string> written;
+    StudyCharts charts;
     std::stringstream lines(out);
     for (std::string line; std::getline(lines, line);)
-        if (!line.empty()) written.push_back(line);
-    return written;
+        if (!line.empty()) charts.written.push_back(line);
+    return charts;
 }
 
 }  // namespace aquaform::study

@@ -22,6 +22,7 @@
 #include "render/surface_views.h"
 #include "sim/pbf_solver.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 
 namespace aquaform::study {
 
@@ -98,7 +99,9 @@ public:
     }
     uint32_t particles() const { return solver_->particle_count(); }
 
-    void measure(uint32_t w, uint32_t h, std::vector<StudyRow>& rows) {
+    /// The rows of the methods at w x h that `hooks` has not seen, each handed over as measured;
+    /// false when the study is to stop (Ctrl-C, or `measured` said so).
+    bool measure(uint32_t w, uint32_t h, const std::string& frame_key, const StudyHooks& hooks, std::vector<StudyRow>& rows) {
         width_ = w;
         height_ = h;
         camera_ = study_camera(case_.camera, scene_, float(w) / float(h));
@@ -109,7 +112,11 @@ public:
         roomy_.reset();
         roomy_bytes_per_pixel_ = 0;
         for (const StudyMethod& m : case_.methods) {
+            const std::string cell = study_cell_key(frame_key, w, h, m.label());
+            if (hooks.done && hooks.done(cell)) continue;
+            if (interrupted()) return false;
             StudyRow row = base_row(m);
+            row.cell = cell;
             try {
                 const Image image = run(m, row);
                 if (!images_dir_.empty()) write_image(row, image);
@@ -119,7 +126,9 @@ public:
             progress(case_.name + ", " + std::to_string(row.particles) + " particles, " + resolution_text(w, h) + ": " +
                      row.method + ": " + (row.status == "ok" ? fmt_ms(row.ms_total) : row.status));
             rows.push_back(std::move(row));
+            if (hooks.measured && !hooks.measured(rows.back())) return false;
         }
+        return true;
     }
 
 private:
@@ -370,21 +379,6 @@ private:
     uint32_t roomy_bytes_per_pixel_ = 0;
 };
 
-std::string csv_number(const std::optional<double>& v) {
-    if (!v || !std::isfinite(*v)) return "";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", *v);
-    return buf;
-}
-
-/// CSV fields are quoted when they hold a comma or a quote.
-std::string csv_text(const std::string& s) {
-    if (s.find_first_of(",\"\n") == std::string::npos) return s;
-    std::string out = "\"";
-    for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return out + "\"";
-}
-
 double fps(double ms) { return ms > 0.0 ? 1000.0 / ms : 0.0; }
 
 /// The row of `method` at `particles` and w x h in case `case_name`, or nullptr.
@@ -438,69 +432,51 @@ ViewCamera study_camera(const StudyCamera& spec, const Scene& scene, float aspec
     return camera;
 }
 
-std::vector<StudyRow> run_study_cases(gpu::Context& ctx, const StudySpec& spec, const fs::path& images_dir) {
+std::vector<StudyRow> run_study_cases(gpu::Context& ctx, const StudySpec& spec, const fs::path& images_dir,
+                                      const StudyHooks& hooks) {
     std::vector<StudyRow> rows;
     if (!images_dir.empty()) {
         std::error_code ec;
         fs::create_directories(images_dir, ec);
     }
     for (const StudyCase& c : spec.cases) {
-        std::vector<Scene> scenes;
-        if (c.scene == "dam_break") {
-            for (uint32_t n : c.particles) scenes.push_back(study::bench_scene(n, 4));
-        } else {
-            auto loaded = load_scene(c.scene);
-            if (!loaded) throw Failure(loaded.error());
-            if (c.particles.empty()) scenes.push_back(loaded.value());
-            for (uint32_t n : c.particles) {
-                auto sized = scaled_scene(loaded.value(), n);
+        std::optional<Scene> file;  // loaded once per case, when a frame needs it
+        for (const std::optional<uint32_t>& n : study_frame_counts(c)) {
+            const std::string frame_key = study_frame_key(c, n);
+            bool pending = false;
+            for (const auto& [w, h] : c.resolutions)
+                for (const StudyMethod& m : c.methods)
+                    pending = pending || !hooks.done || !hooks.done(study_cell_key(frame_key, w, h, m.label()));
+            if (!pending) continue;
+            if (interrupted()) return rows;
+            Scene scene;
+            if (c.scene == "dam_break") {
+                scene = study::bench_scene(*n, 4);
+            } else {
+                if (!file) {
+                    auto loaded = load_scene(c.scene);  // check_study_scenes found it loads
+                    if (!loaded) throw Failure(loaded.error());
+                    file = std::move(loaded.value());
+                }
+                auto sized = n ? scaled_scene(*file, *n) : Result<Scene>(*file);
                 if (!sized) throw Failure("case " + c.name + ": " + sized.error());
-                scenes.push_back(std::move(sized.value()));
+                scene = std::move(sized.value());
             }
-        }
-        for (Scene& scene : scenes) {
             StudyFrame frame(ctx, c, std::move(scene), spec.repeats, images_dir);
             if (!frame.simulate()) {
                 StudyRow failed;
                 failed.case_name = c.name;
+                failed.cell = frame_key;
                 failed.status = "failed: the simulation blew up before the frame";
                 rows.push_back(failed);
+                if (hooks.measured && !hooks.measured(rows.back())) return rows;
                 continue;
             }
-            for (const auto& [w, h] : c.resolutions) frame.measure(w, h, rows);
+            for (const auto& [w, h] : c.resolutions)
+                if (!frame.measure(w, h, frame_key, hooks, rows)) return rows;
         }
     }
     return rows;
-}
-
-Result<bool> write_study_csv(const fs::path& dir, const std::vector<StudyRow>& rows) {
-    std::ofstream csv(dir / "study.csv"), passes(dir / "study_passes.csv");
-    if (!csv || !passes) return Error{"cannot write " + (dir / "study.csv").string() + "; check that the directory is writable"};
-    csv << "case,scene,method,width,height,particles,metaball_scale,recursion_depth,bisection_steps,visual,ms_total,fps,"
-           "depth_err_mean,depth_err_p95,normal_err_deg_mean,coverage_mismatch,psnr_db,overflow,status,rays,steps_per_ray,"
-           "bisection_per_ray,evals_per_ray,mask_leaps_per_ray,list_entries_per_pixel,list_bytes_per_pixel,"
-           "particle_visits_per_pixel,memory_bytes_per_pixel,roughness_deg\n";
-    passes << "case,scene,method,width,height,particles,pass,ms\n";
-    for (const StudyRow& r : rows) {
-        const bool metaball = r.config.family == StudyFamily::metaball;
-        csv << csv_text(r.case_name) << ',' << csv_text(r.scene) << ',' << csv_text(r.method) << ',' << r.width << ','
-            << r.height << ',' << r.particles << ',' << (metaball ? csv_number(r.config.size) : "") << ','
-            << (metaball ? std::to_string(r.config.recursion) : "") << ','
-            << (metaball ? std::to_string(r.config.bisection) : "") << ',' << (metaball ? r.config.visual : "") << ','
-            << csv_number(r.ms_total) << ',' << csv_number(fps(r.ms_total)) << ',' << csv_number(r.depth_err_mean) << ','
-            << csv_number(r.depth_err_p95) << ',' << csv_number(r.normal_err_deg_mean) << ','
-            << csv_number(r.coverage_mismatch) << ',' << csv_number(r.psnr_db) << ',' << csv_number(r.overflow_mib) << ','
-            << csv_text(r.status) << ',' << r.rays << ',' << csv_number(r.steps_per_ray) << ','
-            << csv_number(r.bisection_per_ray) << ',' << csv_number(r.evals_per_ray) << ',' << csv_number(r.leaps_per_ray)
-            << ',' << csv_number(r.list_entries_per_pixel) << ',' << csv_number(r.list_bytes_per_pixel) << ','
-            << csv_number(r.particle_visits_per_pixel) << ',' << csv_number(r.memory_bytes_per_pixel) << ','
-            << csv_number(r.roughness_deg) << '\n';
-        for (const auto& [pass, ms] : r.ms_per_pass)
-            passes << csv_text(r.case_name) << ',' << csv_text(r.scene) << ',' << csv_text(r.method) << ',' << r.width
-                   << ',' << r.height << ',' << r.particles << ',' << pass << ',' << csv_number(ms) << '\n';
-    }
-    if (!csv || !passes) return Error{"writing " + (dir / "study.csv").string() + " failed; is the disk full?"};
-    return true;
 }
 
 std::vector<std::string> study_targets(const std::vector<StudyRow>& rows) {

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -25,6 +26,7 @@ namespace aquaform::study {
 
 struct StudyRow {
     std::string case_name, scene, method;
+    std::string cell;  ///< study_cell_key (study_spec.h), or the frame's key for a frame that failed
     StudyMethod config;
     uint32_t width = 0, height = 0, particles = 0;
     double ms_total = 0.0;
@@ -52,12 +54,18 @@ struct StudyRow {
 /// eye on the boundary of the first fluid block, looking at its centre.
 ViewCamera study_camera(const StudyCamera& spec, const Scene& scene, float aspect);
 
-/// Runs every case of the spec, printing progress to stderr; rows come in spec order. With an
-/// `images_dir`, every method's shaded frame is written there as PNG.
-std::vector<StudyRow> run_study_cases(gpu::Context& ctx, const StudySpec& spec, const std::filesystem::path& images_dir = {});
+/// Resuming and stopping a study: a cell `done` accepts (study_cell_key) is skipped, and a frame
+/// whose cells are all done is not simulated; `measured` gets each row as soon as it is measured
+/// (false stops the study); Ctrl-C (core/interrupt.h) stops it after the current row.
+struct StudyHooks {
+    std::function<bool(const std::string& cell)> done;
+    std::function<bool(const StudyRow& row)> measured;
+};
 
-/// study.csv and study_passes.csv (the columns scripts/study_charts.py reads).
-Result<bool> write_study_csv(const std::filesystem::path& dir, const std::vector<StudyRow>& rows);
+/// Runs every case of the spec, printing progress to stderr; rows come in spec order. With an
+/// `images_dir`, every method's shaded frame is written there as PNG. Returns the rows measured.
+std::vector<StudyRow> run_study_cases(gpu::Context& ctx, const StudySpec& spec, const std::filesystem::path& images_dir = {},
+                                      const StudyHooks& hooks = {});
 /// study.md: a table per case, the papers' table shapes (Karpati Table 1 as frames per second,
 /// Wu Table 1 as time and error per resolution, Wu Table 2 as time per pass), and the targets.
 /// `device`: the name of the device the times come from (study.md says which conclusions depend on it).

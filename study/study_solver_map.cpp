@@ -8,7 +8,9 @@
 #include <fstream>
 #include <memory>
 
+#include "core/interrupt.h"
 #include "gpu/context.h"
+#include "study/study_rows.h"
 #include "session/simulation_session.h"
 
 namespace aquaform::study {
@@ -30,16 +32,6 @@ std::string fmt(const char* format, T... values) {
     std::snprintf(buf, sizeof buf, format, values...);
     return buf;
 }
-
-/// A CSV field: quoted when it holds a comma, a quote or a line break.
-std::string csv_field(const std::string& text) {
-    if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
-    std::string out = "\"";
-    for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return out + "\"";
-}
-
-std::string csv_number(double v, const char* format = "%.6g") { return std::isfinite(v) ? fmt(format, v) : ""; }
 
 Result<bool> check_spec(const SolverMapSpec& spec, const Scene& scene) {
     const std::string where = "solver map of " + spec.scene.string() + ": ";
@@ -153,23 +145,46 @@ std::string blowup_reason(const FrameStats& s, const BlowupBounds& bounds) {
     return "";
 }
 
+namespace {
+
+/// The scene of a map and its control section (when it has one), checked.
+struct MapScene {
+    Scene scene;
+    std::optional<control::ControlSection> section;
+};
+
+Result<MapScene> load_map_scene(const SolverMapSpec& spec) {
+    auto loaded = load_scene(spec.scene);
+    if (!loaded) return Error{loaded.error()};
+    MapScene out{std::move(loaded.value()), std::nullopt};
+    if (auto ok = check_spec(spec, out.scene); !ok) return Error{ok.error()};
+    if (out.scene.control_json) {
+        auto s = control::load_control_section(out.scene);
+        if (!s) return Error{s.error()};
+        out.section = std::move(s.value());
+    }
+    return out;
+}
+
+}  // namespace
+
+Result<bool> check_solver_map(const SolverMapSpec& spec) {
+    auto loaded = load_map_scene(spec);
+    if (!loaded) return Error{loaded.error()};
+    return true;
+}
+
 Result<std::vector<SolverMapRecord>> run_solver_map(gpu::Context& ctx, const SolverMapSpec& spec,
-                                                    const SolverMapProgress& progress) {
+                                                    const SolverMapProgress& progress, const SolverMapHooks& hooks) {
     const auto say = [&](const std::string& line) {
         if (progress) return progress(line);
         std::fprintf(stderr, "solver map: %s\n", line.c_str());
         std::fflush(stderr);
     };
-    auto loaded = load_scene(spec.scene);
+    auto loaded = load_map_scene(spec);
     if (!loaded) return Error{loaded.error()};
-    const Scene& scene = loaded.value();
-    if (auto ok = check_spec(spec, scene); !ok) return Error{ok.error()};
-    std::optional<control::ControlSection> section;
-    if (scene.control_json) {
-        auto s = control::load_control_section(scene);
-        if (!s) return Error{s.error()};
-        section = std::move(s.value());
-    }
+    const Scene& scene = loaded.value().scene;
+    const control::ControlSection* section = loaded.value().section ? &*loaded.value().section : nullptr;
     const std::string label = spec.scene.stem().string();
     std::vector<std::optional<float>> pressures;
     for (float p : spec.control_pressures) pressures.push_back(p);
@@ -177,35 +192,56 @@ Result<std::vector<SolverMapRecord>> run_solver_map(gpu::Context& ctx, const Sol
 
     std::vector<SolverMapRecord> records;
     const size_t cells = pressures.size() * spec.iterations.size() * spec.frame_dts.size();
+    size_t cell_index = 0;
     for (const std::optional<float>& pressure : pressures)
         for (uint32_t iterations : spec.iterations)
             for (float dt : spec.frame_dts) {
+                ++cell_index;
+                SolverMapRecord id;
+                id.scene = label;
+                id.dt = dt;
+                id.iterations = iterations;
+                id.control_pressure = pressure;
+                if (hooks.done && hooks.done(id)) continue;
+                if (interrupted()) return records;
                 const std::string cell = fmt("%s, dt %g s, %u iterations", label.c_str(), double(dt), iterations) +
                                          (pressure ? fmt(", control %g Pa", double(*pressure)) : "");
                 try {
-                    records.push_back(
-                        run_cell(ctx, scene, section ? &*section : nullptr, spec, label, dt, iterations, pressure));
+                    records.push_back(run_cell(ctx, scene, section, spec, label, dt, iterations, pressure));
                 } catch (const std::exception& e) {
                     return Error{"solver map: " + cell + ": " + e.what()};
                 }
                 const SolverMapRecord& r = records.back();
-                say(fmt("[%zu/%zu] ", records.size(), cells) + cell + ": " +
+                say(fmt("[%zu/%zu] ", cell_index, cells) + cell + ": " +
                     (r.stable ? std::string("stable") : fmt("blew up at %.3g s (", r.blowup_time_s) + r.failure + ")") +
                     fmt("; max density error %.4g, mean %.4g (%u frames, %.1f s)", r.density_err_max,
                         r.density_err_mean, r.frames, r.wall_s));
+                if (hooks.measured && !hooks.measured(r)) return records;
             }
     return records;
+}
+
+std::string solver_map_csv_header() {
+    return "scene,dt,iterations,control_pressure,density_err_max,density_err_mean,stable,blowup_time_s,spec,cell";
+}
+
+std::string solver_map_cell_key(const SolverMapRecord& r) {
+    return r.scene + "/dt " + csv_number(r.dt, "%.9g") + "/" + std::to_string(r.iterations) + " iterations" +
+           (r.control_pressure ? "/" + csv_number(*r.control_pressure, "%.9g") + " Pa" : "");
+}
+
+std::string solver_map_csv_line(const SolverMapRecord& r, const std::string& spec) {
+    return csv_field(r.scene) + ',' + csv_number(r.dt, "%.9g") + ',' + std::to_string(r.iterations) + ',' +
+           (r.control_pressure ? csv_number(*r.control_pressure, "%.9g") : "") + ',' + csv_number(r.density_err_max) +
+           ',' + csv_number(r.density_err_mean) + ',' + (r.stable ? "1" : "0") + ',' +
+           (r.stable ? "" : csv_number(r.blowup_time_s)) + ',' + spec + ',' + csv_field(solver_map_cell_key(r));
 }
 
 Result<bool> write_solver_map_csv(const std::filesystem::path& path, const std::vector<SolverMapRecord>& records) {
     std::ofstream out(path);
     if (!out) return Error{"cannot write " + path.string() + "; check that its directory exists and is writable"};
-    out << "scene,dt,iterations,control_pressure,density_err_max,density_err_mean,stable,blowup_time_s\n";
-    for (const SolverMapRecord& r : records)
-        out << csv_field(r.scene) << ',' << csv_number(r.dt, "%.9g") << ',' << r.iterations << ','
-            << (r.control_pressure ? csv_number(*r.control_pressure, "%.9g") : "") << ',' << csv_number(r.density_err_max)
-            << ',' << csv_number(r.density_err_mean) << ',' << (r.stable ? 1 : 0) << ','
-            << (r.stable ? "" : csv_number(r.blowup_time_s)) << '\n';
+    out << solver_map_csv_header() << '\n';
+    for (const SolverMapRecord& r : records) out << solver_map_csv_line(r, "") << '\n';
     out.close();
     if (!out) return Error{"cannot write " + path.string() + " (disk full?)"};
     return true;

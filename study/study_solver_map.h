@@ -59,14 +59,33 @@ std::string blowup_reason(const FrameStats& stats, const BlowupBounds& bounds);
 /// A line of progress per cell; empty prints "solver map: ..." to stderr.
 using SolverMapProgress = std::function<void(const std::string& line)>;
 
+/// Resuming and stopping a map: a cell `done` accepts (a record with the cell's scene, dt,
+/// iterations and pressure) is skipped; `measured` gets each record as its cell ends (false
+/// stops the map); Ctrl-C (core/interrupt.h) stops the map after the current cell.
+struct SolverMapHooks {
+    std::function<bool(const SolverMapRecord& cell)> done;
+    std::function<bool(const SolverMapRecord& record)> measured;
+};
+
+/// Everything run_solver_map checks before its first cell, without the GPU: the scene loads,
+/// the settings hold (steps per cell, a control pressure needs a control section), the scene's
+/// control section loads. Errors name the field and the fix.
+Result<bool> check_solver_map(const SolverMapSpec& spec);
+
 /// Runs every cell (dt x iterations x pressure) from the scene's initial state. A blown-up cell
 /// stops at its first failing frame and the map goes on; errors are for bad specs or scenes
-/// (naming the field and the fix) and for device failures.
+/// (naming the field and the fix) and for device failures. Returns the records measured.
 Result<std::vector<SolverMapRecord>> run_solver_map(gpu::Context& ctx, const SolverMapSpec& spec,
-                                                    const SolverMapProgress& progress = {});
+                                                    const SolverMapProgress& progress = {},
+                                                    const SolverMapHooks& hooks = {});
 
 /// solver_map.csv: scene,dt,iterations,control_pressure,density_err_max,density_err_mean,stable,
-/// blowup_time_s (control_pressure empty for the scene as is; blowup_time_s empty when stable).
+/// blowup_time_s,spec,cell (control_pressure empty for the scene as is; blowup_time_s empty when
+/// stable; spec: the study's spec_hash, empty outside a study; cell: solver_map_cell_key).
 Result<bool> write_solver_map_csv(const std::filesystem::path& path, const std::vector<SolverMapRecord>& records);
+std::string solver_map_csv_header();
+std::string solver_map_csv_line(const SolverMapRecord& r, const std::string& spec);
+/// "tiny_column/dt 0.004/2 iterations[/500 Pa]": a cell's identity in solver_map.csv.
+std::string solver_map_cell_key(const SolverMapRecord& r);
 
 }  // namespace aquaform::study

@@ -1,6 +1,8 @@
 #include "study/study_spec.h"
 
+#include <algorithm>
 #include <array>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <set>
@@ -44,6 +46,25 @@ std::string methods_with_key(const std::string& key) {
 std::string read_string(const json& v, const std::string& path, const char* what) {
     if (!v.is_string()) fail(path + " must be " + what + ", got " + written(v) + " (" + kind_of(v) + ")");
     return v.get<std::string>();
+}
+
+/// Names become file and folder names (the default --out, images/<case>_...png): nothing that
+/// could climb out of the output folder, hide, or trouble a shell or a CSV file.
+std::string checked_name(const std::string& name, const std::string& path) {
+    const bool allowed = !name.empty() && name.size() <= 64 && name[0] != '.' &&
+                         std::all_of(name.begin(), name.end(), [](char c) {
+                             return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                                    c == '_' || c == '-' || c == '.';
+                         });
+    if (!allowed)
+        fail(path + " is " + written(json(name)) + "; it names files and folders, so use " + kNameRule +
+             ", e.g. \"small_study\"");
+    return name;
+}
+
+std::string read_file_text(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
 /// A value or an array of values, each read by `one`.
@@ -183,7 +204,7 @@ StudyCase read_case(const json& v, const std::string& path, const fs::path& base
     check_keys(v, "in " + path, kCaseKeys);
     for (const char* key : {"name", "resolutions", "methods"}) require(v, key, "in " + path, std::string("\"") + key + "\": ...");
     StudyCase c;
-    c.name = read_string(v["name"], child(path, "name"), "a name");
+    c.name = checked_name(read_string(v["name"], child(path, "name"), "a name"), child(path, "name"));
     if (v.contains("scene")) {
         c.scene = read_string(v["scene"], child(path, "scene"), "\"dam_break\" or a scene file path");
         if (c.scene != "dam_break") {
@@ -268,7 +289,9 @@ Result<StudySpec> parse_study_spec(const std::string& text, const std::string& o
         check_keys(j, "at top level", kTopKeys);
         require(j, "cases", "at top level", "\"cases\": [{\"name\": \"small\", \"resolutions\": [\"256x256\"], \"methods\": [...]}]");
         StudySpec spec;
-        spec.name = j.contains("name") ? read_string(j["name"], "name", "a name") : fs::path(origin).stem().string();
+        spec.name = j.contains("name") ? checked_name(read_string(j["name"], "name", "a name"), "name")
+                                       : checked_name(fs::path(origin).stem().string(),
+                                                      "name (none given, so the file's name)");
         if (j.contains("repeats")) spec.repeats = read_integer(j["repeats"], "repeats", 1, 20);
         if (!j["cases"].is_array() || j["cases"].empty()) fail("cases must be a non-empty array of cases, got " + written(j["cases"]));
         std::set<std::string> names;
@@ -286,6 +309,10 @@ Result<StudySpec> parse_study_spec(const std::string& text, const std::string& o
                 spec.solver_maps.push_back(read_map(maps, "solver_map", base_dir));
             }
         }
+        spec.identity = j.dump();
+        for (const StudyCase& c : spec.cases)
+            if (c.scene != "dam_break") spec.identity += "\n" + read_file_text(c.scene);  // contents: any working directory
+        for (const SolverMapSpec& m : spec.solver_maps) spec.identity += "\n" + read_file_text(m.scene);
         return spec;
     } catch (const Invalid& e) {
         return Error{e.has_origin ? e.message : origin + ": " + e.message};
@@ -306,6 +333,56 @@ Result<bool> set_particle_count(StudySpec& spec, uint64_t particles) {
         if (!sized) return Error{"case " + c.name + ": " + sized.error()};
         c.particles = {uint32_t(particles)};
     }
+    spec.identity += "\n--particles " + std::to_string(particles);
+    return true;
+}
+
+std::string spec_hash(const StudySpec& spec) {
+    uint64_t h = 14695981039346656037ull;  // FNV-1a
+    for (unsigned char c : spec.identity) h = (h ^ c) * 1099511628211ull;
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", (unsigned long long)h);
+    return text;
+}
+
+std::vector<std::optional<uint32_t>> study_frame_counts(const StudyCase& c) {
+    std::vector<std::optional<uint32_t>> counts(c.particles.begin(), c.particles.end());
+    if (counts.empty()) counts.push_back(std::nullopt);  // a scene file at its own count
+    return counts;
+}
+
+std::string study_frame_key(const StudyCase& c, std::optional<uint32_t> particles) {
+    return c.name + "/" + (particles ? std::to_string(*particles) : std::string("scene"));
+}
+
+std::string study_cell_key(const std::string& frame_key, uint32_t width, uint32_t height, const std::string& label) {
+    return frame_key + "/" + std::to_string(width) + "x" + std::to_string(height) + "/" + label;
+}
+
+std::vector<std::string> study_cell_keys(const StudySpec& spec) {
+    std::vector<std::string> keys;
+    for (const StudyCase& c : spec.cases)
+        for (const auto& n : study_frame_counts(c))
+            for (const auto& [w, h] : c.resolutions)
+                for (const StudyMethod& m : c.methods) keys.push_back(study_cell_key(study_frame_key(c, n), w, h, m.label()));
+    return keys;
+}
+
+Result<bool> check_study_scenes(const StudySpec& spec) {
+    for (size_t i = 0; i < spec.cases.size(); ++i) {
+        const StudyCase& c = spec.cases[i];
+        if (c.scene == "dam_break") continue;
+        const std::string where = "cases[" + std::to_string(i) + "] (" + c.name + "): ";
+        auto loaded = load_scene(c.scene);
+        if (!loaded) return Error{where + loaded.error()};
+        for (uint32_t n : c.particles)
+            if (auto sized = scaled_scene(loaded.value(), n); !sized)
+                return Error{where + "particles " + std::to_string(n) + ": " + sized.error()};
+    }
+    for (size_t i = 0; i < spec.solver_maps.size(); ++i)
+        if (auto ok = check_solver_map(spec.solver_maps[i]); !ok)
+            return Error{(spec.solver_maps.size() > 1 ? "solver_map[" + std::to_string(i) + "]: " : "solver_map: ") +
+                         ok.error()};
     return true;
 }
 

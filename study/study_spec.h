@@ -83,11 +83,34 @@ struct StudyCase {
 };
 
 struct StudySpec {
-    std::string name;
+    std::string name;  ///< names the default output folder: letters, digits, '_', '-', '.' (see kNameRule)
     uint32_t repeats = 2;
     std::vector<StudyCase> cases;
     std::vector<SolverMapSpec> solver_maps;  ///< "solver_map": one object or an array of them
+    /// What the rows depend on: the spec as parsed, the scene files' texts and --particles. Its
+    /// hash (spec_hash) marks every row written, so a rerun resumes only the rows of this spec.
+    std::string identity;
 };
+
+/// How a name that becomes part of a file or folder name (the spec's and the cases') is written.
+constexpr const char* kNameRule = "1 to 64 letters, digits, '_', '-' or '.' (not first)";
+
+/// 16 hex digits of a hash of spec.identity.
+std::string spec_hash(const StudySpec& spec);
+
+/// The identity of a (case, particle count) frame and of one measurement on it, as the CSV
+/// files key their rows: "curtain/1500", "curtain/1500/96x64/adaptive mask" ("scene" for a
+/// scene file's own count). Rows come in the order of study_cell_keys.
+std::string study_frame_key(const StudyCase& c, std::optional<uint32_t> particles);
+std::string study_cell_key(const std::string& frame_key, uint32_t width, uint32_t height, const std::string& label);
+std::vector<std::string> study_cell_keys(const StudySpec& spec);
+/// The particle counts a case's frames are made with (empty: a scene file's own).
+std::vector<std::optional<uint32_t>> study_frame_counts(const StudyCase& c);
+
+/// What the GPU work would find only later: every case's scene file loads and scales to each
+/// count, every solver map's scene and settings hold (check_solver_map). The first problem,
+/// naming the case or map and the fix.
+Result<bool> check_study_scenes(const StudySpec& spec);
 
 /// `study --particles N`: every case at about N particles: a generated dam break's list becomes
 /// {N}, a scene file is scaled to it (with_particle_count). Refuses a scene that cannot be.

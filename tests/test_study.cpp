@@ -1,6 +1,9 @@
-// `aquaform study`: the spec is read strictly (errors name the key and the fix), and the tiny
+// `aquaform study`: the spec is read strictly (errors name the key and the fix; names that
+// become paths stay inside the output folder) and checked whole before any GPU work; the tiny
 // spec runs end to end on the software device, writing its CSV, tables and charts, with the
-// overflowing case reported as such.
+// overflowing case reported as such; rows are written as measured, so Ctrl-C keeps them and a
+// rerun resumes; an unwritable --out is refused precisely; the chart script and a Python with
+// matplotlib are found from any build folder.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -11,7 +14,15 @@
 #include <string>
 #include <vector>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "core/output_dir.h"
 #include "study/bench_scenes.h"
+#include "study/study_charts.h"
+#include "study/study_rows.h"
 #include "study/study_run.h"
 #include "study/study_spec.h"
 #include "render/metaball_renderer.h"
@@ -224,6 +235,276 @@ std::vector<std::vector<std::string>> read_csv(const fs::path& path) {
         rows.push_back(fields);
     }
     return rows;
+}
+
+TEST(StudySpecTest, NamesThatBecomePathsStayInsideTheOutputFolder) {
+    auto error_of = [](const std::string& top_name, const std::string& case_name) {
+        auto spec = parse("{\"name\": " + top_name + ", \"cases\": [{\"name\": " + case_name +
+                          ", \"resolutions\": [\"64x64\"], \"methods\": [{\"method\": \"brute\"}]}]}");
+        return spec.ok() ? std::string("(accepted)") : spec.error();
+    };
+    for (const char* bad : {R"("../../x")", R"("a/b")", R"("a\\b")", R"(".")", R"("..")", R"("")", R"(".hidden")",
+                            R"("tab\there")", R"("a b")", R"("x\u0001")"}) {
+        const std::string top = error_of(bad, "\"ok\""), in_case = error_of("\"ok\"", bad);
+        EXPECT_NE(top.find("name is"), std::string::npos) << bad << ": " << top;
+        EXPECT_NE(top.find("letters, digits"), std::string::npos) << bad << ": " << top;
+        EXPECT_NE(in_case.find("cases[0].name"), std::string::npos) << bad << ": " << in_case;
+    }
+    EXPECT_NE(error_of('"' + std::string(65, 'x') + '"', "\"ok\"").find("1 to 64"), std::string::npos);
+    EXPECT_EQ(error_of("\"v1.2-study_A\"", "\"case-1.b\""), "(accepted)");
+    // Through the command: refused with exit 2 before anything is made.
+    const fs::path dir = test_cli::temp_dir("study_name");
+    const fs::path spec = test_cli::write_file(dir / "escape.json", R"({"name": "../../escaped", "cases": [{"name": "a",
+        "resolutions": ["64x64"], "methods": [{"method": "brute"}]}]})");
+    auto run = test_cli::run_aquaform("study " + spec.string(), "cd " + dir.string() + " &&");  // out/study/../../escaped
+    EXPECT_EQ(run.exit_code, 2) << run.output;
+    EXPECT_NE(run.output.find("name is \"../../escaped\""), std::string::npos) << run.output;
+    EXPECT_FALSE(fs::exists(dir / "escaped"));
+    EXPECT_FALSE(fs::exists(dir / "out"));
+    fs::remove_all(dir);
+}
+
+/// A study of four cells on two frames and a solver map of one cell: seconds on the software device.
+std::string small_spec(const std::string& extra = "") {
+    return R"({"name": "small", "repeats": 1,
+ "cases": [{"name": "a", "scene": "dam_break", "particles": [1000], "time": 0.05, "resolutions": ["64x64"],
+            "methods": [{"method": "reference"}, {"method": "uniform"}, {"method": "sbuffer"}]},
+           {"name": "b", "scene": "dam_break", "particles": [1000], "time": 0.05, "resolutions": ["64x64"],
+            "methods": [{"method": "adaptive"}]})" + extra + R"(],
+ "solver_map": {"scene": ")" AQUAFORM_ASSETS_DIR R"(/scenes/hydrostatic.json", "dt": [0.004], "iterations": [2], "time": 0.05}})";
+}
+
+TEST(StudyCliTest, TheWholeSpecIsCheckedBeforeAnyMeasurement) {
+    const fs::path dir = test_cli::temp_dir("study_check");
+    auto refused = [&](const std::string& text, const std::vector<std::string>& parts) {
+        const fs::path spec = test_cli::write_file(dir / "spec.json", text);
+        auto run = test_cli::run_aquaform("study " + spec.string() + " --out " + (dir / "out").string());
+        EXPECT_EQ(run.exit_code, 2) << run.output;
+        for (const auto& part : parts) EXPECT_NE(run.output.find(part), std::string::npos) << part << ": " << run.output;
+        EXPECT_EQ(run.output.find("study small on"), std::string::npos) << "measured before the check: " << run.output;
+        EXPECT_FALSE(fs::exists(dir / "out" / "study.csv"));
+    };
+    // The last thing the study would reach: a solver map that cannot run.
+    std::string spec = small_spec();
+    spec.replace(spec.find("\"time\": 0.05}}"), 14, "\"time\": 0.05, \"control_pressure\": [1000]}}");
+    refused(spec, {"solver_map", "no \"control\" section"});
+    // A case's scene file that does not load, after a good case.
+    test_cli::write_file(dir / "broken.json", "{\"domain\": ");
+    refused(small_spec(R"(, {"name": "c", "scene": "broken.json", "resolutions": ["64x64"], "methods": [{"method": "brute"}]})"),
+            {"cases[2] (c)", "broken.json"});
+    fs::remove_all(dir);
+}
+
+TEST(StudyCliTest, AnUnwritableOutputFolderIsReportedPrecisely) {
+    const fs::path dir = test_cli::temp_dir("study_out");
+    const fs::path spec = test_cli::write_file(dir / "spec.json", small_spec());
+    const fs::path file = test_cli::write_file(dir / "a_file", "x");
+    auto expect = [&](const fs::path& out, const std::string& part, const std::string& prefix = "") {
+        auto run = test_cli::run_aquaform("study " + spec.string() + " --out " + out.string(), prefix);
+        EXPECT_EQ(run.exit_code, 2) << run.output;
+        EXPECT_NE(run.output.find(part), std::string::npos) << part << ": " << run.output;
+        EXPECT_NE(run.output.find("--out"), std::string::npos) << "the fix: " << run.output;
+        EXPECT_EQ(run.output.find("does not exist"), std::string::npos) << run.output;
+    };
+    expect(file, file.string() + " is a file, not a folder");
+    expect(file / "sub", file.string() + " is a file, not a folder");
+    // Permissions do not bind root: the check runs as nobody there.
+    const fs::path read_only = dir / "read_only";
+    fs::create_directories(read_only);
+    fs::permissions(read_only, fs::perms::owner_read | fs::perms::owner_exec | fs::perms::group_read |
+                                   fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec);
+    std::string as_user;
+    if (geteuid() == 0) {
+        if (!fs::exists("/usr/bin/setpriv")) GTEST_SKIP() << "running as root without setpriv";
+        as_user = "exec /usr/bin/setpriv --reuid=65534 --regid=65534 --clear-groups";
+    }
+    expect(read_only, read_only.string() + " is not writable", as_user);
+    expect(read_only / "sub" / "deeper", read_only.string() + " is not writable", as_user);
+    // The helper itself: a folder it makes is writable and there.
+    ASSERT_TRUE(prepare_output_dir(dir / "new" / "deeper").ok());
+    EXPECT_TRUE(fs::is_directory(dir / "new" / "deeper"));
+    EXPECT_TRUE(fs::is_empty(dir / "new" / "deeper")) << "the probe file is removed";
+    fs::remove_all(dir);
+}
+
+TEST(StudyChartsLookupTest, TheScriptIsFoundFromABuildFolderAnywhereAndTheEnvironmentWins) {
+    const char* saved = std::getenv("AQUAFORM_SCRIPTS_DIR");
+    const std::string restore = saved ? saved : "";
+    unsetenv("AQUAFORM_SCRIPTS_DIR");
+    // An executable far from the sources: the source tree's scripts/, from the configure step.
+    auto found = study::find_study_charts_script("/nonexistent/build/aquaform");
+    ASSERT_TRUE(found.ok()) << found.error();
+    EXPECT_TRUE(fs::equivalent(found.value(), fs::path(AQUAFORM_SOURCE_DIR) / "scripts" / "study_charts.py")) << found.value();
+    const fs::path dir = test_cli::temp_dir("study_scripts");
+    test_cli::write_file(dir / "study_charts.py", "# a user's own\n");
+    setenv("AQUAFORM_SCRIPTS_DIR", dir.c_str(), 1);
+    found = study::find_study_charts_script();
+    ASSERT_TRUE(found.ok()) << found.error();
+    EXPECT_TRUE(fs::equivalent(found.value(), dir / "study_charts.py"));
+    if (saved) setenv("AQUAFORM_SCRIPTS_DIR", restore.c_str(), 1);
+    else unsetenv("AQUAFORM_SCRIPTS_DIR");
+    fs::remove_all(dir);
+}
+
+TEST(StudyChartsLookupTest, APythonWithoutMatplotlibIsPassedOverAndNoneIsANoteNamingThem) {
+    auto none = study::find_chart_python({"/nonexistent/python3", "/bin/false"});
+    ASSERT_FALSE(none.ok());
+    for (const char* part : {"/nonexistent/python3", "/bin/false", "apt-get install python3-matplotlib"})
+        EXPECT_NE(none.error().find(part), std::string::npos) << part << ": " << none.error();
+    if (std::system("/usr/bin/python3 -c 'import matplotlib' >/dev/null 2>&1") != 0)
+        GTEST_SKIP() << "no matplotlib for /usr/bin/python3 here";
+    auto found = study::find_chart_python({"/bin/false", "/usr/bin/python3"});
+    ASSERT_TRUE(found.ok()) << found.error();
+    EXPECT_EQ(found.value(), "/usr/bin/python3");
+}
+
+study::StudyRow fake_row(const study::StudySpec& spec, const std::string& cell, size_t i) {
+    study::StudyRow r;
+    r.case_name = "a";
+    r.cell = cell;
+    r.method = cell.substr(cell.rfind('/') + 1);
+    for (const auto& m : spec.cases[0].methods)
+        if (m.label() == r.method) r.config = m;
+    r.width = r.height = cell.find("/64x64/") != std::string::npos ? 64 : 32;
+    r.particles = 4096;
+    // Digits beyond what the files keep: a report from memory would differ from one from the files.
+    r.ms_total = 1.234567891 * double(i + 1);
+    r.ms_per_pass = {{"render_march", 0.123456789 * double(i + 1)}, {"render_shade", 0.5}};
+    r.depth_err_mean = 0.0123456789 * double(i);
+    r.rays = 4096;
+    r.steps_per_ray = 3.14159265 + double(i);
+    r.image = "images/" + std::to_string(i) + ".png";
+    r.status = i == 2 ? "overflow, needs \"more\"" : "ok";
+    return r;
+}
+
+TEST(StudyFilesTest, AResumedStudyReportsExactlyAsOneUninterruptedRun) {
+    auto parsed = parse(R"({"name": "u", "cases": [{"name": "a", "resolutions": ["64x64", "32x32"],
+        "methods": [{"method": "reference"}, {"method": "sbuffer"}, {"method": "adaptive"}]}]})");
+    ASSERT_TRUE(parsed.ok()) << parsed.error();
+    const study::StudySpec& spec = parsed.value();
+    const std::vector<std::string> cells = study::study_cell_keys(spec);
+    ASSERT_EQ(cells.size(), 6u);
+    EXPECT_EQ(cells[4], "a/4096/32x32/sbuffer gradient x1 b3");
+    const fs::path whole = test_cli::temp_dir("study_files_whole"), resumed = test_cli::temp_dir("study_files_resumed");
+    auto report = [&](const fs::path& dir, const study::StudyFiles& files) {
+        const auto rows = files.rows();
+        EXPECT_TRUE(study::write_study_markdown(dir / "study.md", spec, rows, study::study_targets(rows), "dev").ok());
+        return test_cli::read_file(dir / "study.md");
+    };
+    std::string one_run;
+    {
+        auto files = study::StudyFiles::open(whole, spec, false);
+        ASSERT_TRUE(files.ok()) << files.error();
+        for (size_t i = 0; i < cells.size(); ++i) ASSERT_TRUE(files.value().add(fake_row(spec, cells[i], i)).ok());
+        one_run = report(whole, files.value());
+    }
+    {
+        auto first = study::StudyFiles::open(resumed, spec, false);
+        ASSERT_TRUE(first.ok()) << first.error();
+        for (size_t i = 0; i < 3; ++i) ASSERT_TRUE(first.value().add(fake_row(spec, cells[i], i)).ok());
+    }
+    // A kill in the middle of the fourth row leaves half a line; a pass of it may be there too.
+    std::ofstream(resumed / "study.csv", std::ios::app) << "a,,reference,32,32,4096,,,";
+    std::ofstream(resumed / "study_passes.csv", std::ios::app)
+        << "a,,reference,32,32,4096,render_march,9," << study::spec_hash(spec) << "," << cells[3] << "\n";
+    auto again = study::StudyFiles::open(resumed, spec, false);
+    ASSERT_TRUE(again.ok()) << again.error();
+    EXPECT_EQ(again.value().cells_done(), 3u);
+    for (size_t i = 0; i < cells.size(); ++i) {
+        EXPECT_EQ(again.value().done(cells[i]), i < 3) << cells[i];
+        if (i >= 3) ASSERT_TRUE(again.value().add(fake_row(spec, cells[i], i)).ok());
+    }
+    EXPECT_EQ(report(resumed, again.value()), one_run);
+    EXPECT_NE(one_run.find("overflow, needs \"more\""), std::string::npos) << "a status with a comma and quotes";
+    EXPECT_EQ(test_cli::read_file(resumed / "study.csv"), test_cli::read_file(whole / "study.csv"));
+    EXPECT_EQ(test_cli::read_file(resumed / "study_passes.csv"), test_cli::read_file(whole / "study_passes.csv"));
+    fs::remove_all(whole);
+    fs::remove_all(resumed);
+}
+
+/// Runs `aquaform args` with its output in `log`, sends it SIGINT once `marker` shows there, and
+/// returns its exit status (-1 when a signal ended it, -2 when it ended before the marker).
+int interrupt_aquaform(const std::vector<std::string>& args, const fs::path& log, const std::string& marker) {
+    // Everything the child needs is made before fork: it only redirects and execs.
+    std::vector<std::string> env_text{"AQUAFORM_VALIDATION=1"};
+    for (char** e = environ; *e; ++e) env_text.emplace_back(*e);
+    std::vector<char*> envp, argv{const_cast<char*>(AQUAFORM_BINARY)};
+    for (auto& e : env_text) envp.push_back(e.data());
+    envp.push_back(nullptr);
+    std::vector<std::string> arg_text = args;
+    for (auto& a : arg_text) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const pid_t pid = fork();
+    if (pid == 0) {
+        dup2(fd, 1);
+        dup2(fd, 2);
+        execve(AQUAFORM_BINARY, argv.data(), envp.data());
+        _exit(127);
+    }
+    ::close(fd);
+    int status = 0;
+    for (int i = 0; i < 1200 && test_cli::read_file(log).find(marker) == std::string::npos; ++i) {
+        if (waitpid(pid, &status, WNOHANG) == pid) return -2;
+        usleep(100000);
+    }
+    kill(pid, SIGINT);
+    waitpid(pid, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(StudyCliTest, CtrlCKeepsTheRowsAndTheReportAndARerunResumes) {
+    const fs::path dir = test_cli::temp_dir("study_resume");
+    const fs::path spec = test_cli::write_file(dir / "spec.json", small_spec()), out = dir / "out";
+    const int stopped = interrupt_aquaform({"study", spec.string(), "--out", out.string(), "--no-charts"}, dir / "log",
+                                           ": reference: ");
+    const std::string log = test_cli::read_file(dir / "log");
+    ASSERT_EQ(stopped, 130) << log;
+    EXPECT_NE(log.find("interrupted"), std::string::npos) << log;
+    EXPECT_NE(log.find("run the same command again to resume"), std::string::npos) << log;
+    const auto kept = read_csv(out / "study.csv");
+    const size_t done = kept.size() - 1;
+    ASSERT_GE(done, 1u) << "the reference row was measured before Ctrl-C";
+    ASSERT_LT(done, 4u) << "stopped after the current row: " << log;
+    EXPECT_NE(test_cli::read_file(out / "study.md").find("| reference |"), std::string::npos) << "the report of the rows kept";
+
+    auto resumed = test_cli::run_aquaform("study " + spec.string() + " --out " + out.string() + " --no-charts",
+                                          "AQUAFORM_VALIDATION=1");
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+    EXPECT_NE(resumed.output.find("resuming: " + std::to_string(done) + " of 4 cells done"), std::string::npos) << resumed.output;
+    size_t measured = 0;
+    for (size_t at = 0; (at = resumed.output.find("study: a, ", at)) != std::string::npos; ++at) ++measured;
+    for (size_t at = 0; (at = resumed.output.find("study: b, ", at)) != std::string::npos; ++at) ++measured;
+    EXPECT_EQ(measured, 4 - done) << "the cells done were not measured again: " << resumed.output;
+    EXPECT_EQ(resumed.output.find(": reference: "), std::string::npos) << resumed.output;
+    // The rows a fresh run writes, in its order, the kept ones untouched.
+    const auto rows = read_csv(out / "study.csv");
+    auto parsed = study::load_study_spec(spec);
+    ASSERT_TRUE(parsed.ok()) << parsed.error();
+    const auto cells = study::study_cell_keys(parsed.value());
+    ASSERT_EQ(rows.size(), cells.size() + 1);
+    for (size_t i = 0; i < cells.size(); ++i) {
+        EXPECT_EQ(rows[i + 1].back(), cells[i]);
+        EXPECT_EQ(rows[i + 1][18], "ok") << cells[i];
+        if (i < done) EXPECT_EQ(rows[i + 1], kept[i + 1]);
+    }
+    EXPECT_EQ(read_csv(out / "solver_map.csv").size(), 2u) << "a header and the map's cell";
+    const std::string md = test_cli::read_file(out / "study.md");
+    for (const char* row : {"| reference |", "| uniform |", "| sbuffer gradient x1 b3 |", "| adaptive |"})
+        EXPECT_NE(md.find(row), std::string::npos) << row;
+
+    // Another spec into the same folder is refused, naming the folder and both ways out.
+    const std::string changed = small_spec(R"(, {"name": "c", "scene": "dam_break", "particles": [1000], "time": 0.05,
+        "resolutions": ["64x64"], "methods": [{"method": "bilateral"}]})");
+    test_cli::write_file(spec, changed);
+    auto refused = test_cli::run_aquaform("study " + spec.string() + " --out " + out.string() + " --no-charts");
+    EXPECT_EQ(refused.exit_code, 2) << refused.output;
+    for (const std::string part : {(out / "study.csv").string(), std::string("another spec"), std::string("--fresh"),
+                                   std::string("another --out")})
+        EXPECT_NE(refused.output.find(part), std::string::npos) << part << ": " << refused.output;
+    EXPECT_EQ(read_csv(out / "study.csv").size(), 5u) << "the rows stay as they were";
+    fs::remove_all(dir);
 }
 
 TEST(StudyCliTest, TinySpecRunsEndToEndWithCsvTablesAndCharts) {

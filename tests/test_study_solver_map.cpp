@@ -121,18 +121,20 @@ TEST_F(SolverMap, SmallStepsHoldALargeStepWithOneIterationBlowsUpAndErrorFollows
     std::stringstream in(read_file(csv));
     std::string header, line;
     std::getline(in, header);
-    EXPECT_EQ(header, "scene,dt,iterations,control_pressure,density_err_max,density_err_mean,stable,blowup_time_s");
+    EXPECT_EQ(header, "scene,dt,iterations,control_pressure,density_err_max,density_err_mean,stable,blowup_time_s,spec,cell");
     std::vector<std::string> rows;
     while (std::getline(in, line)) rows.push_back(line);
     ASSERT_EQ(rows.size(), rs.size());
     // Cells in order: iterations outer, dt inner.
     EXPECT_EQ(rows[0].rfind("tiny_column,0.00200000009,1,,", 0), 0u) << rows[0];
-    EXPECT_EQ(rows[0].substr(rows[0].size() - 3), ",1,") << "stable, so no blow-up time: " << rows[0];
+    EXPECT_NE(rows[0].find(",1,,,tiny_column/dt 0.00200000009/1 iterations"), std::string::npos)
+        << "stable, so no blow-up time; no spec outside a study; the cell's key: " << rows[0];
     EXPECT_EQ(rows[2].rfind("tiny_column,0.0329999998,1,,", 0), 0u) << rows[2];
-    const size_t last = rows[2].rfind(',');
-    ASSERT_NE(last, std::string::npos);
-    EXPECT_EQ(rows[2].substr(last - 2, 3), ",0,") << "unstable: " << rows[2];
-    EXPECT_NEAR(std::stod(rows[2].substr(last + 1)), huge1->blowup_time_s, 1e-5) << rows[2];
+    const size_t last = rows[2].rfind(",,tiny_column/");  // the blow-up time, then the empty spec
+    ASSERT_NE(last, std::string::npos) << rows[2];
+    const size_t time = rows[2].rfind(',', last - 1);
+    EXPECT_EQ(rows[2].substr(time - 2, 3), ",0,") << "unstable: " << rows[2];
+    EXPECT_NEAR(std::stod(rows[2].substr(time + 1, last - time - 1)), huge1->blowup_time_s, 1e-5) << rows[2];
     fs::remove_all(dir);
 }
 
@@ -261,13 +263,15 @@ protected:
 TEST_F(StudyCharts, DrawsEveryChartAsPngAndSvg) {
     const fs::path dir = temp_dir("study_charts");
     write_study_csvs(dir);
-    auto written = study::draw_study_charts(dir);
-    ASSERT_TRUE(written.ok()) << written.error();
-    EXPECT_EQ(written.value().size(), 8u);
+    auto charts = study::draw_study_charts(dir);
+    ASSERT_TRUE(charts.ok()) << charts.error();
+    ASSERT_EQ(charts.value().skipped, "");
+    const std::vector<std::string>& written = charts.value().written;
+    EXPECT_EQ(written.size(), 8u);
     for (const char* name : {"pareto", "time_vs_particles", "passes", "solver_map"}) {
         const fs::path png = dir / "charts" / (std::string(name) + ".png");
         const fs::path svg = dir / "charts" / (std::string(name) + ".svg");
-        EXPECT_NE(std::find(written.value().begin(), written.value().end(), png.string()), written.value().end()) << name;
+        EXPECT_NE(std::find(written.begin(), written.end(), png.string()), written.end()) << name;
         ASSERT_TRUE(fs::is_regular_file(png) && fs::is_regular_file(svg)) << name;
         // A chart with axes, labels and markers is tens of kB; an empty figure is a few.
         EXPECT_GT(fs::file_size(png), 10000u) << png;

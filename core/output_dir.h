@@ -1,0 +1,17 @@
+// The folder a command writes its files into (--out): made with its parents, and tried with a
+// file of its own, so that a folder the command cannot write is refused before any work, with
+// the precise reason (a file in the way, no permission, a read-only file system) and the fix.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "core/result.h"
+
+namespace aquaform {
+
+/// Makes `dir` (and its missing parents) and checks that a file can be created in it. The
+/// error names the path at fault and says what to do; `flag` is the option that chose `dir`.
+Result<bool> prepare_output_dir(const std::filesystem::path& dir, const std::string& flag = "--out");
+
+}  // namespace aquaform

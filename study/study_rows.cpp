@@ -1,0 +1,275 @@
+#include "study/study_rows.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace aquaform::study {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kStudyColumns =
+    "case,scene,method,width,height,particles,metaball_scale,recursion_depth,bisection_steps,visual,ms_total,fps,"
+    "depth_err_mean,depth_err_p95,normal_err_deg_mean,coverage_mismatch,psnr_db,overflow,status,rays,steps_per_ray,"
+    "bisection_per_ray,evals_per_ray,mask_leaps_per_ray,list_entries_per_pixel,list_bytes_per_pixel,"
+    "particle_visits_per_pixel,memory_bytes_per_pixel,roughness_deg,image,steps_image,spec,cell";
+constexpr const char* kPassesColumns = "case,scene,method,width,height,particles,pass,ms,spec,cell";
+
+std::string format(const char* format, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, format, v);
+    return buf;
+}
+
+/// The complete lines of `path`; `torn`: a last line without its line break (cut by a kill).
+std::vector<std::string> complete_lines(const fs::path& path, bool* torn) {
+    std::ifstream in(path, std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::vector<std::string> lines;
+    size_t start = 0;
+    for (size_t end; (end = text.find('\n', start)) != std::string::npos; start = end + 1)
+        lines.push_back(text.substr(start, end - start));
+    *torn = start != text.size();
+    return lines;
+}
+
+std::optional<double> number(const std::string& field) {
+    if (field.empty()) return std::nullopt;
+    try {
+        return std::stod(field);
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+}
+
+uint32_t whole(const std::string& field) { return uint32_t(number(field).value_or(0.0)); }
+
+double fps(double ms) { return ms > 0.0 ? 1000.0 / ms : 0.0; }
+
+/// "case/1000" of "case/1000/96x64/method" (study_cell_key), or the frame key itself.
+std::string frame_of(const std::string& cell) { return cell.substr(0, cell.find('/', cell.find('/') + 1)); }
+
+}  // namespace
+
+std::string csv_field(const std::string& text) {
+    std::string flat = text;
+    std::replace_if(flat.begin(), flat.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+    if (flat.find_first_of(",\"") == std::string::npos) return flat;
+    std::string out = "\"";
+    for (char c : flat) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return out + "\"";
+}
+
+std::string csv_number(const std::optional<double>& v, const char* format_text) {
+    return v && std::isfinite(*v) ? format(format_text, *v) : "";
+}
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+    std::vector<std::string> fields(1);
+    bool quoted = false;
+    for (size_t i = 0; i < line.size(); ++i) {
+        const char c = line[i];
+        if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') fields.back() += '"', ++i;
+        else if (c == '"') quoted = !quoted;
+        else if (c == ',' && !quoted) fields.emplace_back();
+        else fields.back() += c;
+    }
+    return fields;
+}
+
+Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, const std::string& spec,
+                              const std::function<bool(const Fields&)>& keep) {
+    RowFile file;
+    file.path_ = path;
+    file.columns_ = split_csv_line(header);
+    const size_t spec_column = file.column("spec");
+    std::error_code ec;
+    const bool existed = fs::exists(path, ec);
+    bool rewrite = !existed;
+    if (existed) {
+        bool torn = false;
+        const std::vector<std::string> lines = complete_lines(path, &torn);
+        if (lines.empty() || lines[0] != header)
+            return Error{path.string() + " has other columns than this version of aquaform writes"};
+        for (size_t i = 1; i < lines.size(); ++i) {
+            Fields fields = split_csv_line(lines[i]);
+            if (fields.size() != file.columns_.size()) {  // damaged: measured again
+                rewrite = true;
+                continue;
+            }
+            if (fields[spec_column] != spec)
+                return Error{path.string() + " holds rows of another spec (or of its scene files as they were then)"};
+            if (keep && !keep(fields)) {
+                rewrite = true;
+                continue;
+            }
+            file.kept_.push_back(std::move(fields));
+        }
+        rewrite = rewrite || torn;
+    }
+    if (rewrite) {  // the header and the rows kept, then appended to
+        const fs::path staged = path.string() + ".new";
+        {
+            std::ofstream out(staged, std::ios::binary | std::ios::trunc);
+            out << header << '\n';
+            for (const Fields& fields : file.kept_) {
+                for (size_t i = 0; i < fields.size(); ++i) out << (i ? "," : "") << csv_field(fields[i]);
+                out << '\n';
+            }
+            if (!out.flush()) return Error{"cannot write " + staged.string() + "; check that the folder is writable"};
+        }
+        fs::rename(staged, path, ec);
+        if (ec) return Error{"cannot replace " + path.string() + ": " + ec.message()};
+    }
+    file.out_ = std::make_unique<std::ofstream>(path, std::ios::binary | std::ios::app);
+    if (!*file.out_) return Error{"cannot write " + path.string() + "; check that the folder is writable"};
+    return file;
+}
+
+size_t RowFile::column(const std::string& name) const {
+    return size_t(std::find(columns_.begin(), columns_.end(), name) - columns_.begin());
+}
+
+Result<bool> RowFile::append(const std::string& line) {
+    *out_ << line << '\n';
+    if (!out_->flush()) return Error{"writing " + path_.string() + " failed; is the disk full?"};
+    return true;
+}
+
+Result<StudyFiles> StudyFiles::open(const fs::path& dir, const StudySpec& spec, bool fresh) {
+    if (fresh)
+        for (const char* name : {"study.csv", "study_passes.csv", "solver_map.csv", "study.md"}) {
+            std::error_code ec;
+            fs::remove(dir / name, ec);
+        }
+    StudyFiles files;
+    files.spec_ = &spec;
+    files.hash_ = spec_hash(spec);
+    files.cells_ = study_cell_keys(spec);
+    const std::set<std::string> cells(files.cells_.begin(), files.cells_.end());
+    std::set<std::string> frames;  // a frame that failed to simulate has a row of its own
+    for (const std::string& cell : files.cells_) frames.insert(frame_of(cell));
+
+    auto study = RowFile::open(dir / "study.csv", kStudyColumns, files.hash_, [&](const RowFile::Fields& f) {
+        return cells.count(f.back()) || frames.count(f.back());
+    });
+    if (!study) return Error{study.error()};
+    files.study_ = std::move(study.value());
+    for (const RowFile::Fields& f : files.study_->kept()) files.done_.insert(f.back());
+    auto passes = RowFile::open(dir / "study_passes.csv", kPassesColumns, files.hash_,
+                                [&](const RowFile::Fields& f) { return files.done_.count(f.back()) > 0; });
+    if (!passes) return Error{passes.error()};
+    files.passes_ = std::move(passes.value());
+    auto map = RowFile::open(dir / "solver_map.csv", solver_map_csv_header(), files.hash_);
+    if (!map) return Error{map.error()};
+    files.map_ = std::move(map.value());
+    for (const RowFile::Fields& f : files.map_->kept()) files.map_done_.insert(f.back());
+
+    std::map<std::string, std::map<std::string, double>> by_cell;
+    const size_t pass = files.passes_->column("pass"), ms = files.passes_->column("ms");
+    for (const RowFile::Fields& f : files.passes_->kept()) by_cell[f.back()][f[pass]] = number(f[ms]).value_or(0.0);
+    for (const RowFile::Fields& f : files.study_->kept()) files.rows_.push_back(files.read_back(f, by_cell));
+    return files;
+}
+
+bool StudyFiles::done(const std::string& cell) const {
+    return done_.count(cell) || done_.count(frame_of(cell));
+}
+
+size_t StudyFiles::cells_done() const {
+    return size_t(std::count_if(cells_.begin(), cells_.end(), [&](const std::string& c) { return done(c); }));
+}
+
+Result<bool> StudyFiles::add(const StudyRow& r) {
+    const std::string id = csv_field(r.case_name) + ',' + csv_field(r.scene) + ',' + csv_field(r.method) + ',' +
+                           std::to_string(r.width) + ',' + std::to_string(r.height) + ',' + std::to_string(r.particles);
+    const std::string key = ',' + hash_ + ',' + csv_field(r.cell);
+    std::map<std::string, std::map<std::string, double>> by_cell;
+    for (const auto& [pass, ms] : r.ms_per_pass) {
+        const std::string ms_text = csv_number(ms);
+        if (auto ok = passes_->append(id + ',' + csv_field(pass) + ',' + ms_text + key); !ok) return ok;
+        by_cell[r.cell][pass] = number(ms_text).value_or(0.0);
+    }
+    const bool metaball = r.config.family == StudyFamily::metaball;
+    std::ostringstream line;
+    line << id << ',' << (metaball ? csv_number(r.config.size) : "") << ','
+         << (metaball ? std::to_string(r.config.recursion) : "") << ','
+         << (metaball ? std::to_string(r.config.bisection) : "") << ',' << (metaball ? r.config.visual : "") << ','
+         << csv_number(r.ms_total) << ',' << csv_number(fps(r.ms_total)) << ',' << csv_number(r.depth_err_mean) << ','
+         << csv_number(r.depth_err_p95) << ',' << csv_number(r.normal_err_deg_mean) << ','
+         << csv_number(r.coverage_mismatch) << ',' << csv_number(r.psnr_db) << ',' << csv_number(r.overflow_mib) << ','
+         << csv_field(r.status) << ',' << r.rays << ',' << csv_number(r.steps_per_ray) << ','
+         << csv_number(r.bisection_per_ray) << ',' << csv_number(r.evals_per_ray) << ',' << csv_number(r.leaps_per_ray)
+         << ',' << csv_number(r.list_entries_per_pixel) << ',' << csv_number(r.list_bytes_per_pixel) << ','
+         << csv_number(r.particle_visits_per_pixel) << ',' << csv_number(r.memory_bytes_per_pixel) << ','
+         << csv_number(r.roughness_deg) << ',' << csv_field(r.image) << ',' << csv_field(r.steps_image) << key;
+    if (auto ok = study_->append(line.str()); !ok) return ok;
+    done_.insert(r.cell);
+    rows_.push_back(read_back(split_csv_line(line.str()), by_cell));
+    return true;
+}
+
+StudyRow StudyFiles::read_back(const RowFile::Fields& f,
+                               const std::map<std::string, std::map<std::string, double>>& passes) const {
+    auto at = [&](const char* name) -> const std::string& { return f[study_->column(name)]; };
+    StudyRow r;
+    r.case_name = at("case");
+    r.scene = at("scene");
+    r.method = at("method");
+    r.cell = at("cell");
+    r.width = whole(at("width"));
+    r.height = whole(at("height"));
+    r.particles = whole(at("particles"));
+    for (const StudyCase& c : spec_->cases)  // the configuration, from the spec the row was measured for
+        if (c.name == r.case_name)
+            for (const StudyMethod& m : c.methods)
+                if (m.label() == r.method) r.config = m;
+    r.ms_total = number(at("ms_total")).value_or(0.0);
+    if (auto it = passes.find(r.cell); it != passes.end()) r.ms_per_pass = it->second;
+    r.depth_err_mean = number(at("depth_err_mean"));
+    r.depth_err_p95 = number(at("depth_err_p95"));
+    r.normal_err_deg_mean = number(at("normal_err_deg_mean"));
+    r.coverage_mismatch = number(at("coverage_mismatch"));
+    r.psnr_db = number(at("psnr_db"));
+    r.roughness_deg = number(at("roughness_deg"));
+    r.overflow_mib = number(at("overflow")).value_or(0.0);
+    r.status = at("status");
+    r.image = at("image");
+    r.steps_image = at("steps_image");
+    r.rays = uint64_t(number(at("rays")).value_or(0.0));
+    r.steps_per_ray = number(at("steps_per_ray"));
+    r.bisection_per_ray = number(at("bisection_per_ray"));
+    r.evals_per_ray = number(at("evals_per_ray")).value_or(0.0);
+    r.leaps_per_ray = number(at("mask_leaps_per_ray"));
+    r.list_entries_per_pixel = number(at("list_entries_per_pixel"));
+    r.list_bytes_per_pixel = number(at("list_bytes_per_pixel"));
+    r.particle_visits_per_pixel = number(at("particle_visits_per_pixel"));
+    r.memory_bytes_per_pixel = number(at("memory_bytes_per_pixel")).value_or(0.0);
+    return r;
+}
+
+std::vector<StudyRow> StudyFiles::rows() const {
+    std::map<std::string, size_t> order;
+    for (size_t i = 0; i < cells_.size(); ++i) {
+        order.emplace(cells_[i], i);
+        order.emplace(frame_of(cells_[i]), i);  // a failed frame's row: where its first cell goes
+    }
+    std::vector<StudyRow> rows = rows_;
+    std::stable_sort(rows.begin(), rows.end(), [&](const StudyRow& a, const StudyRow& b) {
+        return order[a.cell] < order[b.cell];
+    });
+    return rows;
+}
+
+bool StudyFiles::map_done(const SolverMapRecord& record) const { return map_done_.count(solver_map_cell_key(record)) > 0; }
+
+Result<bool> StudyFiles::add(const SolverMapRecord& record) {
+    if (auto ok = map_->append(solver_map_csv_line(record, hash_)); !ok) return ok;
+    map_done_.insert(solver_map_cell_key(record));
+    return true;
+}
+
+}  // namespace aquaform::study
