@@ -494,16 +494,24 @@ TEST(StudyCliTest, CtrlCKeepsTheRowsAndTheReportAndARerunResumes) {
     for (const char* row : {"| reference |", "| uniform |", "| sbuffer gradient x1 b3 |", "| adaptive |"})
         EXPECT_NE(md.find(row), std::string::npos) << row;
 
-    // Another spec into the same folder is refused, naming the folder and both ways out.
-    const std::string changed = small_spec(R"(, {"name": "c", "scene": "dam_break", "particles": [1000], "time": 0.05,
-        "resolutions": ["64x64"], "methods": [{"method": "bilateral"}]})");
-    test_cli::write_file(spec, changed);
-    auto refused = test_cli::run_aquaform("study " + spec.string() + " --out " + out.string() + " --no-charts");
+    // Another spec into the same folder is refused, naming the folder and both ways out; --fresh
+    // starts over.
+    test_cli::write_file(spec, R"({"name": "small", "cases": [{"name": "c", "scene": "dam_break", "particles": [1000],
+        "time": 0.05, "resolutions": ["64x64"], "methods": [{"method": "bilateral"}]}]})");
+    const std::string again = "study " + spec.string() + " --out " + out.string() + " --no-charts";
+    auto refused = test_cli::run_aquaform(again);
     EXPECT_EQ(refused.exit_code, 2) << refused.output;
     for (const std::string part : {(out / "study.csv").string(), std::string("another spec"), std::string("--fresh"),
                                    std::string("another --out")})
         EXPECT_NE(refused.output.find(part), std::string::npos) << part << ": " << refused.output;
     EXPECT_EQ(read_csv(out / "study.csv").size(), 5u) << "the rows stay as they were";
+    auto fresh = test_cli::run_aquaform(again + " --fresh", "AQUAFORM_VALIDATION=1");
+    ASSERT_EQ(fresh.exit_code, 0) << fresh.output;
+    EXPECT_EQ(fresh.output.find("resuming"), std::string::npos) << fresh.output;
+    const auto fresh_rows = read_csv(out / "study.csv");
+    ASSERT_EQ(fresh_rows.size(), 2u);
+    EXPECT_EQ(fresh_rows[1].back(), "c/1000/64x64/bilateral");
+    EXPECT_EQ(read_csv(out / "solver_map.csv").size(), 1u) << "the old map's rows are gone too";
     fs::remove_all(dir);
 }
 
