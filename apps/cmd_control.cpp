@@ -150,7 +150,8 @@ int cmd_control(const std::vector<std::string>& argv) {
         return *ctx;
     };
     if (auto refusal = check_memory(method, mesh, spacing, context))
-        return std::fprintf(stderr, "aquaform control: %s\n", refusal->c_str()), kExitUsage;
+        return std::fprintf(stderr, "aquaform control: '%s': %s\n", args->positional[1].c_str(), refusal->c_str()),
+               kExitUsage;
     const std::filesystem::path out_dir = args->value("--out", "out/control_" + std::filesystem::path(args->positional[1]).stem().string());
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);

@@ -194,7 +194,7 @@ private:
                                  size_t min_count, size_t max_count, size_t ordinal, double* out = nullptr) {
         const std::string element = what + " " + std::to_string(ordinal);
         if (values.size() < min_count || values.size() > max_count)
-            return fail(at, element + " has " + std::to_string(values.size()) + " numbers",
+            return fail(at, element + " has " + std::to_string(values.size()) + (values.size() == 1 ? " number" : " numbers"),
                         "it needs " + (min_count == max_count ? std::to_string(min_count)
                                                               : std::to_string(min_count) + " to " + std::to_string(max_count)) +
                             (what == "vertex" ? " (x y z, optionally w or r g b)" : "") + "; repair or re-export the mesh");
