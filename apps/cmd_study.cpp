@@ -78,10 +78,7 @@ int cmd_study(const std::vector<std::string>& argv) {
     if (auto ready = prepare_output_dir(out_dir); !ready)
         return std::fprintf(stderr, "aquaform study: %s\n", ready.error().c_str()), kExitUsage;
     auto opened = study::StudyFiles::open(out_dir, spec.value(), args->has("--fresh"));
-    if (!opened)
-        return std::fprintf(stderr, "aquaform study: %s; to keep those rows, run this spec with another --out; to start "
-                            "over in %s, pass --fresh\n", opened.error().c_str(), out_dir.string().c_str()),
-               kExitUsage;
+    if (!opened) return std::fprintf(stderr, "aquaform study: %s\n", opened.error().c_str()), kExitUsage;
     study::StudyFiles& files = opened.value();
 
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});

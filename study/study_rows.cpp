@@ -18,6 +18,10 @@ constexpr const char* kStudyColumns =
     "particle_visits_per_pixel,memory_bytes_per_pixel,roughness_deg,image,steps_image,spec,cell";
 constexpr const char* kPassesColumns = "case,scene,method,width,height,particles,pass,ms,spec,cell";
 
+/// The way out of a folder whose rows this run may not extend.
+constexpr const char* kKeepOrStartOver =
+    "; to keep those rows, run this spec with another --out; to start over in that folder, pass --fresh";
+
 std::string format(const char* format, double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, format, v);
@@ -93,7 +97,7 @@ Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, c
         bool torn = false;
         const std::vector<std::string> lines = complete_lines(path, &torn);
         if (lines.empty() || lines[0] != header)
-            return Error{path.string() + " has other columns than this version of aquaform writes"};
+            return Error{path.string() + " has other columns than this version of aquaform writes" + kKeepOrStartOver};
         for (size_t i = 1; i < lines.size(); ++i) {
             Fields fields = split_csv_line(lines[i]);
             if (fields.size() != file.columns_.size()) {  // damaged: measured again
@@ -101,7 +105,8 @@ Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, c
                 continue;
             }
             if (fields[spec_column] != spec)
-                return Error{path.string() + " holds rows of another spec (or of its scene files as they were then)"};
+                return Error{path.string() + " holds rows of another spec (or of its scene files as they were then)" +
+                             kKeepOrStartOver};
             if (keep && !keep(fields)) {
                 rewrite = true;
                 continue;
