@@ -5,6 +5,7 @@
 // (linking every frame under images/) and the charts (scripts/study_charts.py). A rerun of the
 // same spec into the same folder resumes; Ctrl-C stops after the current measurement.
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 
 #include "apps/cli.h"
@@ -98,9 +99,13 @@ int cmd_study(const std::vector<std::string>& argv) {
         return false;
     };
     InterruptScope ctrl_c;
-    study::run_study_cases(ctx, spec.value(), out_dir / "images",
-                           {[&](const std::string& cell) { return files.done(cell); },
-                            [&](const study::StudyRow& row) { return kept(files.add(row)); }});
+    try {
+        study::run_study_cases(ctx, spec.value(), out_dir / "images",
+                               {[&](const std::string& cell) { return files.done(cell); },
+                                [&](const study::StudyRow& row) { return kept(files.add(row)); }});
+    } catch (const std::exception& e) {  // a device failure: the report of the rows written so far still comes
+        kept(Error{std::string(e.what()) + "; the rows measured before are kept, a rerun resumes after them"});
+    }
     for (const study::SolverMapSpec& map_spec : spec.value().solver_maps) {
         if (status != kExitOk || interrupted()) break;
         auto map = study::run_solver_map(

@@ -96,7 +96,8 @@ Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, c
     if (existed) {
         bool torn = false;
         const std::vector<std::string> lines = complete_lines(path, &torn);
-        if (lines.empty() || lines[0] != header)
+        if (lines.empty()) rewrite = true;  // killed before its header was whole: nothing kept
+        else if (lines[0] != header)
             return Error{path.string() + " has other columns than this version of aquaform writes" + kKeepOrStartOver};
         for (size_t i = 1; i < lines.size(); ++i) {
             Fields fields = split_csv_line(lines[i]);

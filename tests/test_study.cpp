@@ -421,6 +421,18 @@ TEST(StudyFilesTest, AResumedStudyReportsExactlyAsOneUninterruptedRun) {
     EXPECT_NE(one_run.find("overflow, needs \"more\""), std::string::npos) << "a status with a comma and quotes";
     EXPECT_EQ(test_cli::read_file(resumed / "study.csv"), test_cli::read_file(whole / "study.csv"));
     EXPECT_EQ(test_cli::read_file(resumed / "study_passes.csv"), test_cli::read_file(whole / "study_passes.csv"));
+    // A file cut before its header was whole holds nothing: a start, not a refusal; an older
+    // version's columns are refused, with the way out.
+    fs::remove_all(whole);
+    fs::create_directories(whole);
+    test_cli::write_file(whole / "study.csv", "case,sce");
+    auto cut = study::StudyFiles::open(whole, spec, false);
+    ASSERT_TRUE(cut.ok()) << cut.error();
+    EXPECT_EQ(cut.value().cells_done(), 0u);
+    test_cli::write_file(whole / "study.csv", "case,scene,method\na,b,c\n");
+    auto older = study::StudyFiles::open(whole, spec, false);
+    ASSERT_FALSE(older.ok());
+    EXPECT_NE(older.error().find("--fresh"), std::string::npos) << older.error();
     fs::remove_all(whole);
     fs::remove_all(resumed);
 }
