@@ -153,7 +153,7 @@ std::vector<bool> inside_flags(const std::vector<glm::vec3>& triangles, const st
     std::atomic<size_t> next{0}, done{0};
     std::atomic<bool> stopped{false};
     std::optional<ProgressBar> progress;
-    if (!progress_label.empty()) progress.emplace(progress_label, points.size());
+    if (!progress_label.empty() && points.size() > (size_t(1) << 21)) progress.emplace(progress_label, points.size());
     const auto classify = [&](bool report) {
         for (size_t begin; (begin = next.fetch_add(kChunk)) < points.size();) {
             if (stopped || interrupted()) return void(stopped = true);

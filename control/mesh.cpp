@@ -119,7 +119,8 @@ public:
     ObjReader(const std::filesystem::path& path, std::string_view text) : path_(path), text_(text) {}
 
     Result<Mesh> read() {
-        ProgressBar progress("reading " + path_.filename().string(), text_.size());
+        std::optional<ProgressBar> progress;  // only where reading takes about a second or more
+        if (text_.size() > kLargeText) progress.emplace("reading " + path_.filename().string(), text_.size());
         size_t position = 0;
         std::string joined;  // a statement continued over several lines with a trailing backslash
         while (position < text_.size()) {
@@ -138,11 +139,11 @@ public:
             if (auto error = statement(line, reported_line)) return *error;
             joined.clear();
             if ((line_ & 0xffff) == 0) {
-                progress.update(position);
+                if (progress) progress->update(position);
                 if (interrupted()) return mesh_error(path_, "interrupted while reading", "run again to load it");
             }
         }
-        progress.finish();
+        if (progress) progress->finish();
         return std::move(mesh_);
     }
 
@@ -286,6 +287,7 @@ private:
     }
 
     static constexpr size_t kMaxVertices = size_t(1) << 31;
+    static constexpr size_t kLargeText = size_t(32) << 20;
 
     const std::filesystem::path& path_;
     std::string_view text_;
@@ -538,10 +540,14 @@ std::string unusable_reason(const MeshReport& report) {
     std::ostringstream out;
     out.precision(3);
     if (!(std::abs(report.signed_volume) > 1e-6 * diagonal * diagonal * diagonal)) {
+        const bool flat = std::min({size.x, size.y, size.z}) <= 1e-6 * diagonal;
         out << "the mesh encloses no volume (" << std::abs(report.signed_volume) << " in a bounding box of " << size.x
-            << " x " << size.y << " x " << size.z
-            << "): it is flat or its faces are degenerate, so no control point would be placed and the fluid would "
-               "fill nothing; use a closed solid mesh (a modelling tool's Solidify or Extrude gives a flat shape thickness)";
+            << " x " << size.y << " x " << size.z << "): "
+            << (flat ? "it is flat" : "its faces cancel out (degenerate faces, or every face doubled by a flipped copy "
+                                      "as a double-sided export writes them)")
+            << ", so no control point would be placed and the fluid would fill nothing; use a closed solid mesh"
+            << (flat ? " (a modelling tool's Solidify or Extrude gives a flat shape thickness)"
+                     : ", exported single-sided");
         return out.str();
     }
     if (report.hole_fraction() > kMaxHoleFraction) {
@@ -682,8 +688,12 @@ Result<LoadedMesh> load_obj(const std::filesystem::path& path) {
                           "the mesh needs triangles or polygons ('f' lines); export faces, not only points");
     }
     // Repair rather than refuse: which side is inside is clear once neighbours agree (see orient_consistently).
+    std::optional<ProgressBar> checking;  // about a second per million faces
+    if (loaded.mesh.faces.size() > (size_t(1) << 19)) checking.emplace("checking " + path.filename().string(), 2);
     const size_t turned = orient_consistently(loaded.mesh);
+    if (checking) checking->update(1, "orientation done, checking edges");
     loaded.report = check_mesh(loaded.mesh);
+    if (checking) checking->update(2), checking->finish();
     loaded.report.reoriented_face_count = turned;
     if (const std::string reason = unusable_reason(loaded.report); !reason.empty()) return Error{"mesh '" + path.string() + "': " + reason};
     return loaded;

@@ -345,10 +345,18 @@ TEST_F(MeshTest, MeshWithoutVolumeIsRefused) {
     const std::string triangle = load_error(write_text("triangle.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
     const std::string degenerate = load_error(write_text(
         "degenerate.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3\nf 2 3 4\nf 1 3 4\nf 1 2 4\n"));
-    for (const std::string& error : {plane, triangle, degenerate}) {
+    Mesh double_sided = make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)});
+    for (size_t f = 0, n = double_sided.faces.size(); f < n; ++f) {
+        const glm::uvec3 face = double_sided.faces[f];
+        double_sided.faces.emplace_back(face.x, face.z, face.y);
+    }
+    const std::string doubled = load_error((write_obj(directory_ / "doubled.obj", double_sided), directory_ / "doubled.obj"));
+    for (const std::string& error : {plane, triangle, degenerate, doubled}) {
         EXPECT_NE(error.find("encloses no volume"), std::string::npos) << error;
         EXPECT_NE(error.find("use a closed solid mesh"), std::string::npos) << error;
     }
+    EXPECT_NE(plane.find("it is flat"), std::string::npos) << plane;
+    EXPECT_NE(doubled.find("double-sided"), std::string::npos) << doubled;
     EXPECT_NE(unusable_reason(check_mesh(make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f, 1.0f, 1e-3f)}))), "x")
         << "a thin but solid box is fine";
     EXPECT_EQ(unusable_reason(check_mesh(make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f, 1.0f, 1e-3f)}))), "");

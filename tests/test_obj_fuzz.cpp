@@ -265,5 +265,25 @@ TEST(ControlPlaceCli, CtrlCStopsTheInsideTest) {
     fs::remove_all(dir);
 }
 
+// A scene's control section goes through the same loader: its meshes are refused the same way.
+TEST(ControlPlaceCli, SceneControlMeshesGetTheSameChecks) {
+    const fs::path dir = temp_dir("scene_mesh");
+    fs::create_directories(dir / "scenes");
+    fs::create_directories(dir / "meshes");
+    fs::copy_file(fs::path(AQUAFORM_ASSETS_DIR) / "meshes" / "sphere.obj", dir / "meshes" / "sphere.obj");
+    std::string scene = read_file(fs::path(AQUAFORM_ASSETS_DIR) / "scenes" / "morph.json");
+    scene.replace(scene.find("../meshes/torus.obj"), 19, "../meshes/open.obj");
+    test_cli::write_file(dir / "scenes" / "s.json", scene);
+    control::Mesh open = control::make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)});
+    open.faces.resize(10);
+    write_mesh(dir / "meshes", "open.obj", open);
+    const test_cli::Outcome run = test_cli::run_aquaform("run '" + (dir / "scenes" / "s.json").string() + "' --frames 1 --out '" +
+                                                         (dir / "out").string() + "'");
+    EXPECT_EQ(run.exit_code, 2) << run.output;
+    EXPECT_NE(run.output.find("control.meshes.ring.file: mesh '"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("the mesh is open"), std::string::npos) << run.output;
+    fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace aquaform
