@@ -73,22 +73,31 @@ std::optional<std::string> memory_refusal(const char* what, double bytes, double
     return std::string(message);
 }
 
+// Bytes of the points and of the particle snapshot that writes them (xyzw, velocity, density).
+constexpr double kOutputBytesPerPoint = sizeof(glm::vec3) + 36.0;
+
+// Host bytes `control place --method inside` needs at its peak: placing, or writing what it placed.
+double planned_inside_bytes(const control::LoadedMesh& loaded, float spacing) {
+    const Box bounds = loaded.mesh.bounds();
+    const double kept = control::expected_inside_points(bounds, spacing, loaded.report);
+    return std::max(control::place_inside_bytes(bounds, spacing, loaded.mesh.faces.size(), kept),
+                    kept * kOutputBytesPerPoint);
+}
+
 // Host (and for raster device) memory of the placement, checked before anything is allocated.
-std::optional<std::string> check_memory(const std::string& method, const control::Mesh& mesh, float spacing,
+std::optional<std::string> check_memory(const std::string& method, const control::LoadedMesh& loaded, float spacing,
                                         const std::function<gpu::Context&()>& context) {
+    const control::Mesh& mesh = loaded.mesh;
     const Box bounds = mesh.bounds();
     const double host = double(control::available_memory_bytes().value_or(UINT64_MAX));
     if (method == "vertices")
         return memory_refusal("--method vertices", control::place_on_vertices_bytes(mesh, spacing), host, spacing, 1.0);
-    // Writing the points takes a particle snapshot of them (xyzw, velocity, density: 36 bytes each).
-    const double snapshot = 36.0 * control::lattice_point_count(bounds, spacing);
     if (method == "inside")
-        return memory_refusal("--method inside",
-                              control::place_inside_bytes(bounds, spacing, mesh.faces.size()) + snapshot, host, spacing, 3.0);
+        return memory_refusal("--method inside", planned_inside_bytes(loaded, spacing), host, spacing, 3.0);
     // raster: the layer lists per lattice column, the points (at most the lattice) and the triangles.
     const glm::dvec3 cells = glm::dvec3(bounds.max - bounds.min) / double(spacing) + 1.0;
     const double columns = (cells.x + 3.0) * (cells.y + 3.0);
-    const double points = control::lattice_point_count(bounds, spacing);
+    const double points = control::expected_inside_points(bounds, spacing, loaded.report);
     const double over = std::max(columns / double(1u << 26), points / double(1u << 30));
     if (over > 1.0) {  // the rasteriser's own limits (2^26 columns) and 32-bit point counts
         char message[300];
@@ -100,7 +109,9 @@ std::optional<std::string> check_memory(const std::string& method, const control
     }
     const double device = 1.25 * (columns * (4.0 + RASTER_MAX_LAYERS * 8.0) + double(mesh.faces.size()) * 48.0) +
                           points * 16.0;
-    if (auto refusal = memory_refusal("--method raster (host copy of the points)", points * 28.0 + snapshot, host, spacing, 3.0))
+    // The download (vec4) and the sorted copy, then the output.
+    const double host_bytes = std::max(points * (sizeof(glm::vec4) + sizeof(glm::vec3)), points * kOutputBytesPerPoint);
+    if (auto refusal = memory_refusal("--method raster (host copy of the points)", host_bytes, host, spacing, 3.0))
         return refusal;
     return memory_refusal("--method raster (device memory)", device, double(context().info().device_local_bytes),
                           spacing, 3.0);
@@ -149,7 +160,7 @@ int cmd_control(const std::vector<std::string>& argv) {
         if (!ctx) ctx = std::make_unique<gpu::Context>(gpu::ContextOptions{args->value("--device"), validation_requested(*args)});
         return *ctx;
     };
-    if (auto refusal = check_memory(method, mesh, spacing, context))
+    if (auto refusal = check_memory(method, loaded.value(), spacing, context))
         return std::fprintf(stderr, "aquaform control: '%s': %s\n", args->positional[1].c_str(), refusal->c_str()),
                kExitUsage;
     const std::filesystem::path out_dir = args->value("--out", "out/control_" + std::filesystem::path(args->positional[1]).stem().string());
@@ -160,6 +171,16 @@ int cmd_control(const std::vector<std::string>& argv) {
                             out_dir.string().c_str(), ec.message().c_str()),
                kExitFailure;
 
+    // points.ply takes 36 bytes a point (position, velocity, density, id, tag).
+    const double ply_bytes = 36.0 * (method == "vertices" ? control::vertex_candidate_count(mesh, spacing)
+                                                          : control::expected_inside_points(bounds, spacing, loaded.value().report));
+    if (const std::filesystem::space_info space = std::filesystem::space(out_dir, ec); !ec && ply_bytes > double(space.available))
+        return std::fprintf(stderr,
+                            "aquaform control: '%s': points.ply at --spacing %g would take about %.0f MB but %.0f MB "
+                            "are free in %s; use a larger --spacing or another --out\n",
+                            args->positional[1].c_str(), spacing, ply_bytes / 1048576.0,
+                            double(space.available) / 1048576.0, out_dir.string().c_str()),
+               kExitUsage;
     const std::string report = control::describe(loaded.value().report);
     std::printf("%s\n", report.c_str());
     control::ControlPoints points;
@@ -172,9 +193,8 @@ int cmd_control(const std::vector<std::string>& argv) {
                   points.points.size(), points.ms);
     std::string line = summary;
     if (method == "inside") {
-        std::snprintf(summary, sizeof summary, " (memory planned for at most %.0f MB, PLY snapshot included)",
-                      (control::place_inside_bytes(bounds, spacing, mesh.faces.size()) +
-                       36.0 * control::lattice_point_count(bounds, spacing)) / 1048576.0);
+        std::snprintf(summary, sizeof summary, " (memory planned: %.0f MB, the output included)",
+                      planned_inside_bytes(loaded.value(), spacing) / 1048576.0);
         line += summary;
     }
     if (method == "raster") {

@@ -104,19 +104,30 @@ double lattice_point_count(const Box& bounds, float spacing) {
     return steps.x * steps.y * steps.z;
 }
 
-double place_inside_bytes(const Box& bounds, float spacing, size_t triangle_count) {
-    // Per lattice point: its position, a byte and a bit of flags, and (at worst) a kept copy.
-    constexpr double kPerPoint = 2.0 * sizeof(glm::vec3) + 1.0 + 0.125;
-    return lattice_point_count(bounds, spacing) * kPerPoint + double(InsideTest::estimated_bytes(triangle_count));
+double expected_inside_points(const Box& bounds, float spacing, const MeshReport& report) {
+    const double s = double(spacing);
+    return std::min(lattice_point_count(bounds, spacing),
+                    std::abs(report.signed_volume) / (s * s * s) + report.surface_area / (s * s));
 }
 
-double place_on_vertices_bytes(const Mesh& mesh, float spacing) {
+double place_inside_bytes(const Box& bounds, float spacing, size_t triangle_count, double kept) {
+    // Per lattice point its position and a byte and a bit of flags; per kept point a copy.
+    constexpr double kPerPoint = sizeof(glm::vec3) + 1.0 + 0.125;
+    return lattice_point_count(bounds, spacing) * kPerPoint + kept * sizeof(glm::vec3) +
+           double(InsideTest::estimated_bytes(triangle_count));
+}
+
+double vertex_candidate_count(const Mesh& mesh, float spacing) {
     double edge_points = 0.0;  // every edge is seen twice in a closed mesh; the estimate may be high
     for (const glm::uvec3& face : mesh.faces)
         for (int i = 0; i < 3; ++i)
             edge_points += std::ceil(glm::length(mesh.vertices[face[(i + 1) % 3]] - mesh.vertices[face[i]]) / spacing);
+    return double(mesh.vertices.size()) + edge_points;
+}
+
+double place_on_vertices_bytes(const Mesh& mesh, float spacing) {
     // Candidates, kept points and the thinning grid's entries (a hash node per point).
-    return (double(mesh.vertices.size()) + edge_points) * (2.0 * sizeof(glm::vec3) + 48.0);
+    return vertex_candidate_count(mesh, spacing) * (2.0 * sizeof(glm::vec3) + 48.0);
 }
 
 ControlPoints place_inside(const std::vector<glm::vec3>& triangles, float spacing, bool jitter, uint32_t seed,

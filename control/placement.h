@@ -23,9 +23,14 @@ struct ControlPoints {
 
 /// Lattice points (b) and (c) consider inside `bounds` at `spacing`: a double, since it can be huge.
 double lattice_point_count(const Box& bounds, float spacing);
-/// Host bytes place_inside() needs at most (lattice, flags, kept points and the inside test's grid);
-/// for refusing a request before it allocates.
-double place_inside_bytes(const Box& bounds, float spacing, size_t triangle_count);
+/// Points a filling placement (b) or (c) keeps at most: the lattice points in the volume plus one
+/// layer over the surface, never more than the lattice.
+double expected_inside_points(const Box& bounds, float spacing, const MeshReport& report);
+/// Host bytes place_inside() needs at its peak (lattice, flags, `kept` points and the inside test's
+/// grid); for refusing a request before it allocates.
+double place_inside_bytes(const Box& bounds, float spacing, size_t triangle_count, double kept);
+/// Points place_on_vertices() considers (vertices and points along the edges): at most what it keeps.
+double vertex_candidate_count(const Mesh& mesh, float spacing);
 /// Host bytes place_on_vertices() needs at most (the candidates along the edges, kept points, grid).
 double place_on_vertices_bytes(const Mesh& mesh, float spacing);
 
