@@ -6,8 +6,11 @@
 #include <cstdlib>
 #include <exception>
 #include <new>
+#include <sstream>
 
 #include "core/error.h"
+#include "core/number_text.h"
+#include "core/output_dir.h"
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
 #include "sim/scene.h"
@@ -27,7 +30,7 @@ const char* kUsage =
     "        --wireframe: the active control meshes drawn over them),\n"
     "        stats.csv (with splash fraction, droplets, runup), front.csv (dam breaks), PLY dumps\n"
     "  --particles N (run, render, view, study, bench render, bench control): the scene's particle spacing re-derived so\n"
-    "        that it holds about N particles (64 to 67108864; sizes in metres stay), e.g. 10000 for CI,\n"
+    "        that it holds about N particles (64 to 16777215; sizes in metres stay), e.g. 10000 for CI,\n"
     "        1000000 for the papers' scenes\n"
     "  render SCENE.json [--frame K] [--out DIR] [--no-reference] [--particles N] [--device ...] [render flags]\n"
     "        ray-march one frame; writes image.png, evals.png, tiles.png, classification.png,\n"
@@ -79,6 +82,42 @@ const char* kUsage =
     "        bench_control.json in DIR (default out/bench_control)\n"
     "  help  show this text\n";
 
+/// The usage blocks of `topic` ("run", "bench render", "bench" for all benchmarks): the lines of
+/// kUsage that start with two spaces and the topic, and their indented continuations.
+std::string usage_of(const std::string& topic) {
+    std::string out;
+    bool in_block = false;
+    std::istringstream lines(kUsage);
+    for (std::string line; std::getline(lines, line);) {
+        const bool starts_block = line.size() > 2 && line.rfind("  ", 0) == 0 && line[2] != ' ';
+        if (starts_block) {
+            const std::string head = line.substr(2);
+            in_block = head.rfind(topic, 0) == 0 && (head.size() == topic.size() || head[topic.size()] == ' ');
+        } else if (line.rfind("   ", 0) != 0) {
+            in_block = false;
+        }
+        if (in_block) out += line + "\n";
+    }
+    return out;
+}
+
+/// `aquaform COMMAND ... --help`: that command's part of the usage; false when `argv` asks for
+/// no help. (The flag is taken wherever it stands, so `run scene.json --help` helps too.)
+bool print_command_help(const std::string& command, const std::vector<std::string>& argv) {
+    if (std::none_of(argv.begin(), argv.end(), [](const std::string& a) { return a == "--help" || a == "-h"; }))
+        return false;
+    const bool sub = (command == "bench" || command == "control") && !argv.empty() && argv[0].rfind("-", 0) != 0;
+    const std::string topic = sub ? command + " " + argv[0] : command;
+    std::string text = usage_of(topic);
+    if (text.empty()) text = usage_of(command);
+    std::printf("usage: aquaform %s", text.substr(2).c_str());
+    for (const char* sized : {"run", "render", "view", "study", "bench render", "bench control"})
+        if (topic == sized) std::fputs(usage_of("--particles").c_str(), stdout);
+    for (const char* drawn : {"run", "render", "view", "bench render"})
+        if (topic == drawn) std::fputs(render_flags_usage(), stdout);
+    return true;
+}
+
 }  // namespace
 
 std::string Args::value(const std::string& flag, const std::string& fallback) const {
@@ -111,7 +150,7 @@ std::optional<Args> parse_args(const std::vector<std::string>& argv, const FlagS
             for (const auto& f : spec.with_value) known += " " + f;
             for (const auto& f : spec.switches) known += " " + f;
             *error = "aquaform " + command + ": unknown flag " + a + "; known flags:" +
-                     (known.empty() ? " (none)" : known) + " (see aquaform help)";
+                     (known.empty() ? " (none)" : known) + " (see aquaform " + command + " --help)";
             return std::nullopt;
         }
     }
@@ -119,29 +158,43 @@ std::optional<Args> parse_args(const std::vector<std::string>& argv, const FlagS
 }
 
 std::optional<long> parse_positive(const std::string& flag, const std::string& text, std::string* error, long max) {
-    // Digits only (no sign, space or exponent), and few enough that the value cannot wrap.
-    const bool digits = !text.empty() && text.size() <= 18 &&
-                        std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
-    const long v = digits ? std::stol(text) : 0;
-    if (!digits || v < 1 || v > max) {
+    const std::optional<uint64_t> v = number_text::whole_number(text);
+    if (!v || *v < 1 || *v > uint64_t(max)) {
         *error = flag + " must be a whole number from 1 to " + std::to_string(max) + ", got \"" + text + "\"";
         return std::nullopt;
     }
-    return v;
+    return long(*v);
+}
+
+std::optional<uint32_t> parse_frame_index(const std::string& flag, const std::string& text, std::string* error) {
+    const std::optional<uint64_t> v = number_text::whole_number(text);
+    if (!v || *v >= uint64_t(kMaxFrames)) {
+        *error = flag + " must be a frame number from 0 to " + std::to_string(kMaxFrames - 1) + ", got \"" + text + "\"";
+        return std::nullopt;
+    }
+    return uint32_t(*v);
+}
+
+std::optional<std::vector<std::string>> parse_list(const std::string& flag, const std::string& text,
+                                                   const std::string& example, std::string* error) {
+    auto items = number_text::split_list(text);
+    if (!items)
+        *error = flag + (text.empty() ? " is empty" : " has an empty item in \"" + text + "\"") +
+                 "; give its values separated by single commas, e.g. " + flag + " " + example;
+    return items;
 }
 
 std::optional<uint64_t> particles_flag(const Args& args, std::string* error) {
     error->clear();
     if (!args.has("--particles")) return std::nullopt;
     const std::string text = args.value("--particles");
-    char* end = nullptr;
-    const long long v = std::strtoll(text.c_str(), &end, 10);
-    if (text.empty() || *end != '\0' || v < (long long)kMinSceneParticles || v > (long long)kMaxSceneParticles) {
+    const uint64_t v = number_text::whole_number(text).value_or(0);
+    if (v < kMinSceneParticles || v > kMaxSceneParticles) {
         *error = "--particles must be a particle count from " + std::to_string(kMinSceneParticles) + " to " +
                  std::to_string(kMaxSceneParticles) + ", got \"" + text + "\"";
         return std::nullopt;
     }
-    return uint64_t(v);
+    return v;
 }
 
 bool scale_to_particles_flag(const Args& args, Scene& scene, std::string* error) {
@@ -151,6 +204,12 @@ bool scale_to_particles_flag(const Args& args, Scene& scene, std::string* error)
     if (!scaled) return *error = scaled.error(), false;
     scene = std::move(scaled.value());
     return true;
+}
+
+bool prepare_output(const std::string& command, const std::filesystem::path& dir, const std::string& flag) {
+    const Result<bool> ready = prepare_output_dir(dir, flag);
+    if (!ready) std::fprintf(stderr, "aquaform %s: %s\n", command.c_str(), ready.error().c_str());
+    return ready.ok();
 }
 
 bool validation_requested(const Args& args) {
@@ -169,6 +228,9 @@ int run_main(int argc, char** argv) {
     std::vector<std::string> rest(argv + std::min(argc, 2), argv + argc);
     const std::string command = argc >= 2 ? argv[1] : "";
     try {
+        const bool known = command == "run" || command == "info" || command == "render" || command == "control" ||
+                           command == "assets" || command == "bench" || command == "study" || command == "view";
+        if (known && print_command_help(command, rest)) return kExitOk;
         if (command == "run") return cmd_run(rest);
         if (command == "info") return cmd_info(rest);
         if (command == "render") return cmd_render(rest);
@@ -188,9 +250,11 @@ int run_main(int argc, char** argv) {
             std::fprintf(stderr, "aquaform: unknown command \"%s\"\n%s", command.c_str(), kUsage);
         return kExitUsage;
     } catch (const Failure& e) {
-        // The libraries' one exception type (core/error.h): its message names the problem and the fix.
+        // The libraries' one exception type (core/error.h): its message names the problem and the
+        // fix. A request the device cannot meet (too many particles for its memory, say) is
+        // refused before any work as bad input; a failure while working is a runtime failure.
         std::fprintf(stderr, "aquaform: %s\n", e.what());
-        return kExitFailure;
+        return e.kind() == Failure::Kind::input ? kExitUsage : kExitFailure;
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "aquaform: out of host memory; use fewer particles (a larger particle_spacing) or a smaller image\n");
         return kExitFailure;

@@ -1,6 +1,7 @@
 // The `aquaform` command: argument parsing shared by its subcommands, and their entry points.
 #pragma once
 
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
@@ -43,6 +44,12 @@ std::optional<Args> parse_args(const std::vector<std::string>& argv, const FlagS
 /// A whole number from 1 to `max` (the same limit as the scene file's key, where there is one);
 /// nullopt with `error` naming the flag, the range and the text otherwise.
 std::optional<long> parse_positive(const std::string& flag, const std::string& text, std::string* error, long max);
+/// A frame number from 0 to kMaxFrames - 1 (`--frame K`).
+std::optional<uint32_t> parse_frame_index(const std::string& flag, const std::string& text, std::string* error);
+/// "a,b,c" for a list flag; nullopt with `error` naming the flag and showing `example` when the
+/// text or an item is empty.
+std::optional<std::vector<std::string>> parse_list(const std::string& flag, const std::string& text,
+                                                   const std::string& example, std::string* error);
 /// Frames of a run or a scene file's "frames" (sim/scene.cpp), and solver iterations.
 constexpr long kMaxFrames = 1000000;
 constexpr long kMaxIterations = 100;
@@ -71,6 +78,10 @@ int bench_render(const Args& args);
 FlagSpec bench_render_flags();
 int bench_control(const Args& args); FlagSpec bench_control_flags();  ///< `aquaform bench control` (apps/cmd_bench_control.cpp)
 int bench_convergence(const Args& args); FlagSpec bench_convergence_flags();  ///< `aquaform bench convergence` (apps/cmd_bench_convergence.cpp)
+
+/// Makes the output folder `dir` (chosen by `flag`) and checks that it can be written; false
+/// after printing "aquaform COMMAND: " and the reason with the fix (the caller exits 2).
+bool prepare_output(const std::string& command, const std::filesystem::path& dir, const std::string& flag = "--out");
 
 /// Validation is on with --validation or AQUAFORM_VALIDATION=1 (the test suite sets it).
 bool validation_requested(const Args& args);

@@ -83,12 +83,7 @@ int cmd_assets(const std::vector<std::string>& argv) {
                             args->positional[0].c_str()),
                kExitUsage;
     const fs::path out_dir = args->value("--out", "assets/meshes");
-    std::error_code ec;
-    fs::create_directories(out_dir, ec);
-    if (ec)
-        return std::fprintf(stderr, "aquaform assets: cannot create %s (%s); choose another with --out\n",
-                            out_dir.string().c_str(), ec.message().c_str()),
-               kExitFailure;
+    if (!prepare_output("assets", out_dir)) return kExitUsage;
 
     struct Named {
         std::string file;

@@ -23,9 +23,9 @@ namespace {
 
 std::vector<uint32_t> parse_sizes(const std::string& text, std::string* error) {
     std::vector<uint32_t> sizes;
-    std::stringstream ss(text);
-    std::string item;
-    while (std::getline(ss, item, ',')) {
+    const auto items = parse_list("--sizes", text, "16384,65536", error);
+    if (!items) return {};
+    for (const std::string& item : *items) {
         auto v = parse_positive("--sizes", item, error, long(kMaxSceneParticles));
         if (!v) return {};
         sizes.push_back(static_cast<uint32_t>(*v));
@@ -42,7 +42,7 @@ FlagSpec bench_sim_flags() {
 bool only_flags_of(const Args& args, const FlagSpec& spec, const std::string& bench, std::string* error) {
     auto check = [&](const std::string& flag, const std::vector<std::string>& known) {
         if (std::find(known.begin(), known.end(), flag) != known.end()) return true;
-        *error = "aquaform bench " + bench + ": " + flag + " is not a flag of bench " + bench + " (see aquaform help)";
+        *error = "aquaform bench " + bench + ": " + flag + " is not a flag of bench " + bench + " (see aquaform bench " + bench + " --help)";
         return false;
     };
     for (const auto& [flag, value] : args.values)

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
+#include "core/number_text.h"
 #include "gpu/context.h"
 #include "study/bench_control.h"
 
@@ -73,19 +74,16 @@ void print_sweep_row(const study::SweepRow& r) {
 /// "0.5,1,2": pressure multiples, each a positive finite number.
 std::optional<std::vector<double>> parse_scales(const std::string& text, std::string* error) {
     std::vector<double> scales;
-    size_t start = 0;
-    while (start <= text.size()) {
-        const size_t comma = std::min(text.find(',', start), text.size());
-        const std::string item = text.substr(start, comma - start);
-        char* end = nullptr;
-        const double v = item.empty() ? 0.0 : std::strtod(item.c_str(), &end);
-        if (item.empty() || *end != '\0' || !std::isfinite(v) || v <= 0.0 || v > 1000.0) {
+    const auto items = parse_list("--scales", text, "0.5,1,2", error);
+    if (!items) return std::nullopt;
+    for (const std::string& item : *items) {
+        const double v = number_text::finite_number(item).value_or(0.0);
+        if (v <= 0.0 || v > 1000.0) {
             *error = "--scales takes pressure multiples of the automatic strength, like 0.5,1,2 (each above 0 and at "
                      "most 1000), got \"" + item + "\" in \"" + text + "\"";
             return std::nullopt;
         }
         scales.push_back(v);
-        start = comma + 1;
     }
     return scales;
 }
@@ -99,12 +97,7 @@ int bench_control(const Args& args) {
     const std::filesystem::path out_dir = args.value("--out", "out/bench_control");
     {
         // Fail before minutes of work when the output cannot go where asked.
-        std::error_code ec;
-        std::filesystem::create_directories(out_dir, ec);
-        if (ec || !std::filesystem::is_directory(out_dir))
-            return std::fprintf(stderr, "aquaform bench control: cannot create %s (%s); choose another directory with --out\n",
-                                out_dir.string().c_str(), ec ? ec.message().c_str() : "not a directory"),
-                   kExitFailure;
+        if (!prepare_output("bench control", out_dir)) return kExitUsage;
     }
     const std::filesystem::path out_path = out_dir / "bench_control.json";
     std::string error;

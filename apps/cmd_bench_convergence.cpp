@@ -91,12 +91,7 @@ int bench_convergence(const Args& args) {
         }
 
     const std::filesystem::path out_dir = args.value("--out", "out/bench_convergence");
-    std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    if (ec || !std::filesystem::is_directory(out_dir))
-        return std::fprintf(stderr, "aquaform bench convergence: cannot create %s (%s); choose another directory with --out\n",
-                            out_dir.string().c_str(), ec ? ec.message().c_str() : "not a directory"),
-               kExitFailure;
+    if (!prepare_output("bench convergence", out_dir)) return kExitUsage;
 
     gpu::Context ctx({args.value("--device"), validation_requested(args)});
     const Scene& base = front_base.value();

@@ -59,15 +59,6 @@ void print_pass_table(const std::vector<std::pair<std::string, const study::Rend
     }
 }
 
-std::optional<uint32_t> parse_frame(const std::string& text, std::string* error) {
-    char* end = nullptr;
-    const long v = std::strtol(text.c_str(), &end, 10);
-    if (text.empty() || *end != '\0' || v < 0 || v > 1000000) {
-        *error = "--frame must be a frame number >= 0, got \"" + text + "\"";
-        return std::nullopt;
-    }
-    return uint32_t(v);
-}
 
 }  // namespace
 
@@ -280,6 +271,8 @@ int bench_render(const Args& args) {
         for (const auto& item : items) list += std::string(list.empty() ? "" : ",") + name(item);
         return list;
     };
+    for (const char* list : {"--configs", "--frames"})
+        if (args.has(list) && !parse_list(list, args.value(list), "uniform,adaptive", &error)) return usage(error);
     const std::string config_list =
         args.has("--configs") ? args.value("--configs")
         : quick               ? join(study::quick_bench_configs(), [](const std::string& c) { return c; })
@@ -294,7 +287,7 @@ int bench_render(const Args& args) {
     if (!frames) return usage(frames.error());
     std::optional<uint32_t> frame_override;
     if (args.has("--frame")) {
-        frame_override = parse_frame(args.value("--frame"), &error);
+        frame_override = parse_frame_index("--frame", args.value("--frame"), &error);
         if (!frame_override) return usage(error);
     }
     auto base = render_settings_from(args, &error);
@@ -303,13 +296,8 @@ int bench_render(const Args& args) {
     const std::filesystem::path out_path = args.value("--out", "bench_render.json");
     {
         // Fail before minutes of work when the output cannot go where asked.
-        const std::filesystem::path dir = out_path.parent_path().empty() ? "." : out_path.parent_path();
-        std::error_code ec;
-        if (!std::filesystem::is_directory(dir, ec))
-            return std::fprintf(stderr, "aquaform bench render: cannot write %s: directory %s does not exist; choose "
-                                        "another path with --out\n",
-                                out_path.string().c_str(), dir.string().c_str()),
-                   kExitFailure;
+        if (!prepare_output("bench render", out_path.parent_path().empty() ? "." : out_path.parent_path()))
+            return kExitUsage;
     }
 
     // Every scene is loaded before any work, so a bad one is reported at once.

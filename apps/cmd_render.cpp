@@ -97,13 +97,9 @@ int cmd_render(const std::vector<std::string>& argv) {
     const SurfaceSettings* settings = method->get<SurfaceSettings>();
     uint32_t frame = scene.frames / 2;
     if (args->has("--frame")) {
-        const std::string text = args->value("--frame");
-        char* end = nullptr;
-        const long v = std::strtol(text.c_str(), &end, 10);
-        if (text.empty() || *end != '\0' || v < 0 || v > 1000000)
-            return std::fprintf(stderr, "aquaform render: --frame must be a frame number >= 0, got \"%s\"\n", text.c_str()),
-                   kExitUsage;
-        frame = uint32_t(v);
+        const std::optional<uint32_t> k = parse_frame_index("--frame", args->value("--frame"), &error);
+        if (!k) return std::fprintf(stderr, "aquaform render: %s\n", error.c_str()), kExitUsage;
+        frame = *k;
     }
     uint32_t width = 512, height = 512;
     if (args->has("--resolution") && !parse_resolution(args->value("--resolution"), &width, &height))
@@ -112,12 +108,7 @@ int cmd_render(const std::vector<std::string>& argv) {
                kExitUsage;
     const std::filesystem::path out_dir =
         args->value("--out", "out/render_" + std::filesystem::path(args->positional[0]).stem().string());
-    std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    if (ec)
-        return std::fprintf(stderr, "aquaform render: cannot create output directory %s (%s); choose another with --out\n",
-                            out_dir.string().c_str(), ec.message().c_str()),
-               kExitFailure;
+    if (!prepare_output("render", out_dir)) return kExitUsage;
 
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});
     const std::optional<session::ControlSummary> summary = plan.value().control_summary();

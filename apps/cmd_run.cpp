@@ -84,13 +84,7 @@ int cmd_run(const std::vector<std::string>& argv) {
         return kExitUsage;
     }
     const std::filesystem::path out_dir = args->value("--out", "out/" + std::filesystem::path(args->positional[0]).stem().string());
-    std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    if (ec) {
-        std::fprintf(stderr, "aquaform run: cannot create output directory %s (%s); choose another with --out\n",
-                     out_dir.string().c_str(), ec.message().c_str());
-        return kExitFailure;
-    }
+    if (!prepare_output("run", out_dir)) return kExitUsage;
 
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});
     const std::optional<session::ControlSummary> summary = plan.value().control_summary();

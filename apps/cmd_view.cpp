@@ -9,6 +9,7 @@
 
 #include "apps/cli.h"
 #include "apps/render_options.h"
+#include "core/number_text.h"
 #include "gpu/context.h"
 #include "render/registry.h"
 #include "render/surface_settings.h"
@@ -78,10 +79,9 @@ int cmd_view(const std::vector<std::string>& argv) {
         return std::fprintf(stderr, "aquaform view: --size must look like 480x360, got \"%s\"\n", args->value("--size").c_str()),
                kExitUsage;
     if (args->has("--scale")) {
-        char* end = nullptr;
         const std::string text = args->value("--scale");
-        options.picture_scale = std::strtof(text.c_str(), &end);
-        if (end == text.c_str() || *end != '\0' || !(options.picture_scale >= 0.1f && options.picture_scale <= 1.0f))
+        options.picture_scale = float(number_text::finite_number(text).value_or(0.0));
+        if (!(options.picture_scale >= 0.1f && options.picture_scale <= 1.0f))
             return std::fprintf(stderr, "aquaform view: --scale is the picture's size against the window's, 0.1 to 1; got \"%s\"\n",
                                 text.c_str()),
                    kExitUsage;
@@ -93,10 +93,7 @@ int cmd_view(const std::vector<std::string>& argv) {
     }
     const fs::path record_dir = args->value("--record", "");
     if (!record_dir.empty()) {
-        std::error_code ec;
-        fs::create_directories(record_dir, ec);
-        if (ec) return std::fprintf(stderr, "aquaform view: cannot create %s: %s\n", record_dir.string().c_str(), ec.message().c_str()),
-                      kExitFailure;
+        if (!prepare_output("view", record_dir, "--record")) return kExitUsage;
     }
 
     auto window = viewer::ViewWindow::open(int(width), int(height), "aquaform - " + scene.name);

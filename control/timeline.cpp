@@ -13,12 +13,23 @@ namespace {
 constexpr std::string_view kEventKeys[] = {"t", "do", "mesh", "tags", "duration", "mode"};
 constexpr std::string_view kActions[] = {"attach", "union", "morph", "hold", "release"};
 
-uint32_t read_tags(const json& v, const std::string& path) {
+uint32_t read_tags(const json& v, const std::string& path, size_t fluid_blocks) {
     if (!v.is_array() || v.empty())
         fail(path + " must be a non-empty array of fluid tags (fluid_blocks indices), e.g. [0, 2], got " + written(v));
+    // A tag past the last block selects no particle: the shape would pull at nothing.
+    const uint32_t last = uint32_t(std::min<size_t>(fluid_blocks, 32)) - 1;
     uint32_t mask = 0;
-    for (size_t i = 0; i < v.size(); ++i)
-        mask |= 1u << read_integer(v[i], path + "[" + std::to_string(i) + "]", 0, 31);
+    for (size_t i = 0; i < v.size(); ++i) {
+        const std::string elem = path + "[" + std::to_string(i) + "]";
+        if (v[i].is_number() && v[i].get<double>() > last && v[i].get<double>() < fluid_blocks)
+            fail(elem + " is " + written(v[i]) + "; blocks from fluid_blocks[31] on share tag 31: use 31");
+        if (v[i].is_number() && v[i].get<double>() >= fluid_blocks)
+            fail(elem + " is " + written(v[i]) + ", but the scene has " + std::to_string(fluid_blocks) +
+                 " fluid block" + (fluid_blocks == 1 ? "" : "s") + " (tags 0 to " + std::to_string(last) +
+                 "), so it tags no fluid; a tag is an index into fluid_blocks: use one of those, or remove \"tags\" "
+                 "to act on all fluid");
+        mask |= 1u << read_integer(v[i], elem, 0, last);
+    }
     return mask;
 }
 
@@ -35,7 +46,8 @@ const char* action_name(TimelineAction action) {
     return "?";
 }
 
-Timeline Timeline::parse(const json& v, const std::string& path, const std::vector<std::string>& mesh_names) {
+Timeline Timeline::parse(const json& v, const std::string& path, const std::vector<std::string>& mesh_names,
+                         size_t fluid_blocks) {
     if (!v.is_array())
         fail(path + " must be an array of events such as [{\"t\": 0, \"do\": \"attach\", \"mesh\": \"ball\"}], got " +
              written(v) + " (" + kind_of(v) + ")");
@@ -77,7 +89,7 @@ Timeline Timeline::parse(const json& v, const std::string& path, const std::vect
         }
         if (e.contains("tags")) {
             if (!needs_mesh) fail(where + ": \"tags\" belongs to attach, union or morph events; remove it");
-            ev.tag_mask = read_tags(e["tags"], where + ".tags");
+            ev.tag_mask = read_tags(e["tags"], where + ".tags", fluid_blocks);
         }
         if (e.contains("duration") || e.contains("mode")) {
             if (ev.action != TimelineAction::morph) fail(where + ": \"duration\" and \"mode\" belong to morph events; remove them");

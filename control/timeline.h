@@ -40,9 +40,11 @@ public:
     Timeline() = default;
     explicit Timeline(std::vector<TimelineEvent> events) : events_(std::move(events)) {}
 
-    /// Reads the "timeline" array; `mesh_names` are the keys of "meshes". Throws
-    /// json_fields::Invalid naming the event and the fix.
-    static Timeline parse(const nlohmann::json& v, const std::string& path, const std::vector<std::string>& mesh_names);
+    /// Reads the "timeline" array; `mesh_names` are the keys of "meshes" and `fluid_blocks` the
+    /// scene's block count (a tag is a block's index). Throws json_fields::Invalid naming the
+    /// event and the fix.
+    static Timeline parse(const nlohmann::json& v, const std::string& path, const std::vector<std::string>& mesh_names,
+                          size_t fluid_blocks);
 
     /// The shapes pulling at time t (in seconds since the start).
     std::vector<ActiveShape> active_at(double t) const;

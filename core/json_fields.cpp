@@ -10,6 +10,7 @@
 #include <limits>
 #include <optional>
 #include <set>
+#include <vector>
 
 namespace aquaform::json_fields {
 
@@ -122,6 +123,11 @@ float read_number(const json& v, const std::string& path, const Range& r) {
     return f;
 }
 
+void check_count(const json& v, const std::string& path, size_t max, const std::string& fix) {
+    if (v.is_array() && v.size() > max)
+        fail(path + " has " + std::to_string(v.size()) + " elements; at most " + std::to_string(max) + " are allowed: " + fix);
+}
+
 uint32_t read_integer(const json& v, const std::string& path, uint32_t lo, uint32_t hi) {
     std::string what = "an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
     if (!v.is_number()) fail(path + " must be " + what + ", got " + written(v) + " (" + kind_of(v) + ")");
@@ -213,7 +219,55 @@ std::string number_overflow(const json::exception& e, const std::string& text, c
            "; use numbers of ordinary size (a 32-bit float holds up to about 3e38)";
 }
 
+void check_json_size(uintmax_t bytes, const std::string& origin) {
+    if (bytes > kMaxJsonBytes)
+        throw Invalid{origin + ": the file is " + std::to_string(bytes >> 20) + " MiB; aquaform reads JSON files of "
+                      "at most " + std::to_string(kMaxJsonBytes >> 20) + " MiB (a scene, spec or script is a few KiB): "
+                      "check that this is the file you meant, and describe large data (meshes, animations) in files of "
+                      "their own", true};
+}
+
+namespace {
+
+/// Refuses text that no aquaform file needs and that would cost a parser or a reader dearly:
+/// files over kMaxJsonBytes, nesting deeper than kMaxJsonDepth (the value echo in messages and
+/// the readers recurse) and arrays or objects over kMaxJsonElements (some checks are pairwise).
+/// A scan of the raw text, before parsing, so the limit holds whatever the file holds.
+void check_shape(const std::string& text, const std::string& origin) {
+    auto refuse = [&](size_t line, const std::string& what) {
+        throw Invalid{origin + ": line " + std::to_string(line) + ": " + what, true};
+    };
+    check_json_size(text.size(), origin);
+    std::vector<size_t> elements;  // commas seen in each open array or object
+    size_t line = 1;
+    bool in_string = false, escaped = false;
+    for (char c : text) {
+        if (c == '\n') ++line;
+        if (in_string) {
+            if (escaped) escaped = false;
+            else if (c == '\\') escaped = true;
+            else if (c == '"') in_string = false;
+            continue;
+        }
+        if (c == '"') in_string = true;
+        if (c == '[' || c == '{') {
+            if (elements.size() == kMaxJsonDepth)
+                refuse(line, "arrays and objects nested more than " + std::to_string(kMaxJsonDepth) +
+                                 " levels deep; aquaform's files nest a few levels: remove the extra brackets");
+            elements.push_back(0);
+        }
+        if ((c == ']' || c == '}') && !elements.empty()) elements.pop_back();
+        if (c == ',' && !elements.empty() && ++elements.back() >= kMaxJsonElements)
+            refuse(line, "an array or object with more than " + std::to_string(kMaxJsonElements) +
+                             " elements; no key of aquaform's files takes that many: check the file, or split "
+                             "the data into files of their own");
+    }
+}
+
+}  // namespace
+
 json parse_strict(const std::string& text, const std::string& origin) {
+    check_shape(text, origin);
     try {
         // Duplicate keys are legal JSON but nlohmann silently keeps the last; a file with two
         // "particle_spacing" entries is a mistake, so report it.

@@ -64,8 +64,19 @@ Box read_box(const json& v, const std::string& path, const std::string& example)
 /// Reads {"eye": [..], "target": [..], "fov": degrees (optional)}: a camera placed by hand.
 ViewCamera read_view_camera(const json& v, const std::string& path);
 
-/// Parses JSON text, refusing duplicate keys. Syntax errors throw Invalid with `origin`, the
-/// line and column, and what to look for.
+/// Refuses an array `v` of more than `max` elements, naming `path` and the `fix` (an array of
+/// boxes the solver holds in a fixed table, lists that are checked pairwise).
+void check_count(const json& v, const std::string& path, size_t max, const std::string& fix);
+
+/// The most any aquaform JSON file may hold; parse_strict refuses more (see check_shape).
+constexpr size_t kMaxJsonBytes = size_t(16) << 20;
+constexpr size_t kMaxJsonDepth = 64;
+constexpr size_t kMaxJsonElements = 100000;
+/// Throws Invalid (with `origin`) for a file over kMaxJsonBytes; loaders call it before reading.
+void check_json_size(uintmax_t bytes, const std::string& origin);
+
+/// Parses JSON text, refusing duplicate keys and files over the limits above. Syntax errors
+/// throw Invalid with `origin`, the line and column, and what to look for.
 json parse_strict(const std::string& text, const std::string& origin);
 
 }  // namespace aquaform::json_fields

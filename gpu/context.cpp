@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 #include "gpu/barriers.h"
@@ -46,6 +49,38 @@ int find_queue_family(VkPhysicalDevice pd) {
     return -1;
 }
 
+/// True when the validation layer's GPU-assisted checks are switched on, by the environment or
+/// by a vk_layer_settings.txt (the two ways the layer reads its settings).
+bool gpu_assisted_validation_requested() {
+    const char* enables = std::getenv("VK_LAYER_ENABLES");
+    if (enables && std::strstr(enables, "GPU_ASSISTED")) return true;
+    const char* settings_path = std::getenv("VK_LAYER_SETTINGS_PATH");
+    std::filesystem::path settings = settings_path ? settings_path : "vk_layer_settings.txt";
+    std::error_code ec;
+    if (std::filesystem::is_directory(settings, ec)) settings /= "vk_layer_settings.txt";
+    std::ifstream in(settings);
+    for (std::string line; std::getline(in, line);)
+        if (line.find('#') != 0 && line.find("khronos_validation.enables") != std::string::npos &&
+            line.find("GPU_ASSISTED") != std::string::npos)
+            return true;
+    return false;
+}
+
+/// GPU-assisted validation before layer 1.3.250 records bound descriptors only in
+/// vkCmdBindDescriptorSets, never in vkCmdPushDescriptorSetKHR, which every aquaform pass uses
+/// (KhronosGroup/Vulkan-ValidationLayers issue 5321, fixed by pull request 5744): it reports each
+/// pushed descriptor as uninitialized or as 1 byte long, and its indirect-dispatch check has read
+/// a count of 460 million groups and hung a run. docs/validation.md has the evidence.
+void refuse_gpu_assisted_without_push_descriptors(uint32_t layer_version) {
+    if (layer_version >= VK_MAKE_API_VERSION(0, 1, 3, 250) || !gpu_assisted_validation_requested()) return;
+    throw Failure("GPU-assisted validation is switched on (VK_LAYER_ENABLES or vk_layer_settings.txt), but validation "
+                  "layer " + std::to_string(VK_API_VERSION_MAJOR(layer_version)) + "." +
+                  std::to_string(VK_API_VERSION_MINOR(layer_version)) + "." + std::to_string(VK_API_VERSION_PATCH(layer_version)) +
+                  " cannot check push descriptors, which every aquaform pass uses: its reports would all be false "
+                  "(see docs/validation.md); use --validation without GPU-assisted checks (unset VK_LAYER_ENABLES), "
+                  "or a validation layer of 1.3.250 or later");
+}
+
 VkInstance create_instance(bool validation, const std::vector<std::string>& extra_extensions, bool* debug_utils) {
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
     app.pApplicationName = "aquaform";
@@ -60,13 +95,14 @@ VkInstance create_instance(bool validation, const std::vector<std::string>& extr
         vkEnumerateInstanceLayerProperties(&count, nullptr);
         std::vector<VkLayerProperties> props(count);
         vkEnumerateInstanceLayerProperties(&count, props.data());
-        bool found = std::any_of(props.begin(), props.end(), [](const VkLayerProperties& p) {
+        const auto layer = std::find_if(props.begin(), props.end(), [](const VkLayerProperties& p) {
             return std::strcmp(p.layerName, kValidationLayer) == 0;
         });
-        if (!found)
+        if (layer == props.end())
             throw VulkanError(VK_ERROR_LAYER_NOT_PRESENT,
                               "validation was requested but VK_LAYER_KHRONOS_validation is not "
                               "installed; install it with: apt-get install vulkan-validationlayers");
+        refuse_gpu_assisted_without_push_descriptors(layer->specVersion);
         layers.push_back(kValidationLayer);
         extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
         *debug_utils = true;

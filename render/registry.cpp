@@ -7,11 +7,13 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "core/number_text.h"
+
 namespace aquaform {
 
 namespace {
 
-std::string number_text(double v) {
+std::string format_number(double v) {
     std::ostringstream text;
     text << v;
     return text.str();
@@ -31,7 +33,7 @@ std::string methods_with_flag(const Registry& registry, const std::string& flag)
 Result<bool> in_range(const SettingSpec& s, double v, const std::string& name) {
     if (s.type != SettingType::number && s.type != SettingType::integer) return true;
     if (std::isfinite(v) && v >= s.min && v <= s.max) return true;
-    return Error{name + " = " + number_text(v) + " is out of range for render setting " + s.key + "; use " + s.range};
+    return Error{name + " = " + format_number(v) + " is out of range for render setting " + s.key + "; use " + s.range};
 }
 
 Result<bool> finish(const MethodEntry& entry, const MethodSettings& settings) {
@@ -63,7 +65,7 @@ std::string SettingSpec::default_text(const MethodSettings& defaults) const {
     case SettingType::choice: return choices.at(size_t(v));
     case SettingType::off_switch:
     case SettingType::on_switch: return v != 0.0 ? "on" : "off";
-    default: return number_text(v);
+    default: return format_number(v);
     }
 }
 
@@ -132,17 +134,17 @@ Result<MethodSettings> Registry::from_flags(const std::string& method, const std
             }
             v = double(it - s->choices.begin());
         } else {
-            char* end = nullptr;
-            if (s->type == SettingType::number) {
-                v = std::strtod(text.c_str(), &end);
-                if (text.empty() || *end != '\0') return Error{flag + " must be a number, got \"" + text + "\""};
-            } else {
-                const long n = std::strtol(text.c_str(), &end, 10);
-                if (text.empty() || *end != '\0' || n < 0)
-                    return Error{flag + " must be a non-negative integer, got \"" + text + "\""};
-                v = double(n);
+            // Strict: the whole text is the value, so nothing wraps or is read in part.
+            const bool number = s->type == SettingType::number;
+            std::optional<double> parsed = number_text::finite_number(text);
+            if (!number) {
+                const std::optional<uint64_t> whole = number_text::whole_number(text);
+                parsed = whole ? std::optional<double>(double(*whole)) : std::nullopt;
             }
-            if (auto ok = in_range(*s, v, flag); !ok) return Error{ok.error()};
+            if (!parsed || !in_range(*s, *parsed, flag))
+                return Error{flag + " must be " + (number ? "a number" : "a whole number") + " (render setting " + s->key +
+                             ": " + s->range + "), got \"" + text + "\""};
+            v = *parsed;
         }
         s->set(settings, v);
     }

@@ -65,14 +65,14 @@ Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::D
     const std::string where = scene.path.empty() ? scene.name : scene.path.string();
     char spacing[32];
     std::snprintf(spacing, sizeof spacing, "%g", scene.particle_spacing);
-    const std::string fix = "; increase particle_spacing (now " + std::string(spacing) +
-                            " m; doubling it divides the particle count by 8) or shrink fluid_blocks";
+    const std::string fix = "; ask for fewer particles (--particles N) or increase the scene's particle_spacing (now " +
+                            std::string(spacing) + " m; doubling it divides the particle count by 8)";
     if (plan.particles == 0)
         return Error{where + ": the fluid blocks hold no particle at particle_spacing " + spacing +
                      "; make the blocks larger than the spacing"};
-    if (plan.particles >= (1ull << 24))
-        return Error{where + ": " + std::to_string(plan.particles) +
-                     " particles is more than the 16,777,216 aquaform can index" + fix};
+    if (plan.particles > kMaxSceneParticles)
+        return Error{where + ": " + std::to_string(plan.particles) + " particles is more than the " +
+                     std::to_string(kMaxSceneParticles) + " aquaform can index" + fix};
     const uint64_t max_dispatch = uint64_t(device.max_workgroups_x) * gpu::kDefaultLocalSize;
     if (plan.particles > max_dispatch)
         return Error{where + ": " + std::to_string(plan.particles) + " particles is more than " + device.name +
@@ -97,10 +97,12 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene)
         throw resource_failure(scene.path.string() + ": static_boxes has " +
                                  std::to_string(scene.static_boxes.size()) + " boxes; the solver supports at most " +
                                  std::to_string(PBF_MAX_STATIC_BOXES) + ": merge boxes");
+    // Both are checked before anything is allocated, so a scene too large for the device is bad
+    // input (exit 2), named with the fix, not a failure midway.
     auto plan = plan_memory(scene);
-    if (!plan) throw resource_failure(plan.error());
+    if (!plan) throw Failure(plan.error());
     auto fits = check_fits(scene, plan.value(), ctx.info());
-    if (!fits) throw resource_failure(fits.error());
+    if (!fits) throw Failure(fits.error());
     count_ = static_cast<uint32_t>(plan.value().particles);
     gpu::UploadBatch uploads(ctx);  // the grid's table, the parameters and the particles: one submission
     const GridGeometry& geometry = plan.value().grid;

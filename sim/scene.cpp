@@ -16,6 +16,7 @@
 #include <string_view>
 
 #include "core/json_fields.h"
+#include "shaders/shared/pbf_layout.h"
 
 namespace aquaform {
 namespace {
@@ -239,18 +240,31 @@ Scene read_scene(const json& j) {
     if (j.contains("rest_density"))
         scene.rest_density = read_number(j["rest_density"], "rest_density",
                                          {0.0, HUGE_VAL, true, false, "a positive number in kg/m^3, e.g. 1000 for water"});
-    if (j.contains("gravity"))
+    if (j.contains("gravity")) {
         scene.gravity = read_vec3(j["gravity"], "gravity", "an array of three numbers [x, y, z] in m/s^2, e.g. [0, -9.81, 0]");
+        // Beyond this the substep rule (substeps_for_speed) reaches its maximum and the speed cap
+        // binds in every frame, so a run would show the cap, not the gravity.
+        if (!(glm::length(scene.gravity) <= kMaxGravity))
+            fail("gravity " + written(j["gravity"]) + " is " + fmt(glm::length(scene.gravity)) + " m/s^2; at most " +
+                 fmt(kMaxGravity) + " m/s^2 (about 100 g) is simulated: give it in m/s^2, e.g. [0, -9.81, 0]");
+    }
     if (j.contains("frames")) scene.frames = read_integer(j["frames"], "frames", 1, 1000000);
     if (j.contains("solver")) read_solver(j["solver"], scene.solver);
     // The control section belongs to control/ (control/control_scene.h), which validates it.
     if (j.contains("control")) scene.control_json = j["control"].dump();
 
-    if (j.contains("static_boxes")) scene.static_boxes = read_boxes(j["static_boxes"], "static_boxes", scene.domain);
+    if (j.contains("static_boxes")) {
+        // The solver keeps its obstacles in a fixed table of its parameter block.
+        check_count(j["static_boxes"], "static_boxes", PBF_MAX_STATIC_BOXES,
+                    "the solver collides particles with a fixed table of boxes; merge neighbouring boxes");
+        scene.static_boxes = read_boxes(j["static_boxes"], "static_boxes", scene.domain);
+    }
     const json& blocks = j["fluid_blocks"];
     if (!blocks.is_array())
         fail("fluid_blocks must be an array of blocks such as [" + std::string(kBlockExample) + "], got " +
              written(blocks) + " (" + kind_of(blocks) + ")");
+    // Blocks are checked against each other pairwise below.
+    check_count(blocks, "fluid_blocks", kMaxFluidBlocks, "merge neighbouring blocks into larger ones");
     for (size_t i = 0; i < blocks.size(); ++i) {
         auto [box, fill] = read_fluid_block(blocks[i], "fluid_blocks[" + std::to_string(i) + "]", scene.domain);
         scene.fluid_blocks.push_back(box);
@@ -390,6 +404,13 @@ Result<Scene> load_scene(const std::filesystem::path& path) {
         return Error{"cannot open scene file \"" + path.string() + "\"" +
                      (std::filesystem::is_directory(path, ec) ? " (it is a directory)" : "") +
                      "; check the path (scenes live in assets/scenes/)"};
+    if (const uintmax_t bytes = std::filesystem::file_size(path, ec); !ec) {
+        try {
+            check_json_size(bytes, path.string());  // refused before it is read
+        } catch (const Invalid& e) {
+            return Error{e.message};
+        }
+    }
     std::ifstream in(path, std::ios::binary);
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (!in && !in.eof())

@@ -16,9 +16,14 @@
 
 namespace aquaform {
 
-/// Largest particle count a scene file may ask for; parse_scene rejects more, so that a typo in
-/// particle_spacing fails with a message instead of exhausting memory.
-inline constexpr uint64_t kMaxSceneParticles = uint64_t{1} << 26;  // 67,108,864
+/// Largest particle count a scene file (or --particles) may ask for; parse_scene rejects more, so
+/// that a typo in particle_spacing fails with a message instead of exhausting memory. It is the
+/// solver's limit: particle indices are 24-bit in its sort keys and control tags.
+inline constexpr uint64_t kMaxSceneParticles = (uint64_t{1} << 24) - 1;  // 16,777,215
+/// Most fluid blocks a scene may list (they are checked against each other pairwise).
+inline constexpr size_t kMaxFluidBlocks = 1024;
+/// Largest gravity a scene may ask for, in m/s^2 (about 100 g).
+inline constexpr float kMaxGravity = 1000.0f;
 
 /// Solver settings (Macklin & Mueller 2013, "Position Based Fluids").
 /// Which densities the PBF constraint corrects (shaders/sim/pbf_lambda.comp explains the choice).

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/number_text.h"
 #include "control/mesh.h"
 #include "control/primitives.h"
 #include "tests/cli_helpers.h"
@@ -123,6 +124,103 @@ TEST(Cli, IntegerFlagsAreStrictAndRangeCheckedNeverWrapped) {
         EXPECT_EQ(o.exit_code, 2) << args << ": " << o.output;
         const std::string flag = command.substr(command.find("--"), command.find(' ', command.find("--")) - command.find("--"));
         EXPECT_NE(o.output.find(flag + " must be a whole number from 1 to "), std::string::npos) << args << ": " << o.output;
+    }
+}
+
+TEST(Cli, NumberTextTakesTheWholeTextOrNothing) {
+    using namespace number_text;
+    EXPECT_EQ(whole_number("42"), 42u);
+    EXPECT_EQ(whole_number("0"), 0u);
+    for (const char* bad : {"", "+5", " 5", "5 ", "1e3", "-1", "0x10", "5x", "1234567890123456789"})
+        EXPECT_FALSE(whole_number(bad)) << bad;
+    EXPECT_EQ(finite_number("-0.25"), -0.25);
+    EXPECT_EQ(finite_number("2e-3"), 2e-3);
+    EXPECT_EQ(finite_number("7"), 7.0);
+    for (const char* bad : {"", "nan", "inf", "-inf", "1e999", " 1", "1 ", "0x10", ".5", "5.", "1e", "+1", "1,5", "--1"})
+        EXPECT_FALSE(finite_number(bad)) << bad;
+    EXPECT_EQ(split_list("a,b"), (std::vector<std::string>{"a", "b"}));
+    for (const char* bad : {"", ",", "a,", ",a", "a,,b"}) EXPECT_FALSE(split_list(bad)) << bad;
+}
+
+TEST(Cli, RenderSettingsFrameNumbersAndListsAreStrict) {
+    // The registry's integer settings once wrapped through strtol; NaN, hex, a trailing comma or
+    // an empty list were read in part or gave an empty message.
+    const std::string scene = std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json";
+    struct Case {
+        const char* args;
+        const char* says;
+    };
+    for (const Case& c : {Case{"render SCENE --max-steps 4294967296", "--max-steps must be a whole number (render setting max_steps: 1..100000), got \"4294967296\""},
+                          Case{"render SCENE --max-steps 0x10", "--max-steps must be a whole number"},
+                          Case{"render SCENE --eps1 nan", "--eps1 must be a number (render setting tile_eps1"},
+                          Case{"render SCENE --step inf", "--step must be a number"},
+                          Case{"render SCENE --step \" 1\"", "--step must be a number"},
+                          Case{"render SCENE --frame 4294967296", "--frame must be a frame number from 0 to 999999"},
+                          Case{"bench render --frame -1", "--frame must be a frame number"},
+                          Case{"bench sim --sizes \"\"", "--sizes is empty; give its values separated by single commas"},
+                          Case{"bench sim --sizes 1000,", "--sizes has an empty item in \"1000,\""},
+                          Case{"bench render --frames calm,", "--frames has an empty item"},
+                          Case{"bench render --configs ,uniform", "--configs has an empty item"},
+                          Case{"bench control --scales 1,,2", "--scales has an empty item"},
+                          Case{"bench control --scales nan", "--scales takes pressure multiples"},
+                          Case{"view SCENE --scale 0x0.8", "--scale is the picture's size"}}) {
+        std::string command = c.args;
+        if (const size_t at = command.find("SCENE"); at != std::string::npos) command.replace(at, 5, scene);
+        const Outcome o = run_aquaform(command);
+        EXPECT_EQ(o.exit_code, 2) << c.args << ": " << o.output;
+        EXPECT_NE(o.output.find(c.says), std::string::npos) << c.args << ": " << o.output;
+    }
+}
+
+TEST(Cli, EveryCommandHasItsOwnHelp) {
+    struct Case {
+        const char* args;
+        std::vector<const char*> says;
+        std::vector<const char*> not_says;
+    };
+    for (const Case& c : {Case{"run --help", {"usage: aquaform run SCENE.json", "--particles N", "--step"}, {"study SPEC"}},
+                          Case{"run scene.json --frames 3 --help", {"usage: aquaform run SCENE.json"}, {}},
+                          Case{"bench render -h", {"usage: aquaform bench render", "--mask-sweep", "--step"}, {"bench sim"}},
+                          Case{"bench --help", {"bench sim", "bench render", "bench control"}, {"study SPEC"}},
+                          Case{"control place --help", {"usage: aquaform control place MESH.obj"}, {"--step"}},
+                          Case{"study --help", {"usage: aquaform study SPEC.json", "--particles N"}, {"--step"}},
+                          Case{"info --help", {"usage: aquaform info"}, {"run SCENE"}},
+                          Case{"assets --help", {"usage: aquaform assets"}, {}},
+                          Case{"view --help", {"usage: aquaform view SCENE.json"}, {}}}) {
+        const Outcome o = run_aquaform(c.args);
+        EXPECT_EQ(o.exit_code, 0) << c.args << ": " << o.output;
+        for (const char* s : c.says) EXPECT_NE(o.output.find(s), std::string::npos) << c.args << " lacks " << s << ": " << o.output;
+        for (const char* s : c.not_says) EXPECT_EQ(o.output.find(s), std::string::npos) << c.args << " has " << s;
+    }
+    // An unknown flag points at the command's help.
+    const Outcome o = run_aquaform("run scene.json --frobnicate");
+    EXPECT_EQ(o.exit_code, 2);
+    EXPECT_NE(o.output.find("(see aquaform run --help)"), std::string::npos) << o.output;
+}
+
+TEST(Cli, BadInputExitsTwoWhateverLayerFindsIt) {
+    // The README promises exit 2 for bad input. These were found below the command's own flag
+    // checks (the solver's memory plan, the output folder, the validation layer's settings) and
+    // once exited 1 or blamed the wrong thing.
+    const std::string scene = std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json";
+    const fs::path dir = temp_dir("bad_input");
+    const fs::path file = write_file(dir / "a_file", "x");
+    struct Case {
+        std::string args;
+        std::string says;
+        std::string env = "";
+    };
+    for (const Case& c : {Case{"run " + scene + " --particles 20000000", "--particles must be a particle count from 64 to 16777215"},
+                          Case{"run " + scene + " --frames 1 --out " + file.string(), "is a file"},
+                          Case{"render " + scene + " --out " + (file / "sub").string(), file.string()},
+                          Case{"bench render --quick --out " + (file / "b.json").string(), "is a file"},
+                          Case{"assets --out " + file.string(), "is a file"},
+                          Case{"run " + scene + " --frames 1 --validation --out " + (dir / "o").string(),
+                               "GPU-assisted validation is switched on",
+                               "VK_LAYER_ENABLES=VK_VALIDATION_FEATURE_ENABLE_GPU_ASSISTED_EXT"}}) {
+        const Outcome o = run_aquaform(c.args, c.env);
+        EXPECT_EQ(o.exit_code, 2) << c.args << ": " << o.output;
+        EXPECT_NE(o.output.find(c.says), std::string::npos) << c.args << ": " << o.output;
     }
 }
 

@@ -16,7 +16,7 @@ namespace aquaform::control {
 namespace {
 
 Timeline parse_timeline(const std::string& text, const std::vector<std::string>& names = {"a", "b"}) {
-    return Timeline::parse(nlohmann::json::parse(text), "control.timeline", names);
+    return Timeline::parse(nlohmann::json::parse(text), "control.timeline", names, 2);
 }
 
 std::string timeline_error(const std::string& text) {
@@ -73,6 +73,11 @@ TEST(ControlTimeline, ErrorsNameTheEventAndTheFix) {
     EXPECT_NE(timeline_error(R"([{"t": 0, "do": "morph", "mesh": "a"}])").find("duration"), std::string::npos);
     EXPECT_NE(timeline_error(R"([{"t": 0, "do": "attach", "mesh": "a", "tags": [40]}])").find("tags[0]"),
               std::string::npos);
+    // Two fluid blocks: tag 2 names no block, so the shape would pull at nothing.
+    EXPECT_NE(timeline_error(R"([{"t": 0, "do": "attach", "mesh": "a", "tags": [1, 2]}])")
+                  .find("tags[1] is 2, but the scene has 2 fluid blocks"),
+              std::string::npos);
+    EXPECT_TRUE(timeline_error(R"([{"t": 0, "do": "attach", "mesh": "a", "tags": [0, 1]}])").empty());
     EXPECT_NE(timeline_error(R"([{"t": 0, "do": "attach"}])").find("missing required key \"mesh\""), std::string::npos);
     EXPECT_NE(timeline_error(R"([{"t": 0, "do": "attach", "mesh": "a", "tagz": [1]}])").find("did you mean \"tags\""),
               std::string::npos);
@@ -129,6 +134,16 @@ TEST(ControlScene, BadSectionsGetClearErrors) {
     EXPECT_NE(no_timeline.find("timeline"), std::string::npos) << no_timeline;
     const std::string pressure = error_of(R"({"pressure": -3, "meshes": {"m": {"file": "../meshes/sphere.obj"}}, "timeline": []})");
     EXPECT_NE(pressure.find("control.pressure"), std::string::npos) << pressure;
+    // A shape placed where fluid cannot go could never fill: refused, not run to an IoU of 0.
+    const std::string outside = error_of(R"({"meshes": {"m": {"file": "../meshes/sphere.obj",
+        "placement": {"fit_into": {"min": [5, 5, 5], "max": [6, 6, 6]}}}}, "timeline": []})");
+    EXPECT_NE(outside.find("control.meshes.m is placed at"), std::string::npos) << outside;
+    EXPECT_NE(outside.find("reaches outside the domain"), std::string::npos) << outside;
+    const std::string poking = error_of(R"({"meshes": {"m": {"file": "../meshes/sphere.obj",
+        "placement": {"position": [0.5, 1.0, 0.5], "scale": 0.2}}}, "timeline": []})");
+    EXPECT_NE(poking.find("on y"), std::string::npos) << poking;
+    EXPECT_EQ(error_of(R"({"meshes": {"m": {"file": "../meshes/sphere.obj",
+        "placement": {"fit_into": {"min": [0.2, 0.2, 0.2], "max": [0.8, 0.8, 0.8]}}}}, "timeline": []})"), "");
 }
 
 TEST(ControlCli, RunWritesShapeColumns) {

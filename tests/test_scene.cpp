@@ -300,6 +300,49 @@ TEST(SceneFile, MalformedInputNeverThrows) {
     }
 }
 
+TEST(SceneFile, HostileShapesAreRefusedBeforeTheyCostStackOrTime) {
+    // 10^5 nested arrays once overflowed the stack (the message echoing the value recursed); the
+    // refusal comes from a scan of the text, with the line it stopped on.
+    std::string deep = "{\"name\": \"x\",\n\"static_boxes\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
+    Result<Scene> r = Error{};
+    EXPECT_NO_THROW(r = parse_scene(deep, kOrigin));
+    ASSERT_FALSE(r.ok());
+    EXPECT_TRUE(mentions(r.error(), {"line 2: arrays and objects nested more than 64 levels deep"}));
+    // An array past the element cap is refused before any element is read.
+    std::string wide = "{\"name\": [1";
+    for (int i = 0; i < 100000; ++i) wide += ",1";
+    r = parse_scene(wide + "]}", kOrigin);
+    ASSERT_FALSE(r.ok());
+    EXPECT_TRUE(mentions(r.error(), {"more than 100000 elements"}));
+    // The size cap holds for a text of blanks too (no nesting, no elements).
+    r = parse_scene(std::string((16u << 20) + 1, ' '), kOrigin);
+    ASSERT_FALSE(r.ok());
+    EXPECT_TRUE(mentions(r.error(), {"at most 16 MiB"}));
+    // Just inside the limits, the file parses (and fails only for what it is: not a scene).
+    r = parse_scene(std::string(64, '[') + std::string(64, ']'), kOrigin);
+    ASSERT_FALSE(r.ok());
+    EXPECT_TRUE(mentions(r.error(), {"the top level must be a JSON object"}));
+}
+
+TEST(SceneFile, ListsTheSolverCannotHoldOrChecksPairwiseAreCapped) {
+    json j = valid_scene();
+    j["static_boxes"] = json::array();
+    for (int i = 0; i < 17; ++i) j["static_boxes"].push_back({{"min", {1, 0, 0}}, {"max", {1.1, 0.1, 0.1}}});
+    EXPECT_TRUE(mentions(error_of(j), {"static_boxes has 17 elements; at most 16", "merge"}));
+    j = valid_scene();
+    j["fluid_blocks"] = json::array();
+    for (int i = 0; i < 1025; ++i) j["fluid_blocks"].push_back({{"min", {0, 0, 0}}, {"max", {0.5, 0.5, 0.5}}});
+    EXPECT_TRUE(mentions(error_of(j), {"fluid_blocks has 1025 elements; at most 1024"}));
+}
+
+TEST(SceneFile, GravityBeyondWhatTheStepRuleHandlesIsRefused) {
+    json j = valid_scene();
+    j["gravity"] = {0, -1e25, 0};
+    EXPECT_TRUE(mentions(error_of(j), {"gravity [0,-1e+25,0]", "at most 1000 m/s^2"}));
+    j["gravity"] = {0, -98.1, 0};  // 10 g is a scene
+    EXPECT_TRUE(parse_scene(j.dump(), kOrigin).ok());
+}
+
 // ---- lattice -----------------------------------------------------------------------------------
 
 TEST(SceneFile, TinySpacingGivesHugeCountWithoutAllocating) {
