@@ -210,7 +210,7 @@ int cmd_control(const std::vector<std::string>& argv) {
     }
     std::printf("%s\n", line.c_str());
     if (!points.complete)
-        return std::fprintf(stderr, "aquaform control: interrupted during the inside test; nothing written\n"),
+        return std::fprintf(stderr, "aquaform control: interrupted during the placement; nothing written\n"),
                kExitInterrupted;
     std::ofstream(out_dir / "report.txt") << report << "\n" << line << "\n";
     if (points.points.empty())

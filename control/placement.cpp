@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <cmath>
 #include <random>
 #include <unordered_map>
@@ -9,6 +10,8 @@
 
 #include "control/inside.h"
 #include "core/error.h"
+#include "core/interrupt.h"
+#include "core/progress.h"
 
 namespace aquaform::control {
 
@@ -27,11 +30,18 @@ uint64_t cell_key(const glm::ivec3& cell) {
 }
 
 // Keeps candidates in order, dropping any closer than `min_distance` to one already kept.
-std::vector<glm::vec3> thin_out(const std::vector<glm::vec3>& candidates, float min_distance) {
+// Stops (returning what it kept) when Ctrl-C arrives; `progress` counts on from `done`.
+std::vector<glm::vec3> thin_out(const std::vector<glm::vec3>& candidates, float min_distance, ProgressBar* progress,
+                                uint64_t done) {
     std::vector<glm::vec3> kept;
     std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
     const float min_distance_squared = min_distance * min_distance;
-    for (const glm::vec3& candidate : candidates) {
+    for (size_t i = 0; i < candidates.size(); ++i) {
+        if ((i & 0xffff) == 0) {
+            if (interrupted()) break;
+            if (progress) progress->update(done + i);
+        }
+        const glm::vec3& candidate = candidates[i];
         const glm::ivec3 cell = glm::ivec3(glm::floor(candidate / min_distance));
         bool too_close = false;
         for (int dz = -1; dz <= 1 && !too_close; ++dz) {
@@ -66,7 +76,13 @@ ControlPoints place_on_vertices(const Mesh& mesh, float spacing) {
 
     std::vector<glm::vec3> candidates = mesh.vertices;
     std::unordered_set<uint64_t> visited_edges;
-    for (const glm::uvec3& face : mesh.faces) {
+    std::optional<ProgressBar> progress;  // faces, then candidates; only where it takes seconds
+    const double total = double(mesh.faces.size()) + vertex_candidate_count(mesh, spacing);
+    if (total > double(1u << 22)) progress.emplace("surface points", uint64_t(total));
+    for (size_t f = 0; f < mesh.faces.size(); ++f) {
+        if ((f & 0xffff) == 0 && progress) progress->update(f);
+        if ((f & 0xffff) == 0 && interrupted()) return result.complete = false, result;
+        const glm::uvec3& face = mesh.faces[f];
         const uint32_t corners[3] = {face.x, face.y, face.z};
         for (int i = 0; i < 3; ++i) {
             const uint32_t from = std::min(corners[i], corners[(i + 1) % 3]);
@@ -78,7 +94,9 @@ ControlPoints place_on_vertices(const Mesh& mesh, float spacing) {
             for (int s = 1; s < segments; ++s) candidates.push_back(glm::mix(a, b, float(s) / float(segments)));
         }
     }
-    result.points = thin_out(candidates, 0.5f * spacing);
+    result.points = thin_out(candidates, 0.5f * spacing, progress ? &*progress : nullptr, mesh.faces.size());
+    result.complete = !interrupted();
+    if (progress) progress->finish();
     result.ms = milliseconds_since(start);
     return result;
 }
@@ -118,16 +136,17 @@ double place_inside_bytes(const Box& bounds, float spacing, size_t triangle_coun
 }
 
 double vertex_candidate_count(const Mesh& mesh, float spacing) {
-    double edge_points = 0.0;  // every edge is seen twice in a closed mesh; the estimate may be high
+    double edge_points = 0.0;
     for (const glm::uvec3& face : mesh.faces)
         for (int i = 0; i < 3; ++i)
             edge_points += std::ceil(glm::length(mesh.vertices[face[(i + 1) % 3]] - mesh.vertices[face[i]]) / spacing);
-    return double(mesh.vertices.size()) + edge_points;
+    return double(mesh.vertices.size()) + 0.5 * edge_points;  // two faces per edge: the meshes here are closed
 }
 
 double place_on_vertices_bytes(const Mesh& mesh, float spacing) {
-    // Candidates, kept points and the thinning grid's entries (a hash node per point).
-    return vertex_candidate_count(mesh, spacing) * (2.0 * sizeof(glm::vec3) + 48.0);
+    // Candidates, kept points and the thinning grid's entries (a hash node per point); the set of
+    // visited edges (a hash node each, 1.5 edges per face).
+    return vertex_candidate_count(mesh, spacing) * (2.0 * sizeof(glm::vec3) + 48.0) + 1.5 * 40.0 * double(mesh.faces.size());
 }
 
 ControlPoints place_inside(const std::vector<glm::vec3>& triangles, float spacing, bool jitter, uint32_t seed,

@@ -37,7 +37,8 @@ double place_on_vertices_bytes(const Mesh& mesh, float spacing);
 /// (a) Surface points: the mesh vertices plus points inserted along every edge longer than `spacing`
 /// (evenly, so no gap exceeds `spacing`), then thinned with a hash grid so that no two kept points are
 /// closer than spacing / 2 (first come, first kept: vertices before edge points). The result follows
-/// the surface only; density still varies between spacing / 2 and spacing.
+/// the surface only; density still varies between spacing / 2 and spacing. Progress and Ctrl-C as
+/// place_inside().
 ControlPoints place_on_vertices(const Mesh& mesh, float spacing);
 
 /// Axis-aligned bounds of a triangle soup (or any point list); min = max = 0 when it is empty.

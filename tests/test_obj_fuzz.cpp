@@ -238,17 +238,17 @@ TEST(ControlPlaceCli, MemoryIsEstimatedBeforeAllocating) {
     fs::remove_all(dir);
 }
 
-TEST(ControlPlaceCli, CtrlCStopsTheInsideTest) {
-    const fs::path dir = temp_dir("place_interrupt");
-    const fs::path torus = write_mesh(dir, "torus.obj", control::make_torus(1.0f, 0.4f, 48, 24));
+// Ctrl-C during a placement: exit 130, a message, and no points file.
+void expect_interrupt_stops(const fs::path& dir, const fs::path& mesh, const char* method, const char* spacing) {
+    fs::remove_all(dir / "out");
     const pid_t child = fork();
     if (child == 0) {
         const int null = ::open("/dev/null", O_WRONLY);
         dup2(null, STDOUT_FILENO);
         const int err = ::open((dir / "stderr.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
         dup2(err, STDERR_FILENO);
-        execl(AQUAFORM_BINARY, AQUAFORM_BINARY, "control", "place", torus.c_str(), "--spacing", "0.006", "--no-png",
-              "--out", (dir / "out").c_str(), static_cast<char*>(nullptr));
+        execl(AQUAFORM_BINARY, AQUAFORM_BINARY, "control", "place", mesh.c_str(), "--method", method, "--spacing", spacing,
+              "--no-png", "--out", (dir / "out").c_str(), static_cast<char*>(nullptr));
         _exit(127);
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(700));
@@ -257,11 +257,19 @@ TEST(ControlPlaceCli, CtrlCStopsTheInsideTest) {
     int status = 0;
     waitpid(child, &status, 0);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
-    ASSERT_TRUE(WIFEXITED(status)) << "ended by a signal";
-    EXPECT_EQ(WEXITSTATUS(status), 130) << read_file(dir / "stderr.txt");
-    EXPECT_NE(read_file(dir / "stderr.txt").find("interrupted"), std::string::npos) << read_file(dir / "stderr.txt");
-    EXPECT_FALSE(fs::exists(dir / "out" / "points.ply"));
-    EXPECT_LT(seconds, 3.0) << "stops within a chunk";
+    const std::string err = read_file(dir / "stderr.txt");
+    ASSERT_TRUE(WIFEXITED(status)) << method << ": ended by a signal";
+    EXPECT_EQ(WEXITSTATUS(status), 130) << method << ": " << err;
+    EXPECT_NE(err.find("interrupted during the placement; nothing written"), std::string::npos) << err;
+    EXPECT_FALSE(fs::exists(dir / "out" / "points.ply")) << method;
+    EXPECT_LT(seconds, 3.0) << method << ": stops within a chunk";
+}
+
+TEST(ControlPlaceCli, CtrlCStopsThePlacement) {
+    const fs::path dir = temp_dir("place_interrupt");
+    expect_interrupt_stops(dir, write_mesh(dir, "torus.obj", control::make_torus(1.0f, 0.4f, 48, 24)), "inside", "0.006");
+    expect_interrupt_stops(dir, write_mesh(dir, "fine.obj", control::make_torus(1.0f, 0.4f, 400, 100)), "vertices",
+                           "0.00203");
     fs::remove_all(dir);
 }
 
