@@ -234,30 +234,47 @@ namespace {
 /// the readers recurse) and arrays or objects over kMaxJsonElements (some checks are pairwise).
 /// A scan of the raw text, before parsing, so the limit holds whatever the file holds.
 void check_shape(const std::string& text, const std::string& origin) {
-    auto refuse = [&](size_t line, const std::string& what) {
-        throw Invalid{origin + ": line " + std::to_string(line) + ": " + what, true};
-    };
     check_json_size(text.size(), origin);
-    std::vector<size_t> elements;  // commas seen in each open array or object
+    struct Level {
+        bool object;
+        size_t elements = 0;  // commas seen
+        std::string key;      // the object's current key
+    };
+    std::vector<Level> open;
+    // "static_boxes[0][0]...": where the scan is, so the refusal names the key as well as the line.
+    auto path = [&] {
+        std::string p;
+        for (size_t i = 0; i < open.size() && i < 8; ++i) {
+            if (open[i].object && !open[i].key.empty()) p += (p.empty() ? "" : ".") + open[i].key;
+            if (!open[i].object && i + 1 < open.size()) p += "[" + std::to_string(open[i].elements) + "]";
+        }
+        return (p.empty() ? std::string("the top level") : p) + (open.size() > 8 ? "..." : "");
+    };
+    auto refuse = [&](size_t line, const std::string& what) {
+        throw Invalid{origin + ": line " + std::to_string(line) + ": " + path() + ": " + what, true};
+    };
     size_t line = 1;
     bool in_string = false, escaped = false;
+    std::string last_string;
     for (char c : text) {
         if (c == '\n') ++line;
         if (in_string) {
             if (escaped) escaped = false;
             else if (c == '\\') escaped = true;
             else if (c == '"') in_string = false;
+            else if (last_string.size() < 64) last_string += c;
             continue;
         }
-        if (c == '"') in_string = true;
+        if (c == '"') in_string = true, last_string.clear();
+        if (c == ':' && !open.empty() && open.back().object) open.back().key = last_string;
         if (c == '[' || c == '{') {
-            if (elements.size() == kMaxJsonDepth)
+            if (open.size() == kMaxJsonDepth)
                 refuse(line, "arrays and objects nested more than " + std::to_string(kMaxJsonDepth) +
                                  " levels deep; aquaform's files nest a few levels: remove the extra brackets");
-            elements.push_back(0);
+            open.push_back({c == '{'});
         }
-        if ((c == ']' || c == '}') && !elements.empty()) elements.pop_back();
-        if (c == ',' && !elements.empty() && ++elements.back() >= kMaxJsonElements)
+        if ((c == ']' || c == '}') && !open.empty()) open.pop_back();
+        if (c == ',' && !open.empty() && ++open.back().elements >= kMaxJsonElements)
             refuse(line, "an array or object with more than " + std::to_string(kMaxJsonElements) +
                              " elements; no key of aquaform's files takes that many: check the file, or split "
                              "the data into files of their own");

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -49,6 +50,26 @@ inline std::string read_file(const std::filesystem::path& path) {
     std::stringstream ss;
     ss << in.rdbuf();
     return ss.str();
+}
+
+/// A run of the binary with stdout and stderr kept apart.
+struct SplitOutcome {
+    int exit_code = -1;  ///< 137 when it was killed after its time limit (a hang)
+    std::string out, err;
+};
+
+/// Runs `AQUAFORM_BINARY args` (arguments already quoted), killed after `timeout_s`; the streams
+/// go through files in `dir`.
+inline SplitOutcome run_aquaform_split(const std::string& args, const std::filesystem::path& dir, int timeout_s) {
+    const std::filesystem::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+    const std::string command = "timeout -s KILL " + std::to_string(timeout_s) + " " + AQUAFORM_BINARY + " " + args +
+                                " >'" + out.string() + "' 2>'" + err.string() + "'";
+    const int status = std::system(command.c_str());
+    SplitOutcome o;
+    o.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    o.out = read_file(out);
+    o.err = read_file(err);
+    return o;
 }
 
 }  // namespace aquaform::test_cli
