@@ -295,6 +295,26 @@ private:
     size_t line_ = 0, first_line_ = 0, face_number_ = 0, texcoords_ = 0, normals_ = 0;
 };
 
+// Per vertex, the first vertex at exactly its position (-0 and +0 the same): the topology checks and
+// the orientation walk see through seams where an exporter split the surface (per-face normals or
+// texture coordinates), which are not holes.
+std::vector<uint32_t> welded_ids(const Mesh& mesh) {
+    struct PositionHash {
+        size_t operator()(const glm::vec3& p) const {
+            const auto bits = [](float value) { return std::bit_cast<uint32_t>(value + 0.0f); };
+            return (size_t{bits(p.x)} * 73856093u) ^ (size_t{bits(p.y)} * 19349663u) ^ (size_t{bits(p.z)} * 83492791u);
+        }
+    };
+    std::unordered_map<glm::vec3, uint32_t, PositionHash> first_at_position;
+    first_at_position.reserve(mesh.vertices.size());
+    std::vector<uint32_t> ids(mesh.vertices.size());
+    for (uint32_t index = 0; index < mesh.vertices.size(); ++index)
+        ids[index] = first_at_position.emplace(mesh.vertices[index], index).first->second;
+    return ids;
+}
+
+glm::uvec3 weld(const glm::uvec3& face, const std::vector<uint32_t>& ids) { return {ids[face.x], ids[face.y], ids[face.z]}; }
+
 // Groups boundary edges into holes (union-find on their vertices) and sums |vector area| of each
 // hole's boundary loop: the area a flat patch over it needs. Per hole, so that holes at the two ends
 // of a tube do not cancel.
@@ -387,7 +407,9 @@ MeshReport check_mesh(const Mesh& mesh) {
     };
     std::unordered_map<uint64_t, EdgeUse> edges;
     edges.reserve(mesh.faces.size() * 2);
-    for (const glm::uvec3& face : mesh.faces) {
+    const std::vector<uint32_t> ids = welded_ids(mesh);
+    for (const glm::uvec3& corner_indices : mesh.faces) {
+        const glm::uvec3 face = weld(corner_indices, ids);
         if (has_repeated_index(face)) continue;
         const uint32_t corners[3] = {face.x, face.y, face.z};
         for (int i = 0; i < 3; ++i) {
@@ -428,16 +450,8 @@ MeshReport check_mesh(const Mesh& mesh) {
         ++report.non_manifold_vertex_count;
     }
 
-    // Exact position match; -0 and +0 are the same position.
-    struct PositionHash {
-        size_t operator()(const glm::vec3& p) const {
-            const auto bits = [](float value) { return std::bit_cast<uint32_t>(value + 0.0f); };
-            return (size_t{bits(p.x)} * 73856093u) ^ (size_t{bits(p.y)} * 19349663u) ^ (size_t{bits(p.z)} * 83492791u);
-        }
-    };
-    std::unordered_map<glm::vec3, uint32_t, PositionHash> first_at_position;
     for (uint32_t index = 0; index < mesh.vertices.size(); ++index) {
-        if (first_at_position.emplace(mesh.vertices[index], index).second) continue;
+        if (ids[index] == index) continue;
         if (report.duplicated_vertices.size() < MeshReport::kMaxListed) report.duplicated_vertices.push_back(index);
         ++report.duplicated_vertex_count;
     }
@@ -473,8 +487,9 @@ size_t orient_consistently(Mesh& mesh) {
     };
     std::vector<Use> uses;
     uses.reserve(mesh.faces.size() * 3);
+    const std::vector<uint32_t> ids = welded_ids(mesh);
     for (uint32_t f = 0; f < mesh.faces.size(); ++f) {
-        const glm::uvec3& face = mesh.faces[f];
+        const glm::uvec3 face = weld(mesh.faces[f], ids);
         if (has_repeated_index(face)) continue;
         for (int i = 0; i < 3; ++i) uses.push_back({edge_key(face[i], face[(i + 1) % 3]), f, face[i] < face[(i + 1) % 3]});
     }

@@ -45,6 +45,7 @@ struct MeshReport {
 
     size_t vertex_count = 0;
     size_t face_count = 0;
+    // Edges are counted between positions: vertices at the same position (a seam) count as one.
     size_t boundary_edge_count = 0;        ///< edges with one face: holes, so not closed
     size_t non_manifold_edge_count = 0;    ///< edges shared by three or more faces
     size_t non_manifold_vertex_count = 0;  ///< vertices whose faces do not form one fan (OpenMesh)

@@ -149,7 +149,7 @@ TEST_F(MeshTest, MeshDuplicatedVerticesAreReported) {
     EXPECT_EQ(loaded.report.duplicated_vertex_count, 1u);
     ASSERT_EQ(loaded.report.duplicated_vertices.size(), 1u);
     EXPECT_EQ(loaded.report.duplicated_vertices[0], 8u);
-    EXPECT_GT(loaded.report.boundary_edge_count, 0u) << "the copy splits the surface";
+    EXPECT_EQ(loaded.report.boundary_edge_count, 0u) << "a seam, not a hole: edges join positions";
     EXPECT_NE(describe(loaded.report).find("duplicated vertices"), std::string::npos);
     // The inside test does not care about the split.
     EXPECT_TRUE(is_inside(loaded.mesh.triangle_soup(), glm::vec3(0.5f)));
@@ -432,6 +432,24 @@ TEST_F(MeshTest, MeshInsideTestAgreesWithTheWindingNumber) {
         EXPECT_LE(disagree, 3u) << "points within float rounding of the surface only";
         EXPECT_EQ(test.fallbacks() > 0, &soup == &meshes[2]) << "only rays through the hole fall back";
     }
+}
+
+TEST_F(MeshTest, MeshSplitAtEveryEdgeIsNeitherOpenNorLeftFlipped) {
+    // Per-face vertices, as an exporter with per-face normals writes them, and one face flipped: the
+    // seams are not holes, and the flipped face is turned back across them.
+    const Mesh box = make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)});
+    Mesh split;
+    for (const glm::uvec3& face : box.faces) {
+        const uint32_t first = uint32_t(split.vertices.size());
+        for (int i = 0; i < 3; ++i) split.vertices.push_back(box.vertices[face[i]]);
+        split.faces.emplace_back(first, first + 1, first + 2);
+    }
+    std::swap(split.faces[5].y, split.faces[5].z);
+    const LoadedMesh loaded = round_trip(split);
+    EXPECT_EQ(loaded.report.boundary_edge_count, 0u) << describe(loaded.report);
+    EXPECT_EQ(loaded.report.hole_count, 0u);
+    EXPECT_EQ(loaded.report.reoriented_face_count, 1u);
+    EXPECT_NEAR(loaded.report.signed_volume, 1.0, 1e-6);
 }
 
 }  // namespace
