@@ -125,10 +125,10 @@ public:
         std::string joined;  // a statement continued over several lines with a trailing backslash
         while (position < text_.size()) {
             ++line_;
-            const size_t end = std::min(text_.find('\n', position), text_.size());
+            // Lines end with LF, CR LF or (old Mac files) a lone CR.
+            const size_t end = std::min(text_.find_first_of("\r\n", position), text_.size());
             std::string_view line = text_.substr(position, end - position);
-            position = end + 1;
-            if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+            position = end + (text_.compare(end, 2, "\r\n") == 0 ? 2 : 1);
             if (!line.empty() && line.back() == '\\') {
                 if (joined.empty()) first_line_ = line_;
                 joined.append(line.substr(0, line.size() - 1)).push_back(' ');
@@ -143,6 +143,8 @@ public:
                 if (interrupted()) return mesh_error(path_, "interrupted while reading", "run again to load it");
             }
         }
+        if (!joined.empty())  // the last line ended with a backslash
+            if (auto error = statement(joined, first_line_)) return *error;
         if (progress) progress->finish();
         return std::move(mesh_);
     }

@@ -286,6 +286,8 @@ TEST_F(MeshTest, MeshObjRefusesEachBadLineNamingLineAndElement) {
         {tri + "curv 0 1 1 2\n", {"line 4: free-form geometry ('curv')"}},
         {"\xEF\xBB\xBF" "v 0 0 0\r\nv 1 0 0\r\nf 1 2 3\r\n", {"line 3: face 1 corner 3 refers to vertex 3 but 2 vertices"}},
         {"# comment\n" + tri + "f 1 \\\n 2 9\n", {"line 5: face 1 corner 3"}},
+        {tri + "f 1 2 \\", {"line 4: face 1 has 2 corners"}},
+        {"v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 4\r", {"line 4: face 1 corner 3 refers to vertex 4 but 3 vertices"}},
         {"", {"empty"}},
         {" \n\t\n", {"empty"}},
         {std::string("v 0 0 0\n\0\0\0", 11), {"byte 9 is 0", "binary"}},
