@@ -52,6 +52,18 @@ RunFiles::RunFiles(const std::filesystem::path& dir, const Scene& scene) : dir_(
     }
 }
 
+void RunFiles::warn_if_never_filled() const {
+    // A shape that pulled for a second and never overlapped the fluid is almost always placed
+    // where the fluid cannot reach, too weak, or attached to the wrong fluid: say so, not only in
+    // stats.csv. (Within the first second a shape may still be filling.)
+    if (!shaped_since_ || shaped_until_ - *shaped_since_ < kFillGraceSeconds || best_iou_ >= kNeverFilledIou) return;
+    std::fprintf(stderr,
+                 "aquaform run: warning: the control shape never filled: its IoU with the fluid peaked at %.2f (frame "
+                 "%u; shape_iou in stats.csv) over %.1f s of pull. Place the shape where the fluid can reach it (or "
+                 "add fluid near it), check the timeline's tags, or raise control.pressure\n",
+                 best_iou_, best_iou_frame_, shaped_until_ - *shaped_since_);
+}
+
 void RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s, const ShapeColumns* shape) {
     if (frame == 0 || pass_columns_.empty()) {
         for (const auto& [name, ms] : s.gpu_ms) pass_columns_.push_back(name);
@@ -79,6 +91,11 @@ void RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s, const Shap
         std::snprintf(row, sizeof row, ",%.4f,%.4f,%.4f,\"%s\"", shape->iou, shape->fill_fraction, shape->outside_fraction,
                       shape->active.c_str());
         stats_ << row;
+        if (shape->active != "none") {
+            if (!shaped_since_) shaped_since_ = s.time_s;
+            shaped_until_ = s.time_s;
+            if (shape->iou >= best_iou_) best_iou_ = shape->iou, best_iou_frame_ = frame;
+        }
     }
     for (const auto& name : pass_columns_) {
         auto it = s.gpu_ms.find(name);
@@ -96,6 +113,7 @@ void RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s, const Shap
 }
 
 void RunFiles::finish(const Scene& scene) {
+    warn_if_never_filled();
     if (!has_front_ || front_samples_.empty()) return;
     const double a = *scene.column_width;
     const double g = std::max(1e-6f, std::abs(scene.gravity.y));

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <utility>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,9 +38,15 @@ public:
     void write_frame_stats(uint32_t frame, const FrameStats& stats, const ShapeColumns* shape = nullptr);
     /// Dam-break scenes: writes front.svg (the run against Martin & Moyce 1952) and, for a
     /// single column of height 2a (their n^2 = 2), prints how far the front is from theirs.
+    /// Also warns when a control shape pulled for kFillGraceSeconds and never reached an IoU of
+    /// kNeverFilledIou with the fluid.
     void finish(const Scene& scene);
 
+    static constexpr double kFillGraceSeconds = 1.0;
+    static constexpr double kNeverFilledIou = 0.1;
+
 private:
+    void warn_if_never_filled() const;
     std::filesystem::path dir_;
     std::ofstream stats_;
     std::ofstream front_;
@@ -47,6 +54,10 @@ private:
     bool has_front_ = false;
     std::vector<std::pair<double, double>> front_samples_;  // (time, front)
     std::string error_;
+    std::optional<double> shaped_since_;  // first and last time a shape was active
+    double shaped_until_ = 0.0;
+    double best_iou_ = 0.0;
+    uint32_t best_iou_frame_ = 0;
 };
 
 }  // namespace aquaform::cli

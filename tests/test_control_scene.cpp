@@ -170,6 +170,28 @@ TEST(ControlCli, RunWritesShapeColumns) {
     EXPECT_GT(std::stod(column(last, iou_column)), 0.5) << last;
 }
 
+TEST(ControlCli, RunSaysWhenTheShapeNeverFills) {
+    // A ball on the floor 2.5 m from the fluid, beyond the control force's reach: it pulls for
+    // 1.2 s and its IoU stays 0. The run says so on stderr; a shape that fills says nothing.
+    using namespace test_cli;
+    const auto dir = temp_dir("never_fills");
+    const std::string meshes = std::string(AQUAFORM_ASSETS_DIR) + "/meshes/";
+    const auto scene = write_file(dir / "far.json", R"({"name": "far", "domain": {"min": [0, 0, 0], "max": [3, 0.6, 0.3]},
+        "particle_spacing": 0.05, "frames": 24, "solver": {"frame_dt": 0.05, "substeps": 2},
+        "fluid_blocks": [{"min": [0, 0, 0], "max": [0.25, 0.25, 0.3]}],
+        "control": {"meshes": {"ball": {"file": ")" + meshes + R"(sphere.obj",
+                    "placement": {"fit_into": {"min": [2.6, 0, 0.02], "max": [2.9, 0.3, 0.28]}}}},
+                    "timeline": [{"t": 0, "do": "attach", "mesh": "ball"}]}})");
+    const Outcome far = run_aquaform("run " + scene.string() + " --no-png --out " + (dir / "out").string());
+    ASSERT_EQ(far.exit_code, 0) << far.output;
+    EXPECT_NE(far.output.find("warning: the control shape never filled: its IoU with the fluid peaked at 0.00"),
+              std::string::npos) << far.output;
+    const Outcome filled = run_aquaform("run " + std::string(AQUAFORM_ASSETS_DIR) +
+                                        "/scenes/morph.json --frames 70 --particles 800 --no-png --out " + (dir / "morph").string());
+    ASSERT_EQ(filled.exit_code, 0) << filled.output;
+    EXPECT_EQ(filled.output.find("never filled"), std::string::npos) << filled.output;
+}
+
 TEST(ControlCli, RenderSimulatesTheScenesControlBeforeItDraws) {
     // render (like study and bench render) runs the scene through a session: a scene's control
     // section shapes the frame it draws. The same scene without its control draws another frame.
