@@ -18,6 +18,8 @@
 #include "control/placement.h"
 #include "control/raster_placement.h"
 #include "core/interrupt.h"
+#include "core/number_text.h"
+#include "core/output_dir.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "render/impostor_view.h"
@@ -37,11 +39,8 @@ constexpr double kMemoryShare = 0.8;
 // few points and at most 2000 along the diagonal.
 std::optional<float> parse_spacing(const std::string& text, float diagonal, std::string* error) {
     const float low = diagonal * kMinSpacingFraction, high = diagonal * kMaxSpacingFraction;
-    char* end = nullptr;
-    // Decimal only: strtod alone also reads leading spaces, hex, "inf" and "nan".
-    const bool decimal = !text.empty() && text.find_first_not_of("0123456789.eE+-") == std::string::npos;
-    const double value = decimal ? std::strtod(text.c_str(), &end) : NAN;
-    if (std::isfinite(value) && end && *end == '\0' && value >= low && value <= high) return float(value);
+    const std::optional<double> value = number_text::finite_number(text);
+    if (value && *value >= low && *value <= high) return float(*value);
     char message[320];
     std::snprintf(message, sizeof message,
                   "--spacing must be a length from %g to %g (1/2000 to 1/2 of the mesh's diagonal, %g), got \"%s\"", low,
@@ -164,12 +163,9 @@ int cmd_control(const std::vector<std::string>& argv) {
         return std::fprintf(stderr, "aquaform control: '%s': %s\n", args->positional[1].c_str(), refusal->c_str()),
                kExitUsage;
     const std::filesystem::path out_dir = args->value("--out", "out/control_" + std::filesystem::path(args->positional[1]).stem().string());
+    if (auto prepared = prepare_output_dir(out_dir); !prepared)
+        return std::fprintf(stderr, "aquaform control: %s\n", prepared.error().c_str()), kExitUsage;
     std::error_code ec;
-    std::filesystem::create_directories(out_dir, ec);
-    if (ec)
-        return std::fprintf(stderr, "aquaform control: cannot create %s (%s); choose another with --out\n",
-                            out_dir.string().c_str(), ec.message().c_str()),
-               kExitFailure;
 
     // points.ply takes 36 bytes a point (position, velocity, density, id, tag).
     const double ply_bytes = 36.0 * (method == "vertices" ? control::vertex_candidate_count(mesh, spacing)
