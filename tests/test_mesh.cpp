@@ -4,6 +4,7 @@
 
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -452,6 +453,21 @@ TEST_F(MeshTest, MeshSplitAtEveryEdgeIsNeitherOpenNorLeftFlipped) {
     EXPECT_EQ(loaded.report.hole_count, 0u);
     EXPECT_EQ(loaded.report.reoriented_face_count, 1u);
     EXPECT_NEAR(loaded.report.signed_volume, 1.0, 1e-6);
+}
+
+TEST_F(MeshTest, MeshFileTooLargeForMemoryIsRefusedBeforeReading) {
+    const std::optional<uint64_t> available = available_memory_bytes();
+    ASSERT_TRUE(available.has_value());
+    // A sparse file: no disk used, but reading it would need 6 times its size in memory.
+    const std::filesystem::path path = directory_ / "huge.obj";
+    std::ofstream(path) << "v 0 0 0\n";
+    std::filesystem::resize_file(path, *available / 6 + (uint64_t(1) << 30));
+    const auto start = std::chrono::steady_clock::now();
+    const std::string error = load_error(path);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0) << "nothing read";
+    EXPECT_NE(error.find("huge.obj"), std::string::npos) << error;
+    EXPECT_NE(error.find("MB of memory but"), std::string::npos) << error;
+    EXPECT_NE(error.find("simplify (decimate) the mesh"), std::string::npos) << error;
 }
 
 }  // namespace
