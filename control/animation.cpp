@@ -358,13 +358,11 @@ Mesh MeshAnimation::mesh_at(double t) const {
 MeshAnimation parse_animation(const json& v, const std::string& path, const fs::path& base_dir) {
     if (!v.is_string()) return parse_animation_object(v, path, base_dir);
     const fs::path file = base_dir / v.get<std::string>();
-    std::error_code ec;
-    std::ifstream in(file, std::ios::binary);
-    if (v.get<std::string>().empty() || !fs::is_regular_file(file, ec) || !in)
-        fail(path + " is " + written(v) + " but \"" + file.string() + "\" is not a readable file; name a JSON file "
-             "holding the animation (relative to \"" + base_dir.string() + "\") or write the animation object inline");
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string fix = "name a JSON file holding the animation (relative to \"" + base_dir.string() +
+                            "\") or write the animation object inline";
+    if (v.get<std::string>().empty()) fail(path + " is \"\" (empty); " + fix);
     try {
+        const std::string text = read_json_file(file, "animation file", "it is not a readable file; " + fix);
         return parse_animation_object(parse_strict(text, file.string()), "", file.parent_path());
     } catch (const Invalid& e) {
         fail(path + " (" + v.get<std::string>() + "): " + (e.has_origin ? "" : file.string() + ": ") + e.message);

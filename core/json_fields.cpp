@@ -7,6 +7,8 @@
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <optional>
 #include <set>
@@ -225,6 +227,20 @@ void check_json_size(uintmax_t bytes, const std::string& origin) {
                       "at most " + std::to_string(kMaxJsonBytes >> 20) + " MiB (a scene, spec or script is a few KiB): "
                       "check that this is the file you meant, and describe large data (meshes, animations) in files of "
                       "their own", true};
+}
+
+std::string read_json_file(const std::filesystem::path& path, const std::string& what, const std::string& hint) {
+    std::error_code ec;
+    const std::string name = what + " \"" + path.string() + "\"";
+    if (!std::filesystem::is_regular_file(path, ec))
+        throw Invalid{"cannot open " + name + (std::filesystem::is_directory(path, ec) ? " (it is a folder)" :
+                                               std::filesystem::exists(path, ec) ? " (it is not a regular file)" : "") +
+                          "; " + hint, true};
+    check_json_size(std::filesystem::file_size(path, ec), path.string());
+    std::ifstream in(path, std::ios::binary);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in && !in.eof()) throw Invalid{"cannot read " + name + "; check that it is readable", true};
+    return text;
 }
 
 namespace {

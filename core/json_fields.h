@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <span>
 #include <string>
@@ -74,6 +75,10 @@ constexpr size_t kMaxJsonDepth = 64;
 constexpr size_t kMaxJsonElements = 100000;
 /// Throws Invalid (with `origin`) for a file over kMaxJsonBytes; loaders call it before reading.
 void check_json_size(uintmax_t bytes, const std::string& origin);
+/// The text of the JSON file at `path`. Throws Invalid (starting with the path) when it is not a
+/// regular file (a folder, a device such as /dev/zero), is over kMaxJsonBytes or cannot be read:
+/// "cannot open <what> "<path>"...; <hint>".
+std::string read_json_file(const std::filesystem::path& path, const std::string& what, const std::string& hint);
 
 /// Parses JSON text, refusing duplicate keys and files over the limits above. Syntax errors
 /// throw Invalid with `origin`, the line and column, and what to look for.

@@ -230,11 +230,11 @@ std::vector<DeviceInfo> Context::list_devices() {
 int Context::choose_device(const std::vector<DeviceInfo>& devices, const std::string& request,
                            std::string* error) {
     auto available = [&] {
-        std::string s;
+        std::string s;  // one line, like every refusal
         for (const auto& d : devices)
-            s += "\n  " + std::to_string(d.index) + ": " + d.name + " (" +
+            s += std::string(s.empty() ? " " : "; ") + std::to_string(d.index) + ": " + d.name + " (" +
                  device_type_name(d.type) + (d.usable ? "" : ", unusable: " + d.unusable_reason) + ")";
-        return s.empty() ? std::string("\n  (none)") : s;
+        return s.empty() ? std::string(" (none)") : s;
     };
     if (devices.empty()) {
         *error = "no Vulkan device found; on a machine without a GPU install Mesa's software "
@@ -318,6 +318,8 @@ void Context::create(const ContextOptions& options) {
     for (uint32_t i = 0; i < devices.size(); ++i) infos.push_back(describe(devices[i], i));
     std::string error;
     int chosen = choose_device(infos, options.device, &error);
+    // A --device that names no device is bad input (exit 2); no usable device at all is the machine's.
+    if (chosen < 0 && !options.device.empty() && error.rfind("--device", 0) == 0) throw Failure(error);
     if (chosen < 0) throw VulkanError(VK_ERROR_INITIALIZATION_FAILED, error);
     physical_ = devices[chosen];
     info_ = infos[chosen];

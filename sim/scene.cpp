@@ -399,23 +399,12 @@ Result<Scene> parse_scene(const std::string& json_text, const std::string& origi
 }
 
 Result<Scene> load_scene(const std::filesystem::path& path) {
-    std::error_code ec;
-    if (!std::filesystem::is_regular_file(path, ec))
-        return Error{"cannot open scene file \"" + path.string() + "\"" +
-                     (std::filesystem::is_directory(path, ec) ? " (it is a directory)" : "") +
-                     "; check the path (scenes live in assets/scenes/)"};
-    if (const uintmax_t bytes = std::filesystem::file_size(path, ec); !ec) {
-        try {
-            check_json_size(bytes, path.string());  // refused before it is read
-        } catch (const Invalid& e) {
-            return Error{e.message};
-        }
+    std::string text;
+    try {
+        text = read_json_file(path, "scene file", "check the path (scenes live in assets/scenes/)");
+    } catch (const Invalid& e) {
+        return Error{e.message};
     }
-    std::ifstream in(path, std::ios::binary);
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (!in && !in.eof())
-        return Error{"cannot read scene file \"" + path.string() + "\"; check that it is readable "
-                     "(scenes live in assets/scenes/)"};
     Result<Scene> scene = parse_scene(text, path.string());
     if (scene) scene.value().path = path;
     return scene;

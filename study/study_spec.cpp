@@ -387,12 +387,12 @@ Result<bool> check_study_scenes(const StudySpec& spec) {
 }
 
 Result<StudySpec> load_study_spec(const fs::path& path) {
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec))
-        return Error{"cannot open study spec \"" + path.string() + "\"; check the path (specs live in assets/studies/)"};
-    std::ifstream in(path, std::ios::binary);
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    return parse_study_spec(text, path.string(), path.parent_path());
+    try {
+        const std::string text = read_json_file(path, "study spec", "check the path (specs live in assets/studies/)");
+        return parse_study_spec(text, path.string(), path.parent_path());
+    } catch (const Invalid& e) {
+        return Error{e.message};
+    }
 }
 
 }  // namespace aquaform::study

@@ -336,7 +336,8 @@ TEST(SectionBuilderTest, BadInputNamesTheProblem) {
 TEST(SessionPlanTest, ABadControlSectionIsRefusedBeforeAnyDevice) {
     Scene scene = cube_in_air();
     scene.path = fs::path(AQUAFORM_ASSETS_DIR) / "scenes/bad.json";
-    scene.control_json = R"({"meshes": {"m": {"file": "../meshes/sphere.obj"}}, "timeline": [{"t": 0, "do": "attach", "mesh": "x"}]})";
+    scene.control_json = R"({"meshes": {"m": {"file": "../meshes/sphere.obj", "placement": {"position": [0.2, 0.2, 0.2], "scale": 0.3}}},
+                             "timeline": [{"t": 0, "do": "attach", "mesh": "x"}]})";
     auto plan = plan_session(scene);
     ASSERT_FALSE(plan.ok());
     EXPECT_NE(plan.error().find("bad.json"), std::string::npos) << plan.error();

@@ -75,9 +75,12 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
 }
 
 Result<std::vector<ViewAction>> load_view_script(const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return Error{"cannot open the script " + path.string() + "; check the path"};
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string text;
+    try {
+        text = read_json_file(path, "the script", "check the path");
+    } catch (const Invalid& e) {
+        return Error{e.message};
+    }
     auto actions = parse_view_script(text, path.string());
     if (!actions) return actions;
     // Meshes to attach are named relative to the script (screenshots go to the output directory).
