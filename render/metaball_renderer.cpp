@@ -123,8 +123,10 @@ MetaballRenderer::MetaballRenderer(gpu::Context& ctx, const ParticleDomain& doma
     list_bytes_ = std::max<uint64_t>(list_bytes_ / 8 * 8, 8);
     // The counters and node indices are 32-bit.
     if (list_bytes_ / 4 >= METABALL_NIL)
-        throw Failure("metaball renderer: " + mib(list_bytes_) +
-                                    " of list memory is more than 32-bit entry indices address; use less than 16 GiB");
+        throw Failure("metaball renderer: " + mib(list_bytes_) + " of list memory (" +
+                      std::to_string(list_bytes_ / pixels) + " B per pixel at " + std::to_string(width) + "x" +
+                      std::to_string(height) + ") is more than its 32-bit entry indices address (16 GiB); lower "
+                      "--list-bytes (list_bytes_per_pixel) or the resolution");
     params_buf_ = &buffers_.add("metaball.params", sizeof(shader::MetaballParams));
     counters_ = &buffers_.add("metaball.counters", sizeof(MetaballCounters));
     heads_ = &buffers_.add("metaball.heads", pixels * 4);
