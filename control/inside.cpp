@@ -31,16 +31,17 @@ bool owns_edge(const glm::dvec2& a, const glm::dvec2& b) {
     return d.y < 0.0 || (d.y == 0.0 && d.x > 0.0);
 }
 
-// Rays run along +z, as the raster placement's columns do (control/raster_placement.h).
-glm::dvec2 xy(const glm::vec3& p) { return {p.x, p.y}; }
+// Coordinates across and along a ray axis, cyclic (x -> (y, z), y -> (z, x), z -> (x, y)) so that the
+// signed area across is the normal's component along the axis.
+glm::dvec2 across(const glm::vec3& p, int axis) { return {p[(axis + 1) % 3], p[(axis + 2) % 3]}; }
 
-// Cells of the xy grid a triangle's projected bounds cover.
-glm::ivec4 cell_range(const glm::vec3* t, glm::dvec2 origin, glm::dvec2 size, glm::ivec2 cells) {
-    const glm::dvec2 low = glm::min(xy(t[0]), glm::min(xy(t[1]), xy(t[2])));
-    const glm::dvec2 high = glm::max(xy(t[0]), glm::max(xy(t[1]), xy(t[2])));
-    const glm::ivec2 a = glm::clamp(glm::ivec2(glm::floor((low - origin) / size)), glm::ivec2(0), cells - 1);
-    const glm::ivec2 b = glm::clamp(glm::ivec2(glm::floor((high - origin) / size)), glm::ivec2(0), cells - 1);
-    return {a, b};
+// Cells of a grid that a triangle's projected bounds cover.
+glm::ivec4 cell_range(const glm::vec3* t, int axis, glm::dvec2 origin, glm::dvec2 size, glm::ivec2 cells) {
+    const glm::dvec2 a = across(t[0], axis), b = across(t[1], axis), c = across(t[2], axis);
+    const glm::dvec2 low = glm::min(a, glm::min(b, c)), high = glm::max(a, glm::max(b, c));
+    const glm::ivec2 first = glm::clamp(glm::ivec2(glm::floor((low - origin) / size)), glm::ivec2(0), cells - 1);
+    const glm::ivec2 last = glm::clamp(glm::ivec2(glm::floor((high - origin) / size)), glm::ivec2(0), cells - 1);
+    return {first, last};
 }
 
 // A bounded grid: about one cell per triangle, fewer when large triangles would cover too many cells.
@@ -74,59 +75,65 @@ bool is_inside(const std::vector<glm::vec3>& triangles, const glm::vec3& point) 
 
 uint64_t InsideTest::estimated_bytes(uint64_t triangle_count) {
     const uint64_t cells = std::min(std::max<uint64_t>(triangle_count, 1), kMaxCells);
-    return cells * sizeof(uint64_t) + triangle_count * kMaxEntriesPerTriangle * sizeof(uint32_t);
+    return 3 * (cells * sizeof(uint64_t) + triangle_count * kMaxEntriesPerTriangle * sizeof(uint32_t));
 }
 
-InsideTest::InsideTest(const std::vector<glm::vec3>& triangles) : triangles_(triangles) {
-    const size_t count = triangles.size() / 3;
+InsideTest::InsideTest(const std::vector<glm::vec3>& triangles) : triangles_(triangles) { build(grids_[2], 2); }
+
+void InsideTest::build(RayGrid& grid, int axis) const {
+    grid.axis = axis;
+    const size_t count = triangles_.size() / 3;
     if (count == 0) return;
-    glm::dvec2 low = xy(triangles[0]), high = low;
-    for (const glm::vec3& p : triangles) {
-        low = glm::min(low, xy(p));
-        high = glm::max(high, xy(p));
+    glm::dvec2 low = across(triangles_[0], axis), high = low;
+    for (const glm::vec3& p : triangles_) {
+        low = glm::min(low, across(p, axis));
+        high = glm::max(high, across(p, axis));
     }
     const glm::dvec2 extent = glm::max(high - low, glm::dvec2(1e-30));
+    const auto range = [&](size_t t) { return cell_range(&triangles_[3 * t], axis, grid.origin, grid.cell_size, grid.cells); };
     for (uint64_t target = std::min<uint64_t>(count, kMaxCells);; target = std::max<uint64_t>(1, target / 4)) {
         const double side = std::sqrt(extent.x * extent.y / double(target));
-        cells_ = glm::clamp(glm::ivec2(glm::ceil(extent / side)), glm::ivec2(1), glm::ivec2(int(kMaxCells)));
-        while (uint64_t(cells_.x) * uint64_t(cells_.y) > kMaxCells) cells_ = glm::max(cells_ / 2, glm::ivec2(1));
-        origin_ = low;
-        cell_size_ = extent / glm::dvec2(cells_) * (1.0 + 1e-9);
+        grid.cells = glm::clamp(glm::ivec2(glm::ceil(extent / side)), glm::ivec2(1), glm::ivec2(int(kMaxCells)));
+        while (uint64_t(grid.cells.x) * uint64_t(grid.cells.y) > kMaxCells) grid.cells = glm::max(grid.cells / 2, glm::ivec2(1));
+        grid.origin = low;
+        grid.cell_size = extent / glm::dvec2(grid.cells) * (1.0 + 1e-9);
         uint64_t entries = 0;
         for (size_t t = 0; t < count; ++t) {
-            const glm::ivec4 r = cell_range(&triangles[3 * t], origin_, cell_size_, cells_);
+            const glm::ivec4 r = range(t);
             entries += uint64_t(r.z - r.x + 1) * uint64_t(r.w - r.y + 1);
         }
         if (entries <= count * kMaxEntriesPerTriangle || target == 1) break;
     }
-    first_.assign(size_t(cells_.x) * size_t(cells_.y) + 1, 0);
+    grid.first.assign(size_t(grid.cells.x) * size_t(grid.cells.y) + 1, 0);
     const auto for_each_cell = [&](size_t t, auto&& visit) {
-        const glm::ivec4 r = cell_range(&triangles[3 * t], origin_, cell_size_, cells_);
-        for (int z = r.y; z <= r.w; ++z)
-            for (int y = r.x; y <= r.z; ++y) visit(size_t(z) * size_t(cells_.x) + size_t(y));
+        const glm::ivec4 r = range(t);
+        for (int v = r.y; v <= r.w; ++v)
+            for (int u = r.x; u <= r.z; ++u) visit(size_t(v) * size_t(grid.cells.x) + size_t(u));
     };
-    for (size_t t = 0; t < count; ++t) for_each_cell(t, [&](size_t cell) { ++first_[cell + 1]; });
-    for (size_t c = 1; c < first_.size(); ++c) first_[c] += first_[c - 1];
-    entries_.resize(first_.back());
-    std::vector<uint64_t> fill(first_.begin(), first_.end() - 1);
-    for (size_t t = 0; t < count; ++t) for_each_cell(t, [&](size_t cell) { entries_[fill[cell]++] = uint32_t(t); });
+    for (size_t t = 0; t < count; ++t) for_each_cell(t, [&](size_t cell) { ++grid.first[cell + 1]; });
+    for (size_t c = 1; c < grid.first.size(); ++c) grid.first[c] += grid.first[c - 1];
+    grid.entries.resize(grid.first.back());
+    std::vector<uint64_t> fill(grid.first.begin(), grid.first.end() - 1);
+    for (size_t t = 0; t < count; ++t) for_each_cell(t, [&](size_t cell) { grid.entries[fill[cell]++] = uint32_t(t); });
 }
 
-bool InsideTest::contains(const glm::vec3& point) const {
-    if (cells_.x == 0) return false;
-    const glm::dvec2 p = xy(point);
-    const glm::dvec2 at = glm::floor((p - origin_) / cell_size_);
-    if (at.x < 0.0 || at.y < 0.0 || at.x >= cells_.x || at.y >= cells_.y) return false;
-    const size_t cell = size_t(at.y) * size_t(cells_.x) + size_t(at.x);
+std::optional<bool> InsideTest::cast(const RayGrid& grid, const glm::vec3& point) const {
+    if (grid.cells.x == 0) return false;
+    const int axis = grid.axis;
+    const glm::dvec2 p = across(point, axis);
+    const glm::dvec2 at = glm::floor((p - grid.origin) / grid.cell_size);
+    if (at.x < 0.0 || at.y < 0.0 || at.x >= grid.cells.x || at.y >= grid.cells.y) return false;
+    const size_t cell = size_t(at.y) * size_t(grid.cells.x) + size_t(at.x);
+    const double along = point[axis];
     int ahead = 0, total = 0;  // signed crossings beyond the point, and along the whole line
     bool on_surface = false;
-    for (uint64_t e = first_[cell]; e < first_[cell + 1]; ++e) {
-        const glm::vec3* t = &triangles_[3 * size_t(entries_[e])];
-        glm::dvec2 a = xy(t[0]), b = xy(t[1]), c = xy(t[2]);
-        glm::dvec3 depth(t[0].z, t[1].z, t[2].z);
+    for (uint64_t e = grid.first[cell]; e < grid.first[cell + 1]; ++e) {
+        const glm::vec3* t = &triangles_[3 * size_t(grid.entries[e])];
+        glm::dvec2 a = across(t[0], axis), b = across(t[1], axis), c = across(t[2], axis);
+        glm::dvec3 depth(t[0][axis], t[1][axis], t[2][axis]);
         const double area = edge_function(a, b, c);
         if (area == 0.0) continue;  // seen edge-on: its neighbours decide
-        const int sign = area > 0.0 ? 1 : -1;  // the sign of the normal's z component
+        const int sign = area > 0.0 ? 1 : -1;  // the sign of the normal's component along the ray
         if (area < 0.0) std::swap(b, c), std::swap(depth.y, depth.z);
         const double w0 = edge_function(b, c, p), w1 = edge_function(c, a, p), w2 = edge_function(a, b, p);
         const auto covers = [](double w, const glm::dvec2& from, const glm::dvec2& to) {
@@ -135,12 +142,21 @@ bool InsideTest::contains(const glm::vec3& point) const {
         if (!covers(w0, b, c) || !covers(w1, c, a) || !covers(w2, a, b)) continue;
         total += sign;
         const double hit = (w0 * depth.x + w1 * depth.y + w2 * depth.z) / (w0 + w1 + w2);
-        on_surface |= hit == double(point.z);
-        if (hit > double(point.z)) ahead += sign;
+        on_surface |= hit == along;
+        if (hit > along) ahead += sign;
     }
+    if (total != 0) return std::nullopt;
     // A point exactly on the surface is outside, as in the raster fill (strictly between layers).
-    if (total == 0) return ahead != 0 && !on_surface;
-    ++fallbacks_;  // the line passes through a hole: the crossings do not add up
+    return ahead != 0 && !on_surface;
+}
+
+bool InsideTest::contains(const glm::vec3& point) const {
+    if (const std::optional<bool> inside = cast(grids_[2], point)) return *inside;
+    ++rays_through_holes_;
+    std::call_once(other_axes_, [this] { build(grids_[0], 0), build(grids_[1], 1); });
+    for (const int axis : {0, 1})
+        if (const std::optional<bool> inside = cast(grids_[axis], point)) return *inside;
+    ++fallbacks_;
     return is_inside(triangles_, point);
 }
 
