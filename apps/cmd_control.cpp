@@ -49,16 +49,6 @@ std::optional<float> parse_spacing(const std::string& text, float diagonal, std:
     return std::nullopt;
 }
 
-// --resolution WxH, digits only (parse_resolution alone also reads "640x480junk").
-bool parse_resolution_flag(const std::string& text, uint32_t* width, uint32_t* height) {
-    const size_t x = text.find_first_of("xX");
-    const auto digits = [](const std::string& part) {
-        return !part.empty() && part.size() <= 5 && std::all_of(part.begin(), part.end(), ::isdigit);
-    };
-    return x != std::string::npos && digits(text.substr(0, x)) && digits(text.substr(x + 1)) &&
-           parse_resolution(text, width, height);
-}
-
 // A request whose estimate exceeds the memory there is: the message names the need, what is
 // available and the --spacing that would fit (the need grows as spacing^-exponent).
 std::optional<std::string> memory_refusal(const char* what, double bytes, double available, float spacing,
@@ -134,7 +124,7 @@ int cmd_control(const std::vector<std::string>& argv) {
                             method.c_str()),
                kExitUsage;
     uint32_t width = 640, height = 480;
-    if (args->has("--resolution") && !parse_resolution_flag(args->value("--resolution"), &width, &height))
+    if (args->has("--resolution") && !parse_resolution(args->value("--resolution"), &width, &height))
         return std::fprintf(stderr, "aquaform control: --resolution must be WIDTHxHEIGHT, each 16 to 8192, got \"%s\"\n",
                             args->value("--resolution").c_str()),
                kExitUsage;

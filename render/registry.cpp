@@ -256,12 +256,14 @@ const Registry& render_registry() {
 }
 
 bool parse_resolution(const std::string& text, uint32_t* w, uint32_t* h) {
-    unsigned a = 0, b = 0;
-    char x = 0;
-    if (std::sscanf(text.c_str(), "%u%c%u", &a, &x, &b) != 3 || (x != 'x' && x != 'X')) return false;
-    if (a < 16 || b < 16 || a > 8192 || b > 8192) return false;
-    *w = a;
-    *h = b;
+    // Digits, 'x', digits and nothing else (sscanf took " 640x480junk" and wrapped 4294967296).
+    const size_t x = text.find_first_of("xX");
+    if (x == std::string::npos) return false;
+    const std::optional<uint64_t> a = number_text::whole_number(std::string_view(text).substr(0, x));
+    const std::optional<uint64_t> b = number_text::whole_number(std::string_view(text).substr(x + 1));
+    if (!a || !b || *a < 16 || *b < 16 || *a > 8192 || *b > 8192) return false;
+    *w = uint32_t(*a);
+    *h = uint32_t(*b);
     return true;
 }
 

@@ -20,10 +20,17 @@ control::Strength strength_for(const Scene& scene, const control::ControlSection
 std::optional<ControlSummary> summarize(const std::optional<control::PreparedControl>& control) {
     if (!control) return std::nullopt;
     ControlSummary s{control->strength.describe(), control->strength.warning, {}};
-    for (const control::ControlMesh& m : control->section.meshes)
-        if (!m.report.watertight() && !m.file.empty())
-            s.mesh_notes.push_back("control mesh " + m.name + " (" + m.file.string() +
-                                   ") is not watertight; the inside tests tolerate it:\n" + control::describe(m.report));
+    // The loader refuses meshes with larger holes or no volume; what it let through or repaired
+    // is said here, as `control place` says it.
+    for (const control::ControlMesh& m : control->section.meshes) {
+        if (m.file.empty() || (m.report.watertight() && m.report.reoriented_face_count == 0)) continue;
+        std::string note = "control mesh " + m.name + " (" + m.file.string() + "):";
+        if (m.report.reoriented_face_count > 0)
+            note += " " + std::to_string(m.report.reoriented_face_count) +
+                    " faces pointed against their neighbours and were turned back;";
+        if (!m.report.watertight()) note += " it is not watertight (holes under 1% of its surface), which the inside tests tolerate;";
+        s.mesh_notes.push_back(note + "\n" + control::describe(m.report));
+    }
     return s;
 }
 

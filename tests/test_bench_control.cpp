@@ -87,7 +87,7 @@ TEST(BenchControl, BadFlagsAreUsageErrorsNamingTheFlag) {
 
 TEST(BenchControl, UncreatableOutputFailsNamingThePath) {
     const Outcome o = run_aquaform("bench control --quick --out /proc/aquaform_no_such_dir");
-    EXPECT_EQ(o.exit_code, 1) << o.output;
+    EXPECT_EQ(o.exit_code, 2) << o.output;  // bad input: the folder named by --out
     EXPECT_NE(o.output.find("/proc/aquaform_no_such_dir"), std::string::npos) << o.output;
 }
 

@@ -163,7 +163,10 @@ TEST(Cli, RenderSettingsFrameNumbersAndListsAreStrict) {
                           Case{"bench render --configs ,uniform", "--configs has an empty item"},
                           Case{"bench control --scales 1,,2", "--scales has an empty item"},
                           Case{"bench control --scales nan", "--scales takes pressure multiples"},
-                          Case{"view SCENE --scale 0x0.8", "--scale is the picture's size"}}) {
+                          Case{"view SCENE --scale 0x0.8", "--scale is the picture's size"},
+                          Case{"render SCENE --resolution 640x480junk", "--resolution must look like"},
+                          Case{"run SCENE --resolution 4294967312x64", "--resolution must look like"},
+                          Case{"run SCENE --resolution \" 64x64\"", "--resolution must look like"}}) {
         std::string command = c.args;
         if (const size_t at = command.find("SCENE"); at != std::string::npos) command.replace(at, 5, scene);
         const Outcome o = run_aquaform(command);

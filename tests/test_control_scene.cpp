@@ -192,6 +192,23 @@ TEST(ControlCli, RunSaysWhenTheShapeNeverFills) {
     EXPECT_EQ(filled.output.find("never filled"), std::string::npos) << filled.output;
 }
 
+TEST(ControlCli, RunSaysWhichMeshFacesItTurnedBack) {
+    // A cube whose top face (two triangles) points inward: the loader turns it back, and the run
+    // says so, as control place does.
+    using namespace test_cli;
+    const auto dir = temp_dir("flipped_run");
+    write_file(dir / "cube.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+                                 "f 1 4 3\nf 1 3 2\nf 5 7 6\nf 5 8 7\n"  // the top (z = 1) flipped
+                                 "f 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\nf 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n");
+    const auto scene = write_file(dir / "cube.json", R"({"name": "cube", "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
+        "particle_spacing": 0.05, "frames": 1, "fluid_blocks": [{"min": [0.3, 0, 0.3], "max": [0.7, 0.4, 0.7]}],
+        "control": {"meshes": {"box": {"file": "cube.obj", "placement": {"fit_into": {"min": [0.3, 0, 0.3], "max": [0.7, 0.4, 0.7]}}}},
+                    "timeline": [{"t": 0, "do": "attach", "mesh": "box"}]}})");
+    const Outcome o = run_aquaform("run " + scene.string() + " --no-png --out " + (dir / "out").string());
+    ASSERT_EQ(o.exit_code, 0) << o.output;
+    EXPECT_NE(o.output.find("2 faces pointed against their neighbours and were turned back"), std::string::npos) << o.output;
+}
+
 TEST(ControlCli, RenderSimulatesTheScenesControlBeforeItDraws) {
     // render (like study and bench render) runs the scene through a session: a scene's control
     // section shapes the frame it draws. The same scene without its control draws another frame.
