@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <thread>
 
 #include "control/placement.h"
 #include "control/primitives.h"
@@ -118,9 +117,8 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
         row.note = note;
         row.extra["subdivisions"] = subdivisions;
         if (!skip) {
-            say(fmt("placing inside the %zu-triangle sphere on the CPU (winding number; %u threads)", row.triangles,
-                         std::max(1u, std::thread::hardware_concurrency())));
-            // One run only: it is the slow method, and its time is far above the noise.
+            say(fmt("placing inside the %zu-triangle sphere on the CPU (ray crossings on a triangle grid)", row.triangles));
+            // One run: the table says so (it was the slow method once, by winding number).
             const control::ControlPoints p = control::place_inside(inside_tris, spacing, false, 1, origin);
             row.points = uint32_t(p.points.size());
             row.ms = p.ms;

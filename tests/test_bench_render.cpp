@@ -140,9 +140,10 @@ TEST(BenchRender, AMissingSceneDirectoryIsAUsageErrorNamingTheFlag) {
 }
 
 TEST(BenchRender, UnwritableOutputFailsNamingThePath) {
-    const Outcome o = run_aquaform("bench render --quick --out /nonexistent_aquaform_dir/b.json");
-    EXPECT_EQ(o.exit_code, 1) << o.output;
-    EXPECT_NE(o.output.find("/nonexistent_aquaform_dir/b.json"), std::string::npos) << o.output;
+    // A missing folder is made; one that cannot be (under /proc) is refused before any work.
+    const Outcome o = run_aquaform("bench render --quick --out /proc/aquaform_no_such_dir/b.json");
+    EXPECT_EQ(o.exit_code, 2) << o.output;
+    EXPECT_NE(o.output.find("/proc/aquaform_no_such_dir"), std::string::npos) << o.output;
 }
 
 }  // namespace

@@ -249,7 +249,7 @@ TEST(SectionBuilderTest, MatchesTheJsonLoader) {
     scene.control_json = R"({"spacing": 0.03, "pressure": 900, "support_radius": 0.07, "fixed_substeps": true, "damping": 2,
         "meshes": {"ball": {"file": "../meshes/sphere.obj", "method": "raster",
                             "placement": {"fit_into": {"min": [0.1, 0.1, 0.1], "max": [0.3, 0.3, 0.3]}}},
-                   "ring": {"file": "../meshes/torus.obj", "placement": {"position": [0.2, 0.1, 0.2], "scale": 0.5,
+                   "ring": {"file": "../meshes/torus.obj", "placement": {"position": [0.2, 0.1, 0.2], "scale": 0.4,
                                                                         "rotation_degrees": [90, 0, 0]}}},
         "timeline": [{"t": 0, "do": "attach", "mesh": "ball", "tags": [0]}, {"t": 0.5, "do": "union", "mesh": "ring"},
                      {"t": 1, "do": "morph", "mesh": "ring", "duration": 0.5}, {"t": 1.5, "do": "hold"},
@@ -261,7 +261,7 @@ TEST(SectionBuilderTest, MatchesTheJsonLoader) {
     ball.method = control::PlacementMethod::raster;
     ball.placement.fit_into = Box{glm::vec3(0.1f), glm::vec3(0.3f)};
     ring.placement.position = {0.2f, 0.1f, 0.2f};
-    ring.placement.scale = 0.5f;
+    ring.placement.scale = 0.4f;
     ring.placement.rotation_degrees = {90.0f, 0.0f, 0.0f};
     const fs::path meshes = fs::path(AQUAFORM_ASSETS_DIR) / "scenes/../meshes";
     auto built = control::SectionBuilder(scene)
