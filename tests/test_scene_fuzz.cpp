@@ -1,8 +1,9 @@
-// Scene files against careless and hostile edits: a seeded fuzz that mutates every key and value
-// of every shipped scene (types, extremes, nesting, deletion, unknown keys, raw text that is not
-// JSON, truncation). In process, every refusal must be one line that starts with the file and
-// names a key on the mutated path (or the line of a syntax error); through the binary, every run
-// must end with exit 0, 1 or 2 (never a signal or a hang), and exit 2 with one line on stderr.
+// Scene files and study specs against careless and hostile edits: a seeded fuzz that mutates every
+// key and value of every shipped scene and spec (types, extremes, nesting, deletion, unknown keys,
+// raw text that is not JSON, truncation; tests/json_mutations.h). In process, every refusal must
+// be one line that starts with the file and names a key on the mutated path (or the line of a
+// syntax error); through the binary, every run must end with exit 0, 1 or 2 (never a signal or a
+// hang), and exit 2 with one line on stderr.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -14,73 +15,16 @@
 
 #include "control/control_driver.h"
 #include "sim/scene.h"
+#include "study/study_spec.h"
 #include "tests/cli_helpers.h"
+#include "tests/json_mutations.h"
 
 namespace aquaform {
 namespace {
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
-
-/// Every value's path in `v`, depth first (the root excluded).
-void collect_paths(const json& v, const json::json_pointer& at, std::vector<json::json_pointer>& out) {
-    if (v.is_object())
-        for (const auto& [key, child] : v.items()) out.push_back(at / key), collect_paths(child, at / key, out);
-    if (v.is_array())
-        for (size_t i = 0; i < v.size(); ++i) out.push_back(at / i), collect_paths(v[i], at / i, out);
-}
-
-/// The object keys along `path` ("control", "meshes", "ball", ...): a refusal must name one.
-std::vector<std::string> keys_on(const json::json_pointer& path) {
-    std::vector<std::string> keys;
-    for (json::json_pointer p = path; !p.empty(); p = p.parent_pointer())
-        if (p.back().find_first_not_of("0123456789") != std::string::npos) keys.push_back(p.back());
-    return keys;
-}
-
-struct Mutation {
-    std::string text;
-    json::json_pointer path;
-    bool syntax = false;  ///< not JSON any more: the message names a line instead of a key
-};
-
-/// One mutation of `scene` at `path`, drawn from `random`.
-Mutation mutate(const json& scene, const json::json_pointer& path, std::mt19937& random) {
-    const auto pick = [&](size_t n) { return std::uniform_int_distribution<size_t>(0, n - 1)(random); };
-    json deep = json::array();
-    for (int i = 0; i < 80; ++i) deep = json::array({deep});
-    const json values[] = {nullptr, true, "text", -1, 0, 1e308, -1e308, 1e-320, 4294967296.0, 18446744073709551615ull,
-                           json::array(), json::object(), deep, std::string(100000, 'x'), json::array({1, 2}),
-                           json::object({{"x", 1}}), -0.0, 2.5, 1e6, json::array({0, 0, 0})};
-    const char* raw[] = {"NaN", "Infinity", "1e400", "-", "[", "}", "0x10", "'x'", "tru"};
-    json j = scene;
-    Mutation m{"", path, false};
-    switch (pick(5)) {
-        case 0:
-        case 1: j[path] = values[pick(std::size(values))]; break;
-        case 2:  // delete, or (under an object) an unknown key beside it
-            if (j[path.parent_pointer()].is_object()) {
-                if (pick(2)) j[path.parent_pointer()].erase(path.back());
-                else j[path.parent_pointer()][path.back() + "_typo"] = 1;
-            } else {
-                j[path.parent_pointer()].erase(std::stoul(path.back()));
-            }
-            break;
-        case 3:  // raw text that is not JSON where the value was
-            j[path] = "@@placeholder@@";
-            m.text = j.dump(2);
-            m.text.replace(m.text.find("\"@@placeholder@@\""), 17, raw[pick(std::size(raw))]);
-            m.syntax = true;
-            return m;
-        case 4:  // the file cut short
-            m.text = j.dump(2);
-            m.text.resize(pick(m.text.size()));
-            m.syntax = true;
-            return m;
-    }
-    m.text = j.dump(2);
-    return m;
-}
+using namespace json_mutations;
 
 std::vector<fs::path> shipped_scenes() {
     std::vector<fs::path> files;
@@ -116,19 +60,44 @@ TEST(SceneFuzz, EveryKeyOfEveryShippedSceneMutatedIsRefusedInOneLineNamingIt) {
                 }
                 if (error.empty()) continue;
                 ++refused;
-                const std::string what = file.filename().string() + " " + path.to_string() + ": " + error;
-                EXPECT_EQ(error.rfind(origin + ": ", 0), 0u) << what;
-                EXPECT_EQ(error.find('\n'), std::string::npos) << what;
-                bool named = false;
-                for (const std::string& key : keys_on(path)) named = named || error.find(key) != std::string::npos;
-                if (m.syntax) named = named || error.find("line ") != std::string::npos;
-                EXPECT_TRUE(named) << "names no key on the path: " << what;
+                EXPECT_EQ(judge_refusal(m, origin, error), "") << file.filename().string() << ": " << error;
             }
     }
     // The mutations must mostly be refused, or the fuzz would test nothing.
     EXPECT_GT(refused, mutations / 2) << refused << " of " << mutations;
     EXPECT_GT(controls_loaded, 20);
     std::printf("scene fuzz: %d mutations, %d refused, %d control sections loaded\n", mutations, refused, controls_loaded);
+}
+
+TEST(SceneFuzz, EveryKeyOfTheShippedStudySpecsMutatedIsRefusedInOneLineNamingIt) {
+    // The study's spec is the other JSON a user writes by hand; the whole-spec check (its scene
+    // files loaded and scaled, its solver maps) runs too, as `study` runs it before any work.
+    std::mt19937 random(2027);
+    int mutations = 0, refused = 0;
+    for (const char* name : {"tiny.json", "default.json"}) {
+        const fs::path file = fs::path(AQUAFORM_ASSETS_DIR) / "studies" / name;
+        const json spec = json::parse(test_cli::read_file(file));
+        std::vector<json::json_pointer> paths;
+        collect_paths(spec, json::json_pointer(), paths);
+        for (const json::json_pointer& path : paths)
+            for (int k = 0; k < 2; ++k) {
+                const Mutation m = mutate(spec, path, random);
+                ++mutations;
+                Result<study::StudySpec> parsed = Error{};
+                ASSERT_NO_THROW(parsed = study::parse_study_spec(m.text, file.string(), file.parent_path())) << path.to_string();
+                std::string error = parsed.ok() ? "" : parsed.error();
+                if (parsed.ok()) {
+                    Result<bool> checked = Error{};
+                    ASSERT_NO_THROW(checked = study::check_study_scenes(parsed.value())) << path.to_string();
+                    if (!checked.ok()) error = checked.error();
+                }
+                if (error.empty()) continue;
+                ++refused;
+                EXPECT_EQ(judge_refusal(m, file.string(), error), "") << name << ": " << error;
+            }
+    }
+    EXPECT_GT(refused, mutations / 2) << refused << " of " << mutations;
+    std::printf("study spec fuzz: %d mutations, %d refused\n", mutations, refused);
 }
 
 TEST(SceneFuzz, MutatedScenesThroughTheBinaryNeverCrashOrHang) {
