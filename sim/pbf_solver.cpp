@@ -62,32 +62,41 @@ Result<MemoryPlan> plan_memory(const Scene& scene) {
 }
 
 Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::DeviceInfo& device) {
-    const std::string where = scene.path.empty() ? scene.name : scene.path.string();
+    // A generated scene (view --particles N alone, the benchmarks) has no file to edit: only its count.
+    const std::string where = scene.path.empty() ? "the generated scene \"" + scene.name + "\"" : scene.path.string();
     char spacing[32];
     std::snprintf(spacing, sizeof spacing, "%g", scene.particle_spacing);
-    const std::string fix = "; ask for fewer particles (--particles N) or increase the scene's particle_spacing (now " +
-                            std::string(spacing) + " m; doubling it divides the particle count by 8)";
-    if (plan.particles == 0)
+    const uint64_t n = plan.particles;
+    // The fix names the count that fits: every limit below scales with the particle count.
+    auto fix = [&](double fraction) {
+        const std::string fit = std::to_string(uint64_t(double(n) * std::min(1.0, fraction) * 0.98));
+        return "; at most about " + fit + " particles fit: ask for them with --particles " + fit +
+               (scene.path.empty() ? std::string()
+                                   : " or increase the scene's particle_spacing (now " + std::string(spacing) +
+                                         " m; doubling it divides the particle count by 8)");
+    };
+    if (n == 0)
         return Error{where + ": the fluid blocks hold no particle at particle_spacing " + spacing +
                      "; make the blocks larger than the spacing"};
-    if (plan.particles > kMaxSceneParticles)
-        return Error{where + ": " + std::to_string(plan.particles) + " particles is more than the " +
-                     std::to_string(kMaxSceneParticles) + " aquaform can index" + fix};
+    if (n > kMaxSceneParticles)
+        return Error{where + ": " + std::to_string(n) + " particles is more than the " +
+                     std::to_string(kMaxSceneParticles) + " aquaform can index" + fix(double(kMaxSceneParticles) / double(n))};
     const uint64_t max_dispatch = uint64_t(device.max_workgroups_x) * gpu::kDefaultLocalSize;
-    if (plan.particles > max_dispatch)
-        return Error{where + ": " + std::to_string(plan.particles) + " particles is more than " + device.name +
-                     " can process in one dispatch (" + std::to_string(max_dispatch) + ")" + fix};
+    if (n > max_dispatch)
+        return Error{where + ": " + std::to_string(n) + " particles is more than " + device.name +
+                     " can process in one dispatch (" + std::to_string(max_dispatch) + ")" +
+                     fix(double(max_dispatch) / double(n))};
     for (const auto& b : plan.buffers)
         if (b.bytes > device.max_storage_buffer_bytes)
-            return Error{where + ": buffer " + b.name + " would need " + gib(b.bytes) + " for " +
-                         std::to_string(plan.particles) + " particles but " + device.name +
-                         " binds at most " + gib(device.max_storage_buffer_bytes) + " per buffer" + fix};
+            return Error{where + ": buffer " + b.name + " would need " + gib(b.bytes) + " for " + std::to_string(n) +
+                         " particles but " + device.name + " binds at most " + gib(device.max_storage_buffer_bytes) +
+                         " per buffer" + fix(double(device.max_storage_buffer_bytes) / double(b.bytes))};
     // Keep a quarter of the device for the renderer, the driver and other programs.
     const uint64_t budget = device.device_local_bytes / 4 * 3;
     if (plan.total_bytes() > budget)
-        return Error{where + ": the scene needs " + gib(plan.total_bytes()) + " of GPU memory for " +
-                     std::to_string(plan.particles) + " particles but " + device.name + " has " +
-                     gib(device.device_local_bytes) + " (aquaform uses at most 3/4 of it)" + fix};
+        return Error{where + ": the scene needs " + gib(plan.total_bytes()) + " of GPU memory for " + std::to_string(n) +
+                     " particles but " + device.name + " has " + gib(device.device_local_bytes) +
+                     " (aquaform uses at most 3/4 of it)" + fix(double(budget) / double(plan.total_bytes()))};
     return true;
 }
 
