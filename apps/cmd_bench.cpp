@@ -38,45 +38,13 @@ FlagSpec bench_sim_flags() {
     return {{"--sizes", "--iterations", "--steps", "--repeats", "--out", "--device", "--warmup"}, {"--validation"}};
 }
 
-/// Refuses a flag the chosen benchmark does not take (the parse accepted the flags of both).
-bool only_flags_of(const Args& args, const FlagSpec& spec, const std::string& bench, std::string* error) {
-    auto check = [&](const std::string& flag, const std::vector<std::string>& known) {
-        if (std::find(known.begin(), known.end(), flag) != known.end()) return true;
-        *error = "aquaform bench " + bench + ": " + flag + " is not a flag of bench " + bench + " (see aquaform bench " + bench + " --help)";
-        return false;
-    };
-    for (const auto& [flag, value] : args.values)
-        if (!check(flag, spec.with_value)) return false;
-    for (const auto& [flag, on] : args.switches)
-        if (!check(flag, spec.switches)) return false;
-    return true;
-}
-
-/// The flags of every benchmark, for the parse.
-FlagSpec all_bench_flags() {
-    FlagSpec all = bench_render_flags();
-    auto add = [](std::vector<std::string>& to, const std::vector<std::string>& from) {
-        for (const auto& f : from)
-            if (std::find(to.begin(), to.end(), f) == to.end()) to.push_back(f);
-    };
-    add(all.with_value, bench_sim_flags().with_value);
-    add(all.switches, bench_sim_flags().switches);
-    add(all.with_value, bench_control_flags().with_value);
-    add(all.switches, bench_control_flags().switches);
-    add(all.with_value, bench_convergence_flags().with_value);
-    add(all.switches, bench_convergence_flags().switches);
-    return all;
-}
-
 }  // namespace
 
 int cmd_bench(const std::vector<std::string>& argv) {
-    std::string error;
-    auto args = parse_args(argv, all_bench_flags(), "bench", &error);
-    if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
-    const std::string which = args->positional.size() == 1 ? args->positional[0] : "";
+    // The benchmark comes first (aquaform bench sim ...), so its own flags are the ones parsed.
+    const std::string which = argv.empty() ? "" : argv[0];
     if (which != "sim" && which != "render" && which != "control" && which != "convergence") {
-        std::fprintf(stderr, "aquaform bench: say what to measure: aquaform bench sim (solver), aquaform bench render "
+        std::fprintf(stderr, "aquaform bench: say what to measure first: aquaform bench sim (solver), aquaform bench render "
                              "(surface reconstruction), aquaform bench control (mesh control) or aquaform bench "
                              "convergence (the dam-break front against Martin & Moyce in space and time step)\n");
         return kExitUsage;
@@ -86,7 +54,13 @@ int cmd_bench(const std::vector<std::string>& argv) {
                           : which == "control"      ? bench_control_flags()
                           : which == "convergence"  ? bench_convergence_flags()
                                                     : bench_sim_flags();
-    if (!only_flags_of(*args, spec, which, &error)) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
+    std::string error;
+    auto args = parse_args(std::vector<std::string>(argv.begin() + 1, argv.end()), spec, "bench " + which, &error);
+    if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
+    if (!args->positional.empty())
+        return std::fprintf(stderr, "aquaform bench %s: unexpected argument \"%s\" (see aquaform bench %s --help)\n",
+                            which.c_str(), args->positional[0].c_str(), which.c_str()),
+               kExitUsage;
     if (render) return bench_render(*args);
     if (which == "control") return bench_control(*args);
     if (which == "convergence") return bench_convergence(*args);

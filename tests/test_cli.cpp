@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -194,6 +195,23 @@ TEST(Cli, EveryCommandHasItsOwnHelp) {
         EXPECT_EQ(o.exit_code, 0) << c.args << ": " << o.output;
         for (const char* s : c.says) EXPECT_NE(o.output.find(s), std::string::npos) << c.args << " lacks " << s << ": " << o.output;
         for (const char* s : c.not_says) EXPECT_EQ(o.output.find(s), std::string::npos) << c.args << " has " << s;
+    }
+    // Every flag a command takes is in its help: the refusal of an unknown flag lists what the
+    // command's parser accepts, and each of those must appear in `COMMAND --help`.
+    for (const char* command : {"run s.json", "render s.json", "control place m.obj", "view s.json", "study s.json", "assets",
+                                "info", "bench sim", "bench render", "bench control", "bench convergence"}) {
+        const Outcome refused = run_aquaform(std::string(command) + " --no-such-flag");
+        const size_t from = refused.output.find("known flags:"), to = refused.output.find(" (see aquaform");
+        ASSERT_TRUE(from != std::string::npos && to != std::string::npos) << command << ": " << refused.output;
+        std::istringstream known(refused.output.substr(from + 12, to - from - 12));
+        const std::string help = run_aquaform(std::string(command) + " --help").output;
+        for (std::string flag; known >> flag;) {
+            if (flag == "(none)") continue;
+            bool listed = false;  // as a whole word: --frame is not --frames
+            for (size_t at = help.find(flag); at != std::string::npos && !listed; at = help.find(flag, at + 1))
+                listed = at + flag.size() == help.size() || !(std::isalnum(help[at + flag.size()]) || help[at + flag.size()] == '-');
+            EXPECT_TRUE(listed) << command << " --help does not list " << flag;
+        }
     }
     // An unknown flag points at the command's help.
     const Outcome o = run_aquaform("run scene.json --frobnicate");
