@@ -17,6 +17,7 @@
 #include "control/mesh.h"
 #include "control/placement.h"
 #include "control/raster_placement.h"
+#include "core/host_memory.h"
 #include "core/interrupt.h"
 #include "core/number_text.h"
 #include "core/output_dir.h"
@@ -78,7 +79,7 @@ std::optional<std::string> check_memory(const std::string& method, const control
                                         const std::function<gpu::Context&()>& context) {
     const control::Mesh& mesh = loaded.mesh;
     const Box bounds = mesh.bounds();
-    const double host = double(control::available_memory_bytes().value_or(UINT64_MAX));
+    const double host = double(available_host_memory().value_or(UINT64_MAX));
     if (method == "vertices")
         return memory_refusal("--method vertices", control::place_on_vertices_bytes(mesh, spacing), host, spacing, 1.0);
     if (method == "inside")

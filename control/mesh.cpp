@@ -17,6 +17,7 @@
 #include <OpenMesh/Core/System/omstream.hh>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/host_memory.h"
 #include "core/interrupt.h"
 #include "core/progress.h"
 
@@ -643,17 +644,6 @@ std::string describe(const MeshReport& report) {
     return out.str();
 }
 
-std::optional<uint64_t> available_memory_bytes() {
-    std::ifstream meminfo("/proc/meminfo");
-    std::string key;
-    uint64_t kilobytes = 0;
-    while (meminfo >> key >> kilobytes) {
-        if (key == "MemAvailable:") return kilobytes * 1024;
-        meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
-    }
-    return std::nullopt;
-}
-
 Result<LoadedMesh> load_obj(const std::filesystem::path& path) {
     std::error_code error;
     if (!std::filesystem::exists(path, error)) {
@@ -667,7 +657,7 @@ Result<LoadedMesh> load_obj(const std::filesystem::path& path) {
     if (!error && bytes == 0) return mesh_error(path, "the file is empty (0 bytes)", "export the mesh again as Wavefront OBJ");
     // The text, the parsed mesh and the checks' edge and half-edge tables: about 6 times the file
     // (a 76 MB OBJ of 2M triangles peaks at 430 MB).
-    const std::optional<uint64_t> available = available_memory_bytes();
+    const std::optional<uint64_t> available = available_host_memory();
     if (!error && available && 6 * bytes > *available)
         return mesh_error(path,
                           "reading this " + std::to_string(bytes >> 20) + " MB file needs about " +

@@ -108,8 +108,6 @@ inline constexpr double kMaxMeshCoordinate = 1e6;
 /// unusable_reason() rejects. Shows progress on a large file; stops with an error when interrupted().
 Result<LoadedMesh> load_obj(const std::filesystem::path& path);
 
-/// Host memory the system can still give (MemAvailable of /proc/meminfo); nullopt when unknown.
-std::optional<uint64_t> available_memory_bytes();
 /// Write vertices and faces as OBJ (1-based indices), e.g. for generated primitives.
 Result<bool> write_obj(const std::filesystem::path& path, const Mesh& mesh);
 

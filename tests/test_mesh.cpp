@@ -13,6 +13,7 @@
 
 #include "control/inside.h"
 #include "control/mesh.h"
+#include "core/host_memory.h"
 #include "control/placement.h"
 #include "control/primitives.h"
 
@@ -462,7 +463,7 @@ TEST_F(MeshTest, MeshSplitAtEveryEdgeIsNeitherOpenNorLeftFlipped) {
 }
 
 TEST_F(MeshTest, MeshFileTooLargeForMemoryIsRefusedBeforeReading) {
-    const std::optional<uint64_t> available = available_memory_bytes();
+    const std::optional<uint64_t> available = available_host_memory();
     ASSERT_TRUE(available.has_value());
     // A sparse file: no disk used, but reading it would need 6 times its size in memory.
     const std::filesystem::path path = directory_ / "huge.obj";

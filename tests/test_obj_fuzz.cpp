@@ -212,10 +212,9 @@ TEST(ControlPlaceCli, NumericFlagsAreStrict) {
 }
 
 TEST(ControlPlaceCli, MemoryIsEstimatedBeforeAllocating) {
-    const std::optional<uint64_t> available = control::available_memory_bytes();
-    ASSERT_TRUE(available.has_value());
-    // The finest spacing the flag accepts on a unit cube: 1155^3 lattice points, about 90 GB.
-    if (*available > uint64_t(80) << 30) GTEST_SKIP() << "this machine could run it";
+    // The finest spacing the flag accepts on a unit cube: 1155^3 lattice points, about 90 GB; and
+    // at most 8 GB to plan for, so that the refusal comes on a machine of any size.
+    setenv("AQUAFORM_HOST_MEMORY", "8G", 1);
     const fs::path dir = temp_dir("place_memory");
     const fs::path cube = write_mesh(dir, "cube.obj", control::make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)}));
     for (const char* method : {"inside", "vertices", "raster"}) {
@@ -235,6 +234,19 @@ TEST(ControlPlaceCli, MemoryIsEstimatedBeforeAllocating) {
         EXPECT_LT(run.seconds, 10.0) << "refused before allocating";
         EXPECT_FALSE(fs::exists(dir / "out" / "points.ply"));
     }
+    unsetenv("AQUAFORM_HOST_MEMORY");
+    fs::remove_all(dir);
+}
+
+TEST(ControlPlaceCli, AHostMemoryLimitThatIsNotASizeIsRefused) {
+    const fs::path dir = temp_dir("place_memory_env");
+    const fs::path cube = write_mesh(dir, "cube.obj", control::make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)}));
+    setenv("AQUAFORM_HOST_MEMORY", "lots", 1);
+    const PlaceRun run = place(cube, "--spacing 0.1", dir);
+    unsetenv("AQUAFORM_HOST_MEMORY");
+    EXPECT_EQ(run.exit_code, 2) << run.err;
+    EXPECT_NE(run.err.find("AQUAFORM_HOST_MEMORY is \"lots\"; give the host memory aquaform may plan for as a size"),
+              std::string::npos) << run.err;
     fs::remove_all(dir);
 }
 

@@ -1,0 +1,18 @@
+// How much host memory a command may plan to use, so that work too large for the machine is
+// refused before it allocates (with the need, this figure and a fix) instead of swapping or
+// being killed.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+namespace aquaform {
+
+/// Bytes of host memory available to this process: the kernel's MemAvailable, lowered to what
+/// is left under the process's cgroup v2 limit (a container, a SLURM job) and to
+/// AQUAFORM_HOST_MEMORY when set (a byte count with an optional K, M or G suffix: "8G"). nullopt
+/// when none of them can be read. Throws Failure (bad input) for an AQUAFORM_HOST_MEMORY that is
+/// not a size.
+std::optional<uint64_t> available_host_memory();
+
+}  // namespace aquaform
