@@ -299,7 +299,13 @@ TEST(StudyCliTest, TheWholeSpecIsCheckedBeforeAnyMeasurement) {
 
 TEST(StudyCliTest, AnUnwritableOutputFolderIsReportedPrecisely) {
     const fs::path dir = test_cli::temp_dir("study_out");
-    const fs::path spec = test_cli::write_file(dir / "spec.json", small_spec());
+    // Below, the study runs as nobody, who may not read the source tree (a clean clone lies in a
+    // private temporary folder): the spec's scene file is copied beside it.
+    std::string text = small_spec();
+    const std::string assets_scene = std::string(AQUAFORM_ASSETS_DIR) + "/scenes/hydrostatic.json";
+    fs::copy_file(assets_scene, dir / "hydrostatic.json");
+    text.replace(text.find(assets_scene), assets_scene.size(), (dir / "hydrostatic.json").string());
+    const fs::path spec = test_cli::write_file(dir / "spec.json", text);
     const fs::path file = test_cli::write_file(dir / "a_file", "x");
     auto expect = [&](const fs::path& out, const std::string& part, const std::string& prefix = "") {
         auto run = test_cli::run_aquaform("study " + spec.string() + " --out " + out.string(), prefix);
