@@ -14,6 +14,7 @@
 #include "apps/cli.h"
 #include "gpu/context.h"
 #include "study/bench_convergence.h"
+#include "study/bench_frames.h"
 #include "study/front_chart.h"
 
 namespace aquaform::cli {
@@ -72,9 +73,10 @@ int bench_convergence(const Args& args) {
     const double violent_seconds = quick ? 0.75 : 2.0;
     const double T_end = quick ? kQuickTEnd : kTEnd, T_max = quick ? kQuickTMax : kTMax;
 
-    auto front_base = load_flagged_scene(args, "--front-scene", "assets/scenes/dam_break.json");
+    const std::filesystem::path scenes = study::default_scene_dir();  // the shipped scenes, from any directory
+    auto front_base = load_flagged_scene(args, "--front-scene", (scenes / "dam_break.json").string());
     if (!front_base) return std::fprintf(stderr, "aquaform bench convergence: %s\n", front_base.error().c_str()), kExitUsage;
-    auto violent_base = load_flagged_scene(args, "--violent-scene", "assets/scenes/violent_dam_break.json");
+    auto violent_base = load_flagged_scene(args, "--violent-scene", (scenes / "violent_dam_break.json").string());
     if (!violent_base) return std::fprintf(stderr, "aquaform bench convergence: %s\n", violent_base.error().c_str()), kExitUsage;
     if (!violent_base.value().column_width)
         return std::fprintf(stderr, "aquaform bench convergence: %s has no column_width, so no runup is measured; give a dam "

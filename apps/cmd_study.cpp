@@ -44,6 +44,7 @@ bool write_report(const std::filesystem::path& out_dir, const study::StudySpec& 
     }
     if (!drawn.value().skipped.empty())  // the study is whole without them
         std::fprintf(stderr, "aquaform study: no charts: %s\n", drawn.value().skipped.c_str());
+    if (!drawn.value().written.empty()) std::printf("charts drawn by %s:\n", drawn.value().drawn_by.c_str());
     for (const auto& path : drawn.value().written) std::printf("  chart %s\n", path.c_str());
     return ok;
 }

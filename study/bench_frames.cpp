@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/data_dir.h"
 #include "study/bench_scenes.h"
 
 namespace aquaform::study {
@@ -110,15 +111,10 @@ Result<Scene> scaled_scene(const Scene& scene, uint64_t particles) {
 
 std::filesystem::path default_scene_dir() {
     namespace fs = std::filesystem;
-    std::vector<fs::path> candidates{"assets/scenes"};
     std::error_code ec;
-    const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-    if (!ec)
-        for (const fs::path& up : {fs::path(".."), fs::path("../..")})
-            candidates.push_back((exe.parent_path() / up / "assets" / "scenes").lexically_normal());
-    for (const fs::path& dir : candidates)
-        if (fs::is_directory(dir, ec)) return dir;
-    return candidates.front();
+    if (fs::is_directory("assets/scenes", ec)) return "assets/scenes";  // the working directory's own first
+    const std::optional<fs::path> assets = find_data_dir("assets");
+    return assets ? *assets / "scenes" : fs::path("assets/scenes");
 }
 
 uint32_t bench_frame_index(const BenchFrame& frame, const Scene& scene) {

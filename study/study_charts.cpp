@@ -9,6 +9,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/data_dir.h"
+
 namespace aquaform::study {
 
 namespace {
@@ -42,22 +44,17 @@ std::string read_all(const fs::path& path) {
 Result<fs::path> find_study_charts_script(const fs::path& exe_path) {
     std::vector<fs::path> candidates;
     if (const char* dir = std::getenv(kScriptsDirVariable); dir && *dir) candidates.push_back(fs::path(dir) / kScriptName);
-    std::error_code ec;
-    const fs::path exe = exe_path.empty() ? fs::read_symlink("/proc/self/exe", ec) : exe_path;
-    if (!ec) {
-        const fs::path dir = exe.parent_path();
-        for (const fs::path& p : {dir / ".." / "scripts", dir / "scripts", dir / ".." / ".." / "scripts"})
+    if (!exe_path.empty()) {
+        const fs::path dir = exe_path.parent_path();
+        for (const fs::path& p : {dir / ".." / "share" / "aquaform" / "scripts", dir / ".." / "scripts", dir / "scripts"})
             candidates.push_back(p / kScriptName);
     }
-#ifdef AQUAFORM_SOURCE_SCRIPTS_DIR
-    candidates.push_back(fs::path(AQUAFORM_SOURCE_SCRIPTS_DIR) / kScriptName);
-#endif
+    for (const fs::path& dir : data_dir_candidates("scripts")) candidates.push_back(dir / kScriptName);
     std::error_code found;
     for (const fs::path& p : candidates)
         if (fs::is_regular_file(p, found)) return fs::weakly_canonical(p, found);
     std::string message = std::string("cannot find the chart script ") + kScriptName + "; looked at";
     for (const fs::path& p : candidates) message.append(" ").append(p.lexically_normal().string());
-    if (ec) message += " (the executable's own path is unreadable: " + ec.message() + ")";
     message += std::string("; set ") + kScriptsDirVariable + " to the scripts/ folder of the aquaform sources";
     return Error{message};
 }
@@ -109,6 +106,7 @@ Result<StudyCharts> draw_study_charts(const fs::path& out_dir) {
     // Notes on charts left out (no usable rows) are worth seeing even when others were drawn.
     if (!messages.empty()) std::fprintf(stderr, "%s\n", messages.c_str());
     StudyCharts charts;
+    charts.drawn_by = python + " " + script.value().string();
     std::stringstream lines(out);
     for (std::string line; std::getline(lines, line);)
         if (!line.empty()) charts.written.push_back(line);

@@ -9,11 +9,10 @@
 
 namespace aquaform::study {
 
-/// The chart script, found in this order: $AQUAFORM_SCRIPTS_DIR (an explicit choice wins),
-/// then beside the executable `exe` (default: the running one, /proc/self/exe): <exe dir>/../scripts,
-/// <exe dir>/scripts, <exe dir>/../../scripts (the test binary one level down in the build tree),
-/// then the source tree's scripts/ the build was configured from (a build folder anywhere). The
-/// error lists every place tried.
+/// The chart script, found in this order: $AQUAFORM_SCRIPTS_DIR (an explicit choice wins), then
+/// beside a given executable `exe` (its ../share/aquaform/scripts, ../scripts, scripts), then
+/// aquaform's data folders for the running one (core/data_dir.h: installed, build tree, source
+/// tree). The error lists every place tried.
 Result<std::filesystem::path> find_study_charts_script(const std::filesystem::path& exe = {});
 
 /// The first of `candidates` (default: python3 on PATH, then /usr/bin/python3, Debian's, which
@@ -23,6 +22,7 @@ Result<std::string> find_chart_python(const std::vector<std::string>& candidates
 
 struct StudyCharts {
     std::vector<std::string> written;  ///< the chart files
+    std::string drawn_by;              ///< "PYTHON SCRIPT": which interpreter ran which script
     /// Why none were drawn when the script or a Python with matplotlib is missing (what was tried,
     /// what to install): the study's CSV files and tables are whole without them, so not an error.
     std::string skipped;
