@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "study/bench_frames.h"
+#include "core/interrupt.h"
 #include "apps/cli.h"
 #include "study/bench_render.h"
 #include "study/render_measure.h"
@@ -319,7 +320,10 @@ int bench_render(const Args& args) {
     nlohmann::json frame_records = nlohmann::json::array();
     std::vector<study::SweepPoint> mask_points, blend_points;
     std::vector<std::pair<std::string, std::vector<std::string>>> summary;
-    for (size_t i = 0; i < frames.value().size(); ++i) {
+    // Ctrl-C stops after the frame being measured (a second one at once): the frames done are
+    // still written, so an hour of measurement is not lost to a stop.
+    std::optional<InterruptScope> ctrl_c(std::in_place);
+    for (size_t i = 0; i < frames.value().size() && !interrupted(); ++i) {
         const study::BenchFrame& f = *frames.value()[i];
         const uint32_t frame = frame_override.value_or(study::bench_frame_index(f, scenes[i]));
         auto result = measure_frame(ctx, f, scenes[i], frame, configs.value(), *base, width, height, uint32_t(*repeats),
@@ -330,6 +334,11 @@ int bench_render(const Args& args) {
         blend_points.insert(blend_points.end(), result->blend_sweep.begin(), result->blend_sweep.end());
         summary.emplace_back(f.name, result->verdict_lines);
     }
+    const bool stopped = interrupted();
+    ctrl_c.reset();
+    if (stopped)
+        std::fprintf(stderr, "aquaform bench render: interrupted after %zu of %zu frames; writing those\n",
+                     frame_records.size(), frames.value().size());
     std::printf("\nsummary of the targets\n");
     for (const auto& [name, lines] : summary)
         for (const std::string& line : lines) std::printf("  %-17s %s\n", name.c_str(), line.c_str());
@@ -340,6 +349,7 @@ int bench_render(const Args& args) {
                           {"width", width},
                           {"height", height},
                           {"repeats", *repeats},
+                          {"interrupted", stopped},
                           {"frames", frame_records}};
     std::ofstream out(out_path);
     out << doc.dump(2) << "\n";
@@ -361,7 +371,7 @@ int bench_render(const Args& args) {
             return std::fprintf(stderr, "aquaform bench render: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
         std::printf("wrote %s%s\n", stem.c_str(), suffix.c_str());
     }
-    return exit_status(ctx, kExitOk);
+    return exit_status(ctx, stopped ? kExitInterrupted : kExitOk);
 }
 
 }  // namespace aquaform::cli

@@ -1,6 +1,9 @@
 // Running the built `aquaform` binary from a test and reading what it wrote.
 #pragma once
 
+#include <fcntl.h>
+#include <signal.h>
+
 #include <array>
 #include <cstdlib>
 #include <cstdio>
@@ -10,6 +13,7 @@
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <vector>
 
 namespace aquaform::test_cli {
 
@@ -70,6 +74,38 @@ inline SplitOutcome run_aquaform_split(const std::string& args, const std::files
     o.out = read_file(out);
     o.err = read_file(err);
     return o;
+}
+
+/// Runs `aquaform args` with its output in `log`, sends it SIGINT once `marker` shows there, and
+/// returns its exit status (-1 when a signal ended it, -2 when it ended before the marker).
+inline int interrupt_aquaform(const std::vector<std::string>& args, const std::filesystem::path& log,
+                              const std::string& marker) {
+    // Everything the child needs is made before fork: it only redirects and execs.
+    std::vector<std::string> env_text{"AQUAFORM_VALIDATION=1"};
+    for (char** e = environ; *e; ++e) env_text.emplace_back(*e);
+    std::vector<char*> envp, argv{const_cast<char*>(AQUAFORM_BINARY)};
+    for (auto& e : env_text) envp.push_back(e.data());
+    envp.push_back(nullptr);
+    std::vector<std::string> arg_text = args;
+    for (auto& a : arg_text) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const pid_t pid = fork();
+    if (pid == 0) {
+        dup2(fd, 1);
+        dup2(fd, 2);
+        execve(AQUAFORM_BINARY, argv.data(), envp.data());
+        _exit(127);
+    }
+    ::close(fd);
+    int status = 0;
+    for (int i = 0; i < 12000 && read_file(log).find(marker) == std::string::npos; ++i) {
+        if (waitpid(pid, &status, WNOHANG) == pid) return -2;
+        usleep(10000);
+    }
+    kill(pid, SIGINT);
+    waitpid(pid, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace aquaform::test_cli

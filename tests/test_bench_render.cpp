@@ -139,6 +139,24 @@ TEST(BenchRender, AMissingSceneDirectoryIsAUsageErrorNamingTheFlag) {
     EXPECT_NE(o.output.find("droplet_curtain.json"), std::string::npos) << o.output;
 }
 
+TEST(BenchRender, CtrlCStopsAfterTheFrameBeingMeasuredAndWritesTheFramesDone) {
+    const fs::path dir = temp_dir("bench_render_stop");
+    const fs::path out = dir / "b.json";
+    // SIGINT once the second of four frames starts: that one is finished (and, on a loaded
+    // machine, perhaps the third, already begun), the last is never begun.
+    const int status = interrupt_aquaform({"bench", "render", "--frames", "calm,curtain,double_collision,crown", "--configs",
+                                           "uniform", "--particles", "400", "--resolution", "48x48", "--out", out.string()},
+                                          dir / "log", "bench render: curtain:");
+    const std::string log = read_file(dir / "log");
+    ASSERT_EQ(status, 130) << log;
+    const auto doc = nlohmann::json::parse(read_file(out));
+    EXPECT_TRUE(doc["interrupted"].get<bool>());
+    const size_t done = doc["frames"].size();
+    EXPECT_TRUE(done == 2 || done == 3) << doc.dump();
+    EXPECT_NE(log.find("interrupted after " + std::to_string(done) + " of 4 frames"), std::string::npos) << log;
+    fs::remove_all(dir);
+}
+
 TEST(BenchRender, UnwritableOutputFailsNamingThePath) {
     // A missing folder is made; one that cannot be (under /proc) is refused before any work.
     const Outcome o = run_aquaform("bench render --quick --out /proc/aquaform_no_such_dir/b.json");

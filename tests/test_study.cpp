@@ -443,41 +443,10 @@ TEST(StudyFilesTest, AResumedStudyReportsExactlyAsOneUninterruptedRun) {
     fs::remove_all(resumed);
 }
 
-/// Runs `aquaform args` with its output in `log`, sends it SIGINT once `marker` shows there, and
-/// returns its exit status (-1 when a signal ended it, -2 when it ended before the marker).
-int interrupt_aquaform(const std::vector<std::string>& args, const fs::path& log, const std::string& marker) {
-    // Everything the child needs is made before fork: it only redirects and execs.
-    std::vector<std::string> env_text{"AQUAFORM_VALIDATION=1"};
-    for (char** e = environ; *e; ++e) env_text.emplace_back(*e);
-    std::vector<char*> envp, argv{const_cast<char*>(AQUAFORM_BINARY)};
-    for (auto& e : env_text) envp.push_back(e.data());
-    envp.push_back(nullptr);
-    std::vector<std::string> arg_text = args;
-    for (auto& a : arg_text) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const pid_t pid = fork();
-    if (pid == 0) {
-        dup2(fd, 1);
-        dup2(fd, 2);
-        execve(AQUAFORM_BINARY, argv.data(), envp.data());
-        _exit(127);
-    }
-    ::close(fd);
-    int status = 0;
-    for (int i = 0; i < 12000 && test_cli::read_file(log).find(marker) == std::string::npos; ++i) {
-        if (waitpid(pid, &status, WNOHANG) == pid) return -2;
-        usleep(10000);
-    }
-    kill(pid, SIGINT);
-    waitpid(pid, &status, 0);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
 TEST(StudyCliTest, CtrlCKeepsTheRowsAndTheReportAndARerunResumes) {
     const fs::path dir = test_cli::temp_dir("study_resume");
     const fs::path spec = test_cli::write_file(dir / "spec.json", small_spec()), out = dir / "out";
-    const int stopped = interrupt_aquaform({"study", spec.string(), "--out", out.string(), "--no-charts"}, dir / "log",
+    const int stopped = test_cli::interrupt_aquaform({"study", spec.string(), "--out", out.string(), "--no-charts"}, dir / "log",
                                            ": reference: ");
     const std::string log = test_cli::read_file(dir / "log");
     ASSERT_EQ(stopped, 130) << log;
