@@ -1,0 +1,27 @@
+// Marching-cubes helpers over the sampled lattice (layout in shared/mesh_layout.h). Include
+// after declaring `params` (MeshParams), `lattice` (MeshLattice) and a readable `values[]`.
+
+bool mesh_inside(uvec3 c) { return values[mesh_index(c, lattice.dims)] >= params.iso; }
+
+/// Bits 0, 1, 2: the edges from sample c along +x, +y, +z that cross the surface.
+uint mesh_edge_mask(uvec3 c) {
+    bool in0 = mesh_inside(c);
+    uint mask = 0u;
+    for (uint a = 0u; a < 3u; ++a) {
+        uvec3 n = c;
+        n[a] += 1u;
+        if (n[a] < lattice.dims[a] && mesh_inside(n) != in0) mask |= 1u << a;
+    }
+    return mask;
+}
+
+/// The corner pattern of the cell whose lowest sample is c (bit k: corner k inside).
+uint mesh_cell_pattern(uvec3 c) {
+    uint pattern = 0u;
+    for (uint k = 0u; k < 8u; ++k)
+        if (mesh_inside(c + mesh_corner(k))) pattern |= 1u << k;
+    return pattern;
+}
+
+/// Whether c is the lowest sample of a cell (not on the highest layer of any axis).
+bool mesh_owns_cell(uvec3 c) { return all(lessThan(c + 1u, lattice.dims.xyz)); }

@@ -1,0 +1,69 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Surface mesh, pass 3: the renderer's field at every lattice sample,
+//   phi(p) = V sum_j W(p - x_j, r)   (shared/render_kernels.h; the same sum as field_density
+//                                     in common/surface_common.glsl)
+// over the particles of the neighbour grid's 3 x 3 x 3 cells around p (cell size >= r), leaving
+// out cells whose box is r or farther from p. A border cell of the grid also holds the particles
+// beyond the grid (they are clamped into it), so its box is open on its outer sides. The
+// lattice's outermost layer is written as 0: the lattice is padded so that phi is 0 there anyway;
+// this keeps the surface closed should a particle ever leave the clip box.
+// Loop lengths: at most 27 cells of the particles within r, far below the software device's
+// 65535 iterations per invocation.
+//
+// Bindings (set 0, push descriptors, no push constants):
+//   0 MeshParams params (readonly)
+//   1 MeshLattice lattice (readonly)
+//   2 vec4 positions[]   the solver's positions
+//   3 uint order[]       grid order -> positions index (params.use_order; else unread)
+//   4 uint cell_rank[]   the neighbour grid
+//   5 uint cell_start[]
+//   6 float values[]     phi per sample
+#include "shared/grid_layout.h"
+#include "shared/mesh_layout.h"
+#include "shared/render_kernels.h"
+
+layout(local_size_x_id = 0) in;
+layout(std430, binding = 0) readonly buffer Params { MeshParams params; };
+layout(std430, binding = 1) readonly buffer Lattice { MeshLattice lattice; };
+layout(std430, binding = 2) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = 3) readonly buffer Order { uint order[]; };
+layout(binding = 4, r32ui) readonly uniform uimageBuffer cell_rank;
+layout(binding = 5, r32ui) readonly uniform uimageBuffer cell_start;
+layout(std430, binding = 6) writeonly buffer Values { float values[]; };
+
+#include "common/grid_query.glsl"
+
+vec3 particle(uint j) { return params.use_order != 0u ? positions[order[j]].xyz : positions[j].xyz; }
+
+void main() {
+    uint s = mesh_thread();
+    if (s >= lattice.dims.w) return;
+    uvec3 c = mesh_coords(s, lattice.dims);
+    if (any(equal(c, uvec3(0u))) || any(equal(c + 1u, lattice.dims.xyz))) {
+        values[s] = 0.0;
+        return;
+    }
+    vec3 p = lattice.origin_voxel.xyz + lattice.origin_voxel.w * vec3(c);
+    vec4 grid = params.grid_origin_cell;
+    ivec3 cell = grid_cell(p, grid, params.grid_dims);
+    ivec3 last = ivec3(params.grid_dims.xyz) - 1;
+    float r2 = params.radius * params.radius;
+    float sum = 0.0;
+    for (int k = 0; k < 27; ++k) {
+        ivec3 n = cell + ivec3(k % 3, (k / 3) % 3, k / 9) - ivec3(1);
+        if (any(lessThan(n, ivec3(0))) || any(greaterThan(n, last))) continue;
+        vec3 lo = grid.xyz + vec3(n) * grid.w;
+        vec3 hi = lo + vec3(grid.w);
+        vec3 below = mix(max(lo - p, vec3(0.0)), vec3(0.0), equal(n, ivec3(0)));  // open on the lowest layer
+        vec3 above = mix(max(p - hi, vec3(0.0)), vec3(0.0), equal(n, last));      // and on the highest
+        vec3 gap = below + above;
+        if (dot(gap, gap) >= r2) continue;
+        uvec2 range = grid_neighbor_range(cell, k, params.grid_dims);
+        for (uint j = range.x; j < range.y; ++j) {
+            vec3 d = p - particle(j);
+            sum += cubic_kernel(dot(d, d), params.inv_radius, params.kernel_coeff);
+        }
+    }
+    values[s] = params.volume * sum;
+}
