@@ -25,14 +25,18 @@ const char* kUsage =
     "usage: aquaform <command> [options]\n"
     "commands:\n"
     "  run SCENE.json [--frames N] [--out DIR] [--device NAME|INDEX] [--ply-every K] [--particles N]\n"
-    "                 [--no-png] [--preview] [--wireframe] [--resolution WxH] [--validation] [render flags]\n"
+    "                 [--no-png] [--preview] [--wireframe] [--resolution WxH] [--camera auto|scene] [--video FILE.mp4]\n"
+    "                 [--validation] [render flags]\n"
     "        simulate a scene; writes ray-marched PNG frames (--preview: quick sphere impostors;\n"
     "        --wireframe: the active control meshes drawn over them),\n"
-    "        stats.csv (with splash fraction, droplets, runup), front.csv (dam breaks), PLY dumps\n"
+    "        stats.csv (with splash fraction, droplets, runup), front.csv (dam breaks), PLY dumps;\n"
+    "        --video FILE.mp4: at the end, an H.264 video of the frames (they stay) made by ffmpeg\n"
     "  --particles N (run, render, view, study, bench render, bench control): the scene's particle spacing re-derived so\n"
     "        that it holds about N particles (64 to 16777215; sizes in metres stay), e.g. 10000 for CI,\n"
     "        1000000 for the papers' scenes\n"
-    "  render SCENE.json [--frame K] [--out DIR] [--no-reference] [--particles N] [--device ...] [--validation]\n"
+    "  --camera auto|scene (run, render): auto frames the tank and the fluid; scene (the default) uses the\n"
+    "        scene's \"camera\" key where it has one (the auto framing otherwise)\n"
+    "  render SCENE.json [--frame K] [--out DIR] [--no-reference] [--particles N] [--camera auto|scene] [--device ...] [--validation]\n"
     "                    [render flags]\n"
     "        ray-march one frame; writes image.png, evals.png, tiles.png, classification.png,\n"
     "        reference.png, depth_error.png and render.json (timings, metrics against the reference)\n"
@@ -120,6 +124,7 @@ bool print_command_help(const std::string& command, const std::vector<std::strin
     std::printf("usage: aquaform %s", text.substr(2).c_str());
     for (const char* sized : {"run", "render", "view", "study", "bench render", "bench control"})
         if (topic == sized) std::fputs(usage_of("--particles").c_str(), stdout);
+    if (topic == "run" || topic == "render") std::fputs(usage_of("--camera").c_str(), stdout);
     for (const char* drawn : {"run", "render", "view", "bench render"})
         if (topic == drawn) std::fputs(render_flags_usage(), stdout);
     return true;

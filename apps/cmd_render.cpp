@@ -76,7 +76,7 @@ int render_other_family(gpu::Context& ctx, Renderer& renderer, PbfSolver& solver
 
 int cmd_render(const std::vector<std::string>& argv) {
     std::string error;
-    const FlagSpec spec = with_render_flags({{"--frame", "--out", "--device", "--resolution", "--particles"}, {"--no-reference", "--validation"}});
+    const FlagSpec spec = with_render_flags({{"--frame", "--out", "--device", "--resolution", "--particles", "--camera"}, {"--no-reference", "--validation"}});
     auto args = parse_args(argv, spec, "render", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     if (args->positional.size() != 1) {
@@ -86,7 +86,7 @@ int cmd_render(const std::vector<std::string>& argv) {
     }
     auto loaded = load_scene(args->positional[0]);
     if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
-    if (!scale_to_particles_flag(*args, loaded.value(), &error))
+    if (!scale_to_particles_flag(*args, loaded.value(), &error) || !apply_camera_flag(*args, loaded.value(), &error))
         return std::fprintf(stderr, "aquaform render: %s\n", error.c_str()), kExitUsage;
     const Scene& scene = loaded.value();
     // The scene's control section too (checked before a device is opened): its frames are shaped.

@@ -20,6 +20,7 @@
 #include "gpu/timer.h"
 #include "render/impostor_view.h"
 #include "render/registry.h"
+#include "render/video.h"
 #include "render/wireframe.h"
 #include "session/simulation_session.h"
 #include "sim/particle_io.h"
@@ -42,7 +43,7 @@ struct FinishedFrame {
 
 int cmd_run(const std::vector<std::string>& argv) {
     std::string error;
-    const FlagSpec spec = with_render_flags({{"--frames", "--out", "--device", "--ply-every", "--resolution", "--particles"},
+    const FlagSpec spec = with_render_flags({{"--frames", "--out", "--device", "--ply-every", "--resolution", "--particles", "--camera", "--video"},
                                              {"--no-png", "--preview", "--validation", "--wireframe"}});
     auto args = parse_args(argv, spec, "run", &error);
     if (!args) {
@@ -58,7 +59,7 @@ int cmd_run(const std::vector<std::string>& argv) {
         std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str());
         return kExitUsage;
     }
-    if (!scale_to_particles_flag(*args, loaded.value(), &error))
+    if (!scale_to_particles_flag(*args, loaded.value(), &error) || !apply_camera_flag(*args, loaded.value(), &error))
         return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
     // Mesh control: its strength may raise the substeps, so it is planned before the solver.
     auto plan = session::plan_session(std::move(loaded.value()));
@@ -85,6 +86,17 @@ int cmd_run(const std::vector<std::string>& argv) {
     }
     const std::filesystem::path out_dir = args->value("--out", "out/" + std::filesystem::path(args->positional[0]).stem().string());
     if (!prepare_output("run", out_dir)) return kExitUsage;
+    // --video is checked, and ffmpeg found, before any work; the video is made from the frames at the end.
+    std::optional<std::filesystem::path> video, ffmpeg;
+    if (args->has("--video")) {
+        if (args->has("--no-png"))
+            return std::fprintf(stderr, "aquaform run: --video is made from the PNG frames; drop --no-png\n"), kExitUsage;
+        video = args->value("--video");
+        auto found = find_ffmpeg();
+        if (auto checked = check_video_path(*video); !checked || !found)
+            return std::fprintf(stderr, "aquaform run: %s\n", (!checked ? checked.error() : found.error()).c_str()), kExitUsage;
+        ffmpeg = found.value();
+    }
 
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});
     const std::optional<session::ControlSummary> summary = plan.value().control_summary();
@@ -237,6 +249,14 @@ int cmd_run(const std::vector<std::string>& argv) {
     std::printf("%u frames (%.3f s simulated) in %s wall time, %.1f steps/s; output in %s\n", done, simulated,
                 format_duration(wall).c_str(), wall > 0 ? double(steps) / wall : 0.0,
                 out_dir.string().c_str());
+    // The frames written make the video, also after a Ctrl-C or a failure: nothing done is lost.
+    if (video && done > 0) {
+        const VideoFrames made{out_dir, "frame_%04d.png", done, 1.0 / scene.solver.frame_dt};
+        if (auto encoded = encode_video(*ffmpeg, made, *video); encoded)
+            std::printf("video: %s (%u frames at %g frames/s, H.264)\n", video->string().c_str(), done, made.fps);
+        else if (std::fprintf(stderr, "aquaform run: %s\n", encoded.error().c_str()); status == kExitOk)
+            status = kExitFailure;
+    }
     return exit_status(ctx, stopped ? kExitInterrupted : status);
 }
 

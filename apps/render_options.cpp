@@ -45,6 +45,12 @@ std::optional<MethodSettings> render_method_from(const Args& args, std::string* 
     return settings.value();
 }
 
+bool apply_camera_flag(const Args& args, Scene& scene, std::string* error) {
+    const std::string choice = args.value("--camera", "scene");
+    if (choice == "auto") scene.camera.reset();
+    else if (choice != "scene") return *error = "--camera takes auto or scene, got \"" + choice + "\"", false;
+    return true;
+}
 
 FlagSpec with_render_flags(FlagSpec spec) {
     for (const auto& f : render_value_flags())

@@ -10,6 +10,7 @@
 #include "render/registry.h"
 #include "render/renderer.h"
 #include "render/surface_settings.h"
+#include "sim/scene.h"
 
 namespace aquaform::cli {
 
@@ -24,6 +25,11 @@ const char* render_flags_usage();
 std::optional<MethodSettings> render_method_from(const Args& args, std::string* error);
 /// Likewise for commands that draw with the SPH surface renderer only (adaptive, uniform, reference).
 std::optional<SurfaceSettings> render_settings_from(const Args& args, std::string* error);
+
+/// --camera auto|scene of run and render: `auto` drops the scene's own camera, so that the view
+/// frames the tank and the fluid (framed_region in sim/scene.h); `scene` (the default) keeps it.
+/// False with `error` naming the flag and its values.
+bool apply_camera_flag(const Args& args, Scene& scene, std::string* error);
 
 /// FlagSpec of a command: its own flags plus the render flags.
 FlagSpec with_render_flags(FlagSpec spec);

@@ -36,18 +36,37 @@ ViewCamera camera_for_domain(const Box& domain, float aspect) {
                          std::cos(azimuth) * std::cos(elevation)};
     const glm::vec3 right = glm::normalize(glm::cross(glm::vec3(0.0f, 1.0f, 0.0f), back));
     const glm::vec3 up = glm::cross(back, right);
-    // The nearest distance at which every corner of the box projects inside the frame: a corner
-    // at (x, y, z) in camera axes needs distance >= z + |x| / tan_x (and likewise for y).
+    auto corner = [&](int i) {
+        return glm::vec3{i & 1 ? domain.max.x : domain.min.x, i & 2 ? domain.max.y : domain.min.y,
+                         i & 4 ? domain.max.z : domain.min.z};
+    };
+    // The nearest distance from `target` at which every corner of the box projects inside the
+    // frame: a corner at (x, y, z) in camera axes about the target needs distance >= z + |x| / tan_x
+    // (and likewise for y). In perspective the near corners look larger, so the box's picture is
+    // off centre; the target moves to centre it, and the distance is fitted again.
+    glm::vec3 target = center;
     float distance = 1e-3f;
-    for (int corner = 0; corner < 8; ++corner) {
-        const glm::vec3 c{corner & 1 ? domain.max.x : domain.min.x, corner & 2 ? domain.max.y : domain.min.y,
-                          corner & 4 ? domain.max.z : domain.min.z};
-        const glm::vec3 d = c - center;
-        const float z = glm::dot(d, back);
-        distance = std::max({distance, z + std::abs(glm::dot(d, right)) / tan_x, z + std::abs(glm::dot(d, up)) / tan_y});
+    for (int pass = 0;; ++pass) {
+        distance = 1e-3f;
+        for (int i = 0; i < 8; ++i) {
+            const glm::vec3 d = corner(i) - target;
+            const float z = glm::dot(d, back);
+            distance = std::max({distance, z + std::abs(glm::dot(d, right)) / tan_x, z + std::abs(glm::dot(d, up)) / tan_y});
+        }
+        if (pass == 3) break;
+        glm::vec2 lo(1e30f), hi(-1e30f);  // the picture of the box, in units of the frame's half size
+        for (int i = 0; i < 8; ++i) {
+            const glm::vec3 d = corner(i) - (target + back * distance);
+            const float depth = -glm::dot(d, back);
+            const glm::vec2 at{glm::dot(d, right) / (depth * tan_x), glm::dot(d, up) / (depth * tan_y)};
+            lo = glm::min(lo, at);
+            hi = glm::max(hi, at);
+        }
+        const glm::vec2 off_centre = 0.5f * (lo + hi);
+        target += distance * (right * off_centre.x * tan_x + up * off_centre.y * tan_y);
     }
-    cam.target = center;
-    cam.eye = center + back * distance;
+    cam.target = target;
+    cam.eye = target + back * distance;
     cam.up = {0.0f, 1.0f, 0.0f};
     return cam;
 }

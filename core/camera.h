@@ -19,7 +19,8 @@ struct ViewCamera {
 /// is replaced when it is (nearly) parallel to the view direction, so the axes stay finite.
 glm::mat3 camera_axes(const ViewCamera& camera);
 
-/// A camera that frames the whole domain from the front, slightly above and to the side.
+/// A camera that frames `box` (a domain, or the part of it a view shows) from the front,
+/// slightly above and to the side, as close as the whole box allows.
 ViewCamera camera_for_domain(const Box& domain, float aspect);
 
 /// World -> Vulkan clip space (y down, depth 0..1) of `camera`, with near and far planes set

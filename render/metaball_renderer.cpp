@@ -172,6 +172,7 @@ void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions,
     p.domain_max = glm::vec4(domain_.bounds.max, 0.0f);
     p.light_dir = kLightDirection;
     p.fluid_color = kFluidOptics;
+    p.tank = make_tank_params(domain_);
     p.radius = metaball_radius(settings, domain_);
     p.inv_radius2 = 1.0f / (p.radius * p.radius);
     p.iso = settings.iso;

@@ -1,8 +1,10 @@
 #include "render/surface_settings.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
+#include "core/error.h"
 #include "shaders/shared/anisotropy.h"
 #include "shaders/shared/render_kernels.h"
 
@@ -148,7 +150,26 @@ shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const Partic
 
     p.light_dir = kLightDirection;
     p.fluid_color = kFluidOptics;
+    p.tank = make_tank_params(domain);
     return p;
+}
+
+shader::TankParams make_tank_params(const ParticleDomain& domain) {
+    if (domain.obstacles.size() > TANK_MAX_BOXES)
+        throw Failure("renderer: " + std::to_string(domain.obstacles.size()) + " static boxes, at most " +
+                          std::to_string(TANK_MAX_BOXES) + " are drawn",
+                      Failure::Kind::input);
+    shader::TankParams tank{};
+    tank.counts = {uint32_t(domain.obstacles.size()), TANK_GLASS_WALLS, 0u, 0u};
+    // The frame is thin beside the tank yet a few pixels wide in a 640-pixel view of it: 1 % of
+    // the tank's length (its height is left out: a tall tank is rarely seen whole).
+    const glm::vec3 size = domain.bounds.max - domain.bounds.min;
+    tank.frame.x = 0.01f * std::max(size.x, size.z);
+    for (size_t i = 0; i < domain.obstacles.size(); ++i) {
+        tank.box_min[i] = with_w(domain.obstacles[i].min, 0.0f);
+        tank.box_max[i] = with_w(domain.obstacles[i].max, 0.0f);
+    }
+    return tank;
 }
 
 CameraBlock camera_block(const ViewCamera& camera, uint32_t width, uint32_t height) {

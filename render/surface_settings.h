@@ -133,6 +133,11 @@ CameraBlock camera_block(const ViewCamera& camera, uint32_t width, uint32_t heig
 inline const glm::vec4 kLightDirection{glm::normalize(glm::vec3(-0.4f, 0.8f, 0.45f)), 64.0f};
 inline const glm::vec4 kFluidOptics{8.0f, 2.5f, 1.2f, 1.33f};
 
+/// The tank around the fluid as every renderer draws it: glass side walls in a frame, the
+/// domain's obstacles as solid boxes (shared/tank_layout.h). A Failure of kind input when there
+/// are more obstacles than TANK_MAX_BOXES.
+shader::TankParams make_tank_params(const ParticleDomain& domain);
+
 /// The GPU parameter block for one frame.
 shader::SurfaceParams make_surface_params(const SurfaceSettings& settings, const ParticleDomain& domain,
                                           const GridGeometry& grid, const ViewCamera& camera, uint32_t width,

@@ -13,6 +13,7 @@ packages=(
   libglfw3-dev libglm-dev libtinyobjloader-dev libopenmesh-dev
   libgtest-dev googletest nlohmann-json3-dev libstb-dev python3-matplotlib
   libimgui-dev xvfb xauth
+  ffmpeg python3-vtk9 libopenvdb-dev
 )
 
 missing=()

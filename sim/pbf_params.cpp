@@ -6,6 +6,9 @@
 #include "grid/neighbor_grid.h"
 #include "shaders/shared/pbf_physics.h"
 #include "shaders/shared/sph_kernels.h"
+#include "shaders/shared/tank_layout.h"
+
+static_assert(TANK_MAX_BOXES == PBF_MAX_STATIC_BOXES, "the renderers draw every static box the solver takes");
 
 namespace aquaform {
 

@@ -382,8 +382,27 @@ Result<Scene> with_particle_count(const Scene& scene, uint64_t particles, const 
     return out;
 }
 
+Box framed_region(const Scene& scene) {
+    Box region = scene.domain;
+    // Mesh control lifts fluid into its shapes anywhere in the domain; sideways gravity moves
+    // it anywhere too: the whole tank is framed.
+    const float g = std::max(-scene.gravity.y, 0.0f);
+    if (scene.control_json || scene.fluid_blocks.empty() || g < 0.9f * glm::length(scene.gravity)) return region;
+    const float floor = scene.domain.min.y;
+    float top = floor;
+    for (size_t i = 0; i < scene.fluid_blocks.size(); ++i) {
+        const float up = std::max(scene.fill_of(i).velocity.y, 0.0f);  // a block thrown up rises v^2 / 2g
+        top = std::max(top, scene.fluid_blocks[i].max.y + (g > 0.0f ? up * up / (2.0f * g) : 0.0f));
+    }
+    for (const Box& box : scene.static_boxes) top = std::max(top, box.max.y);
+    // A falling column's wave runs up the far wall to about one and a half times its height
+    // (the violent dam break's splash); the domain above it is room the fluid rarely uses.
+    region.max.y = std::min(scene.domain.max.y, floor + 1.5f * (top - floor));
+    return region;
+}
+
 ViewCamera scene_camera(const Scene& scene, float aspect) {
-    return scene.camera ? *scene.camera : camera_for_domain(scene.domain, aspect);
+    return scene.camera ? *scene.camera : camera_for_domain(framed_region(scene), aspect);
 }
 
 Result<Scene> parse_scene(const std::string& json_text, const std::string& origin) {

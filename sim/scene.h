@@ -83,7 +83,7 @@ struct Scene {
     BlockFill fill_of(size_t block) const { return block < block_fills.size() ? block_fills[block] : BlockFill{}; }
 
     /// The part of the scene a renderer needs: the domain and the particles' size.
-    ParticleDomain particle_domain() const { return {domain, particle_spacing, solver.kernel_radius_factor}; }
+    ParticleDomain particle_domain() const { return {domain, particle_spacing, solver.kernel_radius_factor, static_boxes}; }
     /// Number of particles the fluid blocks produce (computed without generating them, in
     /// 64 bits so that absurd spacings are caught before any allocation).
     uint64_t particle_count() const;
@@ -100,7 +100,11 @@ inline constexpr uint64_t kMinSceneParticles = 64;
 /// names `flag` (e.g. "--particles") and the range kMinSceneParticles..kMaxSceneParticles.
 Result<Scene> with_particle_count(const Scene& scene, uint64_t particles, const std::string& flag = "--particles");
 
-/// The camera of every view of the scene: its own, or one that frames the domain.
+/// The part of the tank a view frames: the whole domain, or for a fluid that falls under gravity
+/// without mesh control, its floor up to the height the fluid can reach (a tall domain over a
+/// low column would leave most of the picture empty).
+Box framed_region(const Scene& scene);
+/// The camera of every view of the scene: its own, or one that frames framed_region().
 ViewCamera scene_camera(const Scene& scene, float aspect);
 
 /// Reads and validates a scene file.

@@ -1,6 +1,8 @@
-// The procedural environment the fluid is seen against (a sky with a sun and a checker floor at
-// the bottom of the domain), Schlick's Fresnel term and sRGB packing. Include after declaring
-// `params` with domain_min, domain_max and light_dir (SurfaceParams or MetaballParams).
+// The procedural environment the fluid is seen in: a sky with a sun, and the tank of
+// shared/tank_layout.h (checker tiles on the domain's floor, glass side walls in a dark frame,
+// the static boxes as solid blocks) on a plain ground. Include after declaring `params` with
+// domain_min, domain_max, light_dir and tank (SurfaceParams or MetaballParams). Also Schlick's
+// Fresnel term and sRGB packing.
 
 vec3 sky(vec3 dir) {
     vec3 horizon = vec3(0.80, 0.86, 0.92);
@@ -10,7 +12,33 @@ vec3 sky(vec3 dir) {
     return base + vec3(1.0, 0.95, 0.85) * pow(sun, 256.0) * 4.0;
 }
 
-vec3 environment(vec3 origin, vec3 dir) {
+/// Schlick's approximation of the Fresnel reflectance for a ray meeting a surface of relative
+/// index `ior` at cos(angle) = cos_view.
+float schlick_fresnel(float cos_view, float ior) {
+    float f0 = (1.0 - ior) * (1.0 - ior) / ((1.0 + ior) * (1.0 + ior));
+    return f0 + (1.0 - f0) * pow(1.0 - clamp(cos_view, 0.0, 1.0), 5.0);
+}
+
+const float TANK_NO_HIT = 3.0e38;
+
+/// Entry (x) and exit (y) distances of a ray through an axis-aligned box; x > y: it misses.
+vec2 tank_box_span(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi) {
+    vec3 a = (lo - origin) * inv_dir;
+    vec3 b = (hi - origin) * inv_dir;
+    vec3 near_t = min(a, b);
+    vec3 far_t = max(a, b);
+    return vec2(max(max(near_t.x, near_t.y), near_t.z), min(min(far_t.x, far_t.y), far_t.z));
+}
+
+/// Lambert shading with a sky term, so that faces turned from the light keep their shape.
+float tank_diffuse(vec3 n) { return 0.4 + 0.6 * max(dot(n, params.light_dir.xyz), 0.0); }
+
+/// The nearest opaque surface along the ray, beyond the origin: the floor (tiles inside the tank,
+/// a darker ground around it, fading into the haze) or a static box. Its distance goes to t_hit
+/// (TANK_NO_HIT and the sky's colour when there is none).
+vec3 tank_opaque(vec3 origin, vec3 dir, out float t_hit) {
+    t_hit = TANK_NO_HIT;
+    vec3 rgb = sky(dir);
     float floor_y = params.domain_min.y;
     if (dir.y < -1.0e-4 && origin.y > floor_y - 1.0e-6) {
         float t = (floor_y - origin.y) / dir.y;
@@ -20,13 +48,89 @@ vec3 environment(vec3 origin, vec3 dir) {
         vec2 c = floor((p.xz - params.domain_min.xz) / cell);
         bool dark = mod(c.x + c.y, 2.0) != 0.0;
         bool inside = all(greaterThanEqual(p.xz, params.domain_min.xz)) && all(lessThanEqual(p.xz, params.domain_max.xz));
-        vec3 tile = dark ? vec3(0.30, 0.31, 0.33) : vec3(0.72, 0.72, 0.70);
-        if (!inside) tile *= 0.75;  // the tank's floor stands out from the ground around it
+        vec3 tile = inside ? (dark ? vec3(0.30, 0.31, 0.33) : vec3(0.72, 0.72, 0.70)) : vec3(0.46, 0.45, 0.43);
         float light = 0.55 + 0.45 * max(params.light_dir.y, 0.0);
         float fade = exp(-0.05 * t / cell);
-        return mix(sky(vec3(dir.x, 0.0, dir.z)), tile * light, fade);
+        t_hit = t;
+        rgb = mix(sky(vec3(dir.x, 0.0, dir.z)), tile * light, fade);
     }
-    return sky(dir);
+    vec3 inv_dir = 1.0 / mix(dir, vec3(1.0e-20), lessThan(abs(dir), vec3(1.0e-20)));
+    for (uint i = 0u; i < params.tank.counts.x; ++i) {
+        vec3 lo = params.tank.box_min[i].xyz;
+        vec3 hi = params.tank.box_max[i].xyz;
+        vec2 span = tank_box_span(origin, inv_dir, lo, hi);
+        if (span.x > span.y || span.x <= 0.0 || span.x >= t_hit) continue;
+        // The face entered is the one whose slab the ray entered last.
+        vec3 p = origin + dir * span.x;
+        vec3 to_face = min(abs(p - lo), abs(p - hi));
+        vec3 n = vec3(0.0);
+        if (to_face.x <= to_face.y && to_face.x <= to_face.z) n.x = -sign(dir.x);
+        else if (to_face.y <= to_face.z) n.y = -sign(dir.y);
+        else n.z = -sign(dir.z);
+        t_hit = span.x;
+        rgb = vec3(0.62, 0.45, 0.30) * tank_diffuse(n);  // a warm colour, apart from water and glass
+    }
+    return rgb;
+}
+
+/// What the ray sees through the tank's side walls between the origin and max_t, with `behind`
+/// beyond them. Each glass pane passes a little less than all of the light and reflects the
+/// sky by Fresnel's term (glass, ior 1.5); its frame, along the pane's edges, is opaque. Panes
+/// are composited front to back.
+vec3 tank_glass(vec3 origin, vec3 dir, float max_t, vec3 behind) {
+    if ((params.tank.counts.y & TANK_GLASS_WALLS) == 0u) return behind;
+    vec3 lo = params.domain_min.xyz;
+    vec3 hi = params.domain_max.xyz;
+    float frame = params.tank.frame.x;
+    // The four side walls: x = lo.x, x = hi.x, z = lo.z, z = hi.z (the top is open).
+    float t[4];
+    for (int w = 0; w < 4; ++w) {
+        float d = w < 2 ? dir.x : dir.z;
+        float plane = w < 2 ? (w == 0 ? lo.x : hi.x) : (w == 2 ? lo.z : hi.z);
+        float o = w < 2 ? origin.x : origin.z;
+        t[w] = abs(d) > 1.0e-8 ? (plane - o) / d : -1.0;
+    }
+    vec3 sum = vec3(0.0);
+    vec3 through = vec3(1.0);
+    float last = 1.0e-5;
+    for (int k = 0; k < 4; ++k) {
+        int next = -1;  // the nearest pane beyond the last one composited
+        for (int w = 0; w < 4; ++w)
+            if (t[w] > last && t[w] < max_t && (next < 0 || t[w] < t[next])) next = w;
+        if (next < 0) break;
+        last = t[next];
+        vec3 p = origin + dir * t[next];
+        vec2 across = next < 2 ? vec2(p.z, p.y) : vec2(p.x, p.y);
+        vec2 across_lo = next < 2 ? vec2(lo.z, lo.y) : vec2(lo.x, lo.y);
+        vec2 across_hi = next < 2 ? vec2(hi.z, hi.y) : vec2(hi.x, hi.y);
+        if (any(lessThan(across, across_lo)) || any(greaterThan(across, across_hi))) continue;
+        vec3 n = next < 2 ? vec3(-sign(dir.x), 0.0, 0.0) : vec3(0.0, 0.0, -sign(dir.z));
+        vec2 edge = min(across - across_lo, across_hi - across);
+        if (min(edge.x, edge.y) < frame) {
+            sum += through * vec3(0.16, 0.17, 0.19) * tank_diffuse(n);
+            return sum;  // the frame hides what is behind it
+        }
+        float f = schlick_fresnel(abs(dot(n, dir)), 1.5);
+        sum += through * f * sky(reflect(dir, n));
+        through *= (1.0 - f) * vec3(0.92, 0.96, 0.96);
+    }
+    return sum + through * behind;
+}
+
+/// The environment along a ray: the nearest opaque surface or the sky, seen through the walls.
+vec3 environment(vec3 origin, vec3 dir) {
+    float t_opaque;
+    vec3 opaque = tank_opaque(origin, dir, t_opaque);
+    return tank_glass(origin, dir, t_opaque, opaque);
+}
+
+/// A primary ray's picture, given the fluid it met at t_fluid (negative: none) with colour
+/// `fluid`: a static box in front of the fluid hides it, and the walls in front are seen over it.
+vec3 tank_view(vec3 origin, vec3 dir, float t_fluid, vec3 fluid) {
+    float t_opaque;
+    vec3 opaque = tank_opaque(origin, dir, t_opaque);
+    bool fluid_first = t_fluid >= 0.0 && t_fluid < t_opaque;
+    return tank_glass(origin, dir, fluid_first ? t_fluid : t_opaque, fluid_first ? fluid : opaque);
 }
 
 uint pack_srgb(vec3 linear) {
@@ -35,9 +139,3 @@ uint pack_srgb(vec3 linear) {
     return b.r | (b.g << 8u) | (b.b << 16u) | (255u << 24u);
 }
 
-/// Schlick's approximation of the Fresnel reflectance for a ray meeting a surface of relative
-/// index `ior` at cos(angle) = cos_view.
-float schlick_fresnel(float cos_view, float ior) {
-    float f0 = (1.0 - ior) * (1.0 - ior) / ((1.0 + ior) * (1.0 + ior));
-    return f0 + (1.0 - f0) * pow(1.0 - clamp(cos_view, 0.0, 1.0), 5.0);
-}

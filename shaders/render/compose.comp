@@ -1,10 +1,10 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Composition: the fluid seen against a procedural environment (a sky and a checker floor at the
-// bottom of the domain). At a surface pixel: Fresnel (Schlick) mixes the reflected environment
+// Composition: the fluid seen in a procedural environment (a sky, the tank's glass walls, floor
+// and static boxes: common/environment.glsl). At a surface pixel: Fresnel (Schlick) mixes the reflected environment
 // with the refracted one, which is absorbed along the fluid's thickness (Beer-Lambert, from the
 // additive sprite pass, van der Laan et al. 2009), plus a Blinn-Phong highlight. Elsewhere the
-// environment itself. Output: RGBA8, sRGB-encoded.
+// environment itself; the tank's walls in front are seen over either. Output: RGBA8, sRGB-encoded.
 #include "shared/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
@@ -40,5 +40,5 @@ void main() {
     vec3 refracted = environment(h.xyz + bent * thick, bent) * exp(-params.fluid_color.xyz * thick);
     vec3 half_vector = normalize(params.light_dir.xyz - dir);
     float specular = pow(max(dot(n, half_vector), 0.0), params.light_dir.w);
-    color[index] = pack_srgb(mix(refracted, reflected, fresnel) + vec3(specular));
+    color[index] = pack_srgb(tank_view(params.eye.xyz, dir, h.w, mix(refracted, reflected, fresnel) + vec3(specular)));
 }

@@ -277,7 +277,8 @@ void main() {
         hit[index] = vec4(p, t_hit);
         rgb = params.visual == METABALL_GRADIENT ? vec3(0.0) : trace_paths(dir, t_hit, n, index);
         normal[index] = vec4(n, float(g_evals));
-        color[index] = params.visual == METABALL_GRADIENT ? pack_unorm(n * 0.5 + 0.5) : pack_srgb(rgb);
+        color[index] = params.visual == METABALL_GRADIENT ? pack_unorm(n * 0.5 + 0.5)
+                                                          : pack_srgb(tank_view(params.eye.xyz, dir, t_hit, rgb));
     } else {
         hit[index] = vec4(0.0, 0.0, 0.0, -1.0);
         normal[index] = vec4(0.0, 0.0, 0.0, float(g_evals));

@@ -20,6 +20,7 @@
 #ifndef AQUAFORM_METABALL_LAYOUT_H
 #define AQUAFORM_METABALL_LAYOUT_H
 #include "compat.h"
+#include "tank_layout.h"
 
 // MetaballParams.method
 #define METABALL_BRUTE_FORCE 0u
@@ -72,6 +73,7 @@ struct MetaballParams {
     uint list_capacity;    ///< entries the A-buffer nodes / S-buffer ids can hold
     uint flags;            ///< METABALL_KEEP_NEAR
     uint pad0, pad1, pad2;
+    TankParams tank;       ///< what the fluid is seen in (shared/tank_layout.h)
 };
 
 struct MetaballPush {
@@ -111,7 +113,7 @@ AF_FN uint float_order_bits(uint key) { return (key & 0x80000000u) != 0u ? key &
 AF_END
 
 #ifdef __cplusplus
-static_assert(sizeof(aquaform::shader::MetaballParams) == 9 * 16 + 16 * 4);
+static_assert(sizeof(aquaform::shader::MetaballParams) == 9 * 16 + 16 * 4 + sizeof(aquaform::shader::TankParams));
 static_assert(sizeof(aquaform::shader::MetaballPush) == 16);
 static_assert(sizeof(aquaform::shader::MetaballCounters) == 32);
 #endif

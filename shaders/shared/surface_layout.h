@@ -17,6 +17,7 @@
 #ifndef AQUAFORM_SURFACE_LAYOUT_H
 #define AQUAFORM_SURFACE_LAYOUT_H
 #include "compat.h"
+#include "tank_layout.h"
 
 #define DEPTH_EMPTY 0x7f800000u  // +inf as float bits
 
@@ -128,6 +129,7 @@ struct SurfaceParams {
     // Composition.
     vec4 light_dir;         ///< unit, towards the light; w: specular exponent
     vec4 fluid_color;       ///< xyz: absorption per metre of thickness (r, g, b); w: ior
+    TankParams tank;        ///< what the fluid is seen in (shared/tank_layout.h)
 };
 
 /// Push block of the passes that need one more number than SurfaceParams (the separable
@@ -145,7 +147,7 @@ struct SurfacePassPush {
 AF_END
 
 #ifdef __cplusplus
-static_assert(sizeof(aquaform::shader::SurfaceParams) == 11 * 16 + 8 * 4 * 4 + 2 * 16);
+static_assert(sizeof(aquaform::shader::SurfaceParams) == 11 * 16 + 8 * 4 * 4 + 2 * 16 + sizeof(aquaform::shader::TankParams));
 static_assert(sizeof(aquaform::shader::SurfacePassPush) == 16);
 #endif
 

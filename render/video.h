@@ -1,0 +1,33 @@
+// Videos of a run's frames: H.264 in MP4 through Debian's ffmpeg (a separate program, so that
+// aquaform links no codec). The PNG frames stay; the video is made from them at the end.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+
+namespace aquaform {
+
+/// ffmpeg on PATH, or an error that says how to install it and how to make the video later.
+Result<std::filesystem::path> find_ffmpeg();
+
+/// Checks a --video path before any work: it ends in .mp4 and its folder exists or can be made.
+Result<bool> check_video_path(const std::filesystem::path& video);
+
+struct VideoFrames {
+    std::filesystem::path dir;      ///< where the frames are
+    const char* pattern = "frame_%04d.png";  ///< their names (printf style, numbered from 0)
+    uint32_t count = 0;             ///< frames 0..count-1
+    double fps = 60.0;              ///< frames per second of simulated time
+};
+
+/// The ffmpeg command line that makes `video` from `frames` (also printed for users to rerun).
+std::vector<std::string> video_command(const std::filesystem::path& ffmpeg, const VideoFrames& frames,
+                                       const std::filesystem::path& video);
+/// Runs it; the error carries ffmpeg's own message.
+Result<bool> encode_video(const std::filesystem::path& ffmpeg, const VideoFrames& frames, const std::filesystem::path& video);
+
+}  // namespace aquaform

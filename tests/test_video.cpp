@@ -1,0 +1,93 @@
+// `run --video`: an H.264 MP4 made by ffmpeg from the run's PNG frames, checked by ffprobe; the
+// refusals before any work (no ffmpeg, a name that is not .mp4, --no-png); `--camera`.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "tests/cli_helpers.h"
+
+namespace aquaform {
+namespace {
+
+namespace fs = std::filesystem;
+using test_cli::run_aquaform;
+using test_cli::temp_dir;
+using test_cli::write_file;
+
+const char* kTinyTank = R"({
+  "name": "tiny tank",
+  "domain": {"min": [0, 0, 0], "max": [0.4, 0.2, 0.08]},
+  "particle_spacing": 0.02,
+  "fluid_blocks": [{"min": [0, 0, 0], "max": [0.1, 0.2, 0.08]}],
+  "frames": 3
+})";
+
+/// What ffprobe says of the video's stream: "codec,width,height,frames".
+std::string probe(const fs::path& video) {
+    const test_cli::Outcome o = [&] {
+        const std::string cmd = "ffprobe -v error -select_streams v:0 -count_frames -show_entries "
+                                "stream=codec_name,width,height,nb_read_frames -of csv=p=0 '" + video.string() + "' 2>&1";
+        test_cli::Outcome out;
+        FILE* pipe = popen(cmd.c_str(), "r");
+        char buf[256];
+        while (pipe && fgets(buf, sizeof buf, pipe)) out.output += buf;
+        out.exit_code = pipe ? pclose(pipe) : -1;
+        return out;
+    }();
+    std::string text = o.output;
+    while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+    return text;
+}
+
+TEST(Video, ARunEndsWithAnH264VideoOfItsFrames) {
+    const fs::path dir = temp_dir("video_run");
+    const fs::path scene = write_file(dir / "tank.json", kTinyTank);
+    // An odd height: the encoder needs even sides, so the video is padded by one row.
+    const auto o = run_aquaform("run " + scene.string() + " --frames 3 --resolution 64x47 --out " + (dir / "out").string() +
+                                " --video " + (dir / "movies" / "tank.mp4").string());
+    ASSERT_EQ(o.exit_code, 0) << o.output;
+    EXPECT_NE(o.output.find("video: " + (dir / "movies" / "tank.mp4").string() + " (3 frames at 60 frames/s"),
+              std::string::npos) << o.output;
+    EXPECT_EQ(probe(dir / "movies" / "tank.mp4"), "h264,64,48,3");
+    EXPECT_TRUE(fs::exists(dir / "out" / "frame_0002.png")) << "the frames stay beside the video";
+}
+
+TEST(Video, IsRefusedBeforeAnyWorkWhenItCannotBeMade) {
+    const fs::path dir = temp_dir("video_refused");
+    const fs::path scene = write_file(dir / "tank.json", kTinyTank);
+    const std::string run = "run " + scene.string() + " --frames 2 --resolution 32x32 --out " + (dir / "out").string();
+
+    // No ffmpeg on PATH: the message says how to get it and how to make the video later.
+    fs::create_directories(dir / "empty_path");
+    const auto missing = run_aquaform(run + " --video " + (dir / "a.mp4").string(), "PATH=" + (dir / "empty_path").string());
+    EXPECT_EQ(missing.exit_code, 2) << missing.output;
+    EXPECT_NE(missing.output.find("apt-get install ffmpeg"), std::string::npos) << missing.output;
+    EXPECT_NE(missing.output.find("frame_%04d.png"), std::string::npos) << missing.output;
+    EXPECT_FALSE(fs::exists(dir / "out" / "stats.csv")) << "nothing is simulated";
+
+    const auto avi = run_aquaform(run + " --video " + (dir / "a.avi").string());
+    EXPECT_EQ(avi.exit_code, 2);
+    EXPECT_NE(avi.output.find(".mp4"), std::string::npos) << avi.output;
+
+    const auto no_png = run_aquaform(run + " --no-png --video " + (dir / "a.mp4").string());
+    EXPECT_EQ(no_png.exit_code, 2);
+    EXPECT_NE(no_png.output.find("drop --no-png"), std::string::npos) << no_png.output;
+
+    write_file(dir / "file", "x");
+    const auto blocked = run_aquaform(run + " --video " + (dir / "file" / "a.mp4").string());
+    EXPECT_EQ(blocked.exit_code, 2);
+    EXPECT_NE(blocked.output.find("--video"), std::string::npos) << blocked.output;
+    EXPECT_FALSE(fs::exists(dir / "out" / "stats.csv"));
+}
+
+TEST(Video, CameraFlagTakesAutoOrScene) {
+    const fs::path dir = temp_dir("camera_flag");
+    const fs::path scene = write_file(dir / "tank.json", kTinyTank);
+    const auto bad = run_aquaform("render " + scene.string() + " --camera orbit --out " + (dir / "out").string());
+    EXPECT_EQ(bad.exit_code, 2);
+    EXPECT_NE(bad.output.find("--camera takes auto or scene, got \"orbit\""), std::string::npos) << bad.output;
+}
+
+}  // namespace
+}  // namespace aquaform
