@@ -1,4 +1,5 @@
-// `aquaform run SCENE`: simulate, and write frames, stats.csv, front.csv and PLY dumps. Each
+// `aquaform run SCENE`: simulate, and write frames, stats.csv, front.csv, PLY dumps and surface
+// meshes (apps/run_meshes.h). Each
 // frame's image is drawn in the frame's own submission and copied into host memory there, and a
 // frame's files are written while the next frame runs on the device.
 #include <chrono>
@@ -15,6 +16,7 @@
 #include "core/progress.h"
 #include "apps/render_options.h"
 #include "apps/run_report.h"
+#include "apps/run_meshes.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
@@ -37,13 +39,15 @@ struct FinishedFrame {
     std::optional<Image> image;
     std::optional<ParticleSnapshot> particles;  ///< for its PLY dump
     std::string note;                           ///< the progress line's figures
+    std::optional<SurfaceMesh> mesh;            ///< its surface mesh (--mesh-every)
 };
 
 }  // namespace
 
 int cmd_run(const std::vector<std::string>& argv) {
     std::string error;
-    const FlagSpec spec = with_render_flags({{"--frames", "--out", "--device", "--ply-every", "--resolution", "--particles", "--camera", "--video"},
+    const FlagSpec spec = with_render_flags({{"--frames", "--out", "--device", "--ply-every", "--resolution", "--particles", "--camera", "--video",
+                                              kMeshEveryFlag, kMeshFormatFlag},
                                              {"--no-png", "--preview", "--validation", "--wireframe"}});
     auto args = parse_args(argv, spec, "run", &error);
     if (!args) {
@@ -79,6 +83,8 @@ int cmd_run(const std::vector<std::string>& argv) {
         if (!f) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
         ply_every = static_cast<uint32_t>(*f);
     }
+    const auto mesh_options = mesh_options_from(*args, &error);
+    if (!mesh_options) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
     if (args->has("--resolution") && !parse_resolution(args->value("--resolution"), &width, &height)) {
         std::fprintf(stderr, "aquaform run: --resolution must look like 640x360 (16..8192 per side), got \"%s\"\n",
                      args->value("--resolution").c_str());
@@ -134,6 +140,14 @@ int cmd_run(const std::vector<std::string>& argv) {
     style.speed_for_full_color = std::max(1.0f, 0.5f * std::sqrt(2.0f * 9.81f * (scene.domain.max.y - scene.domain.min.y)));
 
     gpu::GpuTimer timer(ctx);
+    std::optional<RunMeshes> meshes;
+    if (mesh_options->every) {
+        const SurfaceSettings* field = settings->get<SurfaceSettings>();  // the other families: the defaults
+        meshes.emplace(ctx, *mesh_options, scene.particle_domain(), solver.particle_count(),
+                       field ? *field : SurfaceSettings{}, out_dir);
+        std::printf("%s\n", meshes->memory_line().c_str());
+    }
+    uint32_t recording = 0;  // the frame record_image records
     // The image is recorded after the solver's frame, in the same submission, and read back into
     // host memory there (the impostor view has its own read-back buffer).
     gpu::BufferSet readback(ctx);
@@ -148,6 +162,7 @@ int cmd_run(const std::vector<std::string>& argv) {
             surface->record(cmd, solver.positions(), solver.particle_count(), camera, nullptr);
             gpu::record_download(ctx, cmd, surface->color_buffer(), *color, color->size);
         }
+        if (meshes) meshes->record(cmd, recording, solver.positions(), solver.particle_count(), sim.frame_grid(), &timer);
     };
     // After the frame's submission has completed, before the next one is recorded.
     auto collect = [&](uint32_t frame, gpu::Submission submitted) {
@@ -161,12 +176,14 @@ int cmd_run(const std::vector<std::string>& argv) {
             for (const control::Mesh& mesh : driver->active_meshes())
                 draw_wireframe(*f.image, mesh.vertices, mesh.faces, camera);
         if (ply_every && frame % ply_every == 0) f.particles = solver.snapshot();
+        if (meshes) f.mesh = meshes->collect(frame, timer, f.report.stats);
         const FrameStats& stats = f.report.stats;
-        char note[96];
+        char note[128];
         int used = std::snprintf(note, sizeof note, "density err %.2f%%  max speed %.2f m/s  %u steps",
                                  100.0 * stats.mean_density_error, stats.max_speed, stats.substeps);
         if (f.report.shape && !driver->active().empty())
-            std::snprintf(note + used, sizeof note - used, "  shape IoU %.2f", f.report.shape->iou);
+            used += std::snprintf(note + used, sizeof note - used, "  shape IoU %.2f", f.report.shape->iou);
+        if (f.mesh) std::snprintf(note + used, sizeof note - used, "  mesh %zu triangles", f.mesh->triangles.size());
         f.note = note;
         return f;
     };
@@ -197,6 +214,10 @@ int cmd_run(const std::vector<std::string>& argv) {
                 return false;
             }
         }
+        if (auto written = f.mesh ? meshes->write(f.index, *f.mesh) : Result<bool>(true); !written) {
+            std::fprintf(stderr, "\naquaform run: %s\n", written.error().c_str());
+            return false;
+        }
         ++done;
         simulated = stats.time_s;
         steps += stats.substeps;
@@ -219,7 +240,10 @@ int cmd_run(const std::vector<std::string>& argv) {
         const bool more = frame < frames && !interrupted();
         gpu::Submission next;
         try {
-            if (more) next = sim.submit_frame(&timer, record_image);
+            if (more) {
+                recording = frame;
+                next = sim.submit_frame(&timer, record_image);
+            }
         } catch (...) {
             if (finished) write_frame(*finished);  // the frame before a failure is still written
             throw;

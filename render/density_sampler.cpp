@@ -67,7 +67,8 @@ uint64_t DensitySampler::sample_limit() const {
     const gpu::DeviceInfo& device = ctx_->info();
     const uint64_t scan_limit = uint64_t(device.max_workgroups_x) * gpu::kDefaultLocalSize - 1;
     const uint64_t range_limit = device.max_storage_buffer_bytes / 4 - 1;
-    return std::min({scan_limit, range_limit, uint64_t(UINT32_MAX - 1)});
+    const uint64_t texel_limit = ctx_->limits().maxTexelBufferElements;  // the passes read phi as texels
+    return std::min({scan_limit, range_limit, texel_limit, uint64_t(UINT32_MAX - 1)});
 }
 
 void DensitySampler::reserve(uint64_t samples) {

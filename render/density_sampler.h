@@ -81,7 +81,7 @@ public:
     /// Throws a resource Failure naming the figures and the fix beyond sample_limit().
     void reserve(uint64_t samples);
     /// The most samples the device can take: the mesher's prefix sums dispatch a thread per sample
-    /// in one row of workgroups, and each per-sample array must fit one storage buffer.
+    /// in one row of workgroups, and each per-sample array must fit one storage (and texel) buffer.
     uint64_t sample_limit() const;
 
     uint32_t capacity() const { return capacity_; }

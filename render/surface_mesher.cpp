@@ -110,7 +110,7 @@ void SurfaceMesher::record_march(VkCommandBuffer cmd) {
                             {"triangles", triangles_}});
 }
 
-SurfaceMesh SurfaceMesher::collect() {
+SurfaceMesh SurfaceMesher::collect(gpu::GpuTimer* timer) {
     shader::MeshLattice lattice = sampler_.lattice();
     // Twice more at most: once for the lattice, once for the output it then counts.
     for (int attempt = 0;; ++attempt) {
@@ -121,7 +121,7 @@ SurfaceMesh SurfaceMesher::collect() {
             throw internal_failure("surface mesh: the mesh did not fit the buffers made for it");
         if (!lattice_fits) reserve_lattice(grown(lattice.dims.w, sampler_.sample_limit()));
         else reserve_output(grown(lattice.totals.x, UINT32_MAX), grown(lattice.totals.y, UINT32_MAX));
-        ctx_->submit_and_wait([&](VkCommandBuffer cmd) { record(cmd, *positions_, count_, nullptr); });
+        gpu::submit_timed(*ctx_, timer, [&](VkCommandBuffer cmd) { record(cmd, *positions_, count_, timer); });
         lattice = sampler_.lattice();
     }
     SurfaceMesh mesh;

@@ -46,8 +46,9 @@ public:
     /// solver's frame, in its submission) and the read-back of its counts.
     void record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, gpu::GpuTimer* timer);
     /// Once the recording's submission has completed: the mesh (extracting again, larger, where
-    /// it outgrew the buffers; the positions given to record() must not have changed).
-    SurfaceMesh collect();
+    /// it outgrew the buffers, timed on `timer`; the positions given to record() must not have
+    /// changed).
+    SurfaceMesh collect(gpu::GpuTimer* timer = nullptr);
     /// record, submit, wait, collect.
     SurfaceMesh extract(const gpu::Buffer& positions, uint32_t count);
 

@@ -1,7 +1,11 @@
 // Marching-cubes helpers over the sampled lattice (layout in shared/mesh_layout.h). Include
-// after declaring `params` (MeshParams), `lattice` (MeshLattice) and a readable `values[]`.
+// after declaring `params` (MeshParams), `lattice` (MeshLattice) and `values`, phi per sample as
+// a texel buffer (`layout(binding = N, r32f) readonly uniform imageBuffer values;`): each pass
+// reads a sample's neighbours, which on the software device is far quicker through texel fetches
+// (common/grid_query.glsl says why).
 
-bool mesh_inside(uvec3 c) { return values[mesh_index(c, lattice.dims)] >= params.iso; }
+float mesh_value(uvec3 c) { return imageLoad(values, int(mesh_index(c, lattice.dims))).x; }
+bool mesh_inside(uvec3 c) { return mesh_value(c) >= params.iso; }
 
 /// Bits 0, 1, 2: the edges from sample c along +x, +y, +z that cross the surface.
 uint mesh_edge_mask(uvec3 c) {

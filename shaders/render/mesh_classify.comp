@@ -17,7 +17,7 @@
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { MeshParams params; };
 layout(std430, binding = 1) readonly buffer Lattice { MeshLattice lattice; };
-layout(std430, binding = 2) readonly buffer Values { float values[]; };
+layout(binding = 2, r32f) readonly uniform imageBuffer values;
 layout(std430, binding = 3) readonly buffer Table { uint table[]; };
 layout(std430, binding = 4) writeonly buffer VertexCount { uint vertex_count[]; };
 layout(std430, binding = 5) writeonly buffer TriangleCount { uint triangle_count[]; };

@@ -18,14 +18,12 @@
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { MeshParams params; };
 layout(std430, binding = 1) readonly buffer Lattice { MeshLattice lattice; };
-layout(std430, binding = 2) readonly buffer Values { float values[]; };
+layout(binding = 2, r32f) readonly uniform imageBuffer values;
 layout(std430, binding = 3) readonly buffer VertexOffset { uint vertex_offset[]; };
 layout(std430, binding = 4) writeonly buffer Vertices { float vertices[]; };
 layout(std430, binding = 5) writeonly buffer Normals { float normals[]; };
 
 #include "common/mesh_cells.glsl"
-
-float value_at(uvec3 c) { return values[mesh_index(c, lattice.dims)]; }
 
 /// grad phi per voxel (the same differences as marching_cubes() on the host).
 vec3 lattice_gradient(uvec3 c) {
@@ -35,7 +33,7 @@ vec3 lattice_gradient(uvec3 c) {
         uvec3 hi = c;
         if (c[a] > 0u) lo[a] -= 1u;
         if (c[a] + 1u < lattice.dims[a]) hi[a] += 1u;
-        g[a] = (value_at(hi) - value_at(lo)) / float(hi[a] - lo[a]);
+        g[a] = (mesh_value(hi) - mesh_value(lo)) / float(hi[a] - lo[a]);
     }
     return g;
 }
@@ -47,12 +45,12 @@ void main() {
     uint mask = mesh_edge_mask(c);
     if (mask == 0u) return;
     uint v = vertex_offset[s];
-    float v0 = values[s];
+    float v0 = mesh_value(c);
     for (uint a = 0u; a < 3u; ++a) {
         if ((mask & (1u << a)) == 0u) continue;
         uvec3 n = c;
         n[a] += 1u;
-        float v1 = value_at(n);
+        float v1 = mesh_value(n);
         float t = clamp((params.iso - v0) / (v1 - v0), 0.0, 1.0);
         vec3 local = vec3(c);
         local[a] += t;

@@ -13,9 +13,10 @@ set(layers
   "render|render/surface_frame.h|core,gpu,grid"
   "control|control/mesh.h|core,gpu,grid,sim"
   "session|session/simulation_session.h|core,gpu,grid,sim,control"
+  "exports|exports/mesh_export.h|core,gpu,grid,sim,render"
   "study|study/bench_sim.h|core,gpu,grid,sim,render,control,session"
   "viewer|viewer/view_worker.h|core,gpu,grid,sim,render,control,session"
-  "apps|apps/cli.h|core,gpu,grid,sim,render,control,session,study,viewer")
+  "apps|apps/cli.h|core,gpu,grid,sim,render,control,session,exports,study,viewer")
 
 file(READ ${BUILD_DIR}/compile_commands.json db)
 string(JSON count LENGTH "${db}")
