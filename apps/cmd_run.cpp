@@ -275,7 +275,7 @@ int cmd_run(const std::vector<std::string>& argv) {
                 out_dir.string().c_str());
     // The frames written make the video, also after a Ctrl-C or a failure: nothing done is lost.
     if (video && done > 0) {
-        const VideoFrames made{out_dir, "frame_%04d.png", done, 1.0 / scene.solver.frame_dt};
+        const VideoFrames made{out_dir, "frame_%04d.png", done, video_fps(scene.solver.frame_dt)};
         if (auto encoded = encode_video(*ffmpeg, made, *video); encoded)
             std::printf("video: %s (%u frames at %g frames/s, H.264)\n", video->string().c_str(), done, made.fps);
         else if (std::fprintf(stderr, "aquaform run: %s\n", encoded.error().c_str()); status == kExitOk)

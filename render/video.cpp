@@ -32,6 +32,11 @@ Result<bool> check_video_path(const fs::path& video) {
     return true;
 }
 
+double video_fps(double frame_dt) {
+    const double fps = 1.0 / frame_dt;
+    return std::abs(fps - std::round(fps)) <= 1e-3 * fps ? std::round(fps) : fps;
+}
+
 std::vector<std::string> video_command(const fs::path& ffmpeg, const VideoFrames& frames, const fs::path& video) {
     char fps[32];
     std::snprintf(fps, sizeof fps, "%g", std::clamp(frames.fps, 1.0, 1000.0));

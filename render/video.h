@@ -24,6 +24,10 @@ struct VideoFrames {
     double fps = 60.0;              ///< frames per second of simulated time
 };
 
+/// Frames per second for frames `frame_dt` seconds apart, a whole number when within 0.1 % of
+/// one (scene files write 1/60 s as 0.0166667, which should play at 60, not 59.9999).
+double video_fps(double frame_dt);
+
 /// The ffmpeg command line that makes `video` from `frames` (also printed for users to rerun).
 std::vector<std::string> video_command(const std::filesystem::path& ffmpeg, const VideoFrames& frames,
                                        const std::filesystem::path& video);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <string>
 
+#include "render/video.h"
 #include "tests/cli_helpers.h"
 
 namespace aquaform {
@@ -79,6 +80,23 @@ TEST(Video, IsRefusedBeforeAnyWorkWhenItCannotBeMade) {
     EXPECT_EQ(blocked.exit_code, 2);
     EXPECT_NE(blocked.output.find("--video"), std::string::npos) << blocked.output;
     EXPECT_FALSE(fs::exists(dir / "out" / "stats.csv"));
+}
+
+TEST(Video, PlaysAtTheScenesFrameRateRoundedWhereItIsAWholeNumber) {
+    EXPECT_EQ(video_fps(0.0166667), 60.0);  // how scene files write 1/60 s
+    EXPECT_EQ(video_fps(0.04), 25.0);
+    EXPECT_NEAR(video_fps(1.0 / 29.97), 29.97, 1e-9);  // NTSC's rate is not rounded to 30
+    const auto command = video_command("/usr/bin/ffmpeg", {"/out", "frame_%04d.png", 7, 60.0}, "v.mp4");
+    const auto after = [&](const std::string& flag) {
+        for (size_t i = 0; i + 1 < command.size(); ++i)
+            if (command[i] == flag) return command[i + 1];
+        return std::string("(missing)");
+    };
+    EXPECT_EQ(after("-framerate"), "60");
+    EXPECT_EQ(after("-i"), "/out/frame_%04d.png");
+    EXPECT_EQ(after("-frames:v"), "7") << "frames left from an earlier, longer run into the folder stay out";
+    EXPECT_EQ(after("-c:v"), "libx264");
+    EXPECT_EQ(command.back(), "v.mp4");
 }
 
 TEST(Video, CameraFlagTakesAutoOrScene) {
