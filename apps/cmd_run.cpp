@@ -1,7 +1,8 @@
-// `aquaform run SCENE`: simulate, and write frames, stats.csv, front.csv, PLY dumps and surface
-// meshes (apps/run_meshes.h). Each
+// `aquaform run SCENE`: simulate, and write frames, stats.csv, front.csv and the exports that
+// are asked for (PLY, VTK, OpenVDB: exports/frame_exports.h; surface meshes: apps/run_meshes.h). Each
 // frame's image is drawn in the frame's own submission and copied into host memory there, and a
 // frame's files are written while the next frame runs on the device.
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +15,8 @@
 #include "apps/cli.h"
 #include "core/interrupt.h"
 #include "core/progress.h"
+#include "exports/frame_capture.h"
+#include "exports/frame_exports.h"
 #include "apps/render_options.h"
 #include "apps/run_report.h"
 #include "apps/run_meshes.h"
@@ -25,7 +28,6 @@
 #include "render/video.h"
 #include "render/wireframe.h"
 #include "session/simulation_session.h"
-#include "sim/particle_io.h"
 #include "sim/pbf_solver.h"
 
 namespace aquaform::cli {
@@ -37,7 +39,7 @@ struct FinishedFrame {
     uint32_t index = 0;
     session::FrameReport report;
     std::optional<Image> image;
-    std::optional<ParticleSnapshot> particles;  ///< for its PLY dump
+    FrameCapture capture;                       ///< what its exports need
     std::string note;                           ///< the progress line's figures
     std::optional<SurfaceMesh> mesh;            ///< its surface mesh (--mesh-every)
 };
@@ -46,9 +48,11 @@ struct FinishedFrame {
 
 int cmd_run(const std::vector<std::string>& argv) {
     std::string error;
-    const FlagSpec spec = with_render_flags({{"--frames", "--out", "--device", "--ply-every", "--resolution", "--particles", "--camera", "--video",
-                                              kMeshEveryFlag, kMeshFormatFlag},
-                                             {"--no-png", "--preview", "--validation", "--wireframe"}});
+    FlagSpec flags{{"--frames", "--out", "--device", "--resolution", "--particles", "--camera", "--video"},
+                   {"--no-png", "--preview", "--validation", "--wireframe"}};
+    for (const FrameExportKind& kind : frame_export_kinds()) flags.with_value.push_back(kind.flag);
+    flags.with_value.insert(flags.with_value.end(), {kMeshEveryFlag, kMeshFormatFlag});
+    const FlagSpec spec = with_render_flags(std::move(flags));
     auto args = parse_args(argv, spec, "run", &error);
     if (!args) {
         std::fprintf(stderr, "%s\n", error.c_str());
@@ -69,7 +73,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     auto plan = session::plan_session(std::move(loaded.value()));
     if (!plan) return std::fprintf(stderr, "aquaform: %s\n", plan.error().c_str()), kExitUsage;
     uint32_t frames = plan.value().scene.frames;
-    uint32_t ply_every = 0;
+    std::array<uint32_t, kFrameExportKinds> export_every{};  // 0: not written
     uint32_t width = 640, height = 360;
     auto settings = render_method_from(*args, &error);
     if (!settings) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
@@ -78,10 +82,11 @@ int cmd_run(const std::vector<std::string>& argv) {
         if (!f) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
         frames = static_cast<uint32_t>(*f);
     }
-    if (args->has("--ply-every")) {
-        auto f = parse_positive("--ply-every", args->value("--ply-every"), &error, kMaxFrames);
-        if (!f) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
-        ply_every = static_cast<uint32_t>(*f);
+    for (const FrameExportKind& kind : frame_export_kinds()) {
+        if (!args->has(kind.flag)) continue;
+        auto every = parse_positive(kind.flag, args->value(kind.flag), &error, kMaxFrames);
+        if (!every) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
+        export_every[size_t(kind.kind)] = static_cast<uint32_t>(*every);
     }
     const auto mesh_options = mesh_options_from(*args, &error);
     if (!mesh_options) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
@@ -117,6 +122,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     print_run_header(ctx, solver);
 
     RunFiles files(out_dir, scene);
+    FrameExports exports(out_dir, export_every);
     if (!files.ok()) {
         std::fprintf(stderr, "aquaform run: %s\n", files.error().c_str());
         return kExitFailure;
@@ -140,9 +146,11 @@ int cmd_run(const std::vector<std::string>& argv) {
     style.speed_for_full_color = std::max(1.0f, 0.5f * std::sqrt(2.0f * 9.81f * (scene.domain.max.y - scene.domain.min.y)));
 
     gpu::GpuTimer timer(ctx);
+    // What the due exports need from the device (the volume of --vdb-every: the renderer's field).
+    const SurfaceSettings* field = settings->get<SurfaceSettings>();
+    FrameCapturer capturer(ctx, exports, solver, scene.particle_domain(), field ? *field : SurfaceSettings{});
     std::optional<RunMeshes> meshes;
     if (mesh_options->every) {
-        const SurfaceSettings* field = settings->get<SurfaceSettings>();  // the other families: the defaults
         meshes.emplace(ctx, *mesh_options, scene.particle_domain(), solver.particle_count(),
                        field ? *field : SurfaceSettings{}, out_dir);
         std::printf("%s\n", meshes->memory_line().c_str());
@@ -162,11 +170,12 @@ int cmd_run(const std::vector<std::string>& argv) {
             surface->record(cmd, solver.positions(), solver.particle_count(), camera, nullptr);
             gpu::record_download(ctx, cmd, surface->color_buffer(), *color, color->size);
         }
+        capturer.record(cmd, recording, sim.frame_grid(), &timer);
         if (meshes) meshes->record(cmd, recording, solver.positions(), solver.particle_count(), sim.frame_grid(), &timer);
     };
     // After the frame's submission has completed, before the next one is recorded.
     auto collect = [&](uint32_t frame, gpu::Submission submitted) {
-        FinishedFrame f{frame, sim.finish_frame(submitted, &timer), std::nullopt, std::nullopt, {}};
+        FinishedFrame f{frame, sim.finish_frame(submitted, &timer), std::nullopt, {}, {}};
         if (view) f.image = view->image();
         if (color) {
             const auto* bytes = static_cast<const uint8_t*>(color->mapped);
@@ -175,7 +184,7 @@ int cmd_run(const std::vector<std::string>& argv) {
         if (f.image && driver && args->has("--wireframe"))
             for (const control::Mesh& mesh : driver->active_meshes())
                 draw_wireframe(*f.image, mesh.vertices, mesh.faces, camera);
-        if (ply_every && frame % ply_every == 0) f.particles = solver.snapshot();
+        f.capture = capturer.collect(frame);
         if (meshes) f.mesh = meshes->collect(frame, timer, f.report.stats);
         const FrameStats& stats = f.report.stats;
         char note[128];
@@ -207,12 +216,9 @@ int cmd_run(const std::vector<std::string>& argv) {
                 return false;
             }
         }
-        if (f.particles) {
-            std::snprintf(name, sizeof name, "particles_%04u.ply", f.index);
-            if (auto written = write_particles_ply(out_dir / name, *f.particles); !written) {
-                std::fprintf(stderr, "\naquaform run: %s\n", written.error().c_str());
-                return false;
-            }
+        if (auto written = exports.write(f.index, stats.time_s, f.capture); !written) {
+            std::fprintf(stderr, "\naquaform run: %s\n", written.error().c_str());
+            return false;
         }
         if (auto written = f.mesh ? meshes->write(f.index, *f.mesh) : Result<bool>(true); !written) {
             std::fprintf(stderr, "\naquaform run: %s\n", written.error().c_str());

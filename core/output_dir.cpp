@@ -10,9 +10,6 @@ namespace aquaform {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-/// Why `errno_value` stopped us writing in `where`, with the fix.
 std::string why_not_writable(const fs::path& where, int errno_value, const std::string& flag) {
     const std::string other = "choose another folder with " + flag;
     switch (errno_value) {
@@ -27,6 +24,8 @@ std::string why_not_writable(const fs::path& where, int errno_value, const std::
         default: return "cannot write in " + where.string() + " (" + std::strerror(errno_value) + "); " + other;
     }
 }
+
+namespace {
 
 /// Creates and removes a file in `dir`: permissions, read-only mounts and ACLs all show, for root too.
 Result<bool> try_writing(const fs::path& dir, const std::string& flag) {

@@ -14,4 +14,8 @@ namespace aquaform {
 /// error names the path at fault and says what to do; `flag` is the option that chose `dir`.
 Result<bool> prepare_output_dir(const std::filesystem::path& dir, const std::string& flag = "--out");
 
+/// Why `errno_value` stopped a write in the folder `where` (no permission, a read-only file
+/// system, a full disk), with the fix; `flag` is the option that chose the folder.
+std::string why_not_writable(const std::filesystem::path& where, int errno_value, const std::string& flag = "--out");
+
 }  // namespace aquaform

@@ -1,28 +1,27 @@
 #include "sim/particle_io.h"
 
-#include <cstring>
-#include <fstream>
+#include <ostream>
+
+#include "core/file_write.h"
 
 namespace aquaform {
 
 Result<bool> write_particles_ply(const std::filesystem::path& path, const ParticleSnapshot& s) {
-    std::ofstream out(path, std::ios::binary);
-    if (!out) return Error{"cannot write " + path.string() + "; check that the directory exists and is writable"};
-    const size_t n = s.x.size();
-    out << "ply\nformat binary_little_endian 1.0\ncomment aquaform particles (SI units)\n"
-        << "element vertex " << n << "\n"
-        << "property float x\nproperty float y\nproperty float z\n"
-        << "property float vx\nproperty float vy\nproperty float vz\n"
-        << "property float density\nproperty uint id\nproperty uint tag\nend_header\n";
-    for (size_t i = 0; i < n; ++i) {
-        float f[7] = {s.x[i].x, s.x[i].y, s.x[i].z, s.v[i].x, s.v[i].y, s.v[i].z,
-                      i < s.density.size() ? s.density[i] : 0.0f};
-        uint32_t u[2] = {static_cast<uint32_t>(s.x[i].w), static_cast<uint32_t>(s.v[i].w)};
-        out.write(reinterpret_cast<const char*>(f), sizeof f);
-        out.write(reinterpret_cast<const char*>(u), sizeof u);
-    }
-    if (!out) return Error{"writing " + path.string() + " failed; is the disk full?"};
-    return true;
+    return write_file_with(path, [&](std::ostream& out) {
+        const size_t n = s.x.size();
+        out << "ply\nformat binary_little_endian 1.0\ncomment aquaform particles (SI units)\n"
+            << "element vertex " << n << "\n"
+            << "property float x\nproperty float y\nproperty float z\n"
+            << "property float vx\nproperty float vy\nproperty float vz\n"
+            << "property float density\nproperty uint id\nproperty uint tag\nend_header\n";
+        for (size_t i = 0; i < n && out; ++i) {
+            float f[7] = {s.x[i].x, s.x[i].y, s.x[i].z, s.v[i].x, s.v[i].y, s.v[i].z,
+                          i < s.density.size() ? s.density[i] : 0.0f};
+            uint32_t u[2] = {static_cast<uint32_t>(s.x[i].w), static_cast<uint32_t>(s.v[i].w)};
+            out.write(reinterpret_cast<const char*>(f), sizeof f);
+            out.write(reinterpret_cast<const char*>(u), sizeof u);
+        }
+    });
 }
 
 }  // namespace aquaform

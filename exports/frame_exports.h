@@ -1,0 +1,61 @@
+// The files `run` writes every K frames besides its images - particle dumps (PLY, VTK) and
+// density volumes (OpenVDB) - under one rule: a kind whose flag gave K is written at the frames
+// f with f % K == 0. A new kind is a row in frame_export_kinds(), a field in FrameCapture if it
+// needs new data, and a case in FrameExports::write.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "core/result.h"
+#include "exports/vtk_export.h"
+#include "render/density_volume.h"
+#include "sim/pbf_solver.h"
+
+namespace aquaform {
+
+enum class FrameExport : uint8_t { ply, vtk, vdb };
+constexpr size_t kFrameExportKinds = 3;
+
+struct FrameExportKind {
+    FrameExport kind;
+    const char* flag;          ///< the `run` flag that gives K, e.g. "--vtk-every"
+    const char* file_pattern;  ///< printf pattern of the file, with the frame number
+    bool needs_particles;      ///< reads a ParticleSnapshot of the frame
+    bool needs_volume;         ///< reads a DensityVolume of the frame
+};
+
+/// Every kind, in FrameExport order.
+const std::array<FrameExportKind, kFrameExportKinds>& frame_export_kinds();
+
+/// What a frame captured for its exports: only what a due kind needs.
+struct FrameCapture {
+    std::optional<ParticleSnapshot> particles;
+    std::optional<DensityVolume> volume;
+};
+
+class FrameExports {
+public:
+    /// `every[kind]`: write that kind every K frames; 0: never.
+    FrameExports(std::filesystem::path dir, const std::array<uint32_t, kFrameExportKinds>& every);
+
+    bool enabled(FrameExport kind) const { return every_[size_t(kind)] > 0; }
+    bool due(FrameExport kind, uint32_t frame) const;
+    bool needs_particles(uint32_t frame) const;
+    bool needs_volume(uint32_t frame) const;
+
+    /// Writes the files due at `frame` from `capture`; `time_s` is the simulated time at the
+    /// frame's end (the .pvd's timestep). The error names the file and the fix.
+    Result<bool> write(uint32_t frame, double time_s, const FrameCapture& capture);
+
+private:
+    std::filesystem::path file(FrameExport kind, uint32_t frame) const;
+    std::filesystem::path dir_;
+    std::array<uint32_t, kFrameExportKinds> every_;
+    VtkCollection vtk_collection_;
+};
+
+}  // namespace aquaform

@@ -1,0 +1,139 @@
+#include "exports/vtk_export.h"
+
+#include <bit>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <ostream>
+#include <string_view>
+
+#include "core/file_write.h"
+
+namespace aquaform {
+
+static_assert(std::endian::native == std::endian::little, "the .vtu header says LittleEndian");
+
+namespace {
+
+/// One array of the appended block: its XML attributes and its bytes.
+struct AppendedArray {
+    std::string_view vtk_type;  // Float32, UInt32, Int32, UInt8
+    std::string_view name;
+    uint32_t components;
+    const void* data;
+    uint64_t bytes;
+};
+
+/// `<DataArray .../>` for an array whose bytes start `offset` bytes into the appended block.
+void write_array_tag(std::ostream& out, const AppendedArray& a, uint64_t offset) {
+    out << "        <DataArray type=\"" << a.vtk_type << "\"";
+    if (!a.name.empty()) out << " Name=\"" << a.name << "\"";
+    if (a.components > 1) out << " NumberOfComponents=\"" << a.components << "\"";
+    out << " format=\"appended\" offset=\"" << offset << "\"/>\n";
+}
+
+/// The bytes of a block in the appended data: a UInt64 size header, then the data.
+uint64_t block_bytes(const AppendedArray& a) { return sizeof(uint64_t) + a.bytes; }
+
+template <typename T>
+AppendedArray array_of(std::string_view vtk_type, std::string_view name, uint32_t components, const std::vector<T>& v) {
+    return {vtk_type, name, components, v.data(), uint64_t(v.size()) * sizeof(T)};
+}
+
+/// `text` with the five XML special characters escaped (file names in the .pvd).
+std::string xml_escaped(const std::string& text) {
+    std::string out;
+    for (char c : text) switch (c) {
+            case '&': out += "&amp;"; break;
+            case '<': out += "&lt;"; break;
+            case '>': out += "&gt;"; break;
+            case '"': out += "&quot;"; break;
+            case '\'': out += "&apos;"; break;
+            default: out += c;
+        }
+    return out;
+}
+
+}  // namespace
+
+Result<bool> write_particles_vtu(const std::filesystem::path& path, const ParticleSnapshot& s) {
+    const size_t n = s.x.size();
+    if (s.v.size() != n || (!s.density.empty() && s.density.size() != n))
+        return Error{"cannot write " + path.string() + ": the snapshot has " + std::to_string(n) + " positions, " +
+                     std::to_string(s.v.size()) + " velocities and " + std::to_string(s.density.size()) +
+                     " densities; take the snapshot from one solver (PbfSolver::snapshot)"};
+    if (n > size_t(std::numeric_limits<int32_t>::max()))
+        return Error{"cannot write " + path.string() + ": " + std::to_string(n) +
+                     " particles exceed the Int32 cell connectivity of the .vtu writer; write fewer particles"};
+    // The snapshot keeps id and tag in w; VTK wants each field as its own array.
+    std::vector<float> points(3 * n), velocity(3 * n), density(n, 0.0f);
+    std::vector<uint32_t> id(n), tag(n);
+    std::vector<int32_t> connectivity(n), offsets(n);
+    const std::vector<uint8_t> types(n, uint8_t(1));  // VTK_VERTEX
+    for (size_t i = 0; i < n; ++i) {
+        for (int c = 0; c < 3; ++c) {
+            points[3 * i + c] = s.x[i][c];
+            velocity[3 * i + c] = s.v[i][c];
+        }
+        id[i] = static_cast<uint32_t>(s.x[i].w);
+        tag[i] = static_cast<uint32_t>(s.v[i].w);
+        connectivity[i] = int32_t(i);
+        offsets[i] = int32_t(i + 1);
+    }
+    if (!s.density.empty()) density = s.density;
+
+    const AppendedArray point_data[] = {array_of("Float32", "velocity", 3, velocity),
+                                        array_of("Float32", "density", 1, density), array_of("UInt32", "id", 1, id),
+                                        array_of("UInt32", "tag", 1, tag)};
+    const AppendedArray point_array = array_of("Float32", "", 3, points);
+    const AppendedArray cells[] = {array_of("Int32", "connectivity", 1, connectivity),
+                                   array_of("Int32", "offsets", 1, offsets), array_of("UInt8", "types", 1, types)};
+
+    return write_file_with(path, [&](std::ostream& out) {
+        uint64_t offset = 0;
+        auto tag_and_advance = [&](const AppendedArray& a) {
+            write_array_tag(out, a, offset);
+            offset += block_bytes(a);
+        };
+        out << "<?xml version=\"1.0\"?>\n"
+            << "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+            << "  <UnstructuredGrid>\n"
+            << "    <Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n << "\">\n"
+            << "      <PointData Scalars=\"density\" Vectors=\"velocity\">\n";
+        for (const AppendedArray& a : point_data) tag_and_advance(a);
+        out << "      </PointData>\n      <Points>\n";
+        tag_and_advance(point_array);
+        out << "      </Points>\n      <Cells>\n";
+        for (const AppendedArray& a : cells) tag_and_advance(a);
+        out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _";
+        // The blocks in the order their offsets were given.
+        auto append = [&](const AppendedArray& a) {
+            out.write(reinterpret_cast<const char*>(&a.bytes), sizeof a.bytes);
+            out.write(static_cast<const char*>(a.data), std::streamsize(a.bytes));
+        };
+        for (const AppendedArray& a : point_data) append(a);
+        append(point_array);
+        for (const AppendedArray& a : cells) append(a);
+        out << "\n  </AppendedData>\n</VTKFile>\n";
+    });
+}
+
+Result<bool> VtkCollection::add(double time_s, const std::string& file) {
+    entries_.push_back({time_s, file});
+    return write_file_with(
+        path_,
+        [&](std::ostream& out) {
+            out << "<?xml version=\"1.0\"?>\n"
+                << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
+            for (const Entry& e : entries_) {
+                char time[32];
+                std::snprintf(time, sizeof time, "%.12g", e.time_s);  // simulated seconds
+                out << "    <DataSet timestep=\"" << time << "\" group=\"\" part=\"0\" file=\""
+                    << xml_escaped(e.file) << "\"/>\n";
+            }
+            out << "  </Collection>\n</VTKFile>\n";
+        },
+        FileReplace::atomically);
+}
+
+}  // namespace aquaform
