@@ -1,8 +1,7 @@
 // `aquaform run SCENE`: simulate, and write frames, stats.csv, front.csv and the exports that
-// are asked for (PLY, VTK, OpenVDB: exports/frame_exports.h; surface meshes: apps/run_meshes.h). Each
+// are asked for (PLY, VTK, OpenVDB, surface meshes: exports/frame_exports.h). Each
 // frame's image is drawn in the frame's own submission and copied into host memory there, and a
 // frame's files are written while the next frame runs on the device.
-#include <array>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -19,7 +18,7 @@
 #include "exports/frame_exports.h"
 #include "apps/render_options.h"
 #include "apps/run_report.h"
-#include "apps/run_meshes.h"
+#include "apps/run_exports.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
@@ -41,7 +40,6 @@ struct FinishedFrame {
     std::optional<Image> image;
     FrameCapture capture;                       ///< what its exports need
     std::string note;                           ///< the progress line's figures
-    std::optional<SurfaceMesh> mesh;            ///< its surface mesh (--mesh-every)
 };
 
 }  // namespace
@@ -50,8 +48,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     std::string error;
     FlagSpec flags{{"--frames", "--out", "--device", "--resolution", "--particles", "--camera", "--video"},
                    {"--no-png", "--preview", "--validation", "--wireframe"}};
-    for (const FrameExportKind& kind : frame_export_kinds()) flags.with_value.push_back(kind.flag);
-    flags.with_value.insert(flags.with_value.end(), {kMeshEveryFlag, kMeshFormatFlag});
+    for (const std::string& flag : frame_export_flags()) flags.with_value.push_back(flag);
     const FlagSpec spec = with_render_flags(std::move(flags));
     auto args = parse_args(argv, spec, "run", &error);
     if (!args) {
@@ -73,7 +70,6 @@ int cmd_run(const std::vector<std::string>& argv) {
     auto plan = session::plan_session(std::move(loaded.value()));
     if (!plan) return std::fprintf(stderr, "aquaform: %s\n", plan.error().c_str()), kExitUsage;
     uint32_t frames = plan.value().scene.frames;
-    std::array<uint32_t, kFrameExportKinds> export_every{};  // 0: not written
     uint32_t width = 640, height = 360;
     auto settings = render_method_from(*args, &error);
     if (!settings) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
@@ -82,14 +78,8 @@ int cmd_run(const std::vector<std::string>& argv) {
         if (!f) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
         frames = static_cast<uint32_t>(*f);
     }
-    for (const FrameExportKind& kind : frame_export_kinds()) {
-        if (!args->has(kind.flag)) continue;
-        auto every = parse_positive(kind.flag, args->value(kind.flag), &error, kMaxFrames);
-        if (!every) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
-        export_every[size_t(kind.kind)] = static_cast<uint32_t>(*every);
-    }
-    const auto mesh_options = mesh_options_from(*args, &error);
-    if (!mesh_options) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
+    const auto export_options = frame_export_options_from(*args, &error);
+    if (!export_options) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
     if (args->has("--resolution") && !parse_resolution(args->value("--resolution"), &width, &height)) {
         std::fprintf(stderr, "aquaform run: --resolution must look like 640x360 (16..8192 per side), got \"%s\"\n",
                      args->value("--resolution").c_str());
@@ -122,7 +112,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     print_run_header(ctx, solver);
 
     RunFiles files(out_dir, scene);
-    FrameExports exports(out_dir, export_every);
+    FrameExports exports(out_dir, *export_options);
     if (!files.ok()) {
         std::fprintf(stderr, "aquaform run: %s\n", files.error().c_str());
         return kExitFailure;
@@ -146,15 +136,10 @@ int cmd_run(const std::vector<std::string>& argv) {
     style.speed_for_full_color = std::max(1.0f, 0.5f * std::sqrt(2.0f * 9.81f * (scene.domain.max.y - scene.domain.min.y)));
 
     gpu::GpuTimer timer(ctx);
-    // What the due exports need from the device (the volume of --vdb-every: the renderer's field).
+    // What the due exports need from the device (volumes and meshes: the renderer's field).
     const SurfaceSettings* field = settings->get<SurfaceSettings>();
     FrameCapturer capturer(ctx, exports, solver, scene.particle_domain(), field ? *field : SurfaceSettings{});
-    std::optional<RunMeshes> meshes;
-    if (mesh_options->every) {
-        meshes.emplace(ctx, *mesh_options, scene.particle_domain(), solver.particle_count(),
-                       field ? *field : SurfaceSettings{}, out_dir);
-        std::printf("%s\n", meshes->memory_line().c_str());
-    }
+    if (const std::string line = capturer.memory_line(); !line.empty()) std::printf("%s\n", line.c_str());
     uint32_t recording = 0;  // the frame record_image records
     // The image is recorded after the solver's frame, in the same submission, and read back into
     // host memory there (the impostor view has its own read-back buffer).
@@ -171,7 +156,6 @@ int cmd_run(const std::vector<std::string>& argv) {
             gpu::record_download(ctx, cmd, surface->color_buffer(), *color, color->size);
         }
         capturer.record(cmd, recording, sim.frame_grid(), &timer);
-        if (meshes) meshes->record(cmd, recording, solver.positions(), solver.particle_count(), sim.frame_grid(), &timer);
     };
     // After the frame's submission has completed, before the next one is recorded.
     auto collect = [&](uint32_t frame, gpu::Submission submitted) {
@@ -184,15 +168,15 @@ int cmd_run(const std::vector<std::string>& argv) {
         if (f.image && driver && args->has("--wireframe"))
             for (const control::Mesh& mesh : driver->active_meshes())
                 draw_wireframe(*f.image, mesh.vertices, mesh.faces, camera);
-        f.capture = capturer.collect(frame);
-        if (meshes) f.mesh = meshes->collect(frame, timer, f.report.stats);
+        f.capture = capturer.collect(frame, timer, f.report.stats);
         const FrameStats& stats = f.report.stats;
         char note[128];
         int used = std::snprintf(note, sizeof note, "density err %.2f%%  max speed %.2f m/s  %u steps",
                                  100.0 * stats.mean_density_error, stats.max_speed, stats.substeps);
         if (f.report.shape && !driver->active().empty())
             used += std::snprintf(note + used, sizeof note - used, "  shape IoU %.2f", f.report.shape->iou);
-        if (f.mesh) std::snprintf(note + used, sizeof note - used, "  mesh %zu triangles", f.mesh->triangles.size());
+        if (f.capture.mesh)
+            std::snprintf(note + used, sizeof note - used, "  mesh %zu triangles", f.capture.mesh->triangles.size());
         f.note = note;
         return f;
     };
@@ -217,10 +201,6 @@ int cmd_run(const std::vector<std::string>& argv) {
             }
         }
         if (auto written = exports.write(f.index, stats.time_s, f.capture); !written) {
-            std::fprintf(stderr, "\naquaform run: %s\n", written.error().c_str());
-            return false;
-        }
-        if (auto written = f.mesh ? meshes->write(f.index, *f.mesh) : Result<bool>(true); !written) {
             std::fprintf(stderr, "\naquaform run: %s\n", written.error().c_str());
             return false;
         }

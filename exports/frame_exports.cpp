@@ -12,15 +12,16 @@ const std::array<FrameExportKind, kFrameExportKinds>& frame_export_kinds() {
         {FrameExport::ply, "--ply-every", "particles_%04u.ply", true, false},
         {FrameExport::vtk, "--vtk-every", "particles_%04u.vtu", true, false},
         {FrameExport::vdb, "--vdb-every", "density_%04u.vdb", false, true},
+        {FrameExport::mesh, "--mesh-every", "surface_%04u.obj", false, false},
     }};
     return kinds;
 }
 
-FrameExports::FrameExports(std::filesystem::path dir, const std::array<uint32_t, kFrameExportKinds>& every)
-    : dir_(std::move(dir)), every_(every), vtk_collection_(dir_ / "particles.pvd") {}
+FrameExports::FrameExports(std::filesystem::path dir, const FrameExportOptions& options)
+    : dir_(std::move(dir)), options_(options), vtk_collection_(dir_ / "particles.pvd") {}
 
 bool FrameExports::due(FrameExport kind, uint32_t frame) const {
-    const uint32_t every = every_[size_t(kind)];
+    const uint32_t every = options_.every[size_t(kind)];
     return every > 0 && frame % every == 0;
 }
 
@@ -39,17 +40,22 @@ bool FrameExports::needs_volume(uint32_t frame) const {
 std::filesystem::path FrameExports::file(FrameExport kind, uint32_t frame) const {
     char name[64];
     std::snprintf(name, sizeof name, frame_export_kinds()[size_t(kind)].file_pattern, frame);
-    return dir_ / name;
+    std::filesystem::path path = dir_ / name;
+    if (kind == FrameExport::mesh) path.replace_extension(mesh_format_extension(options_.mesh_format));
+    return path;
 }
 
 Result<bool> FrameExports::write(uint32_t frame, double time_s, const FrameCapture& capture) {
     for (const FrameExportKind& k : frame_export_kinds()) {
         if (!due(k.kind, frame)) continue;
         const std::filesystem::path path = file(k.kind, frame);
-        if ((k.needs_particles && !capture.particles) || (k.needs_volume && !capture.volume))
+        const bool captured = k.needs_particles   ? bool(capture.particles)
+                              : k.needs_volume    ? bool(capture.volume)
+                              : k.kind == FrameExport::mesh ? bool(capture.mesh)
+                                                            : true;
+        if (!captured)
             return Error{"cannot write " + path.string() + ": frame " + std::to_string(frame) +
-                         " captured no " + (k.needs_particles ? "particles" : "density volume") +
-                         " (a bug in aquaform: please report it)"};
+                         " captured nothing for it (a bug in aquaform: please report it)"};
         Result<bool> written = true;
         switch (k.kind) {
             case FrameExport::ply: written = write_particles_ply(path, *capture.particles); break;
@@ -58,6 +64,7 @@ Result<bool> FrameExports::write(uint32_t frame, double time_s, const FrameCaptu
                 if (written) written = vtk_collection_.add(time_s, path.filename().string());
                 break;
             case FrameExport::vdb: written = write_density_vdb(path, *capture.volume); break;
+            case FrameExport::mesh: written = write_mesh(path, *capture.mesh, options_.mesh_format); break;
         }
         if (!written) return written;
     }

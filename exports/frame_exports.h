@@ -1,6 +1,6 @@
-// The files `run` writes every K frames besides its images - particle dumps (PLY, VTK) and
-// density volumes (OpenVDB) - under one rule: a kind whose flag gave K is written at the frames
-// f with f % K == 0. A new kind is a row in frame_export_kinds(), a field in FrameCapture if it
+// The files `run` writes every K frames besides its images - particle dumps (PLY, VTK), density
+// volumes (OpenVDB) and surface meshes (OBJ or PLY) - under one rule: a kind whose flag gave K is
+// written at the frames f with f % K == 0. A new kind is a row in frame_export_kinds(), a field in FrameCapture if it
 // needs new data, and a case in FrameExports::write.
 #pragma once
 
@@ -11,19 +11,22 @@
 #include <string>
 
 #include "core/result.h"
+#include "exports/mesh_export.h"
 #include "exports/vtk_export.h"
 #include "render/density_volume.h"
+#include "render/marching_cubes.h"
 #include "sim/pbf_solver.h"
 
 namespace aquaform {
 
-enum class FrameExport : uint8_t { ply, vtk, vdb };
-constexpr size_t kFrameExportKinds = 3;
+enum class FrameExport : uint8_t { ply, vtk, vdb, mesh };
+constexpr size_t kFrameExportKinds = 4;
 
 struct FrameExportKind {
     FrameExport kind;
     const char* flag;          ///< the `run` flag that gives K, e.g. "--vtk-every"
-    const char* file_pattern;  ///< printf pattern of the file, with the frame number
+    const char* file_pattern;  ///< printf pattern of the file, with the frame number (a mesh's
+                               ///< extension follows its format)
     bool needs_particles;      ///< reads a ParticleSnapshot of the frame
     bool needs_volume;         ///< reads a DensityVolume of the frame
 };
@@ -35,14 +38,20 @@ const std::array<FrameExportKind, kFrameExportKinds>& frame_export_kinds();
 struct FrameCapture {
     std::optional<ParticleSnapshot> particles;
     std::optional<DensityVolume> volume;
+    std::optional<SurfaceMesh> mesh;
+};
+
+struct FrameExportOptions {
+    std::array<uint32_t, kFrameExportKinds> every{};  ///< per kind: every K frames; 0: never
+    MeshFormat mesh_format = MeshFormat::obj;
 };
 
 class FrameExports {
 public:
-    /// `every[kind]`: write that kind every K frames; 0: never.
-    FrameExports(std::filesystem::path dir, const std::array<uint32_t, kFrameExportKinds>& every);
+    FrameExports(std::filesystem::path dir, const FrameExportOptions& options);
 
-    bool enabled(FrameExport kind) const { return every_[size_t(kind)] > 0; }
+    bool enabled(FrameExport kind) const { return options_.every[size_t(kind)] > 0; }
+    uint32_t every(FrameExport kind) const { return options_.every[size_t(kind)]; }
     bool due(FrameExport kind, uint32_t frame) const;
     bool needs_particles(uint32_t frame) const;
     bool needs_volume(uint32_t frame) const;
@@ -54,7 +63,7 @@ public:
 private:
     std::filesystem::path file(FrameExport kind, uint32_t frame) const;
     std::filesystem::path dir_;
-    std::array<uint32_t, kFrameExportKinds> every_;
+    FrameExportOptions options_;
     VtkCollection vtk_collection_;
 };
 

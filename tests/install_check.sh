@@ -34,6 +34,7 @@ cd "$build"
 cpack -G DEB -B "$work/package" > "$work/cpack.log" || { cat "$work/cpack.log"; exit 1; }
 deb=$(ls "$work"/package/aquaform_*.deb)
 dpkg-deb -f "$deb" Depends | grep -q libvulkan1 || { echo "the package does not depend on libvulkan1"; exit 1; }
+dpkg-deb -f "$deb" Depends | grep -q libopenvdb || { echo "the package does not depend on libopenvdb (--vdb-every)"; exit 1; }
 contents=$(dpkg-deb -c "$deb")
 grep -q "\./usr/bin/aquaform$" <<< "$contents" && grep -q "usr/share/aquaform/scripts/study_charts.py$" <<< "$contents"
 echo "installed aquaform ran run, study (with charts) and bench render from $work/elsewhere; $(basename "$deb") built"

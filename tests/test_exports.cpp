@@ -18,6 +18,7 @@
 #include "exports/vdb_export.h"
 #include "exports/vtk_export.h"
 #include "gpu/context.h"
+#include "gpu/timer.h"
 #include "tests/cli_helpers.h"
 #include "tests/gpu_test.h"
 
@@ -226,17 +227,20 @@ TEST(ExportVdb, AnEmptyFieldIsASparseFileAndAMalformedVolumeIsRefused) {
 
 TEST(ExportSchedule, EachKindIsWrittenEveryKFramesFromFrameZero) {
     const fs::path dir = test_cli::temp_dir("export_schedule");
-    std::array<uint32_t, kFrameExportKinds> every{};
-    every[size_t(FrameExport::ply)] = 2;
-    every[size_t(FrameExport::vtk)] = 3;
-    every[size_t(FrameExport::vdb)] = 4;
-    FrameExports exports(dir, every);
+    FrameExportOptions options;
+    options.every[size_t(FrameExport::ply)] = 2;
+    options.every[size_t(FrameExport::vtk)] = 3;
+    options.every[size_t(FrameExport::vdb)] = 4;
+    options.every[size_t(FrameExport::mesh)] = 5;
+    options.mesh_format = MeshFormat::ply;
+    FrameExports exports(dir, options);
     for (uint32_t frame = 0; frame < 7; ++frame) {
         EXPECT_EQ(exports.needs_particles(frame), frame % 2 == 0 || frame % 3 == 0) << frame;
         EXPECT_EQ(exports.needs_volume(frame), frame % 4 == 0) << frame;
         FrameCapture capture;
         if (exports.needs_particles(frame)) capture.particles = known_snapshot(4);
         if (exports.needs_volume(frame)) capture.volume = fog_ball();
+        if (exports.due(FrameExport::mesh, frame)) capture.mesh = SurfaceMesh{};
         auto written = exports.write(frame, 0.01 * frame, capture);
         ASSERT_TRUE(written) << written.error();
     }
@@ -245,7 +249,7 @@ TEST(ExportSchedule, EachKindIsWrittenEveryKFramesFromFrameZero) {
     const std::set<std::string> expected = {"particles_0000.ply", "particles_0002.ply", "particles_0004.ply",
                                             "particles_0006.ply", "particles_0000.vtu", "particles_0003.vtu",
                                             "particles_0006.vtu", "particles.pvd",      "density_0000.vdb",
-                                            "density_0004.vdb"};
+                                            "density_0004.vdb",   "surface_0000.ply",   "surface_0005.ply"};
     EXPECT_EQ(names, expected);
     // A due kind whose data the frame did not capture is an error naming the file, not a skip.
     auto missing = exports.write(8, 0.08, FrameCapture{});
@@ -256,25 +260,32 @@ TEST(ExportSchedule, EachKindIsWrittenEveryKFramesFromFrameZero) {
 class ExportCapture : public testing::GpuTest {};
 
 /// The volume the frame's own submission read back equals the sampler's own sampling: for a
-/// compact fluid (the lattice fits the first buffers) and for two drops at opposite corners
-/// (it outgrows them and is sampled again).
+/// compact fluid (the lattice fits the first buffers), for two drops at opposite corners (it
+/// outgrows them and is sampled again), and with a mesh due in the same frame (the mesher's
+/// sampling serves both).
 TEST_F(ExportCapture, FrameVolumeIsTheSamplersVolumeAlsoWhenTheLatticeOutgrowsItsBuffers) {
     const fs::path dir = test_cli::temp_dir("export_capture");
     const Box compact{glm::vec3(0.2f), glm::vec3(0.3f)};
     const std::vector<std::vector<Box>> cases = {{compact}, {{glm::vec3(0.0f), glm::vec3(0.06f)},
                                                              {glm::vec3(0.44f), glm::vec3(0.5f)}}};
+    for (const bool with_mesh : {false, true})
     for (const auto& blocks : cases) {
         Scene scene = testing::scene_with({glm::vec3(0.0f), glm::vec3(0.5f)}, 0.02f);
         scene.fluid_blocks = blocks;
         PbfSolver solver(ctx(), scene);
-        std::array<uint32_t, kFrameExportKinds> every{};
-        every[size_t(FrameExport::vdb)] = 1;
-        FrameExports exports(dir, every);
+        FrameExportOptions options;
+        options.every[size_t(FrameExport::vdb)] = 1;
+        options.every[size_t(FrameExport::mesh)] = with_mesh ? 1 : 0;
+        FrameExports exports(dir, options);
         FrameCapturer capturer(ctx(), exports, solver, scene.particle_domain(), SurfaceSettings{});
         ctx().submit_and_wait([&](VkCommandBuffer cmd) { capturer.record(cmd, 0, nullptr, nullptr); });
-        const FrameCapture capture = capturer.collect(0);
+        gpu::GpuTimer timer(ctx());
+        FrameStats stats;
+        const FrameCapture capture = capturer.collect(0, timer, stats);
         ASSERT_TRUE(capture.volume);
         EXPECT_FALSE(capture.particles) << "no particle export is due";
+        EXPECT_EQ(bool(capture.mesh), with_mesh);
+        if (with_mesh) EXPECT_GT(capture.mesh->triangles.size(), 100u) << blocks.size() << " blocks";
 
         DensitySampler sampler(ctx(), scene.particle_domain(), solver.particle_count());
         const DensityVolume expected = sampler.sample_volume(solver.positions(), solver.particle_count());
@@ -353,7 +364,10 @@ TEST(ExportRun, VtkEveryWritesFramesAndACollectionVtkReads) {
 }
 
 TEST(ExportRun, VdbEveryWritesTheFramesDensityAroundItsParticles) {
-    const fs::path out = run_two_frames("export_run_vdb", "--vdb-every 1 --ply-every 1");
+    // Frame 0's volume comes from the mesher's sampling (a mesh is due too), frame 1's from its own.
+    const fs::path out = run_two_frames("export_run_vdb", "--vdb-every 1 --ply-every 1 --mesh-every 2");
+    EXPECT_TRUE(fs::exists(out / "surface_0000.obj"));
+    EXPECT_FALSE(fs::exists(out / "surface_0001.obj"));
     for (int frame = 0; frame < 2; ++frame) {
         const std::string n = "000" + std::to_string(frame);
         auto grid = read_density_grid(out / ("density_" + n + ".vdb"));
