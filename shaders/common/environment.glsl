@@ -1,7 +1,8 @@
 // The procedural environment the fluid is seen in: a sky with a sun, and the tank of
 // shared/tank_layout.h (checker tiles on the domain's floor, glass side walls in a dark frame,
-// the static boxes as solid blocks) on a plain ground. Include after declaring `params` with
-// domain_min, domain_max, light_dir and tank (SurfaceParams or MetaballParams). Also Schlick's
+// the static boxes as solid blocks) on a plain ground. Include after common/camera.glsl and the
+// declaration of `params` with domain_min, domain_max, light_dir and tank (SurfaceParams or
+// MetaballParams). Also Schlick's
 // Fresnel term and sRGB packing.
 
 vec3 sky(vec3 dir) {
@@ -20,15 +21,6 @@ float schlick_fresnel(float cos_view, float ior) {
 }
 
 const float TANK_NO_HIT = 3.0e38;
-
-/// Entry (x) and exit (y) distances of a ray through an axis-aligned box; x > y: it misses.
-vec2 tank_box_span(vec3 origin, vec3 inv_dir, vec3 lo, vec3 hi) {
-    vec3 a = (lo - origin) * inv_dir;
-    vec3 b = (hi - origin) * inv_dir;
-    vec3 near_t = min(a, b);
-    vec3 far_t = max(a, b);
-    return vec2(max(max(near_t.x, near_t.y), near_t.z), min(min(far_t.x, far_t.y), far_t.z));
-}
 
 /// Lambert shading with a sky term, so that faces turned from the light keep their shape.
 float tank_diffuse(vec3 n) { return 0.4 + 0.6 * max(dot(n, params.light_dir.xyz), 0.0); }
@@ -58,7 +50,7 @@ vec3 tank_opaque(vec3 origin, vec3 dir, out float t_hit) {
     for (uint i = 0u; i < params.tank.counts.x; ++i) {
         vec3 lo = params.tank.box_min[i].xyz;
         vec3 hi = params.tank.box_max[i].xyz;
-        vec2 span = tank_box_span(origin, inv_dir, lo, hi);
+        vec2 span = box_span(lo, hi, origin, inv_dir);
         if (span.x > span.y || span.x <= 0.0 || span.x >= t_hit) continue;
         // The face entered is the one whose slab the ray entered last.
         vec3 p = origin + dir * span.x;
