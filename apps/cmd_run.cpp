@@ -262,10 +262,12 @@ int cmd_run(const std::vector<std::string>& argv) {
     // The frames written make the video, also after a Ctrl-C or a failure: nothing done is lost.
     if (video && done > 0) {
         const VideoFrames made{out_dir, "frame_%04d.png", done, video_fps(scene.solver.frame_dt)};
-        if (auto encoded = encode_video(*ffmpeg, made, *video); encoded)
+        if (auto encoded = encode_video(*ffmpeg, made, *video); encoded) {
             std::printf("video: %s (%u frames at %g frames/s, H.264)\n", video->string().c_str(), done, made.fps);
-        else if (std::fprintf(stderr, "aquaform run: %s\n", encoded.error().c_str()); status == kExitOk)
-            status = kExitFailure;
+        } else {
+            std::fprintf(stderr, "aquaform run: %s\n", encoded.error().c_str());
+            if (status == kExitOk) status = kExitFailure;
+        }
     }
     return exit_status(ctx, stopped ? kExitInterrupted : status);
 }

@@ -15,7 +15,7 @@ FrameCapturer::FrameCapturer(gpu::Context& ctx, const FrameExports& exports, Pbf
         sampler_ = &mesher_->sampler();
     }
     for (const FrameExportKind& kind : frame_export_kinds())
-        if (kind.needs_volume && exports.enabled(kind.kind) && !sampler_) {
+        if (kind.needs == FrameData::volume && exports.enabled(kind.kind) && !sampler_) {
             own_sampler_ = std::make_unique<DensitySampler>(ctx, domain, solver.particle_count(), field);
             sampler_ = own_sampler_.get();
         }

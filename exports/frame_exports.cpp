@@ -9,10 +9,10 @@ namespace aquaform {
 
 const std::array<FrameExportKind, kFrameExportKinds>& frame_export_kinds() {
     static const std::array<FrameExportKind, kFrameExportKinds> kinds = {{
-        {FrameExport::ply, "--ply-every", "particles_%04u.ply", true, false},
-        {FrameExport::vtk, "--vtk-every", "particles_%04u.vtu", true, false},
-        {FrameExport::vdb, "--vdb-every", "density_%04u.vdb", false, true},
-        {FrameExport::mesh, "--mesh-every", "surface_%04u.obj", false, false},
+        {FrameExport::ply, "--ply-every", "particles_%04u.ply", FrameData::particles},
+        {FrameExport::vtk, "--vtk-every", "particles_%04u.vtu", FrameData::particles},
+        {FrameExport::vdb, "--vdb-every", "density_%04u.vdb", FrameData::volume},
+        {FrameExport::mesh, "--mesh-every", "surface_%04u.obj", FrameData::mesh},
     }};
     return kinds;
 }
@@ -25,15 +25,9 @@ bool FrameExports::due(FrameExport kind, uint32_t frame) const {
     return every > 0 && frame % every == 0;
 }
 
-bool FrameExports::needs_particles(uint32_t frame) const {
+bool FrameExports::needs(FrameData data, uint32_t frame) const {
     for (const FrameExportKind& k : frame_export_kinds())
-        if (k.needs_particles && due(k.kind, frame)) return true;
-    return false;
-}
-
-bool FrameExports::needs_volume(uint32_t frame) const {
-    for (const FrameExportKind& k : frame_export_kinds())
-        if (k.needs_volume && due(k.kind, frame)) return true;
+        if (k.needs == data && due(k.kind, frame)) return true;
     return false;
 }
 
@@ -49,11 +43,7 @@ Result<bool> FrameExports::write(uint32_t frame, double time_s, const FrameCaptu
     for (const FrameExportKind& k : frame_export_kinds()) {
         if (!due(k.kind, frame)) continue;
         const std::filesystem::path path = file(k.kind, frame);
-        const bool captured = k.needs_particles   ? bool(capture.particles)
-                              : k.needs_volume    ? bool(capture.volume)
-                              : k.kind == FrameExport::mesh ? bool(capture.mesh)
-                                                            : true;
-        if (!captured)
+        if (!capture.has(k.needs))
             return Error{"cannot write " + path.string() + ": frame " + std::to_string(frame) +
                          " captured nothing for it (a bug in aquaform: please report it)"};
         Result<bool> written = true;

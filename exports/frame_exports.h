@@ -22,13 +22,15 @@ namespace aquaform {
 enum class FrameExport : uint8_t { ply, vtk, vdb, mesh };
 constexpr size_t kFrameExportKinds = 4;
 
+/// What a kind is written from (a field of FrameCapture).
+enum class FrameData : uint8_t { particles, volume, mesh };
+
 struct FrameExportKind {
     FrameExport kind;
     const char* flag;          ///< the `run` flag that gives K, e.g. "--vtk-every"
     const char* file_pattern;  ///< printf pattern of the file, with the frame number (a mesh's
                                ///< extension follows its format)
-    bool needs_particles;      ///< reads a ParticleSnapshot of the frame
-    bool needs_volume;         ///< reads a DensityVolume of the frame
+    FrameData needs;           ///< what it is written from
 };
 
 /// Every kind, in FrameExport order.
@@ -39,6 +41,9 @@ struct FrameCapture {
     std::optional<ParticleSnapshot> particles;
     std::optional<DensityVolume> volume;
     std::optional<SurfaceMesh> mesh;
+    bool has(FrameData data) const {
+        return data == FrameData::particles ? bool(particles) : data == FrameData::volume ? bool(volume) : bool(mesh);
+    }
 };
 
 struct FrameExportOptions {
@@ -53,8 +58,10 @@ public:
     bool enabled(FrameExport kind) const { return options_.every[size_t(kind)] > 0; }
     uint32_t every(FrameExport kind) const { return options_.every[size_t(kind)]; }
     bool due(FrameExport kind, uint32_t frame) const;
-    bool needs_particles(uint32_t frame) const;
-    bool needs_volume(uint32_t frame) const;
+    /// Whether a kind due at `frame` is written from `data`.
+    bool needs(FrameData data, uint32_t frame) const;
+    bool needs_particles(uint32_t frame) const { return needs(FrameData::particles, frame); }
+    bool needs_volume(uint32_t frame) const { return needs(FrameData::volume, frame); }
 
     /// Writes the files due at `frame` from `capture`; `time_s` is the simulated time at the
     /// frame's end (the .pvd's timestep). The error names the file and the fix.

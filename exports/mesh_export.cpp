@@ -3,21 +3,15 @@
 #include <bit>
 #include <charconv>
 #include <cstring>
-#include <fstream>
+#include <ostream>
+
+#include "core/file_write.h"
 
 namespace aquaform {
 
 namespace {
 
 static_assert(std::endian::native == std::endian::little, "the PLY writer copies little-endian floats as they are");
-
-Result<bool> cannot_open(const std::filesystem::path& path) {
-    return Error{"cannot write " + path.string() + "; check that the directory exists and is writable"};
-}
-
-Result<bool> write_failed(const std::filesystem::path& path) {
-    return Error{"writing " + path.string() + " failed; is the disk full? Free space or choose another --out"};
-}
 
 /// Appends " x y z" with the shortest text that reads back as the same floats.
 void append_vec3(std::string& line, const glm::vec3& v) {
@@ -45,75 +39,69 @@ Result<MeshFormat> parse_mesh_format(const std::string& text) {
 const char* mesh_format_extension(MeshFormat format) { return format == MeshFormat::obj ? "obj" : "ply"; }
 
 Result<bool> write_mesh_obj(const std::filesystem::path& path, const SurfaceMesh& mesh) {
-    std::ofstream out(path, std::ios::binary);
-    if (!out) return cannot_open(path);
-    out << "# aquaform fluid surface (marching cubes, SI units): " << mesh.vertices.size() << " vertices, "
-        << mesh.triangles.size() << " triangles\n";
-    // Written in blocks: a text line per element through the stream is several times slower.
-    std::string block;
-    auto flush = [&](bool last) {
-        if (block.size() < (1u << 20) && !last) return;
-        out.write(block.data(), std::streamsize(block.size()));
-        block.clear();
-    };
-    for (const glm::vec3& v : mesh.vertices) {
-        block += 'v';
-        append_vec3(block, v);
-        block += '\n';
-        flush(false);
-    }
-    for (const glm::vec3& n : mesh.normals) {
-        block += "vn";
-        append_vec3(block, n);
-        block += '\n';
-        flush(false);
-    }
-    for (const glm::uvec3& t : mesh.triangles) {
-        block += 'f';
-        for (int k = 0; k < 3; ++k) {
-            block += ' ';
-            append_index(block, t[k] + 1);
-            block += "//";
-            append_index(block, t[k] + 1);
+    return write_file_with(path, [&](std::ostream& out) {
+        out << "# aquaform fluid surface (marching cubes, SI units): " << mesh.vertices.size() << " vertices, "
+            << mesh.triangles.size() << " triangles\n";
+        // Written in blocks: a text line per element through the stream is several times slower.
+        std::string block;
+        auto flush = [&](bool last) {
+            if (block.size() < (1u << 20) && !last) return;
+            out.write(block.data(), std::streamsize(block.size()));
+            block.clear();
+        };
+        for (const glm::vec3& v : mesh.vertices) {
+            block += 'v';
+            append_vec3(block, v);
+            block += '\n';
+            flush(false);
         }
-        block += '\n';
-        flush(false);
-    }
-    flush(true);
-    out.close();
-    if (!out) return write_failed(path);
-    return true;
+        for (const glm::vec3& n : mesh.normals) {
+            block += "vn";
+            append_vec3(block, n);
+            block += '\n';
+            flush(false);
+        }
+        for (const glm::uvec3& t : mesh.triangles) {
+            block += 'f';
+            for (int k = 0; k < 3; ++k) {
+                block += ' ';
+                append_index(block, t[k] + 1);
+                block += "//";
+                append_index(block, t[k] + 1);
+            }
+            block += '\n';
+            flush(false);
+        }
+        flush(true);
+    });
 }
 
 Result<bool> write_mesh_ply(const std::filesystem::path& path, const SurfaceMesh& mesh) {
-    std::ofstream out(path, std::ios::binary);
-    if (!out) return cannot_open(path);
-    out << "ply\nformat binary_little_endian 1.0\ncomment aquaform fluid surface (marching cubes, SI units)\n"
-        << "element vertex " << mesh.vertices.size() << "\n"
-        << "property float x\nproperty float y\nproperty float z\n"
-        << "property float nx\nproperty float ny\nproperty float nz\n"
-        << "element face " << mesh.triangles.size() << "\n"
-        << "property list uchar int vertex_indices\nend_header\n";
-    std::vector<char> block;
-    block.reserve(std::max(mesh.vertices.size() * 24, mesh.triangles.size() * 13));
-    for (size_t i = 0; i < mesh.vertices.size(); ++i) {
-        const glm::vec3 n = i < mesh.normals.size() ? mesh.normals[i] : glm::vec3(0.0f);
-        const float record[6] = {mesh.vertices[i].x, mesh.vertices[i].y, mesh.vertices[i].z, n.x, n.y, n.z};
-        block.insert(block.end(), reinterpret_cast<const char*>(record), reinterpret_cast<const char*>(record) + 24);
-    }
-    out.write(block.data(), std::streamsize(block.size()));
-    block.clear();
-    for (const glm::uvec3& t : mesh.triangles) {
-        char record[13];
-        record[0] = 3;
-        const int32_t corners[3] = {int32_t(t.x), int32_t(t.y), int32_t(t.z)};
-        std::memcpy(record + 1, corners, 12);
-        block.insert(block.end(), record, record + 13);
-    }
-    out.write(block.data(), std::streamsize(block.size()));
-    out.close();
-    if (!out) return write_failed(path);
-    return true;
+    return write_file_with(path, [&](std::ostream& out) {
+        out << "ply\nformat binary_little_endian 1.0\ncomment aquaform fluid surface (marching cubes, SI units)\n"
+            << "element vertex " << mesh.vertices.size() << "\n"
+            << "property float x\nproperty float y\nproperty float z\n"
+            << "property float nx\nproperty float ny\nproperty float nz\n"
+            << "element face " << mesh.triangles.size() << "\n"
+            << "property list uchar int vertex_indices\nend_header\n";
+        std::vector<char> block;
+        block.reserve(std::max(mesh.vertices.size() * 24, mesh.triangles.size() * 13));
+        for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+            const glm::vec3 n = i < mesh.normals.size() ? mesh.normals[i] : glm::vec3(0.0f);
+            const float record[6] = {mesh.vertices[i].x, mesh.vertices[i].y, mesh.vertices[i].z, n.x, n.y, n.z};
+            block.insert(block.end(), reinterpret_cast<const char*>(record), reinterpret_cast<const char*>(record) + 24);
+        }
+        out.write(block.data(), std::streamsize(block.size()));
+        block.clear();
+        for (const glm::uvec3& t : mesh.triangles) {
+            char record[13];
+            record[0] = 3;
+            const int32_t corners[3] = {int32_t(t.x), int32_t(t.y), int32_t(t.z)};
+            std::memcpy(record + 1, corners, 12);
+            block.insert(block.end(), record, record + 13);
+        }
+        out.write(block.data(), std::streamsize(block.size()));
+    });
 }
 
 Result<bool> write_mesh(const std::filesystem::path& path, const SurfaceMesh& mesh, MeshFormat format) {
