@@ -4,7 +4,11 @@
 // study_passes.csv, solver_map.csv (a row at a time, as measured: study/study_rows.h), study.md
 // (linking every frame under images/) and the charts (scripts/study_charts.py). A rerun of the
 // same spec into the same folder resumes; Ctrl-C stops after the current measurement.
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
+#include <optional>
+#include <set>
 #include <exception>
 #include <filesystem>
 
@@ -14,6 +18,7 @@
 #include "study/study_charts.h"
 #include "study/study_rows.h"
 #include "study/study_run.h"
+#include "study/study_shards.h"
 #include "study/study_solver_map.h"
 #include "study/study_spec.h"
 #include "gpu/context.h"
@@ -22,11 +27,11 @@ namespace aquaform::cli {
 
 namespace {
 
-/// study.md and the charts from the rows in `files`; false when one could not be written.
-bool write_report(const std::filesystem::path& out_dir, const study::StudySpec& spec, const study::StudyFiles& files,
-                  const std::string& device, bool charts) {
+/// study.md and the charts from the rows as the files hold them (StudyFiles::rows: a run, a
+/// resumed run and a merge of shards report alike); false when one could not be written.
+bool write_report(const std::filesystem::path& out_dir, const study::StudySpec& spec,
+                  const std::vector<study::StudyRow>& rows, const std::string& device, bool charts) {
     bool ok = true;
-    const std::vector<study::StudyRow> rows = files.rows();
     const std::vector<std::string> targets = study::study_targets(rows);
     if (auto md = study::write_study_markdown(out_dir / "study.md", spec, rows, targets, device); !md) {
         std::fprintf(stderr, "aquaform study: %s\n", md.error().c_str());
@@ -49,11 +54,47 @@ bool write_report(const std::filesystem::path& out_dir, const study::StudySpec& 
     return ok;
 }
 
+/// `study merge DIR... --out DIR [--no-charts]`: the shards' rows as one study.
+int cmd_study_merge(const std::vector<std::string>& argv) {
+    std::string error;
+    auto args = parse_args(argv, {{"--out"}, {"--no-charts"}}, "study merge", &error);
+    if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
+    if (!args->has("--out"))
+        return std::fprintf(stderr, "aquaform study merge: give --out DIR, the folder of the merged study\n"), kExitUsage;
+    std::vector<std::filesystem::path> dirs(args->positional.begin(), args->positional.end());
+    auto shards = study::read_shard_set(dirs);
+    if (!shards) return std::fprintf(stderr, "aquaform study merge: %s\n", shards.error().c_str()), kExitUsage;
+    auto spec = study::load_shard_spec(shards.value().front());
+    if (!spec) return std::fprintf(stderr, "aquaform study merge: %s\n", spec.error().c_str()), kExitUsage;
+    const std::filesystem::path out_dir = args->value("--out");
+    if (auto ready = prepare_output_dir(out_dir); !ready)
+        return std::fprintf(stderr, "aquaform study merge: %s\n", ready.error().c_str()), kExitUsage;
+    auto merged = study::merge_shards(spec.value(), shards.value(), out_dir);
+    if (!merged) return std::fprintf(stderr, "aquaform study merge: %s\n", merged.error().c_str()), kExitUsage;
+    std::printf("merged %zu shards of %s into %s\n", shards.value().size(), spec.value().name.c_str(), out_dir.string().c_str());
+    return write_report(out_dir, spec.value(), merged.value().rows, merged.value().device, !args->has("--no-charts"))
+               ? kExitOk : kExitFailure;
+}
+
+/// `--shard K/N` refused in a folder holding another shard's (or the whole spec's) manifest.
+Result<bool> check_shard_folder(const std::filesystem::path& out_dir, const std::optional<study::StudyShard>& shard, bool fresh) {
+    auto held = study::read_manifest(out_dir);
+    if (!held) return Error{held.error()};
+    if (!held.value() || fresh) return true;
+    const study::StudyShard theirs = held.value()->shard;
+    if (shard && *shard == theirs) return true;
+    return Error{out_dir.string() + " holds shard " + theirs.text() + " of " + held.value()->spec_name + " (" +
+                 study::kManifestName + "), not " + (shard ? "shard " + shard->text() : std::string("an unsharded run")) +
+                 ": give each shard its own --out, or pass --fresh to start over there"};
+}
+
 }  // namespace
 
 int cmd_study(const std::vector<std::string>& argv) {
+    if (!argv.empty() && argv[0] == "merge") return cmd_study_merge({argv.begin() + 1, argv.end()});
     std::string error;
-    auto args = parse_args(argv, {{"--out", "--device", "--particles"}, {"--no-charts", "--validation", "--fresh"}}, "study", &error);
+    auto args = parse_args(argv, {{"--out", "--device", "--particles", "--shard"}, {"--no-charts", "--validation", "--fresh"}},
+                           "study", &error);
     if (!args) {
         std::fprintf(stderr, "%s\n", error.c_str());
         return kExitUsage;
@@ -67,8 +108,9 @@ int cmd_study(const std::vector<std::string>& argv) {
         std::fprintf(stderr, "aquaform study: %s\n", spec.error().c_str());
         return kExitUsage;
     }
-    if (const auto n = particles_flag(*args, &error); n) {
-        if (auto scaled = study::set_particle_count(spec.value(), *n); !scaled)
+    const std::optional<uint64_t> particles = particles_flag(*args, &error);
+    if (particles) {
+        if (auto scaled = study::set_particle_count(spec.value(), *particles); !scaled)
             return std::fprintf(stderr, "aquaform study: --particles: %s\n", scaled.error().c_str()), kExitUsage;
     } else if (!error.empty()) {
         return std::fprintf(stderr, "aquaform study: %s\n", error.c_str()), kExitUsage;
@@ -76,15 +118,63 @@ int cmd_study(const std::vector<std::string>& argv) {
     // Every scene and solver map checked now, not after hours of measurements.
     if (auto checked = study::check_study_scenes(spec.value()); !checked)
         return std::fprintf(stderr, "aquaform study: %s: %s\n", args->positional[0].c_str(), checked.error().c_str()), kExitUsage;
+    std::optional<study::StudyShard> shard;
+    if (args->has("--shard")) {
+        auto parsed = study::parse_shard(args->value("--shard"));
+        if (!parsed) return std::fprintf(stderr, "aquaform study: %s\n", parsed.error().c_str()), kExitUsage;
+        shard = parsed.value();
+    }
     const std::filesystem::path out_dir = args->value("--out", "out/study/" + spec.value().name);
     if (auto ready = prepare_output_dir(out_dir); !ready)
         return std::fprintf(stderr, "aquaform study: %s\n", ready.error().c_str()), kExitUsage;
+    if (auto free = check_shard_folder(out_dir, shard, args->has("--fresh")); !free)
+        return std::fprintf(stderr, "aquaform study: %s\n", free.error().c_str()), kExitUsage;
     auto opened = study::StudyFiles::open(out_dir, spec.value(), args->has("--fresh"));
     if (!opened) return std::fprintf(stderr, "aquaform study: %s\n", opened.error().c_str()), kExitUsage;
     study::StudyFiles& files = opened.value();
+    // A shard measures the cells of its units only (study/study_shards.h) and says so in its manifest.
+    std::set<std::string> owned;
+    std::set<size_t> owned_maps;
+    study::ShardManifest manifest;
+    if (shard) {
+        for (const study::StudyUnit& unit : study::shard_units(spec.value(), *shard)) {
+            manifest.cells.insert(manifest.cells.end(), unit.cells.begin(), unit.cells.end());
+            if (unit.solver_map) owned_maps.insert(*unit.solver_map);
+            else owned.insert(unit.cells.begin(), unit.cells.end());
+        }
+        if (auto before = study::read_manifest(out_dir); before && before.value() && !args->has("--fresh"))
+            manifest.wall_s = before.value()->wall_s;  // a resumed shard's time goes on
+    }
+    const auto mine = [&](const std::string& cell) { return !shard || owned.count(cell) > 0; };
+    const auto started = std::chrono::steady_clock::now();
 
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});
     const std::string device = ctx.info().name + " (" + gpu::device_type_name(ctx.info().type) + ")";
+    const auto write_manifest = [&](bool complete) {
+        if (!shard) return true;
+        manifest.spec_hash = study::spec_hash(spec.value());
+        manifest.spec_name = spec.value().name;
+        manifest.spec_path = std::filesystem::absolute(args->positional[0]).lexically_normal().string();
+        manifest.particles = particles;
+        manifest.version = study::aquaform_version();
+        manifest.device = device;
+        manifest.shard = *shard;
+        manifest.complete = complete;
+        const double wall_s = manifest.wall_s;
+        manifest.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        auto written = study::write_manifest(out_dir, manifest);
+        manifest.wall_s = complete ? manifest.wall_s : wall_s;
+        if (!written) std::fprintf(stderr, "aquaform study: %s\n", written.error().c_str());
+        return bool(written);
+    };
+    if (!write_manifest(false)) return exit_status(ctx, kExitFailure);
+    if (shard)
+        std::printf("shard %s: %zu of %zu cells (study and solver map)\n", shard->text().c_str(), manifest.cells.size(),
+                    files.cells_total() + [&] {
+                        size_t n = 0;
+                        for (const auto& m : spec.value().solver_maps) n += study::solver_map_cell_keys(m).size();
+                        return n;
+                    }());
     std::printf("study %s on %s: %zu cases; output in %s\n", spec.value().name.c_str(), ctx.info().name.c_str(),
                 spec.value().cases.size(), out_dir.string().c_str());
     if (files.cells_done() || files.map_cells_kept())
@@ -102,13 +192,15 @@ int cmd_study(const std::vector<std::string>& argv) {
     InterruptScope ctrl_c;
     try {
         study::run_study_cases(ctx, spec.value(), out_dir / "images",
-                               {[&](const std::string& cell) { return files.done(cell); },
+                               {[&](const std::string& cell) { return !mine(cell) || files.done(cell); },
                                 [&](const study::StudyRow& row) { return kept(files.add(row)); }});
     } catch (const std::exception& e) {  // a device failure: the report of the rows written so far still comes
         kept(Error{std::string(e.what()) + "; the rows measured before are kept, a rerun resumes after them"});
     }
-    for (const study::SolverMapSpec& map_spec : spec.value().solver_maps) {
+    for (size_t i = 0; i < spec.value().solver_maps.size(); ++i) {
+        const study::SolverMapSpec& map_spec = spec.value().solver_maps[i];
         if (status != kExitOk || interrupted()) break;
+        if (shard && !owned_maps.count(i)) continue;
         auto map = study::run_solver_map(
             ctx, map_spec, [](const std::string& line) { std::fprintf(stderr, "study: solver map: %s\n", line.c_str()); },
             {[&](const study::SolverMapRecord& cell) { return files.map_done(cell); },
@@ -116,7 +208,14 @@ int cmd_study(const std::vector<std::string>& argv) {
         if (!map) kept(Error{"solver map of " + map_spec.scene.string() + ": " + map.error()});
     }
     const bool stopped = interrupted();
-    if (!write_report(out_dir, spec.value(), files, device, !args->has("--no-charts")) && status == kExitOk)
+    if (shard) {
+        const bool complete = std::all_of(manifest.cells.begin(), manifest.cells.end(), [&](const std::string& cell) {
+            return owned.count(cell) ? files.done(cell) : files.map_done(cell);
+        });
+        if (!write_manifest(complete && status == kExitOk && !stopped) && status == kExitOk) status = kExitFailure;
+    }
+    // The charts of a shard's part would be redrawn by the merge.
+    if (!write_report(out_dir, spec.value(), files.rows(), device, !args->has("--no-charts") && !shard) && status == kExitOk)
         status = kExitFailure;
     if (stopped) {
         std::fprintf(stderr, "aquaform study: interrupted; %zu of %zu cells kept in %s (study.md from them); run the same "

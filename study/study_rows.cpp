@@ -71,6 +71,12 @@ std::string csv_number(const std::optional<double>& v, const char* format_text) 
     return v && std::isfinite(*v) ? format(format_text, *v) : "";
 }
 
+std::string csv_line(const std::vector<std::string>& fields) {
+    std::string line;
+    for (size_t i = 0; i < fields.size(); ++i) line += (i ? "," : "") + csv_field(fields[i]);
+    return line;
+}
+
 std::vector<std::string> split_csv_line(const std::string& line) {
     std::vector<std::string> fields(1);
     bool quoted = false;
@@ -121,10 +127,7 @@ Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, c
         {
             std::ofstream out(staged, std::ios::binary | std::ios::trunc);
             out << header << '\n';
-            for (const Fields& fields : file.kept_) {
-                for (size_t i = 0; i < fields.size(); ++i) out << (i ? "," : "") << csv_field(fields[i]);
-                out << '\n';
-            }
+            for (const Fields& fields : file.kept_) out << csv_line(fields) << '\n';
             if (!out.flush()) return Error{"cannot write " + staged.string() + "; check that the folder is writable"};
         }
         fs::rename(staged, path, ec);
@@ -268,6 +271,12 @@ std::vector<StudyRow> StudyFiles::rows() const {
         return order[a.cell] < order[b.cell];
     });
     return rows;
+}
+
+Result<bool> StudyFiles::add_map_row(const RowFile::Fields& fields) {
+    if (auto ok = map_->append(csv_line(fields)); !ok) return ok;
+    map_done_.insert(fields.back());
+    return true;
 }
 
 bool StudyFiles::map_done(const SolverMapRecord& record) const { return map_done_.count(solver_map_cell_key(record)) > 0; }

@@ -25,6 +25,8 @@ namespace aquaform::study {
 std::string csv_field(const std::string& text);
 /// %.6g (or `format`); empty when absent or not finite.
 std::string csv_number(const std::optional<double>& v, const char* format = "%.6g");
+/// The line of `fields`, each as csv_field writes it.
+std::string csv_line(const std::vector<std::string>& fields);
 /// The fields of one CSV line as csv_field writes them.
 std::vector<std::string> split_csv_line(const std::string& line);
 
@@ -62,8 +64,13 @@ public:
     /// Appends the row's passes, then the row (the row last: a row present has its passes).
     Result<bool> add(const StudyRow& row);
     bool map_done(const SolverMapRecord& record) const;
+    bool map_done(const std::string& cell) const { return map_done_.count(cell) > 0; }  ///< solver_map_cell_key
     size_t map_cells_kept() const { return map_done_.size(); }
     Result<bool> add(const SolverMapRecord& record);
+    /// The solver map rows the folder held when opened (their last field is the cell's key).
+    const std::vector<RowFile::Fields>& map_rows() const { return map_->kept(); }
+    /// Appends a row of another folder's solver_map.csv of the same spec (merging shards).
+    Result<bool> add_map_row(const RowFile::Fields& fields);
     /// Every row of the spec so far, as the files hold them (so a resumed study's report equals
     /// an uninterrupted one's), in the spec's order, with the spec's method configurations.
     std::vector<StudyRow> rows() const;

@@ -689,6 +689,7 @@ Result<bool> write_study_markdown(const fs::path& path, const StudySpec& spec, c
                << " | " << num(r.depth_err_p95, "%.3f") << " | " << num(r.normal_err_deg_mean, "%.1f") << " | "
                << num(r.coverage_mismatch ? std::optional<double>(*r.coverage_mismatch * 100.0) : std::nullopt, "%.1f %%")
                << " | " << num(r.psnr_db, "%.1f") << " | " << num(r.roughness_deg, "%.1f") << " | " << r.status
+               << (r.device.empty() ? "" : " (on " + r.device + ")")
                << (r.overflow_mib > 0 ? " (needs " + num(r.overflow_mib, "%.0f") + " MiB)" : "")
                << (r.image.empty() ? "" : " [image](" + r.image + ")") << " |\n";
         }

@@ -48,6 +48,8 @@ struct StudyRow {
     std::optional<double> list_entries_per_pixel, list_bytes_per_pixel;  ///< A-/S-buffer metaballs
     std::optional<double> particle_visits_per_pixel;  ///< metaballs
     double memory_bytes_per_pixel = 0.0;  ///< the renderer's GPU memory over the pixels
+    /// Merged shards: the device of a row measured on another than study.md's header names (not in the CSV).
+    std::string device;
 };
 
 /// The camera of a case: the front view of the domain, twice as far ("far"), or "closeup": the

@@ -1,0 +1,319 @@
+#include "study/study_shards.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+
+#include "study/study_rows.h"
+
+namespace aquaform::study {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kUnknownParticles = 4096.0;  ///< a scene file at its own count, for the estimate
+constexpr double kMapStepCost = 4096.0 * 100.0;
+
+std::optional<uint32_t> whole_number(const std::string& text) {
+    uint32_t v = 0;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec != std::errc() || end != text.data() + text.size() || text.empty()) return std::nullopt;
+    return v;
+}
+
+std::string rerun(const ShardManifest& m, uint32_t index, const fs::path& dir) {
+    return "rerun aquaform study " + (m.spec_path.empty() ? std::string("SPEC") : m.spec_path) +
+           (m.particles ? " --particles " + std::to_string(*m.particles) : std::string()) + " --shard " +
+           std::to_string(index) + "/" + std::to_string(m.shard.count) + " --out " + dir.string();
+}
+
+}  // namespace
+
+Result<StudyShard> parse_shard(const std::string& text) {
+    const size_t slash = text.find('/');
+    const auto k = slash == std::string::npos ? std::nullopt : whole_number(text.substr(0, slash));
+    const auto n = slash == std::string::npos ? std::nullopt : whole_number(text.substr(slash + 1));
+    if (!k || !n || *n == 0 || *k >= *n)
+        return Error{"--shard " + text + ": give K/N with N >= 1 shards and K from 0 to N-1, e.g. --shard 0/4"};
+    return StudyShard{*k, *n};
+}
+
+std::vector<std::string> solver_map_cell_keys(const SolverMapSpec& map) {
+    std::vector<std::optional<float>> pressures(map.control_pressures.begin(), map.control_pressures.end());
+    if (pressures.empty()) pressures.push_back(std::nullopt);
+    std::vector<std::string> keys;
+    for (const std::optional<float>& pressure : pressures)
+        for (uint32_t iterations : map.iterations)
+            for (float dt : map.frame_dts) {
+                SolverMapRecord id;
+                id.scene = map.scene.stem().string();
+                id.dt = dt;
+                id.iterations = iterations;
+                id.control_pressure = pressure;
+                keys.push_back(solver_map_cell_key(id));
+            }
+    return keys;
+}
+
+std::vector<StudyUnit> study_units(const StudySpec& spec) {
+    std::vector<StudyUnit> units;
+    for (const StudyCase& c : spec.cases)
+        for (const std::optional<uint32_t>& n : study_frame_counts(c)) {
+            StudyUnit unit;
+            unit.key = study_frame_key(c, n);
+            for (const auto& [w, h] : c.resolutions) {
+                for (const StudyMethod& m : c.methods) unit.cells.push_back(study_cell_key(unit.key, w, h, m.label()));
+                unit.cost += (n ? double(*n) : kUnknownParticles) * double(w) * h * double(c.methods.size());
+            }
+            units.push_back(std::move(unit));
+        }
+    for (size_t i = 0; i < spec.solver_maps.size(); ++i) {
+        const SolverMapSpec& map = spec.solver_maps[i];
+        StudyUnit unit;
+        unit.key = "solver_map[" + std::to_string(i) + "]";
+        unit.solver_map = i;
+        unit.cells = solver_map_cell_keys(map);
+        for (float dt : map.frame_dts)
+            for (uint32_t it : map.iterations)
+                unit.cost += std::ceil(map.sim_time_s / std::max(dt, 1e-6f)) * it * kMapStepCost *
+                             double(std::max<size_t>(1, map.control_pressures.size()));
+        units.push_back(std::move(unit));
+    }
+    return units;
+}
+
+std::vector<StudyUnit> shard_units(const StudySpec& spec, StudyShard shard) {
+    const std::vector<StudyUnit> units = study_units(spec);
+    std::vector<size_t> order(units.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return units[a].cost > units[b].cost; });
+    std::vector<double> load(shard.count, 0.0);
+    std::vector<bool> mine(units.size(), false);
+    for (size_t i : order) {
+        const size_t least = size_t(std::min_element(load.begin(), load.end()) - load.begin());  // first of equals
+        load[least] += units[i].cost;
+        mine[i] = least == shard.index;
+    }
+    std::vector<StudyUnit> owned;
+    for (size_t i = 0; i < units.size(); ++i)
+        if (mine[i]) owned.push_back(units[i]);
+    return owned;
+}
+
+std::string aquaform_version() {
+#ifdef AQUAFORM_VERSION
+    return AQUAFORM_VERSION;
+#else
+    return "unknown";
+#endif
+}
+
+Result<bool> write_manifest(const fs::path& dir, const ShardManifest& m) {
+    nlohmann::json j = {{"spec_hash", m.spec_hash}, {"spec_name", m.spec_name},  {"spec_path", m.spec_path},
+                        {"version", m.version},     {"device", m.device},        {"shard", m.shard.index},
+                        {"shards", m.shard.count},  {"cells", m.cells},          {"wall_s", m.wall_s},
+                        {"complete", m.complete}};
+    j["particles"] = m.particles ? nlohmann::json(*m.particles) : nlohmann::json(nullptr);
+    const fs::path path = dir / kManifestName, staged = path.string() + ".new";
+    {
+        std::ofstream out(staged, std::ios::binary | std::ios::trunc);
+        out << j.dump(2) << '\n';
+        if (!out.flush()) return Error{"cannot write " + staged.string() + "; check that the folder is writable"};
+    }
+    std::error_code ec;
+    fs::rename(staged, path, ec);
+    if (ec) return Error{"cannot replace " + path.string() + ": " + ec.message()};
+    return true;
+}
+
+Result<std::optional<ShardManifest>> read_manifest(const fs::path& dir) {
+    const fs::path path = dir / kManifestName;
+    std::error_code ec;
+    if (!fs::exists(path, ec)) return std::optional<ShardManifest>();
+    try {
+        std::ifstream in(path);
+        const nlohmann::json j = nlohmann::json::parse(in);
+        ShardManifest m;
+        m.spec_hash = j.at("spec_hash").get<std::string>();
+        m.spec_name = j.at("spec_name").get<std::string>();
+        m.spec_path = j.at("spec_path").get<std::string>();
+        if (!j.at("particles").is_null()) m.particles = j.at("particles").get<uint64_t>();
+        m.version = j.at("version").get<std::string>();
+        m.device = j.at("device").get<std::string>();
+        m.shard = {j.at("shard").get<uint32_t>(), j.at("shards").get<uint32_t>()};
+        m.cells = j.at("cells").get<std::vector<std::string>>();
+        m.wall_s = j.at("wall_s").get<double>();
+        m.complete = j.at("complete").get<bool>();
+        return std::optional<ShardManifest>(std::move(m));
+    } catch (const std::exception& e) {
+        return Error{path.string() + " cannot be read (" + e.what() +
+                     "); it is written by aquaform study --shard: rerun that shard into a fresh folder"};
+    }
+}
+
+Result<std::vector<ShardInput>> read_shard_set(const std::vector<fs::path>& dirs) {
+    std::vector<ShardInput> shards;
+    for (const fs::path& dir : dirs) {
+        auto read = read_manifest(dir);
+        if (!read) return Error{read.error()};
+        if (!read.value())
+            return Error{dir.string() + " has no " + kManifestName +
+                         ": give the folders that aquaform study SPEC --shard K/N --out DIR wrote"};
+        shards.push_back({dir, *read.value()});
+    }
+    if (shards.empty()) return Error{"give the shard folders to merge, e.g. aquaform study merge out/s0 out/s1 --out out/study"};
+    const ShardInput& first = shards.front();
+    for (const ShardInput& s : shards) {
+        if (s.manifest.spec_hash != first.manifest.spec_hash)
+            return Error{s.dir.string() + " holds shard " + s.manifest.shard.text() + " of spec " + s.manifest.spec_name +
+                         " (" + s.manifest.spec_hash + ") but " + first.dir.string() + " one of spec " +
+                         first.manifest.spec_name + " (" + first.manifest.spec_hash +
+                         "): merge the shards of one spec (and one --particles)"};
+        if (s.manifest.shard.count != first.manifest.shard.count)
+            return Error{s.dir.string() + " holds shard " + s.manifest.shard.text() + " but " + first.dir.string() +
+                         " shard " + first.manifest.shard.text() + ": merge shards of one split (one N)"};
+    }
+    const uint32_t n = first.manifest.shard.count;
+    std::vector<const ShardInput*> by_index(n, nullptr);
+    for (const ShardInput& s : shards) {
+        const ShardInput*& slot = by_index[s.manifest.shard.index];
+        if (slot)
+            return Error{"shard " + s.manifest.shard.text() + " is given twice: " + slot->dir.string() + " and " +
+                         s.dir.string() + "; give each shard once"};
+        slot = &s;
+    }
+    for (uint32_t k = 0; k < n; ++k)
+        if (!by_index[k])
+            return Error{"shard " + std::to_string(k) + "/" + std::to_string(n) + " is missing; " +
+                         rerun(first.manifest, k, "DIR") + " and add DIR to the merge"};
+    for (const ShardInput& s : shards)
+        if (!s.manifest.complete)
+            return Error{"shard " + s.manifest.shard.text() + " in " + s.dir.string() +
+                         " is incomplete (stopped before its last cell); " + rerun(s.manifest, s.manifest.shard.index, s.dir) +
+                         " to resume it, then merge again"};
+    return shards;
+}
+
+Result<StudySpec> load_shard_spec(const ShardInput& shard) {
+    const ShardManifest& m = shard.manifest;
+    auto spec = load_study_spec(m.spec_path);
+    if (!spec) return Error{"the spec of " + shard.dir.string() + ": " + spec.error()};
+    if (m.particles)
+        if (auto scaled = set_particle_count(spec.value(), *m.particles); !scaled)
+            return Error{"the spec of " + shard.dir.string() + ": --particles: " + scaled.error()};
+    if (spec_hash(spec.value()) != m.spec_hash)
+        return Error{m.spec_path + " (or one of its scene files) changed since shard " + m.shard.text() + " in " +
+                     shard.dir.string() + " ran (hash " + spec_hash(spec.value()) + ", not " + m.spec_hash +
+                     "): restore it, or rerun every shard with --fresh"};
+    return spec;
+}
+
+Result<MergedStudy> merge_shards(const StudySpec& spec, const std::vector<ShardInput>& shards, const fs::path& out_dir) {
+    std::error_code ec;
+    for (const ShardInput& s : shards)
+        if (fs::equivalent(s.dir, out_dir, ec))
+            return Error{"--out " + out_dir.string() + " is shard " + s.manifest.shard.text() +
+                         "'s folder; merge into another folder"};
+    // Every shard's rows, read as a resumed run reads them.
+    std::vector<StudyFiles> files;
+    for (const ShardInput& s : shards) {
+        auto opened = StudyFiles::open(s.dir, spec, false);
+        if (!opened) return Error{opened.error()};
+        files.push_back(std::move(opened.value()));
+    }
+    // Each cell in exactly one shard.
+    std::vector<std::string> missing, doubled;
+    auto check = [&](const std::string& cell, const std::function<bool(const StudyFiles&)>& has) {
+        std::vector<std::string> where;
+        for (size_t i = 0; i < shards.size(); ++i)
+            if (has(files[i])) where.push_back(shards[i].dir.string());
+        if (where.empty()) missing.push_back(cell);
+        if (where.size() > 1) {
+            std::string text = cell + " (in";
+            for (const auto& w : where) text += " " + w;
+            doubled.push_back(text + ")");
+        }
+    };
+    for (const std::string& cell : study_cell_keys(spec))
+        check(cell, [&](const StudyFiles& f) { return f.done(cell); });
+    std::vector<std::string> map_cells;
+    for (const SolverMapSpec& map : spec.solver_maps)
+        for (const std::string& cell : solver_map_cell_keys(map)) map_cells.push_back(cell);
+    for (const std::string& cell : map_cells)
+        check(cell, [&](const StudyFiles& f) {
+            return std::any_of(f.map_rows().begin(), f.map_rows().end(),
+                               [&](const RowFile::Fields& r) { return r.back() == cell; });
+        });
+    auto list = [](const std::vector<std::string>& cells) {
+        std::string text;
+        for (size_t i = 0; i < cells.size() && i < 8; ++i) text += (i ? ", " : "") + cells[i];
+        if (cells.size() > 8) text += ", and " + std::to_string(cells.size() - 8) + " more";
+        return text;
+    };
+    if (!missing.empty())
+        return Error{std::to_string(missing.size()) + " cells of " + spec.name + " are in no shard: " + list(missing) +
+                     "; rerun the shard that owns them (aquaform study SPEC --shard K/N --out DIR) and merge again"};
+    if (!doubled.empty())
+        return Error{std::to_string(doubled.size()) + " cells of " + spec.name + " are in more than one shard: " +
+                     list(doubled) + "; give each shard's folder once, each written by its own --shard K/N"};
+
+    // The rows in an unsharded run's order, written through the same files.
+    fs::create_directories(out_dir, ec);
+    if (ec)
+        return Error{"cannot create " + out_dir.string() + ": " + ec.message()};
+    auto out = StudyFiles::open(out_dir, spec, true);
+    if (!out) return Error{out.error()};
+    std::map<std::string, size_t> shard_of;  // cell -> shard
+    std::vector<std::pair<StudyRow, size_t>> rows;
+    for (size_t i = 0; i < files.size(); ++i)
+        for (StudyRow& r : files[i].rows()) rows.emplace_back(std::move(r), i);
+    std::map<std::string, size_t> order;
+    const std::vector<std::string> cells = study_cell_keys(spec);
+    for (size_t i = 0; i < cells.size(); ++i) {
+        order.emplace(cells[i], i);
+        order.emplace(cells[i].substr(0, cells[i].find('/', cells[i].find('/') + 1)), i);  // a failed frame's row
+    }
+    std::stable_sort(rows.begin(), rows.end(), [&](const auto& a, const auto& b) { return order[a.first.cell] < order[b.first.cell]; });
+    for (const auto& [row, i] : rows) {
+        if (auto added = out.value().add(row); !added) return Error{added.error()};
+        shard_of[row.cell] = i;
+    }
+    for (const std::string& cell : map_cells)
+        for (const StudyFiles& f : files)
+            for (const RowFile::Fields& r : f.map_rows())
+                if (r.back() == cell)
+                    if (auto added = out.value().add_map_row(r); !added) return Error{added.error()};
+    for (const ShardInput& s : shards)
+        if (fs::is_directory(s.dir / "images", ec)) {
+            fs::copy(s.dir / "images", out_dir / "images",
+                     fs::copy_options::recursive | fs::copy_options::overwrite_existing, ec);
+            if (ec) return Error{"cannot copy " + (s.dir / "images").string() + " to " + out_dir.string() + ": " + ec.message()};
+        }
+
+    // The device of most cells names the times; rows from another carry theirs.
+    std::map<std::string, size_t> cells_on;
+    for (const ShardInput& s : shards) cells_on[s.manifest.device] += s.manifest.cells.size();
+    const auto majority = std::max_element(cells_on.begin(), cells_on.end(),
+                                           [](const auto& a, const auto& b) { return a.second < b.second; });
+    MergedStudy merged;
+    merged.device = majority == cells_on.end() ? std::string() : majority->first;
+    if (cells_on.size() > 1) {
+        merged.device += " (the rows marked \"on\" another device were measured there:";
+        for (const ShardInput& s : shards)
+            merged.device += " shard " + s.manifest.shard.text() + " on " + s.manifest.device + ";";
+        merged.device += " their times compare only with rows of the same device)";
+    }
+    merged.rows = out.value().rows();
+    for (StudyRow& r : merged.rows)
+        if (auto it = shard_of.find(r.cell); it != shard_of.end() && cells_on.size() > 1 &&
+                                             shards[it->second].manifest.device != majority->first)
+            r.device = shards[it->second].manifest.device;
+    return merged;
+}
+
+}  // namespace aquaform::study
