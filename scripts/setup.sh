@@ -14,6 +14,7 @@ packages=(
   libgtest-dev googletest nlohmann-json3-dev libstb-dev python3-matplotlib
   libimgui-dev xvfb xauth
   ffmpeg python3-vtk9 libopenvdb-dev
+  slurm-wlm munge parallel
 )
 
 missing=()
