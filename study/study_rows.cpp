@@ -260,18 +260,20 @@ StudyRow StudyFiles::read_back(const RowFile::Fields& f,
     return r;
 }
 
-std::vector<StudyRow> StudyFiles::rows() const {
+std::vector<StudyRow> in_spec_order(const StudySpec& spec, std::vector<StudyRow> rows) {
+    const std::vector<std::string> cells = study_cell_keys(spec);
     std::map<std::string, size_t> order;
-    for (size_t i = 0; i < cells_.size(); ++i) {
-        order.emplace(cells_[i], i);
-        order.emplace(frame_of(cells_[i]), i);  // a failed frame's row: where its first cell goes
+    for (size_t i = 0; i < cells.size(); ++i) {
+        order.emplace(cells[i], i);
+        order.emplace(frame_of(cells[i]), i);  // a failed frame's row: where its first cell goes
     }
-    std::vector<StudyRow> rows = rows_;
     std::stable_sort(rows.begin(), rows.end(), [&](const StudyRow& a, const StudyRow& b) {
         return order[a.cell] < order[b.cell];
     });
     return rows;
 }
+
+std::vector<StudyRow> StudyFiles::rows() const { return in_spec_order(*spec_, rows_); }
 
 Result<bool> StudyFiles::add_map_row(const RowFile::Fields& fields) {
     if (auto ok = map_->append(csv_line(fields)); !ok) return ok;

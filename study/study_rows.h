@@ -30,6 +30,9 @@ std::string csv_line(const std::vector<std::string>& fields);
 /// The fields of one CSV line as csv_field writes them.
 std::vector<std::string> split_csv_line(const std::string& line);
 
+/// `rows` in the order of study_cell_keys(spec) (a failed frame's row where its first cell goes).
+std::vector<StudyRow> in_spec_order(const StudySpec& spec, std::vector<StudyRow> rows);
+
 /// One CSV file of rows keyed by (spec, cell), opened for appending.
 class RowFile {
 public:

@@ -269,20 +269,14 @@ Result<MergedStudy> merge_shards(const StudySpec& spec, const std::vector<ShardI
     auto out = StudyFiles::open(out_dir, spec, true);
     if (!out) return Error{out.error()};
     std::map<std::string, size_t> shard_of;  // cell -> shard
-    std::vector<std::pair<StudyRow, size_t>> rows;
+    std::vector<StudyRow> rows;
     for (size_t i = 0; i < files.size(); ++i)
-        for (StudyRow& r : files[i].rows()) rows.emplace_back(std::move(r), i);
-    std::map<std::string, size_t> order;
-    const std::vector<std::string> cells = study_cell_keys(spec);
-    for (size_t i = 0; i < cells.size(); ++i) {
-        order.emplace(cells[i], i);
-        order.emplace(cells[i].substr(0, cells[i].find('/', cells[i].find('/') + 1)), i);  // a failed frame's row
-    }
-    std::stable_sort(rows.begin(), rows.end(), [&](const auto& a, const auto& b) { return order[a.first.cell] < order[b.first.cell]; });
-    for (const auto& [row, i] : rows) {
+        for (StudyRow& r : files[i].rows()) {
+            shard_of[r.cell] = i;
+            rows.push_back(std::move(r));
+        }
+    for (const StudyRow& row : in_spec_order(spec, std::move(rows)))
         if (auto added = out.value().add(row); !added) return Error{added.error()};
-        shard_of[row.cell] = i;
-    }
     for (const std::string& cell : map_cells)
         for (const StudyFiles& f : files)
             for (const RowFile::Fields& r : f.map_rows())
