@@ -8,7 +8,7 @@ import math
 import sys
 
 TIMES = {"ms_total", "fps", "ms"}
-REL, ABS = 0.05, 1e-4
+REL, ABS = 0.02, 1e-4
 
 
 def rows(path):
