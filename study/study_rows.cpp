@@ -150,7 +150,7 @@ Result<bool> RowFile::append(const std::string& line) {
 
 Result<StudyFiles> StudyFiles::open(const fs::path& dir, const StudySpec& spec, bool fresh) {
     if (fresh)
-        for (const char* name : {"study.csv", "study_passes.csv", "solver_map.csv", "study.md"}) {
+        for (const char* name : {"study.csv", "study_passes.csv", "solver_map.csv", "study.md", "manifest.json"}) {
             std::error_code ec;
             fs::remove(dir / name, ec);
         }

@@ -57,7 +57,7 @@ private:
 /// The three files of a study in one folder, for one spec.
 class StudyFiles {
 public:
-    /// `fresh` removes the rows (and study.md) of an earlier run first.
+    /// `fresh` removes the rows (and study.md, and a shard's manifest.json) of an earlier run first.
     static Result<StudyFiles> open(const std::filesystem::path& dir, const StudySpec& spec, bool fresh);
 
     /// Measured already (the cell, or its whole frame when that failed to simulate).

@@ -243,7 +243,14 @@ TEST(StudyShardCliTest, MergeRefusesMissingDoubledIncompleteAndForeignShards) {
     // Another shard into a shard's folder is refused, naming both.
     auto into = test_cli::run_aquaform("study " + tiny() + " --shard 0/3 --out " + s1.string());
     EXPECT_EQ(into.exit_code, 2) << into.output;
-    expect_says(into.output, {"shard 1/3", "shard 0/3", "its own --out"});
+    expect_says(into.output, {"shard 1/3", "shard 0/3", "its own --out", "--fresh"});
+    fs::copy(s1, d / "s1_fresh", fs::copy_options::recursive);  // --fresh starts that folder over
+    auto fresh = aquaform("study " + tiny() + " --shard 6/7 --fresh --out " + (d / "s1_fresh").string());
+    ASSERT_EQ(fresh.exit_code, 0) << fresh.output;
+    auto replaced = read_manifest(d / "s1_fresh");
+    ASSERT_TRUE(replaced.ok() && replaced.value());
+    EXPECT_EQ(replaced.value()->shard, (StudyShard{6, 7}));
+    EXPECT_EQ(read_csv(d / "s1_fresh" / "study.csv").size(), 1u) << "shard 1/3's rows are gone";
 
     // A cell doubled (rows of shard 0 also in a copy of shard 1) or missing (a row taken out).
     fs::copy(s1, d / "s1_doubled", fs::copy_options::recursive);
