@@ -4,8 +4,11 @@
 # linuxproc, task/none), so it runs in a plain container. Needs root and Debian's slurm-wlm and munge.
 #   slurm_cluster.sh start DIR   starts it and waits until the node is idle; prints `export SLURM_CONF=...`
 #   slurm_cluster.sh stop DIR    kills every daemon it started (by their pid files) and removes DIR
+# A watchdog stops it when the process that started it (SLURM_CLUSTER_OWNER: by default the
+# sourcing script, or the shell that ran `start`) ends without stopping it.
 # Sourced, it defines slurm_cluster_start DIR / slurm_cluster_stop DIR (they set SLURM_CONF).
 set -euo pipefail
+slurm_cluster_script=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/$(basename "${BASH_SOURCE[0]}")
 
 slurm_cluster_need() {
   local missing=()
@@ -104,6 +107,14 @@ CONF
   (cd "$dir" && exec slurmd -D -f "$dir/slurm.conf" > "$dir/slurmd.out" 2>&1) &
   echo $! > "$dir/slurmd.started"
 
+  # A watchdog stops the cluster when its owner (the sourcing script, or the shell that ran
+  # `slurm_cluster.sh start`) is gone without stopping it, e.g. killed by a test timeout.
+  local owner=${SLURM_CLUSTER_OWNER:-$$}
+  setsid bash -c 'while kill -0 "$1" 2>/dev/null && [ -d "$2" ]; do sleep 1; done
+                  [ -d "$2" ] && SLURM_CLUSTER_WATCHDOG=1 bash "$3" stop "$2"' \
+    slurm-cluster-watchdog "$owner" "$dir" "$slurm_cluster_script" < /dev/null > /dev/null 2>&1 &
+  echo $! > "$dir/watchdog.pid"
+
   local deadline=$((SECONDS + ${SLURM_CLUSTER_START_TIMEOUT:-60})) state=""
   while ((SECONDS < deadline)); do
     state=$(sinfo -h -N -n "$host" -o '%T' 2>/dev/null || true)
@@ -124,6 +135,9 @@ slurm_cluster_stop() {
   local dir=$1 f pid env
   [ -d "$dir" ] || return 0
   dir=$(cd "$dir" && pwd)
+  if [ -z "${SLURM_CLUSTER_WATCHDOG:-}" ]; then
+    pid=$(cat "$dir/watchdog.pid" 2>/dev/null) && kill -TERM "$pid" 2>/dev/null || true
+  fi
   # slurmd first (it ends its job steps), then slurmctld, then munged.
   for f in slurmd.started slurmd.pid slurmctld.started slurmctld.pid munged.pid; do
     pid=$(cat "$dir/$f" 2>/dev/null) || continue
@@ -152,7 +166,7 @@ slurm_cluster_stop() {
 
 if [ "${BASH_SOURCE[0]}" = "$0" ]; then
   case "${1:-}:${2:-}" in
-    start:?*) slurm_cluster_start "$2"; echo "export SLURM_CONF=$SLURM_CONF" ;;
+    start:?*) SLURM_CLUSTER_OWNER=${SLURM_CLUSTER_OWNER:-$PPID} slurm_cluster_start "$2"; echo "export SLURM_CONF=$SLURM_CONF" ;;
     stop:?*) slurm_cluster_stop "$2" ;;
     *) echo "usage: $0 start DIR | stop DIR" >&2; exit 2 ;;
   esac
