@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # scripts/study_parallel.sh for real: a 3-frame study (3 particle counts x 3 methods at 64x48) run
 # as 3 shards by GNU parallel and merged equals the unsharded run row for row (errors within
-# tolerance, times aside: tests/study_rows_match.py). Fails, naming scripts/setup.sh, without parallel.
+# tolerance, times aside: tests/study_rows_match.py); a failing shard stops it, non-zero, before the
+# merge. Fails, naming scripts/setup.sh, without parallel.
 # Usage: parallel_study_check.sh BUILD_DIR
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -20,4 +21,17 @@ write_cluster_spec "$work/spec.json"
 "$here/../scripts/study_parallel.sh" "$work/spec.json" 3 "$work/par" > "$work/par.log" 2>&1 ||
   { cat "$work/par.log" "$work/par/logs/"*; exit 1; }
 check_merged "$work/full" "$work/par"
-echo "GNU parallel ran 3 shards; the merge equals the unsharded study"
+
+# A failing shard stops the run (--halt now,fail=1) before the merge, non-zero, naming the logs.
+cat > "$work/failing" <<'STUB'
+#!/bin/sh
+case "$*" in *"--shard 1/3"*) echo "shard 1 breaks" >&2; exit 3 ;; *merge*) touch "$MERGE_MARK" ;; esac
+STUB
+chmod +x "$work/failing"
+if MERGE_MARK="$work/merge_ran" AQUAFORM_BIN="$work/failing" "$here/../scripts/study_parallel.sh" "$work/spec.json" 3 "$work/fail" > "$work/fail.log" 2>&1; then
+  echo "study_parallel.sh succeeded although shard 1 failed:"; cat "$work/fail.log"; exit 1
+fi
+grep -q "a shard failed (logs in $work/fail/logs)" "$work/fail.log" || { cat "$work/fail.log"; exit 1; }
+grep -q "shard 1 breaks" "$work/fail/logs/shard_1.out"
+if [ -e "$work/merge_ran" ]; then echo "merged although shard 1 failed"; exit 1; fi
+echo "GNU parallel ran 3 shards; the merge equals the unsharded study; a failing shard stops it before the merge"
