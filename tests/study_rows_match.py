@@ -1,10 +1,12 @@
 #!/usr/bin/python3
 """Whether a merged study's rows equal an unsharded run's: the same cells in the same order in
-study.csv and the same passes in study_passes.csv, every text field equal and every number equal
+study.csv, the same passes in study_passes.csv, the same headings and table rows in study.md
+(method, particles, size and status: cell for cell), every text field equal and every number equal
 within a tolerance (the software device's results vary in the last digits between runs), times
 (ms_total, fps, ms) ignored. Usage: study_rows_match.py UNSHARDED_DIR MERGED_DIR"""
 import csv
 import math
+import re
 import sys
 
 TIMES = {"ms_total", "fps", "ms"}
@@ -46,6 +48,28 @@ def compare(name, want, got, key):
     return problems
 
 
+def report(path):
+    """study.md's headings and its table rows without the numbers: (method, particles, size, status)."""
+    out = []
+    with open(path) as f:
+        for line in f:
+            if line.startswith("#"):
+                out.append(line.strip())
+            elif line.startswith("| ") and not line.startswith("| -"):
+                cells = [c.strip() for c in line.strip().strip("|").split("|")]
+                last = cells[-1:] if not re.fullmatch(r"[-+0-9.e%x ]*", cells[-1]) else []  # a status, not a time
+                out.append(" | ".join(cells[:3] + last))
+    return out
+
+
+def compare_reports(full, merged):
+    want, got = report(full), report(merged)
+    if want == got:
+        return []
+    diff = [f"  unsharded {w!r}\n  merged    {g!r}" for w, g in zip(want, got) if w != g][:5]
+    return [f"study.md: {len(want)} headings and rows unsharded, {len(got)} merged; first differences:"] + diff
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
@@ -54,12 +78,13 @@ def main():
     problems = compare("study.csv", want, got, lambda r: r["cell"])
     problems += compare("study_passes.csv", rows(f"{full}/study_passes.csv"), rows(f"{merged}/study_passes.csv"),
                         lambda r: (r["cell"], r["pass"]))
+    problems += compare_reports(f"{full}/study.md", f"{merged}/study.md")
     if not want:
         problems.append("the unsharded study has no rows")
     if problems:
         print("\n".join(problems))
         sys.exit(1)
-    print(f"{len(got)} cells of {merged} equal the unsharded run's (errors within {REL:.0%} or {ABS})")
+    print(f"{len(got)} cells of {merged} equal the unsharded run's, study.md row for row (errors within {REL:.0%} or {ABS})")
 
 
 main()
