@@ -4,6 +4,8 @@
 // study_passes.csv, solver_map.csv (a row at a time, as measured: study/study_rows.h), study.md
 // (linking every frame under images/) and the charts (scripts/study_charts.py). A rerun of the
 // same spec into the same folder resumes; Ctrl-C stops after the current measurement.
+// `--shard K/N` measures one shard's share and writes manifest.json; `study merge DIR...` joins
+// the shards into the files of one run (study/study_shards.h).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -168,13 +170,11 @@ int cmd_study(const std::vector<std::string>& argv) {
         return bool(written);
     };
     if (!write_manifest(false)) return exit_status(ctx, kExitFailure);
-    if (shard)
-        std::printf("shard %s: %zu of %zu cells (study and solver map)\n", shard->text().c_str(), manifest.cells.size(),
-                    files.cells_total() + [&] {
-                        size_t n = 0;
-                        for (const auto& m : spec.value().solver_maps) n += study::solver_map_cell_keys(m).size();
-                        return n;
-                    }());
+    if (shard) {
+        size_t cells = 0;
+        for (const study::StudyUnit& unit : study::study_units(spec.value())) cells += unit.cells.size();
+        std::printf("shard %s: %zu of %zu cells (study and solver map)\n", shard->text().c_str(), manifest.cells.size(), cells);
+    }
     std::printf("study %s on %s: %zu cases; output in %s\n", spec.value().name.c_str(), ctx.info().name.c_str(),
                 spec.value().cases.size(), out_dir.string().c_str());
     if (files.cells_done() || files.map_cells_kept())
