@@ -60,6 +60,17 @@ slurm_cluster_start() {
     || { echo "slurm_cluster: munged did not start" >&2; slurm_cluster_logs "$dir" >&2; return 1; }
 
   mkdir -p "$dir/state" "$dir/spool"
+  # SLURM_CLUSTER_GPUS=N: the node offers N "gpu" GRES whose device file is /dev/null (slurmd
+  # needs a File for gpu): --gres=gpu:1 is scheduled and SLURM_JOB_GPUS/CUDA_VISIBLE_DEVICES set as
+  # on a GPU cluster, the jobs still run on whatever Vulkan device there is. Tried with N=1.
+  local gres_types="" node_gres=""
+  : > "$dir/gres.conf"
+  if [ "${SLURM_CLUSTER_GPUS:-0}" -gt 0 ]; then
+    gres_types="GresTypes=gpu"
+    node_gres="Gres=gpu:$SLURM_CLUSTER_GPUS"
+    local files; files=$(printf "/dev/null%.0s," $(seq "$SLURM_CLUSTER_GPUS")); files=${files%,}
+    printf "AutoDetect=off\nName=gpu File=%s\n" "$files" > "$dir/gres.conf"
+  fi
   cat > "$dir/slurm.conf" <<CONF
 ClusterName=aquaform-test
 SlurmctldHost=$host(127.0.0.1)
@@ -71,7 +82,7 @@ AuthType=auth/munge
 AuthInfo=socket=$dir/munge.socket
 CredType=cred/munge
 StateSaveLocation=$dir/state
-SlurmdSpoolDir=$dir/spool/%n
+SlurmdSpoolDir=$dir/spool
 SlurmctldPidFile=$dir/slurmctld.pid
 SlurmdPidFile=$dir/slurmd.pid
 SlurmctldLogFile=$dir/slurmctld.log
@@ -94,7 +105,8 @@ InactiveLimit=0
 MinJobAge=2
 KillWait=5
 Waittime=0
-NodeName=$host NodeAddr=127.0.0.1 CPUs=$cpus RealMemory=$mem_mb State=UNKNOWN
+$gres_types
+NodeName=$host NodeAddr=127.0.0.1 CPUs=$cpus RealMemory=$mem_mb $node_gres State=UNKNOWN
 PartitionName=test Nodes=$host Default=YES MaxTime=INFINITE State=UP
 CONF
   # No cgroup plugin is used (proctrack/linuxproc, task/none); an empty cgroup.conf keeps
