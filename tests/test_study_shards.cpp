@@ -86,6 +86,9 @@ const fs::path& tiny_runs() {
         }
         return d;
     }();
+    static const struct Removed {  // at exit, after every test here has used the runs
+        ~Removed() { fs::remove_all(dir); }
+    } removed;
     return dir;
 }
 
