@@ -56,17 +56,17 @@ bool write_report(const std::filesystem::path& out_dir, const study::StudySpec& 
     return ok;
 }
 
-/// `study merge DIR... --out DIR [--no-charts]`: the shards' rows as one study.
+/// `study merge DIR... --out DIR [--spec SPEC] [--no-charts]`: the shards' rows as one study.
 int cmd_study_merge(const std::vector<std::string>& argv) {
     std::string error;
-    auto args = parse_args(argv, {{"--out"}, {"--no-charts"}}, "study merge", &error);
+    auto args = parse_args(argv, {{"--out", "--spec"}, {"--no-charts"}}, "study merge", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     if (!args->has("--out"))
         return std::fprintf(stderr, "aquaform study merge: give --out DIR, the folder of the merged study\n"), kExitUsage;
     std::vector<std::filesystem::path> dirs(args->positional.begin(), args->positional.end());
     auto shards = study::read_shard_set(dirs);
     if (!shards) return std::fprintf(stderr, "aquaform study merge: %s\n", shards.error().c_str()), kExitUsage;
-    auto spec = study::load_shard_spec(shards.value().front());
+    auto spec = study::load_shard_spec(shards.value().front(), args->value("--spec"));
     if (!spec) return std::fprintf(stderr, "aquaform study merge: %s\n", spec.error().c_str()), kExitUsage;
     const std::filesystem::path out_dir = args->value("--out");
     if (auto ready = prepare_output_dir(out_dir); !ready)

@@ -91,7 +91,7 @@ std::vector<std::string> split_csv_line(const std::string& line) {
 }
 
 Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, const std::string& spec,
-                              const std::function<bool(const Fields&)>& keep) {
+                              const std::function<bool(const Fields&)>& keep, RowAccess access) {
     RowFile file;
     file.path_ = path;
     file.columns_ = split_csv_line(header);
@@ -122,6 +122,7 @@ Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, c
         }
         rewrite = rewrite || torn;
     }
+    if (access == RowAccess::read_only) return file;
     if (rewrite) {  // the header and the rows kept, then appended to
         const fs::path staged = path.string() + ".new";
         {
@@ -143,12 +144,13 @@ size_t RowFile::column(const std::string& name) const {
 }
 
 Result<bool> RowFile::append(const std::string& line) {
+    if (!out_) return Error{"cannot add a row to " + path_.string() + ": it was opened only to be read"};
     *out_ << line << '\n';
     if (!out_->flush()) return Error{"writing " + path_.string() + " failed; is the disk full?"};
     return true;
 }
 
-Result<StudyFiles> StudyFiles::open(const fs::path& dir, const StudySpec& spec, bool fresh) {
+Result<StudyFiles> StudyFiles::open(const fs::path& dir, const StudySpec& spec, bool fresh, RowAccess access) {
     if (fresh)
         for (const char* name : {"study.csv", "study_passes.csv", "solver_map.csv", "study.md", "manifest.json"}) {
             std::error_code ec;
@@ -164,15 +166,15 @@ Result<StudyFiles> StudyFiles::open(const fs::path& dir, const StudySpec& spec, 
 
     auto study = RowFile::open(dir / "study.csv", kStudyColumns, files.hash_, [&](const RowFile::Fields& f) {
         return cells.count(f.back()) || frames.count(f.back());
-    });
+    }, access);
     if (!study) return Error{study.error()};
     files.study_ = std::move(study.value());
     for (const RowFile::Fields& f : files.study_->kept()) files.done_.insert(f.back());
     auto passes = RowFile::open(dir / "study_passes.csv", kPassesColumns, files.hash_,
-                                [&](const RowFile::Fields& f) { return files.done_.count(f.back()) > 0; });
+                                [&](const RowFile::Fields& f) { return files.done_.count(f.back()) > 0; }, access);
     if (!passes) return Error{passes.error()};
     files.passes_ = std::move(passes.value());
-    auto map = RowFile::open(dir / "solver_map.csv", solver_map_csv_header(), files.hash_);
+    auto map = RowFile::open(dir / "solver_map.csv", solver_map_csv_header(), files.hash_, {}, access);
     if (!map) return Error{map.error()};
     files.map_ = std::move(map.value());
     for (const RowFile::Fields& f : files.map_->kept()) files.map_done_.insert(f.back());

@@ -33,15 +33,22 @@ std::vector<std::string> split_csv_line(const std::string& line);
 /// `rows` in the order of study_cell_keys(spec) (a failed frame's row where its first cell goes).
 std::vector<StudyRow> in_spec_order(const StudySpec& spec, std::vector<StudyRow> rows);
 
+/// How a folder's row files are opened: to measure into (a study, a shard), or only to read (a
+/// merge reads its shards without touching them: they may be on a read-only mount, and a torn
+/// line is a shard's to measure again, not the merge's to drop).
+enum class RowAccess { append, read_only };
+
 /// One CSV file of rows keyed by (spec, cell), opened for appending.
 class RowFile {
 public:
     using Fields = std::vector<std::string>;
     /// Opens `path` for the spec with hash `spec`: a new file gets `header`; an existing one keeps its
     /// complete rows (a line torn by a kill is dropped) that `keep` accepts, and is refused (naming the
-    /// file) when its header differs or it holds rows of another spec.
+    /// file) when its header differs or it holds rows of another spec. read_only: the file is read
+    /// as it is (none: no rows) and append() refuses.
     static Result<RowFile> open(const std::filesystem::path& path, const std::string& header, const std::string& spec,
-                                const std::function<bool(const Fields&)>& keep = {});
+                                const std::function<bool(const Fields&)>& keep = {},
+                                RowAccess access = RowAccess::append);
     const std::vector<Fields>& kept() const { return kept_; }
     size_t column(const std::string& name) const;  ///< index in the header (the header names it)
     /// Writes `line` (no line break) and flushes it to the file.
@@ -58,7 +65,8 @@ private:
 class StudyFiles {
 public:
     /// `fresh` removes the rows (and study.md, and a shard's manifest.json) of an earlier run first.
-    static Result<StudyFiles> open(const std::filesystem::path& dir, const StudySpec& spec, bool fresh);
+    static Result<StudyFiles> open(const std::filesystem::path& dir, const StudySpec& spec, bool fresh,
+                                   RowAccess access = RowAccess::append);
 
     /// Measured already (the cell, or its whole frame when that failed to simulate).
     bool done(const std::string& cell) const;

@@ -199,15 +199,18 @@ Result<std::vector<ShardInput>> read_shard_set(const std::vector<fs::path>& dirs
     return shards;
 }
 
-Result<StudySpec> load_shard_spec(const ShardInput& shard) {
+Result<StudySpec> load_shard_spec(const ShardInput& shard, const fs::path& path) {
     const ShardManifest& m = shard.manifest;
-    auto spec = load_study_spec(m.spec_path);
-    if (!spec) return Error{"the spec of " + shard.dir.string() + ": " + spec.error()};
+    const std::string spec_path = path.empty() ? m.spec_path : path.string();
+    auto spec = load_study_spec(spec_path);
+    if (!spec)
+        return Error{"the spec of " + shard.dir.string() + ": " + spec.error() +
+                     (path.empty() ? "; where it is elsewhere on this machine, give it with --spec PATH" : "")};
     if (m.particles)
         if (auto scaled = set_particle_count(spec.value(), *m.particles); !scaled)
             return Error{"the spec of " + shard.dir.string() + ": --particles: " + scaled.error()};
     if (spec_hash(spec.value()) != m.spec_hash)
-        return Error{m.spec_path + " (or one of its scene files) changed since shard " + m.shard.text() + " in " +
+        return Error{spec_path + " (or one of its scene files) changed since shard " + m.shard.text() + " in " +
                      shard.dir.string() + " ran (hash " + spec_hash(spec.value()) + ", not " + m.spec_hash +
                      "): restore it, or rerun every shard with --fresh"};
     return spec;
@@ -219,10 +222,10 @@ Result<MergedStudy> merge_shards(const StudySpec& spec, const std::vector<ShardI
         if (fs::equivalent(s.dir, out_dir, ec))
             return Error{"--out " + out_dir.string() + " is shard " + s.manifest.shard.text() +
                          "'s folder; merge into another folder"};
-    // Every shard's rows, read as a resumed run reads them.
+    // Every shard's rows, read as a resumed run reads them, and left as they are.
     std::vector<StudyFiles> files;
     for (const ShardInput& s : shards) {
-        auto opened = StudyFiles::open(s.dir, spec, false);
+        auto opened = StudyFiles::open(s.dir, spec, false, RowAccess::read_only);
         if (!opened) return Error{opened.error()};
         files.push_back(std::move(opened.value()));
     }

@@ -77,7 +77,9 @@ struct ShardInput {
 Result<std::vector<ShardInput>> read_shard_set(const std::vector<std::filesystem::path>& dirs);
 
 /// The spec the shards ran (their manifest's path and --particles), checked to have their hash.
-Result<StudySpec> load_shard_spec(const ShardInput& shard);
+/// `path`: the spec's file where the merge runs, when it is not at the manifest's path (another
+/// machine, another mount); its hash must still match.
+Result<StudySpec> load_shard_spec(const ShardInput& shard, const std::filesystem::path& path = {});
 
 struct MergedStudy {
     std::vector<StudyRow> rows;  ///< as an unsharded run's files hold them, in its order

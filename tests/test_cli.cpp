@@ -199,7 +199,7 @@ TEST(Cli, EveryCommandHasItsOwnHelp) {
     // Every flag a command takes is in its help: the refusal of an unknown flag lists what the
     // command's parser accepts, and each of those must appear in `COMMAND --help`.
     for (const char* command : {"run s.json", "render s.json", "control place m.obj", "view s.json", "study s.json", "assets",
-                                "info", "bench sim", "bench render", "bench control", "bench convergence"}) {
+                                "info", "bench sim", "bench render", "bench control", "bench convergence", "study merge"}) {
         const Outcome refused = run_aquaform(std::string(command) + " --no-such-flag");
         const size_t from = refused.output.find("known flags:"), to = refused.output.find(" (see aquaform");
         ASSERT_TRUE(from != std::string::npos && to != std::string::npos) << command << ": " << refused.output;

@@ -92,10 +92,10 @@ const fs::path& tiny_runs() {
     return dir;
 }
 
-std::string merge(const std::vector<fs::path>& dirs, const fs::path& out, int expect) {
+std::string merge(const std::vector<fs::path>& dirs, const fs::path& out, int expect, const std::string& more = "") {
     std::string args = "study merge";
     for (const fs::path& d : dirs) args += " " + d.string();
-    auto o = aquaform(args + " --out " + out.string() + " --no-charts");
+    auto o = aquaform(args + " --out " + out.string() + " --no-charts" + more);
     EXPECT_EQ(o.exit_code, expect) << args << ": " << o.output;
     return o.output;
 }
@@ -227,6 +227,33 @@ TEST(StudyShardCliTest, ThreeShardsMergeToTheUnshardedRowsAndTables) {
     merge({d / "s0", d / "s1", d / "s2_other"}, d / "merged_devices", 0);
     const std::string md = test_cli::read_file(d / "merged_devices" / "study.md");
     expect_says(md, {"(on Other GPU)", "shard 2/3 on Other GPU"});
+}
+
+TEST(StudyShardCliTest, MergeOnlyReadsItsShards) {
+    const fs::path& d = tiny_runs();
+    // A torn last line (a write cut short) in a complete shard: a run into that folder would drop
+    // it and rewrite the file; the merge reads past it and leaves the file as it is.
+    const fs::path s1 = d / "s1_torn";
+    fs::remove_all(s1);
+    fs::copy(d / "s1", s1, fs::copy_options::recursive);
+    std::ofstream(s1 / "study.csv", std::ios::app) << "methods,torn";
+    const std::string before = test_cli::read_file(s1 / "study.csv");
+    merge({d / "s0", s1, d / "s2"}, d / "merged_from_torn", 0);
+    EXPECT_EQ(test_cli::read_file(s1 / "study.csv"), before) << "the merge rewrote a shard's rows";
+    EXPECT_EQ(read_csv(d / "merged_from_torn" / "study.csv").size(), read_csv(d / "whole" / "study.csv").size());
+}
+
+TEST(StudyShardCliTest, MergeTakesTheSpecFromSpecWhereItIsElsewhere) {
+    const fs::path& d = tiny_runs();
+    const std::vector<fs::path> shards{d / "s0", d / "s1", d / "s2"};
+    // The same spec by another path: merged.
+    merge(shards, d / "merged_spec_path", 0, " --spec " + (d / "." / "tiny.json").string());
+    EXPECT_EQ(read_csv(d / "merged_spec_path" / "study.csv").size(), read_csv(d / "whole" / "study.csv").size());
+    // Not there, or another spec: refused, naming it.
+    expect_says(merge(shards, d / "merged_nowhere", 2, " --spec " + (d / "nowhere.json").string()),
+                {(d / "nowhere.json").string()});
+    const std::string shipped = std::string(AQUAFORM_SOURCE_DIR) + "/assets/studies/tiny.json";
+    expect_says(merge(shards, d / "merged_other", 2, " --spec " + shipped), {shipped, "changed since shard"});
 }
 
 TEST(StudyShardCliTest, MergeRefusesMissingDoubledIncompleteAndForeignShards) {
