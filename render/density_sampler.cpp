@@ -21,7 +21,7 @@ constexpr uint32_t kBoundsWords = 8;
 
 DensitySampler::DensitySampler(gpu::Context& ctx, const ParticleDomain& domain, uint32_t max_particles,
                                const SurfaceSettings& field, float voxel_radii)
-    : ctx_(&ctx), domain_(domain), max_particles_(std::max(max_particles, 1u)), buffers_(ctx) {
+    : ctx_(&ctx), field_(field), domain_(domain), max_particles_(std::max(max_particles, 1u)), buffers_(ctx) {
     if (auto valid = validate(field); !valid) throw Failure(valid.error());
     if (!(voxel_radii >= 0.05f && voxel_radii <= 4.0f))
         throw Failure("surface mesh: a voxel of " + std::to_string(voxel_radii) +
@@ -49,7 +49,8 @@ DensitySampler::DensitySampler(gpu::Context& ctx, const ParticleDomain& domain, 
     lattice_host_ = &buffers_.add("mesh.lattice_readback", sizeof(shader::MeshLattice), gpu::MemoryUse::host);
     bounds_pass_ = gpu::ComputePass(ctx, {"render/mesh_bounds.comp", 3, 0, MESH_WORKGROUP});
     lattice_pass_ = gpu::ComputePass(ctx, {"render/mesh_lattice.comp", 3, 0, 1});
-    sample_pass_ = gpu::ComputePass(ctx, {"render/mesh_sample.comp", 7, 0, MESH_WORKGROUP});
+    sample_pass_ = gpu::ComputePass(ctx, {"render/mesh_sample.comp", 8, 0, MESH_WORKGROUP});
+    params_.anisotropic = field.surface == SurfaceKernel::anisotropic ? 1u : 0u;
 
     // A first guess: the lattice around a compact cube of the particles; reserve() grows it.
     const double side = std::cbrt(double(max_particles_)) * domain.particle_spacing + 2.0 * pad;
@@ -96,31 +97,49 @@ void DensitySampler::record(VkCommandBuffer cmd, const gpu::Buffer& positions, u
         throw Failure("surface mesh: the positions buffer '" + positions.name + "' holds fewer than " +
                       std::to_string(count) + " vec4 positions");
     gpu::GpuScope scope(timer, cmd, "mesh_sample");
-    const gpu::Buffer *order = &positions, *cell_rank, *cell_start;
+    const gpu::Buffer *order = &positions, *cell_rank, *cell_start, *particles = &positions, *shape = bounds_;
     GridGeometry geometry;
+    bool use_order = false;
     if (reads_in_place()) {
         geometry = shared_grid_->geometry();
         cell_rank = &shared_grid_->cell_rank();
         cell_start = &shared_grid_->cell_start();
     } else {
-        if (!own_grid_) {
-            auto made = grid_for_domain(domain_.bounds.min, domain_.bounds.max, params_.radius);
-            if (!made) throw resource_failure("surface mesh: " + made.error());
-            own_geometry_ = made.value();
-            own_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
-            own_grid_ = std::make_unique<NeighborGrid>(*ctx_, *own_buffers_, own_geometry_, max_particles_, "mesh.grid");
-        }
+        make_own_grid();
         own_grid_->build(cmd, positions, count, nullptr);
         geometry = own_geometry_;
         order = &own_grid_->order();
         cell_rank = &own_grid_->cell_rank();
         cell_start = &own_grid_->cell_start();
+        use_order = true;
+    }
+    if (params_.anisotropic) {
+        // The kernels, from the particles in their grid's order (a sorted copy where the grid is
+        // the own one); the field is then summed over the kernels' own grid.
+        const gpu::Buffer* sorted = &positions;
+        make_kernels();
+        const shader::SurfaceParams kernel_params = make_field_params(field_, domain_, geometry, count);
+        gpu::record_upload(*ctx_, cmd, *kernel_params_, &kernel_params, sizeof(kernel_params));
+        if (use_order) {
+            gpu::dispatch(*ctx_, cmd, gather_pass_, std::max(count, 1u),
+                          {{"params", kernel_params_}, {"positions", &positions}, {"order", order}, {"sorted", sorted_copy_}});
+            sorted = sorted_copy_;
+        }
+        kernels_->record_shapes(cmd, *kernel_params_, *sorted, *cell_rank, *cell_start, count);
+        gpu::fill(*ctx_, cmd, *no_classes_, 0u);  // the kernels carry no classes here
+        kernels_->record_kernels(cmd, *kernel_params_, *no_classes_, count);
+        geometry = own_geometry_;
+        particles = &kernels_->centres();
+        shape = &kernels_->shapes();
+        cell_rank = &kernels_->cell_rank();
+        cell_start = &kernels_->cell_start();
+        use_order = false;
     }
     params_.grid_origin_cell = glm::vec4(geometry.origin, geometry.cell_size);
     params_.grid_dims = glm::uvec4(geometry.dims, geometry.cell_count());
     params_.particle_count = count;
     params_.capacity = capacity_;
-    params_.use_order = reads_in_place() ? 0u : 1u;
+    params_.use_order = use_order ? 1u : 0u;
     params_.vertex_capacity = vertex_capacity;
     params_.triangle_capacity = triangle_capacity;
     gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof(params_));
@@ -130,8 +149,28 @@ void DensitySampler::record(VkCommandBuffer cmd, const gpu::Buffer& positions, u
                   {{"params", params_buf_}, {"positions", &positions}, {"bounds", bounds_}});
     gpu::dispatch(*ctx_, cmd, lattice_pass_, 1, {{"params", params_buf_}, {"bounds", bounds_}, {"lattice", lattice_}});
     gpu::dispatch_indirect(*ctx_, cmd, sample_pass_, *lattice_,
-                           {{"params", params_buf_}, {"lattice", lattice_}, {"positions", &positions}, {"order", order},
-                            {"cell_rank", cell_rank}, {"cell_start", cell_start}, {"values", values_}});
+                           {{"params", params_buf_}, {"lattice", lattice_}, {"positions", particles}, {"order", order},
+                            {"cell_rank", cell_rank}, {"cell_start", cell_start}, {"values", values_}, {"shape", shape}});
+}
+
+void DensitySampler::make_own_grid() {
+    if (own_grid_) return;
+    auto made = grid_for_domain(domain_.bounds.min, domain_.bounds.max, params_.radius);
+    if (!made) throw resource_failure("surface mesh: " + made.error());
+    own_geometry_ = made.value();
+    own_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
+    own_grid_ = std::make_unique<NeighborGrid>(*ctx_, *own_buffers_, own_geometry_, max_particles_, "mesh.grid");
+}
+
+void DensitySampler::make_kernels() {
+    if (kernels_) return;
+    make_own_grid();  // its geometry (cells r over the domain) is the kernels' grid's
+    kernel_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
+    kernel_params_ = &kernel_buffers_->add("mesh.kernel_params", sizeof(shader::SurfaceParams));
+    sorted_copy_ = &kernel_buffers_->add("mesh.sorted", uint64_t(max_particles_) * 16);
+    no_classes_ = &kernel_buffers_->add("mesh.no_classes", uint64_t(max_particles_) * 4);
+    kernels_ = std::make_unique<SurfaceKernels>(*ctx_, *kernel_buffers_, own_geometry_, max_particles_, "mesh");
+    gather_pass_ = gpu::ComputePass(*ctx_, {"render/gather.comp", 4});
 }
 
 void DensitySampler::record_readback(VkCommandBuffer cmd) {
@@ -170,9 +209,11 @@ DensityVolume DensitySampler::sample_volume(const gpu::Buffer& positions, uint32
 
 std::vector<gpu::BufferReport> DensitySampler::memory_report() const {
     auto report = buffers_.report();
-    for (const gpu::BufferSet* set : {lattice_buffers_.get(), own_buffers_.get()})
+    for (const gpu::BufferSet* set : {lattice_buffers_.get(), own_buffers_.get(), kernel_buffers_.get()})
         if (set)
             for (auto& entry : set->report()) report.push_back(entry);
+    if (kernels_)
+        for (auto& entry : kernels_->kernel_memory_report()) report.push_back(entry);
     return report;
 }
 

@@ -12,6 +12,9 @@
 //                  are 0 and a closed fluid gives a closed surface), clipped to the domain padded
 //                  the same way, snapped to the lattice anchored there; chosen on the device, so
 //                  that sampling runs in the frame's own submission without a trip to the host
+//   (kernels)      the anisotropic surface only (SurfaceSettings::surface): the renderer's kernels
+//                  (render/surface_kernels.h) from the particles sorted by a grid of cells r (in
+//                  place, or the own grid and a sorted copy of the positions)
 //   mesh_sample    phi at every sample (indirect dispatch over the lattice)
 // The lattice's buffers hold `capacity()` samples. A lattice beyond them is measured, not
 // sampled (lattice().dims.w > capacity()): reserve() grows them and the caller samples again.
@@ -27,6 +30,7 @@
 #include "gpu/compute_pass.h"
 #include "grid/neighbor_grid.h"
 #include "render/density_volume.h"
+#include "render/surface_kernels.h"
 #include "render/surface_settings.h"
 #include "shaders/shared/mesh_layout.h"
 
@@ -96,7 +100,11 @@ public:
     std::vector<gpu::BufferReport> memory_report() const;
 
 private:
+    void make_own_grid();
+    void make_kernels();  ///< the anisotropic surface's kernels and what making them needs
+
     gpu::Context* ctx_;
+    SurfaceSettings field_;
     ParticleDomain domain_;
     uint32_t max_particles_;
     shader::MeshParams params_{};
@@ -108,6 +116,10 @@ private:
     std::unique_ptr<NeighborGrid> own_grid_;
     GridGeometry own_geometry_;
     const NeighborGrid* shared_grid_ = nullptr;
+    std::unique_ptr<gpu::BufferSet> kernel_buffers_;  // the anisotropic surface's kernels, made on first use
+    std::unique_ptr<SurfaceKernels> kernels_;
+    gpu::Buffer *kernel_params_ = nullptr, *sorted_copy_ = nullptr, *no_classes_ = nullptr;
+    gpu::ComputePass gather_pass_;
     gpu::Buffer *params_buf_, *bounds_, *lattice_, *lattice_host_;
     gpu::Buffer* values_ = nullptr;
     gpu::ComputePass bounds_pass_, lattice_pass_, sample_pass_;

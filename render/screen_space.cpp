@@ -123,7 +123,7 @@ ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain
     color_ = &buffers_.add("ss.color", pixels * 4);
 
     const uint32_t push = sizeof(SurfacePassPush);
-    splat_ = gpu::ComputePass(ctx, {"render/splat.comp", 8, push});
+    splat_ = gpu::ComputePass(ctx, {"render/splat.comp", 9, push});
     bilateral_ = gpu::ComputePass(ctx, {"render/ss_bilateral.comp", 3, push});
     narrow_range_ = gpu::ComputePass(ctx, {"render/ss_narrow_range.comp", 3, push});
     curvature_flow_ = gpu::ComputePass(ctx, {"render/ss_curvature_flow.comp", 3});
@@ -163,7 +163,7 @@ void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positio
         gpu::fill(*ctx_, cmd, *raw_, DEPTH_EMPTY);
         gpu::fill(*ctx_, cmd, *thickness_, 0u);
         gpu::dispatch(*ctx_, cmd, splat_, std::max(count, 1u), axis_push(0),
-                      {{"params", params_buf_}, {"sorted", &positions}, {"aggregate", aggregate_}, {"depth_all", raw_}, {"depth_agg", unused_}, {"thickness", thickness_}, {"front_class", unused_}, {"depth_splash_back", unused_}});
+                      {{"params", params_buf_}, {"sorted", &positions}, {"shape", unused_}, {"aggregate", aggregate_}, {"depth_all", raw_}, {"depth_agg", unused_}, {"thickness", thickness_}, {"front_class", unused_}, {"depth_splash_back", unused_}});
     }
     {
         gpu::GpuScope scope(timer, cmd, "ss_filter");

@@ -63,6 +63,10 @@ std::vector<SettingSpec> surface_settings() {
                    "adaptive: screen-space normals only"),
         setting<S>("anisotropic", "--isotropic", "anisotropic", kOff, &S::anisotropic, 0, 1, "",
                    "isotropic kernels for the classification"),
+        choice<S>("surface", "--surface", "surface", &S::surface, {"isotropic", "anisotropic"},
+                  "the surface's kernels: a sphere per particle, or Yu & Turk's stretched kernels"),
+        setting<S>("centre_smoothing", "--centre-smoothing", "centre_smoothing", kNumber, &S::centre_smoothing, 0, 1,
+                   "0..1", "anisotropic surface: Laplacian smoothing of the kernel centres (Yu & Turk's lambda)"),
     };
 }
 

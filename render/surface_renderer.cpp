@@ -42,7 +42,6 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     const uint64_t tiles = uint64_t((width + SURFACE_TILE - 1) / SURFACE_TILE) * ((height + SURFACE_TILE - 1) / SURFACE_TILE);
     const uint64_t n = max_particles_;
     params_buf_ = &buffers_.add("render.params", sizeof(shader::SurfaceParams));
-    shape_ = &buffers_.add("render.shape", n * 48);
     class_density_ = &buffers_.add("render.class_density", n * 4);
     aggregate_ = &buffers_.add("render.aggregate", n * 4);
     depth_all_ = &buffers_.add("render.depth_all", pixels * 4);
@@ -74,16 +73,15 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
 
     const uint32_t push = sizeof(SurfacePassPush);
     gather_ = gpu::ComputePass(ctx, {"render/gather.comp", 4});
-    classify_shape_ = gpu::ComputePass(ctx, {"render/classify_shape.comp", 5});
     classify_density_ = gpu::ComputePass(ctx, {"render/classify_density.comp", 7});
     mask_convolve_ = gpu::ComputePass(ctx, {"render/mask_convolve.comp", 5, push});
-    mask_bound_ = gpu::ComputePass(ctx, {"render/mask_bound.comp", 5});
+    mask_bound_ = gpu::ComputePass(ctx, {"render/mask_bound.comp", 6});
     mask_pack_ = gpu::ComputePass(ctx, {"render/mask_pack.comp", 4});
-    splat_ = gpu::ComputePass(ctx, {"render/splat.comp", 8, push});
+    splat_ = gpu::ComputePass(ctx, {"render/splat.comp", 9, push});
     depth_smooth_ = gpu::ComputePass(ctx, {"render/depth_smooth.comp", 3, push});
     screen_normals_ = gpu::ComputePass(ctx, {"render/screen_normals.comp", 3});
     tiles_ = gpu::ComputePass(ctx, {"render/tiles.comp", 5, 0, 64});
-    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 20, push, RAY_MARCH_WORKGROUP});
+    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 21, push, RAY_MARCH_WORKGROUP});
     ray_args_ = gpu::ComputePass(ctx, {"render/ray_args.comp", 2, 0, 1});
     upsample_ = gpu::ComputePass(ctx, {"render/upsample.comp", 6});
     normal_filter_ = gpu::ComputePass(ctx, {"render/normal_filter.comp", 4, push});
@@ -104,8 +102,12 @@ void SurfaceRenderer::prepare_grid(float radius) {
     if (!geometry) throw resource_failure("surface renderer: " + geometry.error());
     own_grid_.reset();
     own_buffers_.reset();
+    kernels_.reset();
+    kernel_buffers_.reset();
     mask_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
     geometry_ = geometry.value();
+    kernel_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
+    kernels_ = std::make_unique<SurfaceKernels>(*ctx_, *kernel_buffers_, geometry_, max_particles_, "render");
     const uint64_t cells = geometry_.cell_count();
     auto words = [](uint32_t cells_on_axis, uint32_t block) { return uint64_t((cells_on_axis + block - 1) / block); };
     const uint64_t wx = words(geometry_.dims.x, MASK_BLOCK_X), wy = words(geometry_.dims.y, MASK_BLOCK_Y),
@@ -135,12 +137,12 @@ void SurfaceRenderer::record_mask(VkCommandBuffer cmd, bool tight) {
     gpu::fill(*ctx_, cmd, *coarse_, 0u);
     const uint32_t cells = geometry_.cell_count();
     if (tight) {
-        gpu::dispatch(*ctx_, cmd, mask_bound_, cells, {{"params", params_buf_}, {"sorted", particles_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"dst", conv_a_}});
+        gpu::dispatch(*ctx_, cmd, mask_bound_, cells, {{"params", params_buf_}, {"sorted", field_sorted_}, {"cell_rank", field_cell_rank_}, {"cell_start", field_cell_start_}, {"shape", field_shape_}, {"dst", conv_a_}});
     } else {
         // counts (from the grid) -x-> a -y-> b -z-> a
-        gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(0), {{"params", params_buf_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"src", conv_b_}, {"dst", conv_a_}});
-        gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(1), {{"params", params_buf_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"src", conv_a_}, {"dst", conv_b_}});
-        gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(2), {{"params", params_buf_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"src", conv_b_}, {"dst", conv_a_}});
+        gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(0), {{"params", params_buf_}, {"cell_rank", field_cell_rank_}, {"cell_start", field_cell_start_}, {"src", conv_b_}, {"dst", conv_a_}});
+        gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(1), {{"params", params_buf_}, {"cell_rank", field_cell_rank_}, {"cell_start", field_cell_start_}, {"src", conv_a_}, {"dst", conv_b_}});
+        gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(2), {{"params", params_buf_}, {"cell_rank", field_cell_rank_}, {"cell_start", field_cell_start_}, {"src", conv_b_}, {"dst", conv_a_}});
     }
     gpu::dispatch(*ctx_, cmd, mask_pack_, params_.mask_dims.w, {{"params", params_buf_}, {"counts", conv_a_}, {"mask", mask_}, {"coarse", coarse_}});
 }
@@ -178,15 +180,33 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         cell_rank_ = &own_grid_->cell_rank();
         cell_start_ = &own_grid_->cell_start();
     }
-    if (adaptive) {
+    const bool anisotropic_field = params_.flags & SURFACE_ANISOTROPIC_FIELD;
+    const bool classify = adaptive || (params_.shading & SHADE_SPRAY);
+    if (classify || anisotropic_field) {
         gpu::GpuScope scope(timer, cmd, "render_classify");
-        if (params_.flags & SURFACE_ANISOTROPIC)
-            gpu::dispatch(*ctx_, cmd, classify_shape_, particles, 
-                          {{"params", params_buf_}, {"sorted", particles_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"shape", shape_}});
-        gpu::dispatch(*ctx_, cmd, classify_density_, particles, 
-                      {{"params", params_buf_}, {"sorted", particles_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"shape", shape_}, {"class_density", class_density_}, {"aggregate", aggregate_}});
+        if ((params_.flags & SURFACE_ANISOTROPIC) || anisotropic_field)
+            kernels_->record_shapes(cmd, *params_buf_, *particles_, *cell_rank_, *cell_start_, particles);
+    }
+    if (classify) {
+        gpu::GpuScope scope(timer, cmd, "render_classify");
+        gpu::dispatch(*ctx_, cmd, classify_density_, particles,
+                      {{"params", params_buf_}, {"sorted", particles_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"shape", &kernels_->particle_shapes()}, {"class_density", class_density_}, {"aggregate", aggregate_}});
     } else {
         gpu::fill(*ctx_, cmd, *aggregate_, 0u);
+    }
+    field_sorted_ = particles_;
+    field_shape_ = &kernels_->particle_shapes();  // unread by the isotropic field
+    field_aggregate_ = aggregate_;
+    field_cell_rank_ = cell_rank_;
+    field_cell_start_ = cell_start_;
+    if (anisotropic_field) {
+        gpu::GpuScope scope(timer, cmd, "render_kernels");
+        kernels_->record_kernels(cmd, *params_buf_, *aggregate_, count);
+        field_sorted_ = &kernels_->centres();
+        field_shape_ = &kernels_->shapes();
+        field_aggregate_ = &kernels_->aggregate();
+        field_cell_rank_ = &kernels_->cell_rank();
+        field_cell_start_ = &kernels_->cell_start();
     }
     if (params_.flags & SURFACE_USE_MASK) {
         gpu::GpuScope scope(timer, cmd, "render_mask");
@@ -202,7 +222,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         gpu::fill(*ctx_, cmd, *front_class_, 0u);
     }
     const gpu::Bindings splat_buffers{
-        {"params", params_buf_}, {"sorted", particles_}, {"aggregate", aggregate_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_}, {"thickness", thickness_}, {"front_class", front_class_},
+        {"params", params_buf_}, {"sorted", field_sorted_}, {"shape", field_shape_}, {"aggregate", field_aggregate_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_}, {"thickness", thickness_}, {"front_class", front_class_},
         {"depth_splash_back", depth_splash_back_}};
     // The splat is a long pass too: where the caller shares the queue (gpu::Context::QueueSharing)
     // it runs in slices of particles, each its own timed scope, so that the queue can be cut
@@ -269,7 +289,7 @@ void SurfaceRenderer::record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* tim
 void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count,
                                      uint32_t mode, int resume_out, uint32_t first, uint32_t stride, uint32_t threads) {
     const gpu::Bindings buffers{
-        {"params", params_buf_}, {"sorted", particles_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"mask", mask_}, {"coarse", coarse_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_},
+        {"params", params_buf_}, {"sorted", field_sorted_}, {"shape", field_shape_}, {"cell_rank", field_cell_rank_}, {"cell_start", field_cell_start_}, {"mask", mask_}, {"coarse", coarse_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_},
         {"normal_screen", normal_screen_}, {"rays", rays}, {"ray_count", &ray_count}, {"hit", hit_}, {"normal", normal_}, {"march_cut", march_cut_}, {"resume_rays", resume_rays_[resume_out]}, {"resume_count", resume_count_[resume_out]},
         {"resume_state", resume_state_}, {"ray_counts", ray_counts_}, {"blend_weights", blend_weights_},
         {"depth_splash_back", depth_splash_back_}};
@@ -343,6 +363,14 @@ std::vector<float> SurfaceRenderer::depth_agg() { return gpu::download_vector<fl
 std::vector<glm::vec4> SurfaceRenderer::sorted_positions() {
     return particles_ ? gpu::download_vector<glm::vec4>(*ctx_, *particles_, count_) : std::vector<glm::vec4>{};
 }
+std::vector<glm::vec4> SurfaceRenderer::kernel_centres() {
+    if (!(params_.flags & SURFACE_ANISOTROPIC_FIELD)) return {};
+    return gpu::download_vector<glm::vec4>(*ctx_, kernels_->centres(), count_);
+}
+std::vector<glm::vec4> SurfaceRenderer::kernel_shapes() {
+    if (!(params_.flags & SURFACE_ANISOTROPIC_FIELD)) return {};
+    return gpu::download_vector<glm::vec4>(*ctx_, kernels_->shapes(), size_t(count_) * 3);
+}
 std::vector<uint32_t> SurfaceRenderer::aggregate_flags() { return gpu::download_vector<uint32_t>(*ctx_, *aggregate_, count_); }
 std::vector<float> SurfaceRenderer::class_densities() { return gpu::download_vector<float>(*ctx_, *class_density_, count_); }
 std::vector<uint32_t> SurfaceRenderer::mask_words() { return gpu::download_vector<uint32_t>(*ctx_, *mask_, params_.mask_dims.w); }
@@ -367,9 +395,11 @@ uint32_t SurfaceRenderer::rays_cast() {
 
 std::vector<gpu::BufferReport> SurfaceRenderer::memory_report() const {
     auto report = buffers_.report();
-    for (const gpu::BufferSet* set : {mask_buffers_.get(), own_buffers_.get()})
+    for (const gpu::BufferSet* set : {mask_buffers_.get(), own_buffers_.get(), kernel_buffers_.get()})
         if (set)
             for (auto& entry : set->report()) report.push_back(entry);
+    if (kernels_)
+        for (auto& entry : kernels_->kernel_memory_report()) report.push_back(entry);
     return report;
 }
 

@@ -13,6 +13,9 @@
 //                     the start of the last step, and particles have moved since, so queries on it
 //                     could miss neighbours.
 //   render_classify   Yu-Turk weighted PCA and anisotropic density per particle (adaptive only)
+//   render_kernels    the anisotropic surface's kernels (render/surface_kernels.h): shapes,
+//                     smoothed centres, their own grid; every later pass reads the field's
+//                     "particles" (positions, or kernels) through field_*
 //   render_mask       binary density grid: separable (b, a, b) convolution of cell counts, packing
 //   render_splat      D_all, D_agg, thickness (and the classification view)
 //   render_smooth     bilateral smoothing of D_all; render_screen_normals
@@ -30,6 +33,7 @@
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
 #include "render/impostor_view.h"
+#include "render/surface_kernels.h"
 #include "render/surface_frame.h"
 #include "render/surface_settings.h"
 #include "grid/neighbor_grid.h"
@@ -52,7 +56,7 @@ struct RayCounts {
     uint32_t leaps = 0;      ///< jumps over cells the binary density grid marks empty (no evaluation)
     uint32_t evaluations() const { return march + bisection; }
 };
-constexpr uint32_t kSurfaceBytesPerParticle = 3 * 16 + 4 + 4;
+constexpr uint32_t kSurfaceBytesPerParticle = kShapeBytesPerParticle + 4 + 4;
 /// Without a shared grid, the renderer's own grid (keys, slots, order; and 8 B per cell) and
 /// its sorted copy of the positions.
 constexpr uint32_t kOwnGridBytesPerParticle = 3 * 4 + 16;
@@ -95,6 +99,10 @@ public:
     std::vector<float> depth_splash_back();  ///< per pixel eye depth of the farthest splash sphere's back, 0 where none
     std::vector<glm::vec4> sorted_positions();  ///< in grid order; w: the index in the given buffer (own grid) or the particle id (in place)
     std::vector<uint32_t> aggregate_flags();    ///< per sorted particle
+    /// The anisotropic surface's kernels in their grid's order (empty for the isotropic surface):
+    /// xyz the smoothed centre; and 3 rows of G per kernel (shaders/render/classify_shape.comp).
+    std::vector<glm::vec4> kernel_centres();
+    std::vector<glm::vec4> kernel_shapes();
     std::vector<float> class_densities();       ///< per sorted particle
     std::vector<uint32_t> mask_words();         ///< the binary density grid (layout: surface_layout.h)
     std::vector<uint32_t> coarse_words();
@@ -146,20 +154,25 @@ private:
     gpu::BufferSet buffers_;
     std::unique_ptr<gpu::BufferSet> mask_buffers_;  // per radius
     std::unique_ptr<gpu::BufferSet> own_buffers_;   // the renderer's own grid and sorted copy, when needed
+    std::unique_ptr<gpu::BufferSet> kernel_buffers_;  // per radius: the particles' shapes (the kernels' own buffers are made on first use)
+    std::unique_ptr<SurfaceKernels> kernels_;
     std::unique_ptr<NeighborGrid> own_grid_;
     gpu::Buffer* own_sorted_ = nullptr;
     const NeighborGrid* shared_grid_ = nullptr;
     GridGeometry geometry_;
     // What the frame's passes read: the shared or the own grid's particles and cells.
     const gpu::Buffer *particles_ = nullptr, *cell_rank_ = nullptr, *cell_start_ = nullptr;
-    gpu::Buffer *params_buf_, *shape_, *class_density_, *aggregate_;
+    // What the field's passes read: the particles, or the anisotropic surface's kernels.
+    const gpu::Buffer *field_sorted_ = nullptr, *field_shape_ = nullptr, *field_aggregate_ = nullptr;
+    const gpu::Buffer *field_cell_rank_ = nullptr, *field_cell_start_ = nullptr;
+    gpu::Buffer *params_buf_, *class_density_, *aggregate_;
     gpu::Buffer *depth_all_, *depth_agg_, *depth_splash_back_, *thickness_, *front_class_, *smooth_a_, *smooth_b_, *normal_screen_;
     gpu::Buffer *tile_level_, *rays_, *ray_count_, *edge_rays_, *edge_count_, *march_groups_, *hit_, *normal_, *normal_tmp_, *color_;
     gpu::Buffer* march_cut_;
     gpu::Buffer *ray_counts_, *blend_weights_;
     gpu::Buffer *resume_rays_[2], *resume_count_[2], *resume_state_;
     gpu::Buffer *conv_a_ = nullptr, *conv_b_ = nullptr, *mask_ = nullptr, *coarse_ = nullptr;
-    gpu::ComputePass gather_, classify_shape_, classify_density_, mask_convolve_, mask_bound_, mask_pack_, splat_;
+    gpu::ComputePass gather_, classify_density_, mask_convolve_, mask_bound_, mask_pack_, splat_;
     gpu::ComputePass depth_smooth_, screen_normals_, tiles_, ray_args_, ray_march_, upsample_, normal_filter_, compose_;
 };
 

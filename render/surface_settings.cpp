@@ -57,6 +57,11 @@ Result<bool> validate(const SurfaceSettings& s) {
     if (!(s.blend_a >= 0.0f) || !std::isfinite(s.blend_b)) return out_of_range("blend_a", s.blend_a, "A >= 0, finite B");
     if (!(s.smooth_sigma_px > 0.0f) || s.smooth_radius_px > 32)
         return out_of_range("smooth_radius_px", s.smooth_radius_px, "1..32 px with a positive sigma");
+    if (!(s.centre_smoothing >= 0.0f && s.centre_smoothing <= 1.0f))
+        return out_of_range("centre_smoothing", s.centre_smoothing, "0..1");
+    if (s.surface == SurfaceKernel::anisotropic && !s.tight_mask)
+        return Error{"render setting tight_mask = 0 (--wu-mask) needs the isotropic surface: Wu et al.'s count bound "
+                     "assumes every kernel peaks at W(0); add --surface isotropic, or drop --wu-mask"};
     if (!(s.reference_step_radii > 0.0f && s.reference_step_radii <= s.step_radii))
         return out_of_range("reference_step", s.reference_step_radii, "(0, step]");
     return true;
@@ -74,7 +79,7 @@ Result<GridGeometry> render_grid(const SurfaceSettings& settings, const Particle
 shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const ParticleDomain& domain, const GridGeometry& grid,
                                           const ViewCamera& camera, uint32_t width, uint32_t height,
                                           uint32_t particle_count) {
-    shader::SurfaceParams p{};
+    shader::SurfaceParams p = make_field_params(s, domain, grid, particle_count);
     const CameraBlock view = camera_block(camera, width, height);
     const float tan_y = view.right.w;
     p.eye = view.eye;
@@ -82,7 +87,13 @@ shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const Partic
     p.right = view.right;
     p.up = view.up;
     p.screen = {width, height, ceil_div(width, SURFACE_TILE), ceil_div(height, SURFACE_TILE)};
+    p.pixel_scale = float(height) / (2.0f * tan_y);
+    return p;
+}
 
+shader::SurfaceParams make_field_params(const SurfaceSettings& s, const ParticleDomain& domain, const GridGeometry& grid,
+                                        uint32_t particle_count) {
+    shader::SurfaceParams p{};
     p.grid_origin_cell = with_w(grid.origin, grid.cell_size);
     p.grid_dims = {grid.dims, grid.cell_count()};
     const glm::uvec3 words{ceil_div(grid.dims.x, MASK_BLOCK_X), ceil_div(grid.dims.y, MASK_BLOCK_Y),
@@ -118,6 +129,7 @@ shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const Partic
     p.method = reference ? SURFACE_METHOD_REFERENCE : adaptive ? SURFACE_METHOD_ADAPTIVE : SURFACE_METHOD_UNIFORM;
     uint32_t flags = 0;
     if (s.anisotropic) flags |= SURFACE_ANISOTROPIC;
+    if (s.surface == SurfaceKernel::anisotropic) flags |= SURFACE_ANISOTROPIC_FIELD;
     // The reference skips only what the exact (a = b = 1) mask proves empty.
     if (reference || (adaptive && s.use_mask)) flags |= SURFACE_USE_MASK;
     if (adaptive && s.use_skip) flags |= SURFACE_USE_SKIP;
@@ -135,7 +147,6 @@ shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const Partic
     p.tile_eps2 = s.tile_eps2 * radius2;
     p.blend_a = s.blend_a / particle_radius;
     p.blend_b = s.blend_b;
-    p.pixel_scale = float(height) / (2.0f * tan_y);
     p.smooth_sigma_px = s.smooth_sigma_px;
     p.smooth_sigma_depth = s.smooth_sigma_depth_radii * particle_radius;
 
@@ -147,6 +158,7 @@ shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const Partic
     p.xiao_d = s.xiao_d;
     p.xiao_k = s.xiao_k;
     p.smooth_radius_px = s.smooth_radius_px;
+    p.centre_smoothing = s.centre_smoothing;
 
     p.light_dir = kLightDirection;
     p.fluid_color = kFluidOptics;

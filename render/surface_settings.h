@@ -7,6 +7,7 @@
 #include <string>
 
 #include "render/impostor_view.h"
+#include "shaders/shared/anisotropy.h"
 #include "shaders/shared/surface_layout.h"
 #include "grid/neighbor_grid.h"
 #include "core/result.h"
@@ -20,6 +21,12 @@ enum class SurfaceMethod {
     reference,  ///< exhaustive: fine uniform steps from the grid's bounds, exact density
 };
 
+/// The field whose iso-surface is drawn.
+enum class SurfaceKernel {
+    isotropic,    ///< phi = V sum_j W(p - x_j, r): a sphere of radius r around every particle
+    anisotropic,  ///< Yu & Turk 2013: stretched kernels around smoothed centres (render/surface_kernels.h)
+};
+
 const char* method_name(SurfaceMethod method);
 Result<SurfaceMethod> parse_method(const std::string& text);
 
@@ -31,6 +38,14 @@ struct SurfaceSettings {
     bool adaptive_resolution = true;
     bool blend_normals = true;
     bool anisotropic = true;  ///< Yu-Turk kernels for the classification (else isotropic)
+    /// The surface's field. The anisotropic one (Yu & Turk 2013, section 3) draws each particle's
+    /// kernel stretched along its neighbourhood (the weighted PCA of shared/anisotropy.h, the
+    /// one the classification uses) around a centre smoothed towards its neighbours
+    /// (centre_smoothing): sheets stay sheets, a free surface's particles stop showing as beads,
+    /// and a lone droplet (N_eps or fewer neighbours) keeps its sphere.
+    SurfaceKernel surface = SurfaceKernel::anisotropic;
+    /// lambda of Yu & Turk eq. 6 (0: the kernels sit on the particles).
+    float centre_smoothing = shader::kDefaultCentreSmoothing;
 
     /// Kernel support r in particle spacings; 0 = the solver's h (kernel_radius_factor), so
     /// that the field is the one the solver's density constraint sees.
@@ -137,6 +152,11 @@ inline const glm::vec4 kFluidOptics{8.0f, 2.5f, 1.2f, 1.33f};
 /// domain's obstacles as solid boxes (shared/tank_layout.h). A Failure of kind input when there
 /// are more obstacles than TANK_MAX_BOXES.
 shader::TankParams make_tank_params(const ParticleDomain& domain);
+
+/// The parameter block's field, grid and settings without a camera (the passes that make and
+/// sample the field off screen: render/density_sampler.h).
+shader::SurfaceParams make_field_params(const SurfaceSettings& settings, const ParticleDomain& domain,
+                                        const GridGeometry& grid, uint32_t particle_count);
 
 /// The GPU parameter block for one frame.
 shader::SurfaceParams make_surface_params(const SurfaceSettings& settings, const ParticleDomain& domain,

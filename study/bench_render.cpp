@@ -190,7 +190,8 @@ Verdict resolution_target(const std::vector<Measured>& results) {
 const Sweep& mask_sweep() {
     static const Sweep sweep = [] {
         Sweep s{"mask", "mask_skip", "a", "b", {}, [](SurfaceSettings base, float a, float b) {
-                    base.tight_mask = false;  // the weights are Wu et al.'s convolution's
+                    base.tight_mask = false;  // the weights are Wu et al.'s convolution's, whose count
+                    base.surface = SurfaceKernel::isotropic;  // bound holds for the isotropic kernel
                     base.mask_a = a;
                     base.mask_b = b;
                     return base;

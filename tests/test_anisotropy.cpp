@@ -290,12 +290,14 @@ Classification classify_cpu(const std::vector<glm::vec3>& x, bool anisotropic, c
     const float coefficient = shader::cubic_coefficient(kRadius);
     for (size_t i = 0; i < n; ++i) {
         float sum = 0.0f;
+        float iso_sum = 0.0f;
         for (size_t j = 0; j < n; ++j) {
             const glm::vec3 d = x[i] - x[j];
-            sum += anisotropic ? shader::anisotropic_kernel(d, c.shapes[j].g, c.shapes[j].det_g)
-                               : shader::cubic_kernel(glm::dot(d, d), 1.0f / kRadius, coefficient);
+            sum += anisotropic ? shader::anisotropic_kernel(d, c.shapes[j].g, c.shapes[j].det_g) : 0.0f;
+            iso_sum += shader::cubic_kernel(glm::dot(d, d), 1.0f / kRadius, coefficient);
         }
-        c.density.push_back(kVolume * sum);
+        // classify_density.comp: the anisotropic density never falls below the isotropic one.
+        c.density.push_back(kVolume * std::max(sum, iso_sum));
         c.aggregate.push_back(c.density.back() >= aggregate_density ? 1u : 0u);
     }
     return c;
@@ -384,8 +386,8 @@ TEST(AnisotropyClassification, DensitiesMatchTheDocumentedDefaults) {
         {"surface, beside the edges", scene.index(1, top, 1), 18, 0.850f, 1.111f},
         {"surface edge", scene.index(6, top, 0), 12, 0.720f, 2.331f},
         {"surface corner", scene.index(0, top, 0), 8, 0.607f, 1.349f},
-        {"layer below the surface", scene.index(6, top - 1, 6), 27, 1.000f, 0.850f},
-        {"below a corner", scene.index(1, top - 1, 1), 27, 1.000f, 0.608f},
+        {"layer below the surface", scene.index(6, top - 1, 6), 27, 1.000f, 1.000f},  // eq. 8 alone: 0.850
+        {"below a corner", scene.index(1, top - 1, 1), 27, 1.000f, 1.000f},  // eq. 8 alone: 0.608
         {"2x2x2 droplet", scene.droplet, 8, 0.607f, 0.607f},
         {"lone particle", scene.lone, 1, 1.0f / shader::RENDER_PI, 1.0f / shader::RENDER_PI},
     };
@@ -427,6 +429,7 @@ class AnisotropyGpuTest : public testing::GpuTest {
 protected:
     struct Result {
         std::vector<glm::vec4> shape;
+        std::vector<glm::vec4> centres;
         std::vector<float> density;
         std::vector<uint32_t> aggregate;
     };
@@ -450,6 +453,7 @@ protected:
         params.aniso_kn = shader::kDefaultAnisoKn;
         params.aniso_neps = shader::kDefaultAnisoNeps;
         params.aggregate_density = shader::kDefaultAggregateDensity;
+        params.centre_smoothing = shader::kDefaultCentreSmoothing;
 
         std::vector<glm::vec4> sorted4;
         for (const glm::vec3& p : sorted) sorted4.push_back(glm::vec4(p, 0.0f));
@@ -457,23 +461,25 @@ protected:
         gpu::Buffer& positions = buffers.add("sorted", n * sizeof(glm::vec4));
         gpu::Buffer& shape = buffers.add("shape", uint64_t(n) * 3 * sizeof(glm::vec4));
         gpu::Buffer& dummy_shape = buffers.add("dummy_shape", sizeof(glm::vec4));
+        gpu::Buffer& centres = buffers.add("centres", n * sizeof(glm::vec4));
         gpu::Buffer& density = buffers.add("class_density", n * sizeof(float));
         gpu::Buffer& aggregate = buffers.add("aggregate", n * sizeof(uint32_t));
         gpu::upload(ctx(), params_buffer, &params, sizeof(params));
         gpu::upload(ctx(), positions, sorted4.data(), n * sizeof(glm::vec4));
 
-        gpu::ComputePass shape_pass(ctx(), {"render/classify_shape.comp", 5, 0});
+        gpu::ComputePass shape_pass(ctx(), {"render/classify_shape.comp", 6, 0});
         gpu::ComputePass density_pass(ctx(), {"render/classify_density.comp", 7, 0});
         ctx().submit_and_wait([&](VkCommandBuffer cmd) {
             if (anisotropic)
                 gpu::dispatch_raw(ctx(), cmd, shape_pass, n, nullptr, 0,
-                                  {{"params", &params_buffer}, {"sorted", &positions}, {"cell_rank", &grid.cell_rank()}, {"cell_start", &grid.cell_start()}, {"shape", &shape}});
+                                  {{"params", &params_buffer}, {"sorted", &positions}, {"cell_rank", &grid.cell_rank()}, {"cell_start", &grid.cell_start()}, {"shape", &shape}, {"centres", &centres}});
             gpu::dispatch_raw(ctx(), cmd, density_pass, n, nullptr, 0,
                               {{"params", &params_buffer}, {"sorted", &positions}, {"cell_rank", &grid.cell_rank()}, {"cell_start", &grid.cell_start()},
                                {"shape", anisotropic ? &shape : &dummy_shape}, {"class_density", &density}, {"aggregate", &aggregate}});
         });
         Result r;
         if (anisotropic) r.shape = gpu::download_vector<glm::vec4>(ctx(), shape, uint64_t(n) * 3);
+        if (anisotropic) r.centres = gpu::download_vector<glm::vec4>(ctx(), centres, n);
         r.density = gpu::download_vector<float>(ctx(), density, n);
         r.aggregate = gpu::download_vector<uint32_t>(ctx(), aggregate, n);
         return r;
@@ -528,6 +534,19 @@ TEST_F(AnisotropyGpuTest, ShapesDensitiesAndClassesMatchTheCpu) {
                         }
                 EXPECT_NEAR(gpu_result.shape[3 * i].w, s.det_g, 1.0e-4f * s.det_g);
                 EXPECT_EQ(gpu_result.shape[3 * i + 1].w, float(cpu.counts[i]));
+                EXPECT_NEAR(gpu_result.shape[3 * i + 2].w, s.axes.x * kRadius, 1.0e-5f) << "the largest semi-axis";
+                // Yu & Turk eq. 6: the centre pulled lambda of the way to the weighted mean.
+                glm::vec3 mean(0.0f);
+                float weight = 0.0f;
+                for (const glm::vec3& q : sorted) {
+                    const float u = glm::length(q - p) / kRadius;
+                    if (u < 1.0f) weight += 1.0f - u * u * u, mean += (1.0f - u * u * u) * q;
+                }
+                const glm::vec3 centre = cpu.counts[i] > shader::kDefaultAnisoNeps
+                                             ? p + shader::kDefaultCentreSmoothing * (mean / weight - p)
+                                             : p;
+                EXPECT_LT(glm::length(glm::vec3(gpu_result.centres[i]) - centre), 1.0e-4f * kRadius)
+                    << "centre of the particle at (" << p.x << ", " << p.y << ", " << p.z << ")";
             }
             const float expected = cpu.density[i];
             if (std::abs(gpu_result.density[i] - expected) > 1.0e-4f * std::max(expected, 0.1f)) {

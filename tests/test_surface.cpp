@@ -123,12 +123,17 @@ TEST_F(SurfaceTest, MasksMarkEveryCellWhereTheFieldReachesTheIso) {
     Particles particles(ctx(), positions);
     SurfaceRenderer renderer(ctx(), scene.particle_domain(), 32, 32, particles.count);
     // The tight bound (the default) and Wu et al.'s count bound with unit weights are both exact.
+    // The anisotropic surface's kernels are bounded by their largest semi-axis (tight bound only).
     uint32_t marked_by[2] = {0, 0};
-    for (const bool tight : {true, false}) {
+    for (const auto [tight, surface] : {std::pair{true, SurfaceKernel::isotropic}, std::pair{false, SurfaceKernel::isotropic},
+                                        std::pair{true, SurfaceKernel::anisotropic}}) {
+        SCOPED_TRACE(surface == SurfaceKernel::anisotropic ? "anisotropic surface" : "isotropic surface");
         SurfaceSettings settings;
         settings.tight_mask = tight;
+        settings.surface = surface;
         settings.mask_a = settings.mask_b = 1.0f;
         renderer.render(particles.buffer, particles.count, camera_for_domain(scene.domain, 1.0f), settings);
+        const testing::FieldKernels kernels = testing::field_kernels(renderer, positions);
         const auto& p = renderer.params();
         const auto words = renderer.mask_words();
         const auto coarse = renderer.coarse_words();
@@ -148,7 +153,7 @@ TEST_F(SurfaceTest, MasksMarkEveryCellWhereTheFieldReachesTheIso) {
                     for (int s = 0; s < kSamples * kSamples * kSamples; ++s) {
                         const glm::vec3 f{float(s % kSamples), float(s / kSamples % kSamples), float(s / (kSamples * kSamples))};
                         const glm::vec3 at = g.origin + (glm::vec3(x, y, z) + f / float(kSamples - 1)) * g.cell_size;
-                        peak = std::max(peak, cpu_field(p, positions, at));
+                        peak = std::max(peak, cpu_field(p, kernels, at));
                     }
                     if (peak >= p.iso) {
                         ++needed;
@@ -158,12 +163,13 @@ TEST_F(SurfaceTest, MasksMarkEveryCellWhereTheFieldReachesTheIso) {
         EXPECT_GT(needed, 10u);
         // Conservative, but not everything: the empty space between clusters stays unmarked.
         EXPECT_LT(marked, g.cell_count() / 2);
-        marked_by[tight ? 0 : 1] = marked;
+        if (surface == SurfaceKernel::isotropic) marked_by[tight ? 0 : 1] = marked;
     }
     EXPECT_LT(marked_by[0], marked_by[1]) << "the tight bound marks fewer cells than the count bound";
 
     SurfaceSettings settings;
     settings.tight_mask = false;
+    settings.surface = SurfaceKernel::isotropic;
     settings.mask_a = 0.5f;
     settings.mask_b = 0.25f;
     renderer.render(particles.buffer, particles.count, camera_for_domain(scene.domain, 1.0f), settings);
@@ -425,12 +431,24 @@ TEST_F(SurfaceTest, DocumentedBytesPerPixelAndPerParticleMatchTheAllocations) {
     EXPECT_EQ(total_bytes(more) - total_bytes(small), 1000u * kSurfaceBytesPerParticle);
     const uint64_t before = total_bytes(more);
     testing::DeviceParticles one(ctx(), {glm::vec4(0.1f, 0.1f, 0.1f, 0.0f)});
-    more.render(one.buffer, one.count, camera_for_domain(scene.domain, 1.0f), SurfaceSettings{});
+    SurfaceSettings isotropic;
+    isotropic.surface = SurfaceKernel::isotropic;
+    more.render(one.buffer, one.count, camera_for_domain(scene.domain, 1.0f), isotropic);
     EXPECT_FALSE(more.reads_in_place());
     const GridGeometry& g = more.grid();
-    uint64_t scan_sums = 0;  // the prefix sum's partial sums, per cell block
-    for (const auto& b : more.memory_report()) scan_sums += b.name.find(".scan_sums") != std::string::npos ? b.bytes : 0;
-    EXPECT_EQ(total_bytes(more) - before, 2000u * kOwnGridBytesPerParticle + (uint64_t(g.cell_count()) * 2u + 1u) * 4u + scan_sums);
+    auto scan_sums = [&](const std::string& grid) {  // the prefix sum's partial sums, per cell block
+        uint64_t bytes = 0;
+        for (const auto& b : more.memory_report())
+            if (b.name.rfind(grid, 0) == 0 && b.name.find(".scan_sums") != std::string::npos) bytes += b.bytes;
+        return bytes;
+    };
+    const uint64_t grid_cells_bytes = (uint64_t(g.cell_count()) * 2u + 1u) * 4u;
+    EXPECT_EQ(total_bytes(more) - before, 2000u * kOwnGridBytesPerParticle + grid_cells_bytes + scan_sums("render.grid"));
+    // The anisotropic surface adds its kernels' grid and arrays on first use, and nothing more.
+    const uint64_t isotropic_bytes = total_bytes(more);
+    more.render(one.buffer, one.count, camera_for_domain(scene.domain, 1.0f), SurfaceSettings{});
+    EXPECT_EQ(total_bytes(more) - isotropic_bytes,
+              2000u * kKernelBytesPerParticle + grid_cells_bytes + scan_sums("render.kernel_grid"));
 }
 
 }  // namespace

@@ -70,8 +70,9 @@ protected:
         f.steps_per_ray = steps / std::max(1u, renderer->rays_cast());
         return f;
     }
-    static SurfaceSettings adaptive(bool mask, bool skip) {
+    static SurfaceSettings adaptive(bool mask, bool skip, SurfaceKernel surface = SurfaceKernel::anisotropic) {
         SurfaceSettings s;
+        s.surface = surface;
         s.use_mask = mask;
         s.use_skip = skip;
         s.blend_normals = false;
@@ -96,6 +97,7 @@ TEST_F(CurtainTest, MaskIsTheSeparableConvolutionOfTheCellCountsCellForCell) {
     for (const glm::vec2 ab : {glm::vec2(1.0f, 1.0f), glm::vec2(0.8f, 0.3f)}) {
         SurfaceSettings settings = adaptive(true, true);
         settings.tight_mask = false;
+        settings.surface = SurfaceKernel::isotropic;  // the count bound's kernel
         settings.mask_a = ab.x;
         settings.mask_b = ab.y;
         render(settings);
@@ -138,8 +140,15 @@ TEST_F(CurtainTest, MaskIsTheSeparableConvolutionOfTheCellCountsCellForCell) {
 }
 
 TEST_F(CurtainTest, TightMaskIsTheNearestPointBoundCellForCellAndMarksLessThanWus) {
+    // The anisotropic surface's bound: each kernel at most (8 / pi) |det G| P(d / a) with a its
+    // largest semi-axis (shaders/render/mask_bound.comp).
+    SurfaceSettings anisotropic = adaptive(true, true);
+    anisotropic.surface = SurfaceKernel::anisotropic;
     SurfaceSettings settings = adaptive(true, true);
-    render(settings);
+    settings.surface = SurfaceKernel::isotropic;
+    for (const SurfaceSettings& s : {anisotropic, settings}) {
+    render(s);
+    const testing::FieldKernels kernels = testing::field_kernels(*renderer, positions);
     const shader::SurfaceParams& p = renderer->params();
     const GridGeometry& g = renderer->grid();
     const glm::ivec3 dims(g.dims);
@@ -156,9 +165,13 @@ TEST_F(CurtainTest, TightMaskIsTheNearestPointBoundCellForCellAndMarksLessThanWu
             for (int x = 0; x < dims.x; ++x) {
                 const glm::vec3 lo = g.origin + glm::vec3(x, y, z) * g.cell_size, hi = lo + glm::vec3(g.cell_size);
                 float bound = 0.0f;
-                for (const glm::vec4& q : positions) {
-                    const glm::vec3 outside = glm::max(lo - glm::vec3(q), glm::vec3(0.0f)) + glm::max(glm::vec3(q) - hi, glm::vec3(0.0f));
-                    bound += shader::cubic_kernel(glm::dot(outside, outside), p.inv_radius, p.kernel_coeff);
+                for (size_t j = 0; j < kernels.centres.size(); ++j) {
+                    const glm::vec3 q(kernels.centres[j]);
+                    const glm::vec3 outside = glm::max(lo - q, glm::vec3(0.0f)) + glm::max(q - hi, glm::vec3(0.0f));
+                    bound += kernels.shapes.empty()
+                                 ? shader::cubic_kernel(glm::dot(outside, outside), p.inv_radius, p.kernel_coeff)
+                                 : (8.0f / shader::RENDER_PI) * kernels.shapes[3 * j].w *
+                                       shader::cubic_shape(glm::length(outside) / kernels.shapes[3 * j + 2].w);
                 }
                 bound *= p.volume;
                 const bool b = bit({x, y, z}, words);
@@ -168,6 +181,16 @@ TEST_F(CurtainTest, TightMaskIsTheNearestPointBoundCellForCellAndMarksLessThanWu
                 ASSERT_EQ(b, bound >= p.iso) << "cell " << x << "," << y << "," << z << ": bound " << bound << ", iso " << p.iso;
             }
     EXPECT_GT(compared, g.cell_count() * 9 / 10);
+    }
+    const shader::SurfaceParams& p = renderer->params();
+    const auto words = renderer->mask_words();
+    auto bit = [&](glm::ivec3 c, const std::vector<uint32_t>& w) {
+        const glm::uvec3 word = glm::uvec3(c) / glm::uvec3(MASK_BLOCK_X, MASK_BLOCK_Y, MASK_BLOCK_Z);
+        const glm::uvec3 in = glm::uvec3(c) - word * glm::uvec3(MASK_BLOCK_X, MASK_BLOCK_Y, MASK_BLOCK_Z);
+        return bool((w[word.x + p.mask_dims.x * (word.y + p.mask_dims.y * word.z)] >> (in.x + 4 * in.y + 16 * in.z)) & 1u);
+    };
+    uint32_t marked = 0;
+    for (uint32_t w : words) marked += __builtin_popcount(w);
     // Wu et al.'s count bound with the exact weights marks every cell within a cell of a particle.
     settings.tight_mask = false;
     render(settings);
@@ -188,17 +211,21 @@ TEST_F(CurtainTest, TightMaskIsTheNearestPointBoundCellForCellAndMarksLessThanWu
     EXPECT_LT(droplet_cells_tight * 2, droplet_cells_wu) << droplet_cells_tight << " vs " << droplet_cells_wu;
 }
 
+// Both surfaces: the mechanisms must stay exact with the anisotropic surface's kernels too.
 TEST_F(CurtainTest, MaskAndSkipEachSaveMarchStepsAtTheSameDepth) {
+    for (const SurfaceKernel surface : {SurfaceKernel::anisotropic, SurfaceKernel::isotropic}) {
+    SCOPED_TRACE(surface == SurfaceKernel::anisotropic ? "anisotropic surface" : "isotropic surface");
     SurfaceSettings reference_settings;
+    reference_settings.surface = surface;
     reference_settings.method = SurfaceMethod::reference;
     const SurfaceFrame reference = render(reference_settings).surface;
-    SurfaceSettings uniform_settings;
+    SurfaceSettings uniform_settings = reference_settings;
     uniform_settings.method = SurfaceMethod::uniform;
     const Frame uniform = render(uniform_settings);
-    const Frame none = render(adaptive(false, false));
-    const Frame mask = render(adaptive(true, false));
-    const Frame skip = render(adaptive(false, true));
-    const Frame both = render(adaptive(true, true));
+    const Frame none = render(adaptive(false, false, surface));
+    const Frame mask = render(adaptive(true, false, surface));
+    const Frame skip = render(adaptive(false, true, surface));
+    const Frame both = render(adaptive(true, true, surface));
     const float radius = renderer->params().particle_radius;
     // Without either mechanism the adaptive method steps exactly as the uniform one.
     EXPECT_NEAR(none.steps_per_ray, uniform.steps_per_ray, 1e-9);
@@ -230,6 +257,7 @@ TEST_F(CurtainTest, MaskAndSkipEachSaveMarchStepsAtTheSameDepth) {
     // The march's evaluations and the bisection's add up to what the normal buffer counts.
     for (size_t i = 0; i < both.counts.size(); ++i)
         ASSERT_EQ(double(both.counts[i].evaluations()), double(both.surface.normal[i].w)) << "pixel " << i;
+    }
 }
 
 TEST_F(CurtainTest, DaggHoldsTheSlabAndNotTheDroplets) {

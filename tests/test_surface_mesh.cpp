@@ -5,6 +5,8 @@
 // read back, and `run --mesh-every` writes them.
 #include <gtest/gtest.h>
 
+#include "surface_field.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -94,7 +96,9 @@ TEST_F(SurfaceMeshTest, SampledVolumeEqualsTheRenderersFieldOnTheHost) {
     const Scene& scene = fluid.scene;
     const auto& particles = fluid.particles;
     const DeviceParticles& device = fluid.device;
-    DensitySampler sampler(ctx(), fluid.domain(), device.count);
+    SurfaceSettings isotropic;
+    isotropic.surface = SurfaceKernel::isotropic;
+    DensitySampler sampler(ctx(), fluid.domain(), device.count, isotropic);
     const DensityVolume volume = sampler.sample_volume(device.buffer, device.count);
 
     // The renderer's iso value for the same settings.
@@ -120,6 +124,25 @@ TEST_F(SurfaceMeshTest, SampledVolumeEqualsTheRenderersFieldOnTheHost) {
         EXPECT_LT(last[a], hi[a] + pad + volume.voxel);
     }
     ASSERT_EQ(volume.values.size(), volume.sample_count());
+    // The sampler's anisotropic surface is the renderer's: the same kernels, the same field.
+    {
+        SurfaceSettings anisotropic;
+        anisotropic.surface = SurfaceKernel::anisotropic;
+        DensitySampler aniso_sampler(ctx(), fluid.domain(), device.count, anisotropic);
+        const DensityVolume aniso = aniso_sampler.sample_volume(device.buffer, device.count);
+        SurfaceRenderer renderer(ctx(), fluid.domain(), 32, 32, device.count);
+        renderer.render(device.buffer, device.count, camera_for_domain(scene.domain, 1.0f), anisotropic);
+        const testing::FieldKernels kernels = testing::field_kernels(renderer, particles);
+        ASSERT_EQ(kernels.centres.size(), particles.size());
+        float aniso_worst = 0.0f;
+        for (uint32_t k = 0; k < aniso.dims.z; ++k)
+            for (uint32_t j = 0; j < aniso.dims.y; ++j)
+                for (uint32_t i = 0; i < aniso.dims.x; ++i)
+                    aniso_worst = std::max(aniso_worst, std::abs(aniso.at(i, j, k) -
+                                                                 testing::cpu_field(renderer.params(), kernels, aniso.position(i, j, k))));
+        EXPECT_LT(aniso_worst, 1e-4f) << "the anisotropic volume differs from the renderer's field";
+        EXPECT_FLOAT_EQ(aniso.iso, volume.iso);
+    }
     const float worst = max_field_error(sampler, particles, volume);
     std::printf("[ field ] %ux%ux%u samples, max |phi_gpu - phi_cpu| = %.2e (iso %.3f)\n", volume.dims.x,
                 volume.dims.y, volume.dims.z, worst, volume.iso);

@@ -1,6 +1,7 @@
 // Camera rays and the density field of the surface renderer (layout in shared/surface_layout.h).
 // Include after declaring `params` (SurfaceParams), and, for the field, the buffers `sorted`
-// (vec4 positions in grid order), `cell_rank` and `cell_start`.
+// (vec4 positions, or kernel centres, in grid order), `shape` (the kernels' G, see below; any
+// buffer for the isotropic field), `cell_rank` and `cell_start`, and shared/anisotropy.h.
 
 #include "common/camera.glsl"
 
@@ -27,12 +28,31 @@ vec3 grid_max() { return params.grid_origin_cell.xyz + params.grid_origin_cell.w
 
 #define END_FOR_EACH_PARTICLE_NEAR } }
 
-/// phi(p) = V sum_j W(p - x_j, r): the normalised density (1 inside resting fluid).
+// The anisotropic surface (SURFACE_ANISOTROPIC_FIELD): `sorted` holds the kernels' smoothed
+// centres in their own grid's order and `shape` (declared by the including shader) their G, three
+// rows, row 0's w = |det G| (render/classify_shape.comp). Every G has semi-axes <= r, so the
+// kernels that reach p are those whose centre is within r of it, as in the isotropic field.
+bool anisotropic_field() { return (params.flags & SURFACE_ANISOTROPIC_FIELD) != 0u; }
+
+mat3 kernel_shape(uint j) {
+    // mat3 takes columns: the transpose of the rows is G.
+    return transpose(mat3(shape[3u * j].xyz, shape[3u * j + 1u].xyz, shape[3u * j + 2u].xyz));
+}
+
+/// phi(p) = V sum_j W(p - x_j, r): the normalised density (1 inside resting fluid); with the
+/// anisotropic surface V sum_j W(p - x_bar_j, G_j) (Yu & Turk eq. 5, Wu eq. 8).
 float field_density(vec3 p) {
     float sum = 0.0;
+    float r2 = params.radius * params.radius;
+    bool anisotropic = anisotropic_field();  // uniform across the dispatch: the branch is free
     FOR_EACH_PARTICLE_NEAR(p, j) {
         vec3 d = p - sorted[j].xyz;
-        sum += cubic_kernel(dot(d, d), params.inv_radius, params.kernel_coeff);
+        float d2 = dot(d, d);
+        if (!anisotropic) {
+            sum += cubic_kernel(d2, params.inv_radius, params.kernel_coeff);
+        } else if (d2 < r2) {  // only then read the shape
+            sum += anisotropic_kernel(d, kernel_shape(j), shape[3u * j].w);
+        }
     }
     END_FOR_EACH_PARTICLE_NEAR
     return params.volume * sum;
@@ -41,9 +61,16 @@ float field_density(vec3 p) {
 /// grad phi(p) (points into the fluid).
 vec3 field_gradient(vec3 p) {
     vec3 sum = vec3(0.0);
+    float r2 = params.radius * params.radius;
+    bool anisotropic = anisotropic_field();
     FOR_EACH_PARTICLE_NEAR(p, j) {
         vec3 d = p - sorted[j].xyz;
-        sum += cubic_gradient(d, dot(d, d), params.inv_radius, params.kernel_coeff);
+        float d2 = dot(d, d);
+        if (!anisotropic) {
+            sum += cubic_gradient(d, d2, params.inv_radius, params.kernel_coeff);
+        } else if (d2 < r2) {
+            sum += anisotropic_kernel_gradient(d, kernel_shape(j), shape[3u * j].w);
+        }
     }
     END_FOR_EACH_PARTICLE_NEAR
     return params.volume * sum;

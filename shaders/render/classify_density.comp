@@ -1,9 +1,14 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Particle classification, pass 2 of 2 (Wu et al. 4.2): each particle's density
-//   anisotropic (flags & SURFACE_ANISOTROPIC): rho_i = V sum_j W(x_i - x_j, G_j)   (Wu eq. 8,
-//                                              with the neighbour's G from classify_shape.comp)
+//   anisotropic (flags & SURFACE_ANISOTROPIC): rho_i = max(V sum_j W(x_i - x_j, G_j),   (Wu eq. 8,
+//                                                          with the neighbour's G from classify_shape.comp)
+//                                                      V sum_j W(x_i - x_j, r))
 //   isotropic:                                 rho_i = V sum_j W(x_i - x_j, r)     (Wu eq. 6)
+// The isotropic term in the anisotropic density keeps the layer under a free surface in the bulk:
+// its flattened neighbours no longer reach it (eq. 8 gives ~0.85, shared/anisotropy.h), and as a
+// "splash" its sprites, which begin before the surface's flattened ones, would hold D_splash_back
+// inside the fluid and the skip would never jump. Splashes keep the same density either way.
 // over the 27 cells around it (j = i included), and the split into aggregated particles
 // (rho_i >= aggregate_density) and splashes. Every G_j has semi-axes <= r (anisotropy.h), so no
 // kernel reaches beyond the 27 cells.
@@ -40,6 +45,7 @@ void main() {
     // the loops so that the isotropic loop reads no shapes.
     bool anisotropic = (params.flags & SURFACE_ANISOTROPIC) != 0u;
     float sum = 0.0;
+    float iso_sum = 0.0;
     for (int k = 0; k < 27; ++k) {
         uvec2 range = grid_neighbor_range(cell, k, params.grid_dims);
         if (anisotropic) {
@@ -51,6 +57,7 @@ void main() {
                 // mat3 takes columns: the transpose of the rows is G.
                 mat3 g = transpose(mat3(row0.xyz, row1.xyz, row2.xyz));
                 sum += anisotropic_kernel(d, g, row0.w);
+                iso_sum += cubic_kernel(dot(d, d), params.inv_radius, params.kernel_coeff);
             }
         } else {
             for (uint j = range.x; j < range.y; ++j) {
@@ -59,7 +66,7 @@ void main() {
             }
         }
     }
-    float rho = params.volume * sum;
+    float rho = params.volume * max(sum, iso_sum);
     class_density[i] = rho;
     aggregate[i] = rho >= params.aggregate_density ? 1u : 0u;
 }

@@ -8,6 +8,8 @@
 // for every particle of the 3 x 3 x 3 cells; here a lone particle marks only the cells its
 // iso-sphere can reach (a cell or a few) instead of all 27. One thread per cell gathers the
 // particles of the 27 cells around it (cell size r: no farther particle reaches c).
+// The anisotropic surface (SURFACE_ANISOTROPIC_FIELD) bounds each kernel by its largest semi-axis
+// a_j: |G_j d| >= |d| / a_j, so W(d, G_j) <= (8 / pi) |det G_j| P(d_j / a_j) anywhere in c.
 #include "shared/grid_layout.h"
 #include "shared/render_kernels.h"
 #include "shared/surface_layout.h"
@@ -18,6 +20,7 @@ layout(std430, binding = 1) readonly buffer Sorted { vec4 sorted[]; };
 layout(std430, binding = 2) readonly buffer CellRank { uint cell_rank[]; };
 layout(std430, binding = 3) readonly buffer CellStart { uint cell_start[]; };
 layout(std430, binding = 4) writeonly buffer Dst { float dst[]; };
+layout(std430, binding = 5) readonly buffer Shape { vec4 shape[]; };  // the anisotropic surface's G
 
 void main() {
     uint linear = gl_GlobalInvocationID.x;
@@ -27,6 +30,7 @@ void main() {
     vec3 lo = params.grid_origin_cell.xyz + vec3(c) * cell;
     vec3 hi = lo + vec3(cell);
     float sum = 0.0;
+    bool anisotropic = (params.flags & SURFACE_ANISOTROPIC_FIELD) != 0u;
     for (int k = 0; k < 27; ++k) {
         ivec3 n = c + ivec3(k % 3, (k / 3) % 3, k / 9) - ivec3(1);
         if (any(lessThan(n, ivec3(0))) || any(greaterThanEqual(n, ivec3(params.grid_dims.xyz)))) continue;
@@ -34,7 +38,11 @@ void main() {
         for (uint j = cell_start[rank]; j < cell_start[rank + 1u]; ++j) {
             vec3 x = sorted[j].xyz;
             vec3 outside = max(lo - x, vec3(0.0)) + max(x - hi, vec3(0.0));
-            sum += cubic_kernel(dot(outside, outside), params.inv_radius, params.kernel_coeff);
+            if (anisotropic) {
+                sum += (8.0 / RENDER_PI) * shape[3u * j].w * cubic_shape(length(outside) / shape[3u * j + 2u].w);
+            } else {
+                sum += cubic_kernel(dot(outside, outside), params.inv_radius, params.kernel_coeff);
+            }
         }
     }
     dst[linear] = sum / params.kernel_coeff;  // cubic_kernel(0) = kernel_coeff: counts of W(0)

@@ -3,6 +3,8 @@
 // Surface mesh, pass 3: the renderer's field at every lattice sample,
 //   phi(p) = V sum_j W(p - x_j, r)   (shared/render_kernels.h; the same sum as field_density
 //                                     in common/surface_common.glsl)
+// or, for the anisotropic surface (params.anisotropic), V sum_j W(p - x_bar_j, G_j) over the
+// kernels (shared/anisotropy.h; every support lies within r of its centre)
 // over the particles of the neighbour grid's 3 x 3 x 3 cells around p (cell size >= r), leaving
 // out cells whose box is r or farther from p. A border cell of the grid also holds the particles
 // beyond the grid (they are clamped into it), so its box is open on its outer sides. The
@@ -19,9 +21,11 @@
 //   4 uint cell_rank[]   the neighbour grid
 //   5 uint cell_start[]
 //   6 float values[]     phi per sample
+//   7 vec4 shape[]       the kernels' G, 3 rows each (anisotropic; else unread)
 #include "shared/grid_layout.h"
 #include "shared/mesh_layout.h"
 #include "shared/render_kernels.h"
+#include "shared/anisotropy.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { MeshParams params; };
@@ -33,6 +37,7 @@ layout(binding = 3, r32ui) readonly uniform uimageBuffer order;
 layout(binding = 4, r32ui) readonly uniform uimageBuffer cell_rank;
 layout(binding = 5, r32ui) readonly uniform uimageBuffer cell_start;
 layout(std430, binding = 6) writeonly buffer Values { float values[]; };
+layout(std430, binding = 7) readonly buffer Shape { vec4 shape[]; };
 
 #include "common/grid_query.glsl"
 
@@ -68,7 +73,13 @@ void main() {
         for (uint j = range.x; j < range.y; ++j) {
             vec3 d = p - particle(j);
             float d2 = dot(d, d);
-            if (d2 < r2) sum += cubic_kernel(d2, params.inv_radius, params.kernel_coeff);  // W = 0 beyond r
+            if (d2 >= r2) continue;  // W = 0 beyond r
+            if (params.anisotropic != 0u) {
+                mat3 g = transpose(mat3(shape[3u * j].xyz, shape[3u * j + 1u].xyz, shape[3u * j + 2u].xyz));
+                sum += anisotropic_kernel(d, g, shape[3u * j].w);
+            } else {
+                sum += cubic_kernel(d2, params.inv_radius, params.kernel_coeff);
+            }
         }
     }
     values[s] = params.volume * sum;

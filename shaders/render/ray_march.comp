@@ -57,6 +57,7 @@ layout(std430, binding = 16) buffer ResumeState { vec4 resume_state[]; };
 layout(std430, binding = 17) writeonly buffer RayCounts { uvec2 ray_counts[]; };
 layout(std430, binding = 18) writeonly buffer BlendWeights { vec2 blend_weights[]; };
 layout(std430, binding = 19) readonly buffer DepthSplashBack { uint depth_splash_back[]; };
+layout(std430, binding = 20) readonly buffer Shape { vec4 shape[]; };  // the anisotropic surface's G
 layout(push_constant) uniform Push { SurfacePassPush pc; };
 
 #define SURFACE_FIELD

@@ -12,7 +12,7 @@
 //   flat surface, lowest on the face   18   0.850  1.111   (beside an edge)
 //   surface edge                       12   0.720  2.331
 //   surface corner                      8   0.607  1.349   (a sphere by N_eps; neighbours lift it)
-//   layer just below the surface       27   1.000  0.850   (0.608 below a corner; see below)
+//   layer just below the surface       27   1.000  1.000   (eq. 8 alone: 0.850, 0.608 below a corner; see below)
 //   one-particle-thick sheet            9   0.701  2.198
 //   2x2x2 droplet                       8   0.607  0.607
 //   3-particle clump                    3   0.49 .. 0.51 (both)
@@ -35,8 +35,11 @@
 // - N_eps = 8: up to a 2x2x2 droplet the PCA says nothing and the particle stays a sphere; a
 //   surface corner (8) is one too, but its flattened neighbours still make it aggregate.
 // Property of eq. 8 (the neighbour's G_j): a flattened surface kernel no longer reaches the
-// layer below, which drops to ~0.85 and is mostly classified splash. That layer lies behind the
-// aggregated surface, so D_agg (the nearest aggregated particle) does not change.
+// layer below, which drops to ~0.85 by eq. 8 alone. The classification therefore takes the larger
+// of eq. 8 and the isotropic density (render/classify_density.comp): that layer stays aggregated
+// (1.0), while every splash above keeps its density. With the anisotropic surface this matters:
+// the layer's sprites begin before the surface's flattened ones, and as splashes they would hold
+// D_splash_back inside the fluid, so the skip would never jump.
 #ifndef AQUAFORM_ANISOTROPY_H
 #define AQUAFORM_ANISOTROPY_H
 #include "compat.h"
@@ -212,6 +215,17 @@ AF_FN AnisotropicShape anisotropic_shape(mat3 covariance_r2, uint neighbor_count
     return shape;
 }
 
+/// Laplacian smoothing of the kernel centre (Yu & Turk eq. 6): x_bar = (1 - lambda) x + lambda x_w,
+/// with x_w the weighted mean of the neighbourhood (the moments' first / weight, in units of r).
+/// It pulls a surface particle towards its neighbours, so that the jitter of a free surface's
+/// particles does not show as bumps. A neighbourhood of N_eps or fewer is left where it is, like
+/// its shape: a small clump's members would otherwise be pulled onto each other and drawn as one
+/// fat droplet. |x_bar - x| < lambda r.
+AF_FN vec3 smoothed_centre(vec3 x, NeighborhoodMoments m, float radius, float lambda, uint n_eps) {
+    vec3 mean = m.first * (1.0f / max(m.weight, 1.0e-20f));
+    return m.count > n_eps ? x + (lambda * radius) * mean : x;
+}
+
 /// The isotropic kernel's shape, G = I / r (for comparisons and tests).
 AF_FN AnisotropicShape isotropic_shape(float radius) {
     AnisotropicShape shape;
@@ -227,6 +241,14 @@ AF_FN float anisotropic_kernel(vec3 d, mat3 g, float det_g) {
     return (8.0f / RENDER_PI) * det_g * cubic_shape(length(g * d));
 }
 
+/// grad W(d, G) = (8 / pi) |det G| P'(q) G^T G d / q with q = |G d| (G symmetric); zero at d = 0.
+AF_FN vec3 anisotropic_kernel_gradient(vec3 d, mat3 g, float det_g) {
+    vec3 gd = g * d;
+    float q2 = dot(gd, gd);
+    float inv_q = inversesqrt(max(q2, 1.0e-20f));
+    return (g * gd) * ((8.0f / RENDER_PI) * det_g * cubic_shape_derivative(q2 * inv_q) * inv_q);
+}
+
 AF_END
 
 #ifdef __cplusplus
@@ -236,6 +258,7 @@ constexpr float kDefaultAnisoKs = 1.25f;
 constexpr float kDefaultAnisoKn = 1.0f;
 constexpr uint32_t kDefaultAnisoNeps = 8;
 constexpr float kDefaultAggregateDensity = 0.9f;
+constexpr float kDefaultCentreSmoothing = 0.9f;
 }  // namespace aquaform::shader
 #endif
 

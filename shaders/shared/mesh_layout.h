@@ -45,7 +45,8 @@ struct MeshParams {
     uint use_order;         ///< 1: particle j of the grid is positions[order[j]]; 0: positions[j] (in place)
     uint vertex_capacity;   ///< vertices the output holds (more are counted, not written)
     uint triangle_capacity; ///< triangles the output holds
-    uint pad0;
+    uint anisotropic;       ///< 1: the anisotropic surface: `positions` are the kernels' centres (in the
+                            ///< kernel grid's order, use_order 0) and `shape` their G (surface_kernels.h)
     uint pad1;
 };
 

@@ -34,6 +34,11 @@
 #define SURFACE_ANISOTROPIC 16u      // Yu-Turk kernels for classification (else isotropic)
 #define SURFACE_XIAO_NORMALS 32u     // Xiao eqs. 2-6 + bilateral normal filter
 #define SURFACE_WU_SKIP 64u          // the skip after max_skip_evals evaluations (else once past D_splash_back)
+#define SURFACE_ANISOTROPIC_FIELD 128u  // the surface itself from Yu-Turk kernels (shared/anisotropy.h):
+                                        // `sorted` holds the smoothed kernel centres, `shape` their G
+
+// Composition switches (SurfaceParams.shading): they change colours, never the surface.
+#define SHADE_SPRAY 1u  // particles the classification calls splash are drawn as white water
 
 // Tiles of the adaptive resolution (section 4.3).
 #define SURFACE_TILE 16u
@@ -126,6 +131,12 @@ struct SurfaceParams {
     float xiao_k;           ///< Xiao eq. 6: k
     uint smooth_radius_px;  ///< bilateral filters: half width [px]
 
+    // The anisotropic surface (SURFACE_ANISOTROPIC_FIELD; Yu & Turk 2013 section 3.3).
+    float centre_smoothing;  ///< lambda of the Laplacian smoothing of kernel centres (0: none)
+    uint shading;            ///< SHADE_* switches of the composition (appearance only)
+    float spray_whiteness;   ///< how white spray is drawn, 0..1 (SHADE_SPRAY)
+    float reserved;
+
     // Composition.
     vec4 light_dir;         ///< unit, towards the light; w: specular exponent
     vec4 fluid_color;       ///< xyz: absorption per metre of thickness (r, g, b); w: ior
@@ -147,7 +158,7 @@ struct SurfacePassPush {
 AF_END
 
 #ifdef __cplusplus
-static_assert(sizeof(aquaform::shader::SurfaceParams) == 11 * 16 + 8 * 4 * 4 + 2 * 16 + sizeof(aquaform::shader::TankParams));
+static_assert(sizeof(aquaform::shader::SurfaceParams) == 11 * 16 + 9 * 4 * 4 + 2 * 16 + sizeof(aquaform::shader::TankParams));
 static_assert(sizeof(aquaform::shader::SurfacePassPush) == 16);
 #endif
 
