@@ -116,6 +116,35 @@ vec3 environment(vec3 origin, vec3 dir) {
     return tank_glass(origin, dir, t_opaque, opaque);
 }
 
+/// A point of the fluid moved into the tank: the fluid's surface reaches up to a particle radius
+/// past the floor and the walls, and a ray that starts there sees the tank from inside (from
+/// below the floor it would miss the floor, from beyond a wall it would miss the glass). The top
+/// is open.
+vec3 into_tank(vec3 p) {
+    vec3 lo = params.domain_min.xyz;
+    vec3 hi = params.domain_max.xyz;
+    return vec3(clamp(p.x, lo.x, hi.x), max(p.y, lo.y), clamp(p.z, lo.z, hi.z));
+}
+
+/// What is seen through the fluid from its surface point h, where the view ray `dir` enters it
+/// along `bent` (refracted) for the fluid's thickness `thick` along the view ray. A surface of
+/// the tank met within that length (the floor under a pool, a wall or a box the fluid touches) is
+/// seen along `bent`, from inside the tank. Otherwise the ray leaves the fluid there and goes on
+/// along `dir`: the far side is taken parallel to the near one, as in a slab, which bends the
+/// ray back. (A ray kept along `bent` past the fluid swept across the tank's edges as the normal
+/// varied, and the dark frame along the walls' bottom edges drew thin dark curves over the water.)
+vec3 environment_through_fluid(vec3 h, vec3 dir, vec3 bent, float thick) {
+    vec3 o = into_tank(h);
+    float t_opaque;
+    vec3 opaque = tank_opaque(o, bent, t_opaque);
+    vec3 lo = params.domain_min.xyz;
+    vec3 hi = params.domain_max.xyz;
+    vec2 side = vec2(bent.x > 0.0 ? hi.x - o.x : lo.x - o.x, bent.z > 0.0 ? hi.z - o.z : lo.z - o.z);
+    vec2 t_side = mix(side / bent.xz, vec2(TANK_NO_HIT), lessThan(abs(bent.xz), vec2(1.0e-8)));
+    if (min(t_opaque, min(t_side.x, t_side.y)) <= thick) return tank_glass(o, bent, t_opaque, opaque);
+    return environment(o + bent * thick, dir);
+}
+
 /// A primary ray's picture, given the fluid it met at t_fluid (negative: none) with colour
 /// `fluid`: a static box in front of the fluid hides it, and the walls in front are seen over it.
 vec3 tank_view(vec3 origin, vec3 dir, float t_fluid, vec3 fluid) {

@@ -3,7 +3,8 @@
 // Composition: the fluid seen in a procedural environment (a sky, the tank's glass walls, floor
 // and static boxes: common/environment.glsl). At a surface pixel: Fresnel (Schlick) mixes the reflected environment
 // with the refracted one, which is absorbed along the fluid's thickness (Beer-Lambert, from the
-// additive sprite pass, van der Laan et al. 2009), plus a Blinn-Phong highlight. Elsewhere the
+// additive sprite pass, van der Laan et al. 2009; the refracted ray leaves the fluid as through a
+// slab: environment_through_fluid), plus a Blinn-Phong highlight. Elsewhere the
 // environment itself; the tank's walls in front are seen over either. Output: RGBA8, sRGB-encoded.
 #include "shared/surface_layout.h"
 
@@ -33,11 +34,11 @@ void main() {
     if (dot(n, dir) > 0.0) n = -n;
     float ior = params.fluid_color.w;
     float fresnel = schlick_fresnel(-dot(n, dir), ior);
-    vec3 reflected = environment(h.xyz, reflect(dir, n));
+    vec3 reflected = environment(into_tank(h.xyz), reflect(dir, n));
     float thick = float(thickness[index]) * 1.0e-6;
     vec3 bent = refract(dir, n, 1.0 / ior);
     if (dot(bent, bent) == 0.0) bent = reflect(dir, n);
-    vec3 refracted = environment(h.xyz + bent * thick, bent) * exp(-params.fluid_color.xyz * thick);
+    vec3 refracted = environment_through_fluid(h.xyz, dir, bent, thick) * exp(-params.fluid_color.xyz * thick);
     vec3 half_vector = normalize(params.light_dir.xyz - dir);
     float specular = pow(max(dot(n, half_vector), 0.0), params.light_dir.w);
     color[index] = pack_srgb(tank_view(params.eye.xyz, dir, h.w, mix(refracted, reflected, fresnel) + vec3(specular)));
