@@ -73,6 +73,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     uint32_t width = 640, height = 360;
     auto settings = render_method_from(*args, &error);
     if (!settings) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;
+    draw_spray_unless_told(*args, *settings);
     if (args->has("--frames")) {
         auto f = parse_positive("--frames", args->value("--frames"), &error, kMaxFrames);
         if (!f) return std::fprintf(stderr, "aquaform run: %s\n", error.c_str()), kExitUsage;

@@ -54,6 +54,7 @@ int cmd_view(const std::vector<std::string>& argv) {
     if (!plan) return std::fprintf(stderr, "aquaform: %s\n", plan.error().c_str()), kExitUsage;
     auto method_settings = render_method_from(*args, &error);
     if (!method_settings) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
+    draw_spray_unless_told(*args, *method_settings);
     const std::string method = method_settings->method();
     if (std::find(view_methods().begin(), view_methods().end(), method) == view_methods().end()) {
         std::string menu;
@@ -64,7 +65,9 @@ int cmd_view(const std::vector<std::string>& argv) {
     }
     // The panel edits the SPH surface methods' settings; the other methods start at their defaults.
     const SurfaceSettings* given = method_settings->get<SurfaceSettings>();
-    const std::optional<SurfaceSettings> settings = given ? *given : SurfaceSettings{};
+    SurfaceSettings defaults;
+    defaults.spray_whiteness = args->has("--spray") ? 0.0f : kDefaultSprayWhiteness;
+    const std::optional<SurfaceSettings> settings = given ? *given : defaults;
     viewer::ViewerOptions options;  // what the viewer is asked to show
     options.surface = *settings;
     options.method = method;

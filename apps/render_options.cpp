@@ -45,6 +45,11 @@ std::optional<MethodSettings> render_method_from(const Args& args, std::string* 
     return settings.value();
 }
 
+void draw_spray_unless_told(const Args& args, MethodSettings& settings) {
+    if (SurfaceSettings* surface = settings.get<SurfaceSettings>(); surface && !args.has("--spray"))
+        surface->spray_whiteness = kDefaultSprayWhiteness;
+}
+
 bool apply_camera_flag(const Args& args, Scene& scene, std::string* error) {
     const std::string choice = args.value("--camera", "scene");
     if (choice == "auto") scene.camera.reset();

@@ -23,6 +23,10 @@ const char* render_flags_usage();
 /// The method of --method (default adaptive; any registered method, render/registry.h) with its
 /// settings from the flags; nullopt with `error` naming the flag and the accepted values.
 std::optional<MethodSettings> render_method_from(const Args& args, std::string* error);
+
+/// The commands that make pictures to be looked at (run, view) draw spray as white water unless
+/// --spray says otherwise (SurfaceSettings::spray_whiteness: off where renders are measured).
+void draw_spray_unless_told(const Args& args, MethodSettings& settings);
 /// Likewise for commands that draw with the SPH surface renderer only (adaptive, uniform, reference).
 std::optional<SurfaceSettings> render_settings_from(const Args& args, std::string* error);
 

@@ -127,7 +127,7 @@ void DensitySampler::record(VkCommandBuffer cmd, const gpu::Buffer& positions, u
         }
         kernels_->record_shapes(cmd, *kernel_params_, *sorted, *cell_rank, *cell_start, count);
         gpu::fill(*ctx_, cmd, *no_classes_, 0u);  // the kernels carry no classes here
-        kernels_->record_kernels(cmd, *kernel_params_, *no_classes_, count);
+        kernels_->record_kernels(cmd, *kernel_params_, *no_classes_, *no_classes_, count);
         geometry = own_geometry_;
         particles = &kernels_->centres();
         shape = &kernels_->shapes();

@@ -129,7 +129,7 @@ ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain
     curvature_flow_ = gpu::ComputePass(ctx, {"render/ss_curvature_flow.comp", 3});
     normals_ = gpu::ComputePass(ctx, {"render/screen_normals.comp", 3});
     hit_pass_ = gpu::ComputePass(ctx, {"render/ss_hit.comp", 3});
-    compose_ = gpu::ComputePass(ctx, {"render/compose.comp", 5});
+    compose_ = gpu::ComputePass(ctx, {"render/compose.comp", 6});
     // Every particle is a splash to the splat (no D_agg): zero once, never written again.
     ctx.submit_and_wait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, aggregate_->buffer, 0, VK_WHOLE_SIZE, 0u); });
 }
@@ -176,7 +176,7 @@ void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positio
     }
     {
         gpu::GpuScope scope(timer, cmd, "ss_compose");
-        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}});
+        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}, {"spray", unused_}});
     }
 }
 

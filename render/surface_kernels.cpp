@@ -8,7 +8,7 @@ SurfaceKernels::SurfaceKernels(gpu::Context& ctx, gpu::BufferSet& buffers, const
     shape_ = &buffers.add(prefix + ".shape", uint64_t(max_particles_) * 48);
     centres_ = &buffers.add(prefix + ".centres", uint64_t(max_particles_) * 16);
     shape_pass_ = gpu::ComputePass(ctx, {"render/classify_shape.comp", 6});
-    gather_pass_ = gpu::ComputePass(ctx, {"render/kernel_gather.comp", 8});
+    gather_pass_ = gpu::ComputePass(ctx, {"render/kernel_gather.comp", 10});
 }
 
 void SurfaceKernels::record_shapes(VkCommandBuffer cmd, const gpu::Buffer& params, const gpu::Buffer& sorted,
@@ -19,7 +19,7 @@ void SurfaceKernels::record_shapes(VkCommandBuffer cmd, const gpu::Buffer& param
 }
 
 void SurfaceKernels::record_kernels(VkCommandBuffer cmd, const gpu::Buffer& params, const gpu::Buffer& aggregate,
-                                    uint32_t count) {
+                                    const gpu::Buffer& class_density, uint32_t count) {
     if (!grid_) {
         const uint64_t n = max_particles_;
         kernel_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
@@ -27,12 +27,14 @@ void SurfaceKernels::record_kernels(VkCommandBuffer cmd, const gpu::Buffer& para
         kernel_centres_ = &kernel_buffers_->add(prefix_ + ".kernel_centres", n * 16);
         kernel_shape_ = &kernel_buffers_->add(prefix_ + ".kernel_shape", n * 48);
         kernel_aggregate_ = &kernel_buffers_->add(prefix_ + ".kernel_aggregate", n * 4);
+        kernel_class_density_ = &kernel_buffers_->add(prefix_ + ".kernel_class_density", n * 4);
     }
     grid_->build(cmd, *centres_, count, nullptr);
     gpu::dispatch(*ctx_, cmd, gather_pass_, std::max(count, 1u),
                   {{"params", &params}, {"order", &grid_->order()}, {"centres", centres_}, {"shape", shape_},
                    {"aggregate", &aggregate}, {"kernel_centres", kernel_centres_}, {"kernel_shape", kernel_shape_},
-                   {"kernel_aggregate", kernel_aggregate_}});
+                   {"kernel_aggregate", kernel_aggregate_}, {"class_density", &class_density},
+                   {"kernel_class_density", kernel_class_density_}});
 }
 
 std::vector<gpu::BufferReport> SurfaceKernels::kernel_memory_report() const {

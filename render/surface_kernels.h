@@ -10,7 +10,7 @@
 //                   (march, mask, sprites, mesh samples) reads them as it reads particles
 // GPU memory per particle: 48 B shape + 16 B centre in the particles' order (kShapeBytesPerParticle;
 // what the classification needs too), and once the kernels are first recorded, the kernel grid's
-// 12 B and 16 + 48 + 4 B in kernel order (kKernelBytesPerParticle), plus 8 B per cell.
+// 12 B and 16 + 48 + 4 + 4 B in kernel order (kKernelBytesPerParticle), plus 8 B per cell.
 #pragma once
 
 #include <cstdint>
@@ -25,7 +25,7 @@
 namespace aquaform {
 
 constexpr uint32_t kShapeBytesPerParticle = 48 + 16;
-constexpr uint32_t kKernelBytesPerParticle = 12 + 16 + 48 + 4;
+constexpr uint32_t kKernelBytesPerParticle = 12 + 16 + 48 + 4 + 4;
 
 class SurfaceKernels {
 public:
@@ -42,7 +42,8 @@ public:
     /// The kernels in their own grid's order, with the particles' classes `aggregate` (per
     /// particle, in their order; record_shapes must have been recorded first). The first call
     /// makes the kernels' buffers.
-    void record_kernels(VkCommandBuffer cmd, const gpu::Buffer& params, const gpu::Buffer& aggregate, uint32_t count);
+    void record_kernels(VkCommandBuffer cmd, const gpu::Buffer& params, const gpu::Buffer& aggregate,
+                        const gpu::Buffer& class_density, uint32_t count);
 
     /// In the particles' order (for the classification, which reads each particle's own shape).
     const gpu::Buffer& particle_shapes() const { return *shape_; }
@@ -51,6 +52,7 @@ public:
     const gpu::Buffer& centres() const { return *kernel_centres_; }
     const gpu::Buffer& shapes() const { return *kernel_shape_; }
     const gpu::Buffer& aggregate() const { return *kernel_aggregate_; }
+    const gpu::Buffer& class_density() const { return *kernel_class_density_; }
     const gpu::Buffer& cell_rank() const { return grid_->cell_rank(); }
     const gpu::Buffer& cell_start() const { return grid_->cell_start(); }
     bool has_kernels() const { return grid_ != nullptr; }
@@ -64,7 +66,8 @@ private:
     std::unique_ptr<gpu::BufferSet> kernel_buffers_;
     std::unique_ptr<NeighborGrid> grid_;
     std::string prefix_;
-    gpu::Buffer *shape_, *centres_, *kernel_centres_ = nullptr, *kernel_shape_ = nullptr, *kernel_aggregate_ = nullptr;
+    gpu::Buffer *shape_, *centres_, *kernel_centres_ = nullptr, *kernel_shape_ = nullptr, *kernel_aggregate_ = nullptr,
+                *kernel_class_density_ = nullptr;
     gpu::ComputePass shape_pass_, gather_pass_;
 };
 

@@ -65,6 +65,8 @@ std::vector<SettingSpec> surface_settings() {
                    "isotropic kernels for the classification"),
         choice<S>("surface", "--surface", "surface", &S::surface, {"isotropic", "anisotropic"},
                   "the surface's kernels: a sphere per particle, or Yu & Turk's stretched kernels"),
+        setting<S>("spray_whiteness", "--spray", "spray", kNumber, &S::spray_whiteness, 0, 1, "0 (off) .. 1",
+                   "appearance: splash particles drawn as white water (run, demo, viewer: on)"),
         setting<S>("centre_smoothing", "--centre-smoothing", "centre_smoothing", kNumber, &S::centre_smoothing, 0, 1,
                    "0..1", "anisotropic surface: Laplacian smoothing of the kernel centres (Yu & Turk's lambda)"),
     };

@@ -69,6 +69,7 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     blend_weights_ = &buffers_.add("render.blend_weights", pixels * 8);
     normal_ = &buffers_.add("render.normal", pixels * 16);
     normal_tmp_ = &buffers_.add("render.normal_tmp", pixels * 16);
+    spray_ = &buffers_.add("render.spray", pixels * 4);
     color_ = &buffers_.add("render.color", pixels * 4);
 
     const uint32_t push = sizeof(SurfacePassPush);
@@ -81,11 +82,11 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     depth_smooth_ = gpu::ComputePass(ctx, {"render/depth_smooth.comp", 3, push});
     screen_normals_ = gpu::ComputePass(ctx, {"render/screen_normals.comp", 3});
     tiles_ = gpu::ComputePass(ctx, {"render/tiles.comp", 5, 0, 64});
-    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 21, push, RAY_MARCH_WORKGROUP});
+    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 23, push, RAY_MARCH_WORKGROUP});
     ray_args_ = gpu::ComputePass(ctx, {"render/ray_args.comp", 2, 0, 1});
-    upsample_ = gpu::ComputePass(ctx, {"render/upsample.comp", 6});
+    upsample_ = gpu::ComputePass(ctx, {"render/upsample.comp", 7});
     normal_filter_ = gpu::ComputePass(ctx, {"render/normal_filter.comp", 4, push});
-    compose_ = gpu::ComputePass(ctx, {"render/compose.comp", 5});
+    compose_ = gpu::ComputePass(ctx, {"render/compose.comp", 6});
     // The default grid now, so that a scene whose grid cannot fit fails at construction.
     prepare_grid(render_radius(SurfaceSettings{}, domain));
 }
@@ -197,14 +198,16 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     field_sorted_ = particles_;
     field_shape_ = &kernels_->particle_shapes();  // unread by the isotropic field
     field_aggregate_ = aggregate_;
+    field_class_density_ = class_density_;
     field_cell_rank_ = cell_rank_;
     field_cell_start_ = cell_start_;
     if (anisotropic_field) {
         gpu::GpuScope scope(timer, cmd, "render_kernels");
-        kernels_->record_kernels(cmd, *params_buf_, *aggregate_, count);
+        kernels_->record_kernels(cmd, *params_buf_, *aggregate_, *class_density_, count);
         field_sorted_ = &kernels_->centres();
         field_shape_ = &kernels_->shapes();
         field_aggregate_ = &kernels_->aggregate();
+        field_class_density_ = &kernels_->class_density();
         field_cell_rank_ = &kernels_->cell_rank();
         field_cell_start_ = &kernels_->cell_start();
     }
@@ -254,7 +257,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     if (params_.flags & SURFACE_ADAPTIVE_RES) {
         gpu::GpuScope scope(timer, cmd, "render_upsample");
         gpu::fill(*ctx_, cmd, *edge_count_, 0u);
-        gpu::dispatch(*ctx_, cmd, upsample_, pixels, {{"params", params_buf_}, {"tile_level", tile_level_}, {"hit", hit_}, {"normal", normal_}, {"edge_rays", edge_rays_}, {"edge_count", edge_count_}});
+        gpu::dispatch(*ctx_, cmd, upsample_, pixels, {{"params", params_buf_}, {"tile_level", tile_level_}, {"hit", hit_}, {"normal", normal_}, {"edge_rays", edge_rays_}, {"edge_count", edge_count_}, {"spray", spray_}});
         record_march(cmd, *edge_rays_, *edge_count_);
     }
     if (params_.flags & SURFACE_XIAO_NORMALS) {
@@ -264,7 +267,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     }
     {
         gpu::GpuScope scope(timer, cmd, "render_compose");
-        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}});
+        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}, {"spray", spray_}});
     }
 }
 
@@ -292,7 +295,7 @@ void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* ray
         {"params", params_buf_}, {"sorted", field_sorted_}, {"shape", field_shape_}, {"cell_rank", field_cell_rank_}, {"cell_start", field_cell_start_}, {"mask", mask_}, {"coarse", coarse_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_},
         {"normal_screen", normal_screen_}, {"rays", rays}, {"ray_count", &ray_count}, {"hit", hit_}, {"normal", normal_}, {"march_cut", march_cut_}, {"resume_rays", resume_rays_[resume_out]}, {"resume_count", resume_count_[resume_out]},
         {"resume_state", resume_state_}, {"ray_counts", ray_counts_}, {"blend_weights", blend_weights_},
-        {"depth_splash_back", depth_splash_back_}};
+        {"depth_splash_back", depth_splash_back_}, {"class_density", field_class_density_}, {"spray", spray_}};
     SurfacePassPush push = axis_push(mode);
     push.first = first;
     push.stride = stride;

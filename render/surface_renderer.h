@@ -47,7 +47,7 @@ class GpuTimer;
 }  // namespace gpu
 
 /// GPU memory of the renderer per pixel and per particle (beyond its grid).
-constexpr uint32_t kSurfaceBytesPerPixel = 12 * 4 + 5 * 16 + 2 * 8;
+constexpr uint32_t kSurfaceBytesPerPixel = 13 * 4 + 5 * 16 + 2 * 8;
 
 /// What one pixel's ray spent (shaders/shared/surface_layout.h, RAY_COUNT_BISECTION_BITS).
 struct RayCounts {
@@ -164,12 +164,13 @@ private:
     const gpu::Buffer *particles_ = nullptr, *cell_rank_ = nullptr, *cell_start_ = nullptr;
     // What the field's passes read: the particles, or the anisotropic surface's kernels.
     const gpu::Buffer *field_sorted_ = nullptr, *field_shape_ = nullptr, *field_aggregate_ = nullptr;
+    const gpu::Buffer* field_class_density_ = nullptr;
     const gpu::Buffer *field_cell_rank_ = nullptr, *field_cell_start_ = nullptr;
     gpu::Buffer *params_buf_, *class_density_, *aggregate_;
     gpu::Buffer *depth_all_, *depth_agg_, *depth_splash_back_, *thickness_, *front_class_, *smooth_a_, *smooth_b_, *normal_screen_;
     gpu::Buffer *tile_level_, *rays_, *ray_count_, *edge_rays_, *edge_count_, *march_groups_, *hit_, *normal_, *normal_tmp_, *color_;
     gpu::Buffer* march_cut_;
-    gpu::Buffer *ray_counts_, *blend_weights_;
+    gpu::Buffer *ray_counts_, *blend_weights_, *spray_;
     gpu::Buffer *resume_rays_[2], *resume_count_[2], *resume_state_;
     gpu::Buffer *conv_a_ = nullptr, *conv_b_ = nullptr, *mask_ = nullptr, *coarse_ = nullptr;
     gpu::ComputePass gather_, classify_density_, mask_convolve_, mask_bound_, mask_pack_, splat_;

@@ -57,6 +57,8 @@ Result<bool> validate(const SurfaceSettings& s) {
     if (!(s.blend_a >= 0.0f) || !std::isfinite(s.blend_b)) return out_of_range("blend_a", s.blend_a, "A >= 0, finite B");
     if (!(s.smooth_sigma_px > 0.0f) || s.smooth_radius_px > 32)
         return out_of_range("smooth_radius_px", s.smooth_radius_px, "1..32 px with a positive sigma");
+    if (!(s.spray_whiteness >= 0.0f && s.spray_whiteness <= 1.0f))
+        return out_of_range("spray", s.spray_whiteness, "0 (off) .. 1");
     if (!(s.centre_smoothing >= 0.0f && s.centre_smoothing <= 1.0f))
         return out_of_range("centre_smoothing", s.centre_smoothing, "0..1");
     if (s.surface == SurfaceKernel::anisotropic && !s.tight_mask)
@@ -159,6 +161,8 @@ shader::SurfaceParams make_field_params(const SurfaceSettings& s, const Particle
     p.xiao_k = s.xiao_k;
     p.smooth_radius_px = s.smooth_radius_px;
     p.centre_smoothing = s.centre_smoothing;
+    p.shading = s.spray_whiteness > 0.0f ? SHADE_SPRAY : 0u;
+    p.spray_whiteness = s.spray_whiteness;
 
     p.light_dir = kLightDirection;
     p.fluid_color = kFluidOptics;

@@ -46,6 +46,13 @@ struct SurfaceSettings {
     SurfaceKernel surface = SurfaceKernel::anisotropic;
     /// lambda of Yu & Turk eq. 6 (0: the kernels sit on the particles).
     float centre_smoothing = shader::kDefaultCentreSmoothing;
+    /// Appearance only: how white the spray is drawn, 0 (off: glass like the bulk) to 1 (shaders/
+    /// render/compose.comp). The classification's splash particles are shaded as white water, with
+    /// a soft edge into the bulk (the hit's spray share) and towards their silhouettes. Off here,
+    /// where renders are compared with a reference; `run`, the demo and the viewer turn it on
+    /// (kDefaultSprayWhiteness). It does not model foam or bubbles as matter: no advected foam
+    /// particles, no aeration of the bulk, no transport or decay; the surface is the same.
+    float spray_whiteness = 0.0f;
 
     /// Kernel support r in particle spacings; 0 = the solver's h (kernel_radius_factor), so
     /// that the field is the one the solver's density constraint sees.
@@ -126,6 +133,9 @@ struct SurfaceSettings {
     uint32_t reference_refine_steps = 16;
     bool operator==(const SurfaceSettings&) const = default;
 };
+
+/// Spray whiteness where pictures are made to be looked at (run, the demo, the viewer).
+constexpr float kDefaultSprayWhiteness = 0.8f;
 
 /// Checks the ranges of every setting; the message names the setting, its value and the range.
 Result<bool> validate(const SurfaceSettings& settings);

@@ -362,6 +362,10 @@ private:
             ImGui::Checkbox("blend normals", &r.blend_normals);
             ImGui::SameLine();
             ImGui::Checkbox("anisotropic", &r.anisotropic);
+            bool stretched = r.surface == SurfaceKernel::anisotropic;
+            if (ImGui::Checkbox("anisotropic surface (Yu & Turk)", &stretched))
+                r.surface = stretched ? SurfaceKernel::anisotropic : SurfaceKernel::isotropic;
+            ImGui::SliderFloat("spray whiteness", &r.spray_whiteness, 0.0f, 1.0f);
             ImGui::SliderFloat("iso (lone radius)", &r.lone_radius, 0.2f, 3.0f);
             ImGui::SliderFloat("step [radii]", &r.step_radii, 0.1f, 4.0f);
             bool wu_mask = !r.tight_mask;

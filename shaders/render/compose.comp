@@ -6,6 +6,11 @@
 // additive sprite pass, van der Laan et al. 2009; the refracted ray leaves the fluid as through a
 // slab: environment_through_fluid), plus a Blinn-Phong highlight. Elsewhere the
 // environment itself; the tank's walls in front are seen over either. Output: RGBA8, sRGB-encoded.
+// Spray (SHADE_SPRAY): where the classification's splash particles make the surface (the hit's
+// spray share, ray_march.comp), the water is drawn as white water instead: spray at these scales
+// is many drops and bubbles smaller than a particle, which scatter light diffusely, so it is a
+// bright matte surface lit by the sun and the sky, thinning into what lies behind it towards its
+// silhouette (soft edges). It changes colours only; the surface is the same.
 #include "shared/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
@@ -14,6 +19,7 @@ layout(std430, binding = 1) readonly buffer Hit { vec4 hit[]; };
 layout(std430, binding = 2) readonly buffer Normal { vec4 normal[]; };
 layout(std430, binding = 3) readonly buffer Thickness { uint thickness[]; };
 layout(std430, binding = 4) writeonly buffer Color { uint color[]; };
+layout(std430, binding = 5) readonly buffer Spray { float spray[]; };  // read with SHADE_SPRAY only
 
 #include "common/surface_common.glsl"
 
@@ -41,5 +47,14 @@ void main() {
     vec3 refracted = environment_through_fluid(h.xyz, dir, bent, thick) * exp(-params.fluid_color.xyz * thick);
     vec3 half_vector = normalize(params.light_dir.xyz - dir);
     float specular = pow(max(dot(n, half_vector), 0.0), params.light_dir.w);
-    color[index] = pack_srgb(tank_view(params.eye.xyz, dir, h.w, mix(refracted, reflected, fresnel) + vec3(specular)));
+    vec3 water = mix(refracted, reflected, fresnel) + vec3(specular);
+    if ((params.shading & SHADE_SPRAY) != 0u) {
+        float share = clamp(spray[index] * params.spray_whiteness, 0.0, 1.0);
+        float lit = 0.6 + 0.4 * max(dot(n, params.light_dir.xyz), 0.0);
+        vec3 foam = vec3(0.92, 0.95, 0.97) * lit;
+        float opacity = 0.85 * smoothstep(0.05, 0.8, -dot(n, dir));  // thin, and thinner towards the silhouette
+        vec3 behind = environment(into_tank(h.xyz), dir);
+        water = mix(water, mix(behind, foam, opacity), share);
+    }
+    color[index] = pack_srgb(tank_view(params.eye.xyz, dir, h.w, water));
 }

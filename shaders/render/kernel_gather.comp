@@ -16,6 +16,8 @@
 //   5 vec4 kernel_centres[]   per kernel: the centre; w as the particle's
 //   6 vec4 kernel_shape[]     per kernel, 3 rows
 //   7 uint kernel_aggregate[] per kernel
+//   8 float class_density[]   per particle (classify_density.comp; unread where not classified)
+//   9 float kernel_class_density[] per kernel
 #include "shared/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
@@ -27,6 +29,8 @@ layout(std430, binding = 4) readonly buffer Aggregate { uint aggregate[]; };
 layout(std430, binding = 5) writeonly buffer KernelCentres { vec4 kernel_centres[]; };
 layout(std430, binding = 6) writeonly buffer KernelShape { vec4 kernel_shape[]; };
 layout(std430, binding = 7) writeonly buffer KernelAggregate { uint kernel_aggregate[]; };
+layout(std430, binding = 8) readonly buffer ClassDensity { float class_density[]; };
+layout(std430, binding = 9) writeonly buffer KernelClassDensity { float kernel_class_density[]; };
 
 void main() {
     uint s = gl_GlobalInvocationID.x;
@@ -35,4 +39,5 @@ void main() {
     kernel_centres[s] = centres[i];
     for (uint row = 0u; row < 3u; ++row) kernel_shape[3u * s + row] = shape[3u * i + row];
     kernel_aggregate[s] = aggregate[i];
+    kernel_class_density[s] = class_density[i];
 }

@@ -19,7 +19,8 @@
 //   - The first sample lies one step past the entry: the entry is the front of the nearest
 //     sphere of radius r along the ray (D_all's sprites), so every particle is at least r from
 //     it and the field there is exactly zero; evaluating it would only spend a step.
-// hit = (x, t) or w = -1 on a miss; normal = (n, density evaluations of this ray);
+// hit = (x, t) or w = -1 on a miss; normal = (n, density evaluations of this ray); spray = the
+// hit's spray share (splash_share, where SHADE_SPRAY is on; else 0);
 // ray_counts and blend_weights: see RAY_COUNT_BISECTION_BITS in shared/surface_layout.h.
 #include "shared/grid_layout.h"
 #include "shared/render_kernels.h"
@@ -58,6 +59,10 @@ layout(std430, binding = 17) writeonly buffer RayCounts { uvec2 ray_counts[]; };
 layout(std430, binding = 18) writeonly buffer BlendWeights { vec2 blend_weights[]; };
 layout(std430, binding = 19) readonly buffer DepthSplashBack { uint depth_splash_back[]; };
 layout(std430, binding = 20) readonly buffer Shape { vec4 shape[]; };  // the anisotropic surface's G
+// The spray share of the hit (SHADE_SPRAY): how much of the field there comes from particles the
+// classification calls spray (class_density: per field particle, see SPRAY_DENSITY_FULL).
+layout(std430, binding = 21) readonly buffer ClassDensity { float class_density[]; };
+layout(std430, binding = 22) writeonly buffer Spray { float spray[]; };
 layout(push_constant) uniform Push { SurfacePassPush pc; };
 
 #define SURFACE_FIELD
@@ -121,6 +126,27 @@ vec3 xiao_normal(vec3 x, vec3 fallback) {
     float w = min(1.0, exp(params.xiao_d * (dot(basic, pca) - params.xiao_k)));
     vec3 n = (1.0 - w) * basic + w * pca;
     return dot(n, n) > 0.0 ? normalize(n) : basic;
+}
+
+/// The share of phi(x) that spray particles give (each by its spray weight): 1 in a droplet, 0 in
+/// the bulk, in between where spray meets it, so white water fades into the bulk instead of
+/// ending at a particle's edge.
+float splash_share(vec3 x) {
+    float all_sum = 0.0;
+    float splash_sum = 0.0;
+    float r2 = params.radius * params.radius;
+    bool anisotropic = anisotropic_field();
+    FOR_EACH_PARTICLE_NEAR(x, j) {
+        vec3 d = x - sorted[j].xyz;
+        float d2 = dot(d, d);
+        if (d2 >= r2) continue;
+        float w = anisotropic ? anisotropic_kernel(d, kernel_shape(j), shape[3u * j].w)
+                              : cubic_kernel(d2, params.inv_radius, params.kernel_coeff);
+        all_sum += w;
+        splash_sum += w * (1.0 - smoothstep(SPRAY_DENSITY_FULL, SPRAY_DENSITY_NONE, class_density[j]));
+    }
+    END_FOR_EACH_PARTICLE_NEAR
+    return all_sum > 0.0 ? splash_sum / all_sum : 0.0;
 }
 
 void save_state(uint index, float t, float t_phase, uint evals, uint leaps, bool skipped) {
@@ -233,6 +259,7 @@ void main() {
         normal[index] = vec4(0.0, 0.0, 0.0, float(evals));
         ray_counts[index] = uvec2(evals, leaps << RAY_COUNT_BISECTION_BITS);
         blend_weights[index] = vec2(-1.0);
+        spray[index] = 0.0;
         return;
     }
     uint march_evals = evals;
@@ -266,6 +293,7 @@ void main() {
     }
     hit[index] = vec4(x, t_hit);
     normal[index] = vec4(n, float(evals));
+    spray[index] = (params.shading & SHADE_SPRAY) != 0u ? splash_share(x) : 0.0;
     ray_counts[index] = uvec2(march_evals, (evals - march_evals) | (leaps << RAY_COUNT_BISECTION_BITS));
     blend_weights[index] = weights;
 }

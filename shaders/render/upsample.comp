@@ -18,6 +18,7 @@ layout(std430, binding = 2) buffer Hit { vec4 hit[]; };
 layout(std430, binding = 3) buffer Normal { vec4 normal[]; };
 layout(std430, binding = 4) writeonly buffer EdgeRays { uint edge_rays[]; };
 layout(std430, binding = 5) buffer EdgeCount { uint edge_count[]; };
+layout(std430, binding = 6) buffer Spray { float spray[]; };  // blended like the normals
 
 const float EDGE_DEPTH_RADII = 4.0;
 
@@ -48,6 +49,7 @@ void main() {
                   by.y > by.x ? float(local.y - by.x) / float(by.y - by.x) : 0.0);
     float t = 0.0;
     vec3 n = vec3(0.0);
+    float spray_sum = 0.0;
     float weight = 0.0;
     uint misses = 0u;
     float t_min = 1.0e30;
@@ -62,6 +64,7 @@ void main() {
         t_max = max(t_max, h.w);
         t += w * h.w;
         n += w * normal[pixel_index(at)].xyz;
+        spray_sum += w * spray[pixel_index(at)];
         weight += w;
     }
     if ((misses > 0u && misses < 4u) || t_max - t_min > EDGE_DEPTH_RADII * params.particle_radius) {
@@ -74,6 +77,7 @@ void main() {
         return;
     }
     t /= weight;
+    spray[index] = spray_sum / weight;
     hit[index] = vec4(params.eye.xyz + pixel_ray(pixel) * t, t);
     normal[index] = vec4(normalize(n), 0.0);
 }

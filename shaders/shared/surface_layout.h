@@ -39,6 +39,14 @@
 
 // Composition switches (SurfaceParams.shading): they change colours, never the surface.
 #define SHADE_SPRAY 1u  // particles the classification calls splash are drawn as white water
+// A particle's spray weight, from its classification density rho (units of rest density, shared/
+// anisotropy.h): 1 - smoothstep(SPRAY_DENSITY_FULL, SPRAY_DENSITY_NONE, rho). A lone particle
+// (0.32), a pair or a 3-particle clump (<= 0.51) are spray; a 2x2x2 droplet (0.61) mostly; a sheet
+// (2.2 with anisotropic kernels, 0.70 isotropic) and any surface (>= 0.85) are water. Softer than
+// the aggregate threshold (0.9), which serves the skip, not the eye: there a one-particle film on
+// the floor or the rim of a sheet would turn white.
+#define SPRAY_DENSITY_FULL 0.5
+#define SPRAY_DENSITY_NONE 0.8
 
 // Tiles of the adaptive resolution (section 4.3).
 #define SURFACE_TILE 16u
