@@ -79,6 +79,10 @@ struct Scene {
     std::optional<std::string> control_json;
     /// The scene's own view (the "camera" key); without it views frame the domain (scene_camera).
     std::optional<ViewCamera> camera;
+    /// The frame that shows what the scene is about (the "event_frame" key, 0 to `frames`): a dam
+    /// break's wave on the far wall, a splash's crown, a shape held. Its picture must show the
+    /// whole fluid and the tank up to it (tests/test_scene_framing.cpp checks every shipped scene).
+    std::optional<uint32_t> event_frame;
 
     BlockFill fill_of(size_t block) const { return block < block_fills.size() ? block_fills[block] : BlockFill{}; }
 
@@ -102,7 +106,9 @@ Result<Scene> with_particle_count(const Scene& scene, uint64_t particles, const 
 
 /// The part of the tank a view frames: the whole domain, or for a fluid that falls under gravity
 /// without mesh control, its floor up to the height the fluid can reach (a tall domain over a
-/// low column would leave most of the picture empty).
+/// low column would leave most of the picture empty): the level it rests at, plus three times
+/// the height its blocks (tops and the head |v|^2 / 2g of their start speeds) stand above that
+/// level, at least 1.1 times the highest block's height.
 Box framed_region(const Scene& scene);
 /// The camera of every view of the scene: its own, or one that frames framed_region().
 ViewCamera scene_camera(const Scene& scene, float aspect);
