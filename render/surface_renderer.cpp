@@ -362,6 +362,12 @@ std::vector<float> SurfaceRenderer::depth_all() { return gpu::download_vector<fl
 std::vector<float> SurfaceRenderer::depth_splash_back() {
     return gpu::download_vector<float>(*ctx_, *depth_splash_back_, size_t(width_) * height_);
 }
+std::vector<float> SurfaceRenderer::thickness() {
+    const auto micrometres = gpu::download_vector<uint32_t>(*ctx_, *thickness_, size_t(width_) * height_);
+    std::vector<float> metres(micrometres.size());
+    for (size_t i = 0; i < metres.size(); ++i) metres[i] = float(micrometres[i]) * 1.0e-6f;
+    return metres;
+}
 std::vector<float> SurfaceRenderer::depth_agg() { return gpu::download_vector<float>(*ctx_, *depth_agg_, size_t(width_) * height_); }
 std::vector<glm::vec4> SurfaceRenderer::sorted_positions() {
     return particles_ ? gpu::download_vector<glm::vec4>(*ctx_, *particles_, count_) : std::vector<glm::vec4>{};

@@ -96,6 +96,7 @@ public:
     std::vector<uint32_t> front_classes();    ///< per pixel: 0 none, 1 splash, 2 aggregate (adaptive, diagnostics on)
     std::vector<float> depth_all();           ///< per pixel eye depth, +inf where empty
     std::vector<float> depth_agg();
+    std::vector<float> thickness();          ///< per pixel: the fluid's thickness along the ray [m] (splat.comp)
     std::vector<float> depth_splash_back();  ///< per pixel eye depth of the farthest splash sphere's back, 0 where none
     std::vector<glm::vec4> sorted_positions();  ///< in grid order; w: the index in the given buffer (own grid) or the particle id (in place)
     std::vector<uint32_t> aggregate_flags();    ///< per sorted particle
