@@ -66,7 +66,7 @@ void print_pass_table(const std::vector<std::pair<std::string, const study::Rend
 FlagSpec bench_render_flags() {
     FlagSpec spec{{"--particles", "--frames", "--frame", "--scene-dir", "--resolution", "--repeats", "--out", "--device",
                    "--configs"},
-                  {"--validation", "--quick", "--isotropic", "--mask-sweep", "--blend-sweep"}};
+                  {"--validation", "--quick", "--isotropic", "--mask-sweep", "--blend-sweep", "--compare-surfaces"}};
     for (const auto& f : parameter_flags()) spec.with_value.push_back(f);
     // Accepted only to be refused with a reason: the configurations set the method and mechanisms.
     spec.with_value.push_back("--method");
@@ -231,9 +231,10 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFr
         out.verdict_lines.push_back(verdicts[i].line);
     }
     out.json = {{"name", bench.name},   {"what", bench.what}, {"scene", scene.name}, {"particles", n},
+                {"surface", base.surface == SurfaceKernel::anisotropic ? "anisotropic" : "isotropic"},
                 {"frame", frame},       {"time_s", time_s},   {"records", records},  {"targets", targets},
                 {"in_place", in_place}};
-    if (sweeps.mask) {
+    if (sweeps.mask && base.surface == SurfaceKernel::isotropic) {  // Wu et al.'s count mask needs it
         out.mask_sweep = run_sweep(ctx, *renderer, solver.positions(), n, camera, base, ref.frame, radius, bench.name, study::mask_sweep());
         out.json["mask_sweep"] = sweep_json(out.mask_sweep);
     }
@@ -294,6 +295,9 @@ int bench_render(const Args& args) {
     auto base = render_settings_from(args, &error);
     if (!base) return usage(error);
     const Sweeps sweeps{args.has("--mask-sweep"), args.has("--blend-sweep")};
+    if (sweeps.mask && base->surface == SurfaceKernel::anisotropic && !args.has("--compare-surfaces"))
+        return usage("--mask-sweep measures Wu et al.'s count mask, which holds for the isotropic surface only; add "
+                     "--surface isotropic (or --compare-surfaces, which sweeps the isotropic frames)");
     const std::filesystem::path out_path = args.value("--out", "bench_render.json");
     {
         // Fail before minutes of work when the output cannot go where asked.
@@ -323,17 +327,28 @@ int bench_render(const Args& args) {
     // Ctrl-C stops after the frame being measured (a second one at once): the frames done are
     // still written, so an hour of measurement is not lost to a stop.
     std::optional<InterruptScope> ctrl_c(std::in_place);
-    for (size_t i = 0; i < frames.value().size() && !interrupted(); ++i) {
-        const study::BenchFrame& f = *frames.value()[i];
-        const uint32_t frame = frame_override.value_or(study::bench_frame_index(f, scenes[i]));
-        auto result = measure_frame(ctx, f, scenes[i], frame, configs.value(), *base, width, height, uint32_t(*repeats),
-                                    long(particles.value_or(default_particles)), sweeps);
-        if (!result) return exit_status(ctx, kExitFailure);
-        frame_records.push_back(result->json);
-        mask_points.insert(mask_points.end(), result->mask_sweep.begin(), result->mask_sweep.end());
-        blend_points.insert(blend_points.end(), result->blend_sweep.begin(), result->blend_sweep.end());
-        summary.emplace_back(f.name, result->verdict_lines);
+    // --compare-surfaces: each frame twice, with the isotropic and the anisotropic field, each
+    // measured against the reference of the field it draws.
+    std::vector<SurfaceSettings> surfaces{*base};
+    if (args.has("--compare-surfaces")) {
+        surfaces.assign(2, *base);
+        surfaces[0].surface = SurfaceKernel::isotropic;
+        surfaces[1].surface = SurfaceKernel::anisotropic;
     }
+    for (size_t i = 0; i < frames.value().size() && !interrupted(); ++i)
+        for (const SurfaceSettings& surface : surfaces) {
+            if (interrupted()) break;
+            const study::BenchFrame& f = *frames.value()[i];
+            const uint32_t frame = frame_override.value_or(study::bench_frame_index(f, scenes[i]));
+            auto result = measure_frame(ctx, f, scenes[i], frame, configs.value(), surface, width, height, uint32_t(*repeats),
+                                        long(particles.value_or(default_particles)), sweeps);
+            if (!result) return exit_status(ctx, kExitFailure);
+            frame_records.push_back(result->json);
+            mask_points.insert(mask_points.end(), result->mask_sweep.begin(), result->mask_sweep.end());
+            blend_points.insert(blend_points.end(), result->blend_sweep.begin(), result->blend_sweep.end());
+            summary.emplace_back(std::string(f.name) + (surface.surface == SurfaceKernel::anisotropic ? " aniso" : " iso"),
+                                 result->verdict_lines);
+        }
     const bool stopped = interrupted();
     ctrl_c.reset();
     if (stopped)
@@ -341,7 +356,7 @@ int bench_render(const Args& args) {
                      frame_records.size(), frames.value().size());
     std::printf("\nsummary of the targets\n");
     for (const auto& [name, lines] : summary)
-        for (const std::string& line : lines) std::printf("  %-17s %s\n", name.c_str(), line.c_str());
+        for (const std::string& line : lines) std::printf("  %-22s %s\n", name.c_str(), line.c_str());
 
     nlohmann::json doc = {{"benchmark", "render"},
                           {"device", ctx.info().name},

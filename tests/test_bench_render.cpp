@@ -95,7 +95,7 @@ TEST(BenchRender, QuickRunWritesRecordsAgainstTheReferenceForEveryFrame) {
 TEST(BenchRender, SweepsWriteTheirPointsAndCharts) {
     const fs::path dir = temp_dir("bench_render_sweeps");
     const fs::path out = dir / "s.json";
-    const Outcome o = run_aquaform("bench render --frames curtain --configs uniform --mask-sweep --blend-sweep --particles 3000 "
+    const Outcome o = run_aquaform("bench render --frames curtain --configs uniform --mask-sweep --blend-sweep --surface isotropic --particles 3000 "
                                    "--resolution 64x64 --repeats 1 --scene-dir " + std::string(AQUAFORM_ASSETS_DIR) +
                                    "/scenes --out " + out.string());
     ASSERT_EQ(o.exit_code, 0) << o.output;
@@ -162,6 +162,30 @@ TEST(BenchRender, UnwritableOutputFailsNamingThePath) {
     const Outcome o = run_aquaform("bench render --quick --out /proc/aquaform_no_such_dir/b.json");
     EXPECT_EQ(o.exit_code, 2) << o.output;
     EXPECT_NE(o.output.find("/proc/aquaform_no_such_dir"), std::string::npos) << o.output;
+}
+
+TEST(BenchRender, CompareSurfacesMeasuresEachFrameWithBothFields) {
+    const fs::path dir = temp_dir("bench_render_surfaces");
+    const fs::path out = dir / "s.json";
+    const Outcome o = run_aquaform("bench render --frames curtain --configs uniform,adaptive --compare-surfaces --particles 2000 "
+                                   "--resolution 64x64 --repeats 1 --scene-dir " + std::string(AQUAFORM_ASSETS_DIR) +
+                                   "/scenes --out " + out.string());
+    ASSERT_EQ(o.exit_code, 0) << o.output;
+    const auto doc = nlohmann::json::parse(read_file(out));
+    ASSERT_EQ(doc["frames"].size(), 2u);
+    EXPECT_EQ(doc["frames"][0]["surface"], "isotropic");
+    EXPECT_EQ(doc["frames"][1]["surface"], "anisotropic");
+    for (const auto& frame : doc["frames"]) {
+        const auto* adaptive = record_of(frame, "adaptive");
+        ASSERT_NE(adaptive, nullptr) << frame.dump();
+        // Each against the reference of its own field: the curtain's droplets are all found.
+        EXPECT_LT((*adaptive)["coverage_mismatch"].get<double>(), 0.02) << frame["surface"];
+    }
+    // Wu et al.'s count mask holds for the isotropic field only: its sweep needs that field.
+    const Outcome refused = run_aquaform("bench render --frames curtain --mask-sweep --out " + (dir / "r.json").string());
+    EXPECT_EQ(refused.exit_code, 2) << refused.output;
+    EXPECT_NE(refused.output.find("--surface isotropic"), std::string::npos) << refused.output;
+    fs::remove_all(dir);
 }
 
 }  // namespace
