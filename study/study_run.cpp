@@ -1,5 +1,6 @@
 #include "study/study_run.h"
 
+#include <map>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -105,7 +106,7 @@ public:
         width_ = w;
         height_ = h;
         camera_ = study_camera(case_.camera, scene_, float(w) / float(h));
-        sph_reference_.reset();
+        sph_references_.clear();
         metaball_references_.clear();
         metaball_reference_cut_.clear();
         renderers_.clear();
@@ -241,19 +242,25 @@ private:
         else progress("cannot write an image: " + written.error());
     }
 
-    const SurfaceFrame& sph_reference(StudyRow* row = nullptr) {
-        if (!sph_reference_) {
+    /// The exhaustive reference of the SPH field `surface` draws ("anisotropic" or "isotropic"),
+    /// rendered once per frame and size; `row` gets its timings.
+    const SurfaceFrame& sph_reference(const std::string& surface, StudyRow* row = nullptr) {
+        auto it = sph_references_.find(surface);
+        if (it == sph_references_.end()) {
             StudyRow timing;  // named like a "reference" row of the case, for its step image
             timing.case_name = case_.name;
-            timing.method = "reference";
+            timing.method = surface == "isotropic" ? "reference iso" : "reference";  // its label (StudyMethod::label)
             timing.width = width_;
             timing.height = height_;
             timing.particles = particles();
-            sph_reference_ = measure_method(render_registry().find("reference")->defaults, width_, height_, 1, &timing).frame;
-            sph_reference_ms_ = timing;
+            MethodSettings settings = render_registry().find("reference")->defaults;
+            settings.get<SurfaceSettings>()->surface =
+                surface == "isotropic" ? SurfaceKernel::isotropic : SurfaceKernel::anisotropic;
+            SurfaceFrame frame = measure_method(settings, width_, height_, 1, &timing).frame;
+            it = sph_references_.emplace(surface, std::make_pair(std::move(frame), timing)).first;
         }
         if (row) {
-            const StudyRow& m = sph_reference_ms_;
+            const StudyRow& m = it->second.second;
             row->ms_total = m.ms_total;
             row->ms_per_pass = m.ms_per_pass;
             row->status = m.status;
@@ -265,12 +272,13 @@ private:
             row->memory_bytes_per_pixel = m.memory_bytes_per_pixel;
             row->steps_image = m.steps_image;
         }
-        return *sph_reference_;
+        return it->second.first;
     }
 
     /// A row measured against an SPH reference the device cut short says so.
-    void note_reference_cut(StudyRow& row) {
-        if (row.status == "ok" && sph_reference_ms_.status != "ok") row.status = "reference " + sph_reference_ms_.status;
+    void note_reference_cut(StudyRow& row, const std::string& surface) {
+        const StudyRow& reference = sph_references_.at(surface).second;
+        if (row.status == "ok" && reference.status != "ok") row.status = "reference " + reference.status;
     }
 
     /// The metaball reference's settings for metaballs of range `size`, with lists of
@@ -327,7 +335,7 @@ private:
     /// Renders `m` into `row` and returns the shaded image.
     Image run(const StudyMethod& m, StudyRow& row) {
         if (m.method == "reference") {
-            const SurfaceFrame& reference = sph_reference(&row);
+            const SurfaceFrame& reference = sph_reference(m.surface, &row);
             const SurfaceRoughness own = surface_roughness(reference, reference, particle_radius());
             if (own.flat_pixels) row.roughness_deg = own.rms_deg;
             return reference.color;
@@ -339,8 +347,9 @@ private:
         const uint32_t w = std::max(16u, width_ / divisor), h = std::max(16u, height_ / divisor);
         SurfaceFrame frame = measure_method(m.settings, w, h, repeats_, &row).frame;
         if (divisor > 1) frame = upsample_nearest(frame, width_, height_);
-        compare(row, sph_reference(), frame, particle_radius(), true);
-        note_reference_cut(row);
+        // The screen-space filters against the default (anisotropic) field's reference.
+        compare(row, sph_reference(m.surface), frame, particle_radius(), true);
+        note_reference_cut(row, m.surface);
         return frame.color;
     }
 
@@ -370,8 +379,7 @@ private:
     PbfSolver* solver_ = nullptr;  // the session's
     uint32_t width_ = 0, height_ = 0;
     ViewCamera camera_;
-    std::optional<SurfaceFrame> sph_reference_;
-    StudyRow sph_reference_ms_;
+    std::map<std::string, std::pair<SurfaceFrame, StudyRow>> sph_references_;  // by surface
     std::map<float, SurfaceFrame> metaball_references_;
     std::map<float, uint64_t> metaball_reference_cut_;  // pixels of a reference the device cut short
     std::map<std::tuple<std::string, uint32_t, uint32_t>, std::unique_ptr<Renderer>> renderers_;  // family, width, height

@@ -25,8 +25,8 @@ namespace fs = std::filesystem;
 constexpr std::array<std::string_view, 4> kTopKeys{"name", "repeats", "cases", "solver_map"};
 constexpr std::array<std::string_view, 9> kCaseKeys{"name", "scene", "particles", "time", "camera",
                                                     "resolutions", "methods", "note", "list_bytes_per_pixel"};
-constexpr std::array<std::string_view, 7> kMethodKeys{"method",    "visual",     "size",    "recursion",
-                                                      "bisection", "resolution", "stepping"};
+constexpr std::array<std::string_view, 8> kMethodKeys{"method",    "visual",     "size",     "recursion",
+                                                      "bisection", "resolution", "stepping", "surface"};
 constexpr std::array<std::string_view, 5> kMapKeys{"scene", "dt", "iterations", "control_pressure", "time"};
 
 StudyFamily family_of(const MethodEntry& entry) {
@@ -92,6 +92,7 @@ MethodSettings settings_of(const StudyMethod& sm, uint32_t list_bytes_per_pixel,
     for (const auto& [key, value] : expanded)
         if (entry.setting_by_spec_key(key)) object[key] = value;
     if (sm.resolution != "adaptive") object["adaptive_resolution"] = false;
+    if (entry.setting_by_spec_key("surface")) object["surface"] = sm.surface;
     if (list_bytes_per_pixel && entry.setting_by_spec_key("list_bytes_per_pixel"))
         object["list_bytes_per_pixel"] = list_bytes_per_pixel;
     auto settings = render_registry().from_json(sm.method, object, where);
@@ -129,6 +130,8 @@ std::vector<StudyMethod> read_methods(const json& v, const std::string& path, ui
         for (const char* key : {"resolution", "stepping"})
             if (m.contains(key) && name != "adaptive")
                 fail(child(where, key) + " applies to the adaptive method only, not " + name);
+        if (m.contains("surface") && !entry->setting_by_spec_key("surface"))
+            fail(child(where, "surface") + " applies to " + methods_with_key("surface") + " only, not " + name);
         if (m.contains("stepping") && m.contains("resolution"))
             fail(child(where, "stepping") + " draws a ray per pixel (full resolution); drop \"resolution\" or give the "
                  "stepping configurations a method entry of their own");
@@ -159,6 +162,8 @@ std::vector<StudyMethod> read_methods(const json& v, const std::string& path, ui
         const auto bisections = integers("bisection", 3, 0, 32);
         const auto resolutions = strings("resolution", {"adaptive"}, {"full", "half", "quarter", "adaptive"});
         const auto steppings = strings("stepping", {"all"}, {"all", "mask", "mask_skip", "mask_wu_skip"});
+        const auto surfaces = strings("surface", {"anisotropic"}, {"isotropic", "anisotropic"});
+        for (const auto& surface : surfaces)
         for (const auto& visual : visuals)
             for (float size : sizes)
                 for (uint32_t recursion : recursions)
@@ -174,6 +179,7 @@ std::vector<StudyMethod> read_methods(const json& v, const std::string& path, ui
                             sm.bisection = bisection;
                             sm.resolution = resolution;
                             sm.stepping = stepping;
+                            sm.surface = entry->setting_by_spec_key("surface") ? surface : "anisotropic";
                             bool seen = false;
                             for (const auto& o : out) seen = seen || o.label() == sm.label();
                             if (seen) continue;
@@ -275,6 +281,7 @@ std::string StudyMethod::label() const {
     if (stepping == "mask") text << " mask";
     if (stepping == "mask_skip") text << " mask+skip";
     if (stepping == "mask_wu_skip") text << " mask+wu-skip";
+    if (surface == "isotropic") text << " iso";
     return text.str();
 }
 

@@ -52,12 +52,15 @@ struct StudyMethod {
     /// grid alone), "mask_skip" (with the skip to D_agg) or "mask_wu_skip" (with Wu et al.'s skip
     /// after maxSkipCounts, which can jump over splashes); but "all" at full resolution.
     std::string stepping = "all";
+    /// SPH surface methods: the field drawn, "anisotropic" (the default) or "isotropic" (label
+    /// suffix " iso"); each is measured against the reference of its own field.
+    std::string surface = "anisotropic";
     /// What the study renders with: the registry's settings of this configuration
     /// (Registry::from_json), with a fixed resolution as adaptive_resolution off and, for
     /// metaballs, the case's list memory.
     MethodSettings settings;
 
-    /// "sbuffer real x2 r4 b3", "adaptive half": unique within a case.
+    /// "sbuffer real x2 r4 b3", "adaptive half", "uniform iso": unique within a case.
     std::string label() const;
     /// How much smaller than the case's resolution the method renders (half: 2, quarter: 4).
     uint32_t resolution_divisor() const;
