@@ -119,7 +119,13 @@ struct SurfaceSettings {
     /// roughness is least at A = 0.1, B = 0 on all three frames. B > 0 weights the object normal
     /// more for particles many pixels wide (Wu et al.'s close-ups); none of these frames has them.
     /// Xiao et al.'s filtered PCA normals measure 1.3 / 2.7 / 3.0: the smoothest of all.
-    float blend_a = 0.1f;
+    /// That table is the isotropic surface's. With the anisotropic surface (the default) the
+    /// sprites are its kernels' flattened ellipsoids, whose depth map makes bumpier screen-space
+    /// normals, and the field's own normals are smoother: `bench render --blend-a A` (16k
+    /// particles, 384x384, the calm / double dam break frames, roughness [deg]):
+    ///   A = 0.1   3.4 / 6.7      A = 0.3 (default)   2.3 / 4.5      A = 1.0   2.6 / 5.8
+    /// (the anisotropic field itself: 3.0 / 5.9; the isotropic surface at A = 0.1: 2.5 / 3.4).
+    float blend_a = 0.3f;
     float blend_b = 0.0f;
     /// Bilateral filters (depth for the screen-space normals, Xiao's normal filter).
     float smooth_sigma_px = 3.0f;
