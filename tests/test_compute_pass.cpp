@@ -23,13 +23,14 @@ namespace {
 
 class ComputePassTest : public testing::GpuTest {};
 
-TEST(SpirvReflect, TheRayMarchDeclaresItsTwentyBuffersByName) {
+TEST(SpirvReflect, TheRayMarchDeclaresItsTwentyThreeBuffersByName) {
     const auto bindings = gpu::reflect_bindings(gpu::find_shader("render/ray_march.comp"), "render/ray_march.comp");
-    ASSERT_EQ(bindings.size(), 20u);
+    ASSERT_EQ(bindings.size(), 23u);
     const char* names[] = {"params", "sorted", "cell_rank", "cell_start", "mask", "coarse", "depth_all",
                            "depth_agg", "normal_screen", "rays", "ray_count", "hit", "normal", "march_cut",
-                           "resume_rays", "resume_count", "resume_state", "ray_counts", "blend_weights", "depth_splash_back"};
-    for (uint32_t i = 0; i < 20; ++i) {
+                           "resume_rays", "resume_count", "resume_state", "ray_counts", "blend_weights", "depth_splash_back",
+                           "shape", "class_density", "spray"};
+    for (uint32_t i = 0; i < 23; ++i) {
         EXPECT_EQ(bindings[i].binding, i);
         EXPECT_EQ(bindings[i].name, names[i]);
     }

@@ -75,7 +75,7 @@ TEST_F(ShaderReloadTest, EditedShaderIsReloadedAndBrokenOneKeepsTheOldCode) {
     const auto before = centre_pixel();
 
     replace_in_file(tree / "render/compose.comp",
-                    "color[index] = pack_srgb(tank_view(params.eye.xyz, dir, h.w, mix(refracted, reflected, fresnel) + vec3(specular)));",
+                    "color[index] = pack_srgb(tank_view(params.eye.xyz, dir, h.w, water));",
                     "color[index] = 0xff0000ffu;  // pure red, opaque");
     const auto reload = watcher.poll();
     ASSERT_TRUE(reload.errors.empty()) << reload.errors.front();
