@@ -43,6 +43,22 @@ struct SurfaceSettings {
     /// one the classification uses) around a centre smoothed towards its neighbours
     /// (centre_smoothing): sheets stay sheets, a free surface's particles stop showing as beads,
     /// and a lone droplet (N_eps or fewer neighbours) keeps its sphere.
+    /// PCA and smoothing both use the classification's neighbourhood r. Yu & Turk take 2h (twice
+    /// the kernel's radius); measured with `bench render` (16k particles, 384x384; roughness [deg]
+    /// of the field itself on the calm / curtain / double dam break / violent / crown frames):
+    ///   PCA and centres over r (the choice)   2.9 / 0.5 / 5.5 / 8.4 / 6.0
+    ///   PCA over 2r, centres over r           2.7 / 1.2 / 4.4 / 7.3 / 5.5, but a resting 8x8x8
+    ///                                         block's face tilts 1.45 deg (0.41 over r): the
+    ///                                         PCA of a face's particles sees the edges 2r away
+    ///   PCA and centres over 2r               2.0 / 0.5 / 3.0 / 5.2 / 5.7, but Laplacian
+    ///                                         smoothing shrinks what it smooths: surfaces recede
+    ///                                         about a spacing, a 5x5x5 block keeps 31 % of its
+    ///                                         volume, droplets near a body are drawn into it
+    ///   as above, each centre giving back     3.4 / 1.0 / 5.7 / 9.1 / 7.1: the volume stays,
+    ///   its neighbours' mean displacement     and so do the bumps
+    /// At the particle counts this project draws (10k-30k) a flat face and the fluid's volume
+    /// matter more than the last degrees; the smoothest choice, with its shrinkage, suits a
+    /// million particles, where a spacing is small.
     SurfaceKernel surface = SurfaceKernel::anisotropic;
     /// lambda of Yu & Turk eq. 6 (0: the kernels sit on the particles).
     float centre_smoothing = shader::kDefaultCentreSmoothing;
