@@ -187,14 +187,11 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         gpu::GpuScope scope(timer, cmd, "render_classify");
         if ((params_.flags & SURFACE_ANISOTROPIC) || anisotropic_field)
             kernels_->record_shapes(cmd, *params_buf_, *particles_, *cell_rank_, *cell_start_, particles);
+        if (classify)
+            gpu::dispatch(*ctx_, cmd, classify_density_, particles,
+                          {{"params", params_buf_}, {"sorted", particles_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"shape", &kernels_->particle_shapes()}, {"class_density", class_density_}, {"aggregate", aggregate_}});
     }
-    if (classify) {
-        gpu::GpuScope scope(timer, cmd, "render_classify");
-        gpu::dispatch(*ctx_, cmd, classify_density_, particles,
-                      {{"params", params_buf_}, {"sorted", particles_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"shape", &kernels_->particle_shapes()}, {"class_density", class_density_}, {"aggregate", aggregate_}});
-    } else {
-        gpu::fill(*ctx_, cmd, *aggregate_, 0u);
-    }
+    if (!classify) gpu::fill(*ctx_, cmd, *aggregate_, 0u);
     field_sorted_ = particles_;
     field_shape_ = &kernels_->particle_shapes();  // unread by the isotropic field
     field_aggregate_ = aggregate_;
