@@ -123,12 +123,14 @@ TEST_P(TankTest, AStaticBoxIsSolidAndHidesTheFluidBehindIt) {
 // (metaball_march.comp) and are not drawn this way.
 class RefractionTest : public TankTest {};
 
-TEST_P(RefractionTest, TheWallsFootIsSeenThroughASheetOfWaterWhereItIs) {
-    // A sheet of water standing across the front of the tank, seen from above its top: the eye
-    // sees the back wall's dark foot through it. Refracted by a sheet, light is bent back where it
-    // leaves, so the foot shows (a little displaced) on its own row. A ray kept along its refracted
-    // direction past the water swept over the wall and the floor as the surface's normal turned,
-    // and drew the foot as thin dark curves all over the water.
+TEST_P(RefractionTest, NoDarkCurvesCrossTheWater) {
+    // A sheet of water standing across the front of the tank, seen from above its top, with the
+    // back wall's dark foot (the frame along its bottom edge) behind it. Two causes drew that
+    // foot as thin dark curves over the water: a refracted ray kept along its bent direction
+    // past the water swept over the wall and the floor as the surface's normal turned (fixed by
+    // the slab exit), and through the water's approximate optics the frame's foot still came out
+    // as a sharp curve along each fold of a wave (fixed by not drawing frames for the fluid's
+    // secondary rays, environment_from_fluid). Either one makes dark pixels on the water here.
     Scene scene = testing::scene_with(kTank, 0.02f);
     std::vector<glm::vec4> sheet;
     for (int x = 0; x < 13; ++x)
@@ -142,16 +144,18 @@ TEST_P(RefractionTest, TheWallsFootIsSeenThroughASheetOfWaterWhereItIs) {
     auto renderer = render_registry().create(ctx(), scene.particle_domain(), kW, kH, fluid.count, method_settings(GetParam()));
     const SurfaceFrame frame = renderer->render(fluid.buffer, fluid.count, camera);
     const int foot = pixel_of(camera, {0.2f, 0.0f, 0.0f}).y;  // a level row: the eye is centred
-    int surface = 0, stray = 0;
+    int surface = 0, on_foot_row = 0, dark = 0;
     glm::ivec2 at{-1, -1};
     for (int y = 0; y < int(kH); ++y)
         for (int x = 0; x < int(kW); ++x) {
             if (!has_surface_at(frame, {x, y})) continue;
             ++surface;
-            if (colour_at(frame, {x, y}).sum() < 330 && std::abs(y - foot) > 2) ++stray, at = {x, y};
+            on_foot_row += std::abs(y - foot) <= 2;
+            if (colour_at(frame, {x, y}).sum() < 330) ++dark, at = {x, y};
         }
     ASSERT_GT(surface, 2000) << "the sheet should cover much of the picture";
-    EXPECT_EQ(stray, 0) << "dark pixels on the water away from the wall's foot (row " << foot << "), e.g. (" << at.x << ", " << at.y << ")";
+    ASSERT_GT(on_foot_row, 50) << "the wall's foot should lie behind the water";
+    EXPECT_EQ(dark, 0) << "dark pixels on the water (the wall's foot is row " << foot << "), e.g. (" << at.x << ", " << at.y << ")";
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryFamily, TankTest, ::testing::Values("adaptive", "brute", "bilateral"));

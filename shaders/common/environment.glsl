@@ -68,8 +68,9 @@ vec3 tank_opaque(vec3 origin, vec3 dir, out float t_hit) {
 /// What the ray sees through the tank's side walls between the origin and max_t, with `behind`
 /// beyond them. Each glass pane passes a little less than all of the light and reflects the
 /// sky by Fresnel's term (glass, ior 1.5); its frame, along the pane's edges, is opaque. Panes
-/// are composited front to back.
-vec3 tank_glass(vec3 origin, vec3 dir, float max_t, vec3 behind) {
+/// are composited front to back. Without `frames` the panes reach their edges (the fluid's
+/// secondary rays: see environment_from_fluid).
+vec3 tank_glass(vec3 origin, vec3 dir, float max_t, vec3 behind, bool frames) {
     if ((params.tank.counts.y & TANK_GLASS_WALLS) == 0u) return behind;
     vec3 lo = params.domain_min.xyz;
     vec3 hi = params.domain_max.xyz;
@@ -98,7 +99,7 @@ vec3 tank_glass(vec3 origin, vec3 dir, float max_t, vec3 behind) {
         if (any(lessThan(across, across_lo)) || any(greaterThan(across, across_hi))) continue;
         vec3 n = next < 2 ? vec3(-sign(dir.x), 0.0, 0.0) : vec3(0.0, 0.0, -sign(dir.z));
         vec2 edge = min(across - across_lo, across_hi - across);
-        if (min(edge.x, edge.y) < frame) {
+        if (frames && min(edge.x, edge.y) < frame) {
             sum += through * vec3(0.16, 0.17, 0.19) * tank_diffuse(n);
             return sum;  // the frame hides what is behind it
         }
@@ -113,7 +114,19 @@ vec3 tank_glass(vec3 origin, vec3 dir, float max_t, vec3 behind) {
 vec3 environment(vec3 origin, vec3 dir) {
     float t_opaque;
     vec3 opaque = tank_opaque(origin, dir, t_opaque);
-    return tank_glass(origin, dir, t_opaque, opaque);
+    return tank_glass(origin, dir, t_opaque, opaque, true);
+}
+
+/// The environment as the fluid's reflected and refracted rays see it: as environment(), but
+/// the walls' frames are not drawn. The frame is a thin dark band along the panes' edges; the
+/// fluid's optics are approximate (smoothed normals, a slab's exit for refraction), and through
+/// them the frame's foot at the back wall came out as a sharp dark curve along every fold of the
+/// water (a wave's foot, a crease between two surfaces) that read as a seam, not as the frame.
+/// Seen from the fluid the panes are glass up to their edges.
+vec3 environment_from_fluid(vec3 origin, vec3 dir) {
+    float t_opaque;
+    vec3 opaque = tank_opaque(origin, dir, t_opaque);
+    return tank_glass(origin, dir, t_opaque, opaque, false);
 }
 
 /// A point of the fluid moved into the tank: the fluid's surface reaches up to a particle radius
@@ -131,8 +144,8 @@ vec3 into_tank(vec3 p) {
 /// the tank met within that length (the floor under a pool, a wall or a box the fluid touches) is
 /// seen along `bent`, from inside the tank. Otherwise the ray leaves the fluid there and goes on
 /// along `dir`: the far side is taken parallel to the near one, as in a slab, which bends the
-/// ray back. (A ray kept along `bent` past the fluid swept across the tank's edges as the normal
-/// varied, and the dark frame along the walls' bottom edges drew thin dark curves over the water.)
+/// ray back (a ray kept along `bent` past the fluid swept across the tank's edges as the normal
+/// varied). Either way the walls' frames are not drawn (environment_from_fluid).
 vec3 environment_through_fluid(vec3 h, vec3 dir, vec3 bent, float thick) {
     vec3 o = into_tank(h);
     float t_opaque;
@@ -141,8 +154,8 @@ vec3 environment_through_fluid(vec3 h, vec3 dir, vec3 bent, float thick) {
     vec3 hi = params.domain_max.xyz;
     vec2 side = vec2(bent.x > 0.0 ? hi.x - o.x : lo.x - o.x, bent.z > 0.0 ? hi.z - o.z : lo.z - o.z);
     vec2 t_side = mix(side / bent.xz, vec2(TANK_NO_HIT), lessThan(abs(bent.xz), vec2(1.0e-8)));
-    if (min(t_opaque, min(t_side.x, t_side.y)) <= thick) return tank_glass(o, bent, t_opaque, opaque);
-    return environment(o + bent * thick, dir);
+    if (min(t_opaque, min(t_side.x, t_side.y)) <= thick) return tank_glass(o, bent, t_opaque, opaque, false);
+    return environment_from_fluid(o + bent * thick, dir);
 }
 
 /// A primary ray's picture, given the fluid it met at t_fluid (negative: none) with colour
@@ -151,7 +164,7 @@ vec3 tank_view(vec3 origin, vec3 dir, float t_fluid, vec3 fluid) {
     float t_opaque;
     vec3 opaque = tank_opaque(origin, dir, t_opaque);
     bool fluid_first = t_fluid >= 0.0 && t_fluid < t_opaque;
-    return tank_glass(origin, dir, fluid_first ? t_fluid : t_opaque, fluid_first ? fluid : opaque);
+    return tank_glass(origin, dir, fluid_first ? t_fluid : t_opaque, fluid_first ? fluid : opaque, true);
 }
 
 uint pack_srgb(vec3 linear) {

@@ -40,7 +40,7 @@ void main() {
     if (dot(n, dir) > 0.0) n = -n;
     float ior = params.fluid_color.w;
     float fresnel = schlick_fresnel(-dot(n, dir), ior);
-    vec3 reflected = environment(into_tank(h.xyz), reflect(dir, n));
+    vec3 reflected = environment_from_fluid(into_tank(h.xyz), reflect(dir, n));
     float thick = float(thickness[index]) * 1.0e-6;
     vec3 bent = refract(dir, n, 1.0 / ior);
     if (dot(bent, bent) == 0.0) bent = reflect(dir, n);

@@ -244,7 +244,7 @@ vec3 trace_paths(vec3 eye_dir, float first_t, vec3 first_n, uint pixel) {
         if (!found) {
             vec3 w = ray.weight;
             if (ray.inside) w *= exp(-params.fluid_color.xyz * max(s.y, 0.0));
-            result += w * environment(into_tank(ray.origin), ray.dir);  // seen from inside the tank
+            result += w * environment_from_fluid(into_tank(ray.origin), ray.dir);  // seen from inside the tank
             continue;
         }
         vec3 q = ray.origin + t_hit * ray.dir;
