@@ -1,8 +1,10 @@
 #include "study/study_rows.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <set>
 #include <sstream>
 
 namespace aquaform::study {
@@ -56,6 +58,43 @@ double fps(double ms) { return ms > 0.0 ? 1000.0 / ms : 0.0; }
 /// "case/1000" of "case/1000/96x64/method" (study_cell_key), or the frame key itself.
 std::string frame_of(const std::string& cell) { return cell.substr(0, cell.find('/', cell.find('/') + 1)); }
 
+/// Columns of the row files that hold text; every other column holds a number or nothing.
+bool text_column(const std::string& name) {
+    static const std::set<std::string> names{"case", "scene", "method", "visual", "status", "image", "steps_image",
+                                             "pass", "spec", "cell"};
+    return names.count(name) > 0;
+}
+
+/// Columns that count (sizes, steps, rays): whole numbers from 0 to the largest returned (0:
+/// not such a column).
+double whole_column_limit(const std::string& name) {
+    static const std::set<std::string> counts{"width", "height", "particles", "recursion_depth", "bisection_steps",
+                                              "iterations", "stable"};
+    if (counts.count(name)) return 4294967295.0;
+    return name == "rays" ? 9007199254740992.0 : 0.0;  // 2^53: counted in a double exactly
+}
+
+/// What is wrong with a row's fields (empty when nothing): every number must be finite, and
+/// every count a whole number this program can hold. Every value read from a file is input.
+std::string row_problem(const std::vector<std::string>& columns, const std::vector<std::string>& fields) {
+    if (fields.size() != columns.size())
+        return std::to_string(fields.size()) + " fields where the header has " + std::to_string(columns.size());
+    for (size_t c = 0; c < columns.size(); ++c) {
+        const std::string& field = fields[c];
+        if (field.empty() || text_column(columns[c])) continue;
+        double v = 0.0;
+        const char* end = field.data() + field.size();
+        const auto [stop, ec] = std::from_chars(field.data(), end, v);
+        const bool finite = ec == std::errc() && stop == end && std::isfinite(v);
+        const double limit = whole_column_limit(columns[c]);
+        const bool whole_ok = limit == 0.0 || (v >= 0.0 && v <= limit && v == std::floor(v));
+        if (!finite || !whole_ok)
+            return "\"" + columns[c] + "\" is \"" + field.substr(0, 40) + "\", not " +
+                   (limit > 0.0 ? "a whole number from 0 to " + format("%.0f", limit) : std::string("a finite number"));
+    }
+    return "";
+}
+
 }  // namespace
 
 std::string csv_field(const std::string& text) {
@@ -98,6 +137,8 @@ Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, c
     const size_t spec_column = file.column("spec");
     std::error_code ec;
     const bool existed = fs::exists(path, ec);
+    if (existed && !fs::is_regular_file(path, ec))
+        return Error{path.string() + " is not a file; move it away (aquaform study writes it: run it with --fresh to start that folder over)"};
     bool rewrite = !existed;
     if (existed) {
         bool torn = false;
@@ -107,7 +148,11 @@ Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, c
             return Error{path.string() + " has other columns than this version of aquaform writes" + kKeepOrStartOver};
         for (size_t i = 1; i < lines.size(); ++i) {
             Fields fields = split_csv_line(lines[i]);
-            if (fields.size() != file.columns_.size()) {  // damaged: measured again
+            if (const std::string problem = row_problem(file.columns_, fields); !problem.empty()) {
+                // Damaged: a run measures the row again; a merge, which only reads, says where.
+                if (access == RowAccess::read_only)
+                    return Error{path.string() + " line " + std::to_string(i + 1) + ": " + problem +
+                                 "; it is written by aquaform study: rerun that folder's study (or shard) with --fresh"};
                 rewrite = true;
                 continue;
             }

@@ -8,6 +8,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "sim/scene.h"
 #include "study/study_rows.h"
 
 namespace aquaform::study {
@@ -135,25 +136,65 @@ Result<std::optional<ShardManifest>> read_manifest(const fs::path& dir) {
     const fs::path path = dir / kManifestName;
     std::error_code ec;
     if (!fs::exists(path, ec)) return std::optional<ShardManifest>();
+    const std::string fix = "; it is written by aquaform study --shard: rerun that shard into a fresh folder";
+    if (!fs::is_regular_file(path, ec)) return Error{path.string() + " is not a file" + fix};
+    nlohmann::json j;
     try {
         std::ifstream in(path);
-        const nlohmann::json j = nlohmann::json::parse(in);
-        ShardManifest m;
-        m.spec_hash = j.at("spec_hash").get<std::string>();
-        m.spec_name = j.at("spec_name").get<std::string>();
-        m.spec_path = j.at("spec_path").get<std::string>();
-        if (!j.at("particles").is_null()) m.particles = j.at("particles").get<uint64_t>();
-        m.version = j.at("version").get<std::string>();
-        m.device = j.at("device").get<std::string>();
-        m.shard = {j.at("shard").get<uint32_t>(), j.at("shards").get<uint32_t>()};
-        m.cells = j.at("cells").get<std::vector<std::string>>();
-        m.wall_s = j.at("wall_s").get<double>();
-        m.complete = j.at("complete").get<bool>();
-        return std::optional<ShardManifest>(std::move(m));
+        j = nlohmann::json::parse(in);
     } catch (const std::exception& e) {
-        return Error{path.string() + " cannot be read (" + e.what() +
-                     "); it is written by aquaform study --shard: rerun that shard into a fresh folder"};
+        return Error{path.string() + " is not JSON (" + e.what() + ")" + fix};
     }
+    // Every value is input: checked for its type and range before anything indexes by it.
+    std::string problem;
+    auto key = [&](const char* name) -> const nlohmann::json* {
+        if (!problem.empty()) return nullptr;
+        if (!j.is_object() || !j.contains(name)) {
+            problem = std::string("\"") + name + "\" is missing";
+            return nullptr;
+        }
+        return &j.at(name);
+    };
+    auto text = [&](const char* name) {
+        const nlohmann::json* v = key(name);
+        if (v && !v->is_string()) problem = std::string("\"") + name + "\" must be a string";
+        return v && v->is_string() ? v->get<std::string>() : std::string();
+    };
+    auto whole = [&](const char* name, uint64_t least, uint64_t most) -> uint64_t {
+        const nlohmann::json* v = key(name);
+        if (!v) return 0;
+        if (!v->is_number_unsigned() || v->get<uint64_t>() < least || v->get<uint64_t>() > most) {
+            problem = std::string("\"") + name + "\" is " + v->dump().substr(0, 40) + ", not a whole number from " +
+                      std::to_string(least) + " to " + std::to_string(most);
+            return 0;
+        }
+        return v->get<uint64_t>();
+    };
+    ShardManifest m;
+    m.spec_hash = text("spec_hash");
+    m.spec_name = text("spec_name");
+    m.spec_path = text("spec_path");
+    if (const nlohmann::json* v = key("particles"); v && !v->is_null())
+        m.particles = whole("particles", kMinSceneParticles, kMaxSceneParticles);
+    m.version = text("version");
+    m.device = text("device");
+    m.shard.count = uint32_t(whole("shards", 1, UINT32_MAX));
+    if (problem.empty()) m.shard.index = uint32_t(whole("shard", 0, m.shard.count - 1));
+    if (const nlohmann::json* v = key("cells")) {
+        const bool strings = v->is_array() && std::all_of(v->begin(), v->end(), [](const auto& c) { return c.is_string(); });
+        if (strings) m.cells = v->get<std::vector<std::string>>();
+        else problem = "\"cells\" must be a list of cell names";
+    }
+    if (const nlohmann::json* v = key("wall_s")) {
+        if (v->is_number() && std::isfinite(v->get<double>()) && v->get<double>() >= 0.0) m.wall_s = v->get<double>();
+        else problem = "\"wall_s\" is " + v->dump().substr(0, 40) + ", not a time in seconds (0 or more)";
+    }
+    if (const nlohmann::json* v = key("complete")) {
+        if (v->is_boolean()) m.complete = v->get<bool>();
+        else problem = "\"complete\" must be true or false";
+    }
+    if (!problem.empty()) return Error{path.string() + ": " + problem + fix};
+    return std::optional<ShardManifest>(std::move(m));
 }
 
 Result<std::vector<ShardInput>> read_shard_set(const std::vector<fs::path>& dirs) {

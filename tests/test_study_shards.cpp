@@ -10,6 +10,7 @@
 #include <fstream>
 #include <filesystem>
 #include <map>
+#include <random>
 #include <set>
 #include <sstream>
 #include <string>
@@ -19,6 +20,7 @@
 #include "study/study_shards.h"
 #include "study/study_spec.h"
 #include "tests/cli_helpers.h"
+#include "tests/json_mutations.h"
 
 namespace aquaform::study {
 namespace {
@@ -298,6 +300,100 @@ TEST(StudyShardCliTest, MergeRefusesMissingDoubledIncompleteAndForeignShards) {
         for (size_t i = 0; i + 1 < s2_rows.size(); ++i) csv << csv_line(s2_rows[i]) << "\n";
     }
     expect_says(merge({s0, s1, d / "s2_missing"}, out, 2), {"in no shard", s2_rows.back().back(), "--shard K/N"});
+}
+
+/// Every number in a shard's files is input. A copy of shard 1 with its manifest or one row
+/// changed: what the merge reads is refused in one line naming the file and the key (or the
+/// line and the column), or merged when the change is harmless; never a crash.
+TEST(StudyShardCliTest, MutatedManifestsAndRowsAreRefusedNamingTheFileAndTheKey) {
+    const fs::path& d = tiny_runs();
+    const fs::path mutant = d / "s1_mutant";
+    auto load = [&](const fs::path& dir) -> Result<MergedStudy> {
+        auto shards = read_shard_set({d / "s0", dir, d / "s2"});
+        if (!shards) return Error{shards.error()};
+        auto spec = load_shard_spec(shards.value().front(), {});
+        if (!spec) return Error{spec.error()};
+        fs::remove_all(d / "merged_mutant");
+        return merge_shards(spec.value(), shards.value(), d / "merged_mutant");
+    };
+    auto fresh_copy = [&] {
+        fs::remove_all(mutant);
+        fs::copy(d / "s1", mutant, fs::copy_options::recursive);
+    };
+
+    // The manifest: each key mutated (types, extremes, deletion, text that is not JSON).
+    using namespace json_mutations;
+    const json manifest = json::parse(test_cli::read_file(d / "s1" / kManifestName));
+    std::vector<json::json_pointer> paths;
+    collect_paths(manifest, json::json_pointer(), paths);
+    std::mt19937 random(28);
+    int mutations = 0, refused = 0;
+    for (const json::json_pointer& path : paths)
+        for (int k = 0; k < 4; ++k) {
+            fresh_copy();
+            const Mutation m = mutate(manifest, path, random);
+            test_cli::write_file(mutant / kManifestName, m.text);
+            ++mutations;
+            Result<MergedStudy> merged = Error{};
+            ASSERT_NO_THROW(merged = load(mutant)) << path.to_string();
+            if (merged) continue;
+            ++refused;
+            const std::string& e = merged.error();
+            EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+            EXPECT_NE(e.find(mutant.string()), std::string::npos) << "names the folder or file: " << e;
+        }
+    EXPECT_GT(refused, mutations / 3) << refused << " of " << mutations;
+    std::printf("manifest fuzz: %d mutations, %d refused\n", mutations, refused);
+
+    // The shard numbers that crashed the merge, through the binary: exit 2 naming the key.
+    for (const auto& [key, value] : std::vector<std::pair<std::string, json>>{
+             {"shard", 5}, {"shard", -1}, {"shards", 0}, {"shard", 3}, {"shards", 4294967296.0}, {"particles", 1e300}}) {
+        fresh_copy();
+        json changed = manifest;
+        changed[key] = value;
+        test_cli::write_file(mutant / kManifestName, changed.dump(2));
+        const std::string out = merge({d / "s0", mutant, d / "s2"}, d / "merged_mutant", 2);
+        expect_says(out, {(mutant / kManifestName).string(), "\"" + key + "\""});
+    }
+
+    // A row: each number column given a value no run writes.
+    const auto rows = read_csv(d / "s1" / "study.csv");
+    ASSERT_GE(rows.size(), 2u);
+    const std::vector<std::string>& header = rows[0];
+    int columns = 0;
+    for (size_t c = 0; c < header.size(); ++c) {
+        if (rows[1][c].empty() || rows[1][c].find_first_not_of("0123456789.e+-") != std::string::npos) continue;
+        for (const char* bad : {"-1", "nan", "1e400", "x", "4294967296e9"}) {
+            if (std::string(bad) == "-1" && header[c] != "width" && header[c] != "rays" && header[c] != "particles") continue;
+            fresh_copy();
+            std::vector<std::vector<std::string>> changed = rows;
+            changed[1][c] = bad;
+            std::ofstream csv(mutant / "study.csv", std::ios::trunc);
+            for (const auto& r : changed) csv << csv_line(r) << "\n";
+            csv.close();
+            Result<MergedStudy> merged = Error{};
+            ASSERT_NO_THROW(merged = load(mutant)) << header[c];
+            if (std::string(bad) == "4294967296e9" && header[c] != "width" && header[c] != "height" &&
+                header[c] != "particles" && header[c] != "rays")
+                continue;  // a large finite measurement is a measurement
+            ASSERT_FALSE(merged.ok()) << header[c] << " = " << bad;
+            expect_says(merged.error(), {(mutant / "study.csv").string() + " line 2", "\"" + header[c] + "\""});
+        }
+        ++columns;
+    }
+    EXPECT_GT(columns, 10) << "number columns mutated";
+
+    // A file that is a folder.
+    for (const char* name : {kManifestName, "study.csv"}) {
+        fresh_copy();
+        fs::remove(mutant / name);
+        fs::create_directory(mutant / name);
+        Result<MergedStudy> merged = Error{};
+        ASSERT_NO_THROW(merged = load(mutant)) << name;
+        ASSERT_FALSE(merged.ok()) << name;
+        expect_says(merged.error(), {(mutant / name).string() + " is not a file"});
+    }
+    fs::remove_all(mutant);
 }
 
 TEST(StudyShardCliTest, AShardStoppedMidwayIsIncompleteUntilItsRerunResumes) {
