@@ -76,6 +76,14 @@ Result<Scene> convergence_scene(const Scene& base, uint32_t divisions, uint32_t 
         return Error{origin + ": the column must be a wide and 2a tall (Martin & Moyce's n^2 = 2) to compare with "
                               "their front; it is " + std::to_string(column.max.x - column.min.x) + " x " +
                      std::to_string(column.max.y - column.min.y) + " m for column_width " + std::to_string(a)};
+    // Martin & Moyce's front falls under gravity straight down; with none (or sideways, or up)
+    // the dimensionless time T = t sqrt(2 g / a) never reaches its end and the run would not end.
+    const glm::vec3 g = base.gravity;
+    if (!(g.y <= -kConvergenceLeastGravity) || std::hypot(g.x, g.z) > 0.01f * std::abs(g.y))
+        return Error{origin + ": \"gravity\" is [" + fmt("%g", g.x, 0, 0) + ", " + fmt("%g", g.y, 0, 0) + ", " +
+                     fmt("%g", g.z, 0, 0) + "]; the front is compared with Martin & Moyce's, which falls under gravity "
+                     "straight down: give at least " + fmt("%g", kConvergenceLeastGravity, 0, 0) +
+                     " m/s^2 down, e.g. [0, -9.81, 0]"};
     if (divisions < 2 || depth_layers < 1 || !(cfl > 0.0f))
         return Error{"convergence runs need at least 2 particles across the column, 1 layer deep and cfl > 0 (got " +
                      std::to_string(divisions) + ", " + std::to_string(depth_layers) + ", " + std::to_string(cfl) + ")"};

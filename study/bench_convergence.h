@@ -29,6 +29,9 @@ namespace aquaform::study {
 /// The largest steps per frame a convergence run may take: far above what the time-step rule
 /// asks for here, so that the rule (v_max dt <= cfl h), not the bound, sets the step.
 inline constexpr uint32_t kConvergenceMaxSubsteps = 256;
+/// The least downward gravity [m/s^2] a front run accepts: the run lasts T_end / sqrt(2 g / a),
+/// so a tiny g would simulate for hours (1 m/s^2: 3.1x Earth's time).
+inline constexpr float kConvergenceLeastGravity = 1.0f;
 
 // ---- (a) the front against Martin & Moyce -----------------------------------------------------
 
