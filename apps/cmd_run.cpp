@@ -27,6 +27,7 @@
 #include "render/video.h"
 #include "render/wireframe.h"
 #include "session/simulation_session.h"
+#include "sim/blowup.h"
 #include "sim/pbf_solver.h"
 
 namespace aquaform::cli {
@@ -184,6 +185,7 @@ int cmd_run(const std::vector<std::string>& argv) {
 
     std::optional<InterruptScope> ctrl_c(std::in_place);
     ProgressBar progress("simulating " + scene.name, frames);
+    const BlowupBounds blowup = blowup_bounds(scene);
     const auto start = std::chrono::steady_clock::now();
     int status = kExitOk;
     uint32_t done = 0;
@@ -210,13 +212,12 @@ int cmd_run(const std::vector<std::string>& argv) {
         steps += stats.substeps;
         capped_frames += stats.speed_capped;
         progress.update(done, f.note);
-        if (stats.non_finite > 0) {
+        if (const std::string left = blowup_reason(stats, blowup); !left.empty()) {
             progress.finish();
             std::fprintf(stderr,
-                         "aquaform run: the simulation became unstable at frame %u (t = %.3f s): %u particles have "
-                         "non-finite positions or velocities; raise solver.substeps or lower solver.frame_dt, "
-                         "solver.vorticity or solver.scorr_k. Output so far is in %s\n",
-                         f.index, stats.time_s, stats.non_finite, out_dir.string().c_str());
+                         "aquaform run: the fluid left physics at frame %u (t = %.3f s): %s; %s. The frames up to it "
+                         "are in %s\n",
+                         f.index, stats.time_s, left.c_str(), kBlowupFix, out_dir.string().c_str());
             return false;
         }
         return true;

@@ -10,12 +10,14 @@
 #include "gpu/timer.h"
 #include "render/surface_renderer.h"
 #include "render/surface_settings.h"
+#include "sim/blowup.h"
 
 namespace aquaform::study {
 
 bool simulate_frames(session::SimulationSession& session, uint32_t frames, const std::string& label,
                      std::map<std::string, double>* last_frame_ms) {
     ProgressBar progress(label, frames);
+    const BlowupBounds blowup = blowup_bounds(session.scene());
     std::optional<gpu::GpuTimer> timer;
     if (last_frame_ms) timer.emplace(session.solver().context());
     for (uint32_t frame = 0; frame < frames; ++frame) {
@@ -23,12 +25,10 @@ bool simulate_frames(session::SimulationSession& session, uint32_t frames, const
         const FrameStats stats = session.run_frame(timed ? &*timer : nullptr).stats;
         if (timed) *last_frame_ms = stats.gpu_ms;
         progress.update(frame + 1);
-        if (stats.non_finite > 0) {
+        if (const std::string left = blowup_reason(stats, blowup); !left.empty()) {
             progress.finish();
-            std::fprintf(stderr,
-                         "aquaform: the simulation became unstable at frame %u: %u particles are not finite; raise "
-                         "solver.substeps or lower solver.frame_dt in the scene\n",
-                         frame, stats.non_finite);
+            std::fprintf(stderr, "aquaform: the fluid left physics at frame %u (t = %.3f s): %s; %s\n", frame,
+                         stats.time_s, left.c_str(), kBlowupFix);
             return false;
         }
     }

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/blowup.h"
 #include "sim/frame_stats.h"
 #include "core/result.h"
 #include "sim/scene.h"
@@ -46,15 +47,6 @@ struct SolverMapRecord {
     uint32_t frames = 0;            ///< frames run (to the blow-up, or all)
     double wall_s = 0.0;
 };
-
-/// Where a run counts as blown up: one definition for every cell (see blowup_reason).
-struct BlowupBounds {
-    double max_speed = 0.0;          ///< [m/s]
-    double max_density_error = 0.0;  ///< rho/rho0 - 1
-};
-BlowupBounds blowup_bounds(const Scene& scene);
-/// Empty when the frame is plausible, else what failed ("3 particles non-finite", ...).
-std::string blowup_reason(const FrameStats& stats, const BlowupBounds& bounds);
 
 /// A line of progress per cell; empty prints "solver map: ..." to stderr.
 using SolverMapProgress = std::function<void(const std::string& line)>;

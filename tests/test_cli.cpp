@@ -290,6 +290,23 @@ TEST(Cli, RunWritesFramesStatsFrontAndDumps) {
     fs::remove_all(dir);
 }
 
+TEST(Cli, ARunWhoseFluidLeavesPhysicsSaysWhereAndExitsOne) {
+    // Vorticity confinement a million times too strong: finite, but 37 m/s in the first frame of
+    // a 0.2 m tall column (it exited 0 before, reaching 2e7 m/s). The run stops at that frame,
+    // names it and the bound, and keeps what it wrote.
+    fs::path dir = temp_dir("run_left_physics");
+    std::string text = kTinyDamBreak;
+    text.replace(text.find("\"frames\": 3"), 11, "\"frames\": 20, \"solver\": {\"vorticity\": 1e6}");
+    fs::path scene = write_file(dir / "wild.json", text);
+    Outcome o = run_aquaform("run " + scene.string() + " --out " + (dir / "out").string() + " --resolution 64x36");
+    EXPECT_EQ(o.exit_code, 1) << o.output;
+    for (const char* says : {"the fluid left physics at frame 0", "max speed", "solver.vorticity"})
+        EXPECT_NE(o.output.find(says), std::string::npos) << says << " in: " << o.output;
+    EXPECT_TRUE(fs::exists(dir / "out" / "frame_0000.png"));
+    EXPECT_NE(read_file(dir / "out" / "stats.csv").find("\n0,"), std::string::npos) << "frame 0's row is written";
+    fs::remove_all(dir);
+}
+
 TEST(Cli, BenchSimWritesItsRecords) {
     fs::path dir = temp_dir("bench");
     const fs::path out = dir / "bench_sim.json";

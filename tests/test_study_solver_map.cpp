@@ -111,7 +111,7 @@ TEST_F(SolverMap, SmallStepsHoldALargeStepWithOneIterationBlowsUpAndErrorFollows
     // density within a few steps.
     EXPECT_FALSE(huge1->stable);
     EXPECT_NE(huge1->failure.find("density error"), std::string::npos) << huge1->failure;
-    EXPECT_GT(huge1->density_err_max, study::blowup_bounds(load_scene(spec.scene).value()).max_density_error);
+    EXPECT_GT(huge1->density_err_max, blowup_bounds(load_scene(spec.scene).value()).max_density_error);
     EXPECT_GT(huge1->blowup_time_s, 0.0);
     EXPECT_LE(huge1->blowup_time_s, spec.sim_time_s + 1e-3);
     EXPECT_LT(huge1->frames, 16u) << "a blown-up cell stops at its first failing frame";
@@ -196,28 +196,28 @@ TEST_F(SolverMap, BadSpecsAreErrorsNamingTheProblem) {
 TEST(SolverMapCriterion, EachFailureIsNamedAndAPlausibleFrameIsNot) {
     Scene scene;
     scene.domain = {glm::vec3(0.0f), glm::vec3(0.3f, 0.4f, 0.0f)};  // diagonal 0.5 m
-    const study::BlowupBounds b = study::blowup_bounds(scene);
+    const BlowupBounds b = blowup_bounds(scene);
     EXPECT_NEAR(b.max_speed, 10.0 * std::sqrt(2.0 * 9.81 * 0.5), 1e-3) << "10x free fall over the diagonal";
     EXPECT_DOUBLE_EQ(b.max_density_error, 0.5);
     FrameStats ok;
     ok.max_speed = 3.0;
     ok.max_density_error = 0.2;
-    EXPECT_EQ(study::blowup_reason(ok, b), "");
+    EXPECT_EQ(blowup_reason(ok, b), "");
     FrameStats s = ok;
     s.non_finite = 3;
-    EXPECT_NE(study::blowup_reason(s, b).find("3 particles have non-finite"), std::string::npos);
+    EXPECT_NE(blowup_reason(s, b).find("3 particles have non-finite"), std::string::npos);
     s = ok;
     s.outside = 2;
-    EXPECT_NE(study::blowup_reason(s, b).find("2 particles left the domain"), std::string::npos);
+    EXPECT_NE(blowup_reason(s, b).find("2 particles left the domain"), std::string::npos);
     s = ok;
     s.max_speed = b.max_speed * 1.01;
-    EXPECT_NE(study::blowup_reason(s, b).find("max speed"), std::string::npos);
+    EXPECT_NE(blowup_reason(s, b).find("max speed"), std::string::npos);
     s = ok;
     s.max_density_error = 0.51;
-    EXPECT_NE(study::blowup_reason(s, b).find("density error"), std::string::npos);
+    EXPECT_NE(blowup_reason(s, b).find("density error"), std::string::npos);
     s = ok;
     s.max_density_error = std::nan("");
-    EXPECT_NE(study::blowup_reason(s, b), "") << "a NaN error is a failure, not a pass of every comparison";
+    EXPECT_NE(blowup_reason(s, b), "") << "a NaN error is a failure, not a pass of every comparison";
 }
 
 }  // namespace

@@ -17,6 +17,7 @@
 #include "render/surface_renderer.h"
 #include "render/surface_views.h"
 #include "session/simulation_session.h"
+#include "sim/blowup.h"
 #include "sim/pbf_solver.h"
 
 namespace aquaform::viewer {
@@ -97,10 +98,10 @@ struct ViewWorker::Sim {
     void advance() {
         const FrameStats stats = session->run_frame(&sim_timer).stats;
         sim_ms = sim_timer.totals_ms();
-        if (stats.non_finite > 0) {
+        if (const std::string left = blowup_reason(stats, blowup_bounds(session->scene())); !left.empty()) {
             halted = true;
             ++blowups;
-            say("the simulation blew up (" + std::to_string(stats.non_finite) + " particles not finite): raise substeps or reset");
+            say("the fluid left physics (" + left + "): raise substeps or reset");
         }
     }
 
