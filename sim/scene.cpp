@@ -383,6 +383,32 @@ Result<Scene> with_particle_count(const Scene& scene, uint64_t particles, const 
         spacing *= std::cbrt(double(n) / double(particles));
     }
     out.particle_spacing = best;
+    // Every block that holds fluid must keep some: a coarser lattice can miss a small block
+    // (droplet_curtain's 60 droplets at 4000 particles) and the scene would lose it silently.
+    auto loses_a_block = [&](double spacing, size_t* which) {
+        for (size_t i = 0; i < scene.fluid_blocks.size(); ++i)
+            if (fill_count(scene.fluid_blocks[i], scene.fill_of(i), scene.particle_spacing) > 0 &&
+                fill_count(scene.fluid_blocks[i], scene.fill_of(i), float(spacing)) == 0) {
+                if (which) *which = i;
+                return true;
+            }
+        return false;
+    };
+    size_t lost = 0;
+    if (loses_a_block(out.particle_spacing, &lost)) {
+        // The coarsest spacing up to which every block keeps a particle, from the scene's own
+        // upwards (a small sphere's lattice points come and go with the spacing, so it is walked,
+        // not bisected); within 10 % of the count asked it is taken, else its count is the advice.
+        double keep = scene.particle_spacing;
+        while (keep < 64.0 * scene.particle_spacing && !loses_a_block(keep * 1.005, nullptr)) keep *= 1.005;
+        Scene kept = scene;
+        kept.particle_spacing = float(keep);
+        const uint64_t keeps = kept.particle_count();
+        if (std::abs(double(keeps) - double(particles)) <= 0.1 * double(particles)) return kept;
+        return Error{flag + " " + std::to_string(particles) + " cannot be met by " + scene.name + ": fluid_blocks[" +
+                     std::to_string(lost) + "] (and any as small) would hold no particle at that size; at least " +
+                     std::to_string(keeps) + " particles keep every block"};
+    }
     if (out.particle_count() == 0 || best_error > 0.5)
         return Error{flag + " " + std::to_string(particles) + " cannot be met by " + scene.name +
                      ": its thinnest fluid block holds no particle at that size; ask for more particles"};

@@ -2,6 +2,8 @@
 // keys they need (spheres, start velocities, cameras), --particles, and a few frames of each.
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include <cmath>
 #include <filesystem>
 
@@ -115,6 +117,36 @@ TEST(SceneShapes, ParticleCountRederivesTheSpacingWithinAFewPerCent) {
     const Scene scene = load("crown_splash.json");
     EXPECT_NE(with_particle_count(scene, 10).error().find("--particles 10 is out of range"), std::string::npos);
     EXPECT_FALSE(with_particle_count(scene, kMaxSceneParticles + 1).ok());
+}
+
+TEST(SceneShapes, ScalingKeepsEveryFluidBlockOrSaysWhatCountWould) {
+    // The droplet curtain's 60 droplets are smaller than the lattice at a few thousand particles;
+    // scaling dropped them silently and kept the slab.
+    const Scene curtain = load("droplet_curtain.json");
+    auto blocks_kept = [](const Scene& s) {
+        std::vector<glm::vec4> positions;
+        std::vector<uint32_t> block_of;
+        s.generate_particles(positions, block_of);
+        std::set<uint32_t> kept(block_of.begin(), block_of.end());
+        return kept.size();
+    };
+    ASSERT_EQ(blocks_kept(curtain), curtain.fluid_blocks.size());
+    for (uint64_t n : {64ull, 200ull, 4000ull}) {
+        auto refused = with_particle_count(curtain, n);
+        ASSERT_FALSE(refused.ok()) << n << " particles";
+        const std::string& e = refused.error();
+        const size_t at = e.find("at least ");
+        ASSERT_NE(at, std::string::npos) << e;
+        const uint64_t advice = std::stoull(e.substr(at + 9));
+        auto taken = with_particle_count(curtain, advice);
+        ASSERT_TRUE(taken.ok()) << "the advised count " << advice << ": " << taken.error();
+        EXPECT_EQ(blocks_kept(taken.value()), curtain.fluid_blocks.size()) << "at " << advice;
+    }
+    for (uint64_t n : {10000ull, 100000ull}) {
+        auto scaled = with_particle_count(curtain, n);
+        ASSERT_TRUE(scaled.ok()) << scaled.error();
+        EXPECT_EQ(blocks_kept(scaled.value()), curtain.fluid_blocks.size()) << "at " << n;
+    }
 }
 
 class SplashScenes : public testing::GpuTest {};
