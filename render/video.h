@@ -31,7 +31,10 @@ double video_fps(double frame_dt);
 /// The ffmpeg command line that makes `video` from `frames` (also printed for users to rerun).
 std::vector<std::string> video_command(const std::filesystem::path& ffmpeg, const VideoFrames& frames,
                                        const std::filesystem::path& video);
-/// Runs it; the error carries ffmpeg's own message.
+/// Whether `video` is a whole MP4: its top-level boxes tile the file and include the header, the
+/// index and the frames (a file cut by a full disk fails, naming what is missing).
+Result<bool> mp4_is_whole(const std::filesystem::path& video);
+/// Runs it and checks the file; the error carries ffmpeg's own message.
 Result<bool> encode_video(const std::filesystem::path& ffmpeg, const VideoFrames& frames, const std::filesystem::path& video);
 
 }  // namespace aquaform

@@ -2,6 +2,7 @@
 // refusals before any work (no ffmpeg, a name that is not .mp4, --no-png); `--camera`.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <string>
 
@@ -97,6 +98,33 @@ TEST(Video, PlaysAtTheScenesFrameRateRoundedWhereItIsAWholeNumber) {
     EXPECT_EQ(after("-frames:v"), "7") << "frames left from an earlier, longer run into the folder stay out";
     EXPECT_EQ(after("-c:v"), "libx264");
     EXPECT_EQ(command.back(), "v.mp4");
+}
+
+TEST(Video, OddNamesReachFfmpegAsFilesAndABrokenVideoIsNotReportedMade) {
+    // A '%' in the folder is literal, not a pattern; a name starting with '-' is not an option.
+    const auto command = video_command("/usr/bin/ffmpeg", {"runs/100%", "frame_%04d.png", 3, 60.0}, "-y.mp4");
+    EXPECT_EQ(command[std::find(command.begin(), command.end(), "-i") - command.begin() + 1], "runs/100%%/frame_%04d.png");
+    EXPECT_EQ(command.back(), "./-y.mp4");
+    EXPECT_EQ(video_command("/usr/bin/ffmpeg", {"/abs", "frame_%04d.png", 3, 60.0}, "/abs/-v.mp4").back(), "/abs/-v.mp4");
+
+    // A real video through both, then the same file cut short (a disk that filled up before
+    // ffmpeg's trailer): the whole one passes, every cut one is refused.
+    const fs::path dir = temp_dir("video_odd") / "100% -x";
+    fs::create_directories(dir);
+    write_file(dir / "tank.json", kTinyTank);
+    const fs::path was = fs::current_path();
+    fs::current_path(dir);
+    const auto o = run_aquaform("run tank.json --out 'out%d' --resolution 64x48 --video -y.mp4");
+    ASSERT_EQ(o.exit_code, 0) << o.output;
+    EXPECT_EQ(probe(dir / "-y.mp4"), "h264,64,48,3");
+    ASSERT_TRUE(mp4_is_whole(dir / "-y.mp4").ok()) << mp4_is_whole(dir / "-y.mp4").error();
+    const std::string bytes = test_cli::read_file(dir / "-y.mp4");
+    for (size_t cut : {bytes.size() - 1, bytes.size() / 2, size_t(40), size_t(4)}) {
+        const fs::path part = write_file(dir / "cut.mp4", bytes.substr(0, cut));
+        EXPECT_FALSE(mp4_is_whole(part).ok()) << "cut at " << cut << " of " << bytes.size();
+    }
+    fs::current_path(was);
+    fs::remove_all(dir.parent_path());
 }
 
 TEST(Video, CameraFlagTakesAutoOrScene) {
