@@ -90,8 +90,18 @@ bool triangulate(const std::vector<glm::vec3>& vertices, const std::vector<uint3
     const auto turn = [&](size_t a, size_t b, size_t c) {
         return sign * ((p[b].x - p[a].x) * (p[c].y - p[a].y) - (p[b].y - p[a].y) * (p[c].x - p[a].x));
     };
+    // Convex where no corner turns the other way by more than the corners' own rounding: the file's
+    // coordinates are floats, so a corner can sit up to an ulp of the largest coordinate off its
+    // line, and a polygon of 100,000 corners on a circle turns by ~1e-10 per corner, below that.
+    double largest = 0.0;
+    for (const glm::dvec2& q : p) largest = std::max({largest, std::abs(q.x), std::abs(q.y)});
+    const double rounding = 4.0 * largest * double(std::numeric_limits<float>::epsilon());
     bool convex = true;
-    for (size_t i = 0; i < n && convex; ++i) convex = turn(i, (i + 1) % n, (i + 2) % n) >= 0.0;
+    for (size_t i = 0; i < n && convex; ++i) {
+        const size_t b = (i + 1) % n, c = (i + 2) % n;
+        const double reach = glm::length(p[b] - p[i]) + glm::length(p[c] - p[b]);
+        convex = turn(i, b, c) >= -rounding * reach;
+    }
     if (convex || normal == glm::dvec3(0.0)) return fan(ring), true;
     if (n > kMaxEarClipCorners) return false;
     while (ring.size() > 3) {

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <numbers>
@@ -342,6 +343,36 @@ TEST_F(MeshTest, MeshConcavePolygonsAreEarClipped) {
     EXPECT_EQ(report.degenerate_face_count, 0u);
     EXPECT_NEAR(std::abs(report.signed_volume), 3.0, 1e-5);
     EXPECT_NEAR(report.surface_area, 2 * 3.0 + 8.0, 1e-5);
+}
+
+TEST_F(MeshTest, MeshConvexPolygonOfAHundredThousandCornersIsAFan) {
+    // A prism whose caps are regular 100,000-gons: consecutive corners are nearly collinear and
+    // float coordinates round some turns the wrong way by ~1e-9; the caps are still convex (they
+    // were refused as concave polygons too large to clip).
+    constexpr int kCorners = 100000;
+    std::string text;
+    text.reserve(size_t(kCorners) * 2 * 40);
+    char line[96];
+    for (float z : {0.0f, 1.0f})
+        for (int i = 0; i < kCorners; ++i) {
+            const double a = 2.0 * 3.14159265358979 * i / kCorners;
+            std::snprintf(line, sizeof line, "v %.9g %.9g %g\n", 10.0 * std::cos(a), 10.0 * std::sin(a), z);
+            text += line;
+        }
+    text += "f";
+    for (int i = kCorners; i >= 1; --i) text += " " + std::to_string(i);
+    text += "\nf";
+    for (int i = 1; i <= kCorners; ++i) text += " " + std::to_string(kCorners + i);
+    text += "\n";
+    for (int i = 0; i < kCorners; ++i) {
+        const int j = (i + 1) % kCorners;
+        std::snprintf(line, sizeof line, "f %d %d %d %d\n", i + 1, j + 1, j + 1 + kCorners, i + 1 + kCorners);
+        text += line;
+    }
+    const Result<LoadedMesh> loaded = load_obj(write_text("round_prism.obj", text));
+    ASSERT_TRUE(loaded.ok()) << loaded.error();
+    EXPECT_TRUE(loaded.value().report.watertight()) << describe(loaded.value().report);
+    EXPECT_NEAR(std::abs(loaded.value().report.signed_volume), 3.14159265 * 100.0, 0.01);
 }
 
 TEST_F(MeshTest, MeshWithoutVolumeIsRefused) {
