@@ -14,6 +14,7 @@
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
 #include "sim/scene.h"
+#include "study/study_shards.h"
 
 namespace aquaform::cli {
 
@@ -104,7 +105,7 @@ const char* kUsage =
     "        control pressure on a sphere and a flat torus (about 900 particles each; --particles N fills\n"
     "        them with about N at a finer spacing; --scales: the pressure multiples swept); writes\n"
     "        bench_control.json in DIR (default out/bench_control)\n"
-    "  help  show this text\n";
+    "  --version  print aquaform's version\n  help  show this text\n";
 
 /// The usage blocks of `topic` ("run", "bench render", "bench" for all benchmarks): the lines of
 /// kUsage that start with two spaces and the topic, and their indented continuations.
@@ -269,10 +270,18 @@ int run_main(int argc, char** argv) {
             std::fputs(render_flags_usage(), stdout);
             return kExitOk;
         }
+        if (command == "--version" || command == "version") {
+            std::printf("aquaform %s\n", study::aquaform_version().c_str());
+            return kExitOk;
+        }
+        // Bad input is one line (README "Exit codes"); the usage is `aquaform help`.
+        constexpr const char* kCommands =
+            "the commands are run, render, control, view, study, assets, info and bench; aquaform help shows each "
+            "with its flags";
         if (command.empty())
-            std::fprintf(stderr, "aquaform: no command given\n%s", kUsage);
+            std::fprintf(stderr, "aquaform: no command given; %s\n", kCommands);
         else
-            std::fprintf(stderr, "aquaform: unknown command \"%s\"\n%s", command.c_str(), kUsage);
+            std::fprintf(stderr, "aquaform: unknown command \"%s\"; %s\n", command.c_str(), kCommands);
         return kExitUsage;
     } catch (const Failure& e) {
         // The libraries' one exception type (core/error.h): its message names the problem and the

@@ -30,7 +30,7 @@ int cmd_info(const std::vector<std::string>& argv) {
     int chosen = gpu::Context::choose_device(devices, args->value("--device"), &error);
     if (chosen < 0) {
         std::fprintf(stderr, "aquaform: %s\n", error.c_str());
-        return kExitFailure;
+        return kExitUsage;  // a --device that names no device is bad input, as for every command
     }
     std::printf("aquaform will use device %d: %s (%s)%s\n", chosen, devices[chosen].name.c_str(),
                 gpu::device_type_name(devices[chosen].type),

@@ -96,9 +96,7 @@ std::string Registry::names() const {
 
 Result<const MethodEntry*> Registry::lookup(const std::string& name) const {
     if (const MethodEntry* e = find(name)) return e;
-    std::string list;
-    for (const MethodEntry& e : entries_) list += "\n  " + e.name + ": " + e.description;
-    return Error{"unknown render method '" + name + "'; use " + names() + ":" + list};
+    return Error{"unknown render method '" + name + "'; use " + names() + " (aquaform help describes each)"};
 }
 
 std::unique_ptr<Renderer> Registry::create(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height,

@@ -43,6 +43,15 @@ TEST(Cli, UnknownCommandAndFlagAreUsageErrors) {
     Outcome a = run_aquaform("frobnicate");
     EXPECT_EQ(a.exit_code, 2);
     EXPECT_NE(a.output.find("unknown command \"frobnicate\""), std::string::npos) << a.output;
+    EXPECT_EQ(a.output.find('\n'), a.output.size() - 1) << "bad input is one line: " << a.output;
+    Outcome method = run_aquaform("render assets/scenes/dam_break.json --method foo");
+    EXPECT_EQ(method.exit_code, 2);
+    EXPECT_EQ(method.output.find('\n'), method.output.size() - 1) << "bad input is one line: " << method.output;
+    Outcome device = run_aquaform("info --device 99");
+    EXPECT_EQ(device.exit_code, 2) << "a device that is not there is bad input, as for run: " << device.output;
+    Outcome version = run_aquaform("--version");
+    EXPECT_EQ(version.exit_code, 0);
+    EXPECT_EQ(version.output.rfind("aquaform ", 0), 0u) << version.output;
     Outcome b = run_aquaform("run assets/scenes/dam_break.json --fast");
     EXPECT_EQ(b.exit_code, 2);
     EXPECT_NE(b.output.find("unknown flag --fast"), std::string::npos) << b.output;
@@ -88,7 +97,7 @@ TEST(Cli, InfoNamesTheDeviceItWillUse) {
     EXPECT_EQ(o.exit_code, 0) << o.output;
     EXPECT_NE(o.output.find("aquaform will use device"), std::string::npos) << o.output;
     Outcome bad = run_aquaform("info --device no-such-gpu");
-    EXPECT_EQ(bad.exit_code, 1) << bad.output;
+    EXPECT_EQ(bad.exit_code, 2) << "a device that is not there is bad input: " << bad.output;
     EXPECT_NE(bad.output.find("no-such-gpu"), std::string::npos) << bad.output;
 }
 
