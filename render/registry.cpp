@@ -29,11 +29,20 @@ std::string methods_with_flag(const Registry& registry, const std::string& flag)
     return out;
 }
 
+/// The setting's range in words, with the bounds checked where the words do not give both.
+std::string range_text(const SettingSpec& s) {
+    if (s.type != SettingType::number && s.type != SettingType::integer) return s.range;
+    const std::string lo = format_number(s.min), hi = format_number(s.max);
+    if (s.range.find(lo) != std::string::npos && s.range.find(hi) != std::string::npos) return s.range;
+    return s.range + " (" + lo + " to " + hi + ")";
+}
+
 /// Checks `v` against the setting's range; the message names `name` (a flag or a spec path).
 Result<bool> in_range(const SettingSpec& s, double v, const std::string& name) {
     if (s.type != SettingType::number && s.type != SettingType::integer) return true;
     if (std::isfinite(v) && v >= s.min && v <= s.max) return true;
-    return Error{name + " = " + format_number(v) + " is out of range for render setting " + s.key + "; use " + s.range};
+    return Error{name + " = " + format_number(v) + " is out of range for render setting " + s.key + "; use " +
+                 range_text(s)};
 }
 
 Result<bool> finish(const MethodEntry& entry, const MethodSettings& settings) {
@@ -139,9 +148,10 @@ Result<MethodSettings> Registry::from_flags(const std::string& method, const std
                 const std::optional<uint64_t> whole = number_text::whole_number(text);
                 parsed = whole ? std::optional<double>(double(*whole)) : std::nullopt;
             }
-            if (!parsed || !in_range(*s, *parsed, flag))
+            if (!parsed)
                 return Error{flag + " must be " + (number ? "a number" : "a whole number") + " (render setting " + s->key +
-                             ": " + s->range + "), got \"" + text + "\""};
+                             ": " + range_text(*s) + "), got \"" + text + "\""};
+            if (auto ok = in_range(*s, *parsed, flag); !ok) return Error{ok.error()};
             v = *parsed;
         }
         s->set(settings, v);

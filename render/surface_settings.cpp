@@ -43,7 +43,7 @@ Result<SurfaceMethod> parse_method(const std::string& text) {
 Result<bool> validate(const SurfaceSettings& s) {
     if (!(s.radius_spacings == 0.0f || (s.radius_spacings >= 1.0f && s.radius_spacings <= 4.0f)))
         return out_of_range("radius_spacings", s.radius_spacings, "0 (the solver's h) or 1..4 spacings");
-    if (!(s.lone_radius > 0.05f && s.lone_radius < 3.9f))
+    if (!(s.lone_radius >= 0.05f && s.lone_radius <= 3.9f))  // the range the help gives, both ends in
         return out_of_range("lone_radius", s.lone_radius, "0.05..3.9 particle radii (below the kernel support)");
     if (!(s.step_radii >= 0.01f && s.step_radii <= 4.0f))
         return out_of_range("step", s.step_radii, "0.01..4 particle radii");
@@ -64,8 +64,8 @@ Result<bool> validate(const SurfaceSettings& s) {
     if (s.surface == SurfaceKernel::anisotropic && !s.tight_mask)
         return Error{"render setting tight_mask = 0 (--wu-mask) needs the isotropic surface: Wu et al.'s count bound "
                      "assumes every kernel peaks at W(0); add --surface isotropic, or drop --wu-mask"};
-    if (!(s.reference_step_radii > 0.0f && s.reference_step_radii <= s.step_radii))
-        return out_of_range("reference_step", s.reference_step_radii, "(0, step]");
+    if (!(s.reference_step_radii > 0.0f))
+        return out_of_range("reference_step", s.reference_step_radii, "a step above 0 particle radii");
     return true;
 }
 
@@ -123,7 +123,9 @@ shader::SurfaceParams make_field_params(const SurfaceSettings& s, const Particle
 
     const bool reference = s.method == SurfaceMethod::reference;
     const bool adaptive = s.method == SurfaceMethod::adaptive;
-    p.step = (reference ? s.reference_step_radii : s.step_radii) * particle_radius;
+    // The reference never steps coarser than the method it measures (--step 0.01 is finer than
+    // its own 1/16 radius, and was refused through this setting, which no flag sets).
+    p.step = (reference ? std::min(s.reference_step_radii, s.step_radii) : s.step_radii) * particle_radius;
     // The reference marches from the grid's bounds, so it may need many more evaluations.
     p.max_steps = reference ? 1000000u : s.max_steps;
     p.max_skip_evals = s.max_skip_evals;

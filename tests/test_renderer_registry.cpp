@@ -3,6 +3,9 @@
 // refused with messages naming them; the help text lists every method.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <set>
+
 #include <cmath>
 #include <string>
 #include <vector>
@@ -119,6 +122,39 @@ TEST(RendererRegistry, UnknownNamesAndBadSettingsAreRefusedWithMessages) {
     auto json_ok = reg.from_json("curvature_flow", nlohmann::json{{"iterations", 40}}, "m");
     ASSERT_TRUE(json_ok.ok()) << json_ok.error();
     EXPECT_EQ(json_ok.value().as<ScreenSpaceSettings>().flow_iterations, 40u);
+}
+
+TEST(RendererRegistry, BothEndsOfEveryFlagsRangeAreAccepted) {
+    // The help gives each flag's range; a value at either end is taken, or refused only where the
+    // range says that end is open, or by a rule across flags the user sets (--eps2 above --eps1),
+    // never through a setting no flag sets
+    // (--step 0.01 was refused through the reference's own step; --lone-radius 3.9 by an
+    // exclusive bound).
+    int checked = 0;
+    for (const MethodEntry& e : render_registry().entries()) {
+        std::set<std::string> flagged;
+        for (const SettingSpec& s : e.settings)
+            if (!s.flag.empty()) flagged.insert(s.key);
+        for (const SettingSpec& s : e.settings) {
+            if (s.flag.empty() || (s.type != SettingType::number && s.type != SettingType::integer)) continue;
+            for (double end : {s.min, s.max}) {
+                char text[64];
+                std::snprintf(text, sizeof text, s.type == SettingType::integer ? "%.0f" : "%.9g", end);
+                auto made = render_registry().from_flags(e.name, {{s.flag, text}});
+                ++checked;
+                if (made.ok()) continue;
+                bool across = false;
+                for (const std::string& other : flagged) across = across || (other != s.key && made.error().find(other) != std::string::npos);
+                // An end the range says is open ("0 < a", "(0, 16]", "iso < 1") may be refused.
+                const std::string& m = made.error();
+                const std::string t = text;
+                const bool open = m.find("(" + t + ",") != std::string::npos || m.find(t + " <") != std::string::npos ||
+                                  m.find("< " + t) != std::string::npos;
+                EXPECT_TRUE(across || open) << e.name << " " << s.flag << " " << text << ": " << made.error();
+            }
+        }
+    }
+    EXPECT_GT(checked, 40);
 }
 
 TEST(RendererRegistry, HelpListsEveryMethodAndFlag) {
