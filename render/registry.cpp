@@ -151,7 +151,9 @@ Result<MethodSettings> Registry::from_flags(const std::string& method, const std
             if (!parsed)
                 return Error{flag + " must be " + (number ? "a number" : "a whole number") + " (render setting " + s->key +
                              ": " + range_text(*s) + "), got \"" + text + "\""};
-            if (auto ok = in_range(*s, *parsed, flag); !ok) return Error{ok.error()};
+            if (!in_range(*s, *parsed, flag))  // said with the value as typed, every digit kept
+                return Error{flag + " = " + text + " is out of range for render setting " + s->key + "; use " +
+                             range_text(*s)};
             v = *parsed;
         }
         s->set(settings, v);
