@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
+#include "core/output_dir.h"
 #include "sim/scene.h"
 #include "gpu/context.h"
 #include "study/bench_sim.h"
@@ -71,6 +72,9 @@ int cmd_bench(const std::vector<std::string>& argv) {
     auto warmup = parse_positive("--warmup", args->value("--warmup", "20"), &error, kMaxRepeats);
     if (sizes.empty() || !iterations || !steps || !repeats || !warmup) return std::fprintf(stderr, "aquaform bench: %s\n", error.c_str()), kExitUsage;
     const std::string out_path = args->value("--out", "bench_sim.json");
+    // Fail before minutes of work when the output cannot go where asked.
+    if (auto ready = prepare_output_file(out_path); !ready)
+        return std::fprintf(stderr, "aquaform bench sim: %s\n", ready.error().c_str()), kExitUsage;
 
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});
     std::printf("bench sim on %s (%s), %ld iterations; best of %ld runs of %ld steps, after %ld warm-up steps\n",

@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "study/bench_frames.h"
+#include "core/output_dir.h"
 #include "core/interrupt.h"
 #include "apps/cli.h"
 #include "study/bench_render.h"
@@ -299,11 +300,8 @@ int bench_render(const Args& args) {
         return usage("--mask-sweep measures Wu et al.'s count mask, which holds for the isotropic surface only; add "
                      "--surface isotropic (or --compare-surfaces, which sweeps the isotropic frames)");
     const std::filesystem::path out_path = args.value("--out", "bench_render.json");
-    {
-        // Fail before minutes of work when the output cannot go where asked.
-        if (!prepare_output("bench render", out_path.parent_path().empty() ? "." : out_path.parent_path()))
-            return kExitUsage;
-    }
+    // Fail before minutes of work when the output cannot go where asked.
+    if (auto ready = prepare_output_file(out_path); !ready) return usage(ready.error());
 
     // Every scene is loaded before any work, so a bad one is reported at once.
     const std::filesystem::path scene_dir = args.has("--scene-dir") ? std::filesystem::path(args.value("--scene-dir")) : study::default_scene_dir();

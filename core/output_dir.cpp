@@ -61,4 +61,18 @@ Result<bool> prepare_output_dir(const fs::path& dir, const std::string& flag) {
     return try_writing(dir, flag);
 }
 
+Result<bool> prepare_output_file(const fs::path& file, const std::string& flag) {
+    if (file.empty() || !file.has_filename() || file.filename() == "." || file.filename() == "..")
+        return Error{flag + " " + file.string() + ": give a file name, e.g. " + flag + " out/results.json"};
+    std::error_code ec;
+    if (fs::is_directory(file, ec))
+        return Error{flag + " " + file.string() + " is a folder; give a file name in it, e.g. " + flag + " " +
+                     (file / "results.json").string()};
+    const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
+    if (auto ready = prepare_output_dir(dir, flag); !ready) return ready;
+    if (fs::exists(file, ec) && access(file.c_str(), W_OK) != 0)
+        return Error{"cannot write " + file.string() + ": " + why_not_writable(file, errno, flag)};
+    return true;
+}
+
 }  // namespace aquaform

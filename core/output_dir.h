@@ -14,6 +14,10 @@ namespace aquaform {
 /// error names the path at fault and says what to do; `flag` is the option that chose `dir`.
 Result<bool> prepare_output_dir(const std::filesystem::path& dir, const std::string& flag = "--out");
 
+/// Checks, before any work, that `file` can be written: a name that is not a folder, in a folder
+/// prepare_output_dir accepts, and writable where it exists already.
+Result<bool> prepare_output_file(const std::filesystem::path& file, const std::string& flag = "--out");
+
 /// Why `errno_value` stopped a write in the folder `where` (no permission, a read-only file
 /// system, a full disk), with the fix; `flag` is the option that chose the folder.
 std::string why_not_writable(const std::filesystem::path& where, int errno_value, const std::string& flag = "--out");

@@ -244,6 +244,9 @@ TEST(Cli, BadInputExitsTwoWhateverLayerFindsIt) {
                           Case{"run " + scene + " --frames 1 --out " + file.string(), "is a file"},
                           Case{"render " + scene + " --out " + (file / "sub").string(), file.string()},
                           Case{"bench render --quick --out " + (file / "b.json").string(), "is a file"},
+                          // A folder where the results file goes: measured everything, then failed.
+                          Case{"bench render --quick --out " + dir.string(), "is a folder; give a file name in it"},
+                          Case{"bench sim --sizes 1000 --out " + dir.string(), "is a folder; give a file name in it"},
                           Case{"assets --out " + file.string(), "is a file"},
                           Case{"run " + scene + " --frames 1 --validation --out " + (dir / "o").string(),
                                "GPU-assisted validation is switched on",
