@@ -78,9 +78,11 @@ std::optional<std::vector<double>> parse_scales(const std::string& text, std::st
     if (!items) return std::nullopt;
     for (const std::string& item : *items) {
         const double v = number_text::finite_number(item).value_or(0.0);
-        if (v <= 0.0 || v > 1000.0) {
-            *error = "--scales takes pressure multiples of the automatic strength, like 0.5,1,2 (each above 0 and at "
-                     "most 1000), got \"" + item + "\" in \"" + text + "\"";
+        // Below a thousandth the pressure is no control at all (1e-300 rounded the scene's
+        // control.pressure to 0 mid-sweep, a key the user never wrote).
+        if (!(v >= 0.001 && v <= 1000.0)) {
+            *error = "--scales takes pressure multiples of the automatic strength, like 0.5,1,2 (each from 0.001 to "
+                     "1000), got \"" + item + "\" in \"" + text + "\"";
             return std::nullopt;
         }
         scales.push_back(v);
