@@ -6,6 +6,8 @@
 // and points to `aquaform run`. The script format is checked on its own.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -242,6 +244,24 @@ TEST(ViewScriptTest, ActionsAreCheckedAndSortedByFrame) {
     ASSERT_FALSE(missing.ok());
     EXPECT_NE(missing.error().find("file"), std::string::npos) << missing.error();
     EXPECT_FALSE(viewer::load_view_script("/nonexistent.json").ok());
+
+    // Methods, views, screenshot names and meshes are checked when the script is loaded (they
+    // were checked when their frame was reached, after the work before it).
+    for (const auto& [text, says] : std::vector<std::pair<std::string, std::string>>{
+             {R"({"actions": [{"frame": 90, "do": "method", "value": "octree"}]})", "actions[0].value is \"octree\""},
+             {R"({"actions": [{"frame": 90, "do": "view", "value": "normals"}]})", "actions[0].value is \"normals\""},
+             {R"({"actions": [{"frame": 90, "do": "screenshot", "file": "shot.jpg"}]})", "ending in .png"}}) {
+        auto refused = viewer::parse_view_script(text, "s.json");
+        ASSERT_FALSE(refused.ok()) << text;
+        EXPECT_NE(refused.error().find(says), std::string::npos) << refused.error();
+    }
+    const fs::path dir = fs::temp_directory_path() / ("view_script_" + std::to_string(getpid()));
+    fs::create_directories(dir);
+    std::ofstream(dir / "s.json") << R"({"actions": [{"frame": 90, "do": "attach", "file": "no_such.obj"}]})";
+    auto no_mesh = viewer::load_view_script(dir / "s.json");
+    ASSERT_FALSE(no_mesh.ok());
+    EXPECT_NE(no_mesh.error().find("no_such.obj"), std::string::npos) << no_mesh.error();
+    fs::remove_all(dir);
 }
 
 TEST(ViewShapesTest, SectionsAttachUnionAndMorph) {

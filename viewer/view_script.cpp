@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "render/registry.h"
+#include "viewer/view_worker.h"
 #include "core/json_fields.h"
 
 namespace aquaform::viewer {
@@ -62,6 +63,20 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
                 uint32_t w = 0, h = 0;
                 if (action.what == "resize" && !parse_resolution(action.value, &w, &h))
                     fail(child(where, key) + " must be a window size such as \"640x480\", got \"" + action.value + "\"");
+                // Checked here, when the script is loaded, not when its frame is reached.
+                const auto& methods = view_methods();
+                if (action.what == "method" && std::find(methods.begin(), methods.end(), action.value) == methods.end()) {
+                    std::string names;
+                    for (const std::string& m : methods) names += (names.empty() ? "" : ", ") + m;
+                    fail(child(where, key) + " is \"" + action.value + "\"; use one of the viewer's methods: " + names);
+                }
+                if (action.what == "view" &&
+                    std::find(std::begin(kDebugViewNames), std::end(kDebugViewNames), action.value) == std::end(kDebugViewNames))
+                    fail(child(where, key) + " is \"" + action.value +
+                         "\"; use image, steps, classification, tiles, depth_all or depth_agg");
+                const std::filesystem::path file(action.value);
+                if (action.what == "screenshot" && (file.extension() != ".png" || !file.has_stem()))
+                    fail(child(where, key) + " is \"" + action.value + "\"; a screenshot is a PNG: give a name ending in .png");
             }
             actions.push_back(action);
         }
@@ -83,10 +98,18 @@ Result<std::vector<ViewAction>> load_view_script(const std::filesystem::path& pa
     }
     auto actions = parse_view_script(text, path.string());
     if (!actions) return actions;
-    // Meshes to attach are named relative to the script (screenshots go to the output directory).
-    for (ViewAction& a : actions.value())
-        if ((a.what == "attach" || a.what == "union" || a.what == "morph") && std::filesystem::path(a.value).is_relative())
+    // Meshes to attach are named relative to the script (screenshots go to the output directory),
+    // and must be there when the script is loaded.
+    for (size_t i = 0; i < actions.value().size(); ++i) {
+        ViewAction& a = actions.value()[i];
+        if (a.what != "attach" && a.what != "union" && a.what != "morph") continue;
+        if (std::filesystem::path(a.value).is_relative())
             a.value = (path.parent_path() / a.value).lexically_normal().string();
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(a.value, ec))
+            return Error{path.string() + ": the " + a.what + " at frame " + std::to_string(a.frame) + " names " + a.value +
+                         ", which is not a file; give an OBJ mesh's path (relative to the script)"};
+    }
     return actions;
 }
 
