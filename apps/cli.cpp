@@ -233,7 +233,8 @@ bool scale_to_particles_flag(const Args& args, Scene& scene, std::string* error)
 }
 
 bool prepare_output(const std::string& command, const std::filesystem::path& dir, const std::string& flag) {
-    const Result<bool> ready = prepare_output_dir(dir, flag);
+    Result<bool> ready = prepare_output_dir(dir, flag);
+    if (ready) ready = hold_output_dir(dir, command);
     if (!ready) std::fprintf(stderr, "aquaform %s: %s\n", command.c_str(), ready.error().c_str());
     return ready.ok();
 }

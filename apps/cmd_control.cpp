@@ -154,8 +154,7 @@ int cmd_control(const std::vector<std::string>& argv) {
         return std::fprintf(stderr, "aquaform control: '%s': %s\n", args->positional[1].c_str(), refusal->c_str()),
                kExitUsage;
     const std::filesystem::path out_dir = args->value("--out", "out/control_" + std::filesystem::path(args->positional[1]).stem().string());
-    if (auto prepared = prepare_output_dir(out_dir); !prepared)
-        return std::fprintf(stderr, "aquaform control: %s\n", prepared.error().c_str()), kExitUsage;
+    if (!prepare_output("control place", out_dir)) return kExitUsage;
     std::error_code ec;
 
     // points.ply takes 36 bytes a point (position, velocity, density, id, tag).

@@ -69,8 +69,10 @@ int cmd_study_merge(const std::vector<std::string>& argv) {
     auto spec = study::load_shard_spec(shards.value().front(), args->value("--spec"));
     if (!spec) return std::fprintf(stderr, "aquaform study merge: %s\n", spec.error().c_str()), kExitUsage;
     const std::filesystem::path out_dir = args->value("--out");
-    if (auto ready = prepare_output_dir(out_dir); !ready)
-        return std::fprintf(stderr, "aquaform study merge: %s\n", ready.error().c_str()), kExitUsage;
+    if (!prepare_output("study merge", out_dir)) return kExitUsage;
+    if (std::error_code ec; std::filesystem::exists(out_dir / "study.csv", ec))
+        std::printf("study merge: %s holds a study already; its study.csv, study_passes.csv, solver_map.csv and "
+                    "study.md are replaced by the merge\n", out_dir.string().c_str());
     auto merged = study::merge_shards(spec.value(), shards.value(), out_dir);
     if (!merged) return std::fprintf(stderr, "aquaform study merge: %s\n", merged.error().c_str()), kExitUsage;
     std::printf("merged %zu shards of %s into %s\n", shards.value().size(), spec.value().name.c_str(), out_dir.string().c_str());
@@ -127,8 +129,7 @@ int cmd_study(const std::vector<std::string>& argv) {
         shard = parsed.value();
     }
     const std::filesystem::path out_dir = args->value("--out", "out/study/" + spec.value().name);
-    if (auto ready = prepare_output_dir(out_dir); !ready)
-        return std::fprintf(stderr, "aquaform study: %s\n", ready.error().c_str()), kExitUsage;
+    if (!prepare_output("study", out_dir)) return kExitUsage;
     if (auto free = check_shard_folder(out_dir, shard, args->has("--fresh")); !free)
         return std::fprintf(stderr, "aquaform study: %s\n", free.error().c_str()), kExitUsage;
     auto opened = study::StudyFiles::open(out_dir, spec.value(), args->has("--fresh"));

@@ -1,10 +1,13 @@
 #include "core/output_dir.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
+#include <set>
+#include <string>
 
 namespace aquaform {
 
@@ -72,6 +75,31 @@ Result<bool> prepare_output_file(const fs::path& file, const std::string& flag) 
     if (auto ready = prepare_output_dir(dir, flag); !ready) return ready;
     if (fs::exists(file, ec) && access(file.c_str(), W_OK) != 0)
         return Error{"cannot write " + file.string() + ": " + why_not_writable(file, errno, flag)};
+    return true;
+}
+
+Result<bool> hold_output_dir(const fs::path& dir, const std::string& what) {
+    static std::set<std::string> held;  // the folders this process holds; their descriptors stay open
+    std::error_code ec;
+    const std::string key = fs::weakly_canonical(dir, ec).string();
+    if (held.count(key)) return true;
+    const fs::path path = dir / kOutputLockName;
+    const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd < 0) return Error{"cannot write " + path.string() + ": " + why_not_writable(dir, errno)};
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        char text[512] = {};
+        const ssize_t n = pread(fd, text, sizeof text - 1, 0);
+        close(fd);
+        std::string holder = n > 0 ? std::string(text, size_t(n)) : std::string("another process");
+        while (!holder.empty() && (holder.back() == '\n' || holder.back() == ' ')) holder.pop_back();
+        return Error{dir.string() + " is being written by another aquaform (" + holder +
+                     "); wait for it to finish, or give this one another --out"};
+    }
+    const std::string mine = "pid " + std::to_string(getpid()) + ": aquaform " + what + "\n";
+    if (ftruncate(fd, 0) != 0 || pwrite(fd, mine.data(), mine.size(), 0) != ssize_t(mine.size())) {
+        // The lock holds without its note; the note only names the holder.
+    }
+    held.insert(key);
     return true;
 }
 

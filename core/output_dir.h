@@ -14,6 +14,14 @@ namespace aquaform {
 /// error names the path at fault and says what to do; `flag` is the option that chose `dir`.
 Result<bool> prepare_output_dir(const std::filesystem::path& dir, const std::string& flag = "--out");
 
+/// Holds `dir` for this process until it ends (an advisory lock on DIR/.aquaform.lock, released
+/// by the system however the process ends): a second aquaform writing into the same folder at
+/// the same time is refused, naming the one that holds it, instead of both exiting 0 over a
+/// mixed or torn folder. `what` (e.g. "run dam_break.json") is what the refusal names. Holding
+/// a folder this process holds already is a no-op.
+Result<bool> hold_output_dir(const std::filesystem::path& dir, const std::string& what);
+inline constexpr const char* kOutputLockName = ".aquaform.lock";
+
 /// Checks, before any work, that `file` can be written: a name that is not a folder, in a folder
 /// prepare_output_dir accepts, and writable where it exists already.
 Result<bool> prepare_output_file(const std::filesystem::path& file, const std::string& flag = "--out");

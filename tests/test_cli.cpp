@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <chrono>
+#include <thread>
 #include <sys/wait.h>
 
 #include <nlohmann/json.hpp>
@@ -317,6 +319,38 @@ TEST(Cli, ARunWhoseFluidLeavesPhysicsSaysWhereAndExitsOne) {
         EXPECT_NE(o.output.find(says), std::string::npos) << says << " in: " << o.output;
     EXPECT_TRUE(fs::exists(dir / "out" / "frame_0000.png"));
     EXPECT_NE(read_file(dir / "out" / "stats.csv").find("\n0,"), std::string::npos) << "frame 0's row is written";
+    fs::remove_all(dir);
+}
+
+TEST(Cli, TwoWritersIntoOneFolderAreRefusedNotMixed) {
+    // Two runs into one --out at once both exited 0 over a mixed stats.csv. The folder belongs to
+    // the first while it writes; the second is refused at once naming it, and the first finishes
+    // whole. A folder written before (the first run ended) is taken again.
+    fs::path dir = temp_dir("two_writers");
+    std::string text = kTinyDamBreak;
+    text.replace(text.find("\"frames\": 3"), 11, "\"frames\": 240");
+    const fs::path scene = write_file(dir / "tank.json", text), out = dir / "out";
+    Outcome first;
+    std::thread writer([&] { first = run_aquaform("run " + scene.string() + " --out " + out.string() + " --resolution 32x32"); });
+    for (int k = 0; k < 600 && read_file(out / ".aquaform.lock").find("pid") == std::string::npos; ++k)
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    const Outcome second = run_aquaform("run " + scene.string() + " --out " + out.string() + " --resolution 32x32");
+    writer.join();
+    EXPECT_EQ(second.exit_code, 2) << second.output;
+    EXPECT_NE(second.output.find("is being written by another aquaform (pid"), std::string::npos) << second.output;
+    EXPECT_NE(second.output.find("run"), std::string::npos) << "names what holds it: " << second.output;
+    EXPECT_EQ(first.exit_code, 0) << first.output;
+    std::istringstream stats(read_file(out / "stats.csv"));
+    int rows = -1;
+    for (std::string line; std::getline(stats, line);) ++rows;
+    EXPECT_EQ(rows, 240) << "the first run's rows alone";
+    write_file(out / "notes.txt", "mine");
+    const Outcome again = run_aquaform("run " + scene.string() + " --frames 2 --out " + out.string() + " --resolution 32x32");
+    EXPECT_EQ(again.exit_code, 0) << "a folder whose writer ended is free: " << again.output;
+    EXPECT_NE(again.output.find("held an earlier run"), std::string::npos) << again.output;
+    EXPECT_FALSE(fs::exists(out / "frame_0100.png")) << "the earlier run's frames do not pass for this one's";
+    EXPECT_TRUE(fs::exists(out / "frame_0001.png"));
+    EXPECT_EQ(read_file(out / "notes.txt"), "mine") << "files that are not a run's stay";
     fs::remove_all(dir);
 }
 
