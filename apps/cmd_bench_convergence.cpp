@@ -67,9 +67,11 @@ int bench_convergence(const Args& args) {
     const bool quick = args.has("--quick");
     const std::vector<uint32_t> divisions = quick ? std::vector<uint32_t>{6, 10} : std::vector<uint32_t>{15, 30, 60};
     auto depth = parse_positive("--depth-layers", args.value("--depth-layers", "6"), &error, kMaxRepeats);
-    auto violent_particles =
-        parse_positive("--particles", args.value("--particles", quick ? "2000" : "20000"), &error, long(kMaxSceneParticles));
-    if (!depth || !violent_particles) return std::fprintf(stderr, "aquaform bench convergence: %s\n", error.c_str()), kExitUsage;
+    if (!depth) return std::fprintf(stderr, "aquaform bench convergence: %s\n", error.c_str()), kExitUsage;
+    // The scene's count rule (64 to 16777215), as for every command that takes --particles.
+    const std::optional<uint64_t> violent_particles =
+        args.has("--particles") ? particles_flag(args, &error) : std::optional<uint64_t>(quick ? 2000 : 20000);
+    if (!violent_particles) return std::fprintf(stderr, "aquaform bench convergence: %s\n", error.c_str()), kExitUsage;
     const double violent_seconds = quick ? 0.75 : 2.0;
     const double T_end = quick ? kQuickTEnd : kTEnd, T_max = quick ? kQuickTMax : kTMax;
 

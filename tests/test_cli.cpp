@@ -176,6 +176,7 @@ TEST(Cli, RenderSettingsFrameNumbersAndListsAreStrict) {
                           Case{"bench control --scales 1,,2", "--scales has an empty item"},
                           Case{"bench control --scales nan", "--scales takes pressure multiples"},
                           Case{"bench control --scales 1e-300", "each from 0.001 to 1000"},
+                          Case{"bench convergence --particles 10", "--particles must be a particle count from 64"},
                           Case{"view SCENE --scale 0x0.8", "--scale is the picture's size"},
                           Case{"render SCENE --resolution 640x480junk", "--resolution must look like"},
                           Case{"run SCENE --resolution 4294967312x64", "--resolution must look like"},
