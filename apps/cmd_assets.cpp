@@ -12,6 +12,7 @@
 #include "apps/cli.h"
 #include "control/mesh.h"
 #include "control/primitives.h"
+#include "core/output_dir.h"
 
 namespace aquaform::cli {
 
@@ -83,7 +84,10 @@ int cmd_assets(const std::vector<std::string>& argv) {
                             args->positional[0].c_str()),
                kExitUsage;
     const fs::path out_dir = args->value("--out", "assets/meshes");
-    if (!prepare_output("assets", out_dir)) return kExitUsage;
+    // No folder lock here: the generator writes the same bytes every time (two at once write the
+    // same files), and its folder is the repository's assets/meshes, which holds these alone.
+    if (auto ready = prepare_output_dir(out_dir); !ready)
+        return std::fprintf(stderr, "aquaform assets: %s\n", ready.error().c_str()), kExitUsage;
 
     struct Named {
         std::string file;
