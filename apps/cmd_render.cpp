@@ -115,13 +115,14 @@ int cmd_render(const std::vector<std::string>& argv) {
     session::SimulationSession sim(ctx, std::move(plan.value()), {.measure_shapes = false, .frame_grid = true});
     PbfSolver& solver = sim.solver();
     if (summary) print_control_summary(*summary, "render");
+    // The renderer first: a picture too large for the device is refused before the simulation.
+    auto made = render_registry().create(ctx, scene.particle_domain(), width, height, solver.particle_count(), *method);
     std::printf("%s: %u particles on %s; rendering frame %u at %ux%u with the %s method\n", scene.name.c_str(),
                 solver.particle_count(), ctx.info().name.c_str(), frame, width, height, method->method().c_str());
     if (!study::simulate_frames(sim, frame, "simulating to frame " + std::to_string(frame)))
         return exit_status(ctx, kExitFailure);
 
     const ViewCamera camera = scene_camera(scene, float(width) / float(height));
-    auto made = render_registry().create(ctx, scene.particle_domain(), width, height, solver.particle_count(), *method);
     made->share_grid(sim.frame_grid());
     if (!settings)
         return exit_status(ctx, render_other_family(ctx, *made, solver, camera, *args, frame, out_dir));

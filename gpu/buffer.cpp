@@ -14,12 +14,13 @@ namespace aquaform::gpu {
 Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size, MemoryUse use) {
     if (size == 0) size = 4;  // Vulkan forbids empty buffers; an empty array still binds
     if (size > ctx.info().max_storage_buffer_bytes)
-        throw VulkanError(VK_ERROR_OUT_OF_DEVICE_MEMORY,
-                          "buffer '" + name + "' needs " + std::to_string(size) +
-                              " bytes but " + ctx.info().name + " binds at most " +
-                              std::to_string(ctx.info().max_storage_buffer_bytes) +
-                              " bytes per storage buffer; make what it holds smaller (fewer particles "
-                              "through a larger particle_spacing, a smaller domain or image)");
+        // A request this device cannot bind, whatever memory is free: bad input (exit 2), like
+        // every request too large for the device.
+        throw Failure("buffer '" + name + "' needs " + std::to_string(size) + " bytes but " + ctx.info().name +
+                          " binds at most " + std::to_string(ctx.info().max_storage_buffer_bytes) +
+                          " bytes per storage buffer; make what it holds smaller (fewer particles through a larger "
+                          "particle_spacing, a smaller domain or image)",
+                      Failure::Kind::input);
     Buffer b;
     b.name = name;
     b.size = size;

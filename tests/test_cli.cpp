@@ -248,6 +248,9 @@ TEST(Cli, BadInputExitsTwoWhateverLayerFindsIt) {
                           Case{"run " + scene + " --frames 1 --out " + file.string(), "is a file"},
                           Case{"render " + scene + " --out " + (file / "sub").string(), file.string()},
                           Case{"bench render --quick --out " + (file / "b.json").string(), "is a file"},
+                          // A picture the device cannot bind: refused before the simulation, not after.
+                          Case{"render " + scene + " --frame 300 --resolution 8192x8192 --method reference --particles 1000 "
+                               "--out " + (dir / "big").string(), "binds at most"},
                           // A folder where the results file goes: measured everything, then failed.
                           Case{"bench render --quick --out " + dir.string(), "is a folder; give a file name in it"},
                           Case{"bench sim --sizes 1000 --out " + dir.string(), "is a folder; give a file name in it"},
