@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
+#include "core/format_text.h"
 #include "core/number_text.h"
 #include "gpu/context.h"
 #include "study/bench_control.h"
@@ -29,13 +30,6 @@ constexpr uint32_t kRasterTargetPoints = 100000;
 constexpr double kForceShareTarget = 0.25;        // control force time / rest of the step
 constexpr double kIouTarget = 0.85;               // at the automatic strength, after the fixed time
 constexpr int kRepeats = study::kBenchRepeats;     // best of, for every timing
-
-template <typename... T>
-std::string fmt(const char* format, T... values) {
-    char buf[768];
-    std::snprintf(buf, sizeof buf, format, values...);
-    return buf;
-}
 
 void progress(const std::string& line) {
     std::fprintf(stderr, "bench control: %s\n", line.c_str());
@@ -64,8 +58,8 @@ Verdict verdict(const std::string& name, const std::string& target, std::optiona
 
 void print_sweep_row(const study::SweepRow& r) {
     std::printf("%-7s %6g %9.0f %7s %7s %8s %9.3f %8.3f %9.4f %7s", r.shape.c_str(), r.scale, double(r.pressure),
-                r.finite ? fmt("%.3f", r.m.iou).c_str() : "-", r.finite ? fmt("%.3f", r.m.fill_fraction).c_str() : "-",
-                r.finite ? fmt("%.3f", r.m.outside_fraction).c_str() : "-", r.rms_speed, r.cfl_speed,
+                r.finite ? format_text("%.3f", r.m.iou).c_str() : "-", r.finite ? format_text("%.3f", r.m.fill_fraction).c_str() : "-",
+                r.finite ? format_text("%.3f", r.m.outside_fraction).c_str() : "-", r.rms_speed, r.cfl_speed,
                 r.max_density_error, r.stable ? "yes" : "NO");
     if (r.iou_later) std::printf("   IoU %.3f after %.2g s", *r.iou_later, r.later_seconds);
     std::printf("\n");
@@ -171,15 +165,15 @@ int bench_control(const Args& args) {
     const study::ShapeScene torus = study::torus_scene(spacing);
     std::vector<std::pair<const study::ShapeScene*, std::vector<study::SweepRow>>> sweeps = {{&sphere, {}}, {&torus, {}}};
     for (auto& [shape, rows] : sweeps) {
-        progress(fmt("%s: %s; %llu particles (%.5f m^3 of fluid for %.5f m^3 of shape), %zu control points; %s",
+        progress(format_text("%s: %s; %llu particles (%.5f m^3 of fluid for %.5f m^3 of shape), %zu control points; %s",
                      shape->name.c_str(), shape->layout.c_str(), (unsigned long long)shape->scene.particle_count(),
                      shape->fluid_volume, shape->shape_volume, shape->points.size(), shape->strength.describe().c_str()));
         for (double scale : scales) {
-            progress(fmt("%s: pressure x%g = %.0f Pa for %.2g s", shape->name.c_str(), scale,
+            progress(format_text("%s: pressure x%g = %.0f Pa for %.2g s", shape->name.c_str(), scale,
                          double(shape->strength.pressure * scale), seconds));
             rows.push_back(study::sweep_one(ctx, *shape, scale, seconds, scale == 1.0 ? later_seconds : 0.0));
             const study::SweepRow& r = rows.back();
-            progress(fmt("  IoU %.3f, rms speed %.3f m/s, max density error %.3f: %s (%.1f s)", r.m.iou, r.rms_speed,
+            progress(format_text("  IoU %.3f, rms speed %.3f m/s, max density error %.3f: %s (%.1f s)", r.m.iou, r.rms_speed,
                          r.max_density_error, r.stable ? "stable" : "NOT stable", r.wall_s));
             records.push_back(study::to_json(r, *shape));
         }
@@ -191,8 +185,8 @@ int bench_control(const Args& args) {
                 "note");
     for (const study::PlacementRow& r : placement)
         std::printf("%-9s %8u %9.5f %9zu %10s %10s %10s  %s\n", r.method.c_str(), r.target, double(r.spacing), r.triangles,
-                    r.points ? std::to_string(*r.points).c_str() : "-", r.ms ? fmt("%.2f", *r.ms).c_str() : "-",
-                    r.gpu_ms ? fmt("%.2f", *r.gpu_ms).c_str() : "-",
+                    r.points ? std::to_string(*r.points).c_str() : "-", r.ms ? format_text("%.2f", *r.ms).c_str() : "-",
+                    r.gpu_ms ? format_text("%.2f", *r.gpu_ms).c_str() : "-",
                     r.method == "raster" ? "" : r.note.c_str());
 
     std::printf("\ncontrol force cost (sphere fill, %u particles, %u control points; %u runs of %u steps each side, "
@@ -220,7 +214,7 @@ int bench_control(const Args& args) {
     std::vector<Verdict> verdicts;
     {
         const std::string name = "raster placement speed";
-        const std::string target = fmt("raster places %uk points in <= %.0f ms on the software device",
+        const std::string target = format_text("raster places %uk points in <= %.0f ms on the software device",
                                        kRasterTargetPoints / 1000, kRasterMsTarget);
         const study::PlacementRow* raster = nullptr;
         for (const study::PlacementRow& r : placement)
@@ -229,13 +223,13 @@ int bench_control(const Args& args) {
             verdicts.push_back(verdict(name, target, std::nullopt, "needs the 100k placement (run without --quick)"));
         else
             verdicts.push_back(verdict(name, target, *raster->ms <= kRasterMsTarget,
-                                       fmt("%u points in %.2f ms (GPU %.2f ms)", *raster->points, *raster->ms, *raster->gpu_ms),
+                                       format_text("%u points in %.2f ms (GPU %.2f ms)", *raster->points, *raster->ms, *raster->gpu_ms),
                                        {{"points", *raster->points}, {"ms", *raster->ms}, {"gpu_ms", *raster->gpu_ms},
                                         {"ms_max", kRasterMsTarget}}));
     }
     verdicts.push_back(verdict("control force cost", "the control force adds <= 25% to a step (GPU time of its pass)",
                                std::isfinite(added) ? std::optional<bool>(added <= kForceShareTarget) : std::nullopt,
-                               fmt("control_force pass +%.1f%% on the rest of the step (%.3f ms of %.3f ms); whole "
+                               format_text("control_force pass +%.1f%% on the rest of the step (%.3f ms of %.3f ms); whole "
                                    "step with / without: GPU %+.1f%%, wall %+.1f%%",
                                    100.0 * added, o.force_ms, o.step_ms_with, 100.0 * gpu_added, 100.0 * wall_added),
                                {{"added", std::isfinite(added) ? json(added) : json(nullptr)},
@@ -244,7 +238,7 @@ int bench_control(const Args& args) {
                                 {"step_wall_added_paired", std::isfinite(wall_added) ? json(wall_added) : json(nullptr)}}));
     for (const auto& [shape, rows] : sweeps) {
         const std::string name = "IoU at the automatic strength, " + shape->name;
-        const std::string target = fmt("IoU >= %.2f after %.2g s", kIouTarget, seconds);
+        const std::string target = format_text("IoU >= %.2f after %.2g s", kIouTarget, seconds);
         const study::SweepRow* automatic = nullptr;
         for (const study::SweepRow& r : rows)
             if (r.scale == 1.0) automatic = &r;
@@ -253,10 +247,10 @@ int bench_control(const Args& args) {
                                        automatic ? "the run became non-finite" : "not run"));
             continue;
         }
-        std::string detail = fmt("IoU %.3f (%s)", automatic->m.iou, automatic->stable ? "stable" : "not stable");
+        std::string detail = format_text("IoU %.3f (%s)", automatic->m.iou, automatic->stable ? "stable" : "not stable");
         json figures = {{"iou", automatic->m.iou}, {"iou_min", kIouTarget}, {"stable", automatic->stable}};
         if (automatic->iou_later) {
-            detail += fmt(", %.3f after %.2g s", *automatic->iou_later, automatic->later_seconds);
+            detail += format_text(", %.3f after %.2g s", *automatic->iou_later, automatic->later_seconds);
             figures["iou_later"] = *automatic->iou_later;
             figures["later_seconds"] = automatic->later_seconds;
         }

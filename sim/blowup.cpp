@@ -2,22 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include <glm/glm.hpp>
 
+#include "core/format_text.h"
+
 namespace aquaform {
-
-namespace {
-
-template <typename... T>
-std::string fmt(const char* format, T... values) {
-    char buf[256];
-    std::snprintf(buf, sizeof buf, format, values...);
-    return buf;
-}
-
-}  // namespace
 
 BlowupBounds blowup_bounds(const Scene& scene) {
     // Blow-up criterion, the one definition every command uses:
@@ -40,14 +30,14 @@ BlowupBounds blowup_bounds(const Scene& scene) {
 }
 
 std::string blowup_reason(const FrameStats& s, const BlowupBounds& bounds) {
-    if (s.non_finite > 0) return fmt("%u particles have non-finite positions or velocities", s.non_finite);
-    if (s.outside > 0) return fmt("%u particles left the domain", s.outside);
+    if (s.non_finite > 0) return format_text("%u particles have non-finite positions or velocities", s.non_finite);
+    if (s.outside > 0) return format_text("%u particles left the domain", s.outside);
     if (!std::isfinite(s.max_speed) || s.max_speed > bounds.max_speed)
-        return fmt("max speed %.3g m/s is above the plausible %.3g m/s", s.max_speed, bounds.max_speed);
+        return format_text("max speed %.3g m/s is above the plausible %.3g m/s", s.max_speed, bounds.max_speed);
     if (!std::isfinite(s.max_density_error) || s.max_density_error > bounds.max_density_error)
-        return fmt("max density error %.3g is above %.3g", s.max_density_error, bounds.max_density_error);
+        return format_text("max density error %.3g is above %.3g", s.max_density_error, bounds.max_density_error);
     if (!std::isfinite(s.cfl_number) || s.cfl_number > bounds.max_courant)
-        return fmt("Courant number %.3g is above %.3g (particles cross more than two kernel radii per step)", s.cfl_number,
+        return format_text("Courant number %.3g is above %.3g (particles cross more than two kernel radii per step)", s.cfl_number,
                    bounds.max_courant);
     return "";
 }

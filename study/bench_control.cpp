@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "core/format_text.h"
 #include "control/placement.h"
 #include "control/primitives.h"
 #include "control/raster_placement.h"
@@ -30,13 +31,6 @@ constexpr uint32_t kPlacementSubdivisions = 4;    // 5120 triangles
 constexpr int kRepeats = kBenchRepeats;
 
 double ms_since(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
-
-template <typename... T>
-std::string fmt(const char* format, T... values) {
-    char buf[768];
-    std::snprintf(buf, sizeof buf, format, values...);
-    return buf;
-}
 
 }  // namespace
 
@@ -78,7 +72,7 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
 
     {
         PlacementRow row{"vertices", target, spacing, tris.size() / 3};
-        say(fmt("placing on the vertices of a %zu-triangle sphere at spacing %.4g (target %u points)", row.triangles,
+        say(format_text("placing on the vertices of a %zu-triangle sphere at spacing %.4g (target %u points)", row.triangles,
                      spacing, target));
         for (int i = 0; i < kRepeats; ++i) {
             const control::ControlPoints p = control::place_on_vertices(mesh, spacing);
@@ -102,12 +96,12 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
                 subdivisions = kPlacementSubdivisions - 1;
                 inside_mesh = control::make_sphere(r, subdivisions);
                 const double coarse_s = estimate_s * double(inside_mesh.faces.size()) / double(mesh.faces.size());
-                note = fmt("on the %zu-triangle mesh it would take about %.0f s (> %.0f s budget): measured on a coarser "
+                note = format_text("on the %zu-triangle mesh it would take about %.0f s (> %.0f s budget): measured on a coarser "
                            "icosphere (subdivision %u, %zu triangles) instead",
                            mesh.faces.size(), estimate_s, kInsideBudgetS, subdivisions, inside_mesh.faces.size());
                 if (coarse_s > kInsideBudgetS) {
                     skip = true;
-                    note = fmt("skipped: about %.0f s even on the %zu-triangle icosphere (> %.0f s budget)", coarse_s,
+                    note = format_text("skipped: about %.0f s even on the %zu-triangle icosphere (> %.0f s budget)", coarse_s,
                                inside_mesh.faces.size(), kInsideBudgetS);
                 }
             }
@@ -117,7 +111,7 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
         row.note = note;
         row.extra["subdivisions"] = subdivisions;
         if (!skip) {
-            say(fmt("placing inside the %zu-triangle sphere on the CPU (ray crossings on a triangle grid)", row.triangles));
+            say(format_text("placing inside the %zu-triangle sphere on the CPU (ray crossings on a triangle grid)", row.triangles));
             // One run: the table says so (it was the slow method once, by winding number).
             const control::ControlPoints p = control::place_inside(inside_tris, spacing, false, 1, origin);
             row.points = uint32_t(p.points.size());
@@ -131,7 +125,7 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
 
     {
         PlacementRow row{"raster", target, spacing, tris.size() / 3};
-        say(fmt("placing by GPU rasterisation of the %zu-triangle sphere (warm-up, then best of %d)", row.triangles,
+        say(format_text("placing by GPU rasterisation of the %zu-triangle sphere (warm-up, then best of %d)", row.triangles,
                      kRepeats));
         const glm::dvec3 cells = glm::dvec3(bounds.max - bounds.min) / double(spacing) + 1.0;
         const uint32_t capacity = uint32_t(lattice_points_in_bounds(bounds, spacing));
@@ -223,7 +217,7 @@ ShapeScene torus_scene(float spacing) {
         {{c.x + b, c.y - t, c.z - b}, {c.x + a, c.y + t, c.z + b}},  // right
     };
     return make_shape_scene("torus", std::move(mesh), 2.0f * minor, std::move(frame),
-                            fmt("flat torus R = %.4f m, r = %.3f m; fluid: square frame 0.36 m outside, 0.2 m hole, "
+                            format_text("flat torus R = %.4f m, r = %.3f m; fluid: square frame 0.36 m outside, 0.2 m hole, "
                                 "0.08 m thick, over the ring",
                                 double(major), double(minor)),
                             volume, spacing);
@@ -280,7 +274,7 @@ double median(std::vector<double> v) {
 Overhead measure_overhead(gpu::Context& ctx, const ShapeScene& s, double warm_s, uint32_t steps, int repeats,
                           const BenchProgress& say) {
     FillRun run(ctx, s, s.strength.pressure);
-    say(fmt("force overhead: filling the sphere for %.2f s, then %d x %u steps with and without the force "
+    say(format_text("force overhead: filling the sphere for %.2f s, then %d x %u steps with and without the force "
                  "(%u particles, %u control points)",
                  warm_s, repeats, steps, run.sim->solver().particle_count(), run.sim->control()->force().point_count()));
     run.advance(warm_s);
@@ -352,7 +346,7 @@ json to_json(const SweepRow& r, const ShapeScene& s) {
               {"cfl_speed", r.cfl_speed},
               {"max_density_error", std::isfinite(r.max_density_error) ? json(r.max_density_error) : json(nullptr)},
               {"wall_s", r.wall_s}};
-    if (r.iou_later) j["iou_after_" + fmt("%.2g", r.later_seconds) + "_s"] = *r.iou_later;
+    if (r.iou_later) j["iou_after_" + format_text("%.2g", r.later_seconds) + "_s"] = *r.iou_later;
     return j;
 }
 

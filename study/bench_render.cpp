@@ -1,4 +1,5 @@
 #include "study/bench_render.h"
+#include "core/format_text.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -114,13 +115,6 @@ Verdict not_measured(const std::string& name, const std::string& target, const s
     return v;
 }
 
-template <typename... T>
-std::string fmt(const char* format, T... values) {
-    char buf[512];
-    std::snprintf(buf, sizeof buf, format, values...);
-    return buf;
-}
-
 const char* status_of(bool pass) { return pass ? "PASS" : "MISS"; }
 
 }  // namespace
@@ -151,7 +145,7 @@ Verdict steps_target(const std::vector<Measured>& results) {
               {"uniform_depth_err_mean", u->cmp.depth_err_mean},
               {"status", status_of(pass)},
               {"pass", pass}};
-    v.line = fmt("mask+skip steps/ray = %.1f%% of uniform (%.2f vs %.2f; target <= %.0f%%; all evaluations %.2f vs %.2f), "
+    v.line = format_text("mask+skip steps/ray = %.1f%% of uniform (%.2f vs %.2f; target <= %.0f%%; all evaluations %.2f vs %.2f), "
                  "depth error %.3f vs %.3f radii (target: equal or lower): %s",
                  100.0 * ratio, steps, base, 100.0 * kStepsTarget, evals_per_ray(ms->m), evals_per_ray(u->m),
                  ms->cmp.depth_err_mean, u->cmp.depth_err_mean, status_of(pass));
@@ -181,7 +175,7 @@ Verdict resolution_target(const std::vector<Measured>& results) {
               {"psnr_db_min", kResPsnrTarget},
               {"status", status_of(pass)},
               {"pass", pass}};
-    v.line = fmt("adaptive resolution: march + upsample = %.1f%% of the full-resolution march (%.2f + %.2f vs %.2f ms; "
+    v.line = format_text("adaptive resolution: march + upsample = %.1f%% of the full-resolution march (%.2f + %.2f vs %.2f ms; "
                  "target <= %.0f%%), PSNR %.1f dB against full resolution (target >= %.0f dB): %s",
                  100.0 * ratio, march, upsample, full_march, 100.0 * kResTimeTarget, db, kResPsnrTarget, status_of(pass));
     return v;
@@ -277,7 +271,7 @@ Verdict gpu_target(const std::vector<Measured>& results, const gpu::DeviceInfo& 
     if (!a) return not_measured("real-time", target, "needs the adaptive configuration");
     const bool pass = a->m.ms_total <= kGpuMsTarget;
     v.json = {{"target", target}, {"ms_total", a->m.ms_total}, {"ms_max", kGpuMsTarget}, {"status", status_of(pass)}, {"pass", pass}};
-    v.line = fmt("real-time: adaptive reconstruction of %u particles at %ux%u = %.2f ms (target <= %.0f ms): %s", particles,
+    v.line = format_text("real-time: adaptive reconstruction of %u particles at %ux%u = %.2f ms (target <= %.0f ms): %s", particles,
                  width, height, a->m.ms_total, kGpuMsTarget, status_of(pass));
     return v;
 }

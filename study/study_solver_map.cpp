@@ -8,6 +8,7 @@
 #include <fstream>
 #include <memory>
 
+#include "core/format_text.h"
 #include "core/interrupt.h"
 #include "gpu/context.h"
 #include "study/study_rows.h"
@@ -26,33 +27,26 @@ constexpr double kMaxStepsPerCell = 1.0e6;
 /// the fluid by at most the speed cap's cfl * h each and would pass for stable.
 constexpr double kMinStepsPerCell = 16;
 
-template <typename... T>
-std::string fmt(const char* format, T... values) {
-    char buf[512];
-    std::snprintf(buf, sizeof buf, format, values...);
-    return buf;
-}
-
 Result<bool> check_spec(const SolverMapSpec& spec, const Scene& scene) {
     const std::string where = "solver map of " + spec.scene.string() + ": ";
     if (spec.frame_dts.empty()) return Error{where + "no time steps given; list at least one dt in seconds, e.g. [0.002, 0.008]"};
     if (spec.iterations.empty()) return Error{where + "no iteration counts given; list at least one, e.g. [1, 4]"};
     for (float dt : spec.frame_dts)
         if (!std::isfinite(dt) || dt <= 0.0f)
-            return Error{where + fmt("time step %g is not a positive number of seconds; use e.g. 0.004", double(dt))};
+            return Error{where + format_text("time step %g is not a positive number of seconds; use e.g. 0.004", double(dt))};
     for (uint32_t it : spec.iterations)
         if (it == 0) return Error{where + "0 constraint iterations leaves the fluid unconstrained; use 1 or more"};
     if (!std::isfinite(spec.sim_time_s) || spec.sim_time_s <= 0.0f)
-        return Error{where + fmt("sim_time_s %g must be a positive number of seconds", double(spec.sim_time_s))};
+        return Error{where + format_text("sim_time_s %g must be a positive number of seconds", double(spec.sim_time_s))};
     for (float p : spec.control_pressures)
         if (!std::isfinite(p) || p <= 0.0f)
-            return Error{where + fmt("control pressure %g Pa must be positive", double(p))};
+            return Error{where + format_text("control pressure %g Pa must be positive", double(p))};
     if (!spec.control_pressures.empty() && !scene.control_json)
         return Error{where + "control pressures are given but the scene has no \"control\" section; remove them or "
                              "use a scene with mesh control"};
     for (float dt : spec.frame_dts)
         if (double(spec.sim_time_s) / dt > kMaxStepsPerCell)
-            return Error{where + fmt("dt %g s over %g s is %.3g steps per cell, more than %.0g; use a larger dt or a "
+            return Error{where + format_text("dt %g s over %g s is %.3g steps per cell, more than %.0g; use a larger dt or a "
                                      "shorter sim_time_s",
                                      double(dt), double(spec.sim_time_s), double(spec.sim_time_s) / dt, kMaxStepsPerCell)};
     return true;
@@ -177,17 +171,17 @@ Result<std::vector<SolverMapRecord>> run_solver_map(gpu::Context& ctx, const Sol
                 id.control_pressure = pressure;
                 if (hooks.done && hooks.done(id)) continue;
                 if (interrupted()) return records;
-                const std::string cell = fmt("%s, dt %g s, %u iterations", label.c_str(), double(dt), iterations) +
-                                         (pressure ? fmt(", control %g Pa", double(*pressure)) : "");
+                const std::string cell = format_text("%s, dt %g s, %u iterations", label.c_str(), double(dt), iterations) +
+                                         (pressure ? format_text(", control %g Pa", double(*pressure)) : "");
                 try {
                     records.push_back(run_cell(ctx, scene, section, spec, label, dt, iterations, pressure));
                 } catch (const std::exception& e) {
                     return Error{"solver map: " + cell + ": " + e.what()};
                 }
                 const SolverMapRecord& r = records.back();
-                say(fmt("[%zu/%zu] ", cell_index, cells) + cell + ": " +
-                    (r.stable ? std::string("stable") : fmt("blew up at %.3g s (", r.blowup_time_s) + r.failure + ")") +
-                    fmt("; max density error %.4g, mean %.4g (%u frames, %.1f s)", r.density_err_max,
+                say(format_text("[%zu/%zu] ", cell_index, cells) + cell + ": " +
+                    (r.stable ? std::string("stable") : format_text("blew up at %.3g s (", r.blowup_time_s) + r.failure + ")") +
+                    format_text("; max density error %.4g, mean %.4g (%u frames, %.1f s)", r.density_err_max,
                         r.density_err_mean, r.frames, r.wall_s));
                 if (hooks.measured && !hooks.measured(r)) return records;
             }
