@@ -58,7 +58,9 @@ TEST_F(AnisotropicSurfaceTest, ALoneParticleKeepsItsSphere) {
     ASSERT_GT(covered(iso), 200u) << "the droplet should be many pixels wide";
     for (size_t i = 0; i < iso.hit.size(); ++i) {
         ASSERT_EQ(iso.has_surface(i), aniso.has_surface(i)) << "pixel " << i;
-        if (iso.has_surface(i)) ASSERT_NEAR(iso.hit[i].w, aniso.hit[i].w, 1e-3f * kSpacing) << "pixel " << i;
+        if (iso.has_surface(i)) {
+            ASSERT_NEAR(iso.hit[i].w, aniso.hit[i].w, 1e-3f * kSpacing) << "pixel " << i;
+        }
     }
 }
 
@@ -179,10 +181,16 @@ TEST_F(AnisotropicSurfaceTest, SprayIsDrawnWhiteWithoutMovingTheSurface) {
     };
     double droplet_sat[2] = {0, 0}, droplet_lum[2] = {0, 0}, bulk_change = 0.0;
     size_t droplet_pixels = 0, bulk_pixels = 0;
+    // The two renders sort the particles afresh, and the counting sort's atomics may order a cell's
+    // particles differently, so the field's sums round differently: the surface may move by float
+    // rounding (4e-6 m seen), and a silhouette pixel that grazes the iso-level may flip. Spray that
+    // moved the surface would move it by a good share of the spacing.
+    const float kSameDepth = 1e-3f * kSpacing;
+    size_t flipped = 0;
     for (size_t i = 0; i < a.hit.size(); ++i) {
-        ASSERT_EQ(a.has_surface(i), b.has_surface(i)) << "spray moved the surface at pixel " << i;
-        if (!a.has_surface(i)) continue;
-        ASSERT_EQ(a.hit[i].w, b.hit[i].w) << "pixel " << i;
+        if (a.has_surface(i) != b.has_surface(i)) ++flipped;
+        if (!a.has_surface(i) || !b.has_surface(i)) continue;
+        ASSERT_NEAR(a.hit[i].w, b.hit[i].w, kSameDepth) << "spray moved the surface at pixel " << i;
         const uint8_t* ca = &a.color.rgba[i * 4];
         const uint8_t* cb = &b.color.rgba[i * 4];
         if (a.hit[i].y > 0.25f) {  // a droplet
@@ -194,6 +202,7 @@ TEST_F(AnisotropicSurfaceTest, SprayIsDrawnWhiteWithoutMovingTheSurface) {
             bulk_change += std::abs(int(ca[0]) - int(cb[0])) + std::abs(int(ca[1]) - int(cb[1])) + std::abs(int(ca[2]) - int(cb[2]));
         }
     }
+    EXPECT_LE(flipped, 3u) << "spray moved the silhouette";
     ASSERT_GT(droplet_pixels, 30u);
     ASSERT_GT(bulk_pixels, 1000u);
     (void)bulk;
