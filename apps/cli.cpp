@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "core/number_text.h"
 #include "core/output_dir.h"
 #include "gpu/context.h"
@@ -244,6 +245,13 @@ bool validation_requested(const Args& args) {
     return args.has("--validation") || (env && std::string(env) == "1");
 }
 
+bool stopped_by_ctrl_c(const char* command) {
+    if (!interrupted()) return false;
+    std::fprintf(stderr, "aquaform %s: interrupted (Ctrl-C) before the measurements were complete; nothing written\n",
+                 command);
+    return true;
+}
+
 int exit_status(const gpu::Context& ctx, int status) {
     if (ctx.validation_errors() == 0) return status;
     std::fprintf(stderr, "aquaform: %u Vulkan validation errors (see above); this is a bug in aquaform, please report it\n",
@@ -251,9 +259,9 @@ int exit_status(const gpu::Context& ctx, int status) {
     return kExitFailure;
 }
 
-int run_main(int argc, char** argv) {
-    std::vector<std::string> rest(argv + std::min(argc, 2), argv + argc);
-    const std::string command = argc >= 2 ? argv[1] : "";
+namespace {
+
+int run_command(const std::string& command, const std::vector<std::string>& rest) {
     try {
         const bool known = command == "run" || command == "info" || command == "render" || command == "control" ||
                            command == "assets" || command == "bench" || command == "study" || command == "view";
@@ -297,6 +305,23 @@ int run_main(int argc, char** argv) {
         std::fprintf(stderr, "aquaform: %s\n", e.what());
         return kExitFailure;
     }
+}
+
+}  // namespace
+
+int run_main(int argc, char** argv) {
+    std::vector<std::string> rest(argv + std::min(argc, 2), argv + argc);
+    const std::string command = argc >= 2 ? argv[1] : "";
+    // One Ctrl-C rule for every command (README "Exit codes"): the first stops the work at the
+    // next whole unit (a frame, a cell, a measurement), what was written stays whole, and the
+    // command exits 130; a second ends the process at once.
+    InterruptScope ctrl_c;
+    // Line by line also into a pipe or a log, so that what a command says before long work shows.
+    std::setvbuf(stdout, nullptr, _IOLBF, 0);
+    const int status = run_command(command, rest);
+    if (!interrupted() || status == kExitInterrupted) return status;
+    std::fprintf(stderr, "aquaform %s: interrupted (Ctrl-C); the files written are whole\n", command.c_str());
+    return kExitInterrupted;
 }
 
 }  // namespace aquaform::cli

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "core/result.h"
+
 namespace aquaform {
 struct Scene;
 }
@@ -20,6 +22,13 @@ namespace aquaform::cli {
 constexpr int kExitOk = 0;
 constexpr int kExitFailure = 1;
 constexpr int kExitUsage = 2;
+
+/// The exit status of a command that failed with `result`: 2 for what the user gave, 1 for what
+/// the machine did (a full disk).
+template <typename T>
+int exit_status_of(const Result<T>& result) {
+    return result.failed_for_resources() ? kExitFailure : kExitUsage;
+}
 
 /// Parsed `--flag value` / `--switch` options and positional arguments of one subcommand.
 struct Args {
@@ -85,6 +94,10 @@ bool prepare_output(const std::string& command, const std::filesystem::path& dir
 
 /// Validation is on with --validation or AQUAFORM_VALIDATION=1 (the test suite sets it).
 bool validation_requested(const Args& args);
+
+/// After a command's measuring loops: true, having said so, when Ctrl-C stopped them; the
+/// command then writes nothing it did not finish and exits kExitInterrupted (130).
+bool stopped_by_ctrl_c(const char* command);
 /// `status`, or a failure when the validation layer reported errors during the command (so a
 /// test that runs the binary fails on them too).
 int exit_status(const gpu::Context& ctx, int status);

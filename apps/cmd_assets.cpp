@@ -3,7 +3,6 @@
 // checked against their source (tests/test_assets.cpp compares them byte for byte).
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -12,6 +11,7 @@
 #include "apps/cli.h"
 #include "control/mesh.h"
 #include "control/primitives.h"
+#include "core/file_write.h"
 #include "core/output_dir.h"
 
 namespace aquaform::cli {
@@ -108,13 +108,9 @@ int cmd_assets(const std::vector<std::string>& argv) {
                          " triangles");
     }
     const fs::path skeleton_path = out_dir / "character_skeleton.json";
-    std::ofstream out(skeleton_path);
-    out << animation_text(character_animation(character.skeleton));
-    out.close();
-    if (!out)
-        return std::fprintf(stderr, "aquaform assets: cannot write %s; check the directory is writable\n",
-                            skeleton_path.string().c_str()),
-               kExitFailure;
+    const std::string skeleton = animation_text(character_animation(character.skeleton));
+    if (auto written = write_file_with(skeleton_path, [&](std::ostream& out) { out << skeleton; }); !written)
+        return std::fprintf(stderr, "aquaform assets: %s\n", written.error().c_str()), kExitFailure;
     report(skeleton_path, std::to_string(character.skeleton.bones.size()) + " bones, walk cycle of 1 s");
     return kExitOk;
 }

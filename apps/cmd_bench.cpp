@@ -6,13 +6,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <map>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
+#include "core/file_write.h"
+#include "core/interrupt.h"
 #include "core/output_dir.h"
 #include "sim/scene.h"
 #include "gpu/context.h"
@@ -85,6 +86,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
     std::vector<study::SolverBenchRecord> measured;
     nlohmann::json records = nlohmann::json::array();
     for (uint32_t target : sizes) {
+        if (interrupted()) break;
         const study::SolverBenchRecord r = study::measure_solver(ctx, target, options);
         std::printf("%10u %6u %12.2f %10.2f %14.2f %12.1f %12u %10u %9.2f%%\n", r.particles, r.iterations, r.ms_per_step,
                     r.steps_per_s, r.neighbor_search_ms, r.gpu_bytes_per_particle, r.neighbor_list_bytes_per_particle,
@@ -93,6 +95,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
         measured.push_back(r);
         records.push_back(study::to_json(r));
     }
+    if (stopped_by_ctrl_c("bench sim")) return exit_status(ctx, kExitInterrupted);
     const double exponent = study::neighbor_search_exponent(measured);
     if (!std::isnan(exponent))
         std::printf("neighbour search (grid build, reorder, neighbour lists) grows as N^%.3f from %u to %u particles\n",
@@ -102,9 +105,8 @@ int cmd_bench(const std::vector<std::string>& argv) {
                           {"device_type", gpu::device_type_name(ctx.info().type)},
                           {"records", records},
                           {"neighbor_search_exponent", std::isnan(exponent) ? nlohmann::json(nullptr) : nlohmann::json(exponent)}};
-    std::ofstream out(out_path);
-    if (!out) return std::fprintf(stderr, "aquaform bench: cannot write %s; choose another path with --out\n", out_path.c_str()), kExitFailure;
-    out << doc.dump(2) << "\n";
+    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << doc.dump(2) << "\n"; }); !written)
+        return std::fprintf(stderr, "aquaform bench: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
     std::printf("wrote %s\n", out_path.c_str());
     return exit_status(ctx, kExitOk);
 }

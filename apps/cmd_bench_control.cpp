@@ -6,7 +6,6 @@
 #include <cstdlib>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,7 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
+#include "core/file_write.h"
 #include "core/format_text.h"
+#include "core/interrupt.h"
 #include "core/number_text.h"
 #include "gpu/context.h"
 #include "study/bench_control.h"
@@ -126,13 +127,16 @@ int bench_control(const Args& args) {
     // (1) placement
     std::vector<study::PlacementRow> placement;
     double inside_ms_per_test = 0.0;
-    for (uint32_t n : sizes)
+    for (uint32_t n : sizes) {
+        if (interrupted()) break;
         for (study::PlacementRow& row : study::measure_placement(ctx, n, &inside_ms_per_test, progress)) {
             records.push_back(study::to_json(row));
             placement.push_back(std::move(row));
         }
+    }
 
     // (2) the force's share of a step
+    if (stopped_by_ctrl_c("bench control")) return exit_status(ctx, kExitInterrupted);
     const study::ShapeScene sphere = study::sphere_scene(spacing);
     const study::Overhead o = study::measure_overhead(ctx, sphere, warm_s, overhead_steps, overhead_repeats, progress);
     const double added = o.added, share = o.share;
@@ -169,6 +173,7 @@ int bench_control(const Args& args) {
                      shape->name.c_str(), shape->layout.c_str(), (unsigned long long)shape->scene.particle_count(),
                      shape->fluid_volume, shape->shape_volume, shape->points.size(), shape->strength.describe().c_str()));
         for (double scale : scales) {
+            if (interrupted()) break;
             progress(format_text("%s: pressure x%g = %.0f Pa for %.2g s", shape->name.c_str(), scale,
                          double(shape->strength.pressure * scale), seconds));
             rows.push_back(study::sweep_one(ctx, *shape, scale, seconds, scale == 1.0 ? later_seconds : 0.0));
@@ -179,6 +184,7 @@ int bench_control(const Args& args) {
         }
     }
 
+    if (stopped_by_ctrl_c("bench control")) return exit_status(ctx, kExitInterrupted);
     // The tables.
     std::printf("\nplacement (sphere, best of %d host ms; inside: one run)\n", kRepeats);
     std::printf("%-9s %8s %9s %9s %10s %10s %10s  %s\n", "method", "target", "spacing", "triangles", "points", "ms", "gpu ms",
@@ -271,13 +277,8 @@ int bench_control(const Args& args) {
                       {"shape_spacing", spacing},
                       {"records", records},
                       {"targets", targets}};
-    std::ofstream out(out_path);
-    out << doc.dump(2) << "\n";
-    out.close();
-    if (!out)
-        return std::fprintf(stderr, "aquaform bench control: cannot write %s; choose another directory with --out\n",
-                            out_path.string().c_str()),
-               exit_status(ctx, kExitFailure);
+    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << doc.dump(2) << "\n"; }); !written)
+        return std::fprintf(stderr, "aquaform bench control: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
     std::printf("wrote %s\n", out_path.string().c_str());
     return exit_status(ctx, kExitOk);
 }

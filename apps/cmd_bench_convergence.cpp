@@ -5,13 +5,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
+#include "core/file_write.h"
+#include "core/interrupt.h"
 #include "gpu/context.h"
 #include "study/bench_convergence.h"
 #include "study/bench_frames.h"
@@ -109,7 +110,7 @@ int bench_convergence(const Args& args) {
 
     json records = json::array();
     std::vector<study::FrontRun> fronts;
-    for (size_t i = 0; i < front_scenes.size(); ++i) {
+    for (size_t i = 0; i < front_scenes.size() && !interrupted(); ++i) {
         const Scene& s = front_scenes[i];
         const uint32_t d = divisions[i / std::size(kCfls)];
         say("front a/" + std::to_string(d) + ", cfl " + std::to_string(s.solver.cfl).substr(0, 3) + ": " +
@@ -121,6 +122,7 @@ int bench_convergence(const Args& args) {
             " steps in " + number(r.wall_s, "%.1f") + " s");
         records.push_back(study::to_json(r));
     }
+    if (stopped_by_ctrl_c("bench convergence")) return exit_status(ctx, kExitInterrupted);
     std::printf("\n%8s %9s %5s %10s %10s %10s %7s %7s %9s %9s %8s %9s\n", "spacing", "h [m]", "cfl", "particles", "mean err",
                 "max err", "points", "steps", "at min", "at max", "max C", "wall s");
     for (const study::FrontRun& r : fronts)
@@ -155,11 +157,13 @@ int bench_convergence(const Args& args) {
     std::fflush(stdout);
     std::vector<study::StepRun> steps;
     for (float cfl : kCfls) {
+        if (interrupted()) break;
         say("violent dam break, cfl " + std::to_string(cfl).substr(0, 3) + ": " + std::to_string(v.particle_count()) + " particles");
         steps.push_back(study::run_step_case(ctx, v, cfl, violent_seconds, say));
         say("  " + std::to_string(steps.back().steps) + " steps in " + number(steps.back().wall_s, "%.1f") + " s");
         records.push_back(study::to_json(steps.back()));
     }
+    if (stopped_by_ctrl_c("bench convergence")) return exit_status(ctx, kExitInterrupted);
     std::printf("%5s %10s %7s %9s %9s %10s %12s %14s %8s\n", "cfl", "particles", "steps", "at max", "impact s", "max runup m",
                 "mean splash", "splash frames", "wall s");
     for (const study::StepRun& r : steps)
@@ -192,13 +196,8 @@ int bench_convergence(const Args& args) {
                         {"mean_splash_relative_difference", std::isfinite(splash_diff) ? json(splash_diff) : json(nullptr)},
                         {"pass", pass}}}};
     const std::filesystem::path json_path = out_dir / "convergence.json";
-    std::ofstream out(json_path);
-    out << doc.dump(1) << "\n";
-    out.close();
-    if (!out)
-        return std::fprintf(stderr, "aquaform bench convergence: cannot write %s; choose another directory with --out\n",
-                            json_path.string().c_str()),
-               exit_status(ctx, kExitFailure);
+    if (auto written = write_file_with(json_path, [&](std::ostream& out) { out << doc.dump(1) << "\n"; }); !written)
+        return std::fprintf(stderr, "aquaform bench convergence: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
     std::printf("wrote %s and %s\n", json_path.string().c_str(), chart_path.string().c_str());
     return exit_status(ctx, kExitOk);
 }

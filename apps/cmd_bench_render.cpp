@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -16,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "study/bench_frames.h"
+#include "core/file_write.h"
 #include "core/output_dir.h"
 #include "core/interrupt.h"
 #include "apps/cli.h"
@@ -364,13 +364,8 @@ int bench_render(const Args& args) {
                           {"repeats", *repeats},
                           {"interrupted", stopped},
                           {"frames", frame_records}};
-    std::ofstream out(out_path);
-    out << doc.dump(2) << "\n";
-    out.close();
-    if (!out)
-        return std::fprintf(stderr, "aquaform bench render: cannot write %s; choose another path with --out\n",
-                            out_path.string().c_str()),
-               exit_status(ctx, kExitFailure);
+    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << doc.dump(2) << "\n"; }); !written)
+        return std::fprintf(stderr, "aquaform bench render: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
     std::printf("wrote %s\n", out_path.string().c_str());
     const std::string stem = (out_path.parent_path() / out_path.stem()).string();
     std::vector<std::pair<std::string, Chart>> charts;

@@ -9,7 +9,6 @@
 #include <functional>
 #include <optional>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 
 #include "apps/cli.h"
@@ -17,6 +16,7 @@
 #include "control/mesh.h"
 #include "control/placement.h"
 #include "control/raster_placement.h"
+#include "core/file_write.h"
 #include "core/host_memory.h"
 #include "core/interrupt.h"
 #include "core/number_text.h"
@@ -194,11 +194,14 @@ int cmd_control(const std::vector<std::string>& argv) {
             line += "\nwarning: " + std::to_string(raster.open_pixels) +
                     " columns pass through holes in the mesh and were left empty";
     }
-    std::printf("%s\n", line.c_str());
     if (!points.complete)
         return std::fprintf(stderr, "aquaform control: interrupted during the placement; nothing written\n"),
                kExitInterrupted;
-    std::ofstream(out_dir / "report.txt") << report << "\n" << line << "\n";
+    std::printf("%s\n", line.c_str());
+    if (auto written = write_file_with(out_dir / "report.txt", [&](std::ostream& out) { out << report << "\n" << line << "\n"; });
+        !written)
+        return std::fprintf(stderr, "aquaform control: %s\n", written.error().c_str()),
+               ctx ? exit_status(*ctx, kExitFailure) : kExitFailure;
     if (points.points.empty())
         return std::fprintf(stderr,
                             "aquaform control: no control point fits in '%s' at --spacing %g (the mesh is thinner "

@@ -3,11 +3,11 @@
 // exhaustive reference).
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
+#include "core/file_write.h"
 #include "study/render_measure.h"
 #include "apps/render_options.h"
 #include "apps/run_report.h"
@@ -20,10 +20,12 @@ namespace aquaform::cli {
 
 namespace {
 
-Result<bool> write_all(const std::filesystem::path& dir, const std::vector<std::pair<std::string, Image>>& images) {
+/// The images, then render.json with `report`.
+Result<bool> write_all(const std::filesystem::path& dir, const std::vector<std::pair<std::string, Image>>& images,
+                       const nlohmann::json& report) {
     for (const auto& [name, image] : images)
         if (auto written = write_png(dir / name, image); !written) return written;
-    return true;
+    return write_file_with(dir / "render.json", [&](std::ostream& out) { out << report.dump(2) << "\n"; });
 }
 
 /// A method of another family than the SPH surface renderer's: the image, its timings and
@@ -59,14 +61,8 @@ int render_other_family(gpu::Context& ctx, Renderer& renderer, PbfSolver& solver
     }
     std::printf("%s\n", stats.describe().c_str());
     nlohmann::json report = {{"scene", args.positional[0]}, {"frame", frame}, {"device", ctx.info().name}, {"render", record}};
-    if (auto written = write_all(out_dir, images); !written)
+    if (auto written = write_all(out_dir, images, report); !written)
         return std::fprintf(stderr, "aquaform render: %s\n", written.error().c_str()), kExitFailure;
-    std::ofstream json(out_dir / "render.json");
-    json << report.dump(2) << "\n";
-    if (!json)
-        return std::fprintf(stderr, "aquaform render: cannot write %s; check the disk and permissions\n",
-                            (out_dir / "render.json").string().c_str()),
-               kExitFailure;
     std::printf("wrote image.png%s and render.json to %s\n", args.has("--no-reference") ? "" : ", reference.png, depth_error.png",
                 out_dir.string().c_str());
     return kExitOk;
@@ -158,14 +154,8 @@ int cmd_render(const std::vector<std::string>& argv) {
         study::print_render_row(method_name(settings->method), m, nullptr);
         report["render"] = study::render_record(method_name(settings->method), m, nullptr);
     }
-    if (auto written = write_all(out_dir, images); !written)
+    if (auto written = write_all(out_dir, images, report); !written)
         return std::fprintf(stderr, "aquaform render: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
-    std::ofstream json(out_dir / "render.json");
-    json << report.dump(2) << "\n";
-    if (!json)
-        return std::fprintf(stderr, "aquaform render: cannot write %s; check the disk and permissions\n",
-                            (out_dir / "render.json").string().c_str()),
-               exit_status(ctx, kExitFailure);
     std::printf("wrote image.png, evals.png, tiles.png%s%s and render.json to %s\n",
                 settings->method == SurfaceMethod::adaptive ? ", classification.png" : "",
                 report.contains("reference") ? ", reference.png, depth_error.png" : "", out_dir.string().c_str());

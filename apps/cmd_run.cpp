@@ -197,19 +197,19 @@ int cmd_run(const std::vector<std::string>& argv) {
     // Writes a finished frame's files; false ends the run.
     auto write_frame = [&](const FinishedFrame& f) {
         const FrameStats& stats = f.report.stats;
-        files.write_frame_stats(f.index, stats, f.report.shape ? &*f.report.shape : nullptr);
+        auto failed = [](const std::string& error) {
+            std::fprintf(stderr, "\naquaform run: %s\n", error.c_str());
+            return false;
+        };
         char name[32];
         if (f.image) {
             std::snprintf(name, sizeof name, "frame_%04u.png", f.index);
-            if (auto written = write_png(out_dir / name, *f.image); !written) {
-                std::fprintf(stderr, "\naquaform run: %s\n", written.error().c_str());
-                return false;
-            }
+            if (auto written = write_png(out_dir / name, *f.image); !written) return failed(written.error());
         }
-        if (auto written = exports.write(f.index, stats.time_s, f.capture); !written) {
-            std::fprintf(stderr, "\naquaform run: %s\n", written.error().c_str());
-            return false;
-        }
+        if (auto written = exports.write(f.index, stats.time_s, f.capture); !written) return failed(written.error());
+        // The row last: stats.csv lists the frames whose files are all written.
+        if (auto written = files.write_frame_stats(f.index, stats, f.report.shape ? &*f.report.shape : nullptr); !written)
+            return failed(written.error());
         ++done;
         simulated = stats.time_s;
         steps += stats.substeps;
@@ -252,7 +252,10 @@ int cmd_run(const std::vector<std::string>& argv) {
     progress.finish();
     const bool stopped = interrupted();
     ctrl_c.reset();
-    files.finish(scene);
+    if (auto finished = files.finish(scene); !finished) {
+        std::fprintf(stderr, "aquaform run: %s\n", finished.error().c_str());
+        status = kExitFailure;
+    }
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (stopped) std::fprintf(stderr, "aquaform run: interrupted; the %u frames done are written\n", done);
     if (capped_frames > 0)

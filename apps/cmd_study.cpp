@@ -41,7 +41,8 @@ bool write_report(const std::filesystem::path& out_dir, const study::StudySpec& 
     }
     size_t failed = 0;
     for (const auto& r : rows) failed += r.status.rfind("failed", 0) == 0;
-    std::printf("\n%zu measurements, %zu failed; tables in %s\n", rows.size(), failed, (out_dir / "study.md").string().c_str());
+    std::printf("\n%zu measurements, %zu failed%s\n", rows.size(), failed,
+                ok ? ("; tables in " + (out_dir / "study.md").string()).c_str() : " (study.md not written)");
     for (const auto& line : targets) std::printf("  %s\n", line.c_str());
     if (!charts) return ok;
     auto drawn = study::draw_study_charts(out_dir);
@@ -74,7 +75,7 @@ int cmd_study_merge(const std::vector<std::string>& argv) {
         std::printf("study merge: %s holds a study already; its study.csv, study_passes.csv, solver_map.csv and "
                     "study.md are replaced by the merge\n", out_dir.string().c_str());
     auto merged = study::merge_shards(spec.value(), shards.value(), out_dir);
-    if (!merged) return std::fprintf(stderr, "aquaform study merge: %s\n", merged.error().c_str()), kExitUsage;
+    if (!merged) return std::fprintf(stderr, "aquaform study merge: %s\n", merged.error().c_str()), exit_status_of(merged);
     std::printf("merged %zu shards of %s into %s\n", shards.value().size(), spec.value().name.c_str(), out_dir.string().c_str());
     return write_report(out_dir, spec.value(), merged.value().rows, merged.value().device, !args->has("--no-charts"))
                ? kExitOk : kExitFailure;
@@ -133,7 +134,7 @@ int cmd_study(const std::vector<std::string>& argv) {
     if (auto free = check_shard_folder(out_dir, shard, args->has("--fresh")); !free)
         return std::fprintf(stderr, "aquaform study: %s\n", free.error().c_str()), kExitUsage;
     auto opened = study::StudyFiles::open(out_dir, spec.value(), args->has("--fresh"));
-    if (!opened) return std::fprintf(stderr, "aquaform study: %s\n", opened.error().c_str()), kExitUsage;
+    if (!opened) return std::fprintf(stderr, "aquaform study: %s\n", opened.error().c_str()), exit_status_of(opened);
     study::StudyFiles& files = opened.value();
     // A shard measures the cells of its units only (study/study_shards.h) and says so in its manifest.
     std::set<std::string> owned;

@@ -1,6 +1,7 @@
 // `aquaform view SCENE`: the interactive viewer (viewer/viewer.h) from the command line: the
 // flags, the window and the device, and the summary printed at the end.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -9,6 +10,7 @@
 
 #include "apps/cli.h"
 #include "apps/render_options.h"
+#include "core/error.h"
 #include "core/number_text.h"
 #include "gpu/context.h"
 #include "render/registry.h"
@@ -106,6 +108,18 @@ int cmd_view(const std::vector<std::string>& argv) {
     device.instance_extensions = win.instance_extensions();
     device.make_surface = [&win](VkInstance instance) { return win.create_surface(instance); };
     gpu::Context ctx(device);
+    // The window's size and its picture are input the device may not hold: refused here (a
+    // Failure of kind input, exit 2), before the simulation starts, not by the worker later.
+    const uint32_t most = ctx.limits().maxImageDimension2D;
+    if (width > most || height > most)
+        throw Failure("--size " + std::to_string(width) + "x" + std::to_string(height) + ": " + ctx.info().name +
+                      " makes window images of at most " + std::to_string(most) + " pixels a side; give a smaller --size");
+    {
+        const uint32_t picture_w = std::max(uint32_t(std::lround(float(width) * options.picture_scale)), 16u);
+        const uint32_t picture_h = std::max(uint32_t(std::lround(float(height) * options.picture_scale)), 16u);
+        render_registry().create(ctx, scene.particle_domain(), picture_w, picture_h, uint32_t(scene.particle_count()),
+                                 *method_settings);
+    }
     win.attach(ctx);
     // The swapchain goes before the device, also when an error (a scene too large for the
     // device, say) unwinds this function.
@@ -132,6 +146,9 @@ int cmd_view(const std::vector<std::string>& argv) {
         options.watch_shaders = shaders;
         options.record_dir = record_dir;
         options.screenshot_dir = record_dir.empty() ? fs::path(".") : record_dir;
+        std::printf("aquaform view: %s, %llu particles on %s; Esc in the window (or Ctrl-C here) quits\n", scene.name.c_str(),
+                    (unsigned long long)scene.particle_count(), ctx.info().name.c_str());
+        std::fflush(stdout);
         const viewer::ViewSummary run = viewer::run_viewer(ctx, win, std::move(plan.value()), options);
         const viewer::ViewReport& report = run.report;
         const double s = run.seconds > 0.0 ? run.seconds : 1.0;

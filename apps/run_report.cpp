@@ -42,13 +42,18 @@ void print_control_summary(const session::ControlSummary& summary, const char* c
 }
 
 RunFiles::RunFiles(const std::filesystem::path& dir, const Scene& scene) : dir_(dir) {
-    stats_.open(dir / "stats.csv");
-    if (!stats_) error_ = "cannot write " + (dir / "stats.csv").string() + "; check that the directory is writable";
+    auto stats = AppendedFile::open(dir / "stats.csv");
+    if (!stats) {
+        error_ = stats.error();
+        return;
+    }
+    stats_ = std::move(stats.value());
     has_front_ = scene.column_width.has_value();
     if (has_front_) {
-        front_.open(dir / "front.csv");
-        if (!front_) error_ = "cannot write " + (dir / "front.csv").string();
-        front_ << "time_s,front_m\n";
+        auto front = AppendedFile::open(dir / "front.csv");
+        auto header = front ? front.value().append("time_s,front_m\n") : Result<bool>(Error{front.error()});
+        if (!header) error_ = header.error();
+        else front_ = std::move(front.value());
     }
 }
 
@@ -64,16 +69,16 @@ void RunFiles::warn_if_never_filled() const {
                  best_iou_, best_iou_frame_, shaped_until_ - *shaped_since_);
 }
 
-void RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s, const ShapeColumns* shape) {
+Result<bool> RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s, const ShapeColumns* shape) {
+    std::string text;  // the frame's row (the first frame's after the header), written in one piece
     if (frame == 0 || pass_columns_.empty()) {
         for (const auto& [name, ms] : s.gpu_ms) pass_columns_.push_back(name);
-        stats_ << "frame,time_s,particles,density_err_mean,density_err_max,density_dev_mean,kinetic_energy_j,"
-                  "max_speed_mps,substeps,dt_s,cfl_number,speed_capped,outside,non_finite,splash_fraction,droplets,runup_m,"
-                  "list_overflow,"
-                  "gpu_ms_total";
-        if (shape) stats_ << ",shape_iou,shape_fill_fraction,fluid_outside_shape,active_shapes";
-        for (const auto& name : pass_columns_) stats_ << ",gpu_ms_" << name;
-        stats_ << "\n";
+        text += "frame,time_s,particles,density_err_mean,density_err_max,density_dev_mean,kinetic_energy_j,"
+                "max_speed_mps,substeps,dt_s,cfl_number,speed_capped,outside,non_finite,splash_fraction,droplets,runup_m,"
+                "list_overflow,gpu_ms_total";
+        if (shape) text += ",shape_iou,shape_fill_fraction,fluid_outside_shape,active_shapes";
+        for (const auto& name : pass_columns_) text += ",gpu_ms_" + name;
+        text += "\n";
     }
     double total = 0.0;
     for (const auto& [name, ms] : s.gpu_ms) total += ms;
@@ -86,11 +91,11 @@ void RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s, const Shap
                   s.time_s, s.particles, s.mean_density_error, s.max_density_error, s.mean_density_deviation,
                   s.kinetic_energy, s.max_speed, s.substeps, s.dt, s.cfl_number, s.speed_capped ? 1 : 0, s.outside,
                   s.non_finite, s.splash_fraction, droplets.c_str(), runup, s.list_overflow_fraction, total);
-    stats_ << row;
+    text += row;
     if (shape) {
         std::snprintf(row, sizeof row, ",%.4f,%.4f,%.4f,\"%s\"", shape->iou, shape->fill_fraction, shape->outside_fraction,
                       shape->active.c_str());
-        stats_ << row;
+        text += row;
         if (shape->active != "none") {
             if (!shaped_since_) shaped_since_ = s.time_s;
             shaped_until_ = s.time_s;
@@ -100,27 +105,26 @@ void RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s, const Shap
     for (const auto& name : pass_columns_) {
         auto it = s.gpu_ms.find(name);
         std::snprintf(row, sizeof row, ",%.4f", it == s.gpu_ms.end() ? 0.0 : it->second);
-        stats_ << row;
+        text += row;
     }
-    stats_ << "\n";
-    stats_.flush();
+    text += "\n";
+    if (auto written = stats_.append(text); !written) return written;
     if (has_front_ && s.front) {
         std::snprintf(row, sizeof row, "%.6f,%.6f\n", s.time_s, *s.front);
-        front_ << row;
-        front_.flush();
+        if (auto written = front_.append(row); !written) return written;
         front_samples_.push_back({s.time_s, *s.front});
     }
+    return true;
 }
 
-void RunFiles::finish(const Scene& scene) {
+Result<bool> RunFiles::finish(const Scene& scene) {
     warn_if_never_filled();
-    if (!has_front_ || front_samples_.empty()) return;
+    if (!has_front_ || front_samples_.empty()) return true;
     const double a = *scene.column_width;
     const double g = std::max(1e-6f, std::abs(scene.gravity.y));
     const auto run = nondimensional_front(front_samples_, a, g);
     const Chart chart = study::front_chart("Dam-break surge front: " + scene.name, {study::front_series("aquaform", run, "#1f6fb4")});
-    auto written = write_chart_svg(dir_ / "front.svg", chart);
-    if (!written) std::fprintf(stderr, "aquaform run: %s\n", written.error().c_str());
+    if (auto written = write_chart_svg(dir_ / "front.svg", chart); !written) return written;
 
     const Box& column = scene.fluid_blocks.front();
     const bool comparable = scene.fluid_blocks.size() == 1 && std::abs((column.max.y - column.min.y) / a - 2.0) < 0.1;
@@ -129,6 +133,7 @@ void RunFiles::finish(const Scene& scene) {
         std::printf("front against Martin & Moyce (1952): mean error %.1f %%, max %.1f %% over %d points (chart: %s)\n",
                     100.0 * cmp->mean_relative, 100.0 * cmp->max_relative, cmp->points,
                     (dir_ / "front.svg").string().c_str());
+    return true;
 }
 
 }  // namespace aquaform::cli

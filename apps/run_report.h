@@ -3,11 +3,11 @@
 
 #include <filesystem>
 #include <utility>
-#include <fstream>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "core/file_write.h"
 #include "session/simulation_session.h"
 #include "sim/frame_stats.h"
 #include "sim/scene.h"
@@ -35,12 +35,13 @@ public:
     bool ok() const { return error_.empty(); }
     const std::string& error() const { return error_; }
     /// `shape` adds the shape columns (give it every frame or never).
-    void write_frame_stats(uint32_t frame, const FrameStats& stats, const ShapeColumns* shape = nullptr);
+    /// The frame's row reaches the files whole or not at all (a full disk: the error says so).
+    Result<bool> write_frame_stats(uint32_t frame, const FrameStats& stats, const ShapeColumns* shape = nullptr);
     /// Dam-break scenes: writes front.svg (the run against Martin & Moyce 1952) and, for a
     /// single column of height 2a (their n^2 = 2), prints how far the front is from theirs.
     /// Also warns when a control shape pulled for kFillGraceSeconds and never reached an IoU of
     /// kNeverFilledIou with the fluid.
-    void finish(const Scene& scene);
+    Result<bool> finish(const Scene& scene);
 
     static constexpr double kFillGraceSeconds = 1.0;
     static constexpr double kNeverFilledIou = 0.1;
@@ -48,8 +49,8 @@ public:
 private:
     void warn_if_never_filled() const;
     std::filesystem::path dir_;
-    std::ofstream stats_;
-    std::ofstream front_;
+    AppendedFile stats_;
+    AppendedFile front_;
     std::vector<std::string> pass_columns_;
     bool has_front_ = false;
     std::vector<std::pair<double, double>> front_samples_;  // (time, front)

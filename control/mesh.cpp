@@ -17,6 +17,7 @@
 #include <OpenMesh/Core/System/omstream.hh>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/file_write.h"
 #include "core/host_memory.h"
 #include "core/interrupt.h"
 #include "core/progress.h"
@@ -567,6 +568,13 @@ std::string unusable_reason(const MeshReport& report) {
     const double diagonal = glm::length(size);
     std::ostringstream out;
     out.precision(3);
+    if (!(diagonal >= kMinMeshDiagonal && diagonal <= kMaxMeshDiagonal)) {
+        out << "the mesh is " << diagonal << " units across (its bounding box's diagonal; " << size.x << " x " << size.y
+            << " x " << size.z << "), outside the " << kMinMeshDiagonal << " to " << kMaxMeshDiagonal
+            << " that single-precision placement can hold; scale it in a modelling tool (or export it in other units) "
+               "and size it in the scene with its placement's \"scale\" or \"fit_into\"";
+        return out.str();
+    }
     if (!(std::abs(report.signed_volume) > 1e-6 * diagonal * diagonal * diagonal)) {
         const bool flat = std::min({size.x, size.y, size.z}) <= 1e-6 * diagonal;
         out << "the mesh encloses no volume (" << std::abs(report.signed_volume) << " in a bounding box of " << size.x
@@ -717,18 +725,16 @@ Result<LoadedMesh> load_obj(const std::filesystem::path& path) {
 }
 
 Result<bool> write_obj(const std::filesystem::path& path, const Mesh& mesh) {
-    std::ofstream file(path);
-    if (!file) return Error{"cannot write mesh '" + path.string() + "': check the directory exists and is writable"};
-    file.precision(std::numeric_limits<float>::max_digits10);
-    file << "# written by aquaform\n";
-    for (const glm::vec3& vertex : mesh.vertices) {
-        file << "v " << vertex.x << ' ' << vertex.y << ' ' << vertex.z << '\n';
-    }
-    for (const glm::uvec3& face : mesh.faces) {
-        file << "f " << face.x + 1 << ' ' << face.y + 1 << ' ' << face.z + 1 << '\n';
-    }
-    if (!file) return Error{"cannot write mesh '" + path.string() + "': write failed (disk full?)"};
-    return true;
+    return write_file_with(path, [&](std::ostream& file) {
+        file.precision(std::numeric_limits<float>::max_digits10);
+        file << "# written by aquaform\n";
+        for (const glm::vec3& vertex : mesh.vertices) {
+            file << "v " << vertex.x << ' ' << vertex.y << ' ' << vertex.z << '\n';
+        }
+        for (const glm::uvec3& face : mesh.faces) {
+            file << "f " << face.x + 1 << ' ' << face.y + 1 << ' ' << face.z + 1 << '\n';
+        }
+    });
 }
 
 void apply(const MeshPlacement& placement, Mesh& mesh) {

@@ -5,20 +5,40 @@
 #include <filesystem>
 #include <functional>
 #include <ostream>
+#include <string_view>
 
 #include "core/result.h"
 
 namespace aquaform {
 
-enum class FileReplace {
-    in_place,   ///< written where it is
-    atomically  ///< written beside it and renamed over it once complete
-};
+/// Writes `path` through `fill`, which streams the whole content: into a copy beside it, renamed
+/// over it once complete, so that a reader, a full disk or a process killed midway finds the old
+/// file or the new one, never half of one (a link, a device or a pipe is written in place). The
+/// error names the file, the reason and the fix.
+Result<bool> write_file_with(const std::filesystem::path& path, const std::function<void(std::ostream&)>& fill);
 
-/// Writes `path` through `fill`, which streams the whole content. `atomically`: a reader, or a
-/// run stopped midway, finds the old file or the new one, never half of one (a .pvd collection
-/// rewritten every frame). The error names the file, the reason and the fix.
-Result<bool> write_file_with(const std::filesystem::path& path, const std::function<void(std::ostream&)>& fill,
-                             FileReplace replace = FileReplace::in_place);
+/// A file that grows by whole records (a CSV row per frame or per cell): each append reaches the
+/// file entirely or not at all. A write cut short (a full disk) is cut back to the last whole
+/// record and reported, so the file never ends in half a row.
+class AppendedFile {
+public:
+    enum class Start { empty, after_existing };
+    AppendedFile() = default;
+    AppendedFile(AppendedFile&& other) noexcept;
+    AppendedFile& operator=(AppendedFile&& other) noexcept;
+    AppendedFile(const AppendedFile&) = delete;
+    AppendedFile& operator=(const AppendedFile&) = delete;
+    ~AppendedFile();
+
+    /// Opens (creating) `path`; `empty` truncates it first. The error names the file and the fix.
+    static Result<AppendedFile> open(const std::filesystem::path& path, Start start = Start::empty);
+    bool is_open() const { return fd_ >= 0; }
+    /// Writes `record` (its line breaks included) at the end of the file.
+    Result<bool> append(std::string_view record);
+
+private:
+    std::filesystem::path path_;
+    int fd_ = -1;
+};
 
 }  // namespace aquaform

@@ -9,7 +9,11 @@
 namespace aquaform {
 
 struct Error {
+    /// What the exit status says: bad input the user can fix in what they gave (exit 2), or the
+    /// machine stopped the work (a full disk, a lost device: exit 1).
+    enum class Kind { input, resource };
     std::string message;
+    Kind kind = Kind::input;
 };
 
 template <typename T>
@@ -24,6 +28,9 @@ public:
     T& value() & { return std::get<T>(data_); }
     T&& value() && { return std::get<T>(std::move(data_)); }
     const std::string& error() const { return std::get<Error>(data_).message; }
+    /// The error as it is, to pass on with its kind.
+    const Error& failure() const { return std::get<Error>(data_); }
+    bool failed_for_resources() const { return !ok() && failure().kind == Error::Kind::resource; }
 
 private:
     std::variant<T, Error> data_;

@@ -132,8 +132,7 @@ Result<bool> VtkCollection::add(double time_s, const std::string& file) {
                     << xml_escaped(e.file) << "\"/>\n";
             }
             out << "  </Collection>\n</VTKFile>\n";
-        },
-        FileReplace::atomically);
+        });
 }
 
 }  // namespace aquaform

@@ -9,6 +9,8 @@
 #include <string>
 #include <system_error>
 
+#include "core/file_write.h"
+
 // Private (static) copies of stb_image_write and stb_image: no clash with the symbols of Debian's
 // libstb, whichever of the two the linker sees first. The pragmas silence their unused functions.
 #pragma GCC diagnostic push
@@ -62,15 +64,9 @@ Result<bool> write_png(const std::filesystem::path& path, const Image& image) {
                                           image.rgba.data(), int(image.width * 4));
     if (!ok) return Error{where + ": the PNG encoder failed (out of memory?)"};
 
-    std::ofstream file(path, std::ios::binary | std::ios::trunc);
-    if (!file)
-        return Error{where + " (" + std::strerror(errno) + "); check that the directory exists and is writable"};
-    file.write(reinterpret_cast<const char*>(png.data()), std::streamsize(png.size()));
-    file.close();
-    if (!file)
-        return Error{where + ": writing failed part-way (" + std::strerror(errno) +
-                     "); check that the disk has space and the directory is writable"};
-    return true;
+    return write_file_with(path, [&](std::ostream& out) {
+        out.write(reinterpret_cast<const char*>(png.data()), std::streamsize(png.size()));
+    });
 }
 
 Result<Image> read_png(const std::filesystem::path& path) {

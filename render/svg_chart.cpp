@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
+
+#include "core/file_write.h"
 
 namespace aquaform {
 
@@ -101,11 +102,8 @@ std::string chart_svg(const Chart& chart) {
 }
 
 Result<bool> write_chart_svg(const std::filesystem::path& path, const Chart& chart) {
-    std::ofstream out(path);
-    if (!out) return Error{"cannot write chart " + path.string() + "; check that the directory is writable"};
-    out << chart_svg(chart);
-    if (!out) return Error{"writing chart " + path.string() + " failed; is the disk full?"};
-    return true;
+    const std::string svg = chart_svg(chart);
+    return write_file_with(path, [&](std::ostream& out) { out << svg; });
 }
 
 }  // namespace aquaform

@@ -1,5 +1,7 @@
 #include "render/video.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -106,18 +108,28 @@ Result<bool> mp4_is_whole(const fs::path& video) {
 
 Result<bool> encode_video(const fs::path& ffmpeg, const VideoFrames& frames, const fs::path& video) {
     if (frames.count == 0) return Error{"no frames were written, so there is no video to make"};
-    const ProcessResult run = run_process(video_command(ffmpeg, frames, video));
-    if (!run.ok())
+    // Made beside the video and renamed over it once checked: a failed encode neither leaves a
+    // cut file nor removes an earlier video of that name.
+    const fs::path staged = video.parent_path() / ("." + video.stem().string() + ".partial" + std::to_string(getpid()) + ".mp4");
+    std::error_code ec;
+    const ProcessResult run = run_process(video_command(ffmpeg, frames, staged));
+    if (!run.ok()) {
+        fs::remove(staged, ec);
         return Error{"ffmpeg could not make " + video.string() + " (exit status " + std::to_string(run.exit_code) +
                      ")" + (run.errors.empty() ? std::string() : ": " + run.errors) + "; the PNG frames are in " +
                      frames.dir.string()};
+    }
     // ffmpeg exits 0 when it cannot write its trailer (a full disk): the file is checked, and a
     // broken one removed rather than reported made.
-    if (auto whole = mp4_is_whole(video); !whole) {
-        std::error_code ec;
-        fs::remove(video, ec);
-        return Error{"ffmpeg exited 0 but the video is not whole (" + whole.error() +
+    if (auto whole = mp4_is_whole(staged); !whole) {
+        fs::remove(staged, ec);
+        return Error{"ffmpeg exited 0 but the video " + video.string() + " is not whole (" + whole.error() +
                      "; is the disk full?), so it was removed; the PNG frames are in " + frames.dir.string()};
+    }
+    fs::rename(staged, video, ec);
+    if (ec) {
+        fs::remove(staged, ec);
+        return Error{"cannot put the video at " + video.string() + ": " + ec.message()};
     }
     return true;
 }

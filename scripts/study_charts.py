@@ -18,7 +18,7 @@ import os
 import sys
 from collections import defaultdict
 
-EXIT_INPUT, EXIT_USAGE, EXIT_NO_MATPLOTLIB = 1, 2, 3
+EXIT_INPUT, EXIT_USAGE, EXIT_NO_MATPLOTLIB, EXIT_CANNOT_WRITE = 1, 2, 3, 4
 
 STUDY_COLUMNS = ["case", "scene", "method", "width", "height", "particles", "metaball_scale", "recursion_depth",
                  "bisection_steps", "visual", "ms_total", "fps", "depth_err_mean", "depth_err_p95",
@@ -100,7 +100,18 @@ def log_axis(ax, which):
 def save(fig, charts_dir, name, written):
     for ext in ("png", "svg"):
         path = os.path.join(charts_dir, name + "." + ext)
-        fig.savefig(path, dpi=120)
+        # Drawn beside the chart and renamed over it once whole: a full disk leaves no cut file.
+        staged = os.path.join(charts_dir, ".%s.%d.%s" % (name, os.getpid(), ext))
+        try:
+            fig.savefig(staged, dpi=120, format=ext)
+            os.replace(staged, path)
+        except OSError as e:
+            try:
+                os.remove(staged)
+            except OSError:
+                pass
+            fail("cannot write %s: %s; free some space or choose another folder with --out" % (path, e.strerror or e),
+                 EXIT_CANNOT_WRITE)
         written.append(path)
     import matplotlib.pyplot as plt
     plt.close(fig)
@@ -301,7 +312,11 @@ def main(argv):
     matplotlib.rcParams["svg.hashsalt"] = "aquaform"  # reproducible SVG ids
 
     charts_dir = os.path.join(out_dir, "charts")
-    os.makedirs(charts_dir, exist_ok=True)
+    try:
+        os.makedirs(charts_dir, exist_ok=True)
+    except OSError as e:
+        fail("cannot make %s: %s; free some space or choose another folder with --out" % (charts_dir, e.strerror or e),
+             EXIT_CANNOT_WRITE)
     written = []
     methods = {r["method"] for name in ("study.csv", "study_passes.csv") for r in tables.get(name, [])}
     styles = method_styles(methods)

@@ -8,6 +8,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "core/interrupt.h"
 #include "session/simulation_session.h"
 
 namespace aquaform::study {
@@ -115,7 +116,7 @@ FrontRun run_front(gpu::Context& ctx, const Scene& scene, uint32_t divisions, do
     auto sim = make_session(ctx, scene);
     r.particles = sim->solver().particle_count();
     std::vector<std::pair<double, double>> time_front = {{0.0, double(column_front(scene))}};
-    for (uint32_t f = 0; f < frames && r.finite; ++f) {
+    for (uint32_t f = 0; f < frames && r.finite && !interrupted(); ++f) {
         const FrameStats s = sim->solver().run_frame(nullptr);
         count_frame(r, s, scene.solver);
         r.max_cfl_number = std::max(r.max_cfl_number, s.cfl_number);
@@ -172,7 +173,7 @@ StepRun run_step_case(gpu::Context& ctx, Scene scene, float cfl, double seconds,
     const auto start = Clock::now();
     auto sim = make_session(ctx, scene);
     r.particles = sim->solver().particle_count();
-    for (uint32_t f = 0; f < frames && r.finite; ++f) {
+    for (uint32_t f = 0; f < frames && r.finite && !interrupted(); ++f) {
         FrameStats s = sim->solver().run_frame(nullptr);
         s.gpu_ms.clear();
         count_frame(r, s, scene.solver);

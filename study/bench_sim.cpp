@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/interrupt.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
 #include "grid/neighbor_grid.h"
@@ -20,7 +21,7 @@ SolverBenchRecord measure_solver(gpu::Context& ctx, uint32_t target_particles, c
     solver.run_steps(options.warmup, nullptr);
     double wall_ms = 0.0;
     std::map<std::string, double> pass_ms;
-    for (uint32_t r = 0; r < options.repeats; ++r) {
+    for (uint32_t r = 0; r < options.repeats && !(r > 0 && interrupted()); ++r) {
         timer.clear_totals();
         const auto t0 = std::chrono::steady_clock::now();
         solver.run_steps(options.steps, &timer);

@@ -5,6 +5,7 @@
 #include <limits>
 #include <optional>
 
+#include "core/interrupt.h"
 #include "core/progress.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
@@ -21,6 +22,11 @@ bool simulate_frames(session::SimulationSession& session, uint32_t frames, const
     std::optional<gpu::GpuTimer> timer;
     if (last_frame_ms) timer.emplace(session.solver().context());
     for (uint32_t frame = 0; frame < frames; ++frame) {
+        if (interrupted()) {
+            progress.finish();
+            std::fprintf(stderr, "aquaform: interrupted at frame %u of %u\n", frame, frames);
+            return false;
+        }
         const bool timed = timer && frame + 1 == frames;
         const FrameStats stats = session.run_frame(timed ? &*timer : nullptr).stats;
         if (timed) *last_frame_ms = stats.gpu_ms;

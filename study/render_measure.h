@@ -17,7 +17,8 @@
 namespace aquaform::study {
 
 /// Advances the session (its solver, and its control when the scene has one) by `frames` frames
-/// with a progress bar; false (after printing why) when the run becomes unstable. With
+/// with a progress bar; false (after printing why) when the run becomes unstable or Ctrl-C stops
+/// it (interrupted(), checked before each frame). With
 /// `last_frame_ms`, the last frame is timed and its GPU milliseconds per pass stored there.
 bool simulate_frames(session::SimulationSession& session, uint32_t frames, const std::string& label,
                      std::map<std::string, double>* last_frame_ms = nullptr);

@@ -169,18 +169,15 @@ Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, c
     }
     if (access == RowAccess::read_only) return file;
     if (rewrite) {  // the header and the rows kept, then appended to
-        const fs::path staged = path.string() + ".new";
-        {
-            std::ofstream out(staged, std::ios::binary | std::ios::trunc);
+        auto rewritten = write_file_with(path, [&](std::ostream& out) {
             out << header << '\n';
             for (const Fields& fields : file.kept_) out << csv_line(fields) << '\n';
-            if (!out.flush()) return Error{"cannot write " + staged.string() + "; check that the folder is writable"};
-        }
-        fs::rename(staged, path, ec);
-        if (ec) return Error{"cannot replace " + path.string() + ": " + ec.message()};
+        });
+        if (!rewritten) return rewritten.failure();
     }
-    file.out_ = std::make_unique<std::ofstream>(path, std::ios::binary | std::ios::app);
-    if (!*file.out_) return Error{"cannot write " + path.string() + "; check that the folder is writable"};
+    auto out = AppendedFile::open(path, AppendedFile::Start::after_existing);
+    if (!out) return out.failure();
+    file.out_ = std::move(out.value());
     return file;
 }
 
@@ -189,10 +186,8 @@ size_t RowFile::column(const std::string& name) const {
 }
 
 Result<bool> RowFile::append(const std::string& line) {
-    if (!out_) return Error{"cannot add a row to " + path_.string() + ": it was opened only to be read"};
-    *out_ << line << '\n';
-    if (!out_->flush()) return Error{"writing " + path_.string() + " failed; is the disk full?"};
-    return true;
+    if (!out_.is_open()) return Error{"cannot add a row to " + path_.string() + ": it was opened only to be read"};
+    return out_.append(line + '\n');
 }
 
 Result<StudyFiles> StudyFiles::open(const fs::path& dir, const StudySpec& spec, bool fresh, RowAccess access) {
@@ -212,15 +207,15 @@ Result<StudyFiles> StudyFiles::open(const fs::path& dir, const StudySpec& spec, 
     auto study = RowFile::open(dir / "study.csv", kStudyColumns, files.hash_, [&](const RowFile::Fields& f) {
         return cells.count(f.back()) || frames.count(f.back());
     }, access);
-    if (!study) return Error{study.error()};
+    if (!study) return study.failure();
     files.study_ = std::move(study.value());
     for (const RowFile::Fields& f : files.study_->kept()) files.done_.insert(f.back());
     auto passes = RowFile::open(dir / "study_passes.csv", kPassesColumns, files.hash_,
                                 [&](const RowFile::Fields& f) { return files.done_.count(f.back()) > 0; }, access);
-    if (!passes) return Error{passes.error()};
+    if (!passes) return passes.failure();
     files.passes_ = std::move(passes.value());
     auto map = RowFile::open(dir / "solver_map.csv", solver_map_csv_header(), files.hash_, {}, access);
-    if (!map) return Error{map.error()};
+    if (!map) return map.failure();
     files.map_ = std::move(map.value());
     for (const RowFile::Fields& f : files.map_->kept()) files.map_done_.insert(f.back());
 

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/file_write.h"
 #include "core/result.h"
 #include "study/study_run.h"
 #include "study/study_solver_map.h"
@@ -58,7 +59,7 @@ private:
     std::filesystem::path path_;
     std::vector<std::string> columns_;
     std::vector<Fields> kept_;
-    std::unique_ptr<std::ofstream> out_;
+    AppendedFile out_;  // none when read only
 };
 
 /// The three files of a study in one folder, for one spec.

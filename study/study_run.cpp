@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <sstream>
 #include <tuple>
@@ -23,6 +22,7 @@
 #include "render/surface_views.h"
 #include "sim/pbf_solver.h"
 #include "core/error.h"
+#include "core/file_write.h"
 #include "core/interrupt.h"
 
 namespace aquaform::study {
@@ -47,6 +47,13 @@ constexpr float kStepsImageFullScale = 32.0f;
 uint64_t max_list_bytes_per_pixel() {
     return uint64_t(render_registry().find("sbuffer")->setting_by_spec_key("list_bytes_per_pixel")->max);
 }
+
+/// A picture the study could not write (a full disk): it ends the study (exit 1), where a
+/// method's own failure only ends its cell.
+class OutputLost : public Failure {
+public:
+    explicit OutputLost(const std::string& message) : Failure(message, Kind::resource) {}
+};
 
 void progress(const std::string& line) {
     std::fprintf(stderr, "study: %s\n", line.c_str());
@@ -121,6 +128,8 @@ public:
             try {
                 const Image image = run(m, row);
                 if (!images_dir_.empty()) write_image(row, image);
+            } catch (const OutputLost&) {
+                throw;  // not this cell's failure: every later one would lose its pictures too
             } catch (const std::exception& e) {
                 row.status = std::string("failed: ") + e.what();
             }
@@ -152,8 +161,8 @@ private:
     void write_image(StudyRow& row, const Image& image) const {
         const std::string name = image_name(row, "");
         auto written = write_png(images_dir_ / name, image);
-        if (written) row.image = "images/" + name;
-        else progress("cannot write an image: " + written.error());
+        if (!written) throw OutputLost(written.error());
+        row.image = "images/" + name;
     }
 
     StudyRow base_row(const StudyMethod& m) const {
@@ -238,8 +247,8 @@ private:
     void write_steps_image(StudyRow& row, const RenderMeasurement& m) const {
         const std::string name = image_name(row, "_steps");
         auto written = write_png(images_dir_ / name, steps_view(m.frame, m.march_steps, kStepsImageFullScale));
-        if (written) row.steps_image = "images/" + name;
-        else progress("cannot write an image: " + written.error());
+        if (!written) throw OutputLost(written.error());
+        row.steps_image = "images/" + name;
     }
 
     /// The exhaustive reference of the SPH field `surface` draws ("anisotropic" or "isotropic"),
@@ -670,88 +679,86 @@ void write_steps_figure(std::ostream& md, const std::string& case_name, const st
 
 Result<bool> write_study_markdown(const fs::path& path, const StudySpec& spec, const std::vector<StudyRow>& rows,
                                   const std::vector<std::string>& target_lines, const std::string& device) {
-    std::ofstream md(path);
-    if (!md) return Error{"cannot write " + path.string() + "; check that the directory is writable"};
     auto num = [](const std::optional<double>& v, const char* format) {
         if (!v) return std::string("–");
         char buf[32];
         std::snprintf(buf, sizeof buf, format, *v);
         return std::string(buf);
     };
-    md << "# Study: " << spec.name << "\n\nTimes are GPU milliseconds (best of " << spec.repeats << ")"
-       << (device.empty() ? std::string() : " on " + device)
-       << "; errors are against the reference of the field each method draws (depth in particle radii). Roughness is "
-          "the rms angle [deg] between a method's normals and the plane the reference's surface fits, over the regions "
-          "where it fits one (within a quarter particle radius over a window six radii wide): every particle showing "
-          "as a bump raises it; the reference row gives the SPH field's own.\n\n"
-       << kDeviceNote << "\n";
-    for (const StudyCase& c : spec.cases) {
-        md << "\n## " << c.name << "\n\n";
-        if (!c.note.empty()) md << c.note << "\n\n";
-        md << "| method | particles | resolution | ms | fps | depth err mean | p95 | normal err ° | coverage mismatch | PSNR dB | roughness ° | status |\n"
-              "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
-        for (const StudyRow& r : rows) {
-            if (r.case_name != c.name) continue;
-            md << "| " << r.method << " | " << r.particles << " | " << resolution_text(r.width, r.height) << " | "
-               << num(r.ms_total, "%.1f") << " | " << num(fps(r.ms_total), "%.2f") << " | " << num(r.depth_err_mean, "%.3f")
-               << " | " << num(r.depth_err_p95, "%.3f") << " | " << num(r.normal_err_deg_mean, "%.1f") << " | "
-               << num(r.coverage_mismatch ? std::optional<double>(*r.coverage_mismatch * 100.0) : std::nullopt, "%.1f %%")
-               << " | " << num(r.psnr_db, "%.1f") << " | " << num(r.roughness_deg, "%.1f") << " | " << r.status
-               << (r.device.empty() ? "" : " (on " + r.device + ")")
-               << (r.overflow_mib > 0 ? " (needs " + num(r.overflow_mib, "%.0f") + " MiB)" : "")
-               << (r.image.empty() ? "" : " [image](" + r.image + ")") << " |\n";
-        }
-        write_cost_table(md, c.name, rows);
-        write_steps_figure(md, c.name, rows);
-        // Karpati Table 1's shape: frames per second per configuration, one column per list method.
-        bool metaballs = false;
-        for (const auto& m : c.methods) metaballs = metaballs || m.family == StudyFamily::metaball;
-        if (metaballs) {
-            md << "\nFrames per second, Karpati Table 1 layout:\n\n| visual | size | rec. | bin. | particles | Norm (brute) | A-buffer | S-buffer |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
-            std::vector<std::string> seen;
+    return write_file_with(path, [&](std::ostream& md) {
+        md << "# Study: " << spec.name << "\n\nTimes are GPU milliseconds (best of " << spec.repeats << ")"
+           << (device.empty() ? std::string() : " on " + device)
+           << "; errors are against the reference of the field each method draws (depth in particle radii). Roughness is "
+              "the rms angle [deg] between a method's normals and the plane the reference's surface fits, over the regions "
+              "where it fits one (within a quarter particle radius over a window six radii wide): every particle showing "
+              "as a bump raises it; the reference row gives the SPH field's own.\n\n"
+           << kDeviceNote << "\n";
+        for (const StudyCase& c : spec.cases) {
+            md << "\n## " << c.name << "\n\n";
+            if (!c.note.empty()) md << c.note << "\n\n";
+            md << "| method | particles | resolution | ms | fps | depth err mean | p95 | normal err ° | coverage mismatch | PSNR dB | roughness ° | status |\n"
+                  "|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---|\n";
             for (const StudyRow& r : rows) {
-                if (r.case_name != c.name || r.config.family != StudyFamily::metaball) continue;
-                StudyMethod key = r.config;
-                const std::string id = key.visual + std::to_string(key.size) + std::to_string(key.recursion) +
-                                       std::to_string(key.bisection) + std::to_string(r.particles) + resolution_text(r.width, r.height);
-                if (std::find(seen.begin(), seen.end(), id) != seen.end()) continue;
-                seen.push_back(id);
-                auto cell = [&](const char* method) {
-                    key.method = method;
-                    const StudyRow* x = find_row(rows, c.name, key.label(), r.particles, r.width, r.height);
-                    return x ? num(fps(x->ms_total), "%.2f") : std::string("–");
-                };
-                md << "| " << key.visual << " | ×" << key.size << " | " << key.recursion << " | " << key.bisection << " | "
-                   << r.particles << " | " << cell("brute") << " | " << cell("abuffer") << " | " << cell("sbuffer") << " |\n";
+                if (r.case_name != c.name) continue;
+                md << "| " << r.method << " | " << r.particles << " | " << resolution_text(r.width, r.height) << " | "
+                   << num(r.ms_total, "%.1f") << " | " << num(fps(r.ms_total), "%.2f") << " | " << num(r.depth_err_mean, "%.3f")
+                   << " | " << num(r.depth_err_p95, "%.3f") << " | " << num(r.normal_err_deg_mean, "%.1f") << " | "
+                   << num(r.coverage_mismatch ? std::optional<double>(*r.coverage_mismatch * 100.0) : std::nullopt, "%.1f %%")
+                   << " | " << num(r.psnr_db, "%.1f") << " | " << num(r.roughness_deg, "%.1f") << " | " << r.status
+                   << (r.device.empty() ? "" : " (on " + r.device + ")")
+                   << (r.overflow_mib > 0 ? " (needs " + num(r.overflow_mib, "%.0f") + " MiB)" : "")
+                   << (r.image.empty() ? "" : " [image](" + r.image + ")") << " |\n";
             }
-        }
-        // Wu Table 2's shape: time per pass of the SPH and screen-space methods.
-        std::vector<std::string> passes;
-        for (const StudyRow& r : rows)
-            if (r.case_name == c.name && r.config.family != StudyFamily::metaball)
-                for (const auto& [pass, ms] : r.ms_per_pass)
-                    if (std::find(passes.begin(), passes.end(), pass) == passes.end()) passes.push_back(pass);
-        if (!passes.empty()) {
-            md << "\nTime per pass [ms], Wu Table 2 layout:\n\n| method | particles | resolution |";
-            for (const auto& p : passes) md << " " << p << " |";
-            md << "\n|---|---:|---|";
-            for (size_t i = 0; i < passes.size(); ++i) md << "---:|";
-            md << "\n";
-            for (const StudyRow& r : rows) {
-                if (r.case_name != c.name || r.config.family == StudyFamily::metaball || r.ms_per_pass.empty()) continue;
-                md << "| " << r.method << " | " << r.particles << " | " << resolution_text(r.width, r.height) << " |";
-                for (const auto& p : passes) {
-                    auto it = r.ms_per_pass.find(p);
-                    md << " " << (it == r.ms_per_pass.end() ? std::string("–") : num(it->second, "%.1f")) << " |";
+            write_cost_table(md, c.name, rows);
+            write_steps_figure(md, c.name, rows);
+            // Karpati Table 1's shape: frames per second per configuration, one column per list method.
+            bool metaballs = false;
+            for (const auto& m : c.methods) metaballs = metaballs || m.family == StudyFamily::metaball;
+            if (metaballs) {
+                md << "\nFrames per second, Karpati Table 1 layout:\n\n| visual | size | rec. | bin. | particles | Norm (brute) | A-buffer | S-buffer |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
+                std::vector<std::string> seen;
+                for (const StudyRow& r : rows) {
+                    if (r.case_name != c.name || r.config.family != StudyFamily::metaball) continue;
+                    StudyMethod key = r.config;
+                    const std::string id = key.visual + std::to_string(key.size) + std::to_string(key.recursion) +
+                                           std::to_string(key.bisection) + std::to_string(r.particles) + resolution_text(r.width, r.height);
+                    if (std::find(seen.begin(), seen.end(), id) != seen.end()) continue;
+                    seen.push_back(id);
+                    auto cell = [&](const char* method) {
+                        key.method = method;
+                        const StudyRow* x = find_row(rows, c.name, key.label(), r.particles, r.width, r.height);
+                        return x ? num(fps(x->ms_total), "%.2f") : std::string("–");
+                    };
+                    md << "| " << key.visual << " | ×" << key.size << " | " << key.recursion << " | " << key.bisection << " | "
+                       << r.particles << " | " << cell("brute") << " | " << cell("abuffer") << " | " << cell("sbuffer") << " |\n";
                 }
+            }
+            // Wu Table 2's shape: time per pass of the SPH and screen-space methods.
+            std::vector<std::string> passes;
+            for (const StudyRow& r : rows)
+                if (r.case_name == c.name && r.config.family != StudyFamily::metaball)
+                    for (const auto& [pass, ms] : r.ms_per_pass)
+                        if (std::find(passes.begin(), passes.end(), pass) == passes.end()) passes.push_back(pass);
+            if (!passes.empty()) {
+                md << "\nTime per pass [ms], Wu Table 2 layout:\n\n| method | particles | resolution |";
+                for (const auto& p : passes) md << " " << p << " |";
+                md << "\n|---|---:|---|";
+                for (size_t i = 0; i < passes.size(); ++i) md << "---:|";
                 md << "\n";
+                for (const StudyRow& r : rows) {
+                    if (r.case_name != c.name || r.config.family == StudyFamily::metaball || r.ms_per_pass.empty()) continue;
+                    md << "| " << r.method << " | " << r.particles << " | " << resolution_text(r.width, r.height) << " |";
+                    for (const auto& p : passes) {
+                        auto it = r.ms_per_pass.find(p);
+                        md << " " << (it == r.ms_per_pass.end() ? std::string("–") : num(it->second, "%.1f")) << " |";
+                    }
+                    md << "\n";
+                }
             }
         }
-    }
-    md << "\n## Targets\n\n";
-    for (const auto& line : target_lines) md << "- " << line << "\n";
-    if (!md) return Error{"writing " + path.string() + " failed; is the disk full?"};
-    return true;
+        md << "\n## Targets\n\n";
+        for (const auto& line : target_lines) md << "- " << line << "\n";
+    });
 }
 
 }  // namespace aquaform::study

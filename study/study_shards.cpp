@@ -8,6 +8,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "core/file_write.h"
 #include "sim/scene.h"
 #include "study/study_rows.h"
 
@@ -120,16 +121,7 @@ Result<bool> write_manifest(const fs::path& dir, const ShardManifest& m) {
                         {"shards", m.shard.count},  {"cells", m.cells},          {"wall_s", m.wall_s},
                         {"complete", m.complete}};
     j["particles"] = m.particles ? nlohmann::json(*m.particles) : nlohmann::json(nullptr);
-    const fs::path path = dir / kManifestName, staged = path.string() + ".new";
-    {
-        std::ofstream out(staged, std::ios::binary | std::ios::trunc);
-        out << j.dump(2) << '\n';
-        if (!out.flush()) return Error{"cannot write " + staged.string() + "; check that the folder is writable"};
-    }
-    std::error_code ec;
-    fs::rename(staged, path, ec);
-    if (ec) return Error{"cannot replace " + path.string() + ": " + ec.message()};
-    return true;
+    return write_file_with(dir / kManifestName, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
 }
 
 Result<std::optional<ShardManifest>> read_manifest(const fs::path& dir) {
@@ -201,7 +193,7 @@ Result<std::vector<ShardInput>> read_shard_set(const std::vector<fs::path>& dirs
     std::vector<ShardInput> shards;
     for (const fs::path& dir : dirs) {
         auto read = read_manifest(dir);
-        if (!read) return Error{read.error()};
+        if (!read) return read.failure();
         if (!read.value())
             return Error{dir.string() + " has no " + kManifestName +
                          ": give the folders that aquaform study SPEC --shard K/N --out DIR wrote"};
@@ -267,7 +259,7 @@ Result<MergedStudy> merge_shards(const StudySpec& spec, const std::vector<ShardI
     std::vector<StudyFiles> files;
     for (const ShardInput& s : shards) {
         auto opened = StudyFiles::open(s.dir, spec, false, RowAccess::read_only);
-        if (!opened) return Error{opened.error()};
+        if (!opened) return opened.failure();
         files.push_back(std::move(opened.value()));
     }
     // Each cell in exactly one shard.
@@ -311,7 +303,7 @@ Result<MergedStudy> merge_shards(const StudySpec& spec, const std::vector<ShardI
     if (ec)
         return Error{"cannot create " + out_dir.string() + ": " + ec.message()};
     auto out = StudyFiles::open(out_dir, spec, true);
-    if (!out) return Error{out.error()};
+    if (!out) return out.failure();
     std::map<std::string, size_t> shard_of;  // cell -> shard
     std::vector<StudyRow> rows;
     for (size_t i = 0; i < files.size(); ++i)
@@ -320,12 +312,12 @@ Result<MergedStudy> merge_shards(const StudySpec& spec, const std::vector<ShardI
             rows.push_back(std::move(r));
         }
     for (const StudyRow& row : in_spec_order(spec, std::move(rows)))
-        if (auto added = out.value().add(row); !added) return Error{added.error()};
+        if (auto added = out.value().add(row); !added) return added.failure();
     for (const std::string& cell : map_cells)
         for (const StudyFiles& f : files)
             for (const RowFile::Fields& r : f.map_rows())
                 if (r.back() == cell)
-                    if (auto added = out.value().add_map_row(r); !added) return Error{added.error()};
+                    if (auto added = out.value().add_map_row(r); !added) return added.failure();
     for (const ShardInput& s : shards)
         if (fs::is_directory(s.dir / "images", ec)) {
             fs::copy(s.dir / "images", out_dir / "images",

@@ -5,9 +5,9 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
-#include <fstream>
 #include <memory>
 
+#include "core/file_write.h"
 #include "core/format_text.h"
 #include "core/interrupt.h"
 #include "gpu/context.h"
@@ -205,13 +205,10 @@ std::string solver_map_csv_line(const SolverMapRecord& r, const std::string& spe
 }
 
 Result<bool> write_solver_map_csv(const std::filesystem::path& path, const std::vector<SolverMapRecord>& records) {
-    std::ofstream out(path);
-    if (!out) return Error{"cannot write " + path.string() + "; check that its directory exists and is writable"};
-    out << solver_map_csv_header() << '\n';
-    for (const SolverMapRecord& r : records) out << solver_map_csv_line(r, "") << '\n';
-    out.close();
-    if (!out) return Error{"cannot write " + path.string() + " (disk full?)"};
-    return true;
+    return write_file_with(path, [&](std::ostream& out) {
+        out << solver_map_csv_header() << '\n';
+        for (const SolverMapRecord& r : records) out << solver_map_csv_line(r, "") << '\n';
+    });
 }
 
 }  // namespace aquaform::study

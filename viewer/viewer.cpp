@@ -17,6 +17,7 @@
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_vulkan.h>
 
+#include "core/interrupt.h"
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
 #include "render/image_io.h"
@@ -74,7 +75,9 @@ public:
         ViewSummary summary;
         uint32_t frame = 0;
         auto frame_start = std::chrono::steady_clock::now();
-        for (; !window_.should_close() && !quit_ && (options_.max_frames == 0 || frame < options_.max_frames); ++frame) {
+        // Ctrl-C in the terminal closes the window as Esc does (the command then exits 130).
+        for (; !window_.should_close() && !quit_ && !interrupted() && (options_.max_frames == 0 || frame < options_.max_frames);
+             ++frame) {
             glfwPollEvents();
             while (next_action < script.size() && script[next_action].frame <= frame) apply(script[next_action++]);
             for (const std::string& file : std::exchange(g_dropped, {})) drop(file);
