@@ -145,16 +145,16 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFr
     std::printf("\n== %s: %s\n   %s, %u particles, frame %u (t = %.3f s), %ux%u\n", bench.name, bench.what,
                 scene.name.c_str(), n, frame, time_s, width, height);
     std::fflush(stdout);
+    // One renderer through the registry draws every configuration: they are all SPH surface
+    // methods, so each measurement only reconfigures it. Made first: a picture the device cannot
+    // hold is refused (exit 2) before the simulation, not after it.
+    const MethodSettings reference_settings = study::reference_settings(base);
+    const std::unique_ptr<Renderer> renderer =
+        render_registry().create(ctx, scene.particle_domain(), width, height, n, reference_settings);
     std::map<std::string, double> last_frame_ms;
     if (!study::simulate_frames(sim, frame, std::string(bench.name) + ": simulating to frame " + std::to_string(frame),
                                 &last_frame_ms))
         return std::nullopt;
-
-    // One renderer through the registry draws every configuration: they are all SPH surface
-    // methods, so each measurement only reconfigures it.
-    const MethodSettings reference_settings = study::reference_settings(base);
-    const std::unique_ptr<Renderer> renderer =
-        render_registry().create(ctx, scene.particle_domain(), width, height, n, reference_settings);
     renderer->share_grid(sim.frame_grid());
     const ViewCamera camera = scene_camera(scene, float(width) / float(height));
     const size_t total = configs.size() + 1;

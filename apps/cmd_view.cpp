@@ -14,6 +14,7 @@
 #include "core/number_text.h"
 #include "gpu/context.h"
 #include "render/registry.h"
+#include "sim/pbf_solver.h"
 #include "render/surface_settings.h"
 #include "study/bench_scenes.h"
 #include "viewer/view_script.h"
@@ -115,6 +116,10 @@ int cmd_view(const std::vector<std::string>& argv) {
         throw Failure("--size " + std::to_string(width) + "x" + std::to_string(height) + ": " + ctx.info().name +
                       " makes window images of at most " + std::to_string(most) + " pixels a side; give a smaller --size");
     {
+        // The fluid first (its message names the count that fits), then the picture.
+        auto plan_bytes = plan_memory(scene);
+        if (!plan_bytes) throw Failure(plan_bytes.error());
+        if (auto fits = check_fits(scene, plan_bytes.value(), ctx.info()); !fits) throw Failure(fits.error());
         const uint32_t picture_w = std::max(uint32_t(std::lround(float(width) * options.picture_scale)), 16u);
         const uint32_t picture_h = std::max(uint32_t(std::lround(float(height) * options.picture_scale)), 16u);
         render_registry().create(ctx, scene.particle_domain(), picture_w, picture_h, uint32_t(scene.particle_count()),
@@ -146,7 +151,7 @@ int cmd_view(const std::vector<std::string>& argv) {
         options.watch_shaders = shaders;
         options.record_dir = record_dir;
         options.screenshot_dir = record_dir.empty() ? fs::path(".") : record_dir;
-        std::printf("aquaform view: %s, %llu particles on %s; Esc in the window (or Ctrl-C here) quits\n", scene.name.c_str(),
+        std::printf("viewing %s: %llu particles on %s; Esc in the window (or Ctrl-C here) quits\n", scene.name.c_str(),
                     (unsigned long long)scene.particle_count(), ctx.info().name.c_str());
         std::fflush(stdout);
         const viewer::ViewSummary run = viewer::run_viewer(ctx, win, std::move(plan.value()), options);

@@ -568,10 +568,10 @@ std::string unusable_reason(const MeshReport& report) {
     const double diagonal = glm::length(size);
     std::ostringstream out;
     out.precision(3);
-    if (!(diagonal >= kMinMeshDiagonal && diagonal <= kMaxMeshDiagonal)) {
+    if (!(diagonal >= kMinMeshDiagonal)) {
         out << "the mesh is " << diagonal << " units across (its bounding box's diagonal; " << size.x << " x " << size.y
-            << " x " << size.z << "), outside the " << kMinMeshDiagonal << " to " << kMaxMeshDiagonal
-            << " that single-precision placement can hold; scale it in a modelling tool (or export it in other units) "
+            << " x " << size.z << "), below the " << kMinMeshDiagonal
+            << " that single-precision placement can hold; scale it up in a modelling tool (or export it in other units) "
                "and size it in the scene with its placement's \"scale\" or \"fit_into\"";
         return out.str();
     }

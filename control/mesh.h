@@ -86,9 +86,10 @@ size_t orient_consistently(Mesh& mesh);
 /// Holes bigger than this share of the surface make a mesh unusable: the winding number inside the
 /// mesh falls towards 0.5 and the raster fill leaves every column through a hole empty.
 inline constexpr double kMaxHoleFraction = 0.01;
-/// Sizes (bounding-box diagonals, in the file's units) a mesh may have: placement, the lattice
-/// and the solver work in single precision, where 1e-30 squares to nothing and 1e30 to infinity.
-inline constexpr double kMinMeshDiagonal = 1e-6, kMaxMeshDiagonal = 1e6;
+/// The smallest mesh (its bounding box's diagonal, in the file's units): placement, the lattice
+/// and the solver work in single precision, where lengths of 1e-30 square to nothing. (The
+/// largest is bounded by the reader: coordinates beyond +-1e6 are refused.)
+inline constexpr double kMinMeshDiagonal = 1e-6;
 /// Why the inside test and the raster fill cannot use the mesh (no volume, large holes), with the
 /// fix; empty when it can be used.
 std::string unusable_reason(const MeshReport& report);

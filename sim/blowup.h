@@ -1,7 +1,7 @@
 // When a simulation has left physics: a speed, Courant number or compression that no step rule
 // can hold, or particles that are not finite or left the box. One definition for every command
 // (run, render, view, study and its solver maps, the benches), so the verdict means the same
-// everywhere; README "When a run leaves physics" says what it means for a user.
+// everywhere; README "When the fluid leaves physics" says what it means for a user.
 #pragma once
 
 #include <string>

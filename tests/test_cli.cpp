@@ -251,6 +251,8 @@ TEST(Cli, BadInputExitsTwoWhateverLayerFindsIt) {
                           // A picture the device cannot bind: refused before the simulation, not after.
                           Case{"render " + scene + " --frame 300 --resolution 8192x8192 --method reference --particles 1000 "
                                "--out " + (dir / "big").string(), "binds at most"},
+                          Case{"bench render --frames calm --particles 1000 --resolution 8192x8192 --configs uniform --out " +
+                                   (dir / "b8k.json").string(), "binds at most"},
                           // A folder where the results file goes: measured everything, then failed.
                           Case{"bench render --quick --out " + dir.string(), "is a folder; give a file name in it"},
                           Case{"bench sim --sizes 1000 --out " + dir.string(), "is a folder; give a file name in it"},

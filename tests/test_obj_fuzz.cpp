@@ -211,6 +211,26 @@ TEST(ControlPlaceCli, NumericFlagsAreStrict) {
     fs::remove_all(dir);
 }
 
+TEST(ControlPlaceCli, AMeshTooSmallOrTooLargeForSinglePrecisionIsRefusedNamingItsSize) {
+    const fs::path dir = temp_dir("place_mesh_size");
+    for (float side : {1e-30f, 1e-8f, 1e8f, 1e30f}) {
+        const fs::path mesh = write_mesh(dir, "box.obj", control::make_box(Box{glm::vec3(0.0f), glm::vec3(side)}));
+        const PlaceRun run = place(mesh, "", dir);
+        EXPECT_EQ(run.exit_code, 2) << side << ": " << run.err;
+        const bool small = side < 1.0f;
+        EXPECT_NE(run.err.find(small ? "units across" : "too large"), std::string::npos) << side << ": " << run.err;
+        EXPECT_NE(run.err.find(small ? "scale it up" : "scale the mesh down"), std::string::npos) << run.err;
+        EXPECT_EQ(run.err.find("nan"), std::string::npos) << run.err;
+        EXPECT_EQ(split_lines(run.err).size(), 1u) << run.err;
+    }
+    for (float side : {1e-5f, 1e5f}) {  // odd units, still placeable
+        const fs::path mesh = write_mesh(dir, "box.obj", control::make_box(Box{glm::vec3(0.0f), glm::vec3(side)}));
+        const PlaceRun run = place(mesh, "", dir);
+        EXPECT_EQ(run.exit_code, 0) << side << ": " << run.err;
+    }
+    fs::remove_all(dir);
+}
+
 TEST(ControlPlaceCli, MemoryIsEstimatedBeforeAllocating) {
     // The finest spacing the flag accepts on a unit cube: 1155^3 lattice points, about 90 GB; and
     // at most 8 GB to plan for, so that the refusal comes on a machine of any size.

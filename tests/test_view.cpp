@@ -142,6 +142,15 @@ TEST(ViewCliTest, AFluidTooLargeIsReportedWithTheFixAndNoCrash) {
     EXPECT_NE(usage.find("--particles must be a particle count from 64"), std::string::npos) << usage;
 }
 
+TEST(ViewCliTest, AWindowTheDeviceCannotHoldIsRefusedBeforeTheSimulation) {
+    // llvmpipe binds at most 128 MiB per storage buffer: an 8000x8000 picture is refused when the
+    // command checks the picture against the device, before any frame (exit 2, not 1 mid-run).
+    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --particles 2000 --size 8000x8000 --frames 5");
+    EXPECT_EQ(status, 2) << output;
+    EXPECT_NE(output.find("binds at most"), std::string::npos) << output;
+    EXPECT_EQ(output.find("window frames"), std::string::npos) << "the viewer should not have started:\n" << output;
+}
+
 TEST(ViewCliTest, PictureScaleMakesTheFluidsPictureSmallerThanTheWindow) {
     ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
     const fs::path out = test_cli::temp_dir("view_scale");
