@@ -118,6 +118,10 @@ int cmd_run(const std::vector<std::string>& argv) {
 
     RunFiles files(out_dir, scene);
     FrameExports exports(out_dir, *export_options);
+    if (auto described = write_run_description(out_dir, scene, export_options->up == UpAxis::z ? "z" : "y",
+                                               solver.particle_count());
+        !described)
+        return std::fprintf(stderr, "aquaform run: %s\n", described.error().c_str()), exit_status(ctx, kExitFailure);
     if (!files.ok()) {
         std::fprintf(stderr, "aquaform run: %s\n", files.error().c_str());
         return kExitFailure;
@@ -195,6 +199,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     double simulated = 0.0;
     uint64_t steps = 0, capped_frames = 0;  // the time-step rule's steps; frames the safety cap bound in
     // Writes a finished frame's files; false ends the run.
+    bool said_iso = false;
     auto write_frame = [&](const FinishedFrame& f) {
         const FrameStats& stats = f.report.stats;
         auto failed = [](const std::string& error) {
@@ -207,6 +212,12 @@ int cmd_run(const std::vector<std::string>& argv) {
             if (auto written = write_png(out_dir / name, *f.image); !written) return failed(written.error());
         }
         if (auto written = exports.write(f.index, stats.time_s, f.capture); !written) return failed(written.error());
+        if (f.capture.volume && !said_iso) {
+            // The level the surface is drawn at: Blender shows no grid metadata (aquaform_iso).
+            said_iso = true;
+            std::printf("\ndensity volumes: the surface is the level %.6g (the grid's aquaform_iso; Blender: the "
+                        "threshold of a Volume to Mesh modifier)\n", double(f.capture.volume->iso));
+        }
         // The row last: stats.csv lists the frames whose files are all written.
         if (auto written = files.write_frame_stats(f.index, stats, f.report.shape ? &*f.report.shape : nullptr); !written)
             return failed(written.error());
@@ -233,7 +244,8 @@ int cmd_run(const std::vector<std::string>& argv) {
         try {
             if (more) {
                 recording = frame;
-                next = sim.submit_frame(&timer, record_image);
+                // Frame 0 is the state at t = 0 (the first picture and exports); frame f is f frames on.
+                next = frame == 0 ? sim.submit_initial_state(&timer, record_image) : sim.submit_frame(&timer, record_image);
             }
         } catch (...) {
             if (finished) write_frame(*finished);  // the frame before a failure is still written

@@ -9,6 +9,7 @@ std::vector<std::string> frame_export_flags() {
     std::vector<std::string> flags;
     for (const FrameExportKind& kind : frame_export_kinds()) flags.push_back(kind.flag);
     flags.push_back(kMeshFormatFlag);
+    flags.push_back(kUpFlag);
     return flags;
 }
 
@@ -32,12 +33,25 @@ std::optional<FrameExportOptions> frame_export_options_from(const Args& args, st
             return std::nullopt;
         }
     }
+    if (args.has(kUpFlag)) {
+        auto up = parse_up_axis(args.value(kUpFlag));
+        if (!up) {
+            *error = std::string(kUpFlag) + ": " + up.error();
+            return std::nullopt;
+        }
+        options.up = up.value();
+        if (options.every == FrameExportOptions{}.every) {
+            *error = std::string(kUpFlag) + " turns the exported files; give an export flag too (e.g. --mesh-every K)";
+            return std::nullopt;
+        }
+    }
     return options;
 }
 
 size_t clear_earlier_run(const std::filesystem::path& dir) {
-    static const std::regex numbered(R"((frame|particles|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj))");
-    static const std::set<std::string> named{"stats.csv", "front.csv", "front.svg", "particles.pvd"};
+    static const std::regex numbered(R"((frame|particles|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp))");
+    static const std::set<std::string> named{"stats.csv",     "front.csv",   "front.svg",
+                                             "particles.pvd", "surface.pvd", kExportListing};
     size_t removed = 0;
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {

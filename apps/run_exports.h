@@ -1,5 +1,5 @@
-// The export flags of `run` (exports/frame_exports.h): every kind's --KIND-every K, and
-// --mesh-format obj|ply for --mesh-every.
+// The export flags of `run` (exports/frame_exports.h): every kind's --KIND-every K,
+// --mesh-format obj|ply|vtp for --mesh-every, and --up y|z for them all.
 #pragma once
 
 #include <cstddef>
@@ -14,6 +14,7 @@
 namespace aquaform::cli {
 
 inline constexpr const char* kMeshFormatFlag = "--mesh-format";
+inline constexpr const char* kUpFlag = "--up";
 
 /// The value flags read by frame_export_options_from().
 std::vector<std::string> frame_export_flags();
@@ -22,9 +23,9 @@ std::vector<std::string> frame_export_flags();
 std::optional<FrameExportOptions> frame_export_options_from(const Args& args, std::string* error);
 
 /// A folder's rule for `run`: it is the run's (hold_output_dir keeps others out while it
-/// writes), and the files an earlier run left there (frames, exports, stats.csv, front.*) are
-/// removed first, so that none of them pass for this run's; other files stay. Returns how many
-/// were removed.
+/// writes), and the files an earlier run left there (frames, exports with their .pvd and
+/// exports.csv, stats.csv, front.*) are removed first, so that none of them pass for this run's;
+/// other files stay. Returns how many were removed.
 size_t clear_earlier_run(const std::filesystem::path& dir);
 
 }  // namespace aquaform::cli

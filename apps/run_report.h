@@ -28,6 +28,13 @@ void print_control_summary(const session::ControlSummary& summary, const char* c
 
 using session::ShapeColumns;
 
+/// run.json: what a tool needs to rebuild the run's world around its exports (scripts/
+/// blender_scene.py): the scene, its tank (domain, in the simulation's y-up axes), the exports'
+/// up axis, the frame time and the particle count.
+Result<bool> write_run_description(const std::filesystem::path& dir, const Scene& scene, const char* up,
+                                   uint32_t particles);
+inline constexpr const char* kRunDescriptionName = "run.json";
+
 /// stats.csv (every frame) and front.csv (dam-break scenes, those with column_width).
 class RunFiles {
 public:
@@ -35,7 +42,8 @@ public:
     bool ok() const { return error_.empty(); }
     const std::string& error() const { return error_; }
     /// `shape` adds the shape columns (give it every frame or never).
-    /// The frame's row reaches the files whole or not at all (a full disk: the error says so).
+    /// The frame's row reaches the files whole or not at all (a full disk: the error says so);
+    /// frame 0's waits for the first stepped frame (its passes name the columns) or finish().
     Result<bool> write_frame_stats(uint32_t frame, const FrameStats& stats, const ShapeColumns* shape = nullptr);
     /// Dam-break scenes: writes front.svg (the run against Martin & Moyce 1952) and, for a
     /// single column of height 2a (their n^2 = 2), prints how far the front is from theirs.
@@ -51,6 +59,15 @@ private:
     std::filesystem::path dir_;
     AppendedFile stats_;
     AppendedFile front_;
+    /// A frame's figures waiting for the header (frame 0's, until a stepped frame names the passes).
+    struct WaitingRow {
+        uint32_t frame;
+        FrameStats stats;
+        std::optional<ShapeColumns> shape;
+    };
+    Result<bool> write_waiting_rows();
+    std::vector<WaitingRow> waiting_;
+    std::string header_;  ///< empty until written
     std::vector<std::string> pass_columns_;
     bool has_front_ = false;
     std::vector<std::pair<double, double>> front_samples_;  // (time, front)

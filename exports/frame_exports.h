@@ -1,7 +1,15 @@
 // The files `run` writes every K frames besides its images - particle dumps (PLY, VTK), density
-// volumes (OpenVDB) and surface meshes (OBJ or PLY) - under one rule: a kind whose flag gave K is
-// written at the frames f with f % K == 0. A new kind is a row in frame_export_kinds(), a field in FrameCapture if it
-// needs new data, and a case in FrameExports::write.
+// volumes (OpenVDB) and surface meshes (OBJ, PLY or VTK) - under one rule: a kind whose flag gave
+// K is written at the frames f with f % K == 0, as its file number f / K, so that each kind's
+// files are numbered 0, 1, 2, ... (Blender's sequence imports stop at a gap). exports.csv maps
+// every file to its frame and simulated time; the .pvd collections (VTK particles, VTK surfaces)
+// list theirs with the time too. A new kind is a row in frame_export_kinds(), a field in
+// FrameCapture if it needs new data, and a case in FrameExports::write.
+//
+// Up axis: the simulation is y-up (as ParaView and Houdini are); with UpAxis::z every file is
+// written in a z-up frame (Blender's) by the rotation about x that takes +y to +z, (x, y, z) ->
+// (x, -z, y), applied to positions, velocities, normals and the volume's lattice. A rotation keeps
+// the handedness, so triangles keep their winding and normals still point out.
 #pragma once
 
 #include <array>
@@ -10,6 +18,7 @@
 #include <optional>
 #include <string>
 
+#include "core/file_write.h"
 #include "core/result.h"
 #include "exports/mesh_export.h"
 #include "exports/vtk_export.h"
@@ -27,8 +36,9 @@ enum class FrameData : uint8_t { particles, volume, mesh };
 
 struct FrameExportKind {
     FrameExport kind;
+    const char* name;          ///< the kind in exports.csv: "ply", "vtk", "vdb", "mesh"
     const char* flag;          ///< the `run` flag that gives K, e.g. "--vtk-every"
-    const char* file_pattern;  ///< printf pattern of the file, with the frame number (a mesh's
+    const char* file_pattern;  ///< printf pattern of the file, with the file number (a mesh's
                                ///< extension follows its format)
     FrameData needs;           ///< what it is written from
 };
@@ -46,10 +56,19 @@ struct FrameCapture {
     }
 };
 
+enum class UpAxis : uint8_t { y, z };
+
+/// "y" or "z"; otherwise an error listing the choices.
+Result<UpAxis> parse_up_axis(const std::string& text);
+
 struct FrameExportOptions {
     std::array<uint32_t, kFrameExportKinds> every{};  ///< per kind: every K frames; 0: never
     MeshFormat mesh_format = MeshFormat::obj;
+    UpAxis up = UpAxis::y;
 };
+
+/// The files' listing in the export folder: "file,kind,frame,time_s", a row per file written.
+inline constexpr const char* kExportListing = "exports.csv";
 
 class FrameExports {
 public:
@@ -63,15 +82,22 @@ public:
     bool needs_particles(uint32_t frame) const { return needs(FrameData::particles, frame); }
     bool needs_volume(uint32_t frame) const { return needs(FrameData::volume, frame); }
 
-    /// Writes the files due at `frame` from `capture`; `time_s` is the simulated time at the
-    /// frame's end (the .pvd's timestep). The error names the file and the fix.
+    /// Writes the files due at `frame` from `capture`, each followed by its row in exports.csv
+    /// (and its entry in a .pvd); `time_s` is the frame's simulated time. The error names the file
+    /// and the fix.
     Result<bool> write(uint32_t frame, double time_s, const FrameCapture& capture);
 
 private:
     std::filesystem::path file(FrameExport kind, uint32_t frame) const;
+    Result<bool> write_file(FrameExport kind, const std::filesystem::path& path, double time_s,
+                            const FrameCapture& capture);
+    Result<bool> list(const std::filesystem::path& file, const FrameExportKind& kind, uint32_t frame, double time_s);
+
     std::filesystem::path dir_;
     FrameExportOptions options_;
-    VtkCollection vtk_collection_;
+    VtkCollection particles_pvd_;
+    VtkCollection surface_pvd_;
+    AppendedFile listing_;  // exports.csv, opened with the first file
 };
 
 }  // namespace aquaform

@@ -6,6 +6,7 @@
 #include <ostream>
 
 #include "core/file_write.h"
+#include "exports/vtk_export.h"
 
 namespace aquaform {
 
@@ -33,10 +34,18 @@ void append_index(std::string& line, uint32_t index) {
 Result<MeshFormat> parse_mesh_format(const std::string& text) {
     if (text == "obj") return MeshFormat::obj;
     if (text == "ply") return MeshFormat::ply;
-    return Error{"unknown mesh format '" + text + "'; use obj or ply"};
+    if (text == "vtp") return MeshFormat::vtp;
+    return Error{"unknown mesh format '" + text + "'; use obj, ply or vtp"};
 }
 
-const char* mesh_format_extension(MeshFormat format) { return format == MeshFormat::obj ? "obj" : "ply"; }
+const char* mesh_format_extension(MeshFormat format) {
+    switch (format) {
+        case MeshFormat::obj: return "obj";
+        case MeshFormat::ply: return "ply";
+        case MeshFormat::vtp: return "vtp";
+    }
+    return "";
+}
 
 Result<bool> write_mesh_obj(const std::filesystem::path& path, const SurfaceMesh& mesh) {
     return write_file_with(path, [&](std::ostream& out) {
@@ -105,7 +114,12 @@ Result<bool> write_mesh_ply(const std::filesystem::path& path, const SurfaceMesh
 }
 
 Result<bool> write_mesh(const std::filesystem::path& path, const SurfaceMesh& mesh, MeshFormat format) {
-    return format == MeshFormat::obj ? write_mesh_obj(path, mesh) : write_mesh_ply(path, mesh);
+    switch (format) {
+        case MeshFormat::obj: return write_mesh_obj(path, mesh);
+        case MeshFormat::ply: return write_mesh_ply(path, mesh);
+        case MeshFormat::vtp: return write_mesh_vtp(path, mesh);
+    }
+    return Error{"cannot write " + path.string() + ": unknown mesh format"};
 }
 
 }  // namespace aquaform

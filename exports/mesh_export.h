@@ -1,7 +1,8 @@
 // Surface meshes (render/surface_mesher.h) as files other tools open: Wavefront OBJ (text:
-// positions, normals, faces) and binary little-endian PLY (vertices with normals, faces as
-// lists), for ParaView, Blender, Houdini and MeshLab. Faces are counter-clockwise seen from
-// outside the fluid, so the tools' face normals point out, as the vertex normals do.
+// positions, normals, faces), binary little-endian PLY (vertices with normals, faces as lists),
+// for Blender, Houdini and MeshLab, and VTK PolyData (exports/vtk_export.h) for ParaView. Faces
+// are counter-clockwise seen from outside the fluid, so the tools' face normals point out, as the
+// vertex normals do.
 #pragma once
 
 #include <filesystem>
@@ -12,11 +13,11 @@
 
 namespace aquaform {
 
-enum class MeshFormat { obj, ply };
+enum class MeshFormat { obj, ply, vtp };
 
-/// "obj" or "ply"; otherwise an error listing the choices.
+/// "obj", "ply" or "vtp"; otherwise an error listing the choices.
 Result<MeshFormat> parse_mesh_format(const std::string& text);
-/// The file extension without the dot: "obj" or "ply".
+/// The file extension without the dot: "obj", "ply" or "vtp".
 const char* mesh_format_extension(MeshFormat format);
 
 /// The mesh as OBJ: "v x y z", "vn x y z" per vertex, "f a//a b//b c//c" per triangle (1-based).

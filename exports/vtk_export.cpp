@@ -2,12 +2,12 @@
 
 #include <bit>
 #include <cstdint>
-#include <cstdio>
 #include <limits>
 #include <ostream>
 #include <string_view>
 
 #include "core/file_write.h"
+#include "core/format_text.h"
 
 namespace aquaform {
 
@@ -38,6 +38,41 @@ uint64_t block_bytes(const AppendedArray& a) { return sizeof(uint64_t) + a.bytes
 template <typename T>
 AppendedArray array_of(std::string_view vtk_type, std::string_view name, uint32_t components, const std::vector<T>& v) {
     return {vtk_type, name, components, v.data(), uint64_t(v.size()) * sizeof(T)};
+}
+
+/// A section of a piece: its element (PointData, Points, Cells, Polys), the element's attributes
+/// and its arrays.
+struct Section {
+    std::string_view element;
+    std::string_view attributes;
+    std::vector<AppendedArray> arrays;
+};
+
+/// A VTK XML file of `type` ("UnstructuredGrid", "PolyData") holding one piece: the sections'
+/// array tags in order, then their bytes in the appended block in that same order.
+Result<bool> write_appended_vtk(const std::filesystem::path& path, std::string_view type,
+                                const std::string& piece_attributes, const std::vector<Section>& sections) {
+    return write_file_with(path, [&](std::ostream& out) {
+        out << "<?xml version=\"1.0\"?>\n"
+            << "<VTKFile type=\"" << type << "\" version=\"0.1\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+            << "  <" << type << ">\n    <Piece " << piece_attributes << ">\n";
+        uint64_t offset = 0;
+        for (const Section& s : sections) {
+            out << "      <" << s.element << s.attributes << ">\n";
+            for (const AppendedArray& a : s.arrays) {
+                write_array_tag(out, a, offset);
+                offset += block_bytes(a);
+            }
+            out << "      </" << s.element << ">\n";
+        }
+        out << "    </Piece>\n  </" << type << ">\n  <AppendedData encoding=\"raw\">\n   _";
+        for (const Section& s : sections)
+            for (const AppendedArray& a : s.arrays) {
+                out.write(reinterpret_cast<const char*>(&a.bytes), sizeof a.bytes);
+                out.write(static_cast<const char*>(a.data), std::streamsize(a.bytes));
+            }
+        out << "\n  </AppendedData>\n</VTKFile>\n";
+    });
 }
 
 /// `text` with the five XML special characters escaped (file names in the .pvd).
@@ -82,40 +117,43 @@ Result<bool> write_particles_vtu(const std::filesystem::path& path, const Partic
     }
     if (!s.density.empty()) density = s.density;
 
-    const AppendedArray point_data[] = {array_of("Float32", "velocity", 3, velocity),
-                                        array_of("Float32", "density", 1, density), array_of("UInt32", "id", 1, id),
-                                        array_of("UInt32", "tag", 1, tag)};
-    const AppendedArray point_array = array_of("Float32", "", 3, points);
-    const AppendedArray cells[] = {array_of("Int32", "connectivity", 1, connectivity),
-                                   array_of("Int32", "offsets", 1, offsets), array_of("UInt8", "types", 1, types)};
+    return write_appended_vtk(
+        path, "UnstructuredGrid",
+        "NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfCells=\"" + std::to_string(n) + "\"",
+        {{"PointData", " Scalars=\"density\" Vectors=\"velocity\"",
+          {array_of("Float32", "velocity", 3, velocity), array_of("Float32", "density", 1, density),
+           array_of("UInt32", "id", 1, id), array_of("UInt32", "tag", 1, tag)}},
+         {"Points", "", {array_of("Float32", "", 3, points)}},
+         {"Cells", "",
+          {array_of("Int32", "connectivity", 1, connectivity), array_of("Int32", "offsets", 1, offsets),
+           array_of("UInt8", "types", 1, types)}}});
+}
 
-    return write_file_with(path, [&](std::ostream& out) {
-        uint64_t offset = 0;
-        auto tag_and_advance = [&](const AppendedArray& a) {
-            write_array_tag(out, a, offset);
-            offset += block_bytes(a);
-        };
-        out << "<?xml version=\"1.0\"?>\n"
-            << "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
-            << "  <UnstructuredGrid>\n"
-            << "    <Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << n << "\">\n"
-            << "      <PointData Scalars=\"density\" Vectors=\"velocity\">\n";
-        for (const AppendedArray& a : point_data) tag_and_advance(a);
-        out << "      </PointData>\n      <Points>\n";
-        tag_and_advance(point_array);
-        out << "      </Points>\n      <Cells>\n";
-        for (const AppendedArray& a : cells) tag_and_advance(a);
-        out << "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _";
-        // The blocks in the order their offsets were given.
-        auto append = [&](const AppendedArray& a) {
-            out.write(reinterpret_cast<const char*>(&a.bytes), sizeof a.bytes);
-            out.write(static_cast<const char*>(a.data), std::streamsize(a.bytes));
-        };
-        for (const AppendedArray& a : point_data) append(a);
-        append(point_array);
-        for (const AppendedArray& a : cells) append(a);
-        out << "\n  </AppendedData>\n</VTKFile>\n";
-    });
+Result<bool> write_mesh_vtp(const std::filesystem::path& path, const SurfaceMesh& mesh) {
+    const size_t n = mesh.vertices.size(), triangles = mesh.triangles.size();
+    if (3 * triangles > size_t(std::numeric_limits<int32_t>::max()))
+        return Error{"cannot write " + path.string() + ": " + std::to_string(triangles) +
+                     " triangles exceed the Int32 connectivity of the .vtp writer; mesh a coarser lattice"};
+    static_assert(sizeof(glm::vec3) == 3 * sizeof(float), "vertices and normals are written as they lie");
+    std::vector<int32_t> connectivity(3 * triangles), offsets(triangles);
+    for (size_t t = 0; t < triangles; ++t) {
+        for (int c = 0; c < 3; ++c) connectivity[3 * t + c] = int32_t(mesh.triangles[t][c]);
+        offsets[t] = int32_t(3 * t + 3);
+    }
+    // Normals only where every vertex has one (a mesh may come without them).
+    const bool normals = mesh.normals.size() == n && n > 0;
+    std::vector<AppendedArray> point_data;
+    if (normals) point_data.push_back(array_of("Float32", "normals", 3, mesh.normals));
+
+    return write_appended_vtk(path, "PolyData",
+                              "NumberOfPoints=\"" + std::to_string(n) +
+                                  "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"" +
+                                  std::to_string(triangles) + "\"",
+                              {{"PointData", normals ? " Normals=\"normals\"" : "", point_data},
+                               {"Points", "", {array_of("Float32", "", 3, mesh.vertices)}},
+                               {"Polys", "",
+                                {array_of("Int32", "connectivity", 1, connectivity),
+                                 array_of("Int32", "offsets", 1, offsets)}}});
 }
 
 Result<bool> VtkCollection::add(double time_s, const std::string& file) {
@@ -126,10 +164,8 @@ Result<bool> VtkCollection::add(double time_s, const std::string& file) {
             out << "<?xml version=\"1.0\"?>\n"
                 << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
             for (const Entry& e : entries_) {
-                char time[32];
-                std::snprintf(time, sizeof time, "%.12g", e.time_s);  // simulated seconds
-                out << "    <DataSet timestep=\"" << time << "\" group=\"\" part=\"0\" file=\""
-                    << xml_escaped(e.file) << "\"/>\n";
+                out << "    <DataSet timestep=\"" << format_text(kTimeFormat, e.time_s)
+                    << "\" group=\"\" part=\"0\" file=\"" << xml_escaped(e.file) << "\"/>\n";
             }
             out << "  </Collection>\n</VTKFile>\n";
         });

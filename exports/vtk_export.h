@@ -1,12 +1,13 @@
-// Particle frames for ParaView and VTK: a VTK XML UnstructuredGrid (.vtu) per frame and a .pvd
-// collection that lists them with their simulated times.
+// Frames for ParaView and VTK: particles as a VTK XML UnstructuredGrid (.vtu), surface meshes as
+// a VTK XML PolyData (.vtp), and a .pvd collection that lists a series with its simulated times.
 //
 // Format choice: raw binary in an AppendedData block (UInt64 block headers, no compression):
 // the smallest and quickest VTK XML encoding to write and read (base64 inline would add a third
 // to the size and an encoding pass). Every particle is a VTK_VERTEX cell, so ParaView draws the
 // points without a filter. Points: positions (Float32 x 3); point data: velocity (Float32 x 3),
 // density (Float32), id (UInt32), tag (UInt32, the fluid block the particle came from) - the
-// same fields as the PLY dump (sim/particle_io.h).
+// same fields as the PLY dump (sim/particle_io.h). A mesh's triangles are polys (Int32
+// connectivity), its vertex normals the point data "normals".
 #pragma once
 
 #include <filesystem>
@@ -14,11 +15,17 @@
 #include <vector>
 
 #include "core/result.h"
+#include "render/marching_cubes.h"
 #include "sim/pbf_solver.h"
 
 namespace aquaform {
 
+/// The .pvd's timesteps and exports.csv's times: simulated seconds, to the float's precision.
+inline constexpr const char* kTimeFormat = "%.12g";
+
 Result<bool> write_particles_vtu(const std::filesystem::path& path, const ParticleSnapshot& particles);
+/// Normals are written where the mesh has one per vertex.
+Result<bool> write_mesh_vtp(const std::filesystem::path& path, const SurfaceMesh& mesh);
 
 /// A ParaView collection (.pvd) of the files written so far, rewritten whole (atomically) after
 /// each addition, so that a run stopped midway still leaves a collection ParaView opens.

@@ -1,9 +1,18 @@
 #!/usr/bin/env bash
 # Installs what aquaform needs from Debian 12 (only what is missing), then configures and builds
 # in Release. Safe to run again: a second run installs nothing and rebuilds only what changed.
-# Usage: scripts/setup.sh [BUILD_DIR]   (default: build)
+# Usage: scripts/setup.sh [--tools] [BUILD_DIR]   (default: build)
+#   --tools: also Debian's ParaView and Blender (about 900 MB), which the test suite opens the
+#   exports in (scripts/test.sh passes it; the demo does not need them).
+# It never removes a package: where Debian would have to (python3-paraview and python3-vtk9 both
+# ship VTK's Python modules), it stops and says which package is in the way.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+tools=0
+if [ "${1:-}" = "--tools" ]; then
+  tools=1
+  shift
+fi
 build_dir="${1:-$root/build}"
 
 packages=(
@@ -13,9 +22,11 @@ packages=(
   libglfw3-dev libglm-dev libtinyobjloader-dev libopenmesh-dev
   libgtest-dev googletest nlohmann-json3-dev libstb-dev python3-matplotlib
   libimgui-dev xvfb xauth
-  ffmpeg python3-vtk9 libopenvdb-dev
+  ffmpeg libopenvdb-dev
   slurm-wlm munge parallel
 )
+# ParaView's Python (python3-paraview) also serves the tests' VTK reader (tests/read_vtk.py).
+if ((tools)); then packages+=(paraview python3-paraview blender); fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -31,7 +42,15 @@ if ((${#missing[@]})); then
   fi
   export DEBIAN_FRONTEND=noninteractive
   apt-get update -qq
-  apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  if ! apt-get install -y -qq --no-install-recommends --no-remove "${missing[@]}"; then
+    echo "aquaform setup: apt-get could not install ${missing[*]} without removing packages you have" >&2
+    if dpkg-query -W -f='${Status}' python3-vtk9 2>/dev/null | grep -q "install ok installed"; then
+      echo "aquaform setup: python3-vtk9 is in the way of ParaView (python3-paraview ships the same VTK modules," >&2
+      echo "  and serves everything python3-vtk9 did for aquaform); remove it yourself if you agree:" >&2
+      echo "  apt-get remove python3-vtk9   then run this again" >&2
+    fi
+    exit 1
+  fi
 fi
 
 jobs="$(nproc 2>/dev/null || echo 2)"

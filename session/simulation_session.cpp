@@ -130,6 +130,15 @@ gpu::Submission SimulationSession::submit_frame(gpu::GpuTimer* timer, const std:
     });
 }
 
+gpu::Submission SimulationSession::submit_initial_state(gpu::GpuTimer* timer,
+                                                        const std::function<void(VkCommandBuffer)>& also) {
+    if (driver_) driver_->update(solver_->time());
+    return ctx_->submit([&](VkCommandBuffer cmd) {
+        solver_->record_initial_state(cmd, timer);
+        if (also) also(cmd);
+    });
+}
+
 FrameReport SimulationSession::finish_frame(gpu::Submission frame, gpu::GpuTimer* timer) {
     ctx_->wait(frame);
     FrameReport report;

@@ -103,6 +103,9 @@ public:
     /// control shapes are updated, and the frame is recorded with `also` after it (commands that
     /// read this frame's particles: a render and its read-back) and submitted, not waited for.
     gpu::Submission submit_frame(gpu::GpuTimer* timer, const std::function<void(VkCommandBuffer)>& also = {});
+    /// As submit_frame for frame 0, the state at t = 0: measured and sorted, not stepped
+    /// (PbfSolver::record_initial_state), so that a run's frame f is the state at f frames.
+    gpu::Submission submit_initial_state(gpu::GpuTimer* timer, const std::function<void(VkCommandBuffer)>& also = {});
     /// Waits for the frame and gives its figures. Call it before the next frame is submitted.
     FrameReport finish_frame(gpu::Submission frame, gpu::GpuTimer* timer);
     /// Frames for `seconds` of simulated time, without shape metrics; the last frame's figures.

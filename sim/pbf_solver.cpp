@@ -280,11 +280,25 @@ void PbfSolver::record_frame(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
         gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
     }
     for (uint32_t i = 0; i < substeps; ++i) record_step(cmd, timer);
+    recorded_steps_ = substeps;
     if (frame_grid_) {
         gpu::GpuScope s(timer, cmd, "frame_grid");
         record_sort(cmd, *x_, nullptr, true);
     }
     record_stats(cmd, timer);
+}
+
+void PbfSolver::record_initial_state(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
+    if (timer) {
+        timer->clear_totals();
+        timer->reset(cmd);
+    }
+    {
+        gpu::GpuScope s(timer, cmd, "frame_grid");
+        record_sort(cmd, *x_, nullptr, true);  // the lists of x that the statistics' density reads
+    }
+    record_stats(cmd, timer);
+    recorded_steps_ = 0;
 }
 
 FrameStats PbfSolver::collect_stats(gpu::GpuTimer* timer) {
@@ -300,7 +314,7 @@ FrameStats PbfSolver::collect_stats(gpu::GpuTimer* timer) {
                                         droplet_size_limit(count_));
     stats.time_s = time_;
     if (timer) stats.gpu_ms = timer->totals_ms();
-    stats.substeps = substeps_;
+    stats.substeps = recorded_steps_;
     stats.dt = params_.dt;
     stats.cfl_number = stats.max_speed * params_.dt / params_.h;
     // The cap clamps to exactly max_speed, so a frame it bound in ends at (nearly) that speed.

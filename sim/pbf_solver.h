@@ -78,6 +78,10 @@ public:
     /// that submission has completed, collect_stats() gives its statistics. Record no other
     /// frame before collecting.
     void record_frame(VkCommandBuffer cmd, gpu::GpuTimer* timer);
+    /// Frame 0 of a run, the state at t = 0, recorded as a frame ends but without a step: the
+    /// particles sorted into the frame grid and measured on their neighbours; collect_stats()
+    /// gives its statistics.
+    void record_initial_state(VkCommandBuffer cmd, gpu::GpuTimer* timer);
     FrameStats collect_stats(gpu::GpuTimer* timer);
     /// Statistics of the current state (runs the density and reduction passes).
     FrameStats measure(gpu::GpuTimer* timer);
@@ -133,6 +137,7 @@ private:
     double time_ = 0.0;
     shader::SimParams params_{};
     uint32_t substeps_ = 1;
+    uint32_t recorded_steps_ = 0;  // steps of the frame last recorded (0: the initial state)
     double last_max_speed_ = 0.0;  // the largest speed at the end of the last frame [m/s]
     double last_speed_growth_ = 0.0;  // how much it grew over that frame [m/s]
     double last_max_density_error_ = 0.0;  // its largest density error (substeps_for_compression)

@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <openvdb/openvdb.h>
+
 #include "control/mesh.h"
 #include "core/error.h"
 #include "exports/mesh_export.h"
@@ -28,8 +30,10 @@
 #include "render/marching_cubes.h"
 #include "render/surface_mesher.h"
 #include "render/surface_renderer.h"
+#include "sim/scene.h"
 #include "shaders/shared/render_kernels.h"
 #include "tests/cli_helpers.h"
+#include "tests/export_readers.h"
 #include "tests/gpu_test.h"
 #include "tests/particle_cube.h"
 
@@ -37,6 +41,7 @@ namespace aquaform {
 namespace {
 
 namespace fs = std::filesystem;
+using namespace test_exports;
 using testing::DeviceParticles;
 
 class SurfaceMeshTest : public testing::GpuTest {};
@@ -81,13 +86,21 @@ float cpu_phi(const DensitySampler& s, const std::vector<glm::vec4>& particles, 
     return kSpacing * kSpacing * kSpacing * sum;
 }
 
+/// The sampler's field at `p` from the unclipped `phi`: clipped at the walls of `domain`.
+float clipped(float phi, glm::vec3 p, const Box& domain, const DensityVolume& v) {
+    return shader::mesh_clip_to_walls(phi, p, domain.min, domain.max, v.iso, v.voxel);
+}
+
 /// Largest difference between the volume and the host's phi at every sample.
-float max_field_error(const DensitySampler& s, const std::vector<glm::vec4>& particles, const DensityVolume& v) {
+float max_field_error(const DensitySampler& s, const std::vector<glm::vec4>& particles, const DensityVolume& v,
+                      const Box& domain) {
     float worst = 0.0f;
     for (uint32_t k = 0; k < v.dims.z; ++k)
         for (uint32_t j = 0; j < v.dims.y; ++j)
-            for (uint32_t i = 0; i < v.dims.x; ++i)
-                worst = std::max(worst, std::abs(v.at(i, j, k) - cpu_phi(s, particles, v.position(i, j, k))));
+            for (uint32_t i = 0; i < v.dims.x; ++i) {
+                const glm::vec3 p = v.position(i, j, k);
+                worst = std::max(worst, std::abs(v.at(i, j, k) - clipped(cpu_phi(s, particles, p), p, domain, v)));
+            }
     return worst;
 }
 
@@ -138,12 +151,14 @@ TEST_F(SurfaceMeshTest, SampledVolumeEqualsTheRenderersFieldOnTheHost) {
         for (uint32_t k = 0; k < aniso.dims.z; ++k)
             for (uint32_t j = 0; j < aniso.dims.y; ++j)
                 for (uint32_t i = 0; i < aniso.dims.x; ++i)
-                    aniso_worst = std::max(aniso_worst, std::abs(aniso.at(i, j, k) -
-                                                                 testing::cpu_field(renderer.params(), kernels, aniso.position(i, j, k))));
+                    aniso_worst = std::max(
+                        aniso_worst, std::abs(aniso.at(i, j, k) -
+                                              clipped(testing::cpu_field(renderer.params(), kernels, aniso.position(i, j, k)),
+                                                      aniso.position(i, j, k), scene.domain, aniso)));
         EXPECT_LT(aniso_worst, 1e-4f) << "the anisotropic volume differs from the renderer's field";
         EXPECT_FLOAT_EQ(aniso.iso, volume.iso);
     }
-    const float worst = max_field_error(sampler, particles, volume);
+    const float worst = max_field_error(sampler, particles, volume, scene.domain);
     std::printf("[ field ] %ux%ux%u samples, max |phi_gpu - phi_cpu| = %.2e (iso %.3f)\n", volume.dims.x,
                 volume.dims.y, volume.dims.z, worst, volume.iso);
     EXPECT_LT(worst, 2e-5f);
@@ -161,7 +176,7 @@ TEST_F(SurfaceMeshTest, SampledVolumeEqualsTheRenderersFieldOnTheHost) {
     ASSERT_TRUE(sampler.reads_in_place());
     const DensityVolume in_place = sampler.sample_volume(sorted_device.buffer, sorted_device.count);
     ASSERT_EQ(in_place.dims, volume.dims);
-    EXPECT_LT(max_field_error(sampler, particles, in_place), 2e-5f);
+    EXPECT_LT(max_field_error(sampler, particles, in_place, fluid.scene.domain), 2e-5f);
 }
 
 TEST_F(SurfaceMeshTest, GpuMeshEqualsTheCpuMarchingCubesIndexForIndex) {
@@ -382,31 +397,6 @@ TEST_F(SurfaceMeshTest, MeshLiesOnTheExhaustiveReferenceSurface) {
     }
 }
 
-/// A binary little-endian PLY as exports/mesh_export.cpp writes it, read back.
-SurfaceMesh read_mesh_ply(const fs::path& path) {
-    const std::string text = test_cli::read_file(path);
-    SurfaceMesh mesh;
-    size_t vertices = 0, faces = 0;
-    std::sscanf(text.c_str() + text.find("element vertex"), "element vertex %zu", &vertices);
-    std::sscanf(text.c_str() + text.find("element face"), "element face %zu", &faces);
-    size_t at = text.find("end_header\n") + 11;
-    EXPECT_EQ(text.size(), at + vertices * 24 + faces * 13) << path;
-    if (text.size() != at + vertices * 24 + faces * 13) return mesh;
-    for (size_t i = 0; i < vertices; ++i, at += 24) {
-        float f[6];
-        std::memcpy(f, text.data() + at, 24);
-        mesh.vertices.emplace_back(f[0], f[1], f[2]);
-        mesh.normals.emplace_back(f[3], f[4], f[5]);
-    }
-    for (size_t i = 0; i < faces; ++i, at += 13) {
-        EXPECT_EQ(text[at], 3);
-        int32_t c[3];
-        std::memcpy(c, text.data() + at + 1, 12);
-        mesh.triangles.emplace_back(c[0], c[1], c[2]);
-    }
-    return mesh;
-}
-
 TEST_F(SurfaceMeshTest, WrittenFilesReadBackWithTheProjectsObjLoaderAndAsPly) {
     TestFluid fluid(ctx());
     const SurfaceMesh mesh = fluid.mesh(ctx());
@@ -456,8 +446,10 @@ TEST(SurfaceMeshRun, MeshEveryWritesAMeshPerFrameAndRefusesUnknownFormats) {
                                "--out " + (dir / "ply").string());
     ASSERT_EQ(o.exit_code, 0) << o.output;
     EXPECT_GT(read_mesh_ply(dir / "ply" / "surface_0000.ply").triangles.size(), 500u);
-    EXPECT_FALSE(fs::exists(dir / "ply" / "surface_0001.ply"));
-    EXPECT_TRUE(fs::exists(dir / "ply" / "surface_0002.ply"));
+    // Frames 0 and 2: the meshes are numbered by their own count, exports.csv gives the frame.
+    EXPECT_TRUE(fs::exists(dir / "ply" / "surface_0001.ply"));
+    EXPECT_FALSE(fs::exists(dir / "ply" / "surface_0002.ply"));
+    EXPECT_NE(test_cli::read_file(dir / "ply" / "exports.csv").find("surface_0001.ply,mesh,2,"), std::string::npos);
 
     o = test_cli::run_aquaform("run " + scene + " --frames 1 --mesh-every 1 --mesh-format xyz --out " +
                                (dir / "xyz").string());
@@ -465,6 +457,58 @@ TEST(SurfaceMeshRun, MeshEveryWritesAMeshPerFrameAndRefusesUnknownFormats) {
     EXPECT_EQ(std::count(o.output.begin(), o.output.end(), '\n'), 1) << o.output;
     EXPECT_NE(o.output.find("--mesh-format"), std::string::npos) << o.output;
     EXPECT_NE(o.output.find("obj"), std::string::npos) << o.output;
+    fs::remove_all(dir);
+}
+
+TEST(SurfaceMeshRun, TheExportedSurfaceStaysInsideTheTank) {
+    // A dam break pressed against its walls and floor: the kernels of the particles there reach
+    // about r beyond them, and an unclipped surface pokes about 2 cm through the glass.
+    const fs::path dir = test_cli::temp_dir("surface_in_tank");
+    const std::string scene_path = std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json";
+    auto o = test_cli::run_aquaform("run " + scene_path + " --frames 31 --particles 3000 --no-png --mesh-every 10 "
+                                    "--vdb-every 10 --out " + dir.string());
+    ASSERT_EQ(o.exit_code, 0) << o.output;
+    auto scene = load_scene(scene_path);
+    ASSERT_TRUE(scene) << scene.error();
+    const Box tank = scene.value().domain;
+    size_t meshes = 0, volumes = 0;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        const std::string name = entry.path().filename().string();
+        if (name.rfind("surface_", 0) == 0) {
+            ++meshes;
+            auto loaded = control::load_obj(entry.path());
+            ASSERT_TRUE(loaded) << name << ": " << loaded.error();
+            glm::vec3 lo(1e9f), hi(-1e9f);
+            for (const glm::vec3& v : loaded.value().mesh.vertices) lo = glm::min(lo, v), hi = glm::max(hi, v);
+            for (int a = 0; a < 3; ++a) {
+                EXPECT_GE(lo[a], tank.min[a] - 1e-5f) << name << ": the surface pokes through the wall on axis " << a;
+                EXPECT_LE(hi[a], tank.max[a] + 1e-5f) << name << ": the surface pokes through the wall on axis " << a;
+            }
+            // It reaches the wall it leans on (the column stands on the floor at the left wall).
+            EXPECT_LT(lo.x, tank.min.x + 0.005f) << name;
+            EXPECT_LT(lo.y, tank.min.y + 0.005f) << name;
+        }
+        if (name.rfind("density_", 0) == 0) {
+            ++volumes;
+            openvdb::initialize();
+            openvdb::io::File file(entry.path().string());
+            file.open();
+            auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid("density"));
+            file.close();
+            ASSERT_TRUE(grid) << name;
+            const float iso = grid->metaValue<float>("aquaform_iso");
+            // Where a voxel is inside the fluid (above the iso level), its centre is in the tank.
+            for (auto on = grid->cbeginValueOn(); on; ++on) {
+                if (*on <= iso) continue;
+                const openvdb::Vec3d p = grid->indexToWorld(on.getCoord());
+                for (int a = 0; a < 3; ++a)
+                    ASSERT_TRUE(p[a] >= tank.min[a] - 1e-5 && p[a] <= tank.max[a] + 1e-5)
+                        << name << ": fluid at " << p << " outside the tank";
+            }
+        }
+    }
+    EXPECT_EQ(meshes, 4u);
+    EXPECT_EQ(volumes, 4u);
     fs::remove_all(dir);
 }
 

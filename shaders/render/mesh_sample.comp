@@ -9,7 +9,8 @@
 // out cells whose box is r or farther from p. A border cell of the grid also holds the particles
 // beyond the grid (they are clamped into it), so its box is open on its outer sides. The
 // lattice's outermost layer is written as 0: the lattice is padded so that phi is 0 there anyway;
-// this keeps the surface closed should a particle ever leave the clip box.
+// this keeps the surface closed should a particle ever leave the clip box. The field is clipped
+// at the domain's faces (the tank's walls, floor and lid) at the end of main().
 // Loop lengths: at most 27 cells of the particles within r, far below the software device's
 // 65535 iterations per invocation.
 //
@@ -82,5 +83,8 @@ void main() {
             }
         }
     }
-    values[s] = params.volume * sum;
+    // The domain's faces: the clip box less its pad (mesh_clip_to_walls says why).
+    float pad = params.clip_max.w;
+    values[s] = mesh_clip_to_walls(params.volume * sum, p, params.clip_min.xyz + pad, params.clip_max.xyz - pad, params.iso,
+                                   params.clip_min.w);
 }

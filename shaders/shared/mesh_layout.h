@@ -58,6 +58,18 @@ struct MeshLattice {
     uvec4 totals;        ///< x: vertices, y: triangles (copied from the prefix sums' ends); zw unused
 };
 
+/// The field clipped at the domain's faces (the tank's walls, floor and lid: [wall_lo, wall_hi]),
+/// so that an exported surface stays inside the glass and above the floor as the pictures draw
+/// it, where the kernels of particles at a wall reach about r beyond it. phi' = min(phi, iso +
+/// iso d / voxel), d the distance inside the nearest face less a thousandth of a voxel: linear
+/// across each face, so marching cubes (and a volume's mesher) put the iso-surface just inside
+/// the face's plane (never on a sample, which would make zero-area triangles); 0 one voxel beyond.
+AF_FN float mesh_clip_to_walls(float phi, vec3 p, vec3 wall_lo, vec3 wall_hi, float iso, float voxel) {
+    vec3 inside3 = min(p - wall_lo, wall_hi - p);
+    float inside = min(inside3.x, min(inside3.y, inside3.z)) - 0.001f * voxel;
+    return max(0.0f, min(phi, iso * (1.0f + inside / voxel)));
+}
+
 /// Offset of corner c (0..7) of a cell from its lowest sample.
 AF_FN uvec3 mesh_corner(uint c) { return uvec3(c & 1u, (c >> 1u) & 1u, (c >> 2u) & 1u); }
 
