@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/Count.h>
 
 #include "exports/frame_capture.h"
 #include "exports/frame_exports.h"
@@ -267,7 +268,9 @@ TEST_F(ExportCapture, FrameVolumeIsTheSamplersVolumeAlsoWhenTheLatticeOutgrowsIt
         ASSERT_TRUE(capture.volume);
         EXPECT_FALSE(capture.particles) << "no particle export is due";
         EXPECT_EQ(bool(capture.mesh), with_mesh);
-        if (with_mesh) EXPECT_GT(capture.mesh->triangles.size(), 100u) << blocks.size() << " blocks";
+        if (with_mesh) {
+            EXPECT_GT(capture.mesh->triangles.size(), 100u) << blocks.size() << " blocks";
+        }
 
         DensitySampler sampler(ctx(), scene.particle_domain(), solver.particle_count());
         const DensityVolume expected = sampler.sample_volume(solver.positions(), solver.particle_count());
@@ -345,8 +348,7 @@ TEST(ExportRun, VdbEveryWritesTheFramesDensityAroundItsParticles) {
         const float iso = grid->metaValue<float>("aquaform_iso");
         EXPECT_GT(iso, 0.0f);
         EXPECT_LT(iso, 1.0f);
-        float low = 0.0f, high = 0.0f;
-        grid->evalMinMax(low, high);
+        const float high = openvdb::tools::minMax(grid->tree()).max();
         EXPECT_GT(high, 0.7f) << "phi is about 1 in resting fluid";
         EXPECT_LT(high, 1.6f);
         // The field of this frame's particles: above iso at the voxel nearest each of them.

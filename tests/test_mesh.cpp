@@ -285,7 +285,7 @@ TEST_F(MeshTest, MeshObjRefusesEachBadLineNamingLineAndElement) {
         {"v 0 0 -1e300\n", {"line 1: vertex 1 has coordinate -1e+300, too large"}},
         {"v 0 0 0\nvt 0.5 nan\n", {"line 2: texture coordinate 1 has a non-finite number"}},
         {tri + "bogus 1 2 3\n", {"line 4: not an OBJ statement: 'bogus'"}},
-        {tri + "\x01\x02\xff\n", {"line 4: not an OBJ statement: '???'"}},
+        {tri + "\x01\x02\xff\n", {"line 4: not an OBJ statement: '\?\?\?'"}},
         {tri + "curv 0 1 1 2\n", {"line 4: free-form geometry ('curv')"}},
         {"\xEF\xBB\xBF" "v 0 0 0\r\nv 1 0 0\r\nf 1 2 3\r\n", {"line 3: face 1 corner 3 refers to vertex 3 but 2 vertices"}},
         {"# comment\n" + tri + "f 1 \\\n 2 9\n", {"line 5: face 1 corner 3"}},

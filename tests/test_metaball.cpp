@@ -242,8 +242,9 @@ TEST_F(MetaballTest, ParticlesAtTheEyePlaneAreCountedAsDroppedFromTheLists) {
         renderer.render(particles.buffer, particles.count, close, settings);
         const MetaballStats stats = renderer.stats();
         EXPECT_EQ(stats.dropped_particles, method == MetaballMethod::brute_force ? 0u : expected) << method_name(method);
-        if (method != MetaballMethod::brute_force)
+        if (method != MetaballMethod::brute_force) {
             EXPECT_NE(stats.describe().find("reach the eye plane"), std::string::npos) << stats.describe();
+        }
         renderer.render(particles.buffer, particles.count, front_camera(), settings);
         EXPECT_EQ(renderer.stats().dropped_particles, 0u) << method_name(method) << " from afar";
     }
@@ -351,7 +352,9 @@ TEST_F(MetaballTest, LoopsTheDeviceEndsEarlyAreReportedNotDrawnSilently) {
     if (stats.cut_pixels == 0)
         for (size_t i = 0; i < brute.hit.size(); ++i) {
             ASSERT_EQ(brute.has_surface(i), lists.has_surface(i)) << i;
-            if (brute.has_surface(i)) ASSERT_NEAR(brute.hit[i].w, lists.hit[i].w, spacing / 8.0f) << i;
+            if (brute.has_surface(i)) {
+                ASSERT_NEAR(brute.hit[i].w, lists.hit[i].w, spacing / 8.0f) << i;
+            }
         }
 }
 

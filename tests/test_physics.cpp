@@ -97,7 +97,9 @@ TEST_F(PhysicsTest, TheSpeedCapIsASafetyNetThatSaysWhenItBinds) {
     while (solver.time() < 1.0 - 1e-6) {
         last = solver.run_frame(nullptr);
         bound |= last.speed_capped;
-        if (last.time_s < 0.25) EXPECT_FALSE(last.speed_capped) << "t = " << last.time_s << ": below the cap";
+        if (last.time_s < 0.25) {
+            EXPECT_FALSE(last.speed_capped) << "t = " << last.time_s << ": below the cap";
+        }
     }
     EXPECT_TRUE(bound);
     EXPECT_TRUE(last.speed_capped);

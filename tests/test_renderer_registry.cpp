@@ -164,7 +164,9 @@ TEST(RendererRegistry, HelpListsEveryMethodAndFlag) {
         EXPECT_NE(help.output.find(e.name + " "), std::string::npos) << e.name;
         EXPECT_NE(help.output.find(e.description), std::string::npos) << e.name;
         for (const SettingSpec& s : e.settings)
-            if (!s.flag.empty()) EXPECT_NE(help.output.find(s.flag), std::string::npos) << s.flag;
+            if (!s.flag.empty()) {
+                EXPECT_NE(help.output.find(s.flag), std::string::npos) << s.flag;
+            }
     }
     const Outcome unknown = run_aquaform("render " + std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json --method octree");
     EXPECT_EQ(unknown.exit_code, 2);

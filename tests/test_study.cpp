@@ -421,7 +421,9 @@ TEST(StudyFilesTest, AResumedStudyReportsExactlyAsOneUninterruptedRun) {
     EXPECT_EQ(again.value().cells_done(), 3u);
     for (size_t i = 0; i < cells.size(); ++i) {
         EXPECT_EQ(again.value().done(cells[i]), i < 3) << cells[i];
-        if (i >= 3) ASSERT_TRUE(again.value().add(fake_row(spec, cells[i], i)).ok());
+        if (i >= 3) {
+            ASSERT_TRUE(again.value().add(fake_row(spec, cells[i], i)).ok());
+        }
     }
     EXPECT_EQ(report(resumed, again.value()), one_run);
     EXPECT_NE(one_run.find("overflow, needs \"more\""), std::string::npos) << "a status with a comma and quotes";
@@ -476,7 +478,9 @@ TEST(StudyCliTest, CtrlCKeepsTheRowsAndTheReportAndARerunResumes) {
     for (size_t i = 0; i < cells.size(); ++i) {
         EXPECT_EQ(rows[i + 1].back(), cells[i]);
         EXPECT_EQ(rows[i + 1][18], "ok") << cells[i];
-        if (i < done) EXPECT_EQ(rows[i + 1], kept[i + 1]);
+        if (i < done) {
+            EXPECT_EQ(rows[i + 1], kept[i + 1]);
+        }
     }
     EXPECT_EQ(read_csv(out / "solver_map.csv").size(), 2u) << "a header and the map's cell";
     const std::string md = test_cli::read_file(out / "study.md");
@@ -490,7 +494,7 @@ TEST(StudyCliTest, CtrlCKeepsTheRowsAndTheReportAndARerunResumes) {
     const std::string again = "study " + spec.string() + " --out " + out.string() + " --no-charts";
     auto refused = test_cli::run_aquaform(again);
     EXPECT_EQ(refused.exit_code, 2) << refused.output;
-    for (const std::string part : {(out / "study.csv").string(), std::string("another spec"), std::string("--fresh"),
+    for (const std::string& part : {(out / "study.csv").string(), std::string("another spec"), std::string("--fresh"),
                                    std::string("another --out")})
         EXPECT_NE(refused.output.find(part), std::string::npos) << part << ": " << refused.output;
     EXPECT_EQ(read_csv(out / "study.csv").size(), 7u) << "the rows stay as they were";

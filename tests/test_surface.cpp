@@ -125,7 +125,7 @@ TEST_F(SurfaceTest, MasksMarkEveryCellWhereTheFieldReachesTheIso) {
     // The tight bound (the default) and Wu et al.'s count bound with unit weights are both exact.
     // The anisotropic surface's kernels are bounded by their largest semi-axis (tight bound only).
     uint32_t marked_by[2] = {0, 0};
-    for (const auto [tight, surface] : {std::pair{true, SurfaceKernel::isotropic}, std::pair{false, SurfaceKernel::isotropic},
+    for (const auto& [tight, surface] : {std::pair{true, SurfaceKernel::isotropic}, std::pair{false, SurfaceKernel::isotropic},
                                         std::pair{true, SurfaceKernel::anisotropic}}) {
         SCOPED_TRACE(surface == SurfaceKernel::anisotropic ? "anisotropic surface" : "isotropic surface");
         SurfaceSettings settings;
@@ -477,7 +477,9 @@ TEST_F(SurfaceTest, RaysTheDeviceEndsEarlyAreCounted) {
     settings.reference_step_radii = 0.01f;
     const SurfaceFrame frame = renderer.render(particles.buffer, particles.count, camera, settings);
     const uint32_t cut = renderer.cut_rays();
-    if (ctx().info().type == VK_PHYSICAL_DEVICE_TYPE_CPU) EXPECT_GT(cut, 0u) << "llvmpipe stops invocations at 65535 loop iterations";
+    if (ctx().info().type == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+        EXPECT_GT(cut, 0u) << "llvmpipe stops invocations at 65535 loop iterations";
+    }
     if (cut == 0) {
         size_t hits = 0;
         for (size_t i = 0; i < frame.hit.size(); ++i) hits += frame.has_surface(i);

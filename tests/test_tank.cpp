@@ -115,7 +115,9 @@ TEST_P(TankTest, AStaticBoxIsSolidAndHidesTheFluidBehindIt) {
     EXPECT_GT(box.r, box.b + 20) << "the box's warm colour, not the fluid's";
     // Beside the box, the same fluid is still seen.
     const glm::ivec2 beside = pixel_of(camera, {0.19f, 0.04f, 0.18f});
-    if (has_surface_at(with, beside)) EXPECT_GT(colour_at(with, beside).b, colour_at(with, beside).r);
+    if (has_surface_at(with, beside)) {
+        EXPECT_GT(colour_at(with, beside).b, colour_at(with, beside).r);
+    }
 }
 
 // The families whose composition refracts through the fluid's thickness (compose.comp): the SPH

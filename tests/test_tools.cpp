@@ -2,6 +2,7 @@
 // and Blender (tests/tools/blender_check.py, scripts/blender_scene.py) open a small run's files,
 // and what they report is checked against the run's own tables (stats.csv, exports.csv) and files.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -188,7 +189,10 @@ json paraview_report(const fs::path& run, const std::string& png = "") {
     const std::string script = kSource + "/tests/tools/paraview_check.py";
     const std::string command = png.empty()
         ? "pvpython '" + script + "' '" + run.string() + "'"
-        : "xvfb-run -a pvbatch '" + script + "' '" + run.string() + "' --png '" + png + "'";
+        // xvfb-run -a alone starts at display 99, where tests running side by side race for it:
+        // start from a number of this process's own (-a still steps past one in use).
+        : "xvfb-run -a -n " + std::to_string(300 + getpid() % 20000) + " pvbatch '" + script + "' '" + run.string() +
+              "' --png '" + png + "'";
     const auto c = run_command(command, run.parent_path(), png.empty() ? "paraview" : "paraview_png");
     EXPECT_EQ(c.status, 0) << command << "\n" << c.err;
     if (c.status != 0) return json();
