@@ -127,11 +127,15 @@ TEST_F(PbfReferenceTest, FrameStatisticsMatchAHostComputation) {
     EXPECT_EQ(stats.outside, 1u);
     EXPECT_EQ(stats.non_finite, 0u);
     EXPECT_NEAR(stats.kinetic_energy, ke, 1e-5 * ke);
-    EXPECT_NEAR(stats.max_speed, max_speed, 1e-6);
-    EXPECT_NEAR(stats.mean_density_error, sum_err / after.x.size(), 1e-6);
-    EXPECT_NEAR(stats.max_density_error, max_err, 1e-6);
+    // Relative to the quantity: a GPU's fused multiply-adds, its square roots and its reduction
+    // order round differently from the host's (the software device happens to agree to 1e-7).
+    const auto within = [](double expected) { return 1e-5 * std::max(1.0, std::abs(expected)); };
+    EXPECT_NEAR(stats.max_speed, max_speed, within(max_speed));
+    EXPECT_NEAR(stats.mean_density_error, sum_err / after.x.size(), within(sum_err / after.x.size()));
+    EXPECT_NEAR(stats.max_density_error, max_err, within(max_err));
     ASSERT_TRUE(stats.front.has_value());
-    EXPECT_NEAR(*stats.front, front + 0.5 * scene.particle_spacing, 1e-6) << "front = foremost centre + radius";
+    const double front_edge = front + 0.5 * scene.particle_spacing;
+    EXPECT_NEAR(*stats.front, front_edge, within(front_edge)) << "front = foremost centre + radius";
 
     s.x[3] = glm::vec4(NAN, 0.1f, 0.1f, s.x[3].w);  // a blown-up particle is counted, not averaged
     solver.set_state(s.x, s.v);

@@ -7,6 +7,8 @@
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
 
+#include "core/error.h"
+#include "gpu/compute_pass.h"
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
 
@@ -103,9 +105,14 @@ void ViewWindow::attach(gpu::Context& ctx) {
     vkGetPhysicalDeviceSurfaceFormatsKHR(ctx.physical_device(), ctx.surface(), &count, nullptr);
     std::vector<VkSurfaceFormatKHR> formats(count);
     vkGetPhysicalDeviceSurfaceFormatsKHR(ctx.physical_device(), ctx.surface(), &count, formats.data());
-    format_ = formats.empty() ? VK_FORMAT_B8G8R8A8_UNORM : formats[0].format;
+    // A format is taken with the colour space the surface lists it with (a surface may offer a
+    // UNORM format only in another space); a lone UNDEFINED entry means any format.
+    VkSurfaceFormatKHR chosen{VK_FORMAT_B8G8R8A8_UNORM, VK_COLOR_SPACE_SRGB_NONLINEAR_KHR};
+    if (!formats.empty() && formats[0].format != VK_FORMAT_UNDEFINED) chosen = formats[0];
     for (const auto& f : formats)
-        if (f.format == VK_FORMAT_B8G8R8A8_UNORM || f.format == VK_FORMAT_R8G8B8A8_UNORM) format_ = f.format;
+        if (f.format == VK_FORMAT_B8G8R8A8_UNORM || f.format == VK_FORMAT_R8G8B8A8_UNORM) chosen = f;
+    format_ = chosen.format;
+    color_space_ = chosen.colorSpace;
 
     VkAttachmentDescription color{};
     color.format = format_;
@@ -141,18 +148,31 @@ void ViewWindow::create_swapchain() {
                   : VkExtent2D{std::clamp(uint32_t(fw), caps.minImageExtent.width, caps.maxImageExtent.width),
                                std::clamp(uint32_t(fh), caps.minImageExtent.height, caps.maxImageExtent.height)};
     if (extent_.width == 0 || extent_.height == 0) return;  // minimised
+    // The picture is copied into the swapchain's images (blit): they must take transfers.
+    if (!(caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_DST_BIT))
+        throw resource_failure("the window of " + ctx_->info().name +
+                               " takes no copies into its images (no TRANSFER_DST usage), which the viewer draws "
+                               "with; use aquaform run for pictures, or another --device");
+    // Opaque where the surface allows it, else the first way it composites alpha.
+    VkCompositeAlphaFlagBitsKHR alpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
+    if (!(caps.supportedCompositeAlpha & alpha))
+        for (uint32_t bit = 1; bit <= VK_COMPOSITE_ALPHA_INHERIT_BIT_KHR; bit <<= 1)
+            if (caps.supportedCompositeAlpha & bit) {
+                alpha = VkCompositeAlphaFlagBitsKHR(bit);
+                break;
+            }
     VkSwapchainCreateInfoKHR info{VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR};
     info.surface = ctx_->surface();
     info.minImageCount = std::max(caps.minImageCount, 2u);
     if (caps.maxImageCount) info.minImageCount = std::min(info.minImageCount, caps.maxImageCount);
     info.imageFormat = format_;
-    info.imageColorSpace = VK_COLOR_SPACE_SRGB_NONLINEAR_KHR;
+    info.imageColorSpace = color_space_;
     info.imageExtent = extent_;
     info.imageArrayLayers = 1;
     info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
     info.preTransform = caps.currentTransform;
-    info.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
+    info.compositeAlpha = alpha;
     info.presentMode = VK_PRESENT_MODE_FIFO_KHR;  // always available; the simulation sets the pace anyway
     info.clipped = VK_TRUE;
     VK_CHECK(vkCreateSwapchainKHR(d, &info, nullptr, &swapchain_));
@@ -249,6 +269,9 @@ void ViewWindow::blit(VkCommandBuffer cmd, const gpu::Buffer& rgba, uint32_t wid
     ensure_staging(width, height);
     const VkImage target = images_[image_index_];
     const auto color = VK_IMAGE_ASPECT_COLOR_BIT;
+    // The worker's transfer wrote `rgba` in an earlier submission on this queue; waiting for it on
+    // the host does not make the write visible to this copy: a memory dependency does.
+    gpu::compute_barrier(cmd);
     gpu::image_barrier(cmd, staging_.image, color, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_WRITE_BIT,
                        VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                        VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);

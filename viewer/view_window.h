@@ -67,6 +67,7 @@ private:
     gpu::Context* ctx_ = nullptr;
     VkSwapchainKHR swapchain_ = VK_NULL_HANDLE;
     VkFormat format_ = VK_FORMAT_UNDEFINED;
+    VkColorSpaceKHR color_space_ = VK_COLOR_SPACE_SRGB_NONLINEAR_KHR;  ///< the one the surface pairs with format_
     VkExtent2D extent_{0, 0};
     std::vector<VkImage> images_;
     std::vector<VkImageView> views_;
