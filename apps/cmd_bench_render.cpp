@@ -2,7 +2,8 @@
 // bench_frames.h: a calm dam break, a constructed curtain of droplets and the splashy frames of
 // the paper scenes), with each method and each of the adaptive method's mechanisms alone,
 // measured against the exhaustive reference; checks the targets of the adaptive method per
-// frame (march steps, adaptive resolution, real-time on a GPU) and writes bench_render.json.
+// frame (march steps, adaptive resolution, real-time on a GPU), with --compare-surfaces what the
+// anisotropic surface keeps of the curtain's droplets and of a sheet, and writes bench_render.json.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -88,6 +89,7 @@ struct FrameResult {
     nlohmann::json json;
     std::vector<std::string> verdict_lines;
     std::vector<study::SweepPoint> mask_sweep, blend_sweep;
+    std::vector<study::PictureChecks> checks;  ///< the frame's checks (BenchFrame::check), the reference's first
 };
 
 /// The sweep's configuration at every pair, against the reference; step counts and errors do
@@ -177,6 +179,15 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFr
         records.push_back(study::render_record(c->label, r.m, &r.cmp));
         results.push_back(std::move(r));
     }
+    // The frame's own checks (the curtain's droplets, a sheet's coverage) on every picture.
+    FrameResult out;
+    if (bench.check != study::FrameCheck::none) {
+        const study::CheckSubjects subjects =
+            study::check_subjects(bench, scene, solver, camera, render_radius(base, scene.particle_domain()));
+        out.checks.push_back(study::check_picture("reference", ref.frame, subjects));
+        for (const study::Measured& r : results) out.checks.push_back(study::check_picture(r.config->label, r.m.frame, subjects));
+        for (size_t i = 0; i < out.checks.size(); ++i) records[i].update(study::picture_checks_json(out.checks[i], out.checks[0]));
+    }
 
     std::printf("\n");
     study::print_render_header();
@@ -185,6 +196,7 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFr
     std::vector<std::pair<std::string, const study::RenderMeasurement*>> pass_rows{{"reference", &ref}};
     for (const study::Measured& r : results) pass_rows.emplace_back(r.config->label, &r.m);
     print_pass_table(pass_rows);
+    study::print_picture_checks(out.checks);
 
     // What reading the solver's grid in place saved: the adaptive method once more with a grid
     // and sorted copy of its own, against the solver's frame grid (one more sort per frame).
@@ -223,7 +235,6 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFr
     const study::Verdict verdicts[] = {study::steps_target(results), study::resolution_target(results),
                                        study::gpu_target(results, ctx.info(), requested_particles, n, width, height)};
     const char* keys[] = {"mask_skip_steps", "adaptive_resolution", "realtime_1m_1080p"};
-    FrameResult out;
     nlohmann::json targets = nlohmann::json::object();
     std::printf("\ntargets on %s\n", bench.name);
     for (size_t i = 0; i < std::size(verdicts); ++i) {
@@ -328,12 +339,14 @@ int bench_render(const Args& args) {
     // --compare-surfaces: each frame twice, with the isotropic and the anisotropic field, each
     // measured against the reference of the field it draws.
     std::vector<SurfaceSettings> surfaces{*base};
-    if (args.has("--compare-surfaces")) {
+    const bool both_surfaces = args.has("--compare-surfaces");
+    if (both_surfaces) {
         surfaces.assign(2, *base);
         surfaces[0].surface = SurfaceKernel::isotropic;
         surfaces[1].surface = SurfaceKernel::anisotropic;
     }
-    for (size_t i = 0; i < frames.value().size() && !interrupted(); ++i)
+    for (size_t i = 0; i < frames.value().size() && !interrupted(); ++i) {
+        std::vector<study::PictureChecks> isotropic_checks;  // the frame's, for the anisotropic surface's verdict
         for (const SurfaceSettings& surface : surfaces) {
             if (interrupted()) break;
             const study::BenchFrame& f = *frames.value()[i];
@@ -341,12 +354,25 @@ int bench_render(const Args& args) {
             auto result = measure_frame(ctx, f, scenes[i], frame, configs.value(), surface, width, height, uint32_t(*repeats),
                                         long(particles.value_or(default_particles)), sweeps);
             if (!result) return exit_status(ctx, kExitFailure);
+            if (both_surfaces && f.check != study::FrameCheck::none) {
+                if (surface.surface == SurfaceKernel::isotropic) {
+                    isotropic_checks = result->checks;
+                } else {
+                    const bool droplets = f.check == study::FrameCheck::droplets;
+                    const study::Verdict v = droplets ? study::droplets_target(isotropic_checks, result->checks)
+                                                      : study::sheet_target(isotropic_checks, result->checks);
+                    std::printf("\nanisotropic against isotropic surface on %s\n  %s\n", f.name, v.line.c_str());
+                    result->json["targets"][droplets ? "droplets_kept" : "sheet_kept_whole"] = v.json;
+                    result->verdict_lines.push_back(v.line);
+                }
+            }
             frame_records.push_back(result->json);
             mask_points.insert(mask_points.end(), result->mask_sweep.begin(), result->mask_sweep.end());
             blend_points.insert(blend_points.end(), result->blend_sweep.begin(), result->blend_sweep.end());
             summary.emplace_back(std::string(f.name) + (surface.surface == SurfaceKernel::anisotropic ? " aniso" : " iso"),
                                  result->verdict_lines);
         }
+    }
     const bool stopped = interrupted();
     ctrl_c.reset();
     if (stopped)

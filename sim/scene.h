@@ -106,9 +106,10 @@ Result<Scene> with_particle_count(const Scene& scene, uint64_t particles, const 
 
 /// The part of the tank a view frames: the whole domain, or for a fluid that falls under gravity
 /// without mesh control, its floor up to the height the fluid can reach (a tall domain over a
-/// low column would leave most of the picture empty): the level it rests at, plus three times
-/// the height its blocks (tops and the head |v|^2 / 2g of their start speeds) stand above that
+/// low column would leave most of the picture empty): the level it rests at, plus kFramedWaveReach
+/// times the height its blocks (tops and the head |v|^2 / 2g of their start speeds) stand above that
 /// level, at least 1.1 times the highest block's height.
+constexpr float kFramedWaveReach = 2.25f;  ///< that factor (measured in framed_region)
 Box framed_region(const Scene& scene);
 /// The camera of every view of the scene: its own, or one that frames framed_region().
 ViewCamera scene_camera(const Scene& scene, float aspect);

@@ -31,6 +31,8 @@ constexpr double kResTimeTarget = 0.60;      // adaptive (march + upsample) / fu
 constexpr double kResPsnrTarget = 40.0;      // dB, adaptive against its full-resolution twin
 constexpr double kGpuMsTarget = 10.0;        // whole reconstruction, 1M particles at 1920x1080
 constexpr uint32_t kGpuTargetParticles = 1000000;
+constexpr double kDropletAreaTolerance = 0.10;  // anisotropic droplet's projected area against the isotropic one's
+constexpr double kSheetCoverageTarget = 0.99;   // the sheet's area the anisotropic surface covers
 
 }  // namespace
 
@@ -178,6 +180,166 @@ Verdict resolution_target(const std::vector<Measured>& results) {
     v.line = format_text("adaptive resolution: march + upsample = %.1f%% of the full-resolution march (%.2f + %.2f vs %.2f ms; "
                  "target <= %.0f%%), PSNR %.1f dB against full resolution (target >= %.0f dB): %s",
                  100.0 * ratio, march, upsample, full_march, 100.0 * kResTimeTarget, db, kResPsnrTarget, status_of(pass));
+    return v;
+}
+
+CheckSubjects check_subjects(const BenchFrame& frame, const Scene& scene, PbfSolver& solver, const ViewCamera& camera,
+                             float reach) {
+    CheckSubjects s{frame.check, {}, reach, {}, camera};
+    if (frame.check == FrameCheck::droplets) s.droplets = lone_droplet_centres(scene, solver.snapshot());
+    if (frame.check == FrameCheck::sheet) s.sheet = bench_sheet(frame);
+    return s;
+}
+
+PictureChecks check_picture(const std::string& label, const SurfaceFrame& frame, const CheckSubjects& subjects) {
+    PictureChecks p{label, {}, {}};
+    if (subjects.check == FrameCheck::droplets) p.droplets = droplet_census(frame, subjects.droplets, subjects.reach);
+    // The square the sheet's lattice spans, inset by a particle radius (half a spacing).
+    if (subjects.check == FrameCheck::sheet)
+        p.sheet = sheet_coverage(frame, subjects.camera, subjects.sheet, 0.5f * subjects.sheet.spacing);
+    return p;
+}
+
+namespace {
+
+/// Relative change of each droplet's area from `from` to `to`, over the droplets `from` draws;
+/// {min, max}, {0, 0} when it draws none.
+std::pair<double, double> area_change(const DropletCensus& from, const DropletCensus& to) {
+    double lo = 0.0, hi = 0.0;
+    bool any = false;
+    for (size_t d = 0; d < from.pixels.size() && d < to.pixels.size(); ++d) {
+        if (from.pixels[d] == 0) continue;
+        const double change = double(to.pixels[d]) / double(from.pixels[d]) - 1.0;
+        lo = any ? std::min(lo, change) : change;
+        hi = any ? std::max(hi, change) : change;
+        any = true;
+    }
+    return {lo, hi};
+}
+
+double mean_pixels(const DropletCensus& c) {
+    double sum = 0.0;
+    for (uint32_t p : c.pixels) sum += p;
+    return c.found() ? sum / c.found() : 0.0;
+}
+
+}  // namespace
+
+nlohmann::json picture_checks_json(const PictureChecks& p, const PictureChecks& reference) {
+    nlohmann::json out = nlohmann::json::object();
+    if (p.droplets) {
+        const DropletCensus& c = *p.droplets;
+        out["droplets"] = {{"expected", c.pixels.size()}, {"found", c.found()}, {"pixels", c.pixels}, {"mean_pixels", mean_pixels(c)}};
+        if (&p != &reference && reference.droplets) {
+            const auto [lo, hi] = area_change(*reference.droplets, c);
+            out["droplets"]["area_change_vs_reference_min"] = lo;
+            out["droplets"]["area_change_vs_reference_max"] = hi;
+        }
+    }
+    if (p.sheet)
+        out["sheet"] = {{"inside_pixels", p.sheet->inside}, {"covered_pixels", p.sheet->covered},
+                        {"coverage", p.sheet->coverage()}, {"holes", p.sheet->holes}};
+    return out;
+}
+
+void print_picture_checks(const std::vector<PictureChecks>& pictures) {
+    if (pictures.empty()) return;
+    const PictureChecks& ref = pictures.front();
+    if (ref.droplets) {
+        std::printf("\nlone droplets (a pixel is a droplet's when its hit lies within r of the droplet's centre)\n"
+                    "%-22s %7s %9s %9s %9s %24s\n", "method", "found", "mean px", "min px", "max px", "area vs reference");
+        for (const PictureChecks& p : pictures) {
+            const DropletCensus& c = *p.droplets;
+            const auto [lo, hi] = area_change(*ref.droplets, c);
+            const auto [mn, mx] = std::minmax_element(c.pixels.begin(), c.pixels.end());
+            std::printf("%-22s %3u/%-3zu %9.1f %9u %9u %24s\n", p.label.c_str(), c.found(), c.pixels.size(), mean_pixels(c),
+                        c.pixels.empty() ? 0u : *mn, c.pixels.empty() ? 0u : *mx,
+                        &p == &ref ? "-" : format_text("%+.1f%% .. %+.1f%%", 100.0 * lo, 100.0 * hi).c_str());
+        }
+    }
+    if (ref.sheet) {
+        std::printf("\nsheet (%llu pixels inside the square its lattice spans, inset by a particle radius)\n%-22s %9s %7s\n",
+                    (unsigned long long)ref.sheet->inside, "method", "covered", "holes");
+        for (const PictureChecks& p : pictures)
+            std::printf("%-22s %8.2f%% %7u\n", p.label.c_str(), 100.0 * p.sheet->coverage(), p.sheet->holes);
+    }
+}
+
+namespace {
+
+/// The pictures of both surfaces with the same label, in the anisotropic list's order.
+std::vector<std::pair<const PictureChecks*, const PictureChecks*>> paired(const std::vector<PictureChecks>& iso,
+                                                                         const std::vector<PictureChecks>& aniso) {
+    std::vector<std::pair<const PictureChecks*, const PictureChecks*>> pairs;
+    for (const PictureChecks& a : aniso)
+        for (const PictureChecks& i : iso)
+            if (i.label == a.label) pairs.emplace_back(&i, &a);
+    return pairs;
+}
+
+}  // namespace
+
+Verdict droplets_target(const std::vector<PictureChecks>& isotropic, const std::vector<PictureChecks>& anisotropic) {
+    const std::string name = "droplets kept";
+    const std::string target = "anisotropic surface: every droplet present, each projected area within 10% of the isotropic one's";
+    const auto pairs = paired(isotropic, anisotropic);
+    if (pairs.empty() || !pairs.front().first->droplets || !pairs.front().second->droplets)
+        return not_measured(name, target, "needs both surfaces' pictures of a frame of lone droplets (--compare-surfaces)");
+    const size_t expected = pairs.front().second->droplets->pixels.size();
+    uint32_t found_iso = uint32_t(expected), found_aniso = uint32_t(expected);
+    double lo = 0.0, hi = 0.0;
+    nlohmann::json pictures = nlohmann::json::array();
+    for (const auto& [i, a] : pairs) {
+        const auto [l, h] = area_change(*i->droplets, *a->droplets);
+        found_iso = std::min(found_iso, i->droplets->found());
+        found_aniso = std::min(found_aniso, a->droplets->found());
+        lo = std::min(lo, l), hi = std::max(hi, h);
+        pictures.push_back({{"label", a->label}, {"found_isotropic", i->droplets->found()}, {"found_anisotropic", a->droplets->found()},
+                            {"area_change_min", l}, {"area_change_max", h}});
+    }
+    const bool pass = found_aniso == expected && std::max(-lo, hi) <= kDropletAreaTolerance;
+    Verdict v;
+    v.json = {{"target", target},          {"expected", expected},          {"found_anisotropic", found_aniso},
+              {"found_isotropic", found_iso}, {"area_change_min", lo},       {"area_change_max", hi},
+              {"area_change_tolerance", kDropletAreaTolerance}, {"pictures", pictures},
+              {"status", status_of(pass)}, {"pass", pass}};
+    v.line = format_text("droplets kept: anisotropic %u/%zu present (isotropic %u/%zu; fewest of %zu pictures), projected area "
+                         "%+.1f%% .. %+.1f%% of the isotropic (target: all, each within %.0f%%): %s",
+                         found_aniso, expected, found_iso, expected, pairs.size(), 100.0 * lo, 100.0 * hi,
+                         100.0 * kDropletAreaTolerance, status_of(pass));
+    return v;
+}
+
+Verdict sheet_target(const std::vector<PictureChecks>& isotropic, const std::vector<PictureChecks>& anisotropic) {
+    const std::string name = "sheet kept whole";
+    const std::string target = "anisotropic surface covers >= 99% of a one-particle-thick sheet's area";
+    const auto pairs = paired(isotropic, anisotropic);
+    if (pairs.empty() || !pairs.front().first->sheet || !pairs.front().second->sheet)
+        return not_measured(name, target, "needs both surfaces' pictures of a sheet frame (--compare-surfaces)");
+    // The worst picture of each surface.
+    const SheetCoverage *iso = nullptr, *aniso = nullptr;
+    nlohmann::json pictures = nlohmann::json::array();
+    for (const auto& [i, a] : pairs) {
+        if (!iso || i->sheet->coverage() < iso->coverage()) iso = &*i->sheet;
+        if (!aniso || a->sheet->coverage() < aniso->coverage()) aniso = &*a->sheet;
+        pictures.push_back({{"label", a->label}, {"coverage_isotropic", i->sheet->coverage()}, {"holes_isotropic", i->sheet->holes},
+                            {"coverage_anisotropic", a->sheet->coverage()}, {"holes_anisotropic", a->sheet->holes}});
+    }
+    const bool pass = aniso->coverage() >= kSheetCoverageTarget;
+    Verdict v;
+    v.json = {{"target", target},
+              {"coverage_anisotropic", aniso->coverage()},
+              {"holes_anisotropic", aniso->holes},
+              {"coverage_isotropic", iso->coverage()},
+              {"holes_isotropic", iso->holes},
+              {"coverage_min", kSheetCoverageTarget},
+              {"pictures", pictures},
+              {"status", status_of(pass)},
+              {"pass", pass}};
+    v.line = format_text("sheet kept whole: anisotropic covers %.2f%% of its area (%u holes), isotropic %.2f%% (%u holes; worst of "
+                         "%zu pictures) (target: anisotropic >= %.0f%%): %s",
+                         100.0 * aniso->coverage(), aniso->holes, 100.0 * iso->coverage(), iso->holes, pairs.size(),
+                         100.0 * kSheetCoverageTarget, status_of(pass));
     return v;
 }
 

@@ -1,6 +1,7 @@
 // `aquaform bench render`'s configurations and targets: the reference, uniform (Xiao et al.),
 // adaptive (Wu et al.) and each adaptive mechanism alone on one dam-break frame, and the verdicts
-// on the adaptive method's targets (the command renders, prints and writes bench_render.json).
+// on the adaptive method's targets and on what the anisotropic surface keeps of the isotropic
+// one's droplets and sheets (the command renders, prints and writes bench_render.json).
 #pragma once
 
 #include <cstdint>
@@ -15,7 +16,9 @@
 #include "render/image_metrics.h"
 #include "render/surface_settings.h"
 #include "render/svg_chart.h"
+#include "study/bench_frames.h"
 #include "study/render_measure.h"
+#include "study/surface_checks.h"
 
 namespace aquaform::study {
 
@@ -93,6 +96,38 @@ Chart mask_sweep_depth_chart(const std::vector<SweepPoint>& points);
 Chart mask_sweep_coverage_chart(const std::vector<SweepPoint>& points);
 /// The blend sweep's chart: roughness against the normal error (vs the field's gradient).
 Chart blend_sweep_chart(const std::vector<SweepPoint>& points);
+
+/// One picture's checks (study/surface_checks.h) on a frame that has them (BenchFrame::check).
+struct PictureChecks {
+    std::string label;  ///< "reference" or the configuration's
+    std::optional<DropletCensus> droplets;
+    std::optional<SheetCoverage> sheet;
+};
+/// What a frame's pictures are checked for: the lone droplets' centres (with the reach of the
+/// census: the kernel's support r), or the sheet and the camera that sees it.
+struct CheckSubjects {
+    FrameCheck check = FrameCheck::none;
+    std::vector<glm::vec3> droplets;
+    float reach = 0.0f;
+    Sheet sheet;
+    ViewCamera camera;
+};
+/// Reads the droplets' centres back from `solver` on a droplet frame.
+CheckSubjects check_subjects(const BenchFrame& frame, const Scene& scene, PbfSolver& solver, const ViewCamera& camera,
+                             float reach);
+PictureChecks check_picture(const std::string& label, const SurfaceFrame& frame, const CheckSubjects& subjects);
+/// A picture's checks for its record, against the reference's of the same surface.
+nlohmann::json picture_checks_json(const PictureChecks& p, const PictureChecks& reference);
+/// The checks of every picture of one surface, the reference's first, as a table.
+void print_picture_checks(const std::vector<PictureChecks>& pictures);
+
+/// The curtain's droplets with the anisotropic surface against the isotropic one, picture by
+/// picture (the reference with the reference, each configuration with itself): all present,
+/// none lost or fattened (each projected area within 10 % of the isotropic one).
+Verdict droplets_target(const std::vector<PictureChecks>& isotropic, const std::vector<PictureChecks>& anisotropic);
+/// The one-particle-thick sheet: the anisotropic surface covers >= 99 % of its area in every
+/// picture (the isotropic one may tear: reported beside it).
+Verdict sheet_target(const std::vector<PictureChecks>& isotropic, const std::vector<PictureChecks>& anisotropic);
 
 /// Real time on a GPU: the adaptive reconstruction of 1M particles at 1920x1080 within 10 ms.
 /// `requested`: --particles (the lattice holds a little fewer: 986,078 for 1,000,000).

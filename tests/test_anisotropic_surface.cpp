@@ -9,11 +9,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <vector>
 
 #include "render/image_metrics.h"
 #include "render/surface_renderer.h"
+#include "study/surface_checks.h"
 #include "tests/gpu_test.h"
 
 namespace aquaform {
@@ -68,37 +68,18 @@ TEST_F(AnisotropicSurfaceTest, AOneParticleThickSheetStaysWhole) {
     // A jittered sheet 1.3 spacings apart (each particle has 8 or more neighbours within r, so
     // its kernel is flattened into the sheet), seen face-on: flattened kernels must not open
     // holes between their centres.
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<float> jitter(-0.3f, 0.3f);
-    std::vector<glm::vec4> sheet;
-    for (int x = 0; x < 12; ++x)
-        for (int y = 0; y < 12; ++y)
-            sheet.emplace_back(0.1f + (1.3f * x + jitter(rng)) * kSpacing, 0.1f + (1.3f * y + jitter(rng)) * kSpacing,
-                               0.2f + 0.15f * jitter(rng) * kSpacing, 0.0f);
+    const study::Sheet sheet = study::one_particle_thick_sheet({0.1f, 0.1f, 0.2f}, kSpacing, 12, 1.3f, 0.3f, 7);
     ViewCamera camera;
-    camera.target = {0.1f + 5.5f * 1.3f * kSpacing, 0.1f + 5.5f * 1.3f * kSpacing, 0.2f};
+    camera.target = sheet.centre();
     camera.eye = camera.target + glm::vec3(0.0f, 0.0f, 0.5f);
     camera.fov_y_degrees = 20.0f;
     auto inner_coverage = [&](const SurfaceFrame& f) {  // the sheet's inside, two spacings from its edge
-        const glm::vec2 lo = glm::vec2(0.1f + 2.0f * kSpacing), hi = glm::vec2(0.1f + (11.0f * 1.3f - 2.0f) * kSpacing);
-        size_t inside = 0, hit = 0;
-        for (uint32_t y = 0; y < f.height; ++y)
-            for (uint32_t x = 0; x < f.width; ++x) {
-                // The pixel's ray where it crosses the sheet's plane.
-                const CameraBlock view = camera_block(camera, f.width, f.height);
-                const float u = 2.0f * (x + 0.5f) / f.width - 1.0f, v = 2.0f * (y + 0.5f) / f.height - 1.0f;
-                const glm::vec3 dir = glm::normalize(glm::vec3(view.forward) + u * view.forward.w * glm::vec3(view.right) -
-                                                     v * view.right.w * glm::vec3(view.up));
-                const glm::vec3 at = camera.eye + dir * ((0.2f - camera.eye.z) / dir.z);
-                if (at.x < lo.x || at.y < lo.y || at.x > hi.x || at.y > hi.y) continue;
-                ++inside;
-                hit += f.has_surface(size_t(y) * f.width + x);
-            }
-        EXPECT_GT(inside, 2000u);
-        return double(hit) / double(std::max<size_t>(inside, 1));
+        const study::SheetCoverage c = study::sheet_coverage(f, camera, sheet, 2.0f * kSpacing);
+        EXPECT_GT(c.inside, 2000u);
+        return c.coverage();
     };
-    const double iso = inner_coverage(render(sheet, camera, reference(SurfaceKernel::isotropic)));
-    const double aniso = inner_coverage(render(sheet, camera, reference(SurfaceKernel::anisotropic)));
+    const double iso = inner_coverage(render(sheet.particles, camera, reference(SurfaceKernel::isotropic)));
+    const double aniso = inner_coverage(render(sheet.particles, camera, reference(SurfaceKernel::anisotropic)));
     std::printf("[ sheet ] inner coverage: isotropic %.4f, anisotropic %.4f\n", iso, aniso);
     EXPECT_GE(aniso, 0.99);
     EXPECT_GE(aniso, iso - 1e-3);

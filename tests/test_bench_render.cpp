@@ -1,4 +1,5 @@
-// `aquaform bench render` end to end: the quick benchmark's JSON and its usage errors.
+// `aquaform bench render` end to end: the quick benchmark's JSON and its usage errors; the
+// droplet census and the sheet's coverage of --compare-surfaces, and their verdicts.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "study/bench_render.h"
 #include "tests/cli_helpers.h"
 
 namespace {
@@ -186,6 +188,71 @@ TEST(BenchRender, CompareSurfacesMeasuresEachFrameWithBothFields) {
     EXPECT_EQ(refused.exit_code, 2) << refused.output;
     EXPECT_NE(refused.output.find("--surface isotropic"), std::string::npos) << refused.output;
     fs::remove_all(dir);
+}
+
+TEST(BenchRender, CompareSurfacesCountsTheCurtainsDropletsAndTheSheetsCoverage) {
+    const fs::path dir = temp_dir("bench_render_checks");
+    const fs::path out = dir / "c.json";
+    const Outcome o = run_aquaform("bench render --frames curtain,sheet,sheet_sparse --configs uniform --compare-surfaces "
+                                   "--particles 2000 --resolution 96x96 --repeats 1 --scene-dir " + std::string(AQUAFORM_ASSETS_DIR) +
+                                   "/scenes --out " + out.string());
+    ASSERT_EQ(o.exit_code, 0) << o.output;
+    EXPECT_NE(o.output.find("droplets kept: anisotropic 60/60 present"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("sheet kept whole:"), std::string::npos) << o.output;
+    const auto doc = nlohmann::json::parse(read_file(out));
+    ASSERT_EQ(doc["frames"].size(), 6u);  // each frame with both surfaces
+    for (const auto& frame : doc["frames"]) {
+        const std::string name = frame["name"].get<std::string>() + " " + frame["surface"].get<std::string>();
+        for (const auto& r : frame["records"]) {
+            const std::string label = name + "/" + r.value("label", "?");
+            if (frame["name"] == "curtain") {  // every droplet found, each a few pixels at 96x96
+                ASSERT_TRUE(r.contains("droplets")) << label;
+                EXPECT_EQ(r["droplets"]["expected"], 60) << label;
+                EXPECT_EQ(r["droplets"]["found"], 60) << label;
+                EXPECT_GT(r["droplets"]["mean_pixels"].get<double>(), 5.0) << label;
+                EXPECT_LT(r["droplets"]["mean_pixels"].get<double>(), 40.0) << label << ": the bulk counted as droplets?";
+            } else {
+                ASSERT_TRUE(r.contains("sheet")) << label;
+                EXPECT_GT(r["sheet"]["inside_pixels"].get<double>(), 4000.0) << label;
+            }
+        }
+    }
+    const auto& curtain = doc["frames"][1]["targets"];
+    ASSERT_TRUE(curtain.contains("droplets_kept")) << curtain.dump(2);
+    EXPECT_EQ(curtain["droplets_kept"]["status"], "PASS") << curtain.dump(2);
+    EXPECT_EQ(curtain["droplets_kept"]["found_anisotropic"], 60);
+    const auto& sheet = doc["frames"][3]["targets"]["sheet_kept_whole"];
+    EXPECT_GE(sheet["coverage_anisotropic"].get<double>(), 0.99) << sheet.dump(2);
+    EXPECT_EQ(sheet["status"], "PASS") << sheet.dump(2);
+    // At 1.5 spacings the sheet tears (both surfaces: its particles have too few neighbours for
+    // the anisotropic kernel): the measurement sees holes where there are some.
+    const auto& sparse = doc["frames"][4]["records"][0]["sheet"];
+    EXPECT_LT(sparse["coverage"].get<double>(), 1.0) << sparse.dump();
+    EXPECT_GT(sparse["holes"].get<int>(), 0) << sparse.dump();
+    fs::remove_all(dir);
+}
+
+TEST(BenchRender, TheSurfaceVerdictsMissALostOrFattenedDropletAndATornSheet) {
+    using aquaform::study::PictureChecks;
+    auto droplets = [](std::vector<uint32_t> pixels) {
+        return std::vector<PictureChecks>{{"reference", aquaform::study::DropletCensus{std::move(pixels)}, {}}};
+    };
+    const auto iso = droplets({40, 40, 40});
+    EXPECT_EQ(aquaform::study::droplets_target(iso, droplets({40, 42, 38})).json["pass"], true);
+    EXPECT_EQ(aquaform::study::droplets_target(iso, droplets({40, 0, 40})).json["pass"], false) << "a droplet lost";
+    EXPECT_EQ(aquaform::study::droplets_target(iso, droplets({40, 45, 40})).json["pass"], false) << "a droplet fattened";
+    auto sheet = [](uint64_t covered, uint32_t holes) {
+        return std::vector<PictureChecks>{{"reference", {}, aquaform::study::SheetCoverage{1000, covered, holes}}};
+    };
+    EXPECT_EQ(aquaform::study::sheet_target(sheet(900, 20), sheet(995, 1)).json["pass"], true);
+    EXPECT_EQ(aquaform::study::sheet_target(sheet(1000, 0), sheet(980, 4)).json["pass"], false) << "a torn sheet";
+    // The census: each hit to the nearest droplet within reach; the bulk beyond it to none.
+    aquaform::SurfaceFrame frame;
+    frame.width = 4, frame.height = 1;
+    frame.hit = {{0.0f, 0.0f, 0.01f, 1.0f}, {1.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, -0.5f, 1.0f}, {0.0f, 0.0f, 0.0f, -1.0f}};
+    const auto census = aquaform::study::droplet_census(frame, {{0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.02f}, {5.0f, 0.0f, 0.0f}}, 0.04f);
+    EXPECT_EQ(census.pixels, (std::vector<uint32_t>{1, 1, 0}));
+    EXPECT_EQ(census.found(), 2u);
 }
 
 }  // namespace

@@ -207,15 +207,15 @@ Scene shipped(const char* name) {
 TEST(Framing, ATallTankIsFramedUpToWhereItsFluidCanReach) {
     Scene violent = shipped("violent_dam_break.json");  // a 0.8 m column in a 3.2 m tall tank
     const Box region = framed_region(violent);
-    // It comes to rest 0.2 m deep over the floor; its wave climbs three times the 0.6 m above that.
-    EXPECT_NEAR(region.max.y, 0.2f + 3.0f * 0.6f, 1e-4f);
+    // It comes to rest 0.2 m deep over the floor; its wave climbs kFramedWaveReach times the 0.6 m above that.
+    EXPECT_NEAR(region.max.y, 0.2f + kFramedWaveReach * 0.6f, 1e-4f);
     EXPECT_EQ(region.min, violent.domain.min);
     EXPECT_EQ(glm::vec2(region.max.x, region.max.z), glm::vec2(violent.domain.max.x, violent.domain.max.z));
 
     // Thrown at 1 m/s, up or sideways, a block carries a head of 1^2 / (2 g) more; that is framed too.
     for (const glm::vec3 v : {glm::vec3(0.0f, 1.0f, 0.0f), glm::vec3(1.0f, 0.0f, 0.0f)}) {
         violent.block_fills = {BlockFill{std::nullopt, v}};
-        EXPECT_NEAR(framed_region(violent).max.y, 0.2f + 3.0f * (0.6f + 1.0f / (2.0f * 9.81f)), 1e-4f);
+        EXPECT_NEAR(framed_region(violent).max.y, 0.2f + kFramedWaveReach * (0.6f + 1.0f / (2.0f * 9.81f)), 1e-4f);
     }
     // A pool at rest (the hydrostatic column fills its tank's floor) stays where it is, with a
     // tenth of its depth above it.
