@@ -22,7 +22,14 @@ void GpuTimer::reset(VkCommandBuffer cmd) {
     vkCmdResetQueryPool(cmd, pool_, 0, 2 * capacity_);
     open_.clear();
     stack_.clear();
+    stamps_.clear();
     used_ = 0;
+}
+
+void GpuTimer::write_stamp(VkCommandBuffer cmd, uint32_t query) {
+    constexpr VkPipelineStageFlagBits kStage = VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT;  // why: top of timer.h
+    vkCmdWriteTimestamp(cmd, kStage, pool_, query);
+    stamps_.push_back({query, kStage});
 }
 
 void GpuTimer::begin(VkCommandBuffer cmd, const std::string& name) {
@@ -32,13 +39,13 @@ void GpuTimer::begin(VkCommandBuffer cmd, const std::string& name) {
     ctx_->enter_scope(cmd);  // the start of an outermost scope is where a shared queue is cut
     open_.push_back(name);
     stack_.push_back(used_);
-    vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, pool_, 2 * used_);
+    write_stamp(cmd, 2 * used_);
     ++used_;
 }
 
 void GpuTimer::end(VkCommandBuffer cmd) {
     if (stack_.empty()) throw internal_failure("GpuTimer::end without begin");
-    vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, pool_, 2 * stack_.back() + 1);
+    write_stamp(cmd, 2 * stack_.back() + 1);
     stack_.pop_back();
     ctx_->leave_scope();
 }

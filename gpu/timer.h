@@ -1,5 +1,14 @@
 // GPU timing with timestamp queries: every named pass is bracketed by two timestamps, and
 // the milliseconds are summed per name when the submission has finished.
+//
+// Both timestamps of a scope are written at BOTTOM_OF_PIPE: a timestamp is latched once every
+// earlier command has finished the stage it names, so the start waits for the previous pass to
+// end and the end for this one. Scopes therefore tile the queue's timeline: a pass's time is from
+// the end of what came before to its own end, two passes never share a time, and consecutive
+// scopes add up to the span they cover. A start at TOP_OF_PIPE (latched as soon as the command is
+// reached) is exact only on a device that runs one command at a time (lavapipe); on a GPU it is
+// written while the previous dispatch still runs, before the dependency barrier that the pass's
+// first dispatch records, so every pass would absorb the tail of the one before.
 #pragma once
 
 #include <cstdint>
@@ -28,6 +37,14 @@ public:
     /// After the submission completed: adds this submission's times to the running totals.
     void collect();
 
+    /// The timestamps recorded since reset(), in order: the query slot (2 k: scope k's start,
+    /// 2 k + 1: its end) and the stage each waits for (see the top of this file).
+    struct Stamp {
+        uint32_t query;
+        VkPipelineStageFlagBits stage;
+    };
+    const std::vector<Stamp>& recorded_stamps() const { return stamps_; }
+
     /// Milliseconds per pass name accumulated since the last clear_totals().
     const std::map<std::string, double>& totals_ms() const { return totals_; }
     /// Pass names in the order they were first timed (a stable column order for reports).
@@ -35,12 +52,15 @@ public:
     void clear_totals() { totals_.clear(); }
 
 private:
+    void write_stamp(VkCommandBuffer cmd, uint32_t query);
+
     Context* ctx_;
     VkQueryPool pool_ = VK_NULL_HANDLE;
     uint32_t capacity_;
     std::vector<std::string> open_;     // scope names of this submission, in order
     std::vector<uint32_t> stack_;       // slots of the scopes still open (scopes may nest)
     uint32_t used_ = 0;
+    std::vector<Stamp> stamps_;
     std::map<std::string, double> totals_;
     std::vector<std::string> order_;
 };
