@@ -70,8 +70,11 @@ ComputePass::ComputePass(Context& ctx, const ComputePassDesc& desc)
     VK_CHECK(vkCreatePipelineLayout(ctx.device(), &layout_info, nullptr, &layout_));
 
     VkShaderModule module = create_shader_module(ctx, desc.shader);
-    VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
-    VkSpecializationInfo spec{1, &entry, sizeof(uint32_t), &desc_.local_size};
+    std::vector<uint32_t> values{desc_.local_size};
+    values.insert(values.end(), desc_.constants.begin(), desc_.constants.end());
+    std::vector<VkSpecializationMapEntry> entries;
+    for (uint32_t i = 0; i < values.size(); ++i) entries.push_back({i, i * uint32_t(sizeof(uint32_t)), sizeof(uint32_t)});
+    VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(), values.size() * sizeof(uint32_t), values.data()};
     VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
     info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;

@@ -33,6 +33,9 @@ struct ComputePassDesc {
     uint32_t bindings = 0;       ///< storage buffers the shader declares (checked; 0 = take the shader's)
     uint32_t push_bytes = 0;     ///< push-constant block size (0 = none)
     uint32_t local_size = kDefaultLocalSize;  ///< workgroup size, fed to the shader's local_size_x_id = 0
+    /// Specialization constants 1, 2, ... (constant_id = index + 1): choices fixed per pipeline,
+    /// so that the compiler drops the code of the other choice.
+    std::vector<uint32_t> constants = {};
 };
 
 class ComputePass {

@@ -67,6 +67,8 @@ std::vector<SettingSpec> surface_settings() {
                   "the surface's kernels: a sphere per particle, or Yu & Turk's stretched kernels"),
         setting<S>("spray_whiteness", "--spray", "spray", kNumber, &S::spray_whiteness, 0, 1, "0 (off) .. 1",
                    "appearance: splash particles drawn as white water (run, demo, viewer: on)"),
+        setting<S>("normal_smoothing_deg", "--normal-smoothing", "normal_smoothing", kNumber, &S::normal_smoothing_deg, 0, 90,
+                   "0 (off) .. 90 degrees", "adaptive: normals averaged across the surface where they differ by about this angle or less"),
         setting<S>("centre_smoothing", "--centre-smoothing", "centre_smoothing", kNumber, &S::centre_smoothing, 0, 1,
                    "0..1", "anisotropic surface: Laplacian smoothing of the kernel centres (Yu & Turk's lambda)"),
     };

@@ -82,7 +82,8 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     depth_smooth_ = gpu::ComputePass(ctx, {"render/depth_smooth.comp", 3, push});
     screen_normals_ = gpu::ComputePass(ctx, {"render/screen_normals.comp", 3});
     tiles_ = gpu::ComputePass(ctx, {"render/tiles.comp", 5, 0, 64});
-    ray_march_ = gpu::ComputePass(ctx, {"render/ray_march.comp", 23, push, RAY_MARCH_WORKGROUP});
+    for (uint32_t anisotropic : {0u, 1u})
+        ray_march_[anisotropic] = gpu::ComputePass(ctx, {"render/ray_march.comp", 23, push, RAY_MARCH_WORKGROUP, {anisotropic}});
     ray_args_ = gpu::ComputePass(ctx, {"render/ray_args.comp", 2, 0, 1});
     upsample_ = gpu::ComputePass(ctx, {"render/upsample.comp", 7});
     normal_filter_ = gpu::ComputePass(ctx, {"render/normal_filter.comp", 4, push});
@@ -257,7 +258,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         gpu::dispatch(*ctx_, cmd, upsample_, pixels, {{"params", params_buf_}, {"tile_level", tile_level_}, {"hit", hit_}, {"normal", normal_}, {"edge_rays", edge_rays_}, {"edge_count", edge_count_}, {"spray", spray_}});
         record_march(cmd, *edge_rays_, *edge_count_);
     }
-    if (params_.flags & SURFACE_XIAO_NORMALS) {
+    if ((params_.flags & SURFACE_XIAO_NORMALS) || params_.normal_smoothing > 0.0f) {
         gpu::GpuScope scope(timer, cmd, "render_normal_filter");
         gpu::dispatch(*ctx_, cmd, normal_filter_, pixels, axis_push(0), {{"params", params_buf_}, {"hit", hit_}, {"src", normal_}, {"dst", normal_tmp_}});
         gpu::dispatch(*ctx_, cmd, normal_filter_, pixels, axis_push(1), {{"params", params_buf_}, {"hit", hit_}, {"src", normal_tmp_}, {"dst", normal_}});
@@ -298,11 +299,11 @@ void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* ray
     push.stride = stride;
     push.evals_per_pass = march_evals_per_pass(ctx_->info());
     if (threads > 0) {
-        gpu::dispatch(*ctx_, cmd, ray_march_, threads, push, buffers);
+        gpu::dispatch(*ctx_, cmd, march_pass(), threads, push, buffers);
         return;
     }
     gpu::dispatch(*ctx_, cmd, ray_args_, 1, {{"ray_count", &ray_count}, {"group_counts", march_groups_}});
-    gpu::dispatch_indirect(*ctx_, cmd, ray_march_, *march_groups_, push, buffers);
+    gpu::dispatch_indirect(*ctx_, cmd, march_pass(), *march_groups_, push, buffers);
 }
 
 void SurfaceRenderer::record_march(VkCommandBuffer cmd, const gpu::Buffer& rays, const gpu::Buffer& ray_count) {

@@ -175,7 +175,10 @@ private:
     gpu::Buffer *resume_rays_[2], *resume_count_[2], *resume_state_;
     gpu::Buffer *conv_a_ = nullptr, *conv_b_ = nullptr, *mask_ = nullptr, *coarse_ = nullptr;
     gpu::ComputePass gather_, classify_density_, mask_convolve_, mask_bound_, mask_pack_, splat_;
-    gpu::ComputePass depth_smooth_, screen_normals_, tiles_, ray_args_, ray_march_, upsample_, normal_filter_, compose_;
+    gpu::ComputePass depth_smooth_, screen_normals_, tiles_, ray_args_, upsample_, normal_filter_, compose_;
+    /// The ray march for the isotropic [0] and the anisotropic [1] field (its constant_id 1).
+    gpu::ComputePass ray_march_[2];
+    const gpu::ComputePass& march_pass() const { return ray_march_[(params_.flags & SURFACE_ANISOTROPIC_FIELD) ? 1 : 0]; }
 };
 
 }  // namespace aquaform

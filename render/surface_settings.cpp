@@ -59,6 +59,8 @@ Result<bool> validate(const SurfaceSettings& s) {
         return out_of_range("smooth_radius_px", s.smooth_radius_px, "1..32 px with a positive sigma");
     if (!(s.spray_whiteness >= 0.0f && s.spray_whiteness <= 1.0f))
         return out_of_range("spray", s.spray_whiteness, "0 (off) .. 1");
+    if (!(s.normal_smoothing_deg >= 0.0f && s.normal_smoothing_deg <= 90.0f))
+        return out_of_range("normal_smoothing", s.normal_smoothing_deg, "0 (off) .. 90 degrees");
     if (!(s.centre_smoothing >= 0.0f && s.centre_smoothing <= 1.0f))
         return out_of_range("centre_smoothing", s.centre_smoothing, "0..1");
     if (s.surface == SurfaceKernel::anisotropic && !s.tight_mask)
@@ -165,6 +167,8 @@ shader::SurfaceParams make_field_params(const SurfaceSettings& s, const Particle
     p.centre_smoothing = s.centre_smoothing;
     p.shading = s.spray_whiteness > 0.0f ? SHADE_SPRAY : 0u;
     p.spray_whiteness = s.spray_whiteness;
+    p.normal_smoothing = adaptive && s.normal_smoothing_deg > 0.0f
+                             ? 1.0f - std::cos(glm::radians(s.normal_smoothing_deg)) : 0.0f;
 
     p.light_dir = kLightDirection;
     p.fluid_color = kFluidOptics;

@@ -4,11 +4,14 @@
 // - a one-particle-thick sheet stays a sheet: no holes where the isotropic surface has none;
 // - a resting block's faces are flat, and their colour has no stripes at the particle spacing
 //   (the thickness is a smooth kernel's, not hard spheres' chords);
-// - spray is drawn white where it is enabled and nowhere else, without moving the surface.
+// - spray is drawn white where it is enabled and nowhere else, without moving the surface;
+// - the adaptive method's normal smoothing flattens a disordered surface's bumps and keeps a
+//   droplet round.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "render/image_metrics.h"
@@ -140,6 +143,56 @@ TEST_F(AnisotropicSurfaceTest, AStillBlocksFacesAreFlatAndUnstriped) {
     }
     std::printf("[ block ] largest step of a column's mean thickness against its neighbours: %.2f %%\n", 100.0 * worst);
     EXPECT_LT(worst, 0.02) << "the thickness, and so the face's colour, has stripes";
+}
+
+TEST_F(AnisotropicSurfaceTest, NormalSmoothingFlattensBumpsAndKeepsDropletsRound) {
+    // A slab of disordered particles (a lattice jittered by up to 0.3 spacings, as flowing fluid
+    // leaves them), and lone droplets above it, seen from above at an angle.
+    std::vector<glm::vec4> particles;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> jitter(-0.3f * kSpacing, 0.3f * kSpacing);
+    for (int z = 0; z < 14; ++z)
+        for (int y = 0; y < 4; ++y)
+            for (int x = 0; x < 14; ++x)
+                particles.emplace_back(0.06f + kSpacing * float(x) + jitter(rng), 0.01f + kSpacing * float(y) + jitter(rng),
+                                       0.06f + kSpacing * float(z) + jitter(rng), 0.0f);
+    const size_t slab = particles.size();
+    for (int k = 0; k < 3; ++k) particles.emplace_back(0.1f + 0.08f * float(k), 0.2f, 0.2f, 0.0f);
+    ViewCamera camera;
+    camera.target = {0.19f, 0.1f, 0.19f};
+    camera.eye = camera.target + glm::vec3(0.0f, 0.3f, 0.35f);
+    camera.fov_y_degrees = 40.0f;
+    SurfaceSettings smoothed;  // adaptive, its default smoothing
+    ASSERT_GT(smoothed.normal_smoothing_deg, 0.0f);
+    SurfaceSettings off = smoothed, wide = smoothed;
+    off.normal_smoothing_deg = 0.0f;
+    wide.normal_smoothing_deg = 90.0f;  // the angle hardly weighs: close to Xiao's plain filter
+    const uint32_t size = 192;
+    const SurfaceFrame ref = render(particles, camera, reference(SurfaceKernel::anisotropic), size);
+    const SurfaceFrame a = render(particles, camera, smoothed, size), b = render(particles, camera, off, size),
+                       c = render(particles, camera, wide, size);
+    const float radius = 0.5f * kSpacing;
+    const SurfaceRoughness rough_on = surface_roughness(ref, a, radius), rough_off = surface_roughness(ref, b, radius);
+    // A droplet's normals against the exact sphere's (the reference's), pixel by pixel.
+    auto droplet_error = [&](const SurfaceFrame& f) {
+        double sum = 0.0;
+        size_t n = 0;
+        for (size_t i = 0; i < ref.hit.size(); ++i) {
+            if (!ref.has_surface(i) || !f.has_surface(i) || ref.hit[i].y < 0.15f) continue;
+            sum += glm::degrees(std::acos(std::clamp(glm::dot(glm::vec3(ref.normal[i]), glm::vec3(f.normal[i])), -1.0f, 1.0f)));
+            ++n;
+        }
+        EXPECT_GT(n, 30u) << "the droplets should be drawn";
+        return n ? sum / double(n) : 0.0;
+    };
+    const double drop_on = droplet_error(a), drop_off = droplet_error(b), drop_wide = droplet_error(c);
+    std::printf("[ smoothing ] %zu slab particles: roughness %.2f deg smoothed, %.2f off (%zu flat pixels); droplets' "
+                "normal error %.1f deg smoothed, %.1f off, %.1f with the angle hardly weighing\n",
+                slab, rough_on.rms_deg, rough_off.rms_deg, rough_on.flat_pixels, drop_on, drop_off, drop_wide);
+    ASSERT_GT(rough_on.flat_pixels, 200u);
+    EXPECT_LT(rough_on.rms_deg, 0.7 * rough_off.rms_deg) << "the smoothing should flatten the particles' bumps";
+    EXPECT_LT(drop_on, 6.0) << "the smoothing should keep a droplet round";
+    EXPECT_LT(drop_on, 0.7 * drop_wide) << "without the angle's weight the filter flattens droplets";
 }
 
 TEST_F(AnisotropicSurfaceTest, SprayIsDrawnWhiteWithoutMovingTheSurface) {

@@ -378,6 +378,7 @@ private:
             ImGui::SliderFloat("eps1 [radii^2]", &r.tile_eps1, 0.0f, 16.0f);
             ImGui::SliderFloat("eps2 [radii^2]", &r.tile_eps2, 0.1f, 64.0f);
             ImGui::SliderFloat("blend A", &r.blend_a, 0.0f, 1.0f);
+            ImGui::SliderFloat("normal smoothing [deg]", &r.normal_smoothing_deg, 0.0f, 90.0f);
             ImGui::SliderFloat("blend B", &r.blend_b, -0.5f, 0.5f);
             bool wu_skip = !r.exact_skip;
             if (ImGui::Checkbox("Wu's skip (after maxSkipCounts; can jump over splashes)", &wu_skip)) r.exact_skip = !wu_skip;

@@ -1,7 +1,7 @@
 // Camera rays and the density field of the surface renderer (layout in shared/surface_layout.h).
-// Include after declaring `params` (SurfaceParams), and, for the field, the buffers `sorted`
-// (vec4 positions, or kernel centres, in grid order), `shape` (the kernels' G, see below; any
-// buffer for the isotropic field), `cell_rank` and `cell_start`, and shared/anisotropy.h.
+// Include after declaring `params` (SurfaceParams), and, for the field, the rgba32f storage texel
+// buffers `sorted` (positions, or kernel centres, in grid order) and `shape` (the kernels' G, see
+// below; any buffer for the isotropic field), `cell_rank` and `cell_start`, and shared/anisotropy.h.
 
 #include "common/camera.glsl"
 
@@ -32,11 +32,19 @@ vec3 grid_max() { return params.grid_origin_cell.xyz + params.grid_origin_cell.w
 // centres in their own grid's order and `shape` (declared by the including shader) their G, three
 // rows, row 0's w = |det G| (render/classify_shape.comp). Every G has semi-axes <= r, so the
 // kernels that reach p are those whose centre is within r of it, as in the isotropic field.
-bool anisotropic_field() { return (params.flags & SURFACE_ANISOTROPIC_FIELD) != 0u; }
+// Which field is fixed per pipeline (specialization constant 1, the renderer's ray_march_[2]): on
+// the software device both sides of a branch inside the evaluation loop cost, uniform or not.
+layout(constant_id = 1) const bool kAnisotropicField = false;
+bool anisotropic_field() { return kAnisotropicField; }
+
+// `sorted` and `shape` are rgba32f storage texel buffers (gathers at scattered indices: see
+// common/grid_query.glsl).
+vec4 field_centre(uint j) { return imageLoad(sorted, int(j)); }
+vec4 field_shape_row(uint j, uint row) { return imageLoad(shape, int(3u * j + row)); }
 
 mat3 kernel_shape(uint j) {
     // mat3 takes columns: the transpose of the rows is G.
-    return transpose(mat3(shape[3u * j].xyz, shape[3u * j + 1u].xyz, shape[3u * j + 2u].xyz));
+    return transpose(mat3(field_shape_row(j, 0u).xyz, field_shape_row(j, 1u).xyz, field_shape_row(j, 2u).xyz));
 }
 
 /// phi(p) = V sum_j W(p - x_j, r): the normalised density (1 inside resting fluid); with the
@@ -46,12 +54,12 @@ float field_density(vec3 p) {
     float r2 = params.radius * params.radius;
     bool anisotropic = anisotropic_field();  // uniform across the dispatch: the branch is free
     FOR_EACH_PARTICLE_NEAR(p, j) {
-        vec3 d = p - sorted[j].xyz;
+        vec3 d = p - field_centre(j).xyz;
         float d2 = dot(d, d);
         if (!anisotropic) {
             sum += cubic_kernel(d2, params.inv_radius, params.kernel_coeff);
         } else if (d2 < r2) {  // only then read the shape
-            sum += anisotropic_kernel(d, kernel_shape(j), shape[3u * j].w);
+            sum += anisotropic_kernel(d, kernel_shape(j), field_shape_row(j, 0u).w);
         }
     }
     END_FOR_EACH_PARTICLE_NEAR
@@ -64,12 +72,12 @@ vec3 field_gradient(vec3 p) {
     float r2 = params.radius * params.radius;
     bool anisotropic = anisotropic_field();
     FOR_EACH_PARTICLE_NEAR(p, j) {
-        vec3 d = p - sorted[j].xyz;
+        vec3 d = p - field_centre(j).xyz;
         float d2 = dot(d, d);
         if (!anisotropic) {
             sum += cubic_gradient(d, d2, params.inv_radius, params.kernel_coeff);
         } else if (d2 < r2) {
-            sum += anisotropic_kernel_gradient(d, kernel_shape(j), shape[3u * j].w);
+            sum += anisotropic_kernel_gradient(d, kernel_shape(j), field_shape_row(j, 0u).w);
         }
     }
     END_FOR_EACH_PARTICLE_NEAR

@@ -30,7 +30,9 @@
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };
-layout(std430, binding = 1) readonly buffer Sorted { vec4 sorted[]; };
+// The kernels' centres, their shapes and classification densities are read at scattered
+// indices in every density evaluation: storage texel buffers (common/grid_query.glsl says why).
+layout(binding = 1, rgba32f) readonly uniform imageBuffer sorted;
 layout(binding = 2, r32ui) readonly uniform uimageBuffer cell_rank;
 layout(binding = 3, r32ui) readonly uniform uimageBuffer cell_start;
 layout(std430, binding = 4) readonly buffer Mask { uint mask[]; };
@@ -58,10 +60,10 @@ layout(std430, binding = 16) buffer ResumeState { vec4 resume_state[]; };
 layout(std430, binding = 17) writeonly buffer RayCounts { uvec2 ray_counts[]; };
 layout(std430, binding = 18) writeonly buffer BlendWeights { vec2 blend_weights[]; };
 layout(std430, binding = 19) readonly buffer DepthSplashBack { uint depth_splash_back[]; };
-layout(std430, binding = 20) readonly buffer Shape { vec4 shape[]; };  // the anisotropic surface's G
+layout(binding = 20, rgba32f) readonly uniform imageBuffer shape;  // the anisotropic surface's G
 // The spray share of the hit (SHADE_SPRAY): how much of the field there comes from particles the
 // classification calls spray (class_density: per field particle, see SPRAY_DENSITY_FULL).
-layout(std430, binding = 21) readonly buffer ClassDensity { float class_density[]; };
+layout(binding = 21, r32f) readonly uniform imageBuffer class_density;
 layout(std430, binding = 22) writeonly buffer Spray { float spray[]; };
 layout(push_constant) uniform Push { SurfacePassPush pc; };
 
@@ -101,13 +103,13 @@ vec3 xiao_normal(vec3 x, vec3 fallback) {
     float weight_sum = 0.0;
     vec3 mean = vec3(0.0);
     FOR_EACH_PARTICLE_NEAR(x, j) {
-        vec3 d = x - sorted[j].xyz;
+        vec3 d = x - field_centre(j).xyz;
         float d2 = dot(d, d);
         basic -= spiky_gradient(d, d2, r, spiky);
         float q = min(sqrt(d2) * params.inv_radius, 1.0);
         float w = 1.0 - q * q * q;
         weight_sum += w;
-        mean += w * sorted[j].xyz;
+        mean += w * field_centre(j).xyz;
     }
     END_FOR_EACH_PARTICLE_NEAR
     basic = dot(basic, basic) > 0.0 ? normalize(basic) : fallback;
@@ -115,9 +117,9 @@ vec3 xiao_normal(vec3 x, vec3 fallback) {
     mean /= weight_sum;
     mat3 cov = mat3(0.0);
     FOR_EACH_PARTICLE_NEAR(x, j) {
-        vec3 d = x - sorted[j].xyz;
+        vec3 d = x - field_centre(j).xyz;
         float q = min(sqrt(dot(d, d)) * params.inv_radius, 1.0);
-        vec3 e = sorted[j].xyz - mean;
+        vec3 e = field_centre(j).xyz - mean;
         cov += (1.0 - q * q * q) * outerProduct(e, e);
     }
     END_FOR_EACH_PARTICLE_NEAR
@@ -137,13 +139,13 @@ float splash_share(vec3 x) {
     float r2 = params.radius * params.radius;
     bool anisotropic = anisotropic_field();
     FOR_EACH_PARTICLE_NEAR(x, j) {
-        vec3 d = x - sorted[j].xyz;
+        vec3 d = x - field_centre(j).xyz;
         float d2 = dot(d, d);
         if (d2 >= r2) continue;
-        float w = anisotropic ? anisotropic_kernel(d, kernel_shape(j), shape[3u * j].w)
+        float w = anisotropic ? anisotropic_kernel(d, kernel_shape(j), field_shape_row(j, 0u).w)
                               : cubic_kernel(d2, params.inv_radius, params.kernel_coeff);
         all_sum += w;
-        splash_sum += w * (1.0 - smoothstep(SPRAY_DENSITY_FULL, SPRAY_DENSITY_NONE, class_density[j]));
+        splash_sum += w * (1.0 - smoothstep(SPRAY_DENSITY_FULL, SPRAY_DENSITY_NONE, imageLoad(class_density, int(j)).x));
     }
     END_FOR_EACH_PARTICLE_NEAR
     return all_sum > 0.0 ? splash_sum / all_sum : 0.0;

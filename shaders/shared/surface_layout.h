@@ -143,7 +143,9 @@ struct SurfaceParams {
     float centre_smoothing;  ///< lambda of the Laplacian smoothing of kernel centres (0: none)
     uint shading;            ///< SHADE_* switches of the composition (appearance only)
     float spray_whiteness;   ///< how white spray is drawn, 0..1 (SHADE_SPRAY)
-    float reserved;
+    /// The adaptive method's normal smoothing (normal_filter.comp): 1 - cos of the angle between
+    /// two normals at which the neighbour weighs 1/e; 0: no smoothing.
+    float normal_smoothing;
 
     // Composition.
     vec4 light_dir;         ///< unit, towards the light; w: specular exponent
