@@ -131,17 +131,28 @@ def resolution(row):
     return "%sx%s" % (row["width"], row["height"])
 
 
-def chart_pareto(rows, styles, charts_dir, written):
+# The trade-off charts: time per frame against one error column of study.csv, per resolution and
+# particle count, with the Pareto front. Every method row is a point, so a method drawn on both
+# surfaces (the " iso" rows) shows both.
+TRADE_OFFS = [
+    # (column, axis label, chart name, title)
+    ("depth_err_mean", "mean depth error [particle radii]", "pareto", "speed against accuracy"),
+    ("roughness_deg", "roughness on flat regions [deg]", "roughness", "speed against smoothness"),
+]
+
+
+def chart_pareto(rows, styles, charts_dir, written, column, ylabel, name, title):
     groups = defaultdict(list)
     for r in rows:
-        t, e = number(r["ms_total"]), number(r["depth_err_mean"])
-        # Only successful rows are trade-offs; the reference has no error against itself.
+        t, e = number(r["ms_total"]), number(r.get(column, ""))
+        # Only successful rows are trade-offs; the reference has no depth error against itself (its
+        # roughness is the field's own: the floor of the methods').
         if r["status"] != "ok" or t is None or e is None or t <= 0:
             continue
         groups[(integer(r["width"]) or 0, integer(r["height"]) or 0, integer(r["particles"]) or 0)].append(
             (t, e, r["method"]))
     if not groups:
-        return note("study.csv has no ok row with ms_total and depth_err_mean: no pareto chart")
+        return note("study.csv has no ok row with ms_total and %s: no %s chart" % (column, name))
     keys = sorted(groups)
     fig, axes = subplot_grid(len(keys))
     for ax, key in zip(axes, keys):
@@ -156,12 +167,12 @@ def chart_pareto(rows, styles, charts_dir, written):
                 linewidth=1, label="Pareto front", zorder=2)
         log_axis(ax, "x")
         ax.set_xlabel("time per frame [ms] (log)")
-        ax.set_ylabel("mean depth error [particle radii]")
+        ax.set_ylabel(ylabel)
         ax.set_title("%dx%d, %d particles" % key)
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize="small")
-    fig.suptitle("speed against accuracy")
-    save(fig, charts_dir, "pareto", written)
+    fig.suptitle(title)
+    save(fig, charts_dir, name, written)
 
 
 def chart_time_vs_particles(rows, styles, charts_dir, written):
@@ -321,7 +332,8 @@ def main(argv):
     methods = {r["method"] for name in ("study.csv", "study_passes.csv") for r in tables.get(name, [])}
     styles = method_styles(methods)
     if "study.csv" in tables:
-        chart_pareto(tables["study.csv"], styles, charts_dir, written)
+        for trade_off in TRADE_OFFS:
+            chart_pareto(tables["study.csv"], styles, charts_dir, written, *trade_off)
         chart_time_vs_particles(tables["study.csv"], styles, charts_dir, written)
     if "study_passes.csv" in tables:
         chart_passes(tables["study_passes.csv"], charts_dir, written)

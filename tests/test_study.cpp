@@ -584,7 +584,7 @@ TEST(StudyCliTest, TinySpecRunsEndToEndWithCsvTablesAndCharts) {
                              "Which conclusions depend on the device", "_steps.png", "mask+skip steps/ray in curtain"})
         EXPECT_NE(md.find(part), std::string::npos) << part;
     EXPECT_NE(md.find("overflow (needs"), std::string::npos);
-    for (const char* chart : {"pareto", "time_vs_particles", "passes", "solver_map"})
+    for (const char* chart : {"pareto", "roughness", "time_vs_particles", "passes", "solver_map"})
         for (const char* ext : {".png", ".svg"}) {
             const fs::path file = out / "charts" / (std::string(chart) + ext);
             ASSERT_TRUE(fs::exists(file)) << file;

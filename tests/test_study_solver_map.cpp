@@ -234,14 +234,14 @@ using namespace aquaform::test_cli;
 void write_study_csvs(const fs::path& dir, bool solver_map_has_pressure = true) {
     std::ofstream(dir / "study.csv")
         << "case,scene,method,width,height,particles,metaball_scale,recursion_depth,bisection_steps,visual,ms_total,"
-           "fps,depth_err_mean,depth_err_p95,normal_err_deg_mean,coverage_mismatch,psnr_db,overflow,status\n"
-           "c0,dam,reference,128,128,1000,1,,8,0,120.5,8.3,,,,,,0,ok\n"
-           "c1,dam,adaptive,128,128,1000,1,3,4,0,5.2,192,0.12,0.3,4.1,0.01,35,0,ok\n"
-           "c2,dam,xiao,128,128,1000,1,,4,0,8.1,123,0.08,0.2,3.1,0.005,38,0,ok\n"
-           "c3,dam,abuffer,128,128,1000,1,,4,0,3.0,333,0.3,0.8,6,0.03,30,1,overflow\n"
-           "c4,dam,brute,128,128,1000,1,,,0,,,,,,,,0,failed: out of memory\n"
-           "c5,dam,adaptive,128,128,4000,1,3,4,0,9.2,100,0.1,0.3,4.1,0.01,35,0,ok\n"
-           "c6,dam,xiao,256,256,4000,1,,4,0,18.1,55,0.07,0.2,3.1,0.005,38,0,ok\n";
+           "fps,depth_err_mean,depth_err_p95,normal_err_deg_mean,coverage_mismatch,psnr_db,overflow,roughness_deg,status\n"
+           "c0,dam,reference,128,128,1000,1,,8,0,120.5,8.3,,,,,,0,5.1,ok\n"
+           "c1,dam,adaptive,128,128,1000,1,3,4,0,5.2,192,0.12,0.3,4.1,0.01,35,0,1.2,ok\n"
+           "c2,dam,xiao,128,128,1000,1,,4,0,8.1,123,0.08,0.2,3.1,0.005,38,0,1.0,ok\n"
+           "c3,dam,abuffer,128,128,1000,1,,4,0,3.0,333,0.3,0.8,6,0.03,30,1,7.5,overflow\n"
+           "c4,dam,brute,128,128,1000,1,,,0,,,,,,,,0,,failed: out of memory\n"
+           "c5,dam,adaptive,128,128,4000,1,3,4,0,9.2,100,0.1,0.3,4.1,0.01,35,0,1.1,ok\n"
+           "c6,dam,xiao,256,256,4000,1,,4,0,18.1,55,0.07,0.2,3.1,0.005,38,0,0.9,ok\n";
     std::ofstream(dir / "study_passes.csv") << "case,scene,method,width,height,particles,pass,ms\n"
                                                "c1,dam,adaptive,128,128,1000,ray_march,3.2\n"
                                                "c1,dam,adaptive,128,128,1000,shade,1.0\n"
@@ -267,8 +267,8 @@ TEST_F(StudyCharts, DrawsEveryChartAsPngAndSvg) {
     ASSERT_TRUE(charts.ok()) << charts.error();
     ASSERT_EQ(charts.value().skipped, "");
     const std::vector<std::string>& written = charts.value().written;
-    EXPECT_EQ(written.size(), 8u);
-    for (const char* name : {"pareto", "time_vs_particles", "passes", "solver_map"}) {
+    EXPECT_EQ(written.size(), 10u);
+    for (const char* name : {"pareto", "roughness", "time_vs_particles", "passes", "solver_map"}) {
         const fs::path png = dir / "charts" / (std::string(name) + ".png");
         const fs::path svg = dir / "charts" / (std::string(name) + ".svg");
         EXPECT_NE(std::find(written.begin(), written.end(), png.string()), written.end()) << name;
