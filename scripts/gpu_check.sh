@@ -1,109 +1,190 @@
 #!/usr/bin/env bash
-# The real-GPU check: one run, under 8 minutes on a machine with a GPU, that writes one JSON with
-#   - `aquaform info` (the devices, and the one used),
+# The real-GPU check: one run within one time budget (--budget, default 420 s) that every step
+# shares, writing one JSON after every step (scripts/gpu_check_report.py), so that a run cut short
+# still reports what it did:
+#   - `aquaform info` (the devices, and the one used; why none, when none is found),
 #   - the GPU test subset (the suites whose tests run passes on the device),
-#   - `bench sim` at 1M particles (3 iterations),
-#   - `bench render` at 1M particles and 1920x1080 (a calm, a curtain and a splashy frame),
-#   - a 600-frame headless `run` of a 1M-particle dam break rendered at 1920x1080.
+#   - `bench sim` at 1M particles: a dam break well into its collapse (240 steps of warm-up), with
+#     4 iterations as the shipped scenes use; verdict: <= 8 ms per step,
+#   - `bench render` at 1M particles and 1920x1080 (a calm, a curtain and a splashy frame), best of
+#     3 renders (the first warms up); verdict: the adaptive reconstruction plus the frame grid the
+#     solver sorts for it <= 10 ms,
+#   - a 60-frame headless `run` of a 1M-particle dam break without pictures: the solver's GPU time
+#     per frame (its stats.csv, kept whole).
 # `--quick` runs the same steps on whatever device there is (the software one here) at small
 # sizes; the test suite runs it that way (tests/test_gpu_check.cpp), so the script cannot rot.
-# Every step has a time limit; a step that fails or runs out is recorded and the script goes on,
-# then exits 1.
+# A step that fails or runs out of time is recorded and the script goes on, then exits 1; a step
+# the budget has no room left for is recorded as skipped.
 #
-# Usage: scripts/gpu_check.sh [--quick] [--build DIR] [--out FILE] [--device NAME|INDEX]
+# Usage: scripts/gpu_check.sh [--quick] [--budget SECONDS] [--build DIR] [--out FILE] [--device NAME|INDEX]
 #        (defaults: build/, gpu_check.json in the current directory, automatic device choice)
 #        scripts/gpu_check.sh --bundle [--build DIR]
-#        copies the shared libraries the binary needs (other than the C library and the Vulkan
-#        loader) into DIR/libs, for a GPU machine that lacks Debian's packages; a check finds
-#        them there.
+#        copies what the binary, the tests and NVIDIA's Vulkan driver need from this machine into
+#        DIR/libs (all but the C library and the driver: libstdc++, the Vulkan loader, the X
+#        libraries the driver links), for a GPU machine that lacks Debian's packages, prints what
+#        it copied and checked, and packs binary, tests and libraries into DIR/gpu_bundle.tar.xz
+#        (about 17 MB); a check given only that file (no DIR/aquaform) unpacks it first.
 set -uo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$root/build"
 out="gpu_check.json"
 quick=0
 bundle=0
+budget=""
 device=()
+usage="usage: scripts/gpu_check.sh [--quick] [--budget SECONDS] [--build DIR] [--out FILE] [--device D] | --bundle [--build DIR]"
 while (($#)); do
   case "$1" in
     --quick) quick=1 ;;
     --bundle) bundle=1 ;;
-    --build) build="$2"; shift ;;
-    --out) out="$2"; shift ;;
-    --device) device=(--device "$2"); shift ;;
-    *) echo "gpu_check.sh: unknown argument '$1'; usage: scripts/gpu_check.sh [--quick] [--build DIR] [--out FILE] [--device D]" >&2
+    --budget) budget="${2:-}"; shift ;;
+    --build) build="${2:-}"; shift ;;
+    --out) out="${2:-}"; shift ;;
+    --device) device=(--device "${2:-}"); shift ;;
+    *) echo "gpu_check.sh: unknown argument '$1'; $usage" >&2
        exit 2 ;;
   esac
   shift
 done
+if [ -n "$budget" ] && ! [[ "$budget" =~ ^[0-9]+$ && "$budget" -ge 1 ]]; then
+  echo "gpu_check.sh: --budget '$budget' is not a whole number of seconds above 0; e.g. --budget 420" >&2
+  exit 2
+fi
 aquaform="$build/aquaform"
 tests="$build/tests/aquaform_tests"
+bundle_file="$build/gpu_bundle.tar.xz"
+if ((!bundle)) && [ ! -x "$aquaform" ] && [ -f "$bundle_file" ]; then  # a GPU machine given the bundle alone
+  echo "gpu_check.sh: unpacking $bundle_file" >&2
+  tar -xJf "$bundle_file" -C "$build" || { echo "gpu_check.sh: cannot unpack $bundle_file" >&2; exit 2; }
+fi
 if [ ! -x "$aquaform" ]; then
   echo "gpu_check.sh: $aquaform not found; build first (bash scripts/setup.sh) or give --build DIR" >&2
   exit 2
 fi
 
+# The shared libraries a file needs, by path (ldd's "name => path" lines).
+needed() { ldd "$@" 2>/dev/null | awk '$2 == "=>" && $3 ~ /^\// { print $3 }' | sort -u; }
+
 if ((bundle)); then
-  mkdir -p "$build/libs"
-  ldd "$aquaform" "$tests" 2>/dev/null | awk '$3 ~ /^\// { print $3 }' | sort -u |
-    grep -Ev '/(libc|libm|libdl|libpthread|librt|ld-linux[^/]*|libvulkan)\.so' |
-    xargs -r cp -L -t "$build/libs"
-  echo "gpu_check.sh: $(ls "$build/libs" | wc -l) libraries in $build/libs" >&2
+  libs="$build/libs"
+  rm -rf "$libs" && mkdir -p "$libs" || exit 1
+  # NVIDIA's Vulkan driver (libGLX_nvidia) links the X client libraries, which a machine with the
+  # driver alone may lack; the loader must be 1.3.204 or newer (the binary asks for Vulkan 1.3).
+  x_libs=()
+  for name in libXext.so.6 libX11.so.6; do
+    path="$(ldconfig -p | awk -v n="$name" '$1 == n && /x86-64/ { print $NF; exit }')"
+    [ -n "$path" ] && x_libs+=("$path")
+  done
+  loader="$(ldconfig -p | awk '$1 == "libvulkan.so.1" && /x86-64/ { print $NF; exit }')"
+  if [ -z "$loader" ]; then
+    echo "gpu_check.sh: no Vulkan loader (libvulkan.so.1) here to bundle; apt-get install libvulkan1" >&2
+    exit 1
+  fi
+  loader_version="$(basename "$(readlink -f "$loader")" | sed 's/^libvulkan\.so\.//')"
+  { needed "$aquaform"; [ -x "$tests" ] && needed "$tests"; echo "$loader"
+    for x in "${x_libs[@]}"; do echo "$x"; needed "$x"; done; } | sort -u |
+    grep -Ev '/(libc|libm|libdl|libpthread|librt|libresolv|ld-linux[^/]*)\.so' >"$libs/.list"
+  while read -r lib; do cp -L "$lib" "$libs/" || exit 1; done <"$libs/.list"
+  glibc="$(for f in "$libs"/*.so* "$aquaform"; do objdump -T "$f" 2>/dev/null; done |
+           grep -o 'GLIBC_2\.[0-9]*' | sort -t. -k2 -n -u | tail -1)"
+  echo "gpu_check.sh: bundled $(wc -l <"$libs/.list") libraries into $libs:" >&2
+  sed 's/^/  /' "$libs/.list" >&2
+  echo "gpu_check.sh: Vulkan loader $loader_version (needs >= 1.3.204: $(printf '%s\n1.3.204\n' "$loader_version" | sort -V | head -1 | grep -qx 1.3.204 && echo ok || echo TOO OLD))" >&2
+  echo "gpu_check.sh: X libraries for NVIDIA's driver: ${x_libs[*]:-none found here (install libxext6)}" >&2
+  echo "gpu_check.sh: the bundle needs glibc >= ${glibc#GLIBC_} on the GPU machine (ldd --version there)" >&2
+  rm -f "$libs/.list"
+  # One file to carry to the GPU machine (a device machine takes 64 MiB; OpenVDB alone is 57 MB):
+  # the binary, the tests and the libraries, which the check unpacks where it finds no binary.
+  members=(aquaform libs)
+  [ -x "$tests" ] && members+=(tests/aquaform_tests)
+  tar -cJf "$bundle_file" -C "$build" "${members[@]}" || exit 1
+  echo "gpu_check.sh: wrote $bundle_file ($(du -h "$bundle_file" | cut -f1)): carry it alone, and run scripts/gpu_check.sh there" >&2
   exit 0
 fi
 [ -d "$build/libs" ] && export LD_LIBRARY_PATH="$build/libs${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+# A machine with NVIDIA's driver mounted outside the usual places (the device machines here).
+icd_dirs=(/etc/vulkan/icd.d /usr/share/vulkan/icd.d /usr/local/share/vulkan/icd.d)
+if [ -z "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ] && ! ls "${icd_dirs[@]}" 2>/dev/null | grep -q '\.json$' &&
+   [ -f /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json ]; then
+  export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+fi
 
 if ((quick)); then
-  particles=4000; resolution=128x128; frames=6; limit=120
-  sim_flags=(--sizes 4096 --steps 2 --repeats 1)
-  render_flags=(--particles "$particles" --resolution "$resolution" --quick --repeats 1 --scene-dir "$root/assets/scenes")
+  particles=4000; resolution=128x128; frames=6; budget="${budget:-300}"
+  sim_flags=(--sizes 4096 --iterations 4 --warmup 20 --steps 2 --repeats 1)
+  render_flags=(--particles "$particles" --resolution "$resolution" --quick --repeats 1)
   test_filter='NeighborGridTest.*:PrefixSum*'
+  caps=(60 120 60 90 60)
 else
-  particles=1000000; resolution=1920x1080; frames=600; limit=300
-  sim_flags=(--sizes 1000000 --iterations 3 --repeats 2)
+  particles=1000000; resolution=1920x1080; frames=60; budget="${budget:-420}"
+  sim_flags=(--sizes 1000000 --iterations 4 --warmup 240 --steps 8 --repeats 2)
   # The calm frame, the droplet curtain and the violent dam break's wave on the far wall.
-  render_flags=(--particles "$particles" --resolution "$resolution" --quick --frames calm,curtain,violent_wall --repeats 1
-                --scene-dir "$root/assets/scenes")
-  test_filter='NeighborGrid*:PrefixSum*:Pbf*:Physics*:Surface*:Metaball*:ScreenSpace*:Anisotropy*:Raster*:ControlForce*'
+  render_flags=(--particles "$particles" --resolution "$resolution" --frames calm,curtain,violent_wall
+                --configs adaptive --repeats 3)
+  test_filter='NeighborGrid*:PrefixSum*:Pbf*:Physics*:Surface*:Metaball*:ScreenSpace*:Anisotropy*:Raster*:ControlForce*:GpuTimer*'
+  caps=(60 120 120 150 90)
 fi
 
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
+start=$(date +%s)
+deadline=$((start + budget))
+report_seconds=10  # kept back for the last report
+python=python3
+command -v "$python" >/dev/null || python=/usr/bin/python3
+vulkan_env="VK_DRIVER_FILES=${VK_DRIVER_FILES:-} VK_ICD_FILENAMES=${VK_ICD_FILENAMES:-}; drivers: $(ls "${icd_dirs[@]}" /usr/local/nvidia/share/vulkan/icd.d 2>/dev/null | grep '\.json$' | tr '\n' ' ')"
+QUICK=$quick PARTICLES=$particles RESOLUTION=$resolution FRAMES=$frames BUDGET=$budget VULKAN="$vulkan_env" \
+  "$python" -c 'import json, os, socket, sys, time; e = os.environ
+json.dump({"quick": e["QUICK"] == "1", "particles": int(e["PARTICLES"]), "resolution": e["RESOLUTION"],
+           "frames": int(e["FRAMES"]), "budget_s": int(e["BUDGET"]), "host": socket.gethostname(),
+           "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "vulkan": e["VULKAN"]}, open(sys.argv[1], "w"))' \
+  "$work/meta.json" || { echo "gpu_check.sh: $python cannot write $work/meta.json" >&2; exit 1; }
 
-# JSON string of a file's text (its last 4000 characters).
-json_text() {
-  tail -c 4000 "$1" | awk 'BEGIN { ORS = "" } {
-      gsub(/\\/, "\\\\"); gsub(/"/, "\\\""); gsub(/\t/, "\\t"); gsub(/\r/, ""); gsub(/[\001-\037]/, "")
-      if (NR > 1) print "\\n"; print }' | sed 's/^/"/; s/$/"/'
-}
-
-steps=()
 failed=0
-# step NAME LIMIT_S COMMAND...: runs it, keeps its output and its time.
+report() { "$python" "$root/scripts/gpu_check_report.py" "$work" "$out" || { echo "gpu_check: could not write $out" >&2; failed=1; }; }
+# step NAME CAP_S COMMAND...: runs it within min(CAP_S, what the budget has left), keeps its
+# output and its time, and writes the report.
 step() {
-  local name="$1" seconds="$2"; shift 2
-  echo "gpu_check: $name: $*" >&2
-  local start end rc
-  start=$(date +%s.%N)
-  timeout "$seconds" "$@" >"$work/$name.log" 2>&1
+  local name="$1" cap="$2"; shift 2
+  local left=$((deadline - $(date +%s) - report_seconds)) status rc t0 t1
+  if ((left < 15)); then
+    echo "gpu_check: $name: skipped, the budget of $budget s is spent" >&2
+    echo "{\"name\": \"$name\", \"status\": \"skipped\", \"reason\": \"the budget of $budget s was spent\", \"seconds\": 0}" >>"$work/steps.jsonl"
+    failed=1
+    report
+    return
+  fi
+  local limit=$((cap < left ? cap : left))
+  echo "gpu_check: $name (at most $limit s): $*" >&2
+  t0=$(date +%s.%N)
+  timeout -k 5 "$limit" "$@" >"$work/$name.log" 2>&1
   rc=$?
-  end=$(date +%s.%N)
-  ((rc == 0)) || failed=1
-  ((rc == 0)) || echo "gpu_check: $name failed (exit $rc); see \"$name\" in $out" >&2
-  steps+=("{\"name\": \"$name\", \"exit\": $rc, \"timed_out\": $([ $rc -eq 124 ] && echo true || echo false), \"seconds\": $(awk "BEGIN { printf \"%.2f\", $end - $start }"), \"output\": $(json_text "$work/$name.log")}")
+  t1=$(date +%s.%N)
+  case $rc in
+    0) status=ok ;;
+    124|137) status=timed_out ;;
+    *) status=failed ;;
+  esac
+  [ "$status" = ok ] || { failed=1; echo "gpu_check: $name: $status (exit $rc); see \"$name\" in $out" >&2; }
+  echo "{\"name\": \"$name\", \"status\": \"$status\", \"exit\": $rc, \"limit_s\": $limit, \"seconds\": $(awk "BEGIN { printf \"%.2f\", $t1 - $t0 }")}" >>"$work/steps.jsonl"
+  report
 }
 
-step info 60 "$aquaform" info "${device[@]}"
+step info "${caps[0]}" "$aquaform" info "${device[@]}"
 if [ -x "$tests" ]; then
-  step gpu_tests "$limit" env AQUAFORM_VALIDATION=0 "$tests" --gtest_filter="$test_filter" --gtest_brief=1
+  step gpu_tests "${caps[1]}" env AQUAFORM_VALIDATION=0 "$tests" --gtest_filter="$test_filter" --gtest_brief=1
 else
-  steps+=("{\"name\": \"gpu_tests\", \"exit\": 127, \"output\": \"$tests not built (configure with -DAQUAFORM_BUILD_TESTS=ON)\"}")
+  echo "$tests not built (configure with -DAQUAFORM_BUILD_TESTS=ON)" >"$work/gpu_tests.log"
+  echo '{"name": "gpu_tests", "status": "failed", "exit": 127, "seconds": 0}' >>"$work/steps.jsonl"
   failed=1
+  report
 fi
-step bench_sim "$limit" "$aquaform" bench sim "${sim_flags[@]}" --out "$work/bench_sim.json" "${device[@]}"
-step bench_render "$limit" "$aquaform" bench render "${render_flags[@]}" --out "$work/bench_render.json" "${device[@]}"
+step bench_sim "${caps[2]}" "$aquaform" bench sim "${sim_flags[@]}" --out "$work/bench_sim.json" "${device[@]}"
+step bench_render "${caps[3]}" "$aquaform" bench render "${render_flags[@]}" --scene-dir "$root/assets/scenes" \
+  --out "$work/bench_render.json" "${device[@]}"
 
 # A dam break of about $particles particles, as `bench sim` makes them: a column a x 2a x a of
-# 1 cm spacing in a 4a x 2.5a x a tank.
+# 1 cm spacing in a 4a x 2.5a x a tank, with the shipped scenes' 4 iterations.
 a=$(awk "BEGIN { printf \"%.4f\", 0.01 * ($particles / 2.0) ^ (1.0 / 3.0) }")
 cat >"$work/dam_break_check.json" <<EOF
 {
@@ -113,30 +194,10 @@ cat >"$work/dam_break_check.json" <<EOF
   "fluid_blocks": [{"min": [0, 0, 0], "max": [$a, $(awk "BEGIN { print 2 * $a }"), $a]}],
   "column_width": $a,
   "frames": $frames,
-  "solver": {"substeps": 2, "iterations": 3, "viscosity": 0.01, "vorticity": 0.0001}
+  "solver": {"substeps": 2, "iterations": 4, "viscosity": 0.01, "vorticity": 0.0001}
 }
 EOF
-step run "$limit" "$aquaform" run "$work/dam_break_check.json" --frames "$frames" --resolution "$resolution" \
-  --out "$work/run" "${device[@]}"
-frames_written=$(find "$work/run" -name 'frame_*.png' 2>/dev/null | wc -l)
+step run "${caps[4]}" "$aquaform" run "$work/dam_break_check.json" --frames "$frames" --no-png --out "$work/run" "${device[@]}"
 
-embed() { if [ -s "$1" ]; then cat "$1"; else echo null; fi; }
-{
-  echo "{"
-  echo "  \"quick\": $([ $quick -eq 1 ] && echo true || echo false),"
-  echo "  \"particles\": $particles, \"resolution\": \"$resolution\", \"frames\": $frames,"
-  echo "  \"date\": \"$(date -u +%Y-%m-%dT%H:%M:%SZ)\", \"host\": \"$(hostname)\","
-  echo "  \"steps\": ["
-  for i in "${!steps[@]}"; do
-    [ "$i" -gt 0 ] && echo ","
-    printf '    %s' "${steps[$i]}"
-  done
-  echo ""
-  echo "  ],"
-  echo "  \"bench_sim\": $(embed "$work/bench_sim.json"),"
-  echo "  \"bench_render\": $(embed "$work/bench_render.json"),"
-  echo "  \"run\": {\"frames_written\": $frames_written, \"stats_csv\": $( [ -s "$work/run/stats.csv" ] && json_text "$work/run/stats.csv" || echo null)}"
-  echo "}"
-} >"$out"
-echo "gpu_check: wrote $out$([ $failed -eq 1 ] && echo ' (some steps failed)')" >&2
+echo "gpu_check: wrote $out in $(($(date +%s) - start)) s of its $budget s budget$([ $failed -eq 1 ] && echo ' (some steps failed)')" >&2
 exit $failed

@@ -1,0 +1,117 @@
+#!/usr/bin/env python3
+"""Assembles scripts/gpu_check.sh's JSON from its work folder, after every step, so that a run cut
+short still reports what it did. Standard library only: the GPU machine's python3 is not Debian's.
+
+Usage: gpu_check_report.py WORK_DIR OUT_FILE   (WORK_DIR/meta.json and steps.jsonl, see gpu_check.sh)
+"""
+import json
+import os
+import sys
+
+SOLVER_MS_PER_STEP = 8.0     # target: a 1M-particle step, violent mid-run state, the scene's iterations
+RECONSTRUCTION_MS = 10.0     # target: the adaptive reconstruction of 1M particles at 1920x1080, with the frame grid
+
+
+def load(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None
+
+
+def tail(path, chars=4000):
+    try:
+        with open(path, errors="replace") as f:
+            return f.read()[-chars:]
+    except OSError:
+        return None
+
+
+def device_of(info_output):
+    """The device `aquaform info` chose, or None."""
+    for line in (info_output or "").splitlines():
+        if line.startswith("aquaform will use device"):
+            return line.split(":", 1)[1].strip()
+    return None
+
+
+def verdict(status, **fields):
+    return dict(status=status, **fields)
+
+
+def solver_verdict(meta, sim):
+    if meta["quick"]:
+        return verdict("not applicable", reason="--quick: small sizes on any device")
+    if not sim or not sim.get("records"):
+        return verdict("not measured", reason="bench_sim wrote no figures (see its step)")
+    if sim.get("device_type") == "software (CPU)":
+        return verdict("not applicable", reason="ran on a software device: " + sim.get("device", "?"))
+    record = sim["records"][0]
+    ms = record["ms_per_step"]
+    return verdict("pass" if ms <= SOLVER_MS_PER_STEP else "fail", ms_per_step=ms, particles=record["particles"],
+                   iterations=record["iterations"], target_ms=SOLVER_MS_PER_STEP)
+
+
+def reconstruction_verdict(meta, render):
+    if meta["quick"]:
+        return verdict("not applicable", reason="--quick: small sizes on any device")
+    if not render or not render.get("frames"):
+        return verdict("not measured", reason="bench_render wrote no figures (see its step)")
+    if render.get("device_type") == "software (CPU)":
+        return verdict("not applicable", reason="ran on a software device: " + render.get("device", "?"))
+    frames = []
+    for f in render["frames"]:
+        adaptive = next((r for r in f["records"] if r.get("label") == "adaptive"), None)
+        if adaptive is None:
+            continue
+        grid = (f.get("in_place") or {}).get("solver_frame_grid_ms", 0.0)
+        total = adaptive["ms_total"] + grid
+        frames.append(dict(frame=f["name"], particles=f["particles"], ms_reconstruction=adaptive["ms_total"],
+                           ms_frame_grid=grid, ms_total=total, pass_=total <= RECONSTRUCTION_MS))
+    if not frames:
+        return verdict("not measured", reason="bench_render drew no adaptive frame")
+    passed = all(f.pop("pass_") for f in frames)
+    return verdict("pass" if passed else "fail", target_ms=RECONSTRUCTION_MS, frames=frames)
+
+
+def main(work, out):
+    meta = load(os.path.join(work, "meta.json"))
+    steps = []
+    try:
+        with open(os.path.join(work, "steps.jsonl")) as f:
+            for line in f:
+                step = json.loads(line)
+                step["output"] = tail(os.path.join(work, step["name"] + ".log"))
+                steps.append(step)
+    except OSError:
+        pass
+    info = next((s for s in steps if s["name"] == "info"), None)
+    device = device_of(info["output"]) if info else None
+    sim = load(os.path.join(work, "bench_sim.json"))
+    render = load(os.path.join(work, "bench_render.json"))
+    stats = os.path.join(work, "run", "stats.csv")
+    stats_text = tail(stats, chars=1 << 24)  # the whole file: a few hundred rows
+    report = dict(meta)
+    report.update(
+        device=device,
+        # Why no device was used: what `info` said, and where the Vulkan drivers were looked for.
+        device_error=None if device or not info else dict(info_output=info["output"], vulkan=meta.get("vulkan")),
+        budget_used_s=round(sum(s.get("seconds", 0.0) for s in steps), 2),
+        steps=steps,
+        verdicts=dict(solver=solver_verdict(meta, sim), reconstruction=reconstruction_verdict(meta, render)),
+        bench_sim=sim,
+        bench_render=render,
+        run=dict(frames_written=max(0, stats_text.count("\n") - 1) if stats_text else 0, stats_csv=stats_text),
+    )
+    staged = out + ".partial"
+    with open(staged, "w") as f:
+        json.dump(report, f, indent=1)
+        f.write("\n")
+    os.replace(staged, out)
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 3:
+        sys.exit("usage: gpu_check_report.py WORK_DIR OUT_FILE")
+    main(sys.argv[1], sys.argv[2])
