@@ -11,19 +11,22 @@
 
 namespace aquaform::gpu {
 
-Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size, MemoryUse use) {
+Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size, MemoryUse use, bool texels_only) {
     if (size == 0) size = 4;  // Vulkan forbids empty buffers; an empty array still binds
-    if (size > ctx.info().max_storage_buffer_bytes)
+    const VkDeviceSize limit = texels_only ? ctx.info().max_texel_buffer_bytes : ctx.info().max_storage_buffer_bytes;
+    if (size > limit)
         // A request this device cannot bind, whatever memory is free: bad input (exit 2), like
         // every request too large for the device.
         throw Failure("buffer '" + name + "' needs " + std::to_string(size) + " bytes but " + ctx.info().name +
-                          " binds at most " + std::to_string(ctx.info().max_storage_buffer_bytes) +
-                          " bytes per storage buffer; make what it holds smaller (fewer particles through a larger "
+                          " binds at most " + std::to_string(limit) +
+                          (texels_only ? " bytes per texel buffer" : " bytes per storage buffer") +
+                          "; make what it holds smaller (fewer particles through a larger "
                           "particle_spacing, a smaller domain or image)",
                       Failure::Kind::input);
     Buffer b;
     b.name = name;
     b.size = size;
+    b.texels_only = texels_only;
     VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     info.size = size;
     info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
@@ -141,8 +144,8 @@ void record_download(Context& ctx, VkCommandBuffer cmd, const Buffer& src, const
     host_read_barrier(cmd);
 }
 
-Buffer& BufferSet::add(const std::string& name, VkDeviceSize size, MemoryUse use) {
-    buffers_.push_back(std::make_unique<Buffer>(create_buffer(*ctx_, name, size, use)));
+Buffer& BufferSet::add(const std::string& name, VkDeviceSize size, MemoryUse use, bool texels_only) {
+    buffers_.push_back(std::make_unique<Buffer>(create_buffer(*ctx_, name, size, use, texels_only)));
     return *buffers_.back();
 }
 
@@ -153,7 +156,7 @@ void BufferSet::release() {
 
 std::vector<BufferReport> BufferSet::report() const {
     std::vector<BufferReport> out;
-    for (const auto& b : buffers_) out.push_back({b->name, b->size});
+    for (const auto& b : buffers_) out.push_back({b->name, b->size, b->texels_only});
     return out;
 }
 

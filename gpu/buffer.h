@@ -20,6 +20,9 @@ struct Buffer {
     VkDeviceSize size = 0;
     std::string name;
     void* mapped = nullptr;  ///< set for host-visible buffers
+    /// Bound only as a storage texel buffer, so it may exceed the storage-buffer range up to the
+    /// device's texel-buffer size (DeviceInfo::max_texel_buffer_bytes).
+    bool texels_only = false;
     /// Views as a storage texel buffer, made on first use by texel_view() (one per format).
     struct TexelView {
         VkFormat format = VK_FORMAT_UNDEFINED;
@@ -30,11 +33,11 @@ struct Buffer {
 
 enum class MemoryUse { device, host };
 
-/// Creates a storage buffer (also usable as transfer source/destination). Host buffers are
-/// mapped for their whole life. Fails with a message naming the buffer when it exceeds the
-/// device's storage-buffer range.
+/// Creates a storage buffer (also usable as transfer source/destination and as texels). Host
+/// buffers are mapped for their whole life. Fails with a message naming the buffer when it
+/// exceeds the device's storage-buffer range (texels_only: its texel-buffer size).
 Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size,
-                     MemoryUse use = MemoryUse::device);
+                     MemoryUse use = MemoryUse::device, bool texels_only = false);
 void destroy_buffer(Context& ctx, Buffer& buffer);
 
 /// The buffer seen as a storage texel buffer of `format` (whole size), made on first use and
@@ -64,6 +67,9 @@ std::vector<T> download_vector(Context& ctx, const Buffer& src, size_t count) {
 struct BufferReport {
     std::string name;
     VkDeviceSize bytes;
+    /// Bound only as a storage texel buffer (its limit is DeviceInfo::max_texel_buffer_bytes, not
+    /// the storage-buffer range).
+    bool texels_only = false;
 };
 
 /// Owns a set of named device buffers and frees them together.
@@ -74,7 +80,7 @@ public:
     BufferSet(const BufferSet&) = delete;
     BufferSet& operator=(const BufferSet&) = delete;
 
-    Buffer& add(const std::string& name, VkDeviceSize size, MemoryUse use = MemoryUse::device);
+    Buffer& add(const std::string& name, VkDeviceSize size, MemoryUse use = MemoryUse::device, bool texels_only = false);
     void release();
     std::vector<BufferReport> report() const;
     VkDeviceSize total_bytes() const;

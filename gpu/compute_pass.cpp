@@ -179,6 +179,10 @@ void bind_pass(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const
             views[i] = texel_view(ctx, *by_index[i], texel_vk_format(declared_binding, d.shader));
             writes[i].pTexelBufferView = &views[i];
         } else {
+            if (declared_binding.storage && (by_index[i]->texels_only || by_index[i]->size > ctx.info().max_storage_buffer_bytes))
+                throw internal_failure(d.shader + ": storage buffer '" + declared_binding.name + "' bound to buffer '" +
+                                       by_index[i]->name + "' of " + std::to_string(by_index[i]->size) +
+                                       " bytes, made for texels only or larger than the device's storage-buffer range");
             if (!declared_binding.storage && by_index[i]->size > ctx.limits().maxUniformBufferRange)
                 throw internal_failure(d.shader + ": uniform block '" + declared_binding.name + "' bound to buffer '" +
                                        by_index[i]->name + "' of " + std::to_string(by_index[i]->size) +

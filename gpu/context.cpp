@@ -145,6 +145,7 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
     d.type = props.deviceType;
     d.api_version = props.apiVersion;
     d.max_storage_buffer_bytes = props.limits.maxStorageBufferRange;
+    d.max_texel_buffer_bytes = uint64_t(props.limits.maxTexelBufferElements) * 16;
     d.max_workgroups_x = props.limits.maxComputeWorkGroupCount[0];
     d.driver_id = driver.driverID;
     d.loop_iteration_limit = loop_iteration_limit(driver.driverID);

@@ -33,6 +33,10 @@ struct DeviceInfo {
     uint32_t api_version = 0;
     uint64_t device_local_bytes = 0;     ///< size of the largest device-local heap
     uint64_t max_storage_buffer_bytes = 0;
+    /// The largest buffer a storage texel buffer views: maxTexelBufferElements of the widest texel
+    /// (16 B, rgba32). Buffers read and written only as texels (the neighbour lists) may exceed the
+    /// storage-buffer range up to this (lavapipe: 128 MiB storage range, 2 GiB as texels).
+    uint64_t max_texel_buffer_bytes = 0;
     uint32_t max_workgroups_x = 0;       ///< largest dispatch along x
     VkDriverId driver_id = VkDriverId(0);  ///< VkPhysicalDeviceDriverProperties::driverID
     /// Quirk: loop iterations a shader invocation may run in total before the device silently

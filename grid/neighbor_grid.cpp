@@ -76,7 +76,10 @@ NeighborGrid::NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const Gri
     if (neighbor_capacity) {
         list_cell_ = &buffers.add(prefix + ".list_cell", uint64_t(max_particles) * 4);
         neighbor_count_ = &buffers.add(prefix + ".neighbor_count", uint64_t(max_particles) * 4);
-        neighbors_ = &buffers.add(prefix + ".neighbors", uint64_t(max_particles) * neighbor_capacity * 4);
+        // Read and written only as rgba32ui texels: it may be larger than a storage buffer can be
+        // (256 B a particle: a million particles on lavapipe's 128 MiB storage range).
+        neighbors_ = &buffers.add(prefix + ".neighbors", uint64_t(max_particles) * neighbor_capacity * 4,
+                                  gpu::MemoryUse::device, true);
     }
     scan_ = gpu::PrefixSum(ctx, buffers, cells + 1, prefix);
     auto rank = morton_rank_table(geometry);

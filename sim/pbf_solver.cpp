@@ -53,7 +53,8 @@ Result<MemoryPlan> plan_memory(const Scene& scene) {
     plan.buffers.push_back({"grid.order", n * 4});
     plan.buffers.push_back({"grid.list_cell", n * 4});
     plan.buffers.push_back({"grid.neighbor_count", n * 4});
-    plan.buffers.push_back({"grid.neighbors", n * neighbor_list_capacity(scene.solver.kernel_radius_factor) * 4});
+    // Read and written only as rgba32ui texels (NeighborGrid): the texel limit applies.
+    plan.buffers.push_back({"grid.neighbors", n * neighbor_list_capacity(scene.solver.kernel_radius_factor) * 4, true});
     plan.buffers.push_back({"grid.cell_rank", cells * 4});
     plan.buffers.push_back({"grid.cell_start", (cells + 1) * 4});
     plan.buffers.push_back({"stats.partials", ((n + PBF_STATS_WORKGROUP - 1) / PBF_STATS_WORKGROUP) * sizeof(shader::StatsPartial)});
@@ -86,11 +87,13 @@ Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::D
         return Error{where + ": " + std::to_string(n) + " particles is more than " + device.name +
                      " can process in one dispatch (" + std::to_string(max_dispatch) + ")" +
                      fix(double(max_dispatch) / double(n))};
-    for (const auto& b : plan.buffers)
-        if (b.bytes > device.max_storage_buffer_bytes)
+    for (const auto& b : plan.buffers) {
+        const uint64_t limit = b.texels_only ? device.max_texel_buffer_bytes : device.max_storage_buffer_bytes;
+        if (b.bytes > limit)
             return Error{where + ": buffer " + b.name + " would need " + gib(b.bytes) + " for " + std::to_string(n) +
-                         " particles but " + device.name + " binds at most " + gib(device.max_storage_buffer_bytes) +
-                         " per buffer" + fix(double(device.max_storage_buffer_bytes) / double(b.bytes))};
+                         " particles but " + device.name + " binds at most " + gib(limit) + " per buffer" +
+                         fix(double(limit) / double(b.bytes))};
+    }
     // Keep a quarter of the device for the renderer, the driver and other programs.
     const uint64_t budget = device.device_local_bytes / 4 * 3;
     if (plan.total_bytes() > budget)

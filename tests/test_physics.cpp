@@ -193,12 +193,42 @@ TEST(MemoryPlan, SceneTooLargeForTheDeviceIsRefusedBeforeAllocation) {
     EXPECT_NE(fits.error().find("per buffer"), std::string::npos) << fits.error();
 
     small.max_storage_buffer_bytes = 4ull << 30;
+    small.max_texel_buffer_bytes = 2ull << 30;  // the 4 GiB neighbour lists are read as texels
+    fits = check_fits(scene, plan.value(), small);
+    ASSERT_FALSE(fits.ok());
+    EXPECT_NE(fits.error().find("grid.neighbors"), std::string::npos) << fits.error();
+    small.max_texel_buffer_bytes = 4ull << 30;
     EXPECT_TRUE(check_fits(scene, plan.value(), small).ok());
 
     small.max_workgroups_x = 65535;  // 8.4M particles per dispatch at 128 per workgroup
     fits = check_fits(scene, plan.value(), small);
     ASSERT_FALSE(fits.ok());
     EXPECT_NE(fits.error().find("one dispatch"), std::string::npos) << fits.error();
+}
+
+TEST(MemoryPlan, NeighbourListsAreJudgedByTheTexelLimitSoAMillionFitsTheSoftwareDevice) {
+    // Lavapipe's limits: 128 MiB per storage buffer, 2 GiB through a texel buffer. The neighbour
+    // lists (256 B a particle) are read and written only as texels, so a million particles fit;
+    // judged by the storage range, as every buffer was, at most about 510k did.
+    Scene scene;
+    scene.name = "million";
+    scene.particle_spacing = 0.01f;
+    scene.domain = {glm::vec3(0.0f), glm::vec3(3.2f, 2.0f, 0.8f)};
+    scene.fluid_blocks = {{glm::vec3(0.0f), glm::vec3(0.8f, 1.6f, 0.8f)}};  // 80 x 160 x 80 = 1,024,000
+    auto plan = plan_memory(scene);
+    ASSERT_TRUE(plan.ok()) << plan.error();
+    ASSERT_GT(plan.value().particles, 1000000u);
+    gpu::DeviceInfo lavapipe;
+    lavapipe.name = "llvmpipe";
+    lavapipe.device_local_bytes = 2ull << 30;
+    lavapipe.max_storage_buffer_bytes = 128ull << 20;
+    lavapipe.max_texel_buffer_bytes = (128ull << 20) * 16;
+    lavapipe.max_workgroups_x = 65535;
+    EXPECT_TRUE(check_fits(scene, plan.value(), lavapipe).ok()) << check_fits(scene, plan.value(), lavapipe).error();
+    lavapipe.max_texel_buffer_bytes = lavapipe.max_storage_buffer_bytes;  // as if the lists were storage buffers
+    const auto refused = check_fits(scene, plan.value(), lavapipe);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_NE(refused.error().find("grid.neighbors"), std::string::npos) << refused.error();
 }
 
 TEST(MemoryPlan, BytesPerParticleAndCellStayWithinBudget) {
