@@ -40,13 +40,21 @@ def verdict(status, **fields):
     return dict(status=status, **fields)
 
 
-def solver_verdict(meta, sim):
+def not_judged(meta, bench, key, step):
+    """The verdict when a benchmark's figures cannot be judged against a GPU target, else None."""
     if meta["quick"]:
         return verdict("not applicable", reason="--quick: small sizes on any device")
-    if not sim or not sim.get("records"):
-        return verdict("not measured", reason="bench_sim wrote no figures (see its step)")
-    if sim.get("device_type") == "software (CPU)":
-        return verdict("not applicable", reason="ran on a software device: " + sim.get("device", "?"))
+    if not bench or not bench.get(key):
+        return verdict("not measured", reason=step + " wrote no figures (see its step)")
+    if bench.get("device_type") == "software (CPU)":
+        return verdict("not applicable", reason="ran on a software device: " + bench.get("device", "?"))
+    return None
+
+
+def solver_verdict(meta, sim):
+    early = not_judged(meta, sim, "records", "bench_sim")
+    if early:
+        return early
     record = sim["records"][0]
     ms = record["ms_per_step"]
     return verdict("pass" if ms <= SOLVER_MS_PER_STEP else "fail", ms_per_step=ms, particles=record["particles"],
@@ -54,12 +62,9 @@ def solver_verdict(meta, sim):
 
 
 def reconstruction_verdict(meta, render):
-    if meta["quick"]:
-        return verdict("not applicable", reason="--quick: small sizes on any device")
-    if not render or not render.get("frames"):
-        return verdict("not measured", reason="bench_render wrote no figures (see its step)")
-    if render.get("device_type") == "software (CPU)":
-        return verdict("not applicable", reason="ran on a software device: " + render.get("device", "?"))
+    early = not_judged(meta, render, "frames", "bench_render")
+    if early:
+        return early
     frames = []
     for f in render["frames"]:
         adaptive = next((r for r in f["records"] if r.get("label") == "adaptive"), None)
