@@ -72,6 +72,7 @@ NeighborGrid::NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const Gri
     cell_start_ = &buffers.add(prefix + ".cell_start", (uint64_t(cells) + 1) * 4);
     keys_ = &buffers.add(prefix + ".keys", uint64_t(max_particles) * 4);
     slots_ = &buffers.add(prefix + ".slots", uint64_t(max_particles) * 4);
+    arrival_ = &buffers.add(prefix + ".arrival", uint64_t(max_particles) * 4);
     order_ = &buffers.add(prefix + ".order", uint64_t(max_particles) * 4);
     if (neighbor_capacity) {
         list_cell_ = &buffers.add(prefix + ".list_cell", uint64_t(max_particles) * 4);
@@ -88,6 +89,7 @@ NeighborGrid::NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const Gri
     using shader::GridPush;
     count_pass_ = gpu::ComputePass(ctx, {"grid/grid_count.comp", 5, sizeof(GridPush)});
     scatter_pass_ = gpu::ComputePass(ctx, {"grid/grid_scatter.comp", 4, sizeof(GridPush)});
+    stable_pass_ = gpu::ComputePass(ctx, {"grid/grid_stable_order.comp", 4, sizeof(GridPush)});
     if (neighbor_capacity)
         neighbors_pass_ = gpu::ComputePass(ctx, {"grid/neighbor_lists.comp", 6, sizeof(shader::NeighborListPush)});
 }
@@ -106,8 +108,13 @@ void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint
     }
     {
         gpu::GpuScope scope(timer, cmd, "grid_scatter");
-        gpu::dispatch(*ctx_, cmd, scatter_pass_, count, push, {{"keys", keys_}, {"slots", slots_}, {"cell_start", cell_start_}, {"order", order_}});
+        gpu::dispatch(*ctx_, cmd, scatter_pass_, count, push, {{"keys", keys_}, {"slots", slots_}, {"cell_start", cell_start_}, {"arrival", arrival_}});
+        record_stable_order(cmd, count);
     }
+}
+
+void NeighborGrid::record_stable_order(VkCommandBuffer cmd, uint32_t count) {
+    gpu::dispatch(*ctx_, cmd, stable_pass_, count, geometry_.push(count), {{"keys", keys_}, {"cell_start", cell_start_}, {"arrival", arrival_}, {"order", order_}});
 }
 
 void NeighborGrid::record_neighbor_lists(VkCommandBuffer cmd, const gpu::Buffer& sorted_positions, uint32_t count,

@@ -46,9 +46,12 @@ std::vector<uint32_t> morton_rank_table(const GridGeometry& grid);
 /// spacings). A particle beyond it is still handled, by a slower cell scan.
 uint32_t neighbor_list_capacity(float radius_in_spacings);
 
-/// GPU memory of the grid: per particle (keys, slots, order, neighbour cell and count, and the
-/// list of `capacity` entries) and per cell (rank, start).
-constexpr uint32_t grid_bytes_per_particle(uint32_t capacity) { return (5 + capacity) * sizeof(uint32_t); }
+/// GPU memory of the grid: per particle the sort (keys, slots, arrival, order) and, with lists,
+/// the neighbour cell and count and the list of `capacity` entries; per cell (rank, start).
+constexpr uint32_t kGridSortBytesPerParticle = 4 * sizeof(uint32_t);
+constexpr uint32_t grid_bytes_per_particle(uint32_t capacity) {
+    return kGridSortBytesPerParticle + (2 + capacity) * sizeof(uint32_t);
+}
 constexpr uint32_t kGridBytesPerCell = 2 * sizeof(uint32_t);
 
 class NeighborGrid {
@@ -60,8 +63,11 @@ public:
     NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const GridGeometry& geometry,
                  uint32_t max_particles, const std::string& prefix = "grid", uint32_t neighbor_capacity = 0);
 
-    /// Records the build: count per cell, exclusive scan into starts, scatter into `order`.
+    /// Records the build: count per cell, exclusive scan into starts, scatter into `arrival`,
+    /// then the stable order: a cell's particles by ascending index, the same on every run.
     void build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, gpu::GpuTimer* timer);
+    /// Records the last step of build() alone (`order` from `arrival`), for tests.
+    void record_stable_order(VkCommandBuffer cmd, uint32_t count);
 
     /// Records the neighbour lists of `sorted_positions` (particles already in this grid's
     /// order, as the solver keeps them): the particles of the 27 surrounding cells that lie
@@ -85,6 +91,8 @@ public:
     /// order[sorted index] = index in the positions given to build().
     const gpu::Buffer& order() const { return *order_; }
     const gpu::Buffer& keys() const { return *keys_; }
+    /// The scatter's order, before the stable pass: a cell's particles in the order the device ran them.
+    gpu::Buffer& arrival() { return *arrival_; }
 
 private:
     void check_radius(float radius) const;
@@ -95,6 +103,7 @@ private:
     gpu::Buffer* cell_start_;  // cells + 1 entries; holds counts until the scan
     gpu::Buffer* keys_;
     gpu::Buffer* slots_;
+    gpu::Buffer* arrival_;
     gpu::Buffer* order_;
     uint32_t neighbor_capacity_ = 0;
     gpu::Buffer* list_cell_ = nullptr;
@@ -103,6 +112,7 @@ private:
     gpu::PrefixSum scan_;
     gpu::ComputePass count_pass_;
     gpu::ComputePass scatter_pass_;
+    gpu::ComputePass stable_pass_;
     gpu::ComputePass neighbors_pass_;
     gpu::ComputePass list_pass_;  // created on first use
 };

@@ -25,7 +25,7 @@
 namespace aquaform {
 
 constexpr uint32_t kShapeBytesPerParticle = 48 + 16;
-constexpr uint32_t kKernelBytesPerParticle = 12 + 16 + 48 + 4 + 4;
+constexpr uint32_t kKernelBytesPerParticle = kGridSortBytesPerParticle + 16 + 48 + 4 + 4;
 
 class SurfaceKernels {
 public:

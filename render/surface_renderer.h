@@ -57,9 +57,9 @@ struct RayCounts {
     uint32_t evaluations() const { return march + bisection; }
 };
 constexpr uint32_t kSurfaceBytesPerParticle = kShapeBytesPerParticle + 4 + 4;
-/// Without a shared grid, the renderer's own grid (keys, slots, order; and 8 B per cell) and
-/// its sorted copy of the positions.
-constexpr uint32_t kOwnGridBytesPerParticle = 3 * 4 + 16;
+/// Without a shared grid, the renderer's own grid (its sort; and 8 B per cell) and its sorted
+/// copy of the positions.
+constexpr uint32_t kOwnGridBytesPerParticle = kGridSortBytesPerParticle + 16;
 
 class SurfaceRenderer {
 public:

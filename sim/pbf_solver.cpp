@@ -50,6 +50,7 @@ Result<MemoryPlan> plan_memory(const Scene& scene) {
     plan.buffers.push_back({"particles.density", n * 4});
     plan.buffers.push_back({"grid.keys", n * 4});
     plan.buffers.push_back({"grid.slots", n * 4});
+    plan.buffers.push_back({"grid.arrival", n * 4});
     plan.buffers.push_back({"grid.order", n * 4});
     plan.buffers.push_back({"grid.list_cell", n * 4});
     plan.buffers.push_back({"grid.neighbor_count", n * 4});

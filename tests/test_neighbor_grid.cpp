@@ -133,6 +133,54 @@ TEST_F(NeighborGridTest, SortIsAPermutationInMortonOrder) {
     EXPECT_EQ(r.cell_start.back(), n);
 }
 
+// The scatter's atomics order a cell's particles as the device ran them; the stable pass must
+// give the same order whatever that was (ascending index within a cell), so that every sum over
+// neighbours is the same on every run. The arrival order is scrambled by hand here because a
+// device may happen to run the atomics in index order.
+TEST_F(NeighborGridTest, ACellsParticlesComeInIndexOrderWhateverOrderTheAtomicsTook) {
+    auto positions = uniform_random(3000, kMin, kMax, 5);
+    // plus a degenerate cell: more particles than the stable pass ranks (they keep arrival order)
+    for (uint32_t k = 0; k < shader::GRID_STABLE_MAX_CELL + 40; ++k) positions.emplace_back(0.01f, 0.01f, 0.01f, 0.0f);
+    auto geometry = grid_for_domain(kMin, kMax, kCell);
+    ASSERT_TRUE(geometry.ok());
+    gpu::BufferSet buffers(ctx());
+    const uint32_t n = static_cast<uint32_t>(positions.size());
+    NeighborGrid grid(ctx(), buffers, geometry.value(), n);
+    gpu::Buffer& pos = buffers.add("positions", n * sizeof(glm::vec4));
+    gpu::upload(ctx(), pos, positions.data(), n * sizeof(glm::vec4));
+    ctx().submit_and_wait([&](VkCommandBuffer cmd) { grid.build(cmd, pos, n, nullptr); });
+    const auto keys = gpu::download_vector<uint32_t>(ctx(), grid.keys(), n);
+    const auto start = gpu::download_vector<uint32_t>(ctx(), grid.cell_start(), geometry.value().cell_count() + 1);
+    auto check = [&](const char* when, std::vector<uint32_t>& order) {
+        order = gpu::download_vector<uint32_t>(ctx(), grid.order(), n);
+        std::vector<uint32_t> sorted = order;
+        std::sort(sorted.begin(), sorted.end());
+        for (uint32_t i = 0; i < n; ++i) ASSERT_EQ(sorted[i], i) << when << ": order is not a permutation";
+        size_t cells_checked = 0;
+        for (size_t c = 0; c + 1 < start.size(); ++c) {
+            if (start[c + 1] - start[c] < 2 || start[c + 1] - start[c] > shader::GRID_STABLE_MAX_CELL) continue;
+            ++cells_checked;
+            for (uint32_t s = start[c] + 1; s < start[c + 1]; ++s)
+                ASSERT_LT(order[s - 1], order[s]) << when << ": cell " << c << " is not in index order";
+        }
+        EXPECT_GT(cells_checked, 100u);
+    };
+    std::vector<uint32_t> built, reranked;
+    check("after build", built);
+    if (HasFatalFailure()) return;
+    // Reverse every cell's arrival order and rank again.
+    auto arrival = gpu::download_vector<uint32_t>(ctx(), grid.arrival(), n);
+    for (size_t c = 0; c + 1 < start.size(); ++c) std::reverse(arrival.begin() + start[c], arrival.begin() + start[c + 1]);
+    gpu::upload(ctx(), grid.arrival(), arrival.data(), n * 4);
+    ctx().submit_and_wait([&](VkCommandBuffer cmd) { grid.record_stable_order(cmd, n); });
+    check("after scrambling the arrival order", reranked);
+    if (HasFatalFailure()) return;
+    for (uint32_t s = 0; s < n; ++s) {
+        if (start[keys[built[s]] + 1] - start[keys[built[s]]] > shader::GRID_STABLE_MAX_CELL) continue;
+        ASSERT_EQ(built[s], reranked[s]) << "sorted place " << s << " depends on the arrival order";
+    }
+}
+
 TEST_F(NeighborGridTest, RandomMatchesBruteForce) {
     expect_sets_match_brute_force(uniform_random(2500, kMin, kMax, 2), 96);
 }

@@ -21,6 +21,9 @@
 
 AF_BEGIN
 
+/// Cells with more particles keep the scatter's (run-dependent) order: grid/grid_stable_order.comp.
+const uint GRID_STABLE_MAX_CELL = 256u;
+
 struct GridPush {
     vec4 origin_cell;  ///< xyz: grid origin [m]; w: cell size [m]
     uvec4 dims;        ///< xyz: cells per axis; w: number of cells
