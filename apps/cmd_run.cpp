@@ -236,8 +236,13 @@ int cmd_run(const std::vector<std::string>& argv) {
         }
         return true;
     };
-    // Frame N's files are written while frame N+1 runs on the device.
+    // Frame N's files are written while frame N+1 runs on the device. The device waits only
+    // from the end of a frame to the submission of the next (its statistics read, the next
+    // frame's steps chosen and recorded): that host time is measured and said at the end.
     std::optional<FinishedFrame> finished;
+    std::optional<std::chrono::steady_clock::time_point> device_idle_since;
+    double host_gap_s = 0.0;
+    uint32_t host_gaps = 0;
     for (uint32_t frame = 0;; ++frame) {
         const bool more = frame < frames && !interrupted();
         gpu::Submission next;
@@ -246,6 +251,10 @@ int cmd_run(const std::vector<std::string>& argv) {
                 recording = frame;
                 // Frame 0 is the state at t = 0 (the first picture and exports); frame f is f frames on.
                 next = frame == 0 ? sim.submit_initial_state(&timer, record_image) : sim.submit_frame(&timer, record_image);
+                if (device_idle_since) {
+                    host_gap_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - *device_idle_since).count();
+                    ++host_gaps;
+                }
             }
         } catch (...) {
             if (finished) write_frame(*finished);  // the frame before a failure is still written
@@ -259,6 +268,8 @@ int cmd_run(const std::vector<std::string>& argv) {
             ctx.wait(next);  // the next frame is dropped, not left running
             break;
         }
+        ctx.wait(next);
+        device_idle_since = std::chrono::steady_clock::now();
         finished = collect(frame, next);
     }
     progress.finish();
@@ -279,6 +290,9 @@ int cmd_run(const std::vector<std::string>& argv) {
     std::printf("%u frames (%.3f s simulated) in %s wall time, %.1f steps/s; output in %s\n", done, simulated,
                 format_duration(wall).c_str(), wall > 0 ? double(steps) / wall : 0.0,
                 out_dir.string().c_str());
+    if (host_gaps > 0)
+        std::printf("host time between frames: %.1f ms a frame (the device waits from the end of a frame to the next "
+                    "one's submission)\n", 1000.0 * host_gap_s / host_gaps);
     // The frames written make the video, also after a Ctrl-C or a failure: nothing done is lost.
     if (video && done > 0) {
         const VideoFrames made{out_dir, "frame_%04d.png", done, video_fps(scene.solver.frame_dt)};

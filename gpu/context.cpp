@@ -1,6 +1,7 @@
 #include "gpu/context.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
@@ -123,6 +124,24 @@ VkInstance create_instance(bool validation, const std::vector<std::string>& extr
     return instance;
 }
 
+}  // namespace
+
+uint64_t dispatch_work_budget(VkPhysicalDeviceType type) {
+    constexpr double kSeconds = 0.25;
+    switch (type) {
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+        case VK_PHYSICAL_DEVICE_TYPE_CPU: return uint64_t(2e10 * kSeconds);
+        default: return uint64_t(4e9 * kSeconds);  // integrated, virtual, other
+    }
+}
+
+uint32_t slices_for_budget(double work, uint64_t budget) {
+    if (!(work > 0.0) || budget == 0) return 1;
+    return uint32_t(std::clamp(std::ceil(work / double(budget)), 1.0, 65535.0));
+}
+
+namespace {
+
 /// Loop iterations an invocation may run before the driver ends its loops (0 = unlimited).
 uint32_t loop_iteration_limit(VkDriverId driver) {
     return driver == VK_DRIVER_ID_MESA_LLVMPIPE ? 65535u : 0u;
@@ -150,6 +169,7 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
     d.driver_id = driver.driverID;
     d.loop_iteration_limit = loop_iteration_limit(driver.driverID);
     d.slow_in_order_queue = props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    d.dispatch_work_budget = dispatch_work_budget(props.deviceType);
     for (uint32_t h = 0; h < mem.memoryHeapCount; ++h)
         if (mem.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
             d.device_local_bytes = std::max<uint64_t>(d.device_local_bytes, mem.memoryHeaps[h].size);

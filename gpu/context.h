@@ -47,11 +47,26 @@ struct DeviceInfo {
     /// holds its one in-order queue for a long time: an interactive caller shares the queue
     /// (Context::QueueSharing) only here; on a GPU a frame's submission is short.
     bool slow_in_order_queue = false;
+    /// Work one dispatch may hold, in particle visits (one candidate particle's distance test
+    /// and kernel: the unit every long pass is made of). dispatch_work_budget() chooses it from
+    /// the device's type; Context::dispatch_slices splits a pass that could exceed it.
+    uint64_t dispatch_work_budget = 0;
     bool usable = false;                 ///< has the queue, Vulkan 1.3 and extensions we need
     std::string unusable_reason;
 };
 
 const char* device_type_name(VkPhysicalDeviceType type);
+
+/// Particle visits one dispatch may hold on a device of this type: what a slow device of the
+/// type does in about a quarter of a second (floors assumed from the slowest Vulkan 1.3 devices
+/// of each kind: discrete 2e10 visits/s, integrated and virtual 4e9, other 4e9), so that a
+/// dispatch ends long before a display driver's watchdog (Windows: 2 s; NVIDIA on Linux with a
+/// display: a few seconds) takes the device away (VK_ERROR_DEVICE_LOST). The software device has
+/// no watchdog; its budget (the discrete one) bounds a dispatch to a few seconds there.
+uint64_t dispatch_work_budget(VkPhysicalDeviceType type);
+
+/// Dispatches a pass of `work` particle visits needs under `budget` (at least 1, at most 65535).
+uint32_t slices_for_budget(double work, uint64_t budget);
 
 /// A submission in flight (Context::submit): a ticket for Context::wait on the thread that made it.
 struct Submission {
@@ -128,6 +143,8 @@ public:
     BarrierTracker& tracker() { return *recorder().tracker; }
     /// Test hook: pretends the device has (or lacks) the loop-iteration quirk.
     void override_loop_iteration_limit(uint32_t limit) { info_.loop_iteration_limit = limit; }
+    /// Test hook: another per-dispatch work budget (DeviceInfo::dispatch_work_budget).
+    void override_dispatch_work_budget(uint64_t visits) { info_.dispatch_work_budget = visits; }
     /// Submissions made so far, by every thread (for tests and the batching figures).
     uint64_t submissions() const { return submissions_.load(); }
 
@@ -153,6 +170,11 @@ public:
     uint32_t long_pass_slices() {
         const QueueSharing& s = recorder().sharing;
         return s.enabled ? std::max(s.long_pass_slices, 1u) : 1u;
+    }
+    /// Into how many dispatches a pass of `work` particle visits splits itself: enough to keep
+    /// each within the device's work budget, and at least long_pass_slices().
+    uint32_t dispatch_slices(double work) {
+        return std::max(long_pass_slices(), slices_for_budget(work, info_.dispatch_work_budget));
     }
     /// A cut: with sharing on for this thread, the commands so far are submitted and waited for,
     /// and recording continues in `cmd` (this thread's command buffer inside submit, which is

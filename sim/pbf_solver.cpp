@@ -105,7 +105,7 @@ Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::D
 }
 
 PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene)
-    : ctx_(&ctx), scene_(scene), buffers_(ctx), readback_(ctx) {
+    : ctx_(&ctx), scene_(scene), buffers_(ctx), droplet_buffers_(ctx) {
     if (scene.static_boxes.size() > PBF_MAX_STATIC_BOXES)
         throw resource_failure(scene.path.string() + ": static_boxes has " +
                                  std::to_string(scene.static_boxes.size()) + " boxes; the solver supports at most " +
@@ -248,15 +248,29 @@ void PbfSolver::record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     const shader::StatsPush stats_push{count_, splash, runup_x, 0u};
     gpu::dispatch(*ctx_, cmd, stats_, stats_groups(count_) * PBF_STATS_WORKGROUP, stats_push,
                   {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"density", density_}, {"partials", partials_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"neighbor_count", &grid_->neighbor_count()}, {"neighbors", &grid_->neighbors()}});
-    // The droplet count's positions come back in the frame's own submission (no wait of their own).
-    if (positions_readback_) gpu::record_download(*ctx_, cmd, *x_, *positions_readback_, uint64_t(count_) * 16);
+    if (droplet_parent_) {
+        gpu::GpuScope d(timer, cmd, "droplets");
+        record_droplets(cmd);
+    }
     gpu::host_read_barrier(cmd);
+}
+
+void PbfSolver::record_droplets(VkCommandBuffer cmd) {
+    using namespace shader;
+    gpu::fill(*ctx_, cmd, *droplet_count_, 0);
+    gpu::fill(*ctx_, cmd, *droplet_sizes_, 0);
+    for (uint32_t phase : {DROPLET_INIT, DROPLET_COMPRESS, DROPLET_HOOK, DROPLET_COMPRESS, DROPLET_SIZE, DROPLET_COUNT}) {
+        const DropletPush push{count_, phase, droplet_size_limit(count_), params_.h2};
+        gpu::dispatch(*ctx_, cmd, droplets_, count_, push,
+                      {{"params", params_buf_}, {"x", x_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"neighbor_count", &grid_->neighbor_count()}, {"neighbors", &grid_->neighbors()}, {"parent", droplet_parent_}, {"sizes", droplet_sizes_}, {"droplets", droplet_count_}});
+    }
 }
 
 FrameStats PbfSolver::measure(gpu::GpuTimer* timer) {
     if (timer) timer->clear_totals();
     ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
         if (timer) timer->reset(cmd);
+        if (droplet_parent_) record_sort(cmd, *x_, timer, true);  // the droplets' links are at x
         record_stats(cmd, timer);
     });
     return collect_stats(timer);
@@ -285,7 +299,7 @@ void PbfSolver::record_frame(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     }
     for (uint32_t i = 0; i < substeps; ++i) record_step(cmd, timer);
     recorded_steps_ = substeps;
-    if (frame_grid_) {
+    if (frame_grid_ || droplet_parent_) {
         gpu::GpuScope s(timer, cmd, "frame_grid");
         record_sort(cmd, *x_, nullptr, true);
     }
@@ -313,9 +327,7 @@ FrameStats PbfSolver::collect_stats(gpu::GpuTimer* timer) {
     std::optional<float> wall;
     if (scene_.column_width) wall = scene_.domain.min.x - 0.5f * scene_.particle_spacing;
     FrameStats stats = reduce_stats(partials, count_, wall, 0.5f * scene_.particle_spacing - scene_.domain.min.y);
-    if (positions_readback_)
-        stats.droplets = count_droplets({static_cast<const glm::vec4*>(positions_readback_->mapped), count_}, params_.h,
-                                        droplet_size_limit(count_));
+    if (droplet_parent_) stats.droplets = *static_cast<const uint32_t*>(droplet_count_->mapped);
     stats.time_s = time_;
     if (timer) stats.gpu_ms = timer->totals_ms();
     stats.substeps = recorded_steps_;
@@ -330,14 +342,19 @@ FrameStats PbfSolver::collect_stats(gpu::GpuTimer* timer) {
 }
 
 void PbfSolver::set_measure_droplets(bool on) {
-    if (on == (positions_readback_ != nullptr)) return;
-    readback_.release();
-    positions_readback_ = on ? &readback_.add("stats.positions", uint64_t(count_) * 16, gpu::MemoryUse::host) : nullptr;
+    if (on == (droplet_parent_ != nullptr)) return;
+    droplet_buffers_.release();
+    droplet_parent_ = droplet_sizes_ = droplet_count_ = nullptr;
+    if (!on) return;
+    droplet_parent_ = &droplet_buffers_.add("droplets.parent", uint64_t(count_) * 4);
+    droplet_sizes_ = &droplet_buffers_.add("droplets.sizes", uint64_t(count_) * 4);
+    droplet_count_ = &droplet_buffers_.add("droplets.count", 4, gpu::MemoryUse::host);
+    if (!droplets_.pipeline()) droplets_ = gpu::ComputePass(*ctx_, {"sim/droplets.comp", 10, sizeof(shader::DropletPush)});
 }
 
 std::vector<gpu::BufferReport> PbfSolver::memory_report() const {
     std::vector<gpu::BufferReport> report = buffers_.report();
-    for (const gpu::BufferReport& b : readback_.report()) report.push_back(b);
+    for (const gpu::BufferReport& b : droplet_buffers_.report()) report.push_back(b);
     return report;
 }
 

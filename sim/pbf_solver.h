@@ -102,10 +102,10 @@ public:
     /// Names of the GPU passes this scene enables, in execution order.
     std::vector<std::string> enabled_passes() const;
     std::vector<gpu::BufferReport> memory_report() const;
-    /// The droplet count (FrameStats::droplets) every frame: the frame's submission also copies
-    /// the positions into host memory (16 bytes per particle, allocated here) and collect_stats
-    /// finds the connected groups on the host (sim/frame_stats.h, count_droplets). Off by default:
-    /// only what writes stats.csv asks for it.
+    /// The droplet count (FrameStats::droplets) every frame, on the GPU (sim/droplets.comp): the
+    /// connected groups of the frame's neighbour lists at the final positions, so each frame
+    /// then ends with the frame grid's sort whether or not set_frame_grid asked for it. 8 B per
+    /// particle of GPU memory, allocated here. Off by default: only what writes stats.csv asks.
     void set_measure_droplets(bool on);
 
     /// The frame grid, for a renderer that reads the particles in place (SurfaceRenderer::
@@ -130,6 +130,7 @@ private:
     /// `lists_of_x` (the frame grid: the lists the statistics use at x).
     void record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer, bool lists_of_x = false);
     void record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer);
+    void record_droplets(VkCommandBuffer cmd);
 
     gpu::Context* ctx_;
     Scene scene_;
@@ -149,11 +150,13 @@ private:
     gpu::Buffer *x_, *v_, *p_, *s0_, *s1_;
     gpu::Buffer* density_;
     gpu::Buffer* partials_;  ///< host-visible: the host reduces them after the frame's fence
-    gpu::BufferSet readback_;                    ///< host memory of the droplet count, when on
-    gpu::Buffer* positions_readback_ = nullptr;  ///< the frame's positions, for count_droplets
+    gpu::BufferSet droplet_buffers_;  ///< the droplet count's, when on
+    gpu::Buffer* droplet_parent_ = nullptr;
+    gpu::Buffer* droplet_sizes_ = nullptr;
+    gpu::Buffer* droplet_count_ = nullptr;  ///< host-visible
     std::unique_ptr<NeighborGrid> grid_;
     StepForce* step_force_ = nullptr;
-    gpu::ComputePass predict_, reorder_, lambda_pass_, correct_, velocity_, xsph_curl_, vorticity_, stats_;
+    gpu::ComputePass predict_, reorder_, lambda_pass_, correct_, velocity_, xsph_curl_, vorticity_, stats_, droplets_;
 };
 
 }  // namespace aquaform

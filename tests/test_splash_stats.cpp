@@ -2,7 +2,9 @@
 // few neighbours), the droplet count (small connected groups) and the runup on the far wall.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "gpu_test.h"
@@ -99,6 +101,55 @@ TEST_F(SplashStats, RunupIsTheTopOfTheSheetOnTheFarWall) {
     ASSERT_TRUE(stats.runup.has_value());
     EXPECT_NEAR(*stats.runup, 0.30 + 5 * kS + 0.5 * kS, 1e-6)
         << "the sheet's top particle within a spacing of the wall, plus its radius; not the droplet at 0.77";
+}
+
+/// `n` particles scattered at random in a cube of `side` m inside a 1 m tank (spacing kS, h = 2 s):
+/// near the percolation threshold of links shorter than h, so groups of every size and long
+/// tortuous chains, the hard case for a parallel connected-components count.
+std::vector<glm::vec4> scattered(uint32_t n, float side, uint32_t seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.05f, 0.05f + side);
+    std::vector<glm::vec4> x(n);
+    for (auto& p : x) p = glm::vec4(u(rng), u(rng), u(rng), 0.0f);
+    return x;
+}
+
+// The droplet count runs on the GPU (sim/droplets.comp); the host's union-find is its reference.
+TEST_F(SplashStats, TheGpusDropletCountIsTheHostsOnScatteredGroups) {
+    Scene scene = testing::scene_with({glm::vec3(0.0f), glm::vec3(1.0f)}, kS);
+    scene.gravity = glm::vec3(0.0f);
+    scene.fluid_blocks = {lattice(glm::vec3(0.3f), 10, 10, 12)};
+    PbfSolver solver(ctx(), scene);
+    const uint32_t n = solver.particle_count();
+    ASSERT_EQ(n, 1200u);
+    solver.set_measure_droplets(true);
+    const float h = solver.params().h;
+    for (uint32_t seed = 1; seed <= 3; ++seed) {
+        std::vector<glm::vec4> x = scattered(n, 0.5f, seed);
+        x[7] = glm::vec4(NAN, 0.5f, 0.5f, 0.0f);  // belongs to no group
+        solver.set_state(x, std::vector<glm::vec4>(n, glm::vec4(0.0f)));
+        const uint32_t expected = count_droplets(x, h, droplet_size_limit(n));
+        ASSERT_GT(expected, 50u) << "the scatter should leave many small groups";
+        const FrameStats stats = solver.measure(nullptr);
+        ASSERT_TRUE(stats.droplets.has_value());
+        EXPECT_EQ(*stats.droplets, expected) << "seed " << seed;
+    }
+}
+
+// On a real splash: the double dam break's collision throws spray; counted on the GPU after the
+// frame as the host counts the same positions.
+TEST_F(SplashStats, TheGpusDropletCountIsTheHostsOnADamBreaksSpray) {
+    auto scene = load_scene(std::string(AQUAFORM_ASSETS_DIR) + "/scenes/double_dam_break.json");
+    ASSERT_TRUE(scene.ok()) << scene.error();
+    PbfSolver solver(ctx(), scene.value());
+    solver.set_measure_droplets(true);
+    FrameStats stats;
+    for (int f = 0; f < 36; ++f) stats = solver.run_frame(nullptr);
+    ASSERT_TRUE(stats.droplets.has_value());
+    const ParticleSnapshot s = solver.snapshot();
+    const uint32_t expected = count_droplets(s.x, solver.params().h, droplet_size_limit(solver.particle_count()));
+    EXPECT_GT(expected, 0u) << "the collision should have thrown droplets by frame 36";
+    EXPECT_EQ(*stats.droplets, expected);
 }
 
 TEST(Droplets, GroupsAreConnectedThroughChainsAndCountedBelowTheLimit) {

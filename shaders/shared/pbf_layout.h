@@ -89,6 +89,21 @@ struct StatsPush {
     uint pad0;
 };
 
+/// The droplet count on the GPU (sim/droplets.comp): connected groups of particles closer than
+/// h over the frame's neighbour lists, in passes (the push's phase). Counters: the droplet count.
+const uint DROPLET_INIT = 0u;      ///< parent = the smallest linked neighbour (or itself)
+const uint DROPLET_HOOK = 1u;      ///< linked groups merged: the larger root hung under the smaller
+const uint DROPLET_COMPRESS = 2u;  ///< parent = root
+const uint DROPLET_SIZE = 3u;      ///< members counted at each root
+const uint DROPLET_COUNT = 4u;     ///< roots of groups below the size limit counted
+
+struct DropletPush {
+    uint count;       ///< particles
+    uint phase;       ///< DROPLET_INIT ...
+    uint size_limit;  ///< groups with fewer members are droplets
+    float link2;      ///< two particles closer than sqrt(link2) are linked
+};
+
 AF_END
 
 #ifdef __cplusplus
@@ -96,6 +111,7 @@ static_assert(sizeof(aquaform::shader::SimParams) == 5 * 16 + 24 * 4 + 2 * 16 * 
 static_assert(sizeof(aquaform::shader::CountPush) == 16);
 static_assert(sizeof(aquaform::shader::StatsPartial) == 44);
 static_assert(sizeof(aquaform::shader::StatsPush) == 16);
+static_assert(sizeof(aquaform::shader::DropletPush) == 16);
 #endif
 
 #endif
