@@ -143,7 +143,7 @@ MetaballRenderer::MetaballRenderer(gpu::Context& ctx, const ParticleDomain& doma
 
     bounds_ = gpu::ComputePass(ctx, {"render/metaball_bounds.comp", 3, 0, METABALL_WORKGROUP});
     lists_ = gpu::ComputePass(ctx, {"render/metaball_lists.comp", 10, sizeof(MetaballPush), METABALL_WORKGROUP});
-    march_ = gpu::ComputePass(ctx, {"render/metaball_march.comp", 13, 0, METABALL_WORKGROUP});
+    march_ = gpu::ComputePass(ctx, {"render/metaball_march.comp", 13, sizeof(MetaballPush), METABALL_WORKGROUP});
 }
 
 MetaballRenderer::~MetaballRenderer() = default;
@@ -214,9 +214,22 @@ void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions,
             gpu::dispatch(*ctx_, cmd, lists_, particles, mode_push(METABALL_LIST_S_FILL), list_buffers);
         }
     }
-    {
+    // Brute force visits every particle at every sample: its worst case (every ray taking its
+    // max_steps and bisection, on every surface interaction of a "Real" path) is split into
+    // dispatches of whole workgroups within the device's work budget. The lists' methods visit
+    // a pixel's list, whose length only the GPU knows; they run whole.
+    uint32_t slices = ctx_->long_pass_slices();
+    if (settings.method == MetaballMethod::brute_force) {
+        const double samples = double(p.max_steps + p.refine_steps) * std::max(p.recursion_depth, 1u);
+        slices = std::max(slices, ctx_->dispatch_slices(double(pixels) * samples * particles));
+    }
+    const uint32_t groups = (pixels + METABALL_WORKGROUP - 1) / METABALL_WORKGROUP;
+    const uint32_t per_slice = (groups + std::min(slices, groups) - 1) / std::min(slices, groups) * METABALL_WORKGROUP;
+    for (uint32_t first = 0; first < pixels; first += per_slice) {
         gpu::GpuScope scope(timer, cmd, "metaball_march");
-        gpu::dispatch(*ctx_, cmd, march_, pixels,
+        MetaballPush push{};
+        push.first_pixel = first;
+        gpu::dispatch(*ctx_, cmd, march_, std::min(per_slice, pixels - first), push,
                       {{"params", params_buf_}, {"positions", &positions}, {"counters", counters_}, {"heads", heads_}, {"nodes", entries_}, {"offsets", offsets_}, {"ids", entries_}, {"span", span_}, {"hit", hit_}, {"normal", normal_}, {"color", color_}, {"visits", visits_}, {"near_ids", near_}});
     }
     method_ = settings.method;

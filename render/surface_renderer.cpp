@@ -16,12 +16,22 @@ using shader::SurfacePassPush;
 
 constexpr uint32_t kMissBits = 0xbf800000u;  // -1.0f: hit.w of a pixel without a surface
 
-/// Evaluations a ray makes per march pass before it yields to a resume pass: only where the
-/// device ends long loops (DeviceInfo::loop_iteration_limit), scaled to its limit; 0 = never.
+/// Evaluations a ray makes per march pass before it yields to a resume pass, on every device:
+/// RAY_MARCH_EVALS_PER_PASS, scaled down where the device ends long loops
+/// (DeviceInfo::loop_iteration_limit). With it a dispatch's work has a bound (rays x this x
+/// kVisitsPerEvaluation), which SurfaceRenderer::march_slices keeps within the device's budget.
 uint32_t march_evals_per_pass(const gpu::DeviceInfo& device) {
-    if (device.loop_iteration_limit == 0) return 0;
+    if (device.loop_iteration_limit == 0) return RAY_MARCH_EVALS_PER_PASS;
     return std::max<uint32_t>(1, uint32_t(uint64_t(RAY_MARCH_EVALS_PER_PASS) * device.loop_iteration_limit / 65535u));
 }
+
+/// Particle visits of one density evaluation, for the work bound: the candidates of the 27 cells
+/// around the point (cells of the kernel radius h = 2 spacings hold 8 particles at rest density).
+constexpr double kVisitsPerEvaluation = 27.0 * 8.0;
+
+/// Resume passes at most: with RAY_MARCH_EVALS_PER_PASS, 64 x 256 evaluations a ray (the
+/// reference's fine steps across a deep volume); rays still marching after them are counted as cut.
+constexpr uint32_t kMaxResumePasses = 64;
 
 SurfacePassPush axis_push(uint32_t axis) {
     SurfacePassPush push{};
@@ -280,11 +290,39 @@ void SurfaceRenderer::record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* tim
         gpu::fill(*ctx_, cmd, *resume_count_[0], 0u);
     }
     // The list's length is only known on the GPU, so each slice takes every slices-th ray.
-    const uint32_t pixels = width_ * height_, slices = ctx_->long_pass_slices();
+    const uint32_t pixels = width_ * height_, slices = march_slices();
     for (uint32_t k = 0; k < slices; ++k) {
         gpu::GpuScope scope(timer, cmd, "render_march");  // the timer adds the slices up
         dispatch_march(cmd, rays_, *ray_count_, 0, 0, k, slices, (pixels + slices - 1) / slices);
     }
+}
+
+uint32_t SurfaceRenderer::evals_per_pass() const {
+    return std::min(march_evals_per_pass(ctx_->info()), std::max(params_.max_steps, 1u));
+}
+
+uint32_t SurfaceRenderer::march_slices() const {
+    const double worst = double(width_) * height_ * evals_per_pass() * kVisitsPerEvaluation;
+    return ctx_->dispatch_slices(worst);
+}
+
+uint32_t SurfaceRenderer::resume_passes() const {
+    const uint32_t e = evals_per_pass();
+    const uint64_t steps = std::max(params_.max_steps, 1u);
+    const uint32_t needed = uint32_t(std::min<uint64_t>((steps + e - 1) / e - 1, kMaxResumePasses));
+    // A device that ends long loops may cut a ray within its pass's budget (bisection and normal
+    // included): those rays always get resume passes.
+    return ctx_->info().loop_iteration_limit ? std::max(needed, kResumePasses) : needed;
+}
+
+void SurfaceRenderer::dispatch_march_list(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count,
+                                          uint32_t mode, int resume_out) {
+    // The list's length is only known on the GPU: one slice takes every slices-th ray of a list
+    // as long as the longest (one ray per pixel).
+    const uint32_t slices = march_slices(), pixels = width_ * height_;
+    if (slices == 1) return dispatch_march(cmd, rays, ray_count, mode, resume_out);
+    for (uint32_t k = 0; k < slices; ++k)
+        dispatch_march(cmd, rays, ray_count, mode, resume_out, k, slices, (pixels + slices - 1) / slices);
 }
 
 void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count,
@@ -297,7 +335,7 @@ void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* ray
     SurfacePassPush push = axis_push(mode);
     push.first = first;
     push.stride = stride;
-    push.evals_per_pass = march_evals_per_pass(ctx_->info());
+    push.evals_per_pass = resume_passes() > 0 ? evals_per_pass() : 0u;  // 0: no pass follows, count cut rays
     if (threads > 0) {
         gpu::dispatch(*ctx_, cmd, march_pass(), threads, push, buffers);
         return;
@@ -308,18 +346,19 @@ void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* ray
 
 void SurfaceRenderer::record_march(VkCommandBuffer cmd, const gpu::Buffer& rays, const gpu::Buffer& ray_count) {
     gpu::fill(*ctx_, cmd, *resume_count_[0], 0u);
-    dispatch_march(cmd, &rays, ray_count, 0, 0);
+    dispatch_march_list(cmd, &rays, ray_count, 0, 0);
     record_resumes(cmd);
 }
 
 void SurfaceRenderer::record_resumes(VkCommandBuffer cmd) {
-    if (march_evals_per_pass(ctx_->info()) == 0) return;  // the first march took every ray to its end
-    // The rays the device cut short (list 0) are marched again, each pass with a fresh loop budget,
-    // ping-ponging between the two lists; the last pass counts what is still cut.
-    for (uint32_t pass = 1; pass <= kResumePasses; ++pass) {
+    // The rays cut short (list 0) are marched again, each pass with a fresh budget, ping-ponging
+    // between the two lists; the last pass counts what is still cut. A pass with no rays left
+    // dispatches no workgroups.
+    const uint32_t passes = resume_passes();
+    for (uint32_t pass = 1; pass <= passes; ++pass) {
         const int in = int((pass + 1) % 2), out = int(pass % 2);
         gpu::fill(*ctx_, cmd, *resume_count_[out], 0u);
-        dispatch_march(cmd, resume_rays_[in], *resume_count_[in], pass == kResumePasses ? 2u : 1u, out);
+        dispatch_march_list(cmd, resume_rays_[in], *resume_count_[in], pass == passes ? 2u : 1u, out);
     }
 }
 

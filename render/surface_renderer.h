@@ -139,11 +139,21 @@ private:
     void dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count, uint32_t mode,
                         int resume_out, uint32_t first = 0, uint32_t stride = 1, uint32_t threads = 0);
     /// The first march over the main ray list (up to one ray per pixel). It is a frame's longest
-    /// pass: where the caller shares the queue (the viewer's worker) it runs as
-    /// Context::long_pass_slices() interleaved slices, each a timed scope the queue may be cut before.
+    /// pass: it runs as march_slices() interleaved slices, each a timed scope the queue may be cut before.
     void record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* timer);
-    /// Marches again the rays the device cut short (shaders/render/ray_march.comp), kResumePasses times.
+    /// A march pass over a ray list, in march_slices() dispatches.
+    void dispatch_march_list(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count, uint32_t mode,
+                             int resume_out);
+    /// Marches again, resume_passes() times, the rays that used up their pass's evaluations.
     void record_resumes(VkCommandBuffer cmd);
+    /// Evaluations a ray makes in one pass before it yields (on every device).
+    uint32_t evals_per_pass() const;
+    /// Dispatches one march pass is split into: its worst case (every ray spending its pass's
+    /// evaluations) within the device's work budget (gpu::Context::dispatch_slices).
+    uint32_t march_slices() const;
+    /// Resume passes: enough for max_steps evaluations a ray, at most 64; at least
+    /// kResumePasses on a device that ends long loops.
+    uint32_t resume_passes() const;
     static constexpr uint32_t kResumePasses = 8;
 
     gpu::Context* ctx_;

@@ -6,6 +6,7 @@ Usage: gpu_check_report.py WORK_DIR OUT_FILE   (WORK_DIR/meta.json and steps.jso
 """
 import json
 import os
+import re
 import sys
 
 SOLVER_MS_PER_STEP = 8.0     # target: a 1M-particle step, violent mid-run state, the scene's iterations
@@ -80,6 +81,13 @@ def reconstruction_verdict(meta, render):
     return verdict("pass" if passed else "fail", target_ms=RECONSTRUCTION_MS, frames=frames)
 
 
+def host_ms_between_frames(steps):
+    """What `run` said the device waited for the host between frames (None if it did not say)."""
+    run = next((s for s in steps if s["name"] == "run"), None)
+    found = re.search(r"host time between frames: ([0-9.]+) ms", run.get("output") or "") if run else None
+    return float(found.group(1)) if found else None
+
+
 def main(work, out):
     meta = load(os.path.join(work, "meta.json"))
     steps = []
@@ -107,7 +115,8 @@ def main(work, out):
         verdicts=dict(solver=solver_verdict(meta, sim), reconstruction=reconstruction_verdict(meta, render)),
         bench_sim=sim,
         bench_render=render,
-        run=dict(frames_written=max(0, stats_text.count("\n") - 1) if stats_text else 0, stats_csv=stats_text),
+        run=dict(frames_written=max(0, stats_text.count("\n") - 1) if stats_text else 0,
+                 host_ms_between_frames=host_ms_between_frames(steps), stats_csv=stats_text),
     )
     staged = out + ".partial"
     with open(staged, "w") as f:

@@ -76,6 +76,9 @@ TEST(GpuCheck, QuickRunWritesEveryStepFigureAndVerdictIntoOneJson) {
     const std::string stats = j["run"]["stats_csv"].get<std::string>();
     EXPECT_EQ(stats.rfind("frame,", 0), 0u) << "the header is kept";
     EXPECT_NE(stats.find("density_err"), std::string::npos);
+    // What the device waited for the host between frames, as `run` said it.
+    ASSERT_TRUE(j["run"].at("host_ms_between_frames").is_number()) << j["run"].dump().substr(0, 400);
+    EXPECT_GE(j["run"]["host_ms_between_frames"].get<double>(), 0.0);
 }
 
 TEST(GpuCheck, ABudgetTooSmallSkipsTheRestAndStillReportsEveryStep) {

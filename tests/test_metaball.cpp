@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "gpu/context.h"
+#include "gpu/timer.h"
 #include "render/metaball_renderer.h"
 #include "render/image_metrics.h"
 #include "render/surface_settings.h"
@@ -152,6 +154,37 @@ TEST_F(MetaballTest, BruteForceAbufferAndSbufferFindTheSameSurface) {
     // The lists' point: far fewer particles visited than brute force.
     EXPECT_LT(visits[1] * 4, visits[0]);
     EXPECT_LT(visits[2] * 4, visits[0]);
+}
+
+// Brute force visits every particle at every sample: over the device's work budget its march
+// runs as several dispatches (each a timed scope) and draws the same frame, to the bit.
+TEST_F(MetaballTest, BruteForceOverTheWorkBudgetIsSplitAndDrawsTheSameFrame) {
+    const Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.4f, 0.4f, 0.4f}});
+    Particles particles(ctx(), block_and_droplets(11));
+    const uint32_t w = 64, h = 48;
+    MetaballRenderer renderer(ctx(), scene.particle_domain(), w, h, particles.count);
+    MetaballSettings settings;
+    settings.method = MetaballMethod::brute_force;
+    auto draw = [&](uint64_t budget, SurfaceFrame& frame) {
+        const uint64_t saved = ctx().info().dispatch_work_budget;
+        ctx().override_dispatch_work_budget(budget);
+        gpu::GpuTimer timer(ctx());
+        frame = renderer.render(particles.buffer, particles.count, front_camera(), settings, &timer);
+        ctx().override_dispatch_work_budget(saved);
+        return timer.recorded_stamps().size() / 2;
+    };
+    SurfaceFrame whole, split;
+    const size_t whole_scopes = draw(uint64_t(1) << 62, whole);
+    const double worst = double(w) * h * (settings.max_steps + settings.bisection_steps) * particles.count;
+    const size_t split_scopes = draw(uint64_t(worst / 8.0) + 1, split);
+    EXPECT_GE(split_scopes, whole_scopes + 7) << "the march should run as eight dispatches";
+    size_t hits = 0, differ = 0;
+    for (size_t i = 0; i < whole.hit.size(); ++i) {
+        hits += whole.has_surface(i);
+        differ += whole.hit[i] != split.hit[i] || whole.normal[i] != split.normal[i];
+    }
+    EXPECT_GT(hits, size_t(w * h) / 8);
+    EXPECT_EQ(differ, 0u) << "pixels drawn differently by the split march";
 }
 
 TEST_F(MetaballTest, LoneBallIsASphereOfHalfItsRange) {

@@ -13,6 +13,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/context.h"
+#include "gpu/timer.h"
 #include "render/image_metrics.h"
 #include "render/surface_renderer.h"
 #include "sim/pbf_solver.h"
@@ -330,6 +331,57 @@ TEST_F(DamBreakFrameTest, UniformAndAdaptiveAgreeWithTheReferenceAndAdaptiveEval
     // small size nearly every tile holds a silhouette; the flat slab test measures the tiles.)
     EXPECT_LT(total_evals(adaptive_frame), total_evals(uniform_frame));
     EXPECT_LE(stepping.evals_per_ray, uniform.evals_per_ray * 1.001);
+}
+
+// Issue 30: no dispatch may hold more work than the device's budget, on any kind of device (a
+// display's watchdog ends a long one with VK_ERROR_DEVICE_LOST). The budget comes from the
+// device's type; the ray march's worst case (every ray spending its pass's evaluations) at 1080p
+// exceeds every type's budget, so it is split on every kind, each slice within the budget.
+TEST(DispatchBudget, ALongPassIsSplitOnEveryKindOfDevice) {
+    const double march_1080p = 1920.0 * 1080.0 * RAY_MARCH_EVALS_PER_PASS * 216.0;
+    for (VkPhysicalDeviceType type : {VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU, VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU,
+                                      VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU, VK_PHYSICAL_DEVICE_TYPE_CPU,
+                                      VK_PHYSICAL_DEVICE_TYPE_OTHER}) {
+        const uint64_t budget = gpu::dispatch_work_budget(type);
+        ASSERT_GT(budget, 0u) << gpu::device_type_name(type);
+        const uint32_t slices = gpu::slices_for_budget(march_1080p, budget);
+        EXPECT_GE(slices, 2u) << gpu::device_type_name(type);
+        EXPECT_LE(march_1080p / slices, double(budget)) << gpu::device_type_name(type);
+        EXPECT_EQ(gpu::slices_for_budget(0.5 * double(budget), budget), 1u) << "a short pass stays whole";
+    }
+}
+
+// On this device: a budget small enough to split the march records more march dispatches (each
+// its own timed scope) and draws the same frame, for the fast methods and the reference (whose
+// rays then also resume across passes).
+TEST_F(DamBreakFrameTest, AMarchOverTheWorkBudgetIsSplitAndDrawsTheSameFrame) {
+    const uint64_t saved = ctx().info().dispatch_work_budget;
+    for (SurfaceMethod method : {SurfaceMethod::adaptive, SurfaceMethod::uniform, SurfaceMethod::reference}) {
+        SurfaceSettings settings;
+        settings.method = method;
+        auto march_scopes = [&](SurfaceFrame& frame) {
+            gpu::GpuTimer timer(ctx());
+            frame = renderer->render(solver->positions(), solver->particle_count(), camera, settings, &timer);
+            return timer.recorded_stamps().size() / 2;
+        };
+        SurfaceFrame whole, split;
+        ctx().override_dispatch_work_budget(uint64_t(1) << 62);
+        const size_t whole_scopes = march_scopes(whole);
+        const uint32_t whole_cut = renderer->cut_rays();
+        // A tenth of the worst case of this frame's march: ten slices.
+        const double worst = double(w) * h * std::min(RAY_MARCH_EVALS_PER_PASS, renderer->params().max_steps) * 216.0;
+        ctx().override_dispatch_work_budget(uint64_t(worst / 10.0) + 1);
+        const size_t split_scopes = march_scopes(split);
+        const uint32_t split_cut = renderer->cut_rays();
+        ctx().override_dispatch_work_budget(saved);
+        const char* name = method == SurfaceMethod::adaptive ? "adaptive" : method == SurfaceMethod::uniform ? "uniform" : "reference";
+        EXPECT_GE(split_scopes, whole_scopes + 9) << name << ": the first march should run as ten timed slices";
+        const SurfaceComparison c = compare_surfaces(whole, split, renderer->params().particle_radius);
+        EXPECT_GT(c.both_hit, 1000u) << name;
+        EXPECT_EQ(c.coverage_mismatch, 0.0) << name;
+        EXPECT_LT(c.depth_err_mean, 1e-4) << name;
+        EXPECT_EQ(split_cut, whole_cut) << name;
+    }
 }
 
 TEST_F(DamBreakFrameTest, PassesSplitForTheViewersWindowDrawTheSameFrame) {

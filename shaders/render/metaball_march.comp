@@ -262,8 +262,10 @@ vec3 trace_paths(vec3 eye_dir, float first_t, vec3 first_n, uint pixel) {
     return result;
 }
 
+layout(push_constant) uniform Push { MetaballPush pc; };
+
 void main() {
-    uint index = gl_GlobalInvocationID.x;
+    uint index = pc.first_pixel + gl_GlobalInvocationID.x;
     if (index >= params.screen.x * params.screen.y) return;
     uvec2 pixel = uvec2(index % params.screen.x, index / params.screen.x);
     vec3 dir = pixel_ray(pixel);

@@ -77,8 +77,8 @@ struct MetaballParams {
 };
 
 struct MetaballPush {
-    uint mode;  ///< METABALL_LIST_*
-    uint pad0;
+    uint mode;         ///< lists: METABALL_LIST_*
+    uint first_pixel;  ///< march: the first pixel of this dispatch (a pass split for the work budget)
     uint pad1;
     uint pad2;
 };
