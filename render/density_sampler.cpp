@@ -48,8 +48,9 @@ DensitySampler::DensitySampler(gpu::Context& ctx, const ParticleDomain& domain, 
     lattice_ = &buffers_.add("mesh.lattice", sizeof(shader::MeshLattice));
     lattice_host_ = &buffers_.add("mesh.lattice_readback", sizeof(shader::MeshLattice), gpu::MemoryUse::host);
     bounds_pass_ = gpu::ComputePass(ctx, {"render/mesh_bounds.comp", 3, 0, MESH_WORKGROUP});
-    lattice_pass_ = gpu::ComputePass(ctx, {"render/mesh_lattice.comp", 3, 0, 1});
-    sample_pass_ = gpu::ComputePass(ctx, {"render/mesh_sample.comp", 8, 0, MESH_WORKGROUP});
+    sample_groups_ = &buffers_.add("mesh.sample_groups", 16);
+    lattice_pass_ = gpu::ComputePass(ctx, {"render/mesh_lattice.comp", 4, 0, 1});
+    sample_pass_ = gpu::ComputePass(ctx, {"render/mesh_sample.comp", 8, sizeof(shader::MeshSamplePush), MESH_WORKGROUP});
     params_.anisotropic = field.surface == SurfaceKernel::anisotropic ? 1u : 0u;
 
     // A first guess: the lattice around a compact cube of the particles; reserve() grows it.
@@ -142,15 +143,19 @@ void DensitySampler::record(VkCommandBuffer cmd, const gpu::Buffer& positions, u
     params_.use_order = use_order ? 1u : 0u;
     params_.vertex_capacity = vertex_capacity;
     params_.triangle_capacity = triangle_capacity;
+    // A sample sums the field like a ray's evaluation: its worst case, the whole lattice the
+    // buffers hold, is split into dispatches within the device's work budget.
+    params_.sample_slices = ctx_->dispatch_slices(double(capacity_) * kFieldVisitsPerEvaluation);
     gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof(params_));
 
     gpu::fill(*ctx_, cmd, *bounds_, MESH_EMPTY_KEY);
     gpu::dispatch(*ctx_, cmd, bounds_pass_, std::max(count, 1u),
                   {{"params", params_buf_}, {"positions", &positions}, {"bounds", bounds_}});
-    gpu::dispatch(*ctx_, cmd, lattice_pass_, 1, {{"params", params_buf_}, {"bounds", bounds_}, {"lattice", lattice_}});
-    gpu::dispatch_indirect(*ctx_, cmd, sample_pass_, *lattice_,
-                           {{"params", params_buf_}, {"lattice", lattice_}, {"positions", particles}, {"order", order},
-                            {"cell_rank", cell_rank}, {"cell_start", cell_start}, {"values", values_}, {"shape", shape}});
+    gpu::dispatch(*ctx_, cmd, lattice_pass_, 1, {{"params", params_buf_}, {"bounds", bounds_}, {"lattice", lattice_}, {"sample_groups", sample_groups_}});
+    for (uint32_t slice = 0; slice < params_.sample_slices; ++slice)
+        gpu::dispatch_indirect(*ctx_, cmd, sample_pass_, *sample_groups_, shader::MeshSamplePush{slice, 0, 0, 0},
+                               {{"params", params_buf_}, {"lattice", lattice_}, {"positions", particles}, {"order", order},
+                                {"cell_rank", cell_rank}, {"cell_start", cell_start}, {"values", values_}, {"shape", shape}});
 }
 
 void DensitySampler::make_own_grid() {

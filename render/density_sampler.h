@@ -89,6 +89,8 @@ public:
     uint64_t sample_limit() const;
 
     uint32_t capacity() const { return capacity_; }
+    /// Dispatches the last sample pass was split into (the device's work budget).
+    uint32_t sample_slices() const { return params_.sample_slices; }
     float iso() const { return params_.iso; }
     float voxel() const { return params_.clip_min.w; }
     float radius() const { return params_.radius; }
@@ -121,6 +123,7 @@ private:
     gpu::Buffer *kernel_params_ = nullptr, *sorted_copy_ = nullptr, *no_classes_ = nullptr;
     gpu::ComputePass gather_pass_;
     gpu::Buffer *params_buf_, *bounds_, *lattice_, *lattice_host_;
+    gpu::Buffer* sample_groups_;  ///< the sample pass's indirect dispatch (one slice's share)
     gpu::Buffer* values_ = nullptr;
     gpu::ComputePass bounds_pass_, lattice_pass_, sample_pass_;
 };

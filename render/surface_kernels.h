@@ -24,6 +24,11 @@
 
 namespace aquaform {
 
+/// Particle visits of one evaluation of the SPH field, for the per-dispatch work bound
+/// (gpu::Context::dispatch_slices): the candidates of the 27 cells around the point (cells of
+/// the kernel radius, 2 spacings, hold 8 particles at rest density).
+constexpr double kFieldVisitsPerEvaluation = 27.0 * 8.0;
+
 constexpr uint32_t kShapeBytesPerParticle = 48 + 16;
 constexpr uint32_t kKernelBytesPerParticle = kGridSortBytesPerParticle + 16 + 48 + 4 + 4;
 

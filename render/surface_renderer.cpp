@@ -19,15 +19,11 @@ constexpr uint32_t kMissBits = 0xbf800000u;  // -1.0f: hit.w of a pixel without 
 /// Evaluations a ray makes per march pass before it yields to a resume pass, on every device:
 /// RAY_MARCH_EVALS_PER_PASS, scaled down where the device ends long loops
 /// (DeviceInfo::loop_iteration_limit). With it a dispatch's work has a bound (rays x this x
-/// kVisitsPerEvaluation), which SurfaceRenderer::march_slices keeps within the device's budget.
+/// kFieldVisitsPerEvaluation), which SurfaceRenderer::march_slices keeps within the device's budget.
 uint32_t march_evals_per_pass(const gpu::DeviceInfo& device) {
     if (device.loop_iteration_limit == 0) return RAY_MARCH_EVALS_PER_PASS;
     return std::max<uint32_t>(1, uint32_t(uint64_t(RAY_MARCH_EVALS_PER_PASS) * device.loop_iteration_limit / 65535u));
 }
-
-/// Particle visits of one density evaluation, for the work bound: the candidates of the 27 cells
-/// around the point (cells of the kernel radius h = 2 spacings hold 8 particles at rest density).
-constexpr double kVisitsPerEvaluation = 27.0 * 8.0;
 
 /// Resume passes at most: with RAY_MARCH_EVALS_PER_PASS, 64 x 256 evaluations a ray (the
 /// reference's fine steps across a deep volume); rays still marching after them are counted as cut.
@@ -302,7 +298,7 @@ uint32_t SurfaceRenderer::evals_per_pass() const {
 }
 
 uint32_t SurfaceRenderer::march_slices() const {
-    const double worst = double(width_) * height_ * evals_per_pass() * kVisitsPerEvaluation;
+    const double worst = double(width_) * height_ * evals_per_pass() * kFieldVisitsPerEvaluation;
     return ctx_->dispatch_slices(worst);
 }
 

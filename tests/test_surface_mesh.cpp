@@ -179,6 +179,32 @@ TEST_F(SurfaceMeshTest, SampledVolumeEqualsTheRenderersFieldOnTheHost) {
     EXPECT_LT(max_field_error(sampler, particles, in_place, fluid.scene.domain), 2e-5f);
 }
 
+// Every sample sums the field: over the device's work budget the sample pass runs as several
+// dispatches, each a share of the samples, and the volume is the same to the bit.
+TEST_F(SurfaceMeshTest, ASamplePassOverTheWorkBudgetIsSplitAndGivesTheSameVolume) {
+    TestFluid fluid(ctx());
+    DensitySampler sampler(ctx(), fluid.domain(), fluid.device.count, SurfaceSettings{});
+    const DensityVolume whole = sampler.sample_volume(fluid.device.buffer, fluid.device.count);
+    ASSERT_EQ(sampler.sample_slices(), 1u);
+    const uint64_t saved = ctx().info().dispatch_work_budget;
+    ctx().override_dispatch_work_budget(uint64_t(double(sampler.capacity()) * 216.0 / 7.0) + 1);
+    // A sampler of its own: no value left over from the whole pass can hide a missed sample.
+    DensitySampler split_sampler(ctx(), fluid.domain(), fluid.device.count, SurfaceSettings{});
+    const DensityVolume split = split_sampler.sample_volume(fluid.device.buffer, fluid.device.count);
+    const uint32_t slices = split_sampler.sample_slices();
+    ctx().override_dispatch_work_budget(saved);
+    ASSERT_EQ(split_sampler.capacity(), sampler.capacity()) << "both grew to the same lattice";
+    EXPECT_EQ(slices, 7u);
+    ASSERT_EQ(split.values.size(), whole.values.size());
+    size_t differ = 0, inside = 0;
+    for (size_t i = 0; i < whole.values.size(); ++i) {
+        differ += whole.values[i] != split.values[i];
+        inside += whole.values[i] > whole.iso;
+    }
+    EXPECT_GT(inside, 100u);
+    EXPECT_EQ(differ, 0u) << "samples the split pass missed or summed differently";
+}
+
 TEST_F(SurfaceMeshTest, GpuMeshEqualsTheCpuMarchingCubesIndexForIndex) {
     TestFluid fluid(ctx());
     const DeviceParticles& device = fluid.device;

@@ -12,19 +12,29 @@
 //   0 MeshParams params (readonly)
 //   1 uint bounds[8]        from mesh_bounds.comp
 //   2 MeshLattice lattice   written
+//   3 uvec4 sample_groups   written: the sample pass's indirect dispatch, one of its
+//                           params.sample_slices dispatches (each a 1/slices share of the samples)
 #include "shared/mesh_layout.h"
 
 layout(local_size_x = 1) in;
 layout(std430, binding = 0) readonly buffer Params { MeshParams params; };
 layout(std430, binding = 1) readonly buffer Bounds { uint bounds[]; };
 layout(std430, binding = 2) writeonly buffer Lattice { MeshLattice lattice; };
+layout(std430, binding = 3) writeonly buffer SampleGroups { uvec4 sample_groups; };
 
 const uint MAX_GROUPS_X = 65535u;  // the least maxComputeWorkGroupCount Vulkan guarantees
+
+uvec4 groups_for(uint threads) {
+    uint groups = (threads + MESH_WORKGROUP - 1u) / MESH_WORKGROUP;
+    uint x = min(groups, MAX_GROUPS_X);
+    return uvec4(x, x > 0u ? (groups + x - 1u) / x : 1u, 1u, 0u);
+}
 
 void main() {
     float voxel = params.clip_min.w;
     float pad = params.clip_max.w;
     lattice.groups = uvec4(0u, 1u, 1u, 0u);
+    sample_groups = uvec4(0u, 1u, 1u, 0u);
     lattice.origin_voxel = vec4(params.clip_min.xyz, voxel);
     lattice.dims = uvec4(0u);
     lattice.totals = uvec4(0u);
@@ -46,7 +56,7 @@ void main() {
     uint count = samples < 4.0e9 ? dims.x * dims.y * dims.z : 0xffffffffu;
     lattice.dims = uvec4(dims, count);
     if (count > params.capacity) return;
-    uint groups = (count + MESH_WORKGROUP - 1u) / MESH_WORKGROUP;
-    uint x = min(groups, MAX_GROUPS_X);
-    lattice.groups = uvec4(x, (groups + x - 1u) / x, 1u, 0u);
+    lattice.groups = groups_for(count);
+    uint slices = max(params.sample_slices, 1u);
+    sample_groups = groups_for((count + slices - 1u) / slices);
 }

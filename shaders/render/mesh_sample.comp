@@ -39,6 +39,7 @@ layout(binding = 4, r32ui) readonly uniform uimageBuffer cell_rank;
 layout(binding = 5, r32ui) readonly uniform uimageBuffer cell_start;
 layout(std430, binding = 6) writeonly buffer Values { float values[]; };
 layout(std430, binding = 7) readonly buffer Shape { vec4 shape[]; };
+layout(push_constant) uniform Push { MeshSamplePush pc; };
 
 #include "common/grid_query.glsl"
 
@@ -48,7 +49,7 @@ vec3 particle(uint j) {
 }
 
 void main() {
-    uint s = mesh_thread();
+    uint s = pc.slice + max(params.sample_slices, 1u) * mesh_thread();
     if (s >= lattice.dims.w) return;
     uvec3 c = mesh_coords(s, lattice.dims);
     if (any(equal(c, uvec3(0u))) || any(equal(c + 1u, lattice.dims.xyz))) {

@@ -47,7 +47,16 @@ struct MeshParams {
     uint triangle_capacity; ///< triangles the output holds
     uint anisotropic;       ///< 1: the anisotropic surface: `positions` are the kernels' centres (in the
                             ///< kernel grid's order, use_order 0) and `shape` their G (surface_kernels.h)
+    uint sample_slices;     ///< dispatches the sample pass is split into (the device's work budget)
+};
+
+/// Push constants of the sample pass: dispatch `slice` of MeshParams::sample_slices samples
+/// sample slice + sample_slices * thread.
+struct MeshSamplePush {
+    uint slice;
+    uint pad0;
     uint pad1;
+    uint pad2;
 };
 
 /// Written by mesh_lattice.comp from the particles' bounds; read by every later pass.
