@@ -14,6 +14,7 @@
 
 #include <unistd.h>
 
+#include "gpu/context.h"
 #include "viewer/view_script.h"
 #include "viewer/view_shapes.h"
 #include "viewer/view_worker.h"
@@ -235,6 +236,17 @@ TEST(ViewPictureSlotsTest, TheWorkerNeverDrawsIntoThePictureShownAndTheWindowGet
         if (round % 2) slots.take();
         ASSERT_NE(slots.back(), slots.shown()) << "round " << round;
     }
+}
+
+// Issue 30: on a GPU the window must not queue behind a simulation frame of a million particles.
+TEST(ViewQueueSharing, TheWorkerSharesTheQueueWhereASimulationFrameOutlastsAWindowFrame) {
+    gpu::DeviceInfo software, gpu;
+    software.slow_in_order_queue = true;
+    gpu.type = VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU;
+    EXPECT_TRUE(viewer::share_viewer_queue(software, 1000, 1)) << "the software device always shares";
+    EXPECT_FALSE(viewer::share_viewer_queue(gpu, 30000, 2)) << "a small scene's frame is short on a GPU";
+    EXPECT_TRUE(viewer::share_viewer_queue(gpu, 1000000, 2)) << "a million particles: 16 ms or more a frame";
+    EXPECT_TRUE(viewer::share_viewer_queue(gpu, 300000, 8)) << "many steps a frame";
 }
 
 TEST(ViewScriptTest, ActionsAreCheckedAndSortedByFrame) {

@@ -316,9 +316,16 @@ ViewWorker::Picture ViewWorker::take_picture() {
     return {&pictures_[i].rgba, pictures_[i].width, pictures_[i].height};
 }
 
+bool share_viewer_queue(const gpu::DeviceInfo& device, uint32_t particles, uint32_t substeps) {
+    if (device.slow_in_order_queue) return true;
+    constexpr double kStepMsPerMillion = 8.0, kLongFrameMs = 10.0;
+    return double(particles) * 1e-6 * kStepMsPerMillion * std::max(substeps, 1u) > kLongFrameMs;
+}
+
 void ViewWorker::loop() {
     // The one place the viewer's frames are cut into slices, and only where the device needs it.
-    ctx_.share_queue({.enabled = ctx_.info().slow_in_order_queue, .long_pass_slices = 4, .cancel = &stop_});
+    const bool share = share_viewer_queue(ctx_.info(), sim_->solver->particle_count(), sim_->scene.solver.substeps);
+    ctx_.share_queue({.enabled = share, .long_pass_slices = 4, .cancel = &stop_});
     auto last = Clock::now();
     for (;;) {
         ViewControls controls;

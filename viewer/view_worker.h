@@ -9,7 +9,8 @@
 // On a device with one queue that runs submissions in order and slowly (the software device,
 // DeviceInfo::slow_in_order_queue), the window's frames would still queue behind a whole
 // simulation frame: the worker then shares the queue (gpu::Context::QueueSharing, its one hook),
-// which cuts its recordings between timed passes, and the window's frames slot in between. A
+// which cuts its recordings between timed passes, and the window's frames slot in between. On a
+// GPU it does so too when a simulation frame would outlast a window frame (share_viewer_queue). A
 // scripted or recorded session (lockstep) asks for a frame and waits for it instead, so that its
 // frame numbers are the fluid's.
 #pragma once
@@ -31,6 +32,7 @@
 
 #include "control/mesh.h"
 #include "gpu/buffer.h"
+#include "gpu/context.h"
 #include "render/impostor_view.h"
 #include "render/surface_settings.h"
 #include "session/simulation_session.h"
@@ -45,6 +47,14 @@ namespace aquaform::viewer {
 
 /// The method menu: every registered method that is quick enough to watch (MethodEntry::watchable).
 const std::vector<std::string>& view_methods();
+
+/// Whether the viewer's worker cuts its frames so that the window's slot in between: always on a
+/// slow in-order queue (the software device); on a GPU when a simulation frame of `particles`
+/// with at least `substeps` steps would last over 10 ms (most of a 60 Hz window frame), reckoned
+/// at the solver's target of 8 ms a step per million particles (scripts/gpu_check.sh measures
+/// it): from about 630k particles at 2 steps a frame. A cut costs a submission and a wait (tens
+/// of microseconds on a GPU), one per pass.
+bool share_viewer_queue(const gpu::DeviceInfo& device, uint32_t particles, uint32_t substeps);
 /// Debug views of the SPH renderer (Wu et al. Figs. 5-7 and the depth maps), as the menu and
 /// scripts name them.
 inline constexpr const char* kDebugViews[] = {"image", "steps per ray", "classification", "tile resolution", "D_all", "D_agg"};
