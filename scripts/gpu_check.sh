@@ -55,7 +55,12 @@ tests="$build/tests/aquaform_tests"
 bundle_file="$build/gpu_bundle.tar.xz"
 if ((!bundle)) && [ ! -x "$aquaform" ] && [ -f "$bundle_file" ]; then  # a GPU machine given the bundle alone
   echo "gpu_check.sh: unpacking $bundle_file" >&2
-  tar -xJf "$bundle_file" -C "$build" || { echo "gpu_check.sh: cannot unpack $bundle_file" >&2; exit 2; }
+  # Python's tarfile where the machine has no xz program (images without Debian's packages).
+  if command -v xz >/dev/null; then
+    tar -xJf "$bundle_file" -C "$build"
+  else
+    python3 -c 'import sys, tarfile; tarfile.open(sys.argv[1]).extractall(sys.argv[2])' "$bundle_file" "$build"
+  fi || { echo "gpu_check.sh: cannot unpack $bundle_file" >&2; exit 2; }
 fi
 if [ ! -x "$aquaform" ]; then
   echo "gpu_check.sh: $aquaform not found; build first (bash scripts/setup.sh) or give --build DIR" >&2
