@@ -73,10 +73,11 @@ needed() { ldd "$@" 2>/dev/null | awk '$2 == "=>" && $3 ~ /^\// { print $3 }' | 
 if ((bundle)); then
   libs="$build/libs"
   rm -rf "$libs" && mkdir -p "$libs" || exit 1
-  # NVIDIA's Vulkan driver (libGLX_nvidia) links the X client libraries, which a machine with the
-  # driver alone may lack; the loader must be 1.3.204 or newer (the binary asks for Vulkan 1.3).
+  # NVIDIA's Vulkan driver (libGLX_nvidia) links the X client libraries and glvnd's dispatch
+  # library, which a machine with the driver alone may lack (the first try on a GPU machine found
+  # no driver); the loader must be 1.3.204 or newer (the binary asks for Vulkan 1.3).
   x_libs=()
-  for name in libXext.so.6 libX11.so.6; do
+  for name in libXext.so.6 libX11.so.6 libGLdispatch.so.0; do
     path="$(ldconfig -p | awk -v n="$name" '$1 == n && /x86-64/ { print $NF; exit }')"
     [ -n "$path" ] && x_libs+=("$path")
   done
@@ -90,12 +91,22 @@ if ((bundle)); then
     for x in "${x_libs[@]}"; do echo "$x"; needed "$x"; done; } | sort -u |
     grep -Ev '/(libc|libm|libdl|libpthread|librt|libresolv|ld-linux[^/]*)\.so' >"$libs/.list"
   while read -r lib; do cp -L "$lib" "$libs/" || exit 1; done <"$libs/.list"
+  # The tests run with Khronos' validation layer on (tests/gpu_test.h), and the GPU machine has
+  # none: its library beside the others, its manifest in libs/layers (VK_LAYER_PATH there).
+  layer_json=/usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json
+  layer_lib="$(ldconfig -p | awk '$1 == "libVkLayer_khronos_validation.so" && /x86-64/ { print $NF; exit }')"
+  if [ -f "$layer_json" ] && [ -n "$layer_lib" ]; then
+    mkdir -p "$libs/layers" && cp "$layer_json" "$libs/layers/" && cp -L "$layer_lib" "$libs/" || exit 1
+    echo "gpu_check.sh: validation layer for the tests: $layer_lib" >&2
+  else
+    echo "gpu_check.sh: no validation layer here to bundle (apt-get install vulkan-validationlayers): the GPU tests will fail" >&2
+  fi
   glibc="$(for f in "$libs"/*.so* "$aquaform"; do objdump -T "$f" 2>/dev/null; done |
            grep -o 'GLIBC_2\.[0-9]*' | sort -t. -k2 -n -u | tail -1)"
   echo "gpu_check.sh: bundled $(wc -l <"$libs/.list") libraries into $libs:" >&2
   sed 's/^/  /' "$libs/.list" >&2
   echo "gpu_check.sh: Vulkan loader $loader_version (needs >= 1.3.204: $(printf '%s\n1.3.204\n' "$loader_version" | sort -V | head -1 | grep -qx 1.3.204 && echo ok || echo TOO OLD))" >&2
-  echo "gpu_check.sh: X libraries for NVIDIA's driver: ${x_libs[*]:-none found here (install libxext6)}" >&2
+  echo "gpu_check.sh: libraries NVIDIA's driver links: ${x_libs[*]:-none found here (install libxext6 libglvnd0)}" >&2
   echo "gpu_check.sh: the bundle needs glibc >= ${glibc#GLIBC_} on the GPU machine (ldd --version there)" >&2
   rm -f "$libs/.list"
   # One file to carry to the GPU machine (a device machine takes 64 MiB; OpenVDB alone is 57 MB):
@@ -107,12 +118,50 @@ if ((bundle)); then
   exit 0
 fi
 [ -d "$build/libs" ] && export LD_LIBRARY_PATH="$build/libs${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+# The bundle's validation layer where the machine has none of its own.
+if [ -d "$build/libs/layers" ] && [ -z "${VK_LAYER_PATH:-}" ] &&
+   ! ls /usr/share/vulkan/explicit_layer.d /etc/vulkan/explicit_layer.d 2>/dev/null | grep -q khronos_validation; then
+  export VK_LAYER_PATH="$build/libs/layers"
+fi
 # A machine with NVIDIA's driver mounted outside the usual places (the device machines here).
 icd_dirs=(/etc/vulkan/icd.d /usr/share/vulkan/icd.d /usr/local/share/vulkan/icd.d)
 if [ -z "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ] && ! ls "${icd_dirs[@]}" 2>/dev/null | grep -q '\.json$' &&
    [ -f /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json ]; then
   export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
 fi
+# Its libraries may be outside the linker's cache too.
+for dir in /usr/local/nvidia/lib64 /usr/local/nvidia/lib; do
+  [ -d "$dir" ] && export LD_LIBRARY_PATH="${LD_LIBRARY_PATH:+$LD_LIBRARY_PATH:}$dir"
+done
+
+# Why the loader would find no driver: each driver manifest in use, the library it names, where
+# that library is, and what it links that cannot be found (ldd's "not found").
+driver_report() {
+  local manifests=() m lib path
+  if [ -n "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ]; then
+    IFS=: read -ra manifests <<<"${VK_DRIVER_FILES:-${VK_ICD_FILENAMES:-}}"
+  else
+    for m in "${icd_dirs[@]}"; do manifests+=("$m"/*.json); done
+  fi
+  echo "LD_LIBRARY_PATH=${LD_LIBRARY_PATH:-}"
+  for m in "${manifests[@]}"; do
+    [ -f "$m" ] || continue
+    lib="$(grep -o '"library_path"[^,}]*' "$m" | sed 's/.*: *"\(.*\)"/\1/')"
+    echo "manifest $m: library_path $lib"
+    case "$lib" in
+      /*) path="$lib" ;;
+      */*) path="$(dirname "$m")/$lib" ;;
+      *) path="$(for d in ${LD_LIBRARY_PATH//:/ }; do [ -e "$d/$lib" ] && echo "$d/$lib"; done | head -1)"
+         [ -n "$path" ] || path="$(ldconfig -p | awk -v n="$lib" '$1 == n { print $NF; exit }')" ;;
+    esac
+    if [ -z "$path" ] || [ ! -e "$path" ]; then
+      echo "  $lib: not found on LD_LIBRARY_PATH nor in the linker's cache"
+      continue
+    fi
+    echo "  found at $path; its libraries not found:"
+    ldd "$path" 2>&1 | grep -i "not found" | sed 's/^/    /' || echo "    none"
+  done
+}
 
 if ((quick)); then
   particles=4000; resolution=128x128; frames=6; budget="${budget:-300}"
@@ -176,6 +225,10 @@ step() {
 }
 
 step info "${caps[0]}" "$aquaform" info "${device[@]}"
+if ! grep -q "^aquaform will use device" "$work/info.log" 2>/dev/null; then  # say why in the JSON
+  step vulkan_driver 30 bash -c "$(declare -f driver_report); icd_dirs=(${icd_dirs[*]}); driver_report; \
+    VK_LOADER_DEBUG=error,warn,driver \"\$0\" info 2>&1 | grep -v '^$' | tail -40" "$aquaform"
+fi
 if [ -x "$tests" ]; then
   step gpu_tests "${caps[1]}" env AQUAFORM_VALIDATION=0 "$tests" --gtest_filter="$test_filter" --gtest_brief=1
 else
