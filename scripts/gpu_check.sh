@@ -74,10 +74,12 @@ if ((bundle)); then
   libs="$build/libs"
   rm -rf "$libs" && mkdir -p "$libs" || exit 1
   # NVIDIA's Vulkan driver (libGLX_nvidia) links the X client libraries and glvnd's dispatch
-  # library, which a machine with the driver alone may lack (the first try on a GPU machine found
-  # no driver); the loader must be 1.3.204 or newer (the binary asks for Vulkan 1.3).
+  # library, and without a display it opens glvnd's EGL (libEGL.so.1) at run time: without it
+  # the driver gives the loader no vkCreateInstance (seen on the GPU machine here, driver 580).
+  # A machine with the driver alone may lack them all. The loader must be 1.3.204 or newer (the
+  # binary asks for Vulkan 1.3).
   x_libs=()
-  for name in libXext.so.6 libX11.so.6 libGLdispatch.so.0; do
+  for name in libXext.so.6 libX11.so.6 libGLdispatch.so.0 libEGL.so.1 libGLX.so.0 libGL.so.1 libOpenGL.so.0; do
     path="$(ldconfig -p | awk -v n="$name" '$1 == n && /x86-64/ { print $NF; exit }')"
     [ -n "$path" ] && x_libs+=("$path")
   done
@@ -129,6 +131,12 @@ if [ -z "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ] && ! ls "${icd_dirs[@]}" 2
    [ -f /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json ]; then
   export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
 fi
+# glvnd's EGL finds NVIDIA's EGL through a vendor file, mounted outside the usual places there too.
+nvidia_egl=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+if [ -z "${__EGL_VENDOR_LIBRARY_FILENAMES:-}" ] && [ -f "$nvidia_egl" ] &&
+   ! ls /usr/share/glvnd/egl_vendor.d /etc/glvnd/egl_vendor.d 2>/dev/null | grep -qi nvidia; then
+  export __EGL_VENDOR_LIBRARY_FILENAMES="$nvidia_egl"
+fi
 # Its libraries may be outside the linker's cache too.
 for dir in /usr/local/nvidia/lib64 /usr/local/nvidia/lib; do
   [ -d "$dir" ] && export LD_LIBRARY_PATH="${LD_LIBRARY_PATH:+$LD_LIBRARY_PATH:}$dir"
@@ -144,6 +152,13 @@ driver_report() {
     for m in "${icd_dirs[@]}"; do manifests+=("$m"/*.json); done
   fi
   echo "LD_LIBRARY_PATH=${LD_LIBRARY_PATH:-}"
+  echo "__EGL_VENDOR_LIBRARY_FILENAMES=${__EGL_VENDOR_LIBRARY_FILENAMES:-}"
+  # Opened at run time (no ldd line): NVIDIA's driver without a display needs glvnd's EGL.
+  for lib in libEGL.so.1 libGLdispatch.so.0; do
+    path="$(for d in ${LD_LIBRARY_PATH//:/ }; do [ -e "$d/$lib" ] && echo "$d/$lib"; done | head -1)"
+    [ -n "$path" ] || path="$(ldconfig -p | awk -v n="$lib" '$1 == n { print $NF; exit }')"
+    echo "$lib: ${path:-not found (apt-get install libegl1 libglvnd0, or gpu_check.sh --bundle)}"
+  done
   for m in "${manifests[@]}"; do
     [ -f "$m" ] || continue
     lib="$(grep -o '"library_path"[^,}]*' "$m" | sed 's/.*: *"\(.*\)"/\1/')"
@@ -225,7 +240,20 @@ step() {
 }
 
 step info "${caps[0]}" "$aquaform" info "${device[@]}"
-if ! grep -q "^aquaform will use device" "$work/info.log" 2>/dev/null; then  # say why in the JSON
+# NVIDIA ships its Vulkan driver in its EGL library too: where the GLX one gives the loader no
+# instance (a headless machine), that one is tried, and kept for every step if it finds the GPU.
+found_device() { grep -q "^aquaform will use device" "$work/$1.log" 2>/dev/null; }
+if ! found_device info &&
+   { ldconfig -p | grep -q libEGL_nvidia.so.0 || [ -e /usr/local/nvidia/lib64/libEGL_nvidia.so.0 ]; }; then
+  echo '{"file_format_version": "1.0.0", "ICD": {"library_path": "libEGL_nvidia.so.0", "api_version": "1.3.0"}}' \
+    >"$work/nvidia_egl_icd.json"
+  VK_DRIVER_FILES="$work/nvidia_egl_icd.json" step info_egl "${caps[0]}" "$aquaform" info "${device[@]}"
+  if found_device info_egl; then
+    export VK_DRIVER_FILES="$work/nvidia_egl_icd.json"
+    cp "$work/info_egl.log" "$work/info.log"
+  fi
+fi
+if ! found_device info; then  # say why in the JSON
   step vulkan_driver 30 bash -c "$(declare -f driver_report); icd_dirs=(${icd_dirs[*]}); driver_report; \
     VK_LOADER_DEBUG=error,warn,driver \"\$0\" info 2>&1 | grep -v '^$' | tail -40" "$aquaform"
 fi
