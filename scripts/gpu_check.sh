@@ -18,6 +18,10 @@
 #
 # Usage: scripts/gpu_check.sh [--quick] [--budget SECONDS] [--build DIR] [--out FILE] [--device NAME|INDEX]
 #        (defaults: build/, gpu_check.json in the current directory, automatic device choice)
+#        scripts/gpu_check.sh --env [--build DIR]
+#        prints the exports that give a shell the check's Vulkan set-up (the bundle's libraries,
+#        NVIDIA's driver and EGL vendor files, the bundled validation layer), for other commands
+#        on the same machine: eval "$(bash scripts/gpu_check.sh --env)"
 #        scripts/gpu_check.sh --bundle [--build DIR]
 #        copies what the binary, the tests and NVIDIA's Vulkan driver need from this machine into
 #        DIR/libs (all but the C library and the driver: libstdc++, the Vulkan loader, the X
@@ -30,13 +34,15 @@ build="$root/build"
 out="gpu_check.json"
 quick=0
 bundle=0
+print_env=0
 budget=""
 device=()
-usage="usage: scripts/gpu_check.sh [--quick] [--budget SECONDS] [--build DIR] [--out FILE] [--device D] | --bundle [--build DIR]"
+usage="usage: scripts/gpu_check.sh [--quick] [--budget SECONDS] [--build DIR] [--out FILE] [--device D] | --env | --bundle [--build DIR]"
 while (($#)); do
   case "$1" in
     --quick) quick=1 ;;
     --bundle) bundle=1 ;;
+    --env) print_env=1 ;;
     --budget) budget="${2:-}"; shift ;;
     --build) build="${2:-}"; shift ;;
     --out) out="${2:-}"; shift ;;
@@ -177,6 +183,13 @@ driver_report() {
     ldd "$path" 2>&1 | grep -i "not found" | sed 's/^/    /' || echo "    none"
   done
 }
+
+if ((print_env)); then
+  for name in LD_LIBRARY_PATH VK_DRIVER_FILES VK_LAYER_PATH __EGL_VENDOR_LIBRARY_FILENAMES; do
+    [ -n "${!name:-}" ] && printf 'export %s=%q\n' "$name" "${!name}"
+  done
+  exit 0
+fi
 
 if ((quick)); then
   particles=4000; resolution=128x128; frames=6; budget="${budget:-300}"

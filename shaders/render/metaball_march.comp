@@ -161,7 +161,13 @@ bool march(vec3 o, vec3 d, float t0, float t1, uint primary_pixel, bool inside, 
             return true;
         }
         t_prev = t;
-        t = (t == t1) ? t1 + 1.0 : min(t + params.step, t1);  // the span's end is always sampled
+        // After the first, the samples lie on one lattice along the ray, t = k step, whatever the
+        // span: brute force (the box) and the lists (their spheres) then sample the same points
+        // and find the same first crossing, where a blob thinner than a step would otherwise be
+        // hit by one and stepped over by the other (a hardware device showed it).
+        float next = (floor(t / params.step) + 1.0) * params.step;
+        if (next <= t) next += params.step;  // rounding at a lattice point
+        t = (t == t1) ? t1 + 1.0 : min(next, t1);  // the span's end is always sampled
     }
     if (k < params.max_steps && t <= t1) g_cut = true;
     return false;
