@@ -78,19 +78,20 @@ int cmd_bench(const std::vector<std::string>& argv) {
         return std::fprintf(stderr, "aquaform bench sim: %s\n", ready.error().c_str()), kExitUsage;
 
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});
-    std::printf("bench sim on %s (%s), %ld iterations; best of %ld runs of %ld steps, after %ld warm-up steps\n",
+    std::printf("bench sim on %s (%s), %ld iterations; best of %ld runs of %ld steps, after %ld warm-up steps or more "
+                "(whole frames, the run's time-step rule)\n",
                 ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type), *iterations, *repeats, *steps, *warmup);
-    std::printf("%10s %6s %12s %10s %14s %12s %12s %10s %10s\n", "particles", "iters", "ms/step", "steps/s", "grid ms/step",
-                "B/particle", "(of lists)", "B/cell", "overflow");
+    std::printf("%10s %6s %12s %10s %14s %12s %12s %10s %10s %12s\n", "particles", "iters", "ms/step", "steps/s", "grid ms/step",
+                "B/particle", "(of lists)", "B/cell", "overflow", "steps/frame");
     const study::SolverBenchOptions options{uint32_t(*iterations), uint32_t(*steps), uint32_t(*repeats), uint32_t(*warmup)};
     std::vector<study::SolverBenchRecord> measured;
     nlohmann::json records = nlohmann::json::array();
     for (uint32_t target : sizes) {
         if (interrupted()) break;
         const study::SolverBenchRecord r = study::measure_solver(ctx, target, options);
-        std::printf("%10u %6u %12.2f %10.2f %14.2f %12.1f %12u %10u %9.2f%%\n", r.particles, r.iterations, r.ms_per_step,
+        std::printf("%10u %6u %12.2f %10.2f %14.2f %12.1f %12u %10u %9.2f%% %12u\n", r.particles, r.iterations, r.ms_per_step,
                     r.steps_per_s, r.neighbor_search_ms, r.gpu_bytes_per_particle, r.neighbor_list_bytes_per_particle,
-                    r.gpu_bytes_per_cell, 100.0 * r.list_overflow_fraction);
+                    r.gpu_bytes_per_cell, 100.0 * r.list_overflow_fraction, r.steps_per_frame);
         std::fflush(stdout);
         measured.push_back(r);
         records.push_back(study::to_json(r));

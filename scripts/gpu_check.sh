@@ -4,8 +4,9 @@
 # still reports what it did:
 #   - `aquaform info` (the devices, and the one used; why none, when none is found),
 #   - the GPU test subset (the suites whose tests run passes on the device),
-#   - `bench sim` at 1M particles: a dam break well into its collapse (240 steps of warm-up), with
-#     4 iterations as the shipped scenes use; verdict: <= 8 ms per step,
+#   - `bench sim` at 1M particles: a dam break well into its collapse (240 steps or more of
+#     warm-up, whole frames at the run's time-step rule, timed at its step), with 4 iterations as
+#     the shipped scenes use; verdict: <= 8 ms per step,
 #   - `bench render` at 1M particles and 1920x1080 (a calm, a curtain and a splashy frame), best of
 #     3 renders (the first warms up); verdict: the adaptive reconstruction plus the frame grid the
 #     solver sorts for it <= 10 ms,

@@ -19,12 +19,16 @@ struct SolverBenchOptions {
     uint32_t iterations = 4;  ///< constraint iterations per step
     uint32_t steps = 4;       ///< steps per timed run
     uint32_t repeats = 3;     ///< timed runs; the fastest counts (noise on a shared machine only adds time)
-    uint32_t warmup = 20;     ///< steps before timing, so that the column has started to fall
+    /// Steps before timing, so that the column has started to fall: whole frames at the
+    /// time-step rule's steps until at least this many were taken.
+    uint32_t warmup = 20;
 };
 
 struct SolverBenchRecord {
     uint32_t particles = 0;
     uint32_t iterations = 0;
+    uint32_t warmup_steps = 0;     ///< steps the warm-up took (whole frames)
+    uint32_t steps_per_frame = 0;  ///< the time-step rule's steps a frame at the timed state
     double ms_per_step = 0.0;
     double steps_per_s = 0.0;
     /// Grid build, reorder and neighbour lists per step (the passes of kNeighborSearchPasses).

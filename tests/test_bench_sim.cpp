@@ -31,6 +31,16 @@ TEST_F(BenchSimTest, MeasuresTheSolverOnADamBreakOfTheAskedSize) {
     EXPECT_GT(r.gpu_bytes_per_particle, 100.0);  // positions, velocities, grid entries, neighbour lists...
 }
 
+TEST_F(BenchSimTest, WarmsUpAsARunStepsAndTimesTheRulesStep) {
+    // 16k particles, 2 iterations: the column compresses past the density bound in its first
+    // frames, and the time-step rule takes more than the scene's 2 steps a frame. Fixed steps
+    // (what the warm-up was) would time the scene's 2, whatever the state.
+    const study::SolverBenchRecord r = study::measure_solver(ctx(), 16000, {2, 1, 1, 20});
+    EXPECT_GT(r.steps_per_frame, 2u) << "the timed steps are the time-step rule's, not the scene's least";
+    EXPECT_GE(r.warmup_steps, 20u);
+    EXPECT_EQ(r.list_overflow_fraction, 0.0) << "a state the rule keeps: no particle past its list";
+}
+
 TEST(BenchSimExponent, IsTheSlopeOfLogTimeAgainstLogParticles) {
     std::vector<study::SolverBenchRecord> records(3);
     const double n[] = {1000, 2000, 8000};
