@@ -25,10 +25,11 @@
 #        on the same machine: eval "$(bash scripts/gpu_check.sh --env)"
 #        scripts/gpu_check.sh --bundle [--build DIR]
 #        copies what the binary, the tests and NVIDIA's Vulkan driver need from this machine into
-#        DIR/libs (all but the C library and the driver: libstdc++, the Vulkan loader, the X
-#        libraries the driver links), for a GPU machine that lacks Debian's packages, prints what
+#        DIR/libs (all but the C library and the driver: libstdc++, the Vulkan loader, the X and
+#        glvnd libraries the driver links or opens, the validation layer the tests use), for a GPU
+#        machine that lacks Debian's packages, prints what
 #        it copied and checked, and packs binary, tests and libraries into DIR/gpu_bundle.tar.xz
-#        (about 17 MB); a check given only that file (no DIR/aquaform) unpacks it first.
+#        (about 21 MB); a check given only that file (no DIR/aquaform) unpacks it first.
 set -uo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="$root/build"
