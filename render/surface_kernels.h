@@ -10,7 +10,8 @@
 //                   (march, mask, sprites, mesh samples) reads them as it reads particles
 // GPU memory per particle: 48 B shape + 16 B centre in the particles' order (kShapeBytesPerParticle;
 // what the classification needs too), and once the kernels are first recorded, the kernel grid's
-// 12 B and 16 + 48 + 4 + 4 B in kernel order (kKernelBytesPerParticle), plus 8 B per cell.
+// 16 B (kGridSortBytesPerParticle) and 16 + 48 + 4 + 4 B in kernel order (kKernelBytesPerParticle):
+// 152 B in all, plus 8 B per cell.
 #pragma once
 
 #include <cstdint>
