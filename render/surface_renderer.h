@@ -139,7 +139,7 @@ private:
     void dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count, uint32_t mode,
                         int resume_out, uint32_t first = 0, uint32_t stride = 1, uint32_t threads = 0);
     /// The first march over the main ray list (up to one ray per pixel). It is a frame's longest
-    /// pass: it runs as march_slices() interleaved slices, each a timed scope the queue may be cut before.
+    /// pass: it runs in slices of march_chunk() rays, each a timed scope the queue may be cut before.
     void record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* timer);
     /// A march pass over a ray list, in march_slices() dispatches.
     void dispatch_march_list(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count, uint32_t mode,
@@ -151,6 +151,9 @@ private:
     /// Dispatches one march pass is split into: its worst case (every ray spending its pass's
     /// evaluations) within the device's work budget (gpu::Context::dispatch_slices).
     uint32_t march_slices() const;
+    /// Rays a slice marches: the list's contiguous share, at most its length / march_slices()
+    /// (a whole number of workgroups); the whole list when one slice keeps to the budget.
+    uint32_t march_chunk() const;
     /// Resume passes: enough for max_steps evaluations a ray, at most 64; at least
     /// kResumePasses on a device that ends long loops.
     uint32_t resume_passes() const;
