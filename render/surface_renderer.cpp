@@ -290,7 +290,7 @@ void SurfaceRenderer::record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* tim
     const uint32_t pixels = width_ * height_, chunk = march_chunk();
     for (uint32_t first = 0; first < pixels; first += chunk) {
         gpu::GpuScope scope(timer, cmd, "render_march");  // the timer adds the slices up
-        dispatch_march(cmd, rays_, *ray_count_, 0, 0, first, 1, chunk);
+        dispatch_march(cmd, rays_, *ray_count_, 0, 0, first, chunk);
     }
 }
 
@@ -333,11 +333,11 @@ void SurfaceRenderer::dispatch_march_list(VkCommandBuffer cmd, const gpu::Buffer
     if (march_slices() == 1) return dispatch_march(cmd, rays, ray_count, mode, resume_out);
     const uint32_t chunk = march_chunk();
     for (uint32_t first = 0; first < pixels; first += chunk)
-        dispatch_march(cmd, rays, ray_count, mode, resume_out, first, 1, chunk);
+        dispatch_march(cmd, rays, ray_count, mode, resume_out, first, chunk);
 }
 
 void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count,
-                                     uint32_t mode, int resume_out, uint32_t first, uint32_t stride, uint32_t threads) {
+                                     uint32_t mode, int resume_out, uint32_t first, uint32_t threads) {
     const gpu::Bindings buffers{
         {"params", params_buf_}, {"sorted", field_sorted_}, {"shape", field_shape_}, {"cell_rank", field_cell_rank_}, {"cell_start", field_cell_start_}, {"mask", mask_}, {"coarse", coarse_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_},
         {"normal_screen", normal_screen_}, {"rays", rays}, {"ray_count", &ray_count}, {"hit", hit_}, {"normal", normal_}, {"march_cut", march_cut_}, {"resume_rays", resume_rays_[resume_out]}, {"resume_count", resume_count_[resume_out]},
@@ -345,7 +345,6 @@ void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* ray
         {"depth_splash_back", depth_splash_back_}, {"class_density", field_class_density_}, {"spray", spray_}};
     SurfacePassPush push = axis_push(mode);
     push.first = first;
-    push.stride = stride;
     push.evals_per_pass = resume_passes() > 0 ? evals_per_pass() : 0u;  // 0: no pass follows, count cut rays
     if (threads > 0) {
         gpu::dispatch(*ctx_, cmd, march_pass(), threads, push, buffers);

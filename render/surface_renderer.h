@@ -134,10 +134,10 @@ private:
     /// The march over one ray list, dispatched indirectly with one thread per ray.
     void record_march(VkCommandBuffer cmd, const gpu::Buffer& rays, const gpu::Buffer& ray_count);
     /// One march dispatch: mode 0 first march, 1 resume, 2 last resume; cut rays go to resume
-    /// list `resume_out`. `threads` > 0: that many threads, thread i marching ray first + i * stride
+    /// list `resume_out`. `threads` > 0: that many threads, thread i marching ray first + i
     /// of the list; else one thread per ray of the list's count, dispatched indirectly.
     void dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count, uint32_t mode,
-                        int resume_out, uint32_t first = 0, uint32_t stride = 1, uint32_t threads = 0);
+                        int resume_out, uint32_t first = 0, uint32_t threads = 0);
     /// The first march over the main ray list (up to one ray per pixel). It is a frame's longest
     /// pass: it runs in slices of march_chunk() rays, each a timed scope the queue may be cut before.
     void record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* timer);

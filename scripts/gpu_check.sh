@@ -150,6 +150,14 @@ for dir in /usr/local/nvidia/lib64 /usr/local/nvidia/lib; do
   [ -d "$dir" ] && export LD_LIBRARY_PATH="${LD_LIBRARY_PATH:+$LD_LIBRARY_PATH:}$dir"
 done
 
+# Where the dynamic linker would find library NAME: on LD_LIBRARY_PATH, else in its cache.
+find_library() {
+  local found
+  found="$(for d in ${LD_LIBRARY_PATH//:/ }; do [ -e "$d/$1" ] && echo "$d/$1"; done | head -1)"
+  [ -n "$found" ] || found="$(ldconfig -p | awk -v n="$1" '$1 == n { print $NF; exit }')"
+  echo "$found"
+}
+
 # Why the loader would find no driver: each driver manifest in use, the library it names, where
 # that library is, and what it links that cannot be found (ldd's "not found").
 driver_report() {
@@ -163,8 +171,7 @@ driver_report() {
   echo "__EGL_VENDOR_LIBRARY_FILENAMES=${__EGL_VENDOR_LIBRARY_FILENAMES:-}"
   # Opened at run time (no ldd line): NVIDIA's driver without a display needs glvnd's EGL.
   for lib in libEGL.so.1 libGLdispatch.so.0; do
-    path="$(for d in ${LD_LIBRARY_PATH//:/ }; do [ -e "$d/$lib" ] && echo "$d/$lib"; done | head -1)"
-    [ -n "$path" ] || path="$(ldconfig -p | awk -v n="$lib" '$1 == n { print $NF; exit }')"
+    path="$(find_library "$lib")"
     echo "$lib: ${path:-not found (apt-get install libegl1 libglvnd0, or gpu_check.sh --bundle)}"
   done
   for m in "${manifests[@]}"; do
@@ -174,8 +181,7 @@ driver_report() {
     case "$lib" in
       /*) path="$lib" ;;
       */*) path="$(dirname "$m")/$lib" ;;
-      *) path="$(for d in ${LD_LIBRARY_PATH//:/ }; do [ -e "$d/$lib" ] && echo "$d/$lib"; done | head -1)"
-         [ -n "$path" ] || path="$(ldconfig -p | awk -v n="$lib" '$1 == n { print $NF; exit }')" ;;
+      *) path="$(find_library "$lib")" ;;
     esac
     if [ -z "$path" ] || [ ! -e "$path" ]; then
       echo "  $lib: not found on LD_LIBRARY_PATH nor in the linker's cache"
@@ -269,7 +275,7 @@ if ! found_device info &&
   fi
 fi
 if ! found_device info; then  # say why in the JSON
-  step vulkan_driver 30 bash -c "$(declare -f driver_report); icd_dirs=(${icd_dirs[*]}); driver_report; \
+  step vulkan_driver 30 bash -c "$(declare -f find_library driver_report); icd_dirs=(${icd_dirs[*]}); driver_report; \
     VK_LOADER_DEBUG=error,warn,driver \"\$0\" info 2>&1 | grep -v '^$' | tail -40" "$aquaform"
 fi
 if [ -x "$tests" ]; then

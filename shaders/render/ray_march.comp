@@ -156,7 +156,7 @@ void save_state(uint index, float t, float t_phase, uint evals, uint leaps, bool
 }
 
 void main() {
-    uint ray = pc.first + gl_GlobalInvocationID.x * max(pc.stride, 1u);
+    uint ray = pc.first + gl_GlobalInvocationID.x;
     if (ray >= ray_count[0]) return;
     uint packed = rays[ray];
     uvec2 pixel = uvec2(packed & 0xffffu, packed >> 16u);

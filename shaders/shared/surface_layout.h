@@ -155,13 +155,12 @@ struct SurfaceParams {
 
 /// Push block of the passes that need one more number than SurfaceParams (the separable
 /// convolution's axis, the bilateral filter's direction; the ray march's mode and its first ray,
-/// as the first march may be dispatched in slices: thread i marches ray
-/// first + i * stride, stride 0 meaning 1; and its evaluations per pass before a ray yields,
-/// 0 meaning never).
+/// as the first march may be dispatched in slices of contiguous rays: thread i marches ray
+/// first + i; and its evaluations per pass before a ray yields, 0 meaning never).
 struct SurfacePassPush {
     uint axis;
     uint first;
-    uint stride;
+    uint pad0;
     uint evals_per_pass;
 };
 
