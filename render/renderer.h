@@ -66,6 +66,13 @@ struct RenderStats {
     bool list_overflow = false;  ///< per-pixel lists needed more than their memory (metaballs)
     uint64_t list_bytes_needed = 0;
     uint64_t dropped_particles = 0;  ///< particles at the eye plane left out of every list
+    // The SPH surface methods' depth sprites (render/surface_renderer.h, SpriteCounts):
+    uint64_t sprites = 0;              ///< particles whose sprite reached the screen
+    uint64_t sprite_pixels = 0;        ///< pixels walked over the footprints
+    uint64_t sprite_covered = 0;       ///< of which pixels that see a sprite's support
+    uint64_t sprite_depth_atomics = 0;  ///< atomics issued into the depth maps
+    uint64_t sprite_thickness_atomics = 0;  ///< atomics issued into the thickness
+    uint64_t sprite_longest_walk = 0;  ///< the most pixels one invocation walked
     std::string family_line;         ///< the family's own one-line account (e.g. MetaballStats::describe)
     /// One line: rays, evaluations per ray, and what went wrong with the fix.
     std::string describe() const;

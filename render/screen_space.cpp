@@ -114,6 +114,7 @@ ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain
     // The splat's D_agg, classification and D_splash_back outputs: with no aggregates and mode 0
     // it writes none, so one small buffer stands in for them instead of three per-pixel maps.
     unused_ = &buffers_.add("ss.unused_splat_outputs", 16);
+    splat_counters_ = &buffers_.add("ss.splat_counters", SPLAT_COUNTERS * 4);
     raw_ = &buffers_.add("ss.depth_raw", pixels * 4);
     filtered_ = &buffers_.add("ss.depth_filtered", pixels * 4);
     scratch_ = &buffers_.add("ss.depth_scratch", pixels * 4);
@@ -123,7 +124,7 @@ ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain
     color_ = &buffers_.add("ss.color", pixels * 4);
 
     const uint32_t push = sizeof(SurfacePassPush);
-    splat_ = gpu::ComputePass(ctx, {"render/splat.comp", 9, push});
+    splat_ = gpu::ComputePass(ctx, {"render/splat.comp", 10, push});
     bilateral_ = gpu::ComputePass(ctx, {"render/ss_bilateral.comp", 3, push});
     narrow_range_ = gpu::ComputePass(ctx, {"render/ss_narrow_range.comp", 3, push});
     curvature_flow_ = gpu::ComputePass(ctx, {"render/ss_curvature_flow.comp", 3});
@@ -162,8 +163,9 @@ void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positio
         gpu::GpuScope scope(timer, cmd, "ss_splat");
         gpu::fill(*ctx_, cmd, *raw_, DEPTH_EMPTY);
         gpu::fill(*ctx_, cmd, *thickness_, 0u);
+        gpu::fill(*ctx_, cmd, *splat_counters_, 0u);
         gpu::dispatch(*ctx_, cmd, splat_, std::max(count, 1u), axis_push(0),
-                      {{"params", params_buf_}, {"sorted", &positions}, {"shape", unused_}, {"aggregate", aggregate_}, {"depth_all", raw_}, {"depth_agg", unused_}, {"thickness", thickness_}, {"front_class", unused_}, {"depth_splash_back", unused_}});
+                      {{"params", params_buf_}, {"sorted", &positions}, {"shape", unused_}, {"aggregate", aggregate_}, {"depth_all", raw_}, {"depth_agg", unused_}, {"thickness", thickness_}, {"front_class", unused_}, {"depth_splash_back", unused_}, {"splat_counters", splat_counters_}});
     }
     {
         gpu::GpuScope scope(timer, cmd, "ss_filter");

@@ -143,7 +143,7 @@ private:
     shader::SurfaceParams params_{};
     shader::ScreenSpaceParams filter_params_{};
     gpu::BufferSet buffers_;
-    gpu::Buffer *params_buf_, *filter_params_buf_, *aggregate_, *unused_;
+    gpu::Buffer *params_buf_, *filter_params_buf_, *aggregate_, *unused_, *splat_counters_;
     gpu::Buffer *raw_, *filtered_, *scratch_, *thickness_, *hit_, *normal_, *color_;
     gpu::ComputePass splat_, bilateral_, narrow_range_, curvature_flow_, normals_, hit_pass_, compose_;
 };

@@ -21,6 +21,13 @@ public:
         }
         s.evaluations = s.march_steps + s.bisection_evaluations;
         s.cut = impl_.cut_rays();
+        const SpriteCounts sprites = impl_.sprite_counts();
+        s.sprites = sprites.sprites;
+        s.sprite_pixels = sprites.pixels;
+        s.sprite_covered = sprites.covered;
+        s.sprite_depth_atomics = sprites.depth_atomics;
+        s.sprite_thickness_atomics = sprites.thickness_atomics;
+        s.sprite_longest_walk = sprites.longest_walk;
         return s;
     }
 };

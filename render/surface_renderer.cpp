@@ -77,6 +77,7 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     normal_tmp_ = &buffers_.add("render.normal_tmp", pixels * 16);
     spray_ = &buffers_.add("render.spray", pixels * 4);
     color_ = &buffers_.add("render.color", pixels * 4);
+    splat_counters_ = &buffers_.add("render.splat_counters", SPLAT_COUNTERS * 4);
 
     const uint32_t push = sizeof(SurfacePassPush);
     gather_ = gpu::ComputePass(ctx, {"render/gather.comp", 4});
@@ -84,7 +85,8 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     mask_convolve_ = gpu::ComputePass(ctx, {"render/mask_convolve.comp", 5, push});
     mask_bound_ = gpu::ComputePass(ctx, {"render/mask_bound.comp", 6});
     mask_pack_ = gpu::ComputePass(ctx, {"render/mask_pack.comp", 4});
-    splat_ = gpu::ComputePass(ctx, {"render/splat.comp", 9, push});
+    for (uint32_t balanced : {0u, 1u})
+        splat_[balanced] = gpu::ComputePass(ctx, {"render/splat.comp", 10, push, gpu::kDefaultLocalSize, {balanced}});
     depth_smooth_ = gpu::ComputePass(ctx, {"render/depth_smooth.comp", 3, push});
     screen_normals_ = gpu::ComputePass(ctx, {"render/screen_normals.comp", 3});
     tiles_ = gpu::ComputePass(ctx, {"render/tiles.comp", 5, 0, 64});
@@ -227,30 +229,31 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         gpu::fill(*ctx_, cmd, *depth_splash_back_, 0u);
         gpu::fill(*ctx_, cmd, *thickness_, 0u);
         gpu::fill(*ctx_, cmd, *front_class_, 0u);
+        gpu::fill(*ctx_, cmd, *splat_counters_, 0u);
     }
     const gpu::Bindings splat_buffers{
         {"params", params_buf_}, {"sorted", field_sorted_}, {"shape", field_shape_}, {"aggregate", field_aggregate_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_}, {"thickness", thickness_}, {"front_class", front_class_},
-        {"depth_splash_back", depth_splash_back_}};
+        {"depth_splash_back", depth_splash_back_}, {"splat_counters", splat_counters_}};
     // The splat is a long pass too: where the caller shares the queue (gpu::Context::QueueSharing)
     // it runs in slices of particles, each its own timed scope, so that the queue can be cut
     // between them (as in record_first_march).
     // Slices are whole workgroups: the shader only checks the particle count, so a slice's
     // rounded-up last group must not reach into the next slice (it would splat twice).
-    const uint32_t slices = ctx_->long_pass_slices(), group = splat_.desc().local_size;
+    const uint32_t slices = ctx_->long_pass_slices(), group = splat_pass().desc().local_size;
     const uint32_t per_slice = ((particles + slices - 1) / slices + group - 1) / group * group;
     for (uint32_t first = 0; first < particles; first += per_slice) {
             gpu::GpuScope scope(timer, cmd, "render_splat");
         SurfacePassPush push = axis_push(0);
         push.first = first;
-        gpu::dispatch(*ctx_, cmd, splat_, std::min(per_slice, particles - first), push, splat_buffers);
+        gpu::dispatch(*ctx_, cmd, splat_pass(), std::min(per_slice, particles - first), push, splat_buffers);
     }
     if ((params_.flags & SURFACE_USE_SKIP) && !(params_.flags & SURFACE_WU_SKIP)) {  // the exact skip's D_splash_back
         gpu::GpuScope scope(timer, cmd, "render_splat");
-        gpu::dispatch(*ctx_, cmd, splat_, particles, axis_push(2), splat_buffers);
+        gpu::dispatch(*ctx_, cmd, splat_pass(), particles, axis_push(2), splat_buffers);
     }
     if (adaptive && diagnostics_) {
         gpu::GpuScope scope(timer, cmd, "render_splat");
-        gpu::dispatch(*ctx_, cmd, splat_, particles, axis_push(1), splat_buffers);
+        gpu::dispatch(*ctx_, cmd, splat_pass(), particles, axis_push(1), splat_buffers);
     }
     record_screen_passes(cmd, timer);
     record_first_march(cmd, timer);
@@ -442,6 +445,12 @@ std::vector<glm::vec2> SurfaceRenderer::blend_weights() {
     return gpu::download_vector<glm::vec2>(*ctx_, *blend_weights_, size_t(width_) * height_);
 }
 uint32_t SurfaceRenderer::cut_rays() { return gpu::download_vector<uint32_t>(*ctx_, *march_cut_, 1)[0]; }
+
+SpriteCounts SurfaceRenderer::sprite_counts() {
+    const auto c = gpu::download_vector<uint32_t>(*ctx_, *splat_counters_, SPLAT_COUNTERS);
+    return {c[SPLAT_COUNTER_SPRITES],       c[SPLAT_COUNTER_PIXELS],           c[SPLAT_COUNTER_COVERED],
+            c[SPLAT_COUNTER_DEPTH_ATOMICS], c[SPLAT_COUNTER_THICKNESS_ATOMICS], c[SPLAT_COUNTER_LONGEST_WALK]};
+}
 
 uint32_t SurfaceRenderer::rays_cast() {
     uint32_t rays = gpu::download_vector<uint32_t>(*ctx_, *ray_count_, 1)[0];

@@ -56,6 +56,16 @@ struct RayCounts {
     uint32_t leaps = 0;      ///< jumps over cells the binary density grid marks empty (no evaluation)
     uint32_t evaluations() const { return march + bisection; }
 };
+/// What the depth sprites did (shaders/shared/surface_layout.h, SPLAT_COUNTER_*), summed over
+/// the frame's sprite passes.
+struct SpriteCounts {
+    uint32_t sprites = 0;            ///< particles whose sprite reached the screen
+    uint32_t pixels = 0;             ///< pixels the invocations walked (the footprints' squares)
+    uint32_t covered = 0;            ///< of which pixels that see a sprite's support
+    uint32_t depth_atomics = 0;      ///< atomics into D_all, D_agg and D_splash_back
+    uint32_t thickness_atomics = 0;  ///< atomics into the thickness
+    uint32_t longest_walk = 0;       ///< the most pixels one invocation walked
+};
 constexpr uint32_t kSurfaceBytesPerParticle = kShapeBytesPerParticle + 4 + 4;
 /// Without a shared grid, the renderer's own grid (its sort; and 8 B per cell) and its sorted
 /// copy of the positions.
@@ -108,6 +118,10 @@ public:
     std::vector<uint32_t> mask_words();         ///< the binary density grid (layout: surface_layout.h)
     std::vector<uint32_t> coarse_words();
     uint32_t rays_cast();                        ///< length of the last ray list
+    SpriteCounts sprite_counts();                ///< the last frame's depth sprites
+    /// The depth sprites' walk: a workgroup's particles share out their footprints' pixels (the
+    /// default), or each walks its own (as before issue 36; kept to compare the two).
+    void set_balanced_sprites(bool on) { balanced_sprites_ = on; }
     /// Per pixel: what its ray spent (zero for pixels filled by interpolation or without a ray).
     std::vector<RayCounts> ray_counts();
     /// Per pixel: (w1, w2) of Wu et al. eqs. 12-13 where the normals were blended, else (-1, -1).
@@ -183,11 +197,16 @@ private:
     gpu::Buffer *params_buf_, *class_density_, *aggregate_;
     gpu::Buffer *depth_all_, *depth_agg_, *depth_splash_back_, *thickness_, *front_class_, *smooth_a_, *smooth_b_, *normal_screen_;
     gpu::Buffer *tile_level_, *rays_, *ray_count_, *edge_rays_, *edge_count_, *march_groups_, *hit_, *normal_, *normal_tmp_, *color_;
-    gpu::Buffer* march_cut_;
+    gpu::Buffer *march_cut_, *splat_counters_;
     gpu::Buffer *ray_counts_, *blend_weights_, *spray_;
     gpu::Buffer *resume_rays_[2], *resume_count_[2], *resume_state_;
     gpu::Buffer *conv_a_ = nullptr, *conv_b_ = nullptr, *mask_ = nullptr, *coarse_ = nullptr;
-    gpu::ComputePass gather_, classify_density_, mask_convolve_, mask_bound_, mask_pack_, splat_;
+    gpu::ComputePass gather_, classify_density_, mask_convolve_, mask_bound_, mask_pack_;
+    /// The depth sprites, each invocation walking its own particle's footprint [0] or the
+    /// workgroup sharing them out [1] (its constant_id 1).
+    gpu::ComputePass splat_[2];
+    bool balanced_sprites_ = true;
+    const gpu::ComputePass& splat_pass() const { return splat_[balanced_sprites_ ? 1 : 0]; }
     gpu::ComputePass depth_smooth_, screen_normals_, tiles_, ray_args_, upsample_, normal_filter_, compose_;
     /// The ray march for the isotropic [0] and the anisotropic [1] field (its constant_id 1).
     gpu::ComputePass ray_march_[2];

@@ -116,6 +116,15 @@ nlohmann::json render_record(const std::string& label, const RenderMeasurement& 
         r["steps_per_ray"] = steps_per_ray(m);
         r["bisection_per_ray"] = bisection_per_ray(m);
         r["mask_leaps_per_ray"] = leaps_per_ray(m);
+        // What the depth sprites did, in counts that do not depend on the device.
+        r["sprites"] = {{"sprites", m.stats.sprites},
+                        {"pixels_walked", m.stats.sprite_pixels},
+                        {"pixels_covered", m.stats.sprite_covered},
+                        {"depth_atomics", m.stats.sprite_depth_atomics},
+                        {"thickness_atomics", m.stats.sprite_thickness_atomics},
+                        {"longest_walk", m.stats.sprite_longest_walk}};
+        r["march_steps"] = m.stats.march_steps;
+        r["bisection_evaluations"] = m.stats.bisection_evaluations;
     }
     if (cmp) {
         r["depth_err_mean"] = cmp->depth_err_mean;
