@@ -60,6 +60,7 @@ std::string RenderStats::describe() const {
     if (list_overflow) text << "; lists OVERFLOWED (need " << list_bytes_needed << " bytes)";
     if (dropped_particles) text << "; " << dropped_particles << " particles at the eye plane in no list";
     if (!family_line.empty()) text << " [" << family_line << "]";
+    if (!resolution_note.empty()) text << " (" << resolution_note << ")";
     return text.str();
 }
 

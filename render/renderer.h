@@ -74,6 +74,8 @@ struct RenderStats {
     uint64_t sprite_thickness_atomics = 0;  ///< atomics issued into the thickness
     uint64_t sprite_longest_walk = 0;  ///< the most pixels one invocation walked
     std::string family_line;         ///< the family's own one-line account (e.g. MetaballStats::describe)
+    /// The SPH surface methods: why adaptive resolution was asked for and not used (empty otherwise).
+    std::string resolution_note;
     /// One line: rays, evaluations per ray, and what went wrong with the fix.
     std::string describe() const;
 };

@@ -28,6 +28,7 @@ public:
         s.sprite_depth_atomics = sprites.depth_atomics;
         s.sprite_thickness_atomics = sprites.thickness_atomics;
         s.sprite_longest_walk = sprites.longest_walk;
+        s.resolution_note = impl_.resolution_note();
         return s;
     }
 };

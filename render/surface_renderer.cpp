@@ -29,6 +29,17 @@ uint32_t march_evals_per_pass(const gpu::DeviceInfo& device) {
 /// reference's fine steps across a deep volume); rays still marching after them are counted as cut.
 constexpr uint32_t kMaxResumePasses = 64;
 
+/// The smallest picture at which adaptive resolution is used on a GPU (issue 36). Its fixed costs
+/// (the upsample over every pixel, the silhouette rays' second march with its own resume passes)
+/// do not shrink with the picture, while the rays it saves do. On an H200 (docs/measurements.md)
+/// it lost at 512x512 (calm: 4.1 ms against 2.8 ms at full resolution) and tied or won at
+/// 2048x2048 (12.5 against 12.8 ms; 19.2 against 30.1 ms); Wu et al. (Table 1) gain from 1024^2
+/// on. 1920x1080 is the smallest size the GPU check measures it at both ways. The software
+/// device runs a SIMD group of rays in a lane-by-lane loop, with no fixed cost to amortise: it
+/// gained at every size measured (0.67-1.0x the full-resolution time at 512x512), so there it
+/// is always used.
+constexpr uint64_t kAdaptiveResolutionMinPixels = 1920ull * 1080ull;
+
 SurfacePassPush axis_push(uint32_t axis) {
     SurfacePassPush push{};
     push.axis = axis;
@@ -171,6 +182,13 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     prepare_grid(render_radius(settings, domain_));
     count_ = count;
     params_ = make_surface_params(settings, domain_, geometry_, camera, width_, height_, count);
+    resolution_note_.clear();
+    if ((params_.flags & SURFACE_ADAPTIVE_RES) && !adaptive_resolution_pays()) {
+        params_.flags &= ~SURFACE_ADAPTIVE_RES;
+        resolution_note_ = "full resolution: adaptive resolution pays on a GPU from " +
+                           std::to_string(kAdaptiveResolutionMinPixels) + " pixels (1920x1080) on; this picture has " +
+                           std::to_string(uint64_t(width_) * height_);
+    }
     gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof(params_));
 
     const uint32_t pixels = width_ * height_;
@@ -295,6 +313,14 @@ void SurfaceRenderer::record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* tim
         gpu::GpuScope scope(timer, cmd, "render_march");  // the timer adds the slices up
         dispatch_march(cmd, rays_, *ray_count_, 0, 0, first, chunk);
     }
+}
+
+bool adaptive_resolution_pays(VkPhysicalDeviceType device, uint32_t width, uint32_t height) {
+    return device == VK_PHYSICAL_DEVICE_TYPE_CPU || uint64_t(width) * height >= kAdaptiveResolutionMinPixels;
+}
+
+bool SurfaceRenderer::adaptive_resolution_pays() const {
+    return aquaform::adaptive_resolution_pays(ctx_->info().type, width_, height_);
 }
 
 uint32_t SurfaceRenderer::evals_per_pass() const {

@@ -28,6 +28,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "gpu/buffer.h"
@@ -70,6 +71,10 @@ constexpr uint32_t kSurfaceBytesPerParticle = kShapeBytesPerParticle + 4 + 4;
 /// Without a shared grid, the renderer's own grid (its sort; and 8 B per cell) and its sorted
 /// copy of the positions.
 constexpr uint32_t kOwnGridBytesPerParticle = kGridSortBytesPerParticle + 16;
+
+/// Whether adaptive resolution is used for a width x height picture on a device of this type
+/// (render/surface_renderer.cpp, kAdaptiveResolutionMinPixels: on a GPU, from 1920x1080 on).
+bool adaptive_resolution_pays(VkPhysicalDeviceType device, uint32_t width, uint32_t height);
 
 class SurfaceRenderer {
 public:
@@ -119,6 +124,12 @@ public:
     std::vector<uint32_t> coarse_words();
     uint32_t rays_cast();                        ///< length of the last ray list
     SpriteCounts sprite_counts();                ///< the last frame's depth sprites
+    /// Whether adaptive resolution, where asked for, is used at this renderer's picture size on
+    /// this device: it has fixed costs that a small picture on a GPU does not earn back.
+    bool adaptive_resolution_pays() const;
+    /// Why the last frame was drawn at full resolution although adaptive resolution was asked
+    /// for; empty when it was used or not asked for.
+    const std::string& resolution_note() const { return resolution_note_; }
     /// The depth sprites' walk: a workgroup's particles share out their footprints' pixels (the
     /// default), or each walks its own (as before issue 36; kept to compare the two).
     void set_balanced_sprites(bool on) { balanced_sprites_ = on; }
@@ -178,6 +189,7 @@ private:
     uint32_t width_, height_, max_particles_;
     uint32_t count_ = 0;
     bool diagnostics_ = false;
+    std::string resolution_note_;
     shader::SurfaceParams params_{};
     gpu::BufferSet buffers_;
     std::unique_ptr<gpu::BufferSet> mask_buffers_;  // per radius
