@@ -29,7 +29,11 @@ const BenchConfig kConfigs[] = {
 constexpr double kStepsTarget = 0.50;        // mask+skip march steps per ray / uniform's (Wu et al.: ~50 %)
 constexpr double kResTimeTarget = 0.60;      // adaptive (march + upsample) / full-resolution march (Wu Table 1: 0.57)
 constexpr double kResPsnrTarget = 40.0;      // dB, adaptive against its full-resolution twin
-constexpr double kGpuMsTarget = 10.0;        // whole reconstruction, 1M particles at 1920x1080
+// Issue 36, 1M particles at 1920x1080 on a GPU: the whole reconstruction (with the solver's frame
+// grid, judged by scripts/gpu_check_report.py), all depth sprites, and the march.
+constexpr double kGpuMsTarget = 4.0;
+constexpr double kGpuSpriteMsTarget = 0.6;
+constexpr double kGpuMarchMsTarget = 2.0;
 constexpr uint32_t kGpuTargetParticles = 1000000;
 constexpr double kDropletAreaTolerance = 0.10;  // anisotropic droplet's projected area against the isotropic one's
 constexpr double kSheetCoverageTarget = 0.99;   // the sheet's area the anisotropic surface covers
@@ -175,6 +179,12 @@ Verdict resolution_target(const std::vector<Measured>& results) {
               {"time_ratio_max", kResTimeTarget},
               {"psnr_db_vs_full_res", db},
               {"psnr_db_min", kResPsnrTarget},
+              // The whole frame both ways (what gpu_check_report.py judges on a GPU: at least 1.5x
+              // faster on broad surfaces, never slower), and whether the renderer used it.
+              {"ms_total", a->m.ms_total},
+              {"full_res_ms_total", full->m.ms_total},
+              {"speedup", a->m.ms_total > 0.0 ? full->m.ms_total / a->m.ms_total : 0.0},
+              {"used", a->m.stats.resolution_note.empty()},
               {"status", status_of(pass)},
               {"pass", pass}};
     v.line = format_text("adaptive resolution: march + upsample = %.1f%% of the full-resolution march (%.2f + %.2f vs %.2f ms; "
@@ -417,7 +427,10 @@ Chart blend_sweep_chart(const std::vector<SweepPoint>& points) {
 /// `requested`: --particles (the lattice holds a little fewer: 986,078 for 1,000,000).
 Verdict gpu_target(const std::vector<Measured>& results, const gpu::DeviceInfo& device, long requested, uint32_t particles,
                    uint32_t width, uint32_t height) {
-    const std::string target = "whole reconstruction (adaptive) <= 10 ms for 1M particles at 1920x1080 on a real GPU";
+    const std::string target = format_text(
+        "adaptive reconstruction <= %.0f ms, its depth sprites <= %.1f ms and its march <= %.0f ms for 1M particles at "
+        "1920x1080 on a real GPU",
+        kGpuMsTarget, kGpuSpriteMsTarget, kGpuMarchMsTarget);
     std::string why;
     if (device.type == VK_PHYSICAL_DEVICE_TYPE_CPU)
         why = "applies on a real GPU only; this device (" + device.name + ") is a software device";
@@ -431,10 +444,21 @@ Verdict gpu_target(const std::vector<Measured>& results, const gpu::DeviceInfo& 
     }
     const Measured* a = result_of(results, "adaptive");
     if (!a) return not_measured("real-time", target, "needs the adaptive configuration");
-    const bool pass = a->m.ms_total <= kGpuMsTarget;
-    v.json = {{"target", target}, {"ms_total", a->m.ms_total}, {"ms_max", kGpuMsTarget}, {"status", status_of(pass)}, {"pass", pass}};
-    v.line = format_text("real-time: adaptive reconstruction of %u particles at %ux%u = %.2f ms (target <= %.0f ms): %s", particles,
-                 width, height, a->m.ms_total, kGpuMsTarget, status_of(pass));
+    const double sprites = pass_ms(a->m, "render_splat"), march = pass_ms(a->m, "render_march");
+    const bool pass = a->m.ms_total <= kGpuMsTarget && sprites <= kGpuSpriteMsTarget && march <= kGpuMarchMsTarget;
+    v.json = {{"target", target},
+              {"ms_total", a->m.ms_total},
+              {"ms_max", kGpuMsTarget},
+              {"sprites_ms", sprites},
+              {"sprites_ms_max", kGpuSpriteMsTarget},
+              {"march_ms", march},
+              {"march_ms_max", kGpuMarchMsTarget},
+              {"status", status_of(pass)},
+              {"pass", pass}};
+    v.line = format_text("real-time: adaptive reconstruction of %u particles at %ux%u = %.2f ms (target <= %.0f ms), sprites %.2f ms "
+                         "(<= %.1f), march %.2f ms (<= %.0f): %s",
+                         particles, width, height, a->m.ms_total, kGpuMsTarget, sprites, kGpuSpriteMsTarget, march,
+                         kGpuMarchMsTarget, status_of(pass));
     return v;
 }
 
