@@ -151,8 +151,10 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
     VkPhysicalDeviceProperties props{};
     vkGetPhysicalDeviceProperties(pd, &props);
     VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+    VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
     if (props.apiVersion >= VK_API_VERSION_1_2) {  // the driver's identity is core from 1.2
         VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+        driver.pNext = &subgroup;
         props2.pNext = &driver;
         vkGetPhysicalDeviceProperties2(pd, &props2);
     }
@@ -167,6 +169,10 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
     d.max_texel_buffer_bytes = uint64_t(props.limits.maxTexelBufferElements) * 16;
     d.max_workgroups_x = props.limits.maxComputeWorkGroupCount[0];
     d.driver_id = driver.driverID;
+    // Shuffles in compute shaders: what lets lanes share a ray's evaluations (the surface march).
+    const bool shuffles = (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
+                          (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_SHUFFLE_BIT);
+    d.subgroup_size = shuffles ? subgroup.subgroupSize : 1u;
     d.loop_iteration_limit = loop_iteration_limit(driver.driverID);
     d.slow_in_order_queue = props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU;
     d.dispatch_work_budget = dispatch_work_budget(props.deviceType);

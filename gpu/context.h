@@ -38,6 +38,9 @@ struct DeviceInfo {
     /// storage-buffer range up to this (lavapipe: 128 MiB storage range, 2 GiB as texels).
     uint64_t max_texel_buffer_bytes = 0;
     uint32_t max_workgroups_x = 0;       ///< largest dispatch along x
+    /// Lanes of a subgroup in compute shaders, where they can shuffle values among themselves;
+    /// 1 where compute shaders have no subgroup shuffles.
+    uint32_t subgroup_size = 1;
     VkDriverId driver_id = VkDriverId(0);  ///< VkPhysicalDeviceDriverProperties::driverID
     /// Quirk: loop iterations a shader invocation may run in total before the device silently
     /// ends its loops (0 = no such limit). Lavapipe (VK_DRIVER_ID_MESA_LLVMPIPE) has 65535; the

@@ -101,9 +101,7 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     depth_smooth_ = gpu::ComputePass(ctx, {"render/depth_smooth.comp", 3, push});
     screen_normals_ = gpu::ComputePass(ctx, {"render/screen_normals.comp", 3});
     tiles_ = gpu::ComputePass(ctx, {"render/tiles.comp", 5, 0, 64});
-    for (uint32_t anisotropic : {0u, 1u})
-        ray_march_[anisotropic] = gpu::ComputePass(ctx, {"render/ray_march.comp", 23, push, RAY_MARCH_WORKGROUP, {anisotropic}});
-    ray_args_ = gpu::ComputePass(ctx, {"render/ray_args.comp", 2, 0, 1});
+    set_march_lanes(default_march_lanes(ctx.info()));
     upsample_ = gpu::ComputePass(ctx, {"render/upsample.comp", 7});
     normal_filter_ = gpu::ComputePass(ctx, {"render/normal_filter.comp", 4, push});
     compose_ = gpu::ComputePass(ctx, {"render/compose.comp", 6});
@@ -315,6 +313,28 @@ void SurfaceRenderer::record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* tim
     }
 }
 
+uint32_t default_march_lanes(const gpu::DeviceInfo& device) {
+    // The software device marches 8 rays side by side in its SIMD lanes already, and loads have
+    // no latency to hide there: a lane per ray. On a GPU, 4 lanes a ray (issue 36; the H200's
+    // figures with 1 lane are in docs/measurements.md, `bench render --march-lanes` measures others).
+    return device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 1u : 4u;
+}
+
+void SurfaceRenderer::set_march_lanes(uint32_t lanes) {
+    if (lanes == 0 || lanes > kMaxMarchLanes || (lanes & (lanes - 1)) != 0)
+        throw Failure("surface renderer: " + std::to_string(lanes) + " march lanes a ray; use 1, 2, 4 or 8");
+    if (lanes > 1 && ctx_->info().subgroup_size % lanes != 0)
+        throw Failure("surface renderer: " + std::to_string(lanes) + " march lanes a ray do not divide the device's subgroup of " +
+                      std::to_string(ctx_->info().subgroup_size) + " lanes; use fewer");
+    if (lanes == march_lanes_ && ray_march_[0].pipeline()) return;
+    march_lanes_ = lanes;
+    const uint32_t push = sizeof(SurfacePassPush);
+    for (uint32_t anisotropic : {0u, 1u})
+        ray_march_[anisotropic] =
+            gpu::ComputePass(*ctx_, {"render/ray_march.comp", 23, push, RAY_MARCH_WORKGROUP, {anisotropic, lanes}});
+    ray_args_ = gpu::ComputePass(*ctx_, {"render/ray_args.comp", 2, 0, 1, {RAY_MARCH_WORKGROUP / lanes}});
+}
+
 bool adaptive_resolution_pays(VkPhysicalDeviceType device, uint32_t width, uint32_t height) {
     return device == VK_PHYSICAL_DEVICE_TYPE_CPU || uint64_t(width) * height >= kAdaptiveResolutionMinPixels;
 }
@@ -341,7 +361,7 @@ uint32_t SurfaceRenderer::march_chunk() const {
     // a slice reaches the next one's rays.
     const uint32_t pixels = width_ * height_, slices = march_slices();
     if (slices == 1) return pixels;
-    const uint32_t local = march_pass().desc().local_size;
+    const uint32_t local = march_pass().desc().local_size / march_lanes_;  // rays a workgroup marches
     return std::max(local, pixels / slices / local * local);
 }
 
@@ -376,7 +396,7 @@ void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* ray
     push.first = first;
     push.evals_per_pass = resume_passes() > 0 ? evals_per_pass() : 0u;  // 0: no pass follows, count cut rays
     if (threads > 0) {
-        gpu::dispatch(*ctx_, cmd, march_pass(), threads, push, buffers);
+        gpu::dispatch(*ctx_, cmd, march_pass(), threads * march_lanes_, push, buffers);
         return;
     }
     gpu::dispatch(*ctx_, cmd, ray_args_, 1, {{"ray_count", &ray_count}, {"group_counts", march_groups_}});

@@ -45,6 +45,7 @@ namespace aquaform {
 namespace gpu {
 class Context;
 class GpuTimer;
+struct DeviceInfo;
 }  // namespace gpu
 
 /// GPU memory of the renderer per pixel and per particle (beyond its grid).
@@ -75,6 +76,10 @@ constexpr uint32_t kOwnGridBytesPerParticle = kGridSortBytesPerParticle + 16;
 /// Whether adaptive resolution is used for a width x height picture on a device of this type
 /// (render/surface_renderer.cpp, kAdaptiveResolutionMinPixels: on a GPU, from 1920x1080 on).
 bool adaptive_resolution_pays(VkPhysicalDeviceType device, uint32_t width, uint32_t height);
+
+/// Lanes that share a ray's field evaluations on this device (render/surface_renderer.cpp says why).
+uint32_t default_march_lanes(const gpu::DeviceInfo& device);
+constexpr uint32_t kMaxMarchLanes = 8;
 
 class SurfaceRenderer {
 public:
@@ -133,6 +138,11 @@ public:
     /// The depth sprites' walk: a workgroup's particles share out their footprints' pixels (the
     /// default), or each walks its own (as before issue 36; kept to compare the two).
     void set_balanced_sprites(bool on) { balanced_sprites_ = on; }
+    /// Lanes (1, 2, 4 or 8, dividing the device's subgroup) that share each ray's field
+    /// evaluations (shaders/common/surface_common.glsl); default_march_lanes() at construction.
+    /// Throws aquaform::Failure for another count.
+    void set_march_lanes(uint32_t lanes);
+    uint32_t march_lanes() const { return march_lanes_; }
     /// Per pixel: what its ray spent (zero for pixels filled by interpolation or without a ray).
     std::vector<RayCounts> ray_counts();
     /// Per pixel: (w1, w2) of Wu et al. eqs. 12-13 where the normals were blended, else (-1, -1).
@@ -189,6 +199,7 @@ private:
     uint32_t width_, height_, max_particles_;
     uint32_t count_ = 0;
     bool diagnostics_ = false;
+    uint32_t march_lanes_ = 1;
     std::string resolution_note_;
     shader::SurfaceParams params_{};
     gpu::BufferSet buffers_;

@@ -24,9 +24,28 @@ vec3 grid_max() { return params.grid_origin_cell.xyz + params.grid_origin_cell.w
                              mix(vec3(0.0), 1.0 - near_local_, greaterThan(near_o_, ivec3(0)))); \
         if (dot(near_gap_, near_gap_) >= 1.0) continue;                                        \
         uvec2 near_range_ = grid_neighbor_range(near_cell_, near_k_, params.grid_dims);         \
-        for (uint j = near_range_.x; j < near_range_.y; ++j)
+        for (uint j = near_range_.x + field_lane; j < near_range_.y; j += kFieldLanes)
 
 #define END_FOR_EACH_PARTICLE_NEAR } }
+
+// Lanes that share one ray's field evaluations (specialization constant 2; issue 36): lane
+// field_lane of kFieldLanes visits every kFieldLanes-th particle of each cell, and the partial
+// sums are added across the lanes with a butterfly of subgroup shuffles, so every lane holds the
+// same bits (x + y == y + x) and all take the same branches. One lane per ray (1, the default)
+// is the plain loop. On a GPU a ray's evaluation is a chain of ~150 dependent loads; shared
+// among lanes, the chain is shorter and more warps hide its latency (the H200 ran 5 warps a
+// multiprocessor on the calm frame with one lane a ray).
+layout(constant_id = 2) const uint kFieldLanes = 1u;
+uint field_lane = 0u;
+
+float lanes_sum(float x) {
+    for (uint m = 1u; m < kFieldLanes; m *= 2u) x += subgroupShuffleXor(x, m);
+    return x;
+}
+vec3 lanes_sum(vec3 x) {
+    for (uint m = 1u; m < kFieldLanes; m *= 2u) x += subgroupShuffleXor(x, m);
+    return x;
+}
 
 // The anisotropic surface (SURFACE_ANISOTROPIC_FIELD): `sorted` holds the kernels' smoothed
 // centres in their own grid's order and `shape` (declared by the including shader) their G, three
@@ -63,7 +82,7 @@ float field_density(vec3 p) {
         }
     }
     END_FOR_EACH_PARTICLE_NEAR
-    return params.volume * sum;
+    return params.volume * lanes_sum(sum);
 }
 
 /// grad phi(p) (points into the fluid).
@@ -81,6 +100,6 @@ vec3 field_gradient(vec3 p) {
         }
     }
     END_FOR_EACH_PARTICLE_NEAR
-    return params.volume * sum;
+    return params.volume * lanes_sum(sum);
 }
 #endif

@@ -1,7 +1,10 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_shuffle : require
 // Ray marching of the iso-surface phi = sigma (Wu et al. algorithm 1; Xiao et al. section 3.2;
-// the exhaustive reference), one thread per ray of the ray list.
+// the exhaustive reference), kFieldLanes threads per ray of the ray list (common/surface_common.glsl:
+// they share each field evaluation; the first of them writes the ray's results).
 //   - Entry: D_all (uniform, adaptive) or the grid's bounds (reference).
 //   - Mask (adaptive, reference): before each evaluation the binary density grid is asked about
 //     the current point, coarse level first; an unmarked coarse block, word block or cell is
@@ -112,6 +115,9 @@ vec3 xiao_normal(vec3 x, vec3 fallback) {
         mean += w * field_centre(j).xyz;
     }
     END_FOR_EACH_PARTICLE_NEAR
+    basic = lanes_sum(basic);
+    weight_sum = lanes_sum(weight_sum);
+    mean = lanes_sum(mean);
     basic = dot(basic, basic) > 0.0 ? normalize(basic) : fallback;
     if (weight_sum <= 0.0) return basic;
     mean /= weight_sum;
@@ -123,6 +129,7 @@ vec3 xiao_normal(vec3 x, vec3 fallback) {
         cov += (1.0 - q * q * q) * outerProduct(e, e);
     }
     END_FOR_EACH_PARTICLE_NEAR
+    cov = mat3(lanes_sum(cov[0]), lanes_sum(cov[1]), lanes_sum(cov[2]));
     vec3 pca = symmetric_eigen(cov / weight_sum).vectors[2];
     if (dot(pca, basic) < 0.0) pca = -pca;
     float w = min(1.0, exp(params.xiao_d * (dot(basic, pca) - params.xiao_k)));
@@ -148,15 +155,32 @@ float splash_share(vec3 x) {
         splash_sum += w * (1.0 - smoothstep(SPRAY_DENSITY_FULL, SPRAY_DENSITY_NONE, imageLoad(class_density, int(j)).x));
     }
     END_FOR_EACH_PARTICLE_NEAR
+    all_sum = lanes_sum(all_sum);
+    splash_sum = lanes_sum(splash_sum);
     return all_sum > 0.0 ? splash_sum / all_sum : 0.0;
 }
 
-void save_state(uint index, float t, float t_phase, uint evals, uint leaps, bool skipped) {
+// Only the first of a ray's lanes writes what the ray found.
+bool leader() { return field_lane == 0u; }
+
+/// Hands the ray over to the next pass: where it is, and its place in the resume list.
+void yield_ray(uint index, uint packed, float t, float t_phase, uint evals, uint leaps, bool skipped) {
+    if (!leader()) return;
     resume_state[index] = vec4(t, t_phase, float(evals), skipped ? -float(leaps) - 1.0 : float(leaps));
+    resume_rays[atomicAdd(resume_count[0], 1u)] = packed;
+}
+
+/// The ray this invocation marches, counted from pc.first: kFieldLanes consecutive lanes of one
+/// subgroup share a ray (the subgroup's own numbering, so that the shuffles stay within it).
+uint ray_slot() {
+    if (kFieldLanes == 1u) return gl_GlobalInvocationID.x;
+    field_lane = gl_SubgroupInvocationID % kFieldLanes;
+    uint in_group = (gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID) / kFieldLanes;
+    return gl_WorkGroupID.x * (gl_WorkGroupSize.x / kFieldLanes) + in_group;
 }
 
 void main() {
-    uint ray = pc.first + gl_GlobalInvocationID.x;
+    uint ray = pc.first + ray_slot();
     if (ray >= ray_count[0]) return;
     uint packed = rays[ray];
     uvec2 pixel = uvec2(packed & 0xffffu, packed >> 16u);
@@ -173,8 +197,10 @@ void main() {
     if (!reference) {
         uint bits = depth_all[index];
         if (bits == DEPTH_EMPTY) {
-            hit[index] = vec4(0.0, 0.0, 0.0, -1.0);
-            normal[index] = vec4(0.0);
+            if (leader()) {
+                hit[index] = vec4(0.0, 0.0, 0.0, -1.0);
+                normal[index] = vec4(0.0);
+            }
             return;
         }
         t_entry = depth_to_t(uintBitsToFloat(bits), dir);
@@ -214,8 +240,7 @@ void main() {
     const uint yield_at = pc.axis == 2u || pc.evals_per_pass == 0u ? 0xffffffffu : evals + pc.evals_per_pass;
     while (t <= t_end && evals < params.max_steps) {
         if (evals >= yield_at) {  // a long ray: hand over to the next pass
-            save_state(index, t, t_phase, evals, leaps, skipped);
-            resume_rays[atomicAdd(resume_count[0], 1u)] = packed;
+            yield_ray(index, packed, t, t_phase, evals, leaps, skipped);
             return;
         }
         if (use_skip && !skipped && (wu_skip ? evals >= params.max_skip_evals : t >= t_splash_back)) {
@@ -250,13 +275,13 @@ void main() {
     if (!found) {
         if (t <= t_end && evals < params.max_steps) {
             if (pc.axis == 2u || pc.evals_per_pass == 0u) {  // no pass follows: count it
-                atomicAdd(march_cut[0], 1u);
+                if (leader()) atomicAdd(march_cut[0], 1u);
             } else {
-                save_state(index, t, t_phase, evals, leaps, skipped);
-                resume_rays[atomicAdd(resume_count[0], 1u)] = packed;
+                yield_ray(index, packed, t, t_phase, evals, leaps, skipped);
                 return;
             }
         }
+        if (!leader()) return;
         hit[index] = vec4(0.0, 0.0, 0.0, -1.0);
         normal[index] = vec4(0.0, 0.0, 0.0, float(evals));
         ray_counts[index] = uvec2(evals, leaps << RAY_COUNT_BISECTION_BITS);
@@ -274,7 +299,7 @@ void main() {
         if (field_density(eye + dir * mid) >= params.iso) hi = mid;
         else lo = mid;
     }
-    if (refined < params.refine_steps && hi > lo) atomicAdd(march_cut[0], 1u);
+    if (refined < params.refine_steps && hi > lo && leader()) atomicAdd(march_cut[0], 1u);
     float t_hit = 0.5 * (lo + hi);
     vec3 x = eye + dir * t_hit;
     vec3 grad = field_gradient(x);
@@ -293,9 +318,11 @@ void main() {
             n = dot(blended, blended) > 0.0 ? normalize(blended) : n;
         }
     }
+    float spray_share = (params.shading & SHADE_SPRAY) != 0u ? splash_share(x) : 0.0;  // every lane takes part
+    if (!leader()) return;
     hit[index] = vec4(x, t_hit);
     normal[index] = vec4(n, float(evals));
-    spray[index] = (params.shading & SHADE_SPRAY) != 0u ? splash_share(x) : 0.0;
+    spray[index] = spray_share;
     ray_counts[index] = uvec2(march_evals, (evals - march_evals) | (leaps << RAY_COUNT_BISECTION_BITS));
     blend_weights[index] = weights;
 }

@@ -1,0 +1,88 @@
+// Lanes sharing a ray's field evaluations (shaders/common/surface_common.glsl, kFieldLanes):
+// a GPU marches with several lanes a ray, the software device with one, so the software device
+// checks here that every lane count draws the frame one lane draws, for every method and both
+// fields, and that counts the device cannot run are refused by name.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+
+#include "core/error.h"
+#include "render/image_metrics.h"
+#include "render/surface_renderer.h"
+#include "sim/pbf_solver.h"
+#include "tests/gpu_test.h"
+
+namespace aquaform {
+namespace {
+
+class MarchLanesTest : public testing::GpuTest {
+protected:
+    void SetUp() override {
+        GpuTest::SetUp();
+        auto loaded = load_scene(std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json");
+        ASSERT_TRUE(loaded) << loaded.error();
+        scene = loaded.value();
+        solver = std::make_unique<PbfSolver>(ctx(), scene);
+        for (int frame = 0; frame < 30; ++frame) solver->run_frame(nullptr);
+        renderer = std::make_unique<SurfaceRenderer>(ctx(), scene.particle_domain(), 128, 96, solver->particle_count());
+        camera = camera_for_domain(scene.domain, 128.0f / 96.0f);
+    }
+    SurfaceFrame render(const SurfaceSettings& settings, uint32_t lanes) {
+        renderer->set_march_lanes(lanes);
+        return renderer->render(solver->positions(), solver->particle_count(), camera, settings);
+    }
+    Scene scene;
+    std::unique_ptr<PbfSolver> solver;
+    std::unique_ptr<SurfaceRenderer> renderer;
+    ViewCamera camera;
+};
+
+TEST_F(MarchLanesTest, EveryLaneCountDrawsTheFrameOneLaneDraws) {
+    EXPECT_EQ(renderer->march_lanes(), default_march_lanes(ctx().info()));
+    struct Case {
+        SurfaceMethod method;
+        bool anisotropic;
+        bool xiao;
+        const char* name;
+    };
+    for (const Case c : {Case{SurfaceMethod::adaptive, true, false, "adaptive"}, Case{SurfaceMethod::adaptive, false, false, "adaptive, isotropic"},
+                         Case{SurfaceMethod::uniform, false, true, "uniform (Xiao's normals)"}}) {
+        SurfaceSettings settings;
+        settings.method = c.method;
+        settings.anisotropic = c.anisotropic;
+        const SurfaceFrame one = render(settings, 1);
+        uint64_t one_evals = 0;
+        for (const RayCounts& r : renderer->ray_counts()) one_evals += r.evaluations();
+        for (uint32_t lanes : {2u, 4u, 8u}) {
+            if (ctx().info().subgroup_size % lanes != 0) continue;  // refused below
+            const SurfaceFrame shared = render(settings, lanes);
+            uint64_t evals = 0;
+            for (const RayCounts& r : renderer->ray_counts()) evals += r.evaluations();
+            const SurfaceComparison cmp = compare_surfaces(one, shared, renderer->params().particle_radius);
+            const std::string what = std::string(c.name) + ", " + std::to_string(lanes) + " lanes";
+            EXPECT_GT(cmp.both_hit, 1000u) << what;
+            // The sums differ only in the order of their terms: a sample may cross the iso value
+            // on the other side of a rounding, nothing more.
+            EXPECT_LE(cmp.coverage_mismatch, 0.001) << what;
+            EXPECT_LT(cmp.depth_err_mean, 1e-3) << what;
+            EXPECT_LT(cmp.normal_err_deg_mean, 0.05) << what;
+            EXPECT_NEAR(double(evals), double(one_evals), 0.001 * double(one_evals)) << what;
+        }
+    }
+}
+
+TEST_F(MarchLanesTest, ALaneCountTheDeviceCannotShareIsRefusedByName) {
+    for (uint32_t lanes : {0u, 3u, 16u}) {
+        try {
+            renderer->set_march_lanes(lanes);
+            ADD_FAILURE() << lanes << " lanes were accepted";
+        } catch (const Failure& e) {
+            EXPECT_NE(std::string(e.what()).find(std::to_string(lanes) + " march lanes"), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_EQ(renderer->march_lanes(), default_march_lanes(ctx().info())) << "a refused count changes nothing";
+}
+
+}  // namespace
+}  // namespace aquaform
