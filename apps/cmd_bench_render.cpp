@@ -25,6 +25,7 @@
 #include "apps/render_options.h"
 #include "gpu/context.h"
 #include "render/registry.h"
+#include "render/surface_renderer.h"
 
 namespace aquaform::cli {
 
@@ -37,6 +38,22 @@ std::vector<std::string> parameter_flags() {
     for (const auto& f : render_value_flags())
         if (f != "--method" && f != "--resolution") flags.push_back(f);
     return flags;
+}
+
+/// What the sprites and the march did, in counts that do not depend on the device (a GPU's
+/// gain shows here on the software device): one row per configuration.
+void print_work_table(const std::vector<std::pair<std::string, const study::RenderMeasurement*>>& rows) {
+    std::printf("\nwork per frame (device-independent)\n%-22s %9s %11s %11s %11s %11s %8s %9s %11s %10s %6s\n", "method",
+                "sprites", "px walked", "px covered", "depth atom", "thick atom", "longest", "rays", "march evals",
+                "bisect", "lanes");
+    for (const auto& [label, m] : rows) {
+        const RenderStats& s = m->stats;
+        std::printf("%-22s %9llu %11llu %11llu %11llu %11llu %8llu %9llu %11llu %10llu %6u\n", label.c_str(),
+                    (unsigned long long)s.sprites, (unsigned long long)s.sprite_pixels, (unsigned long long)s.sprite_covered,
+                    (unsigned long long)s.sprite_depth_atomics, (unsigned long long)s.sprite_thickness_atomics,
+                    (unsigned long long)s.sprite_longest_walk, (unsigned long long)s.rays,
+                    (unsigned long long)s.march_steps, (unsigned long long)s.bisection_evaluations, s.march_lanes);
+    }
 }
 
 /// Milliseconds per pass, one row per configuration, in the renderer's pass order.
@@ -67,7 +84,7 @@ void print_pass_table(const std::vector<std::pair<std::string, const study::Rend
 
 FlagSpec bench_render_flags() {
     FlagSpec spec{{"--particles", "--frames", "--frame", "--scene-dir", "--resolution", "--repeats", "--out", "--device",
-                   "--configs"},
+                   "--configs", "--march-lanes"},
                   {"--validation", "--quick", "--isotropic", "--mask-sweep", "--blend-sweep", "--compare-surfaces"}};
     for (const auto& f : parameter_flags()) spec.with_value.push_back(f);
     // Accepted only to be refused with a reason: the configurations set the method and mechanisms.
@@ -139,7 +156,7 @@ nlohmann::json sweep_json(const std::vector<study::SweepPoint>& points) {
 std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFrame& bench, const Scene& scene, uint32_t frame,
                                          const std::vector<const study::BenchConfig*>& configs, const SurfaceSettings& base,
                                          uint32_t width, uint32_t height, uint32_t repeats, long requested_particles,
-                                         Sweeps sweeps) {
+                                         Sweeps sweeps, uint32_t march_lanes) {
     session::SimulationSession sim(ctx, session::plan_session(scene, std::nullopt), {.measure_shapes = false, .frame_grid = true});
     PbfSolver& solver = sim.solver();
     const uint32_t n = solver.particle_count();
@@ -153,6 +170,7 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFr
     const MethodSettings reference_settings = study::reference_settings(base);
     const std::unique_ptr<Renderer> renderer =
         render_registry().create(ctx, scene.particle_domain(), width, height, n, reference_settings);
+    if (march_lanes) concrete_of<SurfaceRenderer>(*renderer)->set_march_lanes(march_lanes);  // checked against the device before
     std::map<std::string, double> last_frame_ms;
     if (!study::simulate_frames(sim, frame, std::string(bench.name) + ": simulating to frame " + std::to_string(frame),
                                 &last_frame_ms))
@@ -196,6 +214,7 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const study::BenchFr
     std::vector<std::pair<std::string, const study::RenderMeasurement*>> pass_rows{{"reference", &ref}};
     for (const study::Measured& r : results) pass_rows.emplace_back(r.config->label, &r.m);
     print_pass_table(pass_rows);
+    print_work_table(pass_rows);
     study::print_picture_checks(out.checks);
 
     // What reading the solver's grid in place saved: the adaptive method once more with a grid
@@ -307,6 +326,13 @@ int bench_render(const Args& args) {
     auto base = render_settings_from(args, &error);
     if (!base) return usage(error);
     const Sweeps sweeps{args.has("--mask-sweep"), args.has("--blend-sweep")};
+    uint32_t march_lanes = 0;  // the device's default
+    if (args.has("--march-lanes")) {
+        const std::string v = args.value("--march-lanes");
+        if (v != "1" && v != "2" && v != "4" && v != "8")
+            return usage("--march-lanes must be 1, 2, 4 or 8 (lanes that share a ray's evaluations), got \"" + v + "\"");
+        march_lanes = uint32_t(std::stoul(v));
+    }
     if (sweeps.mask && base->surface == SurfaceKernel::anisotropic && !args.has("--compare-surfaces"))
         return usage("--mask-sweep measures Wu et al.'s count mask, which holds for the isotropic surface only; add "
                      "--surface isotropic (or --compare-surfaces, which sweeps the isotropic frames)");
@@ -325,6 +351,9 @@ int bench_render(const Args& args) {
     }
 
     gpu::Context ctx({args.value("--device"), validation_requested(args)});
+    if (march_lanes > 1 && ctx.info().subgroup_size % march_lanes != 0)
+        return usage("--march-lanes " + std::to_string(march_lanes) + ": the device's subgroups have " +
+                     std::to_string(ctx.info().subgroup_size) + " lanes that can share values; choose a count that divides it");
     std::printf("bench render on %s (%s): %zu frame(s) at %ux%u, about %llu particles each; fastest of %ld renders per "
                 "configuration; metrics against the exhaustive reference. steps: density evaluations of the march "
                 "(Wu et al.'s count); bisect: evaluations refining the hit; evals: both\n",
@@ -352,7 +381,7 @@ int bench_render(const Args& args) {
             const study::BenchFrame& f = *frames.value()[i];
             const uint32_t frame = frame_override.value_or(study::bench_frame_index(f, scenes[i]));
             auto result = measure_frame(ctx, f, scenes[i], frame, configs.value(), surface, width, height, uint32_t(*repeats),
-                                        long(particles.value_or(default_particles)), sweeps);
+                                        long(particles.value_or(default_particles)), sweeps, march_lanes);
             if (!result) return exit_status(ctx, kExitFailure);
             if (both_surfaces && f.check != study::FrameCheck::none) {
                 if (surface.surface == SurfaceKernel::isotropic) {

@@ -29,6 +29,7 @@ public:
         s.sprite_thickness_atomics = sprites.thickness_atomics;
         s.sprite_longest_walk = sprites.longest_walk;
         s.resolution_note = impl_.resolution_note();
+        s.march_lanes = impl_.march_lanes();
         return s;
     }
 };

@@ -126,6 +126,7 @@ nlohmann::json render_record(const std::string& label, const RenderMeasurement& 
                         {"depth_atomics", m.stats.sprite_depth_atomics},
                         {"thickness_atomics", m.stats.sprite_thickness_atomics},
                         {"longest_walk", m.stats.sprite_longest_walk}};
+        r["march_lanes"] = m.stats.march_lanes;
         r["march_steps"] = m.stats.march_steps;
         r["bisection_evaluations"] = m.stats.bisection_evaluations;
     }
