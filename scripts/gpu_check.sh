@@ -333,7 +333,10 @@ step bench_frame "${caps[5]}" "$aquaform" bench frame "${frame_flags[@]}" --out 
 # No display: the viewer's worker alone, as a GPU machine without one runs it.
 step view_headless "${caps[6]}" env DISPLAY= WAYLAND_DISPLAY= "$aquaform" view --headless "${view_flags[@]}" \
   --out "$work/view_headless.json" "${device[@]}"
-step study "${caps[7]}" "$aquaform" study "$study_spec" --out "$study_dir" --fresh "${device[@]}"
+# Its charts need matplotlib (the first python3 that has it); without it the study says so and
+# writes its tables. The chart script is this tree's, wherever the binary was built.
+step study "${caps[7]}" env AQUAFORM_SCRIPTS_DIR="$root/scripts" "$aquaform" study "$study_spec" --out "$study_dir" --fresh \
+  "${device[@]}"
 
 echo "gpu_check: wrote $out in $(($(date +%s) - start)) s of its $budget s budget$([ $failed -eq 1 ] && echo ' (some steps failed)')" >&2
 exit $failed
