@@ -60,11 +60,14 @@ const char* kUsage =
     "        without volume or with holes over 1% of its surface is refused, flipped faces are turned back;\n"
     "        --spacing (default: the mesh's diagonal / 40) is refused when the points would not fit in memory\n"
     "  view SCENE.json [--size WxH] [--scale S] [--play] [--script FILE [--async]] [--record DIR] [--frames N] [--shaders DIR]\n"
-    "                  [--particles N] [--device ...] [--validation] [render flags]\n"
+    "                  [--particles N] [--headless [--out FILE]] [--device ...] [--validation] [render flags]\n"
     "                  (or view --particles N alone: a generated dam break)\n"
     "        interactive viewer: play/pause/step/reset, method switch, solver settings, GPU time per pass;\n"
     "        left drag pushes the fluid, right orbits, middle pans, wheel zooms; drop an OBJ to shape the fluid;\n"
     "        keys: space play, N step, R reset, P screenshot, F fly camera (WASD, Q/E), Esc quit\n"
+    "        --headless: no window nor display: the viewer's worker plays --frames N (default 100) frames\n"
+    "        (simulate + render at --size) and prints each frame's wall ms, steps, GPU ms and the real-time factor\n"
+    "        (simulated s / wall s); --out FILE writes them as JSON\n"
     "  study SPEC.json [--out DIR] [--fresh] [--no-charts] [--particles N] [--shard K/N] [--device ...] [--validation]\n"
     "        comparative study: scenes x methods x resolutions x particle counts on the same frames;\n"
     "        --particles N runs every case at about N (a generated dam break's list becomes N, a scene file\n"
@@ -105,6 +108,14 @@ const char* kUsage =
     "        anisotropic surface keeps all of the curtain's droplets at their isotropic areas (within 10 %)\n"
     "        and at least 99 % of each sheet's area (holes counted); --march-lanes N: lanes that share each\n"
     "        ray's field evaluations (default: 4 on a GPU, 1 on the software device; dividing the subgroup)\n"
+    "  bench frame [--sizes 250000,500000,1000000] [--resolution WxH] [--warmup N] [--frames N] [--iterations N]\n"
+    "              [--out FILE] [--device ...] [--validation]\n"
+    "        what a displayed frame costs: the solver's steps at its time-step rule (as run and view take them),\n"
+    "        the adaptive reconstruction and its composition at WxH (default 1920x1080), one submission a frame,\n"
+    "        on bench sim's dam break at each size; N frames timed (--frames, default 30) after --warmup frames\n"
+    "        (default 10); frames/s, GPU ms a frame (solver, reconstruction, compose), wall ms a frame, steps and\n"
+    "        simulated seconds a frame, and the real-time factor (simulated s / wall s); verdicts on a discrete\n"
+    "        GPU only (factor >= 1 at 500k, >= 0.8 at 1M); writes bench_frame.json\n"
     "  bench convergence [--quick] [--depth-layers N] [--particles N] [--front-scene FILE] [--violent-scene FILE]\n"
     "                    [--out DIR] [--device ...] [--validation]\n"
     "        the Martin & Moyce front at spacings a/15, a/30, a/60 and cfl 0.4, 0.2 (quasi-2-D tank N = 6\n"
@@ -220,6 +231,18 @@ std::optional<std::vector<std::string>> parse_list(const std::string& flag, cons
         *error = flag + (text.empty() ? " is empty" : " has an empty item in \"" + text + "\"") +
                  "; give its values separated by single commas, e.g. " + flag + " " + example;
     return items;
+}
+
+std::vector<uint32_t> parse_sizes(const std::string& text, std::string* error) {
+    std::vector<uint32_t> sizes;
+    const auto items = parse_list("--sizes", text, "16384,65536", error);
+    if (!items) return {};
+    for (const std::string& item : *items) {
+        auto v = parse_positive("--sizes", item, error, long(kMaxSceneParticles));
+        if (!v) return {};
+        sizes.push_back(static_cast<uint32_t>(*v));
+    }
+    return sizes;
 }
 
 std::optional<uint64_t> particles_flag(const Args& args, std::string* error) {

@@ -59,6 +59,9 @@ std::optional<uint32_t> parse_frame_index(const std::string& flag, const std::st
 /// text or an item is empty.
 std::optional<std::vector<std::string>> parse_list(const std::string& flag, const std::string& text,
                                                    const std::string& example, std::string* error);
+/// `--sizes a,b,c`: particle counts from 1 to kMaxSceneParticles (bench sim, bench frame); empty
+/// with `error` naming the flag, the item and the fix otherwise.
+std::vector<uint32_t> parse_sizes(const std::string& text, std::string* error);
 /// Frames of a run or a scene file's "frames" (sim/scene.cpp), and solver iterations.
 constexpr long kMaxFrames = 1000000;
 constexpr long kMaxIterations = 100;
@@ -87,6 +90,7 @@ int bench_render(const Args& args);
 FlagSpec bench_render_flags();
 int bench_control(const Args& args); FlagSpec bench_control_flags();  ///< `aquaform bench control` (apps/cmd_bench_control.cpp)
 int bench_convergence(const Args& args); FlagSpec bench_convergence_flags();  ///< `aquaform bench convergence` (apps/cmd_bench_convergence.cpp)
+int bench_frame(const Args& args); FlagSpec bench_frame_flags();  ///< `aquaform bench frame` (apps/cmd_bench_frame.cpp)
 
 /// Makes the output folder `dir` (chosen by `flag`) and checks that it can be written; false
 /// after printing "aquaform COMMAND: " and the reason with the fix (the caller exits 2).

@@ -1,7 +1,8 @@
 // `aquaform bench sim`: solver speed and neighbour-search scaling on dam breaks of growing size
 // (measured by study/bench_sim.h);
 // `aquaform bench render` lives in apps/cmd_bench_render.cpp, `aquaform bench control` in
-// apps/cmd_bench_control.cpp, `aquaform bench convergence` in apps/cmd_bench_convergence.cpp.
+// apps/cmd_bench_control.cpp, `aquaform bench convergence` in apps/cmd_bench_convergence.cpp,
+// `aquaform bench frame` in apps/cmd_bench_frame.cpp.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -23,18 +24,6 @@ namespace aquaform::cli {
 
 namespace {
 
-std::vector<uint32_t> parse_sizes(const std::string& text, std::string* error) {
-    std::vector<uint32_t> sizes;
-    const auto items = parse_list("--sizes", text, "16384,65536", error);
-    if (!items) return {};
-    for (const std::string& item : *items) {
-        auto v = parse_positive("--sizes", item, error, long(kMaxSceneParticles));
-        if (!v) return {};
-        sizes.push_back(static_cast<uint32_t>(*v));
-    }
-    return sizes;
-}
-
 /// Flags of `bench sim`; `bench render`'s are bench_render_flags().
 FlagSpec bench_sim_flags() {
     return {{"--sizes", "--iterations", "--steps", "--repeats", "--out", "--device", "--warmup"}, {"--validation"}};
@@ -45,9 +34,10 @@ FlagSpec bench_sim_flags() {
 int cmd_bench(const std::vector<std::string>& argv) {
     // The benchmark comes first (aquaform bench sim ...), so its own flags are the ones parsed.
     const std::string which = argv.empty() ? "" : argv[0];
-    if (which != "sim" && which != "render" && which != "control" && which != "convergence") {
+    if (which != "sim" && which != "render" && which != "control" && which != "convergence" && which != "frame") {
         std::fprintf(stderr, "aquaform bench: say what to measure first: aquaform bench sim (solver), aquaform bench render "
-                             "(surface reconstruction), aquaform bench control (mesh control) or aquaform bench "
+                             "(surface reconstruction), aquaform bench frame (a displayed frame: solver, reconstruction and "
+                             "composition), aquaform bench control (mesh control) or aquaform bench "
                              "convergence (the dam-break front against Martin & Moyce in space and time step)\n");
         return kExitUsage;
     }
@@ -55,6 +45,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
     const FlagSpec spec = render                    ? bench_render_flags()
                           : which == "control"      ? bench_control_flags()
                           : which == "convergence"  ? bench_convergence_flags()
+                          : which == "frame"        ? bench_frame_flags()
                                                     : bench_sim_flags();
     std::string error;
     auto args = parse_args(std::vector<std::string>(argv.begin() + 1, argv.end()), spec, "bench " + which, &error);
@@ -66,6 +57,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
     if (render) return bench_render(*args);
     if (which == "control") return bench_control(*args);
     if (which == "convergence") return bench_convergence(*args);
+    if (which == "frame") return bench_frame(*args);
     std::vector<uint32_t> sizes = parse_sizes(args->value("--sizes", "16384,32768,65536,131072,262144"), &error);
     auto iterations = parse_positive("--iterations", args->value("--iterations", "4"), &error, kMaxIterations);
     auto steps = parse_positive("--steps", args->value("--steps", "4"), &error, kMaxRepeats);

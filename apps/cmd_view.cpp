@@ -1,5 +1,6 @@
 // `aquaform view SCENE`: the interactive viewer (viewer/viewer.h) from the command line: the
-// flags, the window and the device, and the summary printed at the end.
+// flags, the window and the device, and the summary printed at the end; --headless plays the
+// viewer's worker with no window (viewer/view_headless.h).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -7,16 +8,21 @@
 #include <filesystem>
 #include <optional>
 
+#include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
 #include "apps/render_options.h"
 #include "core/error.h"
+#include "core/file_write.h"
+#include "core/interrupt.h"
 #include "core/number_text.h"
+#include "core/output_dir.h"
 #include "gpu/context.h"
 #include "render/registry.h"
 #include "sim/pbf_solver.h"
 #include "render/surface_settings.h"
 #include "study/bench_scenes.h"
+#include "viewer/view_headless.h"
 #include "viewer/view_script.h"
 #include "viewer/view_window.h"
 #include "viewer/view_worker.h"
@@ -27,10 +33,67 @@ namespace aquaform::cli {
 namespace fs = std::filesystem;
 using viewer::view_methods;
 
+namespace {
+
+/// `view --headless`: the viewer's worker plays options.max_frames frames with no window; each
+/// frame's figures printed, and written as JSON to --out FILE when given.
+int view_headless(gpu::Context& ctx, const Args& args, const Scene& scene, session::SessionPlan plan,
+                  const viewer::ViewerOptions& options, uint32_t width, uint32_t height) {
+    std::printf("viewing %s headless: %llu particles on %s (%s), %u frames of the viewer's worker (simulate + %s "
+                "picture); Ctrl-C stops\n", scene.name.c_str(), (unsigned long long)scene.particle_count(),
+                ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type), options.max_frames, options.method.c_str());
+    std::printf("%6s %10s %6s %10s %12s %12s\n", "frame", "wall ms", "steps", "sim ms", "GPU sim ms", "GPU draw ms");
+    const viewer::HeadlessSummary run = viewer::run_headless(
+        ctx, std::move(plan), options, width, height, options.max_frames, [](uint32_t f, const viewer::HeadlessFrame& h) {
+            std::printf("%6u %10.2f %6u %10.2f %12.2f %12.2f\n", f, h.wall_ms, h.steps, 1000.0 * h.sim_s, h.gpu_solver_ms,
+                        h.gpu_render_ms);
+        });
+    const double n = std::max(double(run.frames.size()), 1.0);
+    double steps = 0.0, solver_ms = 0.0, render_ms = 0.0;
+    nlohmann::json frames = nlohmann::json::array();
+    for (const viewer::HeadlessFrame& h : run.frames) {
+        steps += h.steps, solver_ms += h.gpu_solver_ms, render_ms += h.gpu_render_ms;
+        frames.push_back({{"wall_ms", h.wall_ms}, {"steps", h.steps}, {"sim_s", h.sim_s}, {"gpu_solver_ms", h.gpu_solver_ms},
+                          {"gpu_render_ms", h.gpu_render_ms}});
+    }
+    std::printf("aquaform view --headless: %zu frames in %.2f s: %.2f frames/s, %.2f steps a frame, GPU %.2f ms simulation + "
+                "%.2f ms picture a frame (%u particles, %ux%u, %s); real-time factor %.3f (%.3f s simulated)\n",
+                run.frames.size(), run.wall_seconds, run.frames_per_s(), steps / n, solver_ms / n, render_ms / n, run.particles,
+                run.width, run.height, run.method.c_str(), run.real_time_factor(), run.sim_seconds);
+    if (!run.fatal.empty()) std::fprintf(stderr, "aquaform view: the simulation stopped: %s\n", run.fatal.c_str());
+    if (stopped_by_ctrl_c("view --headless")) return kExitInterrupted;
+    if (args.has("--out")) {
+        const nlohmann::json doc = {{"command", "view --headless"},
+                                    {"scene", scene.name},
+                                    {"device", ctx.info().name},
+                                    {"device_type", gpu::device_type_name(ctx.info().type)},
+                                    {"particles", run.particles},
+                                    {"resolution", std::to_string(run.width) + "x" + std::to_string(run.height)},
+                                    {"method", run.method},
+                                    {"frames", frames},
+                                    {"wall_seconds", run.wall_seconds},
+                                    {"sim_seconds", run.sim_seconds},
+                                    {"frames_per_s", run.frames_per_s()},
+                                    {"steps_per_frame", steps / n},
+                                    {"gpu_solver_ms_per_frame", solver_ms / n},
+                                    {"gpu_render_ms_per_frame", render_ms / n},
+                                    {"real_time_factor", run.real_time_factor()},
+                                    {"fatal", run.fatal}};
+        const std::string out = args.value("--out");
+        if (auto written = write_file_with(out, [&](std::ostream& o) { o << doc.dump(2) << "\n"; }); !written)
+            return std::fprintf(stderr, "aquaform view: %s\n", written.error().c_str()), kExitFailure;
+        std::printf("wrote %s\n", out.c_str());
+    }
+    return run.fatal.empty() ? kExitOk : kExitFailure;
+}
+
+}  // namespace
+
 int cmd_view(const std::vector<std::string>& argv) {
     std::string error;
     const FlagSpec spec =
-        with_render_flags({{"--device", "--script", "--record", "--size", "--frames", "--shaders", "--particles", "--scale"}, {"--validation", "--play", "--async"}});
+        with_render_flags({{"--device", "--script", "--record", "--size", "--frames", "--shaders", "--particles", "--scale", "--out"},
+                           {"--validation", "--play", "--async", "--headless"}});
     auto args = parse_args(argv, spec, "view", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     // --particles alone: a generated dam break of that size; with a scene: the scene scaled to it.
@@ -92,14 +155,52 @@ int cmd_view(const std::vector<std::string>& argv) {
                                 text.c_str()),
                    kExitUsage;
     }
-    if (args->has("--frames")) {
-        auto f = parse_positive("--frames", args->value("--frames"), &error, kMaxFrames);
+    const bool headless = args->has("--headless");
+    if (args->has("--frames") || headless) {
+        auto f = parse_positive("--frames", args->value("--frames", "100"), &error, kMaxFrames);
         if (!f) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
         options.max_frames = uint32_t(*f);
+    }
+    if (headless) {
+        // What needs the window: its pictures and its UI actions.
+        for (const char* windowed : {"--record", "--script", "--async"})
+            if (args->has(windowed))
+                return std::fprintf(stderr, "aquaform view: %s needs the window; drop --headless, or drop %s (aquaform run "
+                                            "writes the pictures of a headless run)\n", windowed, windowed),
+                       kExitUsage;
+        if (args->has("--out"))
+            if (auto ready = prepare_output_file(args->value("--out")); !ready)
+                return std::fprintf(stderr, "aquaform view: %s\n", ready.error().c_str()), kExitUsage;
     }
     const fs::path record_dir = args->value("--record", "");
     if (!record_dir.empty()) {
         if (!prepare_output("view", record_dir, "--record")) return kExitUsage;
+    }
+
+    // The window's size and its picture are input the device may not hold: refused here (a
+    // Failure of kind input, exit 2), before the simulation starts, not by the worker later.
+    auto check_device = [&](gpu::Context& ctx) {
+        const uint32_t most = ctx.limits().maxImageDimension2D;
+        if (width > most || height > most)
+            throw Failure("--size " + std::to_string(width) + "x" + std::to_string(height) + ": " + ctx.info().name +
+                          " makes window images of at most " + std::to_string(most) + " pixels a side; give a smaller --size");
+        // The fluid first (its message names the count that fits), then the picture.
+        auto plan_bytes = plan_memory(scene);
+        if (!plan_bytes) throw Failure(plan_bytes.error());
+        if (auto fits = check_fits(scene, plan_bytes.value(), ctx.info()); !fits) throw Failure(fits.error());
+        const uint32_t picture_w = std::max(uint32_t(std::lround(float(width) * options.picture_scale)), 16u);
+        const uint32_t picture_h = std::max(uint32_t(std::lround(float(height) * options.picture_scale)), 16u);
+        render_registry().create(ctx, scene.particle_domain(), picture_w, picture_h, uint32_t(scene.particle_count()),
+                                 *method_settings);
+    };
+    if (args->has("--out") && !headless)
+        return std::fprintf(stderr, "aquaform view: --out goes with --headless (the window's pictures are recorded with "
+                                    "--record DIR)\n"),
+               kExitUsage;
+    if (headless) {
+        gpu::Context ctx({args->value("--device"), validation_requested(*args)});
+        check_device(ctx);
+        return exit_status(ctx, view_headless(ctx, *args, scene, std::move(plan.value()), options, width, height));
     }
 
     auto window = viewer::ViewWindow::open(int(width), int(height), "aquaform - " + scene.name);
@@ -109,22 +210,7 @@ int cmd_view(const std::vector<std::string>& argv) {
     device.instance_extensions = win.instance_extensions();
     device.make_surface = [&win](VkInstance instance) { return win.create_surface(instance); };
     gpu::Context ctx(device);
-    // The window's size and its picture are input the device may not hold: refused here (a
-    // Failure of kind input, exit 2), before the simulation starts, not by the worker later.
-    const uint32_t most = ctx.limits().maxImageDimension2D;
-    if (width > most || height > most)
-        throw Failure("--size " + std::to_string(width) + "x" + std::to_string(height) + ": " + ctx.info().name +
-                      " makes window images of at most " + std::to_string(most) + " pixels a side; give a smaller --size");
-    {
-        // The fluid first (its message names the count that fits), then the picture.
-        auto plan_bytes = plan_memory(scene);
-        if (!plan_bytes) throw Failure(plan_bytes.error());
-        if (auto fits = check_fits(scene, plan_bytes.value(), ctx.info()); !fits) throw Failure(fits.error());
-        const uint32_t picture_w = std::max(uint32_t(std::lround(float(width) * options.picture_scale)), 16u);
-        const uint32_t picture_h = std::max(uint32_t(std::lround(float(height) * options.picture_scale)), 16u);
-        render_registry().create(ctx, scene.particle_domain(), picture_w, picture_h, uint32_t(scene.particle_count()),
-                                 *method_settings);
-    }
+    check_device(ctx);
     win.attach(ctx);
     // The swapchain goes before the device, also when an error (a scene too large for the
     // device, say) unwinds this function.

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The real-GPU check: one run within one time budget (--budget, default 420 s) that every step
+# The real-GPU check: one run within one time budget (--budget, default 540 s: 9 of a device
+# session's 15 minutes, start-up and the copies back included in the rest) that every step
 # shares, writing one JSON after every step (scripts/gpu_check_report.py), so that a run cut short
 # still reports what it did:
 #   - `aquaform info` (the devices, and the one used; why none, when none is found),
@@ -12,8 +13,18 @@
 #     reconstruction plus the frame grid the solver sorts for it <= 4 ms, its sprites <= 0.6 ms
 #     and its march <= 2 ms; adaptive resolution >= 1.5x faster than full resolution on the
 #     broad frames (calm, violent wall, double collision) and never slower,
+#   - the march with 1 and 8 lanes a ray (`bench render --march-lanes`) on the calm and violent
+#     wall frames, beside bench render's default,
 #   - a 60-frame headless `run` of a 1M-particle dam break without pictures: the solver's GPU time
 #     per frame (its stats.csv, kept whole).
+#   - `bench frame` at 250k, 500k and 1M particles and 1920x1080: a displayed frame (the solver's
+#     steps at its rule, the adaptive reconstruction, the composition), 30 frames timed after 10;
+#     verdicts: real-time factor (simulated s / wall s) >= 1 at 500k, >= 0.8 at 1M,
+#   - the viewer's own loop with no window (`view --headless`) at 1M particles and 1920x1080, 100
+#     frames: its frames per second and real-time factor, judged against the same 0.8,
+#   - the default study (assets/studies/default.json) with its charts, into FILE's name less .json
+#     plus _study/ beside the JSON (the GPU machine's files come back from there); at its cap it is
+#     stopped as by Ctrl-C, so its rows, study.md and charts hold what was measured.
 # `--quick` runs the same steps on whatever device there is (the software one here) at small
 # sizes; the test suite runs it that way (tests/test_gpu_check.cpp), so the script cannot rot.
 # A step that fails or runs out of time is recorded and the script goes on, then exits 1; a step
@@ -206,17 +217,30 @@ if ((quick)); then
   sim_flags=(--sizes 4096 --iterations 4 --warmup 20 --steps 2 --repeats 1)
   render_flags=(--particles "$particles" --resolution "$resolution" --quick --repeats 1)
   test_filter='NeighborGridTest.*:PrefixSum*'
-  caps=(60 120 60 90 60)
+  frame_flags=(--sizes "$particles" --resolution "$resolution" --warmup 2 --frames 2)
+  view_flags=(--particles "$particles" --size "$resolution" --frames 3)
+  lanes_flags=(--particles "$particles" --resolution "$resolution" --frames calm --configs adaptive --repeats 1)
+  study_spec="$root/assets/studies/tiny.json"  # the default one takes hours on a software device
+  caps=(60 120 60 90 60 60 60 150 60)
 else
-  particles=1000000; resolution=1920x1080; frames=60; budget="${budget:-420}"
+  particles=1000000; resolution=1920x1080; frames=60; budget="${budget:-540}"
   sim_flags=(--sizes 1000000 --iterations 4 --warmup 240 --steps 8 --repeats 2)
   # Every frame bench render has (issue 36), adaptive and its full-resolution twin.
   render_flags=(--particles "$particles" --resolution "$resolution"
                 --frames calm,curtain,double_collision,violent_wall,crown --configs adaptive,adaptive_full_res --repeats 3)
   test_filter='NeighborGrid*:PrefixSum*:Pbf*:Physics*:Surface*:Metaball*:ScreenSpace*:Anisotropy*:Raster*:ControlForce*:GpuTimer*'
-  caps=(60 120 120 150 90)
+  frame_flags=(--sizes 250000,500000,1000000 --resolution "$resolution" --warmup 10 --frames 30)
+  view_flags=(--particles "$particles" --size "$resolution" --frames 100)
+  lanes_flags=(--particles "$particles" --resolution "$resolution" --frames calm,violent_wall --configs adaptive --repeats 3)
+  study_spec="$root/assets/studies/default.json"
+  # The H200 ran the first five steps in 30 s: the caps are for a slower GPU or a fault.
+  caps=(60 120 120 150 90 120 60 180 60)
 fi
 
+# The study's folder outlives the work folder: its charts are files, not JSON.
+out_dir="$(cd "$(dirname "$out")" 2>/dev/null && pwd)" ||
+  { echo "gpu_check.sh: --out $out: its folder does not exist; make it or give another FILE" >&2; exit 2; }
+study_dir="$out_dir/$(basename "${out%.json}")_study"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 start=$(date +%s)
@@ -225,11 +249,12 @@ report_seconds=10  # kept back for the last report
 python=python3
 command -v "$python" >/dev/null || python=/usr/bin/python3
 vulkan_env="VK_DRIVER_FILES=${VK_DRIVER_FILES:-} VK_ICD_FILENAMES=${VK_ICD_FILENAMES:-}; drivers: $(ls "${icd_dirs[@]}" /usr/local/nvidia/share/vulkan/icd.d 2>/dev/null | grep '\.json$' | tr '\n' ' ')"
-QUICK=$quick PARTICLES=$particles RESOLUTION=$resolution FRAMES=$frames BUDGET=$budget VULKAN="$vulkan_env" \
+QUICK=$quick PARTICLES=$particles RESOLUTION=$resolution FRAMES=$frames BUDGET=$budget VULKAN="$vulkan_env" STUDY_DIR="$study_dir" \
   "$python" -c 'import json, os, socket, sys, time; e = os.environ
 json.dump({"quick": e["QUICK"] == "1", "particles": int(e["PARTICLES"]), "resolution": e["RESOLUTION"],
            "frames": int(e["FRAMES"]), "budget_s": int(e["BUDGET"]), "host": socket.gethostname(),
-           "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "vulkan": e["VULKAN"]}, open(sys.argv[1], "w"))' \
+           "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "vulkan": e["VULKAN"], "study_dir": e["STUDY_DIR"]},
+          open(sys.argv[1], "w"))' \
   "$work/meta.json" || { echo "gpu_check.sh: $python cannot write $work/meta.json" >&2; exit 1; }
 
 failed=0
@@ -249,7 +274,9 @@ step() {
   local limit=$((cap < left ? cap : left))
   echo "gpu_check: $name (at most $limit s): $*" >&2
   t0=$(date +%s.%N)
-  timeout -k 5 "$limit" "$@" >"$work/$name.log" 2>&1
+  # SIGINT, as Ctrl-C: every command stops at its next whole unit and keeps what it finished
+  # (run its frames, study its rows and charts); one that does not is killed 5 s later.
+  timeout -s INT -k 5 "$limit" "$@" >"$work/$name.log" 2>&1
   rc=$?
   t1=$(date +%s.%N)
   case $rc in
@@ -306,7 +333,21 @@ cat >"$work/dam_break_check.json" <<EOF
   "solver": {"substeps": 2, "iterations": 4, "viscosity": 0.01, "vorticity": 0.0001}
 }
 EOF
+# The march with 1 and 8 lanes a ray, against bench_render's default (4 on a GPU): which count
+# the device's default should be.
+step bench_render_lanes "${caps[8]}" bash -c 'for lanes in 1 8; do "$0" bench render "${@:1}" --march-lanes $lanes \
+  --out "'"$work"'/bench_render_lanes$lanes.json" || exit; done' "$aquaform" "${lanes_flags[@]}" \
+  --scene-dir "$root/assets/scenes" "${device[@]}"
 step run "${caps[4]}" "$aquaform" run "$work/dam_break_check.json" --frames "$frames" --no-png --out "$work/run" "${device[@]}"
+
+step bench_frame "${caps[5]}" "$aquaform" bench frame "${frame_flags[@]}" --out "$work/bench_frame.json" "${device[@]}"
+# No display: the viewer's worker alone, as a GPU machine without one runs it.
+step view_headless "${caps[6]}" env DISPLAY= WAYLAND_DISPLAY= "$aquaform" view --headless "${view_flags[@]}" \
+  --out "$work/view_headless.json" "${device[@]}"
+# Its charts need matplotlib (the first python3 that has it); without it the study says so and
+# writes its tables. The chart script is this tree's, wherever the binary was built.
+step study "${caps[7]}" env AQUAFORM_SCRIPTS_DIR="$root/scripts" "$aquaform" study "$study_spec" --out "$study_dir" --fresh \
+  "${device[@]}"
 
 echo "gpu_check: wrote $out in $(($(date +%s) - start)) s of its $budget s budget$([ $failed -eq 1 ] && echo ' (some steps failed)')" >&2
 exit $failed

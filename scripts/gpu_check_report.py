@@ -16,6 +16,9 @@ SPRITES_MS = 0.6             # of which all depth sprites (render_splat)
 MARCH_MS = 2.0               # and the march (render_march)
 RESOLUTION_SPEEDUP = 1.5     # adaptive against its full-resolution twin on broad surfaces
 BROAD_FRAMES = ("calm", "violent_wall", "double_collision")
+# Real time (issue 36): the real-time factor (simulated s / wall s) of a displayed frame, per size.
+FRAME_TARGETS = ((500000, 1.0, "frame_500k"), (1000000, 0.8, "frame_1m"))
+VIEWER_TARGET = (1000000, 0.8)  # the viewer's own loop (view --headless) at 1M
 
 
 def load(path):
@@ -110,6 +113,76 @@ def resolution_verdict(meta, render):
     return verdict("pass" if passed else "fail", frames=frames)
 
 
+def frame_not_judged(meta, bench, step):
+    """Why a real-time factor cannot be judged against the H200's targets, else None. As
+    `bench frame` says it: judged on a discrete GPU only."""
+    if meta["quick"]:
+        return verdict("not judged", reason="--quick: small sizes on any device")
+    if not bench:
+        return verdict("not measured", reason=step + " wrote no figures (see its step)")
+    kind = bench.get("device_type")
+    if kind == "software (CPU)":
+        return verdict("not judged", reason="software device: " + bench.get("device", "?"))
+    if kind != "discrete GPU":
+        return verdict("not judged", reason="not a discrete GPU: %s (%s)" % (bench.get("device", "?"), kind))
+    return None
+
+
+def factor_verdict(particles, factor, minimum, **fields):
+    return verdict("pass" if factor >= minimum else "fail", real_time_factor=factor, min_real_time_factor=minimum,
+                   particles=particles, **fields)
+
+
+def frame_verdicts(meta, frame, view):
+    """Real time per size from bench frame, and the headless viewer's at 1M."""
+    out = {}
+    for requested, minimum, key in FRAME_TARGETS:
+        early = frame_not_judged(meta, frame, "bench_frame")
+        record = next((r for r in (frame or {}).get("records", []) if r.get("requested") == requested), None)
+        if early:
+            out[key] = early
+        elif record is None:
+            out[key] = verdict("not measured", reason="bench_frame measured no %d-particle frame" % requested)
+        else:
+            out[key] = factor_verdict(record["particles"], record["real_time_factor"], minimum,
+                                      resolution=record["resolution"], fps=record["frames_per_s"],
+                                      gpu_ms_per_frame=record["gpu_ms_per_frame"], steps_per_frame=record["steps_per_frame"])
+    early = frame_not_judged(meta, view, "view_headless")
+    if early:
+        out["viewer_1m"] = early
+    elif view["particles"] < 0.9 * VIEWER_TARGET[0]:
+        out["viewer_1m"] = verdict("not measured", reason="the headless viewer ran %d particles" % view["particles"])
+    else:
+        out["viewer_1m"] = factor_verdict(view["particles"], view["real_time_factor"], VIEWER_TARGET[1],
+                                          resolution=view["resolution"], fps=view["frames_per_s"])
+    return out
+
+
+def study_summary(meta):
+    """What the study step left in its folder: rows measured, study.md whole, the charts' names."""
+    folder = meta.get("study_dir")
+    if not folder or not os.path.isdir(folder):
+        return None
+    rows = tail(os.path.join(folder, "study.csv"), chars=1 << 24)
+    charts = os.path.join(folder, "charts")
+    return dict(folder=folder, rows=max(0, rows.count("\n") - 1) if rows else 0,
+                study_md=tail(os.path.join(folder, "study.md"), chars=1 << 18),
+                charts=sorted(os.listdir(charts)) if os.path.isdir(charts) else [])
+
+
+def march_lanes_summary(work, render):
+    """ms of the adaptive reconstruction and of its march per frame, by lanes a ray."""
+    runs = [render] + [load(os.path.join(work, "bench_render_lanes%d.json" % lanes)) for lanes in (1, 8)]
+    rows = []
+    for run in runs:
+        for f in (run or {}).get("frames", []):
+            r = next((r for r in f["records"] if r.get("label") == "adaptive"), None)
+            if r:
+                rows.append(dict(frame=f["name"], lanes=r.get("march_lanes"), ms_total=r["ms_total"],
+                                 ms_march=(r.get("ms_per_pass") or {}).get("render_march")))
+    return rows
+
+
 def host_ms_between_frames(steps):
     """What `run` said the device waited for the host between frames (None if it did not say)."""
     run = next((s for s in steps if s["name"] == "run"), None)
@@ -132,6 +205,8 @@ def main(work, out):
     device = device_of(info["output"]) if info else None
     sim = load(os.path.join(work, "bench_sim.json"))
     render = load(os.path.join(work, "bench_render.json"))
+    frame = load(os.path.join(work, "bench_frame.json"))
+    view = load(os.path.join(work, "view_headless.json"))
     stats = os.path.join(work, "run", "stats.csv")
     stats_text = tail(stats, chars=1 << 24)  # the whole file: a few hundred rows
     report = dict(meta)
@@ -142,9 +217,14 @@ def main(work, out):
         budget_used_s=round(sum(s.get("seconds", 0.0) for s in steps), 2),
         steps=steps,
         verdicts=dict(solver=solver_verdict(meta, sim), reconstruction=reconstruction_verdict(meta, render),
-                      adaptive_resolution=resolution_verdict(meta, render)),
+                      adaptive_resolution=resolution_verdict(meta, render), **frame_verdicts(meta, frame, view)),
         bench_sim=sim,
         bench_render=render,
+        # The adaptive reconstruction per frame at each lane count (bench_render's is the default).
+        march_lanes=march_lanes_summary(work, render),
+        bench_frame=frame,
+        view_headless=view,
+        study=study_summary(meta),
         run=dict(frames_written=max(0, stats_text.count("\n") - 1) if stats_text else 0,
                  host_ms_between_frames=host_ms_between_frames(steps), stats_csv=stats_text),
     )

@@ -198,7 +198,8 @@ TEST(Cli, EveryCommandHasItsOwnHelp) {
     for (const Case& c : {Case{"run --help", {"usage: aquaform run SCENE.json", "--particles N", "--step"}, {"study SPEC"}},
                           Case{"run scene.json --frames 3 --help", {"usage: aquaform run SCENE.json"}, {}},
                           Case{"bench render -h", {"usage: aquaform bench render", "--mask-sweep", "--step"}, {"bench sim"}},
-                          Case{"bench --help", {"bench sim", "bench render", "bench control"}, {"study SPEC"}},
+                          Case{"bench --help", {"bench sim", "bench render", "bench control", "bench frame"}, {"study SPEC"}},
+                          Case{"bench frame --help", {"usage: aquaform bench frame", "--sizes", "real-time factor"}, {"study SPEC"}},
                           Case{"control place --help", {"usage: aquaform control place MESH.obj"}, {"--step"}},
                           Case{"study --help", {"usage: aquaform study SPEC.json", "--particles N"}, {"--step"}},
                           Case{"info --help", {"usage: aquaform info"}, {"run SCENE"}},
@@ -212,7 +213,8 @@ TEST(Cli, EveryCommandHasItsOwnHelp) {
     // Every flag a command takes is in its help: the refusal of an unknown flag lists what the
     // command's parser accepts, and each of those must appear in `COMMAND --help`.
     for (const char* command : {"run s.json", "render s.json", "control place m.obj", "view s.json", "study s.json", "assets",
-                                "info", "bench sim", "bench render", "bench control", "bench convergence", "study merge"}) {
+                                "info", "bench sim", "bench render", "bench control", "bench convergence", "bench frame",
+                                "study merge"}) {
         const Outcome refused = run_aquaform(std::string(command) + " --no-such-flag");
         const size_t from = refused.output.find("known flags:"), to = refused.output.find(" (see aquaform");
         ASSERT_TRUE(from != std::string::npos && to != std::string::npos) << command << ": " << refused.output;

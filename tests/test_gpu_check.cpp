@@ -45,7 +45,8 @@ TEST(GpuCheck, QuickRunWritesEveryStepFigureAndVerdictIntoOneJson) {
         EXPECT_EQ(s.at("exit").get<int>(), 0);
         EXPECT_GT(s.at("limit_s").get<int>(), 0);
     }
-    EXPECT_EQ(names, (std::vector<std::string>{"info", "gpu_tests", "bench_sim", "bench_render", "run"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"info", "gpu_tests", "bench_sim", "bench_render", "bench_render_lanes", "run",
+                                               "bench_frame", "view_headless", "study"}));
     EXPECT_NE(j["steps"][0]["output"].get<std::string>().find("aquaform will use device"), std::string::npos);
     EXPECT_NE(j["steps"][1]["output"].get<std::string>().find("PASSED"), std::string::npos);
     EXPECT_FALSE(j.at("device").is_null()) << "the device info chose";
@@ -57,6 +58,9 @@ TEST(GpuCheck, QuickRunWritesEveryStepFigureAndVerdictIntoOneJson) {
     // A verdict for the solver and for the reconstruction: not applicable at --quick's sizes.
     for (const char* target : {"solver", "reconstruction", "adaptive_resolution"})
         EXPECT_EQ(j.at("verdicts").at(target).at("status"), "not applicable") << j["verdicts"].dump();
+    // The real-time factors: not judged at --quick's sizes, on any device.
+    for (const char* target : {"frame_500k", "frame_1m", "viewer_1m"})
+        EXPECT_EQ(j.at("verdicts").at(target).at("status"), "not judged") << j["verdicts"].dump();
 
     const auto& sim = j.at("bench_sim").at("records");
     ASSERT_FALSE(sim.empty());
@@ -70,6 +74,29 @@ TEST(GpuCheck, QuickRunWritesEveryStepFigureAndVerdictIntoOneJson) {
     bool adaptive = false;
     for (const auto& r : render) adaptive |= r.at("label") == "adaptive" && r.at("ms_total").get<double>() > 0.0;
     EXPECT_TRUE(adaptive) << j["bench_render"].dump();
+    // The march at the device's default lane count and at 1 and 8.
+    std::vector<int> lanes;
+    for (const auto& row : j.at("march_lanes")) lanes.push_back(row.at("lanes").get<int>());
+    // bench_render's frames at the default (1 on the software device), then 1 and 8 on the calm frame.
+    ASSERT_GE(lanes.size(), 3u) << j["march_lanes"].dump();
+    EXPECT_EQ(std::vector<int>(lanes.end() - 2, lanes.end()), (std::vector<int>{1, 8})) << j["march_lanes"].dump();
+    for (size_t i = 0; i + 2 < lanes.size(); ++i) EXPECT_EQ(lanes[i], 1) << j["march_lanes"].dump();
+
+    // A displayed frame's figures at the quick size, and the headless viewer's.
+    const auto& frame = j.at("bench_frame").at("records");
+    ASSERT_EQ(frame.size(), 1u) << j["bench_frame"].dump();
+    EXPECT_EQ(frame[0].at("requested").get<int>(), j.at("particles").get<int>());
+    EXPECT_EQ(frame[0].at("resolution"), j.at("resolution"));
+    EXPECT_GT(frame[0].at("real_time_factor").get<double>(), 0.0);
+    const auto& view = j.at("view_headless");
+    EXPECT_EQ(view.at("frames").size(), 3u) << view.dump();
+    EXPECT_GT(view.at("real_time_factor").get<double>(), 0.0);
+    // The study's rows, study.md and charts in a folder beside the JSON, which names them.
+    const auto& study = j.at("study");
+    EXPECT_EQ(study.at("folder").get<std::string>(), (out.parent_path() / "gpu_check_study").string());
+    EXPECT_GT(study.at("rows").get<int>(), 0);
+    EXPECT_NE(study.at("study_md").get<std::string>().find("methods"), std::string::npos) << "tiny.json's first case";
+    EXPECT_TRUE(fs::exists(out.parent_path() / "gpu_check_study" / "study.csv"));
 
     // The run's stats.csv whole: a header and a row per frame.
     EXPECT_EQ(j.at("run").at("frames_written").get<int>(), j.at("frames").get<int>());
@@ -92,11 +119,11 @@ TEST(GpuCheck, ABudgetTooSmallSkipsTheRestAndStillReportsEveryStep) {
     EXPECT_EQ(status, 1) << log;
     EXPECT_LT(seconds, 26.0 + 15.0) << "the budget is the whole run's, the kill delay included";
     const nlohmann::json j = nlohmann::json::parse(test_cli::read_file(out));
-    ASSERT_EQ(j.at("steps").size(), 5u) << j.dump();
+    ASSERT_EQ(j.at("steps").size(), 9u) << j.dump();
     size_t skipped = 0;
     for (const auto& s : j["steps"]) skipped += s.at("status") == "skipped";
     EXPECT_GE(skipped, 1u) << j["steps"].dump();
-    EXPECT_EQ(j["steps"][4].at("status"), "skipped");
+    EXPECT_EQ(j["steps"][8].at("status"), "skipped");
     EXPECT_EQ(j.at("budget_s").get<int>(), 26);
     EXPECT_EQ(j["steps"][0].at("status"), "ok") << "info fits";
     EXPECT_NE(log.find("budget"), std::string::npos) << log;
@@ -136,10 +163,35 @@ TEST(GpuCheck, VerdictsOnAGpuPassOrFailAgainstTheTargetsAndAMissingDeviceSaysWhy
         {"name": "violent_wall", "particles": 1000000, "in_place": {"solver_frame_grid_ms": 0.5},
          "records": [{"label": "adaptive", "ms_total": 3.0, "ms_per_pass": {"render_splat": 0.3, "render_march": 2.5}}],
          "targets": {"adaptive_resolution": {"ms_total": 3.0, "full_res_ms_total": 3.6, "used": true}}}]})");
+    // Real time: 500k at a factor of 1.1 passes (>= 1), 1M at 0.7 fails (>= 0.8); the headless
+    // viewer at 1M, 0.85, passes.
+    test_cli::write_file(work / "bench_frame.json", R"({"device": "NVIDIA H200", "device_type": "discrete GPU", "records": [
+        {"requested": 500000, "particles": 493039, "resolution": "1920x1080", "real_time_factor": 1.1, "frames_per_s": 66.0,
+         "steps_per_frame": 6.0, "gpu_ms_per_frame": {"solver": 8.0, "reconstruction": 6.0, "compose": 0.2, "total": 14.2}},
+        {"requested": 1000000, "particles": 986078, "resolution": "1920x1080", "real_time_factor": 0.7, "frames_per_s": 42.0,
+         "steps_per_frame": 8.0, "gpu_ms_per_frame": {"solver": 15.0, "reconstruction": 12.0, "compose": 0.2, "total": 27.2}}]})");
+    test_cli::write_file(work / "view_headless.json", R"({"device": "NVIDIA H200", "device_type": "discrete GPU",
+        "particles": 986078, "resolution": "1920x1080", "real_time_factor": 0.85, "frames_per_s": 51.0})");
     const std::string cmd = "python3 " + std::string(AQUAFORM_SOURCE_DIR) + "/scripts/gpu_check_report.py " + work.string() +
                             " " + out.string() + " 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
     const nlohmann::json j = nlohmann::json::parse(test_cli::read_file(out));
+    EXPECT_EQ(j["verdicts"].at("frame_500k").at("status"), "pass") << j["verdicts"].dump();
+    EXPECT_EQ(j["verdicts"].at("frame_1m").at("status"), "fail") << j["verdicts"].dump();
+    EXPECT_DOUBLE_EQ(j["verdicts"]["frame_1m"].at("real_time_factor").get<double>(), 0.7);
+    EXPECT_EQ(j["verdicts"].at("viewer_1m").at("status"), "pass") << j["verdicts"].dump();
+    // The same figures from a software device are not judged, and say why.
+    for (const char* file : {"bench_frame.json", "view_headless.json"}) {
+        std::string text = test_cli::read_file(work / file);
+        text.replace(text.find("discrete GPU"), 12, "software (CPU)");
+        test_cli::write_file(work / file, text);
+    }
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    const nlohmann::json soft = nlohmann::json::parse(test_cli::read_file(out));
+    for (const char* target : {"frame_500k", "frame_1m", "viewer_1m"}) {
+        EXPECT_EQ(soft["verdicts"].at(target).at("status"), "not judged") << soft["verdicts"].dump();
+        EXPECT_NE(soft["verdicts"][target].at("reason").get<std::string>().find("software device"), std::string::npos);
+    }
     const auto& solver = j.at("verdicts").at("solver");
     EXPECT_EQ(solver.at("status"), "pass") << solver.dump();
     EXPECT_DOUBLE_EQ(solver.at("ms_per_step").get<double>(), 1.1);

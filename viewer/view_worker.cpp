@@ -86,6 +86,7 @@ struct ViewWorker::Sim {
     std::optional<ViewControls> drawn;  // the controls of the last picture
     bool halted = false;                // stopped after a blow-up until the window pauses
     std::map<std::string, double> sim_ms;
+    uint32_t substeps = 0;  // of the last simulated frame
     std::string status;
     uint32_t blowups = 0;
 
@@ -98,6 +99,7 @@ struct ViewWorker::Sim {
     void advance() {
         const FrameStats stats = session->run_frame(&sim_timer).stats;
         sim_ms = sim_timer.totals_ms();
+        substeps = stats.substeps;
         if (const std::string left = blowup_reason(stats, blowup_bounds(session->scene())); !left.empty()) {
             halted = true;
             ++blowups;
@@ -375,6 +377,7 @@ void ViewWorker::loop() {
         report_.particles = sim_->solver->particle_count();
         report_.sim_time = sim_->solver->time();
         report_.sim_ms = sim_->sim_ms;
+        report_.substeps = sim_->substeps;
         report_.status = sim_->status;
         report_.blowups = sim_->blowups;
         report_.shape_files = sim_->session->shape_files();

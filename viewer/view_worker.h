@@ -91,6 +91,7 @@ struct ViewCommand {
 struct ViewReport {
     uint32_t particles = 0;
     double sim_time = 0.0;
+    uint32_t substeps = 0;      ///< the time-step rule's steps of the last simulated frame
     uint64_t frames = 0;        ///< pictures made
     double frames_per_s = 0.0;  ///< pictures per second of wall time, smoothed
     std::map<std::string, double> render_ms, sim_ms;  ///< GPU time per pass of the last frame

@@ -1,0 +1,77 @@
+#include "viewer/view_headless.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "core/interrupt.h"
+#include "gpu/context.h"
+#include "viewer/view_shapes.h"
+#include "viewer/view_worker.h"
+
+namespace aquaform::viewer {
+
+namespace {
+
+double total_ms(const std::map<std::string, double>& ms) {
+    double sum = 0.0;
+    for (const auto& [name, v] : ms) sum += v;
+    return sum;
+}
+
+}  // namespace
+
+HeadlessSummary run_headless(gpu::Context& ctx, session::SessionPlan plan, const ViewerOptions& options, uint32_t width,
+                             uint32_t height, uint32_t frames,
+                             const std::function<void(uint32_t, const HeadlessFrame&)>& on_frame) {
+    using Clock = std::chrono::steady_clock;
+    // The controls a window of this size would hand its worker, playing from the first frame.
+    ViewControls controls;
+    controls.surface = options.surface;
+    controls.method = options.method;
+    controls.camera = OrbitCamera::around(scene_camera(plan.scene, float(width) / float(height))).camera();
+    controls.width = std::max(uint32_t(std::lround(float(width) * options.picture_scale)), 16u);
+    controls.height = std::max(uint32_t(std::lround(float(height) * options.picture_scale)), 16u);
+    ViewWorker worker(ctx, std::move(plan), controls, options.watch_shaders);
+    worker.set_lockstep(true);
+    worker.start();
+    // The first picture before the clock starts, as the window's viewer takes it: it makes the
+    // renderers. Then playing: every frame asked for is a simulation frame and its picture.
+    worker.wait(worker.request_frame());
+    controls.playing = true;
+    worker.set_controls(controls);
+
+    HeadlessSummary summary;
+    summary.width = controls.width;
+    summary.height = controls.height;
+    summary.method = controls.method;
+    ViewReport report = worker.report();
+    summary.particles = report.particles;
+    double sim_time = report.sim_time;
+    const auto start = Clock::now();
+    for (uint32_t f = 0; f < frames && !interrupted(); ++f) {
+        const auto t0 = Clock::now();
+        worker.wait(worker.request_frame());
+        (void)worker.take_picture();  // as the window does: the slot it shows is not drawn into next
+        HeadlessFrame frame;
+        frame.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+        report = worker.report();
+        if (!report.fatal.empty()) {
+            summary.fatal = report.fatal;
+            break;
+        }
+        frame.sim_s = report.sim_time - sim_time;
+        sim_time = report.sim_time;
+        frame.steps = frame.sim_s > 0.0 ? report.substeps : 0;  // a frame after a blow-up only draws
+        frame.gpu_solver_ms = frame.sim_s > 0.0 ? total_ms(report.sim_ms) : 0.0;
+        frame.gpu_render_ms = total_ms(report.render_ms);
+        summary.sim_seconds += frame.sim_s;
+        summary.frames.push_back(frame);
+        if (on_frame) on_frame(f, frame);
+    }
+    summary.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    if (summary.fatal.empty()) summary.fatal = worker.report().fatal;
+    return summary;
+}
+
+}  // namespace aquaform::viewer

@@ -1,0 +1,50 @@
+// The viewer without a window (`aquaform view --headless`): the viewer's own worker (viewer/
+// view_worker.h) plays the scene frame by frame, simulating and rendering as it does behind a
+// window, with nothing presented, so that a GPU machine with no display can take the viewer's
+// frame rate and real-time factor. Each frame is asked for and waited for (the worker's lockstep,
+// as a scripted window does), so every frame is one simulation frame and one picture.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "session/simulation_session.h"
+#include "viewer/viewer.h"
+
+namespace aquaform::gpu {
+class Context;
+}
+
+namespace aquaform::viewer {
+
+/// One frame of a headless session.
+struct HeadlessFrame {
+    double wall_ms = 0.0;  ///< from asking the worker for the frame to its picture
+    uint32_t steps = 0;    ///< the time-step rule's steps of its simulation frame
+    double sim_s = 0.0;    ///< simulated time it advanced
+    double gpu_solver_ms = 0.0, gpu_render_ms = 0.0;  ///< the worker's timers: simulation, picture
+};
+
+struct HeadlessSummary {
+    std::vector<HeadlessFrame> frames;
+    uint32_t particles = 0;
+    uint32_t width = 0, height = 0;
+    std::string method;
+    double wall_seconds = 0.0, sim_seconds = 0.0;  ///< over every frame
+    std::string fatal;                             ///< the worker's error, when it stopped on one
+    double frames_per_s() const { return wall_seconds > 0.0 ? double(frames.size()) / wall_seconds : 0.0; }
+    /// Simulated seconds per wall second: 1 is real time.
+    double real_time_factor() const { return wall_seconds > 0.0 ? sim_seconds / wall_seconds : 0.0; }
+};
+
+/// Plays `frames` frames of `plan` at `width` x `height` (options.picture_scale applies) with
+/// options' method and surface settings; stops early on Ctrl-C or a worker error.
+/// `on_frame` (may be empty) is called after each frame, for progress lines.
+HeadlessSummary run_headless(gpu::Context& ctx, session::SessionPlan plan, const ViewerOptions& options, uint32_t width,
+                             uint32_t height, uint32_t frames,
+                             const std::function<void(uint32_t, const HeadlessFrame&)>& on_frame = {});
+
+}  // namespace aquaform::viewer
