@@ -358,6 +358,12 @@ std::vector<gpu::BufferReport> PbfSolver::memory_report() const {
     return report;
 }
 
+GridCounts PbfSolver::grid_counts() { return count_grid_work(*ctx_, *grid_, count_); }
+
+std::vector<PassTraffic> PbfSolver::traffic_per_pass() {
+    return step_traffic(grid_counts(), {scene_.solver.iterations, xsph_on_, vorticity_on_});
+}
+
 ParticleSnapshot PbfSolver::snapshot() {
     ParticleSnapshot s;
     s.x = gpu::download_vector<glm::vec4>(*ctx_, *x_, count_);
