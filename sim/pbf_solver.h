@@ -1,6 +1,7 @@
 // The position-based fluid solver on the GPU (Macklin & Mueller 2013). Particle state lives in
 // GPU buffers for the whole run; a step records predict, grid build + reorder, the constraint
-// iterations, the velocity update, XSPH and vorticity confinement, with nothing read back.
+// iterations (the last one with the velocity update), XSPH and vorticity confinement, with
+// nothing read back.
 #pragma once
 
 #include <cstdint>
@@ -162,7 +163,7 @@ private:
     gpu::Buffer* droplet_count_ = nullptr;  ///< host-visible
     std::unique_ptr<NeighborGrid> grid_;
     StepForce* step_force_ = nullptr;
-    gpu::ComputePass predict_, reorder_, lambda_pass_, correct_, velocity_, xsph_curl_, vorticity_, stats_, droplets_;
+    gpu::ComputePass predict_, reorder_, lambda_pass_, correct_, correct_last_, xsph_curl_, vorticity_, stats_, droplets_;
 };
 
 }  // namespace aquaform

@@ -35,10 +35,12 @@ std::vector<PassTraffic> step_traffic(const GridCounts& c, const StepShape& shap
     passes.push_back(grid.back());
     // pbf_lambda: p_i; each neighbour's p; q = (p, lambda) and density stored.
     passes.push_back(neighbor_pass("lambda", c, shape.iterations, 16, 0, 16 + 16 + 4));
-    // pbf_correct: q_i; each neighbour's q; p stored.
-    passes.push_back(neighbor_pass("correct", c, shape.iterations, 16, 0, 16 + 16));
-    // pbf_velocity: p and x loaded, v and x stored.
-    passes.push_back(per_particle("velocity", n, 4 * 16));
+    // pbf_correct: q_i; each neighbour's q; p stored. The last iteration stores v and x instead
+    // of p, having loaded x: 32 B a particle more.
+    PassTraffic correct = neighbor_pass("correct", c, shape.iterations, 16, 0, 16 + 16);
+    correct.bytes += 32 * n;
+    correct.unique_bytes += 32 * n;
+    passes.push_back(correct);
     // pbf_xsph_curl: x_i, v_i; each neighbour's x, density, v; v_out and omega stored.
     if (shape.xsph) passes.push_back(neighbor_pass("xsph_curl", c, 1, 16 + 4 + 16, 4, 16 + 16 + 16 + 16));
     // pbf_vorticity: x_i, omega_i, v loaded and stored; each neighbour's x, density, omega.

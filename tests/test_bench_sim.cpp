@@ -133,8 +133,10 @@ TEST(TrafficModel, TheConstraintPassesRunOncePerIteration) {
     for (size_t i = 0; i < four.size(); ++i) {
         const bool constraint = four[i].name == "lambda" || four[i].name == "correct";
         EXPECT_EQ(four[i].runs, constraint ? 4u : 1u) << four[i].name;
-        EXPECT_EQ(eight[i].bytes, four[i].bytes * (constraint ? 2 : 1)) << four[i].name;
-        EXPECT_EQ(eight[i].unique_bytes, four[i].unique_bytes * (constraint ? 2 : 1)) << four[i].name;
+        // The last correction's velocity update (loads x, stores v and x for p) comes once a step.
+        const uint64_t update = four[i].name == "correct" ? 32u * 1000 : 0;
+        EXPECT_EQ(eight[i].bytes - update, (four[i].bytes - update) * (constraint ? 2 : 1)) << four[i].name;
+        EXPECT_EQ(eight[i].unique_bytes - update, (four[i].unique_bytes - update) * (constraint ? 2 : 1)) << four[i].name;
     }
     // Passes a scene turns off are not modelled.
     std::set<std::string> names;
