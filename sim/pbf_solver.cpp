@@ -106,6 +106,10 @@ Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::D
 
 PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene)
     : ctx_(&ctx), scene_(scene), buffers_(ctx), droplet_buffers_(ctx) {
+    // The last constraint iteration updates the velocities (pbf_correct.comp): there must be one.
+    if (scene.solver.iterations < 1)
+        throw Failure(scene.path.string() + ": solver.iterations is " + std::to_string(scene.solver.iterations) +
+                      "; the solver needs at least 1 constraint iteration (4 is usual)");
     if (scene.static_boxes.size() > PBF_MAX_STATIC_BOXES)
         throw resource_failure(scene.path.string() + ": static_boxes has " +
                                  std::to_string(scene.static_boxes.size()) + " boxes; the solver supports at most " +
@@ -141,8 +145,9 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene)
     predict_ = gpu::ComputePass(ctx, {"sim/pbf_predict.comp", 4, sizeof(CountPush)});
     reorder_ = gpu::ComputePass(ctx, {"sim/pbf_reorder.comp", 7, sizeof(CountPush)});
     lambda_pass_ = gpu::ComputePass(ctx, {"sim/pbf_lambda.comp", 9, sizeof(CountPush)});
-    correct_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 8, sizeof(CountPush)});
-    velocity_ = gpu::ComputePass(ctx, {"sim/pbf_velocity.comp", 4, sizeof(CountPush)});
+    correct_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 10, sizeof(CountPush)});
+    // The last iteration's correction also updates v and x (kLastIteration).
+    correct_last_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 10, sizeof(CountPush), gpu::kDefaultLocalSize, {1u}});
     if (xsph_on_) xsph_curl_ = gpu::ComputePass(ctx, {"sim/pbf_xsph_curl.comp", 11, sizeof(CountPush)});
     if (vorticity_on_) vorticity_ = gpu::ComputePass(ctx, {"sim/pbf_vorticity.comp", 10, sizeof(CountPush)});
     stats_ = gpu::ComputePass(ctx, {"sim/pbf_stats.comp", 10, sizeof(shader::StatsPush), PBF_STATS_WORKGROUP});
@@ -166,8 +171,7 @@ std::vector<std::string> PbfSolver::enabled_passes() const {
     for (const char* pass : {"predict", "grid_count", "grid_scan", "grid_scatter", "reorder", "neighbor_lists"})
         passes.push_back(pass);
     passes.push_back("lambda x" + std::to_string(scene_.solver.iterations));
-    passes.push_back("correct x" + std::to_string(scene_.solver.iterations));
-    passes.push_back("velocity");
+    passes.push_back("correct x" + std::to_string(scene_.solver.iterations) + " (the last with the velocity update)");
     if (xsph_on_) passes.push_back(vorticity_on_ ? "xsph_curl" : "xsph");
     if (vorticity_on_) passes.push_back("vorticity");
     passes.push_back("stats (once per frame)");
@@ -195,11 +199,8 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
                           {{"params", params_buf_}, {"p", p_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"q", s0_}, {"density", density_}});
         }
         gpu::GpuScope s(timer, cmd, "correct");
-        gpu::dispatch(*ctx_, cmd, correct_, count_, push, {{"params", params_buf_}, {"q", s0_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"p_out", p_}});
-    }
-    {
-        gpu::GpuScope s(timer, cmd, "velocity");
-        gpu::dispatch(*ctx_, cmd, velocity_, count_, push, {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"p", p_}});
+        gpu::dispatch(*ctx_, cmd, it + 1 == scene_.solver.iterations ? correct_last_ : correct_, count_, push,
+                      {{"params", params_buf_}, {"q", s0_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"p_out", p_}, {"x", x_}, {"v", v_}});
     }
     if (xsph_on_) {
         gpu::GpuScope s(timer, cmd, "xsph_curl");
@@ -356,6 +357,12 @@ std::vector<gpu::BufferReport> PbfSolver::memory_report() const {
     std::vector<gpu::BufferReport> report = buffers_.report();
     for (const gpu::BufferReport& b : droplet_buffers_.report()) report.push_back(b);
     return report;
+}
+
+GridCounts PbfSolver::grid_counts() { return count_grid_work(*ctx_, *grid_, count_); }
+
+std::vector<PassTraffic> PbfSolver::traffic_per_pass() {
+    return step_traffic(grid_counts(), {scene_.solver.iterations, xsph_on_, vorticity_on_});
 }
 
 ParticleSnapshot PbfSolver::snapshot() {

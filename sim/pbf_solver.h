@@ -1,6 +1,7 @@
 // The position-based fluid solver on the GPU (Macklin & Mueller 2013). Particle state lives in
 // GPU buffers for the whole run; a step records predict, grid build + reorder, the constraint
-// iterations, the velocity update, XSPH and vorticity confinement, with nothing read back.
+// iterations (the last one with the velocity update), XSPH and vorticity confinement, with
+// nothing read back.
 #pragma once
 
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include "gpu/compute_pass.h"
 #include "shaders/shared/pbf_layout.h"
 #include "sim/frame_stats.h"
+#include "sim/pbf_traffic.h"
 #include "grid/neighbor_grid.h"
 #include "core/result.h"
 #include "sim/scene.h"
@@ -102,6 +104,11 @@ public:
     /// Names of the GPU passes this scene enables, in execution order.
     std::vector<std::string> enabled_passes() const;
     std::vector<gpu::BufferReport> memory_report() const;
+    /// Device-independent counts of the grid as the last sort left it (cells, candidates, list
+    /// entries): what a step at this state visits. Reads three of the grid's tables back.
+    GridCounts grid_counts();
+    /// The byte model of one step at that state, per pass in record order (sim/pbf_traffic.h).
+    std::vector<PassTraffic> traffic_per_pass();
     /// The droplet count (FrameStats::droplets) every frame, on the GPU (sim/droplets.comp): the
     /// connected groups of the frame's neighbour lists at the final positions, so each frame
     /// then ends with the frame grid's sort whether or not set_frame_grid asked for it. 8 B per
@@ -156,7 +163,7 @@ private:
     gpu::Buffer* droplet_count_ = nullptr;  ///< host-visible
     std::unique_ptr<NeighborGrid> grid_;
     StepForce* step_force_ = nullptr;
-    gpu::ComputePass predict_, reorder_, lambda_pass_, correct_, velocity_, xsph_curl_, vorticity_, stats_, droplets_;
+    gpu::ComputePass predict_, reorder_, lambda_pass_, correct_, correct_last_, xsph_curl_, vorticity_, stats_, droplets_;
 };
 
 }  // namespace aquaform

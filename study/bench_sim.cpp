@@ -48,6 +48,10 @@ SolverBenchRecord measure_solver(gpu::Context& ctx, uint32_t target_particles, c
         for (const char* g : kNeighborSearchPasses)
             if (name == g) rec.neighbor_search_ms += ms / double(options.steps);
     }
+    // The grid and lists the last timed step left (measure() below keeps them).
+    rec.counts = solver.grid_counts();
+    rec.traffic = solver.traffic_per_pass();
+    rec.bandwidth_gbps = options.bandwidth_gbps;
     rec.list_overflow_fraction = solver.measure(nullptr).list_overflow_fraction;
     rec.grid_cells = solver.grid().geometry().cell_count();
     rec.gpu_bytes_per_cell = kGridBytesPerCell;
@@ -57,6 +61,13 @@ SolverBenchRecord measure_solver(gpu::Context& ctx, uint32_t target_particles, c
     rec.gpu_bytes_per_particle = double(total - uint64_t(kGridBytesPerCell) * rec.grid_cells) / rec.particles;
     return rec;
 }
+
+uint64_t SolverBenchRecord::bytes_per_step() const { return total_bytes(traffic); }
+uint64_t SolverBenchRecord::unique_bytes_per_step() const { return total_unique_bytes(traffic); }
+double SolverBenchRecord::memory_floor_ms() const { return ms_at(unique_bytes_per_step(), bandwidth_gbps); }
+double SolverBenchRecord::all_loads_floor_ms() const { return ms_at(bytes_per_step(), bandwidth_gbps); }
+
+double ms_at(uint64_t bytes, double gbps) { return double(bytes) / (gbps * 1.0e9) * 1.0e3; }
 
 double neighbor_search_exponent(const std::vector<SolverBenchRecord>& records) {
     if (records.size() < 2) return std::nan("");
@@ -74,6 +85,27 @@ double neighbor_search_exponent(const std::vector<SolverBenchRecord>& records) {
 }
 
 nlohmann::json to_json(const SolverBenchRecord& r) {
+    nlohmann::json bytes, unique, visits, runs, floors, gbps;
+    for (const PassTraffic& p : r.traffic) {
+        bytes[p.name] = p.bytes;
+        unique[p.name] = p.unique_bytes;
+        visits[p.name] = p.neighbor_visits;
+        runs[p.name] = p.runs;
+        floors[p.name] = ms_at(p.unique_bytes, r.bandwidth_gbps);
+        // The rate the timed pass reached on its unique bytes (null when it was not timed).
+        const auto ms = r.ms_per_pass.find(p.name);
+        gbps[p.name] = ms != r.ms_per_pass.end() && ms->second > 0.0 ? nlohmann::json(double(p.unique_bytes) / ms->second * 1.0e-6)
+                                                                     : nlohmann::json(nullptr);
+    }
+    const GridCounts& c = r.counts;
+    const nlohmann::json counts = {{"particles", c.particles},
+                                   {"cells", c.cells},
+                                   {"occupied_cells", c.occupied_cells},
+                                   {"list_capacity", c.capacity},
+                                   {"list_entries", c.list_entries},
+                                   {"list_fill", c.particles ? double(c.list_entries) / double(c.particles * c.capacity) : 0.0},
+                                   {"candidates", c.candidates},
+                                   {"overflow_particles", c.overflow_particles}};
     return {{"particles", r.particles},
             {"iterations", r.iterations},
             {"warmup_steps", r.warmup_steps},
@@ -86,7 +118,19 @@ nlohmann::json to_json(const SolverBenchRecord& r) {
             {"gpu_bytes_per_cell", r.gpu_bytes_per_cell},
             {"neighbor_list_bytes_per_particle", r.neighbor_list_bytes_per_particle},
             {"grid_cells", r.grid_cells},
-            {"list_overflow_fraction", r.list_overflow_fraction}};
+            {"list_overflow_fraction", r.list_overflow_fraction},
+            {"bytes_per_pass", bytes},
+            {"unique_bytes_per_pass", unique},
+            {"runs_per_pass", runs},
+            {"neighbor_visits_per_pass", visits},
+            {"memory_floor_ms_per_pass", floors},
+            {"unique_gbps_per_pass", gbps},
+            {"bytes_per_step", r.bytes_per_step()},
+            {"unique_bytes_per_step", r.unique_bytes_per_step()},
+            {"bandwidth_gbps", r.bandwidth_gbps},
+            {"memory_floor_ms", r.memory_floor_ms()},
+            {"all_loads_floor_ms", r.all_loads_floor_ms()},
+            {"grid_counts", counts}};
 }
 
 }  // namespace aquaform::study

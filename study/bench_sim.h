@@ -9,11 +9,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "grid/grid_traffic.h"
+
 namespace aquaform::gpu {
 class Context;
 }
 
 namespace aquaform::study {
+
+/// The NVIDIA H200's measured copy bandwidth [GB/s], the default device of the memory floor.
+inline constexpr double kH200CopyGbps = 4300.0;
 
 struct SolverBenchOptions {
     uint32_t iterations = 4;  ///< constraint iterations per step
@@ -22,6 +27,8 @@ struct SolverBenchOptions {
     /// Steps before timing, so that the column has started to fall: whole frames at the
     /// time-step rule's steps until at least this many were taken.
     uint32_t warmup = 20;
+    /// The copy bandwidth the memory floor assumes [GB/s]: the H200's, measured (DESIGN.md).
+    double bandwidth_gbps = kH200CopyGbps;
 };
 
 struct SolverBenchRecord {
@@ -40,7 +47,23 @@ struct SolverBenchRecord {
     uint32_t grid_cells = 0;
     /// Particles with more neighbours than their list holds at the end (they scan cells instead).
     double list_overflow_fraction = 0.0;
+    /// The byte model of a step at the timed state (sim/pbf_traffic.h; the counts are the grid's
+    /// after the last timed step), in record order, and the counts it follows.
+    std::vector<PassTraffic> traffic;
+    GridCounts counts;
+    double bandwidth_gbps = 0.0;  ///< what the floors below assume
+
+    uint64_t bytes_per_step() const;
+    uint64_t unique_bytes_per_step() const;
+    /// Least time a step's unique bytes take at bandwidth_gbps: the memory floor (caches serve
+    /// every reuse within a pass, none across passes).
+    double memory_floor_ms() const;
+    /// The same for every load and store (no cache at all).
+    double all_loads_floor_ms() const;
 };
+
+/// Milliseconds that `bytes` take at `gbps`.
+double ms_at(uint64_t bytes, double gbps);
 
 /// The passes that make up the neighbour search.
 inline constexpr const char* kNeighborSearchPasses[] = {"grid_count", "grid_scan", "grid_scatter", "reorder",

@@ -171,6 +171,9 @@ TEST(Cli, RenderSettingsFrameNumbersAndListsAreStrict) {
                           Case{"bench render --frame -1", "--frame must be a frame number"},
                           Case{"bench sim --sizes \"\"", "--sizes is empty; give its values separated by single commas"},
                           Case{"bench sim --sizes 1000,", "--sizes has an empty item in \"1000,\""},
+                          Case{"bench sim --bandwidth 0", "--bandwidth must be a memory bandwidth in GB/s from 1 to 100000"},
+                          Case{"bench sim --bandwidth 4.3e12", "(the H200's copy bandwidth is 4300), got \"4.3e12\""},
+                          Case{"bench sim --bandwidth nan", "--bandwidth must be a memory bandwidth"},
                           Case{"bench render --frames calm,", "--frames has an empty item"},
                           Case{"bench render --configs ,uniform", "--configs has an empty item"},
                           Case{"bench control --scales 1,,2", "--scales has an empty item"},
@@ -367,8 +370,9 @@ TEST(Cli, TwoWritersIntoOneFolderAreRefusedNotMixed) {
 TEST(Cli, BenchSimWritesItsRecords) {
     fs::path dir = temp_dir("bench");
     const fs::path out = dir / "bench_sim.json";
-    Outcome o = run_aquaform("bench sim --sizes 1500,3000 --steps 1 --repeats 1 --warmup 1 --out " + out.string());
+    Outcome o = run_aquaform("bench sim --sizes 1500,3000 --steps 1 --repeats 1 --warmup 1 --bandwidth 1000 --out " + out.string());
     ASSERT_EQ(o.exit_code, 0) << o.output;
+    EXPECT_NE(o.output.find("memory floor at 1000 GB/s"), std::string::npos) << o.output;
     EXPECT_NE(o.output.find("grows as N^"), std::string::npos) << o.output;
     const auto doc = nlohmann::json::parse(read_file(out));
     ASSERT_EQ(doc["records"].size(), 2u);
@@ -378,6 +382,9 @@ TEST(Cli, BenchSimWritesItsRecords) {
             EXPECT_TRUE(r.contains(key)) << key;
         EXPECT_GT(r["ms_per_step"].get<double>(), 0.0);
         EXPECT_TRUE(r["ms_per_pass"].contains("lambda"));
+        // The byte model beside the times (its checks: test_bench_sim.cpp).
+        EXPECT_TRUE(r["bytes_per_pass"].contains("lambda"));
+        EXPECT_GT(r["memory_floor_ms"].get<double>(), 0.0);
         // The budget: 160 B per particle besides the neighbour lists (4 B per entry, the trade
         // the README's "Neighbour search" states).
         EXPECT_EQ(r["neighbor_list_bytes_per_particle"].get<int>(), 4 * 64);

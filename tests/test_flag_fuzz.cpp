@@ -65,7 +65,7 @@ TEST(FlagFuzz, HostileValuesOfExportAndBenchFlagsAreRefusedInOneLineOrRun) {
          {"--particles", "--frame", "--resolution", "--method", "--max-steps", "--refine", "--centre-smoothing"}},
         {{"bench", "sim", "--sizes", "600", "--steps", "2", "--repeats", "1", "--warmup", "1", "--iterations", "2", "--out",
           out + "/sim.json"},
-         {"--sizes", "--steps", "--repeats", "--warmup", "--iterations"}},
+         {"--sizes", "--steps", "--repeats", "--warmup", "--iterations", "--bandwidth"}},
         {{"bench", "render", "--frames", "calm", "--particles", "600", "--resolution", "64x48", "--repeats", "1",
           "--configs", "uniform", "--out", out + "/render.json"},
          {"--frames", "--particles", "--resolution", "--repeats", "--configs", "--frame"}},

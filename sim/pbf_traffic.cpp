@@ -1,0 +1,63 @@
+#include "sim/pbf_traffic.h"
+
+namespace aquaform {
+
+namespace {
+
+PassTraffic per_particle(const char* name, uint64_t particles, uint64_t bytes_each) {
+    return {name, 1, particles * bytes_each, particles * bytes_each};
+}
+
+/// A pass over the neighbour lists: the loop's reads plus `own` bytes per particle (its own
+/// loads and stores), run `runs` times a step.
+PassTraffic neighbor_pass(const char* name, const GridCounts& c, uint32_t runs, uint64_t per_neighbor,
+                          uint64_t neighbor_only, uint64_t own) {
+    PassTraffic t = neighbor_loop_traffic(c, per_neighbor, neighbor_only);
+    t.name = name;
+    t.runs = runs;
+    t.bytes = runs * (t.bytes + own * c.particles);
+    t.unique_bytes = runs * (t.unique_bytes + own * c.particles);
+    t.neighbor_visits *= runs;
+    return t;
+}
+
+}  // namespace
+
+std::vector<PassTraffic> step_traffic(const GridCounts& c, const StepShape& shape) {
+    const uint64_t n = c.particles;
+    const std::vector<PassTraffic> grid = grid_pass_traffic(c);  // grid_count, grid_scan, grid_scatter, neighbor_lists
+    std::vector<PassTraffic> passes;
+    // pbf_predict: x and v loaded, v and p stored.
+    passes.push_back(per_particle("predict", n, 16 + 16 + 16 + 16));
+    passes.insert(passes.end(), grid.begin(), grid.end() - 1);
+    // pbf_reorder: order, the gathered x and v (a permutation: each once); x, v, p stored.
+    passes.push_back(per_particle("reorder", n, 4 + 16 + 16 + 3 * 16));
+    passes.push_back(grid.back());
+    // pbf_lambda: p_i; each neighbour's p; q = (p, lambda) and density stored.
+    passes.push_back(neighbor_pass("lambda", c, shape.iterations, 16, 0, 16 + 16 + 4));
+    // pbf_correct: q_i; each neighbour's q; p stored. The last iteration stores v and x instead
+    // of p, having loaded x: 32 B a particle more.
+    PassTraffic correct = neighbor_pass("correct", c, shape.iterations, 16, 0, 16 + 16);
+    correct.bytes += 32 * n;
+    correct.unique_bytes += 32 * n;
+    passes.push_back(correct);
+    // pbf_xsph_curl: x_i, v_i; each neighbour's x, density, v; v_out and omega stored.
+    if (shape.xsph) passes.push_back(neighbor_pass("xsph_curl", c, 1, 16 + 4 + 16, 4, 16 + 16 + 16 + 16));
+    // pbf_vorticity: x_i, omega_i, v loaded and stored; each neighbour's x, density, omega.
+    if (shape.vorticity) passes.push_back(neighbor_pass("vorticity", c, 1, 16 + 4 + 16, 4, 16 + 16 + 16 + 16));
+    return passes;
+}
+
+uint64_t total_bytes(const std::vector<PassTraffic>& passes) {
+    uint64_t sum = 0;
+    for (const PassTraffic& p : passes) sum += p.bytes;
+    return sum;
+}
+
+uint64_t total_unique_bytes(const std::vector<PassTraffic>& passes) {
+    uint64_t sum = 0;
+    for (const PassTraffic& p : passes) sum += p.unique_bytes;
+    return sum;
+}
+
+}  // namespace aquaform

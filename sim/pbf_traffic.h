@@ -1,0 +1,27 @@
+// The byte model of one solver step (grid/grid_traffic.h explains the two figures): every pass
+// record_step records, in its order, with the loads and stores of its shader in shaders/sim/.
+// The control force (a StepForce the solver does not own) is not modelled.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "grid/grid_traffic.h"
+
+namespace aquaform {
+
+/// What decides which passes a step runs and how often.
+struct StepShape {
+    uint32_t iterations = 4;  ///< lambda and correct run once each per iteration
+    bool xsph = true;         ///< xsph_curl (viscosity or vorticity on)
+    bool vorticity = true;    ///< vorticity confinement
+};
+
+/// Per-pass traffic of one step at the grid's state `counts` (its lists as the step fills them).
+std::vector<PassTraffic> step_traffic(const GridCounts& counts, const StepShape& shape);
+
+/// Sums of a model's passes.
+uint64_t total_bytes(const std::vector<PassTraffic>& passes);
+uint64_t total_unique_bytes(const std::vector<PassTraffic>& passes);
+
+}  // namespace aquaform
