@@ -43,15 +43,17 @@ std::vector<std::string> parameter_flags() {
 /// What the sprites and the march did, in counts that do not depend on the device (a GPU's
 /// gain shows here on the software device): one row per configuration.
 void print_work_table(const std::vector<std::pair<std::string, const study::RenderMeasurement*>>& rows) {
-    std::printf("\nwork per frame (device-independent)\n%-22s %9s %11s %11s %11s %11s %8s %9s %11s %10s %6s\n", "method",
-                "sprites", "px walked", "px covered", "depth atom", "thick atom", "longest", "rays", "march evals",
-                "bisect", "lanes");
+    std::printf("\nwork per frame (device-independent; longest: the most pixels one invocation walked, largest: the "
+                "largest sprite, what one invocation a sprite walked)\n%-22s %9s %11s %11s %11s %11s %8s %8s %9s %11s %10s %6s\n",
+                "method", "sprites", "px walked", "px covered", "depth atom", "thick atom", "longest", "largest", "rays",
+                "march evals", "bisect", "lanes");
     for (const auto& [label, m] : rows) {
         const RenderStats& s = m->stats;
-        std::printf("%-22s %9llu %11llu %11llu %11llu %11llu %8llu %9llu %11llu %10llu %6u\n", label.c_str(),
+        std::printf("%-22s %9llu %11llu %11llu %11llu %11llu %8llu %8llu %9llu %11llu %10llu %6u\n", label.c_str(),
                     (unsigned long long)s.sprites, (unsigned long long)s.sprite_pixels, (unsigned long long)s.sprite_covered,
                     (unsigned long long)s.sprite_depth_atomics, (unsigned long long)s.sprite_thickness_atomics,
-                    (unsigned long long)s.sprite_longest_walk, (unsigned long long)s.rays,
+                    (unsigned long long)s.sprite_longest_walk, (unsigned long long)s.sprite_largest_footprint,
+                    (unsigned long long)s.rays,
                     (unsigned long long)s.march_steps, (unsigned long long)s.bisection_evaluations, s.march_lanes);
     }
 }

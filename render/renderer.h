@@ -73,6 +73,7 @@ struct RenderStats {
     uint64_t sprite_depth_atomics = 0;  ///< atomics issued into the depth maps
     uint64_t sprite_thickness_atomics = 0;  ///< atomics issued into the thickness
     uint64_t sprite_longest_walk = 0;  ///< the most pixels one invocation walked
+    uint64_t sprite_largest_footprint = 0;  ///< the largest sprite's square (the longest walk with one invocation a sprite)
     uint32_t march_lanes = 0;          ///< lanes that shared each ray's evaluations (0: not a ray march)
     std::string family_line;         ///< the family's own one-line account (e.g. MetaballStats::describe)
     /// The SPH surface methods: why adaptive resolution was asked for and not used (empty otherwise).

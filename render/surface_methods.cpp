@@ -28,6 +28,7 @@ public:
         s.sprite_depth_atomics = sprites.depth_atomics;
         s.sprite_thickness_atomics = sprites.thickness_atomics;
         s.sprite_longest_walk = sprites.longest_walk;
+        s.sprite_largest_footprint = sprites.largest_footprint;
         s.resolution_note = impl_.resolution_note();
         s.march_lanes = impl_.march_lanes();
         return s;

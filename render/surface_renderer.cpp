@@ -495,7 +495,8 @@ uint32_t SurfaceRenderer::cut_rays() { return gpu::download_vector<uint32_t>(*ct
 SpriteCounts SurfaceRenderer::sprite_counts() {
     const auto c = gpu::download_vector<uint32_t>(*ctx_, *splat_counters_, SPLAT_COUNTERS);
     return {c[SPLAT_COUNTER_SPRITES],       c[SPLAT_COUNTER_PIXELS],           c[SPLAT_COUNTER_COVERED],
-            c[SPLAT_COUNTER_DEPTH_ATOMICS], c[SPLAT_COUNTER_THICKNESS_ATOMICS], c[SPLAT_COUNTER_LONGEST_WALK]};
+            c[SPLAT_COUNTER_DEPTH_ATOMICS], c[SPLAT_COUNTER_THICKNESS_ATOMICS], c[SPLAT_COUNTER_LONGEST_WALK],
+            c[SPLAT_COUNTER_LARGEST_FOOTPRINT]};
 }
 
 uint32_t SurfaceRenderer::rays_cast() {

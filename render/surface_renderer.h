@@ -67,6 +67,7 @@ struct SpriteCounts {
     uint32_t depth_atomics = 0;      ///< atomics into D_all, D_agg and D_splash_back
     uint32_t thickness_atomics = 0;  ///< atomics into the thickness
     uint32_t longest_walk = 0;       ///< the most pixels one invocation walked
+    uint32_t largest_footprint = 0;  ///< the largest sprite's square: the longest walk with one invocation a sprite
 };
 constexpr uint32_t kSurfaceBytesPerParticle = kShapeBytesPerParticle + 4 + 4;
 /// Without a shared grid, the renderer's own grid (its sort; and 8 B per cell) and its sorted

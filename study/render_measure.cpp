@@ -94,6 +94,26 @@ double steps_per_ray(const RenderMeasurement& m) { return per_ray(m, m.stats.mar
 double bisection_per_ray(const RenderMeasurement& m) { return per_ray(m, m.stats.bisection_evaluations); }
 double leaps_per_ray(const RenderMeasurement& m) { return per_ray(m, m.stats.mask_leaps); }
 
+nlohmann::json surface_bytes_model(const RenderMeasurement& m, bool anisotropic) {
+    const RenderStats& s = m.stats;
+    const double pixels = double(m.frame.width) * m.frame.height;
+    // Sprites: the five per-pixel maps cleared; per sprite its centre (16 B), aggregate flag (4 B)
+    // and G (48 B, anisotropic); per covered pixel the depth read before the atomic; per atomic
+    // a read and a write (8 B).
+    const double sprites = 5.0 * 4.0 * pixels + double(s.sprites) * (20.0 + (anisotropic ? 48.0 : 0.0)) +
+                           4.0 * double(s.sprite_covered) +
+                           8.0 * double(s.sprite_depth_atomics + s.sprite_thickness_atomics);
+    // March: per evaluation the nominal candidates of its 27 cells (kFieldVisitsPerEvaluation),
+    // each a centre (16 B; the shape's 48 B only within r, not counted), and 27 cell lookups
+    // (12 B); per ray its pixel's maps (D_all, D_agg, D_splash_back, screen normal: 28 B) and
+    // results (hit, normal, counts, weights, spray: 60 B). A nominal figure: the candidates per
+    // evaluation are not counted.
+    const double evaluations = double(s.march_steps + s.bisection_evaluations);
+    const double march = evaluations * (kFieldVisitsPerEvaluation * 16.0 + 27.0 * 12.0) + double(s.rays) * (28.0 + 60.0);
+    return {{"render_splat", sprites}, {"render_march", march},
+            {"what", "modelled bytes each pass reads and writes (study/render_measure.cpp); the march's is nominal"}};
+}
+
 nlohmann::json render_record(const std::string& label, const RenderMeasurement& m, const SurfaceComparison* cmp) {
     nlohmann::json r;
     r["label"] = label;
@@ -125,10 +145,12 @@ nlohmann::json render_record(const std::string& label, const RenderMeasurement& 
                         {"pixels_covered", m.stats.sprite_covered},
                         {"depth_atomics", m.stats.sprite_depth_atomics},
                         {"thickness_atomics", m.stats.sprite_thickness_atomics},
-                        {"longest_walk", m.stats.sprite_longest_walk}};
+                        {"longest_walk", m.stats.sprite_longest_walk},
+                        {"largest_footprint", m.stats.sprite_largest_footprint}};
         r["march_lanes"] = m.stats.march_lanes;
         r["march_steps"] = m.stats.march_steps;
         r["bisection_evaluations"] = m.stats.bisection_evaluations;
+        r["bytes_model"] = surface_bytes_model(m, m.settings.get<SurfaceSettings>()->surface == SurfaceKernel::anisotropic);
     }
     if (cmp) {
         r["depth_err_mean"] = cmp->depth_err_mean;

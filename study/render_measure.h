@@ -60,6 +60,11 @@ double steps_per_ray(const RenderMeasurement& m);
 double bisection_per_ray(const RenderMeasurement& m);
 double leaps_per_ray(const RenderMeasurement& m);
 
+/// The bytes the SPH surface's depth sprites and march move in a frame, modelled from its
+/// counters (`render_splat`, `render_march`, in bytes), so that the distance to the memory floor
+/// shows beside the pass times.
+nlohmann::json surface_bytes_model(const RenderMeasurement& m, bool anisotropic);
+
 /// The record of one method: the fields bench_render.json and render.json share (the SPH
 /// surface methods also name their mechanisms).
 nlohmann::json render_record(const std::string& label, const RenderMeasurement& m, const SurfaceComparison* against_reference);

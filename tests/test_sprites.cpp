@@ -12,6 +12,7 @@
 
 #include "render/surface_renderer.h"
 #include "sim/pbf_solver.h"
+#include "study/render_measure.h"
 #include "tests/gpu_test.h"
 
 namespace aquaform {
@@ -115,9 +116,29 @@ TEST_F(SpriteTest, ASpriteCloseToTheCameraIsSharedOutOverItsWorkgroup) {
     // invocation walks more than its group's pixels over the group's invocations, rounded up,
     // and a group holds at most every pixel walked.
     EXPECT_GT(one.counts.longest_walk, 10000u);
+    EXPECT_EQ(one.counts.largest_footprint, one.counts.longest_walk) << "one invocation walks its sprite's square";
+    EXPECT_EQ(shared.counts.largest_footprint, one.counts.largest_footprint);
     const uint32_t group = gpu::kDefaultLocalSize;
     EXPECT_LE(shared.counts.longest_walk, (shared.counts.pixels + group - 1) / group);
     EXPECT_LT(shared.counts.longest_walk * 8, one.counts.longest_walk);
+}
+
+TEST(SurfaceBytesModel, CountsTheClearedMapsEachSpriteEachCoveredPixelAndEachAtomic) {
+    study::RenderMeasurement m;
+    m.frame.width = 10;
+    m.frame.height = 10;
+    m.stats.sprites = 2;
+    m.stats.sprite_covered = 30;
+    m.stats.sprite_depth_atomics = 5;
+    m.stats.sprite_thickness_atomics = 7;
+    // 5 maps of 100 pixels, 2 sprites of 20 B, 30 depth reads, 12 atomics of 8 B.
+    EXPECT_DOUBLE_EQ(study::surface_bytes_model(m, false).at("render_splat").get<double>(), 2000.0 + 40.0 + 120.0 + 96.0);
+    EXPECT_DOUBLE_EQ(study::surface_bytes_model(m, true).at("render_splat").get<double>(), 2256.0 + 2 * 48.0) << "G per sprite";
+    m.stats.rays = 3;
+    m.stats.march_steps = 4;
+    m.stats.bisection_evaluations = 1;
+    EXPECT_DOUBLE_EQ(study::surface_bytes_model(m, false).at("render_march").get<double>(),
+                     5.0 * (kFieldVisitsPerEvaluation * 16.0 + 27.0 * 12.0) + 3.0 * 88.0);
 }
 
 TEST(AdaptiveResolution, IsUsedOnAGpuOnlyWhereThePictureIsLargeEnoughToGain) {

@@ -198,14 +198,14 @@ void main() {
         }
     }
     barrier();
-    uint counts[SPLAT_COUNTERS] = uint[](drawn ? 1u : 0u, walked, cost.x, cost.y, cost.z, walked);
+    uint counts[SPLAT_COUNTERS] = uint[](drawn ? 1u : 0u, walked, cost.x, cost.y, cost.z, walked, footprint);
     for (uint c = 0u; c < SPLAT_COUNTERS; ++c) {
-        if (c == SPLAT_COUNTER_LONGEST_WALK) atomicMax(group_counts[c], counts[c]);
+        if (c >= SPLAT_COUNTER_LONGEST_WALK) atomicMax(group_counts[c], counts[c]);
         else atomicAdd(group_counts[c], counts[c]);
     }
     barrier();
     if (lane < SPLAT_COUNTERS) {
-        if (lane == SPLAT_COUNTER_LONGEST_WALK) atomicMax(splat_counters[lane], group_counts[lane]);
+        if (lane >= SPLAT_COUNTER_LONGEST_WALK) atomicMax(splat_counters[lane], group_counts[lane]);
         else atomicAdd(splat_counters[lane], group_counts[lane]);
     }
 }

@@ -4,7 +4,7 @@
 //   layout(std140, binding = 0) uniform Params { SimParams params; };
 // Why: GLSL passes structs by value, and a copy of SimParams, whose static-box arrays the
 // collision loop indexes, is made in scratch memory by every invocation (on the software
-// device that copy cost predict and reorder 14x the time of the velocity pass).
+// device that copy cost predict and reorder 14x the time of the (since merged) velocity update).
 #ifndef AQUAFORM_PBF_PHYSICS_H
 #define AQUAFORM_PBF_PHYSICS_H
 #include "pbf_layout.h"

@@ -67,15 +67,17 @@
 // The depth sprites' counters (render.splat_counters, uint each), what the pass did in
 // device-independent terms: the sprites that reached the screen, the pixels the invocations
 // walked (the footprints' squares), the pixels that see a sprite's support, the atomics issued
-// into the depth maps and into the thickness, and the longest walk one invocation made (a SIMD
-// group lasts as long as its longest).
-#define SPLAT_COUNTERS 6u
+// into the depth maps and into the thickness, the longest walk one invocation made (a SIMD
+// group lasts as long as its longest), and the largest footprint (the longest walk with one
+// invocation a sprite).
+#define SPLAT_COUNTERS 7u
 #define SPLAT_COUNTER_SPRITES 0u
 #define SPLAT_COUNTER_PIXELS 1u
 #define SPLAT_COUNTER_COVERED 2u
 #define SPLAT_COUNTER_DEPTH_ATOMICS 3u
 #define SPLAT_COUNTER_THICKNESS_ATOMICS 4u
 #define SPLAT_COUNTER_LONGEST_WALK 5u
+#define SPLAT_COUNTER_LARGEST_FOOTPRINT 6u
 
 // Workgroup size of the ray march: its dispatch is indirect, sized to the ray list on the GPU.
 #define RAY_MARCH_WORKGROUP 64u
