@@ -70,47 +70,50 @@ def solver_verdict(meta, sim):
                    iterations=record["iterations"], target_ms=SOLVER_MS_PER_STEP)
 
 
-def reconstruction_verdict(meta, render):
+def per_frame_verdict(meta, render, judge, missing, **targets):
+    """A verdict over bench_render's frames: judge(frame) gives a frame's figures with `pass_`, or
+    None where the frame lacks what it needs; `missing` says why when no frame had it."""
     early = not_judged(meta, render, "frames", "bench_render")
     if early:
         return early
-    frames = []
-    for f in render["frames"]:
-        adaptive = next((r for r in f["records"] if r.get("label") == "adaptive"), None)
-        if adaptive is None:
-            continue
-        grid = (f.get("in_place") or {}).get("solver_frame_grid_ms", 0.0)
-        total = adaptive["ms_total"] + grid
-        passes = adaptive.get("ms_per_pass") or {}
-        sprites, march = passes.get("render_splat", 0.0), passes.get("render_march", 0.0)
-        frames.append(dict(frame=f["name"], particles=f["particles"], ms_reconstruction=adaptive["ms_total"],
-                           ms_frame_grid=grid, ms_total=total, ms_sprites=sprites, ms_march=march,
-                           pass_=total <= RECONSTRUCTION_MS and sprites <= SPRITES_MS and march <= MARCH_MS))
+    frames = [j for j in (judge(f) for f in render["frames"]) if j is not None]
     if not frames:
-        return verdict("not measured", reason="bench_render drew no adaptive frame")
+        return verdict("not measured", reason=missing)
     passed = all(f.pop("pass_") for f in frames)
-    return verdict("pass" if passed else "fail", target_ms=RECONSTRUCTION_MS, target_sprites_ms=SPRITES_MS,
-                   target_march_ms=MARCH_MS, frames=frames)
+    return verdict("pass" if passed else "fail", frames=frames, **targets)
+
+
+def reconstruction_figures(f):
+    adaptive = next((r for r in f["records"] if r.get("label") == "adaptive"), None)
+    if adaptive is None:
+        return None
+    grid = (f.get("in_place") or {}).get("solver_frame_grid_ms", 0.0)
+    total = adaptive["ms_total"] + grid
+    passes = adaptive.get("ms_per_pass") or {}
+    sprites, march = passes.get("render_splat", 0.0), passes.get("render_march", 0.0)
+    return dict(frame=f["name"], particles=f["particles"], ms_reconstruction=adaptive["ms_total"], ms_frame_grid=grid,
+                ms_total=total, ms_sprites=sprites, ms_march=march,
+                pass_=total <= RECONSTRUCTION_MS and sprites <= SPRITES_MS and march <= MARCH_MS)
+
+
+def resolution_figures(f):
+    """Adaptive resolution pays: >= 1.5x faster than full resolution on broad surfaces, never slower."""
+    r = (f.get("targets") or {}).get("adaptive_resolution") or {}
+    if "full_res_ms_total" not in r:
+        return None
+    speedup = r["full_res_ms_total"] / r["ms_total"] if r["ms_total"] > 0 else 0.0
+    need = RESOLUTION_SPEEDUP if f["name"] in BROAD_FRAMES else 1.0
+    return dict(frame=f["name"], ms_adaptive=r["ms_total"], ms_full_resolution=r["full_res_ms_total"], speedup=speedup,
+                speedup_min=need, used=r.get("used"), pass_=speedup >= need)
+
+
+def reconstruction_verdict(meta, render):
+    return per_frame_verdict(meta, render, reconstruction_figures, "bench_render drew no adaptive frame",
+                             target_ms=RECONSTRUCTION_MS, target_sprites_ms=SPRITES_MS, target_march_ms=MARCH_MS)
 
 
 def resolution_verdict(meta, render):
-    """Adaptive resolution pays: >= 1.5x faster than full resolution on broad surfaces, never slower."""
-    early = not_judged(meta, render, "frames", "bench_render")
-    if early:
-        return early
-    frames = []
-    for f in render["frames"]:
-        r = (f.get("targets") or {}).get("adaptive_resolution") or {}
-        if "full_res_ms_total" not in r:
-            continue
-        speedup = r["full_res_ms_total"] / r["ms_total"] if r["ms_total"] > 0 else 0.0
-        need = RESOLUTION_SPEEDUP if f["name"] in BROAD_FRAMES else 1.0
-        frames.append(dict(frame=f["name"], ms_adaptive=r["ms_total"], ms_full_resolution=r["full_res_ms_total"],
-                           speedup=speedup, speedup_min=need, used=r.get("used"), pass_=speedup >= need))
-    if not frames:
-        return verdict("not measured", reason="bench_render drew no adaptive/adaptive_full_res pair")
-    passed = all(f.pop("pass_") for f in frames)
-    return verdict("pass" if passed else "fail", frames=frames)
+    return per_frame_verdict(meta, render, resolution_figures, "bench_render drew no adaptive/adaptive_full_res pair")
 
 
 def frame_not_judged(meta, bench, step):

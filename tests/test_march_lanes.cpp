@@ -11,31 +11,18 @@
 #include "render/image_metrics.h"
 #include "render/surface_renderer.h"
 #include "sim/pbf_solver.h"
+#include "tests/dam_break_frame.h"
 #include "tests/gpu_test.h"
 
 namespace aquaform {
 namespace {
 
-class MarchLanesTest : public testing::GpuTest {
+class MarchLanesTest : public testing::DamBreakFrame<128, 96> {
 protected:
-    void SetUp() override {
-        GpuTest::SetUp();
-        auto loaded = load_scene(std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json");
-        ASSERT_TRUE(loaded) << loaded.error();
-        scene = loaded.value();
-        solver = std::make_unique<PbfSolver>(ctx(), scene);
-        for (int frame = 0; frame < 30; ++frame) solver->run_frame(nullptr);
-        renderer = std::make_unique<SurfaceRenderer>(ctx(), scene.particle_domain(), 128, 96, solver->particle_count());
-        camera = camera_for_domain(scene.domain, 128.0f / 96.0f);
-    }
-    SurfaceFrame render(const SurfaceSettings& settings, uint32_t lanes) {
+    SurfaceFrame render_with_lanes(const SurfaceSettings& settings, uint32_t lanes) {
         renderer->set_march_lanes(lanes);
-        return renderer->render(solver->positions(), solver->particle_count(), camera, settings);
+        return render(settings);
     }
-    Scene scene;
-    std::unique_ptr<PbfSolver> solver;
-    std::unique_ptr<SurfaceRenderer> renderer;
-    ViewCamera camera;
 };
 
 TEST_F(MarchLanesTest, EveryLaneCountDrawsTheFrameOneLaneDraws) {
@@ -51,12 +38,12 @@ TEST_F(MarchLanesTest, EveryLaneCountDrawsTheFrameOneLaneDraws) {
         SurfaceSettings settings;
         settings.method = c.method;
         settings.anisotropic = c.anisotropic;
-        const SurfaceFrame one = render(settings, 1);
+        const SurfaceFrame one = render_with_lanes(settings, 1);
         uint64_t one_evals = 0;
         for (const RayCounts& r : renderer->ray_counts()) one_evals += r.evaluations();
         for (uint32_t lanes : {2u, 4u, 8u}) {
             if (ctx().info().subgroup_size % lanes != 0) continue;  // refused below
-            const SurfaceFrame shared = render(settings, lanes);
+            const SurfaceFrame shared = render_with_lanes(settings, lanes);
             uint64_t evals = 0;
             for (const RayCounts& r : renderer->ray_counts()) evals += r.evaluations();
             const SurfaceComparison cmp = compare_surfaces(one, shared, renderer->params().particle_radius);

@@ -13,6 +13,7 @@
 #include "render/surface_renderer.h"
 #include "sim/pbf_solver.h"
 #include "study/render_measure.h"
+#include "tests/dam_break_frame.h"
 #include "tests/gpu_test.h"
 
 namespace aquaform {
@@ -46,24 +47,7 @@ size_t differing(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b)
     return n;
 }
 
-/// The shipped dam break 30 frames in, seen from the scene's default camera.
-class DamBreakSprites : public SpriteTest {
-protected:
-    void SetUp() override {
-        SpriteTest::SetUp();
-        auto loaded = load_scene(std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json");
-        ASSERT_TRUE(loaded) << loaded.error();
-        scene = loaded.value();
-        solver = std::make_unique<PbfSolver>(ctx(), scene);
-        for (int frame = 0; frame < 30; ++frame) solver->run_frame(nullptr);
-        renderer = std::make_unique<SurfaceRenderer>(ctx(), scene.particle_domain(), 160, 120, solver->particle_count());
-        camera = camera_for_domain(scene.domain, 160.0f / 120.0f);
-    }
-    Scene scene;
-    std::unique_ptr<PbfSolver> solver;
-    std::unique_ptr<SurfaceRenderer> renderer;
-    ViewCamera camera;
-};
+class DamBreakSprites : public testing::DamBreakFrame<160, 120> {};
 
 TEST_F(DamBreakSprites, TheBalancedWalkDrawsTheSameMapsBitForBit) {
     for (const bool anisotropic : {true, false}) {

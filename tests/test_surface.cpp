@@ -18,6 +18,7 @@
 #include "render/surface_renderer.h"
 #include "sim/pbf_solver.h"
 #include "shaders/shared/render_kernels.h"
+#include "tests/dam_break_frame.h"
 #include "tests/gpu_test.h"
 #include "tests/surface_field.h"
 
@@ -273,29 +274,7 @@ namespace {
 
 /// The dam break of assets/scenes, advanced to a frame with a moving front and splashes, and a
 /// renderer and camera for it at 160 x 120.
-class DamBreakFrameTest : public SurfaceTest {
-protected:
-    void SetUp() override {
-        SurfaceTest::SetUp();
-        auto loaded = load_scene(std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json");
-        ASSERT_TRUE(loaded) << loaded.error();
-        scene = loaded.value();
-        solver = std::make_unique<PbfSolver>(ctx(), scene);
-        for (int frame = 0; frame < 30; ++frame) solver->run_frame(nullptr);
-        renderer = std::make_unique<SurfaceRenderer>(ctx(), scene.particle_domain(), w, h, solver->particle_count());
-        camera = camera_for_domain(scene.domain, float(w) / h);
-    }
-    /// The frame with `settings`.
-    SurfaceFrame render(const SurfaceSettings& settings) {
-        return renderer->render(solver->positions(), solver->particle_count(), camera, settings);
-    }
-
-    static constexpr uint32_t w = 160, h = 120;
-    Scene scene;
-    std::unique_ptr<PbfSolver> solver;
-    std::unique_ptr<SurfaceRenderer> renderer;
-    ViewCamera camera;
-};
+class DamBreakFrameTest : public testing::DamBreakFrame<160, 120> {};
 
 TEST_F(DamBreakFrameTest, UniformAndAdaptiveAgreeWithTheReferenceAndAdaptiveEvaluatesLess) {
     SurfaceSettings settings;
