@@ -35,9 +35,10 @@ constexpr uint32_t kMaxResumePasses = 64;
 /// it lost at 512x512 (calm: 4.1 ms against 2.8 ms at full resolution) and tied or won at
 /// 2048x2048 (12.5 against 12.8 ms; 19.2 against 30.1 ms); Wu et al. (Table 1) gain from 1024^2
 /// on. 1920x1080 is the smallest size the GPU check measures it at both ways. The software
-/// device runs a SIMD group of rays in a lane-by-lane loop, with no fixed cost to amortise: it
-/// gained at every size measured (0.67-1.0x the full-resolution time at 512x512), so there it
-/// is always used.
+/// device always uses it, so that every test and picture there exercises the mechanism; its time
+/// there says little of a GPU's (0.67-1.0x the full-resolution march at 512x512 on 2026-12-02,
+/// 1.0-1.5x on 2026-12-04 under load: the silhouette rays it marches again are the slowest, and
+/// a SIMD group of rays lasts as long as its slowest).
 constexpr uint64_t kAdaptiveResolutionMinPixels = 1920ull * 1080ull;
 
 SurfacePassPush axis_push(uint32_t axis) {
