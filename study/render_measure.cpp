@@ -123,7 +123,8 @@ nlohmann::json render_record(const std::string& label, const RenderMeasurement& 
         r["skip"] = s->use_skip;
         r["adaptive_resolution"] = s->adaptive_resolution;
         // Asked for and used: the renderer draws small pictures on a GPU at full resolution.
-        r["adaptive_resolution_used"] = s->adaptive_resolution && m.stats.resolution_note.empty();
+        r["adaptive_resolution_used"] =
+            s->method == SurfaceMethod::adaptive && s->adaptive_resolution && m.stats.resolution_note.empty();
         if (!m.stats.resolution_note.empty()) r["resolution_note"] = m.stats.resolution_note;
         r["blend_normals"] = s->blend_normals;
         r["anisotropic"] = s->anisotropic;

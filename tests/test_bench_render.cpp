@@ -73,6 +73,16 @@ TEST(BenchRender, QuickRunWritesRecordsAgainstTheReferenceForEveryFrame) {
             EXPECT_GT(r["bisection_per_ray"].get<double>(), 0.0) << label;
             ASSERT_TRUE(r["ms_per_pass"].is_object()) << label;
             EXPECT_TRUE(r["ms_per_pass"].contains("render_march")) << label;
+            // The device-independent work: every sprite pass's counts, consistent with each other.
+            const auto& sprites = r.at("sprites");
+            EXPECT_GT(sprites.at("sprites").get<double>(), 1000.0) << label;
+            EXPECT_GE(sprites.at("pixels_walked").get<double>(), sprites.at("pixels_covered").get<double>()) << label;
+            EXPECT_LE(sprites.at("longest_walk").get<double>(), sprites.at("pixels_walked").get<double>()) << label;
+            EXPECT_GT(r.at("bytes_model").at("render_splat").get<double>(), 0.0) << label;
+            EXPECT_EQ(r.at("march_lanes").get<int>(), 1) << label << ": the software device marches with one lane a ray";
+            // Used only by the adaptive method with the mechanism on (the software device uses it at any size).
+            const bool adaptive_res = r["label"] == "adaptive";
+            EXPECT_EQ(r.at("adaptive_resolution_used").get<bool>(), adaptive_res) << label;
             if (r["label"] == "reference") continue;
             for (const char* key : {"depth_err_mean", "normal_err_deg_mean", "psnr_db", "roughness_deg"}) {
                 ASSERT_TRUE(r.contains(key)) << label << ": " << key;
