@@ -213,6 +213,12 @@ private:
                 row->status = "overflow";
                 row->overflow_mib = double(m.stats.list_bytes_needed) / (1024.0 * 1024.0);
             }
+            // A GPU draws a small picture at full resolution when adaptive resolution is asked
+            // for (render/surface_renderer.cpp): the row is the full-resolution one, said once.
+            if (!m.stats.resolution_note.empty() && !resolution_noted_) {
+                progress(row->method + " at " + std::to_string(w) + "x" + std::to_string(h) + ": " + m.stats.resolution_note);
+                resolution_noted_ = true;
+            }
             // The software device ends long shader loops early (RenderStats::cut).
             if (m.stats.cut)
                 row->status = "cut: " + std::to_string(m.stats.cut) + " " + m.stats.cut_unit +
@@ -394,6 +400,7 @@ private:
     std::map<std::tuple<std::string, uint32_t, uint32_t>, std::unique_ptr<Renderer>> renderers_;  // family, width, height
     std::unique_ptr<Renderer> roomy_;  // the metaball reference's, with lists of roomy_bytes_per_pixel_
     uint32_t roomy_bytes_per_pixel_ = 0;
+    bool resolution_noted_ = false;  // the frame's note that adaptive resolution gave way (said once)
 };
 
 double fps(double ms) { return ms > 0.0 ? 1000.0 / ms : 0.0; }
