@@ -48,37 +48,19 @@ int view_headless(gpu::Context& ctx, const Args& args, const Scene& scene, sessi
             std::printf("%6u %10.2f %6u %10.2f %12.2f %12.2f\n", f, h.wall_ms, h.steps, 1000.0 * h.sim_s, h.gpu_solver_ms,
                         h.gpu_render_ms);
         });
-    const double n = std::max(double(run.frames.size()), 1.0);
-    double steps = 0.0, solver_ms = 0.0, render_ms = 0.0;
-    nlohmann::json frames = nlohmann::json::array();
-    for (const viewer::HeadlessFrame& h : run.frames) {
-        steps += h.steps, solver_ms += h.gpu_solver_ms, render_ms += h.gpu_render_ms;
-        frames.push_back({{"wall_ms", h.wall_ms}, {"steps", h.steps}, {"sim_s", h.sim_s}, {"gpu_solver_ms", h.gpu_solver_ms},
-                          {"gpu_render_ms", h.gpu_render_ms}});
-    }
     std::printf("aquaform view --headless: %zu frames in %.2f s: %.2f frames/s, %.2f steps a frame, GPU %.2f ms simulation + "
                 "%.2f ms picture a frame (%u particles, %ux%u, %s); real-time factor %.3f (%.3f s simulated)\n",
-                run.frames.size(), run.wall_seconds, run.frames_per_s(), steps / n, solver_ms / n, render_ms / n, run.particles,
-                run.width, run.height, run.method.c_str(), run.real_time_factor(), run.sim_seconds);
+                run.frames.size(), run.wall_seconds, run.frames_per_s(), run.mean_steps(), run.mean_gpu_solver_ms(),
+                run.mean_gpu_render_ms(), run.particles, run.width, run.height, run.method.c_str(), run.real_time_factor(),
+                run.sim_seconds);
     if (!run.fatal.empty()) std::fprintf(stderr, "aquaform view: the simulation stopped: %s\n", run.fatal.c_str());
     if (stopped_by_ctrl_c("view --headless")) return kExitInterrupted;
     if (args.has("--out")) {
-        const nlohmann::json doc = {{"command", "view --headless"},
-                                    {"scene", scene.name},
-                                    {"device", ctx.info().name},
-                                    {"device_type", gpu::device_type_name(ctx.info().type)},
-                                    {"particles", run.particles},
-                                    {"resolution", std::to_string(run.width) + "x" + std::to_string(run.height)},
-                                    {"method", run.method},
-                                    {"frames", frames},
-                                    {"wall_seconds", run.wall_seconds},
-                                    {"sim_seconds", run.sim_seconds},
-                                    {"frames_per_s", run.frames_per_s()},
-                                    {"steps_per_frame", steps / n},
-                                    {"gpu_solver_ms_per_frame", solver_ms / n},
-                                    {"gpu_render_ms_per_frame", render_ms / n},
-                                    {"real_time_factor", run.real_time_factor()},
-                                    {"fatal", run.fatal}};
+        nlohmann::json doc = {{"command", "view --headless"},
+                              {"scene", scene.name},
+                              {"device", ctx.info().name},
+                              {"device_type", gpu::device_type_name(ctx.info().type)}};
+        doc.update(viewer::to_json(run));
         const std::string out = args.value("--out");
         if (auto written = write_file_with(out, [&](std::ostream& o) { o << doc.dump(2) << "\n"; }); !written)
             return std::fprintf(stderr, "aquaform view: %s\n", written.error().c_str()), kExitFailure;

@@ -74,4 +74,36 @@ HeadlessSummary run_headless(gpu::Context& ctx, session::SessionPlan plan, const
     return summary;
 }
 
+namespace {
+template <typename T>
+double mean_of(const std::vector<HeadlessFrame>& frames, T HeadlessFrame::*field) {
+    double sum = 0.0;
+    for (const HeadlessFrame& f : frames) sum += f.*field;
+    return frames.empty() ? 0.0 : sum / double(frames.size());
+}
+}  // namespace
+
+double HeadlessSummary::mean_steps() const { return mean_of(frames, &HeadlessFrame::steps); }
+double HeadlessSummary::mean_gpu_solver_ms() const { return mean_of(frames, &HeadlessFrame::gpu_solver_ms); }
+double HeadlessSummary::mean_gpu_render_ms() const { return mean_of(frames, &HeadlessFrame::gpu_render_ms); }
+
+nlohmann::json to_json(const HeadlessSummary& run) {
+    nlohmann::json frames = nlohmann::json::array();
+    for (const HeadlessFrame& h : run.frames)
+        frames.push_back({{"wall_ms", h.wall_ms}, {"steps", h.steps}, {"sim_s", h.sim_s}, {"gpu_solver_ms", h.gpu_solver_ms},
+                          {"gpu_render_ms", h.gpu_render_ms}});
+    return {{"particles", run.particles},
+            {"resolution", std::to_string(run.width) + "x" + std::to_string(run.height)},
+            {"method", run.method},
+            {"frames", frames},
+            {"wall_seconds", run.wall_seconds},
+            {"sim_seconds", run.sim_seconds},
+            {"frames_per_s", run.frames_per_s()},
+            {"steps_per_frame", run.mean_steps()},
+            {"gpu_solver_ms_per_frame", run.mean_gpu_solver_ms()},
+            {"gpu_render_ms_per_frame", run.mean_gpu_render_ms()},
+            {"real_time_factor", run.real_time_factor()},
+            {"fatal", run.fatal}};
+}
+
 }  // namespace aquaform::viewer

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "session/simulation_session.h"
 #include "viewer/viewer.h"
 
@@ -38,7 +40,14 @@ struct HeadlessSummary {
     double frames_per_s() const { return wall_seconds > 0.0 ? double(frames.size()) / wall_seconds : 0.0; }
     /// Simulated seconds per wall second: 1 is real time.
     double real_time_factor() const { return wall_seconds > 0.0 ? sim_seconds / wall_seconds : 0.0; }
+    /// Means over the frames played (0 with none).
+    double mean_steps() const;
+    double mean_gpu_solver_ms() const;
+    double mean_gpu_render_ms() const;
 };
+
+/// `view --headless --out FILE`'s document: every frame, the means and the real-time factor.
+nlohmann::json to_json(const HeadlessSummary& run);
 
 /// Plays `frames` frames of `plan` at `width` x `height` (options.picture_scale applies) with
 /// options' method and surface settings; stops early on Ctrl-C or a worker error.
