@@ -259,7 +259,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     const uint32_t slices = ctx_->long_pass_slices(), group = splat_pass().desc().local_size;
     const uint32_t per_slice = ((particles + slices - 1) / slices + group - 1) / group * group;
     for (uint32_t first = 0; first < particles; first += per_slice) {
-            gpu::GpuScope scope(timer, cmd, "render_splat");
+        gpu::GpuScope scope(timer, cmd, "render_splat");
         SurfacePassPush push = axis_push(0);
         push.first = first;
         gpu::dispatch(*ctx_, cmd, splat_pass(), std::min(per_slice, particles - first), push, splat_buffers);
@@ -317,8 +317,11 @@ void SurfaceRenderer::record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* tim
 uint32_t default_march_lanes(const gpu::DeviceInfo& device) {
     // The software device marches 8 rays side by side in its SIMD lanes already, and loads have
     // no latency to hide there: a lane per ray. On a GPU, 4 lanes a ray (issue 36; the H200's
-    // figures with 1 lane are in docs/measurements.md, `bench render --march-lanes` measures others).
-    return device.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 1u : 4u;
+    // figures with 1 lane are in docs/measurements.md, `bench render --march-lanes` measures others),
+    // where its subgroups can share them (DeviceInfo::subgroup_size is 1 without compute shuffles).
+    constexpr uint32_t kGpuLanes = 4;
+    const bool shares = device.subgroup_size % kGpuLanes == 0;
+    return device.type == VK_PHYSICAL_DEVICE_TYPE_CPU || !shares ? 1u : kGpuLanes;
 }
 
 void SurfaceRenderer::set_march_lanes(uint32_t lanes) {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "gpu/context.h"
 #include "render/image_metrics.h"
 #include "render/surface_renderer.h"
 #include "sim/pbf_solver.h"
@@ -57,6 +58,18 @@ TEST_F(MarchLanesTest, EveryLaneCountDrawsTheFrameOneLaneDraws) {
             EXPECT_NEAR(double(evals), double(one_evals), 0.001 * double(one_evals)) << what;
         }
     }
+}
+
+TEST(MarchLanes, AGpuSharesARayAmongFourLanesOnlyWhereItsSubgroupsCanShuffle) {
+    gpu::DeviceInfo device;
+    device.type = VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU;
+    device.subgroup_size = 32;
+    EXPECT_EQ(default_march_lanes(device), 4u);
+    device.subgroup_size = 1;  // no subgroup shuffles in compute shaders
+    EXPECT_EQ(default_march_lanes(device), 1u);
+    device.type = VK_PHYSICAL_DEVICE_TYPE_CPU;
+    device.subgroup_size = 8;
+    EXPECT_EQ(default_march_lanes(device), 1u);
 }
 
 TEST_F(MarchLanesTest, ALaneCountTheDeviceCannotShareIsRefusedByName) {
