@@ -29,6 +29,10 @@
 # sizes; the test suite runs it that way (tests/test_gpu_check.cpp), so the script cannot rot.
 # A step that fails or runs out of time is recorded and the script goes on, then exits 1; a step
 # the budget has no room left for is recorded as skipped.
+# Exit status: 0 every step passed; 1 a step failed, timed out or was skipped; 2 bad input, one
+# line naming the flag and the fix, before any step: an unknown flag, a flag without its value,
+# a --budget not from 1 to 999999 (decimal: 08 is 8), a --build without aquaform, an --out that
+# is a folder, a link to nothing, or in a folder that cannot be made or written.
 #
 # Usage: scripts/gpu_check.sh [--quick] [--budget SECONDS] [--build DIR] [--out FILE] [--device NAME|INDEX]
 #        (defaults: build/, gpu_check.json in the current directory, automatic device choice)
