@@ -247,6 +247,21 @@ TEST(ScriptFuzz, BlenderSceneRendersAGoodRunAndSaysWhatItAssumesWithoutRunJson) 
     EXPECT_FALSE(fs::exists(prefix.string() + "0000.png")) << "only the frames asked";
 }
 
+TEST(ScriptFuzz, BlenderSceneEndsWith130WhenCtrlCStopsTheRender) {
+    // Blender's first Ctrl-C stops its animation render after the frame it is on (its own exit
+    // status would be 1 or 0); the script says so and ends with 130, as the command does.
+    const fs::path dir = test_cli::temp_dir("fuzz_blender_ctrl_c");
+    const fs::path run = blender_run(dir / "run");
+    const fs::path log = dir / "blender.log";
+    const Outcome o = run_in(dir, "bash -c " + q(blender_scene(run) + " --render " + (dir / "x_").string() +
+                                              " --size 640x360 --samples 4096 > " + log.string() + " 2>&1 & pid=$!; "
+                                              "until grep -q Sample " + log.string() + "; do sleep 0.2; done; "
+                                              "kill -INT $pid; wait $pid"));
+    const std::string said = test_cli::read_file(log);
+    EXPECT_EQ(o.status, 130) << said.substr(said.size() > 2000 ? said.size() - 2000 : 0);
+    EXPECT_NE(said.find("blender_scene: stopped by Ctrl-C"), std::string::npos);
+}
+
 // --- the study drivers, set-up, pictures and charts -------------------------------------------
 
 TEST(ScriptFuzz, StudyDriversRefuseBadSpecCountAndOutBeforeMakingAnything) {
