@@ -31,6 +31,23 @@ struct Outcome {
     std::string out, err;
 };
 
+/// A fresh folder for one test; it and the files beside it named after it (streams, stubs) are
+/// removed when the test process ends.
+fs::path fuzz_dir(const std::string& name) {
+    static struct RemovedAtExit {
+        std::vector<fs::path> dirs;
+        ~RemovedAtExit() {
+            std::error_code ignored;
+            for (const fs::path& d : dirs) {
+                for (const char* sibling : {".stdout", ".stderr", ".stub", ".stub_log"}) fs::remove(d.string() + sibling, ignored);
+                fs::remove_all(d, ignored);
+            }
+        }
+    } made;
+    made.dirs.push_back(test_cli::temp_dir(name));
+    return made.dirs.back();
+}
+
 /// Runs `command` in `dir` (killed after `timeout_s`), its streams through files beside `dir`.
 Outcome run_in(const fs::path& dir, const std::string& command, int timeout_s = 120) {
     const fs::path out = dir.string() + ".stdout", err = dir.string() + ".stderr";
@@ -83,7 +100,7 @@ std::string q(const fs::path& path) { return "'" + path.string() + "'"; }
 // --- scripts/gpu_check.sh ---------------------------------------------------------------------
 
 TEST(ScriptFuzz, GpuCheckRefusesMissingBadAndUnwritableValuesBeforeAnyStep) {
-    const fs::path dir = test_cli::temp_dir("fuzz_gpu_check");
+    const fs::path dir = fuzz_dir("fuzz_gpu_check");
     test_cli::write_file(dir / "a_file", "x");
     fs::create_directory(dir / "a_folder");
     fs::create_symlink(dir / "nowhere" / "x.json", dir / "dangling.json");
@@ -119,7 +136,7 @@ TEST(ScriptFuzz, GpuCheckRefusesMissingBadAndUnwritableValuesBeforeAnyStep) {
 TEST(ScriptFuzz, GpuCheckReadsAnOctalLookingBudgetAsDecimalAndMakesTheOutFolder) {
     // 09 is not an octal number: read as 9 s, the budget is spent before the first step, each is
     // recorded as skipped (exit 1), and the JSON lands in the folder --out named, made for it.
-    const fs::path dir = test_cli::temp_dir("fuzz_gpu_check_zeros");
+    const fs::path dir = fuzz_dir("fuzz_gpu_check_zeros");
     const fs::path out = dir / "made" / "here" / "gpu_check.json";
     const Outcome o = run_in(dir, "bash " + kScripts + "/gpu_check.sh --quick --build " + q(kBuild) + " --budget 09 --out " + q(out));
     EXPECT_EQ(o.status, 1) << o.err;
@@ -157,7 +174,7 @@ std::string blender_scene(const fs::path& run) {
 }
 
 TEST(ScriptFuzz, BlenderSceneRefusesBadFlagsBeforeImportingAnything) {
-    const fs::path dir = test_cli::temp_dir("fuzz_blender_flags");
+    const fs::path dir = fuzz_dir("fuzz_blender_flags");
     const fs::path run = blender_run(dir / "run");
     const std::string render = " --render " + q(dir / "pictures" / "cycles_");  // pictures/ must not be made
     expect_refused(blender_scene(run), {
@@ -201,7 +218,7 @@ TEST(ScriptFuzz, BlenderSceneRefusesBadFlagsBeforeImportingAnything) {
 }
 
 TEST(ScriptFuzz, BlenderSceneRefusesACorruptRunFolderNamingTheFileAndKey) {
-    const fs::path dir = test_cli::temp_dir("fuzz_blender_run");
+    const fs::path dir = fuzz_dir("fuzz_blender_run");
     struct BadRun {
         std::map<std::string, std::optional<std::string>> changes;
         std::string names;
@@ -233,7 +250,7 @@ TEST(ScriptFuzz, BlenderSceneRefusesACorruptRunFolderNamingTheFileAndKey) {
 TEST(ScriptFuzz, BlenderSceneRendersAGoodRunAndSaysWhatItAssumesWithoutRunJson) {
     // Octal-looking numbers are decimal here too (016 is 16); without run.json, one line says
     // what is assumed and the picture is still made, at the size asked.
-    const fs::path dir = test_cli::temp_dir("fuzz_blender_good");
+    const fs::path dir = fuzz_dir("fuzz_blender_good");
     const fs::path run = blender_run(dir / "run", {{"run.json", std::nullopt}});
     const fs::path prefix = dir / "pictures" / "cycles_";
     const Outcome o = run_in(dir, blender_scene(run) + " --render " + q(prefix) + " --size 016x24 --samples 01 --frames 3:3");
@@ -250,7 +267,7 @@ TEST(ScriptFuzz, BlenderSceneRendersAGoodRunAndSaysWhatItAssumesWithoutRunJson) 
 TEST(ScriptFuzz, BlenderSceneEndsWith130WhenCtrlCStopsTheRender) {
     // Blender's first Ctrl-C stops its animation render after the frame it is on (its own exit
     // status would be 1 or 0); the script says so and ends with 130, as the command does.
-    const fs::path dir = test_cli::temp_dir("fuzz_blender_ctrl_c");
+    const fs::path dir = fuzz_dir("fuzz_blender_ctrl_c");
     const fs::path run = blender_run(dir / "run");
     const fs::path log = dir / "blender.log";
     const Outcome o = run_in(dir, "bash -c " + q(blender_scene(run) + " --render " + (dir / "x_").string() +
@@ -265,7 +282,7 @@ TEST(ScriptFuzz, BlenderSceneEndsWith130WhenCtrlCStopsTheRender) {
 // --- the study drivers, set-up, pictures and charts -------------------------------------------
 
 TEST(ScriptFuzz, StudyDriversRefuseBadSpecCountAndOutBeforeMakingAnything) {
-    const fs::path dir = test_cli::temp_dir("fuzz_study_drivers");
+    const fs::path dir = fuzz_dir("fuzz_study_drivers");
     const fs::path spec = test_cli::write_file(dir / "spec.json", "{}");
     test_cli::write_file(dir / "a_file", "x");
     const fs::path log = dir.string() + ".stub_log";
@@ -301,7 +318,7 @@ TEST(ScriptFuzz, StudyDriversRefuseBadSpecCountAndOutBeforeMakingAnything) {
 }
 
 TEST(ScriptFuzz, SetupPicturesChartsAndReportRefuseBadArgumentsBeforeAnyWork) {
-    const fs::path dir = test_cli::temp_dir("fuzz_other_scripts");
+    const fs::path dir = fuzz_dir("fuzz_other_scripts");
     test_cli::write_file(dir / "a_file", "x");
     fs::create_directory(dir / "no_csv");
     fs::create_directory(dir / "bad_csv");
