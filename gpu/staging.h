@@ -11,6 +11,8 @@
 // - Outside a recording an upload submits at once, unless an UploadBatch is open on the thread:
 //   then its copy is held and recorded at the start of the thread's next submission, or when the
 //   batch closes, so that many uploads share one submission.
+// Downloads (device to host) are here too, beside the uploads: both are copies between the host
+// and a buffer, and neither belongs in gpu/buffer.h, which every module below them includes.
 #pragma once
 
 #include <cstdint>
