@@ -11,8 +11,9 @@
 // - Outside a recording an upload submits at once, unless an UploadBatch is open on the thread:
 //   then its copy is held and recorded at the start of the thread's next submission, or when the
 //   batch closes, so that many uploads share one submission.
-// Downloads (device to host) are here too, beside the uploads: both are copies between the host
-// and a buffer, and neither belongs in gpu/buffer.h, which every module below them includes.
+// Downloads (device to host) are here too, beside the uploads: both record copies through the
+// thread's recording and staging memory, which gpu/buffer.h (a module this one is built on)
+// could reach only through an include cycle.
 #pragma once
 
 #include <cstdint>
