@@ -15,7 +15,7 @@
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
 #include "sim/scene.h"
-#include "study/study_shards.h"
+#include "core/version.h"
 
 namespace aquaform::cli {
 
@@ -316,7 +316,7 @@ int run_command(const std::string& command, const std::vector<std::string>& rest
             return kExitOk;
         }
         if (command == "--version" || command == "version") {
-            std::printf("aquaform %s\n", study::aquaform_version().c_str());
+            std::printf("aquaform %s\n", aquaform_version().c_str());
             return kExitOk;
         }
         // Bad input is one line (README "Exit codes"); the usage is `aquaform help`.

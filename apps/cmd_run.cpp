@@ -21,6 +21,7 @@
 #include "apps/run_exports.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "render/impostor_view.h"
 #include "render/registry.h"

@@ -17,6 +17,7 @@
 #include "apps/cli.h"
 #include "core/interrupt.h"
 #include "core/output_dir.h"
+#include "core/version.h"
 #include "study/study_charts.h"
 #include "study/study_rows.h"
 #include "study/study_run.h"
@@ -160,7 +161,7 @@ int cmd_study(const std::vector<std::string>& argv) {
         manifest.spec_name = spec.value().name;
         manifest.spec_path = std::filesystem::absolute(args->positional[0]).lexically_normal().string();
         manifest.particles = particles;
-        manifest.version = study::aquaform_version();
+        manifest.version = aquaform_version();
         manifest.device = device;
         manifest.shard = *shard;
         manifest.complete = complete;
