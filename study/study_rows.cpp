@@ -7,6 +7,8 @@
 #include <set>
 #include <sstream>
 
+#include "core/text_escape.h"
+
 namespace aquaform::study {
 
 namespace fs = std::filesystem;
@@ -97,14 +99,7 @@ std::string row_problem(const std::vector<std::string>& columns, const std::vect
 
 }  // namespace
 
-std::string csv_field(const std::string& text) {
-    std::string flat = text;
-    std::replace_if(flat.begin(), flat.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-    if (flat.find_first_of(",\"") == std::string::npos) return flat;
-    std::string out = "\"";
-    for (char c : flat) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return out + "\"";
-}
+std::string csv_field(const std::string& text) { return csv_text(text); }
 
 std::string csv_number(const std::optional<double>& v, const char* format_text) {
     return v && std::isfinite(*v) ? format(format_text, *v) : "";
@@ -143,6 +138,8 @@ Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, c
     if (existed) {
         bool torn = false;
         const std::vector<std::string> lines = complete_lines(path, &torn);
+        const size_t pass_column = file.column("pass");
+        std::map<std::string, size_t> line_of;  // a row's key -> the line that holds it
         if (lines.empty()) rewrite = true;  // killed before its header was whole: nothing kept
         else if (lines[0] != header)
             return Error{path.string() + " has other columns than this version of aquaform writes" + kKeepOrStartOver};
@@ -160,6 +157,18 @@ Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, c
                 return Error{path.string() + " holds rows of another spec (or of its scene files as they were then)" +
                              kKeepOrStartOver};
             if (keep && !keep(fields)) {
+                rewrite = true;
+                continue;
+            }
+            // A row is one cell's (one pass of it in study_passes.csv): a second one for the same
+            // is dropped by a run, and refused by a merge, as a cell in two shards is.
+            const std::string key = fields.back() + (pass_column < fields.size() ? ", pass " + fields[pass_column] : "");
+            if (const auto [first, added] = line_of.emplace(key, i + 1); !added) {
+                if (access == RowAccess::read_only)
+                    return Error{path.string() + " lines " + std::to_string(first->second) + " and " +
+                                 std::to_string(i + 1) + " both hold the row of " + key +
+                                 "; a folder holds each row once: delete one of the two lines, or rerun that "
+                                 "folder's study (or shard) with --fresh"};
                 rewrite = true;
                 continue;
             }

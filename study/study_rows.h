@@ -22,7 +22,7 @@
 
 namespace aquaform::study {
 
-/// A CSV field: quoted when it holds a comma or a quote; line breaks become spaces (a row is a line).
+/// A CSV field, as core/text_escape.h's csv_text writes it (quoted when it holds a comma or a quote).
 std::string csv_field(const std::string& text);
 /// %.6g (or `format`); empty when absent or not finite.
 std::string csv_number(const std::optional<double>& v, const char* format = "%.6g");
