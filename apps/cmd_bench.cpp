@@ -18,6 +18,7 @@
 #include "core/interrupt.h"
 #include "core/number_text.h"
 #include "core/output_dir.h"
+#include "core/text_escape.h"
 #include "sim/scene.h"
 #include "gpu/context.h"
 #include "study/bench_sim.h"
@@ -151,7 +152,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
                           {"device_type", gpu::device_type_name(ctx.info().type)},
                           {"records", records},
                           {"neighbor_search_exponent", std::isnan(exponent) ? nlohmann::json(nullptr) : nlohmann::json(exponent)}};
-    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << doc.dump(2) << "\n"; }); !written)
+    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; }); !written)
         return std::fprintf(stderr, "aquaform bench: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
     std::printf("wrote %s\n", out_path.c_str());
     return exit_status(ctx, kExitOk);

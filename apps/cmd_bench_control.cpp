@@ -17,6 +17,7 @@
 #include "core/format_text.h"
 #include "core/interrupt.h"
 #include "core/number_text.h"
+#include "core/text_escape.h"
 #include "gpu/context.h"
 #include "study/bench_control.h"
 
@@ -277,7 +278,7 @@ int bench_control(const Args& args) {
                       {"shape_spacing", spacing},
                       {"records", records},
                       {"targets", targets}};
-    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << doc.dump(2) << "\n"; }); !written)
+    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; }); !written)
         return std::fprintf(stderr, "aquaform bench control: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
     std::printf("wrote %s\n", out_path.string().c_str());
     return exit_status(ctx, kExitOk);

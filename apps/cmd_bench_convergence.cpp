@@ -13,6 +13,7 @@
 #include "apps/cli.h"
 #include "core/file_write.h"
 #include "core/interrupt.h"
+#include "core/text_escape.h"
 #include "gpu/context.h"
 #include "study/bench_convergence.h"
 #include "study/bench_frames.h"
@@ -196,7 +197,7 @@ int bench_convergence(const Args& args) {
                         {"mean_splash_relative_difference", std::isfinite(splash_diff) ? json(splash_diff) : json(nullptr)},
                         {"pass", pass}}}};
     const std::filesystem::path json_path = out_dir / "convergence.json";
-    if (auto written = write_file_with(json_path, [&](std::ostream& out) { out << doc.dump(1) << "\n"; }); !written)
+    if (auto written = write_file_with(json_path, [&](std::ostream& out) { out << json_text(doc, 1) << "\n"; }); !written)
         return std::fprintf(stderr, "aquaform bench convergence: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
     std::printf("wrote %s and %s\n", json_path.string().c_str(), chart_path.string().c_str());
     return exit_status(ctx, kExitOk);

@@ -10,6 +10,7 @@
 #include "core/file_write.h"
 #include "core/interrupt.h"
 #include "core/output_dir.h"
+#include "core/text_escape.h"
 #include "gpu/context.h"
 #include "render/registry.h"
 #include "sim/scene.h"
@@ -90,7 +91,7 @@ int bench_frame(const Args& args) {
                           {"iterations", options.iterations},
                           {"records", records},
                           {"targets", targets}};
-    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << doc.dump(2) << "\n"; }); !written)
+    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; }); !written)
         return std::fprintf(stderr, "aquaform bench frame: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
     std::printf("wrote %s\n", out_path.c_str());
     return exit_status(ctx, kExitOk);

@@ -15,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/text_escape.h"
 #include "study/bench_frames.h"
 #include "core/file_write.h"
 #include "core/output_dir.h"
@@ -421,7 +422,7 @@ int bench_render(const Args& args) {
                           {"repeats", *repeats},
                           {"interrupted", stopped},
                           {"frames", frame_records}};
-    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << doc.dump(2) << "\n"; }); !written)
+    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; }); !written)
         return std::fprintf(stderr, "aquaform bench render: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
     std::printf("wrote %s\n", out_path.string().c_str());
     const std::string stem = (out_path.parent_path() / out_path.stem()).string();

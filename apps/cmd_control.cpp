@@ -57,11 +57,13 @@ std::optional<std::string> memory_refusal(const char* what, double bytes, double
                                           double exponent) {
     if (bytes <= kMemoryShare * available) return std::nullopt;
     const double fit = spacing * std::pow(bytes / (kMemoryShare * available), 1.0 / exponent) * 1.05;
-    char message[400];
-    std::snprintf(message, sizeof message,
-                  "%s at --spacing %g needs about %.0f MB but %.0f MB are available; use --spacing %.3g or larger", what,
-                  spacing, bytes / 1048576.0, available / 1048576.0, fit);
-    return std::string(message);
+    char fix[64];
+    std::snprintf(fix, sizeof fix, "; use --spacing %.3g or larger", fit);
+    char at[64];
+    std::snprintf(at, sizeof at, " at --spacing %g needs about ", spacing);
+    const auto whole = [](double b) { return uint64_t(std::min(b, 1.8e19)); };  // within uint64_t
+    return what + std::string(at) + memory_size_text(whole(bytes)) + " but " + available_memory_text(whole(available)) +
+           fix;
 }
 
 // Bytes of the points and of the particle snapshot that writes them (xyzw, velocity, density).

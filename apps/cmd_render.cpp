@@ -8,6 +8,7 @@
 
 #include "apps/cli.h"
 #include "core/file_write.h"
+#include "core/text_escape.h"
 #include "study/render_measure.h"
 #include "apps/render_options.h"
 #include "apps/run_report.h"
@@ -25,7 +26,7 @@ Result<bool> write_all(const std::filesystem::path& dir, const std::vector<std::
                        const nlohmann::json& report) {
     for (const auto& [name, image] : images)
         if (auto written = write_png(dir / name, image); !written) return written;
-    return write_file_with(dir / "render.json", [&](std::ostream& out) { out << report.dump(2) << "\n"; });
+    return write_file_with(dir / "render.json", [&](std::ostream& out) { out << json_text(report, 2) << "\n"; });
 }
 
 /// A method of another family than the SPH surface renderer's: the image, its timings and

@@ -90,9 +90,11 @@ int cmd_run(const std::vector<std::string>& argv) {
     }
     const std::filesystem::path out_dir = args->value("--out", "out/" + std::filesystem::path(args->positional[0]).stem().string());
     if (!prepare_output("run", out_dir)) return kExitUsage;
-    if (const size_t earlier = clear_earlier_run(out_dir))
+    const Result<size_t> earlier = clear_earlier_run(out_dir);
+    if (!earlier) return std::fprintf(stderr, "aquaform run: %s\n", earlier.error().c_str()), kExitUsage;
+    if (earlier.value())
         std::printf("run: %s held an earlier run; its %zu files (frames, exports, stats.csv, front.*) were removed\n",
-                    out_dir.string().c_str(), earlier);
+                    out_dir.string().c_str(), earlier.value());
     // --video is checked, and ffmpeg found, before any work; the video is made from the frames at the end.
     std::optional<std::filesystem::path> video, ffmpeg;
     if (args->has("--video")) {

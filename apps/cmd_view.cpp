@@ -17,6 +17,7 @@
 #include "core/interrupt.h"
 #include "core/number_text.h"
 #include "core/output_dir.h"
+#include "core/text_escape.h"
 #include "gpu/context.h"
 #include "render/registry.h"
 #include "sim/pbf_solver.h"
@@ -62,7 +63,7 @@ int view_headless(gpu::Context& ctx, const Args& args, const Scene& scene, sessi
                               {"device_type", gpu::device_type_name(ctx.info().type)}};
         doc.update(viewer::to_json(run));
         const std::string out = args.value("--out");
-        if (auto written = write_file_with(out, [&](std::ostream& o) { o << doc.dump(2) << "\n"; }); !written)
+        if (auto written = write_file_with(out, [&](std::ostream& o) { o << json_text(doc, 2) << "\n"; }); !written)
             return std::fprintf(stderr, "aquaform view: %s\n", written.error().c_str()), kExitFailure;
         std::printf("wrote %s\n", out.c_str());
     }

@@ -25,7 +25,8 @@ std::optional<FrameExportOptions> frame_export_options_from(const Args& args, st
 /// A folder's rule for `run`: it is the run's (hold_output_dir keeps others out while it
 /// writes), and the files an earlier run left there (frames, exports with their .pvd and
 /// exports.csv, stats.csv, front.*) are removed first, so that none of them pass for this run's;
-/// other files stay. Returns how many were removed.
-size_t clear_earlier_run(const std::filesystem::path& dir);
+/// other files stay. Returns how many were removed; a symbolic link where the run writes a file
+/// is refused (naming it), before anything is removed.
+Result<size_t> clear_earlier_run(const std::filesystem::path& dir);
 
 }  // namespace aquaform::cli

@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/csv.h"
+#include "core/text_escape.h"
 #include "gpu/context.h"
 #include "render/svg_chart.h"
 #include "sim/dam_break_reference.h"
@@ -53,7 +55,7 @@ Result<bool> write_run_description(const std::filesystem::path& dir, const Scene
                                 {"frame_dt", scene.solver.frame_dt},
                                 {"particles", particles},
                                 {"particle_spacing", scene.particle_spacing}};
-    return write_file_with(dir / kRunDescriptionName, [&](std::ostream& out) { out << run.dump(2) << '\n'; });
+    return write_file_with(dir / kRunDescriptionName, [&](std::ostream& out) { out << json_text(run, 2) << '\n'; });
 }
 
 RunFiles::RunFiles(const std::filesystem::path& dir, const Scene& scene) : dir_(dir) {
@@ -131,9 +133,9 @@ Result<bool> RunFiles::write_waiting_rows() {
                       s.non_finite, s.splash_fraction, droplets.c_str(), runup, s.list_overflow_fraction, total);
         text += row;
         if (w.shape) {
-            std::snprintf(row, sizeof row, ",%.4f,%.4f,%.4f,\"%s\"", w.shape->iou, w.shape->fill_fraction,
-                          w.shape->outside_fraction, w.shape->active.c_str());
-            text += row;
+            std::snprintf(row, sizeof row, ",%.4f,%.4f,%.4f,", w.shape->iou, w.shape->fill_fraction,
+                          w.shape->outside_fraction);
+            text += row + csv_field(w.shape->active, true);  // the shapes' names are the scene's: any text
         }
         for (const auto& name : pass_columns_) {
             auto it = s.gpu_ms.find(name);

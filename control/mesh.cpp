@@ -678,9 +678,8 @@ Result<LoadedMesh> load_obj(const std::filesystem::path& path) {
     const std::optional<uint64_t> available = available_host_memory();
     if (!error && available && 6 * bytes > *available)
         return mesh_error(path,
-                          "reading this " + std::to_string(bytes >> 20) + " MB file needs about " +
-                              std::to_string((6 * bytes) >> 20) + " MB of memory but " +
-                              std::to_string(*available >> 20) + " MB are available",
+                          "reading this " + memory_size_text(bytes) + " file needs about " + memory_size_text(6 * bytes) +
+                              " of memory but " + available_memory_text(*available),
                           "simplify (decimate) the mesh in a modelling tool, or free memory");
     std::ifstream file(path, std::ios::binary);
     std::string text(error ? 0 : size_t(bytes), '\0');  // read in place: one copy of a large file, not two

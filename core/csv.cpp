@@ -1,18 +1,27 @@
 #include "core/csv.h"
 
+#include "core/text_escape.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 namespace aquaform {
 
-std::string csv_field(const std::string& text) {
-    std::string flat = text;
-    std::replace_if(flat.begin(), flat.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-    if (flat.find_first_of(",\"") == std::string::npos) return flat;
-    std::string out = "\"";
-    for (char c : flat) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return out + "\"";
+std::string csv_field(std::string_view text, bool always_quoted) {
+    // Valid UTF-8 first, so every byte left below 0x80 is a character of its own.
+    const std::string valid = valid_utf8(text);
+    std::string flat;
+    bool quote = always_quoted;
+    for (const char c : valid) {
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) {
+            flat += ' ';  // a row is a line, and a control character belongs in no field
+            continue;
+        }
+        quote = quote || c == ',' || c == '"';
+        flat += c == '"' ? std::string("\"\"") : std::string(1, c);
+    }
+    return quote ? "\"" + flat + "\"" : flat;
 }
 
 std::string csv_number(const std::optional<double>& v, const char* format) {

@@ -4,12 +4,15 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace aquaform {
 
-/// A CSV field: quoted when it holds a comma or a quote; line breaks become spaces (a row is a line).
-std::string csv_field(const std::string& text);
+/// A CSV field (RFC 4180), whatever the user gave: quoted when it holds a comma or a quote (or
+/// `always_quoted`: a column whose readers expect the quotes), quotes doubled; line breaks and
+/// other control characters become spaces (a row is a line), bad UTF-8 becomes U+FFFD.
+std::string csv_field(std::string_view text, bool always_quoted = false);
 /// %.6g (or `format`); empty when absent or not finite.
 std::string csv_number(const std::optional<double>& v, const char* format = "%.6g");
 /// The line of `fields`, each as csv_field writes it.

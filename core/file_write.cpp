@@ -5,7 +5,7 @@
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
+#include <streambuf>
 
 #include "core/output_dir.h"
 
@@ -34,38 +34,107 @@ Error write_failed(const fs::path& path, int errno_value) {
                  Error::Kind::resource};
 }
 
+/// An output stream's buffer that writes to a file descriptor and keeps the reason (errno) of the
+/// first write that failed: a full disk is reported as such.
+class DescriptorBuffer : public std::streambuf {
+public:
+    explicit DescriptorBuffer(int fd) : fd_(fd) { setp(bytes_, bytes_ + sizeof bytes_); }
+    ~DescriptorBuffer() override { close(); }
+    /// Writes what is buffered and closes the file: 0, or the errno of the first failure.
+    int close() {
+        if (fd_ < 0) return error_;
+        if (!write_out() && error_ == 0) error_ = EIO;
+        if (::close(fd_) != 0 && error_ == 0) error_ = errno;
+        fd_ = -1;
+        return error_;
+    }
+
+protected:
+    int_type overflow(int_type c) override {
+        if (!write_out()) return traits_type::eof();
+        if (!traits_type::eq_int_type(c, traits_type::eof())) {
+            *pptr() = traits_type::to_char_type(c);
+            pbump(1);
+        }
+        return traits_type::not_eof(c);
+    }
+    int sync() override { return write_out() ? 0 : -1; }
+
+private:
+    bool write_out() {
+        for (const char* at = pbase(); at < pptr();) {
+            const ssize_t n = ::write(fd_, at, size_t(pptr() - at));
+            if (n > 0) at += n;
+            else if (n < 0 && errno == EINTR) continue;
+            else return error_ = n < 0 ? errno : ENOSPC, false;
+        }
+        setp(bytes_, bytes_ + sizeof bytes_);
+        return error_ == 0;
+    }
+
+    int fd_;
+    int error_ = 0;
+    char bytes_[1 << 16];
+};
+
 }  // namespace
+
+Error link_refused(const fs::path& path) {
+    std::error_code ec;
+    const fs::path target = fs::read_symlink(path, ec);
+    return Error{path.string() + " is a symbolic link" + (ec ? std::string() : " (to " + target.string() + ")") +
+                 "; aquaform writes only where it is told, never through a link: remove the link (rm " +
+                 path.string() + ") or choose another folder with --out"};
+}
+
+Result<int> open_for_writing(const fs::path& path, WriteOpen how, const fs::path& named) {
+    int flags = O_CREAT | O_NOFOLLOW | O_CLOEXEC | (how == WriteOpen::read_write ? O_RDWR : O_WRONLY);
+    if (how == WriteOpen::truncate) flags |= O_TRUNC;
+    if (how == WriteOpen::create_new) flags |= O_EXCL;
+    const int fd = ::open(path.c_str(), flags, 0644);
+    if (fd >= 0) return fd;
+    const int why = errno;
+    const fs::path& name = named.empty() ? path : named;
+    std::error_code ec;
+    const fs::file_status there = fs::symlink_status(path, ec);
+    if (fs::is_symlink(there)) return link_refused(name);
+    if (fs::is_directory(there))
+        return Error{"cannot write " + name.string() + ": it is a folder; move it away or choose another folder with --out"};
+    // A file that is there is at fault itself (someone else's, read-only); otherwise its folder.
+    return Error{"cannot write " + name.string() + ": " + why_not_writable(fs::exists(there) ? path : folder_of(path), why),
+                 kind_of(why)};
+}
 
 Result<bool> write_file_with(const fs::path& path, const std::function<void(std::ostream&)>& fill) {
     // Staged beside the file and renamed over it, unless the path is something a rename must not
-    // replace (a link, a device such as /dev/null, a pipe): that is written where it is.
+    // replace (a device such as /dev/null, a pipe): that is written where it is.
     std::error_code ec;
     const fs::file_status status = fs::symlink_status(path, ec);
+    if (fs::is_symlink(status)) return link_refused(path);
     const bool staged = !fs::exists(status) || fs::is_regular_file(status);
     fs::path target = path;
-    if (staged) target.replace_filename(path.filename().string().insert(0, 1, '.') + ".tmp" + std::to_string(getpid()));
-    errno = 0;
-    std::ofstream out(target, std::ios::binary | std::ios::trunc);
-    if (!out) {
-        const int why = errno;
-        return Error{"cannot write " + path.string() + ": " + why_not_writable(folder_of(path), why ? why : EACCES),
-                     kind_of(why)};
+    if (staged) {
+        target.replace_filename(path.filename().string().insert(0, 1, '.') + ".tmp" + std::to_string(getpid()));
+        fs::remove(target, ec);  // a copy left by a killed process of the same id (or a link put there)
     }
-    errno = 0;
+    auto opened = open_for_writing(target, staged ? WriteOpen::create_new : WriteOpen::truncate, path);
+    if (!opened) return opened.failure();
+    DescriptorBuffer buffer(opened.value());
+    std::ostream out(&buffer);
     fill(out);
-    out.close();
-    if (!out) {
+    out.flush();
+    const int why = buffer.close();
+    if (!out || why != 0) {
         // The cut copy goes: what a command leaves is whole (and an earlier file stays as it was).
-        const int why = errno;
         if (staged) fs::remove(target, ec);
         return write_failed(path, why);
     }
     if (staged) {
         fs::rename(target, path, ec);
         if (ec) {
-            const int why = ec.value();
+            const int failed = ec.value();
             fs::remove(target, ec);
-            return Error{"cannot replace " + path.string() + ": " + why_not_writable(folder_of(path), why)};
+            return Error{"cannot replace " + path.string() + ": " + why_not_writable(folder_of(path), failed)};
         }
     }
     return true;
@@ -92,11 +161,9 @@ AppendedFile::~AppendedFile() {
 Result<AppendedFile> AppendedFile::open(const fs::path& path, Start start) {
     AppendedFile file;
     file.path_ = path;
-    file.fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC | (start == Start::empty ? O_TRUNC : 0), 0644);
-    if (file.fd_ < 0) {
-        const int why = errno;
-        return Error{"cannot write " + path.string() + ": " + why_not_writable(folder_of(path), why), kind_of(why)};
-    }
+    auto opened = open_for_writing(path, start == Start::empty ? WriteOpen::truncate : WriteOpen::keep);
+    if (!opened) return opened.failure();
+    file.fd_ = opened.value();
     return file;
 }
 

@@ -11,10 +11,24 @@
 
 namespace aquaform {
 
+/// How open_for_writing opens a file: emptied, kept as it is (to add to or to read back too), or
+/// made new (a temporary file: never one that is there already).
+enum class WriteOpen { truncate, keep, read_write, create_new };
+
+/// The one way aquaform opens a file to write it: never through a symbolic link at the last
+/// component of `path` (a link planted in --out must not redirect a write elsewhere), never
+/// inherited by a child process. A link is refused with a message that names it and the fix
+/// (remove it); other failures name the file (`named` when given: the file a temporary one
+/// stands for), the reason and the fix. Returns the descriptor.
+Result<int> open_for_writing(const std::filesystem::path& path, WriteOpen how, const std::filesystem::path& named = {});
+
+/// The refusal of a symbolic link where an output file goes.
+Error link_refused(const std::filesystem::path& path);
+
 /// Writes `path` through `fill`, which streams the whole content: into a copy beside it, renamed
 /// over it once complete, so that a reader, a full disk or a process killed midway finds the old
-/// file or the new one, never half of one (a link, a device or a pipe is written in place). The
-/// error names the file, the reason and the fix.
+/// file or the new one, never half of one (a device or a pipe is written in place; a symbolic
+/// link is refused). The error names the file, the reason and the fix.
 Result<bool> write_file_with(const std::filesystem::path& path, const std::function<void(std::ostream&)>& fill);
 
 /// A file that grows by whole records (a CSV row per frame or per cell): each append reaches the

@@ -41,8 +41,10 @@ std::optional<uint64_t> cgroup_headroom() {
     return *max > current ? *max - current : 0;
 }
 
+constexpr const char* kLimitVariable = "AQUAFORM_HOST_MEMORY";
+
 std::optional<uint64_t> user_limit() {
-    const char* text = std::getenv("AQUAFORM_HOST_MEMORY");
+    const char* text = std::getenv(kLimitVariable);
     if (!text || !*text) return std::nullopt;
     std::string digits = text;
     uint64_t unit = 1;
@@ -51,10 +53,13 @@ std::optional<uint64_t> user_limit() {
         case 'M': case 'm': unit = uint64_t(1) << 20; digits.pop_back(); break;
         case 'G': case 'g': unit = uint64_t(1) << 30; digits.pop_back(); break;
     }
+    const std::string given = std::string(kLimitVariable) + " is \"" + text + "\"";
+    const std::string fix = "give the host memory aquaform may plan for as a size, e.g. 8G, 512M or 1000000000 "
+                            "(bytes: digits with an optional K, M or G), or unset it";
     const std::optional<uint64_t> n = number_text::whole_number(digits);
-    if (!n || *n == 0 || *n > std::numeric_limits<uint64_t>::max() / unit)
-        throw Failure("AQUAFORM_HOST_MEMORY is \"" + std::string(text) +
-                      "\"; give the host memory aquaform may plan for as a size, e.g. 8G, 512M or 1000000000");
+    if (!n) throw Failure(given + "; " + fix);
+    if (*n == 0) throw Failure(given + ", no memory at all; " + fix);
+    if (*n > std::numeric_limits<uint64_t>::max() / unit) throw Failure(given + ", more than a 64-bit count of bytes; " + fix);
     return *n * unit;
 }
 
@@ -65,6 +70,19 @@ std::optional<uint64_t> available_host_memory() {
     for (const std::optional<uint64_t> limit : {cgroup_headroom(), user_limit()})
         if (limit) available = available ? std::min(*available, *limit) : *limit;
     return available;
+}
+
+std::string memory_size_text(uint64_t bytes) {
+    if (bytes >= (uint64_t(1) << 20)) return std::to_string(bytes >> 20) + " MB";
+    if (bytes >= 1024) return std::to_string(bytes >> 10) + " KiB";
+    return std::to_string(bytes) + " bytes";
+}
+
+std::string available_memory_text(uint64_t bytes) {
+    std::string text = memory_size_text(bytes) + " are available";
+    if (user_limit() == bytes)
+        text += std::string(" (") + kLimitVariable + "=" + std::getenv(kLimitVariable) + "; unset it or raise it)";
+    return text;
 }
 
 }  // namespace aquaform

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 
 namespace aquaform {
 
@@ -14,5 +15,14 @@ namespace aquaform {
 /// when none of them can be read. Throws Failure (bad input) for an AQUAFORM_HOST_MEMORY that is
 /// not a size.
 std::optional<uint64_t> available_host_memory();
+
+/// A byte count as messages say it: whole MB (2^20 bytes), and below 1 MB in KiB or bytes, so
+/// that a small figure never reads "0 MB".
+std::string memory_size_text(uint64_t bytes);
+
+/// "N MB are available", for the figure available_host_memory() returned; when
+/// AQUAFORM_HOST_MEMORY set it, the message says so and how to change it
+/// ("1 KiB are available (AQUAFORM_HOST_MEMORY=1K; unset it or raise it)").
+std::string available_memory_text(uint64_t bytes);
 
 }  // namespace aquaform

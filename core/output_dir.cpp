@@ -9,6 +9,8 @@
 #include <set>
 #include <string>
 
+#include "core/file_write.h"
+
 namespace aquaform {
 
 namespace fs = std::filesystem;
@@ -33,7 +35,7 @@ namespace {
 /// Creates and removes a file in `dir`: permissions, read-only mounts and ACLs all show, for root too.
 Result<bool> try_writing(const fs::path& dir, const std::string& flag) {
     const fs::path probe = dir / (".aquaform_write_test_" + std::to_string(getpid()));
-    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0600);
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
     if (fd < 0) return Error{why_not_writable(dir, errno, flag)};
     ::close(fd);
     ::unlink(probe.c_str());
@@ -71,6 +73,7 @@ Result<bool> prepare_output_file(const fs::path& file, const std::string& flag) 
     if (fs::is_directory(file, ec))
         return Error{flag + " " + file.string() + " is a folder; give a file name in it, e.g. " + flag + " " +
                      (file / "results.json").string()};
+    if (fs::is_symlink(fs::symlink_status(file, ec))) return link_refused(file);
     const fs::path dir = file.has_parent_path() ? file.parent_path() : fs::path(".");
     if (auto ready = prepare_output_dir(dir, flag); !ready) return ready;
     if (fs::exists(file, ec) && access(file.c_str(), W_OK) != 0)
@@ -84,16 +87,17 @@ Result<bool> hold_output_dir(const fs::path& dir, const std::string& what) {
     const std::string key = fs::weakly_canonical(dir, ec).string();
     if (held.count(key)) return true;
     const fs::path path = dir / kOutputLockName;
-    const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (fd < 0) return Error{"cannot write " + path.string() + ": " + why_not_writable(dir, errno)};
+    auto opened = open_for_writing(path, WriteOpen::read_write);
+    if (!opened) return opened.failure();
+    const int fd = opened.value();
     if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
         char text[512] = {};
         const ssize_t n = pread(fd, text, sizeof text - 1, 0);
         close(fd);
         std::string holder = n > 0 ? std::string(text, size_t(n)) : std::string("another process");
         while (!holder.empty() && (holder.back() == '\n' || holder.back() == ' ')) holder.pop_back();
-        return Error{dir.string() + " is being written by another aquaform (" + holder +
-                     "); wait for it to finish, or give this one another --out"};
+        return Error{dir.string() + " is being written by another aquaform (" + holder + ", which holds " +
+                     path.string() + "); wait for it to finish, or give this one another --out"};
     }
     const std::string mine = "pid " + std::to_string(getpid()) + ": aquaform " + what + "\n";
     if (ftruncate(fd, 0) != 0 || pwrite(fd, mine.data(), mine.size(), 0) != ssize_t(mine.size())) {

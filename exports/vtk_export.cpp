@@ -8,6 +8,7 @@
 
 #include "core/file_write.h"
 #include "core/format_text.h"
+#include "core/text_escape.h"
 
 namespace aquaform {
 
@@ -73,20 +74,6 @@ Result<bool> write_appended_vtk(const std::filesystem::path& path, std::string_v
             }
         out << "\n  </AppendedData>\n</VTKFile>\n";
     });
-}
-
-/// `text` with the five XML special characters escaped (file names in the .pvd).
-std::string xml_escaped(const std::string& text) {
-    std::string out;
-    for (char c : text) switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            case '\'': out += "&apos;"; break;
-            default: out += c;
-        }
-    return out;
 }
 
 }  // namespace
@@ -165,7 +152,7 @@ Result<bool> VtkCollection::add(double time_s, const std::string& file) {
                 << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
             for (const Entry& e : entries_) {
                 out << "    <DataSet timestep=\"" << format_text(kTimeFormat, e.time_s)
-                    << "\" group=\"\" part=\"0\" file=\"" << xml_escaped(e.file) << "\"/>\n";
+                    << "\" group=\"\" part=\"0\" file=\"" << xml_text(e.file) << "\"/>\n";
             }
             out << "  </Collection>\n</VTKFile>\n";
         });

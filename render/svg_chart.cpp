@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/file_write.h"
+#include "core/text_escape.h"
 
 namespace aquaform {
 
@@ -13,17 +14,6 @@ namespace {
 
 constexpr double kWidth = 640, kHeight = 420;
 constexpr double kLeft = 64, kRight = 24, kTop = 40, kBottom = 52;
-
-std::string escape(const std::string& s) {
-    std::string out;
-    for (char c : s) {
-        if (c == '<') out += "&lt;";
-        else if (c == '>') out += "&gt;";
-        else if (c == '&') out += "&amp;";
-        else out += c;
-    }
-    return out;
-}
 
 /// A "nice" tick step (1, 2 or 5 times a power of ten) giving about five ticks over `span`.
 double tick_step(double span) {
@@ -61,7 +51,7 @@ std::string chart_svg(const Chart& chart) {
 
     std::string svg = fmt("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" ", kWidth, kHeight) +
                       "font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-    svg += fmt("<text x=\"%.0f\" y=\"24\" font-size=\"15\" text-anchor=\"middle\">", kWidth / 2) + escape(chart.title) +
+    svg += fmt("<text x=\"%.0f\" y=\"24\" font-size=\"15\" text-anchor=\"middle\">", kWidth / 2) + xml_text(chart.title) +
            "</text>\n";
     for (double x = x0; x <= x1 + 1e-9 * dx; x += dx) {
         svg += fmt("<line x1=\"%.1f\" y1=\"%.1f\" ", px(x), kTop) + fmt("x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>\n", px(x), kTop + ph);
@@ -72,9 +62,9 @@ std::string chart_svg(const Chart& chart) {
         svg += fmt("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">", kLeft - 6, py(y) + 4) + fmt("%g", y) + "</text>\n";
     }
     svg += fmt("<rect x=\"%.0f\" y=\"%.0f\" ", kLeft, kTop) + fmt("width=\"%.0f\" height=\"%.0f\" fill=\"none\" stroke=\"#333\"/>\n", pw, ph);
-    svg += fmt("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">", kLeft + pw / 2, kHeight - 12) + escape(chart.x_label) + "</text>\n";
+    svg += fmt("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">", kLeft + pw / 2, kHeight - 12) + xml_text(chart.x_label) + "</text>\n";
     svg += fmt("<text transform=\"translate(16,%.1f) rotate(-90)\" text-anchor=\"middle\">", kTop + ph / 2) +
-           escape(chart.y_label) + "</text>\n";
+           xml_text(chart.y_label) + "</text>\n";
     for (size_t i = 0; i < chart.series.size(); ++i) {
         const ChartSeries& s = chart.series[i];
         if (s.markers) {
@@ -95,7 +85,7 @@ std::string chart_svg(const Chart& chart) {
                    "stroke=\"" + s.color + "\"/>\n";
         else
             svg += fmt("<rect x=\"%.0f\" y=\"%.0f\" width=\"14\" height=\"4\" ", kLeft + 12, ly - 6) + "fill=\"" + s.color + "\"/>\n";
-        svg += fmt("<text x=\"%.0f\" y=\"%.0f\">", kLeft + 32, ly) + escape(s.name) + "</text>\n";
+        svg += fmt("<text x=\"%.0f\" y=\"%.0f\">", kLeft + 32, ly) + xml_text(s.name) + "</text>\n";
     }
     svg += "</svg>\n";
     return svg;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/file_write.h"
 #include "core/output_dir.h"
 #include "core/subprocess.h"
 
@@ -32,6 +33,7 @@ Result<bool> check_video_path(const fs::path& video) {
     if (auto ready = prepare_output_dir(dir, "--video"); !ready) return ready;
     std::error_code ec;
     if (fs::is_directory(video, ec)) return Error{"--video " + video.string() + " is a folder; give a file name ending in .mp4"};
+    if (fs::is_symlink(fs::symlink_status(video, ec))) return link_refused(video);
     return true;
 }
 
@@ -112,6 +114,7 @@ Result<bool> encode_video(const fs::path& ffmpeg, const VideoFrames& frames, con
     // cut file nor removes an earlier video of that name.
     const fs::path staged = video.parent_path() / ("." + video.stem().string() + ".partial" + std::to_string(getpid()) + ".mp4");
     std::error_code ec;
+    fs::remove(staged, ec);  // ffmpeg -y would write through a link left there
     const ProcessResult run = run_process(video_command(ffmpeg, frames, staged));
     if (!run.ok()) {
         fs::remove(staged, ec);

@@ -113,6 +113,8 @@ Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, c
     if (existed) {
         bool torn = false;
         const std::vector<std::string> lines = complete_lines(path, &torn);
+        const size_t pass_column = file.column("pass");
+        std::map<std::string, size_t> line_of;  // a row's key -> the line that holds it
         if (lines.empty()) rewrite = true;  // killed before its header was whole: nothing kept
         else if (lines[0] != header)
             return Error{path.string() + " has other columns than this version of aquaform writes" + kKeepOrStartOver};
@@ -130,6 +132,18 @@ Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, c
                 return Error{path.string() + " holds rows of another spec (or of its scene files as they were then)" +
                              kKeepOrStartOver};
             if (keep && !keep(fields)) {
+                rewrite = true;
+                continue;
+            }
+            // A row is one cell's (one pass of it in study_passes.csv): a second one for the same
+            // is dropped by a run, and refused by a merge, as a cell in two shards is.
+            const std::string key = fields.back() + (pass_column < fields.size() ? ", pass " + fields[pass_column] : "");
+            if (const auto [first, added] = line_of.emplace(key, i + 1); !added) {
+                if (access == RowAccess::read_only)
+                    return Error{path.string() + " lines " + std::to_string(first->second) + " and " +
+                                 std::to_string(i + 1) + " both hold the row of " + key +
+                                 "; a folder holds each row once: delete one of the two lines, or rerun that "
+                                 "folder's study (or shard) with --fresh"};
                 rewrite = true;
                 continue;
             }

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/file_write.h"
+#include "core/text_escape.h"
 #include "sim/scene.h"
 #include "study/study_rows.h"
 
@@ -32,6 +33,30 @@ std::string rerun(const ShardManifest& m, uint32_t index, const fs::path& dir) {
     return "rerun aquaform study " + (m.spec_path.empty() ? std::string("SPEC") : m.spec_path) +
            (m.particles ? " --particles " + std::to_string(*m.particles) : std::string()) + " --shard " +
            std::to_string(index) + "/" + std::to_string(m.shard.count) + " --out " + dir.string();
+}
+
+/// The files of `from` (a shard's images/) into `to`, each written as the project writes a file:
+/// never through a link that is in `to` already.
+Result<bool> copy_images(const fs::path& from, const fs::path& to) {
+    std::error_code ec;
+    if (!fs::is_directory(from, ec)) return true;
+    for (auto it = fs::recursive_directory_iterator(from, ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec)) {
+        const fs::path target = to / fs::relative(it->path(), from, ec);
+        if (it->is_directory(ec)) fs::create_directories(target, ec);
+        else if (it->is_regular_file(ec)) {
+            fs::create_directories(target.parent_path(), ec);
+            std::ifstream in(it->path(), std::ios::binary);
+            if (!in) return Error{"cannot read " + it->path().string() + "; check that it is readable"};
+            auto written = write_file_with(target, [&](std::ostream& out) {
+                if (in.peek() != std::ifstream::traits_type::eof()) out << in.rdbuf();  // an empty file: nothing
+            });
+            if (!written) return written.failure();
+        }
+        if (ec) break;
+    }
+    if (ec) return Error{"cannot copy " + from.string() + " to " + to.string() + ": " + ec.message()};
+    return true;
 }
 
 }  // namespace
@@ -113,7 +138,7 @@ Result<bool> write_manifest(const fs::path& dir, const ShardManifest& m) {
                         {"shards", m.shard.count},  {"cells", m.cells},          {"wall_s", m.wall_s},
                         {"complete", m.complete}};
     j["particles"] = m.particles ? nlohmann::json(*m.particles) : nlohmann::json(nullptr);
-    return write_file_with(dir / kManifestName, [&](std::ostream& out) { out << j.dump(2) << '\n'; });
+    return write_file_with(dir / kManifestName, [&](std::ostream& out) { out << json_text(j, 2) << '\n'; });
 }
 
 Result<std::optional<ShardManifest>> read_manifest(const fs::path& dir) {
@@ -311,11 +336,7 @@ Result<MergedStudy> merge_shards(const StudySpec& spec, const std::vector<ShardI
                 if (r.back() == cell)
                     if (auto added = out.value().add_map_row(r); !added) return added.failure();
     for (const ShardInput& s : shards)
-        if (fs::is_directory(s.dir / "images", ec)) {
-            fs::copy(s.dir / "images", out_dir / "images",
-                     fs::copy_options::recursive | fs::copy_options::overwrite_existing, ec);
-            if (ec) return Error{"cannot copy " + (s.dir / "images").string() + " to " + out_dir.string() + ": " + ec.message()};
-        }
+        if (auto copied = copy_images(s.dir / "images", out_dir / "images"); !copied) return copied.failure();
 
     // The device of most cells names the times; rows from another carry theirs.
     std::map<std::string, size_t> cells_on;

@@ -29,12 +29,6 @@ constexpr std::array<std::string_view, 8> kMethodKeys{"method",    "visual",    
                                                       "bisection", "resolution", "stepping", "surface"};
 constexpr std::array<std::string_view, 5> kMapKeys{"scene", "dt", "iterations", "control_pressure", "time"};
 
-StudyFamily family_of(const MethodEntry& entry) {
-    if (entry.family == "metaball") return StudyFamily::metaball;
-    if (entry.family == "screen_space") return StudyFamily::screen_space;
-    return StudyFamily::surface;
-}
-
 /// "the metaball methods (brute, abuffer, sbuffer)": the registered methods with spec key `key`.
 std::string methods_with_key(const std::string& key) {
     std::string family, names;
@@ -124,6 +118,9 @@ std::vector<StudyMethod> read_methods(const json& v, const std::string& path, ui
         const std::string name = read_string(m["method"], child(where, "method"), "a method name");
         const MethodEntry* entry = render_registry().find(name);
         if (!entry) fail(child(where, "method") + " is \"" + name + "\"; use " + render_registry().names());
+        const Result<StudyFamily> known = study_family(entry->family);
+        if (!known) fail(child(where, "method") + " is \"" + name + "\", " + known.error());
+        const StudyFamily family = known.value();
         for (const char* key : {"visual", "size", "recursion", "bisection"})
             if (m.contains(key) && !entry->setting_by_spec_key(key))
                 fail(child(where, key) + " applies to " + methods_with_key(key) + " only, not " + name);
@@ -172,7 +169,7 @@ std::vector<StudyMethod> read_methods(const json& v, const std::string& path, ui
                         for (const auto& stepping : steppings) {
                             StudyMethod sm;
                             sm.method = name;
-                            sm.family = family_of(*entry);
+                            sm.family = family;
                             sm.visual = visual;
                             sm.size = size;
                             sm.recursion = visual == "real" ? recursion : 1;
@@ -267,6 +264,14 @@ SolverMapSpec read_map(const json& v, const std::string& path, const fs::path& b
 }
 
 }  // namespace
+
+Result<StudyFamily> study_family(const std::string& family) {
+    if (family == "surface") return StudyFamily::surface;
+    if (family == "metaball") return StudyFamily::metaball;
+    if (family == "screen_space") return StudyFamily::screen_space;
+    return Error{"a method of the family \"" + family + "\", which a study cannot measure (it knows surface, "
+                 "metaball and screen_space); use a method of those families (aquaform help lists them)"};
+}
 
 std::string StudyMethod::label() const {
     std::ostringstream text;

@@ -38,6 +38,9 @@
 namespace aquaform::study {
 
 enum class StudyFamily { surface, metaball, screen_space };
+/// The study family of a render method's family (MethodEntry::family); an error naming the
+/// family and the known ones for any other (a method registered without a study family).
+Result<StudyFamily> study_family(const std::string& family);
 
 /// One expanded method configuration.
 struct StudyMethod {

@@ -303,6 +303,34 @@ TEST(StudyShardCliTest, MergeRefusesMissingDoubledIncompleteAndForeignShards) {
     expect_says(merge({s0, s1, d / "s2_missing"}, out, 2), {"in no shard", s2_rows.back().back(), "--shard K/N"});
 }
 
+/// A row twice in one shard's file was merged twice (a cell counted double in study.md). It is
+/// refused as a cell in two shards is, naming the file, the lines, the row and the fix.
+TEST(StudyShardCliTest, ARowTwiceInOneShardIsRefusedAsACellInTwoShardsIs) {
+    const fs::path& d = tiny_runs();
+    for (const char* name : {"study.csv", "solver_map.csv"}) {
+        const fs::path twice = d / "s_twice";
+        fs::remove_all(twice);
+        // The shard that holds rows of this file.
+        fs::path shard;
+        for (const char* s : {"s0", "s1", "s2"})
+            if (shard.empty() && read_csv(d / s / name).size() > 1) shard = d / s;
+        ASSERT_FALSE(shard.empty()) << "no shard has rows in " << name;
+        fs::copy(shard, twice, fs::copy_options::recursive);
+        const auto rows = read_csv(twice / name);
+        {
+            std::ofstream csv(twice / name, std::ios::app);
+            csv << csv_line(rows[1]) << "\n";
+        }
+        std::vector<fs::path> dirs;
+        for (const char* s : {"s0", "s1", "s2"}) dirs.push_back(d / s == shard ? twice : d / s);
+        const fs::path out = d / "merged_twice";
+        expect_says(merge(dirs, out, 2), {(twice / name).string() + " lines 2 and " + std::to_string(rows.size() + 1),
+                                          rows[1].back(), "delete one of the two lines", "--fresh"});
+        EXPECT_FALSE(fs::exists(out / "study.csv")) << "nothing merged";
+    }
+    fs::remove_all(d / "s_twice");
+}
+
 /// Every number in a shard's files is input. A copy of shard 1 with its manifest or one row
 /// changed: what the merge reads is refused in one line naming the file and the key (or the
 /// line and the column), or merged when the change is harmless; never a crash.
