@@ -55,4 +55,8 @@ private:
     int fd_ = -1;
 };
 
+/// Why `errno_value` stopped a write in the folder `where` (no permission, a read-only file
+/// system, a full disk), with the fix; `flag` is the option that chose the folder.
+std::string why_not_writable(const std::filesystem::path& where, int errno_value, const std::string& flag = "--out");
+
 }  // namespace aquaform

@@ -15,21 +15,6 @@ namespace aquaform {
 
 namespace fs = std::filesystem;
 
-std::string why_not_writable(const fs::path& where, int errno_value, const std::string& flag) {
-    const std::string other = "choose another folder with " + flag;
-    switch (errno_value) {
-        case EACCES:
-        case EPERM:
-            return where.string() + " is not writable (permission denied); make it writable (chmod u+w " +
-                   where.string() + ") or " + other;
-        case EROFS: return where.string() + " is on a read-only file system; " + other;
-        case ENOSPC:
-        case EDQUOT: return "no space left on the disk of " + where.string() + "; free some or " + other;
-        case ENOTDIR: return where.string() + " has a file where a folder should be; " + other;
-        default: return "cannot write in " + where.string() + " (" + std::strerror(errno_value) + "); " + other;
-    }
-}
-
 namespace {
 
 /// Creates and removes a file in `dir`: permissions, read-only mounts and ACLs all show, for root too.

@@ -26,8 +26,4 @@ inline constexpr const char* kOutputLockName = ".aquaform.lock";
 /// prepare_output_dir accepts, and writable where it exists already.
 Result<bool> prepare_output_file(const std::filesystem::path& file, const std::string& flag = "--out");
 
-/// Why `errno_value` stopped a write in the folder `where` (no permission, a read-only file
-/// system, a full disk), with the fix; `flag` is the option that chose the folder.
-std::string why_not_writable(const std::filesystem::path& where, int errno_value, const std::string& flag = "--out");
-
 }  // namespace aquaform
