@@ -138,6 +138,8 @@ private:
     void record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer, bool lists_of_x = false);
     void record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer);
     void record_droplets(VkCommandBuffer cmd);
+    /// Moves the start lattice to rest density where it starts compressed (relax_start in the .cpp).
+    void relax_start();
 
     gpu::Context* ctx_;
     Scene scene_;
