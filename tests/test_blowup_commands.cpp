@@ -42,7 +42,8 @@ TEST(BlowupCommands, EveryCommandThatStepsTheSolverSaysTheSameVerdictAndExitsOne
     const fs::path scene = test_cli::write_file(dir / "wild.json", kWildScene);
     const fs::path spec = test_cli::write_file(
         dir / "study.json",
-        R"({"cases": [{"name": "wild", "scene": "wild.json", "resolutions": ["32x32"], "time": 0.1}]})");
+        R"({"cases": [{"name": "wild", "scene": "wild.json", "resolutions": ["32x32"], "time": 0.1,
+                       "methods": [{"method": "adaptive"}]}]})");
     const std::string s = scene.string(), out = (dir / "out").string();
     const Outcome run = run_aquaform("run " + s + " --out " + out + "_run --resolution 32x32");
     ASSERT_EQ(run.exit_code, 1) << run.output;

@@ -106,7 +106,7 @@ TEST(CtrlC, ALargePlacementStopsWithinTwoSeconds) {
     const std::string mesh = std::string(AQUAFORM_ASSETS_DIR) + "/meshes/character.obj";
     double stop_seconds = 0.0;
     const int status = test_cli::interrupt_aquaform(
-        {"control", "place", mesh, "--method", "inside", "--spacing", "0.0008", "--no-png", "--out", (dir / "out").string()},
+        {"control", "place", mesh, "--method", "inside", "--spacing", "0.00103", "--no-png", "--out", (dir / "out").string()},
         dir / "log.txt", "faces", &stop_seconds);
     const std::string output = test_cli::read_file(dir / "log.txt");
     EXPECT_EQ(status, 130) << output;
