@@ -17,6 +17,7 @@
 #include "session/simulation_session.h"
 #include "sim/blowup.h"
 #include "sim/scene.h"
+#include "study/study_spec.h"
 #include "tests/gpu_test.h"
 
 namespace aquaform {
@@ -110,6 +111,20 @@ TEST(SceneBounds, OnlyAValueAFloatCannotHoldIsRefusedAsSuch) {
     EXPECT_NE(tiny.error().find("32-bit float"), std::string::npos) << tiny.error();
     j["solver"]["vorticity"] = 1e-7;  // a float holds it to its precision
     EXPECT_TRUE(parse_scene(j.dump(), "bounds.json").ok());
+}
+
+TEST(SceneBounds, AStudySolverMapTakesTheLargestStepAsWritten) {
+    // Its dt 0.1 was refused as "a 32-bit float cannot hold" (float(0.1) is a hair above 0.1).
+    const std::string scene = std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json";
+    auto spec = [&](const char* dt) {
+        return std::string(R"({"cases": [{"name": "a", "resolutions": ["32x32"], "methods": [{"method": "adaptive"}]}],
+                               "solver_map": {"scene": ")") + scene + R"(", "dt": [)" + dt + R"(], "iterations": [4]}})";
+    };
+    const auto edge = study::parse_study_spec(spec("0.1"), "study.json", "/");
+    EXPECT_TRUE(edge.ok()) << edge.error();
+    const auto past = study::parse_study_spec(spec("0.1000001"), "study.json", "/");
+    ASSERT_FALSE(past.ok());
+    EXPECT_NE(past.error().find("at most " + json_fields::fmt(kMaxFrameDt)), std::string::npos) << past.error();
 }
 
 TEST(SceneBounds, AFileOneByteOverTheLimitSaysSoInBytes) {
