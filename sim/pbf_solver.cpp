@@ -184,18 +184,11 @@ void PbfSolver::relax_start() {
     relax.dt = 0.0f;  // the sort's p = x + dt v is then x
     relax.scorr_k = 0.0f;  // s_corr pulls a free surface in without end: it is the steps' business
     relax.constraint_min = 0.0f;
-    const shader::CountPush push{count_};
     for (uint32_t round = 0; round < kStartRelaxRounds; ++round) {
         ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
             gpu::record_upload(*ctx_, cmd, *params_buf_, &relax, sizeof relax);
             record_sort(cmd, *x_, nullptr);
-            const gpu::Buffer& rank = grid_->cell_rank();
-            for (uint32_t it = 0; it < kStartRelaxIterations; ++it) {
-                gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
-                              {{"params", params_buf_}, {"p", p_}, {"cell_rank", &rank}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"neighbor_count", &grid_->neighbor_count()}, {"neighbors", &grid_->neighbors()}, {"q", s0_}, {"density", density_}});
-                gpu::dispatch(*ctx_, cmd, correct_, count_, push,
-                              {{"params", params_buf_}, {"q", s0_}, {"cell_rank", &rank}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"neighbor_count", &grid_->neighbor_count()}, {"neighbors", &grid_->neighbors()}, {"p_out", p_}, {"x", x_}, {"v", v_}});
-            }
+            for (uint32_t it = 0; it < kStartRelaxIterations; ++it) record_iteration(cmd, correct_, nullptr);
             gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
         });
         // The densities are the last iteration's, before its correction: the check lags it.
@@ -238,17 +231,8 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
         gpu::dispatch(*ctx_, cmd, predict_, count_, push, {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"p", p_}});
     }
     record_sort(cmd, *p_, timer);
-    // Jacobi iterations: lambda writes q = (p, lambda) into scratch0, correct writes p back.
-    for (uint32_t it = 0; it < scene_.solver.iterations; ++it) {
-        {
-            gpu::GpuScope s(timer, cmd, "lambda");
-            gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
-                          {{"params", params_buf_}, {"p", p_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"q", s0_}, {"density", density_}});
-        }
-        gpu::GpuScope s(timer, cmd, "correct");
-        gpu::dispatch(*ctx_, cmd, it + 1 == scene_.solver.iterations ? correct_last_ : correct_, count_, push,
-                      {{"params", params_buf_}, {"q", s0_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"p_out", p_}, {"x", x_}, {"v", v_}});
-    }
+    for (uint32_t it = 0; it < scene_.solver.iterations; ++it)
+        record_iteration(cmd, it + 1 == scene_.solver.iterations ? correct_last_ : correct_, timer);
     if (xsph_on_) {
         gpu::GpuScope s(timer, cmd, "xsph_curl");
         gpu::dispatch(*ctx_, cmd, xsph_curl_, count_, push,
@@ -261,6 +245,24 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
                       {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"density", density_}, {"omega", s0_}});
     }
     time_ += params_.dt;
+}
+
+void PbfSolver::record_iteration(VkCommandBuffer cmd, const gpu::ComputePass& correct, gpu::GpuTimer* timer) {
+    // One Jacobi iteration: lambda writes q = (p, lambda) into scratch0, correct writes p back.
+    const shader::CountPush push{count_};
+    const gpu::Buffer& rank = grid_->cell_rank();
+    const gpu::Buffer& start = grid_->cell_start();
+    const gpu::Buffer& cells = grid_->list_cell();
+    const gpu::Buffer& counts = grid_->neighbor_count();
+    const gpu::Buffer& neighbors = grid_->neighbors();
+    {
+        gpu::GpuScope s(timer, cmd, "lambda");
+        gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
+                      {{"params", params_buf_}, {"p", p_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"q", s0_}, {"density", density_}});
+    }
+    gpu::GpuScope s(timer, cmd, "correct");
+    gpu::dispatch(*ctx_, cmd, correct, count_, push,
+                  {{"params", params_buf_}, {"q", s0_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"p_out", p_}, {"x", x_}, {"v", v_}});
 }
 
 void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer, bool lists_of_x) {
