@@ -195,7 +195,6 @@ int cmd_run(const std::vector<std::string>& argv) {
 
     std::optional<InterruptScope> ctrl_c(std::in_place);
     ProgressBar progress("simulating " + scene.name, frames);
-    const BlowupBounds blowup = blowup_bounds(scene);
     const auto start = std::chrono::steady_clock::now();
     int status = kExitOk;
     uint32_t done = 0;
@@ -229,12 +228,10 @@ int cmd_run(const std::vector<std::string>& argv) {
         steps += stats.substeps;
         capped_frames += stats.speed_capped;
         progress.update(done, f.note);
-        if (const std::string left = blowup_reason(stats, blowup); !left.empty()) {
+        if (const std::string verdict = blowup_verdict(stats, scene); !verdict.empty()) {
             progress.finish();
-            std::fprintf(stderr,
-                         "aquaform run: the fluid left physics at frame %u (t = %.3f s): %s; %s. The frames up to it "
-                         "are in %s\n",
-                         f.index, stats.time_s, left.c_str(), kBlowupFix, out_dir.string().c_str());
+            std::fprintf(stderr, "aquaform run: %s. The frames up to it are in %s\n", verdict.c_str(),
+                         out_dir.string().c_str());
             return false;
         }
         return true;

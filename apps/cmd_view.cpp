@@ -55,6 +55,7 @@ int view_headless(gpu::Context& ctx, const Args& args, const Scene& scene, sessi
                 run.mean_gpu_render_ms(), run.particles, run.width, run.height, run.method.c_str(), run.real_time_factor(),
                 run.sim_seconds);
     if (!run.fatal.empty()) std::fprintf(stderr, "aquaform view: the simulation stopped: %s\n", run.fatal.c_str());
+    if (!run.blowup.empty()) std::fprintf(stderr, "aquaform view: %s\n", run.blowup.c_str());
     if (stopped_by_ctrl_c("view --headless")) return kExitInterrupted;
     if (args.has("--out")) {
         nlohmann::json doc = {{"command", "view --headless"},
@@ -67,7 +68,7 @@ int view_headless(gpu::Context& ctx, const Args& args, const Scene& scene, sessi
             return std::fprintf(stderr, "aquaform view: %s\n", written.error().c_str()), kExitFailure;
         std::printf("wrote %s\n", out.c_str());
     }
-    return run.fatal.empty() ? kExitOk : kExitFailure;
+    return run.fatal.empty() && run.blowup.empty() ? kExitOk : kExitFailure;
 }
 
 }  // namespace
@@ -159,6 +160,9 @@ int cmd_view(const std::vector<std::string>& argv) {
     if (!record_dir.empty()) {
         if (!prepare_output("view", record_dir, "--record")) return kExitUsage;
     }
+    if (auto writable = viewer::check_script_outputs(options.script, record_dir.empty() ? fs::path(".") : record_dir,
+                                                     args->value("--script", "")); !writable)
+        return std::fprintf(stderr, "aquaform view: %s\n", writable.error().c_str()), kExitUsage;
 
     // The window's size and its picture are input the device may not hold: refused here (a
     // Failure of kind input, exit 2), before the simulation starts, not by the worker later.
@@ -233,7 +237,8 @@ int cmd_view(const std::vector<std::string>& argv) {
                     run.method.c_str());
         for (const std::string& e : run.errors) std::fprintf(stderr, "aquaform view: %s\n", e.c_str());
         if (!report.fatal.empty()) std::fprintf(stderr, "aquaform view: the simulation stopped: %s\n", report.fatal.c_str());
-        status = run.errors.empty() && report.fatal.empty() ? kExitOk : kExitFailure;
+        if (!report.blowup.empty()) std::fprintf(stderr, "aquaform view: %s\n", report.blowup.c_str());
+        status = run.errors.empty() && report.fatal.empty() && report.blowup.empty() ? kExitOk : kExitFailure;
     }
     return exit_status(ctx, status);
 }

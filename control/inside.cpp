@@ -187,6 +187,8 @@ std::vector<bool> inside_flags(const std::vector<glm::vec3>& triangles, const st
     for (std::thread& worker : workers) worker.join();
     if (progress) progress->finish();
     if (complete) *complete = !stopped;
+    // Stopped by Ctrl-C: all outside at once (packing 10^9 flags into bits one by one takes seconds).
+    if (stopped) return std::vector<bool>(points.size(), false);
     return std::vector<bool>(inside.begin(), inside.end());
 }
 

@@ -68,7 +68,7 @@ private:
 
 /// is_inside() for many points (InsideTest), split over the hardware threads. With a label, shows a
 /// progress bar; stops early when Ctrl-C arrives (aquaform::interrupted()), with `complete` (when
-/// given) set to false and the unclassified points left outside.
+/// given) set to false and every point read as outside.
 std::vector<bool> inside_flags(const std::vector<glm::vec3>& triangles, const std::vector<glm::vec3>& points,
                                const std::string& progress_label = {}, bool* complete = nullptr);
 

@@ -172,6 +172,8 @@ ControlPoints place_inside(const std::vector<glm::vec3>& triangles, float spacin
     std::vector<glm::vec3> lattice;
     lattice.reserve(size_t(counts.x) * size_t(counts.y) * size_t(counts.z));
     for (int z = first.z; z <= last.z; ++z) {
+        // A fine lattice takes seconds to lay out (10^8 points and more): Ctrl-C is heard per layer.
+        if (interrupted()) return result.complete = false, result;
         for (int y = first.y; y <= last.y; ++y) {
             for (int x = first.x; x <= last.x; ++x) {
                 // The same expression as the rasteriser's (shaders/control/raster_fill.comp).
@@ -182,6 +184,7 @@ ControlPoints place_inside(const std::vector<glm::vec3>& triangles, float spacin
         }
     }
     const std::vector<bool> inside = inside_flags(triangles, lattice, "inside test", &result.complete);
+    if (!result.complete) return result;
     result.points.reserve(size_t(std::count(inside.begin(), inside.end(), true)));  // exact: no doubling
     for (size_t i = 0; i < lattice.size(); ++i) {
         if (inside[i]) result.points.push_back(lattice[i]);

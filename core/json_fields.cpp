@@ -44,7 +44,11 @@ std::string kind_of(const json& v) {
 std::string fmt(double x) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%g", x);
-    return buf;
+    // "1e-5", as a user writes it and the docs quote it, not printf's "1e-05".
+    std::string s = buf;
+    if (size_t e = s.find("e-0"); e != std::string::npos) s.erase(e + 2, 1);
+    if (size_t e = s.find("e+0"); e != std::string::npos) s.erase(e + 2, 1);
+    return s;
 }
 
 std::string fmt(const glm::vec3& v) {
@@ -118,8 +122,11 @@ float read_number(const json& v, const std::string& path, const Range& r) {
     if (!v.is_number()) fail(path + " must be " + r.what + ", got " + written(v) + " (" + kind_of(v) + ")");
     double d = v.get<double>();
     if (!r.contains(d)) fail(path + " is " + written(v) + "; it must be " + r.what);
+    // The decimal as written is what the range judges (0.1 is within "at most 0.1" although
+    // float(0.1) is a hair above it); the float only has to hold it: no overflow, no underflow
+    // of a non-zero value to zero or to the denormals, which lose its precision.
     float f = static_cast<float>(d);
-    if (!r.contains(f) || std::fabs(f) > FLT_MAX)
+    if (std::isinf(f) || (d != 0.0 && std::fabs(f) < FLT_MIN))
         fail(path + " is " + written(v) + ", which a 32-bit float cannot hold; use a value between about 1e-30 "
              "and 1e30 (it must be " + r.what + ")");
     return f;
@@ -221,10 +228,18 @@ std::string number_overflow(const json::exception& e, const std::string& text, c
            "; use numbers of ordinary size (a 32-bit float holds up to about 3e38)";
 }
 
+namespace {
+/// "20 MiB", or the exact count where MiB would make a size and its limit look equal
+/// (16 MiB + 1 byte against 16 MiB).
+std::string describe_bytes(uintmax_t bytes, uintmax_t other) {
+    return (bytes >> 20) == (other >> 20) ? std::to_string(bytes) + " bytes" : std::to_string(bytes >> 20) + " MiB";
+}
+}  // namespace
+
 void check_json_size(uintmax_t bytes, const std::string& origin) {
     if (bytes > kMaxJsonBytes)
-        throw Invalid{origin + ": the file is " + std::to_string(bytes >> 20) + " MiB; aquaform reads JSON files of "
-                      "at most " + std::to_string(kMaxJsonBytes >> 20) + " MiB (a scene, spec or script is a few KiB): "
+        throw Invalid{origin + ": the file is " + describe_bytes(bytes, kMaxJsonBytes) + "; aquaform reads JSON files of "
+                      "at most " + describe_bytes(kMaxJsonBytes, bytes) + " (a scene, spec or script is a few KiB): "
                       "check that this is the file you meant, and describe large data (meshes, animations) in files of "
                       "their own", true};
 }

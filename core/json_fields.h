@@ -49,7 +49,7 @@ struct Range {
     double hi = std::numeric_limits<double>::infinity();
     bool lo_open = false;
     bool hi_open = false;
-    const char* what = "a number";
+    std::string what = "a number";
 
     bool contains(double x) const {
         return (lo_open ? x > lo : x >= lo) && (hi_open ? x < hi : x <= hi) && std::isfinite(x);

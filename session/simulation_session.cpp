@@ -5,6 +5,7 @@
 
 #include "control/section_builder.h"
 #include "gpu/context.h"
+#include "sim/blowup.h"
 #include "sim/pbf_params.h"
 
 namespace aquaform::session {
@@ -156,7 +157,7 @@ FrameStats SimulationSession::advance(double seconds) {
     while (solver_->time() < end) {
         if (driver_) driver_->update(solver_->time());
         stats = solver_->run_frame(nullptr);
-        if (stats.non_finite) break;
+        if (!blowup_verdict(stats, scene_).empty()) break;
     }
     return stats;
 }

@@ -109,7 +109,7 @@ public:
     /// Waits for the frame and gives its figures. Call it before the next frame is submitted.
     FrameReport finish_frame(gpu::Submission frame, gpu::GpuTimer* timer);
     /// Frames for `seconds` of simulated time, without shape metrics; the last frame's figures.
-    /// Stops at the first frame whose state is not finite.
+    /// Stops at the first frame that left physics (blowup_verdict says so of the figures returned).
     FrameStats advance(double seconds);
 
     PbfSolver& solver() { return *solver_; }

@@ -68,7 +68,6 @@ shader::SimParams make_sim_params(const Scene& scene, const GridGeometry& grid, 
     p.poly6_coeff = shader::poly6_coefficient(c.h);
     p.spiky_coeff = shader::spiky_gradient_coefficient(c.h);
     p.epsilon = sv.relaxation * c.stiffness_ref;
-    p.scorr_k = sv.scorr_k / c.stiffness_ref;
     p.scorr_n = sv.scorr_n;
     p.neighbor_capacity = neighbor_list_capacity(sv.kernel_radius_factor);
     const float dq = sv.scorr_dq * c.h;
@@ -76,6 +75,7 @@ shader::SimParams make_sim_params(const Scene& scene, const GridGeometry& grid, 
     p.viscosity = sv.viscosity;
     p.vorticity = sv.vorticity;
     set_substeps(p, sv.frame_dt, sv.substeps);
+    p.scorr_k = scorr_k_of_step(scene, p.dt);
     p.max_speed = sv.max_speed;  // 0: no cap
     p.particle_count = particle_count;
     p.static_box_count = static_cast<uint32_t>(scene.static_boxes.size());
@@ -94,6 +94,12 @@ shader::SimParams make_sim_params(const Scene& scene, const GridGeometry& grid, 
 void set_substeps(shader::SimParams& params, float frame_dt, uint32_t substeps) {
     params.dt = frame_dt / float(std::max(substeps, 1u));
     params.inv_dt = 1.0f / params.dt;
+}
+
+float scorr_k_of_step(const Scene& scene, float dt) {
+    const float k = scene.solver.scorr_k / pbf_constants(scene).stiffness_ref;
+    const double below = double(dt) / kScorrFullStep;
+    return below < 1.0 ? float(k * below * below) : k;
 }
 
 uint32_t substeps_for_speed(const SolverSettings& solver, float h, double max_speed, double accel, double growth) {

@@ -162,6 +162,46 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene)
         v[i] = glm::vec4(scene.fill_of(block[i]).velocity, float(block[i]));
     }
     set_state(x, v);
+    relax_start();
+}
+
+namespace {
+/// The start's compression relax_start leaves at most: a step turns a correction into a speed
+/// of correction / dt; at the smallest frame_dt (kMinFrameDt) 1e-4 of it still made 0.9 m/s in
+/// the dam break, 1e-6 makes a few mm/s (13 rounds there).
+constexpr double kStartCompression = 1.0e-6;
+constexpr uint32_t kStartRelaxRounds = 30;
+constexpr uint32_t kStartRelaxIterations = 10;  ///< per round, between re-sorts and a check
+}  // namespace
+
+// A lattice against a wall, in a corner or against another block starts compressed: the walls'
+// continuum densities overlap in a corner, blocks that touch add their neighbours (the dam
+// break's corners start at 8.8 %). The first step's correction would become a velocity of
+// correction / dt: harmless at 1/60 s, tens of m/s at frame_dt 1e-4. So the start is relaxed
+// to rest density: PBF's constraint iterations on the positions alone (no gravity, no s_corr,
+// only compression corrected), the velocities kept. A lattice at rest density is not moved.
+void PbfSolver::relax_start() {
+    shader::SimParams relax = params_;
+    relax.dt = 0.0f;  // the sort's p = x + dt v is then x
+    relax.scorr_k = 0.0f;  // s_corr pulls a free surface in without end: it is the steps' business
+    relax.constraint_min = 0.0f;
+    for (uint32_t round = 0; round < kStartRelaxRounds; ++round) {
+        ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
+            gpu::record_upload(*ctx_, cmd, *params_buf_, &relax, sizeof relax);
+            record_sort(cmd, *x_, nullptr);
+            for (uint32_t it = 0; it < kStartRelaxIterations; ++it) record_iteration(cmd, correct_, nullptr);
+            gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
+        });
+        // The densities are the last iteration's, before its correction: the check lags it.
+        const std::vector<float> density = gpu::download_vector<float>(*ctx_, *density_, count_);
+        const float densest = *std::max_element(density.begin(), density.end());
+        std::vector<glm::vec4> x = gpu::download_vector<glm::vec4>(*ctx_, *x_, count_);
+        const std::vector<glm::vec4> p = gpu::download_vector<glm::vec4>(*ctx_, *p_, count_);
+        for (size_t i = 0; i < x.size(); ++i) x[i] = glm::vec4(glm::vec3(p[i]), x[i].w);  // w: the id
+        gpu::upload(*ctx_, *x_, x.data(), x.size() * sizeof(glm::vec4));
+        if (densest <= scene_.rest_density * (1.0 + kStartCompression)) break;
+    }
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) { record_sort(cmd, *x_, nullptr); });
 }
 
 PbfSolver::~PbfSolver() = default;
@@ -192,17 +232,8 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
         gpu::dispatch(*ctx_, cmd, predict_, count_, push, {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"p", p_}});
     }
     record_sort(cmd, *p_, timer);
-    // Jacobi iterations: lambda writes q = (p, lambda) into scratch0, correct writes p back.
-    for (uint32_t it = 0; it < scene_.solver.iterations; ++it) {
-        {
-            gpu::GpuScope s(timer, cmd, "lambda");
-            gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
-                          {{"params", params_buf_}, {"p", p_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"q", s0_}, {"density", density_}});
-        }
-        gpu::GpuScope s(timer, cmd, "correct");
-        gpu::dispatch(*ctx_, cmd, it + 1 == scene_.solver.iterations ? correct_last_ : correct_, count_, push,
-                      {{"params", params_buf_}, {"q", s0_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"p_out", p_}, {"x", x_}, {"v", v_}});
-    }
+    for (uint32_t it = 0; it < scene_.solver.iterations; ++it)
+        record_iteration(cmd, it + 1 == scene_.solver.iterations ? correct_last_ : correct_, timer);
     if (xsph_on_) {
         gpu::GpuScope s(timer, cmd, "xsph_curl");
         gpu::dispatch(*ctx_, cmd, xsph_curl_, count_, push,
@@ -215,6 +246,24 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
                       {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"density", density_}, {"omega", s0_}});
     }
     time_ += params_.dt;
+}
+
+void PbfSolver::record_iteration(VkCommandBuffer cmd, const gpu::ComputePass& correct, gpu::GpuTimer* timer) {
+    // One Jacobi iteration: lambda writes q = (p, lambda) into scratch0, correct writes p back.
+    const shader::CountPush push{count_};
+    const gpu::Buffer& rank = grid_->cell_rank();
+    const gpu::Buffer& start = grid_->cell_start();
+    const gpu::Buffer& cells = grid_->list_cell();
+    const gpu::Buffer& counts = grid_->neighbor_count();
+    const gpu::Buffer& neighbors = grid_->neighbors();
+    {
+        gpu::GpuScope s(timer, cmd, "lambda");
+        gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
+                      {{"params", params_buf_}, {"p", p_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"q", s0_}, {"density", density_}});
+    }
+    gpu::GpuScope s(timer, cmd, "correct");
+    gpu::dispatch(*ctx_, cmd, correct, count_, push,
+                  {{"params", params_buf_}, {"q", s0_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"p_out", p_}, {"x", x_}, {"v", v_}});
 }
 
 void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer, bool lists_of_x) {
@@ -297,6 +346,7 @@ void PbfSolver::record_frame(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     if (substeps != substeps_) {
         substeps_ = substeps;
         set_substeps(params_, scene_.solver.frame_dt, substeps);
+        params_.scorr_k = scorr_k_of_step(scene_, params_.dt);
         gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
     }
     for (uint32_t i = 0; i < substeps; ++i) record_step(cmd, timer);

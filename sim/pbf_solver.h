@@ -137,7 +137,11 @@ private:
     /// `lists_of_x` (the frame grid: the lists the statistics use at x).
     void record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer, bool lists_of_x = false);
     void record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer);
+    /// One constraint iteration (lambda, then `correct`: correct_ keeps p, correct_last_ updates v and x).
+    void record_iteration(VkCommandBuffer cmd, const gpu::ComputePass& correct, gpu::GpuTimer* timer);
     void record_droplets(VkCommandBuffer cmd);
+    /// Moves the start lattice to rest density where it starts compressed (relax_start in the .cpp).
+    void relax_start();
 
     gpu::Context* ctx_;
     Scene scene_;

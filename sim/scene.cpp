@@ -126,31 +126,37 @@ void read_solver(const json& s, SolverSettings& out) {
     };
     const FloatKey floats[] = {
         {"frame_dt", &SolverSettings::frame_dt,
-         {0.0, 0.1, true, false, "a number of seconds greater than 0 and at most 0.1, e.g. 0.0166667 (1/60 s)"}},
+         {kMinFrameDt, kMaxFrameDt, false, false,
+          "a number of seconds from " + fmt(kMinFrameDt) + " to " + fmt(kMaxFrameDt) + ", e.g. 0.0166667 (1/60 s)"}},
         {"kernel_radius_factor", &SolverSettings::kernel_radius_factor,
-         {1.0, 4.0, false, false, "a number from 1.0 to 4.0 (h = factor * particle_spacing; 2.0 is usual)"}},
+         {kMinKernelRadiusFactor, kMaxKernelRadiusFactor, false, false,
+          "a number from " + fmt(kMinKernelRadiusFactor) + " to " + fmt(kMaxKernelRadiusFactor) +
+              " (h = factor * particle_spacing; 2.0 is usual)"}},
         {"relaxation", &SolverSettings::relaxation, {0.0, HUGE_VAL, true, false, "a positive number, e.g. 0.01 (relative to the stiffness of a full neighbourhood)"}},
-        {"viscosity", &SolverSettings::viscosity, {0.0, 1.0, false, false, "a number from 0 to 1, e.g. 0.01"}},
+        {"viscosity", &SolverSettings::viscosity,
+         {0.0, kMaxViscosity, false, false, "a number from 0 to " + fmt(kMaxViscosity) + ", e.g. 0.01"}},
         {"vorticity", &SolverSettings::vorticity,
          {0.0, HUGE_VAL, false, false, "a number >= 0, e.g. 0.0001 (0 turns it off)"}},
         {"scorr_k", &SolverSettings::scorr_k, {0.0, HUGE_VAL, false, false, "a number >= 0, e.g. 0.1 (0 turns it off)"}},
         {"scorr_dq", &SolverSettings::scorr_dq,
          {0.0, 1.0, true, true, "a number strictly between 0 and 1 (a fraction of h), e.g. 0.2"}},
-        {"cfl", &SolverSettings::cfl, {0.0, 1.0, true, false, "a number greater than 0 and at most 1, e.g. 0.4"}},
+        {"cfl", &SolverSettings::cfl,
+         {0.0, kMaxCfl, true, false, "a number greater than 0 and at most " + fmt(kMaxCfl) + ", e.g. 0.4"}},
         {"max_speed", &SolverSettings::max_speed,
-         {0.0, 1.0e4, false, false, "a speed in m/s from 0 (no cap, the default) to 10000, e.g. 50"}},
+         {0.0, kMaxSpeedCap, false, false,
+          "a speed in m/s from 0 (no cap, the default) to " + fmt(kMaxSpeedCap) + ", e.g. 50"}},
     };
     for (const auto& f : floats)
         if (s.contains(f.key)) out.*f.member = read_number(s[f.key], child("solver", f.key), f.range);
-    if (s.contains("substeps")) out.substeps = read_integer(s["substeps"], "solver.substeps", 1, 64);
-    if (s.contains("max_substeps")) out.max_substeps = read_integer(s["max_substeps"], "solver.max_substeps", 1, 256);
+    if (s.contains("substeps")) out.substeps = read_integer(s["substeps"], "solver.substeps", 1, kMaxSubsteps);
+    if (s.contains("max_substeps")) out.max_substeps = read_integer(s["max_substeps"], "solver.max_substeps", 1, kMaxMaxSubsteps);
     if (!s.contains("max_substeps")) out.max_substeps = std::max(out.max_substeps, out.substeps);
     if (out.max_substeps < out.substeps)
         fail("solver.max_substeps is " + std::to_string(out.max_substeps) + ", below solver.substeps (" +
              std::to_string(out.substeps) + ", the least steps per frame); raise max_substeps or lower substeps");
-    if (s.contains("iterations")) out.iterations = read_integer(s["iterations"], "solver.iterations", 1, 100);
+    if (s.contains("iterations")) out.iterations = read_integer(s["iterations"], "solver.iterations", 1, kMaxIterations);
     // An integer power: the GPU raises to it by squarings, without pow (sim/pbf_physics.h).
-    if (s.contains("scorr_n")) out.scorr_n = float(read_integer(s["scorr_n"], "solver.scorr_n", 1, 15));
+    if (s.contains("scorr_n")) out.scorr_n = float(read_integer(s["scorr_n"], "solver.scorr_n", 1, kMaxScorrN));
     if (s.contains("density_constraint")) {
         const json& c = s["density_constraint"];
         const bool known = c.is_string() && (c == "clamped" || c == "two_sided");
@@ -211,8 +217,9 @@ std::pair<Box, BlockFill> read_fluid_block(const json& v, const std::string& pat
     }
     if (v.contains("velocity")) {
         fill.velocity = read_vec3(v["velocity"], path + ".velocity", "an array of three numbers [x, y, z] in m/s");
-        if (!(glm::length(fill.velocity) <= 100.0f))
-            fail(path + ".velocity " + written(v["velocity"]) + " is faster than 100 m/s; give a speed in m/s, e.g. [0, -2, 0]");
+        if (!(glm::length(fill.velocity) <= kMaxStartSpeed))
+            fail(path + ".velocity " + written(v["velocity"]) + " is " + fmt(glm::length(fill.velocity)) +
+                 " m/s, faster than " + fmt(kMaxStartSpeed) + " m/s; give a speed in m/s, e.g. [0, -2, 0]");
     }
     return {box, fill};
 }
@@ -249,7 +256,7 @@ Scene read_scene(const json& j) {
             fail("gravity " + written(j["gravity"]) + " is " + fmt(glm::length(scene.gravity)) + " m/s^2; at most " +
                  fmt(kMaxGravity) + " m/s^2 (about 100 g) is simulated: give it in m/s^2, e.g. [0, -9.81, 0]");
     }
-    if (j.contains("frames")) scene.frames = read_integer(j["frames"], "frames", 1, 1000000);
+    if (j.contains("frames")) scene.frames = read_integer(j["frames"], "frames", 1, kMaxFrames);
     if (j.contains("solver")) read_solver(j["solver"], scene.solver);
     // The control section belongs to control/ (control/control_scene.h), which validates it.
     if (j.contains("control")) scene.control_json = j["control"].dump();
@@ -273,7 +280,7 @@ Scene read_scene(const json& j) {
     }
     if (j.contains("camera")) scene.camera = read_view_camera(j["camera"], "camera");
     if (j.contains("event_frame")) {
-        scene.event_frame = read_integer(j["event_frame"], "event_frame", 0, 1000000);
+        scene.event_frame = read_integer(j["event_frame"], "event_frame", 0, kMaxFrames);
         if (*scene.event_frame > scene.frames)
             fail("event_frame is " + written(j["event_frame"]) + ", past the scene's " + std::to_string(scene.frames) +
                  " frames; give a frame from 0 to " + std::to_string(scene.frames) + " or raise \"frames\"");

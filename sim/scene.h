@@ -25,6 +25,26 @@ inline constexpr size_t kMaxFluidBlocks = 1024;
 /// Largest gravity a scene may ask for, in m/s^2 (about 100 g).
 inline constexpr float kMaxGravity = 1000.0f;
 
+/// The bounds of a scene's keys: the loader's checks and messages use these, docs/scenes.md
+/// quotes them (tests/test_scene_bounds.cpp holds all three to the same numbers).
+/// solver.frame_dt [s]: above 1e-5 s a frame is still a picture's worth of motion; the start is
+/// relaxed to rest density (PbfSolver), so a small step is never worse than a large one.
+inline constexpr double kMinFrameDt = 1.0e-5;
+inline constexpr double kMaxFrameDt = 0.1;
+inline constexpr uint32_t kMaxSubsteps = 64;       ///< solver.substeps, from 1
+inline constexpr uint32_t kMaxMaxSubsteps = 256;   ///< solver.max_substeps, from 1
+inline constexpr uint32_t kMaxIterations = 100;    ///< solver.iterations, from 1
+inline constexpr double kMinKernelRadiusFactor = 1.0;
+inline constexpr double kMaxKernelRadiusFactor = 4.0;
+inline constexpr double kMaxViscosity = 1.0;       ///< solver.viscosity, from 0
+inline constexpr double kMaxCfl = 1.0;             ///< solver.cfl, above 0
+inline constexpr double kMaxSpeedCap = 1.0e4;      ///< solver.max_speed [m/s], from 0 (off)
+inline constexpr uint32_t kMaxScorrN = 15;         ///< solver.scorr_n, from 1
+inline constexpr uint32_t kMaxFrames = 1000000;    ///< frames and event_frame
+/// A fluid block's start speed [m/s]. The blow-up bound (sim/blowup.h) counts the fastest start
+/// speed in, so every accepted start runs.
+inline constexpr float kMaxStartSpeed = 100.0f;
+
 /// Solver settings (Macklin & Mueller 2013, "Position Based Fluids").
 /// Which densities the PBF constraint corrects (shaders/sim/pbf_lambda.comp explains the choice).
 enum class DensityConstraint { clamped, two_sided };

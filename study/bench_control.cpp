@@ -17,6 +17,7 @@
 #include "session/simulation_session.h"
 #include "sim/pbf_params.h"
 #include "sim/pbf_solver.h"
+#include "sim/blowup.h"
 
 namespace aquaform::study {
 
@@ -234,7 +235,7 @@ FillRun::~FillRun() = default;
 
 bool FillRun::advance(double seconds) {
     stats = sim->advance(seconds);
-    if (stats.non_finite) return false;
+    if (!blowup_verdict(stats, sim->scene()).empty()) return false;  // a sweep row past the stable range
     rms_speed = session::rms_speed(stats, sim->scene());
     return true;
 }
@@ -278,6 +279,7 @@ Overhead measure_overhead(gpu::Context& ctx, const ShapeScene& s, double warm_s,
                  "(%u particles, %u control points)",
                  warm_s, repeats, steps, run.sim->solver().particle_count(), run.sim->control()->force().point_count()));
     run.advance(warm_s);
+    require_physical(run.stats, run.sim->scene());  // the overhead of a fluid that left physics means nothing
     PbfSolver& solver = run.sim->solver();
     const ParticleSnapshot start = solver.snapshot();
     gpu::GpuTimer timer(ctx);

@@ -10,6 +10,7 @@
 
 #include "core/interrupt.h"
 #include "session/simulation_session.h"
+#include "sim/blowup.h"
 
 namespace aquaform::study {
 
@@ -118,6 +119,7 @@ FrontRun run_front(gpu::Context& ctx, const Scene& scene, uint32_t divisions, do
     std::vector<std::pair<double, double>> time_front = {{0.0, double(column_front(scene))}};
     for (uint32_t f = 0; f < frames && r.finite && !interrupted(); ++f) {
         const FrameStats s = sim->solver().run_frame(nullptr);
+        require_physical(s, sim->scene());
         count_frame(r, s, scene.solver);
         r.max_cfl_number = std::max(r.max_cfl_number, s.cfl_number);
         r.max_density_error = std::max(r.max_density_error, s.mean_density_error);
@@ -175,6 +177,7 @@ StepRun run_step_case(gpu::Context& ctx, Scene scene, float cfl, double seconds,
     r.particles = sim->solver().particle_count();
     for (uint32_t f = 0; f < frames && r.finite && !interrupted(); ++f) {
         FrameStats s = sim->solver().run_frame(nullptr);
+        require_physical(s, sim->scene());
         s.gpu_ms.clear();
         count_frame(r, s, scene.solver);
         r.stats.push_back(s);

@@ -12,6 +12,7 @@
 #include "session/simulation_session.h"
 #include "sim/pbf_solver.h"
 #include "study/bench_scenes.h"
+#include "sim/blowup.h"
 
 namespace aquaform::study {
 
@@ -52,6 +53,7 @@ FrameBenchRecord measure_frame(gpu::Context& ctx, uint32_t target_particles, con
         });
         const FrameStats stats = session.finish_frame(s, &solver_timer).stats;
         render_timer.collect();
+        require_physical(stats, session.scene());
         return stats;
     };
 

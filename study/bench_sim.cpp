@@ -10,6 +10,7 @@
 #include "session/simulation_session.h"
 #include "sim/pbf_solver.h"
 #include "study/bench_scenes.h"
+#include "sim/blowup.h"
 
 namespace aquaform::study {
 
@@ -24,7 +25,7 @@ SolverBenchRecord measure_solver(gpu::Context& ctx, uint32_t target_particles, c
     // state that differed from run to run (2-15 % list overflow, 5 to 19 ms a step on an H200).
     uint32_t warmed = 0;
     while (warmed < options.warmup && !interrupted()) {
-        solver.run_frame(nullptr);
+        require_physical(solver.run_frame(nullptr), session.scene());
         warmed += solver.substeps();
     }
     double wall_ms = 0.0;

@@ -18,7 +18,6 @@ namespace aquaform::study {
 bool simulate_frames(session::SimulationSession& session, uint32_t frames, const std::string& label,
                      std::map<std::string, double>* last_frame_ms) {
     ProgressBar progress(label, frames);
-    const BlowupBounds blowup = blowup_bounds(session.scene());
     std::optional<gpu::GpuTimer> timer;
     if (last_frame_ms) timer.emplace(session.solver().context());
     for (uint32_t frame = 0; frame < frames; ++frame) {
@@ -31,10 +30,9 @@ bool simulate_frames(session::SimulationSession& session, uint32_t frames, const
         const FrameStats stats = session.run_frame(timed ? &*timer : nullptr).stats;
         if (timed) *last_frame_ms = stats.gpu_ms;
         progress.update(frame + 1);
-        if (const std::string left = blowup_reason(stats, blowup); !left.empty()) {
+        if (const std::string verdict = blowup_verdict(stats, session.scene()); !verdict.empty()) {
             progress.finish();
-            std::fprintf(stderr, "aquaform: the fluid left physics at frame %u (t = %.3f s): %s; %s\n", frame,
-                         stats.time_s, left.c_str(), kBlowupFix);
+            std::fprintf(stderr, "aquaform: %s\n", verdict.c_str());
             return false;
         }
     }

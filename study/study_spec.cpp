@@ -251,10 +251,10 @@ SolverMapSpec read_map(const json& v, const std::string& path, const fs::path& b
     if (!fs::is_regular_file(m.scene, ec))
         fail(child(path, "scene") + ": no scene file " + m.scene.string() + "; paths are relative to the spec file");
     m.frame_dts = read_list<float>(v["dt"], child(path, "dt"), [](const json& x, const std::string& p) {
-        return read_number(x, p, {0.0, 0.1, true, false, "a time step in seconds, above 0 and at most 0.1"});
+        return read_number(x, p, {0.0, kMaxFrameDt, true, false, "a time step in seconds, above 0 and at most " + fmt(kMaxFrameDt)});
     });
     m.iterations = read_list<uint32_t>(v["iterations"], child(path, "iterations"),
-                                       [](const json& x, const std::string& p) { return read_integer(x, p, 1, 100); });
+                                       [](const json& x, const std::string& p) { return read_integer(x, p, 1, kMaxIterations); });
     if (v.contains("control_pressure"))
         m.control_pressures = read_list<float>(v["control_pressure"], child(path, "control_pressure"), [](const json& x, const std::string& p) {
             return read_number(x, p, {0.0, 1e9, true, false, "a pressure in pascals above 0"});

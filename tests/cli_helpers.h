@@ -5,6 +5,7 @@
 #include <signal.h>
 
 #include <array>
+#include <chrono>
 #include <cstdlib>
 #include <cstdio>
 #include <filesystem>
@@ -101,8 +102,9 @@ inline SplitOutcome run_aquaform_split(const std::string& args, const std::files
 
 /// Runs `aquaform args` with its output in `log`, sends it SIGINT once `marker` shows there, and
 /// returns its exit status (-1 when a signal ended it, -2 when it ended before the marker).
+/// `stop_seconds` (when given) gets the time from the Ctrl-C to the process's end.
 inline int interrupt_aquaform(const std::vector<std::string>& args, const std::filesystem::path& log,
-                              const std::string& marker) {
+                              const std::string& marker, double* stop_seconds = nullptr) {
     // Everything the child needs is made before fork: it only redirects and execs.
     std::vector<std::string> env_text{"AQUAFORM_VALIDATION=1"};
     for (char** e = environ; *e; ++e) env_text.emplace_back(*e);
@@ -126,8 +128,10 @@ inline int interrupt_aquaform(const std::vector<std::string>& args, const std::f
         if (waitpid(pid, &status, WNOHANG) == pid) return -2;
         usleep(10000);
     }
+    const auto sent = std::chrono::steady_clock::now();
     kill(pid, SIGINT);
     waitpid(pid, &status, 0);
+    if (stop_seconds) *stop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - sent).count();
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 

@@ -99,6 +99,21 @@ TEST(CtrlC, EveryLongCommandStopsWithExit130AndWholeFiles) {
     fs::remove_all(dir);
 }
 
+TEST(CtrlC, ALargePlacementStopsWithinTwoSeconds) {
+    // A fine inside placement lays out a lattice of 10^8 points before it tests them: the first
+    // Ctrl-C took 30 s to be heard. It is heard per layer of the lattice now.
+    const fs::path dir = test_cli::temp_dir("ctrl_c_place");
+    const std::string mesh = std::string(AQUAFORM_ASSETS_DIR) + "/meshes/character.obj";
+    double stop_seconds = 0.0;
+    const int status = test_cli::interrupt_aquaform(
+        {"control", "place", mesh, "--method", "inside", "--spacing", "0.00103", "--no-png", "--out", (dir / "out").string()},
+        dir / "log.txt", "faces", &stop_seconds);
+    const std::string output = test_cli::read_file(dir / "log.txt");
+    EXPECT_EQ(status, 130) << output;
+    EXPECT_LT(stop_seconds, 2.0) << output;
+    fs::remove_all(dir);
+}
+
 TEST(CtrlC, TheViewerClosesItsWindowAndExits130) {
     // A display of its own: Xvfb on a number from this process, as xvfb-run would pick.
     const std::string display = ":" + std::to_string(200 + getpid() % 20000);

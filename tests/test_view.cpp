@@ -105,6 +105,22 @@ TEST(ViewCliTest, ScriptedSessionUnderXvfbShowsFluidAndFollowsTheMethod) {
     fs::remove_all(out);
 }
 
+TEST(ViewCliTest, AFluidThatLeavesPhysicsPausesTheWindowAndTheCommandExitsOneWithTheVerdict) {
+    // The window paused and printed a line without frame or time, and view exited 0. It keeps the
+    // window open, paused, and says the verdict `run` says (frame, time, bound, fix) on closing.
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
+    const fs::path dir = test_cli::temp_dir("view_left_physics");
+    const fs::path scene = test_cli::write_file(dir / "wild.json", R"({"name": "wild",
+        "domain": {"min": [0, 0, 0], "max": [0.4, 0.2, 0.08]}, "particle_spacing": 0.02,
+        "fluid_blocks": [{"min": [0, 0, 0], "max": [0.1, 0.2, 0.08]}], "solver": {"vorticity": 1e6}})");
+    const fs::path script = test_cli::write_file(dir / "s.json", R"({"actions": [{"frame": 0, "do": "play"},
+        {"frame": 6, "do": "quit"}]})");
+    auto [status, output] = run_view_under_xvfb(scene.string() + " --size 64x48 --script " + script.string());
+    EXPECT_EQ(status, 1) << output;
+    EXPECT_NE(output.find("aquaform view: the fluid left physics at frame 1 (t = 0.017 s)"), std::string::npos) << output;
+    fs::remove_all(dir);
+}
+
 TEST(ViewCliTest, PlayingTheWindowDrawsMoreFramesThanTheFluidHasPictures) {
     // Unscripted, the window does not wait for the simulation: while the worker makes one picture
     // (a simulation frame and a ray-marched image, hundreds of ms here) the window draws many
@@ -283,6 +299,37 @@ TEST(ViewScriptTest, ActionsAreCheckedAndSortedByFrame) {
     auto no_mesh = viewer::load_view_script(dir / "s.json");
     ASSERT_FALSE(no_mesh.ok());
     EXPECT_NE(no_mesh.error().find("no_such.obj"), std::string::npos) << no_mesh.error();
+    fs::remove_all(dir);
+}
+
+TEST(ViewScriptTest, AScreenshotThatCannotBeWrittenIsRefusedAtLoadWithItsLine) {
+    // A screenshot into an impossible folder passed the load check and failed mid-run. Every
+    // output of a script is checked before the viewer starts: exit 2, the line and the fix.
+    const fs::path dir = test_cli::temp_dir("view_script_outputs");
+    const fs::path file = test_cli::write_file(dir / "a_file", "not a folder");
+    fs::create_directories(dir / "a_folder.png");
+    fs::create_symlink(dir / "a_file", dir / "link.png");
+    for (const auto& [shot, says] : std::vector<std::pair<std::string, std::string>>{
+             {(file / "shot.png").string(), "is not a folder"},
+             {(dir / "a_folder.png").string(), "it is a folder"},
+             {(dir / "link.png").string(), "symbolic link"}}) {
+        const fs::path script = test_cli::write_file(dir / "s.json", "{\"actions\": [\n  {\"frame\": 0, \"do\": \"play\"},\n"
+                                                     "  {\"frame\": 3, \"do\": \"screenshot\", \"file\": \"" + shot + "\"}\n]}");
+        auto loaded = viewer::load_view_script(script);
+        ASSERT_TRUE(loaded.ok()) << loaded.error();
+        auto checked = viewer::check_script_outputs(loaded.value(), dir, script.string());
+        ASSERT_FALSE(checked.ok()) << shot;
+        EXPECT_NE(checked.error().find("line 3"), std::string::npos) << checked.error();
+        EXPECT_NE(checked.error().find(says), std::string::npos) << checked.error();
+        const auto o = test_cli::run_aquaform("view " AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --script " + script.string(),
+                                              "DISPLAY= WAYLAND_DISPLAY=");
+        EXPECT_EQ(o.exit_code, 2) << o.output;
+        EXPECT_NE(o.output.find("line 3"), std::string::npos) << o.output;
+    }
+    // A folder that does not exist yet is made by the screenshot: accepted.
+    auto fine = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "screenshot", "file": "new/shot.png"}]})", "s.json");
+    ASSERT_TRUE(fine.ok());
+    EXPECT_TRUE(viewer::check_script_outputs(fine.value(), dir, "s.json").ok());
     fs::remove_all(dir);
 }
 

@@ -60,6 +60,10 @@ HeadlessSummary run_headless(gpu::Context& ctx, session::SessionPlan plan, const
             summary.fatal = report.fatal;
             break;
         }
+        if (!report.blowup.empty()) {  // stops as `run` does: the frames after it would show no fluid
+            summary.blowup = report.blowup;
+            break;
+        }
         frame.sim_s = report.sim_time - sim_time;
         sim_time = report.sim_time;
         frame.steps = frame.sim_s > 0.0 ? report.substeps : 0;  // a frame after a blow-up only draws
@@ -103,7 +107,8 @@ nlohmann::json to_json(const HeadlessSummary& run) {
             {"gpu_solver_ms_per_frame", run.mean_gpu_solver_ms()},
             {"gpu_render_ms_per_frame", run.mean_gpu_render_ms()},
             {"real_time_factor", run.real_time_factor()},
-            {"fatal", run.fatal}};
+            {"fatal", run.fatal},
+            {"blowup", run.blowup}};
 }
 
 }  // namespace aquaform::viewer

@@ -37,6 +37,7 @@ struct HeadlessSummary {
     std::string method;
     double wall_seconds = 0.0, sim_seconds = 0.0;  ///< over every frame
     std::string fatal;                             ///< the worker's error, when it stopped on one
+    std::string blowup;  ///< the verdict of the frame that left physics (blowup_verdict), where it stopped
     double frames_per_s() const { return wall_seconds > 0.0 ? double(frames.size()) / wall_seconds : 0.0; }
     /// Simulated seconds per wall second: 1 is real time.
     double real_time_factor() const { return wall_seconds > 0.0 ? sim_seconds / wall_seconds : 0.0; }

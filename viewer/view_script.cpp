@@ -6,6 +6,8 @@
 #include <iterator>
 #include <string_view>
 
+#include <unistd.h>
+
 #include "render/registry.h"
 #include "viewer/view_worker.h"
 #include "core/json_fields.h"
@@ -20,6 +22,45 @@ constexpr std::array<std::string_view, 4> kActionKeys{"frame", "do", "value", "f
 constexpr std::array<std::string_view, 14> kActions{"play", "pause", "step", "reset", "method", "iterations", "substeps",
                                                     "screenshot", "attach", "union", "morph", "release", "view", "resize"};
 
+/// The line of each action object in the script's text: the objects three brackets deep
+/// ({"actions": [{...}, ...]}), in order; strings are skipped.
+std::vector<uint32_t> action_lines(const std::string& text) {
+    std::vector<uint32_t> lines;
+    uint32_t line = 1, depth = 0;
+    bool in_string = false, escaped = false;
+    for (char c : text) {
+        if (c == '\n') ++line;
+        if (in_string) {
+            if (escaped) escaped = false;
+            else if (c == '\\') escaped = true;
+            else if (c == '"') in_string = false;
+            continue;
+        }
+        if (c == '"') in_string = true;
+        if (c == '{' || c == '[') {
+            if (++depth == 3 && c == '{') lines.push_back(line);
+        }
+        if ((c == '}' || c == ']') && depth > 0) --depth;
+    }
+    return lines;
+}
+
+namespace fs = std::filesystem;
+
+/// Why a screenshot cannot be written to `file`, or empty.
+std::string unwritable(const fs::path& file) {
+    std::error_code ec;
+    if (fs::is_symlink(file, ec)) return "it is a symbolic link (aquaform does not write through links)";
+    if (fs::is_directory(file, ec)) return "it is a folder";
+    // The nearest folder that exists: the screenshot's folder, or the one it would be made in.
+    fs::path folder = file.parent_path().empty() ? fs::path(".") : file.parent_path();
+    while (!fs::exists(folder, ec) && folder.has_relative_path() && folder != folder.parent_path()) folder = folder.parent_path();
+    if (!fs::exists(folder, ec)) return "its folder " + folder.string() + " does not exist";
+    if (!fs::is_directory(folder, ec)) return folder.string() + " is not a folder";
+    if (::access(folder.c_str(), W_OK) != 0) return "the folder " + folder.string() + " is not writable";
+    return "";
+}
+
 }  // namespace
 
 Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const std::string& origin) {
@@ -30,6 +71,7 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
         std::array<std::string_view, 1> top{"actions"};
         check_keys(j, "at top level", top);
         std::vector<ViewAction> actions;
+        const std::vector<uint32_t> lines = action_lines(text);
         for (size_t i = 0; i < j["actions"].size(); ++i) {
             const json& a = j["actions"][i];
             const std::string where = "actions[" + std::to_string(i) + "]";
@@ -38,6 +80,7 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
             require(a, "frame", "in " + where, "\"frame\": 0");
             require(a, "do", "in " + where, "\"do\": \"play\"");
             ViewAction action;
+            action.line = i < lines.size() ? lines[i] : 0;
             action.frame = read_integer(a["frame"], child(where, "frame"), 0, 1u << 30);
             if (!a["do"].is_string()) fail(child(where, "do") + " must be an action name, got " + written(a["do"]));
             action.what = a["do"].get<std::string>();
@@ -87,6 +130,19 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
     } catch (const std::exception& e) {
         return Error{origin + ": " + std::string(e.what())};
     }
+}
+
+Result<bool> check_script_outputs(const std::vector<ViewAction>& actions, const fs::path& screenshot_dir,
+                                  const std::string& origin) {
+    for (const ViewAction& a : actions) {
+        if (a.what != "screenshot") continue;
+        const fs::path file = fs::path(a.value).is_absolute() ? fs::path(a.value) : screenshot_dir / a.value;
+        if (const std::string why = unwritable(file); !why.empty())
+            return Error{origin + ": line " + std::to_string(a.line) + ": the screenshot at frame " + std::to_string(a.frame) +
+                         " cannot be written to " + file.string() + ": " + why +
+                         "; name a file in a writable folder (relative names go to --record DIR or the working folder)"};
+    }
+    return true;
 }
 
 Result<std::vector<ViewAction>> load_view_script(const std::filesystem::path& path) {

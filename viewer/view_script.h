@@ -28,10 +28,18 @@ struct ViewAction {
     uint32_t frame = 0;
     std::string what;   ///< play, pause, step, reset, method, iterations, substeps, screenshot, attach, union, morph, release, quit
     std::string value;  ///< method name, integer, or file
+    uint32_t line = 0;  ///< where the script writes it (1-based; 0: not from a file)
 };
 
 /// Reads a script; errors name the file, the action's index and the fix. Actions come sorted by frame.
 Result<std::vector<ViewAction>> load_view_script(const std::filesystem::path& path);
 Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const std::string& origin);
+
+/// Checks, before the viewer starts, that every screenshot of a script can be written: a
+/// relative file goes under `screenshot_dir`; its folder must be a folder that exists or can be
+/// made, and writable; the file must be neither a folder nor a symbolic link. The error names
+/// `origin` (the script), the action's line and the fix.
+Result<bool> check_script_outputs(const std::vector<ViewAction>& actions, const std::filesystem::path& screenshot_dir,
+                                  const std::string& origin);
 
 }  // namespace aquaform::viewer

@@ -89,6 +89,7 @@ struct ViewWorker::Sim {
     uint32_t substeps = 0;  // of the last simulated frame
     std::string status;
     uint32_t blowups = 0;
+    std::string blowup;
 
     void say(std::string message) {
         status = std::move(message);
@@ -100,10 +101,11 @@ struct ViewWorker::Sim {
         const FrameStats stats = session->run_frame(&sim_timer).stats;
         sim_ms = sim_timer.totals_ms();
         substeps = stats.substeps;
-        if (const std::string left = blowup_reason(stats, blowup_bounds(session->scene())); !left.empty()) {
+        if (std::string verdict = blowup_verdict(stats, session->scene()); !verdict.empty()) {
             halted = true;
             ++blowups;
-            say("the fluid left physics (" + left + "): raise substeps or reset");
+            blowup = verdict;
+            say(std::move(verdict) + " (paused: reset starts again)");
         }
     }
 
@@ -380,6 +382,7 @@ void ViewWorker::loop() {
         report_.substeps = sim_->substeps;
         report_.status = sim_->status;
         report_.blowups = sim_->blowups;
+        report_.blowup = sim_->blowup;
         report_.shape_files = sim_->session->shape_files();
         report_.solver = sim_->scene.solver;
         const control::ControlDriver* driver = sim_->session->control();

@@ -99,7 +99,8 @@ struct ViewReport {
     /// frame's total, for pictures that advanced it).
     std::map<std::string, std::deque<float>> history;
     std::string status;                               ///< the latest message for the user
-    uint32_t blowups = 0;                             ///< times the simulation stopped being finite
+    uint32_t blowups = 0;                             ///< times the simulation left physics
+    std::string blowup;  ///< the last of those times' verdict (blowup_verdict), kept to the end: the command exits 1
     std::vector<std::filesystem::path> shape_files;   ///< meshes of the active shape, in its order
     SolverSettings solver;
     std::shared_ptr<const std::vector<control::Mesh>> shapes;  ///< the active shapes' meshes, in scene coordinates
