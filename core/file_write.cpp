@@ -104,7 +104,8 @@ Result<int> open_for_writing(const fs::path& path, WriteOpen how, const fs::path
     int flags = O_CREAT | O_NOFOLLOW | O_CLOEXEC | (how == WriteOpen::read_write ? O_RDWR : O_WRONLY);
     if (how == WriteOpen::truncate) flags |= O_TRUNC;
     if (how == WriteOpen::create_new) flags |= O_EXCL;
-    const int fd = ::open(path.c_str(), flags, 0644);
+    // 0666 less the umask, as a stream opens a file: the user's umask decides who may read it.
+    const int fd = ::open(path.c_str(), flags, 0666);
     if (fd >= 0) return fd;
     const int why = errno;
     const fs::path& name = named.empty() ? path : named;
