@@ -1,8 +1,5 @@
 #include "apps/run_exports.h"
 
-#include <regex>
-#include <set>
-
 namespace aquaform::cli {
 
 std::vector<std::string> frame_export_flags() {
@@ -46,20 +43,6 @@ std::optional<FrameExportOptions> frame_export_options_from(const Args& args, st
         }
     }
     return options;
-}
-
-size_t clear_earlier_run(const std::filesystem::path& dir) {
-    static const std::regex numbered(R"((frame|particles|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp))");
-    static const std::set<std::string> named{"stats.csv",     "front.csv",   "front.svg",
-                                             "particles.pvd", "surface.pvd", kExportListing};
-    size_t removed = 0;
-    std::error_code ec;
-    for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
-        const std::string name = entry.path().filename().string();
-        if (!entry.is_regular_file(ec) || (!named.count(name) && !std::regex_match(name, numbered))) continue;
-        if (std::filesystem::remove(entry.path(), ec)) ++removed;
-    }
-    return removed;
 }
 
 }  // namespace aquaform::cli
