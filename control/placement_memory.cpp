@@ -1,0 +1,75 @@
+#include "control/placement_memory.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <glm/glm.hpp>
+
+#include "control/placement.h"
+#include "shaders/shared/raster_layout.h"
+
+namespace aquaform::control {
+
+namespace {
+
+/// Share of MemAvailable a placement may plan to use: the rest is for the system and the picture.
+constexpr double kMemoryShare = 0.8;
+
+// A request whose estimate exceeds the memory there is: the message names the need, what is
+// available and the --spacing that would fit (the need grows as spacing^-exponent).
+std::optional<std::string> memory_refusal(const char* what, double bytes, double available, float spacing,
+                                          double exponent) {
+    if (bytes <= kMemoryShare * available) return std::nullopt;
+    const double fit = spacing * std::pow(bytes / (kMemoryShare * available), 1.0 / exponent) * 1.05;
+    char message[400];
+    std::snprintf(message, sizeof message,
+                  "%s at --spacing %g needs about %.0f MB but %.0f MB are available; use --spacing %.3g or larger", what,
+                  spacing, bytes / 1048576.0, available / 1048576.0, fit);
+    return std::string(message);
+}
+
+// Bytes of the points and of the particle snapshot that writes them (xyzw, velocity, density).
+constexpr double kOutputBytesPerPoint = sizeof(glm::vec3) + 36.0;
+
+}  // namespace
+
+double planned_inside_bytes(const LoadedMesh& loaded, float spacing) {
+    const Box bounds = loaded.mesh.bounds();
+    const double kept = expected_inside_points(bounds, spacing, loaded.report);
+    return std::max(place_inside_bytes(bounds, spacing, loaded.mesh.faces.size(), kept),
+                    kept * kOutputBytesPerPoint);
+}
+
+std::optional<std::string> placement_memory_refusal(const std::string& method, const LoadedMesh& loaded, float spacing,
+                                                    double host, const std::function<double()>& device_bytes) {
+    const Mesh& mesh = loaded.mesh;
+    const Box bounds = mesh.bounds();
+    if (method == "vertices")
+        return memory_refusal("--method vertices", place_on_vertices_bytes(mesh, spacing), host, spacing, 1.0);
+    if (method == "inside")
+        return memory_refusal("--method inside", planned_inside_bytes(loaded, spacing), host, spacing, 3.0);
+    // raster: the layer lists per lattice column, the points (at most the lattice) and the triangles.
+    const glm::dvec3 cells = glm::dvec3(bounds.max - bounds.min) / double(spacing) + 1.0;
+    const double columns = (cells.x + 3.0) * (cells.y + 3.0);
+    const double points = expected_inside_points(bounds, spacing, loaded.report);
+    const double over = std::max(columns / double(1u << 26), points / double(1u << 30));
+    if (over > 1.0) {  // the rasteriser's own limits (2^26 columns) and 32-bit point counts
+        char message[300];
+        std::snprintf(message, sizeof message,
+                      "--method raster at --spacing %g needs %.3g lattice columns and up to %.3g points (at most %u and "
+                      "%u); use --spacing %.3g or larger",
+                      spacing, columns, points, 1u << 26, 1u << 30, spacing * std::sqrt(over) * 1.05);
+        return std::string(message);
+    }
+    const double device = 1.25 * (columns * (4.0 + RASTER_MAX_LAYERS * 8.0) + double(mesh.faces.size()) * 48.0) +
+                          points * 16.0;
+    // The download (vec4) and the sorted copy, then the output.
+    const double host_bytes = std::max(points * (sizeof(glm::vec4) + sizeof(glm::vec3)), points * kOutputBytesPerPoint);
+    if (auto refusal = memory_refusal("--method raster (host copy of the points)", host_bytes, host, spacing, 3.0))
+        return refusal;
+    return memory_refusal("--method raster (device memory)", device, device_bytes(),
+                          spacing, 3.0);
+}
+
+}  // namespace aquaform::control
