@@ -38,8 +38,8 @@ bool apply_camera_flag(const Args& args, Scene& scene, std::string* error);
 /// The picture each command draws without --resolution (the usage quotes them):
 /// - to be looked at (run's frames, view's window, control place's points): 16:9 like a video or
 ///   a screen, and small enough that the software device draws one in about a second;
-/// - to be measured (render, bench render, a study's default): square, at the benchmark's size, so
-///   that render.json compares with bench_render.json;
+/// - to be measured (render, bench render): square, at the benchmark's size, so that render.json
+///   compares with bench_render.json;
 /// - bench frame: the display its targets are set for (study::kTargetDisplay, 1920x1080).
 inline constexpr PictureSize kViewingPicture{640, 360};
 inline constexpr PictureSize kMeasuredPicture{512, 512};

@@ -35,6 +35,11 @@ const char* kUsage =
     "  --particles N (run, render, view, study, bench render, bench control): the scene's particle spacing re-derived so\n"
     "        that it holds about N particles (64 to 16777215; sizes in metres stay), e.g. 10000 for CI,\n"
     "        1000000 for the papers' scenes\n"
+    "  --resolution WxH (run, render, view, control place, bench render, bench frame): the picture's size,\n"
+    "        each side 16 to 8192; by default 640x360 for pictures to look at (run, view, control place: 16:9\n"
+    "        like a video or a screen, about a second a picture on the software device), 512x512 for pictures\n"
+    "        that are measured (render, bench render: the benchmark's size, so that their figures compare) and\n"
+    "        1920x1080 for bench frame (the display its targets are set for)\n"
     "  --camera auto|scene (run, render): auto frames the tank and the fluid; scene (the default) uses the\n"
     "        scene's \"camera\" key where it has one (the auto framing otherwise)\n"
     "  render SCENE.json [--frame K] [--out DIR] [--no-reference] [--particles N] [--camera auto|scene] [--device ...] [--validation]\n"
@@ -46,15 +51,16 @@ const char* kUsage =
     "        check a mesh and place control points; writes points.ply, points.png and report.txt; a mesh\n"
     "        without volume or with holes over 1% of its surface is refused, flipped faces are turned back;\n"
     "        --spacing (default: the mesh's diagonal / 40) is refused when the points would not fit in memory\n"
-    "  view SCENE.json [--size WxH] [--scale S] [--play] [--script FILE [--async]] [--record DIR] [--frames N] [--shaders DIR]\n"
+    "  view SCENE.json [--resolution WxH] [--scale S] [--play] [--script FILE [--async]] [--record DIR] [--frames N] [--shaders DIR]\n"
     "                  [--particles N] [--headless [--out FILE]] [--device ...] [--validation] [render flags]\n"
     "                  (or view --particles N alone: a generated dam break)\n"
     "        interactive viewer: play/pause/step/reset, method switch, solver settings, GPU time per pass;\n"
     "        left drag pushes the fluid, right orbits, middle pans, wheel zooms; drop an OBJ to shape the fluid;\n"
     "        keys: space play, N step, R reset, P screenshot, F fly camera (WASD, Q/E), Esc quit\n"
     "        --headless: no window nor display: the viewer's worker plays --frames N (default 100) frames\n"
-    "        (simulate + render at --size) and prints each frame's wall ms, steps, GPU ms and the real-time factor\n"
-    "        (simulated s / wall s); --out FILE writes them as JSON\n"
+    "        (simulate + render at --resolution) and prints each frame's wall ms, steps, GPU ms and the real-time factor\n"
+    "        (simulated s / wall s); --out FILE writes them as JSON; --size WxH: the old name of --resolution\n"
+    "        (still taken, and said so)\n"
     "  study SPEC.json [--out DIR] [--fresh] [--no-charts] [--particles N] [--shard K/N] [--device ...] [--validation]\n"
     "        comparative study: scenes x methods x resolutions x particle counts on the same frames;\n"
     "        --particles N runs every case at about N (a generated dam break's list becomes N, a scene file\n"
@@ -150,6 +156,8 @@ bool print_command_help(const std::string& command, const std::vector<std::strin
     std::printf("usage: aquaform %s", text.substr(2).c_str());
     for (const char* sized : {"run", "render", "view", "study", "bench render", "bench control"})
         if (topic == sized) std::fputs(usage_of("--particles").c_str(), stdout);
+    for (const char* pictured : {"run", "render", "view", "control place", "bench render", "bench frame"})
+        if (topic == pictured) std::fputs(usage_of("--resolution").c_str(), stdout);
     if (topic == "run" || topic == "render") std::fputs(usage_of("--camera").c_str(), stdout);
     for (const char* drawn : {"run", "render", "view", "bench render"})
         if (topic == drawn) std::fputs(render_flags_usage(), stdout);
