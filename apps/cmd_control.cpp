@@ -15,8 +15,7 @@
 #include "apps/render_options.h"
 #include "control/mesh.h"
 #include "control/placement.h"
-#include "control/placement_memory.h"
-#include "control/raster_placement.h"
+#include "control/place_command.h"
 #include "core/file_write.h"
 #include "core/host_memory.h"
 #include "core/interrupt.h"
@@ -25,7 +24,6 @@
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "render/impostor_view.h"
-#include "shaders/shared/raster_layout.h"
 #include "sim/particle_io.h"
 
 namespace aquaform::cli {
@@ -99,9 +97,7 @@ int cmd_control(const std::vector<std::string>& argv) {
     if (!prepare_output("control place", out_dir)) return kExitUsage;
     std::error_code ec;
 
-    // points.ply takes 36 bytes a point (position, velocity, density, id, tag).
-    const double ply_bytes = 36.0 * (method == "vertices" ? control::vertex_candidate_count(mesh, spacing)
-                                                          : control::expected_inside_points(bounds, spacing, loaded.value().report));
+    const double ply_bytes = control::expected_ply_bytes(method, loaded.value(), spacing);
     if (const std::filesystem::space_info space = std::filesystem::space(out_dir, ec); !ec && ply_bytes > double(space.available))
         return std::fprintf(stderr,
                             "aquaform control: '%s': points.ply at --spacing %g would take about %.0f MB but %.0f MB "
@@ -111,31 +107,9 @@ int cmd_control(const std::vector<std::string>& argv) {
                kExitUsage;
     const std::string report = control::describe(loaded.value().report);
     std::printf("%s\n", report.c_str());
-    control::ControlPoints points;
-    control::RasterStats raster;
-    if (method == "vertices") points = control::place_on_vertices(mesh, spacing);
-    if (method == "inside") points = control::place_inside(mesh.triangle_soup(), spacing);
-    if (method == "raster") points = control::place_raster(context(), mesh.triangle_soup(), spacing, {}, &raster);
-    char summary[256];
-    std::snprintf(summary, sizeof summary, "method %s, spacing %g: %zu control points in %.1f ms", method.c_str(), spacing,
-                  points.points.size(), points.ms);
-    std::string line = summary;
-    if (method == "inside") {
-        std::snprintf(summary, sizeof summary, " (memory planned: %.0f MB, the output included)",
-                      control::planned_inside_bytes(loaded.value(), spacing) / 1048576.0);
-        line += summary;
-    }
-    if (method == "raster") {
-        std::snprintf(summary, sizeof summary, " (placement %.2f ms, GPU %.2f ms, %u lattice columns)", raster.ms,
-                      raster.gpu_ms, raster.pixels);
-        line += summary;
-        if (raster.overflowed_pixels)
-            line += "\nwarning: " + std::to_string(raster.overflowed_pixels) + " columns cross the mesh more than " +
-                    std::to_string(RASTER_MAX_LAYERS) + " times and were left empty";
-        if (raster.open_pixels)
-            line += "\nwarning: " + std::to_string(raster.open_pixels) +
-                    " columns pass through holes in the mesh and were left empty";
-    }
+    const control::PlacementRun placed = control::place_by_method(method, loaded.value(), spacing, context);
+    const control::ControlPoints& points = placed.points;
+    const std::string& line = placed.summary;
     if (!points.complete)
         return std::fprintf(stderr, "aquaform control: interrupted during the placement; nothing written\n"),
                kExitInterrupted;

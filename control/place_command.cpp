@@ -1,4 +1,4 @@
-#include "control/placement_memory.h"
+#include "control/place_command.h"
 
 #include <algorithm>
 #include <cmath>
@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 
 #include "control/placement.h"
+#include "control/raster_placement.h"
 #include "shaders/shared/raster_layout.h"
 
 namespace aquaform::control {
@@ -70,6 +71,42 @@ std::optional<std::string> placement_memory_refusal(const std::string& method, c
         return refusal;
     return memory_refusal("--method raster (device memory)", device, device_bytes(),
                           spacing, 3.0);
+}
+
+double expected_ply_bytes(const std::string& method, const LoadedMesh& loaded, float spacing) {
+    return 36.0 * (method == "vertices" ? vertex_candidate_count(loaded.mesh, spacing)
+                                        : expected_inside_points(loaded.mesh.bounds(), spacing, loaded.report));
+}
+
+PlacementRun place_by_method(const std::string& method, const LoadedMesh& loaded, float spacing,
+                             const std::function<gpu::Context&()>& context) {
+    const Mesh& mesh = loaded.mesh;
+    ControlPoints points;
+    RasterStats raster;
+    if (method == "vertices") points = place_on_vertices(mesh, spacing);
+    if (method == "inside") points = place_inside(mesh.triangle_soup(), spacing);
+    if (method == "raster") points = place_raster(context(), mesh.triangle_soup(), spacing, {}, &raster);
+    char summary[256];
+    std::snprintf(summary, sizeof summary, "method %s, spacing %g: %zu control points in %.1f ms", method.c_str(), spacing,
+                  points.points.size(), points.ms);
+    std::string line = summary;
+    if (method == "inside") {
+        std::snprintf(summary, sizeof summary, " (memory planned: %.0f MB, the output included)",
+                      planned_inside_bytes(loaded, spacing) / 1048576.0);
+        line += summary;
+    }
+    if (method == "raster") {
+        std::snprintf(summary, sizeof summary, " (placement %.2f ms, GPU %.2f ms, %u lattice columns)", raster.ms,
+                      raster.gpu_ms, raster.pixels);
+        line += summary;
+        if (raster.overflowed_pixels)
+            line += "\nwarning: " + std::to_string(raster.overflowed_pixels) + " columns cross the mesh more than " +
+                    std::to_string(RASTER_MAX_LAYERS) + " times and were left empty";
+        if (raster.open_pixels)
+            line += "\nwarning: " + std::to_string(raster.open_pixels) +
+                    " columns pass through holes in the mesh and were left empty";
+    }
+    return {std::move(points), line};
 }
 
 }  // namespace aquaform::control
