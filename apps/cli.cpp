@@ -10,8 +10,8 @@
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/output_dir.h"
+#include "core/version.h"
 #include "gpu/context.h"
-#include "study/study_shards.h"
 
 namespace aquaform::cli {
 
@@ -68,7 +68,7 @@ int run_command(const std::string& command, const std::vector<std::string>& rest
             return kExitOk;
         }
         if (command == "--version" || command == "version") {
-            std::printf("aquaform %s\n", study::aquaform_version().c_str());
+            std::printf("aquaform %s\n", aquaform_version().c_str());
             return kExitOk;
         }
         // Bad input is one line (README "Exit codes"); the usage is `aquaform help`.

@@ -23,6 +23,7 @@
 #include "core/output_dir.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "render/impostor_view.h"
 #include "sim/particle_io.h"
 

@@ -8,6 +8,7 @@
 
 #include "control/placement.h"
 #include "sim/pbf_params.h"
+#include "gpu/staging.h"
 
 namespace aquaform::control {
 

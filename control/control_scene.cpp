@@ -101,30 +101,6 @@ ControlSection read_section(const json& j, const Scene& scene, const std::filesy
 
 }  // namespace
 
-const char* method_name(PlacementMethod method) {
-    switch (method) {
-        case PlacementMethod::vertices: return "vertices";
-        case PlacementMethod::inside: return "inside";
-        case PlacementMethod::raster: return "raster";
-    }
-    return "?";
-}
-
-float ControlSection::shape_height(const glm::vec3& gravity) const {
-    const float g = glm::length(gravity);
-    const glm::vec3 down = g > 0.0f ? gravity / g : glm::vec3(0.0f, -1.0f, 0.0f);
-    float tallest = 0.0f;
-    for (const ControlMesh& m : meshes) {
-        float lo = HUGE_VALF, hi = -HUGE_VALF;
-        for (const glm::vec3& p : m.animation.placed_rest().vertices) {
-            lo = std::min(lo, glm::dot(p, down));
-            hi = std::max(hi, glm::dot(p, down));
-        }
-        if (hi >= lo) tallest = std::max(tallest, hi - lo);
-    }
-    return tallest;
-}
-
 Result<ControlSection> load_control_section(const Scene& scene) {
     const std::string origin = scene.path.empty() ? scene.name : scene.path.string();
     if (!scene.control_json) return Error{origin + ": the scene has no \"control\" section"};

@@ -13,41 +13,11 @@
 //   }
 #pragma once
 
-#include <filesystem>
-#include <string>
-#include <vector>
-
-#include "control/animation.h"
-#include "control/mesh.h"
-#include "control/strength.h"
-#include "control/timeline.h"
+#include "control/control_section.h"
 #include "core/result.h"
 #include "sim/scene.h"
 
 namespace aquaform::control {
-
-/// Karpati et al. 3.2: (a) vertices, (b) lattice inside by winding number, (c) GPU rasterisation.
-enum class PlacementMethod { vertices, inside, raster };
-const char* method_name(PlacementMethod method);
-
-struct ControlMesh {
-    std::string name;
-    std::filesystem::path file;  ///< empty for an OBJ sequence (its frames are in the animation)
-    PlacementMethod method = PlacementMethod::inside;
-    MeshAnimation animation;     ///< bound to the mesh and its placement
-    MeshReport report;           ///< of the rest mesh as loaded
-};
-
-struct ControlSection {
-    float spacing = 0.0f;
-    StrengthOverrides overrides;
-    float damping = 0.0f;
-    std::vector<ControlMesh> meshes;
-    Timeline timeline;
-
-    /// The tallest placed mesh's extent along gravity (the height a shape must be held over).
-    float shape_height(const glm::vec3& gravity) const;
-};
 
 /// Parses and checks scene.control_json: loads every mesh (paths relative to the scene file),
 /// binds its animation. Errors name the scene file, the key and the fix.

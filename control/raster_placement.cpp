@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "shaders/shared/raster_layout.h"
 #include "core/error.h"
 

@@ -1,4 +1,4 @@
-// A control section built in code: what a scene file's "control" section says (control_scene.h),
+// A control section built in code: what a scene file's "control" section says (control_section.h),
 // for callers that make shapes at run time (the viewer's Shape panel, benchmarks, tests) and
 // should not write JSON to parse it again. The JSON loader binds its meshes through the same
 // bind_control_mesh(), so both produce the same section (tests/test_session.cpp).
@@ -16,8 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "control/control_scene.h"
+#include "control/control_section.h"
 #include "core/result.h"
+#include "sim/scene.h"
 
 namespace aquaform::control {
 

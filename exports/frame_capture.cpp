@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "gpu/staging.h"
 #include "gpu/timer.h"
 
 namespace aquaform {

@@ -4,6 +4,7 @@
 // writes a buffer written since the last barrier (read/write after write), or writes one read
 // since (write after read). Commands recorded into a command buffer the tracker does not know
 // (not the thread's recording) fall back to a full barrier after each command.
+// Every barrier the gpu helpers record is here, so that this header depends on nothing else of gpu/.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +14,16 @@
 #include <vulkan/vulkan.h>
 
 namespace aquaform::gpu {
+
+/// Full compute/transfer barrier, for commands the tracking cannot see.
+void compute_barrier(VkCommandBuffer cmd);
+/// Shader and transfer writes made visible to the host, which reads them once it has waited for
+/// the submission (host-visible buffers read back without a copy of their own).
+void host_read_barrier(VkCommandBuffer cmd);
+/// Around transfer writes recorded outside the tracking (held and inline uploads): earlier reads
+/// and writes (any stage) before the transfer writes, and the transfer's writes before anything later.
+void barrier_before_transfer_write(VkCommandBuffer cmd);
+void barrier_after_transfer_write(VkCommandBuffer cmd);
 
 class BarrierTracker {
 public:

@@ -2,10 +2,9 @@
 
 #include <mutex>
 #include <stdexcept>
+#include <string>
 
-#include "gpu/compute_pass.h"
 #include "gpu/context.h"
-#include "gpu/staging.h"
 #include "gpu/vk_check.h"
 #include "core/error.h"
 
@@ -51,6 +50,8 @@ Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size, M
                                  "); use fewer particles (a larger particle_spacing)");
     }
     VK_CHECK(vkBindBufferMemory(ctx.device(), b.buffer, b.memory, 0));
+    ctx.set_name(VK_OBJECT_TYPE_BUFFER, b.buffer, name);
+    ctx.set_name(VK_OBJECT_TYPE_DEVICE_MEMORY, b.memory, name);
     if (use == MemoryUse::host) VK_CHECK(vkMapMemory(ctx.device(), b.memory, 0, VK_WHOLE_SIZE, 0, &b.mapped));
     return b;
 }
@@ -106,42 +107,9 @@ VkBufferView texel_view(Context& ctx, const Buffer& b, VkFormat format) {
     info.offset = 0;
     info.range = elements * format_bytes(format);
     VK_CHECK(vkCreateBufferView(ctx.device(), &info, nullptr, &free->view));
+    ctx.set_name(VK_OBJECT_TYPE_BUFFER_VIEW, free->view, b.name);
     free->format = format;
     return free->view;
-}
-
-void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
-    if (bytes == 0) return;
-    if (VkCommandBuffer cmd = ctx.recording()) {  // in order with the passes recorded around it
-        record_upload(ctx, cmd, dst, data, bytes, offset);
-        return;
-    }
-    StagingPool& pool = ctx.staging();
-    if (offset + bytes > dst.size)
-        throw internal_failure("upload of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) +
-                               " overruns buffer '" + dst.name + "' of " + std::to_string(dst.size) + " bytes");
-    StagingPool::Region src = pool.allocate(ctx, bytes);
-    std::memcpy(src.mapped, data, bytes);
-    pool.defer(src, dst.buffer, offset, bytes);
-    if (pool.batch_depth == 0) ctx.submit_and_wait([](VkCommandBuffer) {});  // records the copy first
-}
-
-void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, VkDeviceSize offset) {
-    if (bytes == 0) return;
-    Buffer staging = create_buffer(ctx, "staging", bytes, MemoryUse::host);
-    ctx.submit_and_wait([&](VkCommandBuffer cmd) { record_download(ctx, cmd, src, staging, bytes, offset); });
-    std::memcpy(data, staging.mapped, bytes);
-    destroy_buffer(ctx, staging);
-}
-
-void record_download(Context& ctx, VkCommandBuffer cmd, const Buffer& src, const Buffer& dst, VkDeviceSize bytes,
-                     VkDeviceSize offset) {
-    if (!dst.mapped || offset + bytes > src.size || bytes > dst.size)
-        throw internal_failure("download of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) + " of '" +
-                               src.name + "' (" + std::to_string(src.size) + " bytes) into '" + dst.name + "' (" +
-                               std::to_string(dst.size) + (dst.mapped ? " bytes)" : " bytes, not host-visible)"));
-    copy(ctx, cmd, src, dst, {offset, 0, bytes});
-    host_read_barrier(cmd);
 }
 
 Buffer& BufferSet::add(const std::string& name, VkDeviceSize size, MemoryUse use, bool texels_only) {

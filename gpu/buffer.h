@@ -1,5 +1,6 @@
 // GPU buffers: plain structs with explicit lifetimes, plus a registry that reports the memory
-// of every buffer by name (printed at start so a user sees what a scene costs).
+// of every buffer by name (printed at start so a user sees what a scene costs). Copies between
+// host and buffers (upload, download) are in gpu/staging.h.
 #pragma once
 
 #include <cstdint>
@@ -44,24 +45,6 @@ void destroy_buffer(Context& ctx, Buffer& buffer);
 /// destroyed with the buffer. Fails with a message naming the buffer when it holds more
 /// elements than the device's texel-buffer limit.
 VkBufferView texel_view(Context& ctx, const Buffer& buffer, VkFormat format);
-
-/// Copies host data into a device buffer through staging memory (gpu/staging.h). Inside this
-/// thread's recording it records the copy there (in order with the passes around it); inside an
-/// UploadBatch it joins the batch's submission; otherwise it submits and waits.
-void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
-/// Copies a device buffer back to the host (waits for completion).
-void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
-/// Records a copy of `bytes` of `src` from `offset` into the host-visible `dst`, readable by the
-/// host (dst.mapped) once the submission has completed: a download kept in flight.
-void record_download(Context& ctx, VkCommandBuffer cmd, const Buffer& src, const Buffer& dst, VkDeviceSize bytes,
-                     VkDeviceSize offset = 0);
-
-template <typename T>
-std::vector<T> download_vector(Context& ctx, const Buffer& src, size_t count) {
-    std::vector<T> out(count);
-    if (count) download(ctx, src, out.data(), count * sizeof(T));
-    return out;
-}
 
 /// One entry per buffer for the memory report.
 struct BufferReport {

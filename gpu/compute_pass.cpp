@@ -60,6 +60,7 @@ ComputePass::ComputePass(Context& ctx, const ComputePassDesc& desc)
     set_info.bindingCount = uint32_t(bindings.size());
     set_info.pBindings = bindings.data();
     VK_CHECK(vkCreateDescriptorSetLayout(ctx.device(), &set_info, nullptr, &set_layout_));
+    ctx.set_name(VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, set_layout_, desc.shader);
 
     VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, desc.push_bytes};
     VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
@@ -68,6 +69,7 @@ ComputePass::ComputePass(Context& ctx, const ComputePassDesc& desc)
     layout_info.pushConstantRangeCount = desc.push_bytes ? 1 : 0;
     layout_info.pPushConstantRanges = &range;
     VK_CHECK(vkCreatePipelineLayout(ctx.device(), &layout_info, nullptr, &layout_));
+    ctx.set_name(VK_OBJECT_TYPE_PIPELINE_LAYOUT, layout_, desc.shader);
 
     VkShaderModule module = create_shader_module(ctx, desc.shader);
     std::vector<uint32_t> values{desc_.local_size};
@@ -85,6 +87,7 @@ ComputePass::ComputePass(Context& ctx, const ComputePassDesc& desc)
     VkResult r = vkCreateComputePipelines(ctx.device(), VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_);
     vkDestroyShaderModule(ctx.device(), module, nullptr);
     VK_CHECK(r);
+    ctx.set_name(VK_OBJECT_TYPE_PIPELINE, pipeline_, desc.shader);
 }
 
 ComputePass::~ComputePass() { destroy(); }
@@ -123,6 +126,22 @@ std::string declared(const ComputePass& pass) {
     for (const ShaderBinding& b : pass.bindings()) names += (names.empty() ? "" : ", ") + b.name;
     return names;
 }
+
+/// A dispatch labelled with its shader's name (its barrier and bindings included), so that a
+/// validation message or a debugger's capture says which pass it is.
+class DispatchLabel {
+public:
+    DispatchLabel(Context& ctx, VkCommandBuffer cmd, const std::string& shader) : ctx_(ctx), cmd_(cmd) {
+        ctx_.begin_label(cmd_, shader);
+    }
+    ~DispatchLabel() { ctx_.end_label(cmd_); }
+    DispatchLabel(const DispatchLabel&) = delete;
+    DispatchLabel& operator=(const DispatchLabel&) = delete;
+
+private:
+    Context& ctx_;
+    VkCommandBuffer cmd_;
+};
 
 /// The calling thread's barrier tracker when `cmd` is its recording, else null (commands then
 /// get a full barrier after each, as in any command buffer the tracking does not know).
@@ -204,9 +223,10 @@ void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, ui
                   const void* push, uint32_t push_bytes, Bindings bindings) {
     if (threads == 0) return bind_pass(ctx, cmd, pass, push, push_bytes, bindings, nullptr);  // checks only
     ctx.command_boundary(cmd);
-    BarrierTracker* tracker = tracker_for(ctx, cmd);
-    bind_pass(ctx, cmd, pass, push, push_bytes, bindings, tracker);
     const ComputePassDesc& d = pass.desc();
+    BarrierTracker* tracker = tracker_for(ctx, cmd);
+    DispatchLabel label(ctx, cmd, d.shader);
+    bind_pass(ctx, cmd, pass, push, push_bytes, bindings, tracker);
     const uint32_t groups = (threads + d.local_size - 1) / d.local_size;
     const uint32_t max_x = ctx.limits().maxComputeWorkGroupCount[0];
     if (groups > max_x)
@@ -224,6 +244,7 @@ void dispatch_indirect_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass&
                            const void* push, uint32_t push_bytes, Bindings bindings) {
     ctx.command_boundary(cmd);
     BarrierTracker* tracker = tracker_for(ctx, cmd);
+    DispatchLabel label(ctx, cmd, pass.desc().shader);
     bind_pass(ctx, cmd, pass, push, push_bytes, bindings, tracker, &group_counts);
     vkCmdDispatchIndirect(cmd, group_counts.buffer, 0);
     if (!tracker) compute_barrier(cmd);
@@ -243,24 +264,6 @@ void copy(Context& ctx, VkCommandBuffer cmd, const Buffer& src, const Buffer& ds
     if (tracker) tracker->access(cmd, {src.buffer}, {dst.buffer});
     vkCmdCopyBuffer(cmd, src.buffer, dst.buffer, 1, &region);
     if (!tracker) compute_barrier(cmd);
-}
-
-void compute_barrier(VkCommandBuffer cmd) {
-    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-    barrier.dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_UNIFORM_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT |
-                            VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
-    const VkPipelineStageFlags stages = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT;
-    vkCmdPipelineBarrier(cmd, stages, stages | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT, 0, 1, &barrier, 0, nullptr, 0,
-                         nullptr);
-}
-
-void host_read_barrier(VkCommandBuffer cmd) {
-    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT;
-    barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                         VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &barrier, 0, nullptr, 0, nullptr);
 }
 
 }  // namespace aquaform::gpu

@@ -107,10 +107,4 @@ void dispatch_indirect(Context& ctx, VkCommandBuffer cmd, const ComputePass& pas
 void fill(Context& ctx, VkCommandBuffer cmd, const Buffer& buffer, uint32_t value, VkDeviceSize bytes = VK_WHOLE_SIZE);
 void copy(Context& ctx, VkCommandBuffer cmd, const Buffer& src, const Buffer& dst, const VkBufferCopy& region);
 
-/// Full compute/transfer barrier, for commands the tracking cannot see.
-void compute_barrier(VkCommandBuffer cmd);
-/// Shader and transfer writes made visible to the host, which reads them once it has waited for
-/// the submission (host-visible buffers read back without a copy of their own).
-void host_read_barrier(VkCommandBuffer cmd);
-
 }  // namespace aquaform::gpu

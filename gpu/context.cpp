@@ -11,7 +11,6 @@
 #include <stdexcept>
 
 #include "gpu/barriers.h"
-#include "gpu/staging.h"
 #include "gpu/vk_check.h"
 #include "core/error.h"
 
@@ -82,6 +81,17 @@ void refuse_gpu_assisted_without_push_descriptors(uint32_t layer_version) {
                   "or a validation layer of 1.3.250 or later");
 }
 
+/// Whether the loader (or an implicit layer) offers the instance extension `name`.
+bool loader_offers(const char* name) {
+    uint32_t count = 0;
+    if (vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr) != VK_SUCCESS) return false;
+    std::vector<VkExtensionProperties> exts(count);
+    if (vkEnumerateInstanceExtensionProperties(nullptr, &count, exts.data()) != VK_SUCCESS) return false;
+    for (const auto& e : exts)
+        if (std::strcmp(e.extensionName, name) == 0) return true;
+    return false;
+}
+
 VkInstance create_instance(bool validation, const std::vector<std::string>& extra_extensions, bool* debug_utils) {
     VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
     app.pApplicationName = "aquaform";
@@ -90,7 +100,8 @@ VkInstance create_instance(bool validation, const std::vector<std::string>& extr
     std::vector<const char*> layers;
     std::vector<const char*> extensions;
     for (const std::string& e : extra_extensions) extensions.push_back(e.c_str());
-    *debug_utils = false;
+    // Debug names and labels cost nothing without a debugger or validation to read them.
+    *debug_utils = loader_offers(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     if (validation) {
         uint32_t count = 0;
         vkEnumerateInstanceLayerProperties(&count, nullptr);
@@ -105,9 +116,11 @@ VkInstance create_instance(bool validation, const std::vector<std::string>& extr
                               "installed; install it with: apt-get install vulkan-validationlayers");
         refuse_gpu_assisted_without_push_descriptors(layer->specVersion);
         layers.push_back(kValidationLayer);
-        extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
-        *debug_utils = true;
+        *debug_utils = true;  // the layer offers it too
     }
+    if (*debug_utils && std::find(extra_extensions.begin(), extra_extensions.end(),
+                                  VK_EXT_DEBUG_UTILS_EXTENSION_NAME) == extra_extensions.end())
+        extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
     info.pApplicationInfo = &app;
     info.enabledLayerCount = static_cast<uint32_t>(layers.size());
@@ -299,17 +312,55 @@ int Context::choose_device(const std::vector<DeviceInfo>& devices, const std::st
     return best;
 }
 
+namespace {
+
+const char* object_type_name(VkObjectType type) {
+    switch (type) {
+        case VK_OBJECT_TYPE_BUFFER: return "VkBuffer";
+        case VK_OBJECT_TYPE_BUFFER_VIEW: return "VkBufferView";
+        case VK_OBJECT_TYPE_IMAGE: return "VkImage";
+        case VK_OBJECT_TYPE_IMAGE_VIEW: return "VkImageView";
+        case VK_OBJECT_TYPE_PIPELINE: return "VkPipeline";
+        case VK_OBJECT_TYPE_PIPELINE_LAYOUT: return "VkPipelineLayout";
+        case VK_OBJECT_TYPE_SHADER_MODULE: return "VkShaderModule";
+        case VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT: return "VkDescriptorSetLayout";
+        case VK_OBJECT_TYPE_COMMAND_BUFFER: return "VkCommandBuffer";
+        default: return "object";
+    }
+}
+
+/// The layer's message, then the names of the objects it concerns and the labels open in the
+/// command buffer (innermost first), where the callback data has them.
+std::string describe_message(const VkDebugUtilsMessengerCallbackDataEXT& data) {
+    std::string text = data.pMessage ? data.pMessage : "";
+    std::string objects;
+    for (uint32_t i = 0; i < data.objectCount; ++i)
+        if (data.pObjects[i].pObjectName)
+            objects += std::string(objects.empty() ? "" : ", ") + object_type_name(data.pObjects[i].objectType) +
+                       " \"" + data.pObjects[i].pObjectName + "\"";
+    if (!objects.empty()) text += " | objects: " + objects;
+    std::string labels;
+    for (uint32_t i = 0; i < data.cmdBufLabelCount; ++i)
+        if (data.pCmdBufLabels[i].pLabelName)
+            labels += std::string(labels.empty() ? "" : " < ") + "\"" + data.pCmdBufLabels[i].pLabelName + "\"";
+    if (!labels.empty()) text += " | in: " + labels;
+    return text;
+}
+
+}  // namespace
+
 VKAPI_ATTR VkBool32 VKAPI_CALL Context::debug_callback(
     VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT,
     const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
     auto* self = static_cast<Context*>(user);
     if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
         self->validation_errors_++;
+        const std::string text = describe_message(*data);
+        std::fprintf(stderr, "[vulkan validation error] %s\n", text.c_str());
         std::lock_guard<std::mutex> lock(self->message_mutex_);
-        self->last_validation_message_ = data->pMessage ? data->pMessage : "";
-        std::fprintf(stderr, "[vulkan validation error] %s\n", data->pMessage);
+        self->last_validation_message_ = text;
     } else if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
-        std::fprintf(stderr, "[vulkan validation warning] %s\n", data->pMessage);
+        std::fprintf(stderr, "[vulkan validation warning] %s\n", describe_message(*data).c_str());
     }
     return VK_FALSE;
 }
@@ -326,7 +377,7 @@ Context::Context(const ContextOptions& options) {
 void Context::create(const ContextOptions& options) {
     bool debug_utils = false;
     instance_ = create_instance(options.validation, options.instance_extensions, &debug_utils);
-    if (debug_utils) {
+    if (options.validation) {
         VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
         info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT |
                                VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
@@ -387,6 +438,19 @@ void Context::create(const ContextOptions& options) {
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
     push_descriptor_ = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
         vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
+    if (debug_utils) {  // instance-extension commands: through the instance, as the loader asks
+        set_object_name_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
+            vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
+        begin_label_ = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(
+            vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
+        end_label_ = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(
+            vkGetInstanceProcAddr(instance_, "vkCmdEndDebugUtilsLabelEXT"));
+        if (!set_object_name_ || !begin_label_ || !end_label_) {  // all three or none (labels must pair)
+            set_object_name_ = nullptr;
+            begin_label_ = nullptr;
+            end_label_ = nullptr;
+        }
+    }
 
 }
 
@@ -396,7 +460,7 @@ void Context::destroy() {
     if (device_) {
         vkDeviceWaitIdle(device_);
         for (auto& [thread, r] : recorders_) {
-            r->staging->destroy(*this);
+            if (r->memory) r->memory->destroy(*this);
             for (Slot& slot : r->slots) vkDestroyFence(device_, slot.fence, nullptr);
             vkDestroyCommandPool(device_, r->pool, nullptr);
         }
@@ -420,6 +484,26 @@ void Context::destroy() {
     }
 }
 
+void Context::name_object(VkObjectType type, uint64_t handle, const std::string& name) const {
+    if (!set_object_name_ || handle == 0) return;
+    VkDebugUtilsObjectNameInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT};
+    info.objectType = type;
+    info.objectHandle = handle;
+    info.pObjectName = name.c_str();
+    set_object_name_(device_, &info);  // a name that cannot be set is no reason to stop
+}
+
+void Context::begin_label(VkCommandBuffer cmd, const std::string& name) const {
+    if (!begin_label_) return;
+    VkDebugUtilsLabelEXT label{VK_STRUCTURE_TYPE_DEBUG_UTILS_LABEL_EXT};
+    label.pLabelName = name.c_str();
+    begin_label_(cmd, &label);
+}
+
+void Context::end_label(VkCommandBuffer cmd) const {
+    if (end_label_) end_label_(cmd);
+}
+
 uint32_t Context::find_memory_type(uint32_t type_bits, VkMemoryPropertyFlags wanted,
                                    VkMemoryPropertyFlags fallback) const {
     for (VkMemoryPropertyFlags flags : {wanted, fallback})
@@ -434,7 +518,6 @@ Context::Recorder& Context::recorder() {
     std::unique_ptr<Recorder>& r = recorders_[std::this_thread::get_id()];
     if (r) return *r;
     r = std::make_unique<Recorder>();
-    r->staging = std::make_unique<StagingPool>();
     r->tracker = std::make_unique<BarrierTracker>();
     VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -465,7 +548,7 @@ void Context::recycle(Recorder& r) {
     uint64_t completed = r.submitted;
     for (const Slot& slot : r.slots)
         if (slot.serial) completed = std::min(completed, slot.serial - 1);
-    r.staging->recycle(*this, completed);
+    if (r.memory) r.memory->recycle(*this, completed);
 }
 
 Context::Slot& Context::free_slot(Recorder& r) {
@@ -493,7 +576,7 @@ void Context::begin(Recorder& r, Slot& slot) {
     barrier.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
     vkCmdPipelineBarrier(slot.cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1,
                          &barrier, 0, nullptr, 0, nullptr);
-    r.staging->record_pending(slot.cmd);  // uploads an UploadBatch held come first
+    if (r.memory) r.memory->record_pending(slot.cmd);  // uploads an UploadBatch held come first
     r.tracker->reset();
     r.recording = true;
 }
@@ -511,7 +594,7 @@ uint64_t Context::flush(Recorder& r) {
     }
     slot.serial = ++r.submitted;
     ++submissions_;
-    r.staging->seal(slot.serial);  // what it staged stays until it has completed
+    if (r.memory) r.memory->seal(slot.serial);  // what it staged stays until it has completed
     return slot.serial;
 }
 

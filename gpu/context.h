@@ -23,8 +23,24 @@
 
 namespace aquaform::gpu {
 
-class StagingPool;
 class BarrierTracker;
+class Context;
+
+/// Memory a thread's recordings hand to the device that must outlive their submissions: the
+/// staging memory of uploads (gpu/staging.h's StagingPool, made on a thread's first upload). The
+/// context keeps one per thread and tells it each step of a submission's life.
+class SubmissionMemory {
+public:
+    virtual ~SubmissionMemory() = default;
+    /// A recording begins in `cmd`: what is held for the next submission is recorded first.
+    virtual void record_pending(VkCommandBuffer cmd) = 0;
+    /// What was handed out since the last seal is read by submission `serial`.
+    virtual void seal(uint64_t serial) = 0;
+    /// Every submission of the thread up to `completed` has completed.
+    virtual void recycle(Context& ctx, uint64_t completed) = 0;
+    /// Frees everything (the context is being destroyed).
+    virtual void destroy(Context& ctx) = 0;
+};
 
 struct DeviceInfo {
     uint32_t index = 0;
@@ -121,6 +137,18 @@ public:
     uint32_t find_memory_type(uint32_t type_bits, VkMemoryPropertyFlags wanted,
                               VkMemoryPropertyFlags fallback) const;
 
+    /// Debug names through VK_EXT_debug_utils, which the context enables whenever the loader
+    /// offers it: validation messages and GPU debuggers then say "grid.neighbors" or
+    /// "render_march" rather than a handle. Without the extension these do nothing.
+    bool debug_names() const { return set_object_name_ != nullptr; }
+    template <typename Handle>
+    void set_name(VkObjectType type, Handle handle, const std::string& name) const {
+        name_object(type, (uint64_t)handle, name);  // dispatchable handles are pointers, the others integers
+    }
+    /// A labelled region of `cmd` (a timed scope, a dispatch); regions nest.
+    void begin_label(VkCommandBuffer cmd, const std::string& name) const;
+    void end_label(VkCommandBuffer cmd) const;
+
     using Recording = std::function<void(VkCommandBuffer)>;
     /// Submissions a thread keeps in flight at most: submit() waits for the oldest beyond them.
     static constexpr uint32_t kInFlight = 3;
@@ -140,8 +168,9 @@ public:
     /// The calling thread's command buffer while it records inside submit, else VK_NULL_HANDLE
     /// (gpu::upload records into it instead of submitting).
     VkCommandBuffer recording() { Recorder& r = recorder(); return r.recording ? r.current->cmd : VK_NULL_HANDLE; }
-    /// The calling thread's staging memory; a submission's part is recycled once it completes.
-    StagingPool& staging() { return *recorder().staging; }
+    /// The calling thread's submission memory (gpu/staging.h fills it on first use); what a
+    /// submission took is recycled once it completes.
+    std::unique_ptr<SubmissionMemory>& submission_memory() { return recorder().memory; }
     /// The barrier state of the calling thread's command buffer (gpu/barriers.h).
     BarrierTracker& tracker() { return *recorder().tracker; }
     /// Test hook: pretends the device has (or lacks) the loop-iteration quirk.
@@ -204,7 +233,9 @@ public:
     /// vkDeviceWaitIdle, which would need every thread's queue access stopped).
     void wait_queue_idle();
 
-    /// Validation errors reported since creation (or since the last reset).
+    /// Validation errors reported since creation (or since the last reset). A message as kept and
+    /// printed ends with the names of the objects it concerns and the labels of the command
+    /// buffer's open regions, where the layer gives them.
     uint32_t validation_errors() const { return validation_errors_.load(); }
     std::string last_validation_message() const {
         std::lock_guard<std::mutex> lock(message_mutex_);
@@ -228,7 +259,7 @@ private:
         QueueSharing sharing;
         uint32_t open_scopes = 0;
         bool recording = false;
-        std::unique_ptr<StagingPool> staging;
+        std::unique_ptr<SubmissionMemory> memory;
         std::unique_ptr<BarrierTracker> tracker;
     };
     Recorder& recorder();  ///< the calling thread's, made at its first use
@@ -240,6 +271,7 @@ private:
 
     void create(const ContextOptions& options);
     void destroy();
+    void name_object(VkObjectType type, uint64_t handle, const std::string& name) const;
     static VKAPI_ATTR VkBool32 VKAPI_CALL debug_callback(
         VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,
         const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
@@ -258,6 +290,9 @@ private:
     VkPhysicalDeviceLimits limits_{};
     VkPhysicalDeviceMemoryProperties memory_{};
     PFN_vkCmdPushDescriptorSetKHR push_descriptor_ = nullptr;
+    PFN_vkSetDebugUtilsObjectNameEXT set_object_name_ = nullptr;
+    PFN_vkCmdBeginDebugUtilsLabelEXT begin_label_ = nullptr;
+    PFN_vkCmdEndDebugUtilsLabelEXT end_label_ = nullptr;
     std::atomic<uint32_t> validation_errors_{0};
     std::atomic<uint64_t> submissions_{0};
     mutable std::mutex message_mutex_;

@@ -5,7 +5,7 @@
 
 namespace aquaform::gpu {
 
-Image2D create_image(Context& ctx, uint32_t w, uint32_t h, VkFormat format,
+Image2D create_image(Context& ctx, const std::string& name, uint32_t w, uint32_t h, VkFormat format,
                      VkImageUsageFlags usage, VkImageAspectFlags aspect) {
     Image2D img;
     VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
@@ -32,6 +32,9 @@ Image2D create_image(Context& ctx, uint32_t w, uint32_t h, VkFormat format,
     view.format = format;
     view.subresourceRange = {aspect, 0, 1, 0, 1};
     VK_CHECK(vkCreateImageView(ctx.device(), &view, nullptr, &img.view));
+    ctx.set_name(VK_OBJECT_TYPE_IMAGE, img.image, name);
+    ctx.set_name(VK_OBJECT_TYPE_IMAGE_VIEW, img.view, name);
+    ctx.set_name(VK_OBJECT_TYPE_DEVICE_MEMORY, img.memory, name);
     return img;
 }
 

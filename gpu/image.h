@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include <vulkan/vulkan.h>
 
@@ -15,8 +16,9 @@ struct Image2D {
     VkImageView view = VK_NULL_HANDLE;
 };
 
-/// A device-local, optimally tiled image of one mip level and layer, with a view on `aspect`.
-Image2D create_image(Context& ctx, uint32_t width, uint32_t height, VkFormat format, VkImageUsageFlags usage,
+/// A device-local, optimally tiled image of one mip level and layer, with a view on `aspect`;
+/// `name` names the image and its view in validation messages and debuggers.
+Image2D create_image(Context& ctx, const std::string& name, uint32_t width, uint32_t height, VkFormat format, VkImageUsageFlags usage,
                      VkImageAspectFlags aspect);
 void destroy_image(Context& ctx, Image2D& image);
 

@@ -39,6 +39,7 @@ VkShaderModule create_shader_module(Context& ctx, std::string_view name) {
     info.pCode = spirv.data();
     VkShaderModule module = VK_NULL_HANDLE;
     VK_CHECK(vkCreateShaderModule(ctx.device(), &info, nullptr, &module));
+    ctx.set_name(VK_OBJECT_TYPE_SHADER_MODULE, module, std::string(name));
     return module;
 }
 

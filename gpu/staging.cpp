@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cstring>
 #include <exception>
+#include <memory>
 #include <stdexcept>
 
 #include "gpu/barriers.h"
+#include "gpu/compute_pass.h"
 #include "gpu/context.h"
 #include "core/error.h"
 
@@ -18,25 +20,13 @@ constexpr VkDeviceSize kAlign = 16;
 constexpr VkDeviceSize kInlineBytes = 65536;  // vkCmdUpdateBuffer's limit
 constexpr size_t kKeptChunks = 4;
 
-/// Earlier reads and writes of the destinations (any stage) before the transfer writes them.
-void barrier_before_copy(VkCommandBuffer cmd) {
-    VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    b.srcAccessMask = VK_ACCESS_MEMORY_WRITE_BIT;
-    b.dstAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &b, 0, nullptr,
-                         0, nullptr);
-}
-
-/// The transfer's writes before anything later reads or writes them.
-void barrier_after_copy(VkCommandBuffer cmd) {
-    VkMemoryBarrier b{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    b.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-    b.dstAccessMask = VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT;
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, 0, 1, &b, 0, nullptr,
-                         0, nullptr);
-}
-
 }  // namespace
+
+StagingPool& staging_pool(Context& ctx) {
+    std::unique_ptr<SubmissionMemory>& memory = ctx.submission_memory();
+    if (!memory) memory = std::make_unique<StagingPool>();
+    return static_cast<StagingPool&>(*memory);  // this function is the only one that fills the slot
+}
 
 StagingPool::Region StagingPool::allocate(Context& ctx, VkDeviceSize bytes) {
     bytes = (bytes + kAlign - 1) / kAlign * kAlign;
@@ -56,9 +46,9 @@ void StagingPool::defer(const Region& src, VkBuffer dst, VkDeviceSize dst_offset
 
 void StagingPool::record_pending(VkCommandBuffer cmd) {
     if (pending_.empty()) return;
-    barrier_before_copy(cmd);
+    barrier_before_transfer_write(cmd);
     for (const Copy& c : pending_) vkCmdCopyBuffer(cmd, c.src, c.dst, 1, &c.region);
-    barrier_after_copy(cmd);
+    barrier_after_transfer_write(cmd);
     pending_.clear();
 }
 
@@ -100,10 +90,10 @@ VkDeviceSize StagingPool::bytes_in_use() const {
     return total;
 }
 
-UploadBatch::UploadBatch(Context& ctx) : ctx_(&ctx) { ++ctx.staging().batch_depth; }
+UploadBatch::UploadBatch(Context& ctx) : ctx_(&ctx) { ++staging_pool(ctx).batch_depth; }
 
 UploadBatch::~UploadBatch() noexcept(false) {
-    StagingPool& pool = ctx_->staging();
+    StagingPool& pool = staging_pool(*ctx_);
     --pool.batch_depth;
     if (pool.batch_depth > 0) return;  // an outer batch submits
     if (std::uncaught_exceptions() > 0) {  // unwinding: the destinations may be gone
@@ -114,7 +104,7 @@ UploadBatch::~UploadBatch() noexcept(false) {
 }
 
 void UploadBatch::submit() {
-    if (ctx_->staging().has_pending()) ctx_->submit_and_wait([](VkCommandBuffer) {});
+    if (staging_pool(*ctx_).has_pending()) ctx_->submit_and_wait([](VkCommandBuffer) {});
 }
 
 void record_upload(Context& ctx, VkCommandBuffer cmd, Buffer& dst, const void* data, VkDeviceSize bytes,
@@ -127,19 +117,53 @@ void record_upload(Context& ctx, VkCommandBuffer cmd, Buffer& dst, const void* d
     // on both sides.
     BarrierTracker* tracker = cmd == ctx.recording() ? &ctx.tracker() : nullptr;
     if (tracker) tracker->access(cmd, {}, {dst.buffer});
-    else barrier_before_copy(cmd);
+    else barrier_before_transfer_write(cmd);
     if (bytes <= kInlineBytes && bytes % 4 == 0 && offset % 4 == 0) {
         vkCmdUpdateBuffer(cmd, dst.buffer, offset, bytes, data);
     } else {
         if (cmd != ctx.recording())
             throw internal_failure("gpu::record_upload: a staged upload into '" + dst.name +
                                    "' needs the calling thread's recording (Context::submit_and_wait)");
-        StagingPool::Region src = ctx.staging().allocate(ctx, bytes);
+        StagingPool::Region src = staging_pool(ctx).allocate(ctx, bytes);
         std::memcpy(src.mapped, data, bytes);
         VkBufferCopy region{src.offset, offset, bytes};
         vkCmdCopyBuffer(cmd, src.buffer, dst.buffer, 1, &region);
     }
-    if (!tracker) barrier_after_copy(cmd);
+    if (!tracker) barrier_after_transfer_write(cmd);
+}
+
+void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset) {
+    if (bytes == 0) return;
+    if (VkCommandBuffer cmd = ctx.recording()) {  // in order with the passes recorded around it
+        record_upload(ctx, cmd, dst, data, bytes, offset);
+        return;
+    }
+    StagingPool& pool = staging_pool(ctx);
+    if (offset + bytes > dst.size)
+        throw internal_failure("upload of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) +
+                               " overruns buffer '" + dst.name + "' of " + std::to_string(dst.size) + " bytes");
+    StagingPool::Region src = pool.allocate(ctx, bytes);
+    std::memcpy(src.mapped, data, bytes);
+    pool.defer(src, dst.buffer, offset, bytes);
+    if (pool.batch_depth == 0) ctx.submit_and_wait([](VkCommandBuffer) {});  // records the copy first
+}
+
+void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, VkDeviceSize offset) {
+    if (bytes == 0) return;
+    Buffer staging = create_buffer(ctx, "staging", bytes, MemoryUse::host);
+    ctx.submit_and_wait([&](VkCommandBuffer cmd) { record_download(ctx, cmd, src, staging, bytes, offset); });
+    std::memcpy(data, staging.mapped, bytes);
+    destroy_buffer(ctx, staging);
+}
+
+void record_download(Context& ctx, VkCommandBuffer cmd, const Buffer& src, const Buffer& dst, VkDeviceSize bytes,
+                     VkDeviceSize offset) {
+    if (!dst.mapped || offset + bytes > src.size || bytes > dst.size)
+        throw internal_failure("download of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) + " of '" +
+                               src.name + "' (" + std::to_string(src.size) + " bytes) into '" + dst.name + "' (" +
+                               std::to_string(dst.size) + (dst.mapped ? " bytes)" : " bytes, not host-visible)"));
+    copy(ctx, cmd, src, dst, {offset, 0, bytes});
+    host_read_barrier(cmd);
 }
 
 }  // namespace aquaform::gpu

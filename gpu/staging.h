@@ -11,6 +11,9 @@
 // - Outside a recording an upload submits at once, unless an UploadBatch is open on the thread:
 //   then its copy is held and recorded at the start of the thread's next submission, or when the
 //   batch closes, so that many uploads share one submission.
+// Downloads (device to host) are here too, beside the uploads: both record copies through the
+// thread's recording and staging memory, which gpu/buffer.h (a module this one is built on)
+// could reach only through an include cycle.
 #pragma once
 
 #include <cstdint>
@@ -19,12 +22,12 @@
 #include <vulkan/vulkan.h>
 
 #include "gpu/buffer.h"
+#include "gpu/context.h"
 
 namespace aquaform::gpu {
 
-class Context;
-
-class StagingPool {
+/// The calling thread's staging memory, the SubmissionMemory its context keeps for it.
+class StagingPool final : public SubmissionMemory {
 public:
     struct Region {
         VkBuffer buffer = VK_NULL_HANDLE;
@@ -39,12 +42,12 @@ public:
     bool has_pending() const { return !pending_.empty(); }
     void discard_pending();
     /// Records the held copies into `cmd` (with the barriers around them) and forgets them.
-    void record_pending(VkCommandBuffer cmd);
+    void record_pending(VkCommandBuffer cmd) override;
     /// The chunks allocated from since the last seal belong to submission `serial`.
-    void seal(uint64_t serial);
+    void seal(uint64_t serial) override;
     /// Every submission up to serial `completed` has completed: their chunks are reused.
-    void recycle(Context& ctx, uint64_t completed);
-    void destroy(Context& ctx);
+    void recycle(Context& ctx, uint64_t completed) override;
+    void destroy(Context& ctx) override;
     VkDeviceSize bytes_in_use() const;
 
     int batch_depth = 0;  ///< open UploadBatch scopes on the owning thread
@@ -62,6 +65,9 @@ private:
     std::vector<Chunk> chunks_;
     std::vector<Copy> pending_;
 };
+
+/// The calling thread's pool in `ctx`, made on first use.
+StagingPool& staging_pool(Context& ctx);
 
 /// While alive, uploads made on this thread outside a recording are held and submitted together
 /// (at the thread's next submission, or by submit() / the destructor) instead of one submission
@@ -84,5 +90,23 @@ private:
 /// order it after earlier reads and writes of `dst` and before later ones.
 void record_upload(Context& ctx, VkCommandBuffer cmd, Buffer& dst, const void* data, VkDeviceSize bytes,
                    VkDeviceSize offset = 0);
+
+/// Copies host data into a device buffer through staging memory. Inside this thread's recording
+/// it records the copy there (in order with the passes around it); inside an UploadBatch it
+/// joins the batch's submission; otherwise it submits and waits.
+void upload(Context& ctx, Buffer& dst, const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+/// Copies a device buffer back to the host (waits for completion).
+void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+/// Records a copy of `bytes` of `src` from `offset` into the host-visible `dst`, readable by the
+/// host (dst.mapped) once the submission has completed: a download kept in flight.
+void record_download(Context& ctx, VkCommandBuffer cmd, const Buffer& src, const Buffer& dst, VkDeviceSize bytes,
+                     VkDeviceSize offset = 0);
+
+template <typename T>
+std::vector<T> download_vector(Context& ctx, const Buffer& src, size_t count) {
+    std::vector<T> out(count);
+    if (count) download(ctx, src, out.data(), count * sizeof(T));
+    return out;
+}
 
 }  // namespace aquaform::gpu

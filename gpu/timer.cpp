@@ -37,6 +37,7 @@ void GpuTimer::begin(VkCommandBuffer cmd, const std::string& name) {
         throw internal_failure("GpuTimer: more than " + std::to_string(capacity_) +
                                " timed passes in one submission; submit more often");
     ctx_->enter_scope(cmd);  // the start of an outermost scope is where a shared queue is cut
+    ctx_->begin_label(cmd, name);
     open_.push_back(name);
     stack_.push_back(used_);
     write_stamp(cmd, 2 * used_);
@@ -46,6 +47,7 @@ void GpuTimer::begin(VkCommandBuffer cmd, const std::string& name) {
 void GpuTimer::end(VkCommandBuffer cmd) {
     if (stack_.empty()) throw internal_failure("GpuTimer::end without begin");
     write_stamp(cmd, 2 * stack_.back() + 1);
+    ctx_->end_label(cmd);
     stack_.pop_back();
     ctx_->leave_scope();
 }

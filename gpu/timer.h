@@ -1,5 +1,7 @@
 // GPU timing with timestamp queries: every named pass is bracketed by two timestamps, and
-// the milliseconds are summed per name when the submission has finished.
+// the milliseconds are summed per name when the submission has finished. Each scope is also a
+// labelled region of the command buffer (Context::begin_label), so validation messages and
+// debuggers name the pass.
 //
 // Both timestamps of a scope are written at BOTTOM_OF_PIPE: a timestamp is latched once every
 // earlier command has finished the stage it names, so the start waits for the previous pass to

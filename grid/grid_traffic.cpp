@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "gpu/buffer.h"
+#include "gpu/staging.h"
 #include "grid/neighbor_grid.h"
 #include "shaders/shared/scan_layout.h"
 

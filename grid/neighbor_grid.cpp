@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "shaders/shared/morton.h"
 #include "core/error.h"

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "gpu/barriers.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "gpu/timer.h"

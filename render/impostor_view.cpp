@@ -139,10 +139,10 @@ ImpostorView::ImpostorView(gpu::Context& ctx, uint32_t width, uint32_t height)
                                    ctx.info().name + " cannot render to a D32 depth image (impostor view)");
 
         Impl& m = *impl_;
-        m.color = gpu::create_image(ctx, width, height, kColorFormat,
+        m.color = gpu::create_image(ctx, "impostor color", width, height, kColorFormat,
                                VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                                VK_IMAGE_ASPECT_COLOR_BIT);
-        m.depth = gpu::create_image(ctx, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+        m.depth = gpu::create_image(ctx, "impostor depth", width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
                                VK_IMAGE_ASPECT_DEPTH_BIT);
         m.readback = gpu::create_buffer(ctx, "impostor readback", VkDeviceSize(width) * height * 4,
                                         gpu::MemoryUse::host);

@@ -1,4 +1,5 @@
 #include "render/surface_frame.h"
+#include "gpu/staging.h"
 
 namespace aquaform {
 

@@ -9,6 +9,7 @@
 #include "core/interrupt.h"
 #include "core/progress.h"
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "render/wireframe.h"
 #include "sim/blowup.h"
 #include "sim/pbf_solver.h"

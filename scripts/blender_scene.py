@@ -4,17 +4,27 @@
     blender -b -P scripts/blender_scene.py -- RUNDIR --render PREFIX [--size WxH] [--frames A:B]
                                                                        # renders PREFIX0000.png ...
 options:
-    --domain x0,y0,z0,x1,y1,z1  the tank (the scene's "domain", in the simulation's y-up axes); by
-                                default taken from a scene .json in RUNDIR when there is one, else
-                                the box around every exported surface
-    --up y|z                    the run's --up (default: a run.json in RUNDIR where it says, else y,
-                                aquaform's default; the exports themselves do not record it); a
+    --domain x0,y0,z0,x1,y1,z1  the tank (the scene's "domain", in the simulation's y-up axes, each
+                                min below its max); by default RUNDIR/run.json's (aquaform run
+                                writes it), else the box around every exported surface
+    --up y|z                    the run's --up (default: RUNDIR/run.json's, else y, aquaform's
+                                default; the exports themselves do not record it); a
                                 y-up run's files are turned (x, y, z) -> (x, -z, y) so its up is
                                 Blender's z, a z-up run's files are already turned
     --render PREFIX             render the frames with Cycles (CPU) to PREFIX####.png and quit
-    --size WxH                  the pictures' size (default 640x360)
-    --frames A:B[:S]            the Blender frames to render, every S-th (default: the whole run)
-    --samples N                 Cycles samples (default 16)
+    --size WxH                  the pictures' size, 16..8192 per side as aquaform's --resolution
+                                (default 640x360)
+    --frames A:B[:S]            the Blender frames to render, every S-th, within the run's exported
+                                frames (default: the whole run)
+    --samples N                 Cycles samples, 1..4096 (default 16)
+
+Exit status, as the aquaform command's: 0 done; 2 bad input (a flag, a missing or unreadable run
+folder, a corrupt run.json or one whose "up" or "domain" is wrong, an exported file that is not of
+its kind), one line on stderr naming it and the fix, checked before Blender imports or renders
+anything; 1 a failure at run time (Blender cannot import a file); 130 Ctrl-C while rendering
+(Blender's first Ctrl-C finishes the frame it is on; the frames rendered stay; a second one is
+Blender's own and ends it at once, with Blender's status 2). Without run.json, the up axis y and
+the tank round the surfaces are assumed, and a line on stderr says so.
 
 The surface: the run's surface_NNNN.obj / .ply meshes, one object per exported frame, each shown
 only from its frame until the next one (keyframed hide_render / hide_viewport). Where the run has
@@ -25,60 +35,124 @@ the frame rate is the run's (stats.csv's time step between frames).
 """
 import csv
 import glob
+import json
 import math
 import os
 import re
 import struct
 import sys
+import tempfile
 
 import bpy
 from mathutils import Matrix, Vector
 
+USAGE = ("usage: blender [-b] -P blender_scene.py -- RUNDIR [--render PREFIX] [--size WxH] [--frames A:B[:S]] "
+         "[--samples N] [--domain x0,y0,z0,x1,y1,z1] [--up y|z]")
+# A value for each flag, as the refusals' examples.
+EXAMPLES = {"--domain": "0,0,0,1.6,0.8,0.8", "--up": "z", "--render": "out/cycles_", "--size": "640x360",
+            "--frames": "0:60", "--samples": "16"}
+# The aquaform command's picture sizes (apps/: --resolution, 16..8192 per side).
+MIN_SIDE, MAX_SIDE = 16, 8192
+MAX_SAMPLES = 4096
+EXIT_RUNTIME, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 1, 2, 130
 
-def fail(message):
+
+def leave(message, status):
+    """One line on stderr and Blender's exit status: os._exit, since in Blender's window a
+    SystemExit only ends the script (blender -b would pass sys.exit's status on; this does both)."""
     sys.stderr.write("blender_scene: " + message + "\n")
     sys.stdout.flush()
-    os._exit(1)  # sys.exit inside Blender's -P only ends the script
+    sys.stderr.flush()
+    os._exit(status)
 
 
-def parse_args():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+def fail(message):
+    """A failure at run time (an import Blender cannot do): exit 1."""
+    leave(message, EXIT_RUNTIME)
+
+
+def refuse(message):
+    """Bad input (a flag, the run folder or one of its files), found before any work: exit 2."""
+    leave(message, EXIT_BAD_INPUT)
+
+
+def note(message):
+    sys.stderr.write("blender_scene: " + message + "\n")
+
+
+def parse_domain(text, where, fix):
+    """Six finite numbers x0,y0,z0,x1,y1,z1 (a list or a comma-separated string), each min below its max."""
+    try:
+        numbers = [float(x) for x in (text.split(",") if isinstance(text, str) else text)]
+    except (TypeError, ValueError):
+        numbers = []
+    if len(numbers) != 6 or not all(math.isfinite(x) for x in numbers) or \
+            any(numbers[k] >= numbers[k + 3] for k in range(3)):
+        refuse("%s must be six numbers x0,y0,z0,x1,y1,z1 with each min below its max, got %s; %s"
+               % (where, json.dumps(text) if not isinstance(text, str) else '"%s"' % text, fix))
+    return numbers[:3], numbers[3:]
+
+
+def parse_size(text):
+    match = re.fullmatch(r"(\d{1,6})[xX](\d{1,6})", text)
+    if not match or not all(MIN_SIDE <= int(side) <= MAX_SIDE for side in match.groups()):
+        refuse('--size must look like 640x360 (%d..%d per side), got "%s"' % (MIN_SIDE, MAX_SIDE, text))
+    return int(match.group(1)), int(match.group(2))
+
+
+def parse_frames(text):
+    """A:B[:S] with A <= B and S >= 1 (the run's range is checked once the folder is read)."""
+    match = re.fullmatch(r"(\d{1,9}):(\d{1,9})(?::(\d{1,9}))?", text)
+    if not match:
+        refuse('--frames must look like A:B or A:B:S (whole frames from 0, every S-th), got "%s"; e.g. --frames 0:60'
+               % text)
+    a, b, step = int(match.group(1)), int(match.group(2)), int(match.group(3) or 1)
+    if a > b:
+        refuse('--frames %s starts after it ends; give A <= B, e.g. --frames %d:%d' % (text, b, a))
+    if step < 1:
+        refuse('--frames %s steps by %d; give a step S of 1 or more, e.g. --frames %d:%d:1' % (text, step, a, b))
+    return a, b, step
+
+
+def parse_samples(text):
+    if not re.fullmatch(r"\d{1,9}", text) or not 1 <= int(text) <= MAX_SAMPLES:
+        refuse('--samples must be a whole number from 1 to %d, got "%s"; e.g. --samples 16' % (MAX_SAMPLES, text))
+    return int(text)
+
+
+def parse_up(text):
+    if text not in ("y", "z"):
+        refuse('--up must be y or z (the run\'s own --up), got "%s"' % text)
+    return text
+
+
+PARSERS = {"--domain": lambda v: parse_domain(v, "--domain", "e.g. --domain " + EXAMPLES["--domain"]),
+           "--up": parse_up, "--render": lambda v: v, "--size": parse_size, "--frames": parse_frames,
+           "--samples": parse_samples}
+
+
+def parse_args(argv):
+    """The flags after Blender's "--", each checked; any fault is refused before any work."""
     if not argv or argv[0].startswith("-"):
-        fail("usage: blender [-b] -P blender_scene.py -- RUNDIR [--render PREFIX] [--size WxH] [--frames A:B]")
-    args = {"run": argv[0], "domain": None, "up": None, "render": None, "size": (640, 360), "frames": None,
-            "samples": 16}
+        refuse("the run folder comes first%s; %s" % (", not " + argv[0] if argv else "", USAGE))
+    given = {}
     i = 1
     while i < len(argv):
         key = argv[i]
-        if i + 1 >= len(argv):
-            fail(key + " wants a value")
-        value = argv[i + 1]
-        try:
-            if key == "--domain":
-                numbers = [float(x) for x in value.split(",")]
-                if len(numbers) != 6:
-                    raise ValueError
-                args["domain"] = (numbers[:3], numbers[3:])
-            elif key == "--up" and value in ("y", "z"):
-                args["up"] = value
-            elif key == "--render":
-                args["render"] = value
-            elif key == "--size":
-                w, h = value.lower().split("x")
-                args["size"] = (int(w), int(h))
-            elif key == "--frames":
-                parts = [int(x) for x in value.split(":")]
-                if len(parts) not in (2, 3) or (len(parts) == 3 and parts[2] < 1):
-                    raise ValueError
-                args["frames"] = (parts[0], parts[1], parts[2] if len(parts) == 3 else 1)
-            elif key == "--samples":
-                args["samples"] = int(value)
-            else:
-                fail("unknown argument " + key)
-        except ValueError:
-            fail("bad value for " + key + ": " + value)
+        if key not in PARSERS:
+            refuse("unknown argument %s; %s" % (key, USAGE))
+        if key in given:
+            refuse("%s is given twice; give it once" % key)
+        if i + 1 >= len(argv) or argv[i + 1] == "" or argv[i + 1].startswith("--"):
+            refuse("%s needs a value; e.g. %s %s" % (key, key, EXAMPLES[key]))
+        given[key] = PARSERS[key](argv[i + 1])
         i += 2
-    return args
+    for key in ("--size", "--frames", "--samples"):
+        if key in given and "--render" not in given:
+            refuse("%s is for rendering; add --render PREFIX, or leave %s out to open the scene" % (key, key))
+    return {"run": argv[0], "domain": given.get("--domain"), "up": given.get("--up"), "render": given.get("--render"),
+            "size": given.get("--size", (640, 360)), "frames": given.get("--frames"),
+            "samples": given.get("--samples", 16)}
 
 
 def number_of(path):
@@ -89,8 +163,11 @@ def number_of(path):
 def read_csv(path):
     if not os.path.isfile(path):
         return []
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+    try:
+        with open(path, newline="") as f:
+            return list(csv.DictReader(f))
+    except (OSError, UnicodeDecodeError, csv.Error) as error:
+        refuse("cannot read %s (%s); write the run again or remove the file" % (path, error))
 
 
 def frames_of(run, files):
@@ -100,14 +177,34 @@ def frames_of(run, files):
     frames = {}
     for f in files:
         row = table.get(os.path.basename(f))
-        frames[f] = int(row["frame"]) if row and row.get("frame") not in (None, "") else number_of(f)
+        text = row.get("frame") if row else None
+        if text not in (None, ""):
+            if not re.fullmatch(r"\d{1,9}", text.strip()):
+                refuse('%s gives %s the frame "%s", not a whole number; write the run again'
+                       % (os.path.join(run, "exports.csv"), os.path.basename(f), text))
+            frames[f] = int(text)
+        elif number_of(f) is not None:
+            frames[f] = number_of(f)
+        else:
+            refuse("cannot tell the frame of %s (no exports.csv row, no number in its name); rename it NAME_NNNN or "
+                   "remove it" % f)
     return frames
 
 
 def frame_rate(run):
     """Frames per second from stats.csv (the time between consecutive frames); 60 otherwise."""
-    rows = read_csv(os.path.join(run, "stats.csv"))
-    times = [float(r["time_s"]) for r in rows if r.get("time_s")]
+    times = []
+    for row in read_csv(os.path.join(run, "stats.csv")):
+        text = row.get("time_s")
+        if not text:
+            continue
+        try:
+            times.append(float(text))
+        except ValueError:
+            times.append(math.nan)
+        if not math.isfinite(times[-1]):
+            refuse('%s has the time_s "%s", not a number; write the run again or remove stats.csv (60 fps is then assumed)'
+                   % (os.path.join(run, "stats.csv"), text))
     if len(times) >= 2 and times[-1] > times[0]:
         return (len(times) - 1) / (times[-1] - times[0])
     return 60.0
@@ -130,35 +227,109 @@ def vdb_float_metadata(path, name):
     return struct.unpack_from("<f", data, at + 4)[0]
 
 
-def run_up(run):
-    """The run's up axis where a run.json / scene.json in the folder says it, else None."""
-    for name in ("run.json", "scene.json"):
-        path = os.path.join(run, name)
-        if os.path.isfile(path):
-            import json
-            try:
-                with open(path) as f:
-                    data = json.load(f)
-                if data.get("up") in ("y", "z"):
-                    return data["up"]
-            except (OSError, ValueError, AttributeError):
-                pass
-    return None
+def read_run_json(run):
+    """run.json (aquaform run writes it): {"up", "domain"}, each None where absent. A corrupt file,
+    a key of the wrong type or an unknown up axis is refused: guessing turns the water the wrong way."""
+    path = os.path.join(run, "run.json")
+    if not os.path.isfile(path):
+        return {"up": None, "domain": None, "found": False}
+    fix = "write the run again with `aquaform run`, or remove run.json and give --up and --domain"
+    try:
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
+    except (OSError, UnicodeDecodeError, ValueError) as error:
+        refuse("%s is not readable JSON (%s); %s" % (path, str(error).splitlines()[0], fix))
+    if not isinstance(data, dict):
+        refuse("%s holds a %s, not an object; %s" % (path, type(data).__name__, fix))
+    up = data.get("up")
+    if "up" in data and up not in ("y", "z"):
+        refuse('%s: "up" is %s, not "y" or "z"; %s' % (path, json.dumps(up), fix))
+    domain = None
+    if "domain" in data:
+        box = data["domain"]
+        if not (isinstance(box, dict) and isinstance(box.get("min"), list) and isinstance(box.get("max"), list)
+                and all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in box["min"] + box["max"])):
+            refuse('%s: "domain" is %s, not {"min": [x, y, z], "max": [x, y, z]}; %s' % (path, json.dumps(box), fix))
+        domain = parse_domain(box["min"] + box["max"], '%s: "domain"' % path, fix)
+    for key in ("frame_dt", "particle_spacing"):
+        value = data.get(key)
+        if key in data and not (isinstance(value, (int, float)) and not isinstance(value, bool) and value > 0):
+            refuse('%s: "%s" is %s, not a number above 0; %s' % (path, key, json.dumps(value), fix))
+    return {"up": up, "domain": domain, "found": True}
 
 
-def run_domain(run):
-    """The tank from a scene .json in the run folder, when the run left one there."""
-    import json
-    for path in sorted(glob.glob(os.path.join(run, "*.json"))):
-        try:
-            with open(path) as f:
-                data = json.load(f)
-            domain = data.get("domain") if isinstance(data, dict) else None
-            if domain and "min" in domain and "max" in domain:
-                return list(map(float, domain["min"])), list(map(float, domain["max"]))
-        except (OSError, ValueError, TypeError):
-            continue
-    return None
+# The first bytes of each file kind the scene reads: OpenVDB's magic number (int64 0x56444220,
+# little-endian), PLY's header word; an OBJ is text (no NUL byte) with vertex lines.
+VDB_MAGIC = struct.pack("<q", 0x56444220)
+
+
+def check_file_kind(path):
+    """Refuses an exported file that is empty or not of the kind its name says."""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(1 << 16)
+    except OSError as error:
+        refuse("cannot read %s (%s); make it readable or remove it" % (path, error.strerror or error))
+    name = os.path.basename(path)
+    kind = path.rsplit(".", 1)[-1].lower()
+    if not head:
+        problem = "is empty"
+    elif kind == "vdb" and not head.startswith(VDB_MAGIC):
+        problem = "is not an OpenVDB file"
+    elif kind == "ply" and not re.match(rb"ply\r?\n", head):
+        problem = "is not a PLY file"
+    elif kind == "obj" and (b"\0" in head or not re.search(rb"(^|\n)v\s", head)):
+        problem = "is not an OBJ mesh (no vertex lines)"
+    else:
+        return
+    refuse("%s %s; export it again with `aquaform run` or remove %s from %s" % (path, problem, name, os.path.dirname(path)))
+
+
+def check_render_prefix(prefix):
+    """PREFIX's folder exists or can be made, and can be written (the pictures would be lost)."""
+    folder = os.path.dirname(os.path.abspath(prefix))
+    try:
+        os.makedirs(folder, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=".blender_scene_probe"):
+            pass
+    except OSError as error:
+        refuse("--render %s: its folder %s cannot be written (%s); give a PREFIX in a folder you can write"
+               % (prefix, folder, error.strerror or error))
+
+
+def read_run(args):
+    """Everything the scene takes from the run folder, checked before any work: the surfaces
+    (meshes, else volumes) and their frames, the up axis, the tank, the frame rate."""
+    run = args["run"]
+    if not os.path.isdir(run):
+        refuse("no run folder %s; give the --out folder of an `aquaform run` with --mesh-every or --vdb-every" % run)
+    meshes = sorted(glob.glob(os.path.join(run, "surface_*.obj")) + glob.glob(os.path.join(run, "surface_*.ply")))
+    volumes = sorted(glob.glob(os.path.join(run, "density_*.vdb")))
+    files = meshes or volumes
+    if not files:
+        refuse("no surface_*.obj/.ply or density_*.vdb in " + run + " (run with --mesh-every or --vdb-every)")
+    for path in files:
+        check_file_kind(path)
+    frames = frames_of(run, files)
+    files.sort(key=lambda f: frames[f])
+    first, last = frames[files[0]], frames[files[-1]]
+    if args["frames"]:
+        a, b, _ = args["frames"]
+        if a < first or b > last:
+            refuse("--frames %d:%d is outside the run's frames %d..%d (its exported surfaces); e.g. --frames %d:%d"
+                   % (a, b, first, last, first, last))
+    described = read_run_json(run)
+    if not described["found"]:
+        assumed = [what for flag, what in (("up", "up y (aquaform's default)"), ("domain", "the tank round the surfaces"))
+                   if not args[flag]]
+        if assumed:
+            note("no run.json in %s: assuming %s; give %s to say otherwise"
+                 % (run, " and ".join(assumed), " and ".join("--" + f for f in ("up", "domain") if not args[f])))
+    fps = frame_rate(run)
+    if args["render"]:  # last: the only check that makes something (PREFIX's folder)
+        check_render_prefix(args["render"])
+    return {"meshes": meshes, "volumes": volumes, "frames": frames, "first": first, "last": last,
+            "up": args["up"] or described["up"] or "y", "domain": args["domain"] or described["domain"], "fps": fps}
 
 
 # The run's coordinates to Blender's: a y-up run turned +90 degrees about x ((x, y, z) ->
@@ -278,24 +449,19 @@ def box_of(objects):
 
 
 def main():
-    args = parse_args()
-    run = args["run"]
-    if not os.path.isdir(run):
-        fail("no run folder " + run)
-    up = args["up"] or run_up(run) or "y"
-    turn = to_blender(up)
+    args = parse_args(sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else [])
+    run = read_run(args)
+    turn = to_blender(run["up"])
+    meshes, volumes, frames = run["meshes"], run["volumes"], run["frames"]
+    first, last = run["first"], run["last"]
 
     scene = bpy.context.scene
     for obj in list(bpy.data.objects):  # the factory scene's cube, camera and light
         bpy.data.objects.remove(obj)
 
-    meshes = sorted(glob.glob(os.path.join(run, "surface_*.obj")) + glob.glob(os.path.join(run, "surface_*.ply")))
-    volumes = sorted(glob.glob(os.path.join(run, "density_*.vdb")))
     water = water_material()
     surfaces = []
     if meshes:
-        frames = frames_of(run, meshes)
-        meshes.sort(key=lambda f: frames[f])
         for k, path in enumerate(meshes):
             obj = import_mesh(path)
             obj.matrix_world = turn @ obj.matrix_world
@@ -307,10 +473,7 @@ def main():
             end = frames[meshes[k + 1]] if k + 1 < len(meshes) else start + max(1, start - frames[meshes[k - 1]] if k else 1)
             key_visibility(obj, start, end)
             surfaces.append(obj)
-        first, last = frames[meshes[0]], frames[meshes[-1]]
-    elif volumes:
-        frames = frames_of(run, volumes)
-        volumes.sort(key=lambda f: frames[f])
+    else:
         # One volume object playing the files as a sequence (Blender numbers them itself).
         bpy.ops.object.volume_import(filepath=os.path.abspath(volumes[0]), directory=os.path.dirname(os.path.abspath(volumes[0])),
                                      files=[{"name": os.path.basename(f)} for f in volumes])
@@ -329,12 +492,9 @@ def main():
         obj.matrix_world = turn
         obj.data.materials.append(water)
         surfaces.append(obj)
-        first, last = frames[volumes[0]], frames[volumes[-1]]
-    else:
-        fail("no surface_*.obj/.ply or density_*.vdb in " + run + " (run with --mesh-every or --vdb-every)")
 
-    # The tank: --domain, else a scene .json in the run folder, else the box round every surface.
-    domain = args["domain"] or run_domain(run)
+    # The tank: --domain, else run.json's, else the box round every surface.
+    domain = run["domain"]
     if domain:
         # The domain is the scene's, in the simulation's (y-up) axes whatever --up the run used.
         corners = [Y_UP_TO_Z_UP @ Vector((x, y, z)) for x in (domain[0][0], domain[1][0]) for y in (domain[0][1], domain[1][1])
@@ -369,7 +529,7 @@ def main():
         background[0].inputs["Color"].default_value = (0.8, 0.85, 0.9, 1.0)
 
     # The run's frames and frame rate (fps as a whole number over fps_base, e.g. 60 / 1.0).
-    fps = frame_rate(run)
+    fps = run["fps"]
     scene.render.fps = max(1, round(fps))
     scene.render.fps_base = scene.render.fps / fps
     scene.frame_start, scene.frame_end = first, last
@@ -389,13 +549,20 @@ def main():
         scene.render.image_settings.file_format = "PNG"
         # PREFIX####: Blender puts the frame number, four digits, where the #s are.
         scene.render.filepath = os.path.abspath(args["render"]) + "####"
+        # Blender's first Ctrl-C stops the animation after the frame it is on and calls render_cancel.
+        interrupted = []
+        bpy.app.handlers.render_cancel.append(lambda *_: interrupted.append(True))
         bpy.ops.render.render(animation=True)
+        if interrupted:
+            leave("stopped by Ctrl-C; the frames rendered before it are in %s####.png" % args["render"], EXIT_INTERRUPTED)
         print("blender_scene: rendered frames %d..%d to %s####.png" % (a, b, args["render"]))
 
 
 if __name__ == "__main__":  # blender -P runs it as __main__; tests/tools/blender_check.py imports it
     try:
         main()
+    except KeyboardInterrupt:
+        leave("stopped by Ctrl-C", EXIT_INTERRUPTED)
     except Exception as error:  # an exception leaves Blender's exit status 0: make it 1
         import traceback
         where = traceback.extract_tb(error.__traceback__)[-1]

@@ -3,7 +3,9 @@
 # columns that collide mid-tank and throw a sheet of spray), framed automatically in its glass
 # tank, about 16,000 particles so that the software device (no GPU) finishes in a few minutes.
 # Writes the frames, stats.csv and out/double_dam_break.mp4 (H.264, through Debian's ffmpeg).
-# Extra arguments go to `aquaform run` (e.g. --particles 100000 --resolution 1280x720 on a GPU).
+# Extra arguments go to `aquaform run` (e.g. --particles 100000 --resolution 1280x720 on a GPU),
+# which checks them: the exit status is run's (2 a bad flag, 1 a failure, 130 Ctrl-C), or
+# setup.sh's when installing or building fails.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 "$root/scripts/setup.sh"

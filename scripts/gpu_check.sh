@@ -29,6 +29,10 @@
 # sizes; the test suite runs it that way (tests/test_gpu_check.cpp), so the script cannot rot.
 # A step that fails or runs out of time is recorded and the script goes on, then exits 1; a step
 # the budget has no room left for is recorded as skipped.
+# Exit status: 0 every step passed; 1 a step failed, timed out or was skipped; 2 bad input, one
+# line naming the flag and the fix, before any step: an unknown flag, a flag without its value,
+# a --budget not from 1 to 999999 (decimal: 08 is 8), a --build without aquaform, an --out that
+# is a folder, a link to nothing, or in a folder that cannot be made or written.
 #
 # Usage: scripts/gpu_check.sh [--quick] [--budget SECONDS] [--build DIR] [--out FILE] [--device NAME|INDEX]
 #        (defaults: build/, gpu_check.json in the current directory, automatic device choice)
@@ -53,23 +57,46 @@ print_env=0
 budget=""
 device=()
 usage="usage: scripts/gpu_check.sh [--quick] [--budget SECONDS] [--build DIR] [--out FILE] [--device D] | --env | --bundle [--build DIR]"
+# Bad input ends the script with 2 and one line naming the flag and the fix, before any step runs.
+refuse() { echo "gpu_check.sh: $1" >&2; exit 2; }
+# need_value FLAG EXAMPLE [NEXT]: refuses the flag when its value is missing, empty or the next flag.
+need_value() {
+  if [ $# -lt 3 ] || [ -z "$3" ] || [[ "$3" == --* ]]; then refuse "$1 needs a value; e.g. $1 $2"; fi
+}
 while (($#)); do
   case "$1" in
     --quick) quick=1 ;;
     --bundle) bundle=1 ;;
     --env) print_env=1 ;;
-    --budget) budget="${2:-}"; shift ;;
-    --build) build="${2:-}"; shift ;;
-    --out) out="${2:-}"; shift ;;
-    --device) device=(--device "${2:-}"); shift ;;
-    *) echo "gpu_check.sh: unknown argument '$1'; $usage" >&2
-       exit 2 ;;
+    --budget) need_value --budget 420 "${@:2:1}"; budget="$2"; shift ;;
+    --build) need_value --build build "${@:2:1}"; build="$2"; shift ;;
+    --out) need_value --out gpu_check.json "${@:2:1}"; out="$2"; shift ;;
+    --device) need_value --device 0 "${@:2:1}"; device=(--device "$2"); shift ;;
+    *) refuse "unknown argument '$1'; $usage" ;;
   esac
   shift
 done
-if [ -n "$budget" ] && ! [[ "$budget" =~ ^[0-9]+$ && "$budget" -ge 1 ]]; then
-  echo "gpu_check.sh: --budget '$budget' is not a whole number of seconds above 0; e.g. --budget 420" >&2
-  exit 2
+# Decimal, whatever zeros lead it (bash reads 08 as a bad octal number), and at most 11 days.
+if [ -n "$budget" ]; then
+  [[ "$budget" =~ ^[0-9]{1,6}$ ]] && budget=$((10#$budget)) && ((budget >= 1)) ||
+    refuse "--budget '$budget' is not a whole number of seconds from 1 to 999999; e.g. --budget 420"
+fi
+[ -d "$build" ] || refuse "--build $build: no such folder; give the build folder (bash scripts/setup.sh makes build/)"
+[ -x "$build/aquaform" ] || [ -f "$build/gpu_bundle.tar.xz" ] ||
+  refuse "--build $build has no aquaform; build first (bash scripts/setup.sh) or give --build DIR"
+# --out is checked before any step (a check that cannot write its JSON would run for nothing): a
+# file, not a folder nor a link to nothing, in a folder that exists or can be made, and writable.
+out_dir="$(dirname "$out")"
+if ((!bundle && !print_env)); then
+  [ -d "$out" ] && refuse "--out $out is a folder; give a file in it, e.g. --out ${out%/}/gpu_check.json"
+  [ -L "$out" ] && [ ! -e "$out" ] && refuse "--out $out is a link to nothing; remove it or give another file"
+  [ -e "$out_dir" ] && [ ! -d "$out_dir" ] && refuse "--out $out: $out_dir is not a folder; give a file in a folder"
+  [ -e "$out" ] && [ ! -w "$out" ] && refuse "--out $out cannot be written; make it writable or give another file"
+  mkdir -p "$out_dir" 2>/dev/null || refuse "--out $out: cannot make its folder $out_dir; give a file in a folder you can write"
+  probe="$(mktemp "$out_dir/.gpu_check_probe.XXXXXX" 2>/dev/null)" ||
+    refuse "--out $out: its folder $out_dir cannot be written; give a file in a folder you can write"
+  rm -f "$probe"
+  out_dir="$(cd "$out_dir" && pwd)"
 fi
 aquaform="$build/aquaform"
 tests="$build/tests/aquaform_tests"
@@ -238,8 +265,6 @@ else
 fi
 
 # The study's folder outlives the work folder: its charts are files, not JSON.
-out_dir="$(cd "$(dirname "$out")" 2>/dev/null && pwd)" ||
-  { echo "gpu_check.sh: --out $out: its folder does not exist; make it or give another FILE" >&2; exit 2; }
 study_dir="$out_dir/$(basename "${out%.json}")_study"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT

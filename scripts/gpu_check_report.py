@@ -239,6 +239,8 @@ def main(work, out):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
-        sys.exit("usage: gpu_check_report.py WORK_DIR OUT_FILE")
+    if len(sys.argv) != 3 or not os.path.isdir(sys.argv[1]):  # bad input: 2, as every script
+        print("gpu_check_report.py: usage: gpu_check_report.py WORK_DIR OUT_FILE (WORK_DIR: gpu_check.sh's step files)",
+              file=sys.stderr)
+        sys.exit(2)
     main(sys.argv[1], sys.argv[2])

@@ -4,9 +4,18 @@
 # the right, with the adaptive method at the demo's size and particle count; spray is left
 # uncoloured so that only the surface differs. Needs a build (scripts/setup.sh) and ffmpeg.
 # Usage: scripts/readme_pictures.sh [BUILD_DIR]   (about 10 minutes on the software device)
+# Exit status: 0 done; 2 bad arguments or no aquaform in BUILD_DIR; 1 no ffmpeg, or a render or
+# ffmpeg failed; 130 Ctrl-C. Arguments and ffmpeg are checked before the first picture.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+usage="usage: scripts/readme_pictures.sh [BUILD_DIR]"
+if (($# > 1)) || [[ "${1:-}" == -* ]]; then
+  echo "readme_pictures.sh: unknown arguments '$*'; $usage" >&2
+  exit 2
+fi
 aquaform="${1:-$root/build}/aquaform"
+[ -x "$aquaform" ] || { echo "readme_pictures.sh: no $aquaform; build it (bash scripts/setup.sh) or give the BUILD_DIR that holds it" >&2; exit 2; }
+command -v ffmpeg >/dev/null || { echo "readme_pictures.sh: no ffmpeg to put the pictures side by side; apt-get install ffmpeg (scripts/setup.sh installs it)" >&2; exit 1; }
 out="$root/docs/images"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT

@@ -4,16 +4,29 @@
 # Usage: scripts/setup.sh [--tools] [BUILD_DIR]   (default: build)
 #   --tools: also Debian's ParaView and Blender (about 900 MB), which the test suite opens the
 #   exports in (scripts/test.sh passes it; the demo does not need them).
+# Exit status: 0 done; 2 bad arguments (one line naming the fix, before anything is installed);
+# 1 a failure (packages need root, apt-get or the build failed).
 # It never removes a package: where Debian would have to (python3-paraview and python3-vtk9 both
 # ship VTK's Python modules), it stops and says which package is in the way.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 tools=0
-if [ "${1:-}" = "--tools" ]; then
-  tools=1
-  shift
+build_dir=""
+usage="usage: scripts/setup.sh [--tools] [BUILD_DIR]"
+for arg in "$@"; do
+  case "$arg" in
+    --tools) tools=1 ;;
+    -*) echo "aquaform setup: unknown argument '$arg'; $usage" >&2; exit 2 ;;
+    "") echo "aquaform setup: an empty BUILD_DIR; $usage" >&2; exit 2 ;;
+    *) [ -z "$build_dir" ] || { echo "aquaform setup: one BUILD_DIR only, got '$build_dir' and '$arg'; $usage" >&2; exit 2; }
+       build_dir="$arg" ;;
+  esac
+done
+build_dir="${build_dir:-$root/build}"
+if [ -e "$build_dir" ] && [ ! -d "$build_dir" ]; then
+  echo "aquaform setup: BUILD_DIR $build_dir is a file; give a folder" >&2
+  exit 2
 fi
-build_dir="${1:-$root/build}"
 
 packages=(
   build-essential cmake pkg-config

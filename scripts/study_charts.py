@@ -8,8 +8,9 @@ each chart as PNG and SVG into OUT_DIR/charts/, printing one written path per li
 (notes go to stderr). Needs matplotlib (Debian: apt-get install python3-matplotlib); run it with
 /usr/bin/python3 where a pyenv or venv python3 without matplotlib comes first on PATH.
 
-Exit status: 0 charts written, 1 bad input (no CSV, a missing column), 2 usage,
-3 matplotlib missing.
+Exit status, as the aquaform command's: 0 charts written; 2 bad input (usage, an unknown flag, no
+CSV, a missing column, nothing to chart), one line naming the fix, before any chart is drawn;
+1 a failure at run time (no matplotlib, the charts folder cannot be written); 130 Ctrl-C.
 """
 
 import csv
@@ -18,7 +19,7 @@ import os
 import sys
 from collections import defaultdict
 
-EXIT_INPUT, EXIT_USAGE, EXIT_NO_MATPLOTLIB, EXIT_CANNOT_WRITE = 1, 2, 3, 4
+EXIT_RUNTIME, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 1, 2, 130
 
 STUDY_COLUMNS = ["case", "scene", "method", "width", "height", "particles", "metaball_scale", "recursion_depth",
                  "bisection_steps", "visual", "ms_total", "fps", "depth_err_mean", "depth_err_p95",
@@ -111,7 +112,7 @@ def save(fig, charts_dir, name, written):
             except OSError:
                 pass
             fail("cannot write %s: %s; free some space or choose another folder with --out" % (path, e.strerror or e),
-                 EXIT_CANNOT_WRITE)
+                 EXIT_RUNTIME)
         written.append(path)
     import matplotlib.pyplot as plt
     plt.close(fig)
@@ -294,24 +295,24 @@ def chart_solver_map(rows, charts_dir, written):
 
 
 def main(argv):
-    if len(argv) != 2 or argv[1] in ("-h", "--help"):
-        fail("usage: study_charts.py OUT_DIR (the directory an `aquaform study` run wrote its CSV files to)",
-             EXIT_USAGE)
+    if len(argv) != 2 or argv[1].startswith("-"):
+        fail("usage: study_charts.py OUT_DIR (the directory an `aquaform study` run wrote its CSV files to)%s"
+             % ("; unknown argument " + argv[1] if len(argv) == 2 else ""), EXIT_BAD_INPUT)
     out_dir = argv[1]
     if not os.path.isdir(out_dir):
-        fail("%s is not a directory; give the directory an `aquaform study` run wrote to" % out_dir, EXIT_INPUT)
+        fail("%s is not a directory; give the directory an `aquaform study` run wrote to" % out_dir, EXIT_BAD_INPUT)
     files = {name: os.path.join(out_dir, name) for name in ("study.csv", "study_passes.csv", "solver_map.csv")}
     present = {name: path for name, path in files.items() if os.path.isfile(path)}
     if not present:
         fail("%s has none of study.csv, study_passes.csv, solver_map.csv; run `aquaform study SPEC.json` first"
-             % out_dir, EXIT_INPUT)
+             % out_dir, EXIT_BAD_INPUT)
     required = {"study.csv": STUDY_COLUMNS, "study_passes.csv": PASSES_COLUMNS, "solver_map.csv": SOLVER_MAP_COLUMNS}
     try:
         tables = {name: read_csv(path, required[name]) for name, path in present.items()}
     except InputError as e:
-        fail(str(e), EXIT_INPUT)
+        fail(str(e), EXIT_BAD_INPUT)
     except (OSError, csv.Error) as e:
-        fail("cannot read %s" % e, EXIT_INPUT)
+        fail("cannot read %s" % e, EXIT_BAD_INPUT)
 
     try:
         import matplotlib
@@ -319,7 +320,7 @@ def main(argv):
         import matplotlib.pyplot  # noqa: F401  (fails here rather than mid-chart)
     except ImportError:
         fail("%s has no matplotlib; install it (Debian: apt-get install python3-matplotlib) or run the script "
-             "with a python3 that has it (/usr/bin/python3)" % sys.executable, EXIT_NO_MATPLOTLIB)
+             "with a python3 that has it (/usr/bin/python3)" % sys.executable, EXIT_RUNTIME)
     matplotlib.rcParams["svg.hashsalt"] = "aquaform"  # reproducible SVG ids
 
     charts_dir = os.path.join(out_dir, "charts")
@@ -327,7 +328,7 @@ def main(argv):
         os.makedirs(charts_dir, exist_ok=True)
     except OSError as e:
         fail("cannot make %s: %s; free some space or choose another folder with --out" % (charts_dir, e.strerror or e),
-             EXIT_CANNOT_WRITE)
+             EXIT_RUNTIME)
     written = []
     methods = {r["method"] for name in ("study.csv", "study_passes.csv") for r in tables.get(name, [])}
     styles = method_styles(methods)
@@ -341,11 +342,14 @@ def main(argv):
         chart_solver_map(tables["solver_map.csv"], charts_dir, written)
     if not written:
         fail("no chart drawn: %s in %s have no rows to chart (see the notes above)" % (", ".join(sorted(present)), out_dir),
-             EXIT_INPUT)
+             EXIT_BAD_INPUT)
     for path in written:
         print(path)
     return 0
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    try:
+        sys.exit(main(sys.argv))
+    except KeyboardInterrupt:
+        fail("stopped by Ctrl-C; the charts written before it stay in OUT_DIR/charts", EXIT_INTERRUPTED)

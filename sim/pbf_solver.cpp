@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "gpu/barriers.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "gpu/timer.h"

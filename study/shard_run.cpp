@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/version.h"
+
 namespace aquaform::study {
 
 Result<bool> check_shard_folder(const std::filesystem::path& out_dir, const std::optional<StudyShard>& shard, bool fresh) {

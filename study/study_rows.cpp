@@ -7,6 +7,8 @@
 #include <set>
 #include <sstream>
 
+#include "core/csv.h"
+
 namespace aquaform::study {
 
 namespace fs = std::filesystem;
@@ -96,38 +98,6 @@ std::string row_problem(const std::vector<std::string>& columns, const std::vect
 }
 
 }  // namespace
-
-std::string csv_field(const std::string& text) {
-    std::string flat = text;
-    std::replace_if(flat.begin(), flat.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-    if (flat.find_first_of(",\"") == std::string::npos) return flat;
-    std::string out = "\"";
-    for (char c : flat) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return out + "\"";
-}
-
-std::string csv_number(const std::optional<double>& v, const char* format_text) {
-    return v && std::isfinite(*v) ? format(format_text, *v) : "";
-}
-
-std::string csv_line(const std::vector<std::string>& fields) {
-    std::string line;
-    for (size_t i = 0; i < fields.size(); ++i) line += (i ? "," : "") + csv_field(fields[i]);
-    return line;
-}
-
-std::vector<std::string> split_csv_line(const std::string& line) {
-    std::vector<std::string> fields(1);
-    bool quoted = false;
-    for (size_t i = 0; i < line.size(); ++i) {
-        const char c = line[i];
-        if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') fields.back() += '"', ++i;
-        else if (c == '"') quoted = !quoted;
-        else if (c == ',' && !quoted) fields.emplace_back();
-        else fields.back() += c;
-    }
-    return fields;
-}
 
 Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, const std::string& spec,
                               const std::function<bool(const Fields&)>& keep, RowAccess access) {

@@ -107,14 +107,6 @@ std::vector<StudyUnit> shard_units(const StudySpec& spec, StudyShard shard) {
     return owned;
 }
 
-std::string aquaform_version() {
-#ifdef AQUAFORM_VERSION
-    return AQUAFORM_VERSION;
-#else
-    return "unknown";
-#endif
-}
-
 Result<bool> write_manifest(const fs::path& dir, const ShardManifest& m) {
     nlohmann::json j = {{"spec_hash", m.spec_hash}, {"spec_name", m.spec_name},  {"spec_path", m.spec_path},
                         {"version", m.version},     {"device", m.device},        {"shard", m.shard.index},

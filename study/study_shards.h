@@ -60,8 +60,6 @@ struct ShardManifest {
 };
 
 constexpr const char* kManifestName = "manifest.json";
-/// The aquaform version a manifest records.
-std::string aquaform_version();
 Result<bool> write_manifest(const std::filesystem::path& dir, const ShardManifest& manifest);
 /// Empty when `dir` has no manifest.json; an error when it has one that cannot be read.
 Result<std::optional<ShardManifest>> read_manifest(const std::filesystem::path& dir);

@@ -11,7 +11,7 @@
 #include "core/format_text.h"
 #include "core/interrupt.h"
 #include "gpu/context.h"
-#include "study/study_rows.h"
+#include "core/csv.h"
 #include "session/simulation_session.h"
 
 namespace aquaform::study {

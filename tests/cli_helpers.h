@@ -36,11 +36,34 @@ inline Outcome run_aquaform(const std::string& args, const std::string& env = ""
     return o;
 }
 
-/// A fresh, empty directory under the system's temporary directory, unique to this process.
+/// The folders temp_dir made, removed when the test process ends (ctest runs each test in a
+/// process of its own), so that a suite leaves nothing in /tmp. AQUAFORM_KEEP_TEST_DIRS=1 keeps
+/// them, for looking at what a failing test's command wrote.
+class TempDirs {
+public:
+    void add(const std::filesystem::path& dir) { dirs_.push_back(dir); }
+    ~TempDirs() {
+        const char* keep = std::getenv("AQUAFORM_KEEP_TEST_DIRS");
+        if (keep && std::string(keep) == "1") return;
+        std::error_code ignored;  // a folder a test removed itself is fine
+        for (const auto& dir : dirs_) std::filesystem::remove_all(dir, ignored);
+    }
+
+private:
+    std::vector<std::filesystem::path> dirs_;
+};
+inline TempDirs& temp_dirs() {
+    static TempDirs dirs;
+    return dirs;
+}
+
+/// A fresh, empty directory under the system's temporary directory, unique to this process, and
+/// removed when it ends.
 inline std::filesystem::path temp_dir(const std::string& name) {
     auto dir = std::filesystem::temp_directory_path() / ("aquaform_cli_" + name + "_" + std::to_string(getpid()));
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
+    temp_dirs().add(dir);
     return dir;
 }
 

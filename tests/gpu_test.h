@@ -11,6 +11,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "sim/scene.h"
 
 namespace aquaform::testing {

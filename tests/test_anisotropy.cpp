@@ -15,6 +15,7 @@
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "shaders/shared/anisotropy.h"
 #include "shaders/shared/render_kernels.h"
 #include "shaders/shared/surface_layout.h"

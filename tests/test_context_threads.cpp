@@ -20,6 +20,7 @@
 
 #include "core/error.h"
 #include "gpu/buffer.h"
+#include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "sim/pbf_solver.h"
 #include "tests/gpu_test.h"

@@ -14,6 +14,7 @@
 #include "control/shape_metrics.h"
 #include "control/strength.h"
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "sim/pbf_params.h"
 #include "session/simulation_session.h"
 #include "sim/pbf_solver.h"

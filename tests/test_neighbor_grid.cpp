@@ -9,6 +9,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "shaders/shared/morton.h"
 #include "grid/neighbor_grid.h"
 #include "sim/pbf_reference.h"

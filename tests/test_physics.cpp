@@ -7,6 +7,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "sim/dam_break_reference.h"
 #include "sim/pbf_params.h"
 #include "sim/pbf_solver.h"

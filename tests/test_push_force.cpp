@@ -9,6 +9,7 @@
 
 #include "control/push_force.h"
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "session/simulation_session.h"
 #include "sim/pbf_params.h"
 #include "tests/gpu_test.h"

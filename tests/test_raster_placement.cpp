@@ -14,6 +14,7 @@
 #include "control/primitives.h"
 #include "control/raster_placement.h"
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "shaders/shared/raster_layout.h"
 #include "tests/cli_helpers.h"
 #include "tests/gpu_test.h"

@@ -14,6 +14,7 @@
 #include "control/shape_metrics.h"
 #include "core/camera.h"
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "render/impostor_view.h"
 #include "render/registry.h"
 #include "session/simulation_session.h"

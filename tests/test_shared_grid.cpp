@@ -14,6 +14,7 @@
 #include "shaders/shared/grid_layout.h"
 #include "sim/pbf_solver.h"
 #include "tests/gpu_test.h"
+#include "gpu/staging.h"
 
 namespace aquaform {
 namespace {

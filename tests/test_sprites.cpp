@@ -141,7 +141,9 @@ TEST_F(DamBreakSprites, AFrameSaysWhetherItUsedAdaptiveResolution) {
     const bool pays = renderer->adaptive_resolution_pays();
     EXPECT_EQ(renderer->resolution_note().empty(), pays);
     // Where it is used, the upsample fills pixels without a ray of their own.
-    if (pays) EXPECT_LT(renderer->rays_cast(), 160u * 120u / 2u);
+    if (pays) {
+        EXPECT_LT(renderer->rays_cast(), 160u * 120u / 2u);
+    }
     settings.adaptive_resolution = false;
     renderer->render(solver->positions(), solver->particle_count(), camera, settings);
     EXPECT_TRUE(renderer->resolution_note().empty()) << "not asked for: nothing to say";

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/csv.h"
 #include "study/study_rows.h"
 #include "study/study_shards.h"
 #include "study/study_spec.h"

@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "gpu/vk_check.h"
 #include "tests/gpu_test.h"
 

@@ -25,6 +25,7 @@
 #include "exports/mesh_export.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "grid/neighbor_grid.h"
 #include "render/density_sampler.h"
 #include "render/marching_cubes.h"

@@ -415,7 +415,7 @@ TEST(ToolsBlender, UpZRunStandsOnBlendersFloorWithItsHeightAlongBlendersZ) {
 TEST(ToolsBlenderScene, RendersTheWaterInTheTankFrameByFrame) {
     const fs::path run = simulate("scene", "--particles 4000 --frames 12 --mesh-every 6");
     const fs::path prefix = run.parent_path() / "scene_";
-    // The run folder does not say the tank: --domain is the scene's.
+    // --domain wins over the tank run.json says (the same here: the scene's).
     const std::string command = "blender -b --factory-startup -P '" + kSource + "/scripts/blender_scene.py' -- '" +
                                 run.string() + "' --render '" + prefix.string() +
                                 "' --size 64x36 --frames 0:6:6 --samples 4 --domain 0,0,0,1.6,0.8,0.8";

@@ -8,6 +8,7 @@
 #include <GLFW/glfw3.h>
 
 #include "core/error.h"
+#include "gpu/barriers.h"
 #include "gpu/compute_pass.h"
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
@@ -258,7 +259,7 @@ void ViewWindow::ensure_staging(uint32_t width, uint32_t height) {
     if (staging_.image && staging_w_ == width && staging_h_ == height) return;
     ctx_->wait_queue_idle();
     gpu::destroy_image(*ctx_, staging_);
-    staging_ = gpu::create_image(*ctx_, width, height, VK_FORMAT_R8G8B8A8_UNORM,
+    staging_ = gpu::create_image(*ctx_, "window picture", width, height, VK_FORMAT_R8G8B8A8_UNORM,
                                  VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
                                  VK_IMAGE_ASPECT_COLOR_BIT);  // sampled: create_image makes a view, which needs a view usage
     staging_w_ = width;

@@ -19,6 +19,7 @@
 
 #include "core/interrupt.h"
 #include "gpu/context.h"
+#include "gpu/staging.h"
 #include "gpu/vk_check.h"
 #include "render/image_io.h"
 #include "render/registry.h"

@@ -1,0 +1,2 @@
+#include "demo/a.h"
+#include "demo/b.h"

@@ -1,0 +1,2 @@
+#include "demo/b.h"
+#include "a.h"
