@@ -47,38 +47,6 @@ std::optional<double> parse_bandwidth(const std::string& text, std::string* erro
     return std::nullopt;
 }
 
-std::string gbps_text(uint64_t bytes, double ms) {
-    char buf[32];
-    if (ms > 0.0) std::snprintf(buf, sizeof buf, "%.1f", double(bytes) / ms * 1.0e-6);
-    else std::snprintf(buf, sizeof buf, "-");
-    return buf;
-}
-
-/// The byte model beside the measured times, one line a pass: its modelled traffic, the rate it
-/// reached and the least time the bandwidth allows.
-void print_traffic(const study::SolverBenchRecord& r) {
-    std::printf("  %-15s %5s %9s %10s %10s %11s %10s %10s %12s\n", "pass", "runs", "ms", "unique MB", "all MB",
-                "unique GB/s", "all GB/s", "floor ms", "visits");
-    for (const PassTraffic& p : r.traffic) {
-        const auto it = r.ms_per_pass.find(p.name);
-        const double ms = it == r.ms_per_pass.end() ? 0.0 : it->second;
-        std::printf("  %-15s %5u %9.3f %10.2f %10.2f %11s %10s %10.4f %12llu\n", p.name.c_str(), p.runs, ms,
-                    double(p.unique_bytes) * 1e-6, double(p.bytes) * 1e-6, gbps_text(p.unique_bytes, ms).c_str(),
-                    gbps_text(p.bytes, ms).c_str(), study::ms_at(p.unique_bytes, r.bandwidth_gbps),
-                    (unsigned long long)p.neighbor_visits);
-    }
-    std::printf("  %-15s %5s %9.3f %10.2f %10.2f %11s %10s %10.4f\n", "step", "", r.ms_per_step,
-                double(r.unique_bytes_per_step()) * 1e-6, double(r.bytes_per_step()) * 1e-6,
-                gbps_text(r.unique_bytes_per_step(), r.ms_per_step).c_str(), gbps_text(r.bytes_per_step(), r.ms_per_step).c_str(),
-                r.memory_floor_ms());
-    std::printf("  memory floor at %g GB/s: %.4f ms a step on the unique bytes (%.1f%% of the step), %.4f ms if every load "
-                "came from memory; %.1f list entries a particle (%.0f%% of the list), %.1f candidates tested\n",
-                r.bandwidth_gbps, r.memory_floor_ms(), 100.0 * r.memory_floor_ms() / r.ms_per_step, r.all_loads_floor_ms(),
-                double(r.counts.list_entries) / double(r.counts.particles),
-                100.0 * double(r.counts.list_entries) / double(r.counts.particles * r.counts.capacity),
-                double(r.counts.candidates) / double(r.counts.particles));
-}
-
 }  // namespace
 
 int cmd_bench(const std::vector<std::string>& argv) {
@@ -132,12 +100,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
     for (uint32_t target : sizes) {
         if (interrupted()) break;
         const study::SolverBenchRecord r = study::measure_solver(ctx, target, options);
-        std::printf("%10s %6s %12s %10s %14s %12s %12s %10s %10s %12s\n", "particles", "iters", "ms/step", "steps/s",
-                    "grid ms/step", "B/particle", "(of lists)", "B/cell", "overflow", "steps/frame");
-        std::printf("%10u %6u %12.2f %10.2f %14.2f %12.1f %12u %10u %9.2f%% %12u\n", r.particles, r.iterations, r.ms_per_step,
-                    r.steps_per_s, r.neighbor_search_ms, r.gpu_bytes_per_particle, r.neighbor_list_bytes_per_particle,
-                    r.gpu_bytes_per_cell, 100.0 * r.list_overflow_fraction, r.steps_per_frame);
-        print_traffic(r);
+        study::print_solver_record(r);
         std::fflush(stdout);
         measured.push_back(r);
         records.push_back(study::to_json(r));

@@ -1,9 +1,6 @@
-// `aquaform bench control`: mesh control measured (study/bench_control.h: placement time per
+// `aquaform bench control`: mesh control measured (study/bench_control_run.h: placement time per
 // method, the control force's share of a step, IoU against the control pressure on a sphere and
-// a flat torus); prints the tables, checks the targets and writes bench_control.json.
-#include <algorithm>
-#include <cmath>
-#include <cstdlib>
+// a flat torus, their tables and targets); here the flags and bench_control.json.
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -14,58 +11,16 @@
 
 #include "apps/cli.h"
 #include "core/file_write.h"
-#include "core/format_text.h"
+#include "core/text_escape.h"
 #include "core/interrupt.h"
 #include "core/number_text.h"
-#include "core/text_escape.h"
 #include "gpu/context.h"
 #include "study/bench_control.h"
+#include "study/bench_control_run.h"
 
 namespace aquaform::cli {
 
 namespace {
-
-using nlohmann::json;
-
-constexpr double kRasterMsTarget = 50.0;          // raster placement of 100k points [ms], software device
-constexpr uint32_t kRasterTargetPoints = 100000;
-constexpr double kForceShareTarget = 0.25;        // control force time / rest of the step
-constexpr double kIouTarget = 0.85;               // at the automatic strength, after the fixed time
-constexpr int kRepeats = study::kBenchRepeats;     // best of, for every timing
-
-void progress(const std::string& line) {
-    std::fprintf(stderr, "bench control: %s\n", line.c_str());
-    std::fflush(stderr);
-}
-
-/// One target's verdict for the terminal and the JSON.
-struct Verdict {
-    json json_value;
-    std::string line;
-};
-
-Verdict verdict(const std::string& name, const std::string& target, std::optional<bool> pass, const std::string& detail,
-                json figures = json::object()) {
-    Verdict v;
-    const char* status = !pass ? "not measured" : *pass ? "MET" : "MISS";
-    figures["name"] = name;
-    figures["target"] = target;
-    figures["status"] = status;
-    figures["pass"] = pass ? json(*pass) : json(nullptr);
-    if (!pass) figures["reason"] = detail;
-    v.json_value = figures;
-    v.line = name + " (target: " + target + "): " + detail + ": " + status;
-    return v;
-}
-
-void print_sweep_row(const study::SweepRow& r) {
-    std::printf("%-7s %6g %9.0f %7s %7s %8s %9.3f %8.3f %9.4f %7s", r.shape.c_str(), r.scale, double(r.pressure),
-                r.finite ? format_text("%.3f", r.m.iou).c_str() : "-", r.finite ? format_text("%.3f", r.m.fill_fraction).c_str() : "-",
-                r.finite ? format_text("%.3f", r.m.outside_fraction).c_str() : "-", r.rms_speed, r.cfl_speed,
-                r.max_density_error, r.stable ? "yes" : "NO");
-    if (r.iou_later) std::printf("   IoU %.3f after %.2g s", *r.iou_later, r.later_seconds);
-    std::printf("\n");
-}
 
 /// "0.5,1,2": pressure multiples, each a positive finite number.
 std::optional<std::vector<double>> parse_scales(const std::string& text, std::string* error) {
@@ -93,10 +48,8 @@ FlagSpec bench_control_flags() { return {{"--out", "--device", "--particles", "-
 int bench_control(const Args& args) {
     const bool quick = args.has("--quick");
     const std::filesystem::path out_dir = args.value("--out", "out/bench_control");
-    {
-        // Fail before minutes of work when the output cannot go where asked.
-        if (!prepare_output("bench control", out_dir)) return kExitUsage;
-    }
+    // Fail before minutes of work when the output cannot go where asked.
+    if (!prepare_output("bench control", out_dir)) return kExitUsage;
     const std::filesystem::path out_path = out_dir / "bench_control.json";
     std::string error;
     const std::optional<uint64_t> particles = particles_flag(args, &error);
@@ -105,7 +58,6 @@ int bench_control(const Args& args) {
     // then run at that size, and the automatic strength re-derives itself from the spacing).
     const float spacing = particles ? study::shape_spacing_for(uint32_t(*particles)) : study::kShapeSpacing;
 
-    const std::vector<uint32_t> sizes = quick ? std::vector<uint32_t>{10000} : std::vector<uint32_t>{10000, 100000};
     std::vector<double> scales =
         quick ? std::vector<double>{1.0, 4.0} : std::vector<double>{0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0};
     if (args.has("--scales")) {
@@ -113,171 +65,20 @@ int bench_control(const Args& args) {
         if (!given) return std::fprintf(stderr, "aquaform bench control: %s\n", error.c_str()), kExitUsage;
         scales = *given;
     }
-    const double seconds = quick ? 0.5 : 1.0;     // simulated per sweep run
-    const double later_seconds = quick ? 0.0 : 1.5;  // the automatic strength also runs on to this
-    const double warm_s = quick ? 0.25 : 0.5;
-    const uint32_t overhead_steps = quick ? 10 : 15;
-    const int overhead_repeats = quick ? 3 : 12;
-
     gpu::Context ctx({args.value("--device"), validation_requested(args)});
     std::printf("bench control on %s (%s)%s\n", ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type),
                 quick ? " (quick: 10k points only, 2 pressures, 0.5 s runs)" : "");
     std::fflush(stdout);
-    json records = json::array();
-
-    // (1) placement
-    std::vector<study::PlacementRow> placement;
-    double inside_ms_per_test = 0.0;
-    for (uint32_t n : sizes) {
-        if (interrupted()) break;
-        for (study::PlacementRow& row : study::measure_placement(ctx, n, &inside_ms_per_test, progress)) {
-            records.push_back(study::to_json(row));
-            placement.push_back(std::move(row));
-        }
-    }
-
-    // (2) the force's share of a step
-    if (stopped_by_ctrl_c("bench control")) return exit_status(ctx, kExitInterrupted);
-    const study::ShapeScene sphere = study::sphere_scene(spacing);
-    const study::Overhead o = study::measure_overhead(ctx, sphere, warm_s, overhead_steps, overhead_repeats, progress);
-    const double added = o.added, share = o.share;
-    const double gpu_added = o.gpu_with_vs_without - 1.0, wall_added = o.wall_with_vs_without - 1.0;
-    {
-        json passes = json::object(), passes_without = json::object();
-        for (const auto& [name, ms] : o.passes_with) passes[name] = ms;
-        for (const auto& [name, ms] : o.passes_without) passes_without[name] = ms;
-        const auto number = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
-        records.push_back({{"kind", "overhead"},
-                           {"shape", sphere.name},
-                           {"particles", o.particles},
-                           {"control_points", o.control_points},
-                           {"steps", o.steps},
-                           {"repeats", o.repeats},
-                           {"control_force_ms_per_step", o.force_ms},
-                           {"step_gpu_ms_with_force", o.step_ms_with},
-                           {"step_gpu_ms_without_force", o.step_ms_without},
-                           {"force_share_of_step", number(share)},
-                           {"force_added_to_rest_of_step", number(added)},
-                           {"step_gpu_added_paired", number(gpu_added)},
-                           {"step_wall_ms_with_force", o.wall_ms_with},
-                           {"step_wall_ms_without_force", o.wall_ms_without},
-                           {"step_wall_added_paired", number(wall_added)},
-                           {"gpu_ms_per_pass_with_force", passes},
-                           {"gpu_ms_per_pass_without_force", passes_without}});
-    }
-
-    // (3) IoU against pressure
-    const study::ShapeScene torus = study::torus_scene(spacing);
-    std::vector<std::pair<const study::ShapeScene*, std::vector<study::SweepRow>>> sweeps = {{&sphere, {}}, {&torus, {}}};
-    for (auto& [shape, rows] : sweeps) {
-        progress(format_text("%s: %s; %llu particles (%.5f m^3 of fluid for %.5f m^3 of shape), %zu control points; %s",
-                     shape->name.c_str(), shape->layout.c_str(), (unsigned long long)shape->scene.particle_count(),
-                     shape->fluid_volume, shape->shape_volume, shape->points.size(), shape->strength.describe().c_str()));
-        for (double scale : scales) {
-            if (interrupted()) break;
-            progress(format_text("%s: pressure x%g = %.0f Pa for %.2g s", shape->name.c_str(), scale,
-                         double(shape->strength.pressure * scale), seconds));
-            rows.push_back(study::sweep_one(ctx, *shape, scale, seconds, scale == 1.0 ? later_seconds : 0.0));
-            const study::SweepRow& r = rows.back();
-            progress(format_text("  IoU %.3f, rms speed %.3f m/s, max density error %.3f: %s (%.1f s)", r.m.iou, r.rms_speed,
-                         r.max_density_error, r.stable ? "stable" : "NOT stable", r.wall_s));
-            records.push_back(study::to_json(r, *shape));
-        }
-    }
-
-    if (stopped_by_ctrl_c("bench control")) return exit_status(ctx, kExitInterrupted);
-    // The tables.
-    std::printf("\nplacement (sphere, best of %d host ms; inside: one run)\n", kRepeats);
-    std::printf("%-9s %8s %9s %9s %10s %10s %10s  %s\n", "method", "target", "spacing", "triangles", "points", "ms", "gpu ms",
-                "note");
-    for (const study::PlacementRow& r : placement)
-        std::printf("%-9s %8u %9.5f %9zu %10s %10s %10s  %s\n", r.method.c_str(), r.target, double(r.spacing), r.triangles,
-                    r.points ? std::to_string(*r.points).c_str() : "-", r.ms ? format_text("%.2f", *r.ms).c_str() : "-",
-                    r.gpu_ms ? format_text("%.2f", *r.gpu_ms).c_str() : "-",
-                    r.method == "raster" ? "" : r.note.c_str());
-
-    std::printf("\ncontrol force cost (sphere fill, %u particles, %u control points; %u runs of %u steps each side, "
-                "alternating; times: best run, ratios: median of the runs)\n",
-                o.particles, o.control_points, o.repeats, o.steps);
-    std::printf("  control_force pass      %8.3f GPU ms/step\n", o.force_ms);
-    std::printf("  step with the force     %8.3f GPU ms/step  %8.3f wall ms/step\n", o.step_ms_with, o.wall_ms_with);
-    std::printf("  step without the force  %8.3f GPU ms/step  %8.3f wall ms/step\n", o.step_ms_without, o.wall_ms_without);
-    std::printf("  control_force = %.1f%% of the step's GPU time, +%.1f%% on the rest of the step\n", 100.0 * share,
-                100.0 * added);
-    std::printf("  whole step with / without the force (paired runs): GPU %+.1f%%, wall %+.1f%%\n", 100.0 * gpu_added,
-                100.0 * wall_added);
-
-    std::printf("\nIoU after %.2g s against control pressure (automatic x scale; substeps fixed at the automatic strength's)\n",
-                seconds);
-    for (const auto& [shape, rows] : sweeps) {
-        std::printf("%s: %s\n  %s\n", shape->name.c_str(), shape->layout.c_str(), shape->strength.describe().c_str());
-    }
-    std::printf("%-7s %6s %9s %7s %7s %8s %9s %8s %9s %7s\n", "shape", "scale", "P [Pa]", "IoU", "fill", "outside",
-                "rms m/s", "cfl m/s", "max drho", "stable");
-    for (const auto& [shape, rows] : sweeps)
-        for (const study::SweepRow& r : rows) print_sweep_row(r);
-
-    // Targets.
-    std::vector<Verdict> verdicts;
-    {
-        const std::string name = "raster placement speed";
-        const std::string target = format_text("raster places %uk points in <= %.0f ms on the software device",
-                                       kRasterTargetPoints / 1000, kRasterMsTarget);
-        const study::PlacementRow* raster = nullptr;
-        for (const study::PlacementRow& r : placement)
-            if (r.method == "raster" && r.target == kRasterTargetPoints) raster = &r;
-        if (!raster)
-            verdicts.push_back(verdict(name, target, std::nullopt, "needs the 100k placement (run without --quick)"));
-        else
-            verdicts.push_back(verdict(name, target, *raster->ms <= kRasterMsTarget,
-                                       format_text("%u points in %.2f ms (GPU %.2f ms)", *raster->points, *raster->ms, *raster->gpu_ms),
-                                       {{"points", *raster->points}, {"ms", *raster->ms}, {"gpu_ms", *raster->gpu_ms},
-                                        {"ms_max", kRasterMsTarget}}));
-    }
-    verdicts.push_back(verdict("control force cost", "the control force adds <= 25% to a step (GPU time of its pass)",
-                               std::isfinite(added) ? std::optional<bool>(added <= kForceShareTarget) : std::nullopt,
-                               format_text("control_force pass +%.1f%% on the rest of the step (%.3f ms of %.3f ms); whole "
-                                   "step with / without: GPU %+.1f%%, wall %+.1f%%",
-                                   100.0 * added, o.force_ms, o.step_ms_with, 100.0 * gpu_added, 100.0 * wall_added),
-                               {{"added", std::isfinite(added) ? json(added) : json(nullptr)},
-                                {"added_max", kForceShareTarget},
-                                {"step_gpu_added_paired", std::isfinite(gpu_added) ? json(gpu_added) : json(nullptr)},
-                                {"step_wall_added_paired", std::isfinite(wall_added) ? json(wall_added) : json(nullptr)}}));
-    for (const auto& [shape, rows] : sweeps) {
-        const std::string name = "IoU at the automatic strength, " + shape->name;
-        const std::string target = format_text("IoU >= %.2f after %.2g s", kIouTarget, seconds);
-        const study::SweepRow* automatic = nullptr;
-        for (const study::SweepRow& r : rows)
-            if (r.scale == 1.0) automatic = &r;
-        if (!automatic || !automatic->finite) {
-            verdicts.push_back(verdict(name, target, automatic ? std::optional<bool>(false) : std::nullopt,
-                                       automatic ? "the run became non-finite" : "not run"));
-            continue;
-        }
-        std::string detail = format_text("IoU %.3f (%s)", automatic->m.iou, automatic->stable ? "stable" : "not stable");
-        json figures = {{"iou", automatic->m.iou}, {"iou_min", kIouTarget}, {"stable", automatic->stable}};
-        if (automatic->iou_later) {
-            detail += format_text(", %.3f after %.2g s", *automatic->iou_later, automatic->later_seconds);
-            figures["iou_later"] = *automatic->iou_later;
-            figures["later_seconds"] = automatic->later_seconds;
-        }
-        verdicts.push_back(verdict(name, target, automatic->m.iou >= kIouTarget, detail, figures));
-    }
-    json targets = json::array();
-    std::printf("\ntargets\n");
-    for (const Verdict& v : verdicts) {
-        std::printf("  %s\n", v.line.c_str());
-        targets.push_back(v.json_value);
-    }
-
-    const json doc = {{"benchmark", "control"},
-                      {"device", ctx.info().name},
-                      {"device_type", gpu::device_type_name(ctx.info().type)},
-                      {"quick", quick},
-                      {"sweep_seconds", seconds},
-                      {"shape_spacing", spacing},
-                      {"records", records},
-                      {"targets", targets}};
+    const auto result = study::run_control_bench(ctx, {quick, spacing, scales});
+    if (!result) return stopped_by_ctrl_c("bench control"), exit_status(ctx, kExitInterrupted);
+    const nlohmann::json doc = {{"benchmark", "control"},
+                                {"device", ctx.info().name},
+                                {"device_type", gpu::device_type_name(ctx.info().type)},
+                                {"quick", quick},
+                                {"sweep_seconds", result->sweep_seconds},
+                                {"shape_spacing", spacing},
+                                {"records", result->records},
+                                {"targets", result->targets}};
     if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; }); !written)
         return std::fprintf(stderr, "aquaform bench control: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
     std::printf("wrote %s\n", out_path.string().c_str());

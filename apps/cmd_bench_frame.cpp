@@ -35,8 +35,10 @@ int bench_frame(const Args& args) {
             return usage("--sizes: " + std::to_string(n) + " particles is too few for a dam break; give counts of at least " +
                          std::to_string(kMinSceneParticles) + ", e.g. --sizes 16000,64000");
     study::FrameBenchOptions options;
-    if (args.has("--resolution") && !parse_resolution(args.value("--resolution"), &options.width, &options.height))
-        return usage("--resolution must look like 1920x1080 (16..8192 per side), got \"" + args.value("--resolution") + "\"");
+    const std::optional<PictureSize> size = resolution_flag(args, study::kTargetDisplay, &error);
+    if (!size) return usage(error);
+    options.width = size->width;
+    options.height = size->height;
     auto warmup = parse_positive("--warmup", args.value("--warmup", "10"), &error, kMaxRepeats);
     if (!warmup) return usage(error);
     auto frames = parse_positive("--frames", args.value("--frames", "30"), &error, kMaxRepeats);

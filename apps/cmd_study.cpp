@@ -7,20 +7,18 @@
 // `--shard K/N` measures one shard's share and writes manifest.json; `study merge DIR...` joins
 // the shards into the files of one run (study/study_shards.h).
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <optional>
-#include <set>
 #include <exception>
 #include <filesystem>
 
 #include "apps/cli.h"
 #include "core/interrupt.h"
 #include "core/output_dir.h"
-#include "core/version.h"
 #include "study/study_charts.h"
 #include "study/study_rows.h"
 #include "study/study_run.h"
+#include "study/shard_run.h"
 #include "study/study_shards.h"
 #include "study/study_solver_map.h"
 #include "study/study_spec.h"
@@ -82,18 +80,6 @@ int cmd_study_merge(const std::vector<std::string>& argv) {
                ? kExitOk : kExitFailure;
 }
 
-/// `--shard K/N` refused in a folder holding another shard's (or the whole spec's) manifest.
-Result<bool> check_shard_folder(const std::filesystem::path& out_dir, const std::optional<study::StudyShard>& shard, bool fresh) {
-    auto held = study::read_manifest(out_dir);
-    if (!held) return Error{held.error()};
-    if (!held.value() || fresh) return true;
-    const study::StudyShard theirs = held.value()->shard;
-    if (shard && *shard == theirs) return true;
-    return Error{out_dir.string() + " holds shard " + theirs.text() + " of " + held.value()->spec_name + " (" +
-                 study::kManifestName + "), not " + (shard ? "shard " + shard->text() : std::string("an unsharded run")) +
-                 ": give each shard its own --out, or pass --fresh to start over there"};
-}
-
 }  // namespace
 
 int cmd_study(const std::vector<std::string>& argv) {
@@ -132,52 +118,18 @@ int cmd_study(const std::vector<std::string>& argv) {
     }
     const std::filesystem::path out_dir = args->value("--out", "out/study/" + spec.value().name);
     if (!prepare_output("study", out_dir)) return kExitUsage;
-    if (auto free = check_shard_folder(out_dir, shard, args->has("--fresh")); !free)
+    if (auto free = study::check_shard_folder(out_dir, shard, args->has("--fresh")); !free)
         return std::fprintf(stderr, "aquaform study: %s\n", free.error().c_str()), kExitUsage;
     auto opened = study::StudyFiles::open(out_dir, spec.value(), args->has("--fresh"));
     if (!opened) return std::fprintf(stderr, "aquaform study: %s\n", opened.error().c_str()), exit_status_of(opened);
     study::StudyFiles& files = opened.value();
-    // A shard measures the cells of its units only (study/study_shards.h) and says so in its manifest.
-    std::set<std::string> owned;
-    std::set<size_t> owned_maps;
-    study::ShardManifest manifest;
-    if (shard) {
-        for (const study::StudyUnit& unit : study::shard_units(spec.value(), *shard)) {
-            manifest.cells.insert(manifest.cells.end(), unit.cells.begin(), unit.cells.end());
-            if (unit.solver_map) owned_maps.insert(*unit.solver_map);
-            else owned.insert(unit.cells.begin(), unit.cells.end());
-        }
-        if (auto before = study::read_manifest(out_dir); before && before.value() && !args->has("--fresh"))
-            manifest.wall_s = before.value()->wall_s;  // a resumed shard's time goes on
-    }
-    const auto mine = [&](const std::string& cell) { return !shard || owned.count(cell) > 0; };
-    const auto started = std::chrono::steady_clock::now();
+    study::ShardRun share(spec.value(), args->positional[0], particles, shard, out_dir, args->has("--fresh"));
 
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});
     const std::string device = ctx.info().name + " (" + gpu::device_type_name(ctx.info().type) + ")";
-    const auto write_manifest = [&](bool complete) {
-        if (!shard) return true;
-        manifest.spec_hash = study::spec_hash(spec.value());
-        manifest.spec_name = spec.value().name;
-        manifest.spec_path = std::filesystem::absolute(args->positional[0]).lexically_normal().string();
-        manifest.particles = particles;
-        manifest.version = aquaform_version();
-        manifest.device = device;
-        manifest.shard = *shard;
-        manifest.complete = complete;
-        const double wall_s = manifest.wall_s;
-        manifest.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-        auto written = study::write_manifest(out_dir, manifest);
-        manifest.wall_s = complete ? manifest.wall_s : wall_s;
-        if (!written) std::fprintf(stderr, "aquaform study: %s\n", written.error().c_str());
-        return bool(written);
-    };
-    if (!write_manifest(false)) return exit_status(ctx, kExitFailure);
-    if (shard) {
-        size_t cells = 0;
-        for (const study::StudyUnit& unit : study::study_units(spec.value())) cells += unit.cells.size();
-        std::printf("shard %s: %zu of %zu cells (study and solver map)\n", shard->text().c_str(), manifest.cells.size(), cells);
-    }
+    if (auto written = share.write_manifest(device, false); !written)
+        return exit_status(ctx, refuse("study", written.error(), kExitFailure));
+    if (share.sharded()) std::printf("%s\n", share.describe().c_str());
     std::printf("study %s on %s: %zu cases; output in %s\n", spec.value().name.c_str(), ctx.info().name.c_str(),
                 spec.value().cases.size(), out_dir.string().c_str());
     if (files.cells_done() || files.map_cells_kept())
@@ -195,7 +147,7 @@ int cmd_study(const std::vector<std::string>& argv) {
     InterruptScope ctrl_c;
     try {
         study::run_study_cases(ctx, spec.value(), out_dir / "images",
-                               {[&](const std::string& cell) { return !mine(cell) || files.done(cell); },
+                               {[&](const std::string& cell) { return !share.owns_cell(cell) || files.done(cell); },
                                 [&](const study::StudyRow& row) { return kept(files.add(row)); }});
     } catch (const std::exception& e) {  // a device failure: the report of the rows written so far still comes
         kept(Error{std::string(e.what()) + "; the rows measured before are kept, a rerun resumes after them"});
@@ -203,7 +155,7 @@ int cmd_study(const std::vector<std::string>& argv) {
     for (size_t i = 0; i < spec.value().solver_maps.size(); ++i) {
         const study::SolverMapSpec& map_spec = spec.value().solver_maps[i];
         if (status != kExitOk || interrupted()) break;
-        if (shard && !owned_maps.count(i)) continue;
+        if (!share.owns_map(i)) continue;
         auto map = study::run_solver_map(
             ctx, map_spec, [](const std::string& line) { std::fprintf(stderr, "study: solver map: %s\n", line.c_str()); },
             {[&](const study::SolverMapRecord& cell) { return files.map_done(cell); },
@@ -211,12 +163,8 @@ int cmd_study(const std::vector<std::string>& argv) {
         if (!map) kept(Error{"solver map of " + map_spec.scene.string() + ": " + map.error()});
     }
     const bool stopped = interrupted();
-    if (shard) {
-        const bool complete = std::all_of(manifest.cells.begin(), manifest.cells.end(), [&](const std::string& cell) {
-            return owned.count(cell) ? files.done(cell) : files.map_done(cell);
-        });
-        if (!write_manifest(complete && status == kExitOk && !stopped) && status == kExitOk) status = kExitFailure;
-    }
+    if (auto written = share.write_manifest(device, share.complete(files) && status == kExitOk && !stopped); !written)
+        status = refuse("study", written.error(), status == kExitOk ? kExitFailure : status);
     // The charts of a shard's part would be redrawn by the merge.
     if (!write_report(out_dir, spec.value(), files.rows(), device, !args->has("--no-charts") && !shard) && status == kExitOk)
         status = kExitFailure;

@@ -12,19 +12,17 @@
 
 #include "apps/cli.h"
 #include "apps/render_options.h"
-#include "core/error.h"
 #include "core/file_write.h"
 #include "core/interrupt.h"
 #include "core/number_text.h"
 #include "core/output_dir.h"
 #include "core/text_escape.h"
 #include "gpu/context.h"
-#include "render/registry.h"
-#include "sim/pbf_solver.h"
 #include "render/surface_settings.h"
 #include "study/bench_scenes.h"
 #include "viewer/view_headless.h"
 #include "viewer/view_script.h"
+#include "viewer/view_setup.h"
 #include "viewer/view_window.h"
 #include "viewer/view_worker.h"
 #include "viewer/viewer.h"
@@ -127,10 +125,16 @@ int cmd_view(const std::vector<std::string>& argv) {
         options.script = loaded_script.value();
     }
     if (args->has("--play")) options.script.insert(options.script.begin(), viewer::ViewAction{0, "play", ""});
-    uint32_t width = 480, height = 360;
-    if (args->has("--size") && !parse_resolution(args->value("--size"), &width, &height))
-        return std::fprintf(stderr, "aquaform view: --size must look like 480x360, got \"%s\"\n", args->value("--size").c_str()),
-               kExitUsage;
+    // --size was view's own name for --resolution: still taken, and said to be the old name.
+    const std::string size_flag = args->has("--size") ? "--size" : "--resolution";
+    if (args->has("--size") && args->has("--resolution"))
+        return refuse("view", "--size is the old name of --resolution; give --resolution alone");
+    const std::optional<PictureSize> size = resolution_flag(*args, kViewingPicture, &error, size_flag);
+    if (!size) return refuse("view", error);
+    if (args->has("--size"))
+        std::fprintf(stderr, "aquaform view: --size is the old name of --resolution (as every command calls it); "
+                             "give --resolution %s\n", size->text().c_str());
+    const uint32_t width = size->width, height = size->height;
     if (args->has("--scale")) {
         const std::string text = args->value("--scale");
         options.picture_scale = float(number_text::finite_number(text).value_or(0.0));
@@ -164,21 +168,9 @@ int cmd_view(const std::vector<std::string>& argv) {
                                                      args->value("--script", "")); !writable)
         return std::fprintf(stderr, "aquaform view: %s\n", writable.error().c_str()), kExitUsage;
 
-    // The window's size and its picture are input the device may not hold: refused here (a
-    // Failure of kind input, exit 2), before the simulation starts, not by the worker later.
+    // The window and its picture are input the device may not hold: refused before the simulation.
     auto check_device = [&](gpu::Context& ctx) {
-        const uint32_t most = ctx.limits().maxImageDimension2D;
-        if (width > most || height > most)
-            throw Failure("--size " + std::to_string(width) + "x" + std::to_string(height) + ": " + ctx.info().name +
-                          " makes window images of at most " + std::to_string(most) + " pixels a side; give a smaller --size");
-        // The fluid first (its message names the count that fits), then the picture.
-        auto plan_bytes = plan_memory(scene);
-        if (!plan_bytes) throw Failure(plan_bytes.error());
-        if (auto fits = check_fits(scene, plan_bytes.value(), ctx.info()); !fits) throw Failure(fits.error());
-        const uint32_t picture_w = std::max(uint32_t(std::lround(float(width) * options.picture_scale)), 16u);
-        const uint32_t picture_h = std::max(uint32_t(std::lround(float(height) * options.picture_scale)), 16u);
-        render_registry().create(ctx, scene.particle_domain(), picture_w, picture_h, uint32_t(scene.particle_count()),
-                                 *method_settings);
+        viewer::check_view_fits(ctx, scene, *method_settings, width, height, options.picture_scale, size_flag);
     };
     if (args->has("--out") && !headless)
         return std::fprintf(stderr, "aquaform view: --out goes with --headless (the window's pictures are recorded with "
@@ -208,20 +200,12 @@ int cmd_view(const std::vector<std::string>& argv) {
     int status = kExitOk;
     {
         // Hot reload watches --shaders DIR, else the source tree's shaders/ beside the build.
-        std::error_code ec;
-        fs::path shaders = args->has("--shaders") ? fs::path(args->value("--shaders"))
-                                                  : fs::read_symlink("/proc/self/exe", ec).parent_path() / ".." / "shaders";
-        if (fs::is_directory(shaders)) {
-            shaders = fs::weakly_canonical(shaders, ec);
-        } else {
-            if (args->has("--shaders"))
-                std::fprintf(stderr, "aquaform view: --shaders %s is not a directory; shader hot reload is off\n",
-                             shaders.string().c_str());
-            shaders.clear();
-        }
+        std::string warning;
+        options.watch_shaders = viewer::shader_watch_dir(
+            args->has("--shaders") ? std::optional<fs::path>(args->value("--shaders")) : std::nullopt, &warning);
+        if (!warning.empty()) std::fprintf(stderr, "aquaform view: %s\n", warning.c_str());
         // --async keeps a script's window free of the worker (a stress test of the threads).
         options.lockstep = (args->has("--script") || !record_dir.empty()) && !args->has("--async");
-        options.watch_shaders = shaders;
         options.record_dir = record_dir;
         options.screenshot_dir = record_dir.empty() ? fs::path(".") : record_dir;
         std::printf("viewing %s: %llu particles on %s; Esc in the window (or Ctrl-C here) quits\n", scene.name.c_str(),

@@ -25,7 +25,8 @@ const std::vector<std::string>& render_switches() {
 
 const char* render_flags_usage() {
     static const std::string text =
-        "      render flags: --method NAME (default adaptive; any method below) --resolution WxH\n" +
+        "      render flags: --method NAME (default adaptive; any method below) --resolution WxH (each side " +
+        picture_side_range() + ")\n" +
         render_registry().usage() +
         "        (lengths in particle radii; see render/surface_settings.h, render/metaball_renderer.h and\n"
         "         render/screen_space.h for the defaults and why)\n";

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "apps/cli.h"
+#include "apps/flags.h"
 #include "render/registry.h"
 #include "render/renderer.h"
 #include "render/surface_settings.h"
@@ -34,6 +34,15 @@ std::optional<SurfaceSettings> render_settings_from(const Args& args, std::strin
 /// frames the tank and the fluid (framed_region in sim/scene.h); `scene` (the default) keeps it.
 /// False with `error` naming the flag and its values.
 bool apply_camera_flag(const Args& args, Scene& scene, std::string* error);
+
+/// The picture each command draws without --resolution (the usage quotes them):
+/// - to be looked at (run's frames, view's window, control place's points): 16:9 like a video or
+///   a screen, and small enough that the software device draws one in about a second;
+/// - to be measured (render, bench render): square, at the benchmark's size, so that render.json
+///   compares with bench_render.json;
+/// - bench frame: the display its targets are set for (study::kTargetDisplay, 1920x1080).
+inline constexpr PictureSize kViewingPicture{640, 360};
+inline constexpr PictureSize kMeasuredPicture{512, 512};
 
 /// FlagSpec of a command: its own flags plus the render flags.
 FlagSpec with_render_flags(FlagSpec spec);

@@ -1,11 +1,5 @@
 #include "apps/run_exports.h"
 
-#include <regex>
-#include <set>
-
-#include "apps/run_report.h"
-#include "core/file_write.h"
-
 namespace aquaform::cli {
 
 std::vector<std::string> frame_export_flags() {
@@ -49,24 +43,6 @@ std::optional<FrameExportOptions> frame_export_options_from(const Args& args, st
         }
     }
     return options;
-}
-
-Result<size_t> clear_earlier_run(const std::filesystem::path& dir) {
-    static const std::regex numbered(R"((frame|particles|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp))");
-    static const std::set<std::string> named{"stats.csv",     "front.csv",   "front.svg",     "particles.pvd",
-                                             "surface.pvd",   kExportListing, kRunDescriptionName};
-    std::vector<std::filesystem::path> earlier;
-    std::error_code ec;
-    for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
-        const std::string name = entry.path().filename().string();
-        if (!named.count(name) && !std::regex_match(name, numbered)) continue;
-        // A link where the run writes would send its files elsewhere: refused before any work.
-        if (entry.is_symlink(ec)) return link_refused(entry.path());
-        if (entry.is_regular_file(ec) && name != kRunDescriptionName) earlier.push_back(entry.path());
-    }
-    size_t removed = 0;
-    for (const auto& path : earlier) removed += std::filesystem::remove(path, ec) ? 1 : 0;
-    return removed;
 }
 
 }  // namespace aquaform::cli

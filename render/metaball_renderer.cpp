@@ -11,6 +11,7 @@
 #include "gpu/timer.h"
 #include "render/surface_settings.h"
 #include "core/error.h"
+#include "render/picture_size.h"
 
 namespace aquaform {
 
@@ -115,9 +116,7 @@ MetaballRenderer::MetaballRenderer(gpu::Context& ctx, const ParticleDomain& doma
                                    uint32_t max_particles, uint64_t list_bytes)
     : ctx_(&ctx), domain_(domain), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
       buffers_(ctx) {
-    if (width < 16 || height < 16 || width > 8192 || height > 8192)
-        throw Failure("metaball renderer: resolution " + std::to_string(width) + "x" +
-                                    std::to_string(height) + " is outside 16..8192 per axis");
+    require_picture_size("metaball renderer", width, height);
     const uint64_t pixels = uint64_t(width) * height;
     list_bytes_ = list_bytes ? list_bytes : pixels * kDefaultListBytesPerPixel;
     list_bytes_ = std::max<uint64_t>(list_bytes_ / 8 * 8, 8);

@@ -95,7 +95,7 @@ class MetaballRenderer {
 public:
     /// Allocates every buffer for `max_particles` at width x height, with `list_bytes` of list
     /// memory (0: kDefaultListBytesPerPixel per pixel). Throws aquaform::Failure on a
-    /// resolution outside 16..8192 and aquaform::Failure (a resource failure) when a buffer exceeds the device's limits.
+    /// resolution outside render/picture_size.h's limits and aquaform::Failure (a resource failure) when a buffer exceeds the device's limits.
     MetaballRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles,
                      uint64_t list_bytes = 0);
     ~MetaballRenderer();

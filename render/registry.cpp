@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/number_text.h"
+#include "render/picture_size.h"
 
 namespace aquaform {
 
@@ -272,7 +273,7 @@ bool parse_resolution(const std::string& text, uint32_t* w, uint32_t* h) {
     if (x == std::string::npos) return false;
     const std::optional<uint64_t> a = number_text::whole_number(std::string_view(text).substr(0, x));
     const std::optional<uint64_t> b = number_text::whole_number(std::string_view(text).substr(x + 1));
-    if (!a || !b || *a < 16 || *b < 16 || *a > 8192 || *b > 8192) return false;
+    if (!a || !b || !picture_size_ok(*a, *b)) return false;
     *w = uint32_t(*a);
     *h = uint32_t(*b);
     return true;

@@ -165,7 +165,7 @@ MethodEntry family_entry(std::string name, std::string family, std::string descr
     return e;
 }
 
-/// A picture size written "640x360", 16..8192 per side (the sizes every renderer accepts).
+/// A picture size written "640x360", each side within render/picture_size.h's limits.
 bool parse_resolution(const std::string& text, uint32_t* width, uint32_t* height);
 
 }  // namespace aquaform

@@ -10,6 +10,7 @@
 #include "gpu/timer.h"
 #include "render/surface_settings.h"
 #include "core/error.h"
+#include "render/picture_size.h"
 
 namespace aquaform {
 
@@ -104,9 +105,7 @@ ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain
                                          uint32_t max_particles)
     : ctx_(&ctx), domain_(domain), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
       buffers_(ctx) {
-    if (width < 16 || height < 16 || width > 8192 || height > 8192)
-        throw Failure("screen-space renderer: resolution " + std::to_string(width) + "x" +
-                                    std::to_string(height) + " is outside 16..8192 per axis");
+    require_picture_size("screen-space renderer", width, height);
     const uint64_t pixels = uint64_t(width) * height;
     params_buf_ = &buffers_.add("ss.params", sizeof(shader::SurfaceParams));
     filter_params_buf_ = &buffers_.add("ss.filter_params", sizeof(shader::ScreenSpaceParams));

@@ -104,7 +104,7 @@ constexpr uint32_t kScreenSpaceBytesPerParticle = 4;
 class ScreenSpaceRenderer {
 public:
     /// Allocates every buffer for `max_particles` particles of `scene` at width x height.
-    /// Throws aquaform::Failure for a resolution outside 16..8192 per axis.
+    /// Throws aquaform::Failure for a resolution outside the picture sizes of render/picture_size.h.
     ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles);
     ~ScreenSpaceRenderer();
     ScreenSpaceRenderer(const ScreenSpaceRenderer&) = delete;

@@ -7,6 +7,7 @@
 #include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "core/error.h"
+#include "render/picture_size.h"
 
 namespace aquaform {
 
@@ -53,9 +54,7 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
                                  uint32_t max_particles)
     : ctx_(&ctx), domain_(domain), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
       buffers_(ctx) {
-    if (width < 16 || height < 16 || width > 8192 || height > 8192)
-        throw Failure("surface renderer: resolution " + std::to_string(width) + "x" +
-                                    std::to_string(height) + " is outside 16..8192 per axis");
+    require_picture_size("surface renderer", width, height);
     const uint64_t pixels = uint64_t(width) * height;
     const uint64_t tiles = uint64_t((width + SURFACE_TILE - 1) / SURFACE_TILE) * ((height + SURFACE_TILE - 1) / SURFACE_TILE);
     const uint64_t n = max_particles_;

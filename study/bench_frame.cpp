@@ -135,8 +135,8 @@ Verdict frame_target(const FrameTarget& target, const std::vector<FrameBenchReco
     for (const FrameBenchRecord& c : records)
         if (c.requested == target.particles && !c.steps.empty()) r = &c;
     if (!r) return not_judged(format_text("not measured: give --sizes with %u", target.particles));
-    if (uint64_t(r->width) * r->height < uint64_t(1920) * 1080)
-        return not_judged("measured below 1920x1080: run with --resolution 1920x1080");
+    if (uint64_t(r->width) * r->height < uint64_t(kTargetDisplay.width) * kTargetDisplay.height)
+        return not_judged("measured below " + kTargetDisplay.text() + ": run with --resolution " + kTargetDisplay.text());
     const bool pass = r->real_time_factor >= target.min_real_time_factor;
     Verdict v;
     v.json = {{"target", what},          {"real_time_factor", r->real_time_factor}, {"min", target.min_real_time_factor},

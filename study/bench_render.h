@@ -19,6 +19,7 @@
 #include "study/bench_frames.h"
 #include "study/render_measure.h"
 #include "study/surface_checks.h"
+#include "study/verdict.h"
 
 namespace aquaform::study {
 
@@ -49,12 +50,6 @@ struct Measured {
     const BenchConfig* config;
     RenderMeasurement m;  ///< with the settings rendered
     SurfaceComparison cmp;
-};
-
-/// One target's verdict for the terminal and the JSON.
-struct Verdict {
-    nlohmann::json json;
-    std::string line;
 };
 
 /// Mask + skip march steps per ray against uniform's (target <= 50 % at equal or lower depth

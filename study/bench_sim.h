@@ -78,4 +78,10 @@ double neighbor_search_exponent(const std::vector<SolverBenchRecord>& records);
 
 nlohmann::json to_json(const SolverBenchRecord& record);
 
+/// The byte model beside the measured times, one line a pass: its modelled traffic, the rate it
+/// reached and the least time the bandwidth allows.
+void print_traffic(const SolverBenchRecord& record);
+/// A size's figures (time a step, memory, overflow) as a table, then its traffic.
+void print_solver_record(const SolverBenchRecord& record);
+
 }  // namespace aquaform::study

@@ -14,6 +14,7 @@
 #include "sim/scene.h"
 #include "render/registry.h"
 #include "render/surface_settings.h"
+#include "render/picture_size.h"
 
 namespace aquaform::study {
 
@@ -230,8 +231,8 @@ StudyCase read_case(const json& v, const std::string& path, const fs::path& base
     c.resolutions = read_list<std::pair<uint32_t, uint32_t>>(v["resolutions"], child(path, "resolutions"),
                                                              [](const json& x, const std::string& p) {
         std::pair<uint32_t, uint32_t> wh;
-        if (!x.is_string() || !parse_resolution(x.get<std::string>(), &wh.first, &wh.second) || wh.first < 16 || wh.second < 16)
-            fail(p + " must be a resolution such as \"512x512\" (16..8192 per axis), got " + written(x));
+        if (!x.is_string() || !parse_resolution(x.get<std::string>(), &wh.first, &wh.second))
+            fail(p + " must be a resolution such as \"512x512\" (each side " + picture_side_range() + "), got " + written(x));
         return wh;
     });
     if (v.contains("list_bytes_per_pixel"))

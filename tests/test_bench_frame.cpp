@@ -139,7 +139,7 @@ TEST(BenchFrameCli, RefusesBadFlagsByNameWithExitTwo) {
 TEST(ViewHeadless, PlaysTheViewersFramesWithNoDisplayAndWritesTheirFigures) {
     const fs::path out = test_cli::temp_dir("view_headless") / "view.json";
     const test_cli::Outcome o = test_cli::run_aquaform(
-        "view --particles 2000 --headless --frames 3 --size 96x64 --out " + out.string(), "DISPLAY= WAYLAND_DISPLAY=");
+        "view --particles 2000 --headless --frames 3 --resolution 96x64 --out " + out.string(), "DISPLAY= WAYLAND_DISPLAY=");
     ASSERT_EQ(o.exit_code, 0) << o.output;
     EXPECT_NE(o.output.find("real-time factor"), std::string::npos) << o.output;
     const nlohmann::json j = nlohmann::json::parse(test_cli::read_file(out));

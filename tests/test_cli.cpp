@@ -13,9 +13,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include "apps/render_options.h"
 #include "core/number_text.h"
 #include "control/mesh.h"
 #include "control/primitives.h"
+#include "render/picture_size.h"
+#include "study/bench_frame.h"
 #include "tests/cli_helpers.h"
 
 namespace aquaform {
@@ -473,6 +476,69 @@ TEST(Cli, ControlPlaceWritesPointsReportAndPicture) {
     EXPECT_EQ(method.exit_code, 2);
     EXPECT_NE(method.output.find("--method"), std::string::npos) << method.output;
     fs::remove_all(dir);
+}
+
+TEST(Cli, EveryPictureIsSizedByResolutionWithOneLimitAndANamedDefault) {
+    // One flag, one limit (render/picture_size.h) and one default a command (apps/render_options.h,
+    // study::kTargetDisplay), each named in the refusal and in the command's help.
+    const std::string scene = std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json";
+    const std::string mesh = std::string(AQUAFORM_ASSETS_DIR) + "/meshes/sphere.obj";
+    struct Case {
+        std::string command, help;
+        PictureSize fallback;
+    };
+    for (const Case& c : {Case{"run " + scene, "run", cli::kViewingPicture}, Case{"view " + scene, "view", cli::kViewingPicture},
+                          Case{"control place " + mesh, "control place", cli::kViewingPicture},
+                          Case{"render " + scene, "render", cli::kMeasuredPicture},
+                          Case{"bench render", "bench render", cli::kMeasuredPicture},
+                          Case{"bench frame", "bench frame", study::kTargetDisplay}}) {
+        for (const PictureSize bad : {PictureSize{kMinPictureSide - 1, 64}, PictureSize{64, kMaxPictureSide + 1}}) {
+            const Outcome o = run_aquaform_env("DISPLAY= WAYLAND_DISPLAY=", c.command + " --resolution " + bad.text());
+            EXPECT_EQ(o.exit_code, 2) << c.command << ": " << o.output;
+            EXPECT_NE(o.output.find("--resolution must look like " + c.fallback.text() + " (WIDTHxHEIGHT, each side " +
+                                    picture_side_range() + "), got \"" + bad.text() + "\""),
+                      std::string::npos)
+                << c.command << ": " << o.output;
+        }
+        const std::string help = run_aquaform(c.help + " --help").output;
+        EXPECT_NE(help.find(c.fallback.text()), std::string::npos) << c.help << " --help does not name its default";
+        EXPECT_NE(help.find("each side " + picture_side_range()), std::string::npos) << c.help << " --help lacks the limit";
+    }
+}
+
+TEST(Cli, ViewTakesResolutionAndSizeOnlyAsItsOldName) {
+    const fs::path dir = temp_dir("view_resolution");
+    const std::string headless = "view --particles 2000 --headless --frames 1 --out " + (dir / "view.json").string();
+    // --resolution was accepted by view's parser and ignored; the picture now has that size.
+    const Outcome resolution = run_aquaform_env("DISPLAY= WAYLAND_DISPLAY=", headless + " --resolution 80x48");
+    ASSERT_EQ(resolution.exit_code, 0) << resolution.output;
+    EXPECT_EQ(nlohmann::json::parse(read_file(dir / "view.json")).at("resolution"), "80x48");
+    EXPECT_EQ(resolution.output.find("--size"), std::string::npos) << resolution.output;
+    // --size still works, and says once that it is the old name.
+    const Outcome size = run_aquaform_env("DISPLAY= WAYLAND_DISPLAY=", headless + " --size 64x32");
+    ASSERT_EQ(size.exit_code, 0) << size.output;
+    EXPECT_EQ(nlohmann::json::parse(read_file(dir / "view.json")).at("resolution"), "64x32");
+    const size_t said = size.output.find("--size is the old name of --resolution");
+    EXPECT_NE(said, std::string::npos) << size.output;
+    EXPECT_EQ(size.output.find("--size is the old name", said + 1), std::string::npos) << "said once: " << size.output;
+    const Outcome both = run_aquaform_env("DISPLAY= WAYLAND_DISPLAY=", headless + " --size 64x32 --resolution 64x32");
+    EXPECT_EQ(both.exit_code, 2) << both.output;
+    EXPECT_NE(both.output.find("give --resolution alone"), std::string::npos) << both.output;
+    fs::remove_all(dir);
+}
+
+TEST(Cli, AppsStaysAThinLayer) {
+    // apps/ holds flags, printing and files (DESIGN.md "The house"); the work of each command lives
+    // in its layer (issue 37 moved 1,200 lines of it out). Cycles between its modules are
+    // Layering.NoIncludeCyclesInsideALayer's to catch.
+    size_t lines = 0, files = 0;
+    for (const auto& entry : fs::directory_iterator(fs::path(AQUAFORM_SOURCE_DIR) / "apps")) {
+        std::ifstream in(entry.path());
+        ++files;
+        for (std::string line; std::getline(in, line);) ++lines;
+    }
+    EXPECT_GT(files, 10u) << "the walk found apps/'s files";
+    EXPECT_LE(lines, 2500u) << "apps/ has grown past 2500 lines: move the work of a command into its layer";
 }
 
 }  // namespace

@@ -87,7 +87,7 @@ TEST(CtrlC, EveryLongCommandStopsWithExit130AndWholeFiles) {
         {{"bench", "sim", "--sizes", "2000,4000,8000,16000,32000", "--steps", "200"}, "ms/step", "bench_sim.json"},
         {{"bench", "frame", "--sizes", "2000,4000,8000,16000", "--resolution", "64x64", "--frames", "1000"}, "RT factor",
          "bench_frame.json"},
-        {{"view", "--particles", "2000", "--headless", "--size", "64x64", "--frames", "100000"}, "GPU draw ms", "view.json"},
+        {{"view", "--particles", "2000", "--headless", "--resolution", "64x64", "--frames", "100000"}, "GPU draw ms", "view.json"},
         {{"bench", "control", "--quick"}, "bench control on"},
         {{"bench", "convergence", "--quick"}, "Martin & Moyce front"},
         {{"control", "place", assets + "/meshes/character.obj", "--method", "inside", "--spacing", "0.002", "--no-png"},

@@ -78,8 +78,8 @@ TEST(FlagFuzz, HostileValuesOfExportAndBenchFlagsAreRefusedInOneLineOrRun) {
         {{"control", "place", std::string(AQUAFORM_ASSETS_DIR) + "/meshes/sphere.obj", "--spacing", "0.05", "--method",
           "inside", "--resolution", "64x48", "--no-png", "--out", out},
          {"--spacing", "--method", "--resolution"}},
-        {{"view", scene, "--size", "320x240", "--scale", "0.5", "--frames", "2", "--particles", "600"},
-         {"--size", "--scale", "--frames", "--particles", "--method"}},
+        {{"view", scene, "--resolution", "320x240", "--scale", "0.5", "--frames", "2", "--particles", "600"},
+         {"--resolution", "--scale", "--frames", "--particles", "--method"}},
         {{"info", "--device", "0"}, {"--device"}},
     };
     std::mt19937 random(28);  // one fixed sample; every run tries the same cases

@@ -10,7 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "render/metaball_renderer.h"
+#include "render/picture_size.h"
 #include "render/registry.h"
 #include "render/screen_space.h"
 #include "render/surface_renderer.h"
@@ -70,6 +72,28 @@ TEST_F(RendererRegistryTest, EveryMethodDrawsTheBlockWhereItIs) {
         EXPECT_LE(outside, covered / 100) << outside << " of " << covered << " hits lie away from the particles";
         EXPECT_FALSE(r->stats().describe().empty());
     }
+}
+
+TEST_F(RendererRegistryTest, EveryMethodRefusesAPictureOutsideTheOneLimit) {
+    // render/picture_size.h is the one definition: every family's renderer checks it, and the
+    // commands' --resolution parses with it (parse_resolution).
+    const Scene scene = testing::scene_with(Box{{0.0f, 0.0f, 0.0f}, {0.4f, 0.4f, 0.4f}}, kSpacing);
+    for (const MethodEntry& entry : render_registry().entries()) {
+        SCOPED_TRACE(entry.name);
+        for (const PictureSize bad : {PictureSize{kMinPictureSide - 1, 32}, PictureSize{32, kMaxPictureSide + 1}}) {
+            try {
+                render_registry().create(ctx(), scene.particle_domain(), bad.width, bad.height, 16, entry.defaults);
+                ADD_FAILURE() << bad.text() << " was accepted";
+            } catch (const Failure& e) {
+                EXPECT_NE(std::string(e.what()).find(bad.text() + " is outside " + picture_side_range()), std::string::npos)
+                    << e.what();
+            }
+        }
+    }
+    uint32_t w = 0, h = 0;
+    EXPECT_TRUE(parse_resolution(PictureSize{kMinPictureSide, kMaxPictureSide}.text(), &w, &h));
+    EXPECT_FALSE(parse_resolution(PictureSize{kMinPictureSide - 1, kMaxPictureSide}.text(), &w, &h));
+    EXPECT_FALSE(parse_resolution(PictureSize{kMinPictureSide, kMaxPictureSide + 1}.text(), &w, &h));
 }
 
 TEST_F(RendererRegistryTest, ConfigureSwitchesWithinAFamilyOnly) {

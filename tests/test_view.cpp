@@ -74,7 +74,7 @@ TEST(ViewCliTest, WithoutADisplayItSaysSoAndSuggestsRun) {
 TEST(ViewCliTest, ScriptedSessionUnderXvfbShowsFluidAndFollowsTheMethod) {
     ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
     const fs::path out = test_cli::temp_dir("view");
-    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --size 320x240 --script " AQUAFORM_SOURCE_DIR
+    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --resolution 320x240 --script " AQUAFORM_SOURCE_DIR
                                                 "/tests/data/view_session.json --record " + out.string());
     ASSERT_EQ(status, 0) << output;
     Image shots[3];
@@ -126,7 +126,7 @@ TEST(ViewCliTest, PlayingTheWindowDrawsMoreFramesThanTheFluidHasPictures) {
     // (a simulation frame and a ray-marched image, hundreds of ms here) the window draws many
     // frames. A window that waited for every picture would draw exactly as many.
     ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
-    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --size 200x150 --play --frames 120");
+    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --resolution 200x150 --play --frames 120");
     ASSERT_EQ(status, 0) << output;
     unsigned frames = 0, pictures = 0;
     const size_t at = output.find("aquaform view: ");
@@ -163,7 +163,7 @@ TEST(ViewCliTest, AFluidTooLargeIsReportedWithTheFixAndNoCrash) {
 TEST(ViewCliTest, AWindowTheDeviceCannotHoldIsRefusedBeforeTheSimulation) {
     // llvmpipe binds at most 128 MiB per storage buffer: an 8000x8000 picture is refused when the
     // command checks the picture against the device, before any frame (exit 2, not 1 mid-run).
-    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --particles 2000 --size 8000x8000 --frames 5");
+    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --particles 2000 --resolution 8000x8000 --frames 5");
     EXPECT_EQ(status, 2) << output;
     EXPECT_NE(output.find("binds at most"), std::string::npos) << output;
     EXPECT_EQ(output.find("window frames"), std::string::npos) << "the viewer should not have started:\n" << output;
@@ -172,7 +172,7 @@ TEST(ViewCliTest, AWindowTheDeviceCannotHoldIsRefusedBeforeTheSimulation) {
 TEST(ViewCliTest, PictureScaleMakesTheFluidsPictureSmallerThanTheWindow) {
     ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
     const fs::path out = test_cli::temp_dir("view_scale");
-    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --size 200x150 --scale 0.5 --frames 2 --record " +
+    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --resolution 200x150 --scale 0.5 --frames 2 --record " +
                                                 out.string());
     ASSERT_EQ(status, 0) << output;
     auto frame = read_png(out / "frame_0001.png");
@@ -191,7 +191,7 @@ TEST(ViewCliTest, ResizingTheWindowResizesTheFluidsPicture) {
     // made again at the new size and the picture buffers grow, with no validation error.
     ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
     const fs::path out = test_cli::temp_dir("view_resize");
-    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --size 320x240 --script " AQUAFORM_SOURCE_DIR
+    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --resolution 320x240 --script " AQUAFORM_SOURCE_DIR
                                                 "/tests/data/view_resize.json --record " + out.string());
     ASSERT_EQ(status, 0) << output;
     const std::pair<const char*, std::pair<uint32_t, uint32_t>> shots[] = {{"smaller.png", {240, 180}}, {"larger.png", {400, 300}}};
@@ -212,7 +212,7 @@ TEST(ViewCliTest, AnUnsteppedScriptSwitchesShapesMethodsAndSizeWhileTheWorkerRun
     // threads' hand-over under validation rather than pictures.
     ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
     const fs::path out = test_cli::temp_dir("view_async");
-    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --size 320x240 --async --script " AQUAFORM_SOURCE_DIR
+    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --resolution 320x240 --async --script " AQUAFORM_SOURCE_DIR
                                                 "/tests/data/view_async.json --record " + out.string());
     ASSERT_EQ(status, 0) << output;
     EXPECT_NE(output.find("attached sphere.obj"), std::string::npos) << output;

@@ -8,6 +8,7 @@
 #include "gpu/context.h"
 #include "viewer/view_shapes.h"
 #include "viewer/view_worker.h"
+#include "viewer/view_setup.h"
 
 namespace aquaform::viewer {
 
@@ -30,8 +31,9 @@ HeadlessSummary run_headless(gpu::Context& ctx, session::SessionPlan plan, const
     controls.surface = options.surface;
     controls.method = options.method;
     controls.camera = OrbitCamera::around(scene_camera(plan.scene, float(width) / float(height))).camera();
-    controls.width = std::max(uint32_t(std::lround(float(width) * options.picture_scale)), 16u);
-    controls.height = std::max(uint32_t(std::lround(float(height) * options.picture_scale)), 16u);
+    const PictureSize picture = picture_of_window(width, height, options.picture_scale);
+    controls.width = picture.width;
+    controls.height = picture.height;
     ViewWorker worker(ctx, std::move(plan), controls, options.watch_shaders);
     worker.set_lockstep(true);
     worker.start();

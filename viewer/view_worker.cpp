@@ -19,6 +19,7 @@
 #include "session/simulation_session.h"
 #include "sim/blowup.h"
 #include "sim/pbf_solver.h"
+#include "render/picture_size.h"
 
 namespace aquaform::viewer {
 
@@ -408,7 +409,7 @@ bool ViewWorker::frame(const ViewControls& controls, std::deque<ViewCommand> com
     s.push.clear();
     if (!changed && !forced && s.drawn == controls) return false;
 
-    s.ensure_renderers(std::max(controls.width, 16u), std::max(controls.height, 16u));
+    s.ensure_renderers(std::max(controls.width, kMinPictureSide), std::max(controls.height, kMinPictureSide));
     int back;
     {
         std::lock_guard<std::mutex> lock(mutex_);

@@ -26,6 +26,7 @@
 #include "render/wireframe.h"
 #include "viewer/view_shapes.h"
 #include "viewer/view_window.h"
+#include "viewer/view_setup.h"
 
 namespace aquaform::viewer {
 
@@ -132,8 +133,9 @@ private:
         controls_.camera = orbit_.camera();
         controls_.playing = playing_;
         // The picture may be smaller than the window (the blit scales it up): a quicker fluid.
-        controls_.width = std::max(uint32_t(std::lround(float(extent.width) * picture_scale_)), 16u);
-        controls_.height = std::max(uint32_t(std::lround(float(extent.height) * picture_scale_)), 16u);
+        const PictureSize picture = picture_of_window(extent.width, extent.height, picture_scale_);
+        controls_.width = picture.width;
+        controls_.height = picture.height;
         worker_->set_controls(controls_);
         if (options_.lockstep) worker_->wait(worker_->request_frame());
         picture_ = worker_->take_picture();

@@ -16,7 +16,8 @@ set(layers
   "exports|exports/mesh_export.h|core,gpu,grid,sim,render"
   "study|study/bench_sim.h|core,gpu,grid,sim,render,control,session"
   "viewer|viewer/view_worker.h|core,gpu,grid,sim,render,control,session"
-  "apps|apps/cli.h|core,gpu,grid,sim,render,control,session,exports,study,viewer")
+  "runner|runner/run_files.h|core,gpu,grid,sim,render,control,session,exports,study"
+  "apps|apps/cli.h|core,gpu,grid,sim,render,control,session,exports,study,viewer,runner")
 
 file(READ ${BUILD_DIR}/compile_commands.json db)
 string(JSON count LENGTH "${db}")

@@ -1,0 +1,163 @@
+#include "runner/run_files.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <regex>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "core/csv.h"
+#include "core/file_write.h"
+#include "core/text_escape.h"
+#include "exports/frame_exports.h"
+#include "render/svg_chart.h"
+#include "sim/dam_break_reference.h"
+#include "study/front_chart.h"
+
+namespace aquaform::runner {
+
+Result<bool> write_run_description(const std::filesystem::path& dir, const Scene& scene, const char* up,
+                                   uint32_t particles) {
+    const auto xyz = [](const glm::vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); };
+    const nlohmann::json run = {{"scene", scene.path.string()},
+                                {"name", scene.name},
+                                {"domain", {{"min", xyz(scene.domain.min)}, {"max", xyz(scene.domain.max)}}},
+                                {"up", up},
+                                {"frame_dt", scene.solver.frame_dt},
+                                {"particles", particles},
+                                {"particle_spacing", scene.particle_spacing}};
+    return write_file_with(dir / kRunDescriptionName, [&](std::ostream& out) { out << json_text(run, 2) << '\n'; });
+}
+
+RunFiles::RunFiles(const std::filesystem::path& dir, const Scene& scene) : dir_(dir) {
+    auto stats = AppendedFile::open(dir / "stats.csv");
+    if (!stats) {
+        error_ = stats.error();
+        return;
+    }
+    stats_ = std::move(stats.value());
+    has_front_ = scene.column_width.has_value();
+    if (has_front_) {
+        auto front = AppendedFile::open(dir / "front.csv");
+        auto header = front ? front.value().append("time_s,front_m\n") : Result<bool>(Error{front.error()});
+        if (!header) error_ = header.error();
+        else front_ = std::move(front.value());
+    }
+}
+
+void RunFiles::warn_if_never_filled() const {
+    // A shape that pulled for a second and never overlapped the fluid is almost always placed
+    // where the fluid cannot reach, too weak, or attached to the wrong fluid: say so, not only in
+    // stats.csv. (Within the first second a shape may still be filling.)
+    if (!shaped_since_ || shaped_until_ - *shaped_since_ < kFillGraceSeconds || best_iou_ >= kNeverFilledIou) return;
+    std::fprintf(stderr,
+                 "aquaform run: warning: the control shape never filled: its IoU with the fluid peaked at %.2f (frame "
+                 "%u; shape_iou in stats.csv) over %.1f s of pull. Place the shape where the fluid can reach it (or "
+                 "add fluid near it), check the timeline's tags, or raise control.pressure\n",
+                 best_iou_, best_iou_frame_, shaped_until_ - *shaped_since_);
+}
+
+Result<bool> RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s, const ShapeColumns* shape) {
+    if (shape && shape->active != "none") {
+        if (!shaped_since_) shaped_since_ = s.time_s;
+        shaped_until_ = s.time_s;
+        if (shape->iou >= best_iou_) best_iou_ = shape->iou, best_iou_frame_ = frame;
+    }
+    if (has_front_ && s.front) {
+        char row[64];
+        std::snprintf(row, sizeof row, "%.6f,%.6f\n", s.time_s, *s.front);
+        if (auto written = front_.append(row); !written) return written;
+        front_samples_.push_back({s.time_s, *s.front});
+    }
+    waiting_.push_back({frame, s, shape ? std::optional<ShapeColumns>(*shape) : std::nullopt});
+    // Frame 0 (the state at t = 0) takes no step, so its timings name only a few passes: its row
+    // waits for the first stepped frame, whose passes make the header's GPU columns.
+    if (header_.empty() && s.substeps == 0) return true;
+    return write_waiting_rows();
+}
+
+Result<bool> RunFiles::write_waiting_rows() {
+    if (waiting_.empty()) return true;
+    std::string text;  // the rows (the first after the header) in one piece: whole rows or none
+    const bool has_shape = bool(waiting_.front().shape);
+    if (header_.empty()) {
+        for (const auto& [name, ms] : waiting_.back().stats.gpu_ms) pass_columns_.push_back(name);
+        header_ = "frame,time_s,particles,density_err_mean,density_err_max,density_dev_mean,kinetic_energy_j,"
+                  "max_speed_mps,substeps,dt_s,cfl_number,speed_capped,outside,non_finite,splash_fraction,droplets,"
+                  "runup_m,list_overflow,gpu_ms_total";
+        if (has_shape) header_ += ",shape_iou,shape_fill_fraction,fluid_outside_shape,active_shapes";
+        for (const auto& name : pass_columns_) header_ += ",gpu_ms_" + name;
+        text = header_ + "\n";
+    }
+    for (const WaitingRow& w : waiting_) {
+        const FrameStats& s = w.stats;
+        double total = 0.0;
+        for (const auto& [name, ms] : s.gpu_ms) total += ms;
+        char row[512];
+        // Measures a frame does not have (no droplet count asked for, no particle at the wall) stay blank.
+        const std::string droplets = s.droplets ? std::to_string(*s.droplets) : "";
+        char runup[32] = "";
+        if (s.runup) std::snprintf(runup, sizeof runup, "%.5f", *s.runup);
+        std::snprintf(row, sizeof row, "%u,%.6f,%u,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.4f,%d,%u,%u,%.5f,%s,%s,%.5f,%.4f",
+                      w.frame, s.time_s, s.particles, s.mean_density_error, s.max_density_error, s.mean_density_deviation,
+                      s.kinetic_energy, s.max_speed, s.substeps, s.dt, s.cfl_number, s.speed_capped ? 1 : 0, s.outside,
+                      s.non_finite, s.splash_fraction, droplets.c_str(), runup, s.list_overflow_fraction, total);
+        text += row;
+        if (w.shape) {
+            std::snprintf(row, sizeof row, ",%.4f,%.4f,%.4f,", w.shape->iou, w.shape->fill_fraction,
+                          w.shape->outside_fraction);
+            text += row + csv_field(w.shape->active, true);  // the shapes' names are the scene's: any text
+        }
+        for (const auto& name : pass_columns_) {
+            auto it = s.gpu_ms.find(name);
+            std::snprintf(row, sizeof row, ",%.4f", it == s.gpu_ms.end() ? 0.0 : it->second);
+            text += row;
+        }
+        text += "\n";
+    }
+    if (auto written = stats_.append(text); !written) return written;
+    waiting_.clear();
+    return true;
+}
+
+Result<bool> RunFiles::finish(const Scene& scene) {
+    if (auto written = write_waiting_rows(); !written) return written;  // a run of frame 0 alone
+    warn_if_never_filled();
+    if (!has_front_ || front_samples_.empty()) return true;
+    const double a = *scene.column_width;
+    const double g = std::max(1e-6f, std::abs(scene.gravity.y));
+    const auto run = nondimensional_front(front_samples_, a, g);
+    const Chart chart = study::front_chart("Dam-break surge front: " + scene.name, {study::front_series("aquaform", run, "#1f6fb4")});
+    if (auto written = write_chart_svg(dir_ / "front.svg", chart); !written) return written;
+
+    const Box& column = scene.fluid_blocks.front();
+    const bool comparable = scene.fluid_blocks.size() == 1 && std::abs((column.max.y - column.min.y) / a - 2.0) < 0.1;
+    auto cmp = compare_with_martin_moyce(run);
+    if (comparable && cmp)
+        std::printf("front against Martin & Moyce (1952): mean error %.1f %%, max %.1f %% over %d points (chart: %s)\n",
+                    100.0 * cmp->mean_relative, 100.0 * cmp->max_relative, cmp->points,
+                    (dir_ / "front.svg").string().c_str());
+    return true;
+}
+
+Result<size_t> clear_earlier_run(const std::filesystem::path& dir) {
+    static const std::regex numbered(R"((frame|particles|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp))");
+    static const std::set<std::string> named{"stats.csv",     "front.csv",   "front.svg",     "particles.pvd",
+                                             "surface.pvd",   kExportListing, kRunDescriptionName};
+    std::vector<std::filesystem::path> earlier;
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (!named.count(name) && !std::regex_match(name, numbered)) continue;
+        // A link where the run writes would send its files elsewhere: refused before any work.
+        if (entry.is_symlink(ec)) return link_refused(entry.path());
+        if (entry.is_regular_file(ec) && name != kRunDescriptionName) earlier.push_back(entry.path());
+    }
+    size_t removed = 0;
+    for (const auto& path : earlier) removed += std::filesystem::remove(path, ec) ? 1 : 0;
+    return removed;
+}
+
+}  // namespace aquaform::runner

@@ -1,0 +1,34 @@
+// What `aquaform render` makes of one simulated frame: the picture with one method, the SPH
+// surface renderer's diagnostic views, and (unless asked not to) the exhaustive reference with the
+// errors against it; the table rows are printed, the pictures and render.json's records returned.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/camera.h"
+#include "render/image_io.h"
+#include "render/registry.h"
+
+namespace aquaform {
+class PbfSolver;
+}
+namespace aquaform::gpu {
+class Context;
+}
+
+namespace aquaform::study {
+
+struct FrameRenderReport {
+    std::vector<std::pair<std::string, Image>> images;  ///< file name, picture; image.png first
+    nlohmann::json records;                             ///< "render" and, when measured, "reference"
+};
+
+/// Draws the solver's particles with `renderer` (made with `method`, sharing the solver's grid).
+FrameRenderReport render_frame_report(gpu::Context& ctx, Renderer& renderer, PbfSolver& solver, const ViewCamera& camera,
+                                      const MethodSettings& method, bool with_reference);
+
+}  // namespace aquaform::study
