@@ -1,7 +1,7 @@
 """A Blender scene from an aquaform run folder: the water surface over time in a glass tank.
 
     blender -P scripts/blender_scene.py -- RUNDIR [options]             # opens the scene to look at
-    blender -b -P scripts/blender_scene.py -- RUNDIR --render PREFIX [--size WxH] [--frames A:B]
+    blender -b -P scripts/blender_scene.py -- RUNDIR --render PREFIX [--resolution WxH] [--frames A:B]
                                                                        # renders PREFIX0000.png ...
 options:
     --domain x0,y0,z0,x1,y1,z1  the tank (the scene's "domain", in the simulation's y-up axes, each
@@ -12,8 +12,9 @@ options:
                                 y-up run's files are turned (x, y, z) -> (x, -z, y) so its up is
                                 Blender's z, a z-up run's files are already turned
     --render PREFIX             render the frames with Cycles (CPU) to PREFIX####.png and quit
-    --size WxH                  the pictures' size, 16..8192 per side as aquaform's --resolution
-                                (default 640x360)
+    --resolution WxH            the pictures' size, 16..8192 per side as aquaform's --resolution
+                                (default 640x360; --size WxH, its old name, still works and
+                                says so)
     --frames A:B[:S]            the Blender frames to render, every S-th, within the run's exported
                                 frames (default: the whole run)
     --samples N                 Cycles samples, 1..4096 (default 16)
@@ -46,12 +47,14 @@ import tempfile
 import bpy
 from mathutils import Matrix, Vector
 
-USAGE = ("usage: blender [-b] -P blender_scene.py -- RUNDIR [--render PREFIX] [--size WxH] [--frames A:B[:S]] "
+USAGE = ("usage: blender [-b] -P blender_scene.py -- RUNDIR [--render PREFIX] [--resolution WxH] [--frames A:B[:S]] "
          "[--samples N] [--domain x0,y0,z0,x1,y1,z1] [--up y|z]")
 # A value for each flag, as the refusals' examples.
-EXAMPLES = {"--domain": "0,0,0,1.6,0.8,0.8", "--up": "z", "--render": "out/cycles_", "--size": "640x360",
+EXAMPLES = {"--domain": "0,0,0,1.6,0.8,0.8", "--up": "z", "--render": "out/cycles_", "--resolution": "640x360",
+            "--size": "640x360",
             "--frames": "0:60", "--samples": "16"}
-# The aquaform command's picture sizes (apps/: --resolution, 16..8192 per side).
+# The aquaform command's picture sizes (render/picture_size.h: kMinPictureSide, kMaxPictureSide;
+# tests/test_script_fuzz.cpp checks that the two agree).
 MIN_SIDE, MAX_SIDE = 16, 8192
 MAX_SAMPLES = 4096
 EXIT_RUNTIME, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 1, 2, 130
@@ -93,11 +96,17 @@ def parse_domain(text, where, fix):
     return numbers[:3], numbers[3:]
 
 
-def parse_size(text):
+def parse_size(text, flag="--resolution"):
     match = re.fullmatch(r"(\d{1,6})[xX](\d{1,6})", text)
     if not match or not all(MIN_SIDE <= int(side) <= MAX_SIDE for side in match.groups()):
-        refuse('--size must look like 640x360 (%d..%d per side), got "%s"' % (MIN_SIDE, MAX_SIDE, text))
+        refuse('%s must look like 640x360 (%d..%d per side), got "%s"' % (flag, MIN_SIDE, MAX_SIDE, text))
     return int(match.group(1)), int(match.group(2))
+
+
+def parse_old_size(text):
+    """--size, the old name of --resolution (as `aquaform view` keeps it): still works, and
+    parse_args says so once every flag has passed (a refusal stays one line)."""
+    return parse_size(text, "--size")
 
 
 def parse_frames(text):
@@ -127,7 +136,8 @@ def parse_up(text):
 
 
 PARSERS = {"--domain": lambda v: parse_domain(v, "--domain", "e.g. --domain " + EXAMPLES["--domain"]),
-           "--up": parse_up, "--render": lambda v: v, "--size": parse_size, "--frames": parse_frames,
+           "--up": parse_up, "--render": lambda v: v, "--resolution": parse_size, "--size": parse_old_size,
+           "--frames": parse_frames,
            "--samples": parse_samples}
 
 
@@ -147,11 +157,15 @@ def parse_args(argv):
             refuse("%s needs a value; e.g. %s %s" % (key, key, EXAMPLES[key]))
         given[key] = PARSERS[key](argv[i + 1])
         i += 2
-    for key in ("--size", "--frames", "--samples"):
+    if "--size" in given and "--resolution" in given:
+        refuse("--size is the old name of --resolution; give --resolution alone")
+    for key in ("--resolution", "--size", "--frames", "--samples"):
         if key in given and "--render" not in given:
             refuse("%s is for rendering; add --render PREFIX, or leave %s out to open the scene" % (key, key))
+    if "--size" in given:
+        note("--size is the old name of --resolution; it still works")
     return {"run": argv[0], "domain": given.get("--domain"), "up": given.get("--up"), "render": given.get("--render"),
-            "size": given.get("--size", (640, 360)), "frames": given.get("--frames"),
+            "size": given.get("--resolution", given.get("--size", (640, 360))), "frames": given.get("--frames"),
             "samples": given.get("--samples", 16)}
 
 

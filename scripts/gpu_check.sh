@@ -245,7 +245,7 @@ if ((quick)); then
   render_flags=(--particles "$particles" --resolution "$resolution" --quick --repeats 1)
   test_filter='NeighborGridTest.*:PrefixSum*'
   frame_flags=(--sizes "$particles" --resolution "$resolution" --warmup 2 --frames 2)
-  view_flags=(--particles "$particles" --size "$resolution" --frames 3)
+  view_flags=(--particles "$particles" --resolution "$resolution" --frames 3)
   lanes_flags=(--particles "$particles" --resolution "$resolution" --frames calm --configs adaptive --repeats 1)
   study_spec="$root/assets/studies/tiny.json"  # the default one takes hours on a software device
   caps=(60 120 60 90 60 60 60 150 60)
@@ -257,7 +257,7 @@ else
                 --frames calm,curtain,double_collision,violent_wall,crown --configs adaptive,adaptive_full_res --repeats 3)
   test_filter='NeighborGrid*:PrefixSum*:Pbf*:Physics*:Surface*:Metaball*:ScreenSpace*:Anisotropy*:Raster*:ControlForce*:GpuTimer*'
   frame_flags=(--sizes 250000,500000,1000000 --resolution "$resolution" --warmup 10 --frames 30)
-  view_flags=(--particles "$particles" --size "$resolution" --frames 100)
+  view_flags=(--particles "$particles" --resolution "$resolution" --frames 100)
   lanes_flags=(--particles "$particles" --resolution "$resolution" --frames calm,violent_wall --configs adaptive --repeats 3)
   study_spec="$root/assets/studies/default.json"
   # The H200 ran the first five steps in 30 s: the caps are for a slower GPU or a fault.

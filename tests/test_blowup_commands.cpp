@@ -51,7 +51,7 @@ TEST(BlowupCommands, EveryCommandThatStepsTheSolverSaysTheSameVerdictAndExitsOne
     ASSERT_NE(expected.find("at frame 1 (t = 0.017 s)"), std::string::npos) << run.output;
     for (const std::string& command :
          {"render " + s + " --frame 5 --resolution 32x32 --out " + out + "_render",
-          "view " + s + " --headless --size 32x32 --frames 5",
+          "view " + s + " --headless --resolution 32x32 --frames 5",
           "study " + spec.string() + " --out " + out + "_study"}) {
         const Outcome o = run_aquaform(command);
         EXPECT_EQ(o.exit_code, 1) << command << "\n" << o.output;

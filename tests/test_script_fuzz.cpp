@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "render/image_io.h"
+#include "render/picture_size.h"
 #include "tests/cli_helpers.h"
 
 namespace aquaform {
@@ -186,6 +187,10 @@ TEST(ScriptFuzz, BlenderSceneRefusesBadFlagsBeforeImportingAnything) {
         {render + " --size 100000x100000", "--size"},
         {render + " --size 640", "--size"},
         {render + " --size 1e3x16", "--size"},
+        {render + " --resolution 0x0", "--resolution"},
+        {render + " --resolution 8193x16", "--resolution"},
+        {render + " --resolution", "--resolution"},
+        {render + " --resolution 64x36 --size 64x36", "--resolution alone"},  // the old name beside the new
         {render + " --frames 3:1", "--frames"},
         {render + " --frames 0:9", "0..3"},  // beyond the run: the message names the run's range
         {render + " --frames 4:5", "0..3"},
@@ -197,6 +202,7 @@ TEST(ScriptFuzz, BlenderSceneRefusesBadFlagsBeforeImportingAnything) {
         {render + " --samples 99999", "--samples"},
         {render + " --samples", "--samples"},
         {" --size 64x36", "--size"},  // a render flag without --render
+        {" --resolution 64x36", "--resolution"},
         {" --render", "--render"},
         {" --render " + q(dir / "run" / "surface_0000.obj" / "x_"), "--render"},  // its folder is a file
         {" --render /proc/aquaform/cycles_", "--render"},
@@ -215,6 +221,15 @@ TEST(ScriptFuzz, BlenderSceneRefusesBadFlagsBeforeImportingAnything) {
         {"--up z " + q(run), "--up"},
         {q(dir / "no_run"), "no_run"},
     }, dir);
+}
+
+TEST(ScriptFuzz, BlenderSceneSizesPicturesWithinTheCommandsOneLimit) {
+    // The script cannot include render/picture_size.h; its copy of the limit must be the same.
+    const std::string script = test_cli::read_file(kScripts + "/blender_scene.py");
+    const std::string line = "MIN_SIDE, MAX_SIDE = " + std::to_string(aquaform::kMinPictureSide) + ", " +
+                             std::to_string(aquaform::kMaxPictureSide) + "\n";
+    EXPECT_NE(script.find("\n" + line), std::string::npos) << "blender_scene.py's picture limit differs from "
+                                                               "render/picture_size.h's";
 }
 
 TEST(ScriptFuzz, BlenderSceneRefusesACorruptRunFolderNamingTheFileAndKey) {
