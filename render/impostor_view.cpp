@@ -156,6 +156,7 @@ ImpostorView::ImpostorView(gpu::Context& ctx, uint32_t width, uint32_t height)
         set_info.bindingCount = 2;
         set_info.pBindings = bindings;
         VK_CHECK(vkCreateDescriptorSetLayout(ctx.device(), &set_info, nullptr, &m.set_layout));
+        ctx.set_name(VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT, m.set_layout, "render/impostor");
         VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                                   sizeof(shader::ImpostorPush)};
         VkPipelineLayoutCreateInfo layout_info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
@@ -164,13 +165,16 @@ ImpostorView::ImpostorView(gpu::Context& ctx, uint32_t width, uint32_t height)
         layout_info.pushConstantRangeCount = 1;
         layout_info.pPushConstantRanges = &range;
         VK_CHECK(vkCreatePipelineLayout(ctx.device(), &layout_info, nullptr, &m.layout));
+        ctx.set_name(VK_OBJECT_TYPE_PIPELINE_LAYOUT, m.layout, "render/impostor");
 
         VkShaderModule vert = gpu::create_shader_module(ctx, "render/impostor.vert");
         VkShaderModule frag = VK_NULL_HANDLE;
         try {
             frag = gpu::create_shader_module(ctx, "render/impostor.frag");
-            for (uint32_t mode = 0; mode < kModeCount; ++mode)
+            for (uint32_t mode = 0; mode < kModeCount; ++mode) {
                 m.pipelines[mode] = m.create_pipeline(ctx, mode, vert, frag);
+                ctx.set_name(VK_OBJECT_TYPE_PIPELINE, m.pipelines[mode], "render/impostor mode " + std::to_string(mode));
+            }
         } catch (...) {
             vkDestroyShaderModule(ctx.device(), vert, nullptr);
             if (frag) vkDestroyShaderModule(ctx.device(), frag, nullptr);
