@@ -52,8 +52,14 @@ std::pair<int, std::string> run_view_under_xvfb(const std::string& args) {
     // --parallel) can race for the same one; starting from a number of this process's own makes
     // that unlikely, and -a still steps past a display in use.
     const std::string server = std::to_string(100 + getpid() % 20000);
-    const std::string cmd = "AQUAFORM_VALIDATION=1 xvfb-run -a -n " + server + " -s '-screen 0 640x480x24' " +
-                            std::string(AQUAFORM_BINARY) + " view " + args + " 2>&1";
+    // The X authority file in a folder of the test's own: xvfb-run then makes no temporary folder
+    // of its own, whose removal at its end failed now and then beside other tests (exit 5, "problem
+    // while cleaning up temporary directory") although the viewer had exited as it should.
+    static int calls = 0;
+    const fs::path auth = test_cli::temp_dir("xauth_" + std::to_string(++calls)) / "Xauthority";
+    test_cli::write_file(auth, "");
+    const std::string cmd = "AQUAFORM_VALIDATION=1 xvfb-run -a -n " + server + " -f '" + auth.string() +
+                            "' -s '-screen 0 640x480x24' " + std::string(AQUAFORM_BINARY) + " view " + args + " 2>&1";
     FILE* pipe = popen(cmd.c_str(), "r");
     if (!pipe) return {-1, "popen failed"};
     std::string output;
@@ -115,7 +121,7 @@ TEST(ViewCliTest, AFluidThatLeavesPhysicsPausesTheWindowAndTheCommandExitsOneWit
         "fluid_blocks": [{"min": [0, 0, 0], "max": [0.1, 0.2, 0.08]}], "solver": {"vorticity": 1e6}})");
     const fs::path script = test_cli::write_file(dir / "s.json", R"({"actions": [{"frame": 0, "do": "play"},
         {"frame": 6, "do": "quit"}]})");
-    auto [status, output] = run_view_under_xvfb(scene.string() + " --size 64x48 --script " + script.string());
+    auto [status, output] = run_view_under_xvfb(scene.string() + " --resolution 64x48 --script " + script.string());
     EXPECT_EQ(status, 1) << output;
     EXPECT_NE(output.find("aquaform view: the fluid left physics at frame 1 (t = 0.017 s)"), std::string::npos) << output;
     fs::remove_all(dir);
