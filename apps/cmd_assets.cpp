@@ -1,5 +1,5 @@
 // `aquaform assets [--out DIR]`: write the meshes the project ships (assets/meshes/) from the
-// generators in control/primitives.h, so that the committed files can always be regenerated and
+// generators in geometry/primitives.h, so that the committed files can always be regenerated and
 // checked against their source (tests/test_assets.cpp compares them byte for byte).
 #include <cstdio>
 #include <filesystem>
@@ -8,8 +8,8 @@
 
 #include "apps/cli.h"
 #include "control/character_walk.h"
-#include "control/mesh.h"
-#include "control/primitives.h"
+#include "geometry/mesh.h"
+#include "geometry/primitives.h"
 #include "core/file_write.h"
 #include "core/output_dir.h"
 
@@ -43,18 +43,18 @@ int cmd_assets(const std::vector<std::string>& argv) {
 
     struct Named {
         std::string file;
-        control::Mesh mesh;
+        geometry::Mesh mesh;
     };
-    std::vector<Named> meshes = {{"sphere.obj", control::make_sphere(0.5f, 3)},
-                                 {"torus.obj", control::make_torus(0.35f, 0.15f)}};
-    for (char c : control::kBlockLetters)
-        meshes.push_back({std::string("letter_") + c + ".obj", control::make_block_letter(c)});
-    const control::Character character = control::make_character();
+    std::vector<Named> meshes = {{"sphere.obj", geometry::make_sphere(0.5f, 3)},
+                                 {"torus.obj", geometry::make_torus(0.35f, 0.15f)}};
+    for (char c : geometry::kBlockLetters)
+        meshes.push_back({std::string("letter_") + c + ".obj", geometry::make_block_letter(c)});
+    const geometry::Character character = geometry::make_character();
     meshes.push_back({"character.obj", character.mesh});
 
     for (const Named& m : meshes) {
         const fs::path path = out_dir / m.file;
-        if (Result<bool> written = control::write_obj(path, m.mesh); !written)
+        if (Result<bool> written = geometry::write_obj(path, m.mesh); !written)
             return std::fprintf(stderr, "aquaform assets: %s\n", written.error().c_str()), kExitFailure;
         report(path, std::to_string(m.mesh.vertices.size()) + " vertices, " + std::to_string(m.mesh.faces.size()) +
                          " triangles");

@@ -13,7 +13,7 @@
 
 #include "apps/cli.h"
 #include "apps/render_options.h"
-#include "control/mesh.h"
+#include "geometry/mesh.h"
 #include "control/placement.h"
 #include "control/place_command.h"
 #include "core/file_write.h"
@@ -68,12 +68,12 @@ int cmd_control(const std::vector<std::string>& argv) {
     const std::optional<PictureSize> size = resolution_flag(*args, kViewingPicture, &error);
     if (!size) return refuse("control", error);
     InterruptScope interrupt_scope;
-    auto loaded = control::load_obj(args->positional[1]);
+    auto loaded = geometry::load_obj(args->positional[1]);
     if (!loaded && interrupted())
         return std::fprintf(stderr, "aquaform control: interrupted while reading the mesh; nothing written\n"),
                kExitInterrupted;
     if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
-    const control::Mesh& mesh = loaded.value().mesh;
+    const geometry::Mesh& mesh = loaded.value().mesh;
     const Box bounds = mesh.bounds();
     const float diagonal = glm::length(bounds.max - bounds.min);
     float spacing = diagonal / 40.0f;  // default: about 40 points across the mesh's diagonal
@@ -106,7 +106,7 @@ int cmd_control(const std::vector<std::string>& argv) {
                             args->positional[1].c_str(), spacing, ply_bytes / 1048576.0,
                             double(space.available) / 1048576.0, out_dir.string().c_str()),
                kExitUsage;
-    const std::string report = control::describe(loaded.value().report);
+    const std::string report = geometry::describe(loaded.value().report);
     std::printf("%s\n", report.c_str());
     const control::PlacementRun placed = control::place_by_method(method, loaded.value(), spacing, context);
     const control::ControlPoints& points = placed.points;

@@ -3,7 +3,7 @@
 # `#include "gpu/context.h"` resolves for gpu and for every library that links gpu, while a
 # layer that includes one above it (gpu including "sim/scene.h") finds no such file: the build
 # enforces the layering (tests/layering/check_layers.cmake checks it layer by layer). The layers,
-# bottom up: core <- gpu <- grid <- sim, render <- control <- session, exports <- study, viewer
+# bottom up: core <- gpu <- grid <- geometry <- sim, render <- control <- session, exports <- study, viewer
 # <- runner (`run`'s frame pipeline) <- apps. The shared GLSL/C++ headers (shaders/shared/) come with aquaform_shaders.
 
 function(aquaform_layer_include_dir dir out)

@@ -28,9 +28,9 @@ ordered_json walk_key(double t, int thigh_l, int thigh_r, int shin_l, int shin_r
 
 /// The character's skeleton and a 1 s walk in place: thighs swing +-25 degrees, the swinging leg's
 /// knee bends most as it passes, arms swing against the legs, the hips dip at each heel strike.
-ordered_json character_animation(const Skeleton& skeleton) {
+ordered_json character_animation(const geometry::Skeleton& skeleton) {
     ordered_json j;
-    j["skeleton"] = skeleton_json(skeleton);
+    j["skeleton"] = geometry::skeleton_json(skeleton);
     j["keyframes"] = {
         walk_key(0.0, -25, 25, 5, 20, 20, -20, -0.02),  // left heel strikes in front
         walk_key(0.25, 0, 0, 5, 45, 0, 0, 0.0),         // right leg passes
@@ -56,6 +56,6 @@ std::string animation_text(const ordered_json& j) {
 
 }  // namespace
 
-std::string character_walk_text(const Skeleton& skeleton) { return animation_text(character_animation(skeleton)); }
+std::string character_walk_text(const geometry::Skeleton& skeleton) { return animation_text(character_animation(skeleton)); }
 
 }  // namespace aquaform::control

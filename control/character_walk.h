@@ -4,12 +4,12 @@
 
 #include <string>
 
-#include "control/skinning.h"
+#include "geometry/skinning.h"
 
 namespace aquaform::control {
 
 /// The skeleton file's text: thighs swing +-25 degrees, the swinging leg's knee bends most as it
 /// passes, arms swing against the legs, the hips dip at each heel strike; the loop is seamless.
-std::string character_walk_text(const Skeleton& skeleton);
+std::string character_walk_text(const geometry::Skeleton& skeleton);
 
 }  // namespace aquaform::control

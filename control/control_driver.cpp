@@ -57,7 +57,7 @@ RasterPlacer& ControlDriver::placer(size_t slot) {
 const std::vector<glm::vec3>& ControlDriver::base_points(int mesh) {
     if (!placed_[mesh]) {
         const ControlMesh& m = section_.meshes[mesh];
-        const Mesh& rest = m.animation.placed_rest();
+        const geometry::Mesh& rest = m.animation.placed_rest();
         const glm::vec3 origin = lattice_origin(scene_, section_.spacing);
         switch (m.method) {
             case PlacementMethod::vertices: base_points_[mesh] = place_on_vertices(rest, section_.spacing).points; break;
@@ -103,7 +103,7 @@ void ControlDriver::update(double t) {
     update_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-RasterStats ControlDriver::place_on(RasterPlacer& placer, const Mesh& mesh, float spacing, float w) {
+RasterStats ControlDriver::place_on(RasterPlacer& placer, const geometry::Mesh& mesh, float spacing, float w) {
     const auto triangles = mesh.triangle_soup();
     const glm::vec3 origin = lattice_origin(scene_, spacing);
     RasterStats stats = placer.place_on_gpu(triangles, spacing, origin, w);
@@ -151,8 +151,8 @@ std::string ControlDriver::active_description() const {
     return s;
 }
 
-std::vector<Mesh> ControlDriver::active_meshes() const {
-    std::vector<Mesh> meshes;
+std::vector<geometry::Mesh> ControlDriver::active_meshes() const {
+    std::vector<geometry::Mesh> meshes;
     for (const ActiveShape& s : active_) meshes.push_back(section_.meshes[s.mesh].animation.mesh_at(last_t_));
     return meshes;
 }

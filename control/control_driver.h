@@ -32,7 +32,7 @@ public:
     std::string active_description() const;
     const std::vector<ActiveShape>& active() const { return active_; }
     /// The active shapes' meshes in scene coordinates at the last update (for overlays).
-    std::vector<Mesh> active_meshes() const;
+    std::vector<geometry::Mesh> active_meshes() const;
     /// Wall time of the last update [ms] and its points.
     double update_ms() const { return update_ms_; }
     const ControlSection& section() const { return section_; }
@@ -41,7 +41,7 @@ private:
     const std::vector<glm::vec3>& base_points(int mesh);
     RasterPlacer& placer(size_t slot);
     /// Method (c) on the scene's lattice at `spacing`, growing the placer when points did not fit.
-    RasterStats place_on(RasterPlacer& placer, const Mesh& mesh, float spacing, float w);
+    RasterStats place_on(RasterPlacer& placer, const geometry::Mesh& mesh, float spacing, float w);
     /// Voxels inside a mesh at the last update's time (cached for meshes that do not move).
     const std::unordered_set<uint64_t>& shape_voxels(int mesh);
 

@@ -30,21 +30,21 @@ ControlMesh read_mesh(const json& v, const std::string& name, const std::string&
         fail(path + " must be an object such as {\"file\": \"../meshes/sphere.obj\"}, got " + written(v));
     check_keys(v, "in " + path, kMeshKeys);
     MeshSpec spec;
-    if (v.contains("animation")) spec.animation = parse_animation(v["animation"], path + ".animation", base_dir);
-    const bool sequence = std::holds_alternative<SequenceAnimation>(spec.animation.kind());
+    if (v.contains("animation")) spec.animation = geometry::parse_animation(v["animation"], path + ".animation", base_dir);
+    const bool sequence = std::holds_alternative<geometry::SequenceAnimation>(spec.animation.kind());
     if (!sequence) require(v, "file", "in " + path, "\"file\": \"../meshes/sphere.obj\"");
     if (v.contains("method")) spec.method = read_method(v["method"], path + ".method");
-    if (v.contains("placement")) spec.placement = parse_placement(v["placement"], path + ".placement");
+    if (v.contains("placement")) spec.placement = geometry::parse_placement(v["placement"], path + ".placement");
     std::filesystem::path file;
-    std::optional<LoadedMesh> loaded;
+    std::optional<geometry::LoadedMesh> loaded;
     if (v.contains("file")) {
         if (!v["file"].is_string()) fail(path + ".file must be a path string, got " + written(v["file"]));
         file = base_dir / v["file"].get<std::string>();
-        auto result = load_obj(file);
+        auto result = geometry::load_obj(file);
         if (!result) fail(path + ".file: " + result.error());
         loaded = std::move(result.value());
     }
-    return bind_control_mesh(name, file, loaded ? &loaded->mesh : nullptr, loaded ? loaded->report : MeshReport{},
+    return bind_control_mesh(name, file, loaded ? &loaded->mesh : nullptr, loaded ? loaded->report : geometry::MeshReport{},
                              std::move(spec), path);
 }
 

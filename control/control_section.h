@@ -9,8 +9,8 @@
 
 #include <glm/glm.hpp>
 
-#include "control/animation.h"
-#include "control/mesh.h"
+#include "geometry/animation.h"
+#include "geometry/mesh.h"
 #include "control/strength.h"
 #include "control/timeline.h"
 
@@ -24,8 +24,8 @@ struct ControlMesh {
     std::string name;
     std::filesystem::path file;  ///< empty for an OBJ sequence (its frames are in the animation)
     PlacementMethod method = PlacementMethod::inside;
-    MeshAnimation animation;     ///< bound to the mesh and its placement
-    MeshReport report;           ///< of the rest mesh as loaded
+    geometry::MeshAnimation animation;     ///< bound to the mesh and its placement
+    geometry::MeshReport report;           ///< of the rest mesh as loaded
 };
 
 struct ControlSection {

@@ -39,16 +39,16 @@ constexpr double kOutputBytesPerPoint = sizeof(glm::vec3) + 36.0;
 
 }  // namespace
 
-double planned_inside_bytes(const LoadedMesh& loaded, float spacing) {
+double planned_inside_bytes(const geometry::LoadedMesh& loaded, float spacing) {
     const Box bounds = loaded.mesh.bounds();
     const double kept = expected_inside_points(bounds, spacing, loaded.report);
     return std::max(place_inside_bytes(bounds, spacing, loaded.mesh.faces.size(), kept),
                     kept * kOutputBytesPerPoint);
 }
 
-std::optional<std::string> placement_memory_refusal(const std::string& method, const LoadedMesh& loaded, float spacing,
+std::optional<std::string> placement_memory_refusal(const std::string& method, const geometry::LoadedMesh& loaded, float spacing,
                                                     double host, const std::function<double()>& device_bytes) {
-    const Mesh& mesh = loaded.mesh;
+    const geometry::Mesh& mesh = loaded.mesh;
     const Box bounds = mesh.bounds();
     if (method == "vertices")
         return memory_refusal("--method vertices", place_on_vertices_bytes(mesh, spacing), host, spacing, 1.0);
@@ -77,14 +77,14 @@ std::optional<std::string> placement_memory_refusal(const std::string& method, c
                           spacing, 3.0);
 }
 
-double expected_ply_bytes(const std::string& method, const LoadedMesh& loaded, float spacing) {
+double expected_ply_bytes(const std::string& method, const geometry::LoadedMesh& loaded, float spacing) {
     return 36.0 * (method == "vertices" ? vertex_candidate_count(loaded.mesh, spacing)
                                         : expected_inside_points(loaded.mesh.bounds(), spacing, loaded.report));
 }
 
-PlacementRun place_by_method(const std::string& method, const LoadedMesh& loaded, float spacing,
+PlacementRun place_by_method(const std::string& method, const geometry::LoadedMesh& loaded, float spacing,
                              const std::function<gpu::Context&()>& context) {
-    const Mesh& mesh = loaded.mesh;
+    const geometry::Mesh& mesh = loaded.mesh;
     ControlPoints points;
     RasterStats raster;
     if (method == "vertices") points = place_on_vertices(mesh, spacing);

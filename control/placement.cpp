@@ -8,7 +8,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "control/inside.h"
+#include "geometry/inside.h"
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/progress.h"
@@ -68,7 +68,7 @@ std::vector<glm::vec3> thin_out(const std::vector<glm::vec3>& candidates, float 
 
 }  // namespace
 
-ControlPoints place_on_vertices(const Mesh& mesh, float spacing) {
+ControlPoints place_on_vertices(const geometry::Mesh& mesh, float spacing) {
     const auto start = Clock::now();
     ControlPoints result;
     result.method = "vertices";
@@ -122,7 +122,7 @@ double lattice_point_count(const Box& bounds, float spacing) {
     return steps.x * steps.y * steps.z;
 }
 
-double expected_inside_points(const Box& bounds, float spacing, const MeshReport& report) {
+double expected_inside_points(const Box& bounds, float spacing, const geometry::MeshReport& report) {
     const double s = double(spacing);
     return std::min(lattice_point_count(bounds, spacing),
                     std::abs(report.signed_volume) / (s * s * s) + report.surface_area / (s * s));
@@ -132,10 +132,10 @@ double place_inside_bytes(const Box& bounds, float spacing, size_t triangle_coun
     // Per lattice point its position and a byte and a bit of flags; per kept point a copy.
     constexpr double kPerPoint = sizeof(glm::vec3) + 1.0 + 0.125;
     return lattice_point_count(bounds, spacing) * kPerPoint + kept * sizeof(glm::vec3) +
-           double(InsideTest::estimated_bytes(triangle_count));
+           double(geometry::InsideTest::estimated_bytes(triangle_count));
 }
 
-double vertex_candidate_count(const Mesh& mesh, float spacing) {
+double vertex_candidate_count(const geometry::Mesh& mesh, float spacing) {
     double edge_points = 0.0;
     for (const glm::uvec3& face : mesh.faces)
         for (int i = 0; i < 3; ++i)
@@ -143,7 +143,7 @@ double vertex_candidate_count(const Mesh& mesh, float spacing) {
     return double(mesh.vertices.size()) + 0.5 * edge_points;  // two faces per edge: the meshes here are closed
 }
 
-double place_on_vertices_bytes(const Mesh& mesh, float spacing) {
+double place_on_vertices_bytes(const geometry::Mesh& mesh, float spacing) {
     // Candidates, kept points and the thinning grid's entries (a hash node per point); the set of
     // visited edges (a hash node each, 1.5 edges per face).
     return vertex_candidate_count(mesh, spacing) * (2.0 * sizeof(glm::vec3) + 48.0) + 1.5 * 40.0 * double(mesh.faces.size());
@@ -183,7 +183,7 @@ ControlPoints place_inside(const std::vector<glm::vec3>& triangles, float spacin
             }
         }
     }
-    const std::vector<bool> inside = inside_flags(triangles, lattice, "inside test", &result.complete);
+    const std::vector<bool> inside = geometry::inside_flags(triangles, lattice, "inside test", &result.complete);
     if (!result.complete) return result;
     result.points.reserve(size_t(std::count(inside.begin(), inside.end(), true)));  // exact: no doubling
     for (size_t i = 0; i < lattice.size(); ++i) {

@@ -10,7 +10,7 @@
 
 #include <glm/glm.hpp>
 
-#include "control/mesh.h"
+#include "geometry/mesh.h"
 
 namespace aquaform::control {
 
@@ -25,21 +25,21 @@ struct ControlPoints {
 double lattice_point_count(const Box& bounds, float spacing);
 /// Points a filling placement (b) or (c) keeps at most: the lattice points in the volume plus one
 /// layer over the surface, never more than the lattice.
-double expected_inside_points(const Box& bounds, float spacing, const MeshReport& report);
+double expected_inside_points(const Box& bounds, float spacing, const geometry::MeshReport& report);
 /// Host bytes place_inside() needs at its peak (lattice, flags, `kept` points and the inside test's
 /// grid); for refusing a request before it allocates.
 double place_inside_bytes(const Box& bounds, float spacing, size_t triangle_count, double kept);
 /// Points place_on_vertices() considers (vertices and points along the edges): at most what it keeps.
-double vertex_candidate_count(const Mesh& mesh, float spacing);
+double vertex_candidate_count(const geometry::Mesh& mesh, float spacing);
 /// Host bytes place_on_vertices() needs at most (the candidates along the edges, kept points, grid).
-double place_on_vertices_bytes(const Mesh& mesh, float spacing);
+double place_on_vertices_bytes(const geometry::Mesh& mesh, float spacing);
 
 /// (a) Surface points: the mesh vertices plus points inserted along every edge longer than `spacing`
 /// (evenly, so no gap exceeds `spacing`), then thinned with a hash grid so that no two kept points are
 /// closer than spacing / 2 (first come, first kept: vertices before edge points). The result follows
 /// the surface only; density still varies between spacing / 2 and spacing. Progress and Ctrl-C as
 /// place_inside().
-ControlPoints place_on_vertices(const Mesh& mesh, float spacing);
+ControlPoints place_on_vertices(const geometry::Mesh& mesh, float spacing);
 
 /// Axis-aligned bounds of a triangle soup (or any point list); min = max = 0 when it is empty.
 Box bounds_of(const std::vector<glm::vec3>& points);
@@ -53,7 +53,7 @@ glm::vec3 centred_lattice_origin(const Box& bounds, float spacing);
 /// box (origin: `lattice_origin`, by default centred_lattice_origin()), keeping the points the
 /// generalized winding number classifies as inside. With `jitter` each lattice point is moved by up to
 /// spacing / 4 per axis (uniform, from `seed`) before the test, so every kept point is still inside.
-/// Cost about O(lattice points + triangles) with InsideTest (control/inside.h). A progress bar shows on
+/// Cost about O(lattice points + triangles) with InsideTest (geometry/inside.h). A progress bar shows on
 /// a terminal; Ctrl-C (aquaform::interrupted()) stops it with `complete` false. Throws
 /// aquaform::Failure for a lattice of more than 2^32 points.
 ControlPoints place_inside(const std::vector<glm::vec3>& triangles, float spacing, bool jitter = false,

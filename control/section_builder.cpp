@@ -10,7 +10,7 @@ namespace aquaform::control {
 
 using json_fields::fmt;
 
-ControlMesh bind_control_mesh(std::string name, std::filesystem::path file, const Mesh* rest, const MeshReport& report,
+ControlMesh bind_control_mesh(std::string name, std::filesystem::path file, const geometry::Mesh* rest, const geometry::MeshReport& report,
                               MeshSpec spec, const std::string& path) {
     ControlMesh mesh;
     mesh.name = std::move(name);
@@ -25,10 +25,10 @@ ControlMesh bind_control_mesh(std::string name, std::filesystem::path file, cons
                               "only method fast enough); write \"method\": \"raster\" or leave it out");
         mesh.method = PlacementMethod::raster;
     }
-    const bool sequence = std::holds_alternative<SequenceAnimation>(mesh.animation.kind());
+    const bool sequence = std::holds_alternative<geometry::SequenceAnimation>(mesh.animation.kind());
     if (!rest && !sequence)
         json_fields::fail(path + " has no mesh: give a file (\"file\": \"../meshes/sphere.obj\") or an OBJ sequence");
-    mesh.animation.bind(rest ? *rest : Mesh{}, spec.placement);
+    mesh.animation.bind(rest ? *rest : geometry::Mesh{}, spec.placement);
     return mesh;
 }
 
@@ -78,7 +78,7 @@ SectionBuilder& SectionBuilder::damping(float per_second) {
 
 SectionBuilder& SectionBuilder::mesh(const std::string& name, const std::filesystem::path& file, MeshSpec spec) {
     const std::string path = "control.meshes." + name;
-    auto loaded = load_obj(file);
+    auto loaded = geometry::load_obj(file);
     if (!loaded) {
         fail(path + ".file: " + loaded.error());
         return *this;
@@ -92,10 +92,10 @@ SectionBuilder& SectionBuilder::mesh(const std::string& name, const std::filesys
     return *this;
 }
 
-SectionBuilder& SectionBuilder::mesh(const std::string& name, const Mesh& rest, MeshSpec spec) {
+SectionBuilder& SectionBuilder::mesh(const std::string& name, const geometry::Mesh& rest, MeshSpec spec) {
     const std::string path = "control.meshes." + name;
     try {
-        section_.meshes.push_back(bind_control_mesh(name, {}, &rest, check_mesh(rest), std::move(spec), path));
+        section_.meshes.push_back(bind_control_mesh(name, {}, &rest, geometry::check_mesh(rest), std::move(spec), path));
     } catch (const json_fields::Invalid& e) {
         fail(e.message);
     }

@@ -25,14 +25,14 @@ namespace aquaform::control {
 /// How one mesh is placed and moves (the keys "method", "placement" and "animation" of a mesh).
 struct MeshSpec {
     std::optional<PlacementMethod> method;  ///< default: inside, or raster for a deforming mesh
-    MeshPlacement placement;
-    MeshAnimation animation;
+    geometry::MeshPlacement placement;
+    geometry::MeshAnimation animation;
 };
 
 /// A ControlMesh named `name` from its rest mesh (`file` as loaded, or none for an OBJ sequence)
 /// and spec: checks the method against the animation and binds the animation. `path` names the
 /// mesh in messages ("control.meshes.ball"). Throws json_fields::Invalid.
-ControlMesh bind_control_mesh(std::string name, std::filesystem::path file, const Mesh* rest, const MeshReport& report,
+ControlMesh bind_control_mesh(std::string name, std::filesystem::path file, const geometry::Mesh* rest, const geometry::MeshReport& report,
                               MeshSpec spec, const std::string& path);
 
 class SectionBuilder {
@@ -50,7 +50,7 @@ public:
     /// working directory).
     SectionBuilder& mesh(const std::string& name, const std::filesystem::path& file, MeshSpec spec = {});
     /// A mesh made in code (primitives.h), in the coordinates its placement starts from.
-    SectionBuilder& mesh(const std::string& name, const Mesh& rest, MeshSpec spec = {});
+    SectionBuilder& mesh(const std::string& name, const geometry::Mesh& rest, MeshSpec spec = {});
 
     /// Timeline events, in time order; `tags` as a mask of fluid tags (bit i: fluid block i).
     SectionBuilder& attach(const std::string& mesh, double t = 0.0, uint32_t tags = ~0u);

@@ -93,7 +93,7 @@ FramePipeline::FinishedFrame FramePipeline::collect(uint32_t frame, gpu::Submiss
     }
     const control::ControlDriver* driver = sim_.control();
     if (f.image && driver && picture_.wireframe)
-        for (const control::Mesh& mesh : driver->active_meshes())
+        for (const geometry::Mesh& mesh : driver->active_meshes())
             draw_wireframe(*f.image, mesh.vertices, mesh.faces, camera_);
     f.capture = capturer_.collect(frame, timer_, f.report.stats);
     const FrameStats& stats = f.report.stats;

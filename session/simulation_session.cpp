@@ -30,7 +30,7 @@ std::optional<ControlSummary> summarize(const std::optional<control::PreparedCon
             note += " " + std::to_string(m.report.reoriented_face_count) +
                     " faces pointed against their neighbours and were turned back;";
         if (!m.report.watertight()) note += " it is not watertight (holes under 1% of its surface), which the inside tests tolerate;";
-        s.mesh_notes.push_back(note + "\n" + control::describe(m.report));
+        s.mesh_notes.push_back(note + "\n" + geometry::describe(m.report));
     }
     return s;
 }

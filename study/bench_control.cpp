@@ -8,7 +8,7 @@
 
 #include "core/format_text.h"
 #include "control/placement.h"
-#include "control/primitives.h"
+#include "geometry/primitives.h"
 #include "control/raster_placement.h"
 #include "control/section_builder.h"
 #include "core/error.h"
@@ -65,7 +65,7 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
                                            const BenchProgress& say) {
     const float r = kSphereRadiusPlacement;
     const float spacing = float(std::cbrt(4.0 / 3.0 * M_PI * r * r * r / double(target)));
-    const control::Mesh mesh = control::make_sphere(r, kPlacementSubdivisions);
+    const geometry::Mesh mesh = geometry::make_sphere(r, kPlacementSubdivisions);
     const std::vector<glm::vec3> tris = mesh.triangle_soup();
     const Box bounds = control::bounds_of(tris);
     const glm::vec3 origin = control::centred_lattice_origin(bounds, spacing);
@@ -87,7 +87,7 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
     {
         // O(lattice points * triangles): estimate from the previous size before committing.
         uint32_t subdivisions = kPlacementSubdivisions;
-        control::Mesh inside_mesh = mesh;
+        geometry::Mesh inside_mesh = mesh;
         std::string note;
         bool skip = false;
         if (*inside_ms_per_test > 0.0) {
@@ -95,7 +95,7 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
             const double estimate_s = *inside_ms_per_test * tests / 1000.0;
             if (estimate_s > kInsideBudgetS) {
                 subdivisions = kPlacementSubdivisions - 1;
-                inside_mesh = control::make_sphere(r, subdivisions);
+                inside_mesh = geometry::make_sphere(r, subdivisions);
                 const double coarse_s = estimate_s * double(inside_mesh.faces.size()) / double(mesh.faces.size());
                 note = format_text("on the %zu-triangle mesh it would take about %.0f s (> %.0f s budget): measured on a coarser "
                            "icosphere (subdivision %u, %zu triangles) instead",
@@ -167,7 +167,7 @@ float shape_spacing_for(uint32_t particles) {
     return kShapeSpacing * float(std::cbrt(double(kShapeParticles) / double(std::max(particles, 1u))));
 }
 
-ShapeScene make_shape_scene(const std::string& name, control::Mesh mesh, float shape_height, std::vector<Box> blocks,
+ShapeScene make_shape_scene(const std::string& name, geometry::Mesh mesh, float shape_height, std::vector<Box> blocks,
                             const std::string& layout, double shape_volume, float spacing) {
     ShapeScene s;
     s.name = name;
@@ -194,7 +194,7 @@ ShapeScene sphere_scene(float spacing) {
     // 0.0072 m^3 (10 x 9 x 10 particles at 0.02 m), the sphere's 0.00724 m^3 to within 1 %
     const glm::vec3 half(0.1f, 0.09f, 0.1f);
     const double volume = 4.0 / 3.0 * M_PI * std::pow(kSphereRadius, 3.0);
-    return make_shape_scene("sphere", control::make_sphere(kSphereRadius, 3), 2.0f * kSphereRadius,
+    return make_shape_scene("sphere", geometry::make_sphere(kSphereRadius, 3), 2.0f * kSphereRadius,
                             {{kCentre - half, kCentre + half}}, "box 0.2 x 0.18 x 0.2 m around the centre", volume, spacing);
 }
 
@@ -205,7 +205,7 @@ ShapeScene torus_scene(float spacing) {
     const double volume = 4.0 / 3.0 * M_PI * std::pow(kSphereRadius, 3.0);
     const float minor = 0.05f;
     const float major = float(volume / (2.0 * M_PI * M_PI * minor * minor));  // 0.1467 m
-    control::Mesh mesh = control::make_torus(major, minor);
+    geometry::Mesh mesh = geometry::make_torus(major, minor);
     for (auto& v : mesh.vertices) v = glm::vec3(v.x, v.z, -v.y);  // axis z -> y: a proper rotation
     // Frame: outer half-side 0.18, inner 0.10 (the ring spans 0.097 .. 0.197), 0.08 thick:
     // 0.00717 m^3 (at 0.02 m: 224 particles per layer x 4 = 896), the torus's 905 to within 1 %.

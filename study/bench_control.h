@@ -17,7 +17,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
-#include "control/mesh.h"
+#include "geometry/mesh.h"
 #include "control/shape_metrics.h"
 #include "control/strength.h"
 #include "sim/frame_stats.h"
@@ -75,7 +75,7 @@ struct ShapeScene {
     std::string name;
     std::string layout;  ///< how the fluid starts
     Scene scene;
-    control::Mesh mesh;  ///< in scene coordinates
+    geometry::Mesh mesh;  ///< in scene coordinates
     std::vector<glm::vec4> points;
     control::Strength strength;
     control::VoxelLattice lattice;

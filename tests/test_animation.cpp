@@ -13,15 +13,15 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/error.h"
-#include "control/animation.h"
-#include "control/primitives.h"
-#include "control/skinning.h"
+#include "geometry/animation.h"
+#include "geometry/primitives.h"
+#include "geometry/skinning.h"
 #include "core/json_fields.h"
 
 namespace {
 
 using namespace aquaform;
-using namespace aquaform::control;
+using namespace aquaform::geometry;
 using nlohmann::json;
 
 namespace fs = std::filesystem;

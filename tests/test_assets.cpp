@@ -11,14 +11,14 @@
 
 #include "core/error.h"
 #include "cli_helpers.h"
-#include "control/animation.h"
-#include "control/mesh.h"
-#include "control/primitives.h"
+#include "geometry/animation.h"
+#include "geometry/mesh.h"
+#include "geometry/primitives.h"
 
 namespace {
 
 using namespace aquaform;
-using namespace aquaform::control;
+using namespace aquaform::geometry;
 using namespace aquaform::test_cli;
 namespace fs = std::filesystem;
 

@@ -15,8 +15,8 @@
 
 #include "apps/render_options.h"
 #include "core/number_text.h"
-#include "control/mesh.h"
-#include "control/primitives.h"
+#include "geometry/mesh.h"
+#include "geometry/primitives.h"
 #include "render/picture_size.h"
 #include "study/bench_frame.h"
 #include "tests/cli_helpers.h"
@@ -449,7 +449,7 @@ TEST(Cli, RenderWithALargerRadiusRemakesTheGridWhileRecording) {
 
 TEST(Cli, ControlPlaceWritesPointsReportAndPicture) {
     fs::path dir = temp_dir("control");
-    ASSERT_TRUE(control::write_obj(dir / "ball.obj", control::make_sphere(0.1f, 3)));
+    ASSERT_TRUE(geometry::write_obj(dir / "ball.obj", geometry::make_sphere(0.1f, 3)));
     for (const char* method : {"inside", "vertices"}) {
         const fs::path out = dir / method;
         Outcome ok = run_aquaform("control place " + (dir / "ball.obj").string() + " --method " + method +

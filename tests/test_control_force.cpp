@@ -9,7 +9,7 @@
 
 #include "control/control_force.h"
 #include "control/placement.h"
-#include "control/primitives.h"
+#include "geometry/primitives.h"
 #include "control/section_builder.h"
 #include "control/shape_metrics.h"
 #include "control/strength.h"

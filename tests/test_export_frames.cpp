@@ -19,7 +19,7 @@
 #include <nlohmann/json.hpp>
 #include <openvdb/openvdb.h>
 
-#include "control/mesh.h"
+#include "geometry/mesh.h"
 #include "exports/frame_exports.h"
 #include "exports/mesh_export.h"
 #include "exports/vtk_export.h"
@@ -86,7 +86,7 @@ SurfaceMesh mesh_from_vtk(const json& grid) {
 
 /// An OBJ's vertices, normals and triangles as written ("v", "vn", "f a//a b//b c//c").
 SurfaceMesh read_mesh_obj(const fs::path& path) {
-    auto loaded = control::load_obj(path);
+    auto loaded = geometry::load_obj(path);
     EXPECT_TRUE(loaded) << path << ": " << (loaded ? "" : loaded.error());
     SurfaceMesh m;
     if (!loaded) return m;

@@ -12,15 +12,16 @@
 #include <numbers>
 #include <random>
 
-#include "control/inside.h"
-#include "control/mesh.h"
+#include "geometry/inside.h"
+#include "geometry/mesh.h"
 #include "core/host_memory.h"
 #include "control/placement.h"
-#include "control/primitives.h"
+#include "geometry/primitives.h"
 
 namespace {
 
 using namespace aquaform;
+using namespace aquaform::geometry;
 using namespace aquaform::control;
 
 class MeshTest : public ::testing::Test {

@@ -18,8 +18,8 @@
 #include <thread>
 #include <vector>
 
-#include "control/mesh.h"
-#include "control/primitives.h"
+#include "geometry/mesh.h"
+#include "geometry/primitives.h"
 #include "tests/cli_helpers.h"
 #include "render/picture_size.h"
 
@@ -185,15 +185,15 @@ TEST(ObjFuzz, MutatedShippedMeshesExitCleanly) {
     fs::remove_all(dir);
 }
 
-fs::path write_mesh(const fs::path& dir, const std::string& name, const control::Mesh& mesh) {
+fs::path write_mesh(const fs::path& dir, const std::string& name, const geometry::Mesh& mesh) {
     const fs::path path = dir / name;
-    EXPECT_TRUE(control::write_obj(path, mesh).ok());
+    EXPECT_TRUE(geometry::write_obj(path, mesh).ok());
     return path;
 }
 
 TEST(ControlPlaceCli, NumericFlagsAreStrict) {
     const fs::path dir = temp_dir("place_flags");
-    const fs::path cube = write_mesh(dir, "cube.obj", control::make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)}));
+    const fs::path cube = write_mesh(dir, "cube.obj", geometry::make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)}));
     for (const char* spacing : {"inf", "nan", "-1", "0", "1e30", "0x10", "' 0.1'", "0.1x", "''", "1e-9", "2"}) {
         const PlaceRun run = place(cube, std::string("--spacing ") + spacing, dir);
         EXPECT_EQ(run.exit_code, 2) << spacing << ": " << run.err;
@@ -216,7 +216,7 @@ TEST(ControlPlaceCli, NumericFlagsAreStrict) {
 TEST(ControlPlaceCli, AMeshTooSmallOrTooLargeForSinglePrecisionIsRefusedNamingItsSize) {
     const fs::path dir = temp_dir("place_mesh_size");
     for (float side : {1e-30f, 1e-8f, 1e8f, 1e30f}) {
-        const fs::path mesh = write_mesh(dir, "box.obj", control::make_box(Box{glm::vec3(0.0f), glm::vec3(side)}));
+        const fs::path mesh = write_mesh(dir, "box.obj", geometry::make_box(Box{glm::vec3(0.0f), glm::vec3(side)}));
         const PlaceRun run = place(mesh, "", dir);
         EXPECT_EQ(run.exit_code, 2) << side << ": " << run.err;
         const bool small = side < 1.0f;
@@ -226,7 +226,7 @@ TEST(ControlPlaceCli, AMeshTooSmallOrTooLargeForSinglePrecisionIsRefusedNamingIt
         EXPECT_EQ(split_lines(run.err).size(), 1u) << run.err;
     }
     for (float side : {1e-5f, 1e5f}) {  // odd units, still placeable
-        const fs::path mesh = write_mesh(dir, "box.obj", control::make_box(Box{glm::vec3(0.0f), glm::vec3(side)}));
+        const fs::path mesh = write_mesh(dir, "box.obj", geometry::make_box(Box{glm::vec3(0.0f), glm::vec3(side)}));
         const PlaceRun run = place(mesh, "", dir);
         EXPECT_EQ(run.exit_code, 0) << side << ": " << run.err;
     }
@@ -238,7 +238,7 @@ TEST(ControlPlaceCli, MemoryIsEstimatedBeforeAllocating) {
     // at most 8 GB to plan for, so that the refusal comes on a machine of any size.
     setenv("AQUAFORM_HOST_MEMORY", "8G", 1);
     const fs::path dir = temp_dir("place_memory");
-    const fs::path cube = write_mesh(dir, "cube.obj", control::make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)}));
+    const fs::path cube = write_mesh(dir, "cube.obj", geometry::make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)}));
     for (const char* method : {"inside", "vertices", "raster"}) {
         fs::remove_all(dir / "out");
         const PlaceRun run = place(cube, std::string("--spacing 0.000867 --method ") + method, dir);
@@ -262,7 +262,7 @@ TEST(ControlPlaceCli, MemoryIsEstimatedBeforeAllocating) {
 
 TEST(ControlPlaceCli, AHostMemoryLimitThatIsNotASizeIsRefused) {
     const fs::path dir = temp_dir("place_memory_env");
-    const fs::path cube = write_mesh(dir, "cube.obj", control::make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)}));
+    const fs::path cube = write_mesh(dir, "cube.obj", geometry::make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)}));
     setenv("AQUAFORM_HOST_MEMORY", "lots", 1);
     const PlaceRun run = place(cube, "--spacing 0.1", dir);
     unsetenv("AQUAFORM_HOST_MEMORY");
@@ -301,8 +301,8 @@ void expect_interrupt_stops(const fs::path& dir, const fs::path& mesh, const cha
 
 TEST(ControlPlaceCli, CtrlCStopsThePlacement) {
     const fs::path dir = temp_dir("place_interrupt");
-    expect_interrupt_stops(dir, write_mesh(dir, "torus.obj", control::make_torus(1.0f, 0.4f, 48, 24)), "inside", "0.006");
-    expect_interrupt_stops(dir, write_mesh(dir, "fine.obj", control::make_torus(1.0f, 0.4f, 400, 100)), "vertices",
+    expect_interrupt_stops(dir, write_mesh(dir, "torus.obj", geometry::make_torus(1.0f, 0.4f, 48, 24)), "inside", "0.006");
+    expect_interrupt_stops(dir, write_mesh(dir, "fine.obj", geometry::make_torus(1.0f, 0.4f, 400, 100)), "vertices",
                            "0.00203");
     fs::remove_all(dir);
 }
@@ -316,7 +316,7 @@ TEST(ControlPlaceCli, SceneControlMeshesGetTheSameChecks) {
     std::string scene = read_file(fs::path(AQUAFORM_ASSETS_DIR) / "scenes" / "morph.json");
     scene.replace(scene.find("../meshes/torus.obj"), 19, "../meshes/open.obj");
     test_cli::write_file(dir / "scenes" / "s.json", scene);
-    control::Mesh open = control::make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)});
+    geometry::Mesh open = geometry::make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)});
     open.faces.resize(10);
     write_mesh(dir / "meshes", "open.obj", open);
     const test_cli::Outcome run = test_cli::run_aquaform("run '" + (dir / "scenes" / "s.json").string() + "' --frames 1 --out '" +

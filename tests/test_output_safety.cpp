@@ -17,7 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "control/mesh.h"
+#include "geometry/mesh.h"
 #include "core/error.h"
 #include "core/file_write.h"
 #include "core/host_memory.h"
@@ -214,7 +214,7 @@ TEST(HostMemory, ASmallLimitFromTheVariableIsSaidInKibAndNamed) {
     const fs::path dir = temp_dir("host_memory");
     write_file(dir / "quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 1 2 5\nf 2 3 5\n"
                                  "f 3 4 5\nf 4 1 5\n# padding the file past 1 KiB / 6 " + std::string(200, '#') + "\n");
-    const auto loaded = control::load_obj(dir / "quad.obj");
+    const auto loaded = geometry::load_obj(dir / "quad.obj");
     unsetenv("AQUAFORM_HOST_MEMORY");
     ASSERT_FALSE(loaded.ok());
     EXPECT_NE(loaded.error().find("KiB of memory but 1 KiB are available (AQUAFORM_HOST_MEMORY=1K; unset it or raise it)"),

@@ -10,8 +10,8 @@
 #include <tuple>
 
 #include "core/error.h"
-#include "control/inside.h"
-#include "control/primitives.h"
+#include "geometry/inside.h"
+#include "geometry/primitives.h"
 #include "control/raster_placement.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
@@ -23,6 +23,7 @@ namespace aquaform {
 namespace {
 
 using namespace control;
+using namespace geometry;
 
 class RasterTest : public testing::GpuTest {};
 

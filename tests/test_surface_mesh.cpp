@@ -20,7 +20,7 @@
 
 #include <openvdb/openvdb.h>
 
-#include "control/mesh.h"
+#include "geometry/mesh.h"
 #include "core/error.h"
 #include "exports/mesh_export.h"
 #include "gpu/buffer.h"
@@ -430,11 +430,11 @@ TEST_F(SurfaceMeshTest, WrittenFilesReadBackWithTheProjectsObjLoaderAndAsPly) {
     const fs::path dir = test_cli::temp_dir("surface_mesh_files");
 
     ASSERT_TRUE(write_mesh(dir / "surface.obj", mesh, MeshFormat::obj));
-    auto loaded = control::load_obj(dir / "surface.obj");
+    auto loaded = geometry::load_obj(dir / "surface.obj");
     ASSERT_TRUE(loaded) << loaded.error();
     EXPECT_EQ(loaded.value().mesh.vertices.size(), mesh.vertices.size());
     ASSERT_EQ(loaded.value().mesh.faces.size(), mesh.triangles.size());
-    EXPECT_TRUE(loaded.value().report.watertight()) << control::describe(loaded.value().report);
+    EXPECT_TRUE(loaded.value().report.watertight()) << geometry::describe(loaded.value().report);
     EXPECT_EQ(loaded.value().report.reoriented_face_count, 0u);
     EXPECT_GT(loaded.value().report.signed_volume, 0.0);
     for (size_t i = 0; i < mesh.vertices.size(); ++i) ASSERT_EQ(loaded.value().mesh.vertices[i], mesh.vertices[i]);
@@ -462,10 +462,10 @@ TEST(SurfaceMeshRun, MeshEveryWritesAMeshPerFrameAndRefusesUnknownFormats) {
                                     "AQUAFORM_VALIDATION=1");
     ASSERT_EQ(o.exit_code, 0) << o.output;
     for (const char* name : {"surface_0000.obj", "surface_0001.obj"}) {
-        auto loaded = control::load_obj(dir / "obj" / name);
+        auto loaded = geometry::load_obj(dir / "obj" / name);
         ASSERT_TRUE(loaded) << name << ": " << loaded.error();
         EXPECT_GT(loaded.value().mesh.faces.size(), 500u) << name;
-        EXPECT_TRUE(loaded.value().report.watertight()) << name << ": " << control::describe(loaded.value().report);
+        EXPECT_TRUE(loaded.value().report.watertight()) << name << ": " << geometry::describe(loaded.value().report);
     }
     EXPECT_FALSE(fs::exists(dir / "obj" / "surface_0002.obj"));
 
@@ -503,7 +503,7 @@ TEST(SurfaceMeshRun, TheExportedSurfaceStaysInsideTheTank) {
         const std::string name = entry.path().filename().string();
         if (name.rfind("surface_", 0) == 0) {
             ++meshes;
-            auto loaded = control::load_obj(entry.path());
+            auto loaded = geometry::load_obj(entry.path());
             ASSERT_TRUE(loaded) << name << ": " << loaded.error();
             glm::vec3 lo(1e9f), hi(-1e9f);
             for (const glm::vec3& v : loaded.value().mesh.vertices) lo = glm::min(lo, v), hi = glm::max(hi, v);

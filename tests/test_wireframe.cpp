@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "control/primitives.h"
+#include "geometry/primitives.h"
 #include "render/wireframe.h"
 
 namespace aquaform {
@@ -32,7 +32,7 @@ ViewCamera facing_cube() {
 }
 
 TEST(WireframeTest, CubeOutlineLandsWhereTheCameraProjectsIt) {
-    const control::Mesh cube = control::make_box({{-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}});
+    const geometry::Mesh cube = geometry::make_box({{-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}});
     Image image = blank(128, 128);
     draw_wireframe(image, cube.vertices, cube.faces, facing_cube());
     // The front face (z = 0.5, 2.5 from the eye) spans 0.5 / (2.5 tan 20 deg) of the half width.

@@ -388,7 +388,7 @@ void ViewWorker::loop() {
         report_.solver = sim_->scene.solver;
         const control::ControlDriver* driver = sim_->session->control();
         if (!driver) report_.shapes.reset();
-        else if (made) report_.shapes = std::make_shared<const std::vector<control::Mesh>>(driver->active_meshes());
+        else if (made) report_.shapes = std::make_shared<const std::vector<geometry::Mesh>>(driver->active_meshes());
         report_.fatal = fatal;
         done_.notify_all();
         if (!fatal.empty()) return;

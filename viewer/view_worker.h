@@ -30,7 +30,7 @@
 
 #include <glm/glm.hpp>
 
-#include "control/mesh.h"
+#include "geometry/mesh.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "render/impostor_view.h"
@@ -103,7 +103,7 @@ struct ViewReport {
     std::string blowup;  ///< the last of those times' verdict (blowup_verdict), kept to the end: the command exits 1
     std::vector<std::filesystem::path> shape_files;   ///< meshes of the active shape, in its order
     SolverSettings solver;
-    std::shared_ptr<const std::vector<control::Mesh>> shapes;  ///< the active shapes' meshes, in scene coordinates
+    std::shared_ptr<const std::vector<geometry::Mesh>> shapes;  ///< the active shapes' meshes, in scene coordinates
     std::string fatal;  ///< set when the worker stopped on an error
 };
 

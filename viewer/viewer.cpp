@@ -155,7 +155,7 @@ private:
         const ImGuiIO& io = ImGui::GetIO();
         ImDrawList* draw = ImGui::GetBackgroundDrawList();
         const uint32_t w = uint32_t(std::max(io.DisplaySize.x, 1.0f)), h = uint32_t(std::max(io.DisplaySize.y, 1.0f));
-        for (const control::Mesh& mesh : *report_.shapes)
+        for (const geometry::Mesh& mesh : *report_.shapes)
             for (const WireEdge& e : project_wireframe(mesh.vertices, mesh.faces, controls_.camera, w, h))
                 draw->AddLine(ImVec2(e.a.x + 0.5f, e.a.y + 0.5f), ImVec2(e.b.x + 0.5f, e.b.y + 0.5f),
                               e.silhouette ? IM_COL32(255, 140, 40, 230) : IM_COL32(255, 140, 40, 50));

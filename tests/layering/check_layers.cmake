@@ -9,15 +9,16 @@ set(layers
   "core|core/result.h|"
   "gpu|gpu/context.h|core"
   "grid|grid/neighbor_grid.h|core,gpu"
-  "sim|sim/scene.h|core,gpu,grid"
-  "render|render/surface_frame.h|core,gpu,grid"
-  "control|control/mesh.h|core,gpu,grid,sim"
-  "session|session/simulation_session.h|core,gpu,grid,sim,control"
-  "exports|exports/mesh_export.h|core,gpu,grid,sim,render"
-  "study|study/bench_sim.h|core,gpu,grid,sim,render,control,session"
-  "viewer|viewer/view_worker.h|core,gpu,grid,sim,render,control,session"
-  "runner|runner/run_files.h|core,gpu,grid,sim,render,control,session,exports,study"
-  "apps|apps/cli.h|core,gpu,grid,sim,render,control,session,exports,study,viewer,runner")
+  "geometry|geometry/mesh.h|core,gpu,grid"
+  "sim|sim/scene.h|core,gpu,grid,geometry"
+  "render|render/surface_frame.h|core,gpu,grid,geometry"
+  "control|control/placement.h|core,gpu,grid,geometry,sim"
+  "session|session/simulation_session.h|core,gpu,grid,geometry,sim,control"
+  "exports|exports/mesh_export.h|core,gpu,grid,geometry,sim,render"
+  "study|study/bench_sim.h|core,gpu,grid,geometry,sim,render,control,session"
+  "viewer|viewer/view_worker.h|core,gpu,grid,geometry,sim,render,control,session"
+  "runner|runner/run_files.h|core,gpu,grid,geometry,sim,render,control,session,exports,study"
+  "apps|apps/cli.h|core,gpu,grid,geometry,sim,render,control,session,exports,study,viewer,runner")
 
 file(READ ${BUILD_DIR}/compile_commands.json db)
 string(JSON count LENGTH "${db}")

@@ -15,9 +15,9 @@
 #include <glm/glm.hpp>
 
 #include "core/result.h"
-#include "sim/scene.h"
+#include "core/box.h"
 
-namespace aquaform::control {
+namespace aquaform::geometry {
 
 /// Indexed triangle mesh as it came from the file (after triangulation). Kept separate from the
 /// OpenMesh half-edge structure because OpenMesh drops faces it cannot represent (non-manifold or
@@ -127,4 +127,4 @@ struct MeshPlacement {
 
 void apply(const MeshPlacement& placement, Mesh& mesh);
 
-}  // namespace aquaform::control
+}  // namespace aquaform::geometry

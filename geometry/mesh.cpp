@@ -1,4 +1,4 @@
-#include "control/mesh.h"
+#include "geometry/mesh.h"
 
 #include <algorithm>
 #include <array>
@@ -22,7 +22,7 @@
 #include "core/interrupt.h"
 #include "core/progress.h"
 
-namespace aquaform::control {
+namespace aquaform::geometry {
 
 namespace {
 
@@ -765,4 +765,4 @@ void apply(const MeshPlacement& placement, Mesh& mesh) {
     for (glm::vec3& vertex : mesh.vertices) vertex = (vertex - mesh_centre) * scale + target_centre;
 }
 
-}  // namespace aquaform::control
+}  // namespace aquaform::geometry

@@ -1,4 +1,4 @@
-#include "control/primitives.h"
+#include "geometry/primitives.h"
 #include "core/error.h"
 
 #include <algorithm>
@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace aquaform::control {
+namespace aquaform::geometry {
 
 Mesh make_sphere(float radius, uint32_t subdivisions) {
     const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
@@ -221,4 +221,4 @@ Character make_character() {
     return ch;
 }
 
-}  // namespace aquaform::control
+}  // namespace aquaform::geometry

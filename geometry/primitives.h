@@ -5,10 +5,10 @@
 #include <cstdint>
 #include <string_view>
 
-#include "control/mesh.h"
-#include "control/skinning.h"
+#include "geometry/mesh.h"
+#include "geometry/skinning.h"
 
-namespace aquaform::control {
+namespace aquaform::geometry {
 
 /// Icosphere centred at the origin: an icosahedron subdivided `subdivisions` times (20 * 4^n faces),
 /// vertices on the sphere, so it lies inside the exact sphere.
@@ -42,4 +42,4 @@ struct Character {
 };
 Character make_character();
 
-}  // namespace aquaform::control
+}  // namespace aquaform::geometry

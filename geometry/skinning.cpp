@@ -1,5 +1,5 @@
 // Skeleton parsing, automatic skin weights, forward kinematics and linear-blend skinning (see skinning.h).
-#include "control/skinning.h"
+#include "geometry/skinning.h"
 
 #include <algorithm>
 #include <array>
@@ -13,7 +13,7 @@
 #include "core/json_fields.h"
 #include "core/error.h"
 
-namespace aquaform::control {
+namespace aquaform::geometry {
 
 using namespace json_fields;
 
@@ -251,4 +251,4 @@ Mesh skin(const Mesh& rest, const SkinWeights& weights, const std::vector<glm::m
     return out;
 }
 
-}  // namespace aquaform::control
+}  // namespace aquaform::geometry

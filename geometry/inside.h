@@ -20,7 +20,7 @@
 
 #include <glm/glm.hpp>
 
-namespace aquaform::control {
+namespace aquaform::geometry {
 
 /// Winding number of `point` with respect to a triangle soup (three consecutive points per triangle).
 /// Brute force: O(triangles) per query.
@@ -72,4 +72,4 @@ private:
 std::vector<bool> inside_flags(const std::vector<glm::vec3>& triangles, const std::vector<glm::vec3>& points,
                                const std::string& progress_label = {}, bool* complete = nullptr);
 
-}  // namespace aquaform::control
+}  // namespace aquaform::geometry

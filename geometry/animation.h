@@ -1,6 +1,6 @@
 // Mesh placement and mesh animation for control meshes, read from a scene's "control" section:
 // rigid keyframes (the placed mesh moves as a whole), an OBJ sequence (one file per frame) and
-// linear-blend skinning with a small skeleton (control/skinning.h). The scene code parses an entry
+// linear-blend skinning with a small skeleton (geometry/skinning.h). The scene code parses an entry
 // with parse_placement / parse_animation, binds the animation to its mesh once, then asks for the
 // geometry (or, for rigid motion, only a matrix) at each frame's time.
 #pragma once
@@ -16,10 +16,10 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
-#include "control/mesh.h"
-#include "control/skinning.h"
+#include "geometry/mesh.h"
+#include "geometry/skinning.h"
 
-namespace aquaform::control {
+namespace aquaform::geometry {
 
 /// Euler angles in degrees applied X, then Y, then Z (R = Rz Ry Rx), the convention of apply().
 glm::quat rotation_xyz_degrees(const glm::vec3& degrees);
@@ -140,4 +140,4 @@ private:
 /// Throws json_fields::Invalid naming the key path, the value and the fix.
 MeshAnimation parse_animation(const nlohmann::json& v, const std::string& path, const std::filesystem::path& base_dir);
 
-}  // namespace aquaform::control
+}  // namespace aquaform::geometry

@@ -12,9 +12,9 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
-#include "control/mesh.h"
+#include "geometry/mesh.h"
 
-namespace aquaform::control {
+namespace aquaform::geometry {
 
 struct Bone {
     std::string name;
@@ -76,4 +76,4 @@ std::vector<glm::mat4> bone_matrices(const Skeleton& skeleton, const SkeletonPos
 /// sum to 1, but exact for identity matrices). Faces are copied from `rest`.
 Mesh skin(const Mesh& rest, const SkinWeights& weights, const std::vector<glm::mat4>& bone_matrices);
 
-}  // namespace aquaform::control
+}  // namespace aquaform::geometry

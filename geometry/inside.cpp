@@ -1,4 +1,4 @@
-#include "control/inside.h"
+#include "geometry/inside.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "core/interrupt.h"
 #include "core/progress.h"
 
-namespace aquaform::control {
+namespace aquaform::geometry {
 
 namespace {
 
@@ -192,4 +192,4 @@ std::vector<bool> inside_flags(const std::vector<glm::vec3>& triangles, const st
     return std::vector<bool>(inside.begin(), inside.end());
 }
 
-}  // namespace aquaform::control
+}  // namespace aquaform::geometry

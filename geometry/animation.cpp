@@ -1,6 +1,6 @@
 // Mesh placement and animation: parsing with messages that name the key path, and evaluation at a
 // time (see animation.h for the conventions).
-#include "control/animation.h"
+#include "geometry/animation.h"
 
 #include <algorithm>
 #include <cctype>
@@ -15,7 +15,7 @@
 #include "core/json_fields.h"
 #include "core/error.h"
 
-namespace aquaform::control {
+namespace aquaform::geometry {
 
 using namespace json_fields;
 namespace fs = std::filesystem;
@@ -369,4 +369,4 @@ MeshAnimation parse_animation(const json& v, const std::string& path, const fs::
     }
 }
 
-}  // namespace aquaform::control
+}  // namespace aquaform::geometry
