@@ -34,6 +34,10 @@ bool validation_requested(const Args& args) {
     return args.has("--validation") || (env && std::string(env) == "1");
 }
 
+void print_notes(const char* command, const std::vector<std::string>& notes) {
+    for (const std::string& note : notes) std::fprintf(stderr, "aquaform %s: note: %s\n", command, note.c_str());
+}
+
 bool stopped_by_ctrl_c(const char* command) {
     if (!interrupted()) return false;
     std::fprintf(stderr, "aquaform %s: interrupted (Ctrl-C) before the measurements were complete; nothing written\n",

@@ -40,6 +40,7 @@ int bench_render(const Args& args);
 FlagSpec bench_render_flags();
 int bench_control(const Args& args); FlagSpec bench_control_flags();  ///< `aquaform bench control` (apps/cmd_bench_control.cpp)
 int bench_convergence(const Args& args); FlagSpec bench_convergence_flags();  ///< `aquaform bench convergence` (apps/cmd_bench_convergence.cpp)
+int bench_spheric(const Args& args); FlagSpec bench_spheric_flags();  ///< `aquaform bench spheric` (apps/cmd_bench_spheric.cpp)
 int bench_frame(const Args& args); FlagSpec bench_frame_flags();  ///< `aquaform bench frame` (apps/cmd_bench_frame.cpp)
 
 /// Prints "aquaform COMMAND: MESSAGE" (one line, naming the problem and the fix) and returns
@@ -56,6 +57,8 @@ bool validation_requested(const Args& args);
 /// After a command's measuring loops: true, having said so, when Ctrl-C stopped them; the
 /// command then writes nothing it did not finish and exits kExitInterrupted (130).
 bool stopped_by_ctrl_c(const char* command);
+/// Prints a session plan's notes (session::SessionPlan::notes) to stderr, one line each.
+void print_notes(const char* command, const std::vector<std::string>& notes);
 /// `status`, or a failure when the validation layer reported errors during the command (so a
 /// test that runs the binary fails on them too).
 int exit_status(const gpu::Context& ctx, int status);

@@ -52,11 +52,13 @@ std::optional<double> parse_bandwidth(const std::string& text, std::string* erro
 int cmd_bench(const std::vector<std::string>& argv) {
     // The benchmark comes first (aquaform bench sim ...), so its own flags are the ones parsed.
     const std::string which = argv.empty() ? "" : argv[0];
-    if (which != "sim" && which != "render" && which != "control" && which != "convergence" && which != "frame") {
+    if (which != "sim" && which != "render" && which != "control" && which != "convergence" && which != "frame" &&
+        which != "spheric") {
         std::fprintf(stderr, "aquaform bench: say what to measure first: aquaform bench sim (solver), aquaform bench render "
                              "(surface reconstruction), aquaform bench frame (a displayed frame: solver, reconstruction and "
                              "composition), aquaform bench control (mesh control) or aquaform bench "
-                             "convergence (the dam-break front against Martin & Moyce in space and time step)\n");
+                             "convergence (the dam-break front against Martin & Moyce in space and time step) or aquaform bench spheric "
+                             "(SPHERIC test 2: the dam break against a box, against MARIN's measurements)\n");
         return kExitUsage;
     }
     const bool render = which == "render";
@@ -64,6 +66,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
                           : which == "control"      ? bench_control_flags()
                           : which == "convergence"  ? bench_convergence_flags()
                           : which == "frame"        ? bench_frame_flags()
+                          : which == "spheric"      ? bench_spheric_flags()
                                                     : bench_sim_flags();
     std::string error;
     auto args = parse_args(std::vector<std::string>(argv.begin() + 1, argv.end()), spec, "bench " + which, &error);
@@ -76,6 +79,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
     if (which == "control") return bench_control(*args);
     if (which == "convergence") return bench_convergence(*args);
     if (which == "frame") return bench_frame(*args);
+    if (which == "spheric") return bench_spheric(*args);
     std::vector<uint32_t> sizes = parse_sizes(args->value("--sizes", "16384,32768,65536,131072,262144"), &error);
     auto iterations = parse_positive("--iterations", args->value("--iterations", "4"), &error, kMaxIterations);
     auto steps = parse_positive("--steps", args->value("--steps", "4"), &error, kMaxRepeats);

@@ -37,6 +37,7 @@ int cmd_render(const std::vector<std::string>& argv) {
     // The scene's control section too (checked before a device is opened): its frames are shaped.
     auto plan = session::plan_session(scene);
     if (!plan) return std::fprintf(stderr, "aquaform: %s\n", plan.error().c_str()), kExitUsage;
+    print_notes("render", plan.value().notes);
     auto method = render_method_from(*args, &error);
     if (!method) return std::fprintf(stderr, "aquaform render: %s\n", error.c_str()), kExitUsage;
     uint32_t frame = scene.frames / 2;

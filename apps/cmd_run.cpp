@@ -39,6 +39,7 @@ int cmd_run(const std::vector<std::string>& argv) {
     // Mesh control: its strength may raise the substeps, so it is planned before the solver.
     auto plan = session::plan_session(std::move(loaded.value()));
     if (!plan) return std::fprintf(stderr, "aquaform: %s\n", plan.error().c_str()), kExitUsage;
+    print_notes("run", plan.value().notes);
     runner::PictureOptions picture;
     picture.kind = args->has("--no-png")    ? runner::PictureOptions::Kind::none
                    : args->has("--preview") ? runner::PictureOptions::Kind::preview

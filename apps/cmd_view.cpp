@@ -100,6 +100,7 @@ int cmd_view(const std::vector<std::string>& argv) {
         return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
     auto plan = session::plan_session(scene);
     if (!plan) return std::fprintf(stderr, "aquaform: %s\n", plan.error().c_str()), kExitUsage;
+    print_notes("view", plan.value().notes);
     auto method_settings = render_method_from(*args, &error);
     if (!method_settings) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
     draw_spray_unless_told(*args, *method_settings);

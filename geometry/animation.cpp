@@ -321,6 +321,13 @@ double MeshAnimation::duration() const {
     return 0.0;
 }
 
+bool MeshAnimation::loops() const {
+    return std::visit([](const auto& k) {
+        if constexpr (requires { k.loop; }) return k.loop;
+        else return false;
+    }, kind_);
+}
+
 void MeshAnimation::bind(const Mesh& rest, const MeshPlacement& placement) {
     const auto* sequence = std::get_if<SequenceAnimation>(&kind_);
     rest_ = sequence ? sequence->frames->front() : rest;

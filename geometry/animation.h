@@ -100,6 +100,8 @@ public:
     }
     /// Time after which the motion repeats (loop) or holds still: the last key's time, or count / fps.
     double duration() const;
+    /// Whether the motion repeats after duration() (else it holds its last pose).
+    bool loops() const;
     const Kind& kind() const { return kind_; }
 
     /// Once per mesh, before transform_at / mesh_at: `rest` as loaded from its file (file coordinates)

@@ -116,14 +116,23 @@ Error field_error(const std::string& message) { return Error{"distance field: " 
 
 }  // namespace
 
-Result<DistanceField> build_distance_field(const std::vector<glm::vec3>& soup, float cell, float margin,
-                                           const std::string& progress_label, float band) {
-    if (soup.empty()) return field_error("the mesh has no triangles; give a mesh with faces");
-    if (soup.size() % 3 != 0)
-        return field_error(format_text("%zu points do not make whole triangles (three points each)", soup.size()));
+namespace {
+
+/// Why a triangle soup cannot make a field; empty when it can.
+std::string soup_problem(const std::vector<glm::vec3>& soup) {
+    if (soup.empty()) return "the mesh has no triangles; give a mesh with faces";
+    if (soup.size() % 3 != 0) return format_text("%zu points do not make whole triangles (three points each)", soup.size());
     for (size_t i = 0; i < soup.size(); ++i)
         if (!std::isfinite(soup[i].x) || !std::isfinite(soup[i].y) || !std::isfinite(soup[i].z))
-            return field_error(format_text("triangle %zu has a coordinate that is not a finite number; fix the mesh", i / 3));
+            return format_text("triangle %zu has a coordinate that is not a finite number; fix the mesh", i / 3);
+    return {};
+}
+
+}  // namespace
+
+Result<DistanceField> build_distance_field(const std::vector<glm::vec3>& soup, float cell, float margin,
+                                           const std::string& progress_label, float band) {
+    if (const std::string problem = soup_problem(soup); !problem.empty()) return field_error(problem);
     if (!std::isfinite(cell) || cell <= 0.0f)
         return field_error(format_text("the cell size %g is not a positive number", double(cell)));
     if (!std::isfinite(margin) || margin < 0.0f)
@@ -145,10 +154,21 @@ Result<DistanceField> build_distance_field(const std::vector<glm::vec3>& soup, f
             (unsigned long long)kMaxDistanceFieldNodes));
     }
 
+    return build_distance_field_on(soup, GridSpec::covering(bounds, cell, margin), band, progress_label);
+}
+
+Result<DistanceField> build_distance_field_on(const std::vector<glm::vec3>& soup, const GridSpec& on, float band,
+                                              const std::string& progress_label) {
+    if (const std::string problem = soup_problem(soup); !problem.empty()) return field_error(problem);
+    if (!std::isfinite(band) || band <= 0.0f) return field_error("the band must be a number > 0");
+    if (double(on.node_count()) > double(kMaxDistanceFieldNodes))
+        return field_error(format_text("the grid has %zu nodes, more than the %llu allowed", on.node_count(),
+                                       (unsigned long long)kMaxDistanceFieldNodes));
     DistanceField field;
-    field.grid = GridSpec::covering(bounds, cell, margin);
+    field.grid = on;
     field.band = band;
     const GridSpec& grid = field.grid;
+    const float cell = grid.cell;
     const size_t triangles = soup.size() / 3;
     const bool show = !progress_label.empty() && grid.node_count() > (size_t(1) << 21);
     const InsideTest inside(soup);
@@ -226,6 +246,13 @@ Result<DistanceField> build_distance_field(const std::vector<glm::vec3>& soup, f
     });
     if (!signed_ok) return field_error("interrupted (Ctrl-C) while building; run again to build it");
     return field;
+}
+
+float distance_to_surface(const std::vector<glm::vec3>& soup, const glm::vec3& point) {
+    float best = INFINITY;
+    for (size_t t = 0; t + 2 < soup.size(); t += 3)
+        best = std::min(best, triangle_distance2(point, soup[t], soup[t + 1], soup[t + 2], is_sliver(soup[t], soup[t + 1], soup[t + 2])));
+    return std::sqrt(best);
 }
 
 float box_signed_distance(const Box& box, const glm::vec3& point) {

@@ -94,6 +94,14 @@ inline constexpr uint64_t kMaxDistanceFieldNodes = uint64_t(1) << 26;
 Result<DistanceField> build_distance_field(const std::vector<glm::vec3>& triangle_soup, float cell, float margin,
                                            const std::string& progress_label = {}, float band = 0.0f);
 
+/// build_distance_field on a grid of the caller's (e.g. one grid for every shape of a deforming
+/// mesh); distances exact within `band`.
+Result<DistanceField> build_distance_field_on(const std::vector<glm::vec3>& triangle_soup, const GridSpec& grid, float band,
+                                              const std::string& progress_label = {});
+
+/// The distance from `point` to the nearest triangle of a soup (unsigned; brute force, for a few points).
+float distance_to_surface(const std::vector<glm::vec3>& triangle_soup, const glm::vec3& point);
+
 /// The exact signed distance from `point` to an axis-aligned box (negative inside).
 float box_signed_distance(const Box& box, const glm::vec3& point);
 

@@ -126,6 +126,7 @@ bool FramePipeline::write(const FinishedFrame& f, RunFiles& files, RunTotals& to
         std::printf("\ndensity volumes: the surface is the level %.6g (the grid's aquaform_iso; Blender: the "
                     "threshold of a Volume to Mesh modifier)\n", double(f.capture.volume->iso));
     }
+    if (auto written = files.write_probes(f.report.probes); !written) return failed(written.error());
     // The row last: stats.csv lists the frames whose files are all written.
     if (auto written = files.write_frame_stats(f.index, stats, f.report.shape ? &*f.report.shape : nullptr); !written)
         return failed(written.error());

@@ -31,7 +31,11 @@ Result<bool> write_run_description(const std::filesystem::path& dir, const Scene
     return write_file_with(dir / kRunDescriptionName, [&](std::ostream& out) { out << json_text(run, 2) << '\n'; });
 }
 
-RunFiles::RunFiles(const std::filesystem::path& dir, const Scene& scene) : dir_(dir) {
+RunFiles::RunFiles(const std::filesystem::path& dir, const Scene& scene) : dir_(dir), probes_(dir, scene) {
+    if (!probes_.ok()) {
+        error_ = probes_.error();
+        return;
+    }
     auto stats = AppendedFile::open(dir / "stats.csv");
     if (!stats) {
         error_ = stats.error();
@@ -85,7 +89,7 @@ Result<bool> RunFiles::write_waiting_rows() {
     if (header_.empty()) {
         for (const auto& [name, ms] : waiting_.back().stats.gpu_ms) pass_columns_.push_back(name);
         header_ = "frame,time_s,particles,density_err_mean,density_err_max,density_dev_mean,kinetic_energy_j,"
-                  "max_speed_mps,substeps,dt_s,cfl_number,speed_capped,outside,non_finite,splash_fraction,droplets,"
+                  "max_speed_mps,substeps,dt_s,cfl_number,speed_capped,outside,in_solid,non_finite,splash_fraction,droplets,"
                   "runup_m,list_overflow,gpu_ms_total";
         if (has_shape) header_ += ",shape_iou,shape_fill_fraction,fluid_outside_shape,active_shapes";
         for (const auto& name : pass_columns_) header_ += ",gpu_ms_" + name;
@@ -100,9 +104,9 @@ Result<bool> RunFiles::write_waiting_rows() {
         const std::string droplets = s.droplets ? std::to_string(*s.droplets) : "";
         char runup[32] = "";
         if (s.runup) std::snprintf(runup, sizeof runup, "%.5f", *s.runup);
-        std::snprintf(row, sizeof row, "%u,%.6f,%u,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.4f,%d,%u,%u,%.5f,%s,%s,%.5f,%.4f",
+        std::snprintf(row, sizeof row, "%u,%.6f,%u,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.4f,%d,%u,%u,%u,%.5f,%s,%s,%.5f,%.4f",
                       w.frame, s.time_s, s.particles, s.mean_density_error, s.max_density_error, s.mean_density_deviation,
-                      s.kinetic_energy, s.max_speed, s.substeps, s.dt, s.cfl_number, s.speed_capped ? 1 : 0, s.outside,
+                      s.kinetic_energy, s.max_speed, s.substeps, s.dt, s.cfl_number, s.speed_capped ? 1 : 0, s.outside, s.in_solid,
                       s.non_finite, s.splash_fraction, droplets.c_str(), runup, s.list_overflow_fraction, total);
         text += row;
         if (w.shape) {
@@ -125,6 +129,7 @@ Result<bool> RunFiles::write_waiting_rows() {
 Result<bool> RunFiles::finish(const Scene& scene) {
     if (auto written = write_waiting_rows(); !written) return written;  // a run of frame 0 alone
     warn_if_never_filled();
+    if (auto charted = probes_.finish(scene); !charted) return charted;
     if (!has_front_ || front_samples_.empty()) return true;
     const double a = *scene.column_width;
     const double g = std::max(1e-6f, std::abs(scene.gravity.y));
@@ -146,11 +151,12 @@ Result<size_t> clear_earlier_run(const std::filesystem::path& dir) {
     static const std::regex numbered(R"((frame|particles|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp))");
     static const std::set<std::string> named{"stats.csv",     "front.csv",   "front.svg",     "particles.pvd",
                                              "surface.pvd",   kExportListing, kRunDescriptionName};
+    static const std::set<std::string> probe_files(std::begin(ProbeFiles::kFileNames), std::end(ProbeFiles::kFileNames));
     std::vector<std::filesystem::path> earlier;
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
         const std::string name = entry.path().filename().string();
-        if (!named.count(name) && !std::regex_match(name, numbered)) continue;
+        if (!named.count(name) && !probe_files.count(name) && !std::regex_match(name, numbered)) continue;
         // A link where the run writes would send its files elsewhere: refused before any work.
         if (entry.is_symlink(ec)) return link_refused(entry.path());
         if (entry.is_regular_file(ec) && name != kRunDescriptionName) earlier.push_back(entry.path());

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/file_write.h"
+#include "runner/probe_files.h"
 #include "session/simulation_session.h"
 #include "sim/frame_stats.h"
 #include "sim/scene.h"
@@ -36,7 +37,9 @@ public:
     /// The frame's row reaches the files whole or not at all (a full disk: the error says so);
     /// frame 0's waits for the first stepped frame (its passes name the columns) or finish().
     Result<bool> write_frame_stats(uint32_t frame, const FrameStats& stats, const ShapeColumns* shape = nullptr);
-    /// Dam-break scenes: writes front.svg (the run against Martin & Moyce 1952) and, for a
+    /// The frame's probe readings (probes.csv; nothing without probes).
+    Result<bool> write_probes(const ProbeFrame& frame) { return probes_.write_frame(frame); }
+    /// The probes' charts (probe_*.svg). Dam-break scenes: writes front.svg (the run against Martin & Moyce 1952) and, for a
     /// single column of height 2a (their n^2 = 2), prints how far the front is from theirs.
     /// Also warns when a control shape pulled for kFillGraceSeconds and never reached an IoU of
     /// kNeverFilledIou with the fluid.
@@ -50,6 +53,7 @@ private:
     std::filesystem::path dir_;
     AppendedFile stats_;
     AppendedFile front_;
+    ProbeFiles probes_;
     /// A frame's figures waiting for the header (frame 0's, until a stepped frame names the passes).
     struct WaitingRow {
         uint32_t frame;
@@ -71,7 +75,7 @@ private:
 
 /// A folder's rule for `run`: it is the run's (hold_output_dir keeps others out while it
 /// writes), and the files an earlier run left there (frames, exports with their .pvd and
-/// exports.csv, stats.csv, front.*) are removed first, so that none of them pass for this run's;
+/// exports.csv, stats.csv, front.*, probes.csv, probe_*.svg) are removed first, so that none of them pass for this run's;
 /// other files stay. Returns how many were removed; a symbolic link where the run writes a file
 /// is refused (naming it), before anything is removed.
 Result<size_t> clear_earlier_run(const std::filesystem::path& dir);

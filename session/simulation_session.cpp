@@ -46,6 +46,7 @@ Result<SessionPlan> plan_session(Scene scene) {
         if (!prepared) return Error{prepared.error()};
         plan.control = std::move(prepared.value());
     }
+    plan.notes = obstacle_notes(scene);
     plan.scene = std::move(scene);
     return plan;
 }
@@ -144,6 +145,7 @@ FrameReport SimulationSession::finish_frame(gpu::Submission frame, gpu::GpuTimer
     ctx_->wait(frame);
     FrameReport report;
     report.stats = solver_->collect_stats(timer);
+    report.probes = solver_->probe_frame();
     if (driver_ && options_.measure_shapes) {
         const control::ShapeMetrics m = driver_->measure(solver_->snapshot());
         report.shape = ShapeColumns{m.iou, m.fill_fraction, m.outside_fraction, driver_->active_description()};

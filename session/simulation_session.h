@@ -41,6 +41,7 @@ struct ShapeColumns {
 struct FrameReport {
     FrameStats stats;
     std::optional<ShapeColumns> shape;  ///< with mesh control and SessionOptions::measure_shapes
+    ProbeFrame probes;                   ///< the scene's probes' readings (empty without probes)
 };
 
 struct SessionOptions {
@@ -68,6 +69,9 @@ struct SessionPlan {
     Scene scene;
     std::optional<control::PreparedControl> control;
     std::optional<ControlSummary> control_summary() const;
+    /// What the user should hear before the run (obstacle_notes, sim/obstacles.h): fluid not started
+    /// inside an obstacle, what a mesh check tolerated. The commands print them.
+    std::vector<std::string> notes;
 };
 /// Loads scene.control_json when there is one. Errors name the scene file, the key and the fix.
 Result<SessionPlan> plan_session(Scene scene);

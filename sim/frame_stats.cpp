@@ -16,7 +16,7 @@ FrameStats reduce_stats(std::span<const shader::StatsPartial> partials, uint32_t
                         std::optional<float> front_wall_x, float runup_offset) {
     FrameStats s;
     s.particles = particles;
-    double sum_err = 0.0, sum_dev = 0.0, outside = 0.0, non_finite = 0.0, splash = 0.0, overflow = 0.0;
+    double sum_err = 0.0, sum_dev = 0.0, outside = 0.0, in_solid = 0.0, non_finite = 0.0, splash = 0.0, overflow = 0.0;
     double front = -1.0e30, runup = -1.0e30;
     for (const auto& p : partials) {
         sum_err += p.sum_density_error;
@@ -25,6 +25,7 @@ FrameStats reduce_stats(std::span<const shader::StatsPartial> partials, uint32_t
         s.kinetic_energy += p.sum_kinetic_energy;
         s.max_speed = std::max<double>(s.max_speed, p.max_speed);
         outside += p.outside;
+        in_solid += p.in_solid;
         non_finite += p.non_finite;
         front = std::max<double>(front, p.front);
         splash += p.splash;
@@ -38,6 +39,7 @@ FrameStats reduce_stats(std::span<const shader::StatsPartial> partials, uint32_t
         s.list_overflow_fraction = overflow / particles;
     }
     s.outside = static_cast<uint32_t>(outside + 0.5);
+    s.in_solid = static_cast<uint32_t>(in_solid + 0.5);
     s.non_finite = static_cast<uint32_t>(non_finite + 0.5);
     if (front_wall_x && front > -1.0e29) s.front = front - *front_wall_x;
     if (runup > -1.0e29) s.runup = runup + runup_offset;

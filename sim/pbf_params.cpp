@@ -8,7 +8,7 @@
 #include "shaders/shared/sph_kernels.h"
 #include "shaders/shared/tank_layout.h"
 
-static_assert(TANK_MAX_BOXES == PBF_MAX_STATIC_BOXES, "the renderers draw every static box the solver takes");
+static_assert(TANK_MAX_BOXES == PBF_MAX_OBSTACLES, "the renderers draw every static box the solver takes");
 
 namespace aquaform {
 
@@ -27,6 +27,7 @@ PbfConstants pbf_constants(const Scene& scene) {
     double w_sum = 0.0;
     double w_half = 0.0;     // the particle's own layer and those on one side of it
     double grad2_sum = 0.0;  // sum |grad W|^2, to be scaled by the particle volume squared
+    double consistency = 0.0;  // sum (x_j - x_i) . grad W_ij, to be scaled by the volume
     for (int z = -reach; z <= reach; ++z)
         for (int y = -reach; y <= reach; ++y)
             for (int x = -reach; x <= reach; ++x) {
@@ -36,10 +37,12 @@ PbfConstants pbf_constants(const Scene& scene) {
                 if (z >= 0) w_half += shader::poly6(r2, h2, poly6_coeff);
                 glm::vec3 g = shader::spiky_gradient(r, r2, c.h, spiky_coeff);
                 grad2_sum += glm::dot(g, g);
+                consistency -= glm::dot(r, g);  // r = x_i - x_j
             }
     c.mass = static_cast<float>(scene.rest_density / w_sum);
     const double volume = 1.0 / w_sum;
     c.stiffness_ref = static_cast<float>(volume * volume * grad2_sum);
+    c.gradient_consistency = static_cast<float>(volume * consistency / 3.0);
     // The wall must supply the missing (1 - w_half / w_sum) of rho0 at distance s / 2, where
     // its unscaled continuum integral is (pi c / 4) (F(h) - F(s / 2)).
     const float d0 = 0.5f * s;
@@ -78,16 +81,13 @@ shader::SimParams make_sim_params(const Scene& scene, const GridGeometry& grid, 
     p.scorr_k = scorr_k_of_step(scene, p.dt);
     p.max_speed = sv.max_speed;  // 0: no cap
     p.particle_count = particle_count;
-    p.static_box_count = static_cast<uint32_t>(scene.static_boxes.size());
-    for (size_t b = 0; b < scene.static_boxes.size() && b < PBF_MAX_STATIC_BOXES; ++b) {
-        p.box_min[b] = glm::vec4(scene.static_boxes[b].min, 0.0f);
-        p.box_max[b] = glm::vec4(scene.static_boxes[b].max, 0.0f);
-    }
+    p.obstacle_count = 0;  // the solids' table is sim/boundary.h's (Boundary::write_params)
     p.front_floor = scene.domain.min.y + c.h;
     p.front_tag = 0;
     p.wall_scale = c.wall_phi * shader::SPH_PI * p.poly6_coeff / 4.0f;
     p.wall_f_h = shader::pbf_wall_antiderivative(c.h, p.h2);
     p.constraint_min = sv.density_constraint == DensityConstraint::two_sided ? -1.0e30f : 0.0f;
+    p.pressure_scale = c.gradient_consistency * scene.rest_density;
     return p;
 }
 

@@ -21,6 +21,10 @@ struct PbfConstants {
     float mass = 0.0f;
     float stiffness_ref = 0.0f;
     float wall_phi = 0.0f;
+    /// kappa = (1/3) sum_j V (x_j - x_i) . grad W_ij over the rest lattice: how much of a linear
+    /// field's gradient the symmetric sum sum_j V (f_i + f_j) grad W_ij recovers (0.947 at h = 2 s).
+    /// The probes' pressure divides it out (shared/probe_layout.h).
+    float gradient_consistency = 1.0f;
 };
 
 PbfConstants pbf_constants(const Scene& scene);

@@ -38,13 +38,15 @@ std::vector<std::vector<uint32_t>> find_neighbors(const SimParams& p, const std:
 
 }  // namespace
 
-void reference_step(const SimParams& p, const ReferenceSettings& settings, CpuParticles& s) {
+void reference_step(const SimParams& p, const ReferenceSettings& settings, CpuParticles& s,
+                    const std::vector<glm::vec4>& boundary_nodes) {
     const size_t n = s.x.size();
+    const glm::vec4* nodes = boundary_nodes.data();
     std::vector<glm::vec4> pred(n);
     for (size_t i = 0; i < n; ++i) {
         glm::vec3 v = shader::pbf_cap_speed(xyz(s.v[i]) + p.dt * xyz(p.gravity), p);
         s.v[i] = glm::vec4(v, s.v[i].w);
-        pred[i] = glm::vec4(shader::pbf_predicted_position(xyz(s.x[i]), v, p), 0.0f);
+        pred[i] = glm::vec4(shader::pbf_predicted_position(xyz(s.x[i]), v, p, nodes), 0.0f);
     }
     const auto neighbors = find_neighbors(p, pred);
     std::vector<float> lambda(n);
@@ -63,9 +65,9 @@ void reference_step(const SimParams& p, const ReferenceSettings& settings, CpuPa
                 grad_i += g;
                 sum_grad2 += glm::dot(g, g);
             }
-            const glm::vec4 wall = shader::pbf_wall_term(pi, p);
-            rho = p.mass * rho + p.rest_density * wall.w;
-            grad_i += glm::vec3(wall);
+            const glm::vec4 solid = shader::pbf_boundary_term(pi, p, nodes);
+            rho = p.mass * rho + p.rest_density * solid.w;
+            grad_i += glm::vec3(solid);
             float constraint = std::max(rho / p.rest_density - 1.0f, p.constraint_min);
             lambda[i] = -constraint / (sum_grad2 + glm::dot(grad_i, grad_i) + p.epsilon);
             s.density[i] = rho;
@@ -79,8 +81,8 @@ void reference_step(const SimParams& p, const ReferenceSettings& settings, CpuPa
                 float s_corr = shader::pbf_scorr(shader::poly6(r2, p.h2, p.poly6_coeff), p);
                 dp += (lambda[i] + lambda[j] + s_corr) * shader::spiky_gradient(r, r2, p.h, p.spiky_coeff);
             }
-            const glm::vec3 wall_dp = lambda[i] * glm::vec3(shader::pbf_wall_term(pi, p));
-            next[i] = glm::vec4(shader::pbf_collide(pi + p.volume * dp + wall_dp, p), 0.0f);
+            const glm::vec3 solid_dp = lambda[i] * glm::vec3(shader::pbf_boundary_term(pi, p, nodes));
+            next[i] = glm::vec4(shader::pbf_collide(pi, pi + p.volume * dp + solid_dp, p, nodes), 0.0f);
         }
         std::swap(pred, next);
     }

@@ -11,7 +11,7 @@
 
 #include <glm/glm.hpp>
 
-#include "shaders/shared/pbf_physics.h"
+#include "shaders/shared/pbf_boundary.h"
 
 namespace aquaform {
 
@@ -27,8 +27,10 @@ struct ReferenceSettings {
     bool vorticity = false;
 };
 
-/// Advances `particles` by one solver step.
-void reference_step(const shader::SimParams& params, const ReferenceSettings& settings, CpuParticles& particles);
+/// Advances `particles` by one solver step. `boundary_nodes`: the obstacles' maps the params'
+/// table points into (sim/boundary.h, Boundary::nodes); empty when the table is.
+void reference_step(const shader::SimParams& params, const ReferenceSettings& settings, CpuParticles& particles,
+                    const std::vector<glm::vec4>& boundary_nodes = {});
 
 /// Brute-force neighbour lists: every j != i with |x_i - x_j| < radius (O(n^2), for tests).
 std::vector<std::vector<uint32_t>> brute_force_neighbors(const std::vector<glm::vec4>& positions, float radius);

@@ -12,6 +12,7 @@
 #include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "gpu/vk_check.h"
+#include "shaders/shared/pbf_boundary.h"
 #include "sim/pbf_params.h"
 #include "core/error.h"
 
@@ -29,6 +30,15 @@ std::string gib(uint64_t bytes) {
 }
 
 uint32_t stats_groups(uint32_t count) { return (count + PBF_STATS_WORKGROUP - 1) / PBF_STATS_WORKGROUP; }
+
+/// A pass's specialization constants: its own from constant_id 1, then whether the scene has
+/// obstacles at PBF_OBSTACLES_CONSTANT (shaders/shared/pbf_boundary.h; without, the solids
+/// compile down to the walls).
+std::vector<uint32_t> solid_constants(std::vector<uint32_t> own, bool obstacles) {
+    own.resize(PBF_OBSTACLES_CONSTANT, 0u);
+    own.back() = obstacles ? 1u : 0u;
+    return own;
+}
 
 }  // namespace
 
@@ -61,6 +71,8 @@ Result<MemoryPlan> plan_memory(const Scene& scene) {
     plan.buffers.push_back({"grid.cell_start", (cells + 1) * 4});
     plan.buffers.push_back({"stats.partials", ((n + PBF_STATS_WORKGROUP - 1) / PBF_STATS_WORKGROUP) * sizeof(shader::StatsPartial)});
     plan.buffers.push_back({"params", sizeof(shader::SimParams)});
+    plan.buffers.push_back({"boundary.nodes", Boundary::planned_bytes(scene)});
+    if (scene.probes) plan.buffers.push_back({"particles.pressure", n * 8});
     return plan;
 }
 
@@ -111,10 +123,6 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene)
     if (scene.solver.iterations < 1)
         throw Failure(scene.path.string() + ": solver.iterations is " + std::to_string(scene.solver.iterations) +
                       "; the solver needs at least 1 constraint iteration (4 is usual)");
-    if (scene.static_boxes.size() > PBF_MAX_STATIC_BOXES)
-        throw resource_failure(scene.path.string() + ": static_boxes has " +
-                                 std::to_string(scene.static_boxes.size()) + " boxes; the solver supports at most " +
-                                 std::to_string(PBF_MAX_STATIC_BOXES) + ": merge boxes");
     // Both are checked before anything is allocated, so a scene too large for the device is bad
     // input (exit 2), named with the fix, not a failure midway.
     auto plan = plan_memory(scene);
@@ -122,6 +130,9 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene)
     auto fits = check_fits(scene, plan.value(), ctx.info());
     if (!fits) throw Failure(fits.error());
     count_ = static_cast<uint32_t>(plan.value().particles);
+    auto boundary = Boundary::build(scene);
+    if (!boundary) throw Failure(boundary.error());
+    boundary_ = std::make_unique<Boundary>(std::move(boundary.value()));
     gpu::UploadBatch uploads(ctx);  // the grid's table, the parameters and the particles: one submission
     const GridGeometry& geometry = plan.value().grid;
     params_ = make_sim_params(scene, geometry, count_);
@@ -140,18 +151,33 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene)
     partials_ = &buffers_.add("stats.partials", uint64_t(stats_groups(count_)) * sizeof(shader::StatsPartial),
                               gpu::MemoryUse::host);
     params_buf_ = &buffers_.add("params", sizeof(shader::SimParams));
+    boundary_->write_params(params_, 0.0);
     gpu::upload(ctx, *params_buf_, &params_, sizeof params_);
+    boundary_nodes_ = &buffers_.add("boundary.nodes", boundary_->bytes());
+    gpu::upload(ctx, *boundary_nodes_, boundary_->nodes().data(), boundary_->bytes());
+    const uint32_t measure_pressure = scene.probes ? 1u : 0u;
+    pressure_ = measure_pressure ? &buffers_.add("particles.pressure", n * 8) : density_;
+    if (scene.probes) {
+        std::vector<std::string> solids;
+        for (size_t s = 0; s < boundary_->solid_count(); ++s) solids.push_back(boundary_->name(s));
+        probes_ = std::make_unique<ProbeRecorder>(ctx, scene, solids, std::max(scene.solver.max_substeps, scene.solver.substeps));
+    }
 
     using shader::CountPush;
-    predict_ = gpu::ComputePass(ctx, {"sim/pbf_predict.comp", 4, sizeof(CountPush)});
-    reorder_ = gpu::ComputePass(ctx, {"sim/pbf_reorder.comp", 7, sizeof(CountPush)});
-    lambda_pass_ = gpu::ComputePass(ctx, {"sim/pbf_lambda.comp", 9, sizeof(CountPush)});
-    correct_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 10, sizeof(CountPush)});
+    const bool obstacles = boundary_->solid_count() > 0;
+    const uint32_t local = gpu::kDefaultLocalSize;
+    predict_ = gpu::ComputePass(ctx, {"sim/pbf_predict.comp", 5, sizeof(CountPush), local, solid_constants({}, obstacles)});
+    reorder_ = gpu::ComputePass(ctx, {"sim/pbf_reorder.comp", 9, sizeof(CountPush), local, solid_constants({measure_pressure}, obstacles)});
+    lambda_pass_ = gpu::ComputePass(ctx, {"sim/pbf_lambda.comp", 10, sizeof(CountPush), local, solid_constants({}, obstacles)});
+    correct_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 12, sizeof(shader::CorrectPush), local,
+                                      solid_constants({0u, measure_pressure}, obstacles)});
     // The last iteration's correction also updates v and x (kLastIteration).
-    correct_last_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 10, sizeof(CountPush), gpu::kDefaultLocalSize, {1u}});
+    correct_last_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 12, sizeof(shader::CorrectPush), local,
+                                           solid_constants({1u, measure_pressure}, obstacles)});
     if (xsph_on_) xsph_curl_ = gpu::ComputePass(ctx, {"sim/pbf_xsph_curl.comp", 11, sizeof(CountPush)});
     if (vorticity_on_) vorticity_ = gpu::ComputePass(ctx, {"sim/pbf_vorticity.comp", 10, sizeof(CountPush)});
-    stats_ = gpu::ComputePass(ctx, {"sim/pbf_stats.comp", 10, sizeof(shader::StatsPush), PBF_STATS_WORKGROUP});
+    stats_ = gpu::ComputePass(ctx, {"sim/pbf_stats.comp", 11, sizeof(shader::StatsPush), PBF_STATS_WORKGROUP,
+                                    solid_constants({}, obstacles)});
 
     std::vector<glm::vec4> x;
     std::vector<uint32_t> block;
@@ -189,7 +215,7 @@ void PbfSolver::relax_start() {
         ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
             gpu::record_upload(*ctx_, cmd, *params_buf_, &relax, sizeof relax);
             record_sort(cmd, *x_, nullptr);
-            for (uint32_t it = 0; it < kStartRelaxIterations; ++it) record_iteration(cmd, correct_, nullptr);
+            for (uint32_t it = 0; it < kStartRelaxIterations; ++it) record_iteration(cmd, correct_, it, nullptr);
             gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
         });
         // The densities are the last iteration's, before its correction: the check lags it.
@@ -227,13 +253,18 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     const gpu::Buffer& counts = grid_->neighbor_count();
     const gpu::Buffer& neighbors = grid_->neighbors();
     if (step_force_) step_force_->record(cmd, *params_buf_, *x_, *v_, count_, timer);
+    if (boundary_->moves()) record_solid_motion(cmd);
     {
         gpu::GpuScope s(timer, cmd, "predict");
-        gpu::dispatch(*ctx_, cmd, predict_, count_, push, {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"p", p_}});
+        gpu::dispatch(*ctx_, cmd, predict_, count_, push, {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"p", p_}, {"boundary_nodes", boundary_nodes_}});
     }
     record_sort(cmd, *p_, timer);
     for (uint32_t it = 0; it < scene_.solver.iterations; ++it)
-        record_iteration(cmd, it + 1 == scene_.solver.iterations ? correct_last_ : correct_, timer);
+        record_iteration(cmd, it + 1 == scene_.solver.iterations ? correct_last_ : correct_, it, timer);
+    if (probes_) {
+        gpu::GpuScope s(timer, cmd, "probes");
+        probes_->record_step(cmd, step_in_frame_, time_ + params_.dt, *params_buf_, *x_, *pressure_, *grid_, *boundary_nodes_, count_);
+    }
     if (xsph_on_) {
         gpu::GpuScope s(timer, cmd, "xsph_curl");
         gpu::dispatch(*ctx_, cmd, xsph_curl_, count_, push,
@@ -248,7 +279,13 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     time_ += params_.dt;
 }
 
-void PbfSolver::record_iteration(VkCommandBuffer cmd, const gpu::ComputePass& correct, gpu::GpuTimer* timer) {
+void PbfSolver::record_solid_motion(VkCommandBuffer cmd) {
+    boundary_->write_params(params_, time_ + params_.dt);
+    gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
+}
+
+void PbfSolver::record_iteration(VkCommandBuffer cmd, const gpu::ComputePass& correct, uint32_t iteration,
+                                 gpu::GpuTimer* timer) {
     // One Jacobi iteration: lambda writes q = (p, lambda) into scratch0, correct writes p back.
     const shader::CountPush push{count_};
     const gpu::Buffer& rank = grid_->cell_rank();
@@ -259,11 +296,12 @@ void PbfSolver::record_iteration(VkCommandBuffer cmd, const gpu::ComputePass& co
     {
         gpu::GpuScope s(timer, cmd, "lambda");
         gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
-                      {{"params", params_buf_}, {"p", p_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"q", s0_}, {"density", density_}});
+                      {{"params", params_buf_}, {"p", p_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"q", s0_}, {"density", density_}, {"boundary_nodes", boundary_nodes_}});
     }
     gpu::GpuScope s(timer, cmd, "correct");
-    gpu::dispatch(*ctx_, cmd, correct, count_, push,
-                  {{"params", params_buf_}, {"q", s0_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"p_out", p_}, {"x", x_}, {"v", v_}});
+    const shader::CorrectPush correct_push{count_, iteration, 0u, 0u};
+    gpu::dispatch(*ctx_, cmd, correct, count_, correct_push,
+                  {{"params", params_buf_}, {"q", s0_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"p_out", p_}, {"x", x_}, {"v", v_}, {"boundary_nodes", boundary_nodes_}, {"pressure", pressure_}});
 }
 
 void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer, bool lists_of_x) {
@@ -271,7 +309,7 @@ void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_position
     {
         gpu::GpuScope s(timer, cmd, "reorder");
         const shader::CountPush push{count_};
-        gpu::dispatch(*ctx_, cmd, reorder_, count_, push, {{"params", params_buf_}, {"order", &grid_->order()}, {"x_in", x_}, {"v_in", v_}, {"x_out", s0_}, {"v_out", s1_}, {"p_out", p_}});
+        gpu::dispatch(*ctx_, cmd, reorder_, count_, push, {{"params", params_buf_}, {"order", &grid_->order()}, {"x_in", x_}, {"v_in", v_}, {"x_out", s0_}, {"v_out", s1_}, {"p_out", p_}, {"boundary_nodes", boundary_nodes_}, {"pressure", pressure_}});
         std::swap(x_, s0_);
         std::swap(v_, s1_);
     }
@@ -292,13 +330,13 @@ void PbfSolver::record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     // Density at the final positions (the lambda pass on x, over this step's neighbours; its
     // q output goes to scratch), then the per-workgroup reduction.
     gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
-                  {{"params", params_buf_}, {"p", x_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"neighbor_count", &grid_->neighbor_count()}, {"neighbors", &grid_->neighbors()}, {"q", s0_}, {"density", density_}});
+                  {{"params", params_buf_}, {"p", x_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"neighbor_count", &grid_->neighbor_count()}, {"neighbors", &grid_->neighbors()}, {"q", s0_}, {"density", density_}, {"boundary_nodes", boundary_nodes_}});
     // Runup: particles within a spacing of the far wall of a dam break.
     const float runup_x = scene_.column_width ? scene_.domain.max.x - scene_.particle_spacing : 1.0e30f;
     const float splash = float(kSplashNeighborFraction * full_neighbor_count(scene_.solver.kernel_radius_factor));
     const shader::StatsPush stats_push{count_, splash, runup_x, 0u};
     gpu::dispatch(*ctx_, cmd, stats_, stats_groups(count_) * PBF_STATS_WORKGROUP, stats_push,
-                  {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"density", density_}, {"partials", partials_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"neighbor_count", &grid_->neighbor_count()}, {"neighbors", &grid_->neighbors()}});
+                  {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"density", density_}, {"partials", partials_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"neighbor_count", &grid_->neighbor_count()}, {"neighbors", &grid_->neighbors()}, {"boundary_nodes", boundary_nodes_}});
     if (droplet_parent_) {
         gpu::GpuScope d(timer, cmd, "droplets");
         record_droplets(cmd);
@@ -339,18 +377,33 @@ void PbfSolver::record_frame(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     }
     // The time-step rule: this frame's steps from the largest speed, its growth and the largest
     // density error the last frame ended with (collected before this frame is recorded).
+    // A moving solid's surface counts as a speed too: it pushes the fluid ahead of it.
+    const double solid_speed = std::max(boundary_->surface_speed(time_), boundary_->surface_speed(time_ + scene_.solver.frame_dt));
     const uint32_t substeps = substeps_for_compression(
         scene_.solver,
-        substeps_for_speed(scene_.solver, params_.h, last_max_speed_, glm::length(scene_.gravity), last_speed_growth_),
+        substeps_for_speed(scene_.solver, params_.h, std::max(last_max_speed_, solid_speed), glm::length(scene_.gravity),
+                           last_speed_growth_),
         substeps_, last_max_density_error_);
+    // A deforming solid is made again once a frame, for the frame's middle (its maps are made on
+    // the host); its pose moves every step.
+    if (boundary_->deforms() && boundary_->reshape(time_ + 0.5 * scene_.solver.frame_dt))
+        gpu::record_upload(*ctx_, cmd, *boundary_nodes_, boundary_->nodes().data(), boundary_->bytes());
     if (substeps != substeps_) {
         substeps_ = substeps;
         set_substeps(params_, scene_.solver.frame_dt, substeps);
         params_.scorr_k = scorr_k_of_step(scene_, params_.dt);
         gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
     }
-    for (uint32_t i = 0; i < substeps; ++i) record_step(cmd, timer);
+    for (uint32_t i = 0; i < substeps; ++i) {
+        step_in_frame_ = i;
+        record_step(cmd, timer);
+    }
+    step_in_frame_ = 0;
     recorded_steps_ = substeps;
+    if (probes_) {
+        gpu::GpuScope s(timer, cmd, "probes");
+        probes_->record_loads(cmd, *params_buf_, *x_, *pressure_, *boundary_nodes_, count_, boundary_->centres(time_));
+    }
     if (frame_grid_ || droplet_parent_) {
         gpu::GpuScope s(timer, cmd, "frame_grid");
         record_sort(cmd, *x_, nullptr, true);
@@ -380,6 +433,7 @@ FrameStats PbfSolver::collect_stats(gpu::GpuTimer* timer) {
     if (scene_.column_width) wall = scene_.domain.min.x - 0.5f * scene_.particle_spacing;
     FrameStats stats = reduce_stats(partials, count_, wall, 0.5f * scene_.particle_spacing - scene_.domain.min.y);
     if (droplet_parent_) stats.droplets = *static_cast<const uint32_t*>(droplet_count_->mapped);
+    if (probes_) probe_frame_ = probes_->collect();
     stats.time_s = time_;
     if (timer) stats.gpu_ms = timer->totals_ms();
     stats.substeps = recorded_steps_;
@@ -407,6 +461,8 @@ void PbfSolver::set_measure_droplets(bool on) {
 std::vector<gpu::BufferReport> PbfSolver::memory_report() const {
     std::vector<gpu::BufferReport> report = buffers_.report();
     for (const gpu::BufferReport& b : droplet_buffers_.report()) report.push_back(b);
+    if (probes_)
+        for (const gpu::BufferReport& b : probes_->memory_report()) report.push_back(b);
     return report;
 }
 

@@ -19,6 +19,8 @@
 #include "grid/neighbor_grid.h"
 #include "core/result.h"
 #include "sim/scene.h"
+#include "sim/boundary.h"
+#include "sim/probes.h"
 
 namespace aquaform {
 
@@ -85,6 +87,10 @@ public:
     /// gives its statistics.
     void record_initial_state(VkCommandBuffer cmd, gpu::GpuTimer* timer);
     FrameStats collect_stats(gpu::GpuTimer* timer);
+    /// The probes' readings of the frame collect_stats() last collected (the scene's "probes";
+    /// empty without them): every step's gauges and sensors, and the loads at the frame's end.
+    const ProbeFrame& probe_frame() const { return probe_frame_; }
+    bool has_probes() const { return probes_ != nullptr; }
     /// Statistics of the current state (runs the density and reduction passes).
     FrameStats measure(gpu::GpuTimer* timer);
     ParticleSnapshot snapshot();
@@ -129,6 +135,13 @@ public:
     const gpu::Buffer& velocities() const { return *v_; }
     const gpu::Buffer& densities() const { return *density_; }
     const gpu::Buffer& params_buffer() const { return *params_buf_; }
+    /// The solids' maps (static boxes and obstacles) the parameter block's table points into.
+    const Boundary& boundary() const { return *boundary_; }
+    const gpu::Buffer& boundary_nodes() const { return *boundary_nodes_; }
+    /// The particles' pressures after the last step (shared/probe_layout.h), two floats each
+    /// (the fluid's pressure, and the solids' push on it as a pressure), in positions()'s order as
+    /// the last step left it; null for a scene without probes.
+    const gpu::Buffer* pressures() const { return probes_ ? pressure_ : nullptr; }
     const NeighborGrid& grid() const { return *grid_; }
 
 private:
@@ -138,10 +151,12 @@ private:
     void record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer, bool lists_of_x = false);
     void record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer);
     /// One constraint iteration (lambda, then `correct`: correct_ keeps p, correct_last_ updates v and x).
-    void record_iteration(VkCommandBuffer cmd, const gpu::ComputePass& correct, gpu::GpuTimer* timer);
+    void record_iteration(VkCommandBuffer cmd, const gpu::ComputePass& correct, uint32_t iteration, gpu::GpuTimer* timer);
     void record_droplets(VkCommandBuffer cmd);
     /// Moves the start lattice to rest density where it starts compressed (relax_start in the .cpp).
     void relax_start();
+    /// Moves the solids to where they stand at the end of the step about to be recorded.
+    void record_solid_motion(VkCommandBuffer cmd);
 
     gpu::Context* ctx_;
     Scene scene_;
@@ -160,6 +175,12 @@ private:
     gpu::Buffer* params_buf_;
     gpu::Buffer *x_, *v_, *p_, *s0_, *s1_;
     gpu::Buffer* density_;
+    std::unique_ptr<Boundary> boundary_;
+    gpu::Buffer* boundary_nodes_;
+    std::unique_ptr<ProbeRecorder> probes_;
+    gpu::Buffer* pressure_;  ///< the particles' pressures (with probes; else a stand-in the passes never touch)
+    ProbeFrame probe_frame_;
+    uint32_t step_in_frame_ = 0;  ///< the step being recorded within its frame (the probes' slot)
     gpu::Buffer* partials_;  ///< host-visible: the host reduces them after the frame's fence
     gpu::BufferSet droplet_buffers_;  ///< the droplet count's, when on
     gpu::Buffer* droplet_parent_ = nullptr;

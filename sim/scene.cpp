@@ -16,6 +16,7 @@
 #include <string_view>
 
 #include "core/json_fields.h"
+#include "sim/obstacles.h"
 #include "shaders/shared/pbf_layout.h"
 
 namespace aquaform {
@@ -26,7 +27,7 @@ using namespace json_fields;
 constexpr std::string_view kTopKeys[] = {"name",         "domain", "particle_spacing", "rest_density",
                                          "gravity",      "fluid_blocks", "static_boxes", "frames",
                                          "column_width", "solver", "control", "camera",
-                                         "event_frame"};
+                                         "event_frame",  "obstacles",    "probes"};
 constexpr std::string_view kSolverKeys[] = {"frame_dt",  "substeps", "iterations", "kernel_radius_factor",
                                             "relaxation", "viscosity", "vorticity", "scorr_k",
                                             "scorr_n",   "scorr_dq", "cfl", "max_substeps", "max_speed",
@@ -108,6 +109,22 @@ uint64_t fill_count(const Box& b, const BlockFill& fill, float spacing) {
     if (!for_each_row(b, fill, spacing, cap, [&](uint64_t, uint64_t, uint64_t i0, uint64_t i1) { count += i1 - i0; }))
         return block_count(b, spacing);
     return count;
+}
+
+/// fn(point, block) for every lattice point of every fluid block, block by block, row by row.
+template <typename Fn>
+void for_each_lattice_point(const Scene& scene, Fn fn) {
+    const double s = scene.particle_spacing;
+    for (size_t bi = 0; bi < scene.fluid_blocks.size(); ++bi) {
+        const Box& b = scene.fluid_blocks[bi];
+        for_each_row(b, scene.fill_of(bi), scene.particle_spacing, std::numeric_limits<uint64_t>::max(),
+                     [&](uint64_t j, uint64_t k, uint64_t i0, uint64_t i1) {
+                         for (uint64_t i = i0; i < i1; ++i)
+                             fn(glm::vec3(static_cast<float>(b.min.x + s * (i + 0.5)), static_cast<float>(b.min.y + s * (j + 0.5)),
+                                          static_cast<float>(b.min.z + s * (k + 0.5))),
+                                bi);
+                     });
+    }
 }
 
 // ---- the scene -------------------------------------------------------------------------------
@@ -224,7 +241,7 @@ std::pair<Box, BlockFill> read_fluid_block(const json& v, const std::string& pat
     return {box, fill};
 }
 
-Scene read_scene(const json& j) {
+Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
     if (!j.is_object())
         fail("the top level must be a JSON object {\"name\": ..., \"domain\": ..., ...}, got " + written(j) + " (" +
              kind_of(j) + "); see assets/scenes/dam_break.json for an example");
@@ -263,8 +280,8 @@ Scene read_scene(const json& j) {
 
     if (j.contains("static_boxes")) {
         // The solver keeps its obstacles in a fixed table of its parameter block.
-        check_count(j["static_boxes"], "static_boxes", PBF_MAX_STATIC_BOXES,
-                    "the solver collides particles with a fixed table of boxes; merge neighbouring boxes");
+        check_count(j["static_boxes"], "static_boxes", PBF_MAX_OBSTACLES,
+                    "the solver keeps its solids in a fixed table; merge neighbouring boxes");
         scene.static_boxes = read_boxes(j["static_boxes"], "static_boxes", scene.domain);
     }
     const json& blocks = j["fluid_blocks"];
@@ -309,6 +326,11 @@ Scene read_scene(const json& j) {
                      "blocks disjoint (they may touch)");
     }
 
+    if (j.contains("obstacles"))
+        scene.obstacles = read_obstacles(j["obstacles"], scene, base_dir,
+                                         PBF_MAX_OBSTACLES - scene.static_boxes.size());
+    if (j.contains("probes")) scene.probes = read_probes(j["probes"], scene);
+
     if (j.contains("column_width")) {
         const json& cw = j["column_width"];
         float a = read_number(cw, "column_width", {0.0, HUGE_VAL, true, false,
@@ -346,7 +368,14 @@ uint64_t Scene::particle_count() const {
         uint64_t n = fill_count(fluid_blocks[i], fill_of(i), particle_spacing);
         total = n > std::numeric_limits<uint64_t>::max() - total ? std::numeric_limits<uint64_t>::max() : total + n;
     }
-    return total;
+    // Only a count the solver could hold is worth the inside test's time.
+    return total > kMaxSceneParticles || obstacles.empty() ? total : total - particles_in_solids();
+}
+
+uint64_t Scene::particles_in_solids() const {
+    uint64_t inside = 0;
+    for_each_lattice_point(*this, [&](const glm::vec3& p, size_t) { inside += inside_start_solid(obstacles, p) ? 1 : 0; });
+    return inside;
 }
 
 void Scene::generate_particles(std::vector<glm::vec4>& positions, std::vector<uint32_t>& block_of) const {
@@ -355,19 +384,11 @@ void Scene::generate_particles(std::vector<glm::vec4>& positions, std::vector<ui
     uint64_t total = particle_count();
     positions.reserve(total);  // throws std::length_error for absurd counts instead of looping forever
     block_of.reserve(total);
-    const double s = particle_spacing;
-    for (size_t bi = 0; bi < fluid_blocks.size(); ++bi) {
-        const Box& b = fluid_blocks[bi];
-        for_each_row(b, fill_of(bi), particle_spacing, std::numeric_limits<uint64_t>::max(),
-                     [&](uint64_t j, uint64_t k, uint64_t i0, uint64_t i1) {
-                         for (uint64_t i = i0; i < i1; ++i) {
-                             positions.emplace_back(static_cast<float>(b.min.x + s * (i + 0.5)),
-                                                    static_cast<float>(b.min.y + s * (j + 0.5)),
-                                                    static_cast<float>(b.min.z + s * (k + 0.5)), 0.0f);
-                             block_of.push_back(static_cast<uint32_t>(bi));
-                         }
-                     });
-    }
+    for_each_lattice_point(*this, [&](const glm::vec3& p, size_t block) {
+        if (!obstacles.empty() && inside_start_solid(obstacles, p)) return;
+        positions.emplace_back(p, 0.0f);
+        block_of.push_back(static_cast<uint32_t>(block));
+    });
 }
 
 Result<Scene> with_particle_count(const Scene& scene, uint64_t particles, const std::string& flag) {
@@ -458,9 +479,9 @@ ViewCamera scene_camera(const Scene& scene, float aspect) {
     return scene.camera ? *scene.camera : camera_for_domain(framed_region(scene), aspect);
 }
 
-Result<Scene> parse_scene(const std::string& json_text, const std::string& origin) {
+Result<Scene> parse_scene(const std::string& json_text, const std::string& origin, const std::filesystem::path& base_dir) {
     try {
-        return read_scene(parse_strict(json_text, origin));
+        return read_scene(parse_strict(json_text, origin), base_dir);
     } catch (const Invalid& e) {
         return Error{e.has_origin ? e.message : origin + ": " + e.message};
     } catch (const json::exception& e) {
@@ -477,9 +498,30 @@ Result<Scene> load_scene(const std::filesystem::path& path) {
     } catch (const Invalid& e) {
         return Error{e.message};
     }
-    Result<Scene> scene = parse_scene(text, path.string());
+    Result<Scene> scene = parse_scene(text, path.string(), path.parent_path());
     if (scene) scene.value().path = path;
     return scene;
+}
+
+std::vector<std::string> obstacle_notes(const Scene& scene) {
+    std::vector<std::string> notes;
+    if (scene.obstacles.empty()) return notes;
+    const uint64_t inside = scene.particles_in_solids();
+    for (const ObstacleSpec& o : scene.obstacles) {
+        if (inside > 0) {
+            // Counted per obstacle (a point inside two counts for both; the total is exact).
+            uint64_t mine = 0;
+            Scene one = scene;
+            one.obstacles = {o};
+            mine = one.particles_in_solids();
+            if (mine > 0)
+                notes.push_back("obstacles." + o.name + ": " + std::to_string(mine) +
+                                " particles of the fluid blocks would start inside it and are not started (the scene's " +
+                                std::to_string(scene.particle_count()) + " particles are those left)");
+        }
+        if (!o.mesh_notes.empty()) notes.push_back("obstacles." + o.name + " (" + o.file.string() + "): " + o.mesh_notes);
+    }
+    return notes;
 }
 
 }  // namespace aquaform

@@ -13,6 +13,8 @@
 #include "core/box.h"
 #include "core/camera.h"
 #include "core/result.h"
+#include "sim/probe_spec.h"
+#include "sim/scene_basics.h"
 
 namespace aquaform {
 
@@ -45,33 +47,6 @@ inline constexpr uint32_t kMaxFrames = 1000000;    ///< frames and event_frame
 /// speed in, so every accepted start runs.
 inline constexpr float kMaxStartSpeed = 100.0f;
 
-/// Solver settings (Macklin & Mueller 2013, "Position Based Fluids").
-/// Which densities the PBF constraint corrects (shaders/sim/pbf_lambda.comp explains the choice).
-enum class DensityConstraint { clamped, two_sided };
-
-struct SolverSettings {
-    float frame_dt = 1.0f / 60.0f;      ///< simulated seconds per output frame
-    /// Solver steps per frame: at least `substeps`, more where the fluid is fast (the time-step
-    /// rule: the fastest particle moves at most cfl * h per step), up to `max_substeps`.
-    uint32_t substeps = 2;
-    uint32_t max_substeps = 32;
-    uint32_t iterations = 4;            ///< constraint iterations per step
-    float kernel_radius_factor = 2.0f;  ///< h = factor * particle_spacing
-    float relaxation = 0.01f;           ///< epsilon of eq. 11 relative to a full neighbourhood stiffness (sim/pbf_params.h)
-    float viscosity = 0.01f;            ///< XSPH c (eq. 17)
-    float vorticity = 0.0f;             ///< vorticity confinement epsilon (eq. 16)
-    float scorr_k = 0.1f;               ///< tensile instability k (eq. 13)
-    float scorr_n = 4.0f;               ///< tensile instability n
-    float scorr_dq = 0.2f;              ///< tensile instability delta q, as a fraction of h
-    float cfl = 0.4f;                   ///< the time-step rule's Courant number: v_max * dt <= cfl * h
-    /// A safety net, not a time-step rule: speeds are capped at this [m/s] (0 = off, the
-    /// default); a frame where the cap binds is reported (FrameStats::speed_capped).
-    float max_speed = 0.0f;
-    /// clamped: C = max(rho / rho0 - 1, 0), only compression is corrected (the default);
-    /// two_sided: C = rho / rho0 - 1, under-dense particles are pulled together too.
-    DensityConstraint density_constraint = DensityConstraint::clamped;
-};
-
 /// How a fluid block is filled beyond its box (Scene::fluid_blocks keeps the box; a sphere's is
 /// its bounding box, so every check on boxes holds for spheres too).
 struct BlockFill {
@@ -79,17 +54,17 @@ struct BlockFill {
     glm::vec3 velocity{0.0f};            ///< the block's particles start with it [m/s]
 };
 
-struct Scene {
+/// A scene: its basics (the tank, the spacing, the solver, the solids: sim/scene_basics.h) and
+/// the rest of its file.
+struct Scene : SceneBasics {
     std::filesystem::path path;         ///< file it was loaded from (empty when built in code)
     std::string name;
-    Box domain;                          ///< the tank: particles are kept inside it
-    float particle_spacing = 0.02f;      ///< initial lattice spacing [m]
     float rest_density = 1000.0f;        ///< rho0 [kg/m^3]
     glm::vec3 gravity{0.0f, -9.81f, 0.0f};
     std::vector<Box> fluid_blocks;       ///< filled with particles on a lattice at t = 0
     std::vector<BlockFill> block_fills;  ///< per fluid block; a block without one is a box at rest
-    std::vector<Box> static_boxes;       ///< solid obstacles inside the domain
-    SolverSettings solver;
+    /// What the scene measures every step (its "probes" key): gauges, sensors, forces.
+    std::optional<ProbeSpec> probes;
     uint32_t frames = 60;                ///< default number of frames for `aquaform run`
     /// Dam-break scenes: width a of the column against the wall at domain.min.x. When set,
     /// `aquaform run` writes front.csv (leading edge of the first fluid block on the floor).
@@ -109,8 +84,12 @@ struct Scene {
     /// The part of the scene a renderer needs: the domain and the particles' size.
     ParticleDomain particle_domain() const { return {domain, particle_spacing, solver.kernel_radius_factor, static_boxes}; }
     /// Number of particles the fluid blocks produce (computed without generating them, in
-    /// 64 bits so that absurd spacings are caught before any allocation).
+    /// 64 bits so that absurd spacings are caught before any allocation), less those that would
+    /// start inside an obstacle.
     uint64_t particle_count() const;
+    /// Lattice points of the fluid blocks that stand inside an obstacle at t = 0, which are not
+    /// started (the commands say how many).
+    uint64_t particles_in_solids() const;
     /// The lattice positions of every fluid particle, with the index of the block each came from.
     void generate_particles(std::vector<glm::vec4>& positions, std::vector<uint32_t>& block_of) const;
 };
@@ -134,9 +113,15 @@ Box framed_region(const Scene& scene);
 /// The camera of every view of the scene: its own, or one that frames framed_region().
 ViewCamera scene_camera(const Scene& scene, float aspect);
 
+/// What a user should hear of the scene's obstacles before a run, one line each: the fluid that
+/// is not started because it would start inside one ("obstacles.rock: 1250 particles of the fluid
+/// blocks would start inside it and are not started"), and what each mesh check tolerated.
+std::vector<std::string> obstacle_notes(const Scene& scene);
+
 /// Reads and validates a scene file.
 Result<Scene> load_scene(const std::filesystem::path& path);
-/// Validates a scene given as JSON text; `origin` names it in messages.
-Result<Scene> parse_scene(const std::string& json_text, const std::string& origin);
+/// Validates a scene given as JSON text; `origin` names it in messages; files it names (obstacle
+/// meshes) are relative to `base_dir`.
+Result<Scene> parse_scene(const std::string& json_text, const std::string& origin, const std::filesystem::path& base_dir = {});
 
 }  // namespace aquaform

@@ -19,10 +19,24 @@
 #include "compat.h"
 #include "sph_kernels.h"
 
-#define PBF_MAX_STATIC_BOXES 16
+/// Solids besides the tank's walls: the scene's static boxes and mesh obstacles together.
+#define PBF_MAX_OBSTACLES 16
+/// Interleaved node data of the obstacles' maps (boundary_nodes): per node, these two vec4s.
+#define PBF_NODE_DISTANCE 0u  ///< xyz: unit normal out of the solid (local frame); w: signed distance [m]
+#define PBF_NODE_DENSITY 1u   ///< xyz: grad m (local frame) [1/m]; w: m = the solid's rho / rho0
+#define PBF_NODE_VEC4S 2u
 #define PBF_STATS_WORKGROUP 256
 
 AF_BEGIN
+
+/// One obstacle of the solver (pbf_boundary.h): its maps, made in its own frame, and where that
+/// frame stands now. The frame is rigid (rotation and translation), so distances and densities
+/// sampled in it hold in the world.
+struct ObstacleParams {
+    vec4 to_local[3];  ///< rows of the world-to-local map: local = (dot(row, (p, 1)) for each row)
+    vec4 map_origin;   ///< xyz: the first node (local) [m]; w: node spacing [m]
+    uvec4 map_dims;    ///< xyz: nodes along each axis; w: the first node's index in boundary_nodes
+};
 
 struct SimParams {
     vec4 domain_min;      ///< xyz [m]; w: wall margin [m]
@@ -47,15 +61,18 @@ struct SimParams {
     float dt;             ///< step [s]
     float inv_dt;
     uint particle_count;
-    uint static_box_count;
+    uint obstacle_count;  ///< obstacles[] in use (pbf_boundary.h)
     float front_floor;    ///< a particle below this height counts as "on the floor" for the front
     uint front_tag;       ///< tag whose leading edge front.csv follows
     float wall_scale;     ///< phi * pi * c_poly6 / 4, see pbf_wall_term
     float wall_f_h;       ///< F(h) of pbf_wall_term
     uint neighbor_capacity;  ///< neighbour-list entries per particle (shared/grid_layout.h)
     float constraint_min; ///< C_i = max(rho_i / rho0 - 1, constraint_min): 0 one-sided, -1e30 two-sided
-    vec4 box_min[PBF_MAX_STATIC_BOXES];
-    vec4 box_max[PBF_MAX_STATIC_BOXES];
+    float obstacle_margin;  ///< particle centres keep this far out of an obstacle's surface [m]
+    float obstacle_stride;  ///< a move is checked for crossing a solid at this stride [m] (pbf_collide)
+    float pressure_scale;  ///< kappa rho0: a particle's pressure is -pressure_scale sum(lambda) / dt^2 (probe_layout.h)
+    float pad1;
+    ObstacleParams obstacles[PBF_MAX_OBSTACLES];
 };
 
 /// Push constants of the passes that only need the particle count.
@@ -66,6 +83,14 @@ struct CountPush {
     uint pad2;
 };
 
+/// Push constants of the correct pass: which of the step's constraint iterations it is.
+struct CorrectPush {
+    uint count;
+    uint iteration;  ///< 0 for the step's first
+    uint pad0;
+    uint pad1;
+};
+
 /// Per-workgroup partial sums of the stats pass; the host finishes the reduction.
 struct StatsPartial {
     float sum_density_error;    ///< sum of max(rho / rho0 - 1, 0)
@@ -73,6 +98,7 @@ struct StatsPartial {
     float sum_kinetic_energy;   ///< [J]
     float max_speed;
     float outside;              ///< particles outside the domain box
+    float in_solid;             ///< particles whose centre is inside an obstacle
     float non_finite;           ///< particles with a NaN or infinite position or velocity
     float front;                ///< largest x of a front_tag particle below front_floor (-1e30 if none)
     float sum_abs_density_dev;  ///< sum of |rho / rho0 - 1|, free-surface deficiency included
@@ -107,9 +133,11 @@ struct DropletPush {
 AF_END
 
 #ifdef __cplusplus
-static_assert(sizeof(aquaform::shader::SimParams) == 5 * 16 + 24 * 4 + 2 * 16 * 16);
+static_assert(sizeof(aquaform::shader::ObstacleParams) == 5 * 16);
+static_assert(sizeof(aquaform::shader::SimParams) == 5 * 16 + 28 * 4 + PBF_MAX_OBSTACLES * 5 * 16);
 static_assert(sizeof(aquaform::shader::CountPush) == 16);
-static_assert(sizeof(aquaform::shader::StatsPartial) == 44);
+static_assert(sizeof(aquaform::shader::CorrectPush) == 16);
+static_assert(sizeof(aquaform::shader::StatsPartial) == 48);
 static_assert(sizeof(aquaform::shader::StatsPush) == 16);
 static_assert(sizeof(aquaform::shader::DropletPush) == 16);
 #endif

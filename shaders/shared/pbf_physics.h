@@ -1,8 +1,9 @@
 // The solver's math that reads its parameters (pbf_layout.h), shared by the GPU passes and the
 // C++ reference. In C++ each function takes the parameters as its last argument; in GLSL it
-// reads the pass's `params` block, which must be declared before including this file:
+// reads the pass's `params` block, which must be declared before including this file (the
+// solids, walls and obstacles together, are pbf_boundary.h's):
 //   layout(std140, binding = 0) uniform Params { SimParams params; };
-// Why: GLSL passes structs by value, and a copy of SimParams, whose static-box arrays the
+// Why: GLSL passes structs by value, and a copy of SimParams, whose obstacle table the
 // collision loop indexes, is made in scratch memory by every invocation (on the software
 // device that copy cost predict and reorder 14x the time of the (since merged) velocity update).
 #ifndef AQUAFORM_PBF_PHYSICS_H
@@ -19,40 +20,11 @@
 
 AF_BEGIN
 
-/// Keeps a predicted position inside the domain and outside every static box (projection to
-/// the nearest surface; PBF turns the correction into a velocity in the update).
-AF_FN vec3 pbf_collide(vec3 p PBF_PARAMS) {
+/// Keeps a position inside the domain, a hair (domain_min.w) inside its walls. Obstacles are
+/// pbf_boundary.h's.
+AF_FN vec3 pbf_clamp_to_domain(vec3 p PBF_PARAMS) {
     float m = params.domain_min.w;
-    vec3 lo = vec3(params.domain_min) + vec3(m);
-    vec3 hi = vec3(params.domain_max) - vec3(m);
-    p = clamp(p, lo, hi);
-    for (uint b = 0u; b < params.static_box_count; ++b) {
-        vec3 bmin = vec3(params.box_min[b]) - vec3(m);
-        vec3 bmax = vec3(params.box_max[b]) + vec3(m);
-        if (p.x > bmin.x && p.x < bmax.x && p.y > bmin.y && p.y < bmax.y && p.z > bmin.z && p.z < bmax.z) {
-            // Push out through the nearest face that opens into the domain: a box that reaches a
-            // wall (across the whole depth, say) has no way out on that side.
-            const float none = 1.0e30f;
-            float dx0 = bmin.x > lo.x ? p.x - bmin.x : none, dx1 = bmax.x < hi.x ? bmax.x - p.x : none;
-            float dy0 = bmin.y > lo.y ? p.y - bmin.y : none, dy1 = bmax.y < hi.y ? bmax.y - p.y : none;
-            float dz0 = bmin.z > lo.z ? p.z - bmin.z : none, dz1 = bmax.z < hi.z ? bmax.z - p.z : none;
-            float best = min(min(min(dx0, dx1), min(dy0, dy1)), min(dz0, dz1));
-            if (best >= none) continue;  // the box fills the domain: nowhere to go
-            if (best == dx0) p.x = bmin.x;
-            else if (best == dx1) p.x = bmax.x;
-            else if (best == dy0) p.y = bmin.y;
-            else if (best == dy1) p.y = bmax.y;
-            else if (best == dz0) p.z = bmin.z;
-            else p.z = bmax.z;
-        }
-    }
-    return p;
-}
-
-/// The predicted position p = x + dt v, kept inside the walls (Algorithm 1, line 4). The
-/// reorder pass recomputes it with this same function instead of carrying p along.
-AF_FN vec3 pbf_predicted_position(vec3 x, vec3 v PBF_PARAMS) {
-    return pbf_collide(x + params.dt * v PBF_ARGS);
+    return clamp(p, vec3(params.domain_min) + vec3(m), vec3(params.domain_max) - vec3(m));
 }
 
 /// Caps a velocity at params.max_speed: a safety net the scene may ask for (0 = off); the time

@@ -23,6 +23,8 @@ layout(binding = 5, r32ui) readonly uniform uimageBuffer neighbor_count;
 layout(binding = 6, rgba32ui) readonly uniform uimageBuffer neighbors;
 layout(std430, binding = 7) writeonly buffer Q { vec4 q[]; };
 layout(std430, binding = 8) writeonly buffer Density { float density[]; };
+layout(std430, binding = 9) readonly buffer BoundaryNodes { vec4 boundary_nodes[]; };
+#include "shared/pbf_boundary.h"
 layout(push_constant) uniform Push { CountPush pc; };
 
 vec3 pi;
@@ -49,9 +51,9 @@ void main() {
     grad_i = vec3(0.0);
     sum_grad2 = 0.0;
     for_each_neighbor(i, pc.count, params.neighbor_capacity, params.grid_dims);
-    vec4 wall = pbf_wall_term(pi);
-    rho = params.mass * rho + params.rest_density * wall.w;
-    grad_i += wall.xyz;
+    vec4 solid = pbf_boundary_term(pi);  // the walls and the obstacles
+    rho = params.mass * rho + params.rest_density * solid.w;
+    grad_i += solid.xyz;
     float constraint = max(rho / params.rest_density - 1.0, params.constraint_min);
     q[i] = vec4(pi, -constraint / (sum_grad2 + dot(grad_i, grad_i) + params.epsilon));
     density[i] = rho;

@@ -13,6 +13,12 @@ layout(std430, binding = 3) readonly buffer VIn { vec4 v_in[]; };
 layout(std430, binding = 4) writeonly buffer XOut { vec4 x_out[]; };
 layout(std430, binding = 5) writeonly buffer VOut { vec4 v_out[]; };
 layout(std430, binding = 6) writeonly buffer POut { vec4 p_out[]; };
+layout(std430, binding = 7) readonly buffer BoundaryNodes { vec4 boundary_nodes[]; };
+#include "shared/pbf_boundary.h"
+// With probes: the push the solids gave the predicted position, as a lambda along grad m (the
+// solids' pressure channel's start; pbf_correct.comp adds the iterations' pushes to it).
+layout(std430, binding = 8) buffer Pressure { vec2 pressure[]; };
+layout(constant_id = 1) const bool kMeasurePressure = false;
 layout(push_constant) uniform Push { CountPush pc; };
 
 void main() {
@@ -23,5 +29,11 @@ void main() {
     vec4 vi = v_in[src];
     x_out[i] = xi;
     v_out[i] = vi;
-    p_out[i] = vec4(pbf_predicted_position(xi.xyz, vi.xyz), 0.0);
+    vec3 moved = xi.xyz + params.dt * vi.xyz;
+    vec3 p = pbf_collide(xi.xyz, moved);
+    p_out[i] = vec4(p, 0.0);
+    if (kMeasurePressure) {
+        vec3 grad_m = pbf_boundary_term(p).xyz;
+        pressure[i] = vec2(0.0, dot(grad_m, grad_m) > 0.0 ? dot(p - moved, grad_m) / dot(grad_m, grad_m) : 0.0);
+    }
 }

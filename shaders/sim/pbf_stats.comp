@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Frame statistics, reduced per workgroup on the GPU so that only a few bytes per 256
 // particles come back to the host: density error, kinetic energy, speed, leakage, NaNs and
-// the dam-break front, the splash count (particles with few neighbours) and the runup on the
+// particles inside an obstacle, the dam-break front, the splash count (particles with few neighbours) and the runup on the
 // far wall, and how many particles overflowed their neighbour list (a slow step's usual cause).
 #include "shared/grid_layout.h"
 #include "shared/pbf_layout.h"
@@ -18,6 +18,8 @@ layout(binding = 6, r32ui) readonly uniform uimageBuffer cell_start;
 layout(binding = 7, r32ui) readonly uniform uimageBuffer list_cell;
 layout(binding = 8, r32ui) readonly uniform uimageBuffer neighbor_count;
 layout(binding = 9, rgba32ui) readonly uniform uimageBuffer neighbors;
+layout(std430, binding = 10) readonly buffer BoundaryNodes { vec4 boundary_nodes[]; };
+#include "shared/pbf_boundary.h"
 layout(push_constant) uniform Push { StatsPush pc; };
 
 const float NONE = -1.0e30;
@@ -41,6 +43,7 @@ StatsPartial combine(StatsPartial a, StatsPartial b) {
     r.sum_kinetic_energy = a.sum_kinetic_energy + b.sum_kinetic_energy;
     r.max_speed = max(a.max_speed, b.max_speed);
     r.outside = a.outside + b.outside;
+    r.in_solid = a.in_solid + b.in_solid;
     r.non_finite = a.non_finite + b.non_finite;
     r.front = max(a.front, b.front);
     r.sum_abs_density_dev = a.sum_abs_density_dev + b.sum_abs_density_dev;
@@ -53,7 +56,7 @@ StatsPartial combine(StatsPartial a, StatsPartial b) {
 void main() {
     uint i = gl_GlobalInvocationID.x;
     uint t = gl_LocalInvocationID.x;
-    StatsPartial s = StatsPartial(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, NONE, 0.0, 0.0, NONE, 0.0);
+    StatsPartial s = StatsPartial(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, NONE, 0.0, 0.0, NONE, 0.0);
     if (i < pc.count) {
         vec4 xi = imageLoad(x, int(i));
         vec4 vi = v[i];
@@ -69,6 +72,7 @@ void main() {
             bool inside = all(greaterThanEqual(xi.xyz, params.domain_min.xyz)) &&
                           all(lessThanEqual(xi.xyz, params.domain_max.xyz));
             s.outside = inside ? 0.0 : 1.0;
+            s.in_solid = obstacle_distance(xi.xyz).w < 0.0 ? 1.0 : 0.0;
             if (uint(vi.w) == params.front_tag && xi.y < params.front_floor) s.front = xi.x;
             pos_i = xi.xyz;
             near_count = 0u;

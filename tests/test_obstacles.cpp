@@ -1,0 +1,248 @@
+// Solid obstacles in the solver (sim/boundary.h, shaders/shared/pbf_boundary.h): fluid resting
+// on a solid keeps the distance it keeps from a wall (the density map fills its neighbourhood),
+// nothing ends inside a solid or crosses a thin wall, a thin channel drains without sticking, two
+// bodies that touch leak nothing while a gap between them lets the fluid through, a moving paddle
+// pushes the fluid without taking any in, and the scene refuses what the solver cannot do.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "geometry/animation.h"
+#include "geometry/inside.h"
+#include "geometry/mesh.h"
+#include "geometry/primitives.h"
+#include "sim/pbf_solver.h"
+#include "tests/cli_helpers.h"
+#include "tests/gpu_test.h"
+
+namespace aquaform {
+namespace {
+
+class ObstacleTest : public testing::GpuTest {};
+
+/// An OBJ of a box, written to `dir` as name.obj.
+void box_obj(const std::filesystem::path& dir, const std::string& name, const Box& box) {
+    ASSERT_TRUE(geometry::write_obj(dir / (name + ".obj"), geometry::make_box(box)).ok());
+}
+
+Result<Scene> load_text(const std::string& json, const std::filesystem::path& dir) {
+    std::ofstream(dir / "scene.json") << json;
+    return load_scene(dir / "scene.json");
+}
+
+Scene parse(const std::string& json, const std::filesystem::path& dir) {
+    auto scene = load_text(json, dir);
+    EXPECT_TRUE(scene.ok()) << scene.error();
+    return scene.ok() ? scene.value() : Scene{};
+}
+
+/// A scene in a tank of `domain` (JSON box) at spacing 0.01 m (h = 0.02 m).
+std::string scene_json(const std::string& domain, const std::string& blocks, const std::string& rest) {
+    return R"({"name": "obstacle test", "domain": )" + domain + R"(, "particle_spacing": 0.01, "fluid_blocks": [)" +
+           blocks + "]" + (rest.empty() ? "" : ", " + rest) + "}";
+}
+
+/// Whether a point lies inside a mesh, exactly (the winding number), not by the solver's maps.
+struct ExactSolid {
+    std::vector<glm::vec3> triangles;
+    explicit ExactSolid(const geometry::Mesh& mesh) : triangles(mesh.triangle_soup()) {}
+    bool contains(const glm::vec3& p) const { return geometry::is_inside(triangles, p); }
+};
+
+TEST_F(ObstacleTest, FluidRestingOnAnObstacleHasNoDensityDeficit) {
+    // The same water layer resting on the tank's floor, and on a raised floor that is a mesh
+    // obstacle: the particles next to it see the solid's density (the map), as those on the floor
+    // see the wall's closed form. Without it they would miss a fifth of their neighbourhood
+    // (0.81 rho0 at half a spacing) and the fluid would press into the solid.
+    auto dir = test_cli::temp_dir("obstacle_rest");
+    box_obj(dir, "raised_floor", {glm::vec3(0.0f), glm::vec3(0.3f, 0.1f, 0.1f)});
+    const std::string frames = R"("frames": 60)";
+    Scene on_floor = parse(scene_json(R"({"min": [0, 0.1, 0], "max": [0.3, 0.3, 0.1]})",
+                                      R"({"min": [0, 0.1, 0], "max": [0.3, 0.16, 0.1]})", frames), dir);
+    Scene on_mesh = parse(scene_json(R"({"min": [0, 0, 0], "max": [0.3, 0.3, 0.1]})",
+                                     R"({"min": [0, 0.1, 0], "max": [0.3, 0.16, 0.1]})",
+                                     frames + R"(, "obstacles": {"raised": {"file": "raised_floor.obj"}})"), dir);
+    ASSERT_EQ(on_mesh.obstacles.size(), 1u);
+    ASSERT_EQ(on_floor.particle_count(), on_mesh.particle_count());
+    double density[2];
+    int k = 0;
+    for (const Scene* scene : {&on_floor, &on_mesh}) {
+        PbfSolver solver(ctx(), *scene);
+        // The start itself: lattice particles half a spacing above the solid.
+        const ParticleSnapshot start = solver.snapshot();
+        double sum = 0.0;
+        int n = 0;
+        for (size_t i = 0; i < start.x.size(); ++i)
+            if (start.x[i].y < 0.1f + scene->particle_spacing && start.x[i].x > 0.03f && start.x[i].x < 0.27f &&
+                start.x[i].z > 0.03f && start.x[i].z < 0.07f)
+                sum += start.density[i] / scene->rest_density, ++n;
+        EXPECT_NEAR(sum / n, 1.0, 0.01) << (k ? "on the obstacle" : "on the floor") << ", at the start";
+        FrameStats last;
+        for (int f = 0; f < 60; ++f) last = solver.run_frame(nullptr);
+        ASSERT_EQ(last.in_solid, 0u);
+        ASSERT_EQ(last.non_finite, 0u);
+        const ParticleSnapshot s = solver.snapshot();
+        sum = 0.0, n = 0;
+        for (size_t i = 0; i < s.x.size(); ++i)
+            if (s.x[i].y < 0.1f + 0.75f * scene->particle_spacing) sum += s.density[i] / scene->rest_density, ++n;
+        density[k++] = sum / n;
+    }
+    EXPECT_GT(density[1], 0.97) << "the bottom layer on the obstacle, after a second";
+    EXPECT_NEAR(density[1], density[0], 0.03) << "on the obstacle as on the floor";
+}
+
+/// Runs `frames` frames; after each, calls check(frame, stats, snapshot).
+template <typename Check>
+void run_checked(PbfSolver& solver, int frames, Check check) {
+    for (int f = 0; f < frames; ++f) {
+        const FrameStats stats = solver.run_frame(nullptr);
+        ASSERT_EQ(stats.non_finite, 0u) << "frame " << f;
+        check(f, stats, solver.snapshot());
+        if (::testing::Test::HasFatalFailure()) return;
+    }
+}
+
+TEST_F(ObstacleTest, AFastSheetNeverCrossesAWallOneParticleThick) {
+    // Water thrown at 4 m/s against a wall one spacing thick: at the time-step rule's steps a
+    // particle moves up to 0.8 spacings, past the wall's middle when only pushed out to the nearest
+    // face. The move is checked along its way (pbf_collide), so nothing crosses.
+    auto dir = test_cli::temp_dir("obstacle_thin_wall");
+    box_obj(dir, "wall", {glm::vec3(0.25f, 0.0f, 0.0f), glm::vec3(0.26f, 0.3f, 0.06f)});
+    Scene scene = parse(scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})",
+                                   R"({"min": [0.05, 0, 0], "max": [0.2, 0.12, 0.06], "velocity": [4, 0, 0]})",
+                                   R"("obstacles": {"wall": {"file": "wall.obj"}})"),
+                        dir);
+    const ExactSolid wall(scene.obstacles[0].shape->mesh_at(0.0));
+    PbfSolver solver(ctx(), scene);
+    float farthest = 0.0f;
+    run_checked(solver, 30, [&](int f, const FrameStats& stats, const ParticleSnapshot& s) {
+        ASSERT_EQ(stats.in_solid, 0u) << "frame " << f;
+        for (const auto& x : s.x) {
+            ASSERT_LT(x.x, 0.25f) << "frame " << f << ": a particle crossed the wall";
+            ASSERT_FALSE(wall.contains(glm::vec3(x))) << "frame " << f;
+            farthest = std::max(farthest, x.x);
+        }
+    });
+    EXPECT_GT(farthest, 0.24f) << "the sheet reached the wall";
+}
+
+TEST_F(ObstacleTest, TwoBodiesThatTouchLeakNothingAndAGapBetweenThemLetsFluidThrough) {
+    auto dir = test_cli::temp_dir("obstacle_two_bodies");
+    box_obj(dir, "lower", {glm::vec3(0.25f, 0.0f, 0.0f), glm::vec3(0.27f, 0.12f, 0.06f)});
+    box_obj(dir, "upper", {glm::vec3(0.25f, 0.12f, 0.0f), glm::vec3(0.27f, 0.3f, 0.06f)});
+    box_obj(dir, "upper_gap", {glm::vec3(0.25f, 0.15f, 0.0f), glm::vec3(0.27f, 0.3f, 0.06f)});  // 3 spacings open
+    const std::string domain = R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})";
+    const std::string block = R"({"min": [0, 0, 0], "max": [0.2, 0.24, 0.06], "velocity": [1, 0, 0]})";
+    for (const bool gap : {false, true}) {
+        Scene scene = parse(scene_json(domain, block,
+                                       std::string(R"("obstacles": {"lower": {"file": "lower.obj"}, "upper": {"file": ")") +
+                                           (gap ? "upper_gap" : "upper") + R"(.obj"}})"),
+                            dir);
+        PbfSolver solver(ctx(), scene);
+        size_t through = 0;
+        run_checked(solver, 45, [&](int f, const FrameStats& stats, const ParticleSnapshot& s) {
+            ASSERT_EQ(stats.in_solid, 0u) << "frame " << f;
+            through = size_t(std::count_if(s.x.begin(), s.x.end(), [](const glm::vec4& x) { return x.x > 0.25f; }));
+            if (!gap) ASSERT_EQ(through, 0u) << "frame " << f << ": fluid leaked through the seam";
+        });
+        if (gap) EXPECT_GT(through, 50u) << "the gap of 3 spacings lets fluid through";
+    }
+}
+
+TEST_F(ObstacleTest, AThinChannelDrainsWithoutSticking) {
+    // A column of water in a vertical channel four spacings wide, open below: it falls out.
+    // Particles that stuck to the channel's walls would stay in it.
+    auto dir = test_cli::temp_dir("obstacle_channel");
+    box_obj(dir, "left", {glm::vec3(0.14f, 0.12f, 0.0f), glm::vec3(0.18f, 0.38f, 0.06f)});
+    box_obj(dir, "right", {glm::vec3(0.22f, 0.12f, 0.0f), glm::vec3(0.26f, 0.38f, 0.06f)});
+    Scene scene = parse(scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.4, 0.06]})",
+                                   R"({"min": [0.18, 0.2, 0], "max": [0.22, 0.36, 0.06]})",
+                                   R"("obstacles": {"left": {"file": "left.obj"}, "right": {"file": "right.obj"}})"),
+                        dir);
+    PbfSolver solver(ctx(), scene);
+    const uint32_t n = solver.particle_count();
+    ASSERT_GT(n, 300u);
+    size_t in_channel = n;
+    run_checked(solver, 30, [&](int f, const FrameStats& stats, const ParticleSnapshot& s) {
+        ASSERT_EQ(stats.in_solid, 0u) << "frame " << f;
+        // (Water that fell out splashes and climbs the tank's walls: only the channel counts.)
+        in_channel = size_t(std::count_if(s.x.begin(), s.x.end(), [](const glm::vec4& x) {
+            return x.y > 0.12f && x.x > 0.17f && x.x < 0.23f;
+        }));
+    });
+    EXPECT_EQ(in_channel, 0u) << "of " << n << " particles, these stayed in the channel after 0.5 s";
+}
+
+TEST_F(ObstacleTest, AMovingPaddlePushesFluidAndTakesNoneIn) {
+    auto dir = test_cli::temp_dir("obstacle_paddle");
+    box_obj(dir, "paddle", {glm::vec3(0.0f), glm::vec3(0.02f, 0.2f, 0.06f)});
+    Scene scene = parse(scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})",
+                                   R"({"min": [0.1, 0, 0], "max": [0.4, 0.04, 0.06]})",
+                                   R"("obstacles": {"paddle": {"file": "paddle.obj", "placement": {"position": [0.03, 0.0, 0.0]},
+                                       "animation": {"keyframes": [{"t": 0, "position": [0, 0, 0]},
+                                                                   {"t": 0.5, "position": [0.25, 0, 0]}]}}})"),
+                        dir);
+    ASSERT_TRUE(scene.obstacles[0].moves);
+    EXPECT_NEAR(scene.obstacles[0].max_speed, 0.5, 0.01);
+    PbfSolver solver(ctx(), scene);
+    float mean_x0 = 0.0f;
+    for (const auto& x : solver.snapshot().x) mean_x0 += x.x / float(solver.particle_count());
+    run_checked(solver, 30, [&](int f, const FrameStats& stats, const ParticleSnapshot& s) {
+        ASSERT_EQ(stats.in_solid, 0u) << "frame " << f;
+        const ExactSolid paddle(scene.obstacles[0].shape->mesh_at(solver.time()));
+        for (const auto& x : s.x) ASSERT_FALSE(paddle.contains(glm::vec3(x))) << "frame " << f << " t " << solver.time();
+    });
+    // The paddle swept the first 0.25 m: the fluid was pushed ahead of it (a box of 0.02 m).
+    float min_x = 1.0f;
+    for (const auto& x : solver.snapshot().x) min_x = std::min(min_x, x.x);
+    EXPECT_GT(min_x, 0.3f - 0.0025f) << "fluid left behind the paddle's face at x = 0.3";
+}
+
+TEST(ObstacleScene, FluidInsideAnObstacleIsNotStartedAndCounted) {
+    auto dir = test_cli::temp_dir("obstacle_overlap");
+    box_obj(dir, "rock", {glm::vec3(0.05f, 0.0f, 0.0f), glm::vec3(0.1f, 0.05f, 0.06f)});
+    Scene scene = parse(scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})",
+                                   R"({"min": [0, 0, 0], "max": [0.2, 0.1, 0.06]})",
+                                   R"("obstacles": {"rock": {"file": "rock.obj"}})"),
+                        dir);
+    EXPECT_EQ(scene.particles_in_solids(), 5u * 5u * 6u);
+    EXPECT_EQ(scene.particle_count(), 20u * 10u * 6u - 5u * 5u * 6u);
+    std::vector<glm::vec4> x;
+    std::vector<uint32_t> block;
+    scene.generate_particles(x, block);
+    EXPECT_EQ(x.size(), scene.particle_count());
+    for (const auto& p : x) EXPECT_FALSE(p.x > 0.05f && p.x < 0.1f && p.y < 0.05f) << p.x << " " << p.y;
+}
+
+TEST(ObstacleScene, WhatTheSolverCannotDoIsRefusedWithTheFix) {
+    auto dir = test_cli::temp_dir("obstacle_refused");
+    box_obj(dir, "big", {glm::vec3(0.0f), glm::vec3(0.5f, 0.1f, 0.06f)});
+    box_obj(dir, "block", {glm::vec3(0.0f), glm::vec3(0.02f, 0.05f, 0.06f)});
+    std::ofstream(dir / "flat.obj") << "v 0 0 0\nv 0.1 0 0\nv 0 0.1 0\nv 0.1 0.1 0\nf 1 2 3\nf 2 4 3\n";
+    const std::string domain = R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})";
+    const std::string block = R"({"min": [0.2, 0, 0], "max": [0.3, 0.1, 0.06]})";
+    auto error = [&](const std::string& obstacles) {
+        auto scene = load_text(scene_json(domain, block, R"("obstacles": )" + obstacles), dir);
+        return scene.ok() ? std::string("(accepted)") : scene.error();
+    };
+    const std::string too_big = error(R"({"big": {"file": "big.obj"}})");
+    EXPECT_NE(too_big.find("obstacles.big"), std::string::npos) << too_big;
+    EXPECT_NE(too_big.find("outside the tank"), std::string::npos) << too_big;
+    const std::string flat = error(R"({"flat": {"file": "flat.obj"}})");
+    EXPECT_NE(flat.find("obstacles.flat.file"), std::string::npos) << flat;
+    const std::string fast = error(R"({"block": {"file": "block.obj", "animation": {"keyframes": [
+        {"t": 0, "position": [0, 0, 0]}, {"t": 0.01, "position": [0.3, 0, 0]}]}}})");
+    EXPECT_NE(fast.find("obstacles.block moves at up to 30.0"), std::string::npos) << fast;
+    EXPECT_NE(fast.find("max_substeps"), std::string::npos) << fast;
+    const std::string growing = error(R"({"block": {"file": "block.obj", "animation": {"keyframes": [
+        {"t": 0, "scale": 1}, {"t": 1, "scale": 2}]}}})");
+    EXPECT_NE(growing.find("keeps its size"), std::string::npos) << growing;
+    const std::string unknown = error(R"({"block": {"file": "block.obj", "colour": "red"}})");
+    EXPECT_NE(unknown.find("colour"), std::string::npos) << unknown;
+}
+
+}  // namespace
+}  // namespace aquaform
