@@ -46,7 +46,7 @@ FramePipeline::FramePipeline(gpu::Context& ctx, session::SimulationSession& sim,
       preview_(picture_.kind == PictureOptions::Kind::preview
                    ? std::make_unique<ImpostorView>(ctx, picture_.size.width, picture_.size.height)
                    : nullptr),
-      surface_(make_surface(ctx, sim, picture_)), exports_(out_dir, exports), timer_(ctx),
+      surface_(make_surface(ctx, sim, picture_)), exports_(out_dir, exports), obstacles_(out_dir, sim.scene(), exports.up), timer_(ctx),
       capturer_(ctx, exports_, sim.solver(), sim.scene().particle_domain(), field_of(picture_.method)), readback_(ctx),
       camera_(scene_camera(sim.scene(), float(picture_.size.width) / float(std::max(1u, picture_.size.height)))) {
     const Scene& scene = sim.scene();
@@ -120,6 +120,7 @@ bool FramePipeline::write(const FinishedFrame& f, RunFiles& files, RunTotals& to
         if (auto written = write_png(out_dir_ / name, *f.image); !written) return failed(written.error());
     }
     if (auto written = exports_.write(f.index, stats.time_s, f.capture); !written) return failed(written.error());
+    if (auto written = obstacles_.write(f.index, stats.time_s); !written) return failed(written.error());
     if (f.capture.volume && !said_iso_) {
         // The level the surface is drawn at: Blender shows no grid metadata (aquaform_iso).
         said_iso_ = true;

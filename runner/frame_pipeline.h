@@ -13,6 +13,7 @@
 #include "core/camera.h"
 #include "exports/frame_capture.h"
 #include "exports/frame_exports.h"
+#include "exports/obstacle_export.h"
 #include "gpu/buffer.h"
 #include "gpu/timer.h"
 #include "render/impostor_view.h"
@@ -70,6 +71,7 @@ private:
     std::unique_ptr<ImpostorView> preview_;
     std::unique_ptr<Renderer> surface_;
     FrameExports exports_;
+    ObstacleExports obstacles_;  ///< the solids as they stand at each frame
     gpu::GpuTimer timer_;
     FrameCapturer capturer_;
     gpu::BufferSet readback_;

@@ -12,6 +12,7 @@
 #include "core/file_write.h"
 #include "core/text_escape.h"
 #include "exports/frame_exports.h"
+#include "exports/obstacle_export.h"
 #include "render/svg_chart.h"
 #include "sim/dam_break_reference.h"
 #include "study/front_chart.h"
@@ -27,7 +28,8 @@ Result<bool> write_run_description(const std::filesystem::path& dir, const Scene
                                 {"up", up},
                                 {"frame_dt", scene.solver.frame_dt},
                                 {"particles", particles},
-                                {"particle_spacing", scene.particle_spacing}};
+                                {"particle_spacing", scene.particle_spacing},
+                                {"obstacles", ObstacleExports::description(scene)}};
     return write_file_with(dir / kRunDescriptionName, [&](std::ostream& out) { out << json_text(run, 2) << '\n'; });
 }
 
@@ -149,6 +151,7 @@ Result<bool> RunFiles::finish(const Scene& scene) {
 
 Result<size_t> clear_earlier_run(const std::filesystem::path& dir) {
     static const std::regex numbered(R"((frame|particles|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp))");
+    static const std::regex solids(R"(obstacle_.+\.obj)");
     static const std::set<std::string> named{"stats.csv",     "front.csv",   "front.svg",     "particles.pvd",
                                              "surface.pvd",   kExportListing, kRunDescriptionName};
     static const std::set<std::string> probe_files(std::begin(ProbeFiles::kFileNames), std::end(ProbeFiles::kFileNames));
@@ -156,7 +159,8 @@ Result<size_t> clear_earlier_run(const std::filesystem::path& dir) {
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
         const std::string name = entry.path().filename().string();
-        if (!named.count(name) && !probe_files.count(name) && !std::regex_match(name, numbered)) continue;
+        if (!named.count(name) && !probe_files.count(name) && !std::regex_match(name, numbered) && !std::regex_match(name, solids))
+            continue;
         // A link where the run writes would send its files elsewhere: refused before any work.
         if (entry.is_symlink(ec)) return link_refused(entry.path());
         if (entry.is_regular_file(ec) && name != kRunDescriptionName) earlier.push_back(entry.path());

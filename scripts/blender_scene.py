@@ -246,7 +246,7 @@ def read_run_json(run):
     a key of the wrong type or an unknown up axis is refused: guessing turns the water the wrong way."""
     path = os.path.join(run, "run.json")
     if not os.path.isfile(path):
-        return {"up": None, "domain": None, "found": False}
+        return {"up": None, "domain": None, "found": False, "obstacles": []}
     fix = "write the run again with `aquaform run`, or remove run.json and give --up and --domain"
     try:
         with open(path, encoding="utf-8") as f:
@@ -269,7 +269,19 @@ def read_run_json(run):
         value = data.get(key)
         if key in data and not (isinstance(value, (int, float)) and not isinstance(value, bool) and value > 0):
             refuse('%s: "%s" is %s, not a number above 0; %s' % (path, key, json.dumps(value), fix))
-    return {"up": up, "domain": domain, "found": True}
+    # The solids beside the run: [{"name", "file"} or {"name", "files": "obstacle_x_%04u.obj", "moves": true}].
+    obstacles = data.get("obstacles", [])
+    shape = 'a list of {"name": ..., "file": ...} or {"name": ..., "files": ..., "moves": true}'
+    if not isinstance(obstacles, list) or not all(
+            isinstance(o, dict) and isinstance(o.get("name"), str)
+            and (isinstance(o.get("file"), str) or (isinstance(o.get("files"), str) and "%" in o["files"]))
+            for o in obstacles):
+        refuse('%s: "obstacles" is %s, not %s; %s' % (path, json.dumps(obstacles)[:200], shape, fix))
+    for o in obstacles:
+        name = o.get("file") or o["files"]
+        if os.path.basename(name) != name:
+            refuse('%s: obstacle file %s is not a file name in the run folder; %s' % (path, json.dumps(name), fix))
+    return {"up": up, "domain": domain, "found": True, "obstacles": obstacles}
 
 
 # The first bytes of each file kind the scene reads: OpenVDB's magic number (int64 0x56444220,
@@ -343,7 +355,8 @@ def read_run(args):
     if args["render"]:  # last: the only check that makes something (PREFIX's folder)
         check_render_prefix(args["render"])
     return {"meshes": meshes, "volumes": volumes, "frames": frames, "first": first, "last": last,
-            "up": args["up"] or described["up"] or "y", "domain": args["domain"] or described["domain"], "fps": fps}
+            "up": args["up"] or described["up"] or "y", "domain": args["domain"] or described["domain"], "fps": fps,
+            "obstacles": described["obstacles"], "dir": run}
 
 
 # The run's coordinates to Blender's: a y-up run turned +90 degrees about x ((x, y, z) ->
@@ -506,6 +519,23 @@ def main():
         obj.matrix_world = turn
         obj.data.materials.append(water)
         surfaces.append(obj)
+
+    # The solids (run.json's "obstacles"): a still one once, a moving one a file per frame shown
+    # at its frame. Files the run did not write (a run stopped early) are skipped.
+    solid = principled_material("solid", (0.75, 0.33, 0.10, 1.0), 0.0, 0.6, 1.45)  # a warm colour, apart from water and glass
+    for o in run["obstacles"]:
+        shown = [(None, o["file"])] if "file" in o else [(f, o["files"] % f) for f in range(first, last + 1)]
+        for frame, name in shown:
+            path = os.path.join(run["dir"], name)
+            if not os.path.isfile(path):
+                continue
+            obj = import_mesh(path)
+            obj.name = "obstacle " + o["name"]
+            obj.matrix_world = turn @ obj.matrix_world
+            obj.data.materials.clear()
+            obj.data.materials.append(solid)
+            if frame is not None:
+                key_visibility(obj, frame, frame + 1)
 
     # The tank: --domain, else run.json's, else the box round every surface.
     domain = run["domain"]

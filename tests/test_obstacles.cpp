@@ -246,3 +246,59 @@ TEST(ObstacleScene, WhatTheSolverCannotDoIsRefusedWithTheFix) {
 
 }  // namespace
 }  // namespace aquaform
+
+namespace aquaform {
+namespace {
+
+TEST(ObstacleRun, RunWritesEverySolidAsItStandsTheProbesAndSaysWhatFluidItDidNotStart) {
+    auto dir = test_cli::temp_dir("obstacle_run");
+    box_obj(dir, "paddle", {glm::vec3(0.0f), glm::vec3(0.02f, 0.2f, 0.06f)});
+    box_obj(dir, "rock", {glm::vec3(0.3f, 0.0f, 0.0f), glm::vec3(0.35f, 0.05f, 0.06f)});
+    test_cli::write_file(dir / "scene.json", scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})",
+        R"({"min": [0.1, 0, 0], "max": [0.4, 0.04, 0.06]})",
+        R"("obstacles": {"paddle": {"file": "paddle.obj", "placement": {"position": [0.03, 0, 0]},
+                                    "animation": {"keyframes": [{"t": 0, "position": [0, 0, 0]}, {"t": 1, "position": [0.2, 0, 0]}]}},
+                         "rock": {"file": "rock.obj"}},
+           "static_boxes": [{"min": [0.0, 0.0, 0.0], "max": [0.02, 0.02, 0.06]}],
+           "probes": {"gauges": {"H": {"x": 0.2, "z": 0.03}}, "sensors": {"P": {"position": [0.4, 0.01, 0.03]}}})"));
+    const auto out = dir / "run";
+    const auto r = test_cli::run_aquaform("run " + (dir / "scene.json").string() + " --frames 4 --no-png --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    // The rock stands in the fluid block: 5 x 4 x 6 lattice points are not started, and said so.
+    EXPECT_NE(r.output.find("obstacles.rock: 120 particles of the fluid blocks would start inside it"), std::string::npos) << r.output;
+    auto scene = load_scene(dir / "scene.json");
+    ASSERT_TRUE(scene.ok()) << scene.error();
+    const ObstacleSpec& paddle = scene.value().obstacles[0];
+    ASSERT_EQ(paddle.name, "paddle");
+    for (uint32_t f = 0; f < 4; ++f) {
+        char name[64];
+        std::snprintf(name, sizeof name, "obstacle_paddle_%04u.obj", f);
+        auto written = geometry::load_obj(out / name);
+        ASSERT_TRUE(written.ok()) << name << ": " << written.error();
+        const geometry::Mesh expected = paddle.shape->mesh_at(f * scene.value().solver.frame_dt);
+        ASSERT_EQ(written.value().mesh.vertices.size(), expected.vertices.size());
+        // The loader may reorder nothing: the same vertices in the same order, where the paddle stood.
+        for (size_t v = 0; v < expected.vertices.size(); ++v)
+            EXPECT_LT(glm::length(written.value().mesh.vertices[v] - expected.vertices[v]), 1e-4f) << name << " vertex " << v;
+    }
+    EXPECT_TRUE(std::filesystem::exists(out / "obstacle_rock.obj"));
+    EXPECT_FALSE(std::filesystem::exists(out / "obstacle_rock_0001.obj")) << "a still obstacle is written once";
+    EXPECT_TRUE(std::filesystem::exists(out / "obstacle_static_box_0.obj"));
+    const std::string run_json = test_cli::read_file(out / "run.json");
+    EXPECT_NE(run_json.find("\"files\": \"obstacle_paddle_%04u.obj\""), std::string::npos) << run_json;
+    EXPECT_NE(run_json.find("\"file\": \"obstacle_rock.obj\""), std::string::npos) << run_json;
+    // probes.csv: a header naming every probe and solid, then a row per step of the 4 frames.
+    const std::string probes = test_cli::read_file(out / "probes.csv");
+    EXPECT_EQ(probes.substr(0, probes.find('\n')),
+              "time_s,H_m,P_Pa,static_boxes[0]_Fx_N,static_boxes[0]_Fy_N,static_boxes[0]_Fz_N,static_boxes[0]_Tx_Nm,"
+              "static_boxes[0]_Ty_Nm,static_boxes[0]_Tz_Nm,obstacles.paddle_Fx_N,obstacles.paddle_Fy_N,obstacles.paddle_Fz_N,"
+              "obstacles.paddle_Tx_Nm,obstacles.paddle_Ty_Nm,obstacles.paddle_Tz_Nm,obstacles.rock_Fx_N,obstacles.rock_Fy_N,"
+              "obstacles.rock_Fz_N,obstacles.rock_Tx_Nm,obstacles.rock_Ty_Nm,obstacles.rock_Tz_Nm");
+    EXPECT_GE(std::count(probes.begin(), probes.end(), '\n'), 1 + 3 * 2) << "frames 1 to 3, at least 2 steps each";
+    EXPECT_TRUE(std::filesystem::exists(out / "probe_heights.svg"));
+    EXPECT_TRUE(std::filesystem::exists(out / "probe_pressures.svg"));
+    EXPECT_TRUE(std::filesystem::exists(out / "probe_forces.svg"));
+}
+
+}  // namespace
+}  // namespace aquaform

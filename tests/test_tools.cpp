@@ -20,6 +20,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "geometry/mesh.h"
+#include "geometry/primitives.h"
 #include "render/image_io.h"
 #include "tests/cli_helpers.h"
 
@@ -430,6 +432,46 @@ TEST(ToolsBlenderScene, RendersTheWaterInTheTankFrameByFrame) {
     EXPECT_GT(water_pixels(second), 50) << second << " shows no water";
     // Same camera, tank and noise seed: what differs is the water that moved.
     EXPECT_GT(pixels_differing(first, second), 10) << "frames 0 and 6 show the same picture";
+}
+
+/// The mean column of the warm pixels (red above green above blue, by 15 and 10 of 255):
+/// blender_scene.py's solids; its water is bluer, its glass, floor and sky grey. -1 with fewer than 5.
+double warm_column(const fs::path& png) {
+    auto image = read_png(png);
+    if (!image) return -1.0;
+    const auto& im = image.value();
+    double sum = 0.0;
+    long n = 0;
+    for (uint32_t y = 0; y < im.height; ++y)
+        for (uint32_t x = 0; x < im.width; ++x) {
+            const uint8_t* p = &im.rgba[4 * (size_t(y) * im.width + x)];
+            if (int(p[0]) > int(p[1]) + 15 && int(p[1]) > int(p[2]) + 10) sum += x, ++n;
+        }
+    return n >= 5 ? sum / double(n) : -1.0;
+}
+
+TEST(ToolsBlenderScene, PlacesTheRunsObstaclesAsTheyStandAtEachFrame) {
+    // A block pushed along the tank from x 0.2 to 1.2 m over a second: Blender shows it where the
+    // run's per-frame files put it, left at frame 0, right at frame 54.
+    const fs::path dir = work_dir("scene_obstacle");
+    ASSERT_TRUE(geometry::write_obj(dir / "block.obj", geometry::make_box({glm::vec3(0.0f), glm::vec3(0.1f, 0.3f, 0.2f)})).ok());
+    test_cli::write_file(dir / "scene.json", R"({"name": "pushed block", "domain": {"min": [0, 0, 0], "max": [1.6, 0.8, 0.8]},
+        "particle_spacing": 0.04, "fluid_blocks": [{"min": [1.3, 0, 0], "max": [1.6, 0.2, 0.8]}],
+        "obstacles": {"block": {"file": "block.obj", "placement": {"position": [0.2, 0, 0.3]},
+                      "animation": {"keyframes": [{"t": 0, "position": [0, 0, 0]}, {"t": 1, "position": [1.0, 0, 0]}]}}}})");
+    const fs::path run = dir / "run";
+    const auto o = test_cli::run_aquaform_split("run '" + (dir / "scene.json").string() + "' --out '" + run.string() +
+                                                    "' --no-png --frames 55 --mesh-every 54", dir, 300);
+    ASSERT_EQ(o.exit_code, 0) << o.err;
+    const fs::path prefix = dir / "scene_";
+    const std::string command = "blender -b --factory-startup -P '" + kSource + "/scripts/blender_scene.py' -- '" +
+                                run.string() + "' --render '" + prefix.string() + "' --resolution 96x54 --frames 0:54:54 --samples 4";
+    const auto c = run_command(command, dir, "blender_scene_obstacle");
+    ASSERT_EQ(c.status, 0) << command << "\n" << c.err;
+    const double before = warm_column(prefix.string() + "0000.png"), after = warm_column(prefix.string() + "0054.png");
+    ASSERT_GE(before, 0.0) << "no solid drawn at frame 0";
+    ASSERT_GE(after, 0.0) << "no solid drawn at frame 54";
+    EXPECT_GT(after, before + 20.0) << "the block moved right by about 60 % of the tank";
 }
 
 TEST(ToolsBlenderScene, RendersNothingOfAnEmptyFolderAndSaysWhy) {
