@@ -67,6 +67,7 @@ int cmd_render(const std::vector<std::string>& argv) {
 
     const ViewCamera camera = scene_camera(scene, float(width) / float(height));
     made->share_grid(sim.frame_grid());
+    made->set_solids(sim.solids());
     const study::FrameRenderReport made_report =
         study::render_frame_report(ctx, *made, solver, camera, *method, !args->has("--no-reference"));
     nlohmann::json report = {{"scene", args->positional[0]}, {"frame", frame}, {"device", ctx.info().name}};

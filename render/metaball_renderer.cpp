@@ -142,7 +142,7 @@ MetaballRenderer::MetaballRenderer(gpu::Context& ctx, const ParticleDomain& doma
 
     bounds_ = gpu::ComputePass(ctx, {"render/metaball_bounds.comp", 3, 0, METABALL_WORKGROUP});
     lists_ = gpu::ComputePass(ctx, {"render/metaball_lists.comp", 10, sizeof(MetaballPush), METABALL_WORKGROUP});
-    march_ = gpu::ComputePass(ctx, {"render/metaball_march.comp", 13, sizeof(MetaballPush), METABALL_WORKGROUP});
+    march_ = gpu::ComputePass(ctx, {"render/metaball_march.comp", 14, sizeof(MetaballPush), METABALL_WORKGROUP});
 }
 
 MetaballRenderer::~MetaballRenderer() = default;
@@ -172,6 +172,7 @@ void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions,
     p.light_dir = kLightDirection;
     p.fluid_color = kFluidOptics;
     p.tank = make_tank_params(domain_);
+    add_solids(p.tank, solids_);
     p.radius = metaball_radius(settings, domain_);
     p.inv_radius2 = 1.0f / (p.radius * p.radius);
     p.iso = settings.iso;
@@ -229,7 +230,7 @@ void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions,
         MetaballPush push{};
         push.first_pixel = first;
         gpu::dispatch(*ctx_, cmd, march_, std::min(per_slice, pixels - first), push,
-                      {{"params", params_buf_}, {"positions", &positions}, {"counters", counters_}, {"heads", heads_}, {"nodes", entries_}, {"offsets", offsets_}, {"ids", entries_}, {"span", span_}, {"hit", hit_}, {"normal", normal_}, {"color", color_}, {"visits", visits_}, {"near_ids", near_}});
+                      {{"params", params_buf_}, {"positions", &positions}, {"counters", counters_}, {"heads", heads_}, {"nodes", entries_}, {"offsets", offsets_}, {"ids", entries_}, {"span", span_}, {"hit", hit_}, {"normal", normal_}, {"color", color_}, {"visits", visits_}, {"near_ids", near_}, {"solid_nodes", &solid_nodes(solids_, *params_buf_)}});
     }
     method_ = settings.method;
 }

@@ -10,6 +10,8 @@
 // Layout and the billboard rule: shaders/shared/metaball_layout.h.
 #pragma once
 
+#include "render/solids_view.h"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -93,6 +95,8 @@ struct MetaballStats {
 
 class MetaballRenderer {
 public:
+    /// The mesh obstacles to draw (render/solids_view.h; nullptr: none), from the next frame on.
+    void set_solids(const SolidsView* solids) { solids_ = solids; }
     /// Allocates every buffer for `max_particles` at width x height, with `list_bytes` of list
     /// memory (0: kDefaultListBytesPerPixel per pixel). Throws aquaform::Failure on a
     /// resolution outside render/picture_size.h's limits and aquaform::Failure (a resource failure) when a buffer exceeds the device's limits.
@@ -130,6 +134,7 @@ public:
     const gpu::Buffer& color_buffer() const { return *color_; }
 
 private:
+    const SolidsView* solids_ = nullptr;
     gpu::Context* ctx_;
     ParticleDomain domain_;
     uint32_t width_, height_, max_particles_;

@@ -16,6 +16,7 @@
 #include "core/camera.h"
 #include "core/error.h"
 #include "gpu/buffer.h"
+#include "render/solids_view.h"
 #include "render/surface_frame.h"
 
 namespace aquaform {
@@ -86,6 +87,10 @@ class Renderer {
 public:
     virtual ~Renderer() = default;
 
+    /// The mesh obstacles to draw from the next frame on (nullptr: none); it must outlive its use
+    /// and may change between frames (a moving obstacle's table).
+    virtual void set_solids(const SolidsView* solids) = 0;
+
     /// The method of the current settings (registry name).
     const std::string& method() const { return settings_.method(); }
     const MethodSettings& settings() const { return settings_; }
@@ -118,6 +123,7 @@ public:
 
 protected:
     explicit Renderer(MethodSettings settings) : settings_(std::move(settings)) {}
+
     /// Throws a Failure when `settings` are not this family's or are out of range.
     virtual void check(const MethodSettings& settings) const = 0;
 
@@ -161,6 +167,7 @@ public:
         return impl_.render(positions, count, camera, typed(), timer);
     }
     SurfaceFrame read_frame() override { return impl_.read_frame(); }
+    void set_solids(const SolidsView* solids) override { impl_.set_solids(solids); }
     void share_grid(const NeighborGrid* grid) override {
         if constexpr (requires(Concrete& c) { c.share_grid(grid); }) impl_.share_grid(grid);
     }

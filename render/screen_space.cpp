@@ -129,7 +129,7 @@ ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain
     curvature_flow_ = gpu::ComputePass(ctx, {"render/ss_curvature_flow.comp", 3});
     normals_ = gpu::ComputePass(ctx, {"render/screen_normals.comp", 3});
     hit_pass_ = gpu::ComputePass(ctx, {"render/ss_hit.comp", 3});
-    compose_ = gpu::ComputePass(ctx, {"render/compose.comp", 6});
+    compose_ = gpu::ComputePass(ctx, {"render/compose.comp", 7});
     // Every particle is a splash to the splat (no D_agg): zero once, never written again.
     ctx.submit_and_wait([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, aggregate_->buffer, 0, VK_WHOLE_SIZE, 0u); });
 }
@@ -151,6 +151,7 @@ void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positio
     SurfaceSettings surface;
     GridGeometry no_grid{domain_.bounds.min, render_radius(surface, domain_), glm::uvec3(1u)};
     params_ = make_surface_params(surface, domain_, no_grid, camera, width_, height_, count);
+    add_solids(params_.tank, solids_);
     params_.sprite_radius = settings.sprite_radius * params_.particle_radius;
     params_.flags = 0;  // none of the ray marchers' mechanisms run here
     filter_params_ = make_filter_params(settings, params_);
@@ -177,7 +178,7 @@ void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positio
     }
     {
         gpu::GpuScope scope(timer, cmd, "ss_compose");
-        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}, {"spray", unused_}});
+        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}, {"spray", unused_}, {"solid_nodes", &solid_nodes(solids_, *params_buf_)}});
     }
 }
 

@@ -17,6 +17,8 @@
 // Layout: shaders/shared/screen_space_layout.h. Lengths a user sets are in particle radii.
 #pragma once
 
+#include "render/solids_view.h"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -103,6 +105,8 @@ constexpr uint32_t kScreenSpaceBytesPerParticle = 4;
 
 class ScreenSpaceRenderer {
 public:
+    /// The mesh obstacles to draw (render/solids_view.h; nullptr: none), from the next frame on.
+    void set_solids(const SolidsView* solids) { solids_ = solids; }
     /// Allocates every buffer for `max_particles` particles of `scene` at width x height.
     /// Throws aquaform::Failure for a resolution outside the picture sizes of render/picture_size.h.
     ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles);
@@ -135,6 +139,7 @@ public:
     const gpu::Buffer& color_buffer() const { return *color_; }
 
 private:
+    const SolidsView* solids_ = nullptr;
     void record_filter(VkCommandBuffer cmd, const ScreenSpaceSettings& settings);
 
     gpu::Context* ctx_;

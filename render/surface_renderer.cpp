@@ -104,7 +104,7 @@ SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain
     set_march_lanes(default_march_lanes(ctx.info()));
     upsample_ = gpu::ComputePass(ctx, {"render/upsample.comp", 7});
     normal_filter_ = gpu::ComputePass(ctx, {"render/normal_filter.comp", 4, push});
-    compose_ = gpu::ComputePass(ctx, {"render/compose.comp", 6});
+    compose_ = gpu::ComputePass(ctx, {"render/compose.comp", 7});
     // The default grid now, so that a scene whose grid cannot fit fails at construction.
     prepare_grid(render_radius(SurfaceSettings{}, domain));
 }
@@ -180,6 +180,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     prepare_grid(render_radius(settings, domain_));
     count_ = count;
     params_ = make_surface_params(settings, domain_, geometry_, camera, width_, height_, count);
+    add_solids(params_.tank, solids_);
     resolution_note_.clear();
     if ((params_.flags & SURFACE_ADAPTIVE_RES) && !adaptive_resolution_pays()) {
         params_.flags &= ~SURFACE_ADAPTIVE_RES;
@@ -290,7 +291,7 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     }
     {
         gpu::GpuScope scope(timer, cmd, "render_compose");
-        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}, {"spray", spray_}});
+        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}, {"spray", spray_}, {"solid_nodes", &solid_nodes(solids_, *params_buf_)}});
     }
 }
 

@@ -26,6 +26,8 @@
 // Layout and conventions: shaders/shared/surface_layout.h.
 #pragma once
 
+#include "render/solids_view.h"
+
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -84,6 +86,8 @@ constexpr uint32_t kMaxMarchLanes = 8;
 
 class SurfaceRenderer {
 public:
+    /// The mesh obstacles to draw (render/solids_view.h; nullptr: none), from the next frame on.
+    void set_solids(const SolidsView* solids) { solids_ = solids; }
     /// Allocates every buffer for `max_particles` particles of `scene` at width x height.
     /// Throws aquaform::Failure (a resource failure) when the render grid does not fit (the message names the fix).
     SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles);
@@ -162,6 +166,7 @@ public:
     const gpu::Buffer& color_buffer() const { return *color_; }
 
 private:
+    const SolidsView* solids_ = nullptr;
     void prepare_grid(float radius);
     void prepare_own_grid();
     /// The binary density grid: the tight bound (mask_bound.comp) or Wu et al.'s convolution.

@@ -99,6 +99,16 @@ Result<std::unique_ptr<SimulationSession>> SimulationSession::create(gpu::Contex
 
 std::optional<ControlSummary> SimulationSession::control_summary() const { return summarize(control_); }
 
+const SolidsView* SimulationSession::solids() {
+    // The solver's table holds the static boxes first (drawn as boxes from the domain), then the
+    // mesh obstacles.
+    const size_t boxes = scene_.static_boxes.size(), solids = solver_->boundary().solid_count();
+    if (solids <= boxes) return nullptr;
+    solids_.nodes = &solver_->boundary_nodes();
+    solids_.table.assign(solver_->params().obstacles + boxes, solver_->params().obstacles + solids);
+    return &solids_;
+}
+
 void SimulationSession::rebuild(bool keep_particles) {
     std::optional<ParticleSnapshot> state;
     if (keep_particles && solver_) state = solver_->snapshot();

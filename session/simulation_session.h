@@ -17,6 +17,7 @@
 
 #include "control/control_driver.h"
 #include "control/push_force.h"
+#include "render/solids_view.h"
 #include "core/result.h"
 #include "sim/frame_stats.h"
 #include "sim/pbf_solver.h"
@@ -122,6 +123,9 @@ public:
     /// frame_grid), for Renderer::share_grid; nullptr when the option is off. It changes when
     /// the solver is made again (set_solver_settings, restart, set_control): ask each frame.
     const NeighborGrid* frame_grid() const { return options_.frame_grid ? &solver_->grid() : nullptr; }
+    /// The scene's mesh obstacles as they stand at the end of the frame last recorded, for a
+    /// renderer to draw (Renderer::set_solids); nullptr without any. Valid until the next call.
+    const SolidsView* solids();
     /// The mesh control, or null without a control section.
     control::ControlDriver* control() { return driver_.get(); }
     const control::ControlDriver* control() const { return driver_.get(); }
@@ -155,6 +159,7 @@ public:
     const std::vector<std::filesystem::path>& shape_files() const { return shape_files_; }
 
 private:
+    SolidsView solids_;  // what solids() hands out
     void rebuild(bool keep_particles);
     void connect_forces();
 

@@ -81,8 +81,9 @@ ProbeSpec read_probes(const json& v, const SceneBasics& scene) {
                        const float off = distance_to_solids(scene, sensor.position);
                        if (!(off <= scene.particle_spacing))
                            fail(path + ".position " + written(s["position"]) + " is " + fmt(off) +
-                                " m from the nearest solid surface; a pressure sensor sits on a wall, the floor, a static box "
-                                "or an obstacle (within a particle spacing, " + fmt(scene.particle_spacing) + " m): move it there");
+                                " m from the nearest solid surface (the tank's walls and floor, static_boxes, obstacles); a "
+                                "pressure sensor sits on one of them (within a particle spacing, " +
+                                fmt(scene.particle_spacing) + " m): move it there, or give the solid it was on");
                        spec.sensors.push_back(sensor);
                    });
     if (v.contains("forces")) {

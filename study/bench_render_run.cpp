@@ -133,6 +133,7 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const BenchFrame& be
                                 &last_frame_ms))
         return std::nullopt;
     renderer->share_grid(sim.frame_grid());
+    renderer->set_solids(sim.solids());
     const ViewCamera camera = scene_camera(scene, float(width) / float(height));
     const size_t total = configs.size() + 1;
     std::fprintf(stderr, "bench render: %s: rendering reference (1/%zu, exhaustive: the slowest)\n", bench.name, total);
@@ -186,6 +187,7 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const BenchFrame& be
         for (const gpu::BufferReport& b : renderer->memory_report())
             if (b.name == "render.sorted" || b.name.rfind("render.grid.", 0) == 0) own_bytes += b.bytes;
         renderer->share_grid(sim.frame_grid());
+        renderer->set_solids(sim.solids());
         auto ms = [](const std::map<std::string, double>& m, const char* pass) {
             auto it = m.find(pass);
             return it == m.end() ? 0.0 : it->second;

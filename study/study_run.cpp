@@ -197,6 +197,7 @@ private:
         auto& r = renderers_[{render_registry().find(settings.method())->family, w, h}];  // the spec checked the name
         if (!r) r = render_registry().create(ctx_, scene_.particle_domain(), w, h, particles(), settings);
         r->share_grid(session_->frame_grid());
+        r->set_solids(session_->solids());
         return *r;
     }
 

@@ -302,3 +302,54 @@ TEST(ObstacleRun, RunWritesEverySolidAsItStandsTheProbesAndSaysWhatFluidItDidNot
 
 }  // namespace
 }  // namespace aquaform
+
+#include "render/registry.h"
+
+namespace aquaform {
+namespace {
+
+/// Warm pixels (the solids' colour: red over green over blue) in a region of an image.
+size_t warm_pixels(const Image& image, uint32_t x0, uint32_t x1) {
+    size_t n = 0;
+    for (uint32_t y = 0; y < image.height; ++y)
+        for (uint32_t x = x0; x < x1; ++x) {
+            const uint8_t* p = &image.rgba[4 * (size_t(y) * image.width + x)];
+            n += int(p[0]) > int(p[1]) + 15 && int(p[1]) > int(p[2]) + 15;
+        }
+    return n;
+}
+
+TEST_F(ObstacleTest, EveryMethodDrawsAMeshObstacleAndTheFluidInFrontOfItHidesIt) {
+    // Two balls side by side at the back of the tank; a block of water stands in front of the
+    // right one only. Every method must draw the left ball, and much less of the right one.
+    auto dir = test_cli::temp_dir("obstacle_drawn");
+    const std::string sphere = (std::filesystem::path(AQUAFORM_SOURCE_DIR) / "assets/meshes/sphere.obj").string();
+    Scene scene = parse(scene_json(R"({"min": [0, 0, 0], "max": [0.6, 0.3, 0.4]})",
+                                   R"({"min": [0.33, 0, 0.2], "max": [0.57, 0.2, 0.3]})",
+                                   R"("obstacles": {"left": {"file": ")" + sphere + R"(", "placement": {"fit_into": {"min": [0.05, 0, 0.02], "max": [0.25, 0.2, 0.18]}}},
+                                                    "right": {"file": ")" + sphere + R"(", "placement": {"fit_into": {"min": [0.35, 0, 0.02], "max": [0.55, 0.2, 0.18]}}}})"),
+                        dir);
+    ASSERT_EQ(scene.obstacles.size(), 2u);
+    PbfSolver solver(ctx(), scene);
+    SolidsView solids{&solver.boundary_nodes(), {solver.params().obstacles, solver.params().obstacles + 2}};
+    ViewCamera camera;
+    camera.eye = {0.3f, 0.15f, 1.3f};
+    camera.target = {0.3f, 0.1f, 0.1f};
+    camera.fov_y_degrees = 30.0f;
+    const uint32_t width = 96, height = 48;
+    for (const MethodEntry& entry : render_registry().entries()) {
+        SCOPED_TRACE(entry.name);
+        auto r = render_registry().create(ctx(), scene.particle_domain(), width, height, solver.particle_count(), entry.defaults);
+        r->set_solids(&solids);
+        const SurfaceFrame frame = r->render(solver.positions(), solver.particle_count(), camera);
+        const size_t left = warm_pixels(frame.color, 0, width / 2), right = warm_pixels(frame.color, width / 2, width);
+        EXPECT_GT(left, 40u) << "the left ball is drawn";
+        EXPECT_LT(right, left / 3) << "the water hides most of the right ball";
+        r->set_solids(nullptr);
+        const SurfaceFrame without = r->render(solver.positions(), solver.particle_count(), camera);
+        EXPECT_LT(warm_pixels(without.color, 0, width / 2), 5u) << "without the obstacles nothing warm is drawn";
+    }
+}
+
+}  // namespace
+}  // namespace aquaform

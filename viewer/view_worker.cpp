@@ -202,6 +202,7 @@ struct ViewWorker::Sim {
     const gpu::Buffer& record_render(VkCommandBuffer cmd, const ViewControls& c) {
         Renderer& r = renderer(c);
         r.share_grid(session->frame_grid());  // the session makes a new solver on reset and settings
+        r.set_solids(session->solids());
         r.record(cmd, solver->positions(), solver->particle_count(), c.camera, &render_timer);
         return r.color_buffer();
     }

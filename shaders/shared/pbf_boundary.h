@@ -17,14 +17,21 @@
 #ifndef AQUAFORM_PBF_BOUNDARY_H
 #define AQUAFORM_PBF_BOUNDARY_H
 #include "pbf_physics.h"
+#ifndef __cplusplus
+#define SOLID_TABLE(o) params.obstacles[o]
+#define SOLID_NODE(i) boundary_nodes[i]
+#endif
+#include "solid_map.h"
 
 #ifdef __cplusplus
 #define PBF_SOLIDS , const SimParams& params, const vec4* boundary_nodes
 #define PBF_SOLIDS_ARGS , params, boundary_nodes
+#define PBF_MAP_ARGS , params.obstacles, boundary_nodes
 #define PBF_HAS_OBSTACLES (params.obstacle_count > 0u)
 #else
 #define PBF_SOLIDS
 #define PBF_SOLIDS_ARGS
+#define PBF_MAP_ARGS
 /// A scene without obstacles (most) compiles the solids down to the walls: the passes that include
 /// this file take it as specialization constant 8 (sim/pbf_solver.cpp).
 layout(constant_id = 8) const bool kHasObstacles = true;
@@ -38,65 +45,16 @@ AF_BEGIN
 /// A distance for "no obstacle near": beyond every map.
 const float PBF_FAR = 1.0e30f;
 
-/// Obstacle o's own coordinates of a world point.
-AF_FN vec3 obstacle_local(uint o, vec3 p PBF_PARAMS) {
-    vec4 q = vec4(p, 1.0f);
-    return vec3(dot(params.obstacles[o].to_local[0], q), dot(params.obstacles[o].to_local[1], q),
-                dot(params.obstacles[o].to_local[2], q));
-}
-
-/// A direction of obstacle o's frame in the world's (the rotation is the transpose of to_local's).
-AF_FN vec3 obstacle_to_world(uint o, vec3 d PBF_PARAMS) {
-    return d.x * vec3(params.obstacles[o].to_local[0]) + d.y * vec3(params.obstacles[o].to_local[1]) +
-           d.z * vec3(params.obstacles[o].to_local[2]);
-}
-
-/// Where `local` falls in obstacle o's grid, in nodes; every coordinate within [0, dims - 1]
-/// when the point is inside the map.
-AF_FN vec3 obstacle_grid_point(uint o, vec3 local PBF_PARAMS) {
-    return (local - vec3(params.obstacles[o].map_origin)) / params.obstacles[o].map_origin.w;
-}
-
-AF_FN bool obstacle_map_covers(uint o, vec3 g PBF_PARAMS) {
-    vec3 last = vec3(params.obstacles[o].map_dims) - vec3(1.0f);
-    return g.x >= 0.0f && g.y >= 0.0f && g.z >= 0.0f && g.x <= last.x && g.y <= last.y && g.z <= last.z;
-}
-
-/// Interpolates one of a node's vec4s (PBF_NODE_DISTANCE or PBF_NODE_DENSITY: xyz the gradient of
-/// w) at grid point g, which obstacle_map_covers. xyz: trilinear. w: the mean of the trilinear
-/// value and of the nodes' first-order Taylor steps to the point, sum_k w_k (v_k + grad_k . (x - x_k) / 2):
-/// trilinear errs by +E and the Taylor steps by -E for any quadratic field, so the mean is exact
-/// for them. Trilinear alone was off by 1.9 % of a full density between the nodes of a flat face's
-/// map at h / 4 (the kernel's integral curves within a cell); the mean follows it to rounding.
-AF_FN vec4 obstacle_sample(uint o, vec3 g, uint channel PBF_SOLIDS) {
-    uvec4 dims = params.obstacles[o].map_dims;
-    float cell_size = params.obstacles[o].map_origin.w;
-    vec3 cell = min(floor(g), vec3(dims.x - 2u, dims.y - 2u, dims.z - 2u));
-    vec3 f = g - cell;
-    uint sy = dims.x, sz = dims.x * dims.y;
-    uint base = dims.w + uint(cell.x) + uint(cell.y) * sy + uint(cell.z) * sz;
-    vec4 sum = vec4(0.0f);
-    for (uint k = 0u; k < 8u; ++k) {
-        vec3 corner = vec3((k & 1u) != 0u ? 1.0f : 0.0f, (k & 2u) != 0u ? 1.0f : 0.0f, (k & 4u) != 0u ? 1.0f : 0.0f);
-        uint node = base + ((k & 1u) != 0u ? 1u : 0u) + ((k & 2u) != 0u ? sy : 0u) + ((k & 4u) != 0u ? sz : 0u);
-        vec4 v = boundary_nodes[node * PBF_NODE_VEC4S + channel];
-        vec3 w3 = corner * f + (vec3(1.0f) - corner) * (vec3(1.0f) - f);
-        float w = w3.x * w3.y * w3.z;
-        sum += w * vec4(vec3(v), v.w + 0.5f * dot(vec3(v), (f - corner) * cell_size));
-    }
-    return sum;
-}
-
 /// What every solid adds to a particle at p: xyz grad m (the walls' and obstacles' part of
 /// grad_p C_i), w m = rho_solid / rho0.
 AF_FN vec4 pbf_boundary_term(vec3 p PBF_SOLIDS) {
     vec4 term = pbf_wall_term(p PBF_ARGS);
     if (!PBF_HAS_OBSTACLES) return term;
     for (uint o = 0u; o < params.obstacle_count; ++o) {
-        vec3 g = obstacle_grid_point(o, obstacle_local(o, p PBF_ARGS) PBF_ARGS);
-        if (!obstacle_map_covers(o, g PBF_ARGS)) continue;
-        vec4 m = obstacle_sample(o, g, PBF_NODE_DENSITY PBF_SOLIDS_ARGS);
-        term += vec4(obstacle_to_world(o, vec3(m) PBF_ARGS), m.w);
+        vec3 g = solid_grid_point(o, solid_local(o, p PBF_MAP_ARGS) PBF_MAP_ARGS);
+        if (!solid_map_covers(o, g PBF_MAP_ARGS)) continue;
+        vec4 m = solid_sample(o, g, PBF_NODE_DENSITY PBF_MAP_ARGS);
+        term += vec4(solid_to_world(o, vec3(m) PBF_MAP_ARGS), m.w);
     }
     return term;
 }
@@ -107,10 +65,10 @@ AF_FN vec4 obstacle_distance(vec3 p PBF_SOLIDS) {
     vec4 nearest = vec4(0.0f, 1.0f, 0.0f, PBF_FAR);
     if (!PBF_HAS_OBSTACLES) return nearest;
     for (uint o = 0u; o < params.obstacle_count; ++o) {
-        vec3 g = obstacle_grid_point(o, obstacle_local(o, p PBF_ARGS) PBF_ARGS);
-        if (!obstacle_map_covers(o, g PBF_ARGS)) continue;
-        vec4 d = obstacle_sample(o, g, PBF_NODE_DISTANCE PBF_SOLIDS_ARGS);
-        if (d.w < nearest.w) nearest = vec4(obstacle_to_world(o, vec3(d) PBF_ARGS), d.w);
+        vec3 g = solid_grid_point(o, solid_local(o, p PBF_MAP_ARGS) PBF_MAP_ARGS);
+        if (!solid_map_covers(o, g PBF_MAP_ARGS)) continue;
+        vec4 d = solid_sample(o, g, PBF_NODE_DISTANCE PBF_MAP_ARGS);
+        if (d.w < nearest.w) nearest = vec4(solid_to_world(o, vec3(d) PBF_MAP_ARGS), d.w);
     }
     return nearest;
 }
@@ -150,8 +108,8 @@ AF_FN vec3 pbf_push_out(vec3 p PBF_SOLIDS) {
 /// samples every obstacle_stride (at most 64): 1 when it never does. A move that only grazes the
 /// map's box is not sampled.
 AF_FN float obstacle_entry(uint o, vec3 from, vec3 to PBF_SOLIDS) {
-    vec3 a = obstacle_grid_point(o, obstacle_local(o, from PBF_ARGS) PBF_ARGS);
-    vec3 b = obstacle_grid_point(o, obstacle_local(o, to PBF_ARGS) PBF_ARGS);
+    vec3 a = solid_grid_point(o, solid_local(o, from PBF_MAP_ARGS) PBF_MAP_ARGS);
+    vec3 b = solid_grid_point(o, solid_local(o, to PBF_MAP_ARGS) PBF_MAP_ARGS);
     vec3 last = vec3(params.obstacles[o].map_dims) - vec3(1.0f);
     // Both ends beyond one face of the map's box: the segment misses the box.
     if ((a.x < 0.0f && b.x < 0.0f) || (a.y < 0.0f && b.y < 0.0f) || (a.z < 0.0f && b.z < 0.0f) ||
@@ -161,8 +119,8 @@ AF_FN float obstacle_entry(uint o, vec3 from, vec3 to PBF_SOLIDS) {
     float samples = min(64.0f, max(1.0f, floor(len / params.obstacle_stride) + 1.0f));
     for (float k = 1.0f; k <= samples; k += 1.0f) {
         vec3 g = a + (b - a) * (k / samples);
-        if (!obstacle_map_covers(o, g PBF_ARGS)) continue;
-        if (obstacle_sample(o, g, PBF_NODE_DISTANCE PBF_SOLIDS_ARGS).w < 0.0f) return (k - 1.0f) / samples;
+        if (!solid_map_covers(o, g PBF_MAP_ARGS)) continue;
+        if (solid_sample(o, g, PBF_NODE_DISTANCE PBF_MAP_ARGS).w < 0.0f) return (k - 1.0f) / samples;
     }
     return 1.0f;
 }

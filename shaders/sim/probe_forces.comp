@@ -29,9 +29,9 @@ void main() {
     for (uint o = 0u; o < probes.counts.w; ++o) {
         vec3 f = vec3(0.0);
         if (i < pc.count && p != 0.0) {
-            vec3 g = obstacle_grid_point(o, obstacle_local(o, xi));
-            if (obstacle_map_covers(o, g))
-                f = params.volume * p * obstacle_to_world(o, obstacle_sample(o, g, PBF_NODE_DENSITY).xyz);
+            vec3 g = solid_grid_point(o, solid_local(o, xi));
+            if (solid_map_covers(o, g))
+                f = params.volume * p * solid_to_world(o, solid_sample(o, g, PBF_NODE_DENSITY).xyz);
         }
         group_force[t] = vec4(f, 0.0);
         group_torque[t] = vec4(cross(xi - probes.centres[o].xyz, f), 0.0);

@@ -13,7 +13,7 @@ set(layers
   "sim|sim/scene.h|core,gpu,grid,geometry"
   "render|render/surface_frame.h|core,gpu,grid,geometry"
   "control|control/placement.h|core,gpu,grid,geometry,sim"
-  "session|session/simulation_session.h|core,gpu,grid,geometry,sim,control"
+  "session|session/simulation_session.h|core,gpu,grid,geometry,sim,render,control"
   "exports|exports/mesh_export.h|core,gpu,grid,geometry,sim,render"
   "study|study/bench_sim.h|core,gpu,grid,geometry,sim,render,control,session"
   "viewer|viewer/view_worker.h|core,gpu,grid,geometry,sim,render,control,session"
