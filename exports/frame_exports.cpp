@@ -8,10 +8,13 @@
 
 namespace aquaform {
 
+glm::vec3 z_up(const glm::vec3& p) { return {p.x, -p.z, p.y}; }
+
 namespace {
 
-/// The rotation about x that takes +y to +z (w, a particle's id or tag, stays).
-glm::vec3 z_up(const glm::vec3& p) { return {p.x, -p.z, p.y}; }
+using aquaform::z_up;  // the point's, beside this namespace's overloads
+
+/// z_up of the position, w (a particle's id or tag) kept.
 glm::vec4 z_up(const glm::vec4& p) { return {p.x, -p.z, p.y, p.w}; }
 
 /// The volume on the rotated lattice: a quarter turn maps samples onto samples, so this is a

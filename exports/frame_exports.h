@@ -58,6 +58,9 @@ struct FrameCapture {
 
 enum class UpAxis : uint8_t { y, z };
 
+/// The rotation about x that takes +y to +z: a y-up point in the z-up frame (UpAxis::z).
+glm::vec3 z_up(const glm::vec3& p);
+
 /// "y" or "z"; otherwise an error listing the choices.
 Result<UpAxis> parse_up_axis(const std::string& text);
 

@@ -11,7 +11,7 @@ namespace {
 
 geometry::Mesh in_up_axis(geometry::Mesh mesh, UpAxis up) {
     if (up == UpAxis::z)
-        for (glm::vec3& v : mesh.vertices) v = {v.x, -v.z, v.y};  // as frame_exports.cpp turns every export
+        for (glm::vec3& v : mesh.vertices) v = z_up(v);  // as every export is turned
     return mesh;
 }
 
