@@ -6,7 +6,11 @@
 #include "control/section_builder.h"
 #include "gpu/context.h"
 #include "sim/blowup.h"
+#include "sim/obstacles.h"
 #include "sim/pbf_params.h"
+#include "core/json_fields.h"
+
+#include <nlohmann/json.hpp>
 
 namespace aquaform::session {
 
@@ -81,7 +85,8 @@ Result<control::ControlSection> shape_section(const Scene& scene, const std::vec
 }
 
 SimulationSession::SimulationSession(gpu::Context& ctx, SessionPlan plan, SessionOptions options)
-    : ctx_(&ctx), scene_(std::move(plan.scene)), control_(std::move(plan.control)), options_(options) {
+    : ctx_(&ctx), scene_(std::move(plan.scene)), control_(std::move(plan.control)), options_(options),
+      own_obstacles_(scene_.obstacles.size()) {
     rebuild(false);
     // The scene's own shapes are listed like attached ones (union and morph start from them).
     if (control_)
@@ -112,12 +117,15 @@ const SolidsView* SimulationSession::solids() {
 void SimulationSession::rebuild(bool keep_particles) {
     std::optional<ParticleSnapshot> state;
     if (keep_particles && solver_) state = solver_->snapshot();
+    start_solver(state ? &*state : nullptr);
+}
+
+void SimulationSession::start_solver(const ParticleSnapshot* start) {
     driver_.reset();
     solver_.reset();
-    solver_ = std::make_unique<PbfSolver>(*ctx_, scene_);
+    solver_ = std::make_unique<PbfSolver>(*ctx_, scene_, start);
     solver_->set_measure_droplets(options_.measure_droplets);
     solver_->set_frame_grid(options_.frame_grid);
-    if (state) solver_->set_state(state->x, state->v);
     if (control_) {
         driver_ = std::make_unique<control::ControlDriver>(*ctx_, scene_, control_->section, control_->strength);
         driver_->update(solver_->time());  // its points and shapes are there before the first frame
@@ -219,6 +227,44 @@ Result<bool> SimulationSession::apply_shape(ShapeOp op, const fs::path& file, co
     set_control(std::move(section.value()));
     // After a morph only the last mesh is the shape (union and morph start from it).
     if (op == ShapeOp::morph) shape_files_ = {meshes.back()};
+    return true;
+}
+
+Result<SimulationSession::AddedObstacle> SimulationSession::add_obstacle(const fs::path& file, const Box& box) {
+    // Named after its file, numbered when that name is taken (a mesh may be dropped twice).
+    std::string name = file.stem().string();
+    for (int k = 2; std::any_of(scene_.obstacles.begin(), scene_.obstacles.end(),
+                                [&](const ObstacleSpec& o) { return o.name == name; }); ++k)
+        name = file.stem().string() + "_" + std::to_string(k);
+    const auto point = [](const glm::vec3& p) { return nlohmann::json::array({p.x, p.y, p.z}); };
+    const nlohmann::json entry = {
+        {name, {{"file", fs::absolute(file).string()},
+                {"placement", {{"fit_into", {{"min", point(box.min)}, {"max", point(box.max)}}}}}}}};
+    std::vector<ObstacleSpec> added;
+    try {
+        added = read_obstacles(entry, scene_, {}, PBF_MAX_OBSTACLES - scene_.static_boxes.size() - scene_.obstacles.size());
+    } catch (const json_fields::Invalid& e) {
+        return Error{e.message};
+    }
+    ParticleSnapshot state = solver_->snapshot();
+    ParticleSnapshot kept;
+    for (size_t i = 0; i < state.x.size(); ++i) {
+        if (inside_start_solid(added, glm::vec3(state.x[i]))) continue;
+        kept.x.push_back(state.x[i]);
+        kept.v.push_back(state.v[i]);
+    }
+    if (kept.x.empty())
+        return Error{"the mesh would hold every particle of the fluid; drop it beside the water"};
+    AddedObstacle report{name, state.x.size() - kept.x.size(), added.front().mesh_notes};
+    scene_.obstacles.push_back(std::move(added.front()));
+    start_solver(&kept);
+    return report;
+}
+
+bool SimulationSession::remove_added_obstacles() {
+    if (scene_.obstacles.size() == own_obstacles_) return false;
+    scene_.obstacles.resize(own_obstacles_);
+    rebuild(true);
     return true;
 }
 

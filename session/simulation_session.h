@@ -158,9 +158,25 @@ public:
     /// The meshes of the active shape, in its order (the scene's own meshes at the start).
     const std::vector<std::filesystem::path>& shape_files() const { return shape_files_; }
 
+    /// What add_obstacle did: the obstacle's name and the particles inside it, taken out.
+    struct AddedObstacle {
+        std::string name;
+        uint64_t removed = 0;
+        std::string mesh_notes;  ///< what the mesh check tolerated (holes, faces turned back), or empty
+    };
+    /// Drops an OBJ into the flow as a still obstacle, fit into `box` (the viewer's drop); the
+    /// solver continues from the current particles less those inside the mesh. Checked as a
+    /// scene's obstacles are (sim/obstacles.h); a mesh that cannot be used, or one more than the
+    /// solver's table holds, leaves the session as it was and the error says why.
+    Result<AddedObstacle> add_obstacle(const std::filesystem::path& file, const Box& box);
+    /// Takes out the obstacles add_obstacle dropped in (the scene's own stay); false when there were none.
+    bool remove_added_obstacles();
+
 private:
     SolidsView solids_;  // what solids() hands out
     void rebuild(bool keep_particles);
+    /// A new solver from `start` (nullptr: the scene's blocks), and the control and forces on it.
+    void start_solver(const ParticleSnapshot* start);
     void connect_forces();
 
     gpu::Context* ctx_;
@@ -172,6 +188,7 @@ private:
     std::vector<StepForce*> extra_forces_;
     control::StepForces forces_;
     std::vector<std::filesystem::path> shape_files_;
+    size_t own_obstacles_ = 0;  // the scene's own obstacles, before any add_obstacle added
 };
 
 }  // namespace aquaform::session

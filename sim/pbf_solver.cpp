@@ -48,9 +48,9 @@ uint64_t MemoryPlan::total_bytes() const {
     return total;
 }
 
-Result<MemoryPlan> plan_memory(const Scene& scene) {
+Result<MemoryPlan> plan_memory(const Scene& scene, std::optional<uint64_t> particles) {
     MemoryPlan plan;
-    plan.particles = scene.particle_count();
+    plan.particles = particles.value_or(scene.particle_count());
     const float h = scene.solver.kernel_radius_factor * scene.particle_spacing;
     auto grid = grid_for_domain(scene.domain.min, scene.domain.max, h);
     if (!grid) return Error{scene.path.string() + ": " + grid.error()};
@@ -117,7 +117,7 @@ Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::D
     return true;
 }
 
-PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene)
+PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapshot* start)
     : ctx_(&ctx), scene_(scene), buffers_(ctx), droplet_buffers_(ctx) {
     // The last constraint iteration updates the velocities (pbf_correct.comp): there must be one.
     if (scene.solver.iterations < 1)
@@ -125,7 +125,7 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene)
                       "; the solver needs at least 1 constraint iteration (4 is usual)");
     // Both are checked before anything is allocated, so a scene too large for the device is bad
     // input (exit 2), named with the fix, not a failure midway.
-    auto plan = plan_memory(scene);
+    auto plan = plan_memory(scene, start ? std::optional<uint64_t>(start->x.size()) : std::nullopt);
     if (!plan) throw Failure(plan.error());
     auto fits = check_fits(scene, plan.value(), ctx.info());
     if (!fits) throw Failure(fits.error());
@@ -179,6 +179,20 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene)
     stats_ = gpu::ComputePass(ctx, {"sim/pbf_stats.comp", 11, sizeof(shader::StatsPush), PBF_STATS_WORKGROUP,
                                     solid_constants({}, obstacles)});
 
+    if (start) {
+        // Ids number the particles 0..n-1 (exports and the droplet count index by them): the
+        // survivors keep their order under new numbers.
+        std::vector<size_t> order(start->x.size());
+        for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+        std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return start->x[a].w < start->x[b].w; });
+        std::vector<glm::vec4> x(order.size()), v(order.size());
+        for (size_t i = 0; i < order.size(); ++i) {
+            x[i] = glm::vec4(glm::vec3(start->x[order[i]]), float(i));
+            v[i] = start->v[order[i]];
+        }
+        set_state(x, v);
+        return;
+    }
     std::vector<glm::vec4> x;
     std::vector<uint32_t> block;
     scene.generate_particles(x, block);

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,7 +42,9 @@ struct MemoryPlan {
     std::vector<gpu::BufferReport> buffers;
     uint64_t total_bytes() const;
 };
-Result<MemoryPlan> plan_memory(const Scene& scene);
+/// `particles`: the count to plan for when it is not the scene's own (a solver started from
+/// particles of its own: PbfSolver's `start`).
+Result<MemoryPlan> plan_memory(const Scene& scene, std::optional<uint64_t> particles = std::nullopt);
 /// Checks a plan against a device: total against its device-local memory, each buffer against
 /// its storage-buffer range. The message names the scene's spacing and the fix.
 Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::DeviceInfo& device);
@@ -67,7 +70,10 @@ class PbfSolver {
 public:
     /// Allocates and uploads the scene's particles. Throws gpu::VulkanError or
     /// aquaform::Failure (a resource failure) with a clear message when the scene does not fit the device.
-    PbfSolver(gpu::Context& ctx, const Scene& scene);
+    /// `start`: particles to continue from instead of the scene's blocks, as snapshot() gave them
+    /// (any count: a session that dropped the fluid inside a new obstacle); they are taken as they
+    /// are, not relaxed, and numbered again in the order of their ids.
+    PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapshot* start = nullptr);
     ~PbfSolver();
 
     /// Records one solver step (dt = frame_dt / substeps(), the step of the last frame).

@@ -244,6 +244,65 @@ TEST_F(SessionTest, ShapesAttachUniteMorphAndRelease) {
     EXPECT_FALSE(sim.release()) << "nothing left to release";
 }
 
+// The viewer's obstacle drop: the fluid inside the mesh is taken out and the rest continues where
+// it was; the solver then keeps the fluid out of it; a mesh that cannot be used changes nothing.
+TEST_F(SessionTest, AMeshDroppedAsAnObstacleTakesOutTheFluidInsideItAndKeepsTheRest) {
+    Scene pool = testing::scene_with({glm::vec3(0.0f), glm::vec3(0.4f)}, 0.025f);
+    pool.fluid_blocks = {{glm::vec3(0.0f), glm::vec3(0.4f, 0.1f, 0.4f)}};
+    SimulationSession sim(ctx(), plan_session(pool, std::nullopt), {.measure_shapes = false});
+    sim.advance(0.05);
+    const ParticleSnapshot before = sim.solver().snapshot();
+    const glm::vec3 centre(0.2f, 0.08f, 0.2f);
+    const float radius = 0.08f;
+    const Box box{centre - radius, centre + radius};
+    const auto inside = [&](const glm::vec4& p) { return glm::length(glm::vec3(p) - centre) < 0.95f * radius; };
+    const auto expected_out = std::count_if(before.x.begin(), before.x.end(), inside);
+    ASSERT_GT(expected_out, 50) << "the sphere must stand in the water";
+
+    auto added = sim.add_obstacle(kSphere, box);
+    ASSERT_TRUE(added.ok()) << added.error();
+    EXPECT_EQ(added.value().name, "sphere");
+    EXPECT_GE(added.value().removed, uint64_t(expected_out));
+    EXPECT_LT(added.value().removed, uint64_t(expected_out) * 13 / 10) << "only the fluid inside the mesh goes";
+    EXPECT_EQ(sim.solver().particle_count(), before.x.size() - added.value().removed);
+    EXPECT_EQ(sim.scene().obstacles.size(), 1u);
+    EXPECT_NE(sim.solids(), nullptr) << "renderers are handed the new solid";
+
+    // The survivors continue from where they were, in their order.
+    std::vector<glm::vec4> kept;
+    for (const glm::vec4& p : by_id(before.x))
+        if (!inside(p)) kept.push_back(p);
+    const std::vector<glm::vec4> after = by_id(sim.solver().snapshot().x);
+    size_t matched = 0;
+    for (size_t i = 0, j = 0; i < after.size() && j < kept.size(); ++i) {
+        while (j < kept.size() && glm::length(glm::vec3(kept[j]) - glm::vec3(after[i])) > 0.0f) ++j;
+        if (j < kept.size()) ++matched, ++j;
+    }
+    EXPECT_EQ(matched, after.size()) << "every particle after the drop is one from before, unmoved, in order";
+    EXPECT_EQ(after.back().w, float(after.size() - 1)) << "ids number the particles 0..n-1";
+
+    sim.advance(0.2);
+    const auto x = sim.solver().snapshot().x;
+    EXPECT_EQ(std::count_if(x.begin(), x.end(), inside), 0) << "the solver keeps the fluid out of the dropped solid";
+
+    // A second drop of the same mesh is numbered; a mesh that cannot be used changes nothing.
+    auto again = sim.add_obstacle(kSphere, Box{glm::vec3(0.02f, 0.0f, 0.02f), glm::vec3(0.1f, 0.08f, 0.1f)});
+    ASSERT_TRUE(again.ok()) << again.error();
+    EXPECT_EQ(again.value().name, "sphere_2");
+    const uint32_t count = sim.solver().particle_count();
+    auto bad = sim.add_obstacle("/nonexistent/ghost.obj", box);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().find("ghost.obj"), std::string::npos) << bad.error();
+    EXPECT_EQ(sim.scene().obstacles.size(), 2u);
+    EXPECT_EQ(sim.solver().particle_count(), count);
+
+    EXPECT_TRUE(sim.remove_added_obstacles());
+    EXPECT_TRUE(sim.scene().obstacles.empty());
+    EXPECT_EQ(sim.solids(), nullptr);
+    EXPECT_EQ(sim.solver().particle_count(), count) << "the fluid continues; what was taken out stays out";
+    EXPECT_FALSE(sim.remove_added_obstacles()) << "nothing left to remove";
+}
+
 TEST(SectionBuilderTest, MatchesTheJsonLoader) {
     Scene scene = cube_in_air();
     scene.path = fs::path(AQUAFORM_ASSETS_DIR) / "scenes/built.json";

@@ -1,6 +1,6 @@
 // The viewer under Xvfb on the software device: it opens a real window, plays a scripted session
 // (play, a debug view, switch method twice, attach a mesh, add a second, morph to it, release,
-// pause, change the solver, step, quit),
+// drop a mesh in as an obstacle and take it out, pause, change the solver, step, quit),
 // and the screenshots it takes
 // show fluid where the dam break stands and change with the method. Without a display it says so
 // and points to `aquaform run`. The script format is checked on its own.
@@ -38,6 +38,17 @@ double fluid_share(const Image& image) {
             ++total;
         }
     return double(fluid) / double(total);
+}
+
+/// Share of the pixels in the obstacles' warm brown (SOLID_COLOR, shaders/common/environment.glsl):
+/// red over green over blue, unlike the blue water, the grey floor and the grey-blue sky.
+double solid_share(const Image& image) {
+    size_t solid = 0;
+    for (size_t i = 0; i < image.rgba.size(); i += 4) {
+        const int r = image.rgba[i], g = image.rgba[i + 1], b = image.rgba[i + 2];
+        solid += r > 90 && r > g && g > b && r - b > 40;
+    }
+    return double(solid) / double(image.width * image.height);
 }
 
 double mean_difference(const Image& a, const Image& b) {
@@ -102,8 +113,14 @@ TEST(ViewCliTest, ScriptedSessionUnderXvfbShowsFluidAndFollowsTheMethod) {
     EXPECT_NE(output.find("added torus.obj"), std::string::npos) << output;
     EXPECT_NE(output.find("morphing to torus.obj"), std::string::npos) << output;
     EXPECT_NE(output.find("released the control shape"), std::string::npos) << output;
+    EXPECT_NE(output.find("dropped sphere.obj as obstacle sphere: "), std::string::npos) << output;
+    EXPECT_NE(output.find("removed the dropped obstacles"), std::string::npos) << output;
+    auto obstacle = read_png(out / "obstacle.png");
+    ASSERT_TRUE(obstacle.ok()) << obstacle.error();
+    EXPECT_GT(solid_share(obstacle.value()), 0.005) << "the dropped obstacle is not drawn";
+    EXPECT_LT(solid_share(shots[2]), 0.001) << "orange before any obstacle: the measure sees something else";
     // --record wrote every frame drawn before quit.
-    for (int f = 0; f < 15; ++f) {
+    for (int f = 0; f < 16; ++f) {
         char name[32];
         std::snprintf(name, sizeof name, "frame_%04d.png", f);
         EXPECT_TRUE(fs::exists(out / name)) << name;
@@ -223,6 +240,8 @@ TEST(ViewCliTest, AnUnsteppedScriptSwitchesShapesMethodsAndSizeWhileTheWorkerRun
     ASSERT_EQ(status, 0) << output;
     EXPECT_NE(output.find("attached sphere.obj"), std::string::npos) << output;
     EXPECT_NE(output.find("released the control shape"), std::string::npos) << output;
+    EXPECT_NE(output.find("dropped sphere.obj as obstacle"), std::string::npos) << output;
+    EXPECT_NE(output.find("removed the dropped obstacles"), std::string::npos) << output;
     EXPECT_NE(output.find("31 window frames"), std::string::npos) << output;
     EXPECT_EQ(output.find("validation error"), std::string::npos) << output;
     // Recording takes the picture shown while the worker draws the next one.

@@ -19,8 +19,14 @@ namespace {
 using namespace json_fields;
 
 constexpr std::array<std::string_view, 4> kActionKeys{"frame", "do", "value", "file"};
-constexpr std::array<std::string_view, 14> kActions{"play", "pause", "step", "reset", "method", "iterations", "substeps",
-                                                    "screenshot", "attach", "union", "morph", "release", "view", "resize"};
+constexpr std::array<std::string_view, 16> kActions{"play", "pause", "step", "reset", "method", "iterations", "substeps",
+                                                    "screenshot", "attach", "union", "morph", "release", "view", "resize",
+                                                    "obstacle", "remove_obstacles"};
+
+/// Actions whose "file" is a mesh, named relative to the script.
+bool takes_mesh(const std::string& what) {
+    return what == "attach" || what == "union" || what == "morph" || what == "obstacle";
+}
 
 /// The line of each action object in the script's text: the objects three brackets deep
 /// ({"actions": [{...}, ...]}), in order; strings are skipped.
@@ -89,9 +95,8 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
             if (!known)
                 fail(child(where, "do") + " is \"" + action.what +
                      "\"; use play, pause, step, reset, method, view, iterations, substeps, screenshot, attach, union, "
-                     "morph, release, resize or quit");
-            const bool takes_file = action.what == "screenshot" || action.what == "attach" || action.what == "union" ||
-                                    action.what == "morph";
+                     "morph, release, obstacle, remove_obstacles, resize or quit");
+            const bool takes_file = action.what == "screenshot" || takes_mesh(action.what);
             const char* key = takes_file ? "file" : "value";
             const bool needs = takes_file || action.what == "method" || action.what == "view" || action.what == "iterations" ||
                                action.what == "substeps" || action.what == "resize";
@@ -158,7 +163,7 @@ Result<std::vector<ViewAction>> load_view_script(const std::filesystem::path& pa
     // and must be there when the script is loaded.
     for (size_t i = 0; i < actions.value().size(); ++i) {
         ViewAction& a = actions.value()[i];
-        if (a.what != "attach" && a.what != "union" && a.what != "morph") continue;
+        if (!takes_mesh(a.what)) continue;
         if (std::filesystem::path(a.value).is_relative())
             a.value = (path.parent_path() / a.value).lexically_normal().string();
         std::error_code ec;

@@ -55,6 +55,17 @@ Box shape_box(const Scene& scene, const std::vector<glm::vec4>& particles, std::
     return {{centre.x - 0.5f * size, floor, centre.z - 0.5f * size}, {centre.x + 0.5f * size, floor + size, centre.z + 0.5f * size}};
 }
 
+Box obstacle_box(const Scene& scene, std::optional<glm::vec3> at) {
+    const glm::vec3 extent = scene.domain.max - scene.domain.min;
+    const float side = std::min({std::max(extent.x, extent.z) / 3.0f, 0.9f * std::min(extent.x, extent.z), extent.y});
+    const float height = side;
+    glm::vec3 centre = at.value_or(0.5f * (scene.domain.min + scene.domain.max));
+    centre.x = std::clamp(centre.x, scene.domain.min.x + 0.5f * side, scene.domain.max.x - 0.5f * side);
+    centre.z = std::clamp(centre.z, scene.domain.min.z + 0.5f * side, scene.domain.max.z - 0.5f * side);
+    const float floor = scene.domain.min.y;
+    return {{centre.x - 0.5f * side, floor, centre.z - 0.5f * side}, {centre.x + 0.5f * side, floor + height, centre.z + 0.5f * side}};
+}
+
 std::optional<glm::vec3> point_under_cursor(const ViewCamera& camera, const Box& domain, glm::vec2 ndc, float aspect) {
     const glm::mat3 axes = camera_axes(camera);
     const float tan_y = std::tan(glm::radians(camera.fov_y_degrees) * 0.5f), tan_x = tan_y * aspect;

@@ -34,6 +34,11 @@ using session::ShapeOp;
 /// allows), standing on the floor, inside the domain.
 Box shape_box(const Scene& scene, const std::vector<glm::vec4>& particles, std::optional<glm::vec3> at = std::nullopt);
 
+/// Where a mesh dropped as an obstacle goes: a cube a third of the tank's longest horizontal
+/// side (at most 90 % of its shortest, and no taller than the tank), standing on the floor under
+/// `at` (x, z) or at the tank's centre without it, inside the tank.
+Box obstacle_box(const Scene& scene, std::optional<glm::vec3> at = std::nullopt);
+
 /// The point of the domain under the cursor (ndc in [-1, 1], y down; aspect = width / height):
 /// where the mouse ray meets the vertical plane through the domain's centre that faces the camera,
 /// clamped into the domain. Nothing when the ray runs away from that plane.

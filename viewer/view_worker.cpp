@@ -81,6 +81,7 @@ struct ViewWorker::Sim {
     /// One renderer per family (a family's renderer draws each of its methods), by family name.
     std::map<std::string, std::unique_ptr<Renderer>> renderers;
     uint32_t render_w = 0, render_h = 0;
+    uint32_t render_particles = 0;  // the count the renderers were made for
     gpu::Buffer debug_image{};  // a debug view, drawn on the host
     std::unique_ptr<gpu::ShaderWatcher> watcher;
     Clock::time_point next_poll = Clock::now();
@@ -125,6 +126,21 @@ struct ViewWorker::Sim {
         say(std::string(verb) + " " + file.filename().string() + " (" + session->strength()->describe() + ")");
     }
 
+    /// A still obstacle from `file` (an OBJ), standing on the floor under `at` (obstacle_box); the
+    /// fluid inside it is taken out and the count said. A mesh that cannot be used leaves the
+    /// simulation as it was and says why.
+    void obstacle(const fs::path& file, std::optional<glm::vec3> at) {
+        auto added = session->add_obstacle(file, obstacle_box(scene, at));
+        if (!added) {
+            status = "cannot use " + file.string() + " as an obstacle: " + added.error();
+            std::fprintf(stderr, "aquaform view: %s\n", status.c_str());
+            return;
+        }
+        const session::SimulationSession::AddedObstacle& a = added.value();
+        say("dropped " + file.filename().string() + " as obstacle " + a.name + ": " + std::to_string(a.removed) +
+            " particles inside it taken out" + (a.mesh_notes.empty() ? std::string() : " (" + a.mesh_notes + ")"));
+    }
+
     /// Control off: the fluid returns to plain physics from the current particles.
     void release() {
         if (session->release()) say("released the control shape");
@@ -141,6 +157,10 @@ struct ViewWorker::Sim {
         case ViewOp::release: release(); break;
         case ViewOp::solver:
             session->set_solver_settings(c.solver);
+            break;
+        case ViewOp::obstacle: obstacle(c.file, c.at); break;
+        case ViewOp::remove_obstacles:
+            if (session->remove_added_obstacles()) say("removed the dropped obstacles");
             break;
         }
         return false;
@@ -189,6 +209,11 @@ struct ViewWorker::Sim {
     /// The renderer of `c`'s method, configured with its settings.
     Renderer& renderer(const ViewControls& c) {
         const MethodSettings settings = method_settings(c);
+        // A renderer is sized for its particles: a dropped obstacle or a reset changes their count.
+        if (solver->particle_count() != render_particles) {
+            renderers.clear();
+            render_particles = solver->particle_count();
+        }
         auto& r = renderers[render_registry().find(c.method)->family];
         if (!r) r = render_registry().create(ctx, scene.particle_domain(), render_w, render_h, solver->particle_count(), settings);
         else r->configure(settings);

@@ -78,13 +78,15 @@ struct PushStroke {
     float radius = 0.0f;
 };
 
-enum class ViewOp { step, reset, attach, union_with, morph, release, solver };
+/// attach, union_with, morph and release act on the control shapes; obstacle drops a mesh into
+/// the flow as a still solid, remove_obstacles takes out those dropped.
+enum class ViewOp { step, reset, attach, union_with, morph, release, solver, obstacle, remove_obstacles };
 
 struct ViewCommand {
     ViewOp op = ViewOp::step;
-    std::filesystem::path file;  ///< the mesh of attach, union_with, morph
+    std::filesystem::path file;  ///< the mesh of attach, union_with, morph, obstacle
     SolverSettings solver;       ///< the settings of `solver` (the solver continues from its particles)
-    std::optional<glm::vec3> at; ///< where a shape goes (a mesh dropped under the cursor); else above the fluid
+    std::optional<glm::vec3> at; ///< where a shape or obstacle goes (a mesh dropped under the cursor); else view_shapes.h's default
 };
 
 /// What the worker tells the window: its state after its last frame.

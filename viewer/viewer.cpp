@@ -185,14 +185,18 @@ private:
         worker_->post({op, file, solver_settings_, at});
     }
 
-    /// A mesh dropped on the window becomes the shape, standing where the cursor points.
+    /// A mesh dropped on the window becomes the shape, standing where the cursor points; with
+    /// Shift held it becomes a still obstacle there instead.
     void drop(const fs::path& file) {
+        const bool as_obstacle = glfwGetKey(window_.handle(), GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
+                                 glfwGetKey(window_.handle(), GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
         double x = 0.0, y = 0.0;
         int w = 1, h = 1;
         glfwGetCursorPos(window_.handle(), &x, &y);
         glfwGetWindowSize(window_.handle(), &w, &h);
         const glm::vec2 ndc(2.0f * float(x) / float(std::max(w, 1)) - 1.0f, 2.0f * float(y) / float(std::max(h, 1)) - 1.0f);
-        post(ViewOp::attach, file, point_under_cursor(orbit_.camera(), domain_, ndc, float(w) / float(std::max(h, 1))));
+        post(as_obstacle ? ViewOp::obstacle : ViewOp::attach, file,
+             point_under_cursor(orbit_.camera(), domain_, ndc, float(w) / float(std::max(h, 1))));
     }
 
     void apply(const ViewAction& a) {
@@ -211,6 +215,8 @@ private:
         else if (a.what == "morph") post(ViewOp::morph, a.value);
         else if (a.what == "view") set_view_checked(a.value);
         else if (a.what == "release") post(ViewOp::release);
+        else if (a.what == "obstacle") post(ViewOp::obstacle, a.value);
+        else if (a.what == "remove_obstacles") post(ViewOp::remove_obstacles);
         else if (a.what == "resize") resize(a.value);
         else if (a.what == "iterations" || a.what == "substeps") {
             (a.what == "iterations" ? solver_settings_.iterations : solver_settings_.substeps) = uint32_t(std::stoul(a.value));
@@ -350,11 +356,15 @@ private:
             if (ImGui::Button("Morph") && has_shape) post(ViewOp::morph, mesh_path_);
             ImGui::SameLine();
             if (ImGui::Button("Release")) post(ViewOp::release);
+            if (ImGui::Button("Obstacle")) post(ViewOp::obstacle, mesh_path_);
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("the mesh as a still solid in the flow (or drop an OBJ with Shift held)");
+            ImGui::SameLine();
+            if (ImGui::Button("Remove obstacles")) post(ViewOp::remove_obstacles);
             ImGui::Checkbox("show shapes", &show_shapes_);
             if (has_shape)
                 for (const fs::path& f : report_.shape_files) ImGui::BulletText("%s", f.filename().string().c_str());
             else
-                ImGui::TextDisabled("no shape: type a mesh path or drop an OBJ on the window");
+                ImGui::TextDisabled("no shape: type a mesh path or drop an OBJ on the window (Shift: as an obstacle)");
         }
         if ((controls_.method == "adaptive" || controls_.method == "uniform") && ImGui::CollapsingHeader("Renderer")) {
             SurfaceSettings& r = controls_.surface;
