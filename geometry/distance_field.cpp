@@ -157,8 +157,21 @@ Result<DistanceField> build_distance_field(const std::vector<glm::vec3>& soup, f
     return build_distance_field_on(soup, GridSpec::covering(bounds, cell, margin), band, progress_label);
 }
 
+namespace {
+/// Whether a triangle lies on one of the walls' planes or beyond it, within `slack`.
+bool on_or_beyond_a_wall(const glm::vec3* v, const Box& walls, float slack) {
+    for (int axis = 0; axis < 3; ++axis) {
+        if (v[0][axis] <= walls.min[axis] + slack && v[1][axis] <= walls.min[axis] + slack && v[2][axis] <= walls.min[axis] + slack)
+            return true;
+        if (v[0][axis] >= walls.max[axis] - slack && v[1][axis] >= walls.max[axis] - slack && v[2][axis] >= walls.max[axis] - slack)
+            return true;
+    }
+    return false;
+}
+}  // namespace
+
 Result<DistanceField> build_distance_field_on(const std::vector<glm::vec3>& soup, const GridSpec& on, float band,
-                                              const std::string& progress_label) {
+                                              const std::string& progress_label, const std::optional<Box>& walls) {
     if (const std::string problem = soup_problem(soup); !problem.empty()) return field_error(problem);
     if (!std::isfinite(band) || band <= 0.0f) return field_error("the band must be a number > 0");
     if (double(on.node_count()) > double(kMaxDistanceFieldNodes))
@@ -173,14 +186,15 @@ Result<DistanceField> build_distance_field_on(const std::vector<glm::vec3>& soup
     const bool show = !progress_label.empty() && grid.node_count() > (size_t(1) << 21);
     const InsideTest inside(soup);
 
-    // Which triangles make the surface (not buried in another part), and which are slivers.
+    // Which triangles make the surface (not buried in another part, not on a wall), and which are slivers.
+    const float wall_slack = 0.5f * cell;
     std::vector<unsigned char> skip(triangles, 0), sliver(triangles, 0);
     constexpr size_t kTriangleChunk = 1024;
     const bool classified = parallel_items((triangles + kTriangleChunk - 1) / kTriangleChunk, {}, [&](size_t chunk) {
         for (size_t t = chunk * kTriangleChunk; t < std::min(triangles, (chunk + 1) * kTriangleChunk); ++t) {
             const glm::vec3* v = &soup[3 * t];
             sliver[t] = is_sliver(v[0], v[1], v[2]);
-            skip[t] = !sliver[t] && is_buried(inside, v, 1e-3f * cell);
+            skip[t] = (walls && on_or_beyond_a_wall(v, *walls, wall_slack)) || (!sliver[t] && is_buried(inside, v, 1e-3f * cell));
         }
     });
     if (!classified) return field_error("interrupted (Ctrl-C) while building; run again to build it");
@@ -234,14 +248,19 @@ Result<DistanceField> build_distance_field_on(const std::vector<glm::vec3>& soup
     });
     if (!measured) return field_error("interrupted (Ctrl-C) while building; run again to build it");
 
-    // The sign of every node, one z layer at a time.
+    // The sign of every node, one z layer at a time. A node beyond a wall takes the side of a
+    // point just inside it: past the faces left out there (on the wall's plane the inside test
+    // could go either way), short of anything thinner.
+    const float wall_inset = 1.5f * wall_slack;
     const bool signed_ok = parallel_items(grid.dims.z, show ? progress_label + " (inside)" : std::string(), [&](size_t k) {
         for (uint32_t j = 0; j < grid.dims.y; ++j)
             for (uint32_t i = 0; i < grid.dims.x; ++i) {
                 const glm::uvec3 node(i, j, uint32_t(k));
                 float& value = d2[grid.index(node)];
                 const float magnitude = std::min(std::sqrt(value), band);
-                value = inside.contains(grid.position(node)) ? -magnitude : magnitude;
+                const glm::vec3 p = grid.position(node);
+                value = inside.contains(walls ? glm::clamp(p, walls->min + wall_inset, walls->max - wall_inset) : p) ? -magnitude
+                                                                                                                        : magnitude;
             }
     });
     if (!signed_ok) return field_error("interrupted (Ctrl-C) while building; run again to build it");

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -95,9 +96,14 @@ Result<DistanceField> build_distance_field(const std::vector<glm::vec3>& triangl
                                            const std::string& progress_label = {}, float band = 0.0f);
 
 /// build_distance_field on a grid of the caller's (e.g. one grid for every shape of a deforming
-/// mesh); distances exact within `band`.
+/// mesh); distances exact within `band`. `walls` (a tank): the solid reaches through them, as
+/// a static box does. Its faces that lie on a wall or beyond it (within half a cell) are no
+/// surface, and nodes beyond a wall take the side of the nearest point inside. So inside the
+/// tank the distance leads to the faces fluid can reach: a mesh standing on the floor has no
+/// floor face that a particle caught inside it would be pushed out through, into the floor.
 Result<DistanceField> build_distance_field_on(const std::vector<glm::vec3>& triangle_soup, const GridSpec& grid, float band,
-                                              const std::string& progress_label = {});
+                                              const std::string& progress_label = {},
+                                              const std::optional<Box>& walls = std::nullopt);
 
 /// The distance from `point` to the nearest triangle of a soup (unsigned; brute force, for a few points).
 float distance_to_surface(const std::vector<glm::vec3>& triangle_soup, const glm::vec3& point);

@@ -133,11 +133,14 @@ Result<Boundary> Boundary::build(const Scene& scene) {
 }
 
 Result<bool> Boundary::make_maps(Solid& solid, const geometry::Mesh& mesh) {
+    // A solid whose maps stand in the tank's frame (still or deforming; a rigid motion's are made
+    // at rest and move) reaches through the walls, as a static box does, and is clipped to the
+    // tank for its density: beyond the walls they count already.
+    const std::optional<Box> walls = solid.moves && !solid.deforms ? std::optional<Box>() : std::optional<Box>(domain_);
     auto field = geometry::build_distance_field_on(mesh.triangle_soup(), solid.grid, margin_of_map_,
-                                                   solid.grid.node_count() > 1000000 ? solid.name : std::string());
+                                                   solid.grid.node_count() > 1000000 ? solid.name : std::string(), walls);
     if (!field) return Error{field.error()};
-    // A solid that stands still is clipped to the tank: beyond the walls they count already.
-    store(solid, field.value(), solid.moves ? std::optional<Box>() : std::optional<Box>(domain_));
+    store(solid, field.value(), walls);
     return true;
 }
 

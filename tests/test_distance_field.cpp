@@ -45,6 +45,28 @@ float largest_node_gap(const DistanceField& field, Exact&& exact) {
     return worst;
 }
 
+TEST(DistanceField, ASolidOnTheWallsReachesThroughThem) {
+    // A block standing on a tank's floor and against its left wall: with the tank as walls, its
+    // floor and wall faces are no surface. Inside the tank the field is the distance to the
+    // faces the fluid can reach (a particle caught near the floor is led out through the top or
+    // the right face, not into the floor); beyond the walls, under the block, nodes are inside.
+    const Box tank{glm::vec3(0.0f), glm::vec3(1.0f)};
+    const Box block{glm::vec3(0.0f), glm::vec3(0.4f, 0.3f, 0.5f)};
+    const GridSpec grid = GridSpec::covering(block, 0.02f, 0.1f);
+    auto through = build_distance_field_on(box_soup(block), grid, 0.1f, {}, tank);
+    auto closed = build_distance_field_on(box_soup(block), grid, 0.1f);
+    ASSERT_TRUE(through.ok() && closed.ok());
+    const glm::vec3 near_floor(0.3f, 0.01f, 0.25f);
+    EXPECT_NEAR(closed.value().sample(near_floor), -0.01f, 1e-4f) << "the closed mesh's floor face";
+    EXPECT_NEAR(through.value().sample(near_floor), -0.1f, 1e-4f) << "0.1 from the right face: the floor face is gone";
+    const glm::vec3 near_left(0.01f, 0.15f, 0.25f);
+    EXPECT_NEAR(through.value().sample(near_left), -0.1f, 1e-4f) << "beyond the band from every face left";
+    EXPECT_NEAR(through.value().sample(glm::vec3(0.38f, 0.15f, 0.25f)), -0.02f, 1e-4f) << "the right face stays";
+    EXPECT_LT(through.value().sample(glm::vec3(0.2f, -0.05f, 0.25f)), 0.0f) << "under the floor, under the block";
+    EXPECT_GT(through.value().sample(glm::vec3(0.45f, -0.05f, 0.25f)), 0.0f) << "under the floor, beside the block";
+    EXPECT_GT(closed.value().sample(glm::vec3(0.2f, -0.05f, 0.25f)), 0.0f);
+}
+
 TEST(DistanceField, CubeMeshMatchesTheAnalyticBoxDistance) {
     const Box cube{glm::vec3(0.0f), glm::vec3(1.0f)};
     const float cell = 0.045f, margin = 0.2f;  // nodes off the faces, so no node sits on the surface

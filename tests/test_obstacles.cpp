@@ -201,6 +201,37 @@ TEST_F(ObstacleTest, AMovingPaddlePushesFluidAndTakesNoneIn) {
     EXPECT_GT(min_x, 0.3f - 0.0025f) << "fluid left behind the paddle's face at x = 0.3";
 }
 
+TEST_F(ObstacleTest, ADeformingObstaclesMapsFollowItsShape) {
+    // An OBJ sequence: a block against the left wall grows by a spacing every 0.05 s, from 0.04 m
+    // to 0.14 m wide. Its maps are made again as its file changes, so the fluid it grows into is
+    // pushed ahead and none ends inside it; maps kept from the first file would let it in. It
+    // stands on the floor and spans the tank's depth: a particle it grows over at the floor must
+    // be pushed out through its face, not towards the floor face it stands on (its maps leave the
+    // faces on the walls out: it reaches through them).
+    auto dir = test_cli::temp_dir("obstacle_growing");
+    for (int k = 0; k <= 10; ++k) {
+        char name[16];
+        std::snprintf(name, sizeof name, "grow_%02d", k);
+        box_obj(dir, name, {glm::vec3(0.0f), glm::vec3(0.04f + 0.01f * float(k), 0.2f, 0.06f)});
+    }
+    Scene scene = parse(scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})",
+                                   R"({"min": [0.1, 0, 0], "max": [0.4, 0.04, 0.06]})",
+                                   R"("obstacles": {"block": {"animation": {"sequence": "grow_%02d.obj", "first": 0, "count": 11, "fps": 20}}})"),
+                        dir);
+    ASSERT_TRUE(scene.obstacles[0].deforms);
+    PbfSolver solver(ctx(), scene);
+    run_checked(solver, 36, [&](int f, const FrameStats& stats, const ParticleSnapshot& s) {
+        ASSERT_EQ(stats.in_solid, 0u) << "frame " << f;
+        // The frame ran with the shape of its middle (PbfSolver::record_frame).
+        const ExactSolid block(scene.obstacles[0].shape->mesh_at(solver.time() - 0.5 * scene.solver.frame_dt));
+        for (const auto& x : s.x) ASSERT_FALSE(block.contains(glm::vec3(x))) << "frame " << f << " t " << solver.time();
+    });
+    EXPECT_NEAR(scene.obstacles[0].shape->mesh_at(solver.time()).bounds().max.x, 0.14f, 1e-5f);
+    // Pushed ahead of its face, or thrown onto its top; none left at its foot.
+    for (const auto& x : solver.snapshot().x)
+        EXPECT_TRUE(x.x > 0.14f || x.y > 0.2f) << "fluid left where the block grew: " << x.x << " " << x.y << " " << x.z;
+}
+
 TEST(ObstacleScene, FluidInsideAnObstacleIsNotStartedAndCounted) {
     auto dir = test_cli::temp_dir("obstacle_overlap");
     box_obj(dir, "rock", {glm::vec3(0.05f, 0.0f, 0.0f), glm::vec3(0.1f, 0.05f, 0.06f)});

@@ -44,6 +44,11 @@ float solid_hit(uint o, vec3 origin, vec3 dir, float t_max, out vec3 n) {
     vec3 near = min(t0, t1), far = max(t0, t1);
     float t = max(max(max(near.x, near.y), near.z), 1.0e-4);
     float leave = min(min(min(far.x, far.y), far.z), t_max);
+    // Only inside the tank: a solid standing on a wall reaches through it in its map.
+    vec2 tank = box_span(params.domain_min.xyz, params.domain_max.xyz, origin,
+                         1.0 / mix(dir, vec3(1.0e-20), lessThan(abs(dir), vec3(1.0e-20))));
+    t = max(t, tank.x);
+    leave = min(leave, tank.y);
     float cell = SOLID_TABLE(o).map_origin.w;
     for (int k = 0; k < 256 && t < leave; ++k) {
         vec4 d = solid_sample(o, clamp(a + per_metre * t, vec3(0.0), last), PBF_NODE_DISTANCE);
