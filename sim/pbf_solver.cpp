@@ -71,7 +71,7 @@ Result<MemoryPlan> plan_memory(const Scene& scene, std::optional<uint64_t> parti
     plan.buffers.push_back({"grid.cell_start", (cells + 1) * 4});
     plan.buffers.push_back({"stats.partials", ((n + PBF_STATS_WORKGROUP - 1) / PBF_STATS_WORKGROUP) * sizeof(shader::StatsPartial)});
     plan.buffers.push_back({"params", sizeof(shader::SimParams)});
-    plan.buffers.push_back({"boundary.nodes", Boundary::planned_bytes(scene)});
+    plan.buffers.push_back({"boundary.nodes", Boundary::planned_bytes(scene), true});  // read as texels
     if (scene.probes) plan.buffers.push_back({"particles.pressure", n * 8});
     return plan;
 }
@@ -153,7 +153,7 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapsh
     params_buf_ = &buffers_.add("params", sizeof(shader::SimParams));
     boundary_->write_params(params_, 0.0);
     gpu::upload(ctx, *params_buf_, &params_, sizeof params_);
-    boundary_nodes_ = &buffers_.add("boundary.nodes", boundary_->bytes());
+    boundary_nodes_ = &buffers_.add("boundary.nodes", boundary_->bytes(), gpu::MemoryUse::device, true);
     gpu::upload(ctx, *boundary_nodes_, boundary_->nodes().data(), boundary_->bytes());
     const uint32_t measure_pressure = scene.probes ? 1u : 0u;
     pressure_ = measure_pressure ? &buffers_.add("particles.pressure", n * 8) : density_;

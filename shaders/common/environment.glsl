@@ -3,10 +3,10 @@
 // the static boxes as solid blocks, the mesh obstacles traced through their distance maps) on a
 // plain ground. Include after common/camera.glsl, the declaration of `params` with domain_min,
 // domain_max, light_dir and tank (SurfaceParams or MetaballParams) and of the obstacles' map
-// nodes, `readonly buffer SolidNodes { vec4 solid_nodes[]; }`. Also Schlick's Fresnel term and
+// nodes, `layout(binding = N, rgba32f) readonly uniform imageBuffer solid_nodes;`. Also Schlick's Fresnel term and
 // sRGB packing.
 #define SOLID_TABLE(o) params.tank.solids[o]
-#define SOLID_NODE(i) solid_nodes[i]
+#define SOLID_NODE(i) imageLoad(solid_nodes, int(i))
 #include "shared/solid_map.h"
 
 vec3 sky(vec3 dir) {

@@ -20,7 +20,7 @@ layout(std430, binding = 2) readonly buffer Normal { vec4 normal[]; };
 layout(std430, binding = 3) readonly buffer Thickness { uint thickness[]; };
 layout(std430, binding = 4) writeonly buffer Color { uint color[]; };
 layout(std430, binding = 5) readonly buffer Spray { float spray[]; };  // read with SHADE_SPRAY only
-layout(std430, binding = 6) readonly buffer SolidNodes { vec4 solid_nodes[]; };  // the obstacles' maps (environment.glsl)
+layout(binding = 6, rgba32f) readonly uniform imageBuffer solid_nodes;  // the obstacles' maps (environment.glsl)
 
 #include "common/surface_common.glsl"
 

@@ -33,7 +33,7 @@ layout(std430, binding = 9) writeonly buffer Normal { vec4 normal[]; };
 layout(std430, binding = 10) writeonly buffer Color { uint color[]; };
 layout(std430, binding = 11) writeonly buffer Visits { uint visits[]; };
 layout(std430, binding = 12) readonly buffer Near { uint near_ids[]; };
-layout(std430, binding = 13) readonly buffer SolidNodes { vec4 solid_nodes[]; };  // the obstacles' maps (environment.glsl)
+layout(binding = 13, rgba32f) readonly uniform imageBuffer solid_nodes;  // the obstacles' maps (environment.glsl)
 
 #include "common/camera.glsl"
 #include "common/environment.glsl"

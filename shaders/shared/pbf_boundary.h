@@ -12,14 +12,15 @@
 // as a wall does. The grid's nodes are sampled trilinearly, node values and all.
 //
 // GLSL: declare `params` (pbf_physics.h) and, before including this file,
-//   layout(std430, binding = N) readonly buffer BoundaryNodes { vec4 boundary_nodes[]; };
+//   layout(binding = N, rgba32f) readonly uniform imageBuffer boundary_nodes;
+// (a texel buffer: the nodes are gathered at scattered indices, common/grid_query.glsl says why).
 // C++: the functions take the node array after the parameters.
 #ifndef AQUAFORM_PBF_BOUNDARY_H
 #define AQUAFORM_PBF_BOUNDARY_H
 #include "pbf_physics.h"
 #ifndef __cplusplus
 #define SOLID_TABLE(o) params.obstacles[o]
-#define SOLID_NODE(i) boundary_nodes[i]
+#define SOLID_NODE(i) imageLoad(boundary_nodes, int(i))
 #endif
 #include "solid_map.h"
 

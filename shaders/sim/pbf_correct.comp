@@ -20,7 +20,7 @@ layout(binding = 6, rgba32ui) readonly uniform uimageBuffer neighbors;
 layout(std430, binding = 7) writeonly buffer POut { vec4 p_out[]; };
 layout(std430, binding = 8) buffer X { vec4 x[]; };
 layout(std430, binding = 9) writeonly buffer V { vec4 v[]; };
-layout(std430, binding = 10) readonly buffer BoundaryNodes { vec4 boundary_nodes[]; };
+layout(binding = 10, rgba32f) readonly uniform imageBuffer boundary_nodes;
 #include "shared/pbf_boundary.h"
 // The particle's pressures (shared/probe_layout.h): x its pressure, y what the solids press it with
 // (their lambda grad m and collision pushes: they have no s_corr); the step's sums, scaled in the

@@ -23,7 +23,7 @@ layout(binding = 5, r32ui) readonly uniform uimageBuffer neighbor_count;
 layout(binding = 6, rgba32ui) readonly uniform uimageBuffer neighbors;
 layout(std430, binding = 7) writeonly buffer Q { vec4 q[]; };
 layout(std430, binding = 8) writeonly buffer Density { float density[]; };
-layout(std430, binding = 9) readonly buffer BoundaryNodes { vec4 boundary_nodes[]; };
+layout(binding = 9, rgba32f) readonly uniform imageBuffer boundary_nodes;
 #include "shared/pbf_boundary.h"
 layout(push_constant) uniform Push { CountPush pc; };
 

@@ -9,7 +9,7 @@ layout(std140, binding = 0) uniform Params { SimParams params; };
 layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 2) buffer V { vec4 v[]; };
 layout(std430, binding = 3) writeonly buffer P { vec4 p[]; };
-layout(std430, binding = 4) readonly buffer BoundaryNodes { vec4 boundary_nodes[]; };
+layout(binding = 4, rgba32f) readonly uniform imageBuffer boundary_nodes;
 #include "shared/pbf_boundary.h"
 layout(push_constant) uniform Push { CountPush pc; };
 

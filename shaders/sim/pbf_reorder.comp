@@ -13,7 +13,7 @@ layout(std430, binding = 3) readonly buffer VIn { vec4 v_in[]; };
 layout(std430, binding = 4) writeonly buffer XOut { vec4 x_out[]; };
 layout(std430, binding = 5) writeonly buffer VOut { vec4 v_out[]; };
 layout(std430, binding = 6) writeonly buffer POut { vec4 p_out[]; };
-layout(std430, binding = 7) readonly buffer BoundaryNodes { vec4 boundary_nodes[]; };
+layout(binding = 7, rgba32f) readonly uniform imageBuffer boundary_nodes;
 #include "shared/pbf_boundary.h"
 // With probes: the push the solids gave the predicted position, as a lambda along grad m (the
 // solids' pressure channel's start; pbf_correct.comp adds the iterations' pushes to it).

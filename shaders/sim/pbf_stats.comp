@@ -18,7 +18,7 @@ layout(binding = 6, r32ui) readonly uniform uimageBuffer cell_start;
 layout(binding = 7, r32ui) readonly uniform uimageBuffer list_cell;
 layout(binding = 8, r32ui) readonly uniform uimageBuffer neighbor_count;
 layout(binding = 9, rgba32ui) readonly uniform uimageBuffer neighbors;
-layout(std430, binding = 10) readonly buffer BoundaryNodes { vec4 boundary_nodes[]; };
+layout(binding = 10, rgba32f) readonly uniform imageBuffer boundary_nodes;
 #include "shared/pbf_boundary.h"
 layout(push_constant) uniform Push { StatsPush pc; };
 

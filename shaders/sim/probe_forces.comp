@@ -14,7 +14,7 @@ layout(std140, binding = 0) uniform Params { SimParams params; };
 layout(std140, binding = 1) uniform Probes { ProbeParams probes; };
 layout(std430, binding = 2) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 3) readonly buffer Pressure { vec2 pressure[]; };  // y: the solids' push (pbf_correct.comp)
-layout(std430, binding = 4) readonly buffer BoundaryNodes { vec4 boundary_nodes[]; };
+layout(binding = 4, rgba32f) readonly uniform imageBuffer boundary_nodes;
 #include "shared/pbf_boundary.h"
 layout(std430, binding = 5) writeonly buffer Partials { vec4 partials[]; };  // per group and solid: force, torque
 layout(push_constant) uniform Push { ProbePush pc; };

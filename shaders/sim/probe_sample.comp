@@ -20,7 +20,7 @@ layout(binding = 2, rgba32f) readonly uniform imageBuffer x;
 layout(std430, binding = 3) readonly buffer Pressure { vec2 pressure[]; };  // y: the solids' push (pbf_correct.comp)
 layout(binding = 4, r32ui) readonly uniform uimageBuffer cell_rank;
 layout(binding = 5, r32ui) readonly uniform uimageBuffer cell_start;
-layout(std430, binding = 6) readonly buffer BoundaryNodes { vec4 boundary_nodes[]; };
+layout(binding = 6, rgba32f) readonly uniform imageBuffer boundary_nodes;
 #include "shared/pbf_boundary.h"
 layout(std430, binding = 7) writeonly buffer Readings { float readings[]; };
 layout(push_constant) uniform Push { ProbePush pc; };
