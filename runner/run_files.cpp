@@ -94,6 +94,8 @@ Result<bool> RunFiles::write_waiting_rows() {
                   "max_speed_mps,substeps,dt_s,cfl_number,speed_capped,outside,in_solid,non_finite,splash_fraction,droplets,"
                   "runup_m,list_overflow,gpu_ms_total";
         if (has_shape) header_ += ",shape_iou,shape_fill_fraction,fluid_outside_shape,active_shapes";
+        has_whitewater_ = bool(waiting_.front().stats.whitewater);
+        if (has_whitewater_) header_ += ",spray,foam,bubbles,diffuse_emitted,diffuse_dropped";
         for (const auto& name : pass_columns_) header_ += ",gpu_ms_" + name;
         text = header_ + "\n";
     }
@@ -115,6 +117,12 @@ Result<bool> RunFiles::write_waiting_rows() {
             std::snprintf(row, sizeof row, ",%.4f,%.4f,%.4f,", w.shape->iou, w.shape->fill_fraction,
                           w.shape->outside_fraction);
             text += row + csv_field(w.shape->active, true);  // the shapes' names are the scene's: any text
+        }
+        if (has_whitewater_) {
+            const WhitewaterCounts c = s.whitewater.value_or(WhitewaterCounts{});
+            std::snprintf(row, sizeof row, ",%u,%u,%u,%llu,%llu", c.spray, c.foam, c.bubbles, (unsigned long long)c.emitted,
+                          (unsigned long long)c.dropped);
+            text += row;
         }
         for (const auto& name : pass_columns_) {
             auto it = s.gpu_ms.find(name);

@@ -64,6 +64,7 @@ private:
     std::vector<WaitingRow> waiting_;
     std::string header_;  ///< empty until written
     std::vector<std::string> pass_columns_;
+    bool has_whitewater_ = false;  // the spray, foam, bubbles, diffuse_emitted, diffuse_dropped columns
     bool has_front_ = false;
     std::vector<std::pair<double, double>> front_samples_;  // (time, front)
     std::string error_;

@@ -8,6 +8,7 @@
 #include "geometry/animation.h"
 #include "geometry/boundary_map.h"
 #include "geometry/distance_field.h"
+#include "shaders/shared/pbf_boundary.h"
 #include "shaders/shared/sph_kernels.h"
 #include "sim/pbf_params.h"
 #include "sim/scene.h"
@@ -154,6 +155,12 @@ void Boundary::store(Solid& solid, const geometry::DistanceField& field, std::op
         nodes_[(solid.first_node + n) * PBF_NODE_VEC4S + PBF_NODE_DISTANCE] = map.distance[n];
         nodes_[(solid.first_node + n) * PBF_NODE_VEC4S + PBF_NODE_DENSITY] = map.density[n];
     }
+}
+
+std::vector<uint32_t> solid_constants(std::vector<uint32_t> own, bool obstacles) {
+    own.resize(PBF_OBSTACLES_CONSTANT, 0u);
+    own.back() = obstacles ? 1u : 0u;
+    return own;
 }
 
 bool Boundary::moves() const {

@@ -34,6 +34,11 @@ class MeshAnimation;
 struct Mesh;
 }
 
+/// A pass's specialization constants: its own from constant_id 1, then whether the scene has
+/// obstacles at PBF_OBSTACLES_CONSTANT (shaders/shared/pbf_boundary.h; without, the solids
+/// compile down to the walls). For every pass that includes pbf_boundary.h.
+std::vector<uint32_t> solid_constants(std::vector<uint32_t> own, bool obstacles);
+
 class Boundary {
 public:
     /// Makes every solid's maps (static boxes first, then the obstacles in the scene's order).

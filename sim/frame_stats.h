@@ -13,6 +13,14 @@
 
 namespace aquaform {
 
+/// A frame's whitewater figures (sim/whitewater.h; stats.csv).
+struct WhitewaterCounts {
+    uint32_t spray = 0, foam = 0, bubbles = 0;  ///< alive at the frame's end, by kind
+    uint64_t emitted = 0;  ///< made during the frame
+    uint64_t dropped = 0;  ///< made or carried but not kept: the pool was full
+    uint32_t live() const { return spray + foam + bubbles; }
+};
+
 struct FrameStats {
     double time_s = 0.0;              ///< simulated time at the end of the frame
     double mean_density_error = 0.0;  ///< mean of max(rho/rho0 - 1, 0): compression, the constraint error
@@ -40,6 +48,7 @@ struct FrameStats {
     /// hardware the particles sharing their instructions, scan 27 cells instead (a slow step).
     double list_overflow_fraction = 0.0;
     std::map<std::string, double> gpu_ms;  ///< GPU time per pass during this frame
+    std::optional<WhitewaterCounts> whitewater;  ///< with the scene's whitewater on
 };
 
 /// A splash particle has fewer fluid neighbours within h than this fraction of a full interior

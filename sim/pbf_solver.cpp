@@ -31,15 +31,6 @@ std::string gib(uint64_t bytes) {
 
 uint32_t stats_groups(uint32_t count) { return (count + PBF_STATS_WORKGROUP - 1) / PBF_STATS_WORKGROUP; }
 
-/// A pass's specialization constants: its own from constant_id 1, then whether the scene has
-/// obstacles at PBF_OBSTACLES_CONSTANT (shaders/shared/pbf_boundary.h; without, the solids
-/// compile down to the walls).
-std::vector<uint32_t> solid_constants(std::vector<uint32_t> own, bool obstacles) {
-    own.resize(PBF_OBSTACLES_CONSTANT, 0u);
-    own.back() = obstacles ? 1u : 0u;
-    return own;
-}
-
 }  // namespace
 
 uint64_t MemoryPlan::total_bytes() const {
@@ -162,6 +153,7 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapsh
         for (size_t s = 0; s < boundary_->solid_count(); ++s) solids.push_back(boundary_->name(s));
         probes_ = std::make_unique<ProbeRecorder>(ctx, scene, solids, std::max(scene.solver.max_substeps, scene.solver.substeps));
     }
+    if (scene.has_whitewater()) whitewater_ = std::make_unique<Whitewater>(ctx, scene, count_, boundary_->solid_count() > 0);
 
     using shader::CountPush;
     const bool obstacles = boundary_->solid_count() > 0;
@@ -289,6 +281,10 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
         gpu::GpuScope s(timer, cmd, "vorticity");
         gpu::dispatch(*ctx_, cmd, vorticity_, count_, push,
                       {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"density", density_}, {"omega", s0_}});
+    }
+    if (whitewater_) {
+        gpu::GpuScope s(timer, cmd, "whitewater");
+        whitewater_->record_step(cmd, *params_buf_, *x_, *v_, *grid_, *boundary_nodes_, count_);
     }
     time_ += params_.dt;
 }
@@ -448,6 +444,7 @@ FrameStats PbfSolver::collect_stats(gpu::GpuTimer* timer) {
     FrameStats stats = reduce_stats(partials, count_, wall, 0.5f * scene_.particle_spacing - scene_.domain.min.y);
     if (droplet_parent_) stats.droplets = *static_cast<const uint32_t*>(droplet_count_->mapped);
     if (probes_) probe_frame_ = probes_->collect();
+    if (whitewater_) stats.whitewater = whitewater_->collect();
     stats.time_s = time_;
     if (timer) stats.gpu_ms = timer->totals_ms();
     stats.substeps = recorded_steps_;
@@ -477,6 +474,8 @@ std::vector<gpu::BufferReport> PbfSolver::memory_report() const {
     for (const gpu::BufferReport& b : droplet_buffers_.report()) report.push_back(b);
     if (probes_)
         for (const gpu::BufferReport& b : probes_->memory_report()) report.push_back(b);
+    if (whitewater_)
+        for (const gpu::BufferReport& b : whitewater_->memory_report()) report.push_back(b);
     return report;
 }
 

@@ -21,6 +21,7 @@
 #include "core/result.h"
 #include "sim/scene.h"
 #include "sim/boundary.h"
+#include "sim/whitewater.h"
 #include "sim/probes.h"
 
 namespace aquaform {
@@ -143,6 +144,9 @@ public:
     const gpu::Buffer& params_buffer() const { return *params_buf_; }
     /// The solids' maps (static boxes and obstacles) the parameter block's table points into.
     const Boundary& boundary() const { return *boundary_; }
+    /// The scene's whitewater (nullptr when it has none or it is off).
+    Whitewater* whitewater() { return whitewater_.get(); }
+    const Whitewater* whitewater() const { return whitewater_.get(); }
     const gpu::Buffer& boundary_nodes() const { return *boundary_nodes_; }
     /// The particles' pressures after the last step (shared/probe_layout.h), two floats each
     /// (the fluid's pressure, and the solids' push on it as a pressure), in positions()'s order as
@@ -182,6 +186,7 @@ private:
     gpu::Buffer *x_, *v_, *p_, *s0_, *s1_;
     gpu::Buffer* density_;
     std::unique_ptr<Boundary> boundary_;
+    std::unique_ptr<Whitewater> whitewater_;
     gpu::Buffer* boundary_nodes_;
     std::unique_ptr<ProbeRecorder> probes_;
     gpu::Buffer* pressure_;  ///< the particles' pressures (with probes; else a stand-in the passes never touch)

@@ -27,7 +27,7 @@ using namespace json_fields;
 constexpr std::string_view kTopKeys[] = {"name",         "domain", "particle_spacing", "rest_density",
                                          "gravity",      "fluid_blocks", "static_boxes", "frames",
                                          "column_width", "solver", "control", "camera",
-                                         "event_frame",  "obstacles",    "probes"};
+                                         "event_frame",  "obstacles",    "probes",   "whitewater"};
 constexpr std::string_view kSolverKeys[] = {"frame_dt",  "substeps", "iterations", "kernel_radius_factor",
                                             "relaxation", "viscosity", "vorticity", "scorr_k",
                                             "scorr_n",   "scorr_dq", "cfl", "max_substeps", "max_speed",
@@ -330,6 +330,7 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
         scene.obstacles = read_obstacles(j["obstacles"], scene, base_dir,
                                          PBF_MAX_OBSTACLES - scene.static_boxes.size());
     if (j.contains("probes")) scene.probes = read_probes(j["probes"], scene);
+    if (j.contains("whitewater")) scene.whitewater = read_whitewater(j["whitewater"]);
 
     if (j.contains("column_width")) {
         const json& cw = j["column_width"];

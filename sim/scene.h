@@ -15,6 +15,7 @@
 #include "core/result.h"
 #include "sim/probe_spec.h"
 #include "sim/scene_basics.h"
+#include "sim/whitewater_spec.h"
 
 namespace aquaform {
 
@@ -65,6 +66,9 @@ struct Scene : SceneBasics {
     std::vector<BlockFill> block_fills;  ///< per fluid block; a block without one is a box at rest
     /// What the scene measures every step (its "probes" key): gauges, sensors, forces.
     std::optional<ProbeSpec> probes;
+    /// Spray, foam and bubbles made from the flow (its "whitewater" key; sim/whitewater.h).
+    std::optional<WhitewaterSettings> whitewater;
+    bool has_whitewater() const { return whitewater && whitewater->enabled; }
     uint32_t frames = 60;                ///< default number of frames for `aquaform run`
     /// Dam-break scenes: width a of the column against the wall at domain.min.x. When set,
     /// `aquaform run` writes front.csv (leading edge of the first fluid block on the floor).

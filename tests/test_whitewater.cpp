@@ -1,0 +1,191 @@
+// Whitewater (sim/whitewater.h, shaders/shared/whitewater_layout.h): the GPU's potentials match a
+// CPU computation of Ihmsen et al.'s formulas on the same particles; the pool never holds more
+// than its capacity and counts what did not fit; no diffuse particle leaves the tank or enters a
+// solid; the fluid does not feel its whitewater; the scene's section is checked.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "core/json_fields.h"
+#include "geometry/animation.h"
+#include "geometry/inside.h"
+#include "geometry/mesh.h"
+#include "geometry/primitives.h"
+#include "shaders/shared/sph_kernels.h"
+#include "sim/pbf_solver.h"
+#include "sim/whitewater.h"
+#include "tests/cli_helpers.h"
+#include "tests/gpu_test.h"
+
+namespace aquaform {
+namespace {
+
+class WhitewaterTest : public testing::GpuTest {};
+
+/// Two blocks thrown at each other in a 0.4 m tank (spacing 0.02 m): they trap air where they
+/// meet and throw crests up.
+Scene collision(const std::string& whitewater_json = "{}") {
+    Scene scene = testing::scene_with({glm::vec3(0.0f), glm::vec3(0.4f, 0.3f, 0.2f)}, 0.02f);
+    scene.fluid_blocks = {{glm::vec3(0.0f), glm::vec3(0.12f, 0.12f, 0.2f)}, {glm::vec3(0.28f, 0.0f, 0.0f), glm::vec3(0.4f, 0.12f, 0.2f)}};
+    scene.block_fills = {BlockFill{std::nullopt, glm::vec3(2.0f, 0.0f, 0.0f)}, BlockFill{std::nullopt, glm::vec3(-2.0f, 0.0f, 0.0f)}};
+    scene.whitewater = read_whitewater(nlohmann::json::parse(whitewater_json));
+    return scene;
+}
+
+/// Ihmsen et al.'s potentials on the CPU (shaders/shared/whitewater_layout.h), by brute force.
+std::vector<glm::vec3> cpu_potentials(const ParticleSnapshot& s, const shader::SimParams& p) {
+    const size_t n = s.x.size();
+    std::vector<glm::vec3> normals(n, glm::vec3(0.0f));
+    for (size_t i = 0; i < n; ++i) {
+        glm::vec3 gradient(0.0f);
+        for (size_t j = 0; j < n; ++j) {
+            const glm::vec3 r = glm::vec3(s.x[i]) - glm::vec3(s.x[j]);
+            const float r2 = glm::dot(r, r);
+            if (j != i && r2 < p.h2) gradient += shader::spiky_gradient(r, r2, p.h, p.spiky_coeff);
+        }
+        const glm::vec3 normal = -p.volume * gradient;
+        normals[i] = glm::length(normal) * p.h > 0.1f ? glm::normalize(normal) : glm::vec3(0.0f);
+    }
+    std::vector<glm::vec3> out(n);
+    for (size_t i = 0; i < n; ++i) {
+        const glm::vec3 vi(s.v[i]), ni = normals[i];
+        float trapped = 0.0f, curvature = 0.0f;
+        for (size_t j = 0; j < n; ++j) {
+            const glm::vec3 r = glm::vec3(s.x[i]) - glm::vec3(s.x[j]);
+            const float r2 = glm::dot(r, r);
+            if (j == i || r2 >= p.h2 || r2 <= 0.0f) continue;
+            const float d = std::sqrt(r2), w = 1.0f - d / p.h;
+            const glm::vec3 vij = vi - glm::vec3(s.v[j]);
+            const float speed = glm::length(vij);
+            if (speed > 0.0f) trapped += speed * (1.0f - glm::dot(vij / speed, r / d)) * w;
+            const glm::vec3 nj = normals[j];
+            if (glm::dot(ni, ni) > 0.0f && glm::dot(nj, nj) > 0.0f && glm::dot(-r / d, ni) < 0.0f)
+                curvature += (1.0f - glm::dot(ni, nj)) * w;
+        }
+        const float speed = glm::length(vi);
+        const float crest = speed > 0.0f && glm::dot(vi / speed, ni) >= 0.6f ? curvature : 0.0f;
+        out[i] = {trapped, crest, 0.5f * speed * speed};
+    }
+    return out;
+}
+
+TEST_F(WhitewaterTest, ThePotentialsAreIhmsensOnTheSameParticles) {
+    const Scene scene = collision();
+    PbfSolver solver(ctx(), scene);
+    solver.set_frame_grid(true);  // frames end with lists of the final positions: the CPU's pairs
+    for (int f = 0; f < 4; ++f) solver.run_frame(nullptr);
+    // A whitewater of the test's own, one step on the solver's state as the frame left it.
+    Whitewater ww(ctx(), scene, solver.particle_count(), false);
+    ctx().submit_and_wait([&](VkCommandBuffer cmd) {
+        ww.record_step(cmd, solver.params_buffer(), solver.positions(), solver.velocities(), solver.grid(), solver.boundary_nodes(),
+                       solver.particle_count());
+    });
+    const std::vector<glm::vec4> gpu = ww.potentials();
+    const std::vector<glm::vec3> cpu = cpu_potentials(solver.snapshot(), solver.params());
+    ASSERT_EQ(gpu.size(), cpu.size());
+    double largest[3] = {0.0, 0.0, 0.0}, worst[3] = {0.0, 0.0, 0.0};
+    for (size_t i = 0; i < cpu.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+            largest[k] = std::max(largest[k], double(cpu[i][k]));
+            worst[k] = std::max(worst[k], std::abs(double(gpu[i][k]) - double(cpu[i][k])));
+        }
+    // The collision makes every potential: trapped air where the blocks meet, crests on the sheet
+    // they throw up, kinetic energy everywhere.
+    EXPECT_GT(largest[0], 5.0) << "no trapped air where the blocks collide";
+    EXPECT_GT(largest[1], 1.0) << "no wave crest";
+    EXPECT_GT(largest[2], 1.0) << "no kinetic energy";
+    for (int k = 0; k < 3; ++k) EXPECT_LT(worst[k], 1e-3 * largest[k] + 1e-5) << "potential " << k;
+}
+
+TEST_F(WhitewaterTest, ThePoolNeverHoldsMoreThanItsCapacityAndCountsWhatDidNotFit) {
+    const Scene scene = collision(R"({"capacity": 300, "k_trapped_air": 40000, "k_wave_crest": 400000})");
+    PbfSolver solver(ctx(), scene);
+    ASSERT_NE(solver.whitewater(), nullptr);
+    EXPECT_EQ(solver.whitewater()->capacity(), 300u);
+    uint64_t dropped = 0, emitted = 0;
+    for (int f = 0; f < 12; ++f) {
+        const FrameStats stats = solver.run_frame(nullptr);
+        ASSERT_TRUE(stats.whitewater);
+        const WhitewaterCounts c = *stats.whitewater;
+        EXPECT_LE(c.live(), 300u) << "frame " << f;
+        EXPECT_EQ(solver.whitewater()->snapshot().x.size(), c.live()) << "frame " << f;
+        dropped += c.dropped;
+        emitted += c.emitted;
+    }
+    EXPECT_GT(emitted, 600u) << "the collision must ask for more than the pool holds";
+    EXPECT_GT(dropped, 0u) << "a full pool must count what it could not keep";
+}
+
+TEST_F(WhitewaterTest, NoDiffuseParticleLeavesTheTankOrEntersASolid) {
+    auto dir = test_cli::temp_dir("whitewater_solid");
+    ASSERT_TRUE(geometry::write_obj(dir / "block.obj", geometry::make_box({glm::vec3(0.18f, 0.0f, 0.05f), glm::vec3(0.22f, 0.2f, 0.15f)})).ok());
+    std::ofstream(dir / "scene.json") << R"({"name": "whitewater against a block", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
+        "particle_spacing": 0.02, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.12, 0.12, 0.2], "velocity": [2, 0, 0]},
+        {"min": [0.28, 0, 0], "max": [0.4, 0.12, 0.2], "velocity": [-2, 0, 0]}],
+        "obstacles": {"block": {"file": "block.obj"}}, "whitewater": {"k_trapped_air": 40000, "k_wave_crest": 400000}})";
+    auto scene = load_scene(dir / "scene.json");
+    ASSERT_TRUE(scene.ok()) << scene.error();
+    const std::vector<glm::vec3> block = scene.value().obstacles[0].shape->mesh_at(0.0).triangle_soup();
+    PbfSolver solver(ctx(), scene.value());
+    size_t seen = 0;
+    for (int f = 0; f < 20; ++f) {
+        solver.run_frame(nullptr);
+        const DiffuseSnapshot d = solver.whitewater()->snapshot();
+        seen = std::max(seen, d.x.size());
+        for (const glm::vec4& p : d.x) {
+            const glm::vec3 q(p);
+            ASSERT_TRUE(glm::all(glm::greaterThanEqual(q, scene.value().domain.min)) && glm::all(glm::lessThanEqual(q, scene.value().domain.max)))
+                << "frame " << f << ": a diffuse particle left the tank at " << q.x << " " << q.y << " " << q.z;
+            ASSERT_FALSE(geometry::is_inside(block, q)) << "frame " << f << ": a diffuse particle in the block at " << q.x << " " << q.y << " " << q.z;
+            ASSERT_GT(p.w, 0.0f) << "a particle whose life ran out is still in the pool";
+        }
+    }
+    EXPECT_GT(seen, 100u) << "the test needs whitewater";
+}
+
+TEST_F(WhitewaterTest, TheFluidDoesNotFeelItsWhitewater) {
+    Scene with = collision(R"({"k_trapped_air": 40000})"), off = collision(R"({"enabled": false})");
+    PbfSolver a(ctx(), with), b(ctx(), off);
+    EXPECT_EQ(b.whitewater(), nullptr) << "enabled: false makes none";
+    for (int f = 0; f < 6; ++f) {
+        a.run_frame(nullptr);
+        b.run_frame(nullptr);
+    }
+    ASSERT_GT(a.whitewater()->snapshot().x.size(), 0u);
+    const ParticleSnapshot sa = a.snapshot(), sb = b.snapshot();
+    ASSERT_EQ(sa.x.size(), sb.x.size());
+    for (size_t i = 0; i < sa.x.size(); ++i) ASSERT_EQ(sa.x[i], sb.x[i]) << "particle " << i << ": bit for bit";
+}
+
+TEST(WhitewaterScene, TheSectionIsCheckedWithTheFix) {
+    const auto error_of = [](const std::string& text) {
+        try {
+            read_whitewater(nlohmann::json::parse(text));
+        } catch (const json_fields::Invalid& e) {
+            return e.message;
+        }
+        return std::string();
+    };
+    EXPECT_NE(error_of(R"({"lifetme": [1, 2]})").find("lifetime"), std::string::npos) << "a typo names the key meant";
+    EXPECT_NE(error_of(R"({"lifetime": [3, 2]})").find("high end"), std::string::npos);
+    EXPECT_NE(error_of(R"({"trapped_air": 5})").find("range [low, high]"), std::string::npos);
+    EXPECT_NE(error_of(R"({"spray_below": 30, "bubble_above": 20})").find("foam lies between"), std::string::npos);
+    EXPECT_NE(error_of(R"({"capacity": -1})").find("whitewater.capacity"), std::string::npos);
+    EXPECT_NE(error_of(R"({"enabled": "yes"})").find("true or false"), std::string::npos);
+    EXPECT_EQ(error_of(R"({"enabled": true, "capacity": 1000, "lifetime": [1, 3]})"), "");
+    // The pool follows the fluid, within the device's memory.
+    WhitewaterSettings s;
+    EXPECT_EQ(whitewater_capacity(s, 100000, uint64_t(64) << 30), 400000u);
+    EXPECT_EQ(whitewater_capacity(s, 1000, uint64_t(64) << 30), 65536u);
+    EXPECT_EQ(whitewater_capacity(s, 100000000, uint64_t(1) << 30), (uint64_t(1) << 30) / 16 / 64);
+    s.capacity = 77;
+    EXPECT_EQ(whitewater_capacity(s, 100000, 1 << 30), 77u);
+}
+
+}  // namespace
+}  // namespace aquaform
