@@ -21,7 +21,7 @@ namespace aquaform::cli {
 
 int cmd_render(const std::vector<std::string>& argv) {
     std::string error;
-    const FlagSpec spec = with_render_flags({{"--frame", "--out", "--device", "--resolution", "--particles", "--camera"}, {"--no-reference", "--validation"}});
+    const FlagSpec spec = with_render_flags({{"--frame", "--out", "--device", "--resolution", "--particles", "--camera", "--whitewater"}, {"--no-reference", "--validation"}});
     auto args = parse_args(argv, spec, "render", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     if (args->positional.size() != 1) {
@@ -31,7 +31,8 @@ int cmd_render(const std::vector<std::string>& argv) {
     }
     auto loaded = load_scene(args->positional[0]);
     if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
-    if (!scale_to_particles_flag(*args, loaded.value(), &error) || !apply_camera_flag(*args, loaded.value(), &error))
+    if (!scale_to_particles_flag(*args, loaded.value(), &error) || !apply_camera_flag(*args, loaded.value(), &error) ||
+        !apply_whitewater_flag(*args, loaded.value(), &error))
         return std::fprintf(stderr, "aquaform render: %s\n", error.c_str()), kExitUsage;
     const Scene& scene = loaded.value();
     // The scene's control section too (checked before a device is opened): its frames are shaped.
@@ -68,6 +69,7 @@ int cmd_render(const std::vector<std::string>& argv) {
     const ViewCamera camera = scene_camera(scene, float(width) / float(height));
     made->share_grid(sim.frame_grid());
     made->set_solids(sim.solids());
+    made->set_whitewater(sim.whitewater());
     const study::FrameRenderReport made_report =
         study::render_frame_report(ctx, *made, solver, camera, *method, !args->has("--no-reference"));
     nlohmann::json report = {{"scene", args->positional[0]}, {"frame", frame}, {"device", ctx.info().name}};

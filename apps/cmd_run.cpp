@@ -25,7 +25,7 @@ namespace aquaform::cli {
 
 int cmd_run(const std::vector<std::string>& argv) {
     std::string error;
-    FlagSpec flags{{"--frames", "--out", "--device", "--resolution", "--particles", "--camera", "--video"},
+    FlagSpec flags{{"--frames", "--out", "--device", "--resolution", "--particles", "--camera", "--video", "--whitewater"},
                    {"--no-png", "--preview", "--validation", "--wireframe"}};
     for (const std::string& flag : frame_export_flags()) flags.with_value.push_back(flag);
     auto args = parse_args(argv, with_render_flags(std::move(flags)), "run", &error);
@@ -34,7 +34,8 @@ int cmd_run(const std::vector<std::string>& argv) {
         return refuse("run", "give exactly one scene file, e.g. aquaform run assets/scenes/dam_break.json");
     auto loaded = load_scene(args->positional[0]);
     if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
-    if (!scale_to_particles_flag(*args, loaded.value(), &error) || !apply_camera_flag(*args, loaded.value(), &error))
+    if (!scale_to_particles_flag(*args, loaded.value(), &error) || !apply_camera_flag(*args, loaded.value(), &error) ||
+        !apply_whitewater_flag(*args, loaded.value(), &error))
         return refuse("run", error);
     // Mesh control: its strength may raise the substeps, so it is planned before the solver.
     auto plan = session::plan_session(std::move(loaded.value()));

@@ -106,6 +106,17 @@ bool scale_to_particles_flag(const Args& args, Scene& scene, std::string* error)
     return true;
 }
 
+bool apply_whitewater_flag(const Args& args, Scene& scene, std::string* error) {
+    if (!args.has("--whitewater")) return true;
+    const std::string& value = args.value("--whitewater");
+    if (value != "on" && value != "off") return *error = "--whitewater takes on or off, got \"" + value + "\"", false;
+    if (value == "on" || scene.whitewater) {
+        scene.whitewater = scene.whitewater.value_or(WhitewaterSettings{});
+        scene.whitewater->enabled = value == "on";
+    }
+    return true;
+}
+
 std::optional<PictureSize> resolution_flag(const Args& args, PictureSize fallback, std::string* error,
                                            const std::string& flag) {
     if (!args.has(flag)) return fallback;

@@ -62,6 +62,12 @@ std::optional<uint64_t> particles_flag(const Args& args, std::string* error);
 /// false with `error` set when N is bad or the scene cannot be sized so.
 bool scale_to_particles_flag(const Args& args, Scene& scene, std::string* error);
 
+/// `--whitewater on|off` (run, render, view): spray, foam and bubbles made from the flow
+/// (sim/whitewater.h), on with the scene's settings or the defaults, or off whatever the scene
+/// says; without the flag the scene's own "whitewater" key decides. False with `error` set for
+/// any other value.
+bool apply_whitewater_flag(const Args& args, Scene& scene, std::string* error);
+
 /// `--resolution WxH`: the size asked for, or `fallback` (the command's default, named in the
 /// usage) without the flag; nullopt with `error` naming the flag, an example and the limits.
 std::optional<PictureSize> resolution_flag(const Args& args, PictureSize fallback, std::string* error,

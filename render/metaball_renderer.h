@@ -11,6 +11,7 @@
 #pragma once
 
 #include "render/solids_view.h"
+#include "render/whitewater_layer.h"
 
 #include <cstdint>
 #include <string>
@@ -97,6 +98,8 @@ class MetaballRenderer {
 public:
     /// The mesh obstacles to draw (render/solids_view.h; nullptr: none), from the next frame on.
     void set_solids(const SolidsView* solids) { solids_ = solids; }
+    /// The whitewater to draw over the next frames (nullptr: none; render/whitewater_layer.h).
+    void set_whitewater(const WhitewaterView* view) { whitewater_.set(view); }
     /// Allocates every buffer for `max_particles` at width x height, with `list_bytes` of list
     /// memory (0: kDefaultListBytesPerPixel per pixel). Throws aquaform::Failure on a
     /// resolution outside render/picture_size.h's limits and aquaform::Failure (a resource failure) when a buffer exceeds the device's limits.
@@ -135,6 +138,7 @@ public:
 
 private:
     const SolidsView* solids_ = nullptr;
+    WhitewaterSlot whitewater_;
     gpu::Context* ctx_;
     ParticleDomain domain_;
     uint32_t width_, height_, max_particles_;

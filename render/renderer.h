@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "gpu/buffer.h"
 #include "render/solids_view.h"
+#include "render/whitewater_layer.h"
 #include "render/surface_frame.h"
 
 namespace aquaform {
@@ -90,6 +91,9 @@ public:
     /// The mesh obstacles to draw from the next frame on (nullptr: none); it must outlive its use
     /// and may change between frames (a moving obstacle's table).
     virtual void set_solids(const SolidsView* solids) = 0;
+    /// The whitewater to draw over the frames from the next on (nullptr: none, and the frames are
+    /// the method's own, bit for bit); it must outlive its use (render/whitewater_layer.h).
+    virtual void set_whitewater(const WhitewaterView* whitewater) = 0;
 
     /// The method of the current settings (registry name).
     const std::string& method() const { return settings_.method(); }
@@ -168,6 +172,7 @@ public:
     }
     SurfaceFrame read_frame() override { return impl_.read_frame(); }
     void set_solids(const SolidsView* solids) override { impl_.set_solids(solids); }
+    void set_whitewater(const WhitewaterView* whitewater) override { impl_.set_whitewater(whitewater); }
     void share_grid(const NeighborGrid* grid) override {
         if constexpr (requires(Concrete& c) { c.share_grid(grid); }) impl_.share_grid(grid);
     }

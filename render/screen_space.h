@@ -18,6 +18,7 @@
 #pragma once
 
 #include "render/solids_view.h"
+#include "render/whitewater_layer.h"
 
 #include <cstdint>
 #include <string>
@@ -107,6 +108,8 @@ class ScreenSpaceRenderer {
 public:
     /// The mesh obstacles to draw (render/solids_view.h; nullptr: none), from the next frame on.
     void set_solids(const SolidsView* solids) { solids_ = solids; }
+    /// The whitewater to draw over the next frames (nullptr: none; render/whitewater_layer.h).
+    void set_whitewater(const WhitewaterView* view) { whitewater_.set(view); }
     /// Allocates every buffer for `max_particles` particles of `scene` at width x height.
     /// Throws aquaform::Failure for a resolution outside the picture sizes of render/picture_size.h.
     ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles);
@@ -140,6 +143,7 @@ public:
 
 private:
     const SolidsView* solids_ = nullptr;
+    WhitewaterSlot whitewater_;
     void record_filter(VkCommandBuffer cmd, const ScreenSpaceSettings& settings);
 
     gpu::Context* ctx_;

@@ -27,6 +27,7 @@
 #pragma once
 
 #include "render/solids_view.h"
+#include "render/whitewater_layer.h"
 
 #include <cstdint>
 #include <memory>
@@ -88,6 +89,8 @@ class SurfaceRenderer {
 public:
     /// The mesh obstacles to draw (render/solids_view.h; nullptr: none), from the next frame on.
     void set_solids(const SolidsView* solids) { solids_ = solids; }
+    /// The whitewater to draw over the next frames (nullptr: none; render/whitewater_layer.h).
+    void set_whitewater(const WhitewaterView* view) { whitewater_.set(view); }
     /// Allocates every buffer for `max_particles` particles of `scene` at width x height.
     /// Throws aquaform::Failure (a resource failure) when the render grid does not fit (the message names the fix).
     SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles);
@@ -167,6 +170,7 @@ public:
 
 private:
     const SolidsView* solids_ = nullptr;
+    WhitewaterSlot whitewater_;
     void prepare_grid(float radius);
     void prepare_own_grid();
     /// The binary density grid: the tight bound (mask_bound.comp) or Wu et al.'s convolution.

@@ -79,6 +79,7 @@ void FramePipeline::record_picture(VkCommandBuffer cmd) {
     if (surface_) {
         surface_->share_grid(sim_.frame_grid());
         surface_->set_solids(sim_.solids());
+        surface_->set_whitewater(sim_.whitewater());
         surface_->record(cmd, solver.positions(), solver.particle_count(), camera_, nullptr);
         gpu::record_download(ctx_, cmd, surface_->color_buffer(), *color_, color_->size);
     }

@@ -114,6 +114,14 @@ const SolidsView* SimulationSession::solids() {
     return &solids_;
 }
 
+const WhitewaterView* SimulationSession::whitewater() {
+    const Whitewater* w = solver_->whitewater();
+    if (!w) return nullptr;
+    whitewater_ = {{&w->positions(0), &w->positions(1)}, {&w->velocities(0), &w->velocities(1)}, &w->counters(), w->capacity(),
+                   scene_.particle_spacing};
+    return &whitewater_;
+}
+
 void SimulationSession::rebuild(bool keep_particles) {
     std::optional<ParticleSnapshot> state;
     if (keep_particles && solver_) state = solver_->snapshot();

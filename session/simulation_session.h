@@ -18,6 +18,7 @@
 #include "control/control_driver.h"
 #include "control/push_force.h"
 #include "render/solids_view.h"
+#include "render/whitewater_layer.h"
 #include "core/result.h"
 #include "sim/frame_stats.h"
 #include "sim/pbf_solver.h"
@@ -126,6 +127,9 @@ public:
     /// The scene's mesh obstacles as they stand at the end of the frame last recorded, for a
     /// renderer to draw (Renderer::set_solids); nullptr without any. Valid until the next call.
     const SolidsView* solids();
+    /// The whitewater the solver makes, for a renderer to draw (Renderer::set_whitewater); nullptr
+    /// when the scene has none. Valid until the solver is made again (ask each frame).
+    const WhitewaterView* whitewater();
     /// The mesh control, or null without a control section.
     control::ControlDriver* control() { return driver_.get(); }
     const control::ControlDriver* control() const { return driver_.get(); }
@@ -174,6 +178,7 @@ public:
 
 private:
     SolidsView solids_;  // what solids() hands out
+    WhitewaterView whitewater_;  // what whitewater() hands out
     void rebuild(bool keep_particles);
     /// A new solver from `start` (nullptr: the scene's blocks), and the control and forces on it.
     void start_solver(const ParticleSnapshot* start);

@@ -34,7 +34,7 @@ Whitewater::Whitewater(gpu::Context& ctx, const Scene& scene, uint32_t fluid_par
     std::memset(counters_->mapped, 0, WW_COUNTERS * sizeof(uint32_t));
 
     const uint32_t local = gpu::kDefaultLocalSize;
-    args_ = gpu::ComputePass(ctx, {"sim/whitewater_args.comp", 3, 0, 1, {local}});
+    args_ = gpu::ComputePass(ctx, {"sim/whitewater_args.comp", 3, sizeof(shader::WhitewaterPush), 1, {local}});
     normals_pass_ = gpu::ComputePass(ctx, {"sim/whitewater_normals.comp", 8, sizeof(shader::CountPush)});
     emit_ = gpu::ComputePass(ctx, {"sim/whitewater_emit.comp", 15, sizeof(shader::WhitewaterPush), local, solid_constants({}, obstacles)});
     advect_ = gpu::ComputePass(ctx, {"sim/whitewater_advect.comp", 12, 0, local, solid_constants({}, obstacles)});
@@ -45,7 +45,8 @@ void Whitewater::record_step(VkCommandBuffer cmd, const gpu::Buffer& sim_params,
     params_.kinds.w = ++steps_ * 2654435761u;  // each step draws afresh
     gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
     const int next = 1 - current_;
-    gpu::dispatch(*ctx_, cmd, args_, 1, {{"ww", params_buf_}, {"counters", counters_}, {"groups", groups_}});
+    const shader::WhitewaterPush generation{uint32_t(next), 0u, 0u, 0u};
+    gpu::dispatch(*ctx_, cmd, args_, 1, generation, {{"ww", params_buf_}, {"counters", counters_}, {"groups", groups_}});
     gpu::dispatch_indirect(*ctx_, cmd, advect_, *groups_,
                            {{"params", &sim_params}, {"ww", params_buf_}, {"x", &x}, {"v", &v}, {"cell_rank", &grid.cell_rank()},
                             {"cell_start", &grid.cell_start()}, {"boundary_nodes", &boundary_nodes}, {"live_x", pool_x_[current_]},

@@ -42,9 +42,12 @@ public:
     WhitewaterCounts collect();
 
     uint32_t capacity() const { return capacity_; }
-    /// The live generation and its count (the renderers draw it; the exports write it).
-    const gpu::Buffer& positions() const { return *pool_x_[current_]; }
-    const gpu::Buffer& velocities() const { return *pool_v_[current_]; }
+    /// The pool's two generations: counters()[WW_GENERATION] says which the last step recorded
+    /// filled, [WW_NEXT] how many it holds (so a render recorded with the frame draws the
+    /// frame's, whichever it is).
+    const gpu::Buffer& positions(int generation) const { return *pool_x_[generation]; }
+    const gpu::Buffer& velocities(int generation) const { return *pool_v_[generation]; }
+    const gpu::Buffer& counters() const { return *counters_; }
     /// Reads the live diffuse particles back (waits for the device).
     DiffuseSnapshot snapshot();
     /// The last step's potentials per fluid particle, in the solver's order: (I_ta, I_wc, I_k,

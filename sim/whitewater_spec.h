@@ -19,9 +19,9 @@ struct WhitewaterSettings {
     uint32_t capacity = 0;
     glm::vec2 trapped_air{5.0f, 20.0f};   ///< Phi_ta's thresholds [m/s] (Ihmsen et al.: 5-20)
     glm::vec2 wave_crest{2.0f, 8.0f};     ///< Phi_wc's thresholds (Ihmsen et al.: 2-8)
-    glm::vec2 kinetic_energy{0.5f, 5.0f};  ///< Phi_k's thresholds [J/kg]: from 1 to 3.2 m/s
-    float k_trapped_air = 4000.0f;        ///< diffuse particles a second at Phi_ta = 1
-    float k_wave_crest = 50000.0f;        ///< diffuse particles a second at Phi_wc = 1
+    glm::vec2 kinetic_energy{1.0f, 8.0f};  ///< Phi_k's thresholds [J/kg]: from 1.4 to 4 m/s
+    float k_trapped_air = 2000.0f;        ///< diffuse particles a second at Phi_ta = 1 (Ihmsen et al.: 4000)
+    float k_wave_crest = 20000.0f;        ///< diffuse particles a second at Phi_wc = 1 (Ihmsen et al.: 50000)
     glm::vec2 lifetime{2.0f, 5.0f};       ///< each particle's life is drawn from this range [s]
     uint32_t spray_below = 6;             ///< fluid neighbours within h: fewer is spray
     uint32_t bubble_above = 20;           ///< more is a bubble; between is foam
@@ -32,7 +32,7 @@ struct WhitewaterSettings {
 };
 
 /// Reads {"enabled": true, "capacity": 0, "trapped_air": [5, 20], "wave_crest": [2, 8],
-/// "kinetic_energy": [0.5, 5], "k_trapped_air": 4000, "k_wave_crest": 50000, "lifetime": [2, 5],
+/// "kinetic_energy": [1, 8], "k_trapped_air": 2000, "k_wave_crest": 20000, "lifetime": [2, 5],
 /// "spray_below": 6, "bubble_above": 20, "emit_min_neighbors": 15, "air_drag": 0.5,
 /// "buoyancy": 2, "bubble_drag": 0.5}; every key optional. Throws json_fields::Invalid naming
 /// the key, the value and the fix.

@@ -134,6 +134,7 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const BenchFrame& be
         return std::nullopt;
     renderer->share_grid(sim.frame_grid());
     renderer->set_solids(sim.solids());
+    renderer->set_whitewater(sim.whitewater());
     const ViewCamera camera = scene_camera(scene, float(width) / float(height));
     const size_t total = configs.size() + 1;
     std::fprintf(stderr, "bench render: %s: rendering reference (1/%zu, exhaustive: the slowest)\n", bench.name, total);

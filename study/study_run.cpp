@@ -198,6 +198,7 @@ private:
         if (!r) r = render_registry().create(ctx_, scene_.particle_domain(), w, h, particles(), settings);
         r->share_grid(session_->frame_grid());
         r->set_solids(session_->solids());
+        r->set_whitewater(session_->whitewater());
         return *r;
     }
 

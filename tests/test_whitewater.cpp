@@ -16,6 +16,9 @@
 #include "geometry/inside.h"
 #include "geometry/mesh.h"
 #include "geometry/primitives.h"
+#include "gpu/staging.h"
+#include "render/registry.h"
+#include "render/whitewater_layer.h"
 #include "shaders/shared/sph_kernels.h"
 #include "sim/pbf_solver.h"
 #include "sim/whitewater.h"
@@ -160,6 +163,100 @@ TEST_F(WhitewaterTest, TheFluidDoesNotFeelItsWhitewater) {
     const ParticleSnapshot sa = a.snapshot(), sb = b.snapshot();
     ASSERT_EQ(sa.x.size(), sb.x.size());
     for (size_t i = 0; i < sa.x.size(); ++i) ASSERT_EQ(sa.x[i], sb.x[i]) << "particle " << i << ": bit for bit";
+}
+
+/// Diffuse particles placed by hand: a pool of one generation and its counters.
+struct HandPool {
+    gpu::BufferSet buffers;
+    WhitewaterView view;
+    HandPool(gpu::Context& ctx, const std::vector<glm::vec4>& x) : buffers(ctx) {
+        gpu::Buffer& px = buffers.add("test.ww.x", x.size() * 16);
+        gpu::Buffer& pv = buffers.add("test.ww.v", x.size() * 16);
+        gpu::Buffer& counters = buffers.add("test.ww.counters", WW_COUNTERS * 4, gpu::MemoryUse::host);
+        const std::vector<glm::vec4> v(x.size(), glm::vec4(0.0f, 0.0f, 0.0f, float(WHITEWATER_FOAM)));
+        gpu::upload(ctx, px, x.data(), x.size() * 16);
+        gpu::upload(ctx, pv, v.data(), v.size() * 16);
+        auto* c = static_cast<uint32_t*>(counters.mapped);
+        std::fill(c, c + WW_COUNTERS, 0u);
+        c[WW_NEXT] = uint32_t(x.size());
+        c[WW_GENERATION] = 0u;
+        view = {{&px, &px}, {&pv, &pv}, &counters, uint32_t(x.size()), 0.01f};
+    }
+};
+
+/// A cloud of foam in a small box, `n` particles.
+std::vector<glm::vec4> cloud(const Box& box, int n) {
+    std::vector<glm::vec4> out;
+    for (int i = 0; i < n; ++i) {
+        const glm::vec3 t(float(i % 7) / 6.0f, float((i / 7) % 7) / 6.0f, float(i / 49) / float(std::max(1, n / 49)));
+        out.emplace_back(box.min + t * (box.max - box.min), 1.0f);
+    }
+    return out;
+}
+
+/// Pixels of `a` that differ from `b` by more than 4 in a channel over the columns [x0, x1).
+size_t changed(const Image& a, const Image& b, uint32_t x0, uint32_t x1) {
+    size_t n = 0;
+    for (uint32_t y = 0; y < a.height; ++y)
+        for (uint32_t x = x0; x < x1; ++x)
+            for (int k = 0; k < 3; ++k)
+                if (std::abs(int(a.rgba[(size_t(y) * a.width + x) * 4 + k]) - int(b.rgba[(size_t(y) * b.width + x) * 4 + k])) > 4) {
+                    ++n;
+                    break;
+                }
+    return n;
+}
+
+/// How much whiter `a` is than `b` over the columns [x0, x1): the sum of the rise of each
+/// pixel's darkest channel.
+double whiter(const Image& a, const Image& b, uint32_t x0, uint32_t x1) {
+    double sum = 0.0;
+    for (uint32_t y = 0; y < a.height; ++y)
+        for (uint32_t x = x0; x < x1; ++x) {
+            const uint8_t* p = &a.rgba[(size_t(y) * a.width + x) * 4];
+            const uint8_t* q = &b.rgba[(size_t(y) * b.width + x) * 4];
+            sum += std::max(0, int(std::min({p[0], p[1], p[2]})) - int(std::min({q[0], q[1], q[2]})));
+        }
+    return sum;
+}
+
+TEST_F(WhitewaterTest, EveryMethodDrawsItWithDepthAgainstTheWaterAndWithoutItTheFrameIsItsOwn) {
+    // A block of water on the right of the tank; foam in the air on the left, and on the right
+    // once in front of the water and once 8 cm inside it (bubbles seen through the water).
+    Scene scene = testing::scene_with({glm::vec3(0.0f), glm::vec3(0.6f, 0.3f, 0.4f)}, 0.01f);
+    scene.fluid_blocks = {{glm::vec3(0.33f, 0.0f, 0.15f), glm::vec3(0.57f, 0.2f, 0.3f)}};
+    PbfSolver solver(ctx(), scene);
+    HandPool in_front(ctx(), [] {
+        auto a = cloud({glm::vec3(0.1f, 0.06f, 0.25f), glm::vec3(0.2f, 0.14f, 0.27f)}, 600);
+        auto b = cloud({glm::vec3(0.4f, 0.06f, 0.33f), glm::vec3(0.5f, 0.14f, 0.35f)}, 600);
+        a.insert(a.end(), b.begin(), b.end());
+        return a;
+    }());
+    HandPool inside(ctx(), cloud({glm::vec3(0.4f, 0.06f, 0.2f), glm::vec3(0.5f, 0.14f, 0.22f)}, 600));
+    ViewCamera camera;
+    camera.eye = {0.3f, 0.15f, 1.3f};
+    camera.target = {0.3f, 0.1f, 0.1f};
+    camera.fov_y_degrees = 30.0f;
+    const uint32_t width = 96, height = 48;
+    for (const MethodEntry& entry : render_registry().entries()) {
+        SCOPED_TRACE(entry.name);
+        auto plain = render_registry().create(ctx(), scene.particle_domain(), width, height, solver.particle_count(), entry.defaults);
+        const Image own = plain->render(solver.positions(), solver.particle_count(), camera).color;
+        auto r = render_registry().create(ctx(), scene.particle_domain(), width, height, solver.particle_count(), entry.defaults);
+        r->set_whitewater(&in_front.view);
+        const Image front = r->render(solver.positions(), solver.particle_count(), camera).color;
+        r->set_whitewater(&inside.view);
+        const Image behind = r->render(solver.positions(), solver.particle_count(), camera).color;
+        r->set_whitewater(nullptr);
+        const Image off = r->render(solver.positions(), solver.particle_count(), camera).color;
+        // Against the bright sky white foam changes little, but it is there.
+        EXPECT_GT(changed(front, own, 0, width / 2), 20u) << "foam in the air is drawn";
+        const double over_water = whiter(front, own, width / 2, width), through_water = whiter(behind, own, width / 2, width);
+        EXPECT_GT(over_water, 800.0) << "foam in front of the water is drawn white";
+        EXPECT_GT(through_water, 0.0) << "bubbles are seen through the water";
+        EXPECT_LT(through_water, 0.85 * over_water) << "the water in front of the bubbles dims them";
+        EXPECT_EQ(off.rgba, own.rgba) << "without whitewater the frame is the method's own, bit for bit";
+    }
 }
 
 TEST(WhitewaterScene, TheSectionIsCheckedWithTheFix) {

@@ -228,6 +228,7 @@ struct ViewWorker::Sim {
         Renderer& r = renderer(c);
         r.share_grid(session->frame_grid());  // the session makes a new solver on reset and settings
         r.set_solids(session->solids());
+        r.set_whitewater(session->whitewater());
         r.record(cmd, solver->positions(), solver->particle_count(), c.camera, &render_timer);
         return r.color_buffer();
     }

@@ -28,6 +28,7 @@
 #define WW_DROPPED 2u     ///< particles that did not fit the pool, summed since the counters were cleared
 #define WW_EMITTED 3u     ///< particles made, summed since the counters were cleared
 #define WW_KINDS 4u       ///< 4, 5, 6: spray, foam, bubbles alive after the last step
+#define WW_GENERATION 7u  ///< which of the pool's two generations the last step filled (the renderers read it)
 #define WW_COUNTERS 16u
 
 AF_BEGIN
@@ -38,6 +39,18 @@ struct WhitewaterParams {
     vec4 kinetic;         ///< x, y: the thresholds of Phi_k [J/kg]; z, w: the lifetime range [s]
     vec4 motion;          ///< x: spray's air drag [1/s]; y: bubbles' buoyancy (times -g); z: bubbles' drag (0..1 a step); w: the fewest neighbours that emit
     uvec4 kinds;          ///< x: spray below this many neighbours; y: bubbles above; z: capacity; w: the step's seed
+};
+
+/// What the renderers' whitewater layer draws with (render/whitewater_layer.h): the camera as
+/// common/camera.glsl takes it, and the look.
+struct WhitewaterDrawParams {
+    vec4 eye;      ///< xyz: the eye [m]
+    vec4 forward;  ///< xyz: unit view direction; w: tan of half the horizontal field of view
+    vec4 right;    ///< xyz; w: tan of half the vertical field of view
+    vec4 up;
+    uvec4 screen;  ///< x, y: the picture's size [px]; z: the pool's capacity
+    vec4 look;     ///< x: a foam particle's radius [m]; y: its opacity at its centre; z: the water's absorption [1/m]; w: unused
+    vec4 light;    ///< xyz: unit direction towards the light; w: unused
 };
 
 /// Push constants of the whitewater passes.
@@ -53,6 +66,7 @@ AF_END
 #ifdef __cplusplus
 static_assert(sizeof(aquaform::shader::WhitewaterParams) == 5 * 16);
 static_assert(sizeof(aquaform::shader::WhitewaterPush) == 16);
+static_assert(sizeof(aquaform::shader::WhitewaterDrawParams) == 7 * 16);
 #endif
 
 #endif

@@ -10,6 +10,7 @@ layout(std140, binding = 0) uniform Whitewater { WhitewaterParams ww; };
 layout(std430, binding = 1) buffer Counters { uint counters[]; };
 layout(std430, binding = 2) writeonly buffer Groups { uint groups[]; };  // the advect pass's indirect dispatch
 layout(constant_id = 1) const uint kAdvectLocalSize = 128u;
+layout(push_constant) uniform Push { WhitewaterPush pc; };  // count: the generation this step fills
 
 void main() {
     uint live = min(counters[WW_NEXT], ww.kinds.z);
@@ -19,4 +20,5 @@ void main() {
     groups[1] = 1u;
     groups[2] = 1u;
     for (uint k = 0u; k < 3u; ++k) counters[WW_KINDS + k] = 0u;
+    counters[WW_GENERATION] = pc.count;
 }
