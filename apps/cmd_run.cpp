@@ -58,6 +58,9 @@ int cmd_run(const std::vector<std::string>& argv) {
     }
     const auto export_options = frame_export_options_from(*args, &error);
     if (!export_options) return refuse("run", error);
+    if (export_options->every[size_t(FrameExport::diffuse)] && !plan.value().scene.has_whitewater())
+        return refuse("run", "--diffuse-every writes the whitewater's particles, and " + plan.value().scene.name +
+                                 " makes none: add a \"whitewater\" section to the scene or give --whitewater on");
     const std::optional<PictureSize> size = resolution_flag(*args, kViewingPicture, &error);
     if (!size) return refuse("run", error);
     picture.size = *size;

@@ -13,7 +13,7 @@ namespace {
 const char* kUsage =
     "usage: aquaform <command> [options]\n"
     "commands:\n"
-    "  run SCENE.json [--frames N] [--out DIR] [--device NAME|INDEX] [--ply-every K] [--vtk-every K]\n"
+    "  run SCENE.json [--frames N] [--out DIR] [--device NAME|INDEX] [--ply-every K] [--vtk-every K] [--diffuse-every K]\n"
     "                 [--vdb-every K] [--mesh-every K [--mesh-format obj|ply|vtp]] [--up y|z] [--particles N]\n"
     "                 [--no-png] [--preview] [--wireframe] [--resolution WxH] [--camera auto|scene] [--video FILE.mp4]\n"
     "                 [--whitewater on|off]\n"
@@ -22,6 +22,7 @@ const char* kUsage =
     "        --wireframe: the active control meshes drawn over them),\n"
     "        stats.csv (with splash fraction, droplets, runup), front.csv (dam breaks); every K frames:\n"
     "        --ply-every particles_NNNN.ply, --vtk-every particles_NNNN.vtu + particles.pvd (ParaView),\n"
+    "        --diffuse-every diffuse_NNNN.ply (the whitewater's particles: position, velocity, kind, life left),\n"
     "        --vdb-every density_NNNN.vdb (OpenVDB fog volume of the rendered density, Blender/Houdini),\n"
     "        --mesh-every surface_NNNN.obj (--mesh-format ply: binary .ply; vtp: VTK .vtp + surface.pvd\n"
     "        for ParaView): the rendered surface as a closed triangle mesh (marching cubes on the GPU,\n"

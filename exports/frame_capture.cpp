@@ -60,6 +60,8 @@ FrameCapture FrameCapturer::collect(uint32_t frame, gpu::GpuTimer& timer, FrameS
     // After the mesh: an extraction made again there leaves the sampler's lattice of this frame.
     if (exports_->needs_volume(frame)) capture.volume = collect_volume();
     if (exports_->needs_particles(frame)) capture.particles = solver_->snapshot();
+    if (exports_->needs(FrameData::diffuse, frame))
+        capture.diffuse = solver_->whitewater() ? solver_->whitewater()->snapshot() : DiffuseSnapshot{};
     return capture;
 }
 

@@ -39,6 +39,11 @@ FrameCapture z_up(const FrameCapture& capture) {
         for (glm::vec4& x : out.particles->x) x = z_up(x);
         for (glm::vec4& v : out.particles->v) v = z_up(v);
     }
+    out.diffuse = capture.diffuse;
+    if (out.diffuse) {
+        for (glm::vec4& x : out.diffuse->x) x = z_up(x);
+        for (glm::vec4& v : out.diffuse->v) v = z_up(v);
+    }
     if (out.mesh) {  // its lattice fields stay the simulation's: no writer reads them
         for (glm::vec3& p : out.mesh->vertices) p = z_up(p);
         for (glm::vec3& n : out.mesh->normals) n = z_up(n);
@@ -59,6 +64,7 @@ const std::array<FrameExportKind, kFrameExportKinds>& frame_export_kinds() {
         {FrameExport::vtk, "vtk", "--vtk-every", "particles_%04u.vtu", FrameData::particles},
         {FrameExport::vdb, "vdb", "--vdb-every", "density_%04u.vdb", FrameData::volume},
         {FrameExport::mesh, "mesh", "--mesh-every", "surface_%04u.obj", FrameData::mesh},
+        {FrameExport::diffuse, "diffuse", "--diffuse-every", "diffuse_%04u.ply", FrameData::diffuse},
     }};
     return kinds;
 }
@@ -120,6 +126,7 @@ Result<bool> FrameExports::write_file(FrameExport kind, const std::filesystem::p
             return written ? particles_pvd_.add(time_s, name) : written;
         }
         case FrameExport::vdb: return write_density_vdb(path, *capture.volume);
+        case FrameExport::diffuse: return write_diffuse_ply(path, *capture.diffuse);
         case FrameExport::mesh: {
             Result<bool> written = write_mesh(path, *capture.mesh, options_.mesh_format);
             if (!written || options_.mesh_format != MeshFormat::vtp) return written;

@@ -28,11 +28,11 @@
 
 namespace aquaform {
 
-enum class FrameExport : uint8_t { ply, vtk, vdb, mesh };
-constexpr size_t kFrameExportKinds = 4;
+enum class FrameExport : uint8_t { ply, vtk, vdb, mesh, diffuse };
+constexpr size_t kFrameExportKinds = 5;
 
 /// What a kind is written from (a field of FrameCapture).
-enum class FrameData : uint8_t { particles, volume, mesh };
+enum class FrameData : uint8_t { particles, volume, mesh, diffuse };
 
 struct FrameExportKind {
     FrameExport kind;
@@ -51,8 +51,15 @@ struct FrameCapture {
     std::optional<ParticleSnapshot> particles;
     std::optional<DensityVolume> volume;
     std::optional<SurfaceMesh> mesh;
+    std::optional<DiffuseSnapshot> diffuse;  ///< the whitewater's particles
     bool has(FrameData data) const {
-        return data == FrameData::particles ? bool(particles) : data == FrameData::volume ? bool(volume) : bool(mesh);
+        switch (data) {
+            case FrameData::particles: return bool(particles);
+            case FrameData::volume: return bool(volume);
+            case FrameData::mesh: return bool(mesh);
+            case FrameData::diffuse: return bool(diffuse);
+        }
+        return false;
     }
 };
 

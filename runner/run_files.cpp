@@ -158,7 +158,7 @@ Result<bool> RunFiles::finish(const Scene& scene) {
 }
 
 Result<size_t> clear_earlier_run(const std::filesystem::path& dir) {
-    static const std::regex numbered(R"((frame|particles|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp))");
+    static const std::regex numbered(R"((frame|particles|diffuse|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp))");
     static const std::regex solids(R"(obstacle_.+\.obj)");
     static const std::set<std::string> named{"stats.csv",     "front.csv",   "front.svg",     "particles.pvd",
                                              "surface.pvd",   kExportListing, kRunDescriptionName};

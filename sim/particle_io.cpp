@@ -24,4 +24,23 @@ Result<bool> write_particles_ply(const std::filesystem::path& path, const Partic
     });
 }
 
+Result<bool> write_diffuse_ply(const std::filesystem::path& path, const DiffuseSnapshot& d) {
+    return write_file_with(path, [&](std::ostream& out) {
+        const size_t n = d.x.size();
+        out << "ply\nformat binary_little_endian 1.0\ncomment aquaform whitewater (SI units; kind 0 spray, 1 foam, 2 bubble)\n"
+            << "element vertex " << n << "\n"
+            << "property float x\nproperty float y\nproperty float z\n"
+            << "property float vx\nproperty float vy\nproperty float vz\n"
+            << "property uchar kind\nproperty float life\nend_header\n";
+        for (size_t i = 0; i < n && out; ++i) {
+            const float f[6] = {d.x[i].x, d.x[i].y, d.x[i].z, d.v[i].x, d.v[i].y, d.v[i].z};
+            const uint8_t kind = static_cast<uint8_t>(d.v[i].w);
+            const float life = d.x[i].w;
+            out.write(reinterpret_cast<const char*>(f), sizeof f);
+            out.write(reinterpret_cast<const char*>(&kind), 1);
+            out.write(reinterpret_cast<const char*>(&life), sizeof life);
+        }
+    });
+}
+
 }  // namespace aquaform

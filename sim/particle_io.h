@@ -1,5 +1,5 @@
-// Particle dumps: binary little-endian PLY with position, velocity, density, id and tag, so
-// that ParaView, Blender or MeshLab can open a frame.
+// Particle dumps: binary little-endian PLY with position, velocity, density, id and tag (and the
+// whitewater's with kind and life), so that ParaView, Blender or MeshLab can open a frame.
 #pragma once
 
 #include <filesystem>
@@ -10,5 +10,8 @@
 namespace aquaform {
 
 Result<bool> write_particles_ply(const std::filesystem::path& path, const ParticleSnapshot& particles);
+/// The whitewater's diffuse particles (sim/whitewater.h): position, velocity, kind (uchar: 0
+/// spray, 1 foam, 2 bubble) and the life left [s].
+Result<bool> write_diffuse_ply(const std::filesystem::path& path, const DiffuseSnapshot& diffuse);
 
 }  // namespace aquaform

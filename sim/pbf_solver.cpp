@@ -247,6 +247,7 @@ std::vector<std::string> PbfSolver::enabled_passes() const {
     passes.push_back("correct x" + std::to_string(scene_.solver.iterations) + " (the last with the velocity update)");
     if (xsph_on_) passes.push_back(vorticity_on_ ? "xsph_curl" : "xsph");
     if (vorticity_on_) passes.push_back("vorticity");
+    if (whitewater_) passes.push_back("whitewater (spray, foam, bubbles: up to " + std::to_string(whitewater_->capacity()) + ")");
     passes.push_back("stats (once per frame)");
     return passes;
 }

@@ -29,6 +29,15 @@ private:
 };
 
 /// A scene of the given domain and spacing for tests that supply their own particles.
+/// The drawing tests' view of a 0.6 x 0.3 x 0.4 m tank: from the front, 1.3 m out, 30 degrees.
+inline ViewCamera tank_front_camera() {
+    ViewCamera camera;
+    camera.eye = {0.3f, 0.15f, 1.3f};
+    camera.target = {0.3f, 0.1f, 0.1f};
+    camera.fov_y_degrees = 30.0f;
+    return camera;
+}
+
 inline Scene scene_with(const Box& domain, float spacing) {
     Scene scene;
     scene.name = "test";

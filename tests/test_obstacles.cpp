@@ -363,10 +363,7 @@ TEST_F(ObstacleTest, EveryMethodDrawsAMeshObstacleAndTheFluidInFrontOfItHidesIt)
     ASSERT_EQ(scene.obstacles.size(), 2u);
     PbfSolver solver(ctx(), scene);
     SolidsView solids{&solver.boundary_nodes(), {solver.params().obstacles, solver.params().obstacles + 2}};
-    ViewCamera camera;
-    camera.eye = {0.3f, 0.15f, 1.3f};
-    camera.target = {0.3f, 0.1f, 0.1f};
-    camera.fov_y_degrees = 30.0f;
+    const ViewCamera camera = testing::tank_front_camera();
     const uint32_t width = 96, height = 48;
     for (const MethodEntry& entry : render_registry().entries()) {
         SCOPED_TRACE(entry.name);

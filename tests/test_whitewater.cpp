@@ -233,10 +233,7 @@ TEST_F(WhitewaterTest, EveryMethodDrawsItWithDepthAgainstTheWaterAndWithoutItThe
         return a;
     }());
     HandPool inside(ctx(), cloud({glm::vec3(0.4f, 0.06f, 0.2f), glm::vec3(0.5f, 0.14f, 0.22f)}, 600));
-    ViewCamera camera;
-    camera.eye = {0.3f, 0.15f, 1.3f};
-    camera.target = {0.3f, 0.1f, 0.1f};
-    camera.fov_y_degrees = 30.0f;
+    const ViewCamera camera = testing::tank_front_camera();
     const uint32_t width = 96, height = 48;
     for (const MethodEntry& entry : render_registry().entries()) {
         SCOPED_TRACE(entry.name);
@@ -257,6 +254,55 @@ TEST_F(WhitewaterTest, EveryMethodDrawsItWithDepthAgainstTheWaterAndWithoutItThe
         EXPECT_LT(through_water, 0.85 * over_water) << "the water in front of the bubbles dims them";
         EXPECT_EQ(off.rgba, own.rgba) << "without whitewater the frame is the method's own, bit for bit";
     }
+}
+
+/// A PLY file's vertex count and the bytes after its header.
+std::pair<size_t, size_t> ply_vertices(const std::filesystem::path& path) {
+    const std::string text = test_cli::read_file(path);
+    const size_t at = text.find("element vertex "), end = text.find("end_header\n");
+    if (at == std::string::npos || end == std::string::npos) return {0, 0};
+    return {std::stoul(text.substr(at + 15)), text.size() - end - 11};
+}
+
+TEST(WhitewaterRun, DiffuseEveryWritesTheLiveParticlesAsPlyAndListsThem) {
+    const auto dir = test_cli::temp_dir("whitewater_run");
+    test_cli::write_file(dir / "scene.json", R"({"name": "collision", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
+        "particle_spacing": 0.02, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.12, 0.12, 0.2], "velocity": [2, 0, 0]},
+        {"min": [0.28, 0, 0], "max": [0.4, 0.12, 0.2], "velocity": [-2, 0, 0]}], "whitewater": {"k_trapped_air": 40000}})");
+    const auto out = dir / "out";
+    auto r = test_cli::run_aquaform("run " + (dir / "scene.json").string() + " --frames 11 --no-png --diffuse-every 5 --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const std::string stats = test_cli::read_file(out / "stats.csv");
+    std::vector<std::string> rows;
+    for (size_t at = 0, next; (next = stats.find('\n', at)) != std::string::npos; at = next + 1) rows.push_back(stats.substr(at, next - at));
+    const auto column = [&](const std::string& name) {
+        const std::string& header = rows.front();
+        return size_t(std::count(header.begin(), header.begin() + header.find(name), ','));
+    };
+    const auto field = [&](size_t row, size_t col) {
+        std::string line = rows[row];
+        for (size_t c = 0; c < col; ++c) line = line.substr(line.find(',') + 1);
+        return std::stoul(line.substr(0, line.find(',')));
+    };
+    const size_t spray = column("spray"), foam = column("foam"), bubbles = column("bubbles");
+    for (int k = 0; k <= 2; ++k) {
+        char name[32];
+        std::snprintf(name, sizeof name, "diffuse_%04d.ply", k);
+        ASSERT_TRUE(std::filesystem::exists(out / name)) << name << "\n" << r.output;
+        const auto [vertices, body] = ply_vertices(out / name);
+        const size_t row = 1 + 5 * k;  // frame 5k
+        EXPECT_EQ(vertices, field(row, spray) + field(row, foam) + field(row, bubbles)) << name << ": the frame's live count";
+        EXPECT_EQ(body, vertices * 29) << name << ": position, velocity, kind, life";
+        if (k > 0) EXPECT_GT(vertices, 0u) << name;
+    }
+    EXPECT_NE(test_cli::read_file(out / "exports.csv").find("diffuse_0002.ply,diffuse,10,"), std::string::npos);
+
+    // Without whitewater there is nothing to write: refused before any work, with the fix.
+    test_cli::write_file(dir / "plain.json", R"({"name": "plain", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
+        "particle_spacing": 0.02, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.12, 0.12, 0.2]}]})");
+    r = test_cli::run_aquaform("run " + (dir / "plain.json").string() + " --frames 2 --no-png --diffuse-every 1 --out " + (dir / "o2").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("--whitewater on"), std::string::npos) << r.output;
 }
 
 TEST(WhitewaterScene, TheSectionIsCheckedWithTheFix) {
