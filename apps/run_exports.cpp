@@ -6,6 +6,7 @@ std::vector<std::string> frame_export_flags() {
     std::vector<std::string> flags;
     for (const FrameExportKind& kind : frame_export_kinds()) flags.push_back(kind.flag);
     flags.push_back(kMeshFormatFlag);
+    flags.push_back(kDiffuseFormatFlag);
     flags.push_back(kUpFlag);
     return flags;
 }
@@ -18,18 +19,23 @@ std::optional<FrameExportOptions> frame_export_options_from(const Args& args, st
         if (!every) return std::nullopt;
         options.every[size_t(kind.kind)] = static_cast<uint32_t>(*every);
     }
-    if (args.has(kMeshFormatFlag)) {
-        auto format = parse_mesh_format(args.value(kMeshFormatFlag));
+    // A format flag: its value parsed, and refused without the kind it is the format of.
+    auto format_of = [&](const char* flag, FrameExport kind, auto parse, auto& into) {
+        if (!args.has(flag)) return true;
+        auto format = parse(args.value(flag));
         if (!format) {
-            *error = std::string(kMeshFormatFlag) + ": " + format.error();
-            return std::nullopt;
+            *error = std::string(flag) + ": " + format.error();
+            return false;
         }
-        options.mesh_format = format.value();
-        if (!options.every[size_t(FrameExport::mesh)]) {
-            *error = std::string(kMeshFormatFlag) + " needs --mesh-every K (a mesh every K frames)";
-            return std::nullopt;
-        }
-    }
+        into = format.value();
+        if (options.every[size_t(kind)]) return true;
+        const char* every = frame_export_kinds()[size_t(kind)].flag;
+        *error = std::string(flag) + " is the format of " + every + "'s files; give " + every + " K too";
+        return false;
+    };
+    if (!format_of(kMeshFormatFlag, FrameExport::mesh, parse_mesh_format, options.mesh_format) ||
+        !format_of(kDiffuseFormatFlag, FrameExport::diffuse, parse_diffuse_format, options.diffuse_format))
+        return std::nullopt;
     if (args.has(kUpFlag)) {
         auto up = parse_up_axis(args.value(kUpFlag));
         if (!up) {

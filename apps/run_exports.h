@@ -1,5 +1,5 @@
 // The export flags of `run` (exports/frame_exports.h): every kind's --KIND-every K,
-// --mesh-format obj|ply|vtp for --mesh-every, and --up y|z for them all.
+// --mesh-format obj|ply|vtp for --mesh-every, --diffuse-format ply|vtp for --diffuse-every, and --up y|z for them all.
 #pragma once
 
 #include <optional>
@@ -12,6 +12,7 @@
 namespace aquaform::cli {
 
 inline constexpr const char* kMeshFormatFlag = "--mesh-format";
+inline constexpr const char* kDiffuseFormatFlag = "--diffuse-format";
 inline constexpr const char* kUpFlag = "--up";
 
 /// The value flags read by frame_export_options_from().

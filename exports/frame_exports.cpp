@@ -69,6 +69,12 @@ const std::array<FrameExportKind, kFrameExportKinds>& frame_export_kinds() {
     return kinds;
 }
 
+Result<DiffuseFormat> parse_diffuse_format(const std::string& text) {
+    if (text == "ply") return DiffuseFormat::ply;
+    if (text == "vtp") return DiffuseFormat::vtp;
+    return Error{"unknown whitewater format '" + text + "'; use ply (Blender) or vtp (ParaView)"};
+}
+
 Result<UpAxis> parse_up_axis(const std::string& text) {
     if (text == "y") return UpAxis::y;
     if (text == "z") return UpAxis::z;
@@ -79,7 +85,8 @@ FrameExports::FrameExports(std::filesystem::path dir, const FrameExportOptions& 
     : dir_(std::move(dir)),
       options_(options),
       particles_pvd_(dir_ / "particles.pvd"),
-      surface_pvd_(dir_ / "surface.pvd") {}
+      surface_pvd_(dir_ / "surface.pvd"),
+      diffuse_pvd_(dir_ / "diffuse.pvd") {}
 
 bool FrameExports::due(FrameExport kind, uint32_t frame) const {
     const uint32_t every = options_.every[size_t(kind)];
@@ -97,6 +104,7 @@ std::filesystem::path FrameExports::file(FrameExport kind, uint32_t frame) const
     std::snprintf(name, sizeof name, frame_export_kinds()[size_t(kind)].file_pattern, frame / every(kind));
     std::filesystem::path path = dir_ / name;
     if (kind == FrameExport::mesh) path.replace_extension(mesh_format_extension(options_.mesh_format));
+    if (kind == FrameExport::diffuse && options_.diffuse_format == DiffuseFormat::vtp) path.replace_extension("vtp");
     return path;
 }
 
@@ -126,7 +134,11 @@ Result<bool> FrameExports::write_file(FrameExport kind, const std::filesystem::p
             return written ? particles_pvd_.add(time_s, name) : written;
         }
         case FrameExport::vdb: return write_density_vdb(path, *capture.volume);
-        case FrameExport::diffuse: return write_diffuse_ply(path, *capture.diffuse);
+        case FrameExport::diffuse: {
+            if (options_.diffuse_format == DiffuseFormat::ply) return write_diffuse_ply(path, *capture.diffuse);
+            Result<bool> written = write_diffuse_vtp(path, *capture.diffuse);
+            return written ? diffuse_pvd_.add(time_s, name) : written;
+        }
         case FrameExport::mesh: {
             Result<bool> written = write_mesh(path, *capture.mesh, options_.mesh_format);
             if (!written || options_.mesh_format != MeshFormat::vtp) return written;

@@ -1,9 +1,9 @@
 // The files `run` writes every K frames besides its images - particle dumps (PLY, VTK), density
-// volumes (OpenVDB) and surface meshes (OBJ, PLY or VTK) - under one rule: a kind whose flag gave
+// volumes (OpenVDB), surface meshes (OBJ, PLY or VTK) and the whitewater's particles (PLY or VTK) - under one rule: a kind whose flag gave
 // K is written at the frames f with f % K == 0, as its file number f / K, so that each kind's
 // files are numbered 0, 1, 2, ... (Blender's sequence imports stop at a gap). exports.csv maps
 // every file to its frame and simulated time; the .pvd collections (VTK particles, VTK surfaces)
-// list theirs with the time too. A new kind is a row in frame_export_kinds(), a field in
+// list theirs with the time too (VTK particles, surfaces and whitewater). A new kind is a row in frame_export_kinds(), a field in
 // FrameCapture if it needs new data, and a case in FrameExports::write.
 //
 // Up axis: the simulation is y-up (as ParaView and Houdini are); with UpAxis::z every file is
@@ -71,9 +71,18 @@ glm::vec3 z_up(const glm::vec3& p);
 /// "y" or "z"; otherwise an error listing the choices.
 Result<UpAxis> parse_up_axis(const std::string& text);
 
+/// The whitewater's file format: PLY for Blender (blender_scene.py reads it), VTK PolyData with
+/// a diffuse.pvd for ParaView (whose PLY reader keeps neither the vertices as cells nor the
+/// velocity, kind and life; a .vtp keeps them all and draws as points).
+enum class DiffuseFormat : uint8_t { ply, vtp };
+
+/// "ply" or "vtp"; otherwise an error listing the choices.
+Result<DiffuseFormat> parse_diffuse_format(const std::string& text);
+
 struct FrameExportOptions {
     std::array<uint32_t, kFrameExportKinds> every{};  ///< per kind: every K frames; 0: never
     MeshFormat mesh_format = MeshFormat::obj;
+    DiffuseFormat diffuse_format = DiffuseFormat::ply;
     UpAxis up = UpAxis::y;
 };
 
@@ -107,6 +116,7 @@ private:
     FrameExportOptions options_;
     VtkCollection particles_pvd_;
     VtkCollection surface_pvd_;
+    VtkCollection diffuse_pvd_;
     AppendedFile listing_;  // exports.csv, opened with the first file
 };
 

@@ -143,6 +143,40 @@ Result<bool> write_mesh_vtp(const std::filesystem::path& path, const SurfaceMesh
                                  array_of("Int32", "offsets", 1, offsets)}}});
 }
 
+Result<bool> write_diffuse_vtp(const std::filesystem::path& path, const DiffuseSnapshot& d) {
+    const size_t n = d.x.size();
+    if (d.v.size() != n)
+        return Error{"cannot write " + path.string() + ": the snapshot has " + std::to_string(n) + " positions and " +
+                     std::to_string(d.v.size()) + " velocities; take it from one pool (Whitewater::snapshot)"};
+    if (n > size_t(std::numeric_limits<int32_t>::max()))
+        return Error{"cannot write " + path.string() + ": " + std::to_string(n) +
+                     " particles exceed the Int32 connectivity of the .vtp writer; give the pool a smaller capacity"};
+    // The snapshot keeps life and kind in w; VTK wants each field as its own array.
+    std::vector<float> points(3 * n), velocity(3 * n), life(n);
+    std::vector<uint8_t> kind(n);
+    std::vector<int32_t> connectivity(n), offsets(n);
+    for (size_t i = 0; i < n; ++i) {
+        for (int c = 0; c < 3; ++c) {
+            points[3 * i + c] = d.x[i][c];
+            velocity[3 * i + c] = d.v[i][c];
+        }
+        life[i] = d.x[i].w;
+        kind[i] = static_cast<uint8_t>(d.v[i].w);
+        connectivity[i] = int32_t(i);
+        offsets[i] = int32_t(i + 1);
+    }
+    return write_appended_vtk(path, "PolyData",
+                              "NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
+                                  "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\"",
+                              {{"PointData", " Scalars=\"kind\" Vectors=\"velocity\"",
+                                {array_of("Float32", "velocity", 3, velocity), array_of("UInt8", "kind", 1, kind),
+                                 array_of("Float32", "life", 1, life)}},
+                               {"Points", "", {array_of("Float32", "", 3, points)}},
+                               {"Verts", "",
+                                {array_of("Int32", "connectivity", 1, connectivity),
+                                 array_of("Int32", "offsets", 1, offsets)}}});
+}
+
 Result<bool> VtkCollection::add(double time_s, const std::string& file) {
     entries_.push_back({time_s, file});
     return write_file_with(

@@ -7,7 +7,9 @@
 // points without a filter. Points: positions (Float32 x 3); point data: velocity (Float32 x 3),
 // density (Float32), id (UInt32), tag (UInt32, the fluid block the particle came from) - the
 // same fields as the PLY dump (sim/particle_io.h). A mesh's triangles are polys (Int32
-// connectivity), its vertex normals the point data "normals".
+// connectivity), its vertex normals the point data "normals". The whitewater's particles are a
+// PolyData of vertex cells with the point data velocity (Float32 x 3), kind (UInt8: 0 spray,
+// 1 foam, 2 bubble) and life (Float32, seconds left), the fields of its PLY (sim/particle_io.h).
 #pragma once
 
 #include <filesystem>
@@ -26,6 +28,7 @@ inline constexpr const char* kTimeFormat = "%.12g";
 Result<bool> write_particles_vtu(const std::filesystem::path& path, const ParticleSnapshot& particles);
 /// Normals are written where the mesh has one per vertex.
 Result<bool> write_mesh_vtp(const std::filesystem::path& path, const SurfaceMesh& mesh);
+Result<bool> write_diffuse_vtp(const std::filesystem::path& path, const DiffuseSnapshot& diffuse);
 
 /// A ParaView collection (.pvd) of the files written so far, rewritten whole (atomically) after
 /// each addition, so that a run stopped midway still leaves a collection ParaView opens.

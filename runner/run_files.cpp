@@ -161,7 +161,7 @@ Result<size_t> clear_earlier_run(const std::filesystem::path& dir) {
     static const std::regex numbered(R"((frame|particles|diffuse|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp))");
     static const std::regex solids(R"(obstacle_.+\.obj)");
     static const std::set<std::string> named{"stats.csv",     "front.csv",   "front.svg",     "particles.pvd",
-                                             "surface.pvd",   kExportListing, kRunDescriptionName};
+                                             "surface.pvd",   "diffuse.pvd",     kExportListing, kRunDescriptionName};
     static const std::set<std::string> probe_files(std::begin(ProbeFiles::kFileNames), std::end(ProbeFiles::kFileNames));
     std::vector<std::filesystem::path> earlier;
     std::error_code ec;

@@ -305,6 +305,44 @@ TEST(ToolsParaView, VtpSurfaceIsASecondSeriesAtTheParticlesTimes) {
     }
 }
 
+TEST(ToolsParaView, WhitewaterVtpIsASeriesBesideTheParticlesWithEachFramesLiveParticles) {
+    // --diffuse-format vtp: diffuse_NNNN.vtp and diffuse.pvd, at the particles' times, each file
+    // the frame's live whitewater (stats.csv's spray + foam + bubbles) as drawable vertex cells.
+    const fs::path run = simulate("diffuse_vtp", "--particles 4000 --frames 31 --whitewater on --vtk-every 10 "
+                                                 "--diffuse-every 10 --diffuse-format vtp");
+    const json report = paraview_report(run);
+    ASSERT_TRUE(report.contains("diffuse") && report["diffuse"].is_object()) << report.dump().substr(0, 400);
+    const json& diffuse = report["diffuse"];
+    expect_times_equal(diffuse["time_steps"], expected_times(run, "diffuse", "vtp"), "diffuse.pvd");
+    EXPECT_EQ(diffuse["time_steps"], report["particles"]["time_steps"]) << "beside the particles, at their times";
+    std::map<double, long> live;  // stats.csv: time -> diffuse particles alive
+    for (const auto& row : read_csv(run / "stats.csv"))
+        live[std::stod(row.at("time_s"))] = std::stol(row.at("spray")) + std::stol(row.at("foam")) + std::stol(row.at("bubbles"));
+    long most = 0;
+    for (const auto& step : diffuse["steps"]) {
+        const double t = step["time"].get<double>();
+        const auto row = live.lower_bound(t - 1e-5);
+        ASSERT_NE(row, live.end()) << "stats.csv has no frame at t = " << t;
+        EXPECT_EQ(step["points"].get<long>(), row->second) << "the live whitewater at t = " << t;
+        EXPECT_EQ(step["cells"].get<long>(), step["points"].get<long>()) << "a vertex cell per particle at t = " << t;
+        for (const char* name : {"velocity", "kind", "life"})
+            EXPECT_NE(std::find(step["point_arrays"].begin(), step["point_arrays"].end(), name), step["point_arrays"].end())
+                << name << " at t = " << t;
+        if (step["points"].get<long>() == 0) continue;
+        most = std::max(most, step["points"].get<long>());
+        EXPECT_GE(step["ranges"]["kind"][0].get<double>(), 0.0) << "kinds are 0 spray, 1 foam, 2 bubble";
+        EXPECT_LE(step["ranges"]["kind"][1].get<double>(), 2.0) << "kinds are 0 spray, 1 foam, 2 bubble";
+        EXPECT_GT(step["ranges"]["life"][0].get<double>(), 0.0) << "only live particles are written";
+        EXPECT_LE(step["ranges"]["life"][1].get<double>(), 5.0 + 1e-4) << "lifetimes are at most the scene's 5 s";
+        const auto bounds = step["bounds"].get<std::vector<double>>();  // x0, x1, y0, y1, z0, z1
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_GE(bounds[2 * a], -1e-3) << "inside the tank, axis " << a << " at t = " << t;
+            EXPECT_LE(bounds[2 * a + 1], (a == 0 ? 1.6 : 0.8) + 1e-3) << "inside the tank, axis " << a << " at t = " << t;
+        }
+    }
+    EXPECT_GT(most, 100) << "the collision of the two columns makes whitewater by frame 30";
+}
+
 TEST(ToolsParaView, AMissingRunFolderIsOneLineAndNonZero) {
     const fs::path dir = work_dir("pv_missing");
     const auto c = run_command("pvpython '" + kSource + "/tests/tools/paraview_check.py' '" + (dir / "nothing").string() + "'",

@@ -303,6 +303,16 @@ TEST(WhitewaterRun, DiffuseEveryWritesTheLiveParticlesAsPlyAndListsThem) {
     r = test_cli::run_aquaform("run " + (dir / "plain.json").string() + " --frames 2 --no-png --diffuse-every 1 --out " + (dir / "o2").string());
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("--whitewater on"), std::string::npos) << r.output;
+
+    // --diffuse-format: a format ParaView reads (tests/test_tools.cpp opens it), refused without
+    // the files it is the format of, or with a format there is none of.
+    for (const std::string& flags : {std::string("--diffuse-format vtp"), std::string("--diffuse-every 1 --diffuse-format obj")}) {
+        r = test_cli::run_aquaform("run " + (dir / "scene.json").string() + " --frames 2 --no-png " + flags + " --out " +
+                                   (dir / "o3").string());
+        EXPECT_EQ(r.exit_code, 2) << flags << "\n" << r.output;
+        EXPECT_NE(r.output.find(flags.find("obj") != std::string::npos ? "use ply (Blender) or vtp" : "give --diffuse-every K"),
+                  std::string::npos) << r.output;
+    }
 }
 
 TEST(WhitewaterScene, TheSectionIsCheckedWithTheFix) {

@@ -5,11 +5,14 @@
     xvfb-run -a pvbatch tests/tools/paraview_check.py RUNDIR --png PATH   # the render needs a display
 
 Opens RUNDIR/particles.pvd as one time series (ParaView's PVD reader, as File > Open does) and,
-where it exists, RUNDIR/surface.pvd; prints one JSON object on stdout:
+where they exist, RUNDIR/surface.pvd and RUNDIR/diffuse.pvd (the whitewater); prints one JSON
+object on stdout:
 
     {"particles": {"file": ..., "time_steps": [t0, t1, ...],
-                   "steps": [{"time": t, "points": n, "point_arrays": [names]}, ...]},
+                   "steps": [{"time": t, "points": n, "cells": n, "point_arrays": [names],
+                              "ranges": {one-component array: [min, max]}, "bounds": [...]}, ...]},
      "surface": {... the same ...} or null,
+     "diffuse": {... the same ...} or null,
      "picture": {"path": ..., "width": w, "height": h, "colour": array} or null}
 
 --png renders the particles at the last time step as points coloured by their speed (the
@@ -87,9 +90,13 @@ def read_series(pvd_path):
             data = data.GetBlock(0)
         point_data = data.GetPointData()
         names = [point_data.GetArrayName(k) for k in range(point_data.GetNumberOfArrays())]
+        # The range of each one-component array (the whitewater's kind and life).
+        ranges = {point_data.GetArrayName(k): list(point_data.GetArray(k).GetRange())
+                  for k in range(point_data.GetNumberOfArrays())
+                  if point_data.GetArray(k).GetNumberOfComponents() == 1 and data.GetNumberOfPoints() > 0}
         steps.append({"time": t, "points": int(data.GetNumberOfPoints()),
                       "cells": int(data.GetNumberOfCells()), "point_arrays": names,
-                      "bounds": list(data.GetBounds())})
+                      "ranges": ranges, "bounds": list(data.GetBounds())})
     return reader, {"file": pvd_path, "time_steps": times, "steps": steps}
 
 
@@ -103,6 +110,7 @@ if not os.path.isfile(particles_path):
 try:
     particles_reader, particles = read_series(particles_path)
     surface_reader, surface = read_series(os.path.join(run, "surface.pvd"))
+    _, diffuse = read_series(os.path.join(run, "diffuse.pvd"))
 except SystemExit:
     raise
 except Exception as error:  # a reader's exception (a malformed file) is one line, not a trace
@@ -144,4 +152,4 @@ if args["png"]:
                "bytes": os.path.getsize(args["png"])}
     Delete(view)
 
-print(json.dumps({"particles": particles, "surface": surface, "picture": picture}, indent=1))
+print(json.dumps({"particles": particles, "surface": surface, "diffuse": diffuse, "picture": picture}, indent=1))
