@@ -18,6 +18,8 @@ options:
     --frames A:B[:S]            the Blender frames to render, every S-th, within the run's exported
                                 frames (default: the whole run)
     --samples N                 Cycles samples, 1..4096 (default 16)
+    --whitewater on|off         draw the run's whitewater (its diffuse_NNNN.ply files, from
+                                `aquaform run --diffuse-every K`) as small white spheres (default on)
 
 Exit status, as the aquaform command's: 0 done; 2 bad input (a flag, a missing or unreadable run
 folder, a corrupt run.json or one whose "up" or "domain" is wrong, an exported file that is not of
@@ -33,6 +35,12 @@ no meshes, its density_NNNN.vdb volumes as one volume sequence with a Volume to 
 the volume's iso value (the aquaform_iso metadata). Blender frame F is simulation frame F
 (through exports.csv's frame column where the run wrote one, else the number in the file name);
 the frame rate is the run's (stats.csv's time step between frames).
+
+The whitewater: the run's diffuse_NNNN.ply files, one object per file shown from its frame until
+the next as the surfaces are, each a mesh of points that a Geometry Nodes modifier turns into a
+point cloud (Cycles draws each point as a sphere) with a white material. A point's radius follows
+its kind, as a fraction of the run's particle spacing (run.json): spray 0.2, foam 0.3, bubbles
+0.15 (the spray's drops are finer than the foam's clumps; the bubbles are seen through the water).
 """
 import csv
 import glob
@@ -48,11 +56,11 @@ import bpy
 from mathutils import Matrix, Vector
 
 USAGE = ("usage: blender [-b] -P blender_scene.py -- RUNDIR [--render PREFIX] [--resolution WxH] [--frames A:B[:S]] "
-         "[--samples N] [--domain x0,y0,z0,x1,y1,z1] [--up y|z]")
+         "[--samples N] [--domain x0,y0,z0,x1,y1,z1] [--up y|z] [--whitewater on|off]")
 # A value for each flag, as the refusals' examples.
 EXAMPLES = {"--domain": "0,0,0,1.6,0.8,0.8", "--up": "z", "--render": "out/cycles_", "--resolution": "640x360",
             "--size": "640x360",
-            "--frames": "0:60", "--samples": "16"}
+            "--frames": "0:60", "--samples": "16", "--whitewater": "off"}
 # The aquaform command's picture sizes (render/picture_size.h: kMinPictureSide, kMaxPictureSide;
 # tests/test_script_fuzz.cpp checks that the two agree).
 MIN_SIDE, MAX_SIDE = 16, 8192
@@ -135,10 +143,16 @@ def parse_up(text):
     return text
 
 
+def parse_on_off(text):
+    if text not in ("on", "off"):
+        refuse('--whitewater must be on or off, got "%s"' % text)
+    return text == "on"
+
+
 PARSERS = {"--domain": lambda v: parse_domain(v, "--domain", "e.g. --domain " + EXAMPLES["--domain"]),
            "--up": parse_up, "--render": lambda v: v, "--resolution": parse_size, "--size": parse_old_size,
            "--frames": parse_frames,
-           "--samples": parse_samples}
+           "--samples": parse_samples, "--whitewater": parse_on_off}
 
 
 def parse_args(argv):
@@ -166,7 +180,7 @@ def parse_args(argv):
         note("--size is the old name of --resolution; it still works")
     return {"run": argv[0], "domain": given.get("--domain"), "up": given.get("--up"), "render": given.get("--render"),
             "size": given.get("--resolution", given.get("--size", (640, 360))), "frames": given.get("--frames"),
-            "samples": given.get("--samples", 16)}
+            "samples": given.get("--samples", 16), "whitewater": given.get("--whitewater", True)}
 
 
 def number_of(path):
@@ -246,7 +260,7 @@ def read_run_json(run):
     a key of the wrong type or an unknown up axis is refused: guessing turns the water the wrong way."""
     path = os.path.join(run, "run.json")
     if not os.path.isfile(path):
-        return {"up": None, "domain": None, "found": False, "obstacles": []}
+        return {"up": None, "domain": None, "found": False, "obstacles": [], "particle_spacing": None}
     fix = "write the run again with `aquaform run`, or remove run.json and give --up and --domain"
     try:
         with open(path, encoding="utf-8") as f:
@@ -281,7 +295,8 @@ def read_run_json(run):
         name = o.get("file") or o["files"]
         if os.path.basename(name) != name:
             refuse('%s: obstacle file %s is not a file name in the run folder; %s' % (path, json.dumps(name), fix))
-    return {"up": up, "domain": domain, "found": True, "obstacles": obstacles}
+    return {"up": up, "domain": domain, "found": True, "obstacles": obstacles,
+            "particle_spacing": data.get("particle_spacing")}
 
 
 # The first bytes of each file kind the scene reads: OpenVDB's magic number (int64 0x56444220,
@@ -309,6 +324,51 @@ def check_file_kind(path):
     else:
         return
     refuse("%s %s; export it again with `aquaform run` or remove %s from %s" % (path, problem, name, os.path.dirname(path)))
+
+
+# The whitewater's PLY (sim/particle_io.cpp, write_diffuse_ply): binary little-endian vertices of
+# x, y, z, vx, vy, vz (float), kind (uchar: 0 spray, 1 foam, 2 bubble), life (float), 29 bytes each.
+DIFFUSE_PROPERTIES = [("float", "x"), ("float", "y"), ("float", "z"), ("float", "vx"), ("float", "vy"), ("float", "vz"),
+                      ("uchar", "kind"), ("float", "life")]
+DIFFUSE_VERTEX_BYTES = 29
+DIFFUSE_RADIUS = (0.2, 0.3, 0.15)  # spray, foam, bubble: in particle spacings (see the docstring)
+
+
+def diffuse_header(path):
+    """(vertices, header bytes) of a whitewater PLY; refuses a file of another layout or cut short."""
+    fix = "export it again with `aquaform run --diffuse-every K` or remove it"
+    with open(path, "rb") as f:
+        head = f.read(4096)
+    end = head.find(b"end_header\n")
+    lines = head[:end].decode("ascii", "replace").split("\n") if end >= 0 else []
+    vertices = None
+    properties = []
+    for line in lines:
+        words = line.split()
+        if words[:2] == ["element", "vertex"] and len(words) == 3 and words[2].isdigit():
+            vertices = int(words[2])
+        elif words[:1] == ["element"]:
+            refuse("%s has an element %s besides its vertices, not aquaform's whitewater layout; %s" % (path, words[1:2], fix))
+        elif words[:1] == ["property"]:
+            properties.append(tuple(words[1:]))
+    if end < 0 or "format binary_little_endian 1.0" not in lines or vertices is None or properties != DIFFUSE_PROPERTIES:
+        refuse("%s is not aquaform's whitewater PLY (binary x y z vx vy vz kind life); %s" % (path, fix))
+    header = end + len(b"end_header\n")
+    size = os.path.getsize(path)
+    if size != header + vertices * DIFFUSE_VERTEX_BYTES:
+        refuse("%s is cut short or padded: %d bytes where %d vertices take %d; %s"
+               % (path, size, vertices, header + vertices * DIFFUSE_VERTEX_BYTES, fix))
+    return vertices, header
+
+
+def read_diffuse(path):
+    """Positions (n x 3) and kinds (n) of a whitewater PLY, as numpy arrays."""
+    import numpy
+    vertices, header = diffuse_header(path)
+    layout = numpy.dtype([("p", "<f4", 3), ("v", "<f4", 3), ("kind", "u1"), ("life", "<f4")])
+    assert layout.itemsize == DIFFUSE_VERTEX_BYTES
+    data = numpy.fromfile(path, dtype=layout, count=vertices, offset=header)
+    return data["p"], data["kind"]
 
 
 def check_render_prefix(prefix):
@@ -351,12 +411,20 @@ def read_run(args):
         if assumed:
             note("no run.json in %s: assuming %s; give %s to say otherwise"
                  % (run, " and ".join(assumed), " and ".join("--" + f for f in ("up", "domain") if not args[f])))
+    # The whitewater's files, checked as the surfaces are (their frames from exports.csv).
+    diffuse = sorted(glob.glob(os.path.join(run, "diffuse_*.ply"))) if args["whitewater"] else []
+    for path in diffuse:
+        check_file_kind(path)
+        diffuse_header(path)
+    frames.update(frames_of(run, diffuse))
+    diffuse.sort(key=lambda f: frames[f])
     fps = frame_rate(run)
     if args["render"]:  # last: the only check that makes something (PREFIX's folder)
         check_render_prefix(args["render"])
     return {"meshes": meshes, "volumes": volumes, "frames": frames, "first": first, "last": last,
             "up": args["up"] or described["up"] or "y", "domain": args["domain"] or described["domain"], "fps": fps,
-            "obstacles": described["obstacles"], "dir": run}
+            "obstacles": described["obstacles"], "dir": run, "diffuse": diffuse,
+            "spacing": described["particle_spacing"]}
 
 
 # The run's coordinates to Blender's: a y-up run turned +90 degrees about x ((x, y, z) ->
@@ -464,6 +532,69 @@ def key_visibility(obj, visible_from, visible_until):
             point.interpolation = "CONSTANT"
 
 
+def shown_until(files, frames, k):
+    """The frame the k-th of a kind's files (in frame order) stops showing: the next file's, or
+    one export interval after the last (a single file: the next frame)."""
+    start = frames[files[k]]
+    if k + 1 < len(files):
+        return frames[files[k + 1]]
+    return start + max(1, start - frames[files[k - 1]] if k else 1)
+
+
+def whitewater_material():
+    """Matte white with a little sheen: foam and spray scatter light, they do not refract it."""
+    return principled_material("aquaform whitewater", (0.95, 0.97, 1.0, 1.0), 0.0, 0.45, 1.33)
+
+
+def points_node_group(material):
+    """Geometry Nodes: the mesh's vertices as a point cloud, each point's radius its "radius"
+    attribute, with `material` (Cycles draws the points as spheres)."""
+    group = bpy.data.node_groups.new("aquaform whitewater points", "GeometryNodeTree")
+    group.inputs.new("NodeSocketGeometry", "Geometry")
+    group.outputs.new("NodeSocketGeometry", "Geometry")
+    nodes, links = group.nodes, group.links
+    given, result = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
+    to_points = nodes.new("GeometryNodeMeshToPoints")
+    radius = nodes.new("GeometryNodeInputNamedAttribute")
+    radius.data_type = "FLOAT"
+    radius.inputs["Name"].default_value = "radius"
+    set_material = nodes.new("GeometryNodeSetMaterial")
+    set_material.inputs["Material"].default_value = material
+    links.new(given.outputs[0], to_points.inputs["Mesh"])
+    links.new(radius.outputs["Attribute"], to_points.inputs["Radius"])
+    links.new(to_points.outputs["Points"], set_material.inputs["Geometry"])
+    links.new(set_material.outputs["Geometry"], result.inputs[0])
+    return group
+
+
+def add_whitewater(run, turn):
+    """An object per whitewater file, shown at its frames; returns the most particles in one."""
+    if not run["diffuse"]:
+        return 0
+    spacing = run["spacing"] or 0.01
+    if not run["spacing"]:
+        note("run.json gives no particle_spacing; the whitewater's spheres are sized for 1 cm")
+    group = points_node_group(whitewater_material())
+    radii = [r * spacing for r in DIFFUSE_RADIUS]
+    most = 0
+    files = run["diffuse"]
+    for k, path in enumerate(files):
+        positions, kinds = read_diffuse(path)
+        most = max(most, len(positions))
+        mesh = bpy.data.meshes.new("whitewater %04d" % run["frames"][path])
+        mesh.vertices.add(len(positions))
+        mesh.vertices.foreach_set("co", positions.ravel())
+        radius = mesh.attributes.new("radius", "FLOAT", "POINT")
+        radius.data.foreach_set("value", [radii[min(int(kind), 2)] for kind in kinds])
+        obj = bpy.data.objects.new(mesh.name, mesh)
+        bpy.context.scene.collection.objects.link(obj)
+        obj.matrix_world = turn
+        obj.modifiers.new("points", "NODES").node_group = group
+        key_visibility(obj, run["frames"][path], shown_until(files, run["frames"], k))
+    print("blender_scene: whitewater from %d files, up to %d particles in one" % (len(files), most))
+    return most
+
+
 def box_of(objects):
     lo = [math.inf] * 3
     hi = [-math.inf] * 3
@@ -496,9 +627,7 @@ def main():
             obj.data.materials.append(water)
             for polygon in obj.data.polygons:
                 polygon.use_smooth = True
-            start = frames[path]
-            end = frames[meshes[k + 1]] if k + 1 < len(meshes) else start + max(1, start - frames[meshes[k - 1]] if k else 1)
-            key_visibility(obj, start, end)
+            key_visibility(obj, frames[path], shown_until(meshes, frames, k))
             surfaces.append(obj)
     else:
         # One volume object playing the files as a sequence (Blender numbers them itself).
@@ -519,6 +648,8 @@ def main():
         obj.matrix_world = turn
         obj.data.materials.append(water)
         surfaces.append(obj)
+
+    add_whitewater(run, turn)
 
     # The solids (run.json's "obstacles"): a still one once, a moving one a file per frame shown
     # at its frame. Files the run did not write (a run stopped early) are skipped.

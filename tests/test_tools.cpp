@@ -512,6 +512,52 @@ TEST(ToolsBlenderScene, PlacesTheRunsObstaclesAsTheyStandAtEachFrame) {
     EXPECT_GT(after, before + 20.0) << "the block moved right by about 60 % of the tank";
 }
 
+/// Pixels of `with` that are near-neutral and brighter than in `without` by more than 40 of 255 in
+/// every channel: what blender_scene.py's white whitewater adds to a picture (-1: not comparable).
+long whiter_pixels(const fs::path& with, const fs::path& without) {
+    auto a = read_png(with), b = read_png(without);
+    if (!a || !b || a.value().width != b.value().width || a.value().height != b.value().height) return -1;
+    long n = 0;
+    const auto &pa = a.value().rgba, &pb = b.value().rgba;
+    for (size_t i = 0; i + 3 < pa.size(); i += 4) {
+        const int lo = std::min({int(pa[i]), int(pa[i + 1]), int(pa[i + 2])});
+        const int hi = std::max({int(pa[i]), int(pa[i + 1]), int(pa[i + 2])});
+        bool brighter = hi - lo < 40;
+        for (int c = 0; c < 3; ++c) brighter = brighter && int(pa[i + c]) > int(pb[i + c]) + 40;
+        n += brighter;
+    }
+    return n;
+}
+
+TEST(ToolsBlenderScene, DrawsTheWhitewaterAsWhitePointsAtItsOwnFrames) {
+    // The double dam break's collision makes foam and spray by frame 30; frame 0 has none. The
+    // same scene rendered with --whitewater on and off: white where the whitewater is at frame
+    // 30, the same picture at frame 0 (frame 30's particles are not shown there).
+    const fs::path run = simulate("scene_whitewater", "--particles 4000 --frames 31 --whitewater on --mesh-every 30 --diffuse-every 30");
+    const fs::path dir = run.parent_path();
+    auto render = [&](const std::string& prefix, const std::string& whitewater) {
+        const std::string command = "blender -b --factory-startup -P '" + kSource + "/scripts/blender_scene.py' -- '" +
+                                    run.string() + "' --render '" + (dir / prefix).string() +
+                                    "' --resolution 96x54 --frames 0:30:30 --samples 4 --whitewater " + whitewater;
+        return run_command(command, dir, prefix);
+    };
+    const auto on = render("on_", "on"), off = render("off_", "off");
+    ASSERT_EQ(on.status, 0) << on.err;
+    ASSERT_EQ(off.status, 0) << off.err;
+    EXPECT_NE(on.out.find("whitewater from 2 files"), std::string::npos) << on.out;
+    EXPECT_EQ(off.out.find("whitewater from"), std::string::npos) << off.out;
+    EXPECT_GT(whiter_pixels(dir / "on_0030.png", dir / "off_0030.png"), 20) << "no whitewater drawn at frame 30";
+    EXPECT_EQ(pixels_differing(dir / "on_0000.png", dir / "off_0000.png"), 0) << "frame 30's whitewater shows at frame 0";
+
+    // A whitewater file cut short is refused before any work, with the file and the fix.
+    const fs::path last = run / "diffuse_0001.ply";
+    fs::resize_file(last, fs::file_size(last) - 5);
+    const auto cut = render("cut_", "on");
+    EXPECT_EQ(cut.status, 2) << cut.err;
+    EXPECT_NE(cut.err.find("diffuse_0001.ply is cut short"), std::string::npos) << cut.err;
+    EXPECT_FALSE(fs::exists(dir / "cut_0000.png")) << "rendered despite the refusal";
+}
+
 TEST(ToolsBlenderScene, RendersNothingOfAnEmptyFolderAndSaysWhy) {
     const fs::path dir = work_dir("scene_empty");
     const auto c = run_command("blender -b --factory-startup -P '" + kSource + "/scripts/blender_scene.py' -- '" + dir.string() +
