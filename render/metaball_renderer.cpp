@@ -232,7 +232,8 @@ void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions,
         gpu::dispatch(*ctx_, cmd, march_, std::min(per_slice, pixels - first), push,
                       {{"params", params_buf_}, {"positions", &positions}, {"counters", counters_}, {"heads", heads_}, {"nodes", entries_}, {"offsets", offsets_}, {"ids", entries_}, {"span", span_}, {"hit", hit_}, {"normal", normal_}, {"color", color_}, {"visits", visits_}, {"near_ids", near_}, {"solid_nodes", &solid_nodes(solids_, *params_buf_)}});
     }
-    whitewater_.record(*ctx_, cmd, width_, height_, camera, *hit_, *color_, timer);
+    whitewater_.record(*ctx_, cmd, width_, height_, camera, *hit_,
+                       {&params_.tank, params_.domain_min, params_.domain_max, &solid_nodes(solids_, *params_buf_)}, *color_, timer);
     method_ = settings.method;
 }
 

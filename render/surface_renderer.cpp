@@ -293,7 +293,8 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
         gpu::GpuScope scope(timer, cmd, "render_compose");
         gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}, {"spray", spray_}, {"solid_nodes", &solid_nodes(solids_, *params_buf_)}});
     }
-    whitewater_.record(*ctx_, cmd, width_, height_, camera, *hit_, *color_, timer);
+    whitewater_.record(*ctx_, cmd, width_, height_, camera, *hit_,
+                       {&params_.tank, params_.domain_min, params_.domain_max, &solid_nodes(solids_, *params_buf_)}, *color_, timer);
 }
 
 void SurfaceRenderer::record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* timer) {

@@ -12,6 +12,7 @@
 #include "core/camera.h"
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
+#include "shaders/shared/tank_layout.h"
 
 namespace aquaform {
 
@@ -30,13 +31,22 @@ struct WhitewaterView {
     float particle_spacing = 0.0f;  ///< the fluid's: the discs are sized from it
 };
 
+/// The solids that hide whitewater behind them, as the family drew them this frame: its tank
+/// (static boxes, mesh obstacles) and domain, and the obstacles' map nodes (bound as solid_nodes).
+struct WhitewaterSolids {
+    const shader::TankParams* tank = nullptr;
+    glm::vec4 domain_min{0.0f}, domain_max{0.0f};
+    const gpu::Buffer* nodes = nullptr;
+};
+
 class WhitewaterLayer {
 public:
     WhitewaterLayer(gpu::Context& ctx, uint32_t width, uint32_t height);
     /// Draws `view` over `color` (RGBA8, sRGB-encoded) with depth against `hit` (vec4 per pixel, w:
-    /// the distance to the water along the pixel's ray, negative where there is none).
+    /// the distance to the water along the pixel's ray, negative where there is none); `solids`
+    /// hide what lies behind them.
     void record(VkCommandBuffer cmd, const WhitewaterView& view, const ViewCamera& camera, const gpu::Buffer& hit,
-                gpu::Buffer& color, gpu::GpuTimer* timer);
+                const WhitewaterSolids& solids, gpu::Buffer& color, gpu::GpuTimer* timer);
     std::vector<gpu::BufferReport> memory_report() const { return buffers_.report(); }
 
 private:
@@ -56,7 +66,7 @@ public:
     void set(const WhitewaterView* view) { view_ = view; }
     /// Records the layer over the family's frame when a view is set; nothing otherwise.
     void record(gpu::Context& ctx, VkCommandBuffer cmd, uint32_t width, uint32_t height, const ViewCamera& camera,
-                const gpu::Buffer& hit, gpu::Buffer& color, gpu::GpuTimer* timer);
+                const gpu::Buffer& hit, const WhitewaterSolids& solids, gpu::Buffer& color, gpu::GpuTimer* timer);
 
 private:
     const WhitewaterView* view_ = nullptr;

@@ -77,6 +77,7 @@ Result<bool> RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s, co
         if (auto written = front_.append(row); !written) return written;
         front_samples_.push_back({s.time_s, *s.front});
     }
+    if (s.whitewater) whitewater_samples_.push_back({s.time_s, *s.whitewater});
     waiting_.push_back({frame, s, shape ? std::optional<ShapeColumns>(*shape) : std::nullopt});
     // Frame 0 (the state at t = 0) takes no step, so its timings name only a few passes: its row
     // waits for the first stepped frame, whose passes make the header's GPU columns.
@@ -140,6 +141,7 @@ Result<bool> RunFiles::finish(const Scene& scene) {
     if (auto written = write_waiting_rows(); !written) return written;  // a run of frame 0 alone
     warn_if_never_filled();
     if (auto charted = probes_.finish(scene); !charted) return charted;
+    if (auto charted = write_whitewater_chart(scene); !charted) return charted;
     if (!has_front_ || front_samples_.empty()) return true;
     const double a = *scene.column_width;
     const double g = std::max(1e-6f, std::abs(scene.gravity.y));
@@ -157,10 +159,32 @@ Result<bool> RunFiles::finish(const Scene& scene) {
     return true;
 }
 
+Result<bool> RunFiles::write_whitewater_chart(const Scene& scene) const {
+    if (whitewater_samples_.empty()) return true;
+    Chart chart{"Whitewater alive: " + scene.name, "time [s]", "diffuse particles", {}};
+    // The kinds, their sum, and what the full pool could not keep (summed over the run: a line
+    // that leaves zero says the pool was too small; the scene's whitewater.capacity raises it).
+    ChartSeries spray{"spray", {}, false, "#d62728"}, foam{"foam", {}, false, "#1f6fb4"},
+        bubbles{"bubbles", {}, false, "#2ca02c"}, all{"all", {}, false, "#555555", true},
+        dropped{"dropped (total)", {}, false, "#ff7f0e", true};
+    uint64_t dropped_so_far = 0;
+    for (const auto& [t, c] : whitewater_samples_) {
+        dropped_so_far += c.dropped;
+        spray.points.push_back({t, double(c.spray)});
+        foam.points.push_back({t, double(c.foam)});
+        bubbles.points.push_back({t, double(c.bubbles)});
+        all.points.push_back({t, double(c.live())});
+        dropped.points.push_back({t, double(dropped_so_far)});
+    }
+    chart.series = {spray, foam, bubbles, all};
+    if (dropped_so_far > 0) chart.series.push_back(dropped);
+    return write_chart_svg(dir_ / "whitewater.svg", chart);
+}
+
 Result<size_t> clear_earlier_run(const std::filesystem::path& dir) {
     static const std::regex numbered(R"((frame|particles|diffuse|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp))");
     static const std::regex solids(R"(obstacle_.+\.obj)");
-    static const std::set<std::string> named{"stats.csv",     "front.csv",   "front.svg",     "particles.pvd",
+    static const std::set<std::string> named{"stats.csv",     "front.csv",   "front.svg",     "whitewater.svg", "particles.pvd",
                                              "surface.pvd",   "diffuse.pvd",     kExportListing, kRunDescriptionName};
     static const std::set<std::string> probe_files(std::begin(ProbeFiles::kFileNames), std::end(ProbeFiles::kFileNames));
     std::vector<std::filesystem::path> earlier;

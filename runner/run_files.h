@@ -1,5 +1,6 @@
 // The files of `aquaform run` besides its frames and exports: run.json (what a tool needs to rebuild
-// the run's world), stats.csv (every frame), front.csv and front.svg (dam breaks), and the rule
+// the run's world), stats.csv (every frame), front.csv and front.svg (dam breaks), whitewater.svg
+// (with whitewater), and the rule
 // for a folder that holds an earlier run.
 #pragma once
 
@@ -39,7 +40,8 @@ public:
     Result<bool> write_frame_stats(uint32_t frame, const FrameStats& stats, const ShapeColumns* shape = nullptr);
     /// The frame's probe readings (probes.csv; nothing without probes).
     Result<bool> write_probes(const ProbeFrame& frame) { return probes_.write_frame(frame); }
-    /// The probes' charts (probe_*.svg). Dam-break scenes: writes front.svg (the run against Martin & Moyce 1952) and, for a
+    /// The probes' charts (probe_*.svg); with whitewater, whitewater.svg (each kind alive over
+    /// time, and the pool's drops). Dam-break scenes: writes front.svg (the run against Martin & Moyce 1952) and, for a
     /// single column of height 2a (their n^2 = 2), prints how far the front is from theirs.
     /// Also warns when a control shape pulled for kFillGraceSeconds and never reached an IoU of
     /// kNeverFilledIou with the fluid.
@@ -65,6 +67,8 @@ private:
     std::string header_;  ///< empty until written
     std::vector<std::string> pass_columns_;
     bool has_whitewater_ = false;  // the spray, foam, bubbles, diffuse_emitted, diffuse_dropped columns
+    Result<bool> write_whitewater_chart(const Scene& scene) const;
+    std::vector<std::pair<double, WhitewaterCounts>> whitewater_samples_;  // (time, counts) for whitewater.svg
     bool has_front_ = false;
     std::vector<std::pair<double, double>> front_samples_;  // (time, front)
     std::string error_;
@@ -76,7 +80,7 @@ private:
 
 /// A folder's rule for `run`: it is the run's (hold_output_dir keeps others out while it
 /// writes), and the files an earlier run left there (frames, exports with their .pvd and
-/// exports.csv, stats.csv, front.*, probes.csv, probe_*.svg) are removed first, so that none of them pass for this run's;
+/// exports.csv, stats.csv, front.*, whitewater.svg, probes.csv, probe_*.svg) are removed first, so that none of them pass for this run's;
 /// other files stay. Returns how many were removed; a symbolic link where the run writes a file
 /// is refused (naming it), before anything is removed.
 Result<size_t> clear_earlier_run(const std::filesystem::path& dir);

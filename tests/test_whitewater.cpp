@@ -256,6 +256,45 @@ TEST_F(WhitewaterTest, EveryMethodDrawsItWithDepthAgainstTheWaterAndWithoutItThe
     }
 }
 
+TEST_F(WhitewaterTest, SolidsHideTheWhitewaterBehindThemInEveryMethod) {
+    // A mesh block on the left and a static box on the right, each with foam behind it (hidden)
+    // and foam in front of it (drawn over it). The water is a small pool at the back.
+    auto dir = test_cli::temp_dir("whitewater_hidden");
+    ASSERT_TRUE(geometry::write_obj(dir / "block.obj", geometry::make_box({glm::vec3(0.05f, 0.0f, 0.32f), glm::vec3(0.25f, 0.2f, 0.37f)})).ok());
+    std::ofstream(dir / "scene.json") << R"({"name": "foam behind solids", "domain": {"min": [0, 0, 0], "max": [0.6, 0.3, 0.4]},
+        "particle_spacing": 0.01, "fluid_blocks": [{"min": [0.25, 0, 0], "max": [0.35, 0.04, 0.06]}],
+        "static_boxes": [{"min": [0.35, 0, 0.3], "max": [0.55, 0.2, 0.35]}], "obstacles": {"block": {"file": "block.obj"}}})";
+    auto loaded = load_scene(dir / "scene.json");
+    ASSERT_TRUE(loaded.ok()) << loaded.error();
+    const Scene& scene = loaded.value();
+    PbfSolver solver(ctx(), scene);
+    // The solver's table holds the static box first (the renderers draw it from the domain).
+    SolidsView solids{&solver.boundary_nodes(), {solver.params().obstacles + 1, solver.params().obstacles + 2}};
+    auto two_clouds = [](float left_z, float right_z) {
+        auto a = cloud({glm::vec3(0.1f, 0.06f, left_z), glm::vec3(0.2f, 0.14f, left_z + 0.02f)}, 600);
+        auto b = cloud({glm::vec3(0.4f, 0.06f, right_z), glm::vec3(0.5f, 0.14f, right_z + 0.02f)}, 600);
+        a.insert(a.end(), b.begin(), b.end());
+        return a;
+    };
+    HandPool behind(ctx(), two_clouds(0.25f, 0.2f)), in_front(ctx(), two_clouds(0.38f, 0.37f));
+    const ViewCamera camera = testing::tank_front_camera();
+    const uint32_t width = 96, height = 48;
+    for (const MethodEntry& entry : render_registry().entries()) {
+        SCOPED_TRACE(entry.name);
+        auto r = render_registry().create(ctx(), scene.particle_domain(), width, height, solver.particle_count(), entry.defaults);
+        r->set_solids(&solids);
+        const Image own = r->render(solver.positions(), solver.particle_count(), camera).color;
+        r->set_whitewater(&behind.view);
+        const Image hidden = r->render(solver.positions(), solver.particle_count(), camera).color;
+        r->set_whitewater(&in_front.view);
+        const Image shown = r->render(solver.positions(), solver.particle_count(), camera).color;
+        EXPECT_LE(changed(hidden, own, 0, width / 2), 2u) << "the mesh block hides the foam behind it";
+        EXPECT_LE(changed(hidden, own, width / 2, width), 2u) << "the static box hides the foam behind it";
+        EXPECT_GT(whiter(shown, own, 0, width / 2), 800.0) << "foam in front of the mesh block is drawn over it";
+        EXPECT_GT(whiter(shown, own, width / 2, width), 800.0) << "foam in front of the static box is drawn over it";
+    }
+}
+
 /// A PLY file's vertex count and the bytes after its header.
 std::pair<size_t, size_t> ply_vertices(const std::filesystem::path& path) {
     const std::string text = test_cli::read_file(path);
@@ -296,6 +335,21 @@ TEST(WhitewaterRun, DiffuseEveryWritesTheLiveParticlesAsPlyAndListsThem) {
         if (k > 0) EXPECT_GT(vertices, 0u) << name;
     }
     EXPECT_NE(test_cli::read_file(out / "exports.csv").find("diffuse_0002.ply,diffuse,10,"), std::string::npos);
+
+    // whitewater.svg charts each kind alive over the run: a line per kind and their sum, a point
+    // per frame, the last point of the sum at the last frame's live count.
+    const std::string chart = test_cli::read_file(out / "whitewater.svg");
+    for (const char* name : {">spray<", ">foam<", ">bubbles<", ">all<"})
+        EXPECT_NE(chart.find(name), std::string::npos) << name << " is not in whitewater.svg's legend";
+    EXPECT_EQ(chart.find("dropped"), std::string::npos) << "the pool was not full: no line of drops";
+    size_t lines = 0;
+    for (size_t at = 0; (at = chart.find("<polyline", at)) != std::string::npos; ++at) {
+        const size_t begin = chart.find("points=\"", at) + 8, end = chart.find('"', begin);
+        const std::string points = chart.substr(begin, end - begin);
+        EXPECT_EQ(std::count(points.begin(), points.end(), ','), 11) << "a point per frame (11): " << points.substr(0, 80);
+        ++lines;
+    }
+    EXPECT_EQ(lines, 4u) << "spray, foam, bubbles and their sum";
 
     // Without whitewater there is nothing to write: refused before any work, with the fix.
     test_cli::write_file(dir / "plain.json", R"({"name": "plain", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},

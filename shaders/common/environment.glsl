@@ -3,11 +3,9 @@
 // the static boxes as solid blocks, the mesh obstacles traced through their distance maps) on a
 // plain ground. Include after common/camera.glsl, the declaration of `params` with domain_min,
 // domain_max, light_dir and tank (SurfaceParams or MetaballParams) and of the obstacles' map
-// nodes, `layout(binding = N, rgba32f) readonly uniform imageBuffer solid_nodes;`. Also Schlick's Fresnel term and
-// sRGB packing.
-#define SOLID_TABLE(o) params.tank.solids[o]
-#define SOLID_NODE(i) imageLoad(solid_nodes, int(i))
-#include "shared/solid_map.h"
+// nodes, `layout(binding = N, rgba32f) readonly uniform imageBuffer solid_nodes;`
+// (common/solid_trace.glsl traces them). Also Schlick's Fresnel term and sRGB packing.
+#include "common/solid_trace.glsl"
 
 vec3 sky(vec3 dir) {
     vec3 horizon = vec3(0.80, 0.86, 0.92);
@@ -24,43 +22,11 @@ float schlick_fresnel(float cos_view, float ior) {
     return f0 + (1.0 - f0) * pow(1.0 - clamp(cos_view, 0.0, 1.0), 5.0);
 }
 
-const float TANK_NO_HIT = 3.0e38;
-
 /// Lambert shading with a sky term, so that faces turned from the light keep their shape.
 float tank_diffuse(vec3 n) { return 0.4 + 0.6 * max(dot(n, params.light_dir.xyz), 0.0); }
 
 /// The solids' colour: a warm one, apart from water and glass.
 const vec3 SOLID_COLOR = vec3(0.62, 0.45, 0.30);
-
-/// Where the ray (origin + t dir, t up to t_max) first meets mesh obstacle o's surface: sphere
-/// tracing its distance map (the solver's, so what is drawn is what the fluid meets), within a
-/// quarter of a node spacing; TANK_NO_HIT when it misses. `n`: the surface's normal there.
-float solid_hit(uint o, vec3 origin, vec3 dir, float t_max, out vec3 n) {
-    vec3 a = solid_grid_point(o, solid_local(o, origin));
-    vec3 per_metre = solid_grid_point(o, solid_local(o, origin + dir)) - a;  // the frame is rigid: t stays metres
-    vec3 last = vec3(SOLID_TABLE(o).map_dims.xyz) - vec3(1.0);
-    vec3 inv = 1.0 / mix(per_metre, vec3(1.0e-20), lessThan(abs(per_metre), vec3(1.0e-20)));
-    vec3 t0 = -a * inv, t1 = (last - a) * inv;
-    vec3 near = min(t0, t1), far = max(t0, t1);
-    float t = max(max(max(near.x, near.y), near.z), 1.0e-4);
-    float leave = min(min(min(far.x, far.y), far.z), t_max);
-    // Only inside the tank: a solid standing on a wall reaches through it in its map.
-    vec2 tank = box_span(params.domain_min.xyz, params.domain_max.xyz, origin,
-                         1.0 / mix(dir, vec3(1.0e-20), lessThan(abs(dir), vec3(1.0e-20))));
-    t = max(t, tank.x);
-    leave = min(leave, tank.y);
-    float cell = SOLID_TABLE(o).map_origin.w;
-    for (int k = 0; k < 256 && t < leave; ++k) {
-        vec4 d = solid_sample(o, clamp(a + per_metre * t, vec3(0.0), last), PBF_NODE_DISTANCE);
-        if (d.w < 0.25 * cell) {
-            n = solid_to_world(o, d.xyz);
-            n = dot(n, n) > 0.0 ? normalize(n) : -dir;
-            return t;
-        }
-        t += max(d.w, 0.25 * cell);
-    }
-    return TANK_NO_HIT;
-}
 
 /// The nearest opaque surface along the ray, beyond the origin: the floor (tiles inside the tank,
 /// a darker ground around it, fading into the haze) or a static box. Its distance goes to t_hit

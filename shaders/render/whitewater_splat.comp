@@ -10,6 +10,10 @@
 // small scatterers; their coverage adds up (1 - exp(-sum) in the resolve pass) into soft white
 // where they crowd and a haze where they thin, and no particle reads as a bead of its own. A
 // particle smaller than a pixel keeps its coverage (opacity times its area in pixels).
+// Solids (static boxes, mesh obstacles) hide the particles behind them: the ray from the eye to a
+// particle's centre is traced against them (common/solid_trace.glsl), once per particle. Choice:
+// per particle, not per pixel; a disc is at most kMaxRadiusPx across, so at a solid's silhouette
+// a particle is hidden or drawn whole, and the trace is not repeated for every pixel it covers.
 #include "shared/whitewater_layout.h"
 
 layout(local_size_x_id = 0) in;
@@ -22,8 +26,10 @@ layout(std430, binding = 4) readonly buffer PoolV1 { vec4 pool_v1[]; };
 layout(std430, binding = 5) readonly buffer Counters { uint counters[]; };
 layout(std430, binding = 6) readonly buffer Hit { vec4 hit[]; };
 layout(std430, binding = 7) buffer Coverage { uint coverage[]; };  // opacity sums in fixed point (kCoverageOne is 1)
+layout(binding = 8, rgba32f) readonly uniform imageBuffer solid_nodes;  // the obstacles' maps
 
 #include "common/camera.glsl"
+#include "common/solid_trace.glsl"
 
 const float kCoverageOne = 4096.0;  // fixed point of the sums
 const float kMaxRadiusPx = 12.0;    // a particle close to the eye is drawn no larger (its cost)
@@ -41,6 +47,7 @@ void main() {
     float z = dot(rel, params.forward.xyz);
     if (z <= radius) return;
     float distance = length(rel);
+    if (solid_between(params.eye.xyz, rel / distance, distance)) return;
     vec2 ndc = vec2(dot(rel, params.right.xyz) / (z * params.forward.w), -dot(rel, params.up.xyz) / (z * params.right.w));
     vec2 centre = (ndc * 0.5 + 0.5) * vec2(params.screen.xy) - 0.5;
     float radius_px = radius / (z * params.right.w) * 0.5 * float(params.screen.y);

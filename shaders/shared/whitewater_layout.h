@@ -17,6 +17,7 @@
 #ifndef AQUAFORM_WHITEWATER_LAYOUT_H
 #define AQUAFORM_WHITEWATER_LAYOUT_H
 #include "compat.h"
+#include "tank_layout.h"
 
 #define WHITEWATER_SPRAY 0u
 #define WHITEWATER_FOAM 1u
@@ -51,6 +52,9 @@ struct WhitewaterDrawParams {
     uvec4 screen;  ///< x, y: the picture's size [px]; z: the pool's capacity
     vec4 look;     ///< x: a foam particle's radius [m]; y: its opacity at its centre; z: the water's absorption [1/m]; w: unused
     vec4 light;    ///< xyz: unit direction towards the light; w: unused
+    vec4 domain_min;  ///< the tank (common/solid_trace.glsl clips the solids' maps to it)
+    vec4 domain_max;
+    TankParams tank;  ///< the static boxes and mesh obstacles, which hide whitewater behind them
 };
 
 /// Push constants of the whitewater passes.
@@ -66,7 +70,7 @@ AF_END
 #ifdef __cplusplus
 static_assert(sizeof(aquaform::shader::WhitewaterParams) == 5 * 16);
 static_assert(sizeof(aquaform::shader::WhitewaterPush) == 16);
-static_assert(sizeof(aquaform::shader::WhitewaterDrawParams) == 7 * 16);
+static_assert(sizeof(aquaform::shader::WhitewaterDrawParams) == 9 * 16 + sizeof(aquaform::shader::TankParams));
 #endif
 
 #endif
