@@ -128,6 +128,31 @@ TEST(ViewCliTest, ScriptedSessionUnderXvfbShowsFluidAndFollowsTheMethod) {
     fs::remove_all(out);
 }
 
+TEST(ViewCliTest, TheWhitewaterSwitchDrawsItOrNot) {
+    // The dam break with whitewater, paused after its surge hits the far wall: the same frame
+    // drawn with whitewater, without it, and with it again.
+    const fs::path out = test_cli::temp_dir("view_whitewater");
+    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --whitewater on --resolution 320x240 --script "
+                                                AQUAFORM_SOURCE_DIR "/tests/data/view_whitewater.json --record " + out.string());
+    ASSERT_EQ(status, 0) << output;
+    Image shots[3];
+    const char* names[3] = {"whitewater_on.png", "whitewater_off.png", "whitewater_again.png"};
+    for (int i = 0; i < 3; ++i) {
+        auto image = read_png(out / names[i]);
+        ASSERT_TRUE(image.ok()) << image.error() << "\n" << output;
+        shots[i] = image.value();
+    }
+    size_t whiter = 0;  // pixels the whitewater brightens in every channel
+    for (size_t i = 0; i + 3 < shots[0].rgba.size(); i += 4) {
+        bool brighter = true;
+        for (int c = 0; c < 3; ++c) brighter = brighter && shots[0].rgba[i + c] > shots[1].rgba[i + c] + 8;
+        whiter += brighter;
+    }
+    EXPECT_GT(whiter, 200u) << whiter << ": switching whitewater off changed little: it was not drawn, or is drawn regardless";
+    EXPECT_EQ(shots[2].rgba, shots[0].rgba) << "switched on again, the paused frame is drawn as before";
+    fs::remove_all(out);
+}
+
 TEST(ViewCliTest, AFluidThatLeavesPhysicsPausesTheWindowAndTheCommandExitsOneWithTheVerdict) {
     // The window paused and printed a line without frame or time, and view exited 0. It keeps the
     // window open, paused, and says the verdict `run` says (frame, time, bound, fix) on closing.
@@ -313,6 +338,7 @@ TEST(ViewScriptTest, ActionsAreCheckedAndSortedByFrame) {
     for (const auto& [text, says] : std::vector<std::pair<std::string, std::string>>{
              {R"({"actions": [{"frame": 90, "do": "method", "value": "octree"}]})", "actions[0].value is \"octree\""},
              {R"({"actions": [{"frame": 90, "do": "view", "value": "normals"}]})", "actions[0].value is \"normals\""},
+             {R"({"actions": [{"frame": 9, "do": "whitewater", "value": "yes"}]})", "actions[0].value is \"yes\"; use \"on\" or \"off\""},
              {R"({"actions": [{"frame": 90, "do": "screenshot", "file": "shot.jpg"}]})", "ending in .png"}}) {
         auto refused = viewer::parse_view_script(text, "s.json");
         ASSERT_FALSE(refused.ok()) << text;

@@ -19,9 +19,9 @@ namespace {
 using namespace json_fields;
 
 constexpr std::array<std::string_view, 4> kActionKeys{"frame", "do", "value", "file"};
-constexpr std::array<std::string_view, 16> kActions{"play", "pause", "step", "reset", "method", "iterations", "substeps",
+constexpr std::array<std::string_view, 17> kActions{"play", "pause", "step", "reset", "method", "iterations", "substeps",
                                                     "screenshot", "attach", "union", "morph", "release", "view", "resize",
-                                                    "obstacle", "remove_obstacles"};
+                                                    "obstacle", "remove_obstacles", "whitewater"};
 
 /// Actions whose "file" is a mesh, named relative to the script.
 bool takes_mesh(const std::string& what) {
@@ -95,11 +95,11 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
             if (!known)
                 fail(child(where, "do") + " is \"" + action.what +
                      "\"; use play, pause, step, reset, method, view, iterations, substeps, screenshot, attach, union, "
-                     "morph, release, obstacle, remove_obstacles, resize or quit");
+                     "morph, release, obstacle, remove_obstacles, resize, whitewater or quit");
             const bool takes_file = action.what == "screenshot" || takes_mesh(action.what);
             const char* key = takes_file ? "file" : "value";
             const bool needs = takes_file || action.what == "method" || action.what == "view" || action.what == "iterations" ||
-                               action.what == "substeps" || action.what == "resize";
+                               action.what == "substeps" || action.what == "resize" || action.what == "whitewater";
             if (needs) {
                 require(a, key, "in " + where, takes_file ? "\"file\": \"shot.png\"" : "\"value\": ...");
                 if (action.what == "iterations" || action.what == "substeps")
@@ -118,6 +118,8 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
                     for (const std::string& m : methods) names += (names.empty() ? "" : ", ") + m;
                     fail(child(where, key) + " is \"" + action.value + "\"; use one of the viewer's methods: " + names);
                 }
+                if (action.what == "whitewater" && action.value != "on" && action.value != "off")
+                    fail(child(where, key) + " is \"" + action.value + "\"; use \"on\" or \"off\"");
                 if (action.what == "view" &&
                     std::find(std::begin(kDebugViewNames), std::end(kDebugViewNames), action.value) == std::end(kDebugViewNames))
                     fail(child(where, key) + " is \"" + action.value +

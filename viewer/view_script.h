@@ -12,7 +12,9 @@
 // the shape the fluid fills), union (adds a mesh to the shapes), morph (the shapes hand over to a
 // mesh in one second), release (the shapes let go), obstacle (an OBJ "file" dropped into the
 // flow as a still solid on the floor at the tank's centre; the fluid inside it is taken out),
-// remove_obstacles (those dropped go again), resize (the window to "value": "640x480"), quit. Frames count from 0 at the first
+// remove_obstacles (those dropped go again), resize (the window to "value": "640x480"), whitewater
+// ("value": "on" or "off": the scene's whitewater drawn or not; it is made either way), quit.
+// Frames count from 0 at the first
 // frame drawn; actions of one frame run in the order written.
 #pragma once
 
@@ -27,7 +29,7 @@ namespace aquaform::viewer {
 
 struct ViewAction {
     uint32_t frame = 0;
-    std::string what;   ///< play, pause, step, reset, method, iterations, substeps, screenshot, attach, union, morph, release, obstacle, remove_obstacles, resize, quit
+    std::string what;   ///< play, pause, step, reset, method, iterations, substeps, screenshot, attach, union, morph, release, obstacle, remove_obstacles, resize, whitewater, quit
     std::string value;  ///< method name, integer, or file
     uint32_t line = 0;  ///< where the script writes it (1-based; 0: not from a file)
 };

@@ -89,6 +89,7 @@ struct ViewWorker::Sim {
     bool halted = false;                // stopped after a blow-up until the window pauses
     std::map<std::string, double> sim_ms;
     uint32_t substeps = 0;  // of the last simulated frame
+    std::optional<WhitewaterCounts> whitewater;
     std::string status;
     uint32_t blowups = 0;
     std::string blowup;
@@ -103,6 +104,7 @@ struct ViewWorker::Sim {
         const FrameStats stats = session->run_frame(&sim_timer).stats;
         sim_ms = sim_timer.totals_ms();
         substeps = stats.substeps;
+        whitewater = stats.whitewater;
         if (std::string verdict = blowup_verdict(stats, session->scene()); !verdict.empty()) {
             halted = true;
             ++blowups;
@@ -228,7 +230,7 @@ struct ViewWorker::Sim {
         Renderer& r = renderer(c);
         r.share_grid(session->frame_grid());  // the session makes a new solver on reset and settings
         r.set_solids(session->solids());
-        r.set_whitewater(session->whitewater());
+        r.set_whitewater(c.show_whitewater ? session->whitewater() : nullptr);
         r.record(cmd, solver->positions(), solver->particle_count(), c.camera, &render_timer);
         return r.color_buffer();
     }
@@ -408,6 +410,7 @@ void ViewWorker::loop() {
         report_.sim_time = sim_->solver->time();
         report_.sim_ms = sim_->sim_ms;
         report_.substeps = sim_->substeps;
+        report_.whitewater = sim_->whitewater;
         report_.status = sim_->status;
         report_.blowups = sim_->blowups;
         report_.blowup = sim_->blowup;

@@ -68,6 +68,7 @@ struct ViewControls {
     SurfaceSettings surface;
     uint32_t width = 16, height = 16;  ///< the picture: the window's framebuffer size
     bool playing = false;
+    bool show_whitewater = true;  ///< draw the scene's whitewater (it is made either way)
     bool operator==(const ViewControls&) const = default;
 };
 
@@ -94,6 +95,7 @@ struct ViewReport {
     uint32_t particles = 0;
     double sim_time = 0.0;
     uint32_t substeps = 0;      ///< the time-step rule's steps of the last simulated frame
+    std::optional<WhitewaterCounts> whitewater;  ///< alive after the last simulated frame (a scene with whitewater)
     uint64_t frames = 0;        ///< pictures made
     double frames_per_s = 0.0;  ///< pictures per second of wall time, smoothed
     std::map<std::string, double> render_ms, sim_ms;  ///< GPU time per pass of the last frame

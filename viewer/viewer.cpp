@@ -218,6 +218,7 @@ private:
         else if (a.what == "obstacle") post(ViewOp::obstacle, a.value);
         else if (a.what == "remove_obstacles") post(ViewOp::remove_obstacles);
         else if (a.what == "resize") resize(a.value);
+        else if (a.what == "whitewater") controls_.show_whitewater = a.value == "on";
         else if (a.what == "iterations" || a.what == "substeps") {
             (a.what == "iterations" ? solver_settings_.iterations : solver_settings_.substeps) = uint32_t(std::stoul(a.value));
             post(ViewOp::solver);
@@ -317,6 +318,12 @@ private:
         ImGui::Text("%s: %u particles, t = %.3f s", scene_name_.c_str(), report_.particles, report_.sim_time);
         ImGui::Text("frame %u: window %.1f frames/s", frame, ImGui::GetIO().Framerate);
         ImGui::Text("fluid: %.2f pictures/s (%llu made)", report_.frames_per_s, (unsigned long long)report_.frames);
+        if (const auto& w = report_.whitewater) {
+            ImGui::Checkbox("whitewater", &controls_.show_whitewater);
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("draw the spray, foam and bubbles (they are made either way)");
+            ImGui::SameLine();
+            ImGui::Text("%u spray, %u foam, %u bubbles", w->spray, w->foam, w->bubbles);
+        }
         if (ImGui::Button(playing_ ? "Pause" : "Play")) playing_ = !playing_;
         ImGui::SameLine();
         if (ImGui::Button("Step")) post(ViewOp::step);
