@@ -345,10 +345,11 @@ def diffuse_header(path):
     properties = []
     for line in lines:
         words = line.split()
-        if words[:2] == ["element", "vertex"] and len(words) == 3 and words[2].isdigit():
+        if words[:1] == ["element"]:
+            if words[1:2] != ["vertex"] or len(words) != 3 or not words[2].isdigit():
+                refuse('%s has the element "%s", not aquaform\'s whitewater layout (its vertices alone); %s'
+                       % (path, " ".join(words[1:]), fix))
             vertices = int(words[2])
-        elif words[:1] == ["element"]:
-            refuse("%s has an element %s besides its vertices, not aquaform's whitewater layout; %s" % (path, words[1:2], fix))
         elif words[:1] == ["property"]:
             properties.append(tuple(words[1:]))
     if end < 0 or "format binary_little_endian 1.0" not in lines or vertices is None or properties != DIFFUSE_PROPERTIES:
@@ -362,7 +363,8 @@ def diffuse_header(path):
 
 
 def read_diffuse(path):
-    """Positions (n x 3) and kinds (n) of a whitewater PLY, as numpy arrays."""
+    """Positions (n x 3) and kinds (n) of a whitewater PLY, as numpy arrays (a million particles
+    read in one call, not one by one)."""
     import numpy
     vertices, header = diffuse_header(path)
     layout = numpy.dtype([("p", "<f4", 3), ("v", "<f4", 3), ("kind", "u1"), ("life", "<f4")])
@@ -575,7 +577,8 @@ def add_whitewater(run, turn):
     if not run["spacing"]:
         note("run.json gives no particle_spacing; the whitewater's spheres are sized for 1 cm")
     group = points_node_group(whitewater_material())
-    radii = [r * spacing for r in DIFFUSE_RADIUS]
+    import numpy
+    radii = numpy.array(DIFFUSE_RADIUS, dtype=numpy.float32) * spacing
     most = 0
     files = run["diffuse"]
     for k, path in enumerate(files):
@@ -585,7 +588,7 @@ def add_whitewater(run, turn):
         mesh.vertices.add(len(positions))
         mesh.vertices.foreach_set("co", positions.ravel())
         radius = mesh.attributes.new("radius", "FLOAT", "POINT")
-        radius.data.foreach_set("value", [radii[min(int(kind), 2)] for kind in kinds])
+        radius.data.foreach_set("value", radii[numpy.minimum(kinds, 2)])
         obj = bpy.data.objects.new(mesh.name, mesh)
         bpy.context.scene.collection.objects.link(obj)
         obj.matrix_world = turn
