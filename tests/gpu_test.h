@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <memory>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -12,6 +13,7 @@
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
+#include "render/registry.h"
 #include "sim/scene.h"
 
 namespace aquaform::testing {
@@ -36,6 +38,26 @@ inline ViewCamera tank_front_camera() {
     camera.target = {0.3f, 0.1f, 0.1f};
     camera.fov_y_degrees = 30.0f;
     return camera;
+}
+
+/// The drawing tests' picture of the tank (tank_front_camera): small, so every method is quick.
+inline constexpr uint32_t kTankPictureWidth = 96, kTankPictureHeight = 48;
+
+/// A renderer of `entry`'s method (its defaults) for the tank picture of `scene`'s fluid.
+inline std::unique_ptr<Renderer> tank_renderer(gpu::Context& ctx, const Scene& scene, uint32_t particles,
+                                               const MethodEntry& entry) {
+    return render_registry().create(ctx, scene.particle_domain(), kTankPictureWidth, kTankPictureHeight, particles,
+                                    entry.defaults);
+}
+
+/// Calls check(renderer, entry) with a tank renderer of every registered method, the method's
+/// name in the trace of any failure.
+template <class Check>
+void for_each_method(gpu::Context& ctx, const Scene& scene, uint32_t particles, Check check) {
+    for (const MethodEntry& entry : render_registry().entries()) {
+        SCOPED_TRACE(entry.name);
+        check(*tank_renderer(ctx, scene, particles, entry), entry);
+    }
 }
 
 inline Scene scene_with(const Box& domain, float spacing) {

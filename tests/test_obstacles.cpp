@@ -364,19 +364,17 @@ TEST_F(ObstacleTest, EveryMethodDrawsAMeshObstacleAndTheFluidInFrontOfItHidesIt)
     PbfSolver solver(ctx(), scene);
     SolidsView solids{&solver.boundary_nodes(), {solver.params().obstacles, solver.params().obstacles + 2}};
     const ViewCamera camera = testing::tank_front_camera();
-    const uint32_t width = 96, height = 48;
-    for (const MethodEntry& entry : render_registry().entries()) {
-        SCOPED_TRACE(entry.name);
-        auto r = render_registry().create(ctx(), scene.particle_domain(), width, height, solver.particle_count(), entry.defaults);
-        r->set_solids(&solids);
-        const SurfaceFrame frame = r->render(solver.positions(), solver.particle_count(), camera);
+    const uint32_t width = testing::kTankPictureWidth;
+    testing::for_each_method(ctx(), scene, solver.particle_count(), [&](Renderer& r, const MethodEntry&) {
+        r.set_solids(&solids);
+        const SurfaceFrame frame = r.render(solver.positions(), solver.particle_count(), camera);
         const size_t left = warm_pixels(frame.color, 0, width / 2), right = warm_pixels(frame.color, width / 2, width);
         EXPECT_GT(left, 40u) << "the left ball is drawn";
         EXPECT_LT(right, left / 3) << "the water hides most of the right ball";
-        r->set_solids(nullptr);
-        const SurfaceFrame without = r->render(solver.positions(), solver.particle_count(), camera);
+        r.set_solids(nullptr);
+        const SurfaceFrame without = r.render(solver.positions(), solver.particle_count(), camera);
         EXPECT_LT(warm_pixels(without.color, 0, width / 2), 5u) << "without the obstacles nothing warm is drawn";
-    }
+    });
 }
 
 }  // namespace

@@ -234,18 +234,17 @@ TEST_F(WhitewaterTest, EveryMethodDrawsItWithDepthAgainstTheWaterAndWithoutItThe
     }());
     HandPool inside(ctx(), cloud({glm::vec3(0.4f, 0.06f, 0.2f), glm::vec3(0.5f, 0.14f, 0.22f)}, 600));
     const ViewCamera camera = testing::tank_front_camera();
-    const uint32_t width = 96, height = 48;
-    for (const MethodEntry& entry : render_registry().entries()) {
-        SCOPED_TRACE(entry.name);
-        auto plain = render_registry().create(ctx(), scene.particle_domain(), width, height, solver.particle_count(), entry.defaults);
-        const Image own = plain->render(solver.positions(), solver.particle_count(), camera).color;
-        auto r = render_registry().create(ctx(), scene.particle_domain(), width, height, solver.particle_count(), entry.defaults);
-        r->set_whitewater(&in_front.view);
-        const Image front = r->render(solver.positions(), solver.particle_count(), camera).color;
-        r->set_whitewater(&inside.view);
-        const Image behind = r->render(solver.positions(), solver.particle_count(), camera).color;
-        r->set_whitewater(nullptr);
-        const Image off = r->render(solver.positions(), solver.particle_count(), camera).color;
+    const uint32_t width = testing::kTankPictureWidth;
+    testing::for_each_method(ctx(), scene, solver.particle_count(), [&](Renderer& r, const MethodEntry& entry) {
+        // A renderer never handed whitewater draws the method's own frame.
+        const Image own = testing::tank_renderer(ctx(), scene, solver.particle_count(), entry)
+                              ->render(solver.positions(), solver.particle_count(), camera).color;
+        r.set_whitewater(&in_front.view);
+        const Image front = r.render(solver.positions(), solver.particle_count(), camera).color;
+        r.set_whitewater(&inside.view);
+        const Image behind = r.render(solver.positions(), solver.particle_count(), camera).color;
+        r.set_whitewater(nullptr);
+        const Image off = r.render(solver.positions(), solver.particle_count(), camera).color;
         // Against the bright sky white foam changes little, but it is there.
         EXPECT_GT(changed(front, own, 0, width / 2), 20u) << "foam in the air is drawn";
         const double over_water = whiter(front, own, width / 2, width), through_water = whiter(behind, own, width / 2, width);
@@ -253,7 +252,7 @@ TEST_F(WhitewaterTest, EveryMethodDrawsItWithDepthAgainstTheWaterAndWithoutItThe
         EXPECT_GT(through_water, 0.0) << "bubbles are seen through the water";
         EXPECT_LT(through_water, 0.85 * over_water) << "the water in front of the bubbles dims them";
         EXPECT_EQ(off.rgba, own.rgba) << "without whitewater the frame is the method's own, bit for bit";
-    }
+    });
 }
 
 TEST_F(WhitewaterTest, SolidsHideTheWhitewaterBehindThemInEveryMethod) {
@@ -278,21 +277,19 @@ TEST_F(WhitewaterTest, SolidsHideTheWhitewaterBehindThemInEveryMethod) {
     };
     HandPool behind(ctx(), two_clouds(0.25f, 0.2f)), in_front(ctx(), two_clouds(0.38f, 0.37f));
     const ViewCamera camera = testing::tank_front_camera();
-    const uint32_t width = 96, height = 48;
-    for (const MethodEntry& entry : render_registry().entries()) {
-        SCOPED_TRACE(entry.name);
-        auto r = render_registry().create(ctx(), scene.particle_domain(), width, height, solver.particle_count(), entry.defaults);
-        r->set_solids(&solids);
-        const Image own = r->render(solver.positions(), solver.particle_count(), camera).color;
-        r->set_whitewater(&behind.view);
-        const Image hidden = r->render(solver.positions(), solver.particle_count(), camera).color;
-        r->set_whitewater(&in_front.view);
-        const Image shown = r->render(solver.positions(), solver.particle_count(), camera).color;
+    const uint32_t width = testing::kTankPictureWidth;
+    testing::for_each_method(ctx(), scene, solver.particle_count(), [&](Renderer& r, const MethodEntry&) {
+        r.set_solids(&solids);
+        const Image own = r.render(solver.positions(), solver.particle_count(), camera).color;
+        r.set_whitewater(&behind.view);
+        const Image hidden = r.render(solver.positions(), solver.particle_count(), camera).color;
+        r.set_whitewater(&in_front.view);
+        const Image shown = r.render(solver.positions(), solver.particle_count(), camera).color;
         EXPECT_LE(changed(hidden, own, 0, width / 2), 2u) << "the mesh block hides the foam behind it";
         EXPECT_LE(changed(hidden, own, width / 2, width), 2u) << "the static box hides the foam behind it";
         EXPECT_GT(whiter(shown, own, 0, width / 2), 800.0) << "foam in front of the mesh block is drawn over it";
         EXPECT_GT(whiter(shown, own, width / 2, width), 800.0) << "foam in front of the static box is drawn over it";
-    }
+    });
 }
 
 /// A PLY file's vertex count and the bytes after its header.
