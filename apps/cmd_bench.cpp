@@ -19,6 +19,7 @@
 #include "core/number_text.h"
 #include "core/output_dir.h"
 #include "core/text_escape.h"
+#include "sim/blowup.h"
 #include "sim/scene.h"
 #include "gpu/context.h"
 #include "study/bench_sim.h"
@@ -46,6 +47,8 @@ std::optional<double> parse_bandwidth(const std::string& text, std::string* erro
     *error = message;
     return std::nullopt;
 }
+
+int bench_sim(const Args& args);
 
 }  // namespace
 
@@ -75,11 +78,25 @@ int cmd_bench(const std::vector<std::string>& argv) {
         return std::fprintf(stderr, "aquaform bench %s: unexpected argument \"%s\" (see aquaform bench %s --help)\n",
                             which.c_str(), args->positional[0].c_str(), which.c_str()),
                kExitUsage;
-    if (render) return bench_render(*args);
-    if (which == "control") return bench_control(*args);
-    if (which == "convergence") return bench_convergence(*args);
-    if (which == "frame") return bench_frame(*args);
-    if (which == "spheric") return bench_spheric(*args);
+    // Every bench stops at the first frame that left physics (sim/blowup.h's require_physical
+    // throws the verdict): its figures would mean nothing, so none is printed as a result.
+    try {
+        if (render) return bench_render(*args);
+        if (which == "control") return bench_control(*args);
+        if (which == "convergence") return bench_convergence(*args);
+        if (which == "frame") return bench_frame(*args);
+        if (which == "spheric") return bench_spheric(*args);
+        return bench_sim(*args);
+    } catch (const LeftPhysics& e) {
+        return refuse("bench " + which, e.what(), kExitFailure);
+    }
+}
+
+namespace {
+
+int bench_sim(const Args& args_value) {
+    const Args* args = &args_value;
+    std::string error;
     std::vector<uint32_t> sizes = parse_sizes(args->value("--sizes", "16384,32768,65536,131072,262144"), &error);
     auto iterations = parse_positive("--iterations", args->value("--iterations", "4"), &error, kMaxIterations);
     auto steps = parse_positive("--steps", args->value("--steps", "4"), &error, kMaxRepeats);
@@ -124,5 +141,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
     std::printf("wrote %s\n", out_path.c_str());
     return exit_status(ctx, kExitOk);
 }
+
+}  // namespace
 
 }  // namespace aquaform::cli

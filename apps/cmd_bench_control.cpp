@@ -15,6 +15,7 @@
 #include "core/interrupt.h"
 #include "core/number_text.h"
 #include "gpu/context.h"
+#include "study/bench_checks.h"
 #include "study/bench_control.h"
 #include "study/bench_control_run.h"
 
@@ -51,6 +52,7 @@ int bench_control(const Args& args) {
     // Fail before minutes of work when the output cannot go where asked.
     if (!prepare_output("bench control", out_dir)) return kExitUsage;
     const std::filesystem::path out_path = out_dir / "bench_control.json";
+    if (auto file = study::check_bench_files({out_path}); !file) return refuse("bench control", file.error());
     std::string error;
     const std::optional<uint64_t> particles = particles_flag(args, &error);
     if (!error.empty()) return std::fprintf(stderr, "aquaform bench control: %s\n", error.c_str()), kExitUsage;

@@ -15,6 +15,7 @@
 #include "core/interrupt.h"
 #include "core/text_escape.h"
 #include "gpu/context.h"
+#include "study/bench_checks.h"
 #include "study/bench_convergence_run.h"
 #include "study/bench_frames.h"
 
@@ -56,6 +57,8 @@ int bench_convergence(const Args& args) {
 
     const std::filesystem::path out_dir = args.value("--out", "out/bench_convergence");
     if (!prepare_output("bench convergence", out_dir)) return kExitUsage;
+    const std::filesystem::path chart_path = out_dir / "convergence_front.svg", json_path = out_dir / "convergence.json";
+    if (auto files = study::check_bench_files({chart_path, json_path}); !files) return refuse("bench convergence", files.error());
 
     gpu::Context ctx({args.value("--device"), validation_requested(args)});
     std::printf("bench convergence on %s (%s)%s\n", ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type),
@@ -63,14 +66,12 @@ int bench_convergence(const Args& args) {
     std::fflush(stdout);
     const auto result = study::run_convergence_bench(ctx, plan.value());
     if (!result) return stopped_by_ctrl_c("bench convergence"), exit_status(ctx, kExitInterrupted);
-    const std::filesystem::path chart_path = out_dir / "convergence_front.svg";
     if (auto written = write_chart_svg(chart_path, result->front_chart); !written)
         return exit_status(ctx, refuse("bench convergence", written.error(), kExitFailure));
     nlohmann::json doc = {{"benchmark", "convergence"},
                           {"device", ctx.info().name},
                           {"device_type", gpu::device_type_name(ctx.info().type)}};
     doc.update(result->doc);
-    const std::filesystem::path json_path = out_dir / "convergence.json";
     if (auto written = write_file_with(json_path, [&](std::ostream& out) { out << json_text(doc, 1) << "\n"; }); !written)
         return std::fprintf(stderr, "aquaform bench convergence: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
     std::printf("wrote %s and %s\n", json_path.string().c_str(), chart_path.string().c_str());

@@ -16,6 +16,7 @@
 #include "core/interrupt.h"
 #include "core/output_dir.h"
 #include "gpu/context.h"
+#include "study/bench_checks.h"
 #include "study/bench_frames.h"
 #include "study/bench_render_run.h"
 
@@ -93,6 +94,14 @@ int bench_render(const Args& args) {
     const std::filesystem::path out_path = args.value("--out", "bench_render.json");
     // Fail before minutes of work when the output cannot go where asked.
     if (auto ready = prepare_output_file(out_path); !ready) return usage(ready.error());
+    // The sweeps' charts beside it too (study::sweep_charts names them).
+    {
+        const std::string stem = (out_path.parent_path() / out_path.stem()).string();
+        std::vector<std::filesystem::path> charts;
+        for (const std::string& suffix : study::sweep_chart_suffixes(args.has("--mask-sweep"), args.has("--blend-sweep")))
+            charts.push_back(stem + suffix);
+        if (auto files = study::check_bench_files(charts); !files) return usage(files.error());
+    }
 
     // Every scene is loaded before any work, so a bad one is reported at once.
     const std::filesystem::path scene_dir = args.has("--scene-dir") ? std::filesystem::path(args.value("--scene-dir")) : study::default_scene_dir();

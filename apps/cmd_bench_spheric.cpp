@@ -1,8 +1,10 @@
 // `aquaform bench spheric`: SPHERIC test 2 (MARIN's dam break against a box) at one or more particle
 // counts, its probes against the measured water heights and pressures (study/bench_spheric.h
 // measures and compares). Here: flags, the table and the files.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -15,6 +17,7 @@
 #include "core/number_text.h"
 #include "core/text_escape.h"
 #include "gpu/context.h"
+#include "study/bench_checks.h"
 #include "study/bench_frames.h"
 #include "study/bench_spheric.h"
 
@@ -22,31 +25,13 @@ namespace aquaform::cli {
 
 namespace {
 
-const char* verdict(bool ok) { return ok ? "ok" : "MISSED"; }
-
-void print_run(const study::SphericRun& run) {
-    std::printf("\n%s: %llu steps, %.1f s wall\n", run.label.c_str(), (unsigned long long)run.steps, run.wall_s);
-    std::printf("  %-4s %12s %12s %9s  (target <= %.0f %% of the peak)\n", "", "mean |diff|", "peak (MARIN)", "error",
-                100.0 * study::kHeightTarget);
-    for (const auto& g : run.heights)
-        std::printf("  %-4s %10.4f m %10.4f m %8.1f %%  %s\n", g.name.c_str(), g.mean_abs_m, g.peak_m, 100.0 * g.relative,
-                    verdict(g.relative <= study::kHeightTarget));
-    std::printf("  %-4s %10s %10s %10s %10s %10s %10s\n", "", "arrival", "(MARIN)", "peak kPa", "(MARIN)", "0.5-2 s", "(MARIN)");
-    for (const auto& p : run.pressures) {
-        const bool arrived = p.arrival_s && p.measured_arrival_s;
-        std::printf("  %-4s %8.4f s %8.4f s %10.2f %10.2f %10.2f %10.2f", p.name.c_str(), p.arrival_s.value_or(NAN),
-                    p.measured_arrival_s.value_or(NAN), p.peak_pa / 1000.0, p.measured_peak_pa / 1000.0, p.level_pa / 1000.0,
-                    p.measured_level_pa / 1000.0);
-        if (p.name == "P1" && arrived)
-            std::printf("  arrival %+.1f ms %s", 1000.0 * (*p.arrival_s - *p.measured_arrival_s),
-                        verdict(std::abs(*p.arrival_s - *p.measured_arrival_s) <= study::kArrivalTarget));
-        if ((p.name == "P1" || p.name == "P3") && p.measured_level_pa != 0.0) {
-            const double rel = std::abs(p.level_pa - p.measured_level_pa) / std::abs(p.measured_level_pa);
-            std::printf("  level %.0f %% %s", 100.0 * rel, verdict(rel <= study::kPressureLevelTarget));
-        }
-        std::printf("\n");
-    }
-    std::fflush(stdout);
+/// The charts: the SPHERIC gauges and sensors that are compared (other names are compared in the
+/// tables and the JSON only: a name from the scene never becomes a file name).
+std::vector<std::string> charted(const std::vector<std::string>& compared, std::initializer_list<const char*> spheric) {
+    std::vector<std::string> names;
+    for (const char* name : spheric)
+        if (std::find(compared.begin(), compared.end(), name) != compared.end()) names.push_back(name);
+    return names;
 }
 
 }  // namespace
@@ -82,8 +67,24 @@ int bench_spheric(const Args& args) {
     } else {
         scenes.push_back(base.value());
     }
+    // Nothing to compare (no step, no name in common, a column with no peak) is refused before any work.
+    study::SphericComparable comparable;
+    for (const Scene& scene : scenes) {
+        auto c = study::spheric_comparable(scene, data.value(), *seconds_flag);
+        if (!c) return refuse("bench spheric", c.error());
+        comparable = std::move(c.value());
+    }
+    print_notes("bench spheric", comparable.notes);
+    const std::vector<std::string> gauge_charts = charted(comparable.gauges, {"H1", "H2", "H3", "H4"});
+    const std::vector<std::string> sensor_charts = charted(comparable.sensors, {"P1", "P3"});
+    std::vector<std::string> names{"spheric.json"};
+    for (const auto& name : gauge_charts) names.push_back("spheric_" + name + ".svg");
+    for (const auto& name : sensor_charts) names.push_back("spheric_" + name + ".svg");
     const std::filesystem::path out_dir = args.value("--out", "out/bench_spheric");
+    // Every file is checked before the run, as run checks its own: a link, a folder in a file's place.
     if (!prepare_output("bench spheric", out_dir)) return kExitUsage;
+    if (auto files = study::check_bench_files(study::files_in(out_dir, names)); !files)
+        return refuse("bench spheric", files.error());
 
     gpu::Context ctx({args.value("--device"), validation_requested(args)});
     std::printf("bench spheric on %s (%s): %s for %g s at %zu particle count(s)\n", ctx.info().name.c_str(),
@@ -91,12 +92,16 @@ int bench_spheric(const Args& args) {
     std::fflush(stdout);
     std::vector<study::SphericRun> runs;
     for (const Scene& scene : scenes) {
+        // A run that leaves physics throws its verdict (aquaform bench prints it and exits 1).
         auto run = study::run_spheric(ctx, scene, *seconds_flag, [](const std::string& line) {
             std::fprintf(stderr, "bench spheric: %s\n", line.c_str());
         });
         if (!run) return stopped_by_ctrl_c("bench spheric"), exit_status(ctx, kExitInterrupted);
         study::compare_spheric(*run, data.value(), *seconds_flag);
-        print_run(*run);
+        study::print_spheric_run(*run);
+        if (!study::compared_anything(*run))
+            return exit_status(ctx, refuse("bench spheric", run->label + ": no step of the run fell within the measurement, "
+                                           "so nothing was compared; give --seconds within the data's time", kExitFailure));
         runs.push_back(std::move(*run));
     }
     nlohmann::json doc = {{"benchmark", "spheric_test2"},
@@ -108,24 +113,25 @@ int bench_spheric(const Args& args) {
                                        {"pressure_level_relative", study::kPressureLevelTarget}}},
                           {"runs", nlohmann::json::array()}};
     for (const auto& run : runs) doc["runs"].push_back(study::to_json(run));
-    std::vector<std::filesystem::path> written;
-    for (const char* gauge : {"H1", "H2", "H3", "H4"}) {
-        const auto path = out_dir / ("spheric_" + std::string(gauge) + ".svg");
+    std::string chart_list;
+    for (const auto& gauge : gauge_charts) {
+        const auto path = out_dir / ("spheric_" + gauge + ".svg");
         if (auto w = write_chart_svg(path, study::spheric_height_chart(runs, data.value(), gauge)); !w)
             return exit_status(ctx, refuse("bench spheric", w.error(), kExitFailure));
-        written.push_back(path);
+        chart_list += (chart_list.empty() ? "" : ", ") + path.filename().string();
     }
-    for (const char* sensor : {"P1", "P3"}) {
-        const auto path = out_dir / ("spheric_" + std::string(sensor) + ".svg");
+    for (const auto& sensor : sensor_charts) {
+        const auto path = out_dir / ("spheric_" + sensor + ".svg");
         if (auto w = write_chart_svg(path, study::spheric_pressure_chart(runs, data.value(), sensor)); !w)
             return exit_status(ctx, refuse("bench spheric", w.error(), kExitFailure));
-        written.push_back(path);
+        chart_list += (chart_list.empty() ? "" : ", ") + path.filename().string();
     }
     const auto json_path = out_dir / "spheric.json";
     if (auto w = write_file_with(json_path, [&](std::ostream& out) { out << json_text(doc, 1) << "\n"; }); !w)
         return exit_status(ctx, refuse("bench spheric", w.error(), kExitFailure));
-    std::printf("\nwrote %s and %zu charts (spheric_H1..H4.svg, spheric_P1.svg, spheric_P3.svg) in %s\n",
-                json_path.string().c_str(), written.size(), out_dir.string().c_str());
+    std::printf("\nwrote %s and %zu charts (%s) in %s\n", json_path.string().c_str(),
+                gauge_charts.size() + sensor_charts.size(), chart_list.empty() ? "none" : chart_list.c_str(),
+                out_dir.string().c_str());
     return exit_status(ctx, kExitOk);
 }
 

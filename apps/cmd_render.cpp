@@ -67,11 +67,9 @@ int cmd_render(const std::vector<std::string>& argv) {
         return exit_status(ctx, kExitFailure);
 
     const ViewCamera camera = scene_camera(scene, float(width) / float(height));
-    made->share_grid(sim.frame_grid());
-    made->set_solids(sim.solids());
-    made->set_whitewater(sim.whitewater());
+    sim.hand_frame(*made);
     const study::FrameRenderReport made_report =
-        study::render_frame_report(ctx, *made, solver, camera, *method, !args->has("--no-reference"));
+        study::render_frame_report(ctx, *made, sim, camera, *method, !args->has("--no-reference"));
     nlohmann::json report = {{"scene", args->positional[0]}, {"frame", frame}, {"device", ctx.info().name}};
     report.update(made_report.records);
     std::string names;

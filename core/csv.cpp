@@ -24,11 +24,9 @@ std::string csv_field(std::string_view text, bool always_quoted) {
     return quote ? "\"" + flat + "\"" : flat;
 }
 
-std::string csv_number(const std::optional<double>& v, const char* format) {
+std::string csv_number(const std::optional<double>& v, LiteralFormat format) {
     if (!v || !std::isfinite(*v)) return "";
-    char buf[64];
-    std::snprintf(buf, sizeof buf, format, *v);
-    return buf;
+    return format_number(format, *v);
 }
 
 std::string csv_line(const std::vector<std::string>& fields) {

@@ -293,11 +293,17 @@ std::optional<std::string> check_shape(const std::string& text, const std::strin
     size_t line = 1;
     bool in_string = false, escaped = false;
     std::string last_string;
-    for (char c : text) {
+    for (size_t at = 0; at < text.size(); ++at) {
+        const char c = text[at];
         if (c == '\n') ++line;
         if (in_string) {
-            if (escaped) escaped = false;
-            else if (c == '\\') escaped = true;
+            if (escaped) {
+                escaped = false;
+                // A NUL ends a C string: a path or a name holding one would name another file.
+                if (c == 'u' && text.compare(at + 1, 4, "0000") == 0)
+                    refuse(line, "a string holds \\u0000 (a NUL character), which would cut a file name or path "
+                                 "short and name another file; remove it");
+            } else if (c == '\\') escaped = true;
             else if (c == '"') in_string = false;
             else if (last_string.size() < 4096) last_string += c;  // longer keys compare by this prefix
             continue;

@@ -60,11 +60,11 @@ FrameCapture z_up(const FrameCapture& capture) {
 
 const std::array<FrameExportKind, kFrameExportKinds>& frame_export_kinds() {
     static const std::array<FrameExportKind, kFrameExportKinds> kinds = {{
-        {FrameExport::ply, "ply", "--ply-every", "particles_%04u.ply", FrameData::particles},
-        {FrameExport::vtk, "vtk", "--vtk-every", "particles_%04u.vtu", FrameData::particles},
-        {FrameExport::vdb, "vdb", "--vdb-every", "density_%04u.vdb", FrameData::volume},
-        {FrameExport::mesh, "mesh", "--mesh-every", "surface_%04u.obj", FrameData::mesh},
-        {FrameExport::diffuse, "diffuse", "--diffuse-every", "diffuse_%04u.ply", FrameData::diffuse},
+        {FrameExport::ply, "ply", "--ply-every", "particles", ".ply", FrameData::particles},
+        {FrameExport::vtk, "vtk", "--vtk-every", "particles", ".vtu", FrameData::particles},
+        {FrameExport::vdb, "vdb", "--vdb-every", "density", ".vdb", FrameData::volume},
+        {FrameExport::mesh, "mesh", "--mesh-every", "surface", ".obj", FrameData::mesh},
+        {FrameExport::diffuse, "diffuse", "--diffuse-every", "diffuse", ".ply", FrameData::diffuse},
     }};
     return kinds;
 }
@@ -100,9 +100,8 @@ bool FrameExports::needs(FrameData data, uint32_t frame) const {
 }
 
 std::filesystem::path FrameExports::file(FrameExport kind, uint32_t frame) const {
-    char name[64];
-    std::snprintf(name, sizeof name, frame_export_kinds()[size_t(kind)].file_pattern, frame / every(kind));
-    std::filesystem::path path = dir_ / name;
+    const FrameExportKind& k = frame_export_kinds()[size_t(kind)];
+    std::filesystem::path path = dir_ / numbered_file(k.file_stem, frame / every(kind), k.extension);
     if (kind == FrameExport::mesh) path.replace_extension(mesh_format_extension(options_.mesh_format));
     if (kind == FrameExport::diffuse && options_.diffuse_format == DiffuseFormat::vtp) path.replace_extension("vtp");
     return path;

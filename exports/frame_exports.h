@@ -38,8 +38,8 @@ struct FrameExportKind {
     FrameExport kind;
     const char* name;          ///< the kind in exports.csv: "ply", "vtk", "vdb", "mesh"
     const char* flag;          ///< the `run` flag that gives K, e.g. "--vtk-every"
-    const char* file_pattern;  ///< printf pattern of the file, with the file number (a mesh's
-                               ///< extension follows its format)
+    const char* file_stem;     ///< the file is <stem>_NNNN<extension>, numbered by file
+    const char* extension;     ///< (a mesh's and the whitewater's follow their formats)
     FrameData needs;           ///< what it is written from
 };
 

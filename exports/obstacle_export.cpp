@@ -1,7 +1,6 @@
 #include "exports/obstacle_export.h"
 
-#include <cstdio>
-
+#include "core/format_text.h"
 #include "geometry/animation.h"
 #include "geometry/primitives.h"
 
@@ -16,7 +15,10 @@ geometry::Mesh in_up_axis(geometry::Mesh mesh, UpAxis up) {
 }
 
 std::string still_file(const std::string& name) { return "obstacle_" + name + ".obj"; }
+// run.json records the printf pattern for other tools; the file itself is named by appending the
+// number (a name is the user's text, never a format), and the scene's name rule keeps '%' out.
 std::string moving_pattern(const std::string& name) { return "obstacle_" + name + "_%04u.obj"; }
+std::string moving_file(const std::string& name, uint32_t frame) { return numbered_file("obstacle_" + name, frame, ".obj"); }
 
 }  // namespace
 
@@ -32,9 +34,7 @@ Result<bool> ObstacleExports::write(uint32_t frame, double time_s) {
                 return w;
     for (const ObstacleSpec& o : scene_->obstacles) {
         if (!o.moves && frame != 0) continue;
-        char name[256];
-        std::snprintf(name, sizeof name, moving_pattern(o.name).c_str(), frame);
-        const std::filesystem::path path = dir_ / (o.moves ? std::string(name) : still_file(o.name));
+        const std::filesystem::path path = dir_ / (o.moves ? moving_file(o.name, frame) : still_file(o.name));
         if (auto w = geometry::write_obj(path, in_up_axis(o.shape->mesh_at(time_s), up_)); !w) return w;
     }
     return true;

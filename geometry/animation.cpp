@@ -321,6 +321,15 @@ double MeshAnimation::duration() const {
     return 0.0;
 }
 
+std::vector<double> MeshAnimation::key_times() const {
+    if (const auto* r = std::get_if<RigidAnimation>(&kind_)) return r->times;
+    if (const auto* k = std::get_if<SkeletalAnimation>(&kind_)) return k->times;
+    std::vector<double> times;
+    if (const auto* q = std::get_if<SequenceAnimation>(&kind_))
+        for (size_t f = 0; f < q->frames->size(); ++f) times.push_back(double(f) / double(q->fps));
+    return times;
+}
+
 bool MeshAnimation::loops() const {
     return std::visit([](const auto& k) {
         if constexpr (requires { k.loop; }) return k.loop;

@@ -102,6 +102,8 @@ public:
     double duration() const;
     /// Whether the motion repeats after duration() (else it holds its last pose).
     bool loops() const;
+    /// The times of its keys (a sequence: each frame's start), where its speed may change at once.
+    std::vector<double> key_times() const;
     const Kind& kind() const { return kind_; }
 
     /// Once per mesh, before transform_at / mesh_at: `rest` as loaded from its file (file coordinates)

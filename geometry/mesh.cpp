@@ -361,6 +361,8 @@ void measure_holes(const Mesh& mesh, const EdgeMap& edges, MeshReport& report) {
 
 }  // namespace
 
+std::vector<uint32_t> welded_vertex_ids(const Mesh& mesh) { return welded_ids(mesh); }
+
 std::vector<glm::vec3> Mesh::triangle_soup() const {
     std::vector<glm::vec3> soup;
     soup.reserve(faces.size() * 3);
@@ -405,7 +407,7 @@ HalfEdgeMesh to_half_edge_mesh(const Mesh& mesh, std::vector<uint32_t>* rejected
 }
 
 bool MeshReport::watertight() const {
-    return face_count > 0 && boundary_edge_count == 0 && non_manifold_edge_count == 0 &&
+    return face_count > 0 && boundary_edge_count == 0 && closed_hole_count == 0 && non_manifold_edge_count == 0 &&
            non_manifold_vertex_count == 0 && inconsistent_edge_count == 0 && rejected_face_count == 0;
 }
 
@@ -575,24 +577,32 @@ std::string unusable_reason(const MeshReport& report) {
                "and size it in the scene with its placement's \"scale\" or \"fit_into\"";
         return out.str();
     }
-    if (!(std::abs(report.signed_volume) > 1e-6 * diagonal * diagonal * diagonal)) {
-        const bool flat = std::min({size.x, size.y, size.z}) <= 1e-6 * diagonal;
-        out << "the mesh encloses no volume (" << std::abs(report.signed_volume) << " in a bounding box of " << size.x
-            << " x " << size.y << " x " << size.z << "): "
-            << (flat ? "it is flat" : "its faces cancel out (degenerate faces, or every face doubled by a flipped copy "
-                                      "as a double-sided export writes them)")
-            << ", so no control point would be placed and the fluid would fill nothing; use a closed solid mesh"
-            << (flat ? " (a modelling tool's Solidify or Extrude gives a flat shape thickness)"
-                     : ", exported single-sided");
+    // Shared by control meshes and obstacles, so the words name neither use alone.
+    constexpr const char* kNoInside = "so it has no inside: nothing to fill and nothing to keep fluid out of";
+    if (std::min({size.x, size.y, size.z}) <= 1e-6 * diagonal) {
+        out << "the mesh encloses no volume: it is flat (a bounding box of " << size.x << " x " << size.y << " x "
+            << size.z << "), " << kNoInside
+            << "; use a closed solid mesh (a modelling tool's Solidify or Extrude gives a flat shape thickness)";
         return out.str();
     }
-    if (report.hole_fraction() > kMaxHoleFraction) {
-        out << "the mesh is open: " << report.boundary_edge_count << " boundary edges in " << report.hole_count
-            << " hole(s) that would need " << 100.0 * report.hole_fraction() << "% of its surface area to close (at most "
-            << 100.0 * kMaxHoleFraction
-            << "% is tolerated), so the inside test would fill it only partly and the raster fill would leave every "
-               "column through a hole empty; close the holes in a modelling tool (Blender: Select > All by Trait > "
-               "Non Manifold, then Face > Fill) and export again";
+    const size_t holes = report.hole_count + report.closed_hole_count;
+    const double opening = report.hole_fraction() + report.closed_hole_fraction();
+    if (holes > 0 && opening >= kOpenSheetHoleFraction) {
+        out << "the mesh is an open sheet, not a solid: closing its " << holes << " hole(s) ("
+            << report.boundary_edge_count + report.closed_boundary_edge_count << " boundary edges) would take "
+            << 100.0 * opening << "% of its own surface area (" << 100.0 * kOpenSheetHoleFraction
+            << "% or more: the caps would be about the sheet itself), " << kNoInside
+            << "; give it thickness in a modelling tool (Blender: Solidify modifier) or model it as a closed solid, "
+               "and export again";
+        return out.str();
+    }
+    // An open surface's signed volume depends on where it is measured from: judged once closed.
+    if (report.hole_fraction() < 1e-6 && !(std::abs(report.signed_volume) > 1e-6 * diagonal * diagonal * diagonal)) {
+        out << "the mesh encloses no volume (" << std::abs(report.signed_volume) << " in a bounding box of " << size.x
+            << " x " << size.y << " x " << size.z
+            << "): its faces cancel out (degenerate faces, or every face doubled by a flipped copy as a double-sided "
+               "export writes them), "
+            << kNoInside << "; use a closed solid mesh, exported single-sided";
         return out.str();
     }
     return {};
@@ -652,9 +662,21 @@ std::string describe(const MeshReport& report) {
         out << report.reoriented_face_count
             << " faces were turned to agree with their neighbours (they were flipped; the mesh is used repaired)\n";
     }
+    if (report.closed_hole_count) {
+        out << "closed " << report.closed_hole_count << " hole(s) (" << report.closed_boundary_edge_count
+            << " boundary edges, " << 100.0 * report.closed_hole_fraction()
+            << "% of its surface area) with caps: the mesh is used closed (";
+        for (size_t i = 0; i < report.closed_holes.size(); ++i) {
+            const ClosedHole& hole = report.closed_holes[i];
+            out << (i ? "; " : report.closed_holes.size() < report.closed_hole_count ? "largest: " : "")
+                << hole.edges << " edges around (" << hole.centre.x << ", " << hole.centre.y << ", " << hole.centre.z
+                << ")";
+        }
+        out << ")\n";
+    }
     if (report.hole_count) {
-        out << report.hole_count << " holes; closing them would take " << 100.0 * report.hole_fraction()
-            << "% of the surface area (points near them may be missing)\n";
+        out << report.hole_count << " holes left open (their edges form no closed loop, or enclose no area); closing them would take "
+            << 100.0 * report.hole_fraction() << "% of the surface area (points near them may be missing)\n";
     }
     if (report.inward_facing()) {
         out << "negative volume: all face normals point inward; placement does not depend on it\n";
@@ -662,7 +684,7 @@ std::string describe(const MeshReport& report) {
     return out.str();
 }
 
-Result<LoadedMesh> load_obj(const std::filesystem::path& path) {
+Result<Mesh> read_obj(const std::filesystem::path& path) {
     std::error_code error;
     if (!std::filesystem::exists(path, error)) {
         return mesh_error(path, "file does not exist",
@@ -699,28 +721,16 @@ Result<LoadedMesh> load_obj(const std::filesystem::path& path) {
     }
     Result<Mesh> read = ObjReader(path, body).read();
     if (!read) return Error{read.error()};
-    LoadedMesh loaded;
-    loaded.mesh = std::move(read).value();
-    text.clear();
-    text.shrink_to_fit();
-    if (loaded.mesh.vertices.empty()) {
+    Mesh mesh = std::move(read).value();
+    if (mesh.vertices.empty()) {
         return mesh_error(path, "not an OBJ file: no vertices ('v x y z' lines) found",
                           "export the mesh as Wavefront OBJ (.obj)");
     }
-    if (loaded.mesh.faces.empty()) {
-        return mesh_error(path, "empty mesh: " + std::to_string(loaded.mesh.vertices.size()) + " vertices but no faces",
+    if (mesh.faces.empty()) {
+        return mesh_error(path, "empty mesh: " + std::to_string(mesh.vertices.size()) + " vertices but no faces",
                           "the mesh needs triangles or polygons ('f' lines); export faces, not only points");
     }
-    // Repair rather than refuse: which side is inside is clear once neighbours agree (see orient_consistently).
-    std::optional<ProgressBar> checking;  // about a second per million faces
-    if (loaded.mesh.faces.size() > (size_t(1) << 19)) checking.emplace("checking " + path.filename().string(), 2);
-    const size_t turned = orient_consistently(loaded.mesh);
-    if (checking) checking->update(1, "orientation done, checking edges");
-    loaded.report = check_mesh(loaded.mesh);
-    if (checking) checking->update(2), checking->finish();
-    loaded.report.reoriented_face_count = turned;
-    if (const std::string reason = unusable_reason(loaded.report); !reason.empty()) return Error{"mesh '" + path.string() + "': " + reason};
-    return loaded;
+    return mesh;
 }
 
 Result<bool> write_obj(const std::filesystem::path& path, const Mesh& mesh) {

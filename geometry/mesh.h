@@ -1,8 +1,9 @@
 // Triangle meshes for mesh-controlled flow (Karpati et al., section 3.2): OBJ input, sanity checks and
 // placement in the scene. Hard input errors are refused with a message naming the file, the line and
-// the element; meshes that cannot be filled (no volume, large holes) are refused; faces flipped against
-// their neighbours are turned back and reported; problems the inside test tolerates (small holes,
-// duplicated vertices, ...) are only reported.
+// the element; meshes without a meaningful inside (flat, one open sheet, faces that cancel out) are
+// refused; faces flipped against their neighbours are turned back and holes are closed with caps
+// (geometry/hole_fill.h), both reported; problems the inside test tolerates (duplicated vertices,
+// non-manifold edges, ...) are only reported.
 #pragma once
 
 #include <cstdint>
@@ -39,7 +40,16 @@ using HalfEdgeMesh = OpenMesh::TriMesh_ArrayKernelT<>;
 /// vertex index are left out; their indices go to `rejected_faces` when it is given.
 HalfEdgeMesh to_half_edge_mesh(const Mesh& mesh, std::vector<uint32_t>* rejected_faces = nullptr);
 
+/// One boundary loop that load_obj() closed with a cap (geometry/hole_fill.h).
+struct ClosedHole {
+    size_t edges = 0;        ///< boundary edges around the hole
+    glm::dvec3 centre{0.0};  ///< the mean of its corners: where the cap's fan meets
+    double area = 0.0;       ///< |vector area| of its loop: the area of a flat patch over it
+};
+
 /// Problems that do not stop the mesh from being used, each as a count plus the first few offenders.
+/// For a mesh from load_obj() the counts describe the mesh as used, its caps included; the closed_*
+/// fields say what was closed.
 struct MeshReport {
     static constexpr size_t kMaxListed = 8;  ///< how many offending indices each list keeps
 
@@ -59,6 +69,11 @@ struct MeshReport {
     size_t hole_count = 0;                 ///< connected groups of boundary edges
     double hole_area = 0.0;                ///< sum over holes of |vector area| of their boundary loops
     size_t reoriented_face_count = 0;      ///< faces load_obj() turned to agree with their neighbours
+    size_t closed_hole_count = 0;          ///< boundary loops load_obj() closed with caps
+    size_t closed_boundary_edge_count = 0; ///< boundary edges around them
+    double closed_hole_area = 0.0;         ///< sum over them of |vector area| of their loops
+    double cap_area = 0.0;                 ///< area of the caps' triangles (part of surface_area)
+    std::vector<ClosedHole> closed_holes;  ///< the largest few (by area), largest first
 
     std::vector<glm::uvec2> boundary_edges;      ///< vertex index pairs
     std::vector<glm::uvec2> non_manifold_edges;  ///< vertex index pairs
@@ -69,13 +84,27 @@ struct MeshReport {
     std::vector<uint32_t> duplicated_vertices;  ///< the later copy of each duplicated position
 
     bool inward_facing() const { return signed_volume < 0.0; }
-    /// The area a flat patch over each hole would need, against the surface: 0 for a closed mesh.
-    double hole_fraction() const { return surface_area > 0.0 ? hole_area / surface_area : 0.0; }
-    /// Closed, manifold and consistently oriented: a ray-parity inside test would be reliable.
+    /// The surface as the file had it, without the caps load_obj() added.
+    double surface_area_as_read() const { return surface_area - cap_area; }
+    /// The area a flat patch over each hole still open would need, against the surface as read.
+    double hole_fraction() const { return share_of_surface(hole_area); }
+    /// The same for the holes load_obj() closed.
+    double closed_hole_fraction() const { return share_of_surface(closed_hole_area); }
+    /// Closed, manifold and consistently oriented as read: false where load_obj() had to close holes
+    /// (the mesh it returns is then closed), so that callers that note an imperfect file note it.
     bool watertight() const;
+
+private:
+    double share_of_surface(double area) const {
+        return surface_area_as_read() > 0.0 ? area / surface_area_as_read() : 0.0;
+    }
 };
 
 MeshReport check_mesh(const Mesh& mesh);
+
+/// Per vertex, the first vertex at exactly its position: the checks, the orientation walk and the
+/// hole closing see through seams where an exporter split the surface, which are not holes.
+std::vector<uint32_t> welded_vertex_ids(const Mesh& mesh);
 
 /// Turns faces so that every face agrees with its neighbours across manifold edges (walking each
 /// connected part from face to face); each part keeps the orientation most of its area had (on a tie,
@@ -83,15 +112,19 @@ MeshReport check_mesh(const Mesh& mesh);
 /// faces were turned.
 size_t orient_consistently(Mesh& mesh);
 
-/// Holes bigger than this share of the surface make a mesh unusable: the winding number inside the
-/// mesh falls towards 0.5 and the raster fill leaves every column through a hole empty.
-inline constexpr double kMaxHoleFraction = 0.01;
+/// A mesh whose holes (closed or open) would need caps of at least this share of its own surface is
+/// one open sheet, not a solid, and is refused: capping a flat sheet gives its own mirror image, and
+/// a sheet bent less than ~25 degrees (a spherical cap of half-angle 26 degrees: (1 + cos) / 2 = 0.95)
+/// a lens far thinner than it is wide. A bowl (50 %), a box without a lid (20 %) or a scan's open
+/// base (~2 %) are far below it.
+inline constexpr double kOpenSheetHoleFraction = 0.95;
 /// The smallest mesh (its bounding box's diagonal, in the file's units): placement, the lattice
 /// and the solver work in single precision, where lengths of 1e-30 square to nothing. (The
 /// largest is bounded by the reader: coordinates beyond +-1e6 are refused.)
 inline constexpr double kMinMeshDiagonal = 1e-6;
-/// Why the inside test and the raster fill cannot use the mesh (no volume, large holes), with the
-/// fix; empty when it can be used.
+/// Why the mesh has no meaningful inside for placement or as an obstacle (too small, flat, one open
+/// sheet, faces that cancel out), with the fix; empty when it can be used. Holes alone are no reason:
+/// load_obj() closes them. The volume is judged only once no hole that encloses area is open.
 std::string unusable_reason(const MeshReport& report);
 /// Multi-line human-readable summary of the report, one problem per line with the first offenders.
 std::string describe(const MeshReport& report);
@@ -105,7 +138,12 @@ struct LoadedMesh {
 /// geometry no longer means anything at simulation scale.
 inline constexpr double kMaxMeshCoordinate = 1e6;
 
-/// Load a Wavefront OBJ (polygons are triangulated), orient its faces consistently and check it.
+/// A Wavefront OBJ as the file has it (polygons are triangulated), refused as load_obj() says
+/// below for what the text alone shows (load_obj() is this, repaired and checked).
+Result<Mesh> read_obj(const std::filesystem::path& path);
+
+/// Load a Wavefront OBJ (polygons are triangulated), orient its faces consistently, close its holes
+/// (close_holes(), recorded in the report's closed_* fields) and check it (geometry/mesh_load.cpp).
 /// Refuses missing, unreadable, binary or UTF-16 files, any line that is not valid OBJ (a number that
 /// is not finite or too large, an index that is 0, fractional or out of range, a face with fewer than
 /// three corners, ...; the message names the line, 1-based), meshes without faces, and meshes that

@@ -2,6 +2,7 @@
 
 #include "shaders/shared/anisotropy.h"
 #include "core/error.h"
+#include "core/format_text.h"
 
 #include <algorithm>
 #include <cmath>
@@ -22,13 +23,6 @@ using Rgb = std::array<uint8_t, 3>;
 
 std::string size_text(uint32_t width, uint32_t height) {
     return std::to_string(width) + "x" + std::to_string(height);
-}
-
-/// `value` printed with printf's `pattern` (one double).
-std::string formatted(const char* pattern, double value) {
-    char buffer[64];
-    std::snprintf(buffer, sizeof buffer, pattern, value);
-    return buffer;
 }
 
 size_t pixel_count(uint32_t width, uint32_t height) { return size_t(width) * size_t(height); }
@@ -173,7 +167,7 @@ GoldenComparison compare_with_golden(const Image& actual, const std::filesystem:
     return {"", delta_e_map(actual, expected.value())};
 }
 
-std::string percent(double fraction) { return formatted("%.3g%%", 100.0 * fraction); }
+std::string percent(double fraction) { return format_text("%.3g%%", 100.0 * fraction); }
 
 bool update_requested() {
     const char* value = std::getenv("AQUAFORM_UPDATE_GOLDEN");
@@ -382,9 +376,9 @@ GoldenCheck check_golden(const Image& actual, const std::filesystem::path& golde
         const double count = double(std::max<size_t>(1, delta_e.size()));
         check.mean_delta_e = std::accumulate(delta_e.begin(), delta_e.end(), 0.0) / count;
         check.bad_fraction = double(bad) / count;
-        measurements = "mean Delta E " + formatted("%.3g", check.mean_delta_e) + " (tolerance " +
-                       formatted("%g", tol.mean_delta_e) + "), " + percent(check.bad_fraction) +
-                       " of pixels with Delta E > " + formatted("%g", tol.pixel_delta_e) + " (tolerance " +
+        measurements = "mean Delta E " + format_text("%.3g", check.mean_delta_e) + " (tolerance " +
+                       format_text("%g", tol.mean_delta_e) + "), " + percent(check.bad_fraction) +
+                       " of pixels with Delta E > " + format_text("%g", tol.pixel_delta_e) + " (tolerance " +
                        percent(tol.max_bad_fraction) + ")";
     } else {
         check.mean_delta_e = check.bad_fraction = std::numeric_limits<double>::quiet_NaN();
@@ -420,7 +414,7 @@ GoldenCheck check_golden(const Image& actual, const std::filesystem::path& golde
         const Result<bool> diff_written = write_png(
             diff_path, heat_map(comparison.delta_e, actual.width, actual.height, float(tol.pixel_delta_e), &actual));
         check.message += diff_written.ok() ? "; Delta E heat map (full scale at Delta E " +
-                                                 formatted("%g", tol.pixel_delta_e) + "): " + diff_path.string()
+                                                 format_text("%g", tol.pixel_delta_e) + "): " + diff_path.string()
                                            : "; could not save the Delta E heat map: " + diff_written.error();
     }
     check.message += ". If the actual image is the intended result, re-run the test with the environment variable "

@@ -76,6 +76,9 @@ void SurfaceMesher::reserve_output(uint64_t vertices, uint64_t triangles) {
 void SurfaceMesher::record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, gpu::GpuTimer* timer) {
     positions_ = &positions;
     count_ = count;
+    // The sampler is shared (a volume export samples it alone and grows it as the fluid spreads):
+    // the offsets and their prefix sums follow its capacity as it is now, not as it was.
+    reserve_lattice(sampler_.capacity());
     sampler_.record(cmd, positions, count, timer, vertex_capacity_, triangle_capacity_);
     {
         gpu::GpuScope scope(timer, cmd, "mesh_march");

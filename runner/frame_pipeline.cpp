@@ -77,9 +77,7 @@ void FramePipeline::record_picture(VkCommandBuffer cmd) {
         preview_->record(cmd, solver.positions(), solver.velocities(), solver.particle_count(), camera_, style_,
                          scene.domain, scene.static_boxes);
     if (surface_) {
-        surface_->share_grid(sim_.frame_grid());
-        surface_->set_solids(sim_.solids());
-        surface_->set_whitewater(sim_.whitewater());
+        sim_.hand_frame(*surface_);
         surface_->record(cmd, solver.positions(), solver.particle_count(), camera_, nullptr);
         gpu::record_download(ctx_, cmd, surface_->color_buffer(), *color_, color_->size);
     }

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "core/csv.h"
+#include "core/format_text.h"
 #include "render/svg_chart.h"
 
 namespace aquaform::runner {
@@ -33,24 +34,15 @@ ProbeFiles::ProbeFiles(const std::filesystem::path& dir, const Scene& scene) : d
 Result<bool> ProbeFiles::write_frame(const ProbeFrame& frame) {
     if (!on_) return true;
     std::string rows;
-    char number[32];
-    auto add = [&](double v, const char* format) {
-        std::snprintf(number, sizeof number, format, v);
-        rows += ',';
-        rows += number;
-    };
     for (size_t k = 0; k < frame.steps.size(); ++k) {
         const ProbeStep& s = frame.steps[k];
-        std::snprintf(number, sizeof number, "%.6f", s.time_s);
-        rows += number;
-        for (double h : s.heights) add(h, "%.5f");
-        for (double p : s.pressures) add(p, "%.2f");
+        rows += format_text("%.6f", s.time_s);
+        for (double h : s.heights) rows += format_text(",%.5f", h);
+        for (double p : s.pressures) rows += format_text(",%.2f", p);
         const bool last = k + 1 == frame.steps.size();
         for (const SolidLoad& l : frame.loads)
-            for (double v : {l.force.x, l.force.y, l.force.z, l.torque.x, l.torque.y, l.torque.z}) {
-                if (last) add(v, "%.5g");
-                else rows += ',';
-            }
+            for (double v : {l.force.x, l.force.y, l.force.z, l.torque.x, l.torque.y, l.torque.z})
+                rows += last ? format_text(",%.5g", v) : std::string(",");
         rows += '\n';
         steps_.push_back(s);
     }

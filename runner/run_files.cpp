@@ -198,7 +198,15 @@ Result<size_t> clear_earlier_run(const std::filesystem::path& dir) {
         if (entry.is_regular_file(ec) && name != kRunDescriptionName) earlier.push_back(entry.path());
     }
     size_t removed = 0;
-    for (const auto& path : earlier) removed += std::filesystem::remove(path, ec) ? 1 : 0;
+    for (const auto& path : earlier) {
+        // Found now, before any work: a file left in place would be written over at the end, or
+        // pass for this run's (another user's file in a sticky folder such as /tmp cannot go).
+        if (!std::filesystem::remove(path, ec) && ec)
+            return Error{"cannot remove " + path.string() + ", an earlier run's file (" + ec.message() +
+                         "; in a folder such as /tmp only its owner may remove it): remove it yourself, or give "
+                         "another --out"};
+        ++removed;
+    }
     return removed;
 }
 

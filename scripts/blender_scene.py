@@ -23,8 +23,8 @@ options:
 
 Exit status, as the aquaform command's: 0 done; 2 bad input (a flag, a missing or unreadable run
 folder, a corrupt run.json or one whose "up" or "domain" is wrong, an exported file that is not of
-its kind), one line on stderr naming it and the fix, checked before Blender imports or renders
-anything; 1 a failure at run time (Blender cannot import a file); 130 Ctrl-C while rendering
+its kind, a solid's file that run.json lists missing or not a mesh), one line on stderr naming it and
+the fix, checked before Blender imports or renders anything; 1 a failure at run time (Blender cannot import a file); 130 Ctrl-C while rendering
 (Blender's first Ctrl-C finishes the frame it is on; the frames rendered stay; a second one is
 Blender's own and ends it at once, with Blender's status 2). Without run.json, the up axis y and
 the tank round the surfaces are assumed, and a line on stderr says so.
@@ -293,7 +293,13 @@ def read_run_json(run):
         refuse('%s: "obstacles" is %s, not %s; %s' % (path, json.dumps(obstacles)[:200], shape, fix))
     for o in obstacles:
         name = o.get("file") or o["files"]
-        if os.path.basename(name) != name:
+        if "file" not in o:  # a printf pattern of the frame: it must make a name of a number
+            try:
+                name = o["files"] % 0
+            except (TypeError, ValueError, OverflowError):
+                refuse('%s: obstacle %s\'s "files" %s is not a pattern of one frame number (such as %s); %s'
+                       % (path, json.dumps(o["name"]), json.dumps(o["files"]), json.dumps("obstacle_x_%04u.obj"), fix))
+        if os.path.basename(name) != name or name in ("", ".", ".."):
             refuse('%s: obstacle file %s is not a file name in the run folder; %s' % (path, json.dumps(name), fix))
     return {"up": up, "domain": domain, "found": True, "obstacles": obstacles,
             "particle_spacing": data.get("particle_spacing")}
@@ -324,6 +330,79 @@ def check_file_kind(path):
     else:
         return
     refuse("%s %s; export it again with `aquaform run` or remove %s from %s" % (path, problem, name, os.path.dirname(path)))
+
+
+# The OBJ keywords Blender's importer reads or skips; any other first word is not OBJ.
+OBJ_KEYWORDS = {b"v", b"vn", b"vt", b"vp", b"f", b"l", b"p", b"o", b"g", b"s", b"usemtl", b"mtllib", b"cstype", b"deg",
+                b"curv", b"curv2", b"surf", b"parm", b"end", b"mg", b"bevel", b"c_interp", b"d_interp", b"lod",
+                b"shadow_obj", b"trace_obj"}
+
+
+def obj_problem(path):
+    """Why the OBJ mesh at `path` cannot be drawn (a line that is not OBJ, a vertex that is not three
+    finite numbers, a face with fewer than three corners or a corner with no vertex, no face), or
+    None. Read whole: an obstacle's file is small, and Blender's importer would otherwise fail, or
+    draw nothing, after the scene has been started."""
+    vertices = faces = 0
+    try:
+        with open(path, "rb") as f:
+            for number, line in enumerate(f, 1):
+                words = line.split()
+                if not words or words[0].startswith(b"#"):
+                    continue
+                if words[0] not in OBJ_KEYWORDS or b"\0" in line:
+                    shown = re.sub(r"[^\x20-\x7e]", "?", line[:40].decode("ascii", "replace").strip())
+                    return "line %d is not OBJ (%s)" % (number, shown)
+                if words[0] == b"v":
+                    try:
+                        xyz = [float(w) for w in words[1:4]]
+                    except ValueError:
+                        xyz = []
+                    if len(xyz) != 3 or not all(math.isfinite(x) for x in xyz):
+                        return "line %d: a vertex is three finite numbers" % number
+                    vertices += 1
+                elif words[0] == b"f":
+                    if len(words) < 4:
+                        return "line %d: a face has at least three corners" % number
+                    for corner in words[1:]:
+                        try:
+                            index = int(corner.split(b"/")[0])
+                        except ValueError:
+                            index = 0
+                        if index < 0:
+                            index += vertices + 1
+                        if not 1 <= index <= vertices:
+                            return "line %d: a face's corner %s names no vertex before it" % (
+                                number, corner.decode("ascii", "replace"))
+                    faces += 1
+    except OSError as error:
+        return "cannot be read (%s)" % (error.strerror or error)
+    return None if faces else "has no faces"
+
+
+def obstacle_files(run, obstacles, first, last):
+    """Each solid's files (run.json's "obstacles"), checked before any work: [(name, frame or None,
+    path)]. A still one has one file; a moving one a file at every frame of the surfaces'
+    first..last, as `aquaform run` writes them. A file missing or not a mesh is refused: drawn
+    without its solids, the scene would be wrong without a word."""
+    fix = "write the run again with `aquaform run` (it writes the solids' files beside the surfaces)"
+    files = []
+    for o in obstacles:
+        shown = [(None, o["file"])] if "file" in o else [(f, o["files"] % f) for f in range(first, last + 1)]
+        for frame, name in shown:
+            path = os.path.join(run, name)
+            at = "" if frame is None else " at frame %d" % frame
+            if not os.path.isfile(path):
+                refuse('%s lists the obstacle %s, but its file %s%s is missing; %s, or remove the entry from run.json'
+                       % (os.path.join(run, "run.json"), json.dumps(o["name"]), path, at, fix))
+            if not path.lower().endswith(".obj"):
+                check_file_kind(path)
+            problem = obj_problem(path) if path.lower().endswith(".obj") else None
+            if problem:
+                refuse("%s (the obstacle %s%s) is not a mesh Blender can draw: %s; %s"
+                       % (path, json.dumps(o["name"]), at, problem, fix))
+            files.append((o["name"], frame, path))
+    return files
 
 
 # The whitewater's PLY (sim/particle_io.cpp, write_diffuse_ply): binary little-endian vertices of
@@ -387,7 +466,8 @@ def check_render_prefix(prefix):
 
 def read_run(args):
     """Everything the scene takes from the run folder, checked before any work: the surfaces
-    (meshes, else volumes) and their frames, the up axis, the tank, the frame rate."""
+    (meshes, else volumes, and the volumes' iso level) and their frames, the up axis, the tank,
+    the solids' files, the whitewater's, the frame rate."""
     run = args["run"]
     if not os.path.isdir(run):
         refuse("no run folder %s; give the --out folder of an `aquaform run` with --mesh-every or --vdb-every" % run)
@@ -420,12 +500,23 @@ def read_run(args):
         diffuse_header(path)
     frames.update(frames_of(run, diffuse))
     diffuse.sort(key=lambda f: frames[f])
+    solids = obstacle_files(run, described["obstacles"], first, last)
+    iso = None
+    if not meshes:  # the volumes' surface level, read now rather than after the scene is started
+        try:
+            iso = vdb_float_metadata(volumes[0], "aquaform_iso")
+        except (OSError, struct.error) as error:
+            refuse("%s: its aquaform_iso metadata cannot be read (%s); export it again with `aquaform run --vdb-every K` "
+                   "or remove it" % (volumes[0], error))
+        if iso is not None and not math.isfinite(iso):
+            refuse("%s: its aquaform_iso metadata is %s, not a number; export it again with `aquaform run --vdb-every K`"
+                   % (volumes[0], iso))
     fps = frame_rate(run)
     if args["render"]:  # last: the only check that makes something (PREFIX's folder)
         check_render_prefix(args["render"])
     return {"meshes": meshes, "volumes": volumes, "frames": frames, "first": first, "last": last,
             "up": args["up"] or described["up"] or "y", "domain": args["domain"] or described["domain"], "fps": fps,
-            "obstacles": described["obstacles"], "dir": run, "diffuse": diffuse,
+            "obstacles": solids, "dir": run, "diffuse": diffuse, "iso": iso,
             "spacing": described["particle_spacing"]}
 
 
@@ -640,7 +731,7 @@ def main():
         volume.matrix_world = turn
         volume.data.frame_start = frames[volumes[0]]
         volume.hide_render = True
-        iso = vdb_float_metadata(volumes[0], "aquaform_iso") or 0.5
+        iso = run["iso"] or 0.5
         obj = bpy.data.objects.new("water", bpy.data.meshes.new("water"))
         scene.collection.objects.link(obj)
         modifier = obj.modifiers.new("VolumeToMesh", "VOLUME_TO_MESH")
@@ -654,22 +745,17 @@ def main():
 
     add_whitewater(run, turn)
 
-    # The solids (run.json's "obstacles"): a still one once, a moving one a file per frame shown
-    # at its frame. Files the run did not write (a run stopped early) are skipped.
+    # The solids (run.json's "obstacles", their files checked in read_run): a still one once, a
+    # moving one a file per frame shown at its frame.
     solid = principled_material("solid", (0.75, 0.33, 0.10, 1.0), 0.0, 0.6, 1.45)  # a warm colour, apart from water and glass
-    for o in run["obstacles"]:
-        shown = [(None, o["file"])] if "file" in o else [(f, o["files"] % f) for f in range(first, last + 1)]
-        for frame, name in shown:
-            path = os.path.join(run["dir"], name)
-            if not os.path.isfile(path):
-                continue
-            obj = import_mesh(path)
-            obj.name = "obstacle " + o["name"]
-            obj.matrix_world = turn @ obj.matrix_world
-            obj.data.materials.clear()
-            obj.data.materials.append(solid)
-            if frame is not None:
-                key_visibility(obj, frame, frame + 1)
+    for name, frame, path in run["obstacles"]:
+        obj = import_mesh(path)
+        obj.name = "obstacle " + name
+        obj.matrix_world = turn @ obj.matrix_world
+        obj.data.materials.clear()
+        obj.data.materials.append(solid)
+        if frame is not None:
+            key_visibility(obj, frame, frame + 1)
 
     # The tank: --domain, else run.json's, else the box round every surface.
     domain = run["domain"]

@@ -5,6 +5,7 @@
 
 #include "control/section_builder.h"
 #include "gpu/context.h"
+#include "render/renderer.h"
 #include "sim/blowup.h"
 #include "sim/obstacles.h"
 #include "sim/pbf_params.h"
@@ -25,15 +26,17 @@ control::Strength strength_for(const Scene& scene, const control::ControlSection
 std::optional<ControlSummary> summarize(const std::optional<control::PreparedControl>& control) {
     if (!control) return std::nullopt;
     ControlSummary s{control->strength.describe(), control->strength.warning, {}};
-    // The loader refuses meshes with larger holes or no volume; what it let through or repaired
-    // is said here, as `control place` says it.
+    // The loader closes a mesh's holes and refuses a mesh with no inside; what it repaired is
+    // said here, as `control place` says it.
     for (const control::ControlMesh& m : control->section.meshes) {
         if (m.file.empty() || (m.report.watertight() && m.report.reoriented_face_count == 0)) continue;
         std::string note = "control mesh " + m.name + " (" + m.file.string() + "):";
         if (m.report.reoriented_face_count > 0)
             note += " " + std::to_string(m.report.reoriented_face_count) +
                     " faces pointed against their neighbours and were turned back;";
-        if (!m.report.watertight()) note += " it is not watertight (holes under 1% of its surface), which the inside tests tolerate;";
+        if (m.report.closed_hole_count > 0)
+            note += " " + std::to_string(m.report.closed_hole_count) + " hole(s) were closed with caps, and the mesh is used closed;";
+        else if (!m.report.watertight()) note += " it is not watertight;";
         s.mesh_notes.push_back(note + "\n" + geometry::describe(m.report));
     }
     return s;
@@ -120,6 +123,12 @@ const WhitewaterView* SimulationSession::whitewater() {
     whitewater_ = {{&w->positions(0), &w->positions(1)}, {&w->velocities(0), &w->velocities(1)}, &w->counters(), w->capacity(),
                    scene_.particle_spacing};
     return &whitewater_;
+}
+
+void SimulationSession::hand_frame(Renderer& renderer) {
+    renderer.share_grid(frame_grid());
+    renderer.set_solids(solids());
+    renderer.set_whitewater(whitewater());
 }
 
 void SimulationSession::rebuild(bool keep_particles) {

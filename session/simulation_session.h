@@ -30,6 +30,10 @@ class GpuTimer;
 struct Submission;
 }  // namespace aquaform::gpu
 
+namespace aquaform {
+class Renderer;
+}
+
 namespace aquaform::session {
 
 /// How well the fluid takes the active control shapes in one frame (the shape columns of stats.csv).
@@ -130,6 +134,9 @@ public:
     /// The whitewater the solver makes, for a renderer to draw (Renderer::set_whitewater); nullptr
     /// when the scene has none. Valid until the solver is made again (ask each frame).
     const WhitewaterView* whitewater();
+    /// Hands `renderer` what it draws besides the particles, all of it (the frame grid, the
+    /// solids, the whitewater), so that no renderer is given half a frame; call it each frame.
+    void hand_frame(Renderer& renderer);
     /// The mesh control, or null without a control section.
     control::ControlDriver* control() { return driver_.get(); }
     const control::ControlDriver* control() const { return driver_.get(); }

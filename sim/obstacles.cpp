@@ -1,6 +1,7 @@
 #include "sim/obstacles.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 #include "core/json_fields.h"
@@ -33,14 +34,20 @@ using namespace json_fields;
 constexpr std::string_view kObstacleKeys[] = {"file", "placement", "animation"};
 constexpr const char* kExample = "{\"rock\": {\"file\": \"../meshes/sphere.obj\", \"placement\": {\"position\": [0.5, 0.1, 0.2]}}}";
 
-/// Times at which a motion is checked: its start, its end and kMotionSamples steps between (a
-/// still obstacle: t = 0 alone). A motion faster than its keys' spacing shows between them.
+/// Times at which a motion is checked: every key (so that no key, however close to the next,
+/// aliases away: between keys the motion is interpolated, and its speed is that of the span), and
+/// for interpolated motions kMotionSamples steps from start to end for the curved paths between
+/// them. A sequence holds each frame until the next: its speed is a frame's move times the frame
+/// rate, seen from key to key. A still obstacle: t = 0 alone.
 constexpr int kMotionSamples = 480;
 std::vector<double> check_times(const geometry::MeshAnimation& a) {
     if (!a.moves()) return {0.0};
+    std::vector<double> t = a.key_times();
     const double end = std::max(a.duration(), 1e-6);
-    std::vector<double> t;
-    for (int k = 0; k <= kMotionSamples; ++k) t.push_back(end * k / kMotionSamples);
+    if (!std::holds_alternative<geometry::SequenceAnimation>(a.kind()))
+        for (int k = 0; k <= kMotionSamples; ++k) t.push_back(end * k / kMotionSamples);
+    std::sort(t.begin(), t.end());
+    t.erase(std::unique(t.begin(), t.end()), t.end());
     return t;
 }
 
@@ -107,16 +114,60 @@ ObstacleSpec read_obstacle(const json& v, const std::string& name, const std::st
         last = std::move(now);
         last_t = t;
     }
-    const double limit = max_obstacle_speed(scene);
-    if (o.max_speed > limit)
-        fail(path + " moves at up to " + fmt(o.max_speed) + " m/s, faster than the time-step rule can follow: a step moves "
-             "at most solver.cfl * h = " + fmt(scene.solver.cfl * scene.solver.kernel_radius_factor * scene.particle_spacing) +
-             " m and a frame has at most solver.max_substeps = " + std::to_string(scene.solver.max_substeps) +
-             " steps, so at most " + fmt(limit) + " m/s; slow its animation down or raise solver.max_substeps to " +
-             std::to_string(uint32_t(std::ceil(scene.solver.max_substeps * o.max_speed / limit))));
+    // Its speed against the time-step rule is checked with the whole scene's (speed_beyond_step_rule).
     o.start = std::make_shared<StartSolid>(motion.mesh_at(0.0));
     o.shape = std::make_shared<geometry::MeshAnimation>(std::move(motion));
     return o;
+}
+
+/// An obstacle's name becomes part of its files' names (exports/obstacle_export.h), so it is held to
+/// what every file system and tool takes: ASCII letters, digits, '_' and '-', at most 64 of them.
+constexpr size_t kMaxNameLength = 64;
+void check_name(const std::string& name) {
+    const bool allowed = std::all_of(name.begin(), name.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+    });
+    if (name.empty() || name.size() > kMaxNameLength || !allowed || name.front() == '-')
+        fail("obstacles: the name " + written(json(name)) + " cannot name the obstacle's files (obstacle_<name>.obj); a name "
+             "is 1 to " + std::to_string(kMaxNameLength) + " ASCII letters, digits, '_' and '-' (not first), e.g. "
+             "\"rock_1\": rename it");
+}
+
+std::string lower(std::string text) {
+    for (char& c : text) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return text;
+}
+
+/// Whether a still solid named `still` writes the file a moving one named `moving` writes at some
+/// frame (obstacle_<moving>_NNNN.obj), compared without case as a case-insensitive disk would.
+bool takes_frame_file(const std::string& still, const std::string& moving) {
+    const std::string s = lower(still), prefix = lower(moving) + "_";
+    return s.size() >= prefix.size() + 4 && s.compare(0, prefix.size(), prefix) == 0 &&
+           std::all_of(s.begin() + std::ptrdiff_t(prefix.size()), s.end(), [](char c) { return c >= '0' && c <= '9'; });
+}
+
+/// Two solids never share a file: the static boxes' obstacle_static_box_<i>.obj, a still obstacle's
+/// obstacle_<name>.obj and a moving one's obstacle_<name>_NNNN.obj.
+void check_files_apart(const std::vector<ObstacleSpec>& obstacles, size_t static_boxes) {
+    struct Solid {
+        std::string name, path;
+        bool moves;
+    };
+    std::vector<Solid> solids;
+    for (size_t b = 0; b < static_boxes; ++b)
+        solids.push_back({"static_box_" + std::to_string(b), "static_boxes[" + std::to_string(b) + "]", false});
+    for (const ObstacleSpec& o : obstacles) solids.push_back({o.name, "obstacles." + o.name, o.moves});
+    for (size_t i = 0; i < solids.size(); ++i)
+        for (size_t j = 0; j < solids.size(); ++j) {
+            const Solid &a = solids[i], &b = solids[j];
+            const bool same = i < j && a.moves == b.moves && lower(a.name) == lower(b.name);
+            const bool frame = !a.moves && b.moves && takes_frame_file(a.name, b.name);
+            if (same || frame)
+                fail(a.path + " and " + b.path + " would write the same file (" +
+                     (frame ? "obstacle_" + a.name + ".obj is one of " + b.path + "'s frames, obstacle_" + b.name + "_NNNN.obj"
+                            : "obstacle_" + a.name + (a.moves ? "_NNNN" : "") + ".obj, names compared without case") +
+                     "); rename one of them");
+        }
 }
 
 }  // namespace
@@ -135,7 +186,11 @@ std::vector<ObstacleSpec> read_obstacles(const json& v, const SceneBasics& scene
              " more solids besides the static_boxes (" + std::to_string(scene.static_boxes.size()) +
              "); join meshes into one OBJ (an obstacle may have several parts)");
     std::vector<ObstacleSpec> out;
-    for (const auto& [name, entry] : v.items()) out.push_back(read_obstacle(entry, name, "obstacles." + name, scene, base_dir));
+    for (const auto& [name, entry] : v.items()) {
+        check_name(name);
+        out.push_back(read_obstacle(entry, name, "obstacles." + name, scene, base_dir));
+    }
+    check_files_apart(out, scene.static_boxes.size());
     return out;
 }
 

@@ -128,6 +128,13 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapsh
     const GridGeometry& geometry = plan.value().grid;
     params_ = make_sim_params(scene, geometry, count_);
     substeps_ = scene.solver.substeps;
+    // The first frame's steps follow the start velocities (set_state measures them again), so the
+    // start's figures (its Courant number at frame 0) are those of the step that will be taken.
+    if (start)
+        for (const glm::vec4& v : start->v) last_max_speed_ = std::max(last_max_speed_, double(glm::length(glm::vec3(v))));
+    for (size_t b = 0; !start && b < scene.fluid_blocks.size(); ++b)
+        last_max_speed_ = std::max(last_max_speed_, double(glm::length(scene.fill_of(b).velocity)));
+    set_frame_steps(rule_substeps());
     xsph_on_ = scene.solver.viscosity > 0.0f || scene.solver.vorticity > 0.0f;
     vorticity_on_ = scene.solver.vorticity > 0.0f;
 
@@ -290,6 +297,24 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     time_ += params_.dt;
 }
 
+uint32_t PbfSolver::rule_substeps() const {
+    // A moving solid's surface counts as a speed too: it pushes the fluid ahead of it.
+    const double solid_speed = std::max(boundary_->surface_speed(time_), boundary_->surface_speed(time_ + scene_.solver.frame_dt));
+    return substeps_for_compression(
+        scene_.solver,
+        substeps_for_speed(scene_.solver, params_.h, std::max(last_max_speed_, solid_speed), glm::length(scene_.gravity),
+                           last_speed_growth_),
+        substeps_, last_max_density_error_);
+}
+
+bool PbfSolver::set_frame_steps(uint32_t substeps) {
+    if (substeps == substeps_) return false;
+    substeps_ = substeps;
+    set_substeps(params_, scene_.solver.frame_dt, substeps);
+    params_.scorr_k = scorr_k_of_step(scene_, params_.dt);
+    return true;
+}
+
 void PbfSolver::record_solid_motion(VkCommandBuffer cmd) {
     boundary_->write_params(params_, time_ + params_.dt);
     gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
@@ -386,25 +411,12 @@ void PbfSolver::record_frame(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
         timer->clear_totals();
         timer->reset(cmd);
     }
-    // The time-step rule: this frame's steps from the largest speed, its growth and the largest
-    // density error the last frame ended with (collected before this frame is recorded).
-    // A moving solid's surface counts as a speed too: it pushes the fluid ahead of it.
-    const double solid_speed = std::max(boundary_->surface_speed(time_), boundary_->surface_speed(time_ + scene_.solver.frame_dt));
-    const uint32_t substeps = substeps_for_compression(
-        scene_.solver,
-        substeps_for_speed(scene_.solver, params_.h, std::max(last_max_speed_, solid_speed), glm::length(scene_.gravity),
-                           last_speed_growth_),
-        substeps_, last_max_density_error_);
+    const uint32_t substeps = rule_substeps();  // from the figures collected before this frame
     // A deforming solid is made again once a frame, for the frame's middle (its maps are made on
     // the host); its pose moves every step.
     if (boundary_->deforms() && boundary_->reshape(time_ + 0.5 * scene_.solver.frame_dt))
         gpu::record_upload(*ctx_, cmd, *boundary_nodes_, boundary_->nodes().data(), boundary_->bytes());
-    if (substeps != substeps_) {
-        substeps_ = substeps;
-        set_substeps(params_, scene_.solver.frame_dt, substeps);
-        params_.scorr_k = scorr_k_of_step(scene_, params_.dt);
-        gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
-    }
+    if (set_frame_steps(substeps)) gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
     for (uint32_t i = 0; i < substeps; ++i) {
         step_in_frame_ = i;
         record_step(cmd, timer);

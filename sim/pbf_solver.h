@@ -167,6 +167,11 @@ private:
     void relax_start();
     /// Moves the solids to where they stand at the end of the step about to be recorded.
     void record_solid_motion(VkCommandBuffer cmd);
+    /// The time-step rule: the next frame's steps from the largest speed, its growth and the
+    /// largest density error the last frame (or the start) ended with.
+    uint32_t rule_substeps() const;
+    /// Takes `substeps` steps a frame from the next on; whether the parameters changed.
+    bool set_frame_steps(uint32_t substeps);
 
     gpu::Context* ctx_;
     Scene scene_;

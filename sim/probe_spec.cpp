@@ -67,6 +67,14 @@ ProbeSpec read_probes(const json& v, const SceneBasics& scene) {
                        require(s, "position", "in " + path, "\"position\": [0.8, 0.02, 0.5]");
                        PressureSensor sensor{name};
                        sensor.position = read_vec3(s["position"], path + ".position", "a point [x, y, z] on a solid's surface");
+                       // Inside the tank first: outside it, the distances to its walls are negative
+                       // and would pass for "on a wall".
+                       const float slack = scene.particle_spacing;
+                       for (int a = 0; a < 3; ++a)
+                           if (!(sensor.position[a] >= d.min[a] - slack && sensor.position[a] <= d.max[a] + slack))
+                               fail(path + ".position " + written(s["position"]) + " is outside the tank " + fmt(d) +
+                                    " on " + "xyz"[a] + "; a pressure sensor sits on a solid's surface inside it (a "
+                                    "wall, the floor, a static box or an obstacle): move it there");
                        if (s.contains("size"))
                            sensor.size = read_number(s["size"], path + ".size",
                                                      {0.0, 0.5 * glm::length(d.max - d.min), false, false, "a diameter in metres, e.g. 0.009"});

@@ -21,9 +21,9 @@ struct HeightGauge {
 };
 
 /// A pressure sensor: a point on a solid's surface (a wall, a static box or an obstacle) and
-/// its size (diameter, m; 0: a point). It reads the fluid's pressure next to the point, averaged
-/// over the kernel's support (h around it: the fluid's resolution); a sensor wider than 2 h is
-/// refused.
+/// its size (diameter, m; 0: a point). It reads the mean of the fluid's pressure over its face (a
+/// disc of that diameter on the surface), the pressure at each point smoothed over the kernel's
+/// support (h around it: the fluid's resolution); a sensor wider than 2 h is refused.
 struct PressureSensor {
     std::string name;
     glm::vec3 position{0.0f};

@@ -40,7 +40,7 @@ ProbeRecorder::ProbeRecorder(gpu::Context& ctx, const Scene& scene, const std::v
     const float height = scene.domain.max.y - scene.domain.min.y;
     const float spacing = std::max(0.5f * scene.particle_spacing, height / float(PROBE_MAX_GAUGE_SAMPLES - 1));
     samples_per_gauge_ = spec_.gauges.empty() ? 0u : std::min<uint32_t>(PROBE_MAX_GAUGE_SAMPLES, uint32_t(height / spacing) + 1);
-    for (size_t s = 0; s < spec_.sensors.size(); ++s) params_.sensors[s] = glm::vec4(spec_.sensors[s].position, 0.0f);
+    for (size_t s = 0; s < spec_.sensors.size(); ++s) params_.sensors[s] = glm::vec4(spec_.sensors[s].position, 0.5f * spec_.sensors[s].size);
     for (size_t g = 0; g < spec_.gauges.size(); ++g)
         params_.gauges[g] = glm::vec4(spec_.gauges[g].x, floor_y_ + 0.25f * scene.particle_spacing, spec_.gauges[g].z, spacing);
     params_.counts = glm::uvec4(uint32_t(spec_.sensors.size()), uint32_t(spec_.gauges.size()), samples_per_gauge_,

@@ -351,6 +351,7 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
         scene.column_width = a;
     }
 
+    if (const std::string fast = speed_beyond_step_rule(scene); !fast.empty()) fail(fast);
     uint64_t count = scene.particle_count();
     if (count > kMaxSceneParticles)
         fail("the fluid blocks hold " + (count < 1000000000000ull ? std::to_string(count) : fmt(double(count))) +
@@ -441,7 +442,35 @@ Result<Scene> with_particle_count(const Scene& scene, uint64_t particles, const 
     if (out.particle_count() == 0 || best_error > 0.5)
         return Error{flag + " " + std::to_string(particles) + " cannot be met by " + scene.name +
                      ": its thinnest fluid block holds no particle at that size; ask for more particles"};
+    // A finer spacing is a shorter step's reach: speeds the scene's own spacing carried may not be.
+    if (const std::string fast = speed_beyond_step_rule(out, "at " + flag + " " + std::to_string(particles)); !fast.empty())
+        return Error{fast};
     return out;
+}
+
+std::string speed_beyond_step_rule(const Scene& scene, const std::string& at) {
+    const double limit = max_obstacle_speed(scene), gravity = glm::length(scene.gravity);
+    const double per_step = double(scene.solver.cfl) * scene.solver.kernel_radius_factor * scene.particle_spacing;
+    const auto refuse = [&](const std::string& what, double speed, const std::string& slower) {
+        const uint32_t steps = uint32_t(std::ceil(scene.solver.max_substeps * speed / limit));
+        return what + " " + fmt(speed) + " m/s" + (at.empty() ? "" : " " + at) + ", faster than the time-step rule "
+               "can carry: a step moves at most solver.cfl * h = " + fmt(per_step) + " m and a frame has at most "
+               "solver.max_substeps = " + std::to_string(scene.solver.max_substeps) + " steps, so at most " + fmt(limit) +
+               " m/s; " + slower + (steps <= kMaxMaxSubsteps ? " or raise solver.max_substeps to " + std::to_string(steps)
+                                                            : " (solver.max_substeps goes up to " +
+                                                                  std::to_string(kMaxMaxSubsteps) + ")");
+    };
+    for (size_t i = 0; i < scene.fluid_blocks.size(); ++i) {
+        // The first frame's steps follow the start speed and a frame of gravity (pbf_params.cpp).
+        const double speed = glm::length(scene.fill_of(i).velocity) + gravity * scene.solver.frame_dt;
+        if (glm::length(scene.fill_of(i).velocity) > 0.0f && speed > limit)
+            return refuse("fluid_blocks[" + std::to_string(i) + "].velocity with a frame of gravity reaches", speed,
+                          "give a slower start velocity");
+    }
+    for (const ObstacleSpec& o : scene.obstacles)
+        if (o.max_speed > limit)
+            return refuse("obstacles." + o.name + " moves at up to", o.max_speed, "slow its animation down");
+    return {};
 }
 
 Box framed_region(const Scene& scene) {

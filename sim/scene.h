@@ -106,6 +106,11 @@ inline constexpr uint64_t kMinSceneParticles = 64;
 /// its size in metres: the kernel radius follows the spacing (kernel_radius_factor). The error
 /// names `flag` (e.g. "--particles") and the range kMinSceneParticles..kMaxSceneParticles.
 Result<Scene> with_particle_count(const Scene& scene, uint64_t particles, const std::string& flag = "--particles");
+/// Why a speed the scene starts with is more than the time-step rule can carry (a fluid block's
+/// start velocity, an obstacle's motion), or empty: a step moves at most solver.cfl * h and a frame
+/// has at most solver.max_substeps steps. `at` says at what spacing it was found ("" or "at
+/// --particles N").
+std::string speed_beyond_step_rule(const Scene& scene, const std::string& at = "");
 
 /// The part of the tank a view frames: the whole domain, or for a fluid that falls under gravity
 /// without mesh control, its floor up to the height the fluid can reach (a tall domain over a

@@ -1,6 +1,7 @@
 #include "sim/whitewater.h"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 
 #include "gpu/context.h"
@@ -90,7 +91,21 @@ DiffuseSnapshot Whitewater::snapshot() {
         gpu::download(*ctx_, *pool_x_[current_], s.x.data(), uint64_t(live) * 16);
         gpu::download(*ctx_, *pool_v_[current_], s.v.data(), uint64_t(live) * 16);
     }
-    return s;
+    // By the bits of position, life, velocity and kind: a total order that needs no tie-break.
+    const auto bits = [&](uint32_t i) {
+        std::array<uint32_t, 8> key;
+        std::memcpy(key.data(), &s.x[i], 16);
+        std::memcpy(key.data() + 4, &s.v[i], 16);
+        return key;
+    };
+    std::vector<uint32_t> order(live);
+    for (uint32_t i = 0; i < live; ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return bits(a) < bits(b); });
+    DiffuseSnapshot sorted;
+    sorted.x.reserve(live);
+    sorted.v.reserve(live);
+    for (uint32_t i : order) sorted.x.push_back(s.x[i]), sorted.v.push_back(s.v[i]);
+    return sorted;
 }
 
 std::vector<glm::vec4> Whitewater::potentials() {

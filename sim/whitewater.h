@@ -48,7 +48,9 @@ public:
     const gpu::Buffer& positions(int generation) const { return *pool_x_[generation]; }
     const gpu::Buffer& velocities(int generation) const { return *pool_v_[generation]; }
     const gpu::Buffer& counters() const { return *counters_; }
-    /// Reads the live diffuse particles back (waits for the device).
+    /// Reads the live diffuse particles back (waits for the device), in an order of their own
+    /// values: the pool's slots go to whichever invocation's atomicAdd comes first, so the same
+    /// particles sit in other slots from run to run; sorted, two runs write the same files.
     DiffuseSnapshot snapshot();
     /// The last step's potentials per fluid particle, in the solver's order: (I_ta, I_wc, I_k,
     /// particles emitted). Reads back (waits for the device).

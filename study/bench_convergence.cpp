@@ -8,6 +8,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "core/format_text.h"
 #include "core/interrupt.h"
 #include "session/simulation_session.h"
 #include "sim/blowup.h"
@@ -24,11 +25,6 @@ json optional_number(std::optional<double> v) { return v && std::isfinite(*v) ? 
 /// A long run says where it is about every this many frames.
 constexpr uint32_t kProgressEveryFrames = 10;
 
-std::string fmt(const char* format, double a, double b, double c) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, format, a, b, c);
-    return buf;
-}
 
 /// A frame's part of the figures both kinds of run share.
 void count_frame(RunFigures& r, const FrameStats& s, const SolverSettings& solver) {
@@ -82,15 +78,15 @@ Result<Scene> convergence_scene(const Scene& base, uint32_t divisions, uint32_t 
     // the dimensionless time T = t sqrt(2 g / a) never reaches its end and the run would not end.
     const glm::vec3 g = base.gravity;
     if (!(g.y <= -kConvergenceLeastGravity) || std::hypot(g.x, g.z) > 0.01f * std::abs(g.y))
-        return Error{origin + ": \"gravity\" is [" + fmt("%g", g.x, 0, 0) + ", " + fmt("%g", g.y, 0, 0) + ", " +
-                     fmt("%g", g.z, 0, 0) + "]; the front is compared with Martin & Moyce's, which falls under gravity "
-                     "straight down: give at least " + fmt("%g", kConvergenceLeastGravity, 0, 0) +
+        return Error{origin + ": \"gravity\" is [" + format_text("%g", g.x) + ", " + format_text("%g", g.y) + ", " +
+                     format_text("%g", g.z) + "]; the front is compared with Martin & Moyce's, which falls under gravity "
+                     "straight down: give at least " + format_text("%g", kConvergenceLeastGravity) +
                      " m/s^2 down, e.g. [0, -9.81, 0]"};
     if (divisions < 2 || depth_layers < 1 || !(cfl > 0.0f))
         return Error{"convergence runs need at least 2 particles across the column, 1 layer deep and cfl > 0 (got " +
                      std::to_string(divisions) + ", " + std::to_string(depth_layers) + ", " + std::to_string(cfl) + ")"};
     Scene s = base;
-    s.name = base.name + " a/" + std::to_string(divisions) + " cfl " + fmt("%g", cfl, 0, 0);
+    s.name = base.name + " a/" + std::to_string(divisions) + " cfl " + format_text("%g", cfl);
     s.particle_spacing = a / float(divisions);
     const float depth = float(depth_layers) * s.particle_spacing;
     s.domain.max.z = s.domain.min.z + depth;
@@ -125,7 +121,7 @@ FrontRun run_front(gpu::Context& ctx, const Scene& scene, uint32_t divisions, do
         r.max_density_error = std::max(r.max_density_error, s.mean_density_error);
         if (s.front && r.finite) time_front.push_back({s.time_s, *s.front});
         if (say && (f + 1) % kProgressEveryFrames == 0)
-            say(fmt("  frame %.0f of %.0f, %.0f steps so far", f + 1, frames, double(r.steps)));
+            say(format_text("  frame %u of %u, %.0f steps so far", f + 1, frames, double(r.steps)));
     }
     r.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
     r.front = nondimensional_front(time_front, a, g);
@@ -182,7 +178,7 @@ StepRun run_step_case(gpu::Context& ctx, Scene scene, float cfl, double seconds,
         count_frame(r, s, scene.solver);
         r.stats.push_back(s);
         if (say && (f + 1) % kProgressEveryFrames == 0)
-            say(fmt("  frame %.0f of %.0f, %.0f steps so far", f + 1, frames, double(r.steps)));
+            say(format_text("  frame %u of %u, %.0f steps so far", f + 1, frames, double(r.steps)));
     }
     r.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
     r.measures = step_measures(r.stats);

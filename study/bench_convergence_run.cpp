@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/format_text.h"
 #include "core/interrupt.h"
 #include "gpu/context.h"
 #include "study/bench_convergence.h"
@@ -32,11 +33,8 @@ std::string percent(const std::optional<FrontComparison>& c, bool max) {
     return buf;
 }
 
-std::string number(std::optional<double> v, const char* format) {
-    if (!v || !std::isfinite(*v)) return "-";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, format, *v);
-    return buf;
+std::string number(std::optional<double> v, LiteralFormat format) {
+    return v && std::isfinite(*v) ? format_number(format, *v) : "-";
 }
 
 }  // namespace

@@ -48,9 +48,7 @@ FrameBenchRecord measure_frame(gpu::Context& ctx, uint32_t target_particles, con
         render_timer.clear_totals();
         gpu::Submission s = session.submit_frame(&solver_timer, [&](VkCommandBuffer cmd) {
             render_timer.reset(cmd);
-            renderer->share_grid(session.frame_grid());
-            renderer->set_solids(session.solids());
-            renderer->set_whitewater(session.whitewater());
+            session.hand_frame(*renderer);
             renderer->record(cmd, solver.positions(), solver.particle_count(), camera, &render_timer);
         });
         const FrameStats stats = session.finish_frame(s, &solver_timer).stats;

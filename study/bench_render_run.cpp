@@ -132,9 +132,7 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const BenchFrame& be
     if (!simulate_frames(sim, frame, std::string(bench.name) + ": simulating to frame " + std::to_string(frame),
                                 &last_frame_ms))
         return std::nullopt;
-    renderer->share_grid(sim.frame_grid());
-    renderer->set_solids(sim.solids());
-    renderer->set_whitewater(sim.whitewater());
+    sim.hand_frame(*renderer);
     const ViewCamera camera = scene_camera(scene, float(width) / float(height));
     const size_t total = configs.size() + 1;
     std::fprintf(stderr, "bench render: %s: rendering reference (1/%zu, exhaustive: the slowest)\n", bench.name, total);
@@ -281,13 +279,22 @@ BenchRenderResult run_bench_render(gpu::Context& ctx, const BenchRenderPlan& pla
     return out;
 }
 
+std::vector<std::string> sweep_chart_suffixes(bool mask_sweep, bool blend_sweep) {
+    std::vector<std::string> suffixes;
+    if (mask_sweep) suffixes = {"_mask_sweep_depth.svg", "_mask_sweep_coverage.svg"};
+    if (blend_sweep) suffixes.push_back("_blend_sweep.svg");
+    return suffixes;
+}
+
 std::vector<std::pair<std::string, Chart>> sweep_charts(const BenchRenderResult& result, const BenchRenderPlan& plan) {
     std::vector<std::pair<std::string, Chart>> charts;
+    const std::vector<std::string> suffixes = sweep_chart_suffixes(plan.mask_sweep, plan.blend_sweep);
+    size_t next = 0;
     if (plan.mask_sweep) {
-        charts.emplace_back("_mask_sweep_depth.svg", mask_sweep_depth_chart(result.mask_points));
-        charts.emplace_back("_mask_sweep_coverage.svg", mask_sweep_coverage_chart(result.mask_points));
+        charts.emplace_back(suffixes[next++], mask_sweep_depth_chart(result.mask_points));
+        charts.emplace_back(suffixes[next++], mask_sweep_coverage_chart(result.mask_points));
     }
-    if (plan.blend_sweep) charts.emplace_back("_blend_sweep.svg", blend_sweep_chart(result.blend_points));
+    if (plan.blend_sweep) charts.emplace_back(suffixes[next++], blend_sweep_chart(result.blend_points));
     return charts;
 }
 

@@ -47,6 +47,9 @@ struct BenchRenderResult {
 BenchRenderResult run_bench_render(gpu::Context& ctx, const BenchRenderPlan& plan);
 
 /// The sweeps' charts, each with the suffix of its file beside bench_render.json.
+/// The suffixes of the sweeps' charts (beside the JSON: STEM + suffix) that sweep_charts writes
+/// for these sweeps, known before any work so that the files are checked first.
+std::vector<std::string> sweep_chart_suffixes(bool mask_sweep, bool blend_sweep);
 std::vector<std::pair<std::string, Chart>> sweep_charts(const BenchRenderResult& result, const BenchRenderPlan& plan);
 
 }  // namespace aquaform::study

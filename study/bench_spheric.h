@@ -32,6 +32,7 @@ namespace aquaform::study {
 
 /// One measured series: time [s] and a value per column.
 struct MeasuredSeries {
+    std::filesystem::path path;                 ///< the file it was read from (for messages)
     std::vector<std::string> names;             ///< "H1" ... or "P1" ...
     std::vector<double> time;
     std::vector<std::vector<double>> values;    ///< [column][sample]
@@ -58,12 +59,15 @@ inline constexpr double kArrivalFraction = 0.1;     ///< of the measured peak
 struct GaugeComparison {
     std::string name;
     double mean_abs_m = 0.0, peak_m = 0.0, relative = 0.0;
+    size_t samples = 0;  ///< the run's steps compared; 0: not compared (no verdict)
 };
 struct SensorComparison {
     std::string name;
     std::optional<double> arrival_s, measured_arrival_s;
     double peak_pa = 0.0, measured_peak_pa = 0.0;
-    double level_pa = 0.0, measured_level_pa = 0.0;  ///< mean over 0.5..2 s
+    double level_pa = 0.0, measured_level_pa = 0.0;  ///< mean over 0.5..2 s (up to the run's end)
+    size_t samples = 0;        ///< the run's steps compared; 0: not compared
+    size_t level_samples = 0;  ///< the run's steps in that window; 0: the level is not compared
 };
 
 /// A run of the scene: its probes' readings at every step.
@@ -79,10 +83,27 @@ struct SphericRun {
     std::vector<SensorComparison> pressures;
 };
 
-/// Runs `scene` for `seconds`, its probes every step. Returns nullopt when Ctrl-C stopped it.
+/// What a run of `scene` for `seconds` can be compared with in `data`, found before any run.
+struct SphericComparable {
+    std::vector<std::string> gauges, sensors;  ///< the scene's names that the data have a column for
+    std::vector<std::string> notes;            ///< what is not compared, and why
+};
+/// Refuses (naming what is missing and the fix) a comparison with nothing to compare: a duration
+/// shorter than the scene's first step, no gauge or sensor name in common with the data's columns,
+/// or none of those with a sample and a positive peak within [0, seconds] (a column without is
+/// left out with a note).
+Result<SphericComparable> spheric_comparable(const Scene& scene, const SphericData& data, double seconds);
+
+/// Runs `scene` for `seconds`, its probes every step. Returns nullopt when Ctrl-C stopped it;
+/// throws LeftPhysics (sim/blowup.h) at the first frame that left physics.
 std::optional<SphericRun> run_spheric(gpu::Context& ctx, const Scene& scene, double seconds, const BenchProgress& say = {});
 /// Fills run.heights and run.pressures from the measurement, over [0, seconds].
 void compare_spheric(SphericRun& run, const SphericData& data, double seconds);
+/// Whether compare_spheric compared anything (a gauge's or a sensor's readings).
+bool compared_anything(const SphericRun& run);
+/// The run's tables on stdout: each gauge's error against its target, each sensor's arrival, peak
+/// and level beside the measurement's (no verdict on what was not compared).
+void print_spheric_run(const SphericRun& run);
 
 nlohmann::json to_json(const SphericRun& run);
 /// H1-H4 of every run over the measurement; the pressures P1 and P3 around the impact.

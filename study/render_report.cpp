@@ -4,6 +4,7 @@
 
 #include "render/surface_renderer.h"
 #include "render/surface_views.h"
+#include "session/simulation_session.h"
 #include "sim/pbf_solver.h"
 #include "study/render_measure.h"
 
@@ -13,8 +14,9 @@ namespace {
 
 /// A method of another family than the SPH surface renderer's: the image, its timings and
 /// counters, and its errors against the exhaustive SPH reference.
-FrameRenderReport other_family_report(gpu::Context& ctx, Renderer& renderer, PbfSolver& solver, const ViewCamera& camera,
-                                      bool with_reference) {
+FrameRenderReport other_family_report(gpu::Context& ctx, Renderer& renderer, session::SimulationSession& sim,
+                                      const ViewCamera& camera, bool with_reference) {
+    PbfSolver& solver = sim.solver();
     const uint32_t n = solver.particle_count();
     const MethodSettings settings = renderer.settings();  // as made: measure_render configures it again
     const RenderMeasurement m = measure_render(ctx, renderer, solver.positions(), n, camera, settings, 2);
@@ -27,7 +29,7 @@ FrameRenderReport other_family_report(gpu::Context& ctx, Renderer& renderer, Pbf
     if (with_reference) {
         auto reference = render_registry().create(ctx, solver.scene().particle_domain(), renderer.width(), renderer.height(), n,
                                                   render_registry().find("reference")->defaults);
-        reference->share_grid(solver.frame_grid() ? &solver.grid() : nullptr);
+        sim.hand_frame(*reference);  // the very frame the method drew: grid, solids, whitewater
         const SurfaceFrame ref = reference->render(solver.positions(), n, camera);
         const float radius = 0.5f * solver.scene().particle_spacing;
         const SurfaceComparison cmp = compare_surfaces(ref, m.frame, radius);
@@ -47,10 +49,11 @@ FrameRenderReport other_family_report(gpu::Context& ctx, Renderer& renderer, Pbf
 }
 }  // namespace
 
-FrameRenderReport render_frame_report(gpu::Context& ctx, Renderer& made, PbfSolver& solver, const ViewCamera& camera,
-                                      const MethodSettings& method, bool with_reference) {
+FrameRenderReport render_frame_report(gpu::Context& ctx, Renderer& made, session::SimulationSession& sim,
+                                      const ViewCamera& camera, const MethodSettings& method, bool with_reference) {
     const SurfaceSettings* settings = method.get<SurfaceSettings>();
-    if (!settings) return other_family_report(ctx, made, solver, camera, with_reference);
+    if (!settings) return other_family_report(ctx, made, sim, camera, with_reference);
+    PbfSolver& solver = sim.solver();
     // The surface renderer's diagnostic views (tiles, classes) are its own: reached once, here.
     SurfaceRenderer& renderer = *concrete_of<SurfaceRenderer>(made);
     renderer.set_diagnostics(true);

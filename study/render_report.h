@@ -13,8 +13,8 @@
 #include "render/image_io.h"
 #include "render/registry.h"
 
-namespace aquaform {
-class PbfSolver;
+namespace aquaform::session {
+class SimulationSession;
 }
 namespace aquaform::gpu {
 class Context;
@@ -27,8 +27,9 @@ struct FrameRenderReport {
     nlohmann::json records;                             ///< "render" and, when measured, "reference"
 };
 
-/// Draws the solver's particles with `renderer` (made with `method`, sharing the solver's grid).
-FrameRenderReport render_frame_report(gpu::Context& ctx, Renderer& renderer, PbfSolver& solver, const ViewCamera& camera,
-                                      const MethodSettings& method, bool with_reference);
+/// Draws the session's frame with `renderer` (made with `method`, handed the frame by the session);
+/// the reference is handed the same frame.
+FrameRenderReport render_frame_report(gpu::Context& ctx, Renderer& renderer, session::SimulationSession& sim,
+                                      const ViewCamera& camera, const MethodSettings& method, bool with_reference);
 
 }  // namespace aquaform::study

@@ -26,11 +26,6 @@ constexpr const char* kPassesColumns = "case,scene,method,width,height,particles
 constexpr const char* kKeepOrStartOver =
     "; to keep those rows, run this spec with another --out; to start over in that folder, pass --fresh";
 
-std::string format(const char* format, double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, format, v);
-    return buf;
-}
 
 /// The complete lines of `path`; `torn`: a last line without its line break (cut by a kill).
 std::vector<std::string> complete_lines(const fs::path& path, bool* torn) {
@@ -92,7 +87,7 @@ std::string row_problem(const std::vector<std::string>& columns, const std::vect
         const bool whole_ok = limit == 0.0 || (v >= 0.0 && v <= limit && v == std::floor(v));
         if (!finite || !whole_ok)
             return "\"" + columns[c] + "\" is \"" + field.substr(0, 40) + "\", not " +
-                   (limit > 0.0 ? "a whole number from 0 to " + format("%.0f", limit) : std::string("a finite number"));
+                   (limit > 0.0 ? "a whole number from 0 to " + format_number("%.0f", limit) : std::string("a finite number"));
     }
     return "";
 }

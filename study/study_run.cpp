@@ -9,6 +9,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "core/format_text.h"
 #include "study/bench_frames.h"
 #include "study/bench_scenes.h"
 #include "study/render_measure.h"
@@ -196,9 +197,7 @@ private:
     Renderer& renderer(const MethodSettings& settings, uint32_t w, uint32_t h) {
         auto& r = renderers_[{render_registry().find(settings.method())->family, w, h}];  // the spec checked the name
         if (!r) r = render_registry().create(ctx_, scene_.particle_domain(), w, h, particles(), settings);
-        r->share_grid(session_->frame_grid());
-        r->set_solids(session_->solids());
-        r->set_whitewater(session_->whitewater());
+        session_->hand_frame(*r);
         return *r;
     }
 
@@ -632,11 +631,8 @@ constexpr const char* kDeviceNote =
     "and bytes, memory per pixel) and the errors do not depend on the device: the \"cost, counted\" tables below are "
     "the same on any.";
 
-std::string format_number(const std::optional<double>& v, const char* format) {
-    if (!v) return "–";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, format, *v);
-    return buf;
+std::string format_number(const std::optional<double>& v, LiteralFormat format) {
+    return v ? aquaform::format_number(format, *v) : "–";
 }
 
 /// The case's counted costs: a row per measurement.
@@ -688,11 +684,8 @@ void write_steps_figure(std::ostream& md, const std::string& case_name, const st
 
 Result<bool> write_study_markdown(const fs::path& path, const StudySpec& spec, const std::vector<StudyRow>& rows,
                                   const std::vector<std::string>& target_lines, const std::string& device) {
-    auto num = [](const std::optional<double>& v, const char* format) {
-        if (!v) return std::string("–");
-        char buf[32];
-        std::snprintf(buf, sizeof buf, format, *v);
-        return std::string(buf);
+    auto num = [](const std::optional<double>& v, LiteralFormat format) {
+        return v ? aquaform::format_number(format, *v) : std::string("–");
     };
     return write_file_with(path, [&](std::ostream& md) {
         md << "# Study: " << spec.name << "\n\nTimes are GPU milliseconds (best of " << spec.repeats << ")"

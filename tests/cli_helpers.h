@@ -135,4 +135,24 @@ inline int interrupt_aquaform(const std::vector<std::string>& args, const std::f
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+/// Plants a symbolic link at `link` (to a file beside its folder) and runs `args`: empty when
+/// aquaform refused it before any work (exit 2, naming the link, never printing `started`) and
+/// left the link's target as it was; else what went wrong.
+inline std::string link_refusal_problem(const std::string& args, const std::filesystem::path& link,
+                                        const std::string& started) {
+    const std::filesystem::path target = link.parent_path().parent_path() / (link.filename().string() + ".target");
+    std::filesystem::create_directories(link.parent_path());
+    std::filesystem::remove(link);
+    write_file(target, "keep me");
+    std::filesystem::create_symlink(target, link);
+    const Outcome o = run_aquaform(args);
+    std::string problem;
+    if (o.exit_code != 2) problem += "exit " + std::to_string(o.exit_code) + " (not 2); ";
+    if (o.output.find(link.string() + " is a symbolic link") == std::string::npos) problem += "the link is not named; ";
+    if (o.output.find(started) != std::string::npos) problem += "the work started; ";
+    if (read_file(target) != "keep me") problem += "the link's target was written; ";
+    std::filesystem::remove(link);
+    return problem.empty() ? problem : problem + "output: " + o.output;
+}
+
 }  // namespace aquaform::test_cli

@@ -91,4 +91,11 @@ TEST(BenchControl, UncreatableOutputFailsNamingThePath) {
     EXPECT_NE(o.output.find("/proc/aquaform_no_such_dir"), std::string::npos) << o.output;
 }
 
+TEST(BenchControl, LinkWhereItsJsonGoesIsRefusedBeforeAnyWork) {
+    const fs::path out = temp_dir("bench_control_link") / "out";
+    EXPECT_EQ(link_refusal_problem("bench control --quick --out " + out.string(), out / "bench_control.json",
+                                             "bench control on "),
+              "");
+}
+
 }  // namespace

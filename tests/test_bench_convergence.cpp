@@ -77,6 +77,29 @@ TEST(BenchConvergence, BadInputIsAUsageErrorNamingTheFlag) {
     }
 }
 
+TEST(BenchConvergence, LinkWhereItsChartGoesIsRefusedBeforeAnyWork) {
+    const fs::path out = temp_dir("bench_convergence_link") / "out";
+    EXPECT_EQ(test_cli::link_refusal_problem("bench convergence --quick --out " + out.string() + scene_flags(),
+                                             out / "convergence_front.svg", "bench convergence on "),
+              "");
+}
+
+TEST(BenchConvergence, FrontThatLeavesPhysicsStopsAtTheVerdict) {
+    // Vorticity confinement a million times too strong (tests/test_blowup_commands.cpp's scene,
+    // as a dam break with its column's width): the first front run leaves physics in its first frame.
+    const fs::path dir = temp_dir("bench_convergence_wild");
+    const fs::path scene = write_file(dir / "wild.json", R"({
+      "name": "wild", "domain": {"min": [0, 0, 0], "max": [0.4, 0.2, 0.08]}, "particle_spacing": 0.02,
+      "fluid_blocks": [{"min": [0, 0, 0], "max": [0.1, 0.2, 0.08]}], "column_width": 0.1, "frames": 20,
+      "solver": {"vorticity": 1e6}})");
+    const Outcome o = run_aquaform("bench convergence --quick --out " + (dir / "out").string() + " --front-scene " +
+                                   scene.string() + " --violent-scene " + kScenes + "violent_dam_break.json");
+    EXPECT_EQ(o.exit_code, 1) << o.output;
+    EXPECT_NE(o.output.find("aquaform bench convergence: the fluid left physics at frame "), std::string::npos) << o.output;
+    EXPECT_EQ(o.output.find("PASS"), std::string::npos) << o.output;
+    EXPECT_FALSE(fs::exists(dir / "out" / "convergence.json"));
+}
+
 FrameStats frame(double t, std::optional<double> runup, double splash) {
     FrameStats s;
     s.time_s = t;

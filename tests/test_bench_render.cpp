@@ -176,6 +176,16 @@ TEST(BenchRender, UnwritableOutputFailsNamingThePath) {
     EXPECT_NE(o.output.find("/proc/aquaform_no_such_dir"), std::string::npos) << o.output;
 }
 
+TEST(BenchRender, LinkWhereASweepChartGoesIsRefusedBeforeAnyWork) {
+    const fs::path dir = temp_dir("bench_render_link") / "out";
+    EXPECT_EQ(link_refusal_problem("bench render --frames curtain --configs uniform --blend-sweep --particles 3000 "
+                                             "--resolution 64x64 --repeats 1 --scene-dir " + std::string(AQUAFORM_ASSETS_DIR) +
+                                                 "/scenes --out " + (dir / "s.json").string(),
+                                             dir / "s_blend_sweep.svg", "bench render on "),
+              "");
+    EXPECT_FALSE(fs::exists(dir / "s.json"));
+}
+
 TEST(BenchRender, CompareSurfacesMeasuresEachFrameWithBothFields) {
     const fs::path dir = temp_dir("bench_render_surfaces");
     const fs::path out = dir / "s.json";

@@ -207,10 +207,10 @@ TEST(ExportSeries, EachKindNumbersItsFilesFromZeroAndListsThemWithFrameAndTime) 
 
     // exports.csv: a row per file, in the order written, with its frame and simulated time.
     const std::map<std::string, uint32_t> every = {{"ply", 2}, {"vtk", 3}, {"vdb", 4}, {"mesh", 5}};
-    const std::map<std::string, std::string> file_of = {{"ply", "particles_%04u.ply"},
-                                                        {"vtk", "particles_%04u.vtu"},
-                                                        {"vdb", "density_%04u.vdb"},
-                                                        {"mesh", "surface_%04u.vtp"}};
+    const std::map<std::string, std::pair<std::string, std::string>> file_of = {{"ply", {"particles", "ply"}},
+                                                                             {"vtk", {"particles", "vtu"}},
+                                                                             {"vdb", {"density", "vdb"}},
+                                                                             {"mesh", {"surface", "vtp"}}};
     const auto rows = listing_rows(dir);
     EXPECT_EQ(rows.size(), expected.size() - 3) << "every numbered file once";
     uint32_t last_frame = 0;
@@ -221,7 +221,8 @@ TEST(ExportSeries, EachKindNumbersItsFilesFromZeroAndListsThemWithFrameAndTime) 
         ASSERT_TRUE(every.count(row[1])) << row[1];
         EXPECT_EQ(frame % every.at(row[1]), 0u) << row[0];
         char name[64];
-        std::snprintf(name, sizeof name, file_of.at(row[1]).c_str(), frame / every.at(row[1]));
+        const auto& [stem, extension] = file_of.at(row[1]);
+        std::snprintf(name, sizeof name, "%s_%04u.%s", stem.c_str(), frame / every.at(row[1]), extension.c_str());
         EXPECT_EQ(row[0], name) << "frame " << frame;
         EXPECT_DOUBLE_EQ(std::stod(row[3]), time_of(frame)) << row[0];
         EXPECT_GE(frame, last_frame) << "rows in the order written";
@@ -391,6 +392,43 @@ TEST(ExportUpAxis, RunWithUpZPutsTheFluidsUpOnZInEveryFormat) {
     expect_mesh(read_mesh(dir / "z" / "surface_0000.obj"), mesh_y, true, "obj");
     expect_mesh(read_mesh(dir / "z_ply" / "surface_0000.ply"), mesh_y, true, "ply");
     expect_mesh(read_mesh(dir / "z_vtp" / "surface_0000.vtp"), mesh_y, true, "vtp");
+    fs::remove_all(dir);
+}
+
+TEST(ExportRun, MixedCadencesRunWhileTheFluidsVolumeGrows) {
+    // The surface mesh and the density volume share one sampler. A volume-only frame grows it as
+    // the fluid spreads; the mesh's prefix sums, sized from it, must follow at the mesh's next
+    // frame (they did not: "prefix sum: 2506498 elements, but it was sized for 1299601"). Eight
+    // blocks burst apart at 5 m/s, so the lattice more than doubles between two frames.
+    const fs::path dir = test_cli::temp_dir("export_mixed");
+    std::string blocks;
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec3 s(corner & 1 ? 1.0f : -1.0f, corner & 2 ? 1.0f : -1.0f, corner & 4 ? 1.0f : -1.0f);
+        const glm::vec3 c = glm::vec3(0.5f) + 0.05f * s, v = 3.0f * s;
+        blocks += std::string(corner ? ", " : "") + "{\"min\": [" + std::to_string(c.x - 0.04f) + ", " + std::to_string(c.y - 0.04f) +
+                  ", " + std::to_string(c.z - 0.04f) + "], \"max\": [" + std::to_string(c.x + 0.04f) + ", " +
+                  std::to_string(c.y + 0.04f) + ", " + std::to_string(c.z + 0.04f) + "], \"velocity\": [" +
+                  std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + "]}";
+    }
+    const fs::path scene = test_cli::write_file(dir / "burst.json", R"({"name": "burst", "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
+        "particle_spacing": 0.02, "fluid_blocks": [)" + blocks + "]}");
+    for (const char* flags : {"--mesh-every 2 --vdb-every 3", "--vdb-every 2 --mesh-every 3 --ply-every 5"}) {
+        const fs::path out = dir / "out";
+        auto o = test_cli::run_aquaform("run " + scene.string() + " --frames 6 --no-png " + std::string(flags) + " --out " +
+                                        out.string());
+        ASSERT_EQ(o.exit_code, 0) << flags << "\n" << o.output;
+        std::vector<double> volumes;  // of each density file's active voxels' bounds
+        for (const auto& row : listing_rows(out)) {
+            if (row.size() != 4 || row[1] != "vdb") continue;
+            const auto grid = read_density_grid(out / row[0]);
+            ASSERT_TRUE(grid) << row[0];
+            const openvdb::Coord d = grid->evalActiveVoxelBoundingBox().dim();
+            volumes.push_back(double(d.x()) * d.y() * d.z());
+        }
+        ASSERT_GE(volumes.size(), 2u) << flags;
+        EXPECT_GT(volumes.back(), 3.0 * volumes.front()) << flags << ": the fluid spread (and the lattice grew)";
+        fs::remove_all(out);
+    }
     fs::remove_all(dir);
 }
 

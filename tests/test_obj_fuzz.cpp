@@ -129,7 +129,7 @@ std::string mutate(const std::string& text, std::mt19937& random) {
 
 // Whole-file refusals; everything else is a line's fault and must name the line.
 bool names_whole_file_problem(const std::string& message) {
-    for (const char* phrase : {"empty", "binary", "UTF-16", "no vertices", "no faces", "no volume", "is open",
+    for (const char* phrase : {"empty", "binary", "UTF-16", "no vertices", "no faces", "no volume", "open sheet",
                                "no control point fits", "needs about"})
         if (message.find(phrase) != std::string::npos) return true;
     return false;
@@ -314,16 +314,43 @@ TEST(ControlPlaceCli, SceneControlMeshesGetTheSameChecks) {
     fs::create_directories(dir / "meshes");
     fs::copy_file(fs::path(AQUAFORM_ASSETS_DIR) / "meshes" / "sphere.obj", dir / "meshes" / "sphere.obj");
     std::string scene = read_file(fs::path(AQUAFORM_ASSETS_DIR) / "scenes" / "morph.json");
-    scene.replace(scene.find("../meshes/torus.obj"), 19, "../meshes/open.obj");
+    scene.replace(scene.find("../meshes/torus.obj"), 19, "../meshes/sheet.obj");
     test_cli::write_file(dir / "scenes" / "s.json", scene);
-    geometry::Mesh open = geometry::make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)});
-    open.faces.resize(10);
-    write_mesh(dir / "meshes", "open.obj", open);
+    // Two faces folded by 10 degrees: one open sheet, no solid.
+    test_cli::write_file(dir / "meshes" / "sheet.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0.17\nv 2 1 0.17\n"
+                                                    "f 1 2 3 4\nf 2 5 6 3\n");
     const test_cli::Outcome run = test_cli::run_aquaform("run '" + (dir / "scenes" / "s.json").string() + "' --frames 1 --out '" +
                                                          (dir / "out").string() + "'");
     EXPECT_EQ(run.exit_code, 2) << run.output;
     EXPECT_NE(run.output.find("control.meshes.ring.file: mesh '"), std::string::npos) << run.output;
-    EXPECT_NE(run.output.find("the mesh is open"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("the mesh is an open sheet"), std::string::npos) << run.output;
+    fs::remove_all(dir);
+}
+
+// A box without its lid: every method places as many points as in the closed box, and says what
+// it closed (a note, exit 0).
+TEST(ControlPlaceCli, AnOpenMeshIsClosedAndSaysSo) {
+    const fs::path dir = temp_dir("place_open");
+    geometry::Mesh open = geometry::make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)});
+    const fs::path closed = write_mesh(dir, "closed.obj", open);
+    std::erase_if(open.faces, [&](const glm::uvec3& f) {
+        return open.vertices[f.x].z == 1.0f && open.vertices[f.y].z == 1.0f && open.vertices[f.z].z == 1.0f;
+    });
+    const fs::path lidless = write_mesh(dir, "open.obj", open);
+    const auto count = [](const std::string& out) {
+        const size_t at = out.find(" control points");
+        return at == std::string::npos ? std::string() : out.substr(out.rfind(' ', at - 1) + 1, at - out.rfind(' ', at - 1) - 1);
+    };
+    for (const char* method : {"vertices", "inside", "raster"}) {
+        const PlaceRun a = place(lidless, std::string("--spacing 0.1 --method ") + method, dir, 60);
+        EXPECT_EQ(a.exit_code, 0) << method << ": " << a.err;
+        EXPECT_NE(a.out.find("closed 1 hole(s) (4 boundary edges, 20% of its surface area)"), std::string::npos) << a.out;
+        EXPECT_EQ(a.out.find("warning"), std::string::npos) << a.out;
+        const PlaceRun b = place(closed, std::string("--spacing 0.1 --method ") + method, dir, 60);
+        if (std::string(method) != "vertices") {  // the cap's fan has edges of its own
+            EXPECT_EQ(count(a.out), count(b.out)) << method << "\n" << a.out << "\n" << b.out;
+        }
+    }
     fs::remove_all(dir);
 }
 

@@ -275,6 +275,60 @@ TEST(ObstacleScene, WhatTheSolverCannotDoIsRefusedWithTheFix) {
     EXPECT_NE(unknown.find("colour"), std::string::npos) << unknown;
 }
 
+TEST(ObstacleScene, NamesThatWouldNameFilesBadlyOrTwiceAreRefusedWhenTheSceneIsRead) {
+    // An obstacle's name is part of its files' names (obstacle_<name>.obj): a path, a format, a
+    // control character or markup in it, or two solids that would write one file, are refused
+    // when the scene is read, naming the key and the rule.
+    auto dir = test_cli::temp_dir("obstacle_names");
+    box_obj(dir, "block", {glm::vec3(0.0f), glm::vec3(0.02f, 0.05f, 0.06f)});
+    const std::string domain = R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})";
+    const std::string block = R"({"min": [0.2, 0, 0], "max": [0.3, 0.1, 0.06]})";
+    const std::string still = R"({"file": "block.obj", "placement": {"position": [0.05, 0, 0]}})";
+    const std::string moving = R"({"file": "block.obj", "placement": {"position": [0.1, 0, 0]},
+        "animation": {"keyframes": [{"t": 0, "position": [0, 0, 0]}, {"t": 1, "position": [0.05, 0, 0]}]}})";
+    auto error = [&](const std::string& obstacles, const std::string& more = "") {
+        auto scene = load_text(scene_json(domain, block, R"("obstacles": )" + obstacles + more), dir);
+        return scene.ok() ? std::string("(accepted)") : scene.error();
+    };
+    const std::string long_name(300, 'a');
+    for (const std::string name : {"a/b", "../../../escape", "a%s%s%s%s", "x%n%n", "p%d", "<b>markup</b>", "a b", "-flag",
+                                   "", "a\\u0001b", long_name.c_str()}) {
+        const std::string e = error("{\"" + name + "\": " + still + "}");
+        EXPECT_NE(e.find("obstacles: the name"), std::string::npos) << name << ": " << e;
+        EXPECT_NE(e.find("ASCII letters, digits"), std::string::npos) << name << ": the rule: " << e;
+        EXPECT_EQ(e.find("--out"), std::string::npos) << name << ": not a folder's fault: " << e;
+    }
+    EXPECT_EQ(error(R"({"Rock_1-b": )" + still + "}"), "(accepted)");
+    // Two solids that would share a file: a still obstacle named as a static box's file or as a
+    // frame of a moving one, or two names that differ in case only.
+    const std::string box = R"(, "static_boxes": [{"min": [0.35, 0, 0], "max": [0.4, 0.02, 0.06]}])";
+    const std::string as_box = error(R"({"static_box_0": )" + still + "}", box);
+    EXPECT_NE(as_box.find("static_boxes[0] and obstacles.static_box_0 would write the same file"), std::string::npos) << as_box;
+    const std::string as_frame = error(R"({"a": )" + moving + R"(, "a_0000": )" + still + "}");
+    EXPECT_NE(as_frame.find("obstacles.a_0000 and obstacles.a would write the same file"), std::string::npos) << as_frame;
+    const std::string by_case = error(R"({"Rock": )" + still + R"(, "rock": )" + still + "}");
+    EXPECT_NE(by_case.find("names compared without case"), std::string::npos) << by_case;
+    EXPECT_EQ(error(R"({"a": )" + moving + R"(, "a_b": )" + still + "}"), "(accepted)") << "a_b is no frame of a";
+}
+
+TEST(ObstacleScene, TheSpeedCheckSeesEveryKeyHoweverCloseTheKeysAre) {
+    // Keys zigzagging 0.02 m apart every millisecond (20 m/s, over the 15.4 m/s the time-step
+    // rule carries here) for a second: sampled at a few hundred points the zigzag aliased away.
+    auto dir = test_cli::temp_dir("obstacle_zigzag");
+    box_obj(dir, "block", {glm::vec3(0.0f), glm::vec3(0.02f, 0.05f, 0.06f)});
+    std::string keys;
+    for (int k = 0; k <= 1000; ++k)
+        keys += std::string(k ? ", " : "") + "{\"t\": " + std::to_string(k * 0.001) + ", \"position\": [" +
+                (k % 2 ? "0.02" : "0") + ", 0, 0]}";
+    auto scene = load_text(scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})", R"({"min": [0.2, 0, 0], "max": [0.3, 0.1, 0.06]})",
+                                      R"("obstacles": {"block": {"file": "block.obj", "animation": {"keyframes": [)" + keys + "]}}}"),
+                           dir);
+    ASSERT_FALSE(scene.ok()) << "a zigzag at 20 m/s accepted";
+    const size_t at = scene.error().find("obstacles.block moves at up to ");
+    ASSERT_NE(at, std::string::npos) << scene.error();
+    EXPECT_NEAR(std::stod(scene.error().substr(at + 31)), 20.0, 0.01) << scene.error();
+}
+
 }  // namespace
 }  // namespace aquaform
 
@@ -375,6 +429,35 @@ TEST_F(ObstacleTest, EveryMethodDrawsAMeshObstacleAndTheFluidInFrontOfItHidesIt)
         const SurfaceFrame without = r.render(solver.positions(), solver.particle_count(), camera);
         EXPECT_LT(warm_pixels(without.color, 0, width / 2), 5u) << "without the obstacles nothing warm is drawn";
     });
+}
+
+}  // namespace
+}  // namespace aquaform
+
+#include "render/image_io.h"
+
+namespace aquaform {
+namespace {
+
+TEST(ObstacleRender, TheReferenceOfAnotherFamilysMethodSeesTheSameFrameAsTheMethod) {
+    // `render` with a method of another family than the reference's makes a reference renderer of
+    // its own: it must be handed the frame the method drew, the obstacles with it (it was handed
+    // the grid alone, and the comparison set a ball against a picture without it).
+    auto dir = test_cli::temp_dir("obstacle_reference");
+    const std::string sphere = (std::filesystem::path(AQUAFORM_SOURCE_DIR) / "assets/meshes/sphere.obj").string();
+    test_cli::write_file(dir / "scene.json", scene_json(R"({"min": [0, 0, 0], "max": [0.6, 0.3, 0.4]})",
+        R"({"min": [0.45, 0, 0.3], "max": [0.6, 0.06, 0.4]})",
+        R"("obstacles": {"ball": {"file": ")" + sphere +
+            R"(", "placement": {"fit_into": {"min": [0.15, 0, 0.1], "max": [0.35, 0.2, 0.3]}}}})"));
+    const auto r = test_cli::run_aquaform("render " + (dir / "scene.json").string() + " --frame 1 --method brute "
+                                          "--resolution 96x64 --out " + (dir / "out").string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    auto image = read_png(dir / "out" / "image.png");
+    auto reference = read_png(dir / "out" / "reference.png");
+    ASSERT_TRUE(image.ok() && reference.ok());
+    const size_t drawn = warm_pixels(image.value(), 0, 96), referenced = warm_pixels(reference.value(), 0, 96);
+    EXPECT_GT(drawn, 200u) << "the method draws the ball";
+    EXPECT_NEAR(double(referenced), double(drawn), 0.1 * double(drawn)) << "the reference draws it too";
 }
 
 }  // namespace

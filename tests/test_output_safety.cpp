@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "geometry/mesh.h"
+#include "geometry/primitives.h"
 #include "core/error.h"
 #include "core/file_write.h"
 #include "core/host_memory.h"
@@ -202,6 +203,71 @@ TEST(OutputSafety, ASceneNameWithControlAndMarkupCharactersGivesWellFormedFiles)
             EXPECT_EQ(split_csv_line(line).size(), split_csv_line(header).size()) << csv << ": " << line;
         EXPECT_EQ(count, 3) << csv;
     }
+    fs::remove_all(root);
+}
+
+TEST(OutputSafety, NoTextAUserGivesIsAFormat) {
+    // Every name and file name a run takes holds printf directives (%s and %n crash a printf that
+    // takes them for its format; %d prints another number): the run ends normally and writes
+    // each of them as the text it is. The build refuses formats that are not literals
+    // (-Werror=format-nonliteral), and an obstacle's name, which names its files, holds letters,
+    // digits, '_' and '-' only, so a directive there is refused, not run.
+    const fs::path root = temp_dir("format_names");
+    const std::string odd = "%s%n%d%04u";
+    ASSERT_TRUE(geometry::write_obj(root / ("rock" + odd + ".obj"), geometry::make_box({{0.3f, 0.0f, 0.0f}, {0.36f, 0.04f, 0.08f}})).ok());
+    const auto scene_text = [&](const std::string& obstacle_name) {
+        return R"({"name": ")" + odd + R"(", "domain": {"min": [0, 0, 0], "max": [0.4, 0.2, 0.08]}, "particle_spacing": 0.02,
+            "fluid_blocks": [{"min": [0, 0, 0], "max": [0.1, 0.2, 0.08]}], "frames": 3, "whitewater": {},
+            "obstacles": {")" + obstacle_name + R"(": {"file": "rock)" + odd + R"(.obj"}},
+            "probes": {"gauges": {"H)" + odd + R"(": {"x": 0.2, "z": 0.04}}, "sensors": {"P)" + odd + R"(": {"position": [0.2, 0, 0.04]}}}})";
+    };
+    const fs::path scene = write_file(root / ("scene" + odd + ".json"), scene_text("rock"));
+    const fs::path out = root / ("out" + odd);
+    const test_cli::Outcome o = test_cli::run_aquaform("run '" + scene.string() + "' --no-png --vtk-every 1 --mesh-every 2 "
+                                                       "--diffuse-every 1 --out '" + out.string() + "'");
+    ASSERT_EQ(o.exit_code, 0) << o.output;
+    EXPECT_NE(o.output.find(odd), std::string::npos) << "the scene's name printed as it is: " << o.output;
+    EXPECT_EQ(nlohmann::json::parse(read_file(out / "run.json"))["name"], odd);
+    const std::string probes = read_file(out / "probes.csv");
+    EXPECT_EQ(probes.rfind("time_s,H" + odd + "_m,P" + odd + "_Pa,", 0), 0u) << probes.substr(0, 200);
+    EXPECT_NE(read_file(out / "probe_heights.svg").find("H" + odd), std::string::npos);
+    EXPECT_TRUE(fs::exists(out / "obstacle_rock.obj"));
+
+    for (const std::string name : {"a%s%s%s%s", "x%n%n", "p%d", "q%04u"}) {
+        write_file(scene, scene_text(name));
+        const test_cli::Outcome refused = test_cli::run_aquaform("run '" + scene.string() + "' --no-png --out '" + out.string() + "'");
+        EXPECT_EQ(refused.exit_code, 2) << name << ": " << refused.output;
+        EXPECT_NE(refused.output.find("obstacles: the name \"" + name + "\""), std::string::npos) << refused.output;
+    }
+    fs::remove_all(root);
+}
+
+TEST(OutputSafety, AnEarlierRunsFileThatCannotBeRemovedIsReportedBeforeAnyWork) {
+    // A rerun as another user into a sticky folder (as /tmp is) that holds a root-owned file of an
+    // earlier run: the file cannot be removed, and the run says so at once, naming it, instead of
+    // simulating and then failing to write over it.
+    const fs::path root = temp_dir("sticky_rerun");
+    const fs::path out = root / "out";
+    fs::create_directories(out);
+    fs::permissions(root, fs::perms::all);
+    fs::permissions(out, fs::perms::all | fs::perms::sticky_bit);
+    const fs::path scene = root / "dam.json";
+    fs::copy_file(std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json", scene);
+    fs::permissions(scene, fs::perms::owner_all | fs::perms::group_read | fs::perms::others_read);
+    write_file(out / "probe_heights.svg", "<svg/>");
+    std::string as_user;
+    if (geteuid() == 0) {
+        ASSERT_TRUE(fs::exists("/usr/bin/setpriv")) << "util-linux's setpriv runs the check as nobody; install util-linux";
+        as_user = "exec /usr/bin/setpriv --reuid=65534 --regid=65534 --clear-groups";
+    } else {
+        GTEST_SKIP() << "needs root to own the earlier file";  // CI runs as root
+    }
+    const test_cli::Outcome o =
+        test_cli::run_aquaform("run " + scene.string() + " --frames 2 --no-png --out " + out.string(), as_user);
+    EXPECT_EQ(o.exit_code, 2) << o.output;
+    EXPECT_NE(o.output.find("cannot remove " + (out / "probe_heights.svg").string()), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("another --out"), std::string::npos) << o.output;
+    EXPECT_FALSE(fs::exists(out / "stats.csv")) << "no work was done";
     fs::remove_all(root);
 }
 

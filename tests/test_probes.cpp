@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <filesystem>
 #include <fstream>
 
@@ -32,7 +33,7 @@ ProbeStep settle_and_average(PbfSolver& solver, int settle, int frames) {
     for (int f = 0; f < frames; ++f) {
         solver.run_frame(nullptr);
         for (const ProbeStep& s : solver.probe_frame().steps) {
-            if (mean.heights.empty()) mean.heights.assign(s.heights.size(), 0.0), mean.pressures.assign(s.pressures.size(), 0.0);
+            if (n == 0) mean.heights.assign(s.heights.size(), 0.0), mean.pressures.assign(s.pressures.size(), 0.0);
             for (size_t i = 0; i < s.heights.size(); ++i) mean.heights[i] += s.heights[i];
             for (size_t i = 0; i < s.pressures.size(); ++i) mean.pressures[i] += s.pressures[i];
             ++n;
@@ -101,6 +102,33 @@ TEST_F(ProbeTest, TheForceOnABoxUnderWaterIsAboutTheWeightOfTheWaterAboveIt) {
     EXPECT_LT(std::abs(force.x), 0.15 * weight) << "the side faces' forces cancel";
 }
 
+TEST_F(ProbeTest, ASensorReadsTheMeanPressureOverItsFace) {
+    // A sensor as wide as allowed (2 h = 0.04 m) on the side wall at the water's surface, where the
+    // pressure is not linear (zero above, growing below), and point sensors at the seven points of
+    // the disc rule it averages with (the centre, weight 1/4; six at r sqrt(2/3), 1/8 each): the
+    // wide one reads their weighted mean, which is not the centre's reading.
+    const double y = 0.3, z = 0.04, r = 0.02 * std::sqrt(2.0 / 3.0);
+    std::string sensors = R"("W": {"position": [0, 0.3, 0.04], "size": 0.04}, "P0": {"position": [0, 0.3, 0.04]})";
+    for (int k = 0; k < 6; ++k) {
+        const double a = k * std::numbers::pi / 3.0;
+        sensors += ", \"P" + std::to_string(k + 1) + "\": {\"position\": [0, " + std::to_string(y + r * std::sin(a)) + ", " +
+                   std::to_string(z + r * std::cos(a)) + "]}";
+    }
+    Scene scene = load_text(R"({"name": "sensor faces", "domain": {"min": [0, 0, 0], "max": [0.2, 0.4, 0.08]},
+        "particle_spacing": 0.01, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.2, 0.3, 0.08]}],)" +
+                                std::string(kConverged) + R"(, "probes": {"sensors": {)" + sensors + "}}}",
+                            "probe_faces");
+    PbfSolver solver(ctx(), scene);
+    const ProbeStep mean = settle_and_average(solver, 40, 10);
+    ASSERT_EQ(mean.pressures.size(), 8u);  // by name: P0 ... P6, W
+    double disc = 0.25 * mean.pressures[0];
+    for (int k = 1; k <= 6; ++k) disc += 0.125 * mean.pressures[k];
+    const double wide = mean.pressures[7], centre = mean.pressures[0];
+    EXPECT_GT(centre, 5.0) << "the surface's pressure, smoothed over h";
+    EXPECT_NEAR(wide, disc, 0.002 * disc + 0.01) << "the face's mean";
+    EXPECT_GT(std::abs(disc - centre), 0.01 * centre) << "a face that reads its centre alone would pass for this one";
+}
+
 TEST(GaugeHeight, CountsTheWaterConnectedToWhatItStandsOnNotSprayAboveIt) {
     // Samples every 0.01 m from y = 0.005: two in a solid, water to 0.055, air, then spray.
     const std::vector<float> samples{PROBE_IN_SOLID, PROBE_IN_SOLID, 1.0f, 1.0f, 1.0f, 0.75f, 0.25f, 0.0f, 0.0f, 0.9f, 0.9f, 0.0f};
@@ -122,6 +150,12 @@ TEST(ProbeScene, SensorsMustSitOnASolidAndGaugesInTheTank) {
     const std::string floating = error(R"({"sensors": {"P": {"position": [0.1, 0.2, 0.04]}}})");
     EXPECT_NE(floating.find("probes.sensors.P.position"), std::string::npos) << floating;
     EXPECT_NE(floating.find("from the nearest solid surface"), std::string::npos) << floating;
+    // Outside the tank the distances to its walls are negative: never taken for "on a wall".
+    for (const char* position : {"[0.1, -5, 0.04]", "[0.5, 0.2, 0.04]", "[0.1, 0.2, -1]", "[0.1, 0.45, 0.04]"}) {
+        const std::string beyond = error(std::string(R"({"sensors": {"P": {"position": )") + position + "}}}");
+        EXPECT_NE(beyond.find("probes.sensors.P.position"), std::string::npos) << position << ": " << beyond;
+        EXPECT_NE(beyond.find("outside the tank"), std::string::npos) << position << ": " << beyond;
+    }
     const std::string outside = error(R"({"gauges": {"H": {"x": 0.5, "z": 0.04}}})");
     EXPECT_NE(outside.find("probes.gauges.H.x"), std::string::npos) << outside;
     const std::string wide = error(R"({"sensors": {"P": {"position": [0, 0.2, 0.04], "size": 0.1}}})");

@@ -343,6 +343,37 @@ TEST(SceneFile, GravityBeyondWhatTheStepRuleHandlesIsRefused) {
     EXPECT_TRUE(parse_scene(j.dump(), kOrigin).ok());
 }
 
+TEST(SceneFile, AStartSpeedBeyondWhatTheStepRuleCarriesIsRefusedAtItsSpacing) {
+    // The time-step rule moves a particle at most cfl h a step and takes at most max_substeps
+    // steps a frame: a block thrown faster would leave physics in its first frame.
+    json j = valid_scene();
+    j["particle_spacing"] = 0.02;  // h = 0.04 m: at most 0.4 * 0.04 * 32 * 60 = 30.7 m/s
+    j["fluid_blocks"][0]["velocity"] = {100, 0, 0};
+    EXPECT_TRUE(mentions(error_of(j), {"fluid_blocks[0].velocity", "faster than the time-step rule", "30.7",
+                                       "raise solver.max_substeps to"}));
+    j["fluid_blocks"][0]["velocity"] = {20, 0, 0};
+    EXPECT_TRUE(parse_scene(j.dump(), kOrigin).ok());
+    // A finer spacing from --particles carries less: checked again there.
+    json coarse = valid_scene();
+    coarse["fluid_blocks"][0]["velocity"] = {50, 0, 0};
+    const Result<Scene> scene = parse_scene(coarse.dump(), kOrigin);
+    ASSERT_TRUE(scene.ok()) << scene.error();
+    const Result<Scene> fine = with_particle_count(scene.value(), 128000);
+    ASSERT_FALSE(fine.ok()) << "50 m/s at spacing " << fine.value().particle_spacing;
+    EXPECT_NE(fine.error().find("at --particles 128000, faster than the time-step rule"), std::string::npos) << fine.error();
+}
+
+TEST(SceneFile, AStringHoldingANulIsRefusedNotCutShort) {
+    // "a.obj\u0000b" would open a.obj; a name with one would name a file cut short.
+    for (const std::string& text :
+         {std::string(R"({"name": "a\u0000b"})"), std::string(R"({"obstacles": {"rock": {"file": "sphere.obj\u0000.txt"}}})")}) {
+        json j = valid_scene();
+        j.update(json::parse(text));
+        const std::string e = error_of(j);
+        EXPECT_TRUE(mentions(e, {"line", "NUL character", "remove it"})) << text;
+    }
+}
+
 // ---- lattice -----------------------------------------------------------------------------------
 
 TEST(SceneFile, TinySpacingGivesHugeCountWithoutAllocating) {

@@ -152,10 +152,17 @@ TEST(ScriptFuzz, GpuCheckReadsAnOctalLookingBudgetAsDecimalAndMakesTheOutFolder)
 
 /// A run folder as `aquaform run --mesh-every 3` leaves it, small: two meshes (a tetrahedron,
 /// frames 0 and 3), exports.csv, stats.csv and run.json. `changes` replaces files (nullopt removes).
+const std::string kTetrahedron = "v 0.4 0.1 0.4\nv 0.7 0.1 0.4\nv 0.5 0.1 0.7\nv 0.5 0.5 0.5\n"
+                                 "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+// run.json with a still solid, and with a moving one (a file per frame), as `aquaform run` lists them.
+const std::string kRock = R"({"domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "up": "y",
+                             "obstacles": [{"name": "rock", "file": "obstacle_rock.obj"}]})";
+const std::string kMoving = R"({"domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "up": "y",
+                               "obstacles": [{"name": "m", "files": "obstacle_m_%04u.obj", "moves": true}]})";
+
 fs::path blender_run(const fs::path& dir, const std::map<std::string, std::optional<std::string>>& changes = {}) {
     fs::create_directories(dir);
-    const std::string tetrahedron = "v 0.4 0.1 0.4\nv 0.7 0.1 0.4\nv 0.5 0.1 0.7\nv 0.5 0.5 0.5\n"
-                                    "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+    const std::string& tetrahedron = kTetrahedron;
     std::map<std::string, std::optional<std::string>> files = {
         {"surface_0000.obj", tetrahedron},
         {"surface_0001.obj", tetrahedron},
@@ -254,12 +261,34 @@ TEST(ScriptFuzz, BlenderSceneRefusesACorruptRunFolderNamingTheFileAndKey) {
         {{{"surface_0000.obj", std::nullopt}, {"surface_0001.obj", std::nullopt}}, "surface_"},
         {{{"exports.csv", "file,kind,frame,time_s\nsurface_0000.obj,mesh,zero,0\n"}}, "exports.csv"},
         {{{"stats.csv", "frame,time_s\n0,0\n1,abc\n"}}, "stats.csv"},
+        // The solids run.json lists are checked with the surfaces (issue 47): a missing file was
+        // skipped without a word, a garbage one failed after the scene had been started.
+        {{{"run.json", kRock}}, "obstacle_rock.obj is missing"},
+        {{{"run.json", kRock}, {"obstacle_rock.obj", "hello, not a mesh\n"}}, "obstacle_rock.obj"},
+        {{{"run.json", kRock}, {"obstacle_rock.obj", std::string("\x7f" "ELF\0\0\x01", 7)}}, "obstacle_rock.obj"},
+        {{{"run.json", kRock}, {"obstacle_rock.obj", ""}}, "obstacle_rock.obj"},
+        {{{"run.json", kRock}, {"obstacle_rock.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"}}, "obstacle_rock.obj"},
+        {{{"run.json", kRock}, {"obstacle_rock.obj", "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n"}}, "obstacle_rock.obj"},
+        // A moving solid has a file at every frame of the surfaces (0..3): frame 2's is missing.
+        {{{"run.json", kMoving}, {"obstacle_m_0000.obj", kTetrahedron}, {"obstacle_m_0001.obj", kTetrahedron},
+          {"obstacle_m_0003.obj", kTetrahedron}}, "obstacle_m_0002.obj"},
+        {{{"run.json", R"({"obstacles": [{"name": "m", "files": "obstacle_%s_%04u.obj", "moves": true}]})"}}, "\"files\""},
+        // The volumes' iso level is read with the surfaces, not after the scene is started.
+        {{{"surface_0000.obj", std::nullopt}, {"surface_0001.obj", std::nullopt},
+          {"density_0000.vdb", std::string("\x20\x42\x44\x56\0\0\0\0\x0c\0\0\0aquaform_iso", 24)}}, "density_0000.vdb"},
     };
     for (size_t k = 0; k < runs.size(); ++k) {
         const fs::path run = blender_run(dir / ("run" + std::to_string(k)), runs[k].changes);
         expect_refused(blender_scene(run), {{" --render " + q(dir / ("pictures" + std::to_string(k)) / "x_"), runs[k].names}},
                        dir);
     }
+    // The same solids, every file there, are drawn: a still one and a moving one at each frame.
+    const fs::path good = blender_run(dir / "good", {{"run.json", R"({"domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
+        "obstacles": [{"name": "rock", "file": "obstacle_rock.obj"}, {"name": "m", "files": "obstacle_m_%04u.obj", "moves": true}]})"},
+        {"obstacle_rock.obj", kTetrahedron}, {"obstacle_m_0000.obj", kTetrahedron}, {"obstacle_m_0001.obj", kTetrahedron},
+        {"obstacle_m_0002.obj", kTetrahedron}, {"obstacle_m_0003.obj", kTetrahedron}});
+    const Outcome o = run_in(dir, blender_scene(good));
+    EXPECT_EQ(o.status, 0) << o.err;
 }
 
 TEST(ScriptFuzz, BlenderSceneRendersAGoodRunAndSaysWhatItAssumesWithoutRunJson) {

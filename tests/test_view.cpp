@@ -14,6 +14,8 @@
 
 #include <unistd.h>
 
+#include "geometry/mesh.h"
+#include "geometry/primitives.h"
 #include "gpu/context.h"
 #include "viewer/view_script.h"
 #include "viewer/view_shapes.h"
@@ -377,10 +379,149 @@ TEST(ViewScriptTest, AScreenshotThatCannotBeWrittenIsRefusedAtLoadWithItsLine) {
         EXPECT_EQ(o.exit_code, 2) << o.output;
         EXPECT_NE(o.output.find("line 3"), std::string::npos) << o.output;
     }
+    // Folders that cannot be made or written: the nearest existing folder's permissions said
+    // nothing (/proc looks writable to root, and nothing can be made in it).
+    for (const auto& [shot, says] : std::vector<std::pair<std::string, std::string>>{
+             {"/proc/nope/x.png", "/proc/nope cannot be made"},
+             {"/proc/x.png", "/proc is not writable"},
+             {(dir / std::string(300, 'n') / "x.png").string(), "longer than a name may be"}}) {
+        const fs::path script = test_cli::write_file(dir / "s.json", "{\"actions\": [\n  {\"frame\": 0, \"do\": \"play\"},\n"
+                                                     "  {\"frame\": 1, \"do\": \"screenshot\", \"file\": \"" + shot + "\"}\n]}");
+        auto loaded = viewer::load_view_script(script);
+        ASSERT_TRUE(loaded.ok()) << loaded.error();
+        auto checked = viewer::check_script_outputs(loaded.value(), dir, script.string());
+        ASSERT_FALSE(checked.ok()) << shot << " passed the load check";
+        EXPECT_NE(checked.error().find("line 3"), std::string::npos) << checked.error();
+        EXPECT_NE(checked.error().find(says), std::string::npos) << checked.error();
+        const auto o = test_cli::run_aquaform("view " AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --script " + script.string(),
+                                              "DISPLAY= WAYLAND_DISPLAY=");
+        EXPECT_EQ(o.exit_code, 2) << o.output;
+        EXPECT_NE(o.output.find(says), std::string::npos) << o.output;
+    }
+    // The check leaves nothing behind: the folder it made to try is gone again.
+    auto deep = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "screenshot", "file": "made/deeper/shot.png"}]})", "s.json");
+    ASSERT_TRUE(deep.ok());
+    EXPECT_TRUE(viewer::check_script_outputs(deep.value(), dir, "s.json").ok());
+    EXPECT_FALSE(fs::exists(dir / "made")) << "the load check left the folder it tried";
     // A folder that does not exist yet is made by the screenshot: accepted.
     auto fine = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "screenshot", "file": "new/shot.png"}]})", "s.json");
     ASSERT_TRUE(fine.ok());
     EXPECT_TRUE(viewer::check_script_outputs(fine.value(), dir, "s.json").ok());
+    fs::remove_all(dir);
+}
+
+// Issue 47: a script's mesh is checked when the script loads, as its action would use it: a flat
+// or garbage mesh for obstacle was found only when its frame came, and view exited 0.
+TEST(ViewScriptTest, AFlatOrGarbageMeshIsRefusedWhenTheScriptLoadsForEveryMeshAction) {
+    const fs::path dir = test_cli::temp_dir("view_script_meshes");
+    test_cli::write_file(dir / "flat.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 1 0 1\nf 1 2 3\nf 2 4 3\n");
+    test_cli::write_file(dir / "garbage.obj", "hello, not a mesh\n");
+    for (const std::string action : {"attach", "union", "morph", "obstacle"})
+        for (const std::string mesh : {"flat.obj", "garbage.obj"}) {
+            const fs::path script = test_cli::write_file(
+                dir / "s.json", "{\"actions\": [\n  {\"frame\": 0, \"do\": \"play\"},\n  {\"frame\": 40, \"do\": \"" + action +
+                                    "\", \"file\": \"" + mesh + "\"},\n  {\"frame\": 41, \"do\": \"quit\"}\n]}");
+            auto loaded = viewer::load_view_script(script);
+            ASSERT_FALSE(loaded.ok()) << action << " " << mesh << " passed the load";
+            for (const std::string& says : std::vector<std::string>{"line 3", "the " + action + " at frame 40", mesh})
+                EXPECT_NE(loaded.error().find(says), std::string::npos) << says << ": " << loaded.error();
+            // The command stops there, exit 2, before any window (none is needed to refuse it).
+            const auto o = test_cli::run_aquaform("view " AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --script " + script.string(),
+                                                  "DISPLAY= WAYLAND_DISPLAY=");
+            EXPECT_EQ(o.exit_code, 2) << o.output;
+            EXPECT_NE(o.output.find("line 3"), std::string::npos) << o.output;
+            EXPECT_EQ(o.output.find("no display"), std::string::npos) << "refused only when the window opened: " << o.output;
+        }
+    fs::remove_all(dir);
+}
+
+TEST(ViewScriptTest, AMissingKeyGetsAnExampleThatFitsItsAction) {
+    // Every action was told to add "file": "shot.png", a mesh action too.
+    for (const auto& [action, example] : std::vector<std::pair<std::string, std::string>>{
+             {"attach", ".obj"}, {"union", ".obj"}, {"morph", ".obj"}, {"obstacle", ".obj"}, {"screenshot", "shot.png"},
+             {"method", "\"value\": \"adaptive\""}, {"view", "\"value\": \"tiles\""}, {"iterations", "\"value\": 4"},
+             {"resize", "\"value\": \"640x480\""}, {"whitewater", "\"value\": \"on\""}}) {
+        auto refused = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": ")" + action + R"("}]})", "s.json");
+        ASSERT_FALSE(refused.ok()) << action;
+        EXPECT_NE(refused.error().find(example), std::string::npos) << action << ": " << refused.error();
+        if (action != "screenshot") {
+            EXPECT_EQ(refused.error().find("shot.png"), std::string::npos) << refused.error();
+        }
+    }
+    // A key the action does not read is refused, not ignored.
+    auto ignored = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "obstacle", "value": "rock.obj"}]})", "s.json");
+    ASSERT_FALSE(ignored.ok());
+    EXPECT_NE(ignored.error().find("obstacle takes a \"file\""), std::string::npos) << ignored.error();
+    auto play = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "play", "file": "x.obj"}]})", "s.json");
+    ASSERT_FALSE(play.ok());
+    EXPECT_NE(play.error().find("play takes neither"), std::string::npos) << play.error();
+}
+
+/// A small tank with a fluid block, as a scene file in `dir` (`extra`: more top-level keys).
+Scene tiny_scene(const fs::path& dir, const std::string& extra = "") {
+    const fs::path path = test_cli::write_file(dir / "tiny.json", R"({"name": "tiny",
+        "domain": {"min": [0, 0, 0], "max": [0.3, 0.3, 0.3]}, "particle_spacing": 0.01,
+        "fluid_blocks": [{"min": [0.125, 0, 0.125], "max": [0.175, 0.05, 0.175]}])" + extra + "}");
+    auto scene = load_scene(path);
+    EXPECT_TRUE(scene.ok()) << scene.error();
+    return scene.ok() ? scene.value() : Scene{};
+}
+
+TEST(ViewScriptTest, TheSeventeenthDropIsRefusedAtLoadSayingWhatTheViewerHoldsAndTheFix) {
+    // It was refused at its frame in the scene reader's words: "1 entries ... 0 more solids ...
+    // static_boxes (0)".
+    const fs::path dir = test_cli::temp_dir("view_script_limit");
+    ASSERT_TRUE(geometry::write_obj(dir / "cube.obj", geometry::make_box({glm::vec3(0.0f), glm::vec3(1.0f)})).ok());
+    auto script = [&](int drops, bool remove_before_last) {
+        std::string text = "{\"actions\": [\n";
+        for (int i = 0; i < drops; ++i) {
+            if (remove_before_last && i + 1 == drops) text += "  {\"frame\": " + std::to_string(i) + ", \"do\": \"remove_obstacles\"},\n";
+            text += "  {\"frame\": " + std::to_string(i) + ", \"do\": \"obstacle\", \"file\": \"cube.obj\"},\n";
+        }
+        return test_cli::write_file(dir / "s.json", text + "  {\"frame\": 40, \"do\": \"quit\"}\n]}");
+    };
+    const Scene scene = tiny_scene(dir, R"(, "static_boxes": [{"min": [0, 0, 0], "max": [0.05, 0.05, 0.05]}])");
+    auto sixteen = viewer::load_view_script(script(15, false));
+    ASSERT_TRUE(sixteen.ok()) << sixteen.error();
+    EXPECT_TRUE(viewer::check_script_actions(sixteen.value(), scene, {}).ok()) << "a box and 15 drops fill the 16 solids";
+    auto seventeen = viewer::load_view_script(script(16, false));
+    ASSERT_TRUE(seventeen.ok()) << seventeen.error();
+    auto refused = viewer::check_script_actions(seventeen.value(), scene, {});
+    ASSERT_FALSE(refused.ok());
+    for (const char* says : {"line 17: the obstacle at frame 15", "the viewer holds 16 solids (1 static box, 15 dropped obstacles)",
+                             "the most the solver takes (16)", "remove_obstacles"})
+        EXPECT_NE(refused.error().find(says), std::string::npos) << says << ": " << refused.error();
+    EXPECT_EQ(refused.error().find("entries"), std::string::npos) << refused.error();
+    auto freed = viewer::load_view_script(script(16, true));
+    ASSERT_TRUE(freed.ok()) << freed.error();
+    EXPECT_TRUE(viewer::check_script_actions(freed.value(), scene, {}).ok()) << "remove_obstacles frees the dropped ones";
+    // The worker's own refusal (a mesh dropped on the window) says the same.
+    EXPECT_NE(viewer::obstacle_limit_refusal(1, 0, 15).find("the viewer holds 16 solids"), std::string::npos);
+    EXPECT_EQ(viewer::obstacle_limit_refusal(1, 0, 14), "");
+    fs::remove_all(dir);
+}
+
+TEST(ViewCliTest, ScriptedMeshActionsAreCheckedAgainstTheSceneBeforeAnyFrameAndAFailureAtItsFrameExitsOne) {
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
+    const fs::path dir = test_cli::temp_dir("view_script_scene");
+    ASSERT_TRUE(geometry::write_obj(dir / "cube.obj", geometry::make_box({glm::vec3(0.0f), glm::vec3(1.0f)})).ok());
+    (void)tiny_scene(dir);
+    // 17 drops: refused with the scene's count before the first frame, exit 2.
+    std::string text = "{\"actions\": [\n";
+    for (int i = 0; i < 17; ++i) text += "  {\"frame\": 0, \"do\": \"obstacle\", \"file\": \"cube.obj\"},\n";
+    const fs::path many = test_cli::write_file(dir / "many.json", text + "  {\"frame\": 1, \"do\": \"quit\"}\n]}");
+    auto [status, output] = run_view_under_xvfb((dir / "tiny.json").string() + " --resolution 64x48 --script " + many.string());
+    EXPECT_EQ(status, 2) << output;
+    EXPECT_NE(output.find("line 18: the obstacle at frame 0 cannot drop cube.obj: the viewer holds 16 solids"), std::string::npos) << output;
+    EXPECT_EQ(output.find("window frames"), std::string::npos) << "the viewer started:\n" << output;
+    // The cube dropped at the tank's centre would hold all the fluid: that shows only at its frame
+    // (where the fluid then is), and the command exits 1 naming the action.
+    const fs::path all = test_cli::write_file(dir / "all.json", "{\"actions\": [\n  {\"frame\": 0, \"do\": \"obstacle\", "
+                                              "\"file\": \"cube.obj\"},\n  {\"frame\": 1, \"do\": \"quit\"}\n]}");
+    auto [late, said] = run_view_under_xvfb((dir / "tiny.json").string() + " --resolution 64x48 --script " + all.string());
+    EXPECT_EQ(late, 1) << said;
+    EXPECT_NE(said.find("line 2: the obstacle at frame 0: cannot use"), std::string::npos) << said;
+    EXPECT_NE(said.find("every particle"), std::string::npos) << said;
     fs::remove_all(dir);
 }
 

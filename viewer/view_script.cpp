@@ -6,11 +6,23 @@
 #include <iterator>
 #include <string_view>
 
+#include <cerrno>
+#include <climits>
+#include <cstring>
+#include <map>
+
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
-#include "render/registry.h"
-#include "viewer/view_worker.h"
 #include "core/json_fields.h"
+#include "geometry/mesh.h"
+#include "render/registry.h"
+#include "session/simulation_session.h"
+#include "shaders/shared/pbf_layout.h"
+#include "sim/obstacles.h"
+#include "viewer/view_shapes.h"
+#include "viewer/view_worker.h"
 
 namespace aquaform::viewer {
 
@@ -26,6 +38,19 @@ constexpr std::array<std::string_view, 17> kActions{"play", "pause", "step", "re
 /// Actions whose "file" is a mesh, named relative to the script.
 bool takes_mesh(const std::string& what) {
     return what == "attach" || what == "union" || what == "morph" || what == "obstacle";
+}
+
+/// What a missing "file" or "value" of `what` should look like, as an example to add.
+std::string example_of(const std::string& what) {
+    if (what == "screenshot") return "\"file\": \"shot.png\" (a PNG; relative names go to --record DIR or the working folder)";
+    if (takes_mesh(what)) return "\"file\": \"sphere.obj\" (an OBJ mesh; a relative path starts at the script's folder)";
+    if (what == "method") return "\"value\": \"adaptive\" (a method of the viewer's menu)";
+    if (what == "view") return "\"value\": \"tiles\" (image, steps, classification, tiles, depth_all or depth_agg)";
+    if (what == "iterations") return "\"value\": 4 (1 to 64)";
+    if (what == "substeps") return "\"value\": 2 (1 to 64)";
+    if (what == "resize") return "\"value\": \"640x480\"";
+    if (what == "whitewater") return "\"value\": \"on\" (or \"off\")";
+    return "";
 }
 
 /// The line of each action object in the script's text: the objects three brackets deep
@@ -53,18 +78,44 @@ std::vector<uint32_t> action_lines(const std::string& text) {
 
 namespace fs = std::filesystem;
 
-/// Why a screenshot cannot be written to `file`, or empty.
+/// Why a file cannot be made in `folder` (an existing folder), tried with a file of our own that is
+/// removed at once: permissions, read-only mounts and file systems such as /proc all show, for
+/// root too. Empty when it can.
+std::string cannot_write_in(const fs::path& folder) {
+    const fs::path probe = folder / (".aquaform_view_probe_" + std::to_string(getpid()));
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+    if (fd < 0) return "the folder " + folder.string() + " is not writable (" + std::strerror(errno) + ")";
+    ::close(fd);
+    ::unlink(probe.c_str());
+    return "";
+}
+
+/// Why a screenshot cannot be written to `file`, or empty. Its folder exists and can be written,
+/// or the folders missing can be made (the first is made and removed again to see; the names
+/// below it must be names a folder can have).
 std::string unwritable(const fs::path& file) {
     std::error_code ec;
-    if (fs::is_symlink(file, ec)) return "it is a symbolic link (aquaform does not write through links)";
+    if (fs::is_symlink(fs::symlink_status(file, ec))) return "it is a symbolic link (aquaform does not write through links)";
     if (fs::is_directory(file, ec)) return "it is a folder";
+    if (file.string().size() >= PATH_MAX) return "its path is longer than the system allows (" + std::to_string(PATH_MAX) + " bytes)";
+    for (const fs::path& part : file)
+        if (part.string().size() > NAME_MAX)
+            return "its part \"" + part.string().substr(0, 40) + "...\" is longer than a name may be (" + std::to_string(NAME_MAX) + " bytes)";
     // The nearest folder that exists: the screenshot's folder, or the one it would be made in.
     fs::path folder = file.parent_path().empty() ? fs::path(".") : file.parent_path();
-    while (!fs::exists(folder, ec) && folder.has_relative_path() && folder != folder.parent_path()) folder = folder.parent_path();
+    fs::path first_missing;
+    while (!fs::exists(fs::symlink_status(folder, ec)) && folder.has_relative_path() && folder != folder.parent_path()) {
+        first_missing = folder;
+        folder = folder.parent_path().empty() ? fs::path(".") : folder.parent_path();
+    }
     if (!fs::exists(folder, ec)) return "its folder " + folder.string() + " does not exist";
     if (!fs::is_directory(folder, ec)) return folder.string() + " is not a folder";
-    if (::access(folder.c_str(), W_OK) != 0) return "the folder " + folder.string() + " is not writable";
-    return "";
+    if (first_missing.empty()) return cannot_write_in(folder);
+    if (::mkdir(first_missing.c_str(), 0700) != 0)
+        return "the folder " + first_missing.string() + " cannot be made (" + std::strerror(errno) + ")";
+    std::string why = cannot_write_in(first_missing);
+    ::rmdir(first_missing.c_str());
+    return why;
 }
 
 }  // namespace
@@ -87,6 +138,7 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
             require(a, "do", "in " + where, "\"do\": \"play\"");
             ViewAction action;
             action.line = i < lines.size() ? lines[i] : 0;
+            action.origin = origin;
             action.frame = read_integer(a["frame"], child(where, "frame"), 0, 1u << 30);
             if (!a["do"].is_string()) fail(child(where, "do") + " must be an action name, got " + written(a["do"]));
             action.what = a["do"].get<std::string>();
@@ -100,8 +152,14 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
             const char* key = takes_file ? "file" : "value";
             const bool needs = takes_file || action.what == "method" || action.what == "view" || action.what == "iterations" ||
                                action.what == "substeps" || action.what == "resize" || action.what == "whitewater";
+            // A key the action does not read is refused rather than ignored.
+            for (const char* other : {"file", "value"})
+                if (a.contains(other) && (!needs || std::string_view(other) != key))
+                    fail(child(where, other) + ": " + action.what + " takes " +
+                         (needs ? "a \"" + std::string(key) + "\", not a \"" + other + "\"; e.g. " + example_of(action.what)
+                                : "neither \"file\" nor \"value\"; remove it"));
             if (needs) {
-                require(a, key, "in " + where, takes_file ? "\"file\": \"shot.png\"" : "\"value\": ...");
+                require(a, key, "in " + where, example_of(action.what));
                 if (action.what == "iterations" || action.what == "substeps")
                     action.value = std::to_string(read_integer(a[key], child(where, key), 1, 64));
                 else if (a[key].is_string())
@@ -161,19 +219,75 @@ Result<std::vector<ViewAction>> load_view_script(const std::filesystem::path& pa
     }
     auto actions = parse_view_script(text, path.string());
     if (!actions) return actions;
-    // Meshes to attach are named relative to the script (screenshots go to the output directory),
-    // and must be there when the script is loaded.
-    for (size_t i = 0; i < actions.value().size(); ++i) {
-        ViewAction& a = actions.value()[i];
+    // Meshes are named relative to the script (screenshots go to the output directory). Each is
+    // loaded and checked now as its action loads it (a missing file, one that is not an OBJ, a
+    // flat or open mesh), not when its frame comes.
+    std::map<std::string, std::string> checked;  // file -> why it cannot be used ("" when it can)
+    for (ViewAction& a : actions.value()) {
         if (!takes_mesh(a.what)) continue;
-        if (std::filesystem::path(a.value).is_relative())
-            a.value = (path.parent_path() / a.value).lexically_normal().string();
-        std::error_code ec;
-        if (!std::filesystem::is_regular_file(a.value, ec))
-            return Error{path.string() + ": the " + a.what + " at frame " + std::to_string(a.frame) + " names " + a.value +
-                         ", which is not a file; give an OBJ mesh's path (relative to the script)"};
+        if (fs::path(a.value).is_relative()) a.value = (path.parent_path() / a.value).lexically_normal().string();
+        auto [it, fresh] = checked.try_emplace(a.value);
+        if (fresh) {
+            std::error_code ec;
+            if (!fs::is_regular_file(a.value, ec))
+                it->second = a.value + " is not a file; give an OBJ mesh's path (a relative one starts at the script's folder)";
+            else if (auto loaded = geometry::load_obj(a.value); !loaded) it->second = loaded.error();
+        }
+        if (!it->second.empty()) return Error{a.where() + " cannot use its mesh: " + it->second};
     }
     return actions;
+}
+
+std::string ViewAction::where() const {
+    return (origin.empty() ? std::string("the script") : origin) + ": line " + std::to_string(line) + ": the " + what +
+           " at frame " + std::to_string(frame);
+}
+
+Result<bool> check_script_actions(const std::vector<ViewAction>& actions, const Scene& scene,
+                                  const std::vector<fs::path>& shapes) {
+    const size_t boxes = scene.static_boxes.size(), own = scene.obstacles.size();
+    size_t dropped = 0;
+    std::vector<fs::path> active = shapes;  // the control shapes as the actions before leave them
+    std::optional<Box> shape_place;         // where a shape goes (the fluid as it starts)
+    for (const ViewAction& a : actions) {
+        if (a.what == "remove_obstacles") dropped = 0;
+        else if (a.what == "release") active.clear();
+        else if (a.what == "obstacle") {
+            if (std::string full = obstacle_limit_refusal(boxes, own, dropped); !full.empty())
+                return Error{a.where() + " cannot drop " + fs::path(a.value).filename().string() + ": " + full};
+            // As the session drops it (SimulationSession::add_obstacle): named after its file, fit
+            // into obstacle_box, read by the scene's obstacle reader.
+            const auto point = [](const glm::vec3& p) { return nlohmann::json::array({p.x, p.y, p.z}); };
+            const Box box = obstacle_box(scene);
+            const nlohmann::json entry = {
+                {fs::path(a.value).stem().string(),
+                 {{"file", fs::absolute(a.value).string()},
+                  {"placement", {{"fit_into", {{"min", point(box.min)}, {"max", point(box.max)}}}}}}}};
+            try {
+                (void)read_obstacles(entry, scene, {}, 1);
+            } catch (const Invalid& e) {
+                return Error{a.where() + " cannot drop " + a.value + " as an obstacle: " + e.message};
+            }
+            ++dropped;
+        } else if (takes_mesh(a.what)) {
+            if (!shape_place) {
+                std::vector<glm::vec4> particles;
+                std::vector<uint32_t> block_of;
+                scene.generate_particles(particles, block_of);
+                shape_place = shape_box(scene, particles);
+            }
+            const session::ShapeOp op = a.what == "attach" ? session::ShapeOp::attach
+                                        : a.what == "union" ? session::ShapeOp::union_with
+                                                            : session::ShapeOp::morph;
+            // As SimulationSession::apply_shape makes the section: over the shapes before it.
+            std::vector<fs::path> meshes = op == session::ShapeOp::attach ? std::vector<fs::path>{} : active;
+            meshes.push_back(fs::absolute(a.value));
+            auto section = session::shape_section(scene, meshes, op, *shape_place);
+            if (!section) return Error{a.where() + " cannot use " + a.value + ": " + section.error()};
+            active = op == session::ShapeOp::morph ? std::vector<fs::path>{meshes.back()} : meshes;
+        }
+    }
+    return true;
 }
 
 }  // namespace aquaform::viewer

@@ -16,6 +16,10 @@
 // ("value": "on" or "off": the scene's whitewater drawn or not; it is made either way), quit.
 // Frames count from 0 at the first
 // frame drawn; actions of one frame run in the order written.
+// Everything an action needs is checked before the first frame: names and values when the script
+// is read, meshes loaded and checked as their action uses them (load_view_script; with the scene,
+// check_script_actions: the obstacle's own checks, the solver's solids), screenshot folders
+// (check_script_outputs). An action that still fails at its frame makes the command exit 1.
 #pragma once
 
 #include <cstdint>
@@ -24,6 +28,7 @@
 #include <vector>
 
 #include "core/result.h"
+#include "sim/scene.h"
 
 namespace aquaform::viewer {
 
@@ -32,17 +37,32 @@ struct ViewAction {
     std::string what;   ///< play, pause, step, reset, method, iterations, substeps, screenshot, attach, union, morph, release, obstacle, remove_obstacles, resize, whitewater, quit
     std::string value;  ///< method name, integer, or file
     uint32_t line = 0;  ///< where the script writes it (1-based; 0: not from a file)
+    std::string origin; ///< the script's file (empty: not from a script)
+
+    /// "s.json: line 4: the obstacle at frame 3", for messages about this action.
+    std::string where() const;
 };
 
-/// Reads a script; errors name the file, the action's index and the fix. Actions come sorted by frame.
+/// Reads a script; errors name the file, the action's index and the fix. Actions come sorted by
+/// frame. The meshes of attach, union, morph and obstacle (relative to the script) are loaded and
+/// checked as the mesh loader does for every use (a file, an OBJ, a closed solid with a volume).
 Result<std::vector<ViewAction>> load_view_script(const std::filesystem::path& path);
 Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const std::string& origin);
 
 /// Checks, before the viewer starts, that every screenshot of a script can be written: a
-/// relative file goes under `screenshot_dir`; its folder must be a folder that exists or can be
-/// made, and writable; the file must be neither a folder nor a symbolic link. The error names
-/// `origin` (the script), the action's line and the fix.
+/// relative file goes under `screenshot_dir`; its folder must exist and take a file, or the first
+/// of its missing folders must be one that can be made and take a file (both tried, and removed
+/// again), with names the system allows; the file must be neither a folder nor a symbolic link.
+/// The error names `origin` (the script), the action's line and the fix.
 Result<bool> check_script_outputs(const std::vector<ViewAction>& actions, const std::filesystem::path& screenshot_dir,
                                   const std::string& origin);
+
+/// Checks, before the viewer starts, what the script's mesh actions do to `scene` (the session's,
+/// whose control meshes are `shapes`): each obstacle as the viewer drops it (obstacle_box, the
+/// obstacle reader's checks) and within the solver's solids (remove_obstacles frees those
+/// dropped), each shape placed as attach, union or morph place it, over the shapes the actions
+/// before it leave. The error names the action's line and the fix.
+Result<bool> check_script_actions(const std::vector<ViewAction>& actions, const Scene& scene,
+                                  const std::vector<std::filesystem::path>& shapes);
 
 }  // namespace aquaform::viewer

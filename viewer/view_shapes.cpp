@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include "shaders/shared/pbf_layout.h"
 
 namespace aquaform::viewer {
 
@@ -64,6 +67,22 @@ Box obstacle_box(const Scene& scene, std::optional<glm::vec3> at) {
     centre.z = std::clamp(centre.z, scene.domain.min.z + 0.5f * side, scene.domain.max.z - 0.5f * side);
     const float floor = scene.domain.min.y;
     return {{centre.x - 0.5f * side, floor, centre.z - 0.5f * side}, {centre.x + 0.5f * side, floor + height, centre.z + 0.5f * side}};
+}
+
+std::string obstacle_limit_refusal(size_t boxes, size_t own, size_t dropped) {
+    const size_t held = boxes + own + dropped;
+    if (held < PBF_MAX_OBSTACLES) return "";
+    auto count = [](size_t n, const char* one, const char* many) { return std::to_string(n) + " " + (n == 1 ? one : many); };
+    std::string parts;
+    if (boxes) parts += count(boxes, "static box", "static boxes");
+    if (own) parts += (parts.empty() ? "" : ", ") + count(own, "obstacle of the scene", "obstacles of the scene");
+    if (dropped) parts += (parts.empty() ? "" : ", ") + count(dropped, "dropped obstacle", "dropped obstacles");
+    std::string fix = dropped > 0 ? "take out those dropped first (remove_obstacles: the Remove obstacles button, or a "
+                                    "script's {\"do\": \"remove_obstacles\"} before this drop)"
+                                  : "the scene's own solids fill it: join obstacles of the scene into one OBJ (an "
+                                    "obstacle may have several parts) to make room";
+    return "the viewer holds " + std::to_string(held) + " solids (" + parts + "), the most the solver takes (" +
+           std::to_string(PBF_MAX_OBSTACLES) + "); " + fix;
 }
 
 std::optional<glm::vec3> point_under_cursor(const ViewCamera& camera, const Box& domain, glm::vec2 ndc, float aspect) {

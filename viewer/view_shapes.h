@@ -39,6 +39,12 @@ Box shape_box(const Scene& scene, const std::vector<glm::vec4>& particles, std::
 /// `at` (x, z) or at the tank's centre without it, inside the tank.
 Box obstacle_box(const Scene& scene, std::optional<glm::vec3> at = std::nullopt);
 
+/// Why one more obstacle cannot be dropped into a viewer that holds `boxes` static boxes, `own`
+/// obstacles of the scene and `dropped` dropped ones: the solver's table is full (PBF_MAX_OBSTACLES).
+/// The message says how many solids the viewer holds, the limit and the fix (remove_obstacles);
+/// empty when there is room.
+std::string obstacle_limit_refusal(size_t boxes, size_t own, size_t dropped);
+
 /// The point of the domain under the cursor (ndc in [-1, 1], y down; aspect = width / height):
 /// where the mouse ray meets the vertical plane through the domain's centre that faces the camera,
 /// clamped into the domain. Nothing when the ray runs away from that plane.

@@ -93,6 +93,8 @@ struct ViewWorker::Sim {
     std::string status;
     uint32_t blowups = 0;
     std::string blowup;
+    std::vector<std::string> refused;  // scripted commands not done (ViewReport::refused)
+    const size_t own_obstacles = session->scene().obstacles.size();  // the scene's; the rest were dropped
 
     void say(std::string message) {
         status = std::move(message);
@@ -117,27 +119,31 @@ struct ViewWorker::Sim {
     /// it to the shapes, morph hands the shapes over to it in one second (viewer/view_shapes.h says
     /// where it goes), at the automatic strength; the solver continues from the current particles.
     /// A mesh that cannot be used leaves the simulation as it was and says why.
-    void shape(ShapeOp op, const fs::path& file, std::optional<glm::vec3> at) {
-        auto applied = session->apply_shape(op, file, shape_box(scene, solver->snapshot().x, at));
-        if (!applied) {
-            status = "cannot use " + file.string() + ": " + applied.error();
-            std::fprintf(stderr, "aquaform view: %s\n", status.c_str());
-            return;
-        }
+    void shape(ShapeOp op, const ViewCommand& c) {
+        auto applied = session->apply_shape(op, c.file, shape_box(scene, solver->snapshot().x, c.at));
+        if (!applied) return refuse(c, "cannot use " + c.file.string() + ": " + applied.error());
         const char* verb = op == ShapeOp::attach ? "attached" : op == ShapeOp::union_with ? "added" : "morphing to";
-        say(std::string(verb) + " " + file.filename().string() + " (" + session->strength()->describe() + ")");
+        say(std::string(verb) + " " + c.file.filename().string() + " (" + session->strength()->describe() + ")");
+    }
+
+    /// Says why `c` was not done: the window's command at once, a script's kept for the command,
+    /// which prints it at the end and exits 1.
+    void refuse(const ViewCommand& c, const std::string& why) {
+        status = why;
+        if (!c.script.empty()) refused.push_back(c.script + ": " + why);
+        else std::fprintf(stderr, "aquaform view: %s\n", why.c_str());
     }
 
     /// A still obstacle from `file` (an OBJ), standing on the floor under `at` (obstacle_box); the
-    /// fluid inside it is taken out and the count said. A mesh that cannot be used leaves the
-    /// simulation as it was and says why.
-    void obstacle(const fs::path& file, std::optional<glm::vec3> at) {
-        auto added = session->add_obstacle(file, obstacle_box(scene, at));
-        if (!added) {
-            status = "cannot use " + file.string() + " as an obstacle: " + added.error();
-            std::fprintf(stderr, "aquaform view: %s\n", status.c_str());
-            return;
-        }
+    /// fluid inside it is taken out and the count said. A mesh that cannot be used, or one more
+    /// than the solver's solids, leaves the simulation as it was and says why.
+    void obstacle(const ViewCommand& c) {
+        const fs::path& file = c.file;
+        const size_t dropped = session->scene().obstacles.size() - own_obstacles;
+        if (std::string full = obstacle_limit_refusal(session->scene().static_boxes.size(), own_obstacles, dropped); !full.empty())
+            return refuse(c, "cannot drop " + file.filename().string() + ": " + full);
+        auto added = session->add_obstacle(file, obstacle_box(scene, c.at));
+        if (!added) return refuse(c, "cannot use " + file.string() + " as an obstacle: " + added.error());
         const session::SimulationSession::AddedObstacle& a = added.value();
         say("dropped " + file.filename().string() + " as obstacle " + a.name + ": " + std::to_string(a.removed) +
             " particles inside it taken out" + (a.mesh_notes.empty() ? std::string() : " (" + a.mesh_notes + ")"));
@@ -153,14 +159,14 @@ struct ViewWorker::Sim {
         switch (c.op) {
         case ViewOp::step: return true;
         case ViewOp::reset: session->reset(); halted = false; break;
-        case ViewOp::attach: shape(ShapeOp::attach, c.file, c.at); break;
-        case ViewOp::union_with: shape(ShapeOp::union_with, c.file, c.at); break;
-        case ViewOp::morph: shape(ShapeOp::morph, c.file, c.at); break;
+        case ViewOp::attach: shape(ShapeOp::attach, c); break;
+        case ViewOp::union_with: shape(ShapeOp::union_with, c); break;
+        case ViewOp::morph: shape(ShapeOp::morph, c); break;
         case ViewOp::release: release(); break;
         case ViewOp::solver:
             session->set_solver_settings(c.solver);
             break;
-        case ViewOp::obstacle: obstacle(c.file, c.at); break;
+        case ViewOp::obstacle: obstacle(c); break;
         case ViewOp::remove_obstacles:
             if (session->remove_added_obstacles()) say("removed the dropped obstacles");
             break;
@@ -414,6 +420,7 @@ void ViewWorker::loop() {
         report_.status = sim_->status;
         report_.blowups = sim_->blowups;
         report_.blowup = sim_->blowup;
+        report_.refused = sim_->refused;
         report_.shape_files = sim_->session->shape_files();
         report_.solver = sim_->scene.solver;
         const control::ControlDriver* driver = sim_->session->control();

@@ -88,6 +88,10 @@ struct ViewCommand {
     std::filesystem::path file;  ///< the mesh of attach, union_with, morph, obstacle
     SolverSettings solver;       ///< the settings of `solver` (the solver continues from its particles)
     std::optional<glm::vec3> at; ///< where a shape or obstacle goes (a mesh dropped under the cursor); else view_shapes.h's default
+    /// A script's action (ViewAction::where()), or empty for the window's own: a scripted command
+    /// that cannot be done is kept in ViewReport::refused (the command then exits 1); the
+    /// window's are said and the session goes on.
+    std::string script;
 };
 
 /// What the worker tells the window: its state after its last frame.
@@ -109,6 +113,7 @@ struct ViewReport {
     SolverSettings solver;
     std::shared_ptr<const std::vector<geometry::Mesh>> shapes;  ///< the active shapes' meshes, in scene coordinates
     std::string fatal;  ///< set when the worker stopped on an error
+    std::vector<std::string> refused;  ///< every scripted command that could not be done, with why
 };
 
 /// Which of three pictures the window shows, which is the newest the worker finished, and which

@@ -17,6 +17,7 @@
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_vulkan.h>
 
+#include "core/error.h"
 #include "core/interrupt.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
@@ -106,6 +107,8 @@ public:
         summary.height = controls_.height;
         summary.method = controls_.method;
         summary.errors = errors_;
+        // The script's mesh actions the worker could not do (its frame came and the mesh did not fit).
+        summary.errors.insert(summary.errors.end(), report_.refused.begin(), report_.refused.end());
         return summary;
     }
 
@@ -184,6 +187,8 @@ private:
     void post(ViewOp op, const fs::path& file = {}, std::optional<glm::vec3> at = std::nullopt) {
         worker_->post({op, file, solver_settings_, at});
     }
+    /// A script's action on the worker: one it cannot do makes the command exit 1.
+    void post(ViewOp op, const ViewAction& a) { worker_->post({op, a.value, solver_settings_, std::nullopt, a.where()}); }
 
     /// A mesh dropped on the window becomes the shape, standing where the cursor points; with
     /// Shift held it becomes a still obstacle there instead.
@@ -210,12 +215,12 @@ private:
         }
         else if (a.what == "screenshot") screenshot(fs::path(a.value).is_absolute() ? fs::path(a.value) : options_.screenshot_dir / a.value);
         else if (a.what == "method") set_method_checked(a.value);
-        else if (a.what == "attach") post(ViewOp::attach, a.value);
-        else if (a.what == "union") post(ViewOp::union_with, a.value);
-        else if (a.what == "morph") post(ViewOp::morph, a.value);
+        else if (a.what == "attach") post(ViewOp::attach, a);
+        else if (a.what == "union") post(ViewOp::union_with, a);
+        else if (a.what == "morph") post(ViewOp::morph, a);
         else if (a.what == "view") set_view_checked(a.value);
         else if (a.what == "release") post(ViewOp::release);
-        else if (a.what == "obstacle") post(ViewOp::obstacle, a.value);
+        else if (a.what == "obstacle") post(ViewOp::obstacle, a);
         else if (a.what == "remove_obstacles") post(ViewOp::remove_obstacles);
         else if (a.what == "resize") resize(a.value);
         else if (a.what == "whitewater") controls_.show_whitewater = a.value == "on";
@@ -488,6 +493,12 @@ private:
 }  // namespace
 
 ViewSummary run_viewer(gpu::Context& ctx, ViewWindow& window, session::SessionPlan plan, const ViewerOptions& options) {
+    // What the script's mesh actions do to this scene, before the session is made: bad input.
+    std::vector<fs::path> shapes;
+    if (plan.control)
+        for (const control::ControlMesh& m : plan.control->section.meshes)
+            if (!m.file.empty()) shapes.push_back(m.file);
+    if (auto checked = check_script_actions(options.script, plan.scene, shapes); !checked) throw Failure(checked.error());
     Viewer viewer(ctx, window, std::move(plan), options);
     return viewer.run();
 }

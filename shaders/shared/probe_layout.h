@@ -26,7 +26,7 @@
 AF_BEGIN
 
 struct ProbeParams {
-    vec4 sensors[PROBE_MAX_SENSORS];  ///< xyz: the sensor's point on a solid's surface [m]; w: unused
+    vec4 sensors[PROBE_MAX_SENSORS];  ///< xyz: the sensor's point on a solid's surface [m]; w: its face's radius [m]
     vec4 gauges[PROBE_MAX_GAUGES];    ///< x, z: the gauge's line; y: its lowest sample [m]; w: sample spacing [m]
     vec4 centres[PBF_MAX_OBSTACLES];  ///< xyz: the point each solid's torque is taken about [m]
     uvec4 counts;                     ///< x: sensors; y: gauges; z: samples per gauge; w: solids
