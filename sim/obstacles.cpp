@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 
+#include "core/file_name.h"
 #include "core/json_fields.h"
 #include "geometry/animation.h"
 #include "geometry/inside.h"
@@ -120,17 +121,11 @@ ObstacleSpec read_obstacle(const json& v, const std::string& name, const std::st
     return o;
 }
 
-/// An obstacle's name becomes part of its files' names (exports/obstacle_export.h), so it is held to
-/// what every file system and tool takes: ASCII letters, digits, '_' and '-', at most 64 of them.
-constexpr size_t kMaxNameLength = 64;
+/// An obstacle's name becomes part of its files' names (exports/obstacle_export.h): the file name rule.
 void check_name(const std::string& name) {
-    const bool allowed = std::all_of(name.begin(), name.end(), [](char c) {
-        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
-    });
-    if (name.empty() || name.size() > kMaxNameLength || !allowed || name.front() == '-')
+    if (!is_file_name(name))
         fail("obstacles: the name " + written(json(name)) + " cannot name the obstacle's files (obstacle_<name>.obj); a name "
-             "is 1 to " + std::to_string(kMaxNameLength) + " ASCII letters, digits, '_' and '-' (not first), e.g. "
-             "\"rock_1\": rename it");
+             "is " + std::string(kFileNameRule) + ", e.g. \"rock_1\": rename it");
 }
 
 std::string lower(std::string text) {

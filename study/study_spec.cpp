@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string_view>
 
+#include "core/file_name.h"
 #include "core/json_fields.h"
 #include "study/bench_frames.h"
 #include "sim/scene.h"
@@ -46,13 +47,8 @@ std::string read_string(const json& v, const std::string& path, const char* what
 /// Names become file and folder names (the default --out, images/<case>_...png): nothing that
 /// could climb out of the output folder, hide, or trouble a shell or a CSV file.
 std::string checked_name(const std::string& name, const std::string& path) {
-    const bool allowed = !name.empty() && name.size() <= 64 && name[0] != '.' &&
-                         std::all_of(name.begin(), name.end(), [](char c) {
-                             return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-                                    c == '_' || c == '-' || c == '.';
-                         });
-    if (!allowed)
-        fail(path + " is " + written(json(name)) + "; it names files and folders, so use " + kNameRule +
+    if (!is_file_name(name))
+        fail(path + " is " + written(json(name)) + "; it names files and folders, so use " + kFileNameRule +
              ", e.g. \"small_study\"");
     return name;
 }

@@ -89,7 +89,7 @@ struct StudyCase {
 };
 
 struct StudySpec {
-    std::string name;  ///< names the default output folder: letters, digits, '_', '-', '.' (see kNameRule)
+    std::string name;  ///< names the default output folder: letters, digits, '_', '-', '.' (core/file_name.h)
     uint32_t repeats = 2;
     std::vector<StudyCase> cases;
     std::vector<SolverMapSpec> solver_maps;  ///< "solver_map": one object or an array of them
@@ -98,8 +98,6 @@ struct StudySpec {
     std::string identity;
 };
 
-/// How a name that becomes part of a file or folder name (the spec's and the cases') is written.
-constexpr const char* kNameRule = "1 to 64 letters, digits, '_', '-' or '.' (not first)";
 
 /// 16 hex digits of a hash of spec.identity.
 std::string spec_hash(const StudySpec& spec);
