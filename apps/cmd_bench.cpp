@@ -1,5 +1,5 @@
 // `aquaform bench sim`: solver speed and neighbour-search scaling on dam breaks of growing size
-// (measured by study/bench_sim.h);
+// (measured by bench/bench_sim.h);
 // `aquaform bench render` lives in apps/cmd_bench_render.cpp, `aquaform bench control` in
 // apps/cmd_bench_control.cpp, `aquaform bench convergence` in apps/cmd_bench_convergence.cpp,
 // `aquaform bench frame` in apps/cmd_bench_frame.cpp.
@@ -22,7 +22,7 @@
 #include "sim/blowup.h"
 #include "sim/scene.h"
 #include "gpu/context.h"
-#include "study/bench_sim.h"
+#include "bench/bench_sim.h"
 
 namespace aquaform::cli {
 

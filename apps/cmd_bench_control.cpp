@@ -1,4 +1,4 @@
-// `aquaform bench control`: mesh control measured (study/bench_control_run.h: placement time per
+// `aquaform bench control`: mesh control measured (bench/bench_control_run.h: placement time per
 // method, the control force's share of a step, IoU against the control pressure on a sphere and
 // a flat torus, their tables and targets); here the flags and bench_control.json.
 #include <cstdio>
@@ -15,9 +15,9 @@
 #include "core/interrupt.h"
 #include "core/number_text.h"
 #include "gpu/context.h"
-#include "study/bench_checks.h"
-#include "study/bench_control.h"
-#include "study/bench_control_run.h"
+#include "bench/bench_checks.h"
+#include "bench/bench_control.h"
+#include "bench/bench_control_run.h"
 
 namespace aquaform::cli {
 

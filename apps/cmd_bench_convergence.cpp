@@ -1,7 +1,7 @@
 // `aquaform bench convergence`: (a) the Martin & Moyce dam-break front at three particle spacings
 // and two time-step limits, its error against the experiment (table, JSON, SVG chart); (b) the
 // violent dam break's runup and splash fraction at cfl 0.4 and 0.2, which must agree within 10 %
-// (study/bench_convergence_run.h measures both and prints the tables). Here: flags and files.
+// (bench/bench_convergence_run.h measures both and prints the tables). Here: flags and files.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,9 +15,9 @@
 #include "core/interrupt.h"
 #include "core/text_escape.h"
 #include "gpu/context.h"
-#include "study/bench_checks.h"
-#include "study/bench_convergence_run.h"
-#include "study/bench_frames.h"
+#include "bench/bench_checks.h"
+#include "bench/bench_convergence_run.h"
+#include "bench/bench_frames.h"
 
 namespace aquaform::cli {
 

@@ -1,5 +1,5 @@
 // `aquaform bench frame`: what a displayed frame costs at given particle counts (measured by
-// study/bench_frame.h), the real-time factor per size and the H200 targets' verdicts.
+// bench/bench_frame.h), the real-time factor per size and the H200 targets' verdicts.
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -14,7 +14,7 @@
 #include "gpu/context.h"
 #include "render/registry.h"
 #include "sim/scene.h"
-#include "study/bench_frame.h"
+#include "bench/bench_frame.h"
 
 namespace aquaform::cli {
 

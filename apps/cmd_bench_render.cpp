@@ -1,7 +1,7 @@
 // `aquaform bench render`: the surface reconstruction on the benchmark's frames (study/
 // bench_frames.h: a calm dam break, a constructed curtain of droplets and the splashy frames of
 // the paper scenes), with each method and each of the adaptive method's mechanisms alone,
-// measured against the exhaustive reference (study/bench_render_run.h). Here: the flags, the
+// measured against the exhaustive reference (bench/bench_render_run.h). Here: the flags, the
 // summary of the targets, bench_render.json and the sweeps' charts.
 #include <cstdio>
 #include <filesystem>
@@ -16,9 +16,9 @@
 #include "core/interrupt.h"
 #include "core/output_dir.h"
 #include "gpu/context.h"
-#include "study/bench_checks.h"
-#include "study/bench_frames.h"
-#include "study/bench_render_run.h"
+#include "bench/bench_checks.h"
+#include "bench/bench_frames.h"
+#include "bench/bench_render_run.h"
 
 namespace aquaform::cli {
 

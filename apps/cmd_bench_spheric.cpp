@@ -1,5 +1,5 @@
 // `aquaform bench spheric`: SPHERIC test 2 (MARIN's dam break against a box) at one or more particle
-// counts, its probes against the measured water heights and pressures (study/bench_spheric.h
+// counts, its probes against the measured water heights and pressures (bench/bench_spheric.h
 // measures and compares). Here: flags, the table and the files.
 #include <algorithm>
 #include <cmath>
@@ -17,9 +17,9 @@
 #include "core/number_text.h"
 #include "core/text_escape.h"
 #include "gpu/context.h"
-#include "study/bench_checks.h"
-#include "study/bench_frames.h"
-#include "study/bench_spheric.h"
+#include "bench/bench_checks.h"
+#include "bench/bench_frames.h"
+#include "bench/bench_spheric.h"
 
 namespace aquaform::cli {
 

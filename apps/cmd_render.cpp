@@ -1,6 +1,6 @@
 // `aquaform render SCENE --frame K`: simulate to frame K, ray-march it with one method and write
 // the image, the paper's diagnostic views and render.json (timings, and metrics against the
-// exhaustive reference: study/render_report.h draws and measures them).
+// exhaustive reference: bench/render_report.h draws and measures them).
 #include <cstdio>
 #include <filesystem>
 
@@ -14,8 +14,8 @@
 #include "gpu/context.h"
 #include "render/registry.h"
 #include "sim/pbf_solver.h"
-#include "study/render_measure.h"
-#include "study/render_report.h"
+#include "bench/render_measure.h"
+#include "bench/render_report.h"
 
 namespace aquaform::cli {
 
@@ -67,7 +67,6 @@ int cmd_render(const std::vector<std::string>& argv) {
         return exit_status(ctx, kExitFailure);
 
     const ViewCamera camera = scene_camera(scene, float(width) / float(height));
-    sim.hand_frame(*made);
     const study::FrameRenderReport made_report =
         study::render_frame_report(ctx, *made, sim, camera, *method, !args->has("--no-reference"));
     nlohmann::json report = {{"scene", args->positional[0]}, {"frame", frame}, {"device", ctx.info().name}};

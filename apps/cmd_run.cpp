@@ -15,7 +15,7 @@
 #include "core/interrupt.h"
 #include "core/progress.h"
 #include "gpu/context.h"
-#include "render/video.h"
+#include "pictures/video.h"
 #include "runner/frame_pipeline.h"
 #include "runner/run_files.h"
 #include "session/simulation_session.h"
@@ -58,8 +58,8 @@ int cmd_run(const std::vector<std::string>& argv) {
     }
     const auto export_options = frame_export_options_from(*args, &error);
     if (!export_options) return refuse("run", error);
-    if (export_options->every[size_t(FrameExport::diffuse)] && !plan.value().scene.has_whitewater())
-        return refuse("run", "--diffuse-every writes the whitewater's particles, and " + plan.value().scene.name +
+    if (export_options->every[size_t(FrameExport::whitewater)] && !plan.value().scene.has_whitewater())
+        return refuse("run", "--whitewater-every writes the whitewater's particles, and " + plan.value().scene.name +
                                  " makes none: add a \"whitewater\" section to the scene or give --whitewater on");
     const std::optional<PictureSize> size = resolution_flag(*args, kViewingPicture, &error);
     if (!size) return refuse("run", error);

@@ -19,7 +19,7 @@
 #include "core/text_escape.h"
 #include "gpu/context.h"
 #include "render/surface_settings.h"
-#include "study/bench_scenes.h"
+#include "bench/bench_scenes.h"
 #include "viewer/view_headless.h"
 #include "viewer/view_script.h"
 #include "viewer/view_setup.h"
@@ -87,7 +87,7 @@ int cmd_view(const std::vector<std::string>& argv) {
     }
     Scene scene;
     if (generated) {
-        // The benchmarks' dam break (study/bench_scenes.h), for frame rates at a chosen size.
+        // The benchmarks' dam break (bench/bench_scenes.h), for frame rates at a chosen size.
         auto n = particles_flag(*args, &error);
         if (!n) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
         scene = study::bench_scene(uint32_t(*n), 4);

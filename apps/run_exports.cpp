@@ -1,17 +1,24 @@
 #include "apps/run_exports.h"
 
+#include <cstdio>
+
 namespace aquaform::cli {
 
 std::vector<std::string> frame_export_flags() {
-    std::vector<std::string> flags;
+    std::vector<std::string> flags{kMeshFormatFlag, kWhitewaterFormatFlag, kUpFlag};
     for (const FrameExportKind& kind : frame_export_kinds()) flags.push_back(kind.flag);
-    flags.push_back(kMeshFormatFlag);
-    flags.push_back(kDiffuseFormatFlag);
-    flags.push_back(kUpFlag);
+    for (const RenamedFlag& renamed : kRenamedExportFlags) flags.push_back(renamed.old_name);
     return flags;
 }
 
-std::optional<FrameExportOptions> frame_export_options_from(const Args& args, std::string* error) {
+std::optional<FrameExportOptions> frame_export_options_from(Args args, std::string* error) {
+    for (const auto& [old_name, name] : kRenamedExportFlags) {  // an old name stands for its new one
+        if (!args.has(old_name)) continue;
+        const std::string said = std::string(old_name) + " is the old name of " + name + "; give " + name;
+        if (args.has(name)) return *error = said + " alone", std::nullopt;
+        args.values[name] = args.values.extract(old_name).mapped();
+        std::fprintf(stderr, "aquaform run: %s %s\n", said.c_str(), args.values[name].c_str());
+    }
     FrameExportOptions options;
     for (const FrameExportKind& kind : frame_export_kinds()) {
         if (!args.has(kind.flag)) continue;
@@ -34,7 +41,7 @@ std::optional<FrameExportOptions> frame_export_options_from(const Args& args, st
         return false;
     };
     if (!format_of(kMeshFormatFlag, FrameExport::mesh, parse_mesh_format, options.mesh_format) ||
-        !format_of(kDiffuseFormatFlag, FrameExport::diffuse, parse_diffuse_format, options.diffuse_format))
+        !format_of(kWhitewaterFormatFlag, FrameExport::whitewater, parse_whitewater_format, options.whitewater_format))
         return std::nullopt;
     if (args.has(kUpFlag)) {
         auto up = parse_up_axis(args.value(kUpFlag));

@@ -22,12 +22,12 @@ void print_run_header(const gpu::Context& ctx, const PbfSolver& solver) {
     std::printf("passes: %s\nGPU memory:\n", passes.c_str());
     uint64_t total = 0;
     for (const auto& b : solver.memory_report()) {
-        std::printf("  %-22s %10.3f MiB\n", b.name.c_str(), double(b.bytes) / (1 << 20));
+        std::printf("  %-24s %10.3f MiB\n", b.name.c_str(), double(b.bytes) / (1 << 20));
         total += b.bytes;
     }
     const uint64_t cells = solver.grid().geometry().cell_count();
     const double per_particle = double(total - uint64_t(kGridBytesPerCell) * cells) / std::max(1u, solver.particle_count());
-    std::printf("  %-22s %10.3f MiB (%.0f B per particle + %u B per grid cell, %llu cells)\n", "total",
+    std::printf("  %-24s %10.3f MiB (%.0f B per particle + %u B per grid cell, %llu cells)\n", "total",
                 double(total) / (1 << 20), per_particle, kGridBytesPerCell, (unsigned long long)cells);
     std::fflush(stdout);
 }

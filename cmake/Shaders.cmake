@@ -13,6 +13,8 @@ function(aquaform_add_shader_library target)
   set(shader_root ${CMAKE_SOURCE_DIR}/shaders)
   file(GLOB_RECURSE sources CONFIGURE_DEPENDS
        ${shader_root}/*.comp ${shader_root}/*.vert ${shader_root}/*.frag)
+  # Every shader depends on every header: the .glsl helpers and the contracts in shared/'s layer
+  # folders (shared/<layer>/*.h; GLOB_RECURSE walks the folders below each pattern's).
   file(GLOB_RECURSE headers CONFIGURE_DEPENDS ${shader_root}/*.glsl ${shader_root}/shared/*.h)
   set(out_dir ${CMAKE_BINARY_DIR}/generated/shaders)
   set(generated_headers)
@@ -51,7 +53,7 @@ std::span<const EmbeddedShader> embedded_shaders() { return kShaders; }
 }  // namespace aquaform::gpu
 ")
   add_library(${target} STATIC ${registry_cpp} ${generated_headers})
-  # C++ includes the shared layout headers as "shaders/shared/..."; the table includes the
+  # C++ includes the shared layout headers as "shaders/shared/<layer>/..."; the table includes the
   # registry's declaration from gpu/ (which links this library).
   aquaform_layer_include_dir(shaders shaders_inc)
   aquaform_layer_include_dir(gpu gpu_inc)

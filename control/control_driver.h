@@ -22,7 +22,7 @@ public:
     ControlDriver(gpu::Context& ctx, const Scene& scene, ControlSection section, const Strength& strength);
     ~ControlDriver();
 
-    /// The force to hand to PbfSolver::set_step_force.
+    /// The force to hand to PbfSolver::attach.
     ControlForce& force() { return *force_; }
     /// Sets the shapes, points and weights for simulated time t. Cheap when nothing changed.
     void update(double t);

@@ -1,5 +1,5 @@
 // The driving force of mesh control (Karpati et al., section 3.1; formula and units in
-// shaders/shared/control_layout.h): control points pull fluid particles of chosen tags into the
+// shaders/shared/control/control_layout.h): control points pull fluid particles of chosen tags into the
 // region they fill. The points live on the GPU in their own Morton-sorted grid (cell = support
 // radius H), rebuilt whenever the points change; the force is one pass per solver step.
 #pragma once
@@ -12,7 +12,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
-#include "shaders/shared/control_layout.h"
+#include "shaders/shared/control/control_layout.h"
 #include "grid/neighbor_grid.h"
 #include "sim/pbf_solver.h"
 #include "sim/scene.h"

@@ -10,7 +10,7 @@
 
 #include "control/placement.h"
 #include "control/raster_placement.h"
-#include "shaders/shared/raster_layout.h"
+#include "shaders/shared/control/raster_layout.h"
 
 namespace aquaform::control {
 

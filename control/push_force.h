@@ -8,7 +8,7 @@
 #include <glm/glm.hpp>
 
 #include "gpu/compute_pass.h"
-#include "shaders/shared/push_layout.h"
+#include "shaders/shared/control/push_layout.h"
 #include "sim/pbf_solver.h"
 
 namespace aquaform::control {
@@ -21,6 +21,7 @@ public:
     void set(const glm::vec3& origin, const glm::vec3& dir, float radius, const glm::vec3& accel);
     void clear() { active_ = false; }
     bool active() const { return active_; }
+    std::string pass_name() const override { return "push_force"; }
     const shader::PushParams& params() const { return params_; }
 
     void record(VkCommandBuffer cmd, const gpu::Buffer& sim_params, const gpu::Buffer& x, gpu::Buffer& v, uint32_t count,
@@ -31,17 +32,6 @@ private:
     gpu::ComputePass pass_;
     shader::PushParams params_{};
     bool active_ = false;
-};
-
-/// Several step forces recorded one after the other (null entries are skipped).
-class StepForces final : public StepForce {
-public:
-    std::vector<StepForce*> forces;
-    void record(VkCommandBuffer cmd, const gpu::Buffer& sim_params, const gpu::Buffer& x, gpu::Buffer& v, uint32_t count,
-                gpu::GpuTimer* timer) override {
-        for (StepForce* f : forces)
-            if (f) f->record(cmd, sim_params, x, v, count, timer);
-    }
 };
 
 }  // namespace aquaform::control

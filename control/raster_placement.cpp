@@ -9,7 +9,7 @@
 
 #include "gpu/context.h"
 #include "gpu/staging.h"
-#include "shaders/shared/raster_layout.h"
+#include "shaders/shared/control/raster_layout.h"
 #include "core/error.h"
 
 namespace aquaform::control {
@@ -53,8 +53,9 @@ glm::ivec4 pixel_rect(const Box& bounds, float spacing, glm::vec3 origin, double
 RasterPlacer::RasterPlacer(gpu::Context& ctx, uint32_t max_triangles, uint32_t max_points, uint32_t max_pixels)
     : ctx_(&ctx),
       layers_pass_(ctx, {"control/raster_layers.comp", 3, sizeof(shader::RasterPush), RASTER_LAYERS_WORKGROUP}),
-      fill_pass_(ctx, {"control/raster_fill.comp", 4, sizeof(shader::RasterPush), RASTER_FILL_WORKGROUP}),
-      timer_(ctx, 2) {
+      count_pass_(ctx, {"control/raster_fill.comp", 5, sizeof(shader::RasterPush), RASTER_FILL_WORKGROUP, {0u}}),
+      emit_pass_(ctx, {"control/raster_fill.comp", 5, sizeof(shader::RasterPush), RASTER_FILL_WORKGROUP, {1u}}),
+      timer_(ctx, 4) {
     const VkDeviceSize corner_bytes = 3 * sizeof(glm::vec4);
     grow(triangles_staging_, "raster.triangles_staging", max_triangles * corner_bytes, gpu::MemoryUse::host);
     grow(triangles_, "raster.triangles", max_triangles * corner_bytes, gpu::MemoryUse::device);
@@ -63,6 +64,7 @@ RasterPlacer::RasterPlacer(gpu::Context& ctx, uint32_t max_triangles, uint32_t m
     grow(counters_, "raster.counters", RASTER_COUNTERS * sizeof(uint32_t), gpu::MemoryUse::device);
     grow(counters_readback_, "raster.counters_readback", RASTER_COUNTERS * sizeof(uint32_t), gpu::MemoryUse::host);
     set_point_capacity(max_points);
+    reserve_columns(max_pixels);
 }
 
 RasterPlacer::~RasterPlacer() {
@@ -83,11 +85,23 @@ void RasterPlacer::set_point_capacity(uint32_t max_points) {
     grow(points_, "raster.points", VkDeviceSize(max_points) * sizeof(glm::vec4), gpu::MemoryUse::device);
 }
 
+void RasterPlacer::reserve_columns(uint32_t pixels) {
+    if (column_buffers_ && pixels <= column_capacity_) return;
+    const uint32_t entries = std::max(pixels, 1u) + 1;  // + 1: the scan's end is the total
+    scan_ = gpu::PrefixSum();
+    column_offsets_ = nullptr;
+    column_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
+    column_offsets_ = &column_buffers_->add("raster.column_offsets", VkDeviceSize(entries) * sizeof(uint32_t));
+    scan_ = gpu::PrefixSum(*ctx_, *column_buffers_, entries, "raster");
+    column_capacity_ = entries - 1;
+}
+
 std::vector<gpu::BufferReport> RasterPlacer::memory() const {
     std::vector<gpu::BufferReport> report;
     for (const gpu::Buffer* buffer :
          {&triangles_staging_, &triangles_, &layer_count_, &layers_, &counters_, &counters_readback_, &points_})
         report.push_back({buffer->name, buffer->size});
+    for (const gpu::BufferReport& entry : column_buffers_->report()) report.push_back(entry);
     return report;
 }
 
@@ -123,6 +137,7 @@ RasterStats RasterPlacer::place_on_gpu(const std::vector<glm::vec3>& triangles, 
         grow(layers_, "raster.layers", headroom(VkDeviceSize(stats.pixels) * RASTER_MAX_LAYERS * kLayerBytes),
              gpu::MemoryUse::device);
     }
+    if (column_capacity_ < stats.pixels) reserve_columns(uint32_t(std::min(headroom(stats.pixels), VkDeviceSize(kMaxPixels))));
     auto* corners = static_cast<glm::vec4*>(triangles_staging_.mapped);
     for (size_t i = 0; i < triangles.size(); ++i) corners[i] = glm::vec4(triangles[i], 1.0f);
 
@@ -138,13 +153,28 @@ RasterStats RasterPlacer::place_on_gpu(const std::vector<glm::vec3>& triangles, 
         gpu::copy(*ctx_, cmd, triangles_staging_, triangles_, upload);
         gpu::fill(*ctx_, cmd, layer_count_, 0, VkDeviceSize(stats.pixels) * sizeof(uint32_t));
         gpu::fill(*ctx_, cmd, counters_, 0);
+        gpu::fill(*ctx_, cmd, *column_offsets_, 0, VkDeviceSize(stats.pixels + 1) * sizeof(uint32_t));
         {
             gpu::GpuScope scope(&timer_, cmd, "raster_layers");
             gpu::dispatch(*ctx_, cmd, layers_pass_, triangle_count, push, {{"corners", &triangles_}, {"layer_count", &layer_count_}, {"layers", &layers_}});
         }
+        // Count, scan, emit: each column writes its points at its offset in the scan, so the list is
+        // in column order on every run (an atomic counter handing out slots would give the order
+        // the threads ran in, and the control force's sums over the list would differ run to run).
+        const gpu::Bindings fill_buffers = {{"layer_count", &layer_count_}, {"layers", &layers_},
+                                            {"counters", &counters_},       {"points", &points_},
+                                            {"column_offsets", column_offsets_}};
         {
-            gpu::GpuScope scope(&timer_, cmd, "raster_fill");
-            gpu::dispatch(*ctx_, cmd, fill_pass_, stats.pixels, push, {{"layer_count", &layer_count_}, {"layers", &layers_}, {"counters", &counters_}, {"points", &points_}});
+            gpu::GpuScope scope(&timer_, cmd, "raster_count");
+            gpu::dispatch(*ctx_, cmd, count_pass_, stats.pixels, push, fill_buffers);
+        }
+        {
+            gpu::GpuScope scope(&timer_, cmd, "raster_scan");
+            scan_.record(cmd, *column_offsets_, stats.pixels + 1);
+        }
+        {
+            gpu::GpuScope scope(&timer_, cmd, "raster_emit");
+            gpu::dispatch(*ctx_, cmd, emit_pass_, stats.pixels, push, fill_buffers);
         }
         const VkBufferCopy readback{0, 0, RASTER_COUNTERS * sizeof(uint32_t)};
         gpu::copy(*ctx_, cmd, counters_, counters_readback_, readback);
@@ -192,8 +222,9 @@ ControlPoints place_raster(gpu::Context& ctx, const std::vector<glm::vec3>& tria
     const std::vector<glm::vec4> points = gpu::download_vector<glm::vec4>(ctx, placer.points(), stats.points);
     result.points.reserve(points.size());
     for (const glm::vec4& point : points) result.points.emplace_back(point);
-    // The GPU appends in whatever order its threads run; sort into place_inside()'s order (z, y, x)
-    // so that repeated runs, and the two methods, give identical lists.
+    // The GPU writes the points in column order (y, x, z), the same on every run; sort them into
+    // place_inside()'s order (z, y, x) so that the two methods give identical lists. Kept on purpose
+    // (not redundant): the GPU order is by column, this one by layer, and callers and tests rely on it.
     std::sort(result.points.begin(), result.points.end(), [](const glm::vec3& a, const glm::vec3& b) {
         return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x);
     });

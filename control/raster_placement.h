@@ -3,16 +3,19 @@
 // between entry and exit depths at the particle spacing. Fast enough to run every frame for a
 // deforming mesh; the points stay on the GPU.
 //
-// Design: instead of K graphics passes of classic depth peeling, two compute passes. One thread
-// per triangle captures every depth layer of every pixel in ONE geometry pass, into fixed-capacity
+// Design: instead of K graphics passes of classic depth peeling, compute passes. One thread per
+// triangle captures every depth layer of every pixel in ONE geometry pass, into fixed-capacity
 // per-pixel lists (k-buffer style, Bavoil et al. 2007); one thread per pixel then sorts its layers,
-// walks them with a winding count and emits the lattice points inside. Pixels are the lattice
-// columns themselves, so the points are exactly origin + spacing * (i, j, k): the lattice of
+// walks them with a winding count and counts the lattice points inside; a prefix sum over the
+// pixels gives each its output offset, and the same walk emits the points there, so the point list
+// is in column order whatever order the device ran its threads in. Pixels are the lattice columns
+// themselves, so the points are exactly origin + spacing * (i, j, k): the lattice of
 // method (b), place_inside(), and the two methods agree point for point away from the surface.
-// Layouts and the winding convention: shaders/shared/raster_layout.h.
+// Layouts and the winding convention: shaders/shared/control/raster_layout.h.
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -22,6 +25,7 @@
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
 #include "gpu/timer.h"
+#include "grid/prefix_sum.h"
 
 namespace aquaform::control {
 
@@ -33,7 +37,7 @@ struct RasterStats {
     uint32_t overflowed_pixels = 0;  ///< columns with more than RASTER_MAX_LAYERS layers, left empty
     uint32_t open_pixels = 0;        ///< columns whose winding did not return to 0 (a hole), left empty
     uint32_t pixels = 0;             ///< lattice columns rasterised
-    double gpu_ms = 0.0;             ///< both passes, from GPU timestamps
+    double gpu_ms = 0.0;             ///< all passes, from GPU timestamps
     double ms = 0.0;                 ///< wall time of place_on_gpu(): upload, passes, wait, read-back
 };
 
@@ -46,10 +50,11 @@ public:
     RasterPlacer(const RasterPlacer&) = delete;
     RasterPlacer& operator=(const RasterPlacer&) = delete;
 
-    /// Uploads the triangles (three points each), records and submits both passes, waits and reads
+    /// Uploads the triangles (three points each), records and submits the passes, waits and reads
     /// back the counters only. The points stay on the GPU: the first `stats.points` entries of
-    /// points(), vec4 (xyz, w = `w_value`), in no particular order. The lattice covers the triangles'
-    /// xy bounds; throws aquaform::Failure for a bad spacing or a lattice too large to rasterise.
+    /// points(), vec4 (xyz, w = `w_value`), in column order: by lattice row j, then column i, then
+    /// z up (the same bytes every time for the same input; when the capacity is short, the first
+    /// columns' points are kept). The lattice covers the triangles' xy bounds; throws aquaform::Failure for a bad spacing or a lattice too large to rasterise.
     RasterStats place_on_gpu(const std::vector<glm::vec3>& triangles, float spacing, glm::vec3 lattice_origin,
                              float w_value = 0.0f);
 
@@ -62,10 +67,13 @@ public:
 
 private:
     void grow(gpu::Buffer& buffer, const char* name, VkDeviceSize bytes, gpu::MemoryUse use);
+    /// Column offsets and the prefix sum over them for at least `pixels` columns.
+    void reserve_columns(uint32_t pixels);
 
     gpu::Context* ctx_;
     gpu::ComputePass layers_pass_;
-    gpu::ComputePass fill_pass_;
+    gpu::ComputePass count_pass_;  // raster_fill.comp, kEmit false
+    gpu::ComputePass emit_pass_;   // raster_fill.comp, kEmit true
     gpu::GpuTimer timer_;
     uint32_t point_capacity_ = 0;
     gpu::Buffer triangles_staging_;  // host: the vec4 corners, copied in the same submission
@@ -75,6 +83,10 @@ private:
     gpu::Buffer counters_;           // RASTER_COUNTERS
     gpu::Buffer counters_readback_;  // host
     gpu::Buffer points_;
+    uint32_t column_capacity_ = 0;
+    std::unique_ptr<gpu::BufferSet> column_buffers_;  // the offsets and the scan's block sums
+    gpu::Buffer* column_offsets_ = nullptr;           // per pixel, + 1: counts, then offsets and total
+    gpu::PrefixSum scan_;
 };
 
 /// Places, then downloads the points (method "raster"; `ms` includes pipeline creation and the

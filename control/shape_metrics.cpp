@@ -3,8 +3,8 @@
 #include <cmath>
 #include <unordered_map>
 
-#include "shaders/shared/control_layout.h"
-#include "shaders/shared/sph_kernels.h"
+#include "shaders/shared/control/control_layout.h"
+#include "shaders/shared/core/sph_kernels.h"
 
 namespace aquaform::control {
 

@@ -3,7 +3,7 @@
 // (the limitation Karpati et al. name in section 3.1). Users may override each.
 //
 // With a uniformly filled shape, phi = sum_c V_c W(x - x_c) is ~1 inside and 0 outside, and the
-// force is a = (P / rho0) grad phi (shaders/shared/control_layout.h). In equilibrium the fluid
+// force is a = (P / rho0) grad phi (shaders/shared/control/control_layout.h). In equilibrium the fluid
 // pressure obeys grad p = rho (g + (P / rho0) grad phi), so its free surfaces are level sets of
 // (P / rho0) phi - |g| y. Between the top and the bottom of a shape of height L:
 //     (P / rho0) (phi_top - phi_bottom) = |g| L.

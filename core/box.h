@@ -1,4 +1,4 @@
-// Axis-aligned boxes: the domain of a scene (its tank), fluid blocks, obstacles, bounds.
+// Axis-aligned boxes: the domain of a scene (its tank), fluid blocks, static boxes, bounds.
 #pragma once
 
 #include <vector>
@@ -22,7 +22,7 @@ struct ParticleDomain {
     Box bounds;                        ///< the tank: no particle leaves it [m]
     float particle_spacing = 0.02f;    ///< lattice spacing [m]; a particle's radius is half of it
     float kernel_radius_factor = 2.0f; ///< the solver's smoothing length h over the spacing
-    std::vector<Box> obstacles;        ///< solid boxes inside the tank (the scene's static boxes), drawn by the renderers
+    std::vector<Box> static_boxes;     ///< solid boxes inside the tank (the scene's static_boxes), drawn by the renderers
 
     float particle_radius() const { return 0.5f * particle_spacing; }
     float kernel_radius() const { return kernel_radius_factor * particle_spacing; }

@@ -24,17 +24,16 @@ FrameCapturer::FrameCapturer(gpu::Context& ctx, const FrameExports& exports, Pbf
 
 FrameCapturer::~FrameCapturer() = default;
 
-void FrameCapturer::record(VkCommandBuffer cmd, uint32_t frame, const NeighborGrid* frame_grid,
-                           gpu::GpuTimer* timer) {
+void FrameCapturer::record(VkCommandBuffer cmd, uint32_t frame, const FrameInput& input, gpu::GpuTimer* timer) {
     const bool mesh = exports_->due(FrameExport::mesh, frame);
     if (mesh) {
-        mesher_->share_grid(frame_grid);
-        mesher_->record(cmd, solver_->positions(), solver_->particle_count(), timer);
+        mesher_->share_grid(input.grid);
+        mesher_->record(cmd, *input.positions, input.count, timer);
     }
     if (!exports_->needs_volume(frame)) return;
     if (!mesh) {  // the mesher sampled the field already
-        sampler_->share_grid(frame_grid);
-        sampler_->record(cmd, solver_->positions(), solver_->particle_count(), timer);
+        sampler_->share_grid(input.grid);
+        sampler_->record(cmd, *input.positions, input.count, timer);
     }
     record_volume_readback(cmd);
 }
@@ -60,8 +59,6 @@ FrameCapture FrameCapturer::collect(uint32_t frame, gpu::GpuTimer& timer, FrameS
     // After the mesh: an extraction made again there leaves the sampler's lattice of this frame.
     if (exports_->needs_volume(frame)) capture.volume = collect_volume();
     if (exports_->needs_particles(frame)) capture.particles = solver_->snapshot();
-    if (exports_->needs(FrameData::diffuse, frame))
-        capture.diffuse = solver_->whitewater() ? solver_->whitewater()->snapshot() : DiffuseSnapshot{};
     return capture;
 }
 

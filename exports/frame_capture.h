@@ -12,6 +12,7 @@
 #include "exports/frame_exports.h"
 #include "gpu/buffer.h"
 #include "render/density_sampler.h"
+#include "render/frame_input.h"
 #include "render/surface_mesher.h"
 #include "render/surface_settings.h"
 #include "sim/frame_stats.h"
@@ -32,11 +33,12 @@ public:
                   const SurfaceSettings& field);
     ~FrameCapturer();
 
-    /// Records, after the solver's frame `frame` in its submission, what its due exports need.
-    /// `frame_grid`: the solver's grid of this frame, read in place where it serves
-    /// (SimulationSession::frame_grid, DensitySampler::share_grid); nullptr: the sampler's own.
-    void record(VkCommandBuffer cmd, uint32_t frame, const NeighborGrid* frame_grid, gpu::GpuTimer* timer);
-    /// Once that submission has completed, before the next frame is recorded: the capture. Where
+    /// Records, after the solver's frame `frame` in its submission, what its due exports need of
+    /// `input` (SimulationSession::frame_input): its particles, and its grid, read in place where
+    /// it serves (DensitySampler::share_grid; nullptr: the sampler's own).
+    void record(VkCommandBuffer cmd, uint32_t frame, const FrameInput& input, gpu::GpuTimer* timer);
+    /// Once that submission has completed, before the next frame is recorded: the capture (but
+    /// its whitewater, which the session gives: SimulationSession::whitewater_snapshot). Where
     /// the mesh was extracted again, `stats` gets the GPU time of both attempts from `timer`.
     FrameCapture collect(uint32_t frame, gpu::GpuTimer& timer, FrameStats& stats);
     /// "  surface mesh and volume    12.3 MiB (grows with the fluid's extent)" for the run's

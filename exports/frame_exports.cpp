@@ -39,10 +39,10 @@ FrameCapture z_up(const FrameCapture& capture) {
         for (glm::vec4& x : out.particles->x) x = z_up(x);
         for (glm::vec4& v : out.particles->v) v = z_up(v);
     }
-    out.diffuse = capture.diffuse;
-    if (out.diffuse) {
-        for (glm::vec4& x : out.diffuse->x) x = z_up(x);
-        for (glm::vec4& v : out.diffuse->v) v = z_up(v);
+    out.whitewater = capture.whitewater;
+    if (out.whitewater) {
+        for (glm::vec4& x : out.whitewater->x) x = z_up(x);
+        for (glm::vec4& v : out.whitewater->v) v = z_up(v);
     }
     if (out.mesh) {  // its lattice fields stay the simulation's: no writer reads them
         for (glm::vec3& p : out.mesh->vertices) p = z_up(p);
@@ -64,14 +64,14 @@ const std::array<FrameExportKind, kFrameExportKinds>& frame_export_kinds() {
         {FrameExport::vtk, "vtk", "--vtk-every", "particles", ".vtu", FrameData::particles},
         {FrameExport::vdb, "vdb", "--vdb-every", "density", ".vdb", FrameData::volume},
         {FrameExport::mesh, "mesh", "--mesh-every", "surface", ".obj", FrameData::mesh},
-        {FrameExport::diffuse, "diffuse", "--diffuse-every", "diffuse", ".ply", FrameData::diffuse},
+        {FrameExport::whitewater, "whitewater", "--whitewater-every", "whitewater", ".ply", FrameData::whitewater},
     }};
     return kinds;
 }
 
-Result<DiffuseFormat> parse_diffuse_format(const std::string& text) {
-    if (text == "ply") return DiffuseFormat::ply;
-    if (text == "vtp") return DiffuseFormat::vtp;
+Result<WhitewaterFormat> parse_whitewater_format(const std::string& text) {
+    if (text == "ply") return WhitewaterFormat::ply;
+    if (text == "vtp") return WhitewaterFormat::vtp;
     return Error{"unknown whitewater format '" + text + "'; use ply (Blender) or vtp (ParaView)"};
 }
 
@@ -86,7 +86,7 @@ FrameExports::FrameExports(std::filesystem::path dir, const FrameExportOptions& 
       options_(options),
       particles_pvd_(dir_ / "particles.pvd"),
       surface_pvd_(dir_ / "surface.pvd"),
-      diffuse_pvd_(dir_ / "diffuse.pvd") {}
+      whitewater_pvd_(dir_ / "whitewater.pvd") {}
 
 bool FrameExports::due(FrameExport kind, uint32_t frame) const {
     const uint32_t every = options_.every[size_t(kind)];
@@ -103,7 +103,7 @@ std::filesystem::path FrameExports::file(FrameExport kind, uint32_t frame) const
     const FrameExportKind& k = frame_export_kinds()[size_t(kind)];
     std::filesystem::path path = dir_ / numbered_file(k.file_stem, frame / every(kind), k.extension);
     if (kind == FrameExport::mesh) path.replace_extension(mesh_format_extension(options_.mesh_format));
-    if (kind == FrameExport::diffuse && options_.diffuse_format == DiffuseFormat::vtp) path.replace_extension("vtp");
+    if (kind == FrameExport::whitewater && options_.whitewater_format == WhitewaterFormat::vtp) path.replace_extension("vtp");
     return path;
 }
 
@@ -133,10 +133,10 @@ Result<bool> FrameExports::write_file(FrameExport kind, const std::filesystem::p
             return written ? particles_pvd_.add(time_s, name) : written;
         }
         case FrameExport::vdb: return write_density_vdb(path, *capture.volume);
-        case FrameExport::diffuse: {
-            if (options_.diffuse_format == DiffuseFormat::ply) return write_diffuse_ply(path, *capture.diffuse);
-            Result<bool> written = write_diffuse_vtp(path, *capture.diffuse);
-            return written ? diffuse_pvd_.add(time_s, name) : written;
+        case FrameExport::whitewater: {
+            if (options_.whitewater_format == WhitewaterFormat::ply) return write_whitewater_ply(path, *capture.whitewater);
+            Result<bool> written = write_whitewater_vtp(path, *capture.whitewater);
+            return written ? whitewater_pvd_.add(time_s, name) : written;
         }
         case FrameExport::mesh: {
             Result<bool> written = write_mesh(path, *capture.mesh, options_.mesh_format);

@@ -28,15 +28,15 @@
 
 namespace aquaform {
 
-enum class FrameExport : uint8_t { ply, vtk, vdb, mesh, diffuse };
+enum class FrameExport : uint8_t { ply, vtk, vdb, mesh, whitewater };
 constexpr size_t kFrameExportKinds = 5;
 
 /// What a kind is written from (a field of FrameCapture).
-enum class FrameData : uint8_t { particles, volume, mesh, diffuse };
+enum class FrameData : uint8_t { particles, volume, mesh, whitewater };
 
 struct FrameExportKind {
     FrameExport kind;
-    const char* name;          ///< the kind in exports.csv: "ply", "vtk", "vdb", "mesh"
+    const char* name;          ///< the kind in exports.csv: "ply", "vtk", "vdb", "mesh", "whitewater"
     const char* flag;          ///< the `run` flag that gives K, e.g. "--vtk-every"
     const char* file_stem;     ///< the file is <stem>_NNNN<extension>, numbered by file
     const char* extension;     ///< (a mesh's and the whitewater's follow their formats)
@@ -51,13 +51,13 @@ struct FrameCapture {
     std::optional<ParticleSnapshot> particles;
     std::optional<DensityVolume> volume;
     std::optional<SurfaceMesh> mesh;
-    std::optional<DiffuseSnapshot> diffuse;  ///< the whitewater's particles
+    std::optional<WhitewaterSnapshot> whitewater;  ///< the whitewater's particles
     bool has(FrameData data) const {
         switch (data) {
             case FrameData::particles: return bool(particles);
             case FrameData::volume: return bool(volume);
             case FrameData::mesh: return bool(mesh);
-            case FrameData::diffuse: return bool(diffuse);
+            case FrameData::whitewater: return bool(whitewater);
         }
         return false;
     }
@@ -72,17 +72,17 @@ glm::vec3 z_up(const glm::vec3& p);
 Result<UpAxis> parse_up_axis(const std::string& text);
 
 /// The whitewater's file format: PLY for Blender (blender_scene.py reads it), VTK PolyData with
-/// a diffuse.pvd for ParaView (whose PLY reader keeps neither the vertices as cells nor the
+/// a whitewater.pvd for ParaView (whose PLY reader keeps neither the vertices as cells nor the
 /// velocity, kind and life; a .vtp keeps them all and draws as points).
-enum class DiffuseFormat : uint8_t { ply, vtp };
+enum class WhitewaterFormat : uint8_t { ply, vtp };
 
 /// "ply" or "vtp"; otherwise an error listing the choices.
-Result<DiffuseFormat> parse_diffuse_format(const std::string& text);
+Result<WhitewaterFormat> parse_whitewater_format(const std::string& text);
 
 struct FrameExportOptions {
     std::array<uint32_t, kFrameExportKinds> every{};  ///< per kind: every K frames; 0: never
     MeshFormat mesh_format = MeshFormat::obj;
-    DiffuseFormat diffuse_format = DiffuseFormat::ply;
+    WhitewaterFormat whitewater_format = WhitewaterFormat::ply;
     UpAxis up = UpAxis::y;
 };
 
@@ -116,7 +116,7 @@ private:
     FrameExportOptions options_;
     VtkCollection particles_pvd_;
     VtkCollection surface_pvd_;
-    VtkCollection diffuse_pvd_;
+    VtkCollection whitewater_pvd_;
     AppendedFile listing_;  // exports.csv, opened with the first file
 };
 

@@ -1,6 +1,6 @@
 // Density volumes for Blender and Houdini: an OpenVDB file holding one FloatGrid named
 // "density", grid class fog volume (the standard liquid/smoke import), values the renderer's
-// field phi, which is 1 in resting fluid (shaders/shared/render_kernels.h), background 0. The
+// field phi, which is 1 in resting fluid (shaders/shared/render/render_kernels.h), background 0. The
 // iso value the renderer draws is stored in the grid's metadata as "aquaform_iso", so the same
 // surface can be meshed there (e.g. Houdini's Convert VDB at that iso). Index (i, j, k) is at
 // world position origin + voxel * (i, j, k). Samples at or below kVdbZeroTolerance stay

@@ -143,7 +143,7 @@ Result<bool> write_mesh_vtp(const std::filesystem::path& path, const SurfaceMesh
                                  array_of("Int32", "offsets", 1, offsets)}}});
 }
 
-Result<bool> write_diffuse_vtp(const std::filesystem::path& path, const DiffuseSnapshot& d) {
+Result<bool> write_whitewater_vtp(const std::filesystem::path& path, const WhitewaterSnapshot& d) {
     const size_t n = d.x.size();
     if (d.v.size() != n)
         return Error{"cannot write " + path.string() + ": the snapshot has " + std::to_string(n) + " positions and " +

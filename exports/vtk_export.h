@@ -28,7 +28,7 @@ inline constexpr const char* kTimeFormat = "%.12g";
 Result<bool> write_particles_vtu(const std::filesystem::path& path, const ParticleSnapshot& particles);
 /// Normals are written where the mesh has one per vertex.
 Result<bool> write_mesh_vtp(const std::filesystem::path& path, const SurfaceMesh& mesh);
-Result<bool> write_diffuse_vtp(const std::filesystem::path& path, const DiffuseSnapshot& diffuse);
+Result<bool> write_whitewater_vtp(const std::filesystem::path& path, const WhitewaterSnapshot& whitewater);
 
 /// A ParaView collection (.pvd) of the files written so far, rewritten whole (atomically) after
 /// each addition, so that a run stopped midway still leaves a collection ParaView opens.

@@ -5,12 +5,12 @@
 //
 // For a solid Omega (clipped to the tank when a clip box is given: beyond the tank's walls the
 // walls' own closed form already counts), with poly6 W normalised to integrate to 1 over its
-// ball (shaders/shared/sph_kernels.h), and phi the walls' calibration (sim/pbf_params.cpp):
+// ball (shaders/shared/core/sph_kernels.h), and phi the walls' calibration (sim/pbf_params.cpp):
 //   m(x)      = rho_b(x) / rho0 = phi * Integral_{Omega} W(|x - y|) dy                  (K&B eq. 9)
 //   grad m(x) = phi * Integral_{Omega} grad_x W(x - y) dy
 //             = phi * Integral_{Omega} 6 c (h^2 - |y - x|^2)^2 (y - x) dy
 // For a half-space at signed distance d (d > 0: x outside) this is the walls' closed form
-// (shaders/shared/pbf_physics.h, pbf_wall_term):
+// (shaders/shared/sim/pbf_physics.h, pbf_wall_term):
 //   m(d) = phi (pi c / 4) (F(h) - F(d)),  grad m = -phi (pi c / 4) (h^2 - d^2)^4 n,
 // n the solid's outward normal, F the antiderivative of (h^2 - z^2)^4.
 //

@@ -67,7 +67,7 @@ private:
     std::vector<std::string> order_;
 };
 
-/// RAII scope: `GpuScope s(timer, cmd, "pbf_lambda");`; a null timer times nothing.
+/// RAII scope: `GpuScope s(timer, cmd, "sim_lambda");`; a null timer times nothing.
 class GpuScope {
 public:
     GpuScope(GpuTimer* timer, VkCommandBuffer cmd, const std::string& name) : timer_(timer), cmd_(cmd) {

@@ -6,7 +6,7 @@
 #include "gpu/buffer.h"
 #include "gpu/staging.h"
 #include "grid/neighbor_grid.h"
-#include "shaders/shared/scan_layout.h"
+#include "shaders/shared/grid/scan_layout.h"
 
 namespace aquaform {
 
@@ -75,8 +75,8 @@ GridCounts count_grid_work(gpu::Context& ctx, const NeighborGrid& grid, uint32_t
                            gpu::download_vector<uint32_t>(ctx, grid.list_cell(), particles));
 }
 
-PassTraffic prefix_sum_traffic(uint64_t count) {
-    PassTraffic t{"grid_scan"};
+PassTraffic prefix_sum_traffic(uint64_t count, const std::string& name) {
+    PassTraffic t{name};
     // gpu::PrefixSum::record_level: scan_blocks loads and stores every element and stores one
     // sum a block; with more than one block, the sums are scanned the same way and scan_add
     // loads and stores every element again with its block's sum (one load per element).
@@ -102,25 +102,25 @@ PassTraffic neighbor_loop_traffic(const GridCounts& c, uint64_t per_neighbor, ui
     return t;
 }
 
-std::vector<PassTraffic> grid_pass_traffic(const GridCounts& c) {
+std::vector<PassTraffic> grid_pass_traffic(const GridCounts& c, const std::string& timer_prefix) {
     const uint64_t n = c.particles;
     std::vector<PassTraffic> passes;
     // grid_count: the fill of cell_start, then per particle its position, its cell's rank, the
     // atomic add on the cell's count (a load and a store), its key and slot.
-    PassTraffic count{"grid_count"};
+    PassTraffic count{timer_prefix + "grid_count"};
     count.bytes = 4 * (c.cells + 1) + n * (16 + 4 + 8 + 8);
     count.unique_bytes = 4 * (c.cells + 1) + n * (16 + 8) + c.occupied_cells * (4 + 8);
     passes.push_back(count);
-    passes.push_back(prefix_sum_traffic(c.cells + 1));
+    passes.push_back(prefix_sum_traffic(c.cells + 1, timer_prefix + "grid_scan"));
     // grid_scatter: key, slot, the cell's start, the arrival store; then the stable order:
     // arrival, key, the cell's two starts, the cell's members' arrival (the loop), the order store.
-    PassTraffic scatter{"grid_scatter"};
+    PassTraffic scatter{timer_prefix + "grid_scatter"};
     scatter.bytes = n * (4 + 4 + 4 + 4) + n * (4 + 4 + 8 + 4) + 4 * c.cell_member_reads;
     scatter.unique_bytes = n * (4 + 4 + 4) + 4 * c.occupied_cells + n * (4 + 4 + 4) + 8 * c.occupied_cells;
     passes.push_back(scatter);
     // neighbor_lists: its own position, every candidate's, the 27 cells' ranges; stores its
     // cell, its count and its groups of four.
-    PassTraffic lists{"neighbor_lists"};
+    PassTraffic lists{timer_prefix + "neighbor_lists"};
     lists.bytes = 16 * n + 16 * c.candidates + 8 * n + 16 * c.stored_texels;
     lists.unique_bytes = 16 * n + 8 * n + 16 * c.stored_texels;
     lists.neighbor_visits = c.candidates;

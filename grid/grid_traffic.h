@@ -66,8 +66,9 @@ GridCounts count_grid_work(const GridGeometry& geometry, uint32_t capacity, cons
 GridCounts count_grid_work(gpu::Context& ctx, const NeighborGrid& grid, uint32_t particles);
 
 /// grid_count (with the fill of the counts), grid_scan, grid_scatter (with the stable order)
-/// and neighbor_lists, as NeighborGrid::build and record_neighbor_lists record them.
-std::vector<PassTraffic> grid_pass_traffic(const GridCounts& counts);
+/// and neighbor_lists, as NeighborGrid::build and record_neighbor_lists record them; each named
+/// `timer_prefix` + the pass, as a NeighborGrid made with that timer_prefix times it.
+std::vector<PassTraffic> grid_pass_traffic(const GridCounts& counts, const std::string& timer_prefix = "");
 
 /// What one pass over common/neighbor_list.glsl's loop reads for the lists themselves: the
 /// count per particle, the listed groups, and for overflowing particles their cell and the 27
@@ -77,7 +78,8 @@ std::vector<PassTraffic> grid_pass_traffic(const GridCounts& counts);
 /// at its own particle are counted there).
 PassTraffic neighbor_loop_traffic(const GridCounts& counts, uint64_t per_neighbor, uint64_t neighbor_only = 0);
 
-/// The exclusive scan of `count` uints (grid/prefix_sum.cpp's levels of block scans and adds).
-PassTraffic prefix_sum_traffic(uint64_t count);
+/// The exclusive scan of `count` uints (grid/prefix_sum.cpp's levels of block scans and adds),
+/// named `name`.
+PassTraffic prefix_sum_traffic(uint64_t count, const std::string& name);
 
 }  // namespace aquaform

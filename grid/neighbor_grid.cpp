@@ -8,7 +8,7 @@
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "gpu/timer.h"
-#include "shaders/shared/morton.h"
+#include "shaders/shared/grid/morton.h"
 #include "core/error.h"
 
 namespace aquaform {
@@ -66,8 +66,9 @@ std::vector<uint32_t> morton_rank_table(const GridGeometry& grid) {
 }
 
 NeighborGrid::NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const GridGeometry& geometry,
-                           uint32_t max_particles, const std::string& prefix, uint32_t neighbor_capacity)
-    : ctx_(&ctx), geometry_(geometry), neighbor_capacity_(neighbor_capacity) {
+                           uint32_t max_particles, const std::string& prefix, uint32_t neighbor_capacity,
+                           const std::string& timer_prefix)
+    : ctx_(&ctx), geometry_(geometry), timer_prefix_(timer_prefix), neighbor_capacity_(neighbor_capacity) {
     const uint32_t cells = geometry.cell_count();
     cell_rank_ = &buffers.add(prefix + ".cell_rank", uint64_t(cells) * 4);
     cell_start_ = &buffers.add(prefix + ".cell_start", (uint64_t(cells) + 1) * 4);
@@ -99,16 +100,16 @@ void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint
                          gpu::GpuTimer* timer) {
     const shader::GridPush push = geometry_.push(count);
     {
-        gpu::GpuScope scope(timer, cmd, "grid_count");
+        gpu::GpuScope scope(timer, cmd, timer_prefix_ + "grid_count");
         gpu::fill(*ctx_, cmd, *cell_start_, 0);
         gpu::dispatch(*ctx_, cmd, count_pass_, count, push, {{"positions", &positions}, {"cell_rank", cell_rank_}, {"cell_count", cell_start_}, {"keys", keys_}, {"slots", slots_}});
     }
     {
-        gpu::GpuScope scope(timer, cmd, "grid_scan");
+        gpu::GpuScope scope(timer, cmd, timer_prefix_ + "grid_scan");
         scan_.record(cmd, *cell_start_, geometry_.cell_count() + 1);
     }
     {
-        gpu::GpuScope scope(timer, cmd, "grid_scatter");
+        gpu::GpuScope scope(timer, cmd, timer_prefix_ + "grid_scatter");
         gpu::dispatch(*ctx_, cmd, scatter_pass_, count, push, {{"keys", keys_}, {"slots", slots_}, {"cell_start", cell_start_}, {"arrival", arrival_}});
         record_stable_order(cmd, count);
     }
@@ -122,7 +123,7 @@ void NeighborGrid::record_neighbor_lists(VkCommandBuffer cmd, const gpu::Buffer&
                                          float radius, gpu::GpuTimer* timer) {
     if (!neighbors_) throw internal_failure("neighbour grid: built without neighbour lists, cannot record them");
     check_radius(radius);
-    gpu::GpuScope scope(timer, cmd, "neighbor_lists");
+    gpu::GpuScope scope(timer, cmd, timer_prefix_ + "neighbor_lists");
     shader::NeighborListPush push{};
     push.grid = geometry_.push(count);
     push.radius = radius;

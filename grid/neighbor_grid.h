@@ -2,7 +2,7 @@
 // cell (cell size = kernel radius h) over a grid sized to the scene's domain. It is a reusable
 // object: the solver physically reorders its arrays by `order()`, other passes (the renderer)
 // can query it in place through `order()`, `cell_rank()` and `cell_start()`.
-// Layout and query rules: shaders/shared/grid_layout.h and shaders/common/grid_query.glsl.
+// Layout and query rules: shaders/shared/grid/grid_layout.h and shaders/common/grid_query.glsl.
 #pragma once
 
 #include <cstdint>
@@ -14,7 +14,7 @@
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
 #include "grid/prefix_sum.h"
-#include "shaders/shared/grid_layout.h"
+#include "shaders/shared/grid/grid_layout.h"
 #include "core/result.h"
 
 namespace aquaform {
@@ -56,15 +56,19 @@ constexpr uint32_t kGridBytesPerCell = 2 * sizeof(uint32_t);
 
 class NeighborGrid {
 public:
-    /// Allocates the grid's buffers in `buffers` (named with `prefix` for the memory report).
-    /// With a `neighbor_capacity` of 0 (queries that search cells themselves, like the
-    /// renderer's) the per-step list buffers are not allocated and record_neighbor_lists must
-    /// not be called.
+    /// Allocates the grid's buffers in `buffers` (named with `prefix` for the memory report:
+    /// "sim.grid" gives "sim.grid.keys"). With a `neighbor_capacity` of 0 (queries that search
+    /// cells themselves, like the renderer's) the per-step list buffers are not allocated and
+    /// record_neighbor_lists must not be called. Its timed scopes are its user's:
+    /// `timer_prefix` + grid_count, grid_scan, grid_scatter and neighbor_lists ("sim_" gives
+    /// "sim_grid_count"; grid_pass_traffic names its passes the same way).
     NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const GridGeometry& geometry,
-                 uint32_t max_particles, const std::string& prefix = "grid", uint32_t neighbor_capacity = 0);
+                 uint32_t max_particles, const std::string& prefix = "grid", uint32_t neighbor_capacity = 0,
+                 const std::string& timer_prefix = "");
 
     /// Records the build: count per cell, exclusive scan into starts, scatter into `arrival`,
     /// then the stable order: a cell's particles by ascending index, the same on every run.
+    /// Timed (with a timer) as timer_prefix + grid_count, grid_scan and grid_scatter.
     void build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, gpu::GpuTimer* timer);
     /// Records the last step of build() alone (`order` from `arrival`), for tests.
     void record_stable_order(VkCommandBuffer cmd, uint32_t count);
@@ -72,6 +76,7 @@ public:
     /// Records the neighbour lists of `sorted_positions` (particles already in this grid's
     /// order, as the solver keeps them): the particles of the 27 surrounding cells that lie
     /// within `radius` <= cell size. Passes then visit them with common/neighbor_list.glsl.
+    /// Timed (with a timer) as timer_prefix + neighbor_lists.
     void record_neighbor_lists(VkCommandBuffer cmd, const gpu::Buffer& sorted_positions, uint32_t count,
                                float radius, gpu::GpuTimer* timer);
     uint32_t neighbor_capacity() const { return neighbor_capacity_; }
@@ -99,6 +104,7 @@ private:
 
     gpu::Context* ctx_;
     GridGeometry geometry_;
+    std::string timer_prefix_;
     gpu::Buffer* cell_rank_;
     gpu::Buffer* cell_start_;  // cells + 1 entries; holds counts until the scan
     gpu::Buffer* keys_;

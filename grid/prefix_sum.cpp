@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "shaders/shared/scan_layout.h"
+#include "shaders/shared/grid/scan_layout.h"
 #include "core/error.h"
 
 namespace aquaform::gpu {

@@ -10,7 +10,7 @@
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "gpu/timer.h"
-#include "shaders/shared/render_kernels.h"
+#include "shaders/shared/render/render_kernels.h"
 
 namespace aquaform {
 

@@ -1,4 +1,4 @@
-// The renderer's field phi(p) = V sum_j W(p - x_j, r) (shaders/shared/render_kernels.h) sampled
+// The renderer's field phi(p) = V sum_j W(p - x_j, r) (shaders/shared/render/render_kernels.h) sampled
 // on a lattice on the GPU, from the solver's particle buffer in place: the input of the surface
 // mesher (render/surface_mesher.h) and of volume exports (DensityVolume). Same r, same V, same
 // iso as the surface renderer with the same SurfaceSettings (radius_spacings, lone_radius).
@@ -18,7 +18,7 @@
 //   mesh_sample    phi at every sample (indirect dispatch over the lattice)
 // The lattice's buffers hold `capacity()` samples. A lattice beyond them is measured, not
 // sampled (lattice().dims.w > capacity()): reserve() grows them and the caller samples again.
-// Layout and conventions: shaders/shared/mesh_layout.h.
+// Layout and conventions: shaders/shared/render/mesh_layout.h.
 #pragma once
 
 #include <cstdint>
@@ -32,7 +32,7 @@
 #include "render/density_volume.h"
 #include "render/surface_kernels.h"
 #include "render/surface_settings.h"
-#include "shaders/shared/mesh_layout.h"
+#include "shaders/shared/render/mesh_layout.h"
 
 namespace aquaform {
 

@@ -12,7 +12,7 @@
 #include "gpu/image.h"
 #include "gpu/shader_registry.h"
 #include "gpu/vk_check.h"
-#include "shaders/shared/impostor_layout.h"
+#include "shaders/shared/render/impostor_layout.h"
 #include "core/error.h"
 
 namespace aquaform {

@@ -11,7 +11,7 @@
 #include <vulkan/vulkan.h>
 
 #include "gpu/buffer.h"
-#include "render/image_io.h"
+#include "pictures/image_io.h"
 #include "core/box.h"
 #include "core/camera.h"
 

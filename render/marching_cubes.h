@@ -1,6 +1,6 @@
 // Marching cubes (Lorensen and Cline 1987) over a DensityVolume: the case table, and the CPU
 // reference of the GPU mesher (render/surface_mesher.h). Both follow the lattice conventions of
-// shaders/shared/mesh_layout.h, so the CPU and GPU meshes agree index for index.
+// shaders/shared/render/mesh_layout.h, so the CPU and GPU meshes agree index for index.
 //
 // The table is generated here rather than typed in. For each of the 256 inside/outside patterns
 // of a cell's corners, the surface's outline is traced on each of the six faces (a segment
@@ -26,7 +26,7 @@
 #include <glm/glm.hpp>
 
 #include "render/density_volume.h"
-#include "shaders/shared/mesh_layout.h"
+#include "shaders/shared/render/mesh_layout.h"
 
 namespace aquaform {
 

@@ -147,15 +147,12 @@ MetaballRenderer::MetaballRenderer(gpu::Context& ctx, const ParticleDomain& doma
 
 MetaballRenderer::~MetaballRenderer() = default;
 
-void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
+void MetaballRenderer::record(VkCommandBuffer cmd, const FrameInput& frame,
                               const ViewCamera& camera, const MetaballSettings& settings, gpu::GpuTimer* timer) {
     if (auto valid = validate(settings); !valid) throw Failure(valid.error());
-    if (count > max_particles_)
-        throw Failure("metaball renderer: " + std::to_string(count) + " particles, but it was made for " +
-                                    std::to_string(max_particles_));
-    if (positions.size < uint64_t(count) * 16)
-        throw Failure("metaball renderer: the positions buffer '" + positions.name +
-                                    "' holds fewer than " + std::to_string(count) + " vec4 positions");
+    frame.check("metaball renderer", max_particles_);
+    const gpu::Buffer& positions = *frame.positions;
+    const uint32_t count = frame.count;
     if (!(glm::length(camera.target - camera.eye) > 0.0f))
         throw Failure("metaball renderer: the camera's eye and target coincide; move the eye away");
 
@@ -172,7 +169,7 @@ void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions,
     p.light_dir = kLightDirection;
     p.fluid_color = kFluidOptics;
     p.tank = make_tank_params(domain_);
-    add_solids(p.tank, solids_);
+    add_solids(p.tank, frame.solids);
     p.radius = metaball_radius(settings, domain_);
     p.inv_radius2 = 1.0f / (p.radius * p.radius);
     p.iso = settings.iso;
@@ -230,16 +227,16 @@ void MetaballRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions,
         MetaballPush push{};
         push.first_pixel = first;
         gpu::dispatch(*ctx_, cmd, march_, std::min(per_slice, pixels - first), push,
-                      {{"params", params_buf_}, {"positions", &positions}, {"counters", counters_}, {"heads", heads_}, {"nodes", entries_}, {"offsets", offsets_}, {"ids", entries_}, {"span", span_}, {"hit", hit_}, {"normal", normal_}, {"color", color_}, {"visits", visits_}, {"near_ids", near_}, {"solid_nodes", &solid_nodes(solids_, *params_buf_)}});
+                      {{"params", params_buf_}, {"positions", &positions}, {"counters", counters_}, {"heads", heads_}, {"nodes", entries_}, {"offsets", offsets_}, {"ids", entries_}, {"span", span_}, {"hit", hit_}, {"normal", normal_}, {"color", color_}, {"visits", visits_}, {"near_ids", near_}, {"solid_nodes", &solid_nodes(frame.solids, *params_buf_)}});
     }
-    whitewater_.record(*ctx_, cmd, width_, height_, camera, *hit_,
-                       {&params_.tank, params_.domain_min, params_.domain_max, &solid_nodes(solids_, *params_buf_)}, *color_, timer);
+    whitewater_.record(*ctx_, cmd, frame.whitewater, width_, height_, camera, *hit_,
+                       {&params_.tank, params_.domain_min, params_.domain_max, &solid_nodes(frame.solids, *params_buf_)}, *color_, timer);
     method_ = settings.method;
 }
 
-SurfaceFrame MetaballRenderer::render(const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
+SurfaceFrame MetaballRenderer::render(const FrameInput& frame, const ViewCamera& camera,
                                       const MetaballSettings& settings, gpu::GpuTimer* timer) {
-    gpu::submit_timed(*ctx_, timer, [&](VkCommandBuffer cmd) { record(cmd, positions, count, camera, settings, timer); });
+    gpu::submit_timed(*ctx_, timer, [&](VkCommandBuffer cmd) { record(cmd, frame, camera, settings, timer); });
     return read_frame();
 }
 

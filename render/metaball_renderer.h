@@ -10,6 +10,7 @@
 // Layout and the billboard rule: shaders/shared/metaball_layout.h.
 #pragma once
 
+#include "render/frame_input.h"
 #include "render/solids_view.h"
 #include "render/whitewater_layer.h"
 
@@ -22,7 +23,7 @@
 #include "grid/prefix_sum.h"
 #include "render/impostor_view.h"
 #include "render/surface_frame.h"
-#include "shaders/shared/metaball_layout.h"
+#include "shaders/shared/render/metaball_layout.h"
 #include "core/result.h"
 #include "core/box.h"
 
@@ -96,10 +97,6 @@ struct MetaballStats {
 
 class MetaballRenderer {
 public:
-    /// The mesh obstacles to draw (render/solids_view.h; nullptr: none), from the next frame on.
-    void set_solids(const SolidsView* solids) { solids_ = solids; }
-    /// The whitewater to draw over the next frames (nullptr: none; render/whitewater_layer.h).
-    void set_whitewater(const WhitewaterView* view) { whitewater_.set(view); }
     /// Allocates every buffer for `max_particles` at width x height, with `list_bytes` of list
     /// memory (0: kDefaultListBytesPerPixel per pixel). Throws aquaform::Failure on a
     /// resolution outside render/picture_size.h's limits and aquaform::Failure (a resource failure) when a buffer exceeds the device's limits.
@@ -109,12 +106,12 @@ public:
     MetaballRenderer(const MetaballRenderer&) = delete;
     MetaballRenderer& operator=(const MetaballRenderer&) = delete;
 
-    /// Records the passes for `count` particles of `positions` (vec4, xyz in metres). Writes the
+    /// Records the passes for `frame` (its particles, solids and whitewater). Writes the
     /// parameter block is recorded into `cmd` too, so frames may share a submission.
-    void record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
+    void record(VkCommandBuffer cmd, const FrameInput& frame, const ViewCamera& camera,
                 const MetaballSettings& settings, gpu::GpuTimer* timer);
     /// Records, submits, waits and reads the frame back.
-    SurfaceFrame render(const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
+    SurfaceFrame render(const FrameInput& frame, const ViewCamera& camera,
                         const MetaballSettings& settings, gpu::GpuTimer* timer = nullptr);
     SurfaceFrame read_frame();
     /// Counters of the last frame (reads back the counters and the per-pixel visits).
@@ -137,7 +134,6 @@ public:
     const gpu::Buffer& color_buffer() const { return *color_; }
 
 private:
-    const SolidsView* solids_ = nullptr;
     WhitewaterSlot whitewater_;
     gpu::Context* ctx_;
     ParticleDomain domain_;

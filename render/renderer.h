@@ -16,8 +16,7 @@
 #include "core/camera.h"
 #include "core/error.h"
 #include "gpu/buffer.h"
-#include "render/solids_view.h"
-#include "render/whitewater_layer.h"
+#include "render/frame_input.h"
 #include "render/surface_frame.h"
 
 namespace aquaform {
@@ -25,7 +24,6 @@ namespace aquaform {
 namespace gpu {
 class GpuTimer;
 }  // namespace gpu
-class NeighborGrid;
 
 /// The settings of one method: its name and its family's settings struct (SurfaceSettings,
 /// MetaballSettings, ScreenSpaceSettings, ...), which the registry's descriptors read and write.
@@ -88,13 +86,6 @@ class Renderer {
 public:
     virtual ~Renderer() = default;
 
-    /// The mesh obstacles to draw from the next frame on (nullptr: none); it must outlive its use
-    /// and may change between frames (a moving obstacle's table).
-    virtual void set_solids(const SolidsView* solids) = 0;
-    /// The whitewater to draw over the frames from the next on (nullptr: none, and the frames are
-    /// the method's own, bit for bit); it must outlive its use (render/whitewater_layer.h).
-    virtual void set_whitewater(const WhitewaterView* whitewater) = 0;
-
     /// The method of the current settings (registry name).
     const std::string& method() const { return settings_.method(); }
     const MethodSettings& settings() const { return settings_; }
@@ -103,24 +94,19 @@ public:
     /// Failure otherwise. Validated by the family's validate().
     void configure(const MethodSettings& settings);
 
-    /// Records every pass for `count` particles of `positions` (vec4, xyz in metres). Writes the
-    /// parameter blocks at once: record at most one frame per submission.
-    virtual void record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
+    /// Records every pass for `frame`, the whole of what it draws (render/frame_input.h; what it
+    /// points to must outlive the submission). Writes the parameter blocks at once: record at
+    /// most one frame per submission.
+    virtual void record(VkCommandBuffer cmd, const FrameInput& frame, const ViewCamera& camera,
                         gpu::GpuTimer* timer) = 0;
     /// Records, submits, waits and reads the frame back.
-    virtual SurfaceFrame render(const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
-                                gpu::GpuTimer* timer = nullptr) = 0;
+    virtual SurfaceFrame render(const FrameInput& frame, const ViewCamera& camera, gpu::GpuTimer* timer = nullptr) = 0;
     /// Reads back the last frame recorded.
     virtual SurfaceFrame read_frame() = 0;
     /// The shaded image of the last frame recorded (RGBA8 per pixel, sRGB-encoded, row-major).
     virtual const gpu::Buffer& color_buffer() const = 0;
     /// Counters of the last frame (reads them back).
     virtual RenderStats stats() = 0;
-    /// The positions given to record() are sorted by `grid`, a grid of those very positions (the
-    /// solver's frame grid): a family that searches neighbours on a grid of the same cells reads
-    /// the particles in place instead of building its own (SurfaceRenderer::share_grid); the
-    /// others ignore it. nullptr: no shared grid. It must outlive its use.
-    virtual void share_grid(const NeighborGrid* grid) = 0;
     virtual std::vector<gpu::BufferReport> memory_report() const = 0;
     virtual uint32_t width() const = 0;
     virtual uint32_t height() const = 0;
@@ -162,20 +148,13 @@ public:
     Concrete& concrete() override { return impl_; }
     const Settings& typed() const { return settings().template as<Settings>(); }
 
-    void record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
-                gpu::GpuTimer* timer) override {
-        impl_.record(cmd, positions, count, camera, typed(), timer);
+    void record(VkCommandBuffer cmd, const FrameInput& frame, const ViewCamera& camera, gpu::GpuTimer* timer) override {
+        impl_.record(cmd, frame, camera, typed(), timer);
     }
-    SurfaceFrame render(const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
-                        gpu::GpuTimer* timer = nullptr) override {
-        return impl_.render(positions, count, camera, typed(), timer);
+    SurfaceFrame render(const FrameInput& frame, const ViewCamera& camera, gpu::GpuTimer* timer = nullptr) override {
+        return impl_.render(frame, camera, typed(), timer);
     }
     SurfaceFrame read_frame() override { return impl_.read_frame(); }
-    void set_solids(const SolidsView* solids) override { impl_.set_solids(solids); }
-    void set_whitewater(const WhitewaterView* whitewater) override { impl_.set_whitewater(whitewater); }
-    void share_grid(const NeighborGrid* grid) override {
-        if constexpr (requires(Concrete& c) { c.share_grid(grid); }) impl_.share_grid(grid);
-    }
     const gpu::Buffer& color_buffer() const override { return impl_.color_buffer(); }
     std::vector<gpu::BufferReport> memory_report() const override { return impl_.memory_report(); }
     uint32_t width() const override { return impl_.width(); }

@@ -136,22 +136,19 @@ ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain
 
 ScreenSpaceRenderer::~ScreenSpaceRenderer() = default;
 
-void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
+void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const FrameInput& frame,
                                  const ViewCamera& camera, const ScreenSpaceSettings& settings, gpu::GpuTimer* timer) {
     if (auto valid = validate(settings); !valid) throw Failure(valid.error());
-    if (count > max_particles_)
-        throw Failure("screen-space renderer: " + std::to_string(count) +
-                                    " particles, but it was made for " + std::to_string(max_particles_));
-    if (positions.size < uint64_t(count) * 16)
-        throw Failure("screen-space renderer: the positions buffer '" + positions.name +
-                                    "' holds fewer than " + std::to_string(count) + " vec4 positions");
+    frame.check("screen-space renderer", max_particles_);
+    const gpu::Buffer& positions = *frame.positions;
+    const uint32_t count = frame.count;
     if (!(glm::length(camera.target - camera.eye) > 0.0f))
         throw Failure("screen-space renderer: the camera's eye and target coincide; move the eye away");
     // The splat and compose passes read no grid; a one-cell grid keeps the block's field terms finite.
     SurfaceSettings surface;
     GridGeometry no_grid{domain_.bounds.min, render_radius(surface, domain_), glm::uvec3(1u)};
     params_ = make_surface_params(surface, domain_, no_grid, camera, width_, height_, count);
-    add_solids(params_.tank, solids_);
+    add_solids(params_.tank, frame.solids);
     params_.sprite_radius = settings.sprite_radius * params_.particle_radius;
     params_.flags = 0;  // none of the ray marchers' mechanisms run here
     filter_params_ = make_filter_params(settings, params_);
@@ -178,10 +175,10 @@ void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positio
     }
     {
         gpu::GpuScope scope(timer, cmd, "ss_compose");
-        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}, {"spray", unused_}, {"solid_nodes", &solid_nodes(solids_, *params_buf_)}});
+        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}, {"spray", unused_}, {"solid_nodes", &solid_nodes(frame.solids, *params_buf_)}});
     }
-    whitewater_.record(*ctx_, cmd, width_, height_, camera, *hit_,
-                       {&params_.tank, params_.domain_min, params_.domain_max, &solid_nodes(solids_, *params_buf_)}, *color_, timer);
+    whitewater_.record(*ctx_, cmd, frame.whitewater, width_, height_, camera, *hit_,
+                       {&params_.tank, params_.domain_min, params_.domain_max, &solid_nodes(frame.solids, *params_buf_)}, *color_, timer);
 }
 
 void ScreenSpaceRenderer::record_filter(VkCommandBuffer cmd, const ScreenSpaceSettings& settings) {
@@ -202,9 +199,9 @@ void ScreenSpaceRenderer::record_filter(VkCommandBuffer cmd, const ScreenSpaceSe
     gpu::dispatch(*ctx_, cmd, pass, pixels, axis_push(1), {{"ss", filter_params_buf_}, {"src", scratch_}, {"dst", filtered_}});
 }
 
-SurfaceFrame ScreenSpaceRenderer::render(const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
+SurfaceFrame ScreenSpaceRenderer::render(const FrameInput& frame, const ViewCamera& camera,
                                          const ScreenSpaceSettings& settings, gpu::GpuTimer* timer) {
-    gpu::submit_timed(*ctx_, timer, [&](VkCommandBuffer cmd) { record(cmd, positions, count, camera, settings, timer); });
+    gpu::submit_timed(*ctx_, timer, [&](VkCommandBuffer cmd) { record(cmd, frame, camera, settings, timer); });
     return read_frame();
 }
 

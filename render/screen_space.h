@@ -17,6 +17,7 @@
 // Layout: shaders/shared/screen_space_layout.h. Lengths a user sets are in particle radii.
 #pragma once
 
+#include "render/frame_input.h"
 #include "render/solids_view.h"
 #include "render/whitewater_layer.h"
 
@@ -28,8 +29,8 @@
 #include "gpu/compute_pass.h"
 #include "render/impostor_view.h"
 #include "render/surface_frame.h"
-#include "shaders/shared/screen_space_layout.h"
-#include "shaders/shared/surface_layout.h"
+#include "shaders/shared/render/screen_space_layout.h"
+#include "shaders/shared/render/surface_layout.h"
 #include "core/result.h"
 #include "core/box.h"
 
@@ -106,10 +107,6 @@ constexpr uint32_t kScreenSpaceBytesPerParticle = 4;
 
 class ScreenSpaceRenderer {
 public:
-    /// The mesh obstacles to draw (render/solids_view.h; nullptr: none), from the next frame on.
-    void set_solids(const SolidsView* solids) { solids_ = solids; }
-    /// The whitewater to draw over the next frames (nullptr: none; render/whitewater_layer.h).
-    void set_whitewater(const WhitewaterView* view) { whitewater_.set(view); }
     /// Allocates every buffer for `max_particles` particles of `scene` at width x height.
     /// Throws aquaform::Failure for a resolution outside the picture sizes of render/picture_size.h.
     ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles);
@@ -117,13 +114,13 @@ public:
     ScreenSpaceRenderer(const ScreenSpaceRenderer&) = delete;
     ScreenSpaceRenderer& operator=(const ScreenSpaceRenderer&) = delete;
 
-    /// Records the whole pipeline for `count` particles of `positions` (vec4, xyz in metres).
+    /// Records the whole pipeline for `frame` (its particles, solids, whitewater and grid).
     /// Records the parameter blocks into `cmd` too, so frames may share a submission. Throws
     /// aquaform::Failure for invalid settings, too many particles or a degenerate camera.
-    void record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
+    void record(VkCommandBuffer cmd, const FrameInput& frame, const ViewCamera& camera,
                 const ScreenSpaceSettings& settings, gpu::GpuTimer* timer);
     /// Records, submits, waits and reads the frame back.
-    SurfaceFrame render(const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
+    SurfaceFrame render(const FrameInput& frame, const ViewCamera& camera,
                         const ScreenSpaceSettings& settings, gpu::GpuTimer* timer = nullptr);
     /// Reads back the last frame recorded.
     SurfaceFrame read_frame();
@@ -142,7 +139,6 @@ public:
     const gpu::Buffer& color_buffer() const { return *color_; }
 
 private:
-    const SolidsView* solids_ = nullptr;
     WhitewaterSlot whitewater_;
     void record_filter(VkCommandBuffer cmd, const ScreenSpaceSettings& settings);
 

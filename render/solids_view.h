@@ -6,14 +6,14 @@
 #include <vector>
 
 #include "gpu/buffer.h"
-#include "shaders/shared/tank_layout.h"
+#include "shaders/shared/solids/tank_layout.h"
 
 namespace aquaform {
 
 /// The obstacles' map nodes on the GPU and each one's frame and grid at the frame drawn.
 struct SolidsView {
     const gpu::Buffer* nodes = nullptr;
-    std::vector<shader::ObstacleParams> table;
+    std::vector<shader::SolidParams> table;
 };
 
 /// Adds the obstacles of `solids` (nullptr: none) to a frame's tank parameters.

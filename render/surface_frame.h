@@ -8,7 +8,7 @@
 #include <glm/glm.hpp>
 
 #include "gpu/buffer.h"
-#include "render/image_io.h"
+#include "pictures/image_io.h"
 
 namespace aquaform {
 

@@ -1,7 +1,7 @@
 // The anisotropic surface's kernels (Yu & Turk 2013, "Reconstructing surfaces of particle-based
 // fluids using anisotropic kernels"), made on the GPU from particles sorted by a grid of cells r:
 //   render_shapes   per particle, the weighted PCA of its neighbours within r: the kernel's shape
-//                   G (shared/anisotropy.h, the same shapes Wu et al.'s classification uses) and
+//                   G (shared/render/anisotropy.h, the same shapes Wu et al.'s classification uses) and
 //                   its centre, smoothed towards its neighbours (Yu & Turk eq. 6)
 //   (kernel grid)   a grid of cells r over the centres: a centre moves up to lambda r from its
 //                   particle, so only a grid of the centres finds, in the 27 cells around a

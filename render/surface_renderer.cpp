@@ -166,21 +166,19 @@ void SurfaceRenderer::record_mask(VkCommandBuffer cmd, bool tight) {
     gpu::dispatch(*ctx_, cmd, mask_pack_, params_.mask_dims.w, {{"params", params_buf_}, {"counts", conv_a_}, {"mask", mask_}, {"coarse", coarse_}});
 }
 
-void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
+void SurfaceRenderer::record(VkCommandBuffer cmd, const FrameInput& frame,
                              const ViewCamera& camera, const SurfaceSettings& settings, gpu::GpuTimer* timer) {
     if (auto valid = validate(settings); !valid) throw Failure(valid.error());
-    if (count > max_particles_)
-        throw Failure("surface renderer: " + std::to_string(count) + " particles, but it was made for " +
-                                    std::to_string(max_particles_));
-    if (positions.size < uint64_t(count) * 16)
-        throw Failure("surface renderer: the positions buffer '" + positions.name + "' holds fewer than " +
-                                    std::to_string(count) + " vec4 positions");
+    frame.check("surface renderer", max_particles_);
+    const gpu::Buffer& positions = *frame.positions;
+    const uint32_t count = frame.count;
+    shared_grid_ = frame.grid;
     if (!(glm::length(camera.target - camera.eye) > 0.0f))
         throw Failure("surface renderer: the camera's eye and target coincide; move the eye away");
     prepare_grid(render_radius(settings, domain_));
     count_ = count;
     params_ = make_surface_params(settings, domain_, geometry_, camera, width_, height_, count);
-    add_solids(params_.tank, solids_);
+    add_solids(params_.tank, frame.solids);
     resolution_note_.clear();
     if ((params_.flags & SURFACE_ADAPTIVE_RES) && !adaptive_resolution_pays()) {
         params_.flags &= ~SURFACE_ADAPTIVE_RES;
@@ -291,10 +289,10 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const gpu::Buffer& positions, 
     }
     {
         gpu::GpuScope scope(timer, cmd, "render_compose");
-        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}, {"spray", spray_}, {"solid_nodes", &solid_nodes(solids_, *params_buf_)}});
+        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}, {"spray", spray_}, {"solid_nodes", &solid_nodes(frame.solids, *params_buf_)}});
     }
-    whitewater_.record(*ctx_, cmd, width_, height_, camera, *hit_,
-                       {&params_.tank, params_.domain_min, params_.domain_max, &solid_nodes(solids_, *params_buf_)}, *color_, timer);
+    whitewater_.record(*ctx_, cmd, frame.whitewater, width_, height_, camera, *hit_,
+                       {&params_.tank, params_.domain_min, params_.domain_max, &solid_nodes(frame.solids, *params_buf_)}, *color_, timer);
 }
 
 void SurfaceRenderer::record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
@@ -444,9 +442,9 @@ void SurfaceRenderer::record_screen_passes(VkCommandBuffer cmd, gpu::GpuTimer* t
                   {{"params", params_buf_}, {"depth_all", depth_all_}, {"tile_level", tile_level_}, {"rays", rays_}, {"ray_count", ray_count_}});
 }
 
-SurfaceFrame SurfaceRenderer::render(const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
+SurfaceFrame SurfaceRenderer::render(const FrameInput& frame, const ViewCamera& camera,
                                      const SurfaceSettings& settings, gpu::GpuTimer* timer) {
-    gpu::submit_timed(*ctx_, timer, [&](VkCommandBuffer cmd) { record(cmd, positions, count, camera, settings, timer); });
+    gpu::submit_timed(*ctx_, timer, [&](VkCommandBuffer cmd) { record(cmd, frame, camera, settings, timer); });
     return read_frame();
 }
 

@@ -26,6 +26,7 @@
 // Layout and conventions: shaders/shared/surface_layout.h.
 #pragma once
 
+#include "render/frame_input.h"
 #include "render/solids_view.h"
 #include "render/whitewater_layer.h"
 
@@ -87,10 +88,6 @@ constexpr uint32_t kMaxMarchLanes = 8;
 
 class SurfaceRenderer {
 public:
-    /// The mesh obstacles to draw (render/solids_view.h; nullptr: none), from the next frame on.
-    void set_solids(const SolidsView* solids) { solids_ = solids; }
-    /// The whitewater to draw over the next frames (nullptr: none; render/whitewater_layer.h).
-    void set_whitewater(const WhitewaterView* view) { whitewater_.set(view); }
     /// Allocates every buffer for `max_particles` particles of `scene` at width x height.
     /// Throws aquaform::Failure (a resource failure) when the render grid does not fit (the message names the fix).
     SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles);
@@ -98,22 +95,19 @@ public:
     SurfaceRenderer(const SurfaceRenderer&) = delete;
     SurfaceRenderer& operator=(const SurfaceRenderer&) = delete;
 
-    /// Records the whole pipeline for `count` particles of `positions` (vec4, xyz in metres).
+    /// Records the whole pipeline for `frame` (its particles, solids, whitewater and grid).
     /// The parameter block is recorded into `cmd` too, so frames may share a submission.
-    void record(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
+    void record(VkCommandBuffer cmd, const FrameInput& frame, const ViewCamera& camera,
                 const SurfaceSettings& settings, gpu::GpuTimer* timer);
     /// Records, submits, waits and reads the frame back.
-    SurfaceFrame render(const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
+    SurfaceFrame render(const FrameInput& frame, const ViewCamera& camera,
                         const SurfaceSettings& settings, gpu::GpuTimer* timer = nullptr);
     /// Reads back the last frame recorded.
     SurfaceFrame read_frame();
 
-    /// Read the particles in place: the positions given to record() are sorted by `grid`, a grid
-    /// of those very positions (the solver's frame grid, PbfSolver::set_frame_grid); used
-    /// whenever its cells are the renderer's (radius r = its cell size), else the renderer
-    /// builds its own. nullptr: always build. The grid must outlive its use.
-    void share_grid(const NeighborGrid* grid) { shared_grid_ = grid; }
-    /// Whether the next frame (at the current radius) reads the shared grid in place.
+    /// Whether the last frame read its FrameInput::grid in place: the frame's positions are sorted
+    /// by that grid (the solver's frame grid, PbfSolver::set_frame_grid), used whenever its cells
+    /// are the renderer's (radius r = its cell size); the renderer builds its own grid otherwise.
     bool reads_in_place() const;
 
     /// Also record the classification view (an extra sprite pass) for front_classes().
@@ -169,7 +163,6 @@ public:
     const gpu::Buffer& color_buffer() const { return *color_; }
 
 private:
-    const SolidsView* solids_ = nullptr;
     WhitewaterSlot whitewater_;
     void prepare_grid(float radius);
     void prepare_own_grid();

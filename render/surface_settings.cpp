@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "shaders/shared/anisotropy.h"
-#include "shaders/shared/render_kernels.h"
+#include "shaders/shared/render/anisotropy.h"
+#include "shaders/shared/render/render_kernels.h"
 
 namespace aquaform {
 
@@ -177,19 +177,19 @@ shader::SurfaceParams make_field_params(const SurfaceSettings& s, const Particle
 }
 
 shader::TankParams make_tank_params(const ParticleDomain& domain) {
-    if (domain.obstacles.size() > TANK_MAX_BOXES)
-        throw Failure("renderer: " + std::to_string(domain.obstacles.size()) + " static boxes, at most " +
+    if (domain.static_boxes.size() > TANK_MAX_BOXES)
+        throw Failure("renderer: " + std::to_string(domain.static_boxes.size()) + " static boxes, at most " +
                           std::to_string(TANK_MAX_BOXES) + " are drawn",
                       Failure::Kind::input);
     shader::TankParams tank{};
-    tank.counts = {uint32_t(domain.obstacles.size()), TANK_GLASS_WALLS, 0u, 0u};
+    tank.counts = {uint32_t(domain.static_boxes.size()), TANK_GLASS_WALLS, 0u, 0u};
     // The frame is thin beside the tank yet a few pixels wide in a 640-pixel view of it: 1 % of
     // the tank's length (its height is left out: a tall tank is rarely seen whole).
     const glm::vec3 size = domain.bounds.max - domain.bounds.min;
     tank.frame.x = 0.01f * std::max(size.x, size.z);
-    for (size_t i = 0; i < domain.obstacles.size(); ++i) {
-        tank.box_min[i] = with_w(domain.obstacles[i].min, 0.0f);
-        tank.box_max[i] = with_w(domain.obstacles[i].max, 0.0f);
+    for (size_t i = 0; i < domain.static_boxes.size(); ++i) {
+        tank.box_min[i] = with_w(domain.static_boxes[i].min, 0.0f);
+        tank.box_max[i] = with_w(domain.static_boxes[i].max, 0.0f);
     }
     return tank;
 }

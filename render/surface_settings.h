@@ -7,8 +7,8 @@
 #include <string>
 
 #include "render/impostor_view.h"
-#include "shaders/shared/anisotropy.h"
-#include "shaders/shared/surface_layout.h"
+#include "shaders/shared/render/anisotropy.h"
+#include "shaders/shared/render/surface_layout.h"
 #include "grid/neighbor_grid.h"
 #include "core/result.h"
 #include "core/box.h"
@@ -39,7 +39,7 @@ struct SurfaceSettings {
     bool blend_normals = true;
     bool anisotropic = true;  ///< Yu-Turk kernels for the classification (else isotropic)
     /// The surface's field. The anisotropic one (Yu & Turk 2013, section 3) draws each particle's
-    /// kernel stretched along its neighbourhood (the weighted PCA of shared/anisotropy.h, the
+    /// kernel stretched along its neighbourhood (the weighted PCA of shared/render/anisotropy.h, the
     /// one the classification uses) around a centre smoothed towards its neighbours
     /// (centre_smoothing): sheets stay sheets, a free surface's particles stop showing as beads,
     /// and a lone droplet (N_eps or fewer neighbours) keeps its sphere.
@@ -122,7 +122,7 @@ struct SurfaceSettings {
     /// entry on a sprite of radius r lies about 3 particle radii before a flat surface, so A = 0.1
     /// gives w1 ~ 0.3 there, rising to 1 where a ray passes ~10 radii behind its entry. Set from
     /// `bench render --blend-sweep` (32k particles, 512x512, every mechanism at full resolution):
-    /// roughness on flat regions [deg] (render/image_metrics.h) and mean normal error against the
+    /// roughness on flat regions [deg] (render/surface_metrics.h) and mean normal error against the
     /// field's gradient [deg], on the calm / double dam break / crown frames:
     ///   A = 0 (screen-space normals alone)   3.4 / 6.1 / 10.3    13.4 / 29.0 / 32.8
     ///   A = 0.03, B = 0.05                   2.7 / 4.9 / 6.6      9.3 / 15.0 / 16.6
@@ -204,7 +204,7 @@ float render_radius(const SurfaceSettings& settings, const ParticleDomain& domai
 /// The render grid: cells of size r over the scene's domain.
 Result<GridGeometry> render_grid(const SurfaceSettings& settings, const ParticleDomain& domain);
 
-/// The pinhole camera as every renderer's shaders take it (shared/surface_layout.h): eye,
+/// The pinhole camera as every renderer's shaders take it (shared/render/surface_layout.h): eye,
 /// forward (w: tan(fov_x / 2)), right (w: tan(fov_y / 2)), up.
 struct CameraBlock {
     glm::vec4 eye, forward, right, up;
@@ -217,8 +217,8 @@ inline const glm::vec4 kLightDirection{glm::normalize(glm::vec3(-0.4f, 0.8f, 0.4
 inline const glm::vec4 kFluidOptics{8.0f, 2.5f, 1.2f, 1.33f};
 
 /// The tank around the fluid as every renderer draws it: glass side walls in a frame, the
-/// domain's obstacles as solid boxes (shared/tank_layout.h). A Failure of kind input when there
-/// are more obstacles than TANK_MAX_BOXES.
+/// domain's static boxes as solid blocks (shared/solids/tank_layout.h). A Failure of kind input when
+/// there are more static boxes than TANK_MAX_BOXES.
 shader::TankParams make_tank_params(const ParticleDomain& domain);
 
 /// The parameter block's field, grid and settings without a camera (the passes that make and

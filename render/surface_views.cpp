@@ -3,8 +3,8 @@
 #include <array>
 #include <stdexcept>
 
-#include "render/image_metrics.h"
-#include "shaders/shared/surface_layout.h"
+#include "pictures/image_metrics.h"
+#include "shaders/shared/render/surface_layout.h"
 #include "core/error.h"
 
 namespace aquaform {

@@ -4,7 +4,7 @@
 #include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "render/surface_settings.h"
-#include "shaders/shared/whitewater_layout.h"
+#include "shaders/shared/render/whitewater_draw_layout.h"
 
 namespace aquaform {
 
@@ -53,12 +53,13 @@ void WhitewaterLayer::record(VkCommandBuffer cmd, const WhitewaterView& view, co
 
 namespace aquaform {
 
-void WhitewaterSlot::record(gpu::Context& ctx, VkCommandBuffer cmd, uint32_t width, uint32_t height, const ViewCamera& camera,
+void WhitewaterSlot::record(gpu::Context& ctx, VkCommandBuffer cmd, const WhitewaterView* view, uint32_t width,
+                            uint32_t height, const ViewCamera& camera,
                             const gpu::Buffer& hit, const WhitewaterSolids& solids, gpu::Buffer& color,
                             gpu::GpuTimer* timer) {
-    if (!view_ || !view_->counters) return;
+    if (!view || !view->counters) return;
     if (!layer_) layer_ = std::make_unique<WhitewaterLayer>(ctx, width, height);
-    layer_->record(cmd, *view_, camera, hit, solids, color, timer);
+    layer_->record(cmd, *view, camera, hit, solids, color, timer);
 }
 
 }  // namespace aquaform

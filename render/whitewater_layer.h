@@ -1,4 +1,4 @@
-// Whitewater drawn over any method's frame (sim/whitewater.h makes it): the diffuse particles
+// Whitewater drawn over any method's frame (sim/whitewater.h makes it): the whitewater particles
 // splat soft discs with depth against the water the method drew (its per-pixel hit), and each
 // pixel goes towards white by the coverage they add up to (shaders/render/whitewater_splat.comp
 // and whitewater_resolve.comp say why). Every render family records it after its own passes,
@@ -12,7 +12,7 @@
 #include "core/camera.h"
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
-#include "shaders/shared/tank_layout.h"
+#include "shaders/shared/solids/tank_layout.h"
 
 namespace aquaform {
 
@@ -20,7 +20,7 @@ namespace gpu {
 class GpuTimer;
 }
 
-/// The diffuse particles on the GPU as a renderer draws them (the solver's Whitewater).
+/// The whitewater particles on the GPU as a renderer draws them (the solver's Whitewater).
 struct WhitewaterView {
     /// The pool's two generations (vec4 xyz, life; vec4 xyz, kind) and its counters, which say
     /// which generation is live (WW_GENERATION) and how many it holds (WW_NEXT).
@@ -59,17 +59,16 @@ private:
     bool cleared_ = false;  // the coverage sums start at zero; the resolve pass clears them after
 };
 
-/// What a render family keeps to draw whitewater over its frames: the view it was handed
-/// (Renderer::set_whitewater) and, from the first frame that has one, its layer.
+/// What a render family keeps to draw whitewater over its frames: from the first frame whose
+/// FrameInput has whitewater, its layer.
 class WhitewaterSlot {
 public:
-    void set(const WhitewaterView* view) { view_ = view; }
-    /// Records the layer over the family's frame when a view is set; nothing otherwise.
-    void record(gpu::Context& ctx, VkCommandBuffer cmd, uint32_t width, uint32_t height, const ViewCamera& camera,
+    /// Records the layer over the family's frame when there is whitewater (`view`); nothing otherwise.
+    void record(gpu::Context& ctx, VkCommandBuffer cmd, const WhitewaterView* view, uint32_t width, uint32_t height,
+                const ViewCamera& camera,
                 const gpu::Buffer& hit, const WhitewaterSolids& solids, gpu::Buffer& color, gpu::GpuTimer* timer);
 
 private:
-    const WhitewaterView* view_ = nullptr;
     std::unique_ptr<WhitewaterLayer> layer_;
 };
 

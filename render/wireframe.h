@@ -1,5 +1,5 @@
 // A mesh's edges drawn over a rendered image, in the ray marchers' pinhole camera (the one of
-// shared/surface_layout.h), so that a control mesh can be compared with the fluid it shapes.
+// shared/render/surface_layout.h), so that a control mesh can be compared with the fluid it shapes.
 #pragma once
 
 #include <array>
@@ -8,7 +8,7 @@
 
 #include <glm/glm.hpp>
 
-#include "render/image_io.h"
+#include "pictures/image_io.h"
 #include "render/impostor_view.h"
 
 namespace aquaform {

@@ -73,15 +73,15 @@ std::string FramePipeline::renderer_memory_line() const {
 void FramePipeline::record_picture(VkCommandBuffer cmd) {
     PbfSolver& solver = sim_.solver();
     const Scene& scene = sim_.scene();
+    const FrameInput frame = sim_.frame_input();
     if (preview_)
         preview_->record(cmd, solver.positions(), solver.velocities(), solver.particle_count(), camera_, style_,
                          scene.domain, scene.static_boxes);
     if (surface_) {
-        sim_.hand_frame(*surface_);
-        surface_->record(cmd, solver.positions(), solver.particle_count(), camera_, nullptr);
+        surface_->record(cmd, frame, camera_, nullptr);
         gpu::record_download(ctx_, cmd, surface_->color_buffer(), *color_, color_->size);
     }
-    capturer_.record(cmd, recording_, sim_.frame_grid(), &timer_);
+    capturer_.record(cmd, recording_, frame, &timer_);
 }
 
 FramePipeline::FinishedFrame FramePipeline::collect(uint32_t frame, gpu::Submission submitted) {
@@ -96,6 +96,7 @@ FramePipeline::FinishedFrame FramePipeline::collect(uint32_t frame, gpu::Submiss
         for (const geometry::Mesh& mesh : driver->active_meshes())
             draw_wireframe(*f.image, mesh.vertices, mesh.faces, camera_);
     f.capture = capturer_.collect(frame, timer_, f.report.stats);
+    if (exports_.needs(FrameData::whitewater, frame)) f.capture.whitewater = sim_.whitewater_snapshot();
     const FrameStats& stats = f.report.stats;
     char note[128];
     int used = std::snprintf(note, sizeof note, "density err %.2f%%  max speed %.2f m/s  %u steps",

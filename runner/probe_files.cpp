@@ -4,7 +4,7 @@
 
 #include "core/csv.h"
 #include "core/format_text.h"
-#include "render/svg_chart.h"
+#include "pictures/svg_chart.h"
 
 namespace aquaform::runner {
 

@@ -13,9 +13,9 @@
 #include "core/text_escape.h"
 #include "exports/frame_exports.h"
 #include "exports/obstacle_export.h"
-#include "render/svg_chart.h"
+#include "pictures/svg_chart.h"
 #include "sim/dam_break_reference.h"
-#include "study/front_chart.h"
+#include "sim/front_chart.h"
 
 namespace aquaform::runner {
 
@@ -96,7 +96,7 @@ Result<bool> RunFiles::write_waiting_rows() {
                   "runup_m,list_overflow,gpu_ms_total";
         if (has_shape) header_ += ",shape_iou,shape_fill_fraction,fluid_outside_shape,active_shapes";
         has_whitewater_ = bool(waiting_.front().stats.whitewater);
-        if (has_whitewater_) header_ += ",spray,foam,bubbles,diffuse_emitted,diffuse_dropped";
+        if (has_whitewater_) header_ += ",spray,foam,bubbles,whitewater_emitted,whitewater_dropped";
         for (const auto& name : pass_columns_) header_ += ",gpu_ms_" + name;
         text = header_ + "\n";
     }
@@ -146,7 +146,7 @@ Result<bool> RunFiles::finish(const Scene& scene) {
     const double a = *scene.column_width;
     const double g = std::max(1e-6f, std::abs(scene.gravity.y));
     const auto run = nondimensional_front(front_samples_, a, g);
-    const Chart chart = study::front_chart("Dam-break surge front: " + scene.name, {study::front_series("aquaform", run, "#1f6fb4")});
+    const Chart chart = front_chart("Dam-break surge front: " + scene.name, {front_series("aquaform", run, "#1f6fb4")});
     if (auto written = write_chart_svg(dir_ / "front.svg", chart); !written) return written;
 
     const Box& column = scene.fluid_blocks.front();
@@ -161,7 +161,7 @@ Result<bool> RunFiles::finish(const Scene& scene) {
 
 Result<bool> RunFiles::write_whitewater_chart(const Scene& scene) const {
     if (whitewater_samples_.empty()) return true;
-    Chart chart{"Whitewater alive: " + scene.name, "time [s]", "diffuse particles", {}};
+    Chart chart{"Whitewater alive: " + scene.name, "time [s]", "whitewater particles", {}};
     // The kinds, their sum, and what the full pool could not keep (summed over the run: a line
     // that leaves zero says the pool was too small; the scene's whitewater.capacity raises it).
     ChartSeries spray{"spray", {}, false, "#d62728"}, foam{"foam", {}, false, "#1f6fb4"},
@@ -182,10 +182,12 @@ Result<bool> RunFiles::write_whitewater_chart(const Scene& scene) const {
 }
 
 Result<size_t> clear_earlier_run(const std::filesystem::path& dir) {
-    static const std::regex numbered(R"((frame|particles|diffuse|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp))");
+    // diffuse_NNNN.* and diffuse.pvd: the whitewater's files as aquaform named them before, so
+    // that an earlier version's run does not stay beside this one's.
+    static const std::regex numbered(R"((frame|particles|whitewater|diffuse|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp))");
     static const std::regex solids(R"(obstacle_.+\.obj)");
     static const std::set<std::string> named{"stats.csv",     "front.csv",   "front.svg",     "whitewater.svg", "particles.pvd",
-                                             "surface.pvd",   "diffuse.pvd",     kExportListing, kRunDescriptionName};
+                                             "surface.pvd",   "whitewater.pvd", "diffuse.pvd",  kExportListing, kRunDescriptionName};
     static const std::set<std::string> probe_files(std::begin(ProbeFiles::kFileNames), std::end(ProbeFiles::kFileNames));
     std::vector<std::filesystem::path> earlier;
     std::error_code ec;

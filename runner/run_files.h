@@ -66,7 +66,7 @@ private:
     std::vector<WaitingRow> waiting_;
     std::string header_;  ///< empty until written
     std::vector<std::string> pass_columns_;
-    bool has_whitewater_ = false;  // the spray, foam, bubbles, diffuse_emitted, diffuse_dropped columns
+    bool has_whitewater_ = false;  // the spray, foam, bubbles, whitewater_emitted, whitewater_dropped columns
     Result<bool> write_whitewater_chart(const Scene& scene) const;
     std::vector<std::pair<double, WhitewaterCounts>> whitewater_samples_;  // (time, counts) for whitewater.svg
     bool has_front_ = false;

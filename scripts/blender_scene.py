@@ -18,8 +18,8 @@ options:
     --frames A:B[:S]            the Blender frames to render, every S-th, within the run's exported
                                 frames (default: the whole run)
     --samples N                 Cycles samples, 1..4096 (default 16)
-    --whitewater on|off         draw the run's whitewater (its diffuse_NNNN.ply files, from
-                                `aquaform run --diffuse-every K`) as small white spheres (default on)
+    --whitewater on|off         draw the run's whitewater (its whitewater_NNNN.ply files, from
+                                `aquaform run --whitewater-every K`) as small white spheres (default on)
 
 Exit status, as the aquaform command's: 0 done; 2 bad input (a flag, a missing or unreadable run
 folder, a corrupt run.json or one whose "up" or "domain" is wrong, an exported file that is not of
@@ -36,11 +36,12 @@ the volume's iso value (the aquaform_iso metadata). Blender frame F is simulatio
 (through exports.csv's frame column where the run wrote one, else the number in the file name);
 the frame rate is the run's (stats.csv's time step between frames).
 
-The whitewater: the run's diffuse_NNNN.ply files, one object per file shown from its frame until
-the next as the surfaces are, each a mesh of points that a Geometry Nodes modifier turns into a
-point cloud (Cycles draws each point as a sphere) with a white material. A point's radius follows
-its kind, as a fraction of the run's particle spacing (run.json): spray 0.2, foam 0.3, bubbles
-0.15 (the spray's drops are finer than the foam's clumps; the bubbles are seen through the water).
+The whitewater: the run's whitewater_NNNN.ply files (diffuse_NNNN.ply, their old name, in a run
+written before), one object per file shown from its frame until the next as the surfaces are,
+each a mesh of points that a Geometry Nodes modifier turns into a point cloud (Cycles draws each
+point as a sphere) with a white material. A point's radius follows its kind, as a fraction of the
+run's particle spacing (run.json): spray 0.2, foam 0.3, bubbles 0.15 (the spray's drops are finer
+than the foam's clumps; the bubbles are seen through the water).
 """
 import csv
 import glob
@@ -405,17 +406,17 @@ def obstacle_files(run, obstacles, first, last):
     return files
 
 
-# The whitewater's PLY (sim/particle_io.cpp, write_diffuse_ply): binary little-endian vertices of
+# The whitewater's PLY (sim/particle_io.cpp, write_whitewater_ply): binary little-endian vertices of
 # x, y, z, vx, vy, vz (float), kind (uchar: 0 spray, 1 foam, 2 bubble), life (float), 29 bytes each.
-DIFFUSE_PROPERTIES = [("float", "x"), ("float", "y"), ("float", "z"), ("float", "vx"), ("float", "vy"), ("float", "vz"),
-                      ("uchar", "kind"), ("float", "life")]
-DIFFUSE_VERTEX_BYTES = 29
-DIFFUSE_RADIUS = (0.2, 0.3, 0.15)  # spray, foam, bubble: in particle spacings (see the docstring)
+WHITEWATER_PROPERTIES = [("float", "x"), ("float", "y"), ("float", "z"), ("float", "vx"), ("float", "vy"), ("float", "vz"),
+                         ("uchar", "kind"), ("float", "life")]
+WHITEWATER_VERTEX_BYTES = 29
+WHITEWATER_RADIUS = (0.2, 0.3, 0.15)  # spray, foam, bubble: in particle spacings (see the docstring)
 
 
-def diffuse_header(path):
+def whitewater_header(path):
     """(vertices, header bytes) of a whitewater PLY; refuses a file of another layout or cut short."""
-    fix = "export it again with `aquaform run --diffuse-every K` or remove it"
+    fix = "export it again with `aquaform run --whitewater-every K` or remove it"
     with open(path, "rb") as f:
         head = f.read(4096)
     end = head.find(b"end_header\n")
@@ -431,23 +432,23 @@ def diffuse_header(path):
             vertices = int(words[2])
         elif words[:1] == ["property"]:
             properties.append(tuple(words[1:]))
-    if end < 0 or "format binary_little_endian 1.0" not in lines or vertices is None or properties != DIFFUSE_PROPERTIES:
+    if end < 0 or "format binary_little_endian 1.0" not in lines or vertices is None or properties != WHITEWATER_PROPERTIES:
         refuse("%s is not aquaform's whitewater PLY (binary x y z vx vy vz kind life); %s" % (path, fix))
     header = end + len(b"end_header\n")
     size = os.path.getsize(path)
-    if size != header + vertices * DIFFUSE_VERTEX_BYTES:
+    if size != header + vertices * WHITEWATER_VERTEX_BYTES:
         refuse("%s is cut short or padded: %d bytes where %d vertices take %d; %s"
-               % (path, size, vertices, header + vertices * DIFFUSE_VERTEX_BYTES, fix))
+               % (path, size, vertices, header + vertices * WHITEWATER_VERTEX_BYTES, fix))
     return vertices, header
 
 
-def read_diffuse(path):
+def read_whitewater(path):
     """Positions (n x 3) and kinds (n) of a whitewater PLY, as numpy arrays (a million particles
     read in one call, not one by one)."""
     import numpy
-    vertices, header = diffuse_header(path)
+    vertices, header = whitewater_header(path)
     layout = numpy.dtype([("p", "<f4", 3), ("v", "<f4", 3), ("kind", "u1"), ("life", "<f4")])
-    assert layout.itemsize == DIFFUSE_VERTEX_BYTES
+    assert layout.itemsize == WHITEWATER_VERTEX_BYTES
     data = numpy.fromfile(path, dtype=layout, count=vertices, offset=header)
     return data["p"], data["kind"]
 
@@ -493,13 +494,19 @@ def read_run(args):
         if assumed:
             note("no run.json in %s: assuming %s; give %s to say otherwise"
                  % (run, " and ".join(assumed), " and ".join("--" + f for f in ("up", "domain") if not args[f])))
-    # The whitewater's files, checked as the surfaces are (their frames from exports.csv).
-    diffuse = sorted(glob.glob(os.path.join(run, "diffuse_*.ply"))) if args["whitewater"] else []
-    for path in diffuse:
+    # The whitewater's files, checked as the surfaces are (their frames from exports.csv); a run
+    # written before aquaform named them whitewater_NNNN.ply has them as diffuse_NNNN.ply.
+    whitewater = sorted(glob.glob(os.path.join(run, "whitewater_*.ply"))) if args["whitewater"] else []
+    if args["whitewater"] and not whitewater:
+        whitewater = sorted(glob.glob(os.path.join(run, "diffuse_*.ply")))
+        if whitewater:
+            note("%s has the whitewater as diffuse_NNNN.ply, the old name of whitewater_NNNN.ply; drawn all the same"
+                 % run)
+    for path in whitewater:
         check_file_kind(path)
-        diffuse_header(path)
-    frames.update(frames_of(run, diffuse))
-    diffuse.sort(key=lambda f: frames[f])
+        whitewater_header(path)
+    frames.update(frames_of(run, whitewater))
+    whitewater.sort(key=lambda f: frames[f])
     solids = obstacle_files(run, described["obstacles"], first, last)
     iso = None
     if not meshes:  # the volumes' surface level, read now rather than after the scene is started
@@ -516,7 +523,7 @@ def read_run(args):
         check_render_prefix(args["render"])
     return {"meshes": meshes, "volumes": volumes, "frames": frames, "first": first, "last": last,
             "up": args["up"] or described["up"] or "y", "domain": args["domain"] or described["domain"], "fps": fps,
-            "obstacles": solids, "dir": run, "diffuse": diffuse, "iso": iso,
+            "obstacles": solids, "dir": run, "whitewater": whitewater, "iso": iso,
             "spacing": described["particle_spacing"]}
 
 
@@ -662,18 +669,18 @@ def points_node_group(material):
 
 def add_whitewater(run, turn):
     """An object per whitewater file, shown at its frames; returns the most particles in one."""
-    if not run["diffuse"]:
+    if not run["whitewater"]:
         return 0
     spacing = run["spacing"] or 0.01
     if not run["spacing"]:
         note("run.json gives no particle_spacing; the whitewater's spheres are sized for 1 cm")
     group = points_node_group(whitewater_material())
     import numpy
-    radii = numpy.array(DIFFUSE_RADIUS, dtype=numpy.float32) * spacing
+    radii = numpy.array(WHITEWATER_RADIUS, dtype=numpy.float32) * spacing
     most = 0
-    files = run["diffuse"]
+    files = run["whitewater"]
     for k, path in enumerate(files):
-        positions, kinds = read_diffuse(path)
+        positions, kinds = read_whitewater(path)
         most = max(most, len(positions))
         mesh = bpy.data.meshes.new("whitewater %04d" % run["frames"][path])
         mesh.vertices.add(len(positions))

@@ -20,7 +20,7 @@ out="$root/docs/images"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$out"
-# name scene frame (frame_dt 1/60: the bench's frames, study/bench_frames.cpp; calm at 0.4 s)
+# name scene frame (frame_dt 1/60: the bench's frames, bench/bench_frames.cpp; calm at 0.4 s)
 frames=(
   "calm dam_break.json 24"
   "double double_dam_break.json 33"

@@ -113,7 +113,7 @@ const SolidsView* SimulationSession::solids() {
     const size_t boxes = scene_.static_boxes.size(), solids = solver_->boundary().solid_count();
     if (solids <= boxes) return nullptr;
     solids_.nodes = &solver_->boundary_nodes();
-    solids_.table.assign(solver_->params().obstacles + boxes, solver_->params().obstacles + solids);
+    solids_.table.assign(solver_->params().solids + boxes, solver_->params().solids + solids);
     return &solids_;
 }
 
@@ -125,10 +125,17 @@ const WhitewaterView* SimulationSession::whitewater() {
     return &whitewater_;
 }
 
-void SimulationSession::hand_frame(Renderer& renderer) {
-    renderer.share_grid(frame_grid());
-    renderer.set_solids(solids());
-    renderer.set_whitewater(whitewater());
+WhitewaterSnapshot SimulationSession::whitewater_snapshot() {
+    Whitewater* w = solver_->whitewater();
+    return w ? w->snapshot() : WhitewaterSnapshot{};
+}
+
+FrameInput SimulationSession::frame_input() {
+    FrameInput frame(solver_->positions(), solver_->particle_count());
+    frame.grid = frame_grid();
+    frame.solids = solids();
+    frame.whitewater = whitewater();
+    return frame;
 }
 
 void SimulationSession::rebuild(bool keep_particles) {
@@ -151,10 +158,9 @@ void SimulationSession::start_solver(const ParticleSnapshot* start) {
 }
 
 void SimulationSession::connect_forces() {
-    forces_.forces = {driver_ ? &driver_->force() : nullptr};
-    forces_.forces.insert(forces_.forces.end(), extra_forces_.begin(), extra_forces_.end());
-    // No force at all leaves the solver without one (its pass list then has no control_force).
-    solver_->set_step_force(driver_ || !extra_forces_.empty() ? &forces_ : nullptr);
+    // Stages before the pressure solve, in this order: mesh control's force, then the others.
+    if (driver_) solver_->attach(&driver_->force());
+    for (StepForce* force : extra_forces_) solver_->attach(force);
 }
 
 FrameReport SimulationSession::run_frame(gpu::GpuTimer* timer) { return finish_frame(submit_frame(timer), timer); }
@@ -211,7 +217,7 @@ void SimulationSession::add_step_force(StepForce* force) {
 
 void SimulationSession::remove_step_force(StepForce* force) {
     std::erase(extra_forces_, force);
-    connect_forces();
+    solver_->detach(force);
 }
 
 void SimulationSession::reset() { rebuild(false); }
@@ -259,7 +265,7 @@ Result<SimulationSession::AddedObstacle> SimulationSession::add_obstacle(const f
                 {"placement", {{"fit_into", {{"min", point(box.min)}, {"max", point(box.max)}}}}}}}};
     std::vector<ObstacleSpec> added;
     try {
-        added = read_obstacles(entry, scene_, {}, PBF_MAX_OBSTACLES - scene_.static_boxes.size() - scene_.obstacles.size());
+        added = read_obstacles(entry, scene_, {}, PBF_MAX_SOLIDS - scene_.static_boxes.size() - scene_.obstacles.size());
     } catch (const json_fields::Invalid& e) {
         return Error{e.message};
     }

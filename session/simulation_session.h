@@ -17,6 +17,7 @@
 
 #include "control/control_driver.h"
 #include "control/push_force.h"
+#include "render/frame_input.h"
 #include "render/solids_view.h"
 #include "render/whitewater_layer.h"
 #include "core/result.h"
@@ -125,18 +126,16 @@ public:
     PbfSolver& solver() { return *solver_; }
     const PbfSolver& solver() const { return *solver_; }
     /// The grid the solver's positions are sorted by after each frame (SessionOptions::
-    /// frame_grid), for Renderer::share_grid; nullptr when the option is off. It changes when
+    /// frame_grid), FrameInput::grid; nullptr when the option is off. It changes when
     /// the solver is made again (set_solver_settings, restart, set_control): ask each frame.
     const NeighborGrid* frame_grid() const { return options_.frame_grid ? &solver_->grid() : nullptr; }
-    /// The scene's mesh obstacles as they stand at the end of the frame last recorded, for a
-    /// renderer to draw (Renderer::set_solids); nullptr without any. Valid until the next call.
-    const SolidsView* solids();
-    /// The whitewater the solver makes, for a renderer to draw (Renderer::set_whitewater); nullptr
-    /// when the scene has none. Valid until the solver is made again (ask each frame).
-    const WhitewaterView* whitewater();
-    /// Hands `renderer` what it draws besides the particles, all of it (the frame grid, the
-    /// solids, the whitewater), so that no renderer is given half a frame; call it each frame.
-    void hand_frame(Renderer& renderer);
+    /// The frame last recorded, whole, as every renderer takes it (render/frame_input.h): the
+    /// solver's positions, the frame grid, the mesh obstacles as they stand at its end and the
+    /// whitewater. Valid until the next frame is recorded or the solver is made again: ask each frame.
+    FrameInput frame_input();
+    /// The whitewater's particles as the frame last collected left them (read back; none when
+    /// the scene makes no whitewater), for the exports.
+    WhitewaterSnapshot whitewater_snapshot();
     /// The mesh control, or null without a control section.
     control::ControlDriver* control() { return driver_.get(); }
     const control::ControlDriver* control() const { return driver_.get(); }
@@ -184,6 +183,10 @@ public:
     bool remove_added_obstacles();
 
 private:
+    /// frame_input()'s parts: the mesh obstacles (nullptr without any) and the whitewater (nullptr
+    /// when the scene makes none).
+    const SolidsView* solids();
+    const WhitewaterView* whitewater();
     SolidsView solids_;  // what solids() hands out
     WhitewaterView whitewater_;  // what whitewater() hands out
     void rebuild(bool keep_particles);
@@ -198,7 +201,6 @@ private:
     std::unique_ptr<PbfSolver> solver_;
     std::unique_ptr<control::ControlDriver> driver_;
     std::vector<StepForce*> extra_forces_;
-    control::StepForces forces_;
     std::vector<std::filesystem::path> shape_files_;
     size_t own_obstacles_ = 0;  // the scene's own obstacles, before any add_obstacle added
 };

@@ -8,8 +8,8 @@
 #include "geometry/animation.h"
 #include "geometry/boundary_map.h"
 #include "geometry/distance_field.h"
-#include "shaders/shared/pbf_boundary.h"
-#include "shaders/shared/sph_kernels.h"
+#include "shaders/shared/core/sph_kernels.h"
+#include "shaders/shared/sim/pbf_boundary.h"
 #include "sim/pbf_params.h"
 #include "sim/scene.h"
 
@@ -64,7 +64,7 @@ std::string solid_name(const Scene& scene, size_t solid) {
 }
 
 /// The rows of the world-to-local map of a rigid transform (rotation and translation).
-void set_to_local(shader::ObstacleParams& table, const glm::mat4& to_world) {
+void set_to_local(shader::SolidParams& table, const glm::mat4& to_world) {
     const glm::mat4 to_local = glm::inverse(to_world);
     for (int r = 0; r < 3; ++r) table.to_local[r] = glm::vec4(to_local[0][r], to_local[1][r], to_local[2][r], to_local[3][r]);
 }
@@ -91,9 +91,9 @@ Result<Boundary> Boundary::build(const Scene& scene) {
     b.margin_of_map_ = margin;
     b.domain_ = scene.domain;
     const size_t solids = scene.static_boxes.size() + scene.obstacles.size();
-    if (solids > PBF_MAX_OBSTACLES)
+    if (solids > PBF_MAX_SOLIDS)
         return Error{(scene.path.empty() ? scene.name : scene.path.string()) + ": " + std::to_string(solids) +
-                     " solids (static_boxes and obstacles); the solver takes at most " + std::to_string(PBF_MAX_OBSTACLES) +
+                     " solids (static_boxes and obstacles); the solver takes at most " + std::to_string(PBF_MAX_SOLIDS) +
                      ": merge boxes, or join meshes into one OBJ"};
     try {
         for (size_t s = 0; s < solids; ++s) {
@@ -157,9 +157,9 @@ void Boundary::store(Solid& solid, const geometry::DistanceField& field, std::op
     }
 }
 
-std::vector<uint32_t> solid_constants(std::vector<uint32_t> own, bool obstacles) {
-    own.resize(PBF_OBSTACLES_CONSTANT, 0u);
-    own.back() = obstacles ? 1u : 0u;
+std::vector<uint32_t> solid_constants(std::vector<uint32_t> own, bool solids) {
+    own.resize(PBF_SOLIDS_CONSTANT, 0u);
+    own.back() = solids ? 1u : 0u;
     return own;
 }
 
@@ -172,12 +172,12 @@ bool Boundary::deforms() const {
 }
 
 void Boundary::write_params(shader::SimParams& params, double t) const {
-    params.obstacle_count = uint32_t(solids_.size());
-    params.obstacle_margin = margin_;
-    params.obstacle_stride = stride_;
+    params.solid_count = uint32_t(solids_.size());
+    params.solid_margin = margin_;
+    params.solid_stride = stride_;
     for (size_t i = 0; i < solids_.size(); ++i) {
         const Solid& s = solids_[i];
-        shader::ObstacleParams& table = params.obstacles[i];
+        shader::SolidParams& table = params.solids[i];
         table.map_origin = glm::vec4(s.grid.origin, s.grid.cell);
         table.map_dims = glm::uvec4(s.grid.dims, uint32_t(s.first_node));
         // The maps of a rigid motion are made at rest; a deforming shape's in place (identity).

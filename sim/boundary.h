@@ -1,4 +1,4 @@
-// The solids of a scene as the solver takes them (shaders/shared/pbf_boundary.h): its static
+// The solids of a scene as the solver takes them (shaders/shared/sim/pbf_boundary.h): its static
 // boxes and its mesh obstacles, each a density map (Koschier & Bender 2017) made on the CPU in the
 // solid's own frame, and where that frame stands at each step. The tank's walls need no map: their
 // density is in closed form (pbf_wall_term), with the same kernel and calibration.
@@ -24,7 +24,7 @@
 #include "core/box.h"
 #include "core/result.h"
 #include "geometry/distance_field.h"
-#include "shaders/shared/pbf_layout.h"
+#include "shaders/shared/sim/pbf_layout.h"
 
 namespace aquaform {
 
@@ -35,9 +35,9 @@ struct Mesh;
 }
 
 /// A pass's specialization constants: its own from constant_id 1, then whether the scene has
-/// obstacles at PBF_OBSTACLES_CONSTANT (shaders/shared/pbf_boundary.h; without, the solids
-/// compile down to the walls). For every pass that includes pbf_boundary.h.
-std::vector<uint32_t> solid_constants(std::vector<uint32_t> own, bool obstacles);
+/// solids (static boxes or mesh obstacles) at PBF_SOLIDS_CONSTANT (shaders/shared/sim/pbf_boundary.h;
+/// without, the solids compile down to the walls). For every pass that includes pbf_boundary.h.
+std::vector<uint32_t> solid_constants(std::vector<uint32_t> own, bool solids);
 
 class Boundary {
 public:
@@ -56,7 +56,7 @@ public:
     bool deforms() const;
     /// Every solid's node data, PBF_NODE_VEC4S vec4s a node (at least one vec4: a buffer to bind).
     const std::vector<glm::vec4>& nodes() const { return nodes_; }
-    /// Writes the obstacle table (count, margin, stride and each solid's frame) for time t.
+    /// Writes the solids' table (count, margin, stride and each solid's frame) for time t.
     void write_params(shader::SimParams& params, double t) const;
     /// Makes the maps of the deforming solids again for time t, in place (same grids); returns
     /// whether any node changed. Nothing happens between two times of one shape (a sequence's frame).

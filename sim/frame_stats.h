@@ -9,7 +9,7 @@
 
 #include <glm/glm.hpp>
 
-#include "shaders/shared/pbf_layout.h"
+#include "shaders/shared/sim/pbf_layout.h"
 
 namespace aquaform {
 
@@ -34,7 +34,7 @@ struct FrameStats {
     bool speed_capped = false;        ///< the scene's safety cap (solver.max_speed) bound in this frame
     uint32_t particles = 0;
     uint32_t outside = 0;             ///< particles outside the domain box (leaked)
-    uint32_t in_solid = 0;            ///< particles whose centre is inside an obstacle (collision failed)
+    uint32_t in_solid = 0;            ///< particles whose centre is inside a solid (collision failed)
     uint32_t non_finite = 0;          ///< particles with NaN or infinite state
     std::optional<double> front;      ///< dam-break front [m from the wall], when the scene has one
     double splash_fraction = 0.0;     ///< fraction of the particles with few neighbours (kSplashNeighborFraction)

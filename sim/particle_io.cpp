@@ -24,7 +24,7 @@ Result<bool> write_particles_ply(const std::filesystem::path& path, const Partic
     });
 }
 
-Result<bool> write_diffuse_ply(const std::filesystem::path& path, const DiffuseSnapshot& d) {
+Result<bool> write_whitewater_ply(const std::filesystem::path& path, const WhitewaterSnapshot& d) {
     return write_file_with(path, [&](std::ostream& out) {
         const size_t n = d.x.size();
         out << "ply\nformat binary_little_endian 1.0\ncomment aquaform whitewater (SI units; kind 0 spray, 1 foam, 2 bubble)\n"

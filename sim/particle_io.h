@@ -10,8 +10,8 @@
 namespace aquaform {
 
 Result<bool> write_particles_ply(const std::filesystem::path& path, const ParticleSnapshot& particles);
-/// The whitewater's diffuse particles (sim/whitewater.h): position, velocity, kind (uchar: 0
+/// The whitewater's particles (sim/whitewater.h): position, velocity, kind (uchar: 0
 /// spray, 1 foam, 2 bubble) and the life left [s].
-Result<bool> write_diffuse_ply(const std::filesystem::path& path, const DiffuseSnapshot& diffuse);
+Result<bool> write_whitewater_ply(const std::filesystem::path& path, const WhitewaterSnapshot& whitewater);
 
 }  // namespace aquaform

@@ -4,11 +4,11 @@
 #include <cmath>
 
 #include "grid/neighbor_grid.h"
-#include "shaders/shared/pbf_physics.h"
-#include "shaders/shared/sph_kernels.h"
-#include "shaders/shared/tank_layout.h"
+#include "shaders/shared/core/sph_kernels.h"
+#include "shaders/shared/sim/pbf_physics.h"
+#include "shaders/shared/solids/tank_layout.h"
 
-static_assert(TANK_MAX_BOXES == PBF_MAX_OBSTACLES, "the renderers draw every static box the solver takes");
+static_assert(TANK_MAX_BOXES == PBF_MAX_SOLIDS, "the renderers draw every static box the solver takes");
 
 namespace aquaform {
 
@@ -81,7 +81,7 @@ shader::SimParams make_sim_params(const Scene& scene, const GridGeometry& grid, 
     p.scorr_k = scorr_k_of_step(scene, p.dt);
     p.max_speed = sv.max_speed;  // 0: no cap
     p.particle_count = particle_count;
-    p.obstacle_count = 0;  // the solids' table is sim/boundary.h's (Boundary::write_params)
+    p.solid_count = 0;  // the solids' table is sim/boundary.h's (Boundary::write_params)
     p.front_floor = scene.domain.min.y + c.h;
     p.front_tag = 0;
     p.wall_scale = c.wall_phi * shader::SPH_PI * p.poly6_coeff / 4.0f;

@@ -2,7 +2,7 @@
 // reference so that both run exactly the same numbers.
 #pragma once
 
-#include "shaders/shared/pbf_layout.h"
+#include "shaders/shared/sim/pbf_layout.h"
 #include "grid/neighbor_grid.h"
 #include "sim/scene.h"
 
@@ -14,7 +14,7 @@ namespace aquaform {
 /// - stiffness_ref: sum_k |grad_k C|^2 of that lattice particle. epsilon = relaxation *
 ///   stiffness_ref and the s_corr k is divided by it, so both are dimensionless and behave the
 ///   same at every particle spacing (the paper's values assume unit mass and spacing).
-/// - wall_phi: scales the walls' continuum density (shaders/shared/pbf_layout.h,
+/// - wall_phi: scales the walls' continuum density (shaders/shared/sim/pbf_layout.h,
 ///   pbf_wall_term) so that a lattice particle half a spacing from a wall has exactly rho0.
 struct PbfConstants {
     float h = 0.0f;
@@ -23,7 +23,7 @@ struct PbfConstants {
     float wall_phi = 0.0f;
     /// kappa = (1/3) sum_j V (x_j - x_i) . grad W_ij over the rest lattice: how much of a linear
     /// field's gradient the symmetric sum sum_j V (f_i + f_j) grad W_ij recovers (0.947 at h = 2 s).
-    /// The probes' pressure divides it out (shared/probe_layout.h).
+    /// The probes' pressure divides it out (shared/sim/probe_layout.h).
     float gradient_consistency = 1.0f;
 };
 

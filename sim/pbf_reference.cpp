@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "shaders/shared/grid_layout.h"
+#include "shaders/shared/grid/grid_layout.h"
 
 namespace aquaform {
 

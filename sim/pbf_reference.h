@@ -11,7 +11,7 @@
 
 #include <glm/glm.hpp>
 
-#include "shaders/shared/pbf_boundary.h"
+#include "shaders/shared/sim/pbf_boundary.h"
 
 namespace aquaform {
 
@@ -27,7 +27,7 @@ struct ReferenceSettings {
     bool vorticity = false;
 };
 
-/// Advances `particles` by one solver step. `boundary_nodes`: the obstacles' maps the params'
+/// Advances `particles` by one solver step. `boundary_nodes`: the solids' maps the params'
 /// table points into (sim/boundary.h, Boundary::nodes); empty when the table is.
 void reference_step(const shader::SimParams& params, const ReferenceSettings& settings, CpuParticles& particles,
                     const std::vector<glm::vec4>& boundary_nodes = {});

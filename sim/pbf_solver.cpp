@@ -12,16 +12,16 @@
 #include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "gpu/vk_check.h"
-#include "shaders/shared/pbf_boundary.h"
+#include "shaders/shared/sim/pbf_boundary.h"
 #include "sim/pbf_params.h"
+#include "sim/pbf_pressure.h"
 #include "core/error.h"
 
 namespace aquaform {
 
 namespace {
 
-constexpr const char* kParticleBuffers[] = {"particles.x", "particles.v", "particles.p", "particles.scratch0",
-                                            "particles.scratch1"};
+constexpr const char* kParticleBuffers[] = {"sim.x", "sim.v", "sim.p", "sim.scratch0", "sim.scratch1"};
 
 std::string gib(uint64_t bytes) {
     char buf[64];
@@ -49,21 +49,21 @@ Result<MemoryPlan> plan_memory(const Scene& scene, std::optional<uint64_t> parti
     const uint64_t n = plan.particles;
     const uint64_t cells = plan.grid.cell_count();
     for (const char* name : kParticleBuffers) plan.buffers.push_back({name, n * 16});
-    plan.buffers.push_back({"particles.density", n * 4});
-    plan.buffers.push_back({"grid.keys", n * 4});
-    plan.buffers.push_back({"grid.slots", n * 4});
-    plan.buffers.push_back({"grid.arrival", n * 4});
-    plan.buffers.push_back({"grid.order", n * 4});
-    plan.buffers.push_back({"grid.list_cell", n * 4});
-    plan.buffers.push_back({"grid.neighbor_count", n * 4});
+    plan.buffers.push_back({"sim.density", n * 4});
+    plan.buffers.push_back({"sim.grid.keys", n * 4});
+    plan.buffers.push_back({"sim.grid.slots", n * 4});
+    plan.buffers.push_back({"sim.grid.arrival", n * 4});
+    plan.buffers.push_back({"sim.grid.order", n * 4});
+    plan.buffers.push_back({"sim.grid.list_cell", n * 4});
+    plan.buffers.push_back({"sim.grid.neighbor_count", n * 4});
     // Read and written only as rgba32ui texels (NeighborGrid): the texel limit applies.
-    plan.buffers.push_back({"grid.neighbors", n * neighbor_list_capacity(scene.solver.kernel_radius_factor) * 4, true});
-    plan.buffers.push_back({"grid.cell_rank", cells * 4});
-    plan.buffers.push_back({"grid.cell_start", (cells + 1) * 4});
-    plan.buffers.push_back({"stats.partials", ((n + PBF_STATS_WORKGROUP - 1) / PBF_STATS_WORKGROUP) * sizeof(shader::StatsPartial)});
-    plan.buffers.push_back({"params", sizeof(shader::SimParams)});
-    plan.buffers.push_back({"boundary.nodes", Boundary::planned_bytes(scene), true});  // read as texels
-    if (scene.probes) plan.buffers.push_back({"particles.pressure", n * 8});
+    plan.buffers.push_back({"sim.grid.neighbors", n * neighbor_list_capacity(scene.solver.kernel_radius_factor) * 4, true});
+    plan.buffers.push_back({"sim.grid.cell_rank", cells * 4});
+    plan.buffers.push_back({"sim.grid.cell_start", (cells + 1) * 4});
+    plan.buffers.push_back({"sim.stats_partials", ((n + PBF_STATS_WORKGROUP - 1) / PBF_STATS_WORKGROUP) * sizeof(shader::StatsPartial)});
+    plan.buffers.push_back({"sim.params", sizeof(shader::SimParams)});
+    plan.buffers.push_back({"sim.boundary_nodes", Boundary::planned_bytes(scene), true});  // read as texels
+    if (scene.probes) plan.buffers.push_back({"sim.pressure", n * 8});
     return plan;
 }
 
@@ -109,7 +109,7 @@ Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::D
 }
 
 PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapshot* start)
-    : ctx_(&ctx), scene_(scene), buffers_(ctx), droplet_buffers_(ctx) {
+    : ctx_(&ctx), scene_(scene), buffers_(ctx) {
     // The last constraint iteration updates the velocities (pbf_correct.comp): there must be one.
     if (scene.solver.iterations < 1)
         throw Failure(scene.path.string() + ": solver.iterations is " + std::to_string(scene.solver.iterations) +
@@ -135,8 +135,6 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapsh
     for (size_t b = 0; !start && b < scene.fluid_blocks.size(); ++b)
         last_max_speed_ = std::max(last_max_speed_, double(glm::length(scene.fill_of(b).velocity)));
     set_frame_steps(rule_substeps());
-    xsph_on_ = scene.solver.viscosity > 0.0f || scene.solver.vorticity > 0.0f;
-    vorticity_on_ = scene.solver.vorticity > 0.0f;
 
     const uint64_t n = count_;
     x_ = &buffers_.add(kParticleBuffers[0], n * 16);
@@ -144,39 +142,35 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapsh
     p_ = &buffers_.add(kParticleBuffers[2], n * 16);
     s0_ = &buffers_.add(kParticleBuffers[3], n * 16);
     s1_ = &buffers_.add(kParticleBuffers[4], n * 16);
-    density_ = &buffers_.add("particles.density", n * 4);
-    grid_ = std::make_unique<NeighborGrid>(ctx, buffers_, geometry, count_, "grid", params_.neighbor_capacity);
-    partials_ = &buffers_.add("stats.partials", uint64_t(stats_groups(count_)) * sizeof(shader::StatsPartial),
+    density_ = &buffers_.add("sim.density", n * 4);
+    grid_ = std::make_unique<NeighborGrid>(ctx, buffers_, geometry, count_, "sim.grid", params_.neighbor_capacity, "sim_");
+    partials_ = &buffers_.add("sim.stats_partials", uint64_t(stats_groups(count_)) * sizeof(shader::StatsPartial),
                               gpu::MemoryUse::host);
-    params_buf_ = &buffers_.add("params", sizeof(shader::SimParams));
+    params_buf_ = &buffers_.add("sim.params", sizeof(shader::SimParams));
     boundary_->write_params(params_, 0.0);
     gpu::upload(ctx, *params_buf_, &params_, sizeof params_);
-    boundary_nodes_ = &buffers_.add("boundary.nodes", boundary_->bytes(), gpu::MemoryUse::device, true);
+    boundary_nodes_ = &buffers_.add("sim.boundary_nodes", boundary_->bytes(), gpu::MemoryUse::device, true);
     gpu::upload(ctx, *boundary_nodes_, boundary_->nodes().data(), boundary_->bytes());
     const uint32_t measure_pressure = scene.probes ? 1u : 0u;
-    pressure_ = measure_pressure ? &buffers_.add("particles.pressure", n * 8) : density_;
+    pressure_ = measure_pressure ? &buffers_.add("sim.pressure", n * 8) : density_;
     if (scene.probes) {
         std::vector<std::string> solids;
         for (size_t s = 0; s < boundary_->solid_count(); ++s) solids.push_back(boundary_->name(s));
         probes_ = std::make_unique<ProbeRecorder>(ctx, scene, solids, std::max(scene.solver.max_substeps, scene.solver.substeps));
+        attach(probes_.get());
     }
-    if (scene.has_whitewater()) whitewater_ = std::make_unique<Whitewater>(ctx, scene, count_, boundary_->solid_count() > 0);
+    if (scene.has_whitewater()) {
+        whitewater_ = std::make_unique<Whitewater>(ctx, scene, count_, boundary_->solid_count() > 0);
+        attach(whitewater_.get());
+    }
 
     using shader::CountPush;
-    const bool obstacles = boundary_->solid_count() > 0;
+    const bool has_solids = boundary_->solid_count() > 0;
     const uint32_t local = gpu::kDefaultLocalSize;
-    predict_ = gpu::ComputePass(ctx, {"sim/pbf_predict.comp", 5, sizeof(CountPush), local, solid_constants({}, obstacles)});
-    reorder_ = gpu::ComputePass(ctx, {"sim/pbf_reorder.comp", 9, sizeof(CountPush), local, solid_constants({measure_pressure}, obstacles)});
-    lambda_pass_ = gpu::ComputePass(ctx, {"sim/pbf_lambda.comp", 10, sizeof(CountPush), local, solid_constants({}, obstacles)});
-    correct_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 12, sizeof(shader::CorrectPush), local,
-                                      solid_constants({0u, measure_pressure}, obstacles)});
-    // The last iteration's correction also updates v and x (kLastIteration).
-    correct_last_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 12, sizeof(shader::CorrectPush), local,
-                                           solid_constants({1u, measure_pressure}, obstacles)});
-    if (xsph_on_) xsph_curl_ = gpu::ComputePass(ctx, {"sim/pbf_xsph_curl.comp", 11, sizeof(CountPush)});
-    if (vorticity_on_) vorticity_ = gpu::ComputePass(ctx, {"sim/pbf_vorticity.comp", 10, sizeof(CountPush)});
+    pressure_solve_ = std::make_unique<PbfPressure>(ctx, scene.solver, has_solids, measure_pressure != 0);
+    reorder_ = gpu::ComputePass(ctx, {"sim/pbf_reorder.comp", 9, sizeof(CountPush), local, solid_constants({measure_pressure}, has_solids)});
     stats_ = gpu::ComputePass(ctx, {"sim/pbf_stats.comp", 11, sizeof(shader::StatsPush), PBF_STATS_WORKGROUP,
-                                    solid_constants({}, obstacles)});
+                                    solid_constants({}, has_solids)});
 
     if (start) {
         // Ids number the particles 0..n-1 (exports and the droplet count index by them): the
@@ -228,7 +222,8 @@ void PbfSolver::relax_start() {
         ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
             gpu::record_upload(*ctx_, cmd, *params_buf_, &relax, sizeof relax);
             record_sort(cmd, *x_, nullptr);
-            for (uint32_t it = 0; it < kStartRelaxIterations; ++it) record_iteration(cmd, correct_, it, nullptr);
+            FluidArrays fluid = fluid_arrays();
+            for (uint32_t it = 0; it < kStartRelaxIterations; ++it) pressure_solve_->record_projection(cmd, fluid, it);
             gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
         });
         // The densities are the last iteration's, before its correction: the check lags it.
@@ -247,53 +242,44 @@ PbfSolver::~PbfSolver() = default;
 
 std::vector<std::string> PbfSolver::enabled_passes() const {
     std::vector<std::string> passes;
-    if (step_force_) passes.push_back("control_force");
-    for (const char* pass : {"predict", "grid_count", "grid_scan", "grid_scatter", "reorder", "neighbor_lists"})
-        passes.push_back(pass);
-    passes.push_back("lambda x" + std::to_string(scene_.solver.iterations));
-    passes.push_back("correct x" + std::to_string(scene_.solver.iterations) + " (the last with the velocity update)");
-    if (xsph_on_) passes.push_back(vorticity_on_ ? "xsph_curl" : "xsph");
-    if (vorticity_on_) passes.push_back("vorticity");
-    if (whitewater_) passes.push_back("whitewater (spray, foam, bubbles: up to " + std::to_string(whitewater_->capacity()) + ")");
-    passes.push_back("stats (once per frame)");
+    for (const SolverStage* stage : stages_)
+        if (stage->place() == StagePlace::before_pressure) passes.push_back(stage->pass_name());
+    for (const std::string& pass : pressure_solve_->pass_names()) passes.push_back(pass);
+    for (const SolverStage* stage : stages_)
+        if (stage->place() == StagePlace::after_pressure && !stage->measures_at_frame_end()) passes.push_back(stage->pass_name());
+    passes.push_back("sim_stats (once per frame)");
+    for (const SolverStage* stage : stages_)
+        if (stage->measures_at_frame_end()) passes.push_back(stage->pass_name() + " (once per frame)");
     return passes;
 }
 
+void PbfSolver::attach(SolverStage* stage) {
+    if (stage && std::find(stages_.begin(), stages_.end(), stage) == stages_.end()) stages_.push_back(stage);
+}
+
+void PbfSolver::detach(SolverStage* stage) { std::erase(stages_, stage); }
+
+FluidArrays PbfSolver::fluid_arrays() {
+    return {*params_buf_, x_, v_, p_, s0_, s1_, *density_, *pressure_, *boundary_nodes_, *grid_, count_};
+}
+
+StepState PbfSolver::fluid_state(double time, gpu::GpuTimer* timer) const {
+    return {*params_buf_, *x_, *v_, *pressure_, *grid_, *boundary_nodes_, *boundary_, count_, step_in_frame_, time, timer};
+}
+
+bool PbfSolver::stages_measure() const {
+    return std::any_of(stages_.begin(), stages_.end(), [](const SolverStage* s) { return s->measures_at_frame_end(); });
+}
+
 void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
-    const shader::CountPush push{count_};
-    const gpu::Buffer& rank = grid_->cell_rank();
-    const gpu::Buffer& start = grid_->cell_start();
-    const gpu::Buffer& cells = grid_->list_cell();
-    const gpu::Buffer& counts = grid_->neighbor_count();
-    const gpu::Buffer& neighbors = grid_->neighbors();
-    if (step_force_) step_force_->record(cmd, *params_buf_, *x_, *v_, count_, timer);
+    for (SolverStage* stage : stages_)
+        if (stage->place() == StagePlace::before_pressure) stage->record_step(cmd, fluid_state(time_ + params_.dt, timer));
     if (boundary_->moves()) record_solid_motion(cmd);
-    {
-        gpu::GpuScope s(timer, cmd, "predict");
-        gpu::dispatch(*ctx_, cmd, predict_, count_, push, {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"p", p_}, {"boundary_nodes", boundary_nodes_}});
-    }
-    record_sort(cmd, *p_, timer);
-    for (uint32_t it = 0; it < scene_.solver.iterations; ++it)
-        record_iteration(cmd, it + 1 == scene_.solver.iterations ? correct_last_ : correct_, it, timer);
-    if (probes_) {
-        gpu::GpuScope s(timer, cmd, "probes");
-        probes_->record_step(cmd, step_in_frame_, time_ + params_.dt, *params_buf_, *x_, *pressure_, *grid_, *boundary_nodes_, count_);
-    }
-    if (xsph_on_) {
-        gpu::GpuScope s(timer, cmd, "xsph_curl");
-        gpu::dispatch(*ctx_, cmd, xsph_curl_, count_, push,
-                      {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"density", density_}, {"v_out", s1_}, {"omega", s0_}});
-        std::swap(v_, s1_);
-    }
-    if (vorticity_on_) {
-        gpu::GpuScope s(timer, cmd, "vorticity");
-        gpu::dispatch(*ctx_, cmd, vorticity_, count_, push,
-                      {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"density", density_}, {"omega", s0_}});
-    }
-    if (whitewater_) {
-        gpu::GpuScope s(timer, cmd, "whitewater");
-        whitewater_->record_step(cmd, *params_buf_, *x_, *v_, *grid_, *boundary_nodes_, count_);
-    }
+    FluidArrays fluid = fluid_arrays();
+    pressure_solve_->record_step(cmd, fluid, [this](VkCommandBuffer c, const gpu::Buffer& keys, gpu::GpuTimer* t) { record_sort(c, keys, t); },
+                                 timer);
+    for (SolverStage* stage : stages_)
+        if (stage->place() == StagePlace::after_pressure) stage->record_step(cmd, fluid_state(time_ + params_.dt, timer));
     time_ += params_.dt;
 }
 
@@ -320,30 +306,10 @@ void PbfSolver::record_solid_motion(VkCommandBuffer cmd) {
     gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
 }
 
-void PbfSolver::record_iteration(VkCommandBuffer cmd, const gpu::ComputePass& correct, uint32_t iteration,
-                                 gpu::GpuTimer* timer) {
-    // One Jacobi iteration: lambda writes q = (p, lambda) into scratch0, correct writes p back.
-    const shader::CountPush push{count_};
-    const gpu::Buffer& rank = grid_->cell_rank();
-    const gpu::Buffer& start = grid_->cell_start();
-    const gpu::Buffer& cells = grid_->list_cell();
-    const gpu::Buffer& counts = grid_->neighbor_count();
-    const gpu::Buffer& neighbors = grid_->neighbors();
-    {
-        gpu::GpuScope s(timer, cmd, "lambda");
-        gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
-                      {{"params", params_buf_}, {"p", p_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"q", s0_}, {"density", density_}, {"boundary_nodes", boundary_nodes_}});
-    }
-    gpu::GpuScope s(timer, cmd, "correct");
-    const shader::CorrectPush correct_push{count_, iteration, 0u, 0u};
-    gpu::dispatch(*ctx_, cmd, correct, count_, correct_push,
-                  {{"params", params_buf_}, {"q", s0_}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"p_out", p_}, {"x", x_}, {"v", v_}, {"boundary_nodes", boundary_nodes_}, {"pressure", pressure_}});
-}
-
 void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer, bool lists_of_x) {
     grid_->build(cmd, key_positions, count_, timer);
     {
-        gpu::GpuScope s(timer, cmd, "reorder");
+        gpu::GpuScope s(timer, cmd, "sim_reorder");
         const shader::CountPush push{count_};
         gpu::dispatch(*ctx_, cmd, reorder_, count_, push, {{"params", params_buf_}, {"order", &grid_->order()}, {"x_in", x_}, {"v_in", v_}, {"x_out", s0_}, {"v_out", s1_}, {"p_out", p_}, {"boundary_nodes", boundary_nodes_}, {"pressure", pressure_}});
         std::swap(x_, s0_);
@@ -361,41 +327,26 @@ void PbfSolver::run_steps(uint32_t steps, gpu::GpuTimer* timer) {
 }
 
 void PbfSolver::record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
-    const shader::CountPush push{count_};
-    gpu::GpuScope s(timer, cmd, "stats");
-    // Density at the final positions (the lambda pass on x, over this step's neighbours; its
-    // q output goes to scratch), then the per-workgroup reduction.
-    gpu::dispatch(*ctx_, cmd, lambda_pass_, count_, push,
-                  {{"params", params_buf_}, {"p", x_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"neighbor_count", &grid_->neighbor_count()}, {"neighbors", &grid_->neighbors()}, {"q", s0_}, {"density", density_}, {"boundary_nodes", boundary_nodes_}});
+    gpu::GpuScope s(timer, cmd, "sim_stats");
+    // Density at the final positions (over this step's neighbours), then the per-workgroup reduction.
+    FluidArrays fluid = fluid_arrays();
+    pressure_solve_->record_density(cmd, fluid, *x_);
     // Runup: particles within a spacing of the far wall of a dam break.
     const float runup_x = scene_.column_width ? scene_.domain.max.x - scene_.particle_spacing : 1.0e30f;
     const float splash = float(kSplashNeighborFraction * full_neighbor_count(scene_.solver.kernel_radius_factor));
     const shader::StatsPush stats_push{count_, splash, runup_x, 0u};
     gpu::dispatch(*ctx_, cmd, stats_, stats_groups(count_) * PBF_STATS_WORKGROUP, stats_push,
                   {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"density", density_}, {"partials", partials_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"neighbor_count", &grid_->neighbor_count()}, {"neighbors", &grid_->neighbors()}, {"boundary_nodes", boundary_nodes_}});
-    if (droplet_parent_) {
-        gpu::GpuScope d(timer, cmd, "droplets");
-        record_droplets(cmd);
-    }
+    for (SolverStage* stage : stages_)
+        if (stage->measures_at_frame_end()) stage->record_measure(cmd, fluid_state(time_, timer));
     gpu::host_read_barrier(cmd);
-}
-
-void PbfSolver::record_droplets(VkCommandBuffer cmd) {
-    using namespace shader;
-    gpu::fill(*ctx_, cmd, *droplet_count_, 0);
-    gpu::fill(*ctx_, cmd, *droplet_sizes_, 0);
-    for (uint32_t phase : {DROPLET_INIT, DROPLET_COMPRESS, DROPLET_HOOK, DROPLET_COMPRESS, DROPLET_SIZE, DROPLET_COUNT}) {
-        const DropletPush push{count_, phase, droplet_size_limit(count_), params_.h2};
-        gpu::dispatch(*ctx_, cmd, droplets_, count_, push,
-                      {{"params", params_buf_}, {"x", x_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"neighbor_count", &grid_->neighbor_count()}, {"neighbors", &grid_->neighbors()}, {"parent", droplet_parent_}, {"sizes", droplet_sizes_}, {"droplets", droplet_count_}});
-    }
 }
 
 FrameStats PbfSolver::measure(gpu::GpuTimer* timer) {
     if (timer) timer->clear_totals();
     ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
         if (timer) timer->reset(cmd);
-        if (droplet_parent_) record_sort(cmd, *x_, timer, true);  // the droplets' links are at x
+        if (stages_measure()) record_sort(cmd, *x_, timer, true);  // a stage measures on lists of x
         record_stats(cmd, timer);
     });
     return collect_stats(timer);
@@ -423,12 +374,9 @@ void PbfSolver::record_frame(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     }
     step_in_frame_ = 0;
     recorded_steps_ = substeps;
-    if (probes_) {
-        gpu::GpuScope s(timer, cmd, "probes");
-        probes_->record_loads(cmd, *params_buf_, *x_, *pressure_, *boundary_nodes_, count_, boundary_->centres(time_));
-    }
-    if (frame_grid_ || droplet_parent_) {
-        gpu::GpuScope s(timer, cmd, "frame_grid");
+    for (SolverStage* stage : stages_) stage->record_frame_end(cmd, fluid_state(time_, timer));
+    if (frame_grid_ || stages_measure()) {
+        gpu::GpuScope s(timer, cmd, "sim_frame_grid");
         record_sort(cmd, *x_, nullptr, true);
     }
     record_stats(cmd, timer);
@@ -440,7 +388,7 @@ void PbfSolver::record_initial_state(VkCommandBuffer cmd, gpu::GpuTimer* timer) 
         timer->reset(cmd);
     }
     {
-        gpu::GpuScope s(timer, cmd, "frame_grid");
+        gpu::GpuScope s(timer, cmd, "sim_frame_grid");
         record_sort(cmd, *x_, nullptr, true);  // the lists of x that the statistics' density reads
     }
     record_stats(cmd, timer);
@@ -455,9 +403,7 @@ FrameStats PbfSolver::collect_stats(gpu::GpuTimer* timer) {
     std::optional<float> wall;
     if (scene_.column_width) wall = scene_.domain.min.x - 0.5f * scene_.particle_spacing;
     FrameStats stats = reduce_stats(partials, count_, wall, 0.5f * scene_.particle_spacing - scene_.domain.min.y);
-    if (droplet_parent_) stats.droplets = *static_cast<const uint32_t*>(droplet_count_->mapped);
-    if (probes_) probe_frame_ = probes_->collect();
-    if (whitewater_) stats.whitewater = whitewater_->collect();
+    for (SolverStage* stage : stages_) stage->collect(stats);
     stats.time_s = time_;
     if (timer) stats.gpu_ms = timer->totals_ms();
     stats.substeps = recorded_steps_;
@@ -472,30 +418,26 @@ FrameStats PbfSolver::collect_stats(gpu::GpuTimer* timer) {
 }
 
 void PbfSolver::set_measure_droplets(bool on) {
-    if (on == (droplet_parent_ != nullptr)) return;
-    droplet_buffers_.release();
-    droplet_parent_ = droplet_sizes_ = droplet_count_ = nullptr;
+    if (on == (droplets_ != nullptr)) return;
+    detach(droplets_.get());
+    droplets_.reset();
     if (!on) return;
-    droplet_parent_ = &droplet_buffers_.add("droplets.parent", uint64_t(count_) * 4);
-    droplet_sizes_ = &droplet_buffers_.add("droplets.sizes", uint64_t(count_) * 4);
-    droplet_count_ = &droplet_buffers_.add("droplets.count", 4, gpu::MemoryUse::host);
-    if (!droplets_.pipeline()) droplets_ = gpu::ComputePass(*ctx_, {"sim/droplets.comp", 10, sizeof(shader::DropletPush)});
+    droplets_ = std::make_unique<DropletCount>(*ctx_, count_, params_.h2);
+    attach(droplets_.get());
 }
 
 std::vector<gpu::BufferReport> PbfSolver::memory_report() const {
     std::vector<gpu::BufferReport> report = buffers_.report();
-    for (const gpu::BufferReport& b : droplet_buffers_.report()) report.push_back(b);
-    if (probes_)
-        for (const gpu::BufferReport& b : probes_->memory_report()) report.push_back(b);
-    if (whitewater_)
-        for (const gpu::BufferReport& b : whitewater_->memory_report()) report.push_back(b);
+    for (const SolverStage* stage : stages_)
+        for (const gpu::BufferReport& b : stage->memory_report()) report.push_back(b);
     return report;
 }
 
 GridCounts PbfSolver::grid_counts() { return count_grid_work(*ctx_, *grid_, count_); }
 
 std::vector<PassTraffic> PbfSolver::traffic_per_pass() {
-    return step_traffic(grid_counts(), {scene_.solver.iterations, xsph_on_, vorticity_on_});
+    const SolverSettings& s = scene_.solver;
+    return step_traffic(grid_counts(), {s.iterations, s.viscosity > 0.0f || s.vorticity > 0.0f, s.vorticity > 0.0f});
 }
 
 ParticleSnapshot PbfSolver::snapshot() {

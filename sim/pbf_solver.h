@@ -1,7 +1,9 @@
-// The position-based fluid solver on the GPU (Macklin & Mueller 2013). Particle state lives in
-// GPU buffers for the whole run; a step records predict, grid build + reorder, the constraint
-// iterations (the last one with the velocity update), XSPH and vorticity confinement, with
-// nothing read back.
+// The fluid solver on the GPU. Particle state lives in GPU buffers for the whole run; a step
+// records, with nothing read back, the stages before the pressure solve (sim/solver_stage.h:
+// mesh control's force), the moving solids, the pressure solve (sim/pressure_solve.h:
+// position-based fluids, Macklin & Mueller 2013, sim/pbf_pressure.h) and the stages after it
+// (probes, whitewater); a frame ends with the stages' frame passes, the frame grid's sort and
+// the statistics.
 #pragma once
 
 #include <cstdint>
@@ -14,15 +16,18 @@
 
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
-#include "shaders/shared/pbf_layout.h"
+#include "shaders/shared/sim/pbf_layout.h"
 #include "sim/frame_stats.h"
 #include "sim/pbf_traffic.h"
 #include "grid/neighbor_grid.h"
 #include "core/result.h"
 #include "sim/scene.h"
 #include "sim/boundary.h"
-#include "sim/whitewater.h"
+#include "sim/droplets.h"
+#include "sim/pressure_solve.h"
 #include "sim/probes.h"
+#include "sim/solver_stage.h"
+#include "sim/whitewater.h"
 
 namespace aquaform {
 
@@ -57,16 +62,6 @@ struct ParticleSnapshot {
     std::vector<float> density;
 };
 
-/// An acceleration added to the fluid every step, recorded before predict (where gravity is
-/// added): mesh control's driving force. The solver does not own it.
-class StepForce {
-public:
-    virtual ~StepForce() = default;
-    /// Adds dt * a(x) to v for `count` particles (x, v in the solver's current order).
-    virtual void record(VkCommandBuffer cmd, const gpu::Buffer& sim_params, const gpu::Buffer& x, gpu::Buffer& v,
-                        uint32_t count, gpu::GpuTimer* timer) = 0;
-};
-
 class PbfSolver {
 public:
     /// Allocates and uploads the scene's particles. Throws gpu::VulkanError or
@@ -96,7 +91,7 @@ public:
     FrameStats collect_stats(gpu::GpuTimer* timer);
     /// The probes' readings of the frame collect_stats() last collected (the scene's "probes";
     /// empty without them): every step's gauges and sensors, and the loads at the frame's end.
-    const ProbeFrame& probe_frame() const { return probe_frame_; }
+    const ProbeFrame& probe_frame() const { return probes_ ? probes_->frame() : no_probe_frame_; }
     bool has_probes() const { return probes_ != nullptr; }
     /// Statistics of the current state (runs the density and reduction passes).
     FrameStats measure(gpu::GpuTimer* timer);
@@ -104,8 +99,10 @@ public:
     /// Replaces the particle state (tests); sizes must match particle_count().
     void set_state(const std::vector<glm::vec4>& x, const std::vector<glm::vec4>& v);
 
-    /// Adds `force` to every following step (nullptr removes it); it must outlive its use.
-    void set_step_force(StepForce* force) { step_force_ = force; }
+    /// Adds `stage` to every following step, at its place after the stages already there (the
+    /// scene's own come first: probes, whitewater); it must outlive its use or be detached.
+    void attach(SolverStage* stage);
+    void detach(SolverStage* stage);
 
     uint32_t particle_count() const { return count_; }
     gpu::Context& context() const { return *ctx_; }
@@ -122,10 +119,9 @@ public:
     GridCounts grid_counts();
     /// The byte model of one step at that state, per pass in record order (sim/pbf_traffic.h).
     std::vector<PassTraffic> traffic_per_pass();
-    /// The droplet count (FrameStats::droplets) every frame, on the GPU (sim/droplets.comp): the
-    /// connected groups of the frame's neighbour lists at the final positions, so each frame
-    /// then ends with the frame grid's sort whether or not set_frame_grid asked for it. 8 B per
-    /// particle of GPU memory, allocated here. Off by default: only what writes stats.csv asks.
+    /// The droplet count (FrameStats::droplets) every frame (sim/droplets.h): on lists of the
+    /// final positions, so each frame then ends with the frame grid's sort whether or not
+    /// set_frame_grid asked for it. Off by default: only what writes stats.csv asks.
     void set_measure_droplets(bool on);
 
     /// The frame grid, for a renderer that reads the particles in place (SurfaceRenderer::
@@ -142,7 +138,7 @@ public:
     const gpu::Buffer& velocities() const { return *v_; }
     const gpu::Buffer& densities() const { return *density_; }
     const gpu::Buffer& params_buffer() const { return *params_buf_; }
-    /// The solids' maps (static boxes and obstacles) the parameter block's table points into.
+    /// The solids' maps (static boxes and mesh obstacles) the parameter block's table points into.
     const Boundary& boundary() const { return *boundary_; }
     /// The scene's whitewater (nullptr when it has none or it is off).
     Whitewater* whitewater() { return whitewater_.get(); }
@@ -160,9 +156,12 @@ private:
     /// `lists_of_x` (the frame grid: the lists the statistics use at x).
     void record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer, bool lists_of_x = false);
     void record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer);
-    /// One constraint iteration (lambda, then `correct`: correct_ keeps p, correct_last_ updates v and x).
-    void record_iteration(VkCommandBuffer cmd, const gpu::ComputePass& correct, uint32_t iteration, gpu::GpuTimer* timer);
-    void record_droplets(VkCommandBuffer cmd);
+    /// The particle arrays as the pressure solve works on them (its swaps are the solver's).
+    FluidArrays fluid_arrays();
+    /// The stages' view of the fluid as it stands (sim/solver_stage.h), at `time`.
+    StepState fluid_state(double time, gpu::GpuTimer* timer) const;
+    /// Whether a stage measures on lists of the final positions (a frame then ends with their sort).
+    bool stages_measure() const;
     /// Moves the start lattice to rest density where it starts compressed (relax_start in the .cpp).
     void relax_start();
     /// Moves the solids to where they stand at the end of the step about to be recorded.
@@ -183,8 +182,6 @@ private:
     double last_max_speed_ = 0.0;  // the largest speed at the end of the last frame [m/s]
     double last_speed_growth_ = 0.0;  // how much it grew over that frame [m/s]
     double last_max_density_error_ = 0.0;  // its largest density error (substeps_for_compression)
-    bool xsph_on_ = false;
-    bool vorticity_on_ = false;
     bool frame_grid_ = false;
     gpu::BufferSet buffers_;
     gpu::Buffer* params_buf_;
@@ -194,17 +191,17 @@ private:
     std::unique_ptr<Whitewater> whitewater_;
     gpu::Buffer* boundary_nodes_;
     std::unique_ptr<ProbeRecorder> probes_;
+    std::unique_ptr<DropletCount> droplets_;
+    /// Every stage of a step and a frame, in order: the scene's own (probes_, whitewater_,
+    /// droplets_), then those attached.
+    std::vector<SolverStage*> stages_;
     gpu::Buffer* pressure_;  ///< the particles' pressures (with probes; else a stand-in the passes never touch)
-    ProbeFrame probe_frame_;
+    static inline const ProbeFrame no_probe_frame_{};
     uint32_t step_in_frame_ = 0;  ///< the step being recorded within its frame (the probes' slot)
     gpu::Buffer* partials_;  ///< host-visible: the host reduces them after the frame's fence
-    gpu::BufferSet droplet_buffers_;  ///< the droplet count's, when on
-    gpu::Buffer* droplet_parent_ = nullptr;
-    gpu::Buffer* droplet_sizes_ = nullptr;
-    gpu::Buffer* droplet_count_ = nullptr;  ///< host-visible
     std::unique_ptr<NeighborGrid> grid_;
-    StepForce* step_force_ = nullptr;
-    gpu::ComputePass predict_, reorder_, lambda_pass_, correct_, correct_last_, xsph_curl_, vorticity_, stats_, droplets_;
+    std::unique_ptr<PressureSolve> pressure_solve_;
+    gpu::ComputePass reorder_, stats_;
 };
 
 }  // namespace aquaform

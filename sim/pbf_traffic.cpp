@@ -25,26 +25,27 @@ PassTraffic neighbor_pass(const char* name, const GridCounts& c, uint32_t runs, 
 
 std::vector<PassTraffic> step_traffic(const GridCounts& c, const StepShape& shape) {
     const uint64_t n = c.particles;
-    const std::vector<PassTraffic> grid = grid_pass_traffic(c);  // grid_count, grid_scan, grid_scatter, neighbor_lists
+    // sim_grid_count, sim_grid_scan, sim_grid_scatter, sim_neighbor_lists: as the solver's grid times them
+    const std::vector<PassTraffic> grid = grid_pass_traffic(c, "sim_");
     std::vector<PassTraffic> passes;
     // pbf_predict: x and v loaded, v and p stored.
-    passes.push_back(per_particle("predict", n, 16 + 16 + 16 + 16));
+    passes.push_back(per_particle("sim_predict", n, 16 + 16 + 16 + 16));
     passes.insert(passes.end(), grid.begin(), grid.end() - 1);
     // pbf_reorder: order, the gathered x and v (a permutation: each once); x, v, p stored.
-    passes.push_back(per_particle("reorder", n, 4 + 16 + 16 + 3 * 16));
+    passes.push_back(per_particle("sim_reorder", n, 4 + 16 + 16 + 3 * 16));
     passes.push_back(grid.back());
     // pbf_lambda: p_i; each neighbour's p; q = (p, lambda) and density stored.
-    passes.push_back(neighbor_pass("lambda", c, shape.iterations, 16, 0, 16 + 16 + 4));
+    passes.push_back(neighbor_pass("sim_lambda", c, shape.iterations, 16, 0, 16 + 16 + 4));
     // pbf_correct: q_i; each neighbour's q; p stored. The last iteration stores v and x instead
     // of p, having loaded x: 32 B a particle more.
-    PassTraffic correct = neighbor_pass("correct", c, shape.iterations, 16, 0, 16 + 16);
+    PassTraffic correct = neighbor_pass("sim_correct", c, shape.iterations, 16, 0, 16 + 16);
     correct.bytes += 32 * n;
     correct.unique_bytes += 32 * n;
     passes.push_back(correct);
     // pbf_xsph_curl: x_i, v_i; each neighbour's x, density, v; v_out and omega stored.
-    if (shape.xsph) passes.push_back(neighbor_pass("xsph_curl", c, 1, 16 + 4 + 16, 4, 16 + 16 + 16 + 16));
+    if (shape.xsph) passes.push_back(neighbor_pass("sim_xsph_curl", c, 1, 16 + 4 + 16, 4, 16 + 16 + 16 + 16));
     // pbf_vorticity: x_i, omega_i, v loaded and stored; each neighbour's x, density, omega.
-    if (shape.vorticity) passes.push_back(neighbor_pass("vorticity", c, 1, 16 + 4 + 16, 4, 16 + 16 + 16 + 16));
+    if (shape.vorticity) passes.push_back(neighbor_pass("sim_vorticity", c, 1, 16 + 4 + 16, 4, 16 + 16 + 16 + 16));
     return passes;
 }
 

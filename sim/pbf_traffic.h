@@ -1,5 +1,6 @@
 // The byte model of one solver step (grid/grid_traffic.h explains the two figures): every pass
-// record_step records, in its order, with the loads and stores of its shader in shaders/sim/.
+// record_step records, in its order, with the loads and stores of its shader in shaders/sim/; each
+// named as its timer scope (sim_predict, sim_grid_count, ...).
 // The control force (a StepForce the solver does not own) is not modelled.
 #pragma once
 
@@ -12,8 +13,8 @@ namespace aquaform {
 
 /// What decides which passes a step runs and how often.
 struct StepShape {
-    uint32_t iterations = 4;  ///< lambda and correct run once each per iteration
-    bool xsph = true;         ///< xsph_curl (viscosity or vorticity on)
+    uint32_t iterations = 4;  ///< sim_lambda and sim_correct run once each per iteration
+    bool xsph = true;         ///< sim_xsph_curl (viscosity or vorticity on)
     bool vorticity = true;    ///< vorticity confinement
 };
 

@@ -6,7 +6,7 @@
 #include "core/json_fields.h"
 #include "geometry/animation.h"
 #include "geometry/distance_field.h"
-#include "shaders/shared/probe_layout.h"
+#include "shaders/shared/sim/probe_layout.h"
 #include "sim/scene_basics.h"
 
 namespace aquaform {

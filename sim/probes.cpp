@@ -7,6 +7,8 @@
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "grid/neighbor_grid.h"
+#include "gpu/timer.h"
+#include "sim/boundary.h"
 #include "sim/scene.h"
 
 namespace aquaform {
@@ -45,12 +47,12 @@ ProbeRecorder::ProbeRecorder(gpu::Context& ctx, const Scene& scene, const std::v
         params_.gauges[g] = glm::vec4(spec_.gauges[g].x, floor_y_ + 0.25f * scene.particle_spacing, spec_.gauges[g].z, spacing);
     params_.counts = glm::uvec4(uint32_t(spec_.sensors.size()), uint32_t(spec_.gauges.size()), samples_per_gauge_,
                                 uint32_t(solid_names_.size()));
-    probe_params_ = &buffers_.add("probes.params", sizeof(shader::ProbeParams));
+    probe_params_ = &buffers_.add("sim.probes.params", sizeof(shader::ProbeParams));
     gpu::upload(ctx, *probe_params_, &params_, sizeof params_);
     const uint64_t per_step = spec_.sensors.size() + uint64_t(spec_.gauges.size()) * samples_per_gauge_;
-    readings_ = &buffers_.add("probes.readings", std::max<uint64_t>(per_step * max_steps_, 1) * sizeof(float), gpu::MemoryUse::host);
+    readings_ = &buffers_.add("sim.probes.readings", std::max<uint64_t>(per_step * max_steps_, 1) * sizeof(float), gpu::MemoryUse::host);
     const uint64_t count = scene.particle_count();
-    partials_ = &buffers_.add("probes.loads",
+    partials_ = &buffers_.add("sim.probes.loads",
                               std::max<uint64_t>(uint64_t(force_groups(uint32_t(count))) * solid_names_.size() * 2, 1) *
                                   sizeof(glm::vec4),
                               gpu::MemoryUse::host);
@@ -74,11 +76,23 @@ void ProbeRecorder::record_step(VkCommandBuffer cmd, uint32_t slot, double time_
                    {"boundary_nodes", &boundary_nodes}, {"readings", readings_}});
 }
 
+void ProbeRecorder::record_step(VkCommandBuffer cmd, const StepState& fluid) {
+    gpu::GpuScope s(fluid.timer, cmd, "sim_probes");
+    record_step(cmd, fluid.step_in_frame, fluid.time, fluid.params, fluid.x, fluid.pressure, fluid.grid, fluid.boundary_nodes,
+                fluid.count);
+}
+
+void ProbeRecorder::record_frame_end(VkCommandBuffer cmd, const StepState& fluid) {
+    gpu::GpuScope s(fluid.timer, cmd, "sim_probes");
+    record_loads(cmd, fluid.params, fluid.x, fluid.pressure, fluid.boundary_nodes, fluid.count,
+                 fluid.boundary.centres(fluid.time));
+}
+
 void ProbeRecorder::record_loads(VkCommandBuffer cmd, const gpu::Buffer& params, const gpu::Buffer& x,
                                  const gpu::Buffer& pressure, const gpu::Buffer& boundary_nodes, uint32_t count,
                                  const std::vector<glm::vec3>& centres) {
     if (solid_names_.empty()) return;
-    for (size_t o = 0; o < centres.size() && o < PBF_MAX_OBSTACLES; ++o) params_.centres[o] = glm::vec4(centres[o], 0.0f);
+    for (size_t o = 0; o < centres.size() && o < PBF_MAX_SOLIDS; ++o) params_.centres[o] = glm::vec4(centres[o], 0.0f);
     gpu::record_upload(*ctx_, cmd, *probe_params_, &params_, sizeof params_);
     const shader::ProbePush push{0u, count, 0u, 0u};
     gpu::dispatch(*ctx_, cmd, forces_, force_groups(count) * PROBE_FORCE_WORKGROUP, push,

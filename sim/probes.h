@@ -12,8 +12,9 @@
 
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
-#include "shaders/shared/probe_layout.h"
+#include "shaders/shared/sim/probe_layout.h"
 #include "sim/probe_spec.h"
+#include "sim/solver_stage.h"
 #include "sim/scene.h"
 
 namespace aquaform {
@@ -45,7 +46,8 @@ struct ProbeFrame {
 /// floor the height is measured from.
 double gauge_height(const std::vector<float>& samples, float lowest_y, float spacing, float floor_y);
 
-class ProbeRecorder {
+/// A stage after the pressure solve (sim/solver_stage.h): readings every step, loads at a frame's end.
+class ProbeRecorder : public SolverStage {
 public:
     /// `max_steps`: the most steps a frame can take (the solver's max_substeps).
     ProbeRecorder(gpu::Context& ctx, const Scene& scene, const std::vector<std::string>& solid_names, uint32_t max_steps);
@@ -57,11 +59,20 @@ public:
     /// At the end of the frame: the loads on the solids, about `centres` (one per solid).
     void record_loads(VkCommandBuffer cmd, const gpu::Buffer& params, const gpu::Buffer& x, const gpu::Buffer& pressure,
                       const gpu::Buffer& boundary_nodes, uint32_t count, const std::vector<glm::vec3>& centres);
+    std::string pass_name() const override { return "sim_probes"; }
+    /// The step's readings, timed as "sim_probes".
+    void record_step(VkCommandBuffer cmd, const StepState& fluid) override;
+    /// The loads on the solids about their centres at the frame's end, timed as "sim_probes".
+    void record_frame_end(VkCommandBuffer cmd, const StepState& fluid) override;
+    /// Keeps the frame's readings for frame().
+    void collect(FrameStats&) override { frame_ = collect(); }
+    /// The readings of the frame last collected.
+    const ProbeFrame& frame() const { return frame_; }
     /// Once the frame's submission has completed: its steps' readings and loads.
     ProbeFrame collect();
 
     const ProbeSpec& spec() const { return spec_; }
-    std::vector<gpu::BufferReport> memory_report() const { return buffers_.report(); }
+    std::vector<gpu::BufferReport> memory_report() const override { return buffers_.report(); }
 
 private:
     gpu::Context* ctx_;
@@ -73,6 +84,7 @@ private:
     shader::ProbeParams params_{};
     std::vector<double> step_times_;  ///< of the slots recorded this frame
     bool loads_recorded_ = false;
+    ProbeFrame frame_;
     gpu::BufferSet buffers_;
     gpu::Buffer* probe_params_ = nullptr;
     gpu::Buffer* readings_ = nullptr;  ///< host-visible

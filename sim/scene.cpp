@@ -17,7 +17,7 @@
 
 #include "core/json_fields.h"
 #include "sim/obstacles.h"
-#include "shaders/shared/pbf_layout.h"
+#include "shaders/shared/sim/pbf_layout.h"
 
 namespace aquaform {
 namespace {
@@ -279,8 +279,8 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
     if (j.contains("control")) scene.control_json = j["control"].dump();
 
     if (j.contains("static_boxes")) {
-        // The solver keeps its obstacles in a fixed table of its parameter block.
-        check_count(j["static_boxes"], "static_boxes", PBF_MAX_OBSTACLES,
+        // The solver keeps its solids in a fixed table of its parameter block (SimParams.solids).
+        check_count(j["static_boxes"], "static_boxes", PBF_MAX_SOLIDS,
                     "the solver keeps its solids in a fixed table; merge neighbouring boxes");
         scene.static_boxes = read_boxes(j["static_boxes"], "static_boxes", scene.domain);
     }
@@ -328,7 +328,7 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
 
     if (j.contains("obstacles"))
         scene.obstacles = read_obstacles(j["obstacles"], scene, base_dir,
-                                         PBF_MAX_OBSTACLES - scene.static_boxes.size());
+                                         PBF_MAX_SOLIDS - scene.static_boxes.size());
     if (j.contains("probes")) scene.probes = read_probes(j["probes"], scene);
     if (j.contains("whitewater")) scene.whitewater = read_whitewater(j["whitewater"]);
 

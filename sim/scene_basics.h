@@ -44,7 +44,7 @@ struct SceneBasics {
     SolverSettings solver;
     std::vector<Box> static_boxes;   ///< solid boxes inside the domain
     /// Solid obstacles from meshes (sim/obstacles.h); with the static boxes, at most
-    /// PBF_MAX_OBSTACLES solids. Fluid the blocks would start inside one is not started.
+    /// PBF_MAX_SOLIDS solids. Fluid the blocks would start inside one is not started.
     std::vector<ObstacleSpec> obstacles;
 
     float kernel_radius() const { return solver.kernel_radius_factor * particle_spacing; }

@@ -7,12 +7,13 @@
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "grid/neighbor_grid.h"
+#include "gpu/timer.h"
 #include "sim/boundary.h"
 #include "sim/scene.h"
 
 namespace aquaform {
 
-Whitewater::Whitewater(gpu::Context& ctx, const Scene& scene, uint32_t fluid_particles, bool obstacles)
+Whitewater::Whitewater(gpu::Context& ctx, const Scene& scene, uint32_t fluid_particles, bool solids)
     : ctx_(&ctx), buffers_(ctx) {
     const WhitewaterSettings s = scene.whitewater.value_or(WhitewaterSettings{});
     capacity_ = whitewater_capacity(s, fluid_particles, ctx.info().device_local_bytes);
@@ -23,22 +24,31 @@ Whitewater::Whitewater(gpu::Context& ctx, const Scene& scene, uint32_t fluid_par
     params_.kinds = glm::uvec4(s.spray_below, s.bubble_above, capacity_, 0u);
 
     const uint64_t n = std::max<uint64_t>(fluid_particles, 1);
-    params_buf_ = &buffers_.add("whitewater.params", sizeof(shader::WhitewaterParams));
-    counters_ = &buffers_.add("whitewater.counters", WW_COUNTERS * sizeof(uint32_t), gpu::MemoryUse::host);
-    groups_ = &buffers_.add("whitewater.groups", 4 * sizeof(uint32_t));
-    normals_ = &buffers_.add("whitewater.normals", n * 16);
-    potentials_ = &buffers_.add("whitewater.potentials", n * 16);
+    params_buf_ = &buffers_.add("sim.whitewater.params", sizeof(shader::WhitewaterParams));
+    counters_ = &buffers_.add("sim.whitewater.counters", WW_COUNTERS * sizeof(uint32_t), gpu::MemoryUse::host);
+    groups_ = &buffers_.add("sim.whitewater.groups", 4 * sizeof(uint32_t));
+    normals_ = &buffers_.add("sim.whitewater.normals", n * 16);
+    potentials_ = &buffers_.add("sim.whitewater.potentials", n * 16);
     for (int g = 0; g < 2; ++g) {
-        pool_x_[g] = &buffers_.add("whitewater.x" + std::to_string(g), uint64_t(capacity_) * 16);
-        pool_v_[g] = &buffers_.add("whitewater.v" + std::to_string(g), uint64_t(capacity_) * 16);
+        pool_x_[g] = &buffers_.add("sim.whitewater.x" + std::to_string(g), uint64_t(capacity_) * 16);
+        pool_v_[g] = &buffers_.add("sim.whitewater.v" + std::to_string(g), uint64_t(capacity_) * 16);
     }
     std::memset(counters_->mapped, 0, WW_COUNTERS * sizeof(uint32_t));
 
     const uint32_t local = gpu::kDefaultLocalSize;
     args_ = gpu::ComputePass(ctx, {"sim/whitewater_args.comp", 3, sizeof(shader::WhitewaterPush), 1, {local}});
     normals_pass_ = gpu::ComputePass(ctx, {"sim/whitewater_normals.comp", 8, sizeof(shader::CountPush)});
-    emit_ = gpu::ComputePass(ctx, {"sim/whitewater_emit.comp", 15, sizeof(shader::WhitewaterPush), local, solid_constants({}, obstacles)});
-    advect_ = gpu::ComputePass(ctx, {"sim/whitewater_advect.comp", 12, 0, local, solid_constants({}, obstacles)});
+    emit_ = gpu::ComputePass(ctx, {"sim/whitewater_emit.comp", 15, sizeof(shader::WhitewaterPush), local, solid_constants({}, solids)});
+    advect_ = gpu::ComputePass(ctx, {"sim/whitewater_advect.comp", 12, 0, local, solid_constants({}, solids)});
+}
+
+std::string Whitewater::pass_name() const {
+    return "sim_whitewater (spray, foam, bubbles: up to " + std::to_string(capacity_) + ")";
+}
+
+void Whitewater::record_step(VkCommandBuffer cmd, const StepState& fluid) {
+    gpu::GpuScope s(fluid.timer, cmd, "sim_whitewater");
+    record_step(cmd, fluid.params, fluid.x, fluid.v, fluid.grid, fluid.boundary_nodes, fluid.count);
 }
 
 void Whitewater::record_step(VkCommandBuffer cmd, const gpu::Buffer& sim_params, const gpu::Buffer& x, const gpu::Buffer& v,
@@ -81,10 +91,10 @@ WhitewaterCounts Whitewater::collect() {
     return counts;
 }
 
-DiffuseSnapshot Whitewater::snapshot() {
+WhitewaterSnapshot Whitewater::snapshot() {
     ctx_->wait_queue_idle();
     const uint32_t live = std::min(static_cast<const uint32_t*>(counters_->mapped)[WW_NEXT], capacity_);
-    DiffuseSnapshot s;
+    WhitewaterSnapshot s;
     s.x.resize(live);
     s.v.resize(live);
     if (live) {
@@ -101,7 +111,7 @@ DiffuseSnapshot Whitewater::snapshot() {
     std::vector<uint32_t> order(live);
     for (uint32_t i = 0; i < live; ++i) order[i] = i;
     std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return bits(a) < bits(b); });
-    DiffuseSnapshot sorted;
+    WhitewaterSnapshot sorted;
     sorted.x.reserve(live);
     sorted.v.reserve(live);
     for (uint32_t i : order) sorted.x.push_back(s.x[i]), sorted.v.push_back(s.v[i]);

@@ -1,6 +1,6 @@
 // Whitewater on the GPU (the scene's "whitewater" key, sim/whitewater_spec.h): spray, foam and
-// bubbles as diffuse particles of their own, made from the flow each solver step after Ihmsen
-// et al. 2012 (the potentials and motion: shaders/shared/whitewater_layout.h). They live in a
+// bubbles as particles of their own, made from the flow each solver step after Ihmsen
+// et al. 2012 (the potentials and motion: shaders/shared/sim/whitewater_layout.h). They live in a
 // pool of fixed capacity on the GPU, two generations that swap each step: a step advects the live
 // ones into the other generation (dropping those whose life ran out), then the fluid appends what
 // it emits. The counts stay on the GPU (an indirect dispatch follows them) and reach the host
@@ -14,8 +14,9 @@
 
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
-#include "shaders/shared/whitewater_layout.h"
+#include "shaders/shared/sim/whitewater_layout.h"
 #include "sim/frame_stats.h"
+#include "sim/solver_stage.h"
 #include "sim/whitewater_spec.h"
 
 namespace aquaform {
@@ -23,18 +24,24 @@ namespace aquaform {
 struct Scene;
 class NeighborGrid;
 
-/// The diffuse particles as read back (tests, exports): position, life left, velocity, kind.
-struct DiffuseSnapshot {
+/// The whitewater particles as read back (tests, exports): position, life left, velocity, kind.
+struct WhitewaterSnapshot {
     std::vector<glm::vec4> x;  ///< xyz [m]; w: life left [s]
     std::vector<glm::vec4> v;  ///< xyz [m/s]; w: kind (WHITEWATER_SPRAY, _FOAM, _BUBBLE)
 };
 
-class Whitewater {
+/// A stage after the pressure solve (sim/solver_stage.h): the pool follows the fluid every step.
+class Whitewater : public SolverStage {
 public:
     /// `fluid_particles`: the solver's count (the potentials' buffers and the pool's size follow
-    /// it); `obstacles`: whether the scene has solids besides the walls.
-    Whitewater(gpu::Context& ctx, const Scene& scene, uint32_t fluid_particles, bool obstacles);
+    /// it); `solids`: whether the scene has solids besides the walls.
+    Whitewater(gpu::Context& ctx, const Scene& scene, uint32_t fluid_particles, bool solids);
 
+    std::string pass_name() const override;
+    /// The step's passes, timed as "sim_whitewater".
+    void record_step(VkCommandBuffer cmd, const StepState& fluid) override;
+    /// FrameStats::whitewater.
+    void collect(FrameStats& stats) override { stats.whitewater = collect(); }
     /// After a solver step of `dt` (the fluid's x, v final; the grid and lists of the step).
     void record_step(VkCommandBuffer cmd, const gpu::Buffer& sim_params, const gpu::Buffer& x, const gpu::Buffer& v,
                      const NeighborGrid& grid, const gpu::Buffer& boundary_nodes, uint32_t count);
@@ -48,15 +55,15 @@ public:
     const gpu::Buffer& positions(int generation) const { return *pool_x_[generation]; }
     const gpu::Buffer& velocities(int generation) const { return *pool_v_[generation]; }
     const gpu::Buffer& counters() const { return *counters_; }
-    /// Reads the live diffuse particles back (waits for the device), in an order of their own
+    /// Reads the live whitewater particles back (waits for the device), in an order of their own
     /// values: the pool's slots go to whichever invocation's atomicAdd comes first, so the same
     /// particles sit in other slots from run to run; sorted, two runs write the same files.
-    DiffuseSnapshot snapshot();
+    WhitewaterSnapshot snapshot();
     /// The last step's potentials per fluid particle, in the solver's order: (I_ta, I_wc, I_k,
     /// particles emitted). Reads back (waits for the device).
     std::vector<glm::vec4> potentials();
     const shader::WhitewaterParams& params() const { return params_; }
-    std::vector<gpu::BufferReport> memory_report() const { return buffers_.report(); }
+    std::vector<gpu::BufferReport> memory_report() const override { return buffers_.report(); }
 
 private:
     gpu::Context* ctx_;

@@ -44,7 +44,7 @@ WhitewaterSettings read_whitewater(const json& v) {
     if (v.contains("wave_crest")) s.wave_crest = read_range(v["wave_crest"], "whitewater.wave_crest", "(curvature)");
     if (v.contains("kinetic_energy")) s.kinetic_energy = read_range(v["kinetic_energy"], "whitewater.kinetic_energy", "(J/kg)");
     if (v.contains("lifetime")) s.lifetime = read_range(v["lifetime"], "whitewater.lifetime", "(s)");
-    const Range rate{0.0, 1e9, false, false, "a number of diffuse particles a second, from 0"};
+    const Range rate{0.0, 1e9, false, false, "a number of whitewater particles a second, from 0"};
     if (v.contains("k_trapped_air")) s.k_trapped_air = read_number(v["k_trapped_air"], "whitewater.k_trapped_air", rate);
     if (v.contains("k_wave_crest")) s.k_wave_crest = read_number(v["k_wave_crest"], "whitewater.k_wave_crest", rate);
     if (v.contains("spray_below")) s.spray_below = read_integer(v["spray_below"], "whitewater.spray_below", 0, 1000);

@@ -1,6 +1,6 @@
-// A scene's whitewater (its "whitewater" key): the settings of the diffuse particles that
+// A scene's whitewater (its "whitewater" key): the settings of the particles that
 // sim/whitewater.h makes from the flow (spray, foam and bubbles; Ihmsen et al. 2012, whose
-// potentials, thresholds and motion shaders/shared/whitewater_layout.h writes out).
+// potentials, thresholds and motion shaders/shared/sim/whitewater_layout.h writes out).
 #pragma once
 
 #include <cstdint>
@@ -14,14 +14,14 @@ struct SceneBasics;
 
 struct WhitewaterSettings {
     bool enabled = true;
-    /// Most diffuse particles alive at once; 0: sized from the fluid and the device
+    /// Most whitewater particles alive at once; 0: sized from the fluid and the device
     /// (whitewater_capacity). Particles that do not fit are counted (stats.csv), not made.
     uint32_t capacity = 0;
     glm::vec2 trapped_air{5.0f, 20.0f};   ///< Phi_ta's thresholds [m/s] (Ihmsen et al.: 5-20)
     glm::vec2 wave_crest{2.0f, 8.0f};     ///< Phi_wc's thresholds (Ihmsen et al.: 2-8)
     glm::vec2 kinetic_energy{1.0f, 8.0f};  ///< Phi_k's thresholds [J/kg]: from 1.4 to 4 m/s
-    float k_trapped_air = 2000.0f;        ///< diffuse particles a second at Phi_ta = 1 (Ihmsen et al.: 4000)
-    float k_wave_crest = 20000.0f;        ///< diffuse particles a second at Phi_wc = 1 (Ihmsen et al.: 50000)
+    float k_trapped_air = 2000.0f;        ///< whitewater particles a second at Phi_ta = 1 (Ihmsen et al.: 4000)
+    float k_wave_crest = 20000.0f;        ///< whitewater particles a second at Phi_wc = 1 (Ihmsen et al.: 50000)
     glm::vec2 lifetime{2.0f, 5.0f};       ///< each particle's life is drawn from this range [s]
     uint32_t spray_below = 6;             ///< fluid neighbours within h: fewer is spray
     uint32_t bubble_above = 20;           ///< more is a bubble; between is foam
@@ -38,7 +38,7 @@ struct WhitewaterSettings {
 /// the key, the value and the fix.
 WhitewaterSettings read_whitewater(const nlohmann::json& v);
 
-/// The pool's size for `fluid_particles` when the settings leave it to aquaform: four diffuse
+/// The pool's size for `fluid_particles` when the settings leave it to aquaform: four whitewater
 /// particles a fluid particle, at least 65,536, within a sixteenth of `device_bytes` (the pool
 /// takes 64 bytes a particle: two generations of position and velocity).
 uint32_t whitewater_capacity(const WhitewaterSettings& settings, uint64_t fluid_particles, uint64_t device_bytes);

@@ -10,13 +10,13 @@
 #include <tuple>
 
 #include "core/format_text.h"
-#include "study/bench_frames.h"
-#include "study/bench_scenes.h"
-#include "study/render_measure.h"
+#include "bench/bench_frames.h"
+#include "bench/bench_scenes.h"
+#include "bench/render_measure.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
-#include "render/image_io.h"
-#include "render/image_metrics.h"
+#include "pictures/image_io.h"
+#include "render/surface_metrics.h"
 #include "render/metaball_renderer.h"
 #include "render/registry.h"
 #include "render/surface_settings.h"
@@ -197,7 +197,6 @@ private:
     Renderer& renderer(const MethodSettings& settings, uint32_t w, uint32_t h) {
         auto& r = renderers_[{render_registry().find(settings.method())->family, w, h}];  // the spec checked the name
         if (!r) r = render_registry().create(ctx_, scene_.particle_domain(), w, h, particles(), settings);
-        session_->hand_frame(*r);
         return *r;
     }
 
@@ -205,7 +204,7 @@ private:
     /// times and what went wrong: lists that overflowed, loops the device ended early.
     RenderMeasurement measure_method(const MethodSettings& settings, uint32_t w, uint32_t h, uint32_t repeats, StudyRow* row) {
         RenderMeasurement m =
-            measure_render(ctx_, renderer(settings, w, h), solver_->positions(), particles(), camera_, settings, repeats);
+            measure_render(ctx_, renderer(settings, w, h), session_->frame_input(), camera_, settings, repeats);
         if (row) {
             row->ms_total = m.ms_total;
             row->ms_per_pass = m.ms_per_pass;
@@ -331,7 +330,7 @@ private:
         auto it = metaball_references_.find(size);
         if (it != metaball_references_.end()) return &it->second;
         Renderer* r = &roomy(kDefaultListBytesPerPixel, size);
-        SurfaceFrame frame = r->render(solver_->positions(), particles(), camera_);
+        SurfaceFrame frame = r->render(session_->frame_input(), camera_);
         RenderStats stats = r->stats();
         if (stats.list_overflow) {
             const uint64_t pixels = uint64_t(width_) * height_;
@@ -341,7 +340,7 @@ private:
                 return nullptr;
             }
             r = &roomy(uint32_t(per_pixel), size);
-            frame = r->render(solver_->positions(), particles(), camera_);
+            frame = r->render(session_->frame_input(), camera_);
             stats = r->stats();
         }
         if (stats.cut) metaball_reference_cut_[size] = stats.cut;

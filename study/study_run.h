@@ -33,7 +33,7 @@ struct StudyRow {
     std::map<std::string, double> ms_per_pass;
     // Against the reference; empty when there is none (the reference itself, a failed run).
     std::optional<double> depth_err_mean, depth_err_p95, normal_err_deg_mean, coverage_mismatch, psnr_db;
-    /// Smoothness (render/image_metrics.h, surface_roughness): rms normal deviation [deg] over the
+    /// Smoothness (render/surface_metrics.h, surface_roughness): rms normal deviation [deg] over the
     /// regions the reference shows flat; the reference row has its own (the SPH field's bumps).
     std::optional<double> roughness_deg;
     double overflow_mib = 0.0;  ///< list memory the frame needed, when the lists overflowed

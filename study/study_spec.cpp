@@ -11,7 +11,7 @@
 
 #include "core/file_name.h"
 #include "core/json_fields.h"
-#include "study/bench_frames.h"
+#include "bench/bench_frames.h"
 #include "sim/scene.h"
 #include "render/registry.h"
 #include "render/surface_settings.h"
@@ -332,7 +332,7 @@ Result<StudySpec> parse_study_spec(const std::string& text, const std::string& o
 
 Result<bool> set_particle_count(StudySpec& spec, uint64_t particles) {
     for (StudyCase& c : spec.cases) {
-        if (c.scene == "dam_break") {  // sized by its count (study/bench_scenes.h)
+        if (c.scene == "dam_break") {  // sized by its count (bench/bench_scenes.h)
             c.particles = {uint32_t(particles)};
             continue;
         }

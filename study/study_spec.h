@@ -78,7 +78,7 @@ struct StudyCase {
     std::string name;
     std::string scene = "dam_break";        ///< "dam_break" or a scene file path (resolved)
     /// Particle counts: the generated dam break's (default 4096), or a scene file scaled to each
-    /// (scaled_scene in study/bench_frames.h; empty: the file's own particles).
+    /// (scaled_scene in bench/bench_frames.h; empty: the file's own particles).
     std::vector<uint32_t> particles;
     std::optional<double> time_s;           ///< empty: half_tank
     StudyCamera camera;

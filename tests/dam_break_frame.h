@@ -28,7 +28,7 @@ protected:
     }
     /// The frame with `settings`.
     SurfaceFrame render(const SurfaceSettings& settings) {
-        return renderer->render(solver->positions(), solver->particle_count(), camera, settings);
+        return renderer->render({solver->positions(), solver->particle_count()}, camera, settings);
     }
 
     static constexpr uint32_t w = W, h = H;

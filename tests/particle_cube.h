@@ -35,7 +35,7 @@ struct CubeScene {
           renderer(ctx, scene.particle_domain(), size, size, particles.count),
           camera(camera_for_domain(scene.domain, 1.0f)) {}
     SurfaceFrame render(const SurfaceSettings& settings) {
-        return renderer.render(particles.buffer, particles.count, camera, settings);
+        return renderer.render({particles.buffer, particles.count}, camera, settings);
     }
 };
 

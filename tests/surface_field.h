@@ -7,9 +7,9 @@
 #include <glm/glm.hpp>
 
 #include "render/surface_renderer.h"
-#include "shaders/shared/anisotropy.h"
-#include "shaders/shared/render_kernels.h"
-#include "shaders/shared/surface_layout.h"
+#include "shaders/shared/render/anisotropy.h"
+#include "shaders/shared/render/render_kernels.h"
+#include "shaders/shared/render/surface_layout.h"
 
 namespace aquaform::testing {
 

@@ -14,9 +14,9 @@
 #include <random>
 #include <vector>
 
-#include "render/image_metrics.h"
+#include "render/surface_metrics.h"
 #include "render/surface_renderer.h"
-#include "study/surface_checks.h"
+#include "bench/surface_checks.h"
 #include "tests/gpu_test.h"
 
 namespace aquaform {
@@ -38,7 +38,7 @@ protected:
                         uint32_t size = 128) {
         DeviceParticles device(ctx(), particles);
         SurfaceRenderer renderer(ctx(), scene.particle_domain(), size, size, device.count);
-        SurfaceFrame frame = renderer.render(device.buffer, device.count, camera, settings);
+        SurfaceFrame frame = renderer.render({device.buffer, device.count}, camera, settings);
         EXPECT_EQ(renderer.cut_rays(), 0u);
         return frame;
     }
@@ -106,7 +106,7 @@ TEST_F(AnisotropicSurfaceTest, AStillBlocksFacesAreFlatAndUnstriped) {
     camera.fov_y_degrees = 24.0f;
     DeviceParticles device(ctx(), block);
     SurfaceRenderer renderer(ctx(), scene.particle_domain(), 160, 160, device.count);
-    const SurfaceFrame frame = renderer.render(device.buffer, device.count, camera, reference(SurfaceKernel::anisotropic));
+    const SurfaceFrame frame = renderer.render({device.buffer, device.count}, camera, reference(SurfaceKernel::anisotropic));
     const std::vector<float> thickness = renderer.thickness();
     // The front face (normal +z): its pixels' normals against +z, and its thickness column by column.
     double sum2 = 0.0;

@@ -1,4 +1,4 @@
-// Particle classification (Wu et al. 4.2) with the Yu-Turk shapes of shaders/shared/anisotropy.h:
+// Particle classification (Wu et al. 4.2) with the Yu-Turk shapes of shaders/shared/render/anisotropy.h:
 // the eigen-solver, the shapes of typical neighbourhoods, the kernel, a CPU classification of a
 // lattice slab that re-measures the densities behind the documented defaults, and the two GPU
 // passes (render/classify_shape.comp, render/classify_density.comp) against that CPU reference.
@@ -16,9 +16,9 @@
 #include "gpu/compute_pass.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
-#include "shaders/shared/anisotropy.h"
-#include "shaders/shared/render_kernels.h"
-#include "shaders/shared/surface_layout.h"
+#include "shaders/shared/render/anisotropy.h"
+#include "shaders/shared/render/render_kernels.h"
+#include "shaders/shared/render/surface_layout.h"
 #include "grid/neighbor_grid.h"
 #include "tests/gpu_test.h"
 

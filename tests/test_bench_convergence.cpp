@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "study/bench_convergence.h"
+#include "bench/bench_convergence.h"
 #include "tests/cli_helpers.h"
 
 namespace {

@@ -1,4 +1,4 @@
-// study/bench_frame.h and `aquaform bench frame`: what a displayed frame costs, checked on a small
+// bench/bench_frame.h and `aquaform bench frame`: what a displayed frame costs, checked on a small
 // dam break; and `aquaform view --headless`, the viewer's loop with no display.
 #include <gtest/gtest.h>
 
@@ -10,8 +10,8 @@
 
 #include "session/simulation_session.h"
 #include "sim/pbf_solver.h"
-#include "study/bench_frame.h"
-#include "study/bench_scenes.h"
+#include "bench/bench_frame.h"
+#include "bench/bench_scenes.h"
 #include "tests/cli_helpers.h"
 #include "tests/gpu_test.h"
 
@@ -53,7 +53,7 @@ TEST_F(BenchFrameTest, TimesWholeFramesAtTheRulesStepsWithEveryPartOnTheGpu) {
     EXPECT_GT(r.gpu_solver_ms, 0.0);
     EXPECT_GT(r.gpu_reconstruction_ms, 0.0);
     EXPECT_GT(r.gpu_compose_ms, 0.0);
-    for (const char* pass : {"lambda", "frame_grid", "render_march", study::kComposePass})
+    for (const char* pass : {"sim_lambda", "sim_frame_grid", "render_march", study::kComposePass})
         EXPECT_TRUE(r.ms_per_pass.count(pass)) << pass;
     EXPECT_DOUBLE_EQ(r.ms_per_pass.at(study::kComposePass), r.gpu_compose_ms);
     double sum = 0.0;

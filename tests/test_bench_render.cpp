@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "study/bench_render.h"
+#include "bench/bench_render.h"
 #include "tests/cli_helpers.h"
 
 namespace {

@@ -1,4 +1,4 @@
-// study/bench_sim.h: what `aquaform bench sim` measures, checked on a small dam break; and the
+// bench/bench_sim.h: what `aquaform bench sim` measures, checked on a small dam break; and the
 // byte model beside its times (grid/grid_traffic.h, sim/pbf_traffic.h), checked against the
 // passes a step records and the lists it fills.
 #include <cmath>
@@ -7,8 +7,8 @@
 
 #include "gpu/timer.h"
 #include "sim/pbf_solver.h"
-#include "study/bench_scenes.h"
-#include "study/bench_sim.h"
+#include "bench/bench_scenes.h"
+#include "bench/bench_sim.h"
 #include "tests/gpu_test.h"
 
 namespace aquaform {
@@ -32,7 +32,7 @@ TEST_F(BenchSimTest, MeasuresTheSolverOnADamBreakOfTheAskedSize) {
         search += r.ms_per_pass.at(pass);
     }
     EXPECT_NEAR(r.neighbor_search_ms, search, 1e-9);
-    EXPECT_GT(r.ms_per_pass.at("lambda"), 0.0);
+    EXPECT_GT(r.ms_per_pass.at("sim_lambda"), 0.0);
     EXPECT_LT(r.neighbor_search_ms, r.ms_per_step);
     EXPECT_GT(r.grid_cells, 0u);
     EXPECT_GT(r.gpu_bytes_per_particle, 100.0);  // positions, velocities, grid entries, neighbour lists...
@@ -90,12 +90,12 @@ TEST(TrafficModel, ALambdaVisitLoadsItsListGroupAndTheNeighboursPosition) {
     // density stored (16 + 4 B); per list group 16 B; per listed neighbour its position (16 B),
     // which the pass reads at its own particle too, so adds nothing unique.
     const GridCounts c = synthetic_counts(1);
-    const PassTraffic& lambda = pass(step_traffic(c, {1, true, true}), "lambda");
+    const PassTraffic& lambda = pass(step_traffic(c, {1, true, true}), "sim_lambda");
     EXPECT_EQ(lambda.bytes, 1000u * (4 + 16 + 16 + 4) + 8000u * 16 + 30000u * 16);
     EXPECT_EQ(lambda.unique_bytes, 1000u * (4 + 16 + 16 + 4) + 8000u * 16);
     EXPECT_EQ(lambda.neighbor_visits, 30000u);
     // The list fill loads every candidate's position and stores the groups.
-    const PassTraffic& lists = pass(step_traffic(c, {1, true, true}), "neighbor_lists");
+    const PassTraffic& lists = pass(step_traffic(c, {1, true, true}), "sim_neighbor_lists");
     EXPECT_GE(lists.bytes, 150000u * 16 + 8000u * 16);
     EXPECT_EQ(lists.neighbor_visits, 150000u);
 }
@@ -112,7 +112,7 @@ TEST(TrafficModel, ScalesWithTheStateAndSumsToItsTotal) {
         unique += one[i].unique_bytes;
         // Twice the particles, cells and entries: twice the bytes (but for cell_start's one entry
         // past the cells, and the scan's block sums, which round).
-        const double tolerance = one[i].name == "grid_scan" ? 0.01 : 1e-3;
+        const double tolerance = one[i].name == "sim_grid_scan" ? 0.01 : 1e-3;
         EXPECT_NEAR(double(two[i].bytes) / double(one[i].bytes), 2.0, tolerance) << one[i].name;
         EXPECT_NEAR(double(two[i].unique_bytes) / double(one[i].unique_bytes), 2.0, tolerance) << one[i].name;
     }
@@ -123,7 +123,7 @@ TEST(TrafficModel, ScalesWithTheStateAndSumsToItsTotal) {
     fuller.list_entries *= 2;
     const std::vector<PassTraffic> more = step_traffic(fuller, {4, true, true});
     for (size_t i = 0; i < one.size(); ++i)
-        EXPECT_EQ(more[i].bytes > one[i].bytes, one[i].neighbor_visits > 0 && one[i].name != "neighbor_lists") << one[i].name;
+        EXPECT_EQ(more[i].bytes > one[i].bytes, one[i].neighbor_visits > 0 && one[i].name != "sim_neighbor_lists") << one[i].name;
 }
 
 TEST(TrafficModel, TheConstraintPassesRunOncePerIteration) {
@@ -131,17 +131,17 @@ TEST(TrafficModel, TheConstraintPassesRunOncePerIteration) {
     const std::vector<PassTraffic> eight = step_traffic(synthetic_counts(1), {8, true, true});
     ASSERT_EQ(four.size(), eight.size());
     for (size_t i = 0; i < four.size(); ++i) {
-        const bool constraint = four[i].name == "lambda" || four[i].name == "correct";
+        const bool constraint = four[i].name == "sim_lambda" || four[i].name == "sim_correct";
         EXPECT_EQ(four[i].runs, constraint ? 4u : 1u) << four[i].name;
         // The last correction's velocity update (loads x, stores v and x for p) comes once a step.
-        const uint64_t update = four[i].name == "correct" ? 32u * 1000 : 0;
+        const uint64_t update = four[i].name == "sim_correct" ? 32u * 1000 : 0;
         EXPECT_EQ(eight[i].bytes - update, (four[i].bytes - update) * (constraint ? 2 : 1)) << four[i].name;
         EXPECT_EQ(eight[i].unique_bytes - update, (four[i].unique_bytes - update) * (constraint ? 2 : 1)) << four[i].name;
     }
     // Passes a scene turns off are not modelled.
     std::set<std::string> names;
     for (const PassTraffic& p : step_traffic(synthetic_counts(1), {4, false, false})) names.insert(p.name);
-    EXPECT_FALSE(names.count("xsph_curl") || names.count("vorticity"));
+    EXPECT_FALSE(names.count("sim_xsph_curl") || names.count("sim_vorticity"));
     EXPECT_EQ(names.size(), four.size() - 2);
 }
 
@@ -223,9 +223,9 @@ TEST_F(BenchSimTest, TheModelFollowsTheStepsPassesAndTheListsItFills) {
     const std::vector<PassTraffic> model = solver.traffic_per_pass();
     for (const PassTraffic& p : model) modelled.insert(p.name);
     EXPECT_EQ(timed, modelled);
-    EXPECT_EQ(model.front().name, "predict");
-    EXPECT_EQ(pass(model, "lambda").runs, 2u);
-    EXPECT_EQ(pass(model, "lambda").neighbor_visits, 2 * solver.grid_counts().visits());
+    EXPECT_EQ(model.front().name, "sim_predict");
+    EXPECT_EQ(pass(model, "sim_lambda").runs, 2u);
+    EXPECT_EQ(pass(model, "sim_lambda").neighbor_visits, 2 * solver.grid_counts().visits());
 }
 
 TEST(BenchSimExponent, IsTheSlopeOfLogTimeAgainstLogParticles) {

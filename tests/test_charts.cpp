@@ -4,7 +4,7 @@
 #include <cmath>
 #include <regex>
 
-#include "render/svg_chart.h"
+#include "pictures/svg_chart.h"
 #include "sim/dam_break_reference.h"
 
 namespace aquaform {

@@ -18,7 +18,7 @@
 #include "geometry/mesh.h"
 #include "geometry/primitives.h"
 #include "render/picture_size.h"
-#include "study/bench_frame.h"
+#include "bench/bench_frame.h"
 #include "tests/cli_helpers.h"
 
 namespace aquaform {
@@ -282,9 +282,9 @@ TEST(Cli, RunWritesFramesStatsFrontAndDumps) {
                              " --ply-every 2 --resolution 160x90");
     ASSERT_EQ(o.exit_code, 0) << o.output;
     // The start-up report: passes and the memory of every buffer.
-    EXPECT_NE(o.output.find("passes: predict"), std::string::npos) << o.output;
-    EXPECT_NE(o.output.find("particles.x"), std::string::npos) << o.output;
-    EXPECT_NE(o.output.find("grid.cell_start"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("passes: sim_predict"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("sim.density"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("sim.grid.cell_start"), std::string::npos) << o.output;
     for (int f = 0; f < 3; ++f) {
         char name[32];
         std::snprintf(name, sizeof name, "frame_%04d.png", f);
@@ -303,7 +303,7 @@ TEST(Cli, RunWritesFramesStatsFrontAndDumps) {
     std::string header, line;
     std::getline(stats, header);
     for (const char* col : {"time_s", "density_err_mean", "density_err_max", "kinetic_energy_j", "max_speed_mps",
-                            "particles", "outside", "gpu_ms_lambda", "gpu_ms_grid_count"})
+                            "particles", "outside", "gpu_ms_sim_lambda", "gpu_ms_sim_grid_count"})
         EXPECT_NE(header.find(col), std::string::npos) << col << " missing from " << header;
     int rows = 0;
     while (std::getline(stats, line)) ++rows;
@@ -384,9 +384,9 @@ TEST(Cli, BenchSimWritesItsRecords) {
                                 "gpu_bytes_per_particle"})
             EXPECT_TRUE(r.contains(key)) << key;
         EXPECT_GT(r["ms_per_step"].get<double>(), 0.0);
-        EXPECT_TRUE(r["ms_per_pass"].contains("lambda"));
+        EXPECT_TRUE(r["ms_per_pass"].contains("sim_lambda"));
         // The byte model beside the times (its checks: test_bench_sim.cpp).
-        EXPECT_TRUE(r["bytes_per_pass"].contains("lambda"));
+        EXPECT_TRUE(r["bytes_per_pass"].contains("sim_lambda"));
         EXPECT_GT(r["memory_floor_ms"].get<double>(), 0.0);
         // The budget: 160 B per particle besides the neighbour lists (4 B per entry, the trade
         // the README's "Neighbour search" states).

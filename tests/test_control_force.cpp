@@ -18,7 +18,7 @@
 #include "sim/pbf_params.h"
 #include "session/simulation_session.h"
 #include "sim/pbf_solver.h"
-#include "study/bench_control.h"
+#include "bench/bench_control.h"
 #include "tests/gpu_test.h"
 
 namespace aquaform::control {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "gpu/context.h"
-#include "render/image_metrics.h"
+#include "render/surface_metrics.h"
 #include "render/surface_renderer.h"
 #include "tests/cli_helpers.h"
 #include "tests/gpu_test.h"

@@ -1,6 +1,6 @@
 // Distance fields of meshes and boxes, and the density maps (Koschier & Bender 2017) integrated
 // over them, against closed forms: the analytic box distance, the walls' half-space integral
-// (shaders/shared/pbf_physics.h) and the kernel's integral over a ball.
+// (shaders/shared/sim/pbf_physics.h) and the kernel's integral over a ball.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -13,8 +13,8 @@
 #include "core/error.h"
 #include "geometry/boundary_map.h"
 #include "geometry/distance_field.h"
-#include "shaders/shared/pbf_physics.h"
-#include "shaders/shared/sph_kernels.h"
+#include "shaders/shared/core/sph_kernels.h"
+#include "shaders/shared/sim/pbf_physics.h"
 
 namespace {
 

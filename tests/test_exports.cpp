@@ -261,7 +261,7 @@ TEST_F(ExportCapture, FrameVolumeIsTheSamplersVolumeAlsoWhenTheLatticeOutgrowsIt
         options.every[size_t(FrameExport::mesh)] = with_mesh ? 1 : 0;
         FrameExports exports(dir, options);
         FrameCapturer capturer(ctx(), exports, solver, scene.particle_domain(), SurfaceSettings{});
-        ctx().submit_and_wait([&](VkCommandBuffer cmd) { capturer.record(cmd, 0, nullptr, nullptr); });
+        ctx().submit_and_wait([&](VkCommandBuffer cmd) { capturer.record(cmd, 0, {solver.positions(), solver.particle_count()}, nullptr); });
         gpu::GpuTimer timer(ctx());
         FrameStats stats;
         const FrameCapture capture = capturer.collect(0, timer, stats);

@@ -58,11 +58,11 @@ TEST(FlagFuzz, HostileValuesOfExportAndBenchFlagsAreRefusedInOneLineOrRun) {
                                "\"methods\": [{\"method\": \"uniform\"}]}]}");
     const std::vector<FlagCommand> commands = {
         {{"run", scene, "--particles", "600", "--frames", "2", "--resolution", "64x48", "--vtk-every", "1", "--ply-every",
-          "1", "--vdb-every", "1", "--mesh-every", "1", "--mesh-format", "obj", "--camera", "auto", "--whitewater", "on", "--diffuse-every", "1", "--diffuse-format", "ply",
+          "1", "--vdb-every", "1", "--mesh-every", "1", "--mesh-format", "obj", "--camera", "auto", "--whitewater", "on", "--whitewater-every", "1", "--whitewater-format", "ply",
           "--out", out},
          {"--particles", "--frames", "--resolution", "--vtk-every", "--ply-every", "--vdb-every", "--mesh-every",
-          "--mesh-format", "--camera", "--video", "--step", "--spray", "--surface", "--whitewater", "--diffuse-every",
-          "--diffuse-format"}},
+          "--mesh-format", "--camera", "--video", "--step", "--spray", "--surface", "--whitewater", "--whitewater-every",
+          "--whitewater-format"}},
         {{"render", scene, "--particles", "600", "--frame", "1", "--resolution", "64x48", "--method", "uniform", "--out", out},
          {"--particles", "--frame", "--resolution", "--method", "--max-steps", "--refine", "--centre-smoothing"}},
         {{"bench", "sim", "--sizes", "600", "--steps", "2", "--repeats", "1", "--warmup", "1", "--iterations", "2", "--out",

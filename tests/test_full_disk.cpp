@@ -22,8 +22,8 @@
 #include <openvdb/openvdb.h>
 
 #include "core/file_write.h"
-#include "render/image_io.h"
-#include "render/video.h"
+#include "pictures/image_io.h"
+#include "pictures/video.h"
 #include "tests/cli_helpers.h"
 
 namespace aquaform {

@@ -19,7 +19,7 @@ class GpuTimerTest : public testing::GpuTest {};
 /// One adaptive frame of the cube, recorded inside an outer "frame" scope.
 void record_framed(testing::CubeScene& cube, gpu::GpuTimer& timer, VkCommandBuffer cmd) {
     gpu::GpuScope frame(&timer, cmd, "frame");
-    cube.renderer.record(cmd, cube.particles.buffer, cube.particles.count, cube.camera, SurfaceSettings{}, &timer);
+    cube.renderer.record(cmd, {cube.particles.buffer, cube.particles.count}, cube.camera, SurfaceSettings{}, &timer);
 }
 
 TEST_F(GpuTimerTest, EveryPassStartsOnlyOnceTheWorkBeforeItHasEnded) {

@@ -17,8 +17,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/error.h"
-#include "render/image_io.h"
-#include "render/image_metrics.h"
+#include "pictures/image_io.h"
+#include "pictures/image_metrics.h"
+#include "render/surface_metrics.h"
 
 namespace aquaform {
 namespace {

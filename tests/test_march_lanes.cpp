@@ -9,7 +9,7 @@
 
 #include "core/error.h"
 #include "gpu/context.h"
-#include "render/image_metrics.h"
+#include "render/surface_metrics.h"
 #include "render/surface_renderer.h"
 #include "sim/pbf_solver.h"
 #include "tests/dam_break_frame.h"

@@ -13,7 +13,7 @@
 #include "gpu/context.h"
 #include "gpu/timer.h"
 #include "render/metaball_renderer.h"
-#include "render/image_metrics.h"
+#include "render/surface_metrics.h"
 #include "render/surface_settings.h"
 #include "tests/gpu_test.h"
 
@@ -98,7 +98,7 @@ TEST_F(MetaballTest, ListsHoldExactlyTheParticlesWhoseBillboardsCoverEachPixel) 
     for (MetaballMethod method : {MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
         MetaballSettings settings;
         settings.method = method;
-        renderer.render(particles.buffer, particles.count, camera, settings);
+        renderer.render({particles.buffer, particles.count}, camera, settings);
         const auto lists = renderer.pixel_lists();
         const MetaballStats stats = renderer.stats();
         EXPECT_FALSE(stats.overflow) << method_name(method);
@@ -129,7 +129,7 @@ TEST_F(MetaballTest, BruteForceAbufferAndSbufferFindTheSameSurface) {
     for (MetaballMethod method : {MetaballMethod::brute_force, MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
         MetaballSettings settings;
         settings.method = method;
-        frames.push_back(renderer.render(particles.buffer, particles.count, front_camera(), settings));
+        frames.push_back(renderer.render({particles.buffer, particles.count}, front_camera(), settings));
         visits.push_back(renderer.stats().kernel_evaluations);
     }
     // Agreement per pixel: both miss, or both hit within `tolerance` of each other.
@@ -169,7 +169,7 @@ TEST_F(MetaballTest, BruteForceOverTheWorkBudgetIsSplitAndDrawsTheSameFrame) {
         const uint64_t saved = ctx().info().dispatch_work_budget;
         ctx().override_dispatch_work_budget(budget);
         gpu::GpuTimer timer(ctx());
-        frame = renderer.render(particles.buffer, particles.count, front_camera(), settings, &timer);
+        frame = renderer.render({particles.buffer, particles.count}, front_camera(), settings, &timer);
         ctx().override_dispatch_work_budget(saved);
         return timer.recorded_stamps().size() / 2;
     };
@@ -202,7 +202,7 @@ TEST_F(MetaballTest, LoneBallIsASphereOfHalfItsRange) {
             settings.method = method;
             settings.size = size;
             settings.bisection_steps = 8;
-            const SurfaceFrame frame = renderer.render(particles.buffer, particles.count, camera, settings);
+            const SurfaceFrame frame = renderer.render({particles.buffer, particles.count}, camera, settings);
             const float expected = 0.5f * metaball_radius(settings, scene.particle_domain());
             const float tolerance = renderer.params().step / 256.0f + 1e-5f;
             size_t hits = 0;
@@ -232,10 +232,10 @@ TEST_F(MetaballTest, ListOverflowIsDetectedAndReportedWithTheMemoryItNeeds) {
     for (MetaballMethod method : {MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
         MetaballSettings settings;
         settings.method = method;
-        roomy.render(particles.buffer, particles.count, front_camera(), settings);
+        roomy.render({particles.buffer, particles.count}, front_camera(), settings);
         const MetaballStats full = roomy.stats();
         ASSERT_FALSE(full.overflow);
-        renderer.render(particles.buffer, particles.count, front_camera(), settings);
+        renderer.render({particles.buffer, particles.count}, front_camera(), settings);
         const MetaballStats stats = renderer.stats();
         EXPECT_TRUE(stats.overflow) << method_name(method);
         EXPECT_EQ(stats.list_capacity, small_bytes / list_entry_bytes(method));
@@ -272,27 +272,27 @@ TEST_F(MetaballTest, ParticlesAtTheEyePlaneAreCountedAsDroppedFromTheLists) {
     for (MetaballMethod method : {MetaballMethod::a_buffer, MetaballMethod::s_buffer, MetaballMethod::brute_force}) {
         MetaballSettings settings;
         settings.method = method;
-        renderer.render(particles.buffer, particles.count, close, settings);
+        renderer.render({particles.buffer, particles.count}, close, settings);
         const MetaballStats stats = renderer.stats();
         EXPECT_EQ(stats.dropped_particles, method == MetaballMethod::brute_force ? 0u : expected) << method_name(method);
         if (method != MetaballMethod::brute_force) {
             EXPECT_NE(stats.describe().find("reach the eye plane"), std::string::npos) << stats.describe();
         }
-        renderer.render(particles.buffer, particles.count, front_camera(), settings);
+        renderer.render({particles.buffer, particles.count}, front_camera(), settings);
         EXPECT_EQ(renderer.stats().dropped_particles, 0u) << method_name(method) << " from afar";
     }
     // Kept in the near list, the lists' surface is brute force's again; dropped, it is not.
     MetaballSettings brute;
     brute.method = MetaballMethod::brute_force;
-    const SurfaceFrame truth = renderer.render(particles.buffer, particles.count, close, brute);
+    const SurfaceFrame truth = renderer.render({particles.buffer, particles.count}, close, brute);
     const float radius = 0.5f * kSpacing;
     for (MetaballMethod method : {MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
         MetaballSettings settings;
         settings.method = method;
         const SurfaceComparison dropped =
-            compare_surfaces(truth, renderer.render(particles.buffer, particles.count, close, settings), radius);
+            compare_surfaces(truth, renderer.render({particles.buffer, particles.count}, close, settings), radius);
         settings.keep_near = true;
-        const SurfaceFrame kept_frame = renderer.render(particles.buffer, particles.count, close, settings);
+        const SurfaceFrame kept_frame = renderer.render({particles.buffer, particles.count}, close, settings);
         EXPECT_TRUE(renderer.stats().near_kept);
         EXPECT_NE(renderer.stats().describe().find("near list"), std::string::npos) << renderer.stats().describe();
         const SurfaceComparison kept = compare_surfaces(truth, kept_frame, radius);
@@ -312,7 +312,7 @@ TEST_F(MetaballTest, RealVisualStaysFiniteAndDeeperRecursionCostsMore) {
         MetaballSettings settings;
         settings.visual = MetaballVisual::real;
         settings.recursion_depth = depth;
-        const SurfaceFrame frame = renderer.render(particles.buffer, particles.count, front_camera(), settings);
+        const SurfaceFrame frame = renderer.render({particles.buffer, particles.count}, front_camera(), settings);
         for (const auto& n : frame.normal) ASSERT_TRUE(std::isfinite(n.x) && std::isfinite(n.w));
         evaluations.push_back(renderer.stats().field_evaluations);
         images.push_back(frame.color);
@@ -322,7 +322,7 @@ TEST_F(MetaballTest, RealVisualStaysFiniteAndDeeperRecursionCostsMore) {
     EXPECT_NE(images[0].rgba, images[1].rgba) << "a second bounce should change the picture";
     // A gradient image of the same frame differs from the real one (a different visual).
     MetaballSettings gradient;
-    const SurfaceFrame g = renderer.render(particles.buffer, particles.count, front_camera(), gradient);
+    const SurfaceFrame g = renderer.render({particles.buffer, particles.count}, front_camera(), gradient);
     EXPECT_NE(g.color.rgba, images[0].rgba);
 }
 
@@ -345,7 +345,7 @@ TEST_F(MetaballTest, BoundsPassFindsTheParticlesBoxOverManyWorkgroups) {
     MetaballRenderer renderer(ctx(), scene.particle_domain(), 32, 32, particles.count);
     MetaballSettings settings;
     settings.method = MetaballMethod::brute_force;
-    renderer.render(particles.buffer, particles.count, front_camera(), settings);
+    renderer.render({particles.buffer, particles.count}, front_camera(), settings);
     const Box found = renderer.particle_bounds();
     for (int a = 0; a < 3; ++a) {
         EXPECT_EQ(found.min[a], expected.min[a]) << "axis " << a;  // min and max are exact
@@ -402,11 +402,11 @@ TEST_F(MetaballTest, LoopsTheDeviceEndsEarlyAreReportedNotDrawnSilently) {
     MetaballRenderer renderer(ctx(), scene.particle_domain(), 16, 16, particles.count, 1u << 20);
     MetaballSettings settings;
     settings.method = MetaballMethod::s_buffer;
-    const SurfaceFrame lists = renderer.render(particles.buffer, particles.count, camera, settings);
+    const SurfaceFrame lists = renderer.render({particles.buffer, particles.count}, camera, settings);
     EXPECT_EQ(renderer.stats().cut_pixels, 0u) << "short lists stay within any budget";
     ASSERT_FALSE(renderer.stats().overflow) << renderer.stats().describe();
     settings.method = MetaballMethod::brute_force;
-    const SurfaceFrame brute = renderer.render(particles.buffer, particles.count, camera, settings);
+    const SurfaceFrame brute = renderer.render({particles.buffer, particles.count}, camera, settings);
     const MetaballStats stats = renderer.stats();
     if (ctx().info().type == VK_PHYSICAL_DEVICE_TYPE_CPU) {
         EXPECT_GT(stats.cut_pixels, 0u) << "llvmpipe ends loops after 65535 iterations per invocation";
@@ -427,12 +427,12 @@ TEST_F(MetaballTest, BruteForceAndTheListsSampleTheSamePointsOfARay) {
     MetaballRenderer renderer(ctx(), scene.particle_domain(), 16, 16, particles.count);
     MetaballSettings settings;
     settings.method = MetaballMethod::brute_force;
-    const SurfaceFrame brute = renderer.render(particles.buffer, particles.count, camera, settings);
+    const SurfaceFrame brute = renderer.render({particles.buffer, particles.count}, camera, settings);
     ASSERT_EQ(renderer.stats().cut_pixels, 0u) << renderer.stats().describe();
     size_t surfaces = 0;
     for (MetaballMethod method : {MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
         settings.method = method;
-        const SurfaceFrame lists = renderer.render(particles.buffer, particles.count, camera, settings);
+        const SurfaceFrame lists = renderer.render({particles.buffer, particles.count}, camera, settings);
         ASSERT_EQ(renderer.stats().cut_pixels, 0u) << method_name(method);
         ASSERT_FALSE(renderer.stats().overflow) << renderer.stats().describe();
         surfaces += expect_same_surface(brute, lists, method_name(method));
@@ -447,7 +447,7 @@ TEST_F(MetaballTest, EmptyFrameHasNoSurface) {
     for (MetaballMethod method : {MetaballMethod::brute_force, MetaballMethod::a_buffer, MetaballMethod::s_buffer}) {
         MetaballSettings settings;
         settings.method = method;
-        const SurfaceFrame frame = renderer.render(particles.buffer, 0, front_camera(), settings);
+        const SurfaceFrame frame = renderer.render({particles.buffer, 0}, front_camera(), settings);
         for (size_t i = 0; i < frame.hit.size(); ++i) ASSERT_FALSE(frame.has_surface(i)) << method_name(method);
         EXPECT_EQ(renderer.stats().list_entries, 0u);
     }

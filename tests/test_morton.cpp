@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <random>
 
-#include "shaders/shared/morton.h"
+#include "shaders/shared/grid/morton.h"
 #include "grid/neighbor_grid.h"
 
 namespace aquaform {

@@ -10,7 +10,7 @@
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
-#include "shaders/shared/morton.h"
+#include "shaders/shared/grid/morton.h"
 #include "grid/neighbor_grid.h"
 #include "sim/pbf_reference.h"
 #include "tests/gpu_test.h"
@@ -75,7 +75,7 @@ protected:
         gpu::upload(ctx(), pos, r.sorted.data(), n * sizeof(glm::vec4));
         ctx().submit_and_wait([&](VkCommandBuffer cmd) { grid.record_neighbor_lists(cmd, pos, n, kCell, nullptr); });
         r.counts = gpu::download_vector<uint32_t>(ctx(), grid.neighbor_count(), n);
-        // Entries 4g..4g+3 of particle i sit at uvec4 g * n + i (shared/grid_layout.h).
+        // Entries 4g..4g+3 of particle i sit at uvec4 g * n + i (shared/grid/grid_layout.h).
         const auto entries = gpu::download_vector<uint32_t>(ctx(), grid.neighbors(), uint64_t(n) * capacity);
         r.lists.resize(n);
         for (uint32_t i = 0; i < n; ++i)

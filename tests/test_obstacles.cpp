@@ -389,6 +389,7 @@ TEST(ObstacleRun, RunWritesEverySolidAsItStandsTheProbesAndSaysWhatFluidItDidNot
 }  // namespace aquaform
 
 #include "render/registry.h"
+#include "render/solids_view.h"
 
 namespace aquaform {
 namespace {
@@ -416,17 +417,17 @@ TEST_F(ObstacleTest, EveryMethodDrawsAMeshObstacleAndTheFluidInFrontOfItHidesIt)
                         dir);
     ASSERT_EQ(scene.obstacles.size(), 2u);
     PbfSolver solver(ctx(), scene);
-    SolidsView solids{&solver.boundary_nodes(), {solver.params().obstacles, solver.params().obstacles + 2}};
+    SolidsView solids{&solver.boundary_nodes(), {solver.params().solids, solver.params().solids + 2}};
     const ViewCamera camera = testing::tank_front_camera();
     const uint32_t width = testing::kTankPictureWidth;
     testing::for_each_method(ctx(), scene, solver.particle_count(), [&](Renderer& r, const MethodEntry&) {
-        r.set_solids(&solids);
-        const SurfaceFrame frame = r.render(solver.positions(), solver.particle_count(), camera);
+        FrameInput frame_input(solver.positions(), solver.particle_count());
+        frame_input.solids = &solids;
+        const SurfaceFrame frame = r.render(frame_input, camera);
         const size_t left = warm_pixels(frame.color, 0, width / 2), right = warm_pixels(frame.color, width / 2, width);
         EXPECT_GT(left, 40u) << "the left ball is drawn";
         EXPECT_LT(right, left / 3) << "the water hides most of the right ball";
-        r.set_solids(nullptr);
-        const SurfaceFrame without = r.render(solver.positions(), solver.particle_count(), camera);
+        const SurfaceFrame without = r.render({solver.positions(), solver.particle_count()}, camera);
         EXPECT_LT(warm_pixels(without.color, 0, width / 2), 5u) << "without the obstacles nothing warm is drawn";
     });
 }
@@ -434,7 +435,7 @@ TEST_F(ObstacleTest, EveryMethodDrawsAMeshObstacleAndTheFluidInFrontOfItHidesIt)
 }  // namespace
 }  // namespace aquaform
 
-#include "render/image_io.h"
+#include "pictures/image_io.h"
 
 namespace aquaform {
 namespace {

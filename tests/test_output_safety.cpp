@@ -224,7 +224,7 @@ TEST(OutputSafety, NoTextAUserGivesIsAFormat) {
     const fs::path scene = write_file(root / ("scene" + odd + ".json"), scene_text("rock"));
     const fs::path out = root / ("out" + odd);
     const test_cli::Outcome o = test_cli::run_aquaform("run '" + scene.string() + "' --no-png --vtk-every 1 --mesh-every 2 "
-                                                       "--diffuse-every 1 --out '" + out.string() + "'");
+                                                       "--whitewater-every 1 --out '" + out.string() + "'");
     ASSERT_EQ(o.exit_code, 0) << o.output;
     EXPECT_NE(o.output.find(odd), std::string::npos) << "the scene's name printed as it is: " << o.output;
     EXPECT_EQ(nlohmann::json::parse(read_file(out / "run.json"))["name"], odd);

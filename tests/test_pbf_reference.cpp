@@ -95,7 +95,7 @@ TEST_F(PbfReferenceTest, MemoryPlanMatchesWhatTheSolverAllocates) {
         const bool planned = std::any_of(plan.value().buffers.begin(), plan.value().buffers.end(),
                                          [&](const auto& p) { return p.name == b.name; });
         // The scan's per-level block sums are a few bytes per thousand cells; the plan omits them.
-        EXPECT_TRUE(planned || b.name.rfind("grid.scan_sums", 0) == 0) << b.name << " is allocated but not planned";
+        EXPECT_TRUE(planned || b.name.rfind("sim.grid.scan_sums", 0) == 0) << b.name << " is allocated but not planned";
     }
 }
 
@@ -199,7 +199,7 @@ TEST(PbfWalls, StaticBoxAcrossTheDepthPushesOutSidewaysNeverThroughAWall) {
     auto boundary = Boundary::build(scene);
     ASSERT_TRUE(boundary.ok()) << boundary.error();
     boundary.value().write_params(p, 0.0);
-    const float wall = p.domain_min.w, m = 0.9f * p.obstacle_margin;
+    const float wall = p.domain_min.w, m = 0.9f * p.solid_margin;
     const Box& box = scene.static_boxes[0];
     // Inside the box, nearest to the back wall (z = 0), then to the floor: the exits are the box's
     // sides and top.

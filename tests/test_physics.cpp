@@ -215,7 +215,7 @@ TEST(MemoryPlan, SceneTooLargeForTheDeviceIsRefusedBeforeAllocation) {
     small.max_texel_buffer_bytes = 2ull << 30;  // the 4 GiB neighbour lists are read as texels
     fits = check_fits(scene, plan.value(), small);
     ASSERT_FALSE(fits.ok());
-    EXPECT_NE(fits.error().find("grid.neighbors"), std::string::npos) << fits.error();
+    EXPECT_NE(fits.error().find("sim.grid.neighbors"), std::string::npos) << fits.error();
     small.max_texel_buffer_bytes = 4ull << 30;
     EXPECT_TRUE(check_fits(scene, plan.value(), small).ok());
 
@@ -247,7 +247,7 @@ TEST(MemoryPlan, NeighbourListsAreJudgedByTheTexelLimitSoAMillionFitsTheSoftware
     lavapipe.max_texel_buffer_bytes = lavapipe.max_storage_buffer_bytes;  // as if the lists were storage buffers
     const auto refused = check_fits(scene, plan.value(), lavapipe);
     ASSERT_FALSE(refused.ok());
-    EXPECT_NE(refused.error().find("grid.neighbors"), std::string::npos) << refused.error();
+    EXPECT_NE(refused.error().find("sim.grid.neighbors"), std::string::npos) << refused.error();
 }
 
 TEST(MemoryPlan, BytesPerParticleAndCellStayWithinBudget) {

@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <set>
 #include <tuple>
+#include <vector>
 
 #include "core/error.h"
 #include "geometry/inside.h"
@@ -15,7 +17,7 @@
 #include "control/raster_placement.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
-#include "shaders/shared/raster_layout.h"
+#include "shaders/shared/control/raster_layout.h"
 #include "tests/cli_helpers.h"
 #include "tests/gpu_test.h"
 
@@ -190,6 +192,58 @@ TEST_F(RasterTest, FullPointBufferReportsTheDroppedPoints) {
     EXPECT_EQ(again.dropped_points, 0u);
 }
 
+// The points the GPU leaves in RasterPlacer::points() feed sums on the GPU (the control force of an
+// animated mesh, which never sorts them), so their order must be a function of the input: each
+// column writes at its offset in a prefix sum, not at a slot an atomic handed out in whatever
+// order the threads ran. Several placements, with another mesh in between, give the same bytes,
+// in column order (lattice row j, column i, then z up).
+TEST_F(RasterTest, GpuPointsAreInColumnOrderOnEveryRun) {
+    const std::vector<glm::vec3> torus = make_torus(1.0f, 0.4f, 32, 16).triangle_soup();
+    const std::vector<glm::vec3> other = make_sphere(0.7f, 3).triangle_soup();
+    // Enough columns (~20000, 300 workgroups) that a device's threads run side by side.
+    const float spacing = 0.02f;
+    const glm::vec3 origin = centred_lattice_origin(bounds_of(torus), spacing);
+    RasterPlacer placer(ctx(), 16, 500000, 16);  // triangles and pixels grow on the first placement
+    const auto place = [&](RasterPlacer& p, const std::vector<glm::vec3>& triangles, RasterStats* stats = nullptr) {
+        const RasterStats s = p.place_on_gpu(triangles, spacing, origin, 2.0f);
+        if (stats) *stats = s;
+        return gpu::download_vector<glm::vec4>(ctx(), p.points(), s.points);
+    };
+    RasterStats stats;
+    const std::vector<glm::vec4> first = place(placer, torus, &stats);
+    expect_clean(stats);
+    ASSERT_GT(first.size(), 300000u);
+    using Key = std::tuple<int, int, int>;  // (j, i, k): column order
+    const auto key = [&](const glm::vec4& point) {
+        const glm::ivec3 k = glm::ivec3(glm::round((glm::vec3(point) - origin) / spacing));
+        return Key(k.y, k.x, k.z);
+    };
+    for (size_t i = 0; i < first.size(); ++i) {
+        ASSERT_EQ(first[i].w, 2.0f);
+        if (i > 0) {
+            ASSERT_LT(key(first[i - 1]), key(first[i])) << "point " << i << " is out of column order";
+        }
+    }
+    // A device may well run the threads in order now and then: many tries make a wrong order show.
+    for (int run = 1; run < 16; ++run) {
+        SCOPED_TRACE(run);
+        place(placer, other);
+        const std::vector<glm::vec4> again = place(placer, torus);
+        ASSERT_EQ(again.size(), first.size());
+        EXPECT_EQ(std::memcmp(again.data(), first.data(), first.size() * sizeof(glm::vec4)), 0)
+            << "the point buffer differs from the first placement's";
+    }
+    // A short buffer keeps the first columns' points, the same ones every time.
+    RasterPlacer small(ctx(), 16, 1000, 16);
+    for (int run = 0; run < 2; ++run) {
+        RasterStats short_stats;
+        const std::vector<glm::vec4> kept = place(small, torus, &short_stats);
+        ASSERT_EQ(short_stats.points, 1000u);
+        EXPECT_EQ(size_t(short_stats.points) + short_stats.dropped_points, first.size());
+        EXPECT_EQ(std::memcmp(kept.data(), first.data(), kept.size() * sizeof(glm::vec4)), 0);
+    }
+}
+
 TEST_F(RasterTest, RejectsBadInputClearly) {
     RasterPlacer placer(ctx(), 16, 16, 16);
     const std::vector<glm::vec3> sphere = make_sphere(1.0f, 1).triangle_soup();
@@ -219,6 +273,27 @@ TEST(RasterCli, ControlPlaceWithTheRasterMethod) {
     ASSERT_NE(at, std::string::npos);
     // About the ball's volume over spacing^3 (~524), as for --method inside.
     EXPECT_NEAR(double(std::strtol(ply.c_str() + at + 15, nullptr, 10)), 523.6, 0.1 * 523.6);
+    fs::remove_all(dir);
+}
+
+// The animated control mesh of character_walk is placed on the GPU every frame and its points go
+// straight into the control force: two runs of the scene must write the same bytes. Frame 0
+// agreed before the fix too (the rest pose is placed once and sorted on the host); the walk's
+// later frames followed the order the GPU threads ran in. Before the fix this failed about every
+// second time on llvmpipe (GpuPointsAreInColumnOrderOnEveryRun is the sharper check).
+TEST(RasterCli, AnimatedControlMeshRunsWriteTheSameBytes) {
+    namespace fs = std::filesystem;
+    const fs::path dir = test_cli::temp_dir("raster_walk");
+    const std::string scene = std::string(AQUAFORM_SOURCE_DIR) + "/assets/scenes/character_walk.json";
+    std::vector<std::string> frames;
+    for (int run = 0; run < 3; ++run) {
+        const fs::path out = dir / ("run" + std::to_string(run));
+        const test_cli::Outcome o = test_cli::run_aquaform("run " + scene + " --frames 3 --particles 10000 --no-png --ply-every 1 --out " + out.string());
+        ASSERT_EQ(o.exit_code, 0) << o.output;
+        frames.push_back(test_cli::read_file(out / "particles_0001.ply") + test_cli::read_file(out / "particles_0002.ply"));
+        ASSERT_GT(frames.back().size(), 1000u);
+        EXPECT_TRUE(frames.back() == frames.front()) << "run " << run << " wrote other frames 1-2 than run 0";
+    }
     fs::remove_all(dir);
 }
 

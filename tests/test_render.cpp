@@ -18,7 +18,7 @@
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
-#include "render/image_io.h"
+#include "pictures/image_io.h"
 #include "render/impostor_view.h"
 #include "tests/gpu_test.h"
 

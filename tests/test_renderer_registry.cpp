@@ -58,7 +58,7 @@ TEST_F(RendererRegistryTest, EveryMethodDrawsTheBlockWhereItIs) {
         ASSERT_EQ(r->method(), entry.name);
         EXPECT_EQ(r->width(), size);
         EXPECT_FALSE(r->memory_report().empty());
-        const SurfaceFrame frame = r->render(buffer.buffer, buffer.count, camera);
+        const SurfaceFrame frame = r->render({buffer.buffer, buffer.count}, camera);
         size_t covered = 0, outside = 0;
         for (size_t p = 0; p < frame.hit.size(); ++p) {
             if (!frame.has_surface(p)) continue;

@@ -16,7 +16,7 @@
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
-#include "render/image_metrics.h"
+#include "render/surface_metrics.h"
 #include "render/screen_space.h"
 #include "render/surface_renderer.h"
 #include "tests/gpu_test.h"
@@ -248,7 +248,7 @@ void expect_matches_cpu_reference(gpu::Context& ctx, const ScreenSpaceSettings& 
     const MixedView view;
     Particles particles(ctx, mixed_scene(view.scene.particle_spacing));
     ScreenSpaceRenderer renderer(ctx, view.scene.particle_domain(), 112, 96, particles.count);
-    renderer.render(particles.buffer, particles.count, view.camera, settings);
+    renderer.render({particles.buffer, particles.count}, view.camera, settings);
     const auto raw = renderer.raw_depth();
     const auto gpu = renderer.filtered_depth();
     const ScreenSpaceParams& f = renderer.filter_params();
@@ -348,7 +348,7 @@ TEST_F(ScreenSpaceTest, EachFilterFlattensAJitteredSlabAndStaysNearItsSurface) {
     // Inner pixels: their ray meets the surface plane more than 3 spacings inside the slab's edges.
     std::vector<bool> inner;
     {
-        renderer.render(particles.buffer, particles.count, camera, ScreenSpaceSettings{});
+        renderer.render({particles.buffer, particles.count}, camera, ScreenSpaceSettings{});
         const auto& p = renderer.params();
         const float depth = camera.eye.y - surface;
         const float margin = 3.0f * spacing;
@@ -374,7 +374,7 @@ TEST_F(ScreenSpaceTest, EachFilterFlattensAJitteredSlabAndStaysNearItsSurface) {
             ScreenSpaceSettings settings;
             settings.filter = filter;
             settings.sprite_radius = c.sprite_radius;
-            renderer.render(particles.buffer, particles.count, camera, settings);
+            renderer.render({particles.buffer, particles.count}, camera, settings);
             const DepthStats before = height_stats(renderer.raw_depth(), inner, camera.eye.y, surface, r);
             const DepthStats after = height_stats(renderer.filtered_depth(), inner, camera.eye.y, surface, r);
             const std::string name = std::string(filter_name(filter)) + ", sprites of " + std::to_string(c.sprite_radius);
@@ -460,7 +460,7 @@ TEST_F(ScreenSpaceTest, NarrowRangeKeepsAStepBetweenTwoLayersSharp) {
     settings.sprite_radius = 1.5f;
     for (ScreenSpaceFilter filter : {ScreenSpaceFilter::narrow_range, ScreenSpaceFilter::bilateral}) {
         settings.filter = filter;
-        renderer.render(particles.buffer, particles.count, camera, settings);
+        renderer.render({particles.buffer, particles.count}, camera, settings);
         const StepProfile p = step_profile(renderer.raw_depth(), renderer.filtered_depth(), w, h, split, r, max_k);
         const ScreenSpaceParams& f = renderer.filter_params();
         const float front_depth = camera.eye.y - (back_top + step);
@@ -507,7 +507,7 @@ TEST_F(ScreenSpaceTest, FrameFollowsSurfaceFrameAndIsMeasuredAgainstTheReference
     // The sprites approximate the particles' spheres, the isotropic field's surface (the
     // anisotropic one lies up to a radius inside a slab's faces: its centres are smoothed inwards).
     exhaustive.surface = SurfaceKernel::isotropic;
-    const SurfaceFrame reference = marcher.render(particles.buffer, particles.count, camera, exhaustive);
+    const SurfaceFrame reference = marcher.render({particles.buffer, particles.count}, camera, exhaustive);
     ScreenSpaceRenderer renderer(ctx(), scene.particle_domain(), w, h, particles.count);
     gpu::GpuTimer timer(ctx());
     // Stated tolerances. Sprites of 1 radius lie about 2 radii behind the reference's iso-surface
@@ -521,7 +521,7 @@ TEST_F(ScreenSpaceTest, FrameFollowsSurfaceFrameAndIsMeasuredAgainstTheReference
         ScreenSpaceSettings settings;
         settings.filter = filter;
         settings.sprite_radius = c.sprite_radius;
-        const SurfaceFrame frame = renderer.render(particles.buffer, particles.count, camera, settings, &timer);
+        const SurfaceFrame frame = renderer.render({particles.buffer, particles.count}, camera, settings, &timer);
         const std::string label = std::string(filter_name(filter)) + ", sprites of " + std::to_string(c.sprite_radius);
         const char* name = label.c_str();
         ASSERT_EQ(frame.width, w);
@@ -627,8 +627,8 @@ TEST_F(ScreenSpaceTest, RecordRefusesInvalidSettingsAndTooManyParticles) {
     const ViewCamera camera = camera_for_domain(scene.domain, 1.0f);
     ScreenSpaceSettings bad;
     bad.flow_iterations = 0;
-    EXPECT_THROW(renderer.render(particles.buffer, 1, camera, bad), Failure);
-    EXPECT_THROW(renderer.render(particles.buffer, 2, camera, ScreenSpaceSettings{}), Failure);
+    EXPECT_THROW(renderer.render({particles.buffer, 1}, camera, bad), Failure);
+    EXPECT_THROW(renderer.render({particles.buffer, 2}, camera, ScreenSpaceSettings{}), Failure);
     EXPECT_THROW(ScreenSpaceRenderer(ctx(), scene.particle_domain(), 8, 32, 1), Failure);
 }
 

@@ -15,7 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "render/image_io.h"
+#include "pictures/image_io.h"
 #include "render/picture_size.h"
 #include "tests/cli_helpers.h"
 

@@ -149,9 +149,9 @@ TEST_F(SessionTest, AFrameKeptInFlightWithItsRenderMatchesTheFrameRunThenRendere
     const gpu::Buffer& color = host.add("test.color", VkDeviceSize(w) * h * 4, gpu::MemoryUse::host);
     for (int frame = 0; frame < 3; ++frame) {
         const FrameReport a = apart->run_frame(nullptr);
-        const Image image = apart_renderer->render(apart->solver().positions(), apart->solver().particle_count(), camera).color;
+        const Image image = apart_renderer->render({apart->solver().positions(), apart->solver().particle_count()}, camera).color;
         const gpu::Submission in_flight = together->submit_frame(nullptr, [&](VkCommandBuffer cmd) {
-            together_renderer->record(cmd, together->solver().positions(), together->solver().particle_count(), camera, nullptr);
+            together_renderer->record(cmd, {together->solver().positions(), together->solver().particle_count()}, camera, nullptr);
             gpu::record_download(ctx(), cmd, together_renderer->color_buffer(), color, color.size);
         });
         const FrameReport b = together->finish_frame(in_flight, nullptr);
@@ -266,7 +266,7 @@ TEST_F(SessionTest, AMeshDroppedAsAnObstacleTakesOutTheFluidInsideItAndKeepsTheR
     EXPECT_LT(added.value().removed, uint64_t(expected_out) * 13 / 10) << "only the fluid inside the mesh goes";
     EXPECT_EQ(sim.solver().particle_count(), before.x.size() - added.value().removed);
     EXPECT_EQ(sim.scene().obstacles.size(), 1u);
-    EXPECT_NE(sim.solids(), nullptr) << "renderers are handed the new solid";
+    EXPECT_NE(sim.frame_input().solids, nullptr) << "renderers are handed the new solid";
 
     // The survivors continue from where they were, in their order.
     std::vector<glm::vec4> kept;
@@ -298,7 +298,7 @@ TEST_F(SessionTest, AMeshDroppedAsAnObstacleTakesOutTheFluidInsideItAndKeepsTheR
 
     EXPECT_TRUE(sim.remove_added_obstacles());
     EXPECT_TRUE(sim.scene().obstacles.empty());
-    EXPECT_EQ(sim.solids(), nullptr);
+    EXPECT_EQ(sim.frame_input().solids, nullptr);
     EXPECT_EQ(sim.solver().particle_count(), count) << "the fluid continues; what was taken out stays out";
     EXPECT_FALSE(sim.remove_added_obstacles()) << "nothing left to remove";
 }

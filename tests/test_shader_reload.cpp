@@ -68,7 +68,7 @@ TEST_F(ShaderReloadTest, EditedShaderIsReloadedAndBrokenOneKeepsTheOldCode) {
     camera.fov_y_degrees = 6.0f;
     auto centre_pixel = [&] {
         SurfaceRenderer renderer(ctx(), scene.particle_domain(), 32, 32, 1);
-        const SurfaceFrame frame = renderer.render(particles.buffer, 1, camera, SurfaceSettings{});
+        const SurfaceFrame frame = renderer.render({particles.buffer, 1}, camera, SurfaceSettings{});
         const uint8_t* p = &frame.color.rgba[(16 * 32 + 16) * 4];
         return std::array<uint8_t, 4>{p[0], p[1], p[2], p[3]};
     };

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "render/image_metrics.h"
+#include "render/surface_metrics.h"
 #include "render/surface_renderer.h"
-#include "shaders/shared/grid_layout.h"
+#include "shaders/shared/grid/grid_layout.h"
 #include "sim/pbf_solver.h"
 #include "tests/gpu_test.h"
 #include "gpu/staging.h"
@@ -21,13 +21,14 @@ namespace {
 
 class SharedGridTest : public testing::GpuTest {
 protected:
-    /// The dam break after `frames` frames, with the frame grid on or off.
-    std::unique_ptr<PbfSolver> dam_break(bool frame_grid, int frames) {
+    /// The dam break after `frames` frames, with the frame grid on or off (and the droplet count).
+    std::unique_ptr<PbfSolver> dam_break(bool frame_grid, int frames, bool droplets = false) {
         auto loaded = load_scene(std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json");
         EXPECT_TRUE(loaded) << loaded.error();
         scene = loaded.value();
         auto solver = std::make_unique<PbfSolver>(ctx(), scene);
         solver->set_frame_grid(frame_grid);
+        solver->set_measure_droplets(droplets);
         for (int f = 0; f < frames; ++f) solver->run_frame(nullptr);
         return solver;
     }
@@ -59,6 +60,9 @@ TEST_F(SharedGridTest, TheFrameGridHoldsEveryParticleInItsCellAndTheStepGridDoes
     auto without = dam_break(false, 12);
     EXPECT_GT(particles_outside_their_cell(*without), 0u)
         << "after a frame's steps some particles have left the cells of the grid they were sorted by";
+    // A stage that measures at the frame's end (the droplet count) sorts by the final positions too.
+    auto measured = dam_break(false, 12, true);
+    EXPECT_EQ(particles_outside_their_cell(*measured), 0u) << "the droplets are counted on lists of the final positions";
 }
 
 TEST_F(SharedGridTest, TheRendererReadsTheFrameGridInPlaceAndDrawsTheSameSurface) {
@@ -68,12 +72,13 @@ TEST_F(SharedGridTest, TheRendererReadsTheFrameGridInPlaceAndDrawsTheSameSurface
     const ViewCamera camera = camera_for_domain(scene.domain, float(w) / h);
     SurfaceRenderer own(ctx(), scene.particle_domain(), w, h, n);
     SurfaceRenderer shared(ctx(), scene.particle_domain(), w, h, n);
-    shared.share_grid(&solver->grid());
+    FrameInput in_place(solver->positions(), n);
+    in_place.grid = &solver->grid();
     for (SurfaceMethod method : {SurfaceMethod::adaptive, SurfaceMethod::uniform}) {
         SurfaceSettings settings;
         settings.method = method;
-        const SurfaceFrame a = own.render(solver->positions(), n, camera, settings);
-        const SurfaceFrame b = shared.render(solver->positions(), n, camera, settings);
+        const SurfaceFrame a = own.render({solver->positions(), n}, camera, settings);
+        const SurfaceFrame b = shared.render(in_place, camera, settings);
         EXPECT_FALSE(own.reads_in_place());
         EXPECT_TRUE(shared.reads_in_place());
         // The same particles, summed in another order within a cell: equal up to rounding.
@@ -95,7 +100,7 @@ TEST_F(SharedGridTest, TheRendererReadsTheFrameGridInPlaceAndDrawsTheSameSurface
     // Another kernel radius needs other cells: the renderer builds its own grid then.
     SurfaceSettings wide;
     wide.radius_spacings = 3.0f;
-    shared.render(solver->positions(), n, camera, wide);
+    shared.render(in_place, camera, wide);
     EXPECT_FALSE(shared.reads_in_place());
     EXPECT_TRUE(has(shared, "render.sorted"));
 }

@@ -12,7 +12,7 @@
 
 #include "render/surface_renderer.h"
 #include "sim/pbf_solver.h"
-#include "study/render_measure.h"
+#include "bench/render_measure.h"
 #include "tests/dam_break_frame.h"
 #include "tests/gpu_test.h"
 
@@ -36,7 +36,7 @@ struct SpriteMaps {
 SpriteMaps sprite_maps(SurfaceRenderer& renderer, const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
                        const SurfaceSettings& settings, bool balanced) {
     renderer.set_balanced_sprites(balanced);
-    renderer.render(positions, count, camera, settings);
+    renderer.render({positions, count}, camera, settings);
     return {bits_of(renderer.depth_all()), bits_of(renderer.depth_agg()), bits_of(renderer.thickness()),
             bits_of(renderer.depth_splash_back()), renderer.sprite_counts()};
 }
@@ -137,7 +137,7 @@ TEST(AdaptiveResolution, IsUsedOnAGpuOnlyWhereThePictureIsLargeEnoughToGain) {
 
 TEST_F(DamBreakSprites, AFrameSaysWhetherItUsedAdaptiveResolution) {
     SurfaceSettings settings;
-    renderer->render(solver->positions(), solver->particle_count(), camera, settings);
+    renderer->render({solver->positions(), solver->particle_count()}, camera, settings);
     const bool pays = renderer->adaptive_resolution_pays();
     EXPECT_EQ(renderer->resolution_note().empty(), pays);
     // Where it is used, the upsample fills pixels without a ray of their own.
@@ -145,7 +145,7 @@ TEST_F(DamBreakSprites, AFrameSaysWhetherItUsedAdaptiveResolution) {
         EXPECT_LT(renderer->rays_cast(), 160u * 120u / 2u);
     }
     settings.adaptive_resolution = false;
-    renderer->render(solver->positions(), solver->particle_count(), camera, settings);
+    renderer->render({solver->positions(), solver->particle_count()}, camera, settings);
     EXPECT_TRUE(renderer->resolution_note().empty()) << "not asked for: nothing to say";
 }
 

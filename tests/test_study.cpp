@@ -20,7 +20,7 @@
 #include <unistd.h>
 
 #include "core/output_dir.h"
-#include "study/bench_scenes.h"
+#include "bench/bench_scenes.h"
 #include "study/study_charts.h"
 #include "study/study_rows.h"
 #include "study/study_run.h"

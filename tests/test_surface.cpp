@@ -14,10 +14,11 @@
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
-#include "render/image_metrics.h"
+#include "pictures/image_metrics.h"
+#include "render/surface_metrics.h"
 #include "render/surface_renderer.h"
 #include "sim/pbf_solver.h"
-#include "shaders/shared/render_kernels.h"
+#include "shaders/shared/render/render_kernels.h"
 #include "tests/dam_break_frame.h"
 #include "tests/gpu_test.h"
 #include "tests/surface_field.h"
@@ -51,7 +52,7 @@ TEST_F(SurfaceTest, LoneParticleHitsTheAnalyticIsoSphereWithEveryMethod) {
         SurfaceSettings settings;
         settings.method = method;
         settings.adaptive_resolution = false;  // every pixel a ray: interpolated depths are tested elsewhere
-        SurfaceFrame frame = renderer.render(particles.buffer, particles.count, camera, settings);
+        SurfaceFrame frame = renderer.render({particles.buffer, particles.count}, camera, settings);
         const auto& p = renderer.params();
         const float radius = lone_iso_radius(p);
         EXPECT_NEAR(radius, settings.lone_radius * p.particle_radius, 1e-4f * radius);
@@ -134,7 +135,7 @@ TEST_F(SurfaceTest, MasksMarkEveryCellWhereTheFieldReachesTheIso) {
         settings.tight_mask = tight;
         settings.surface = surface;
         settings.mask_a = settings.mask_b = 1.0f;
-        renderer.render(particles.buffer, particles.count, camera_for_domain(scene.domain, 1.0f), settings);
+        renderer.render({particles.buffer, particles.count}, camera_for_domain(scene.domain, 1.0f), settings);
         const testing::FieldKernels kernels = testing::field_kernels(renderer, positions);
         const auto& p = renderer.params();
         const auto words = renderer.mask_words();
@@ -174,7 +175,7 @@ TEST_F(SurfaceTest, MasksMarkEveryCellWhereTheFieldReachesTheIso) {
     settings.surface = SurfaceKernel::isotropic;
     settings.mask_a = 0.5f;
     settings.mask_b = 0.25f;
-    renderer.render(particles.buffer, particles.count, camera_for_domain(scene.domain, 1.0f), settings);
+    renderer.render({particles.buffer, particles.count}, camera_for_domain(scene.domain, 1.0f), settings);
     const auto tighter = renderer.mask_words();
     uint32_t tighter_marked = 0;
     for (uint32_t w : tighter) tighter_marked += __builtin_popcount(w);
@@ -206,7 +207,7 @@ TEST_F(SurfaceTest, FlatSlabHasFlatNormalsAndAnAggregateTopLayer) {
     for (SurfaceMethod method : {SurfaceMethod::adaptive, SurfaceMethod::uniform, SurfaceMethod::reference}) {
         SurfaceSettings settings;
         settings.method = method;
-        SurfaceFrame frame = renderer.render(particles.buffer, particles.count, camera, settings);
+        SurfaceFrame frame = renderer.render({particles.buffer, particles.count}, camera, settings);
         const float margin = 2.0f * renderer.params().radius;
         uint32_t checked = 0;
         float worst = 0.0f;
@@ -227,10 +228,10 @@ TEST_F(SurfaceTest, FlatSlabHasFlatNormalsAndAnAggregateTopLayer) {
     {
         SurfaceSettings settings;
         settings.adaptive_resolution = false;
-        const SurfaceFrame full = renderer.render(particles.buffer, particles.count, camera, settings);
+        const SurfaceFrame full = renderer.render({particles.buffer, particles.count}, camera, settings);
         const uint32_t full_rays = renderer.rays_cast();
         settings.adaptive_resolution = true;
-        const SurfaceFrame reduced = renderer.render(particles.buffer, particles.count, camera, settings);
+        const SurfaceFrame reduced = renderer.render({particles.buffer, particles.count}, camera, settings);
         const auto levels = renderer.tile_levels();
         EXPECT_GT(std::count(levels.begin(), levels.end(), uint32_t(TILE_QUARTER)) +
                       std::count(levels.begin(), levels.end(), uint32_t(TILE_HALF)), 4);
@@ -248,7 +249,7 @@ TEST_F(SurfaceTest, FlatSlabHasFlatNormalsAndAnAggregateTopLayer) {
     for (bool anisotropic : {true, false}) {
         SurfaceSettings settings;
         settings.anisotropic = anisotropic;
-        renderer.render(particles.buffer, particles.count, camera, settings);
+        renderer.render({particles.buffer, particles.count}, camera, settings);
         const auto sorted = renderer.sorted_positions();
         const auto flags = renderer.aggregate_flags();
         uint32_t top_layer = 0, top_aggregate = 0;
@@ -340,7 +341,7 @@ TEST_F(DamBreakFrameTest, AMarchOverTheWorkBudgetIsSplitAndDrawsTheSameFrame) {
         settings.method = method;
         auto march_scopes = [&](SurfaceFrame& frame) {
             gpu::GpuTimer timer(ctx());
-            frame = renderer->render(solver->positions(), solver->particle_count(), camera, settings, &timer);
+            frame = renderer->render({solver->positions(), solver->particle_count()}, camera, settings, &timer);
             return timer.recorded_stamps().size() / 2;
         };
         SurfaceFrame whole, split;
@@ -419,7 +420,7 @@ TEST_F(GoldenTest, DropletsOverAPoolWithTheAdaptiveMethod) {
     camera.eye = camera.target + glm::vec3(-0.15f, 0.25f, 0.45f);
     camera.fov_y_degrees = 40.0f;
     SurfaceRenderer renderer(ctx(), scene.particle_domain(), 128, 96, particles.count);
-    const SurfaceFrame frame = renderer.render(particles.buffer, particles.count, camera, SurfaceSettings{});
+    const SurfaceFrame frame = renderer.render({particles.buffer, particles.count}, camera, SurfaceSettings{});
     expect_matches_golden(frame.color, "droplets_adaptive");
 }
 
@@ -433,7 +434,7 @@ TEST_F(GoldenTest, DamBreakColumnWithTheUniformMethod) {
     SurfaceRenderer renderer(ctx(), loaded.value().particle_domain(), 128, 72, particles.count);
     SurfaceSettings settings;
     settings.method = SurfaceMethod::uniform;
-    const SurfaceFrame frame = renderer.render(particles.buffer, particles.count,
+    const SurfaceFrame frame = renderer.render({particles.buffer, particles.count},
                                                camera_for_domain(loaded.value().domain, 128.0f / 72.0f), settings);
     expect_matches_golden(frame.color, "dam_break_column_uniform");
 }
@@ -464,7 +465,7 @@ TEST_F(SurfaceTest, DocumentedBytesPerPixelAndPerParticleMatchTheAllocations) {
     testing::DeviceParticles one(ctx(), {glm::vec4(0.1f, 0.1f, 0.1f, 0.0f)});
     SurfaceSettings isotropic;
     isotropic.surface = SurfaceKernel::isotropic;
-    more.render(one.buffer, one.count, camera_for_domain(scene.domain, 1.0f), isotropic);
+    more.render({one.buffer, one.count}, camera_for_domain(scene.domain, 1.0f), isotropic);
     EXPECT_FALSE(more.reads_in_place());
     const GridGeometry& g = more.grid();
     auto scan_sums = [&](const std::string& grid) {  // the prefix sum's partial sums, per cell block
@@ -477,7 +478,7 @@ TEST_F(SurfaceTest, DocumentedBytesPerPixelAndPerParticleMatchTheAllocations) {
     EXPECT_EQ(total_bytes(more) - before, 2000u * kOwnGridBytesPerParticle + grid_cells_bytes + scan_sums("render.grid"));
     // The anisotropic surface adds its kernels' grid and arrays on first use, and nothing more.
     const uint64_t isotropic_bytes = total_bytes(more);
-    more.render(one.buffer, one.count, camera_for_domain(scene.domain, 1.0f), SurfaceSettings{});
+    more.render({one.buffer, one.count}, camera_for_domain(scene.domain, 1.0f), SurfaceSettings{});
     EXPECT_EQ(total_bytes(more) - isotropic_bytes,
               2000u * kKernelBytesPerParticle + grid_cells_bytes + scan_sums("render.kernel_grid"));
 }
@@ -506,7 +507,7 @@ TEST_F(SurfaceTest, RaysTheDeviceEndsEarlyAreCounted) {
     SurfaceSettings settings;
     settings.method = SurfaceMethod::reference;
     settings.reference_step_radii = 0.01f;
-    const SurfaceFrame frame = renderer.render(particles.buffer, particles.count, camera, settings);
+    const SurfaceFrame frame = renderer.render({particles.buffer, particles.count}, camera, settings);
     const uint32_t cut = renderer.cut_rays();
     if (ctx().info().type == VK_PHYSICAL_DEVICE_TYPE_CPU) {
         EXPECT_GT(cut, 0u) << "llvmpipe stops invocations at 65535 loop iterations";
@@ -517,7 +518,7 @@ TEST_F(SurfaceTest, RaysTheDeviceEndsEarlyAreCounted) {
         EXPECT_GT(hits, 0u) << "a ray along the sheet finds it when nothing is cut";
     }
     settings.method = SurfaceMethod::adaptive;
-    renderer.render(particles.buffer, particles.count, camera, settings);
+    renderer.render({particles.buffer, particles.count}, camera, settings);
     EXPECT_EQ(renderer.cut_rays(), 0u) << "the adaptive march enters at the sprite depth and stays short";
 }
 

@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "render/image_metrics.h"
+#include "render/surface_metrics.h"
 #include "render/surface_renderer.h"
-#include "shaders/shared/grid_layout.h"
-#include "shaders/shared/render_kernels.h"
+#include "shaders/shared/grid/grid_layout.h"
+#include "shaders/shared/render/render_kernels.h"
 #include "tests/gpu_test.h"
 #include "tests/surface_field.h"
 
@@ -63,7 +63,7 @@ protected:
     Frame render(SurfaceSettings settings) {
         settings.adaptive_resolution = false;
         Frame f;
-        f.surface = renderer->render(particles->buffer, particles->count, camera, settings);
+        f.surface = renderer->render({particles->buffer, particles->count}, camera, settings);
         f.counts = renderer->ray_counts();
         double steps = 0.0;
         for (const RayCounts& c : f.counts) steps += c.march;
@@ -322,7 +322,7 @@ TEST_F(SkipTest, TheSkipWaitsUntilTheRayHasPassedEverySplashAndLosesNone) {
     const size_t centre_pixel = size_t(kSize / 2) * kSize + kSize / 2;
     auto hit_z = [&](bool exact) {
         settings.exact_skip = exact;
-        const SurfaceFrame f = renderer.render(device.buffer, device.count, camera, settings);
+        const SurfaceFrame f = renderer.render({device.buffer, device.count}, camera, settings);
         EXPECT_TRUE(f.has_surface(centre_pixel));
         return f.hit[centre_pixel].z;
     };
@@ -331,7 +331,7 @@ TEST_F(SkipTest, TheSkipWaitsUntilTheRayHasPassedEverySplashAndLosesNone) {
     EXPECT_LT(hit_z(false), 0.1f) << "Wu et al.'s skip was expected to jump over the second droplet to the slab";
     // Both droplets are splashes: D_splash_back is the back of the second one's sphere.
     settings.exact_skip = true;
-    renderer.render(device.buffer, device.count, camera, settings);
+    renderer.render({device.buffer, device.count}, camera, settings);
     const float back = renderer.depth_splash_back()[centre_pixel];
     EXPECT_NEAR(back, camera.eye.z - (hit_droplet.z - r), 0.002f);
 }
@@ -356,7 +356,7 @@ TEST_F(LoneParticleTest, MarchStartsOneStepPastTheEntryAndBlendWeightsFollowEqua
         settings.use_mask = false;
         settings.use_skip = false;
         settings.blend_b = 0.05f;  // w2 = 1 at the default B = 0: test a B that weighs
-        const SurfaceFrame frame = renderer.render(particle.buffer, particle.count, camera, settings);
+        const SurfaceFrame frame = renderer.render({particle.buffer, particle.count}, camera, settings);
         const auto counts = renderer.ray_counts();
         const auto weights = renderer.blend_weights();
         const shader::SurfaceParams& p = renderer.params();
@@ -399,7 +399,7 @@ TEST_F(LoneParticleTest, MarchStartsOneStepPastTheEntryAndBlendWeightsFollowEqua
     camera.target = centre;
     SurfaceSettings uniform;
     uniform.method = SurfaceMethod::uniform;
-    renderer.render(particle.buffer, particle.count, camera, uniform);
+    renderer.render({particle.buffer, particle.count}, camera, uniform);
     for (const glm::vec2& w : renderer.blend_weights()) ASSERT_EQ(w, glm::vec2(-1.0f));
 }
 

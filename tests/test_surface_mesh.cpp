@@ -32,7 +32,7 @@
 #include "render/surface_mesher.h"
 #include "render/surface_renderer.h"
 #include "sim/scene.h"
-#include "shaders/shared/render_kernels.h"
+#include "shaders/shared/render/render_kernels.h"
 #include "tests/cli_helpers.h"
 #include "tests/export_readers.h"
 #include "tests/gpu_test.h"
@@ -145,7 +145,7 @@ TEST_F(SurfaceMeshTest, SampledVolumeEqualsTheRenderersFieldOnTheHost) {
         DensitySampler aniso_sampler(ctx(), fluid.domain(), device.count, anisotropic);
         const DensityVolume aniso = aniso_sampler.sample_volume(device.buffer, device.count);
         SurfaceRenderer renderer(ctx(), fluid.domain(), 32, 32, device.count);
-        renderer.render(device.buffer, device.count, camera_for_domain(scene.domain, 1.0f), anisotropic);
+        renderer.render({device.buffer, device.count}, camera_for_domain(scene.domain, 1.0f), anisotropic);
         const testing::FieldKernels kernels = testing::field_kernels(renderer, particles);
         ASSERT_EQ(kernels.centres.size(), particles.size());
         float aniso_worst = 0.0f;
@@ -396,7 +396,7 @@ TEST_F(SurfaceMeshTest, MeshLiesOnTheExhaustiveReferenceSurface) {
     SurfaceRenderer renderer(ctx(), fluid.domain(), 128, 128, fluid.device.count);
     SurfaceSettings reference;
     reference.method = SurfaceMethod::reference;
-    const SurfaceFrame frame = renderer.render(fluid.device.buffer, fluid.device.count,
+    const SurfaceFrame frame = renderer.render({fluid.device.buffer, fluid.device.count},
                                                camera_for_domain(fluid.scene.domain, 1.0f), reference);
     ASSERT_EQ(renderer.cut_rays(), 0u);
     // Against the default lattice, and one twice as coarse for the figures in density_sampler.h.

@@ -69,7 +69,7 @@ protected:
         if (with_obstacle) scene.static_boxes = {kObstacle};
         DeviceParticles fluid(ctx(), testing::particle_cube({0.07f, 0.02f, 0.1f}, 0.02f, 4));
         auto renderer = render_registry().create(ctx(), scene.particle_domain(), kW, kH, fluid.count, method_settings(GetParam()));
-        return renderer->render(fluid.buffer, fluid.count, tank_camera());
+        return renderer->render({fluid.buffer, fluid.count}, tank_camera());
     }
 };
 
@@ -144,7 +144,7 @@ TEST_P(RefractionTest, NoDarkCurvesCrossTheWater) {
     camera.target = {0.2f, 0.08f, 0.2f};
     camera.fov_y_degrees = 40.0f;
     auto renderer = render_registry().create(ctx(), scene.particle_domain(), kW, kH, fluid.count, method_settings(GetParam()));
-    const SurfaceFrame frame = renderer->render(fluid.buffer, fluid.count, camera);
+    const SurfaceFrame frame = renderer->render({fluid.buffer, fluid.count}, camera);
     const int foot = pixel_of(camera, {0.2f, 0.0f, 0.0f}).y;  // a level row: the eye is centred
     int surface = 0, on_foot_row = 0, dark = 0;
     glm::ivec2 at{-1, -1};

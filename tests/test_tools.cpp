@@ -22,7 +22,7 @@
 
 #include "geometry/mesh.h"
 #include "geometry/primitives.h"
-#include "render/image_io.h"
+#include "pictures/image_io.h"
 #include "tests/cli_helpers.h"
 
 namespace aquaform {
@@ -306,20 +306,20 @@ TEST(ToolsParaView, VtpSurfaceIsASecondSeriesAtTheParticlesTimes) {
 }
 
 TEST(ToolsParaView, WhitewaterVtpIsASeriesBesideTheParticlesWithEachFramesLiveParticles) {
-    // --diffuse-format vtp: diffuse_NNNN.vtp and diffuse.pvd, at the particles' times, each file
+    // --whitewater-format vtp: whitewater_NNNN.vtp and whitewater.pvd, at the particles' times, each file
     // the frame's live whitewater (stats.csv's spray + foam + bubbles) as drawable vertex cells.
-    const fs::path run = simulate("diffuse_vtp", "--particles 4000 --frames 31 --whitewater on --vtk-every 10 "
-                                                 "--diffuse-every 10 --diffuse-format vtp");
+    const fs::path run = simulate("whitewater_vtp", "--particles 4000 --frames 31 --whitewater on --vtk-every 10 "
+                                                    "--whitewater-every 10 --whitewater-format vtp");
     const json report = paraview_report(run);
-    ASSERT_TRUE(report.contains("diffuse") && report["diffuse"].is_object()) << report.dump().substr(0, 400);
-    const json& diffuse = report["diffuse"];
-    expect_times_equal(diffuse["time_steps"], expected_times(run, "diffuse", "vtp"), "diffuse.pvd");
-    EXPECT_EQ(diffuse["time_steps"], report["particles"]["time_steps"]) << "beside the particles, at their times";
-    std::map<double, long> live;  // stats.csv: time -> diffuse particles alive
+    ASSERT_TRUE(report.contains("whitewater") && report["whitewater"].is_object()) << report.dump().substr(0, 400);
+    const json& whitewater = report["whitewater"];
+    expect_times_equal(whitewater["time_steps"], expected_times(run, "whitewater", "vtp"), "whitewater.pvd");
+    EXPECT_EQ(whitewater["time_steps"], report["particles"]["time_steps"]) << "beside the particles, at their times";
+    std::map<double, long> live;  // stats.csv: time -> whitewater particles alive
     for (const auto& row : read_csv(run / "stats.csv"))
         live[std::stod(row.at("time_s"))] = std::stol(row.at("spray")) + std::stol(row.at("foam")) + std::stol(row.at("bubbles"));
     long most = 0;
-    for (const auto& step : diffuse["steps"]) {
+    for (const auto& step : whitewater["steps"]) {
         const double t = step["time"].get<double>();
         const auto row = live.lower_bound(t - 1e-5);
         ASSERT_NE(row, live.end()) << "stats.csv has no frame at t = " << t;
@@ -533,7 +533,7 @@ TEST(ToolsBlenderScene, DrawsTheWhitewaterAsWhitePointsAtItsOwnFrames) {
     // The double dam break's collision makes foam and spray by frame 30; frame 0 has none. The
     // same scene rendered with --whitewater on and off: white where the whitewater is at frame
     // 30, the same picture at frame 0 (frame 30's particles are not shown there).
-    const fs::path run = simulate("scene_whitewater", "--particles 4000 --frames 31 --whitewater on --mesh-every 30 --diffuse-every 30");
+    const fs::path run = simulate("scene_whitewater", "--particles 4000 --frames 31 --whitewater on --mesh-every 30 --whitewater-every 30");
     const fs::path dir = run.parent_path();
     auto render = [&](const std::string& prefix, const std::string& whitewater) {
         const std::string command = "blender -b --factory-startup -P '" + kSource + "/scripts/blender_scene.py' -- '" +
@@ -550,11 +550,11 @@ TEST(ToolsBlenderScene, DrawsTheWhitewaterAsWhitePointsAtItsOwnFrames) {
     EXPECT_EQ(pixels_differing(dir / "on_0000.png", dir / "off_0000.png"), 0) << "frame 30's whitewater shows at frame 0";
 
     // A whitewater file cut short is refused before any work, with the file and the fix.
-    const fs::path last = run / "diffuse_0001.ply";
+    const fs::path last = run / "whitewater_0001.ply";
     fs::resize_file(last, fs::file_size(last) - 5);
     const auto cut = render("cut_", "on");
     EXPECT_EQ(cut.status, 2) << cut.err;
-    EXPECT_NE(cut.err.find("diffuse_0001.ply is cut short"), std::string::npos) << cut.err;
+    EXPECT_NE(cut.err.find("whitewater_0001.ply is cut short"), std::string::npos) << cut.err;
     EXPECT_FALSE(fs::exists(dir / "cut_0000.png")) << "rendered despite the refusal";
 }
 

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <string>
 
-#include "render/video.h"
+#include "pictures/video.h"
 #include "tests/cli_helpers.h"
 
 namespace aquaform {

@@ -21,7 +21,7 @@
 #include "viewer/view_shapes.h"
 #include "viewer/view_worker.h"
 #include "control/control_scene.h"
-#include "render/image_io.h"
+#include "pictures/image_io.h"
 #include "tests/cli_helpers.h"
 
 namespace aquaform {

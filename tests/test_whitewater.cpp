@@ -1,6 +1,6 @@
 // Whitewater (sim/whitewater.h, shaders/shared/whitewater_layout.h): the GPU's potentials match a
 // CPU computation of Ihmsen et al.'s formulas on the same particles; the pool never holds more
-// than its capacity and counts what did not fit; no diffuse particle leaves the tank or enters a
+// than its capacity and counts what did not fit; no whitewater particle leaves the tank or enters a
 // solid; the fluid does not feel its whitewater; the scene's section is checked.
 #include <gtest/gtest.h>
 
@@ -18,8 +18,9 @@
 #include "geometry/primitives.h"
 #include "gpu/staging.h"
 #include "render/registry.h"
+#include "render/solids_view.h"
 #include "render/whitewater_layer.h"
-#include "shaders/shared/sph_kernels.h"
+#include "shaders/shared/core/sph_kernels.h"
 #include "sim/pbf_solver.h"
 #include "sim/whitewater.h"
 #include "tests/cli_helpers.h"
@@ -124,7 +125,7 @@ TEST_F(WhitewaterTest, ThePoolNeverHoldsMoreThanItsCapacityAndCountsWhatDidNotFi
     EXPECT_GT(dropped, 0u) << "a full pool must count what it could not keep";
 }
 
-TEST_F(WhitewaterTest, NoDiffuseParticleLeavesTheTankOrEntersASolid) {
+TEST_F(WhitewaterTest, NoWhitewaterParticleLeavesTheTankOrEntersASolid) {
     auto dir = test_cli::temp_dir("whitewater_solid");
     ASSERT_TRUE(geometry::write_obj(dir / "block.obj", geometry::make_box({glm::vec3(0.18f, 0.0f, 0.05f), glm::vec3(0.22f, 0.2f, 0.15f)})).ok());
     std::ofstream(dir / "scene.json") << R"({"name": "whitewater against a block", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
@@ -138,13 +139,13 @@ TEST_F(WhitewaterTest, NoDiffuseParticleLeavesTheTankOrEntersASolid) {
     size_t seen = 0;
     for (int f = 0; f < 20; ++f) {
         solver.run_frame(nullptr);
-        const DiffuseSnapshot d = solver.whitewater()->snapshot();
+        const WhitewaterSnapshot d = solver.whitewater()->snapshot();
         seen = std::max(seen, d.x.size());
         for (const glm::vec4& p : d.x) {
             const glm::vec3 q(p);
             ASSERT_TRUE(glm::all(glm::greaterThanEqual(q, scene.value().domain.min)) && glm::all(glm::lessThanEqual(q, scene.value().domain.max)))
-                << "frame " << f << ": a diffuse particle left the tank at " << q.x << " " << q.y << " " << q.z;
-            ASSERT_FALSE(geometry::is_inside(block, q)) << "frame " << f << ": a diffuse particle in the block at " << q.x << " " << q.y << " " << q.z;
+                << "frame " << f << ": a whitewater particle left the tank at " << q.x << " " << q.y << " " << q.z;
+            ASSERT_FALSE(geometry::is_inside(block, q)) << "frame " << f << ": a whitewater particle in the block at " << q.x << " " << q.y << " " << q.z;
             ASSERT_GT(p.w, 0.0f) << "a particle whose life ran out is still in the pool";
         }
     }
@@ -165,7 +166,7 @@ TEST_F(WhitewaterTest, TheFluidDoesNotFeelItsWhitewater) {
     for (size_t i = 0; i < sa.x.size(); ++i) ASSERT_EQ(sa.x[i], sb.x[i]) << "particle " << i << ": bit for bit";
 }
 
-/// Diffuse particles placed by hand: a pool of one generation and its counters.
+/// Whitewater particles placed by hand: a pool of one generation and its counters.
 struct HandPool {
     gpu::BufferSet buffers;
     WhitewaterView view;
@@ -238,13 +239,14 @@ TEST_F(WhitewaterTest, EveryMethodDrawsItWithDepthAgainstTheWaterAndWithoutItThe
     testing::for_each_method(ctx(), scene, solver.particle_count(), [&](Renderer& r, const MethodEntry& entry) {
         // A renderer never handed whitewater draws the method's own frame.
         const Image own = testing::tank_renderer(ctx(), scene, solver.particle_count(), entry)
-                              ->render(solver.positions(), solver.particle_count(), camera).color;
-        r.set_whitewater(&in_front.view);
-        const Image front = r.render(solver.positions(), solver.particle_count(), camera).color;
-        r.set_whitewater(&inside.view);
-        const Image behind = r.render(solver.positions(), solver.particle_count(), camera).color;
-        r.set_whitewater(nullptr);
-        const Image off = r.render(solver.positions(), solver.particle_count(), camera).color;
+                              ->render({solver.positions(), solver.particle_count()}, camera).color;
+        FrameInput frame(solver.positions(), solver.particle_count());
+        frame.whitewater = &in_front.view;
+        const Image front = r.render(frame, camera).color;
+        frame.whitewater = &inside.view;
+        const Image behind = r.render(frame, camera).color;
+        frame.whitewater = nullptr;
+        const Image off = r.render(frame, camera).color;
         // Against the bright sky white foam changes little, but it is there.
         EXPECT_GT(changed(front, own, 0, width / 2), 20u) << "foam in the air is drawn";
         const double over_water = whiter(front, own, width / 2, width), through_water = whiter(behind, own, width / 2, width);
@@ -268,7 +270,7 @@ TEST_F(WhitewaterTest, SolidsHideTheWhitewaterBehindThemInEveryMethod) {
     const Scene& scene = loaded.value();
     PbfSolver solver(ctx(), scene);
     // The solver's table holds the static box first (the renderers draw it from the domain).
-    SolidsView solids{&solver.boundary_nodes(), {solver.params().obstacles + 1, solver.params().obstacles + 2}};
+    SolidsView solids{&solver.boundary_nodes(), {solver.params().solids + 1, solver.params().solids + 2}};
     auto two_clouds = [](float left_z, float right_z) {
         auto a = cloud({glm::vec3(0.1f, 0.06f, left_z), glm::vec3(0.2f, 0.14f, left_z + 0.02f)}, 600);
         auto b = cloud({glm::vec3(0.4f, 0.06f, right_z), glm::vec3(0.5f, 0.14f, right_z + 0.02f)}, 600);
@@ -279,12 +281,13 @@ TEST_F(WhitewaterTest, SolidsHideTheWhitewaterBehindThemInEveryMethod) {
     const ViewCamera camera = testing::tank_front_camera();
     const uint32_t width = testing::kTankPictureWidth;
     testing::for_each_method(ctx(), scene, solver.particle_count(), [&](Renderer& r, const MethodEntry&) {
-        r.set_solids(&solids);
-        const Image own = r.render(solver.positions(), solver.particle_count(), camera).color;
-        r.set_whitewater(&behind.view);
-        const Image hidden = r.render(solver.positions(), solver.particle_count(), camera).color;
-        r.set_whitewater(&in_front.view);
-        const Image shown = r.render(solver.positions(), solver.particle_count(), camera).color;
+        FrameInput frame(solver.positions(), solver.particle_count());
+        frame.solids = &solids;
+        const Image own = r.render(frame, camera).color;
+        frame.whitewater = &behind.view;
+        const Image hidden = r.render(frame, camera).color;
+        frame.whitewater = &in_front.view;
+        const Image shown = r.render(frame, camera).color;
         EXPECT_LE(changed(hidden, own, 0, width / 2), 2u) << "the mesh block hides the foam behind it";
         EXPECT_LE(changed(hidden, own, width / 2, width), 2u) << "the static box hides the foam behind it";
         EXPECT_GT(whiter(shown, own, 0, width / 2), 800.0) << "foam in front of the mesh block is drawn over it";
@@ -300,13 +303,13 @@ std::pair<size_t, size_t> ply_vertices(const std::filesystem::path& path) {
     return {std::stoul(text.substr(at + 15)), text.size() - end - 11};
 }
 
-TEST(WhitewaterRun, DiffuseEveryWritesTheLiveParticlesAsPlyAndListsThem) {
+TEST(WhitewaterRun, WhitewaterEveryWritesTheLiveParticlesAsPlyAndListsThem) {
     const auto dir = test_cli::temp_dir("whitewater_run");
     test_cli::write_file(dir / "scene.json", R"({"name": "collision", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
         "particle_spacing": 0.02, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.12, 0.12, 0.2], "velocity": [2, 0, 0]},
         {"min": [0.28, 0, 0], "max": [0.4, 0.12, 0.2], "velocity": [-2, 0, 0]}], "whitewater": {"k_trapped_air": 40000}})");
     const auto out = dir / "out";
-    auto r = test_cli::run_aquaform("run " + (dir / "scene.json").string() + " --frames 11 --no-png --diffuse-every 5 --out " + out.string());
+    auto r = test_cli::run_aquaform("run " + (dir / "scene.json").string() + " --frames 11 --no-png --whitewater-every 5 --out " + out.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const std::string stats = test_cli::read_file(out / "stats.csv");
     std::vector<std::string> rows;
@@ -323,7 +326,7 @@ TEST(WhitewaterRun, DiffuseEveryWritesTheLiveParticlesAsPlyAndListsThem) {
     const size_t spray = column("spray"), foam = column("foam"), bubbles = column("bubbles");
     for (int k = 0; k <= 2; ++k) {
         char name[32];
-        std::snprintf(name, sizeof name, "diffuse_%04d.ply", k);
+        std::snprintf(name, sizeof name, "whitewater_%04d.ply", k);
         ASSERT_TRUE(std::filesystem::exists(out / name)) << name << "\n" << r.output;
         const auto [vertices, body] = ply_vertices(out / name);
         const size_t row = 1 + 5 * k;  // frame 5k
@@ -331,7 +334,7 @@ TEST(WhitewaterRun, DiffuseEveryWritesTheLiveParticlesAsPlyAndListsThem) {
         EXPECT_EQ(body, vertices * 29) << name << ": position, velocity, kind, life";
         if (k > 0) EXPECT_GT(vertices, 0u) << name;
     }
-    EXPECT_NE(test_cli::read_file(out / "exports.csv").find("diffuse_0002.ply,diffuse,10,"), std::string::npos);
+    EXPECT_NE(test_cli::read_file(out / "exports.csv").find("whitewater_0002.ply,whitewater,10,"), std::string::npos);
 
     // whitewater.svg charts each kind alive over the run: a line per kind and their sum, a point
     // per frame, the last point of the sum at the last frame's live count.
@@ -351,19 +354,71 @@ TEST(WhitewaterRun, DiffuseEveryWritesTheLiveParticlesAsPlyAndListsThem) {
     // Without whitewater there is nothing to write: refused before any work, with the fix.
     test_cli::write_file(dir / "plain.json", R"({"name": "plain", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
         "particle_spacing": 0.02, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.12, 0.12, 0.2]}]})");
-    r = test_cli::run_aquaform("run " + (dir / "plain.json").string() + " --frames 2 --no-png --diffuse-every 1 --out " + (dir / "o2").string());
+    r = test_cli::run_aquaform("run " + (dir / "plain.json").string() + " --frames 2 --no-png --whitewater-every 1 --out " + (dir / "o2").string());
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("--whitewater on"), std::string::npos) << r.output;
 
-    // --diffuse-format: a format ParaView reads (tests/test_tools.cpp opens it), refused without
+    // --whitewater-format: a format ParaView reads (tests/test_tools.cpp opens it), refused without
     // the files it is the format of, or with a format there is none of.
-    for (const std::string& flags : {std::string("--diffuse-format vtp"), std::string("--diffuse-every 1 --diffuse-format obj")}) {
+    for (const std::string& flags : {std::string("--whitewater-format vtp"), std::string("--whitewater-every 1 --whitewater-format obj")}) {
         r = test_cli::run_aquaform("run " + (dir / "scene.json").string() + " --frames 2 --no-png " + flags + " --out " +
                                    (dir / "o3").string());
         EXPECT_EQ(r.exit_code, 2) << flags << "\n" << r.output;
-        EXPECT_NE(r.output.find(flags.find("obj") != std::string::npos ? "use ply (Blender) or vtp" : "give --diffuse-every K"),
+        EXPECT_NE(r.output.find(flags.find("obj") != std::string::npos ? "use ply (Blender) or vtp" : "give --whitewater-every K"),
                   std::string::npos) << r.output;
     }
+}
+
+TEST(WhitewaterRun, TheOldDiffuseFlagsAreTakenAndSaidToBeTheOldNames) {
+    // --diffuse-every and --diffuse-format were the names of --whitewater-every and
+    // --whitewater-format: still taken, said once to be the old names; beside the new, refused.
+    const auto dir = test_cli::temp_dir("whitewater_old_flags");
+    test_cli::write_file(dir / "scene.json", R"({"name": "collision", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
+        "particle_spacing": 0.02, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.12, 0.12, 0.2], "velocity": [2, 0, 0]},
+        {"min": [0.28, 0, 0], "max": [0.4, 0.12, 0.2], "velocity": [-2, 0, 0]}], "whitewater": {"k_trapped_air": 40000}})");
+    const std::string run = "run '" + (dir / "scene.json").string() + "' --frames 5 --no-png ";
+    const auto out = dir / "out";
+    const std::vector<std::pair<std::string, std::string>> both_given = {
+        {"--diffuse-every 2 --whitewater-every 2",
+         "--diffuse-every is the old name of --whitewater-every; give --whitewater-every alone"},
+        {"--whitewater-every 2 --diffuse-format vtp --whitewater-format vtp",
+         "--diffuse-format is the old name of --whitewater-format; give --whitewater-format alone"}};
+    for (const auto& [flags, fix] : both_given) {
+        const auto both = test_cli::run_aquaform_split(run + flags + " --out '" + out.string() + "'", dir, 120);
+        EXPECT_EQ(both.exit_code, 2) << flags << "\n" << both.err;
+        EXPECT_NE(both.err.find(fix), std::string::npos) << flags << "\n" << both.err;
+        EXPECT_FALSE(std::filesystem::exists(out / "stats.csv")) << "refused before any work: " << flags;
+    }
+    // A bad value given with the old name: said to be the old name, then refused by the new one.
+    const auto bad = test_cli::run_aquaform_split(run + "--diffuse-every 0 --out '" + out.string() + "'", dir, 120);
+    EXPECT_EQ(bad.exit_code, 2) << bad.err;
+    const size_t said = bad.err.find("aquaform run: --diffuse-every is the old name of --whitewater-every");
+    EXPECT_NE(said, std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("aquaform run: --whitewater-every must be a whole number", said), std::string::npos) << bad.err;
+
+    // The old names alone work, write the new files and say so, once each; the files an earlier
+    // version wrote under the old names go as an earlier run's do.
+    std::filesystem::create_directories(out);
+    test_cli::write_file(out / "diffuse_0003.ply", "ply\n");
+    test_cli::write_file(out / "diffuse.pvd", "<VTKFile/>\n");
+    const auto old = test_cli::run_aquaform_split(run + "--diffuse-every 2 --diffuse-format vtp --out '" + out.string() + "'", dir, 300);
+    ASSERT_EQ(old.exit_code, 0) << old.err;
+    for (const std::string said : {"aquaform run: --diffuse-every is the old name of --whitewater-every; give --whitewater-every 2",
+                                   "aquaform run: --diffuse-format is the old name of --whitewater-format; give --whitewater-format vtp"}) {
+        const size_t at = old.err.find(said);
+        EXPECT_NE(at, std::string::npos) << old.err;
+        EXPECT_EQ(old.err.find(said.substr(0, 40), at + 1), std::string::npos) << "said once: " << old.err;
+    }
+    for (const char* name : {"whitewater_0000.vtp", "whitewater_0002.vtp", "whitewater.pvd"})
+        EXPECT_TRUE(std::filesystem::exists(out / name)) << name;
+    for (const auto& entry : std::filesystem::directory_iterator(out))
+        EXPECT_EQ(entry.path().filename().string().find("diffuse"), std::string::npos) << entry.path();
+    EXPECT_NE(test_cli::read_file(out / "exports.csv").find("whitewater_0001.vtp,whitewater,2,"), std::string::npos);
+    // The new names say nothing of the old.
+    const auto now = test_cli::run_aquaform_split(run + "--whitewater-every 2 --out '" + out.string() + "'", dir, 300);
+    ASSERT_EQ(now.exit_code, 0) << now.err;
+    EXPECT_EQ(now.err.find("old name"), std::string::npos) << now.err;
+    std::filesystem::remove_all(dir);
 }
 
 TEST(WhitewaterRun, TwoRunsWriteTheSameBytes) {
@@ -374,11 +429,11 @@ TEST(WhitewaterRun, TwoRunsWriteTheSameBytes) {
         "particle_spacing": 0.02, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.12, 0.12, 0.2], "velocity": [2, 0, 0]},
         {"min": [0.28, 0, 0], "max": [0.4, 0.12, 0.2], "velocity": [-2, 0, 0]}], "whitewater": {"k_trapped_air": 40000}})");
     for (const char* run : {"a", "b"}) {
-        auto r = test_cli::run_aquaform("run " + (dir / "scene.json").string() + " --frames 9 --no-png --diffuse-every 4 "
+        auto r = test_cli::run_aquaform("run " + (dir / "scene.json").string() + " --frames 9 --no-png --whitewater-every 4 "
                                         "--ply-every 8 --out " + (dir / run).string());
         ASSERT_EQ(r.exit_code, 0) << r.output;
     }
-    for (const char* name : {"diffuse_0001.ply", "diffuse_0002.ply", "particles_0001.ply"}) {
+    for (const char* name : {"whitewater_0001.ply", "whitewater_0002.ply", "particles_0001.ply"}) {
         const std::string a = test_cli::read_file(dir / "a" / name), b = test_cli::read_file(dir / "b" / name);
         EXPECT_GT(a.size(), 300u) << name << " holds particles";
         EXPECT_TRUE(a == b) << name << " differs between two runs of one scene";

@@ -19,7 +19,7 @@
 #include "geometry/mesh.h"
 #include "render/registry.h"
 #include "session/simulation_session.h"
-#include "shaders/shared/pbf_layout.h"
+#include "shaders/shared/sim/pbf_layout.h"
 #include "sim/obstacles.h"
 #include "viewer/view_shapes.h"
 #include "viewer/view_worker.h"

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <string>
 
-#include "shaders/shared/pbf_layout.h"
+#include "shaders/shared/sim/pbf_layout.h"
 
 namespace aquaform::viewer {
 
@@ -71,7 +71,7 @@ Box obstacle_box(const Scene& scene, std::optional<glm::vec3> at) {
 
 std::string obstacle_limit_refusal(size_t boxes, size_t own, size_t dropped) {
     const size_t held = boxes + own + dropped;
-    if (held < PBF_MAX_OBSTACLES) return "";
+    if (held < PBF_MAX_SOLIDS) return "";
     auto count = [](size_t n, const char* one, const char* many) { return std::to_string(n) + " " + (n == 1 ? one : many); };
     std::string parts;
     if (boxes) parts += count(boxes, "static box", "static boxes");
@@ -82,7 +82,7 @@ std::string obstacle_limit_refusal(size_t boxes, size_t own, size_t dropped) {
                                   : "the scene's own solids fill it: join obstacles of the scene into one OBJ (an "
                                     "obstacle may have several parts) to make room";
     return "the viewer holds " + std::to_string(held) + " solids (" + parts + "), the most the solver takes (" +
-           std::to_string(PBF_MAX_OBSTACLES) + "); " + fix;
+           std::to_string(PBF_MAX_SOLIDS) + "); " + fix;
 }
 
 std::optional<glm::vec3> point_under_cursor(const ViewCamera& camera, const Box& domain, glm::vec2 ndc, float aspect) {

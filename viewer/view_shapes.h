@@ -40,7 +40,7 @@ Box shape_box(const Scene& scene, const std::vector<glm::vec4>& particles, std::
 Box obstacle_box(const Scene& scene, std::optional<glm::vec3> at = std::nullopt);
 
 /// Why one more obstacle cannot be dropped into a viewer that holds `boxes` static boxes, `own`
-/// obstacles of the scene and `dropped` dropped ones: the solver's table is full (PBF_MAX_OBSTACLES).
+/// obstacles of the scene and `dropped` dropped ones: the solver's table is full (PBF_MAX_SOLIDS).
 /// The message says how many solids the viewer holds, the limit and the fix (remove_obstacles);
 /// empty when there is room.
 std::string obstacle_limit_refusal(size_t boxes, size_t own, size_t dropped);

@@ -12,7 +12,7 @@
 #include "gpu/context.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/timer.h"
-#include "render/image_metrics.h"
+#include "pictures/image_metrics.h"
 #include "render/registry.h"
 #include "render/surface_renderer.h"
 #include "render/surface_views.h"
@@ -234,10 +234,9 @@ struct ViewWorker::Sim {
     /// Records the picture of `c` and returns the buffer that holds it (RGBA8, render_w x render_h).
     const gpu::Buffer& record_render(VkCommandBuffer cmd, const ViewControls& c) {
         Renderer& r = renderer(c);
-        r.share_grid(session->frame_grid());  // the session makes a new solver on reset and settings
-        r.set_solids(session->solids());
-        r.set_whitewater(c.show_whitewater ? session->whitewater() : nullptr);
-        r.record(cmd, solver->positions(), solver->particle_count(), c.camera, &render_timer);
+        FrameInput frame = session->frame_input();  // the session makes a new solver on reset and settings
+        if (!c.show_whitewater) frame.whitewater = nullptr;
+        r.record(cmd, frame, c.camera, &render_timer);
         return r.color_buffer();
     }
 
@@ -249,7 +248,7 @@ struct ViewWorker::Sim {
         const SurfaceSettings& s = r.settings().as<SurfaceSettings>();
         surface->set_diagnostics(c.view == 2);
         render_timer.clear_totals();
-        const SurfaceFrame frame = r.render(solver->positions(), solver->particle_count(), c.camera, &render_timer);
+        const SurfaceFrame frame = r.render(session->frame_input(), c.camera, &render_timer);
         Image image;
         // Depth maps: near bright, far dark, pixels no sprite covers left as the image.
         auto depth_view = [&](std::vector<float> depth) {

@@ -22,7 +22,7 @@
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "gpu/vk_check.h"
-#include "render/image_io.h"
+#include "pictures/image_io.h"
 #include "render/registry.h"
 #include "render/wireframe.h"
 #include "viewer/view_shapes.h"

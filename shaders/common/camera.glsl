@@ -1,5 +1,5 @@
 // Camera rays and screen footprints shared by every renderer (conventions in
-// shared/surface_layout.h). Include after declaring `params` with eye, forward, right, up and
+// shared/render/surface_layout.h). Include after declaring `params` with eye, forward, right, up and
 // screen laid out as in SurfaceParams.
 
 uint pixel_index(uvec2 pixel) { return pixel.y * params.screen.x + pixel.x; }

@@ -1,5 +1,5 @@
 // The procedural environment the fluid is seen in: a sky with a sun, and the tank of
-// shared/tank_layout.h (checker tiles on the domain's floor, glass side walls in a dark frame,
+// shared/solids/tank_layout.h (checker tiles on the domain's floor, glass side walls in a dark frame,
 // the static boxes as solid blocks, the mesh obstacles traced through their distance maps) on a
 // plain ground. Include after common/camera.glsl, the declaration of `params` with domain_min,
 // domain_max, light_dir and tank (SurfaceParams or MetaballParams) and of the obstacles' map

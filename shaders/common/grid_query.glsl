@@ -1,4 +1,4 @@
-// Neighbour queries on the Morton-sorted grid (layout in shared/grid_layout.h).
+// Neighbour queries on the Morton-sorted grid (layout in shared/grid/grid_layout.h).
 // Include after declaring the buffers `cell_rank` (linear cell -> Morton rank) and
 // `cell_start` (rank -> first particle; rank + 1 -> one past the last), both as read-only
 // storage texel buffers: `layout(binding = N, r32ui) readonly uniform uimageBuffer cell_rank;`.

@@ -1,4 +1,4 @@
-// Marching-cubes helpers over the sampled lattice (layout in shared/mesh_layout.h). Include
+// Marching-cubes helpers over the sampled lattice (layout in shared/render/mesh_layout.h). Include
 // after declaring `params` (MeshParams), `lattice` (MeshLattice) and `values`, phi per sample as
 // a texel buffer (`layout(binding = N, r32f) readonly uniform imageBuffer values;`): each pass
 // reads a sample's neighbours, which on the software device is far quicker through texel fetches

@@ -1,5 +1,5 @@
 // Visits the neighbours listed by grid/neighbor_lists.comp for this step (layout in
-// shared/grid_layout.h). Before including, declare `cell_rank`, `cell_start`, `list_cell`,
+// shared/grid/grid_layout.h). Before including, declare `cell_rank`, `cell_start`, `list_cell`,
 // `neighbor_count` and `neighbors` (read-only r32ui texel buffers, see grid_query.glsl), and a
 // function `void visit(uint j)` that accumulates one neighbour's contribution. Kernels are zero
 // beyond h, so a neighbour that has moved out of range contributes nothing.

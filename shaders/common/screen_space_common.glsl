@@ -1,4 +1,4 @@
-// Helpers of the screen-space filters (layout in shared/screen_space_layout.h). Include after
+// Helpers of the screen-space filters (layout in shared/render/screen_space_layout.h). Include after
 // declaring `ss` (ScreenSpaceParams).
 
 uint ss_index(ivec2 pixel) { return uint(pixel.y) * ss.screen.x + uint(pixel.x); }

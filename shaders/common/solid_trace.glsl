@@ -1,11 +1,11 @@
 // The tank's solids along a ray: the mesh obstacles traced through their distance maps (the
 // solver's, so what is drawn is what the fluid meets) and the static boxes. Include after
 // common/camera.glsl (box_span), the declaration of `params` with domain_min, domain_max and tank
-// (shared/tank_layout.h's TankParams) and of the obstacles' map nodes,
+// (shared/solids/tank_layout.h's TankParams) and of the obstacles' map nodes,
 // `layout(binding = N, rgba32f) readonly uniform imageBuffer solid_nodes;`.
 #define SOLID_TABLE(o) params.tank.solids[o]
 #define SOLID_NODE(i) imageLoad(solid_nodes, int(i))
-#include "shared/solid_map.h"
+#include "shared/solids/solid_map.h"
 
 const float TANK_NO_HIT = 3.0e38;
 

@@ -1,7 +1,7 @@
-// Camera rays and the density field of the surface renderer (layout in shared/surface_layout.h).
+// Camera rays and the density field of the surface renderer (layout in shared/render/surface_layout.h).
 // Include after declaring `params` (SurfaceParams), and, for the field, the rgba32f storage texel
 // buffers `sorted` (positions, or kernel centres, in grid order) and `shape` (the kernels' G, see
-// below; any buffer for the isotropic field), `cell_rank` and `cell_start`, and shared/anisotropy.h.
+// below; any buffer for the isotropic field), `cell_rank` and `cell_start`, and shared/render/anisotropy.h.
 
 #include "common/camera.glsl"
 

@@ -1,11 +1,11 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// The driving force of the control particles (shared/control_layout.h), added to the fluid's
+// The driving force of the control particles (shared/control/control_layout.h), added to the fluid's
 // velocities before the solver's predict step, like gravity. Control points are read from
 // their own Morton grid (cell = H), in grid order, so each fluid particle visits 27 cells.
-#include "shared/pbf_layout.h"
-#include "shared/grid_layout.h"
-#include "shared/control_layout.h"
+#include "shared/sim/pbf_layout.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/control/control_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Sim { SimParams sim; };

@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // The control points in their grid's Morton order: sorted[s] = points[order[s]] (w, the set
 // index, is kept), so the force pass reads one cell's points from one contiguous range.
-#include "shared/pbf_layout.h"
+#include "shared/sim/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Points { vec4 points[]; };

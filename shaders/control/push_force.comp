@@ -1,9 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// The viewer's push brush (shared/push_layout.h): v += dt * accel * weight for particles near the
+// The viewer's push brush (shared/control/push_layout.h): v += dt * accel * weight for particles near the
 // mouse ray, before the solver's predict step like every step force.
-#include "shared/pbf_layout.h"
-#include "shared/push_layout.h"
+#include "shared/sim/pbf_layout.h"
+#include "shared/control/push_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Sim { SimParams sim; };

@@ -1,15 +1,25 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Placement method (c), pass 2 of 2: one thread per lattice column sorts the column's depth
-// layers, walks them with a winding count and emits the lattice points strictly inside every
-// run where the winding is non-zero (see shared/raster_layout.h).
-#include "shared/raster_layout.h"
+// Placement method (c), after raster_layers.comp: one thread per lattice column sorts the column's
+// depth layers, walks them with a winding count and finds the lattice points strictly inside every
+// run where the winding is non-zero (see shared/control/raster_layout.h). Two pipelines of this
+// shader, told apart by kEmit, with an exclusive prefix sum over the columns between them:
+//   count (kEmit false): column_offsets[pixel] = the column's point count (the buffer is zeroed
+//                        before, so empty, overflowed and open columns stay 0);
+//   scan (grid/prefix_sum.h): column_offsets becomes the exclusive sum, entry `pixels` the total;
+//   emit (kEmit true):   writes the column's points from column_offsets[pixel] on.
+// The points therefore come out in column order (pixel = py * width + px, then z up), a function
+// of the input alone rather than of the order the device ran its threads in: sums over the point
+// list (the control force) are then the same from run to run.
+#include "shared/control/raster_layout.h"
 
 layout(local_size_x_id = 0) in;
+layout(constant_id = 1) const bool kEmit = false;
 layout(std430, binding = 0) readonly buffer LayerCount { uint layer_count[]; };
 layout(std430, binding = 1) readonly buffer Layers { vec2 layers[]; };  // (z, step), slot-major
 layout(std430, binding = 2) buffer Counters { uint counters[]; };      // RASTER_COUNTER_*, zeroed before
 layout(std430, binding = 3) writeonly buffer Points { vec4 points[]; };
+layout(std430, binding = 4) buffer ColumnOffsets { uint column_offsets[]; };  // pixels + 1 entries
 layout(push_constant) uniform Push { RasterPush pc; };
 
 vec2 layer[RASTER_MAX_LAYERS];
@@ -64,12 +74,20 @@ uint walk(uint n, bool emit, uint base, ivec2 column, out bool closed) {
 void main() {
     uint pixels = uint(pc.pixel_rect.z * pc.pixel_rect.w);
     uint pixel = gl_GlobalInvocationID.x;
+    // The scan's end is the total wanted, which may exceed max_points (the excess is dropped).
+    if (kEmit && pixel == 0) counters[RASTER_COUNTER_POINTS] = column_offsets[pixels];
     if (pixel >= pixels) return;
+    uint base = 0;
+    if (kEmit) {
+        // Empty, overflowed and open columns were counted 0; a column past the capacity is dropped.
+        base = column_offsets[pixel];
+        if (column_offsets[pixel + 1] == base || base >= pc.max_points) return;
+    }
     uint n = layer_count[pixel];
     if (n == 0) return;
     // An overflowed list holds an arbitrary subset of the layers: leave the column empty.
     if (n > RASTER_MAX_LAYERS) {
-        atomicAdd(counters[RASTER_COUNTER_OVERFLOWED], 1u);
+        if (!kEmit) atomicAdd(counters[RASTER_COUNTER_OVERFLOWED], 1u);
         return;
     }
     for (uint i = 0; i < n; ++i) {  // insertion sort by z; n is small
@@ -80,6 +98,10 @@ void main() {
     }
     ivec2 column = pc.pixel_rect.xy + ivec2(int(pixel % uint(pc.pixel_rect.z)), int(pixel / uint(pc.pixel_rect.z)));
     bool closed;
+    if (kEmit) {
+        walk(n, true, base, column, closed);
+        return;
+    }
     uint count = walk(n, false, 0u, column, closed);
     // A ray through a hole misses one of its layers and the winding does not return to 0; its
     // runs could then reach outside the mesh, so the column is left empty (and counted).
@@ -87,8 +109,5 @@ void main() {
         atomicAdd(counters[RASTER_COUNTER_OPEN], 1u);
         return;
     }
-    if (count == 0) return;
-    // One reservation per column, not one atomic per point.
-    uint base = atomicAdd(counters[RASTER_COUNTER_POINTS], count);
-    walk(n, true, base, column, closed);
+    column_offsets[pixel] = count;
 }

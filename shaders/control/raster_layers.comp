@@ -1,9 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Placement method (c), pass 1 of 2: every depth layer of every lattice column in one geometry
-// pass (k-buffer style, see shared/raster_layout.h). One thread per triangle walks the lattice
+// pass (k-buffer style, see shared/control/raster_layout.h). One thread per triangle walks the lattice
 // rays inside its xy bounds and appends (z, step) to the list of each ray that it covers.
-#include "shared/raster_layout.h"
+#include "shared/control/raster_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Triangles { vec4 corners[]; };  // 3 per triangle

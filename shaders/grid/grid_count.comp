@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Counting sort, pass 1: each particle finds its cell's Morton rank and takes a slot in it.
-#include "shared/grid_layout.h"
+#include "shared/grid/grid_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Positions { vec4 positions[]; };

@@ -4,7 +4,7 @@
 // `order`, without reordering the particle arrays): the way a pass that does not own the
 // particles (the renderer, a test) uses the grid. counts[i] is the true count, which may
 // exceed the capacity of the list.
-#include "shared/grid_layout.h"
+#include "shared/grid/grid_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Positions { vec4 positions[]; };

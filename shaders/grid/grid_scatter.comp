@@ -3,7 +3,7 @@
 // Counting sort, pass 3 (after the scan turned counts into starts): each particle writes its
 // index at the place its atomic slot gave it: arrival[sorted] = original index, cells in Morton
 // order, a cell's particles in the order the device ran them (grid_stable_order.comp fixes that).
-#include "shared/grid_layout.h"
+#include "shared/grid/grid_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Keys { uint keys[]; };

@@ -8,7 +8,7 @@
 // Cost: one pass over the cell's members per particle. A cell holding more than
 // GRID_STABLE_MAX_CELL particles (only a degenerate input, e.g. particles clamped into a border
 // cell) keeps the scatter's order, so that no invocation does unbounded work.
-#include "shared/grid_layout.h"
+#include "shared/grid/grid_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Keys { uint keys[]; };

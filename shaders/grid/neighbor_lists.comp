@@ -1,10 +1,10 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Finds every particle's neighbours once per step (PBF Algorithm 1 does so before the solver
-// iterations) and lists their indices (layout in shared/grid_layout.h), with the cell each
+// iterations) and lists their indices (layout in shared/grid/grid_layout.h), with the cell each
 // particle is in. Later passes visit only these ~33 neighbours instead of ~216 candidates.
 // Particles must be in the grid's sorted order (the solver reorders them first).
-#include "shared/grid_layout.h"
+#include "shared/grid/grid_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(binding = 0, rgba32f) readonly uniform imageBuffer positions;

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Exclusive prefix sum, down pass: adds each block's scanned offset to its elements.
-#include "shared/scan_layout.h"
+#include "shared/grid/scan_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) buffer Data { uint data[]; };

@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // Exclusive prefix sum, level pass: each workgroup scans SCAN_BLOCK elements in place and
 // writes its block total to block_sums (scanned by the next level, then added back).
-#include "shared/scan_layout.h"
+#include "shared/grid/scan_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) buffer Data { uint data[]; };

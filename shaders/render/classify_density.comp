@@ -6,7 +6,7 @@
 //                                                      V sum_j W(x_i - x_j, r))
 //   isotropic:                                 rho_i = V sum_j W(x_i - x_j, r)     (Wu eq. 6)
 // The isotropic term in the anisotropic density keeps the layer under a free surface in the bulk:
-// its flattened neighbours no longer reach it (eq. 8 gives ~0.85, shared/anisotropy.h), and as a
+// its flattened neighbours no longer reach it (eq. 8 gives ~0.85, shared/render/anisotropy.h), and as a
 // "splash" its sprites, which begin before the surface's flattened ones, would hold D_splash_back
 // inside the fluid and the skip would never jump. Splashes keep the same density either way.
 // over the 27 cells around it (j = i included), and the split into aggregated particles
@@ -21,9 +21,9 @@
 //   4 vec4 shape[]            from classify_shape.comp (unread when isotropic: bind any buffer)
 //   5 float class_density[]   rho_i, in units of rest density
 //   6 uint aggregate[]        1 aggregated, 0 splash
-#include "shared/grid_layout.h"
-#include "shared/surface_layout.h"
-#include "shared/anisotropy.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/render/surface_layout.h"
+#include "shared/render/anisotropy.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };

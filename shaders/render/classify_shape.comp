@@ -3,7 +3,7 @@
 // Particle shapes (Yu & Turk 2013), for the classification (pass 1 of 2, Wu et al. 4.2) and the
 // anisotropic surface: the shape G of each particle's anisotropic kernel from a weighted PCA of
 // its neighbours within r (the particle itself included), and its smoothed kernel centre.
-// Math and parameters: shared/anisotropy.h.
+// Math and parameters: shared/render/anisotropy.h.
 //
 // Bindings (set 0, push descriptors, no push constants):
 //   0 SurfaceParams params (readonly)
@@ -15,9 +15,9 @@
 //                          semi-axis [m] (the kernel's support lies within it of the centre)
 //   5 vec4 centres[]       xyz: the smoothed kernel centre (smoothed_centre, lambda =
 //                          params.centre_smoothing); w: the particle's w
-#include "shared/grid_layout.h"
-#include "shared/surface_layout.h"
-#include "shared/anisotropy.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/render/surface_layout.h"
+#include "shared/render/anisotropy.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };

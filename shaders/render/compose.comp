@@ -11,7 +11,7 @@
 // is many drops and bubbles smaller than a particle, which scatter light diffusely, so it is a
 // bright matte surface lit by the sun and the sky, thinning into what lies behind it towards its
 // silhouette (soft edges). It changes colours only; the surface is the same.
-#include "shared/surface_layout.h"
+#include "shared/render/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };

@@ -4,7 +4,7 @@
 // axis per dispatch. Depths are float bits, DEPTH_EMPTY where no particle covers the pixel;
 // empty pixels stay empty and do not contribute, and the range term keeps separate layers of
 // fluid from blurring into each other.
-#include "shared/surface_layout.h"
+#include "shared/render/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };

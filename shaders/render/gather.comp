@@ -3,7 +3,7 @@
 // The renderer's Morton-sorted copy of the solver's positions: sorted[s] = positions[order[s]],
 // w = the particle's index in the solver's buffer. Every later pass reads particles of one
 // cell from one contiguous range.
-#include "shared/surface_layout.h"
+#include "shared/render/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };

@@ -1,9 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Shading of every draw of the impostor preview; IMPOSTOR_MODE selects the draw (see
-// shared/impostor_layout.h). Particles are ray-cast against their true sphere, so silhouette,
+// shared/render/impostor_layout.h). Particles are ray-cast against their true sphere, so silhouette,
 // normal and depth are exact under perspective (and spheres intersect correctly).
-#include "shared/impostor_layout.h"
+#include "shared/render/impostor_layout.h"
 
 layout(constant_id = 0) const uint IMPOSTOR_MODE = IMPOSTOR_MODE_PARTICLES;
 

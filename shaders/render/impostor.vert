@@ -1,8 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Vertices of every draw of the impostor preview, generated from gl_VertexIndex (no vertex
-// buffers); IMPOSTOR_MODE selects the draw (see shared/impostor_layout.h).
-#include "shared/impostor_layout.h"
+// buffers); IMPOSTOR_MODE selects the draw (see shared/render/impostor_layout.h).
+#include "shared/render/impostor_layout.h"
 
 layout(constant_id = 0) const uint IMPOSTOR_MODE = IMPOSTOR_MODE_PARTICLES;
 

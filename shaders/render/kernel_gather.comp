@@ -18,7 +18,7 @@
 //   7 uint kernel_aggregate[] per kernel
 //   8 float class_density[]   per particle (classify_density.comp; unread where not classified)
 //   9 float kernel_class_density[] per kernel
-#include "shared/surface_layout.h"
+#include "shared/render/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };

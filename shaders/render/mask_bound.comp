@@ -10,9 +10,9 @@
 // particles of the 27 cells around it (cell size r: no farther particle reaches c).
 // The anisotropic surface (SURFACE_ANISOTROPIC_FIELD) bounds each kernel by its largest semi-axis
 // a_j: |G_j d| >= |d| / a_j, so W(d, G_j) <= (8 / pi) |det G_j| P(d_j / a_j) anywhere in c.
-#include "shared/grid_layout.h"
-#include "shared/render_kernels.h"
-#include "shared/surface_layout.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/render/render_kernels.h"
+#include "shared/render/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };

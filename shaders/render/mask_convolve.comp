@@ -3,8 +3,8 @@
 // Binary density grid, step 1 (Wu et al. eqs. 4-5): N_c, the particle counts of the 3x3x3
 // cells around each cell weighted by the separable kernel (b, a, b) x (b, a, b) x (b, a, b),
 // one axis per dispatch. Axis 0 reads the counts straight from the neighbour grid's starts.
-#include "shared/grid_layout.h"
-#include "shared/surface_layout.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/render/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };

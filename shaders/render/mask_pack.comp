@@ -4,7 +4,7 @@
 // m N_c W(0) >= sigma, i.e. N_c >= params.mask_count_threshold. One thread packs one word
 // (a 4 x 4 x 2 block of cells, bit = x + 4 y + 16 z) and marks the word's coarse block.
 // The coarse level is cleared before this pass; every writer stores the same 1.
-#include "shared/surface_layout.h"
+#include "shared/render/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };

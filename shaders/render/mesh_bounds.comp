@@ -10,7 +10,7 @@
 //   0 MeshParams params (readonly)
 //   1 vec4 positions[]   xyz [m]
 //   2 uint bounds[8]      keys of min x, y, z, (unused), -max x, -max y, -max z, (unused)
-#include "shared/mesh_layout.h"
+#include "shared/render/mesh_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { MeshParams params; };

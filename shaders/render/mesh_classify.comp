@@ -12,7 +12,7 @@
 //   3 uint table[]            the case table (render/marching_cubes.h)
 //   4 uint vertex_count[]     per sample (capacity + 1 entries, zero beyond the lattice)
 //   5 uint triangle_count[]   per sample
-#include "shared/mesh_layout.h"
+#include "shared/render/mesh_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { MeshParams params; };

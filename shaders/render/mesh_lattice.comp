@@ -14,7 +14,7 @@
 //   2 MeshLattice lattice   written
 //   3 uvec4 sample_groups   written: the sample pass's indirect dispatch, one of its
 //                           params.sample_slices dispatches (each a 1/slices share of the samples)
-#include "shared/mesh_layout.h"
+#include "shared/render/mesh_layout.h"
 
 layout(local_size_x = 1) in;
 layout(std430, binding = 0) readonly buffer Params { MeshParams params; };

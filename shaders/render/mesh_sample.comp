@@ -1,10 +1,10 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Surface mesh, pass 3: the renderer's field at every lattice sample,
-//   phi(p) = V sum_j W(p - x_j, r)   (shared/render_kernels.h; the same sum as field_density
+//   phi(p) = V sum_j W(p - x_j, r)   (shared/render/render_kernels.h; the same sum as field_density
 //                                     in common/surface_common.glsl)
 // or, for the anisotropic surface (params.anisotropic), V sum_j W(p - x_bar_j, G_j) over the
-// kernels (shared/anisotropy.h; every support lies within r of its centre)
+// kernels (shared/render/anisotropy.h; every support lies within r of its centre)
 // over the particles of the neighbour grid's 3 x 3 x 3 cells around p (cell size >= r), leaving
 // out cells whose box is r or farther from p. A border cell of the grid also holds the particles
 // beyond the grid (they are clamped into it), so its box is open on its outer sides. The
@@ -23,10 +23,10 @@
 //   5 uint cell_start[]
 //   6 float values[]     phi per sample
 //   7 vec4 shape[]       the kernels' G, 3 rows each (anisotropic; else unread)
-#include "shared/grid_layout.h"
-#include "shared/mesh_layout.h"
-#include "shared/render_kernels.h"
-#include "shared/anisotropy.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/render/mesh_layout.h"
+#include "shared/render/render_kernels.h"
+#include "shared/render/anisotropy.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { MeshParams params; };

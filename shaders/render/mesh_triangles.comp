@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Surface mesh, pass 6: the triangles of each cell from the case table, each corner the vertex
-// of a crossing edge, found by the edge's lowest sample and axis (shared/mesh_layout.h): the
+// of a crossing edge, found by the edge's lowest sample and axis (shared/render/mesh_layout.h): the
 // four cells around an edge name the same vertex, so the mesh is welded. Triangles past the
 // output's capacity are counted (the prefix sum's end), not written.
 //
@@ -13,7 +13,7 @@
 //   4 uint vertex_offset[]
 //   5 uint triangle_offset[]   exclusive prefix sum of triangle_count
 //   6 uint triangles[]          3 vertex indices per triangle, counter-clockwise seen from outside
-#include "shared/mesh_layout.h"
+#include "shared/render/mesh_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { MeshParams params; };

@@ -13,7 +13,7 @@
 //   3 uint vertex_offset[]   exclusive prefix sum of vertex_count
 //   4 float vertices[]       xyz per vertex [m]
 //   5 float normals[]        xyz per vertex, unit
-#include "shared/mesh_layout.h"
+#include "shared/render/mesh_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { MeshParams params; };

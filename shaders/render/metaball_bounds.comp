@@ -3,7 +3,7 @@
 // The particles' bounding box (counters bounds_*), for the brute-force rays' span and for every
 // secondary ray's exit: a shared-memory reduction per workgroup, then one atomic per axis and
 // workgroup on order-preserving keys. The host initialises the keys to (max, 0).
-#include "shared/metaball_layout.h"
+#include "shared/render/metaball_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { MetaballParams params; };

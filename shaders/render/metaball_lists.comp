@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Per-pixel metaball lists (Karpati et al. 3.4.1-3.4.2): one thread per particle walks the pixels
-// of its billboard (shared/metaball_layout.h says which pixels a billboard covers) and, by mode:
+// of its billboard (shared/render/metaball_layout.h says which pixels a billboard covers) and, by mode:
 //   A_INSERT  takes a node from the shared counter and pushes it on the pixel's list (atomic
 //             exchange of the head); nodes past the capacity are counted but not written, so an
 //             overflowing frame keeps consistent, shorter lists and reports what it needed;
@@ -11,7 +11,7 @@
 // billboards' spheres along its ray, where the march starts and ends. The span is a pair of
 // atomicMax keys so that one zero fill initialises both: x = ~bits(entry t) (the largest key is
 // the nearest entry), y = bits(exit t); y = 0 marks an empty list.
-#include "shared/metaball_layout.h"
+#include "shared/render/metaball_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { MetaballParams params; };

@@ -17,7 +17,7 @@
 // every loop of a shader invocation once they have run 65535 iterations together, silently, so a
 // brute-force ray over thousands of particles stops half way. Each loop here checks, after it
 // ends, that its own condition ended it; the pixel is reported instead of drawn wrong unnoticed.
-#include "shared/metaball_layout.h"
+#include "shared/render/metaball_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { MetaballParams params; };

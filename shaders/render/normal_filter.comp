@@ -9,7 +9,7 @@
 // of the particles' bumps are averaged away, while the curvature of a droplet, a crest or a
 // sheet's edge (normals tens of degrees apart within a few pixels) is kept. Its spatial sigma is
 // 1.5 particle radii on screen (a bump is a spacing wide), where Xiao's is a number of pixels.
-#include "shared/surface_layout.h"
+#include "shared/render/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };

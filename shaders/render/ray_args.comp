@@ -3,7 +3,7 @@
 // Workgroup counts of the indirect ray-march dispatch from the length of a ray list, so that
 // the march launches a thread per ray cast, or kFieldLanes threads (its workgroup holds
 // kRaysPerGroup = RAY_MARCH_WORKGROUP / kFieldLanes rays), instead of one per pixel.
-#include "shared/surface_layout.h"
+#include "shared/render/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const uint kRaysPerGroup = RAY_MARCH_WORKGROUP;

@@ -24,12 +24,12 @@
 //     it and the field there is exactly zero; evaluating it would only spend a step.
 // hit = (x, t) or w = -1 on a miss; normal = (n, density evaluations of this ray); spray = the
 // hit's spray share (splash_share, where SHADE_SPRAY is on; else 0);
-// ray_counts and blend_weights: see RAY_COUNT_BISECTION_BITS in shared/surface_layout.h.
-#include "shared/grid_layout.h"
-#include "shared/render_kernels.h"
-#include "shared/sph_kernels.h"
-#include "shared/anisotropy.h"
-#include "shared/surface_layout.h"
+// ray_counts and blend_weights: see RAY_COUNT_BISECTION_BITS in shared/render/surface_layout.h.
+#include "shared/grid/grid_layout.h"
+#include "shared/render/render_kernels.h"
+#include "shared/core/sph_kernels.h"
+#include "shared/render/anisotropy.h"
+#include "shared/render/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };

@@ -3,7 +3,7 @@
 // Screen-space normals from the smoothed D_all (Wu et al. section 4.4): the surface points of
 // neighbouring pixels, differenced on the side with the smaller depth step (so a silhouette
 // does not bend the normal), crossed, and turned towards the camera.
-#include "shared/surface_layout.h"
+#include "shared/render/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };

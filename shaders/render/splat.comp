@@ -28,8 +28,8 @@
 // radius r, or with the anisotropic surface (SURFACE_ANISOTROPIC_FIELD) the ellipsoid
 // |G (x - x_bar)| <= 1 around the kernel centre, so that D_all stays the nearest point of any
 // support along the ray (nothing before it is lost) and hugs the stretched kernels.
-#include "shared/render_kernels.h"
-#include "shared/surface_layout.h"
+#include "shared/render/render_kernels.h"
+#include "shared/render/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(constant_id = 1) const uint BALANCED_WALK = 1u;

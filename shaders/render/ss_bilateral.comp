@@ -7,8 +7,8 @@
 // centre's depth, so the fluid is smoothed alike near and far; the range term (a Gaussian in
 // the depth difference) keeps layers apart. Empty pixels stay empty and contribute nothing;
 // samples beyond the image are left out.
-#include "shared/surface_layout.h"
-#include "shared/screen_space_layout.h"
+#include "shared/render/surface_layout.h"
+#include "shared/render/screen_space_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { ScreenSpaceParams ss; };

@@ -18,8 +18,8 @@
 // - Discontinuities: a neighbour that is empty, beyond the image, or more than `flow_jump` away
 //   in depth is replaced by the centre's own depth (a zero-flux boundary), so no depth flows
 //   across a silhouette or between layers, and the set of covered pixels never changes.
-#include "shared/surface_layout.h"
-#include "shared/screen_space_layout.h"
+#include "shared/render/surface_layout.h"
+#include "shared/render/screen_space_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { ScreenSpaceParams ss; };

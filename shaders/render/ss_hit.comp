@@ -3,7 +3,7 @@
 // The surface of the screen-space renderer as render/surface_frame.h defines it: the point of
 // the filtered depth along each pixel's ray (xyz) and its distance t along the unit ray (w);
 // -1 everywhere a pixel has no surface, as the ray marcher leaves it.
-#include "shared/surface_layout.h"
+#include "shared/render/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };

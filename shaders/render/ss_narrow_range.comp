@@ -13,8 +13,8 @@
 //     range": a slope can keep rising across the kernel without leaving the range).
 // A sample beyond the image is left out with its mirror, so the kernel stays symmetric there.
 // Empty pixels stay empty.
-#include "shared/surface_layout.h"
-#include "shared/screen_space_layout.h"
+#include "shared/render/surface_layout.h"
+#include "shared/render/screen_space_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { ScreenSpaceParams ss; };

@@ -12,7 +12,7 @@
 //   another resolution).
 // - Rays are cast only where D_all has fluid: elsewhere no surface can be (the sprites are
 //   conservative). The reference casts every pixel of every tile.
-#include "shared/surface_layout.h"
+#include "shared/render/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };

@@ -9,7 +9,7 @@
 // differ by more than EDGE_DEPTH_RADII particle radii - the pixel straddles a silhouette that
 // the tile's variance did not see (D_all covers more than the surface does); interpolating
 // there would smear the outline, so the pixel goes to a second ray list that is marched next.
-#include "shared/surface_layout.h"
+#include "shared/render/surface_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std430, binding = 0) readonly buffer Params { SurfaceParams params; };

@@ -3,7 +3,7 @@
 // Whitewater over a rendered frame, second pass (render/whitewater_layer.h): each pixel's summed
 // opacity becomes its coverage, 1 - exp(-sum), and the frame's colour goes that far towards
 // white water lit by the sun and the sky: scattering many times, it is matte and bright.
-#include "shared/whitewater_layout.h"
+#include "shared/render/whitewater_draw_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Draw { WhitewaterDrawParams params; };

@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Whitewater over a rendered frame, first pass (render/whitewater_layer.h): every live diffuse
+// Whitewater over a rendered frame, first pass (render/whitewater_layer.h): every live whitewater
 // particle spreads a soft disc (a Gaussian of its radius) over the pixels it covers, adding its
 // opacity to each pixel's sum, with depth against the water the frame drew there (hit.w, the
 // distance along the pixel's ray; negative where it drew none):
@@ -14,7 +14,7 @@
 // particle's centre is traced against them (common/solid_trace.glsl), once per particle. Choice:
 // per particle, not per pixel; a disc is at most kMaxRadiusPx across, so at a solid's silhouette
 // a particle is hidden or drawn whole, and the trace is not repeated for every pixel it covers.
-#include "shared/whitewater_layout.h"
+#include "shared/render/whitewater_draw_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Draw { WhitewaterDrawParams params; };

@@ -19,8 +19,8 @@
 //   compress, size (members counted at each root), count (roots of groups under the limit).
 // Every pointer goes to a smaller index, so root walks end. Particles with a non-finite position
 // belong to no group (their distances are NaN: no link).
-#include "shared/grid_layout.h"
-#include "shared/pbf_layout.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/sim/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Params { SimParams params; };

@@ -1,16 +1,16 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // PBF position correction (eq. 14) with the tensile-instability term s_corr (eq. 13), then
-// collision with the solids (walls and obstacles: shared/pbf_boundary.h). Jacobi style: reads q = (p, lambda), writes p.
+// collision with the solids (walls, static boxes, mesh obstacles: shared/sim/pbf_boundary.h). Jacobi style: reads q = (p, lambda), writes p.
 // The last iteration (kLastIteration) updates velocity and position instead of storing p
 // (Algorithm 1, lines 21-23): v = (p - x) / dt, capped; x = p. A pass of its own did that, and
 // read back the p stored here: 32 B a particle more, and one more dispatch a step.
-#include "shared/grid_layout.h"
-#include "shared/pbf_layout.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/sim/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Params { SimParams params; };
-#include "shared/pbf_physics.h"
+#include "shared/sim/pbf_physics.h"
 layout(binding = 1, rgba32f) readonly uniform imageBuffer q;
 layout(binding = 2, r32ui) readonly uniform uimageBuffer cell_rank;
 layout(binding = 3, r32ui) readonly uniform uimageBuffer cell_start;
@@ -21,8 +21,8 @@ layout(std430, binding = 7) writeonly buffer POut { vec4 p_out[]; };
 layout(std430, binding = 8) buffer X { vec4 x[]; };
 layout(std430, binding = 9) writeonly buffer V { vec4 v[]; };
 layout(binding = 10, rgba32f) readonly uniform imageBuffer boundary_nodes;
-#include "shared/pbf_boundary.h"
-// The particle's pressures (shared/probe_layout.h): x its pressure, y what the solids press it with
+#include "shared/sim/pbf_boundary.h"
+// The particle's pressures (shared/sim/probe_layout.h): x its pressure, y what the solids press it with
 // (their lambda grad m and collision pushes: they have no s_corr); the step's sums, scaled in the
 // last iteration. Only when a
 // scene has probes (kMeasurePressure).
@@ -61,14 +61,14 @@ void main() {
     scorr_level = vec2(0.0);
     for_each_neighbor(i, pc.count, params.neighbor_capacity, params.grid_dims);
     // The solids' share: lambda_i times their part of grad C_i, grad m (pushes out of a wall or
-    // an obstacle).
+    // another solid).
     vec3 grad_m = pbf_boundary_term(pi).xyz;
     vec3 moved = pi + params.volume * dp + li * grad_m;
     vec3 p_new = pbf_collide(pi, moved);
     if (kMeasurePressure) {
         // The pair term (lambda_i + lambda_j + s_corr_ij) is SPH's (p_i + p_j): s_corr is an
         // artificial pressure the step applies too, half of each pair's to each particle, at its
-        // level around i (shared/probe_layout.h). The solids press the particle with lambda_i
+        // level around i (shared/sim/probe_layout.h). The solids press the particle with lambda_i
         // grad m, and where collision moved it, with that push too (as a lambda along grad m).
         float scorr_i = scorr_level.y > 0.0 ? scorr_level.x / scorr_level.y : 0.0;
         float pushed = dot(grad_m, grad_m) > 0.0 ? dot(p_new - moved, grad_m) / dot(grad_m, grad_m) : 0.0;

@@ -9,12 +9,12 @@
 // and blows up by frame 5 (700 m/s, a third of the particles torn into spray); one-sided runs
 // quietly and throws its splash off the far wall. solver.density_constraint "two_sided" keeps
 // the other choice for comparison.
-#include "shared/grid_layout.h"
-#include "shared/pbf_layout.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/sim/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Params { SimParams params; };
-#include "shared/pbf_physics.h"
+#include "shared/sim/pbf_physics.h"
 layout(binding = 1, rgba32f) readonly uniform imageBuffer p;
 layout(binding = 2, r32ui) readonly uniform uimageBuffer cell_rank;
 layout(binding = 3, r32ui) readonly uniform uimageBuffer cell_start;
@@ -24,7 +24,7 @@ layout(binding = 6, rgba32ui) readonly uniform uimageBuffer neighbors;
 layout(std430, binding = 7) writeonly buffer Q { vec4 q[]; };
 layout(std430, binding = 8) writeonly buffer Density { float density[]; };
 layout(binding = 9, rgba32f) readonly uniform imageBuffer boundary_nodes;
-#include "shared/pbf_boundary.h"
+#include "shared/sim/pbf_boundary.h"
 layout(push_constant) uniform Push { CountPush pc; };
 
 vec3 pi;
@@ -51,7 +51,7 @@ void main() {
     grad_i = vec3(0.0);
     sum_grad2 = 0.0;
     for_each_neighbor(i, pc.count, params.neighbor_capacity, params.grid_dims);
-    vec4 solid = pbf_boundary_term(pi);  // the walls and the obstacles
+    vec4 solid = pbf_boundary_term(pi);  // the walls and the table's solids
     rho = params.mass * rho + params.rest_density * solid.w;
     grad_i += solid.xyz;
     float constraint = max(rho / params.rest_density - 1.0, params.constraint_min);

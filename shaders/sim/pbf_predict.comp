@@ -1,16 +1,16 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // PBF step 1 (Algorithm 1, lines 1-4): apply gravity, cap the speed, predict positions.
-#include "shared/pbf_layout.h"
+#include "shared/sim/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Params { SimParams params; };
-#include "shared/pbf_physics.h"
+#include "shared/sim/pbf_physics.h"
 layout(std430, binding = 1) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 2) buffer V { vec4 v[]; };
 layout(std430, binding = 3) writeonly buffer P { vec4 p[]; };
 layout(binding = 4, rgba32f) readonly uniform imageBuffer boundary_nodes;
-#include "shared/pbf_boundary.h"
+#include "shared/sim/pbf_boundary.h"
 layout(push_constant) uniform Push { CountPush pc; };
 
 void main() {

@@ -2,11 +2,11 @@
 #extension GL_GOOGLE_include_directive : require
 // Physically reorders the particle arrays into the grid's Morton order (a gather by `order`).
 // p is recomputed from the reordered x and v rather than gathered: it saves a scratch array.
-#include "shared/pbf_layout.h"
+#include "shared/sim/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Params { SimParams params; };
-#include "shared/pbf_physics.h"
+#include "shared/sim/pbf_physics.h"
 layout(std430, binding = 1) readonly buffer Order { uint order[]; };
 layout(std430, binding = 2) readonly buffer XIn { vec4 x_in[]; };
 layout(std430, binding = 3) readonly buffer VIn { vec4 v_in[]; };
@@ -14,7 +14,7 @@ layout(std430, binding = 4) writeonly buffer XOut { vec4 x_out[]; };
 layout(std430, binding = 5) writeonly buffer VOut { vec4 v_out[]; };
 layout(std430, binding = 6) writeonly buffer POut { vec4 p_out[]; };
 layout(binding = 7, rgba32f) readonly uniform imageBuffer boundary_nodes;
-#include "shared/pbf_boundary.h"
+#include "shared/sim/pbf_boundary.h"
 // With probes: the push the solids gave the predicted position, as a lambda along grad m (the
 // solids' pressure channel's start; pbf_correct.comp adds the iterations' pushes to it).
 layout(std430, binding = 8) buffer Pressure { vec2 pressure[]; };

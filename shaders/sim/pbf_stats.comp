@@ -2,10 +2,10 @@
 #extension GL_GOOGLE_include_directive : require
 // Frame statistics, reduced per workgroup on the GPU so that only a few bytes per 256
 // particles come back to the host: density error, kinetic energy, speed, leakage, NaNs and
-// particles inside an obstacle, the dam-break front, the splash count (particles with few neighbours) and the runup on the
+// particles inside a solid, the dam-break front, the splash count (particles with few neighbours) and the runup on the
 // far wall, and how many particles overflowed their neighbour list (a slow step's usual cause).
-#include "shared/grid_layout.h"
-#include "shared/pbf_layout.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/sim/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Params { SimParams params; };
@@ -19,7 +19,7 @@ layout(binding = 7, r32ui) readonly uniform uimageBuffer list_cell;
 layout(binding = 8, r32ui) readonly uniform uimageBuffer neighbor_count;
 layout(binding = 9, rgba32ui) readonly uniform uimageBuffer neighbors;
 layout(binding = 10, rgba32f) readonly uniform imageBuffer boundary_nodes;
-#include "shared/pbf_boundary.h"
+#include "shared/sim/pbf_boundary.h"
 layout(push_constant) uniform Push { StatsPush pc; };
 
 const float NONE = -1.0e30;
@@ -72,7 +72,7 @@ void main() {
             bool inside = all(greaterThanEqual(xi.xyz, params.domain_min.xyz)) &&
                           all(lessThanEqual(xi.xyz, params.domain_max.xyz));
             s.outside = inside ? 0.0 : 1.0;
-            s.in_solid = obstacle_distance(xi.xyz).w < 0.0 ? 1.0 : 0.0;
+            s.in_solid = solid_distance(xi.xyz).w < 0.0 ? 1.0 : 0.0;
             if (uint(vi.w) == params.front_tag && xi.y < params.front_floor) s.front = xi.x;
             pos_i = xi.xyz;
             near_count = 0u;

@@ -2,12 +2,12 @@
 #extension GL_GOOGLE_include_directive : require
 // Vorticity confinement (eq. 16): eta = grad |omega|, N = eta / |eta|, a = epsilon (N x omega),
 // with grad |omega|_i = sum_j (m / rho_j) (|omega_j| - |omega_i|) grad_i W_ij.
-#include "shared/grid_layout.h"
-#include "shared/pbf_layout.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/sim/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Params { SimParams params; };
-#include "shared/pbf_physics.h"
+#include "shared/sim/pbf_physics.h"
 layout(binding = 1, rgba32f) readonly uniform imageBuffer x;
 layout(std430, binding = 2) buffer V { vec4 v[]; };
 layout(binding = 3, r32ui) readonly uniform uimageBuffer cell_rank;

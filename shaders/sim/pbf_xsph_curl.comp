@@ -4,8 +4,8 @@
 // neighbour's volume m / rho_j so that c and epsilon mean the same at any particle size:
 //   v_i' = v_i + c sum_j (m / rho_j) (v_j - v_i) W_ij
 //   omega_i = sum_j (m / rho_j) (v_j - v_i) x grad_j W_ij
-#include "shared/grid_layout.h"
-#include "shared/pbf_layout.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/sim/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Params { SimParams params; };

@@ -1,21 +1,21 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// The force and torque the fluid exerts on each solid (shared/probe_layout.h), reduced per
+// The force and torque the fluid exerts on each solid (shared/sim/probe_layout.h), reduced per
 // workgroup. A particle's share is what the solid's density map pushes it with, reversed: the
 // solid's part of the constraint gradient, grad m, moves the particle by lambda grad m each
 // iteration, which is the pressure force -V p grad m with p = -rho0 sum(lambda) / dt^2; the solid
 // feels F = V p grad m (grad m points into the solid), and the torque (x - centre) x F about the solid's centre.
-#include "shared/pbf_layout.h"
-#include "shared/probe_layout.h"
+#include "shared/sim/pbf_layout.h"
+#include "shared/sim/probe_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Params { SimParams params; };
-#include "shared/pbf_physics.h"
+#include "shared/sim/pbf_physics.h"
 layout(std140, binding = 1) uniform Probes { ProbeParams probes; };
 layout(std430, binding = 2) readonly buffer X { vec4 x[]; };
 layout(std430, binding = 3) readonly buffer Pressure { vec2 pressure[]; };  // y: the solids' push (pbf_correct.comp)
 layout(binding = 4, rgba32f) readonly uniform imageBuffer boundary_nodes;
-#include "shared/pbf_boundary.h"
+#include "shared/sim/pbf_boundary.h"
 layout(std430, binding = 5) writeonly buffer Partials { vec4 partials[]; };  // per group and solid: force, torque
 layout(push_constant) uniform Push { ProbePush pc; };
 

@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// The probes' readings after a step (shared/probe_layout.h), one invocation per reading:
+// The probes' readings after a step (shared/sim/probe_layout.h), one invocation per reading:
 // - a pressure sensor: the force the particles around its face press the solids with, per area
 //   (a particle's pressure read directly at a solid errs: its lambda also answers the solid's own
 //   density term, which has no partner; the force it exerts is exact), averaged over its face;
@@ -8,20 +8,20 @@
 //   PROBE_IN_SOLID inside a solid. The host finds the water's height from them (sim/probes.cpp).
 // The step's grid is the one its iterations used (built at the predicted positions): particles
 // moved within it by less than the step's corrections.
-#include "shared/grid_layout.h"
-#include "shared/pbf_layout.h"
-#include "shared/probe_layout.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/sim/pbf_layout.h"
+#include "shared/sim/probe_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Params { SimParams params; };
-#include "shared/pbf_physics.h"
+#include "shared/sim/pbf_physics.h"
 layout(std140, binding = 1) uniform Probes { ProbeParams probes; };
 layout(binding = 2, rgba32f) readonly uniform imageBuffer x;
 layout(std430, binding = 3) readonly buffer Pressure { vec2 pressure[]; };  // y: the solids' push (pbf_correct.comp)
 layout(binding = 4, r32ui) readonly uniform uimageBuffer cell_rank;
 layout(binding = 5, r32ui) readonly uniform uimageBuffer cell_start;
 layout(binding = 6, rgba32f) readonly uniform imageBuffer boundary_nodes;
-#include "shared/pbf_boundary.h"
+#include "shared/sim/pbf_boundary.h"
 layout(std430, binding = 7) writeonly buffer Readings { float readings[]; };
 layout(push_constant) uniform Push { ProbePush pc; };
 #include "common/grid_query.glsl"
@@ -78,7 +78,7 @@ void main() {
     uint g = (t - sensors) / probes.counts.z, k = (t - sensors) % probes.counts.z;
     vec4 gauge = probes.gauges[g];
     vec3 at = vec3(gauge.x, gauge.y + gauge.w * float(k), gauge.z);
-    if (obstacle_distance(at).w < 0.0) {
+    if (solid_distance(at).w < 0.0) {
         readings[slot] = PROBE_IN_SOLID;
         return;
     }

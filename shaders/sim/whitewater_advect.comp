@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Whitewater's diffuse particles, one step (shared/whitewater_layout.h): each live one counts the
+// The whitewater particles, one step (shared/sim/whitewater_layout.h): each live one counts the
 // fluid particles within h of it (the solver's grid of this step) and takes their kernel-weighted
 // mean velocity; by the count it is spray, foam or a bubble, and moves as one:
 //   spray   ballistic, with gravity and air drag;
@@ -9,10 +9,10 @@
 // Its move is checked as a fluid particle's is (pbf_collide: in the tank, never into a solid);
 // where the move was stopped the velocity follows what was left of it. It ages by the step and
 // goes into the next pool while it has life left.
-#include "shared/grid_layout.h"
-#include "shared/pbf_layout.h"
-#include "shared/sph_kernels.h"
-#include "shared/whitewater_layout.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/sim/pbf_layout.h"
+#include "shared/core/sph_kernels.h"
+#include "shared/sim/whitewater_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Params { SimParams params; };
@@ -22,7 +22,7 @@ layout(binding = 3, rgba32f) readonly uniform imageBuffer v;
 layout(binding = 4, r32ui) readonly uniform uimageBuffer cell_rank;
 layout(binding = 5, r32ui) readonly uniform uimageBuffer cell_start;
 layout(binding = 6, rgba32f) readonly uniform imageBuffer boundary_nodes;
-#include "shared/pbf_boundary.h"
+#include "shared/sim/pbf_boundary.h"
 layout(std430, binding = 7) readonly buffer LiveX { vec4 live_x[]; };
 layout(std430, binding = 8) readonly buffer LiveV { vec4 live_v[]; };
 layout(std430, binding = 9) writeonly buffer NextX { vec4 next_x[]; };

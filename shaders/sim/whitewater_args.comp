@@ -3,7 +3,7 @@
 // The start of a whitewater step (sim/whitewater.h): the pool the last step filled becomes the
 // live one (as much of it as fits), the advect pass's workgroups are set for it, and the next
 // pool and the kind counts start empty. One invocation: nothing here waits for the host.
-#include "shared/whitewater_layout.h"
+#include "shared/sim/whitewater_layout.h"
 
 layout(local_size_x = 1) in;
 layout(std140, binding = 0) uniform Whitewater { WhitewaterParams ww; };

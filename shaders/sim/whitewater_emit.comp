@@ -1,11 +1,11 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Whitewater, second pass over the fluid (shared/whitewater_layout.h): each particle's
-// potentials for trapped air, wave crests and kinetic energy, and the diffuse particles it emits
+// Whitewater, second pass over the fluid (shared/sim/whitewater_layout.h): each particle's
+// potentials for trapped air, wave crests and kinetic energy, and the whitewater particles it emits
 // this step, appended to the next pool. potentials[i] = (I_ta, I_wc, I_k, particles emitted).
-#include "shared/grid_layout.h"
-#include "shared/pbf_layout.h"
-#include "shared/whitewater_layout.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/sim/pbf_layout.h"
+#include "shared/sim/whitewater_layout.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Params { SimParams params; };
@@ -23,10 +23,10 @@ layout(std430, binding = 11) writeonly buffer PoolX { vec4 pool_x[]; };  // xyz,
 layout(std430, binding = 12) writeonly buffer PoolV { vec4 pool_v[]; };  // xyz, w: kind
 layout(std430, binding = 13) buffer Counters { uint counters[]; };
 layout(binding = 14, rgba32f) readonly uniform imageBuffer boundary_nodes;
-#include "shared/pbf_boundary.h"
+#include "shared/sim/pbf_boundary.h"
 layout(push_constant) uniform Push { WhitewaterPush pc; };
 
-/// The most diffuse particles one fluid particle makes in a step.
+/// The most whitewater particles one fluid particle makes in a step.
 const uint kMaxPerParticle = 16u;
 
 vec3 xi, vi, ni;

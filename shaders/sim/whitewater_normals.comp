@@ -1,11 +1,11 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Whitewater, first pass over the fluid (shared/whitewater_layout.h): each particle's surface
+// Whitewater, first pass over the fluid (shared/sim/whitewater_layout.h): each particle's surface
 // normal, the outward direction of its colour field, n = -sum_j V grad W_ij normalised, and its
 // neighbour count within h. xyz: n^ (zero inside the bulk, where the field is flat); w: the count.
-#include "shared/grid_layout.h"
-#include "shared/pbf_layout.h"
-#include "shared/sph_kernels.h"
+#include "shared/grid/grid_layout.h"
+#include "shared/sim/pbf_layout.h"
+#include "shared/core/sph_kernels.h"
 
 layout(local_size_x_id = 0) in;
 layout(std140, binding = 0) uniform Params { SimParams params; };

@@ -5,14 +5,14 @@
     xvfb-run -a pvbatch tests/tools/paraview_check.py RUNDIR --png PATH   # the render needs a display
 
 Opens RUNDIR/particles.pvd as one time series (ParaView's PVD reader, as File > Open does) and,
-where they exist, RUNDIR/surface.pvd and RUNDIR/diffuse.pvd (the whitewater); prints one JSON
+where they exist, RUNDIR/surface.pvd and RUNDIR/whitewater.pvd; prints one JSON
 object on stdout:
 
     {"particles": {"file": ..., "time_steps": [t0, t1, ...],
                    "steps": [{"time": t, "points": n, "cells": n, "point_arrays": [names],
                               "ranges": {one-component array: [min, max]}, "bounds": [...]}, ...]},
      "surface": {... the same ...} or null,
-     "diffuse": {... the same ...} or null,
+     "whitewater": {... the same ...} or null,
      "picture": {"path": ..., "width": w, "height": h, "colour": array} or null}
 
 --png renders the particles at the last time step as points coloured by their speed (the
@@ -110,7 +110,7 @@ if not os.path.isfile(particles_path):
 try:
     particles_reader, particles = read_series(particles_path)
     surface_reader, surface = read_series(os.path.join(run, "surface.pvd"))
-    _, diffuse = read_series(os.path.join(run, "diffuse.pvd"))
+    _, whitewater = read_series(os.path.join(run, "whitewater.pvd"))
 except SystemExit:
     raise
 except Exception as error:  # a reader's exception (a malformed file) is one line, not a trace
@@ -152,4 +152,4 @@ if args["png"]:
                "bytes": os.path.getsize(args["png"])}
     Delete(view)
 
-print(json.dumps({"particles": particles, "surface": surface, "diffuse": diffuse, "picture": picture}, indent=1))
+print(json.dumps({"particles": particles, "surface": surface, "whitewater": whitewater, "picture": picture}, indent=1))

@@ -1,0 +1,2 @@
+// The lowest contract: every layer sees it.
+#define FIXTURE_COMPAT 1

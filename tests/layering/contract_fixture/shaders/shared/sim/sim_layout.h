@@ -1,0 +1,3 @@
+// sim's contract.
+#include "../core/compat.h"
+#define SIM_STEPS 4
