@@ -294,8 +294,7 @@ Overhead measure_overhead(gpu::Context& ctx, const ShapeScene& s, double warm_s,
     for (int r = 0; r < repeats; ++r) {
         double total[2] = {}, wall[2] = {};
         for (bool with : {r % 2 == 0, r % 2 != 0}) {
-            StepForce& force = run.sim->control()->force();
-            with ? solver.attach(&force) : solver.detach(&force);
+            with ? solver.attach(&run.sim->control()->force()) : solver.detach(&run.sim->control()->force());
             solver.set_state(start.x, start.v);
             timer.clear_totals();
             solver.run_steps(steps, &timer);

@@ -7,6 +7,7 @@
 #include <string>
 #include <tuple>
 
+#include "gpu/barriers.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "shaders/shared/control/raster_layout.h"
@@ -105,6 +106,40 @@ std::vector<gpu::BufferReport> RasterPlacer::memory() const {
     return report;
 }
 
+void RasterPlacer::record_placement(VkCommandBuffer cmd, const shader::RasterPush& push, VkDeviceSize corner_bytes,
+                                    uint32_t pixels) {
+    timer_.reset(cmd);
+    const VkBufferCopy upload{0, 0, corner_bytes};
+    gpu::copy(*ctx_, cmd, triangles_staging_, triangles_, upload);
+    gpu::fill(*ctx_, cmd, layer_count_, 0, VkDeviceSize(pixels) * sizeof(uint32_t));
+    gpu::fill(*ctx_, cmd, counters_, 0);
+    gpu::fill(*ctx_, cmd, *column_offsets_, 0, VkDeviceSize(pixels + 1) * sizeof(uint32_t));
+    {
+        gpu::GpuScope scope(&timer_, cmd, "raster_layers");
+        gpu::dispatch(*ctx_, cmd, layers_pass_, push.triangle_count, push, {{"corners", &triangles_}, {"layer_count", &layer_count_}, {"layers", &layers_}});
+    }
+    // Count, scan, emit: each column writes its points at its offset in the scan, so the list is
+    // in column order on every run (an atomic counter handing out slots would give the order
+    // the threads ran in, and the control force's sums over the list would differ run to run).
+    const gpu::Bindings fill_buffers = {{"layer_count", &layer_count_}, {"layers", &layers_}, {"counters", &counters_},
+                                        {"points", &points_}, {"column_offsets", column_offsets_}};
+    {
+        gpu::GpuScope scope(&timer_, cmd, "raster_count");
+        gpu::dispatch(*ctx_, cmd, count_pass_, pixels, push, fill_buffers);
+    }
+    {
+        gpu::GpuScope scope(&timer_, cmd, "raster_scan");
+        scan_.record(cmd, *column_offsets_, pixels + 1);
+    }
+    {
+        gpu::GpuScope scope(&timer_, cmd, "raster_emit");
+        gpu::dispatch(*ctx_, cmd, emit_pass_, pixels, push, fill_buffers);
+    }
+    const VkBufferCopy readback{0, 0, RASTER_COUNTERS * sizeof(uint32_t)};
+    gpu::copy(*ctx_, cmd, counters_, counters_readback_, readback);
+    gpu::host_read_barrier(cmd);
+}
+
 RasterStats RasterPlacer::place_on_gpu(const std::vector<glm::vec3>& triangles, float spacing,
                                        glm::vec3 lattice_origin, float w_value) {
     const auto start = Clock::now();
@@ -147,43 +182,7 @@ RasterStats RasterPlacer::place_on_gpu(const std::vector<glm::vec3>& triangles, 
     push.triangle_count = triangle_count;
     push.max_points = point_capacity_;
     push.w_value = w_value;
-    ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
-        timer_.reset(cmd);
-        const VkBufferCopy upload{0, 0, corner_bytes};
-        gpu::copy(*ctx_, cmd, triangles_staging_, triangles_, upload);
-        gpu::fill(*ctx_, cmd, layer_count_, 0, VkDeviceSize(stats.pixels) * sizeof(uint32_t));
-        gpu::fill(*ctx_, cmd, counters_, 0);
-        gpu::fill(*ctx_, cmd, *column_offsets_, 0, VkDeviceSize(stats.pixels + 1) * sizeof(uint32_t));
-        {
-            gpu::GpuScope scope(&timer_, cmd, "raster_layers");
-            gpu::dispatch(*ctx_, cmd, layers_pass_, triangle_count, push, {{"corners", &triangles_}, {"layer_count", &layer_count_}, {"layers", &layers_}});
-        }
-        // Count, scan, emit: each column writes its points at its offset in the scan, so the list is
-        // in column order on every run (an atomic counter handing out slots would give the order
-        // the threads ran in, and the control force's sums over the list would differ run to run).
-        const gpu::Bindings fill_buffers = {{"layer_count", &layer_count_}, {"layers", &layers_},
-                                            {"counters", &counters_},       {"points", &points_},
-                                            {"column_offsets", column_offsets_}};
-        {
-            gpu::GpuScope scope(&timer_, cmd, "raster_count");
-            gpu::dispatch(*ctx_, cmd, count_pass_, stats.pixels, push, fill_buffers);
-        }
-        {
-            gpu::GpuScope scope(&timer_, cmd, "raster_scan");
-            scan_.record(cmd, *column_offsets_, stats.pixels + 1);
-        }
-        {
-            gpu::GpuScope scope(&timer_, cmd, "raster_emit");
-            gpu::dispatch(*ctx_, cmd, emit_pass_, stats.pixels, push, fill_buffers);
-        }
-        const VkBufferCopy readback{0, 0, RASTER_COUNTERS * sizeof(uint32_t)};
-        gpu::copy(*ctx_, cmd, counters_, counters_readback_, readback);
-        VkMemoryBarrier to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-        to_host.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
-        to_host.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-        vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &to_host, 0,
-                             nullptr, 0, nullptr);
-    });
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) { record_placement(cmd, push, corner_bytes, stats.pixels); });
     timer_.collect();
     for (const auto& [name, ms] : timer_.totals_ms()) stats.gpu_ms += ms;
     timer_.clear_totals();

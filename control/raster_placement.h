@@ -27,6 +27,10 @@
 #include "gpu/timer.h"
 #include "grid/prefix_sum.h"
 
+namespace aquaform::shader {
+struct RasterPush;
+}  // namespace aquaform::shader
+
 namespace aquaform::control {
 
 /// What one placement did. Nothing is lost silently: a full point buffer, a column with more
@@ -69,6 +73,8 @@ private:
     void grow(gpu::Buffer& buffer, const char* name, VkDeviceSize bytes, gpu::MemoryUse use);
     /// Column offsets and the prefix sum over them for at least `pixels` columns.
     void reserve_columns(uint32_t pixels);
+    /// The placement's passes for `pixels` columns (the corners uploaded, the counters read back).
+    void record_placement(VkCommandBuffer cmd, const shader::RasterPush& push, VkDeviceSize corner_bytes, uint32_t pixels);
 
     gpu::Context* ctx_;
     gpu::ComputePass layers_pass_;

@@ -54,9 +54,8 @@ void WhitewaterLayer::record(VkCommandBuffer cmd, const WhitewaterView& view, co
 namespace aquaform {
 
 void WhitewaterSlot::record(gpu::Context& ctx, VkCommandBuffer cmd, const WhitewaterView* view, uint32_t width,
-                            uint32_t height, const ViewCamera& camera,
-                            const gpu::Buffer& hit, const WhitewaterSolids& solids, gpu::Buffer& color,
-                            gpu::GpuTimer* timer) {
+                            uint32_t height, const ViewCamera& camera, const gpu::Buffer& hit,
+                            const WhitewaterSolids& solids, gpu::Buffer& color, gpu::GpuTimer* timer) {
     if (!view || !view->counters) return;
     if (!layer_) layer_ = std::make_unique<WhitewaterLayer>(ctx, width, height);
     layer_->record(cmd, *view, camera, hit, solids, color, timer);

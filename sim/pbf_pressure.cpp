@@ -6,14 +6,12 @@
 #include "grid/neighbor_grid.h"
 #include "shaders/shared/sim/pbf_layout.h"
 #include "sim/boundary.h"
+#include "sim/pbf_traffic.h"
 
 namespace aquaform {
 
 PbfPressure::PbfPressure(gpu::Context& ctx, const SolverSettings& settings, bool solids, bool measure_pressure)
-    : ctx_(&ctx),
-      iterations_(settings.iterations),
-      xsph_on_(settings.viscosity > 0.0f || settings.vorticity > 0.0f),
-      vorticity_on_(settings.vorticity > 0.0f) {
+    : ctx_(&ctx), iterations_(settings.iterations), xsph_on_(step_shape(settings).xsph), vorticity_on_(settings.vorticity > 0.0f) {
     using shader::CountPush;
     const uint32_t local = gpu::kDefaultLocalSize, pressure = measure_pressure ? 1u : 0u;
     predict_ = gpu::ComputePass(ctx, {"sim/pbf_predict.comp", 5, sizeof(CountPush), local, solid_constants({}, solids)});
@@ -37,7 +35,7 @@ std::vector<std::string> PbfPressure::pass_names() const {
     return passes;
 }
 
-void PbfPressure::record_step(VkCommandBuffer cmd, FluidArrays& fluid, const FluidSort& sort, gpu::GpuTimer* timer) {
+void PbfPressure::record_step(VkCommandBuffer cmd, FluidArrays fluid, const FluidSort& sort, gpu::GpuTimer* timer) {
     const shader::CountPush push{fluid.count};
     {
         gpu::GpuScope s(timer, cmd, "sim_predict");
@@ -63,7 +61,7 @@ void PbfPressure::record_step(VkCommandBuffer cmd, FluidArrays& fluid, const Flu
     }
 }
 
-void PbfPressure::record_projection(VkCommandBuffer cmd, FluidArrays& fluid, uint32_t iteration) {
+void PbfPressure::record_projection(VkCommandBuffer cmd, FluidArrays fluid, uint32_t iteration) {
     record_iteration(cmd, fluid, correct_, iteration, nullptr);
 }
 
@@ -85,7 +83,7 @@ void PbfPressure::record_iteration(VkCommandBuffer cmd, FluidArrays& fluid, cons
                   {{"params", &fluid.params}, {"q", fluid.s0}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"p_out", fluid.p}, {"x", fluid.x}, {"v", fluid.v}, {"boundary_nodes", &fluid.boundary_nodes}, {"pressure", &fluid.pressure}});
 }
 
-void PbfPressure::record_density(VkCommandBuffer cmd, FluidArrays& fluid, const gpu::Buffer& positions) {
+void PbfPressure::record_density(VkCommandBuffer cmd, FluidArrays fluid, const gpu::Buffer& positions) {
     // The lambda pass at `positions`: its densities are what is wanted, its q output goes to scratch.
     const shader::CountPush push{fluid.count};
     const NeighborGrid& grid = fluid.grid;

@@ -17,9 +17,9 @@ public:
     PbfPressure(gpu::Context& ctx, const SolverSettings& settings, bool solids, bool measure_pressure);
 
     std::vector<std::string> pass_names() const override;
-    void record_step(VkCommandBuffer cmd, FluidArrays& fluid, const FluidSort& sort, gpu::GpuTimer* timer) override;
-    void record_projection(VkCommandBuffer cmd, FluidArrays& fluid, uint32_t iteration) override;
-    void record_density(VkCommandBuffer cmd, FluidArrays& fluid, const gpu::Buffer& positions) override;
+    void record_step(VkCommandBuffer cmd, FluidArrays fluid, const FluidSort& sort, gpu::GpuTimer* timer) override;
+    void record_projection(VkCommandBuffer cmd, FluidArrays fluid, uint32_t iteration) override;
+    void record_density(VkCommandBuffer cmd, FluidArrays fluid, const gpu::Buffer& positions) override;
 
 private:
     /// One constraint iteration (lambda, then `correct`: correct_ keeps p, correct_last_ updates v and x).

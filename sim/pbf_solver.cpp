@@ -222,8 +222,7 @@ void PbfSolver::relax_start() {
         ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
             gpu::record_upload(*ctx_, cmd, *params_buf_, &relax, sizeof relax);
             record_sort(cmd, *x_, nullptr);
-            FluidArrays fluid = fluid_arrays();
-            for (uint32_t it = 0; it < kStartRelaxIterations; ++it) pressure_solve_->record_projection(cmd, fluid, it);
+            for (uint32_t it = 0; it < kStartRelaxIterations; ++it) pressure_solve_->record_projection(cmd, fluid_arrays(), it);
             gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
         });
         // The densities are the last iteration's, before its correction: the check lags it.
@@ -275,9 +274,8 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     for (SolverStage* stage : stages_)
         if (stage->place() == StagePlace::before_pressure) stage->record_step(cmd, fluid_state(time_ + params_.dt, timer));
     if (boundary_->moves()) record_solid_motion(cmd);
-    FluidArrays fluid = fluid_arrays();
-    pressure_solve_->record_step(cmd, fluid, [this](VkCommandBuffer c, const gpu::Buffer& keys, gpu::GpuTimer* t) { record_sort(c, keys, t); },
-                                 timer);
+    const FluidSort sort = [this](VkCommandBuffer c, const gpu::Buffer& keys, gpu::GpuTimer* t) { record_sort(c, keys, t); };
+    pressure_solve_->record_step(cmd, fluid_arrays(), sort, timer);
     for (SolverStage* stage : stages_)
         if (stage->place() == StagePlace::after_pressure) stage->record_step(cmd, fluid_state(time_ + params_.dt, timer));
     time_ += params_.dt;
@@ -329,8 +327,7 @@ void PbfSolver::run_steps(uint32_t steps, gpu::GpuTimer* timer) {
 void PbfSolver::record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     gpu::GpuScope s(timer, cmd, "sim_stats");
     // Density at the final positions (over this step's neighbours), then the per-workgroup reduction.
-    FluidArrays fluid = fluid_arrays();
-    pressure_solve_->record_density(cmd, fluid, *x_);
+    pressure_solve_->record_density(cmd, fluid_arrays(), *x_);
     // Runup: particles within a spacing of the far wall of a dam break.
     const float runup_x = scene_.column_width ? scene_.domain.max.x - scene_.particle_spacing : 1.0e30f;
     const float splash = float(kSplashNeighborFraction * full_neighbor_count(scene_.solver.kernel_radius_factor));
@@ -436,8 +433,7 @@ std::vector<gpu::BufferReport> PbfSolver::memory_report() const {
 GridCounts PbfSolver::grid_counts() { return count_grid_work(*ctx_, *grid_, count_); }
 
 std::vector<PassTraffic> PbfSolver::traffic_per_pass() {
-    const SolverSettings& s = scene_.solver;
-    return step_traffic(grid_counts(), {s.iterations, s.viscosity > 0.0f || s.vorticity > 0.0f, s.vorticity > 0.0f});
+    return step_traffic(grid_counts(), step_shape(scene_.solver));
 }
 
 ParticleSnapshot PbfSolver::snapshot() {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "grid/grid_traffic.h"
+#include "sim/scene_basics.h"
 
 namespace aquaform {
 
@@ -17,6 +18,11 @@ struct StepShape {
     bool xsph = true;         ///< sim_xsph_curl (viscosity or vorticity on)
     bool vorticity = true;    ///< vorticity confinement
 };
+
+/// The passes `settings` make a step run (XSPH runs with viscosity or vorticity).
+inline StepShape step_shape(const SolverSettings& settings) {
+    return {settings.iterations, settings.viscosity > 0.0f || settings.vorticity > 0.0f, settings.vorticity > 0.0f};
+}
 
 /// Per-pass traffic of one step at the grid's state `counts` (its lists as the step fills them).
 std::vector<PassTraffic> step_traffic(const GridCounts& counts, const StepShape& shape);

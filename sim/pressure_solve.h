@@ -22,7 +22,8 @@ class GpuTimer;
 class NeighborGrid;
 
 /// The solver's particle arrays as a pressure solve works on them. The pointers are the
-/// solver's own, by reference: a pass that writes into scratch swaps them, and the sort does.
+/// solver's own, by reference: a pass that writes into scratch swaps them, and the sort does (so
+/// a copy of this view swaps the solver's arrays too).
 struct FluidArrays {
     const gpu::Buffer& params;  ///< the parameter block (shared/sim/pbf_layout.h)
     gpu::Buffer*& x;
@@ -48,13 +49,13 @@ public:
     virtual std::vector<std::string> pass_names() const = 0;
     /// One step: from x and v (with the stages' accelerations) to the step's final x and v,
     /// sorting the arrays with `sort` where it needs neighbours.
-    virtual void record_step(VkCommandBuffer cmd, FluidArrays& fluid, const FluidSort& sort, gpu::GpuTimer* timer) = 0;
+    virtual void record_step(VkCommandBuffer cmd, FluidArrays fluid, const FluidSort& sort, gpu::GpuTimer* timer) = 0;
     /// One projection of the predicted positions p towards rest density, with no velocity
     /// update: the start's relaxation (PbfSolver::relax_start), with `iteration` counting from 0.
-    virtual void record_projection(VkCommandBuffer cmd, FluidArrays& fluid, uint32_t iteration) = 0;
+    virtual void record_projection(VkCommandBuffer cmd, FluidArrays fluid, uint32_t iteration) = 0;
     /// The densities at `positions` into fluid.density, on the grid's current neighbour lists
     /// (the frame's statistics).
-    virtual void record_density(VkCommandBuffer cmd, FluidArrays& fluid, const gpu::Buffer& positions) = 0;
+    virtual void record_density(VkCommandBuffer cmd, FluidArrays fluid, const gpu::Buffer& positions) = 0;
 };
 
 }  // namespace aquaform
