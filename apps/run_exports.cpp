@@ -11,14 +11,20 @@ std::vector<std::string> frame_export_flags() {
     return flags;
 }
 
-std::optional<FrameExportOptions> frame_export_options_from(Args args, std::string* error) {
-    for (const auto& [old_name, name] : kRenamedExportFlags) {  // an old name stands for its new one
+/// An old flag name stands for its new one, and is said to be old; false (with `error`) beside the new.
+static bool take_old_names(Args& args, std::string* error) {
+    for (const auto& [old_name, name] : kRenamedExportFlags) {
         if (!args.has(old_name)) continue;
         const std::string said = std::string(old_name) + " is the old name of " + name + "; give " + name;
-        if (args.has(name)) return *error = said + " alone", std::nullopt;
+        if (args.has(name)) return *error = said + " alone", false;
         args.values[name] = args.values.extract(old_name).mapped();
         std::fprintf(stderr, "aquaform run: %s %s\n", said.c_str(), args.values[name].c_str());
     }
+    return true;
+}
+
+std::optional<FrameExportOptions> frame_export_options_from(Args args, std::string* error) {
+    if (!take_old_names(args, error)) return std::nullopt;
     FrameExportOptions options;
     for (const FrameExportKind& kind : frame_export_kinds()) {
         if (!args.has(kind.flag)) continue;
@@ -30,30 +36,22 @@ std::optional<FrameExportOptions> frame_export_options_from(Args args, std::stri
     auto format_of = [&](const char* flag, FrameExport kind, auto parse, auto& into) {
         if (!args.has(flag)) return true;
         auto format = parse(args.value(flag));
-        if (!format) {
-            *error = std::string(flag) + ": " + format.error();
-            return false;
-        }
+        if (!format) return *error = std::string(flag) + ": " + format.error(), false;
         into = format.value();
         if (options.every[size_t(kind)]) return true;
         const char* every = frame_export_kinds()[size_t(kind)].flag;
-        *error = std::string(flag) + " is the format of " + every + "'s files; give " + every + " K too";
-        return false;
+        return *error = std::string(flag) + " is the format of " + every + "'s files; give " + every + " K too", false;
     };
     if (!format_of(kMeshFormatFlag, FrameExport::mesh, parse_mesh_format, options.mesh_format) ||
         !format_of(kWhitewaterFormatFlag, FrameExport::whitewater, parse_whitewater_format, options.whitewater_format))
         return std::nullopt;
     if (args.has(kUpFlag)) {
         auto up = parse_up_axis(args.value(kUpFlag));
-        if (!up) {
-            *error = std::string(kUpFlag) + ": " + up.error();
-            return std::nullopt;
-        }
+        if (!up) return *error = std::string(kUpFlag) + ": " + up.error(), std::nullopt;
         options.up = up.value();
-        if (options.every == FrameExportOptions{}.every) {
-            *error = std::string(kUpFlag) + " turns the exported files; give an export flag too (e.g. --mesh-every K)";
-            return std::nullopt;
-        }
+        if (options.every == FrameExportOptions{}.every)
+            return *error = std::string(kUpFlag) + " turns the exported files; give an export flag too (e.g. --mesh-every K)",
+                   std::nullopt;
     }
     return options;
 }
