@@ -148,15 +148,8 @@ int bench_render(const Args& args) {
                           {"repeats", *repeats},
                           {"interrupted", stopped},
                           {"frames", result.frames}};
-    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; }); !written)
+    if (auto written = study::write_bench_render_files(out_path, doc, result, plan); !written)
         return std::fprintf(stderr, "aquaform bench render: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
-    std::printf("wrote %s\n", out_path.string().c_str());
-    const std::string stem = (out_path.parent_path() / out_path.stem()).string();
-    for (const auto& [suffix, chart] : study::sweep_charts(result, plan)) {
-        if (auto written = write_chart_svg(stem + suffix, chart); !written)
-            return std::fprintf(stderr, "aquaform bench render: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
-        std::printf("wrote %s%s\n", stem.c_str(), suffix.c_str());
-    }
     return exit_status(ctx, stopped ? kExitInterrupted : kExitOk);
 }
 

@@ -38,20 +38,8 @@ namespace {
 /// frame's figures printed, and written as JSON to --out FILE when given.
 int view_headless(gpu::Context& ctx, const Args& args, const Scene& scene, session::SessionPlan plan,
                   const viewer::ViewerOptions& options, uint32_t width, uint32_t height) {
-    std::printf("viewing %s headless: %llu particles on %s (%s), %u frames of the viewer's worker (simulate + %s "
-                "picture); Ctrl-C stops\n", scene.name.c_str(), (unsigned long long)scene.particle_count(),
-                ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type), options.max_frames, options.method.c_str());
-    std::printf("%6s %10s %6s %10s %12s %12s\n", "frame", "wall ms", "steps", "sim ms", "GPU sim ms", "GPU draw ms");
-    const viewer::HeadlessSummary run = viewer::run_headless(
-        ctx, std::move(plan), options, width, height, options.max_frames, [](uint32_t f, const viewer::HeadlessFrame& h) {
-            std::printf("%6u %10.2f %6u %10.2f %12.2f %12.2f\n", f, h.wall_ms, h.steps, 1000.0 * h.sim_s, h.gpu_solver_ms,
-                        h.gpu_render_ms);
-        });
-    std::printf("aquaform view --headless: %zu frames in %.2f s: %.2f frames/s, %.2f steps a frame, GPU %.2f ms simulation + "
-                "%.2f ms picture a frame (%u particles, %ux%u, %s); real-time factor %.3f (%.3f s simulated)\n",
-                run.frames.size(), run.wall_seconds, run.frames_per_s(), run.mean_steps(), run.mean_gpu_solver_ms(),
-                run.mean_gpu_render_ms(), run.particles, run.width, run.height, run.method.c_str(), run.real_time_factor(),
-                run.sim_seconds);
+    const viewer::HeadlessSummary run =
+        viewer::run_headless_printed(ctx, std::move(plan), options, width, height, scene.name);
     if (!run.fatal.empty()) std::fprintf(stderr, "aquaform view: the simulation stopped: %s\n", run.fatal.c_str());
     if (!run.blowup.empty()) std::fprintf(stderr, "aquaform view: %s\n", run.blowup.c_str());
     if (stopped_by_ctrl_c("view --headless")) return kExitInterrupted;

@@ -4,7 +4,9 @@
 #include <map>
 #include <memory>
 
+#include "core/file_write.h"
 #include "core/interrupt.h"
+#include "core/text_escape.h"
 #include "gpu/context.h"
 #include "render/registry.h"
 #include "render/surface_renderer.h"
@@ -295,6 +297,19 @@ std::vector<std::pair<std::string, Chart>> sweep_charts(const BenchRenderResult&
     }
     if (plan.blend_sweep) charts.emplace_back(suffixes[next++], blend_sweep_chart(result.blend_points));
     return charts;
+}
+
+Result<bool> write_bench_render_files(const std::filesystem::path& out_path, const nlohmann::json& doc,
+                                      const BenchRenderResult& result, const BenchRenderPlan& plan) {
+    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; }); !written)
+        return written;
+    std::printf("wrote %s\n", out_path.string().c_str());
+    const std::string stem = (out_path.parent_path() / out_path.stem()).string();
+    for (const auto& [suffix, chart] : sweep_charts(result, plan)) {
+        if (auto written = write_chart_svg(stem + suffix, chart); !written) return written;
+        std::printf("wrote %s%s\n", stem.c_str(), suffix.c_str());
+    }
+    return true;
 }
 
 }  // namespace aquaform::study

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <utility>
@@ -12,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/result.h"
 #include "render/picture_size.h"
 #include "pictures/svg_chart.h"
 #include "sim/scene.h"
@@ -46,10 +48,14 @@ struct BenchRenderResult {
 /// Measures the plan's frames in order; Ctrl-C stops after the frame being measured.
 BenchRenderResult run_bench_render(gpu::Context& ctx, const BenchRenderPlan& plan);
 
-/// The sweeps' charts, each with the suffix of its file beside bench_render.json.
 /// The suffixes of the sweeps' charts (beside the JSON: STEM + suffix) that sweep_charts writes
 /// for these sweeps, known before any work so that the files are checked first.
 std::vector<std::string> sweep_chart_suffixes(bool mask_sweep, bool blend_sweep);
+/// The sweeps' charts, each with the suffix of its file beside bench_render.json.
 std::vector<std::pair<std::string, Chart>> sweep_charts(const BenchRenderResult& result, const BenchRenderPlan& plan);
+/// Writes `doc` (bench_render.json) to `out_path` and the sweeps' charts beside it, saying each
+/// file's name; the first error.
+Result<bool> write_bench_render_files(const std::filesystem::path& out_path, const nlohmann::json& doc,
+                                      const BenchRenderResult& result, const BenchRenderPlan& plan);
 
 }  // namespace aquaform::study

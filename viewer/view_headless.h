@@ -56,5 +56,9 @@ nlohmann::json to_json(const HeadlessSummary& run);
 HeadlessSummary run_headless(gpu::Context& ctx, session::SessionPlan plan, const ViewerOptions& options, uint32_t width,
                              uint32_t height, uint32_t frames,
                              const std::function<void(uint32_t, const HeadlessFrame&)>& on_frame = {});
+/// run_headless with its table printed: a line naming `scene_name` and the device, a line per
+/// frame, and the summary (frames a second, GPU time, the real-time factor).
+HeadlessSummary run_headless_printed(gpu::Context& ctx, session::SessionPlan plan, const ViewerOptions& options,
+                                     uint32_t width, uint32_t height, const std::string& scene_name);
 
 }  // namespace aquaform::viewer
