@@ -32,14 +32,12 @@ int cmd_assets(const std::vector<std::string>& argv) {
     auto args = parse_args(argv, {{"--out"}, {}}, "assets", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     if (!args->positional.empty())
-        return std::fprintf(stderr, "aquaform assets: unexpected argument \"%s\"; use aquaform assets [--out DIR]\n",
-                            args->positional[0].c_str()),
-               kExitUsage;
+        return refuse("assets", "unexpected argument \"" + args->positional[0] + "\"; use aquaform assets [--out DIR]");
     const fs::path out_dir = args->value("--out", "assets/meshes");
     // No folder lock here: the generator writes the same bytes every time (two at once write the
     // same files), and its folder is the repository's assets/meshes, which holds these alone.
     if (auto ready = prepare_output_dir(out_dir); !ready)
-        return std::fprintf(stderr, "aquaform assets: %s\n", ready.error().c_str()), kExitUsage;
+        return refuse("assets", ready.error());
 
     struct Named {
         std::string file;
@@ -55,14 +53,14 @@ int cmd_assets(const std::vector<std::string>& argv) {
     for (const Named& m : meshes) {
         const fs::path path = out_dir / m.file;
         if (Result<bool> written = geometry::write_obj(path, m.mesh); !written)
-            return std::fprintf(stderr, "aquaform assets: %s\n", written.error().c_str()), kExitFailure;
+            return refuse("assets", written.error(), kExitFailure);
         report(path, std::to_string(m.mesh.vertices.size()) + " vertices, " + std::to_string(m.mesh.faces.size()) +
                          " triangles");
     }
     const fs::path skeleton_path = out_dir / "character_skeleton.json";
     const std::string skeleton = control::character_walk_text(character.skeleton);
     if (auto written = write_file_with(skeleton_path, [&](std::ostream& out) { out << skeleton; }); !written)
-        return std::fprintf(stderr, "aquaform assets: %s\n", written.error().c_str()), kExitFailure;
+        return refuse("assets", written.error(), kExitFailure);
     report(skeleton_path, std::to_string(character.skeleton.bones.size()) + " bones, walk cycle of 1 s");
     return kExitOk;
 }

@@ -75,9 +75,8 @@ int cmd_bench(const std::vector<std::string>& argv) {
     auto args = parse_args(std::vector<std::string>(argv.begin() + 1, argv.end()), spec, "bench " + which, &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     if (!args->positional.empty())
-        return std::fprintf(stderr, "aquaform bench %s: unexpected argument \"%s\" (see aquaform bench %s --help)\n",
-                            which.c_str(), args->positional[0].c_str(), which.c_str()),
-               kExitUsage;
+        return refuse("bench " + which,
+                      "unexpected argument \"" + args->positional[0] + "\" (see aquaform bench " + which + " --help)");
     // Every bench stops at the first frame that left physics (sim/blowup.h's require_physical
     // throws the verdict): its figures would mean nothing, so none is printed as a result.
     try {
@@ -104,11 +103,11 @@ int bench_sim(const Args& args_value) {
     auto warmup = parse_positive("--warmup", args->value("--warmup", "20"), &error, kMaxRepeats);
     std::optional<double> bandwidth = study::kH200CopyGbps;
     if (args->has("--bandwidth")) bandwidth = parse_bandwidth(args->value("--bandwidth"), &error);
-    if (sizes.empty() || !iterations || !steps || !repeats || !warmup || !bandwidth) return std::fprintf(stderr, "aquaform bench: %s\n", error.c_str()), kExitUsage;
+    if (sizes.empty() || !iterations || !steps || !repeats || !warmup || !bandwidth) return refuse("bench", error);
     const std::string out_path = args->value("--out", "bench_sim.json");
     // Fail before minutes of work when the output cannot go where asked.
     if (auto ready = prepare_output_file(out_path); !ready)
-        return std::fprintf(stderr, "aquaform bench sim: %s\n", ready.error().c_str()), kExitUsage;
+        return refuse("bench sim", ready.error());
 
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});
     std::printf("bench sim on %s (%s), %ld iterations; best of %ld runs of %ld steps, after %ld warm-up steps or more "
@@ -137,7 +136,7 @@ int bench_sim(const Args& args_value) {
                           {"records", records},
                           {"neighbor_search_exponent", std::isnan(exponent) ? nlohmann::json(nullptr) : nlohmann::json(exponent)}};
     if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; }); !written)
-        return std::fprintf(stderr, "aquaform bench: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
+        return exit_status(ctx, refuse("bench", written.error(), kExitFailure));
     std::printf("wrote %s\n", out_path.c_str());
     return exit_status(ctx, kExitOk);
 }

@@ -55,7 +55,7 @@ int bench_control(const Args& args) {
     if (auto file = study::check_bench_files({out_path}); !file) return refuse("bench control", file.error());
     std::string error;
     const std::optional<uint64_t> particles = particles_flag(args, &error);
-    if (!error.empty()) return std::fprintf(stderr, "aquaform bench control: %s\n", error.c_str()), kExitUsage;
+    if (!error.empty()) return refuse("bench control", error);
     // The shapes keep their size; --particles refines the spacing (the force cost and the sweep
     // then run at that size, and the automatic strength re-derives itself from the spacing).
     const float spacing = particles ? study::shape_spacing_for(uint32_t(*particles)) : study::kShapeSpacing;
@@ -64,7 +64,7 @@ int bench_control(const Args& args) {
         quick ? std::vector<double>{1.0, 4.0} : std::vector<double>{0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0};
     if (args.has("--scales")) {
         auto given = parse_scales(args.value("--scales"), &error);
-        if (!given) return std::fprintf(stderr, "aquaform bench control: %s\n", error.c_str()), kExitUsage;
+        if (!given) return refuse("bench control", error);
         scales = *given;
     }
     gpu::Context ctx({args.value("--device"), validation_requested(args)});
@@ -82,7 +82,7 @@ int bench_control(const Args& args) {
                                 {"records", result->records},
                                 {"targets", result->targets}};
     if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; }); !written)
-        return std::fprintf(stderr, "aquaform bench control: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
+        return exit_status(ctx, refuse("bench control", written.error(), kExitFailure));
     std::printf("wrote %s\n", out_path.string().c_str());
     return exit_status(ctx, kExitOk);
 }

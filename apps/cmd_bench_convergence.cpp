@@ -41,16 +41,16 @@ int bench_convergence(const Args& args) {
     std::string error;
     const bool quick = args.has("--quick");
     auto depth = parse_positive("--depth-layers", args.value("--depth-layers", "6"), &error, kMaxRepeats);
-    if (!depth) return std::fprintf(stderr, "aquaform bench convergence: %s\n", error.c_str()), kExitUsage;
+    if (!depth) return refuse("bench convergence", error);
     // The scene's count rule (64 to 16777215), as for every command that takes --particles.
     const std::optional<uint64_t> violent_particles =
         args.has("--particles") ? particles_flag(args, &error) : std::optional<uint64_t>(quick ? 2000 : 20000);
-    if (!violent_particles) return std::fprintf(stderr, "aquaform bench convergence: %s\n", error.c_str()), kExitUsage;
+    if (!violent_particles) return refuse("bench convergence", error);
     const std::filesystem::path scenes = study::default_scene_dir();  // the shipped scenes, from any directory
     auto front_base = load_flagged_scene(args, "--front-scene", (scenes / "dam_break.json").string());
-    if (!front_base) return std::fprintf(stderr, "aquaform bench convergence: %s\n", front_base.error().c_str()), kExitUsage;
+    if (!front_base) return refuse("bench convergence", front_base.error());
     auto violent_base = load_flagged_scene(args, "--violent-scene", (scenes / "violent_dam_break.json").string());
-    if (!violent_base) return std::fprintf(stderr, "aquaform bench convergence: %s\n", violent_base.error().c_str()), kExitUsage;
+    if (!violent_base) return refuse("bench convergence", violent_base.error());
     auto plan = study::convergence_bench_plan(front_base.value(), violent_base.value(), quick, uint32_t(*depth),
                                               *violent_particles);
     if (!plan) return refuse("bench convergence", plan.error());
@@ -73,7 +73,7 @@ int bench_convergence(const Args& args) {
                           {"device_type", gpu::device_type_name(ctx.info().type)}};
     doc.update(result->doc);
     if (auto written = write_file_with(json_path, [&](std::ostream& out) { out << json_text(doc, 1) << "\n"; }); !written)
-        return std::fprintf(stderr, "aquaform bench convergence: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
+        return exit_status(ctx, refuse("bench convergence", written.error(), kExitFailure));
     std::printf("wrote %s and %s\n", json_path.string().c_str(), chart_path.string().c_str());
     return exit_status(ctx, kExitOk);
 }

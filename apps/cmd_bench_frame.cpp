@@ -24,10 +24,7 @@ FlagSpec bench_frame_flags() {
 
 int bench_frame(const Args& args) {
     std::string error;
-    auto usage = [](const std::string& message) {
-        std::fprintf(stderr, "aquaform bench frame: %s\n", message.c_str());
-        return kExitUsage;
-    };
+    auto usage = [](const std::string& message) { return refuse("bench frame", message); };
     const std::vector<uint32_t> sizes = parse_sizes(args.value("--sizes", "250000,500000,1000000"), &error);
     if (sizes.empty()) return usage(error);
     for (uint32_t n : sizes)
@@ -94,7 +91,7 @@ int bench_frame(const Args& args) {
                           {"records", records},
                           {"targets", targets}};
     if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; }); !written)
-        return std::fprintf(stderr, "aquaform bench frame: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
+        return exit_status(ctx, refuse("bench frame", written.error(), kExitFailure));
     std::printf("wrote %s\n", out_path.c_str());
     return exit_status(ctx, kExitOk);
 }

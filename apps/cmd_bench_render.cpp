@@ -37,10 +37,7 @@ FlagSpec bench_render_flags() {
 
 int bench_render(const Args& args) {
     std::string error;
-    auto usage = [&](const std::string& message) {
-        std::fprintf(stderr, "aquaform bench render: %s\n", message.c_str());
-        return kExitUsage;
-    };
+    auto usage = [](const std::string& message) { return refuse("bench render", message); };
     for (const auto& f : render_switches())
         if (f != "--isotropic" && args.has(f))
             return usage(f + " does not apply: bench render sets the method and mechanisms per configuration; choose "
@@ -55,24 +52,11 @@ int bench_render(const Args& args) {
     if (!repeats) return usage(error);
     const std::optional<PictureSize> size = resolution_flag(args, kMeasuredPicture, &error);
     if (!size) return usage(error);
-    auto join = [](const auto& items, auto name) {
-        std::string list;
-        for (const auto& item : items) list += std::string(list.empty() ? "" : ",") + name(item);
-        return list;
-    };
     for (const char* list : {"--configs", "--frames"})
         if (args.has(list) && !parse_list(list, args.value(list), "uniform,adaptive", &error)) return usage(error);
-    const std::string config_list =
-        args.has("--configs") ? args.value("--configs")
-        : quick               ? join(study::quick_bench_configs(), [](const std::string& c) { return c; })
-                              : join(study::bench_configs(), [](const study::BenchConfig& c) { return std::string(c.label); });
-    auto configs = study::parse_configs(config_list);
+    auto configs = study::parse_configs(args.value("--configs", study::default_config_list(quick)));
     if (!configs) return usage(configs.error());
-    const std::string frame_list =
-        args.has("--frames") ? args.value("--frames")
-        : quick              ? join(study::quick_bench_frames(), [](const std::string& f) { return f; })
-                             : join(study::bench_frames(), [](const study::BenchFrame& f) { return std::string(f.name); });
-    auto frames = study::parse_bench_frames(frame_list);
+    auto frames = study::parse_bench_frames(args.value("--frames", study::default_frame_list(quick)));
     if (!frames) return usage(frames.error());
     std::optional<uint32_t> frame_override;
     if (args.has("--frame")) {
@@ -106,12 +90,8 @@ int bench_render(const Args& args) {
     // Every scene is loaded before any work, so a bad one is reported at once.
     const std::filesystem::path scene_dir = args.has("--scene-dir") ? std::filesystem::path(args.value("--scene-dir")) : study::default_scene_dir();
     const uint64_t default_particles = quick ? 3000 : 32768;
-    std::vector<Scene> scenes;
-    for (const study::BenchFrame* f : frames.value()) {
-        auto scene = study::bench_frame_scene(*f, particles.value_or(default_particles), scene_dir);
-        if (!scene) return usage(scene.error());
-        scenes.push_back(std::move(scene.value()));
-    }
+    auto scenes = study::bench_frame_scenes(frames.value(), particles.value_or(default_particles), scene_dir);
+    if (!scenes) return usage(scenes.error());
 
     gpu::Context ctx({args.value("--device"), validation_requested(args)});
     if (march_lanes > 1 && ctx.info().subgroup_size % march_lanes != 0)
@@ -125,7 +105,7 @@ int bench_render(const Args& args) {
     // Ctrl-C stops after the frame being measured (a second one at once): the frames done are
     // still written, so an hour of measurement is not lost to a stop.
     std::optional<InterruptScope> ctrl_c(std::in_place);
-    const study::BenchRenderPlan plan{frames.value(), std::move(scenes), frame_override, configs.value(), *base,
+    const study::BenchRenderPlan plan{frames.value(), std::move(scenes.value()), frame_override, configs.value(), *base,
                                       args.has("--compare-surfaces"), *size, uint32_t(*repeats),
                                       long(particles.value_or(default_particles)), args.has("--mask-sweep"),
                                       args.has("--blend-sweep"), march_lanes};
@@ -149,7 +129,7 @@ int bench_render(const Args& args) {
                           {"interrupted", stopped},
                           {"frames", result.frames}};
     if (auto written = study::write_bench_render_files(out_path, doc, result, plan); !written)
-        return std::fprintf(stderr, "aquaform bench render: %s\n", written.error().c_str()), exit_status(ctx, kExitFailure);
+        return exit_status(ctx, refuse("bench render", written.error(), kExitFailure));
     return exit_status(ctx, stopped ? kExitInterrupted : kExitOk);
 }
 

@@ -43,25 +43,22 @@ int bench_spheric(const Args& args) {
     const std::filesystem::path scene_path =
         args.value("--scene", (study::default_scene_dir() / "spheric_test2.json").string());
     auto base = load_scene(scene_path);
-    if (!base) return std::fprintf(stderr, "aquaform bench spheric: %s\n", base.error().c_str()), kExitUsage;
+    if (!base) return refuse("bench spheric", base.error());
     if (!base.value().probes)
-        return std::fprintf(stderr, "aquaform bench spheric: %s has no probes to compare; give SPHERIC test 2's scene (--scene)\n",
-                            scene_path.string().c_str()),
-               kExitUsage;
+        return refuse("bench spheric", scene_path.string() + " has no probes to compare; give SPHERIC test 2's scene (--scene)");
     auto data = study::load_spheric_data(args.value("--data", study::default_spheric_data_dir().string()));
-    if (!data) return std::fprintf(stderr, "aquaform bench spheric: %s (give the folder with --data DIR)\n", data.error().c_str()), kExitUsage;
+    if (!data) return refuse("bench spheric", data.error() + " (give the folder with --data DIR)");
     const std::optional<double> seconds_flag = args.has("--seconds") ? number_text::finite_number(args.value("--seconds")) : 6.0;
     if (!seconds_flag || *seconds_flag <= 0.0 || *seconds_flag > 7.0)
-        return std::fprintf(stderr, "aquaform bench spheric: --seconds must be a time from 0 to 7 s (the measurement's length), got \"%s\"\n",
-                            args.value("--seconds").c_str()),
-               kExitUsage;
+        return refuse("bench spheric", "--seconds must be a time from 0 to 7 s (the measurement's length), got \"" +
+                                           args.value("--seconds") + "\"");
     std::vector<Scene> scenes;
     if (args.has("--sizes")) {
         const std::vector<uint32_t> sizes = parse_sizes(args.value("--sizes"), &error);
-        if (sizes.empty()) return std::fprintf(stderr, "aquaform bench spheric: %s\n", error.c_str()), kExitUsage;
+        if (sizes.empty()) return refuse("bench spheric", error);
         for (uint32_t n : sizes) {
             auto scaled = with_particle_count(base.value(), n, "--sizes");
-            if (!scaled) return std::fprintf(stderr, "aquaform bench spheric: %s\n", scaled.error().c_str()), kExitUsage;
+            if (!scaled) return refuse("bench spheric", scaled.error());
             scenes.push_back(std::move(scaled.value()));
         }
     } else {

@@ -55,23 +55,17 @@ int cmd_control(const std::vector<std::string>& argv) {
     auto args = parse_args(argv, {{"--method", "--spacing", "--out", "--device", "--resolution"}, {"--no-png", "--validation"}},
                            "control", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
-    if (args->positional.size() != 2 || args->positional[0] != "place") {
-        std::fprintf(stderr, "aquaform control: use aquaform control place MESH.obj [--method vertices|inside|raster] "
-                             "[--spacing S] [--out DIR]\n");
-        return kExitUsage;
-    }
+    if (args->positional.size() != 2 || args->positional[0] != "place")
+        return refuse("control", "use aquaform control place MESH.obj [--method vertices|inside|raster] [--spacing S] [--out DIR]");
     const std::string method = args->value("--method", "inside");
     if (method != "vertices" && method != "inside" && method != "raster")
-        return std::fprintf(stderr, "aquaform control: unknown --method '%s'; use vertices, inside or raster\n",
-                            method.c_str()),
-               kExitUsage;
+        return refuse("control", "unknown --method '" + method + "'; use vertices, inside or raster");
     const std::optional<PictureSize> size = resolution_flag(*args, kViewingPicture, &error);
     if (!size) return refuse("control", error);
     InterruptScope interrupt_scope;
     auto loaded = geometry::load_obj(args->positional[1]);
     if (!loaded && interrupted())
-        return std::fprintf(stderr, "aquaform control: interrupted while reading the mesh; nothing written\n"),
-               kExitInterrupted;
+        return refuse("control", "interrupted while reading the mesh; nothing written", kExitInterrupted);
     if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
     const geometry::Mesh& mesh = loaded.value().mesh;
     const Box bounds = mesh.bounds();
@@ -79,7 +73,7 @@ int cmd_control(const std::vector<std::string>& argv) {
     float spacing = diagonal / 40.0f;  // default: about 40 points across the mesh's diagonal
     if (args->has("--spacing")) {
         const std::optional<float> parsed = parse_spacing(args->value("--spacing"), diagonal, &error);
-        if (!parsed) return std::fprintf(stderr, "aquaform control: %s\n", error.c_str()), kExitUsage;
+        if (!parsed) return refuse("control", error);
         spacing = *parsed;
     }
     // The raster method and the picture need the GPU; the context is made once, when first needed.
@@ -92,8 +86,7 @@ int cmd_control(const std::vector<std::string>& argv) {
     if (auto refusal = control::placement_memory_refusal(method, loaded.value(), spacing, host, [&] {
             return double(context().info().device_local_bytes);
         }))
-        return std::fprintf(stderr, "aquaform control: '%s': %s\n", args->positional[1].c_str(), refusal->c_str()),
-               kExitUsage;
+        return refuse("control", "'" + args->positional[1] + "': " + *refusal);
     const std::filesystem::path out_dir = args->value("--out", "out/control_" + std::filesystem::path(args->positional[1]).stem().string());
     if (!prepare_output("control place", out_dir)) return kExitUsage;
     std::error_code ec;
@@ -112,13 +105,11 @@ int cmd_control(const std::vector<std::string>& argv) {
     const control::ControlPoints& points = placed.points;
     const std::string& line = placed.summary;
     if (!points.complete)
-        return std::fprintf(stderr, "aquaform control: interrupted during the placement; nothing written\n"),
-               kExitInterrupted;
+        return refuse("control", "interrupted during the placement; nothing written", kExitInterrupted);
     std::printf("%s\n", line.c_str());
     if (auto written = write_file_with(out_dir / "report.txt", [&](std::ostream& out) { out << report << "\n" << line << "\n"; });
         !written)
-        return std::fprintf(stderr, "aquaform control: %s\n", written.error().c_str()),
-               ctx ? exit_status(*ctx, kExitFailure) : kExitFailure;
+        return refuse("control", written.error(), ctx ? exit_status(*ctx, kExitFailure) : kExitFailure);
     if (points.points.empty())
         return std::fprintf(stderr,
                             "aquaform control: no control point fits in '%s' at --spacing %g (the mesh is thinner "
@@ -132,7 +123,7 @@ int cmd_control(const std::vector<std::string>& argv) {
         snapshot.density.push_back(0.0f);
     }
     if (auto written = write_particles_ply(out_dir / "points.ply", snapshot); !written)
-        return std::fprintf(stderr, "aquaform control: %s\n", written.error().c_str()), kExitFailure;
+        return refuse("control", written.error(), kExitFailure);
     if (args->has("--no-png")) return ctx ? exit_status(*ctx, kExitOk) : kExitOk;
 
     gpu::Context& device = context();
@@ -147,7 +138,7 @@ int cmd_control(const std::vector<std::string>& argv) {
     const Image image = view.render(positions, velocities, uint32_t(snapshot.x.size()),
                                     camera_for_domain(bounds, float(size->width) / float(size->height)), style, bounds, {});
     if (auto written = write_png(out_dir / "points.png", image); !written)
-        return std::fprintf(stderr, "aquaform control: %s\n", written.error().c_str()), exit_status(device, kExitFailure);
+        return exit_status(device, refuse("control", written.error(), kExitFailure));
     std::printf("wrote points.ply, points.png and report.txt to %s\n", out_dir.string().c_str());
     return exit_status(device, kExitOk);
 }

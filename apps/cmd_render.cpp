@@ -24,27 +24,24 @@ int cmd_render(const std::vector<std::string>& argv) {
     const FlagSpec spec = with_render_flags({{"--frame", "--out", "--device", "--resolution", "--particles", "--camera", "--whitewater"}, {"--no-reference", "--validation"}});
     auto args = parse_args(argv, spec, "render", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
-    if (args->positional.size() != 1) {
-        std::fprintf(stderr, "aquaform render: give exactly one scene file, e.g. aquaform render "
-                             "assets/scenes/dam_break.json --frame 40\n");
-        return kExitUsage;
-    }
+    if (args->positional.size() != 1)
+        return refuse("render", "give exactly one scene file, e.g. aquaform render assets/scenes/dam_break.json --frame 40");
     auto loaded = load_scene(args->positional[0]);
     if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
     if (!scale_to_particles_flag(*args, loaded.value(), &error) || !apply_camera_flag(*args, loaded.value(), &error) ||
         !apply_whitewater_flag(*args, loaded.value(), &error))
-        return std::fprintf(stderr, "aquaform render: %s\n", error.c_str()), kExitUsage;
+        return refuse("render", error);
     const Scene& scene = loaded.value();
     // The scene's control section too (checked before a device is opened): its frames are shaped.
     auto plan = session::plan_session(scene);
     if (!plan) return std::fprintf(stderr, "aquaform: %s\n", plan.error().c_str()), kExitUsage;
     print_notes("render", plan.value().notes);
     auto method = render_method_from(*args, &error);
-    if (!method) return std::fprintf(stderr, "aquaform render: %s\n", error.c_str()), kExitUsage;
+    if (!method) return refuse("render", error);
     uint32_t frame = scene.frames / 2;
     if (args->has("--frame")) {
         const std::optional<uint32_t> k = parse_frame_index("--frame", args->value("--frame"), &error);
-        if (!k) return std::fprintf(stderr, "aquaform render: %s\n", error.c_str()), kExitUsage;
+        if (!k) return refuse("render", error);
         frame = *k;
     }
     const std::optional<PictureSize> size = resolution_flag(*args, kMeasuredPicture, &error);

@@ -28,34 +28,6 @@ namespace aquaform::cli {
 
 namespace {
 
-/// study.md and the charts from the rows as the files hold them (StudyFiles::rows: a run, a
-/// resumed run and a merge of shards report alike); false when one could not be written.
-bool write_report(const std::filesystem::path& out_dir, const study::StudySpec& spec,
-                  const std::vector<study::StudyRow>& rows, const std::string& device, bool charts) {
-    bool ok = true;
-    const std::vector<std::string> targets = study::study_targets(rows);
-    if (auto md = study::write_study_markdown(out_dir / "study.md", spec, rows, targets, device); !md) {
-        std::fprintf(stderr, "aquaform study: %s\n", md.error().c_str());
-        ok = false;
-    }
-    size_t failed = 0;
-    for (const auto& r : rows) failed += r.status.rfind("failed", 0) == 0;
-    std::printf("\n%zu measurements, %zu failed%s\n", rows.size(), failed,
-                ok ? ("; tables in " + (out_dir / "study.md").string()).c_str() : " (study.md not written)");
-    for (const auto& line : targets) std::printf("  %s\n", line.c_str());
-    if (!charts) return ok;
-    auto drawn = study::draw_study_charts(out_dir);
-    if (!drawn) {
-        std::fprintf(stderr, "aquaform study: charts: %s\n", drawn.error().c_str());
-        return false;
-    }
-    if (!drawn.value().skipped.empty())  // the study is whole without them
-        std::fprintf(stderr, "aquaform study: no charts: %s\n", drawn.value().skipped.c_str());
-    if (!drawn.value().written.empty()) std::printf("charts drawn by %s:\n", drawn.value().drawn_by.c_str());
-    for (const auto& path : drawn.value().written) std::printf("  chart %s\n", path.c_str());
-    return ok;
-}
-
 /// `study merge DIR... --out DIR [--spec SPEC] [--no-charts]`: the shards' rows as one study.
 int cmd_study_merge(const std::vector<std::string>& argv) {
     std::string error;
@@ -65,18 +37,18 @@ int cmd_study_merge(const std::vector<std::string>& argv) {
         return std::fprintf(stderr, "aquaform study merge: give --out DIR, the folder of the merged study\n"), kExitUsage;
     std::vector<std::filesystem::path> dirs(args->positional.begin(), args->positional.end());
     auto shards = study::read_shard_set(dirs);
-    if (!shards) return std::fprintf(stderr, "aquaform study merge: %s\n", shards.error().c_str()), kExitUsage;
+    if (!shards) return refuse("study merge", shards.error());
     auto spec = study::load_shard_spec(shards.value().front(), args->value("--spec"));
-    if (!spec) return std::fprintf(stderr, "aquaform study merge: %s\n", spec.error().c_str()), kExitUsage;
+    if (!spec) return refuse("study merge", spec.error());
     const std::filesystem::path out_dir = args->value("--out");
     if (!prepare_output("study merge", out_dir)) return kExitUsage;
     if (std::error_code ec; std::filesystem::exists(out_dir / "study.csv", ec))
         std::printf("study merge: %s holds a study already; its study.csv, study_passes.csv, solver_map.csv and "
                     "study.md are replaced by the merge\n", out_dir.string().c_str());
     auto merged = study::merge_shards(spec.value(), shards.value(), out_dir);
-    if (!merged) return std::fprintf(stderr, "aquaform study merge: %s\n", merged.error().c_str()), exit_status_of(merged);
+    if (!merged) return refuse("study merge", merged.error(), exit_status_of(merged));
     std::printf("merged %zu shards of %s into %s\n", shards.value().size(), spec.value().name.c_str(), out_dir.string().c_str());
-    return write_report(out_dir, spec.value(), merged.value().rows, merged.value().device, !args->has("--no-charts"))
+    return study::write_study_report(out_dir, spec.value(), merged.value().rows, merged.value().device, !args->has("--no-charts"))
                ? kExitOk : kExitFailure;
 }
 
@@ -105,7 +77,7 @@ int cmd_study(const std::vector<std::string>& argv) {
         if (auto scaled = study::set_particle_count(spec.value(), *particles); !scaled)
             return std::fprintf(stderr, "aquaform study: --particles: %s\n", scaled.error().c_str()), kExitUsage;
     } else if (!error.empty()) {
-        return std::fprintf(stderr, "aquaform study: %s\n", error.c_str()), kExitUsage;
+        return refuse("study", error);
     }
     // Every scene and solver map checked now, not after hours of measurements.
     if (auto checked = study::check_study_scenes(spec.value()); !checked)
@@ -113,15 +85,15 @@ int cmd_study(const std::vector<std::string>& argv) {
     std::optional<study::StudyShard> shard;
     if (args->has("--shard")) {
         auto parsed = study::parse_shard(args->value("--shard"));
-        if (!parsed) return std::fprintf(stderr, "aquaform study: %s\n", parsed.error().c_str()), kExitUsage;
+        if (!parsed) return refuse("study", parsed.error());
         shard = parsed.value();
     }
     const std::filesystem::path out_dir = args->value("--out", "out/study/" + spec.value().name);
     if (!prepare_output("study", out_dir)) return kExitUsage;
     if (auto free = study::check_shard_folder(out_dir, shard, args->has("--fresh")); !free)
-        return std::fprintf(stderr, "aquaform study: %s\n", free.error().c_str()), kExitUsage;
+        return refuse("study", free.error());
     auto opened = study::StudyFiles::open(out_dir, spec.value(), args->has("--fresh"));
-    if (!opened) return std::fprintf(stderr, "aquaform study: %s\n", opened.error().c_str()), exit_status_of(opened);
+    if (!opened) return refuse("study", opened.error(), exit_status_of(opened));
     study::StudyFiles& files = opened.value();
     study::ShardRun share(spec.value(), args->positional[0], particles, shard, out_dir, args->has("--fresh"));
 
@@ -166,7 +138,7 @@ int cmd_study(const std::vector<std::string>& argv) {
     if (auto written = share.write_manifest(device, share.complete(files) && status == kExitOk && !stopped); !written)
         status = refuse("study", written.error(), status == kExitOk ? kExitFailure : status);
     // The charts of a shard's part would be redrawn by the merge.
-    if (!write_report(out_dir, spec.value(), files.rows(), device, !args->has("--no-charts") && !shard) && status == kExitOk)
+    if (!study::write_study_report(out_dir, spec.value(), files.rows(), device, !args->has("--no-charts") && !shard) && status == kExitOk)
         status = kExitFailure;
     if (stopped) {
         std::fprintf(stderr, "aquaform study: interrupted; %zu of %zu cells kept in %s (study.md from them); run the same "

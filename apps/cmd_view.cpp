@@ -40,8 +40,6 @@ int view_headless(gpu::Context& ctx, const Args& args, const Scene& scene, sessi
                   const viewer::ViewerOptions& options, uint32_t width, uint32_t height) {
     const viewer::HeadlessSummary run =
         viewer::run_headless_printed(ctx, std::move(plan), options, width, height, scene.name);
-    if (!run.fatal.empty()) std::fprintf(stderr, "aquaform view: the simulation stopped: %s\n", run.fatal.c_str());
-    if (!run.blowup.empty()) std::fprintf(stderr, "aquaform view: %s\n", run.blowup.c_str());
     if (stopped_by_ctrl_c("view --headless")) return kExitInterrupted;
     if (args.has("--out")) {
         nlohmann::json doc = {{"command", "view --headless"},
@@ -51,7 +49,7 @@ int view_headless(gpu::Context& ctx, const Args& args, const Scene& scene, sessi
         doc.update(viewer::to_json(run));
         const std::string out = args.value("--out");
         if (auto written = write_file_with(out, [&](std::ostream& o) { o << json_text(doc, 2) << "\n"; }); !written)
-            return std::fprintf(stderr, "aquaform view: %s\n", written.error().c_str()), kExitFailure;
+            return refuse("view", written.error(), kExitFailure);
         std::printf("wrote %s\n", out.c_str());
     }
     return run.fatal.empty() && run.blowup.empty() ? kExitOk : kExitFailure;
@@ -68,16 +66,14 @@ int cmd_view(const std::vector<std::string>& argv) {
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     // --particles alone: a generated dam break of that size; with a scene: the scene scaled to it.
     const bool generated = args->has("--particles") && args->positional.empty();
-    if (args->positional.size() != (generated ? 0u : 1u)) {
-        std::fprintf(stderr, "aquaform view: give exactly one scene file, e.g. aquaform view assets/scenes/dam_break.json, "
-                             "or --particles N alone for a generated dam break (with a scene, --particles N scales it)\n");
-        return kExitUsage;
-    }
+    if (args->positional.size() != (generated ? 0u : 1u))
+        return refuse("view", "give exactly one scene file, e.g. aquaform view assets/scenes/dam_break.json, or "
+                              "--particles N alone for a generated dam break (with a scene, --particles N scales it)");
     Scene scene;
     if (generated) {
         // The benchmarks' dam break (bench/bench_scenes.h), for frame rates at a chosen size.
         auto n = particles_flag(*args, &error);
-        if (!n) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
+        if (!n) return refuse("view", error);
         scene = study::bench_scene(uint32_t(*n), 4);
         // The window's generated dam break shows whitewater; the headless loop, a benchmark, does not.
         if (!args->has("--headless")) scene.whitewater = WhitewaterSettings{};
@@ -87,20 +83,18 @@ int cmd_view(const std::vector<std::string>& argv) {
         scene = loaded.value();
     }
     if ((!generated && !scale_to_particles_flag(*args, scene, &error)) || !apply_whitewater_flag(*args, scene, &error))
-        return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
+        return refuse("view", error);
     auto plan = session::plan_session(scene);
     if (!plan) return std::fprintf(stderr, "aquaform: %s\n", plan.error().c_str()), kExitUsage;
     print_notes("view", plan.value().notes);
     auto method_settings = render_method_from(*args, &error);
-    if (!method_settings) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
+    if (!method_settings) return refuse("view", error);
     draw_spray_unless_told(*args, *method_settings);
     const std::string method = method_settings->method();
     if (std::find(view_methods().begin(), view_methods().end(), method) == view_methods().end()) {
         std::string menu;
         for (const auto& m : view_methods()) menu += (menu.empty() ? "" : ", ") + m;
-        return std::fprintf(stderr, "aquaform view: --method %s is too slow to watch; use one of %s\n", method.c_str(),
-                            menu.c_str()),
-               kExitUsage;
+        return refuse("view", "--method " + method + " is too slow to watch; use one of " + menu);
     }
     // The panel edits the SPH surface methods' settings; the other methods start at their defaults.
     const SurfaceSettings* given = method_settings->get<SurfaceSettings>();
@@ -112,7 +106,7 @@ int cmd_view(const std::vector<std::string>& argv) {
     options.method = method;
     if (args->has("--script")) {
         auto loaded_script = viewer::load_view_script(args->value("--script"));
-        if (!loaded_script) return std::fprintf(stderr, "aquaform view: %s\n", loaded_script.error().c_str()), kExitUsage;
+        if (!loaded_script) return refuse("view", loaded_script.error());
         options.script = loaded_script.value();
     }
     if (args->has("--play")) options.script.insert(options.script.begin(), viewer::ViewAction{0, "play", ""});
@@ -130,26 +124,23 @@ int cmd_view(const std::vector<std::string>& argv) {
         const std::string text = args->value("--scale");
         options.picture_scale = float(number_text::finite_number(text).value_or(0.0));
         if (!(options.picture_scale >= 0.1f && options.picture_scale <= 1.0f))
-            return std::fprintf(stderr, "aquaform view: --scale is the picture's size against the window's, 0.1 to 1; got \"%s\"\n",
-                                text.c_str()),
-                   kExitUsage;
+            return refuse("view", "--scale is the picture's size against the window's, 0.1 to 1; got \"" + text + "\"");
     }
     const bool headless = args->has("--headless");
     if (args->has("--frames") || headless) {
         auto f = parse_positive("--frames", args->value("--frames", "100"), &error, kMaxFrames);
-        if (!f) return std::fprintf(stderr, "aquaform view: %s\n", error.c_str()), kExitUsage;
+        if (!f) return refuse("view", error);
         options.max_frames = uint32_t(*f);
     }
     if (headless) {
         // What needs the window: its pictures and its UI actions.
         for (const char* windowed : {"--record", "--script", "--async"})
             if (args->has(windowed))
-                return std::fprintf(stderr, "aquaform view: %s needs the window; drop --headless, or drop %s (aquaform run "
-                                            "writes the pictures of a headless run)\n", windowed, windowed),
-                       kExitUsage;
+                return refuse("view", std::string(windowed) + " needs the window; drop --headless, or drop " + windowed +
+                                          " (aquaform run writes the pictures of a headless run)");
         if (args->has("--out"))
             if (auto ready = prepare_output_file(args->value("--out")); !ready)
-                return std::fprintf(stderr, "aquaform view: %s\n", ready.error().c_str()), kExitUsage;
+                return refuse("view", ready.error());
     }
     const fs::path record_dir = args->value("--record", "");
     if (!record_dir.empty()) {
@@ -157,16 +148,14 @@ int cmd_view(const std::vector<std::string>& argv) {
     }
     if (auto writable = viewer::check_script_outputs(options.script, record_dir.empty() ? fs::path(".") : record_dir,
                                                      args->value("--script", "")); !writable)
-        return std::fprintf(stderr, "aquaform view: %s\n", writable.error().c_str()), kExitUsage;
+        return refuse("view", writable.error());
 
     // The window and its picture are input the device may not hold: refused before the simulation.
     auto check_device = [&](gpu::Context& ctx) {
         viewer::check_view_fits(ctx, scene, *method_settings, width, height, options.picture_scale, size_flag);
     };
     if (args->has("--out") && !headless)
-        return std::fprintf(stderr, "aquaform view: --out goes with --headless (the window's pictures are recorded with "
-                                    "--record DIR)\n"),
-               kExitUsage;
+        return refuse("view", "--out goes with --headless (the window's pictures are recorded with --record DIR)");
     if (headless) {
         gpu::Context ctx({args->value("--device"), validation_requested(*args)});
         check_device(ctx);
@@ -174,7 +163,7 @@ int cmd_view(const std::vector<std::string>& argv) {
     }
 
     auto window = viewer::ViewWindow::open(int(width), int(height), "aquaform - " + scene.name);
-    if (!window) return std::fprintf(stderr, "aquaform view: %s\n", window.error().c_str()), kExitFailure;
+    if (!window) return refuse("view", window.error(), kExitFailure);
     viewer::ViewWindow& win = *window.value();
     gpu::ContextOptions device{args->value("--device"), validation_requested(*args)};
     device.instance_extensions = win.instance_extensions();
@@ -188,34 +177,17 @@ int cmd_view(const std::vector<std::string>& argv) {
         viewer::ViewWindow& window;
         ~DetachFirst() { window.detach(); }
     } detach_first{win};
-    int status = kExitOk;
-    {
-        // Hot reload watches --shaders DIR, else the source tree's shaders/ beside the build.
-        std::string warning;
-        options.watch_shaders = viewer::shader_watch_dir(
-            args->has("--shaders") ? std::optional<fs::path>(args->value("--shaders")) : std::nullopt, &warning);
-        if (!warning.empty()) std::fprintf(stderr, "aquaform view: %s\n", warning.c_str());
-        // --async keeps a script's window free of the worker (a stress test of the threads).
-        options.lockstep = (args->has("--script") || !record_dir.empty()) && !args->has("--async");
-        options.record_dir = record_dir;
-        options.screenshot_dir = record_dir.empty() ? fs::path(".") : record_dir;
-        std::printf("viewing %s: %llu particles on %s; Esc in the window (or Ctrl-C here) quits\n", scene.name.c_str(),
-                    (unsigned long long)scene.particle_count(), ctx.info().name.c_str());
-        std::fflush(stdout);
-        const viewer::ViewSummary run = viewer::run_viewer(ctx, win, std::move(plan.value()), options);
-        const viewer::ViewReport& report = run.report;
-        const double s = run.seconds > 0.0 ? run.seconds : 1.0;
-        std::printf("aquaform view: %u window frames in %.1f s (%.2f frames/s, the longest %.0f ms); %llu pictures of the fluid "
-                    "(%.2f/s; %u particles, %ux%u, %s)\n",
-                    run.window_frames, run.seconds, run.window_frames / s, run.longest_frame_ms,
-                    (unsigned long long)report.frames, report.frames / s, report.particles, run.width, run.height,
-                    run.method.c_str());
-        for (const std::string& e : run.errors) std::fprintf(stderr, "aquaform view: %s\n", e.c_str());
-        if (!report.fatal.empty()) std::fprintf(stderr, "aquaform view: the simulation stopped: %s\n", report.fatal.c_str());
-        if (!report.blowup.empty()) std::fprintf(stderr, "aquaform view: %s\n", report.blowup.c_str());
-        status = run.errors.empty() && report.fatal.empty() && report.blowup.empty() ? kExitOk : kExitFailure;
-    }
-    return exit_status(ctx, status);
+    // Hot reload watches --shaders DIR, else the source tree's shaders/ beside the build.
+    std::string warning;
+    options.watch_shaders = viewer::shader_watch_dir(
+        args->has("--shaders") ? std::optional<fs::path>(args->value("--shaders")) : std::nullopt, &warning);
+    if (!warning.empty()) std::fprintf(stderr, "aquaform view: %s\n", warning.c_str());
+    // --async keeps a script's window free of the worker (a stress test of the threads).
+    options.lockstep = (args->has("--script") || !record_dir.empty()) && !args->has("--async");
+    options.record_dir = record_dir;
+    options.screenshot_dir = record_dir.empty() ? fs::path(".") : record_dir;
+    const bool clean = viewer::run_viewer_printed(ctx, win, std::move(plan.value()), options, scene.name);
+    return exit_status(ctx, clean ? kExitOk : kExitFailure);
 }
 
 }  // namespace aquaform::cli

@@ -96,9 +96,11 @@ const std::vector<BenchFrame>& bench_frames() {
     return frames;
 }
 
-const std::vector<std::string>& quick_bench_frames() {
-    static const std::vector<std::string> quick{"calm", "curtain"};
-    return quick;
+std::string default_frame_list(bool quick) {
+    if (quick) return "calm,curtain";
+    std::string list;
+    for (const BenchFrame& f : kFrames) list += std::string(list.empty() ? "" : ",") + f.name;
+    return list;
 }
 
 std::string known_frame_names() {
@@ -121,6 +123,17 @@ Result<std::vector<const BenchFrame*>> parse_bench_frames(const std::string& tex
     for (const BenchFrame& f : kFrames)
         if (std::find(wanted.begin(), wanted.end(), f.name) != wanted.end()) frames.push_back(&f);
     return frames;
+}
+
+Result<std::vector<Scene>> bench_frame_scenes(const std::vector<const BenchFrame*>& frames, uint64_t particles,
+                                              const std::filesystem::path& scene_dir) {
+    std::vector<Scene> scenes;
+    for (const BenchFrame* f : frames) {
+        auto scene = bench_frame_scene(*f, particles, scene_dir);
+        if (!scene) return Error{scene.error()};
+        scenes.push_back(std::move(scene.value()));
+    }
+    return scenes;
 }
 
 Result<Scene> bench_frame_scene(const BenchFrame& frame, std::optional<uint64_t> particles,

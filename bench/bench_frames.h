@@ -34,9 +34,10 @@ struct BenchFrame {
     float sheet_pitch = 0.0f;  ///< a sheet frame's lattice pitch [particle spacings]
 };
 
-/// Every frame, in the table's order, and the ones --quick draws.
+/// Every frame, in the table's order.
 const std::vector<BenchFrame>& bench_frames();
-const std::vector<std::string>& quick_bench_frames();
+/// What --frames is when not given: every frame, or with --quick the calm and curtain frames.
+std::string default_frame_list(bool quick);
 /// "calm, curtain, ...": what --frames accepts.
 std::string known_frame_names();
 /// --frames a,b,c in the table's order.
@@ -53,6 +54,10 @@ Result<Scene> scaled_scene(const Scene& scene, uint64_t particles);
 /// holds the scene files (assets/scenes/ of the source tree by default).
 Result<Scene> bench_frame_scene(const BenchFrame& frame, std::optional<uint64_t> particles,
                                 const std::filesystem::path& scene_dir);
+/// Every frame's scene (bench_frame_scene), all loaded before any work so that a bad one is
+/// reported at once; the first error.
+Result<std::vector<Scene>> bench_frame_scenes(const std::vector<const BenchFrame*>& frames, uint64_t particles,
+                                              const std::filesystem::path& scene_dir);
 /// Where the shipped scene files are: assets/scenes under the working directory, else beside
 /// the binary's source tree (the binary in build/: ../assets/scenes); the first that exists.
 std::filesystem::path default_scene_dir();

@@ -46,9 +46,11 @@ const std::vector<BenchConfig>& bench_configs() {
     return configs;
 }
 
-const std::vector<std::string>& quick_bench_configs() {
-    static const std::vector<std::string> quick{"uniform", "adaptive", "mask_skip", "adaptive_full_res"};
-    return quick;
+std::string default_config_list(bool quick) {
+    if (quick) return "uniform,adaptive,mask_skip,adaptive_full_res";
+    std::string list;
+    for (const BenchConfig& c : kConfigs) list += std::string(list.empty() ? "" : ",") + c.label;
+    return list;
 }
 
 const BenchConfig* find_config(const std::string& label) {

@@ -33,9 +33,10 @@ struct BenchConfig {
 };
 
 /// Every configuration, in the table's order (the reference is rendered first and always: every
-/// metric is against it), and the ones --quick renders.
+/// metric is against it).
 const std::vector<BenchConfig>& bench_configs();
-const std::vector<std::string>& quick_bench_configs();
+/// What --configs is when not given: every configuration, or the four --quick renders.
+std::string default_config_list(bool quick);
 const BenchConfig* find_config(const std::string& label);
 /// "reference, uniform, adaptive, ...": what --configs accepts.
 std::string known_labels();

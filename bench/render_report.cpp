@@ -54,7 +54,6 @@ FrameRenderReport render_frame_report(gpu::Context& ctx, Renderer& made, session
                                       const ViewCamera& camera, const MethodSettings& method, bool with_reference) {
     const SurfaceSettings* settings = method.get<SurfaceSettings>();
     if (!settings) return other_family_report(ctx, made, sim, camera, with_reference);
-    PbfSolver& solver = sim.solver();
     // The surface renderer's diagnostic views (tiles, classes) are its own: reached once, here.
     SurfaceRenderer& renderer = *concrete_of<SurfaceRenderer>(made);
     renderer.set_diagnostics(true);
@@ -63,8 +62,7 @@ FrameRenderReport render_frame_report(gpu::Context& ctx, Renderer& made, session
     std::vector<std::pair<std::string, Image>> images{
         {"image.png", m.frame.color},
         {"evals.png", evals_view(m.frame, float(settings->max_steps) / 4.0f)},
-        {"tiles.png", tile_view(m.frame.color, renderer.tile_levels(), renderer.params().screen.z)},
-    };
+        {"tiles.png", tile_view(m.frame.color, renderer.tile_levels(), renderer.params().screen.z)}};
     if (settings->method == SurfaceMethod::adaptive)
         images.emplace_back("classification.png", classification_view(m.frame.color, renderer.front_classes()));
 

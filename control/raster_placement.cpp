@@ -32,6 +32,12 @@ double max_threads(const gpu::Context& ctx, uint32_t workgroup) {
 }
 
 constexpr VkDeviceSize kLayerBytes = 2 * sizeof(float);  // (z, step)
+constexpr VkDeviceSize kTriangleBytes = 3 * sizeof(glm::vec4);  // its corners
+
+/// raster_fill.comp counts each column's points (emit 0) or writes them at the column's offset (emit 1).
+gpu::ComputePassDesc raster_fill(uint32_t emit) {
+    return {"control/raster_fill.comp", 5, sizeof(shader::RasterPush), RASTER_FILL_WORKGROUP, {emit}};
+}
 
 /// The columns (i, j) of the lattice origin + spacing * (i, j, .) under the xy bounds, one of slack
 /// per side: the exact edge test decides, so an extra empty column costs nothing but a thread.
@@ -54,12 +60,9 @@ glm::ivec4 pixel_rect(const Box& bounds, float spacing, glm::vec3 origin, double
 RasterPlacer::RasterPlacer(gpu::Context& ctx, uint32_t max_triangles, uint32_t max_points, uint32_t max_pixels)
     : ctx_(&ctx),
       layers_pass_(ctx, {"control/raster_layers.comp", 3, sizeof(shader::RasterPush), RASTER_LAYERS_WORKGROUP}),
-      count_pass_(ctx, {"control/raster_fill.comp", 5, sizeof(shader::RasterPush), RASTER_FILL_WORKGROUP, {0u}}),
-      emit_pass_(ctx, {"control/raster_fill.comp", 5, sizeof(shader::RasterPush), RASTER_FILL_WORKGROUP, {1u}}),
+      count_pass_(ctx, raster_fill(0u)), emit_pass_(ctx, raster_fill(1u)),
       timer_(ctx, 4) {
-    const VkDeviceSize corner_bytes = 3 * sizeof(glm::vec4);
-    grow(triangles_staging_, "raster.triangles_staging", max_triangles * corner_bytes, gpu::MemoryUse::host);
-    grow(triangles_, "raster.triangles", max_triangles * corner_bytes, gpu::MemoryUse::device);
+    reserve_triangles(max_triangles * kTriangleBytes);
     grow(layer_count_, "raster.layer_count", VkDeviceSize(max_pixels) * sizeof(uint32_t), gpu::MemoryUse::device);
     grow(layers_, "raster.layers", VkDeviceSize(max_pixels) * RASTER_MAX_LAYERS * kLayerBytes, gpu::MemoryUse::device);
     grow(counters_, "raster.counters", RASTER_COUNTERS * sizeof(uint32_t), gpu::MemoryUse::device);
@@ -69,15 +72,18 @@ RasterPlacer::RasterPlacer(gpu::Context& ctx, uint32_t max_triangles, uint32_t m
 }
 
 RasterPlacer::~RasterPlacer() {
-    for (gpu::Buffer* buffer : {&triangles_staging_, &triangles_, &layer_count_, &layers_, &counters_,
-                                &counters_readback_, &points_})
-        gpu::destroy_buffer(*ctx_, *buffer);
+    for (gpu::Buffer* buffer : own_buffers(*this)) gpu::destroy_buffer(*ctx_, *buffer);
 }
 
 void RasterPlacer::grow(gpu::Buffer& buffer, const char* name, VkDeviceSize bytes, gpu::MemoryUse use) {
     if (buffer.buffer && buffer.size >= bytes) return;
     gpu::destroy_buffer(*ctx_, buffer);
     buffer = gpu::create_buffer(*ctx_, name, bytes, use);
+}
+
+void RasterPlacer::reserve_triangles(VkDeviceSize corner_bytes) {
+    grow(triangles_staging_, "raster.triangles_staging", corner_bytes, gpu::MemoryUse::host);
+    grow(triangles_, "raster.triangles", corner_bytes, gpu::MemoryUse::device);
 }
 
 void RasterPlacer::set_point_capacity(uint32_t max_points) {
@@ -99,9 +105,7 @@ void RasterPlacer::reserve_columns(uint32_t pixels) {
 
 std::vector<gpu::BufferReport> RasterPlacer::memory() const {
     std::vector<gpu::BufferReport> report;
-    for (const gpu::Buffer* buffer :
-         {&triangles_staging_, &triangles_, &layer_count_, &layers_, &counters_, &counters_readback_, &points_})
-        report.push_back({buffer->name, buffer->size});
+    for (const gpu::Buffer* buffer : own_buffers(*this)) report.push_back({buffer->name, buffer->size});
     for (const gpu::BufferReport& entry : column_buffers_->report()) report.push_back(entry);
     return report;
 }
@@ -162,10 +166,7 @@ RasterStats RasterPlacer::place_on_gpu(const std::vector<glm::vec3>& triangles, 
     // Deforming meshes change their extent a little every frame: grow with headroom.
     const auto headroom = [](VkDeviceSize bytes) { return bytes + bytes / 4; };
     const VkDeviceSize corner_bytes = triangles.size() * sizeof(glm::vec4);
-    if (triangles_.size < corner_bytes) {
-        grow(triangles_staging_, "raster.triangles_staging", headroom(corner_bytes), gpu::MemoryUse::host);
-        grow(triangles_, "raster.triangles", headroom(corner_bytes), gpu::MemoryUse::device);
-    }
+    if (triangles_.size < corner_bytes) reserve_triangles(headroom(corner_bytes));
     if (layer_count_.size < VkDeviceSize(stats.pixels) * sizeof(uint32_t)) {
         grow(layer_count_, "raster.layer_count", headroom(VkDeviceSize(stats.pixels) * sizeof(uint32_t)),
              gpu::MemoryUse::device);
@@ -221,9 +222,8 @@ ControlPoints place_raster(gpu::Context& ctx, const std::vector<glm::vec3>& tria
     const std::vector<glm::vec4> points = gpu::download_vector<glm::vec4>(ctx, placer.points(), stats.points);
     result.points.reserve(points.size());
     for (const glm::vec4& point : points) result.points.emplace_back(point);
-    // The GPU writes the points in column order (y, x, z), the same on every run; sort them into
-    // place_inside()'s order (z, y, x) so that the two methods give identical lists. Kept on purpose
-    // (not redundant): the GPU order is by column, this one by layer, and callers and tests rely on it.
+    // The GPU writes the points in column order (y, x, z), the same every run; place_inside() and
+    // the callers use layer order (z, y, x), so both methods give identical lists.
     std::sort(result.points.begin(), result.points.end(), [](const glm::vec3& a, const glm::vec3& b) {
         return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x);
     });

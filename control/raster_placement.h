@@ -14,6 +14,7 @@
 // Layouts and the winding convention: shaders/shared/control/raster_layout.h.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -71,10 +72,18 @@ public:
 
 private:
     void grow(gpu::Buffer& buffer, const char* name, VkDeviceSize bytes, gpu::MemoryUse use);
+    /// The corners' upload and device buffers for at least `corner_bytes`.
+    void reserve_triangles(VkDeviceSize corner_bytes);
     /// Column offsets and the prefix sum over them for at least `pixels` columns.
     void reserve_columns(uint32_t pixels);
     /// The placement's passes for `pixels` columns (the corners uploaded, the counters read back).
     void record_placement(VkCommandBuffer cmd, const shader::RasterPush& push, VkDeviceSize corner_bytes, uint32_t pixels);
+    /// The buffers this placer owns outright (the column buffers are a set of their own).
+    template <class Self>
+    static auto own_buffers(Self& self) {
+        return std::array{&self.triangles_staging_, &self.triangles_, &self.layer_count_,      &self.layers_,
+                          &self.counters_,          &self.counters_readback_, &self.points_};
+    }
 
     gpu::Context* ctx_;
     gpu::ComputePass layers_pass_;

@@ -12,6 +12,8 @@ glm::vec3 z_up(const glm::vec3& p) { return {p.x, -p.z, p.y}; }
 
 namespace {
 
+const char* extension_of(WhitewaterFormat format) { return format == WhitewaterFormat::vtp ? "vtp" : "ply"; }
+
 using aquaform::z_up;  // the point's, beside this namespace's overloads
 
 /// z_up of the position, w (a particle's id or tag) kept.
@@ -103,7 +105,7 @@ std::filesystem::path FrameExports::file(FrameExport kind, uint32_t frame) const
     const FrameExportKind& k = frame_export_kinds()[size_t(kind)];
     std::filesystem::path path = dir_ / numbered_file(k.file_stem, frame / every(kind), k.extension);
     if (kind == FrameExport::mesh) path.replace_extension(mesh_format_extension(options_.mesh_format));
-    if (kind == FrameExport::whitewater && options_.whitewater_format == WhitewaterFormat::vtp) path.replace_extension("vtp");
+    if (kind == FrameExport::whitewater) path.replace_extension(extension_of(options_.whitewater_format));
     return path;
 }
 
@@ -124,24 +126,24 @@ Result<bool> FrameExports::write(uint32_t frame, double time_s, const FrameCaptu
 }
 
 Result<bool> FrameExports::write_file(FrameExport kind, const std::filesystem::path& path, double time_s,
-                                      const FrameCapture& capture) {
-    const std::string name = path.filename().string();
+                                      const FrameCapture& frame) {
     switch (kind) {
-        case FrameExport::ply: return write_particles_ply(path, *capture.particles);
+        case FrameExport::ply: return write_particles_ply(path, *frame.particles);
         case FrameExport::vtk: {
-            Result<bool> written = write_particles_vtu(path, *capture.particles);
-            return written ? particles_pvd_.add(time_s, name) : written;
+            Result<bool> written = write_particles_vtu(path, *frame.particles);
+            return written ? particles_pvd_.add(time_s, path.filename()) : written;
         }
-        case FrameExport::vdb: return write_density_vdb(path, *capture.volume);
+        case FrameExport::vdb: return write_density_vdb(path, *frame.volume);
         case FrameExport::whitewater: {
-            if (options_.whitewater_format == WhitewaterFormat::ply) return write_whitewater_ply(path, *capture.whitewater);
-            Result<bool> written = write_whitewater_vtp(path, *capture.whitewater);
-            return written ? whitewater_pvd_.add(time_s, name) : written;
+            if (options_.whitewater_format == WhitewaterFormat::ply)
+                return write_whitewater_ply(path, *frame.whitewater);
+            Result<bool> written = write_whitewater_vtp(path, *frame.whitewater);
+            return written ? whitewater_pvd_.add(time_s, path.filename()) : written;
         }
         case FrameExport::mesh: {
-            Result<bool> written = write_mesh(path, *capture.mesh, options_.mesh_format);
+            Result<bool> written = write_mesh(path, *frame.mesh, options_.mesh_format);
             if (!written || options_.mesh_format != MeshFormat::vtp) return written;
-            return surface_pvd_.add(time_s, name);
+            return surface_pvd_.add(time_s, path.filename());
         }
     }
     return true;

@@ -109,7 +109,7 @@ public:
 private:
     std::filesystem::path file(FrameExport kind, uint32_t frame) const;
     Result<bool> write_file(FrameExport kind, const std::filesystem::path& path, double time_s,
-                            const FrameCapture& capture);
+                            const FrameCapture& frame);
     Result<bool> list(const std::filesystem::path& file, const FrameExportKind& kind, uint32_t frame, double time_s);
 
     std::filesystem::path dir_;

@@ -33,6 +33,19 @@ std::unique_ptr<Renderer> make_surface(gpu::Context& ctx, session::SimulationSes
                                     sim.solver().particle_count(), p.method);
 }
 
+/// The progress line's figures: the density error, the speed, the steps; the shape's IoU and the
+/// mesh's triangles where there are.
+std::string progress_note(const session::FrameReport& report, const FrameCapture& capture, bool shape) {
+    const FrameStats& stats = report.stats;
+    char note[128];
+    int used = std::snprintf(note, sizeof note, "density err %.2f%%  max speed %.2f m/s  %u steps",
+                             100.0 * stats.mean_density_error, stats.max_speed, stats.substeps);
+    if (shape) used += std::snprintf(note + used, sizeof note - used, "  shape IoU %.2f", report.shape->iou);
+    if (capture.mesh)
+        std::snprintf(note + used, sizeof note - used, "  mesh %zu triangles", capture.mesh->triangles.size());
+    return note;
+}
+
 SurfaceSettings field_of(const MethodSettings& method) {
     const SurfaceSettings* field = method.get<SurfaceSettings>();
     return field ? *field : SurfaceSettings{};
@@ -97,15 +110,7 @@ FramePipeline::FinishedFrame FramePipeline::collect(uint32_t frame, gpu::Submiss
             draw_wireframe(*f.image, mesh.vertices, mesh.faces, camera_);
     f.capture = capturer_.collect(frame, timer_, f.report.stats);
     if (exports_.needs(FrameData::whitewater, frame)) f.capture.whitewater = sim_.whitewater_snapshot();
-    const FrameStats& stats = f.report.stats;
-    char note[128];
-    int used = std::snprintf(note, sizeof note, "density err %.2f%%  max speed %.2f m/s  %u steps",
-                             100.0 * stats.mean_density_error, stats.max_speed, stats.substeps);
-    if (f.report.shape && !driver->active().empty())
-        used += std::snprintf(note + used, sizeof note - used, "  shape IoU %.2f", f.report.shape->iou);
-    if (f.capture.mesh)
-        std::snprintf(note + used, sizeof note - used, "  mesh %zu triangles", f.capture.mesh->triangles.size());
-    f.note = note;
+    f.note = progress_note(f.report, f.capture, f.report.shape && !driver->active().empty());
     return f;
 }
 

@@ -182,10 +182,9 @@ Result<bool> RunFiles::write_whitewater_chart(const Scene& scene) const {
 }
 
 Result<size_t> clear_earlier_run(const std::filesystem::path& dir) {
-    // diffuse_NNNN.* and diffuse.pvd: the whitewater's files as aquaform named them before, so
-    // that an earlier version's run does not stay beside this one's.
-    static const std::regex numbered(R"((frame|particles|whitewater|diffuse|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp))");
-    static const std::regex solids(R"(obstacle_.+\.obj)");
+    // The numbered frames and the obstacles' meshes; diffuse_*: the whitewater's files' old name.
+    static const std::regex written(
+        R"((frame|particles|whitewater|diffuse|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp)|obstacle_.+\.obj)");
     static const std::set<std::string> named{"stats.csv",     "front.csv",   "front.svg",     "whitewater.svg", "particles.pvd",
                                              "surface.pvd",   "whitewater.pvd", "diffuse.pvd",  kExportListing, kRunDescriptionName};
     static const std::set<std::string> probe_files(std::begin(ProbeFiles::kFileNames), std::end(ProbeFiles::kFileNames));
@@ -193,8 +192,7 @@ Result<size_t> clear_earlier_run(const std::filesystem::path& dir) {
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
         const std::string name = entry.path().filename().string();
-        if (!named.count(name) && !probe_files.count(name) && !std::regex_match(name, numbered) && !std::regex_match(name, solids))
-            continue;
+        if (!named.count(name) && !probe_files.count(name) && !std::regex_match(name, written)) continue;
         // A link where the run writes would send its files elsewhere: refused before any work.
         if (entry.is_symlink(ec)) return link_refused(entry.path());
         if (entry.is_regular_file(ec) && name != kRunDescriptionName) earlier.push_back(entry.path());

@@ -61,8 +61,8 @@ void PbfPressure::record_step(VkCommandBuffer cmd, FluidArrays fluid, const Flui
     }
 }
 
-void PbfPressure::record_projection(VkCommandBuffer cmd, FluidArrays fluid, uint32_t iteration) {
-    record_iteration(cmd, fluid, correct_, iteration, nullptr);
+void PbfPressure::record_projections(VkCommandBuffer cmd, FluidArrays fluid, uint32_t iterations) {
+    for (uint32_t it = 0; it < iterations; ++it) record_iteration(cmd, fluid, correct_, it, nullptr);
 }
 
 void PbfPressure::record_iteration(VkCommandBuffer cmd, FluidArrays& fluid, const gpu::ComputePass& correct,

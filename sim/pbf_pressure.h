@@ -18,7 +18,7 @@ public:
 
     std::vector<std::string> pass_names() const override;
     void record_step(VkCommandBuffer cmd, FluidArrays fluid, const FluidSort& sort, gpu::GpuTimer* timer) override;
-    void record_projection(VkCommandBuffer cmd, FluidArrays fluid, uint32_t iteration) override;
+    void record_projections(VkCommandBuffer cmd, FluidArrays fluid, uint32_t iterations) override;
     void record_density(VkCommandBuffer cmd, FluidArrays fluid, const gpu::Buffer& positions) override;
 
 private:

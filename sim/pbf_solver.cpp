@@ -50,12 +50,9 @@ Result<MemoryPlan> plan_memory(const Scene& scene, std::optional<uint64_t> parti
     const uint64_t cells = plan.grid.cell_count();
     for (const char* name : kParticleBuffers) plan.buffers.push_back({name, n * 16});
     plan.buffers.push_back({"sim.density", n * 4});
-    plan.buffers.push_back({"sim.grid.keys", n * 4});
-    plan.buffers.push_back({"sim.grid.slots", n * 4});
-    plan.buffers.push_back({"sim.grid.arrival", n * 4});
-    plan.buffers.push_back({"sim.grid.order", n * 4});
-    plan.buffers.push_back({"sim.grid.list_cell", n * 4});
-    plan.buffers.push_back({"sim.grid.neighbor_count", n * 4});
+    for (const char* name : {"sim.grid.keys", "sim.grid.slots", "sim.grid.arrival", "sim.grid.order",
+                             "sim.grid.list_cell", "sim.grid.neighbor_count"})
+        plan.buffers.push_back({name, n * 4});
     // Read and written only as rgba32ui texels (NeighborGrid): the texel limit applies.
     plan.buffers.push_back({"sim.grid.neighbors", n * neighbor_list_capacity(scene.solver.kernel_radius_factor) * 4, true});
     plan.buffers.push_back({"sim.grid.cell_rank", cells * 4});
@@ -222,7 +219,7 @@ void PbfSolver::relax_start() {
         ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
             gpu::record_upload(*ctx_, cmd, *params_buf_, &relax, sizeof relax);
             record_sort(cmd, *x_, nullptr);
-            for (uint32_t it = 0; it < kStartRelaxIterations; ++it) pressure_solve_->record_projection(cmd, fluid_arrays(), it);
+            pressure_solve_->record_projections(cmd, fluid_arrays(), kStartRelaxIterations);
             gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
         });
         // The densities are the last iteration's, before its correction: the check lags it.

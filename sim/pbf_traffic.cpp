@@ -25,8 +25,7 @@ PassTraffic neighbor_pass(const char* name, const GridCounts& c, uint32_t runs, 
 
 std::vector<PassTraffic> step_traffic(const GridCounts& c, const StepShape& shape) {
     const uint64_t n = c.particles;
-    // sim_grid_count, sim_grid_scan, sim_grid_scatter, sim_neighbor_lists: as the solver's grid times them
-    const std::vector<PassTraffic> grid = grid_pass_traffic(c, "sim_");
+    const std::vector<PassTraffic> grid = grid_pass_traffic(c, "sim_");  // sim_grid_count, ..., sim_neighbor_lists
     std::vector<PassTraffic> passes;
     // pbf_predict: x and v loaded, v and p stored.
     passes.push_back(per_particle("sim_predict", n, 16 + 16 + 16 + 16));

@@ -50,9 +50,9 @@ public:
     /// One step: from x and v (with the stages' accelerations) to the step's final x and v,
     /// sorting the arrays with `sort` where it needs neighbours.
     virtual void record_step(VkCommandBuffer cmd, FluidArrays fluid, const FluidSort& sort, gpu::GpuTimer* timer) = 0;
-    /// One projection of the predicted positions p towards rest density, with no velocity
-    /// update: the start's relaxation (PbfSolver::relax_start), with `iteration` counting from 0.
-    virtual void record_projection(VkCommandBuffer cmd, FluidArrays fluid, uint32_t iteration) = 0;
+    /// `iterations` projections of the predicted positions p towards rest density, with no
+    /// velocity update: the start's relaxation (PbfSolver::relax_start).
+    virtual void record_projections(VkCommandBuffer cmd, FluidArrays fluid, uint32_t iterations) = 0;
     /// The densities at `positions` into fluid.density, on the grid's current neighbour lists
     /// (the frame's statistics).
     virtual void record_density(VkCommandBuffer cmd, FluidArrays fluid, const gpu::Buffer& positions) = 0;

@@ -113,4 +113,31 @@ Result<StudyCharts> draw_study_charts(const fs::path& out_dir) {
     return charts;
 }
 
+// study.md and the charts, with the counts and the targets printed.
+bool write_study_report(const std::filesystem::path& out_dir, const StudySpec& spec,
+                        const std::vector<StudyRow>& rows, const std::string& device, bool charts) {
+    bool ok = true;
+    const std::vector<std::string> targets = study_targets(rows);
+    if (auto md = write_study_markdown(out_dir / "study.md", spec, rows, targets, device); !md) {
+        std::fprintf(stderr, "aquaform study: %s\n", md.error().c_str());
+        ok = false;
+    }
+    size_t failed = 0;
+    for (const auto& r : rows) failed += r.status.rfind("failed", 0) == 0;
+    std::printf("\n%zu measurements, %zu failed%s\n", rows.size(), failed,
+                ok ? ("; tables in " + (out_dir / "study.md").string()).c_str() : " (study.md not written)");
+    for (const auto& line : targets) std::printf("  %s\n", line.c_str());
+    if (!charts) return ok;
+    auto drawn = draw_study_charts(out_dir);
+    if (!drawn) {
+        std::fprintf(stderr, "aquaform study: charts: %s\n", drawn.error().c_str());
+        return false;
+    }
+    if (!drawn.value().skipped.empty())  // the study is whole without them
+        std::fprintf(stderr, "aquaform study: no charts: %s\n", drawn.value().skipped.c_str());
+    if (!drawn.value().written.empty()) std::printf("charts drawn by %s:\n", drawn.value().drawn_by.c_str());
+    for (const auto& path : drawn.value().written) std::printf("  chart %s\n", path.c_str());
+    return ok;
+}
+
 }  // namespace aquaform::study

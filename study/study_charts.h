@@ -1,4 +1,5 @@
-// Charts of a study: runs scripts/study_charts.py (matplotlib) over the CSV files a study wrote.
+// A study's report: study.md, and the charts that scripts/study_charts.py (matplotlib) draws from
+// the CSV files a study wrote.
 #pragma once
 
 #include <filesystem>
@@ -6,6 +7,7 @@
 #include <vector>
 
 #include "core/result.h"
+#include "study/study_run.h"
 
 namespace aquaform::study {
 
@@ -32,5 +34,11 @@ struct StudyCharts {
 /// `out_dir` into out_dir/charts/ as PNG and SVG, with find_chart_python's interpreter. The error
 /// is the script's failure (what it refused: a missing file or column).
 Result<StudyCharts> draw_study_charts(const std::filesystem::path& out_dir);
+
+/// study.md and the charts from the rows as the files hold them (StudyFiles::rows: a run, a
+/// resumed run and a merge of shards report alike), printing the count of measurements, the
+/// failed ones and the targets; false (the error printed) when one could not be written.
+bool write_study_report(const std::filesystem::path& out_dir, const StudySpec& spec, const std::vector<StudyRow>& rows,
+                        const std::string& device, bool charts);
 
 }  // namespace aquaform::study

@@ -130,6 +130,8 @@ HeadlessSummary run_headless_printed(gpu::Context& ctx, session::SessionPlan pla
                 run.frames.size(), run.wall_seconds, run.frames_per_s(), run.mean_steps(), run.mean_gpu_solver_ms(),
                 run.mean_gpu_render_ms(), run.particles, run.width, run.height, run.method.c_str(), run.real_time_factor(),
                 run.sim_seconds);
+    if (!run.fatal.empty()) std::fprintf(stderr, "aquaform view: the simulation stopped: %s\n", run.fatal.c_str());
+    if (!run.blowup.empty()) std::fprintf(stderr, "aquaform view: %s\n", run.blowup.c_str());
     return run;
 }
 

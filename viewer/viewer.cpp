@@ -503,4 +503,23 @@ ViewSummary run_viewer(gpu::Context& ctx, ViewWindow& window, session::SessionPl
     return viewer.run();
 }
 
+bool run_viewer_printed(gpu::Context& ctx, ViewWindow& window, session::SessionPlan plan, const ViewerOptions& options,
+                        const std::string& scene_name) {
+    std::printf("viewing %s: %llu particles on %s; Esc in the window (or Ctrl-C here) quits\n", scene_name.c_str(),
+                (unsigned long long)plan.scene.particle_count(), ctx.info().name.c_str());
+    std::fflush(stdout);
+    const ViewSummary run = run_viewer(ctx, window, std::move(plan), options);
+    const ViewReport& report = run.report;
+    const double s = run.seconds > 0.0 ? run.seconds : 1.0;
+    std::printf("aquaform view: %u window frames in %.1f s (%.2f frames/s, the longest %.0f ms); %llu pictures of the fluid "
+                "(%.2f/s; %u particles, %ux%u, %s)\n",
+                run.window_frames, run.seconds, run.window_frames / s, run.longest_frame_ms,
+                (unsigned long long)report.frames, report.frames / s, report.particles, run.width, run.height,
+                run.method.c_str());
+    for (const std::string& e : run.errors) std::fprintf(stderr, "aquaform view: %s\n", e.c_str());
+    if (!report.fatal.empty()) std::fprintf(stderr, "aquaform view: the simulation stopped: %s\n", report.fatal.c_str());
+    if (!report.blowup.empty()) std::fprintf(stderr, "aquaform view: %s\n", report.blowup.c_str());
+    return run.errors.empty() && report.fatal.empty() && report.blowup.empty();
+}
+
 }  // namespace aquaform::viewer

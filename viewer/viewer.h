@@ -59,4 +59,10 @@ struct ViewSummary {
 /// max_frames window frames are drawn.
 ViewSummary run_viewer(gpu::Context& ctx, ViewWindow& window, session::SessionPlan plan, const ViewerOptions& options);
 
+/// run_viewer with its lines printed: what is viewed on which device before, the window's and
+/// the fluid's frame rates after, and every error, fatal error and blow-up (to stderr). True
+/// when the session ran clean.
+bool run_viewer_printed(gpu::Context& ctx, ViewWindow& window, session::SessionPlan plan, const ViewerOptions& options,
+                        const std::string& scene_name);
+
 }  // namespace aquaform::viewer
