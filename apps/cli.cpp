@@ -47,7 +47,8 @@ bool stopped_by_ctrl_c(const char* command) {
 
 int exit_status(const gpu::Context& ctx, int status) {
     if (ctx.validation_errors() == 0) return status;
-    std::fprintf(stderr, "aquaform: %u Vulkan validation errors (see above); this is a bug in aquaform, please report it\n",
+    std::fprintf(stderr,
+                 "aquaform: %u Vulkan validation errors (see above); this is a bug in aquaform, please report it\n",
                  ctx.validation_errors());
     return kExitFailure;
 }
@@ -91,7 +92,9 @@ int run_command(const std::string& command, const std::vector<std::string>& rest
         std::fprintf(stderr, "aquaform: %s\n", e.what());
         return e.kind() == Failure::Kind::input ? kExitUsage : kExitFailure;
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "aquaform: out of host memory; use fewer particles (a larger particle_spacing) or a smaller image\n");
+        std::fprintf(
+            stderr,
+            "aquaform: out of host memory; use fewer particles (a larger particle_spacing) or a smaller image\n");
         return kExitFailure;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "aquaform: %s\n", e.what());

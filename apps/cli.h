@@ -38,10 +38,14 @@ int cmd_view(const std::vector<std::string>& argv);
 /// flags; bench_render_flags() are the flags it takes.
 int bench_render(const Args& args);
 FlagSpec bench_render_flags();
-int bench_control(const Args& args); FlagSpec bench_control_flags();  ///< `aquaform bench control` (apps/cmd_bench_control.cpp)
-int bench_convergence(const Args& args); FlagSpec bench_convergence_flags();  ///< `aquaform bench convergence` (apps/cmd_bench_convergence.cpp)
-int bench_spheric(const Args& args); FlagSpec bench_spheric_flags();  ///< `aquaform bench spheric` (apps/cmd_bench_spheric.cpp)
-int bench_frame(const Args& args); FlagSpec bench_frame_flags();  ///< `aquaform bench frame` (apps/cmd_bench_frame.cpp)
+int bench_control(const Args& args);
+FlagSpec bench_control_flags();  ///< `aquaform bench control` (apps/cmd_bench_control.cpp)
+int bench_convergence(const Args& args);
+FlagSpec bench_convergence_flags();  ///< `aquaform bench convergence` (apps/cmd_bench_convergence.cpp)
+int bench_spheric(const Args& args);
+FlagSpec bench_spheric_flags();  ///< `aquaform bench spheric` (apps/cmd_bench_spheric.cpp)
+int bench_frame(const Args& args);
+FlagSpec bench_frame_flags();  ///< `aquaform bench frame` (apps/cmd_bench_frame.cpp)
 
 /// Prints "aquaform COMMAND: MESSAGE" (one line, naming the problem and the fix) and returns
 /// `status`: bad input unless told otherwise.

@@ -8,10 +8,10 @@
 
 #include "apps/cli.h"
 #include "control/character_walk.h"
-#include "geometry/mesh.h"
-#include "geometry/primitives.h"
 #include "core/file_write.h"
 #include "core/output_dir.h"
+#include "geometry/mesh.h"
+#include "geometry/primitives.h"
 
 namespace aquaform::cli {
 
@@ -36,8 +36,7 @@ int cmd_assets(const std::vector<std::string>& argv) {
     const fs::path out_dir = args->value("--out", "assets/meshes");
     // No folder lock here: the generator writes the same bytes every time (two at once write the
     // same files), and its folder is the repository's assets/meshes, which holds these alone.
-    if (auto ready = prepare_output_dir(out_dir); !ready)
-        return refuse("assets", ready.error());
+    if (auto ready = prepare_output_dir(out_dir); !ready) return refuse("assets", ready.error());
 
     struct Named {
         std::string file;

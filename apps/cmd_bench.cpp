@@ -14,15 +14,15 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
+#include "bench/bench_sim.h"
 #include "core/file_write.h"
 #include "core/interrupt.h"
 #include "core/number_text.h"
 #include "core/output_dir.h"
 #include "core/text_escape.h"
+#include "gpu/context.h"
 #include "sim/blowup.h"
 #include "sim/scene.h"
-#include "gpu/context.h"
-#include "bench/bench_sim.h"
 
 namespace aquaform::cli {
 
@@ -30,7 +30,8 @@ namespace {
 
 /// Flags of `bench sim`; `bench render`'s are bench_render_flags().
 FlagSpec bench_sim_flags() {
-    return {{"--sizes", "--iterations", "--steps", "--repeats", "--out", "--device", "--warmup", "--bandwidth"}, {"--validation"}};
+    return {{"--sizes", "--iterations", "--steps", "--repeats", "--out", "--device", "--warmup", "--bandwidth"},
+            {"--validation"}};
 }
 
 // --bandwidth: the memory floor's device, in GB/s; bounded so that a typo (a bandwidth in B/s)
@@ -41,9 +42,10 @@ std::optional<double> parse_bandwidth(const std::string& text, std::string* erro
     const std::optional<double> value = number_text::finite_number(text);
     if (value && *value >= kMinBandwidth && *value <= kMaxBandwidth) return value;
     char message[320];
-    std::snprintf(message, sizeof message,
-                  "--bandwidth must be a memory bandwidth in GB/s from %g to %g (the H200's copy bandwidth is %g), got \"%s\"",
-                  kMinBandwidth, kMaxBandwidth, study::kH200CopyGbps, text.c_str());
+    std::snprintf(
+        message, sizeof message,
+        "--bandwidth must be a memory bandwidth in GB/s from %g to %g (the H200's copy bandwidth is %g), got \"%s\"",
+        kMinBandwidth, kMaxBandwidth, study::kH200CopyGbps, text.c_str());
     *error = message;
     return std::nullopt;
 }
@@ -57,20 +59,22 @@ int cmd_bench(const std::vector<std::string>& argv) {
     const std::string which = argv.empty() ? "" : argv[0];
     if (which != "sim" && which != "render" && which != "control" && which != "convergence" && which != "frame" &&
         which != "spheric") {
-        std::fprintf(stderr, "aquaform bench: say what to measure first: aquaform bench sim (solver), aquaform bench render "
-                             "(surface reconstruction), aquaform bench frame (a displayed frame: solver, reconstruction and "
-                             "composition), aquaform bench control (mesh control) or aquaform bench "
-                             "convergence (the dam-break front against Martin & Moyce in space and time step) or aquaform bench spheric "
-                             "(SPHERIC test 2: the dam break against a box, against MARIN's measurements)\n");
+        std::fprintf(
+            stderr,
+            "aquaform bench: say what to measure first: aquaform bench sim (solver), aquaform bench render "
+            "(surface reconstruction), aquaform bench frame (a displayed frame: solver, reconstruction and "
+            "composition), aquaform bench control (mesh control) or aquaform bench "
+            "convergence (the dam-break front against Martin & Moyce in space and time step) or aquaform bench spheric "
+            "(SPHERIC test 2: the dam break against a box, against MARIN's measurements)\n");
         return kExitUsage;
     }
     const bool render = which == "render";
-    const FlagSpec spec = render                    ? bench_render_flags()
-                          : which == "control"      ? bench_control_flags()
-                          : which == "convergence"  ? bench_convergence_flags()
-                          : which == "frame"        ? bench_frame_flags()
-                          : which == "spheric"      ? bench_spheric_flags()
-                                                    : bench_sim_flags();
+    const FlagSpec spec = render                   ? bench_render_flags()
+                          : which == "control"     ? bench_control_flags()
+                          : which == "convergence" ? bench_convergence_flags()
+                          : which == "frame"       ? bench_frame_flags()
+                          : which == "spheric"     ? bench_spheric_flags()
+                                                   : bench_sim_flags();
     std::string error;
     auto args = parse_args(std::vector<std::string>(argv.begin() + 1, argv.end()), spec, "bench " + which, &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
@@ -106,15 +110,15 @@ int bench_sim(const Args& args_value) {
     if (sizes.empty() || !iterations || !steps || !repeats || !warmup || !bandwidth) return refuse("bench", error);
     const std::string out_path = args->value("--out", "bench_sim.json");
     // Fail before minutes of work when the output cannot go where asked.
-    if (auto ready = prepare_output_file(out_path); !ready)
-        return refuse("bench sim", ready.error());
+    if (auto ready = prepare_output_file(out_path); !ready) return refuse("bench sim", ready.error());
 
     gpu::Context ctx({args->value("--device"), validation_requested(*args)});
-    std::printf("bench sim on %s (%s), %ld iterations; best of %ld runs of %ld steps, after %ld warm-up steps or more "
-                "(whole frames, the run's time-step rule)\n",
-                ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type), *iterations, *repeats, *steps, *warmup);
-    const study::SolverBenchOptions options{uint32_t(*iterations), uint32_t(*steps), uint32_t(*repeats), uint32_t(*warmup),
-                                            *bandwidth};
+    std::printf(
+        "bench sim on %s (%s), %ld iterations; best of %ld runs of %ld steps, after %ld warm-up steps or more "
+        "(whole frames, the run's time-step rule)\n",
+        ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type), *iterations, *repeats, *steps, *warmup);
+    const study::SolverBenchOptions options{uint32_t(*iterations), uint32_t(*steps), uint32_t(*repeats),
+                                            uint32_t(*warmup), *bandwidth};
     std::vector<study::SolverBenchRecord> measured;
     nlohmann::json records = nlohmann::json::array();
     for (uint32_t target : sizes) {
@@ -130,12 +134,14 @@ int bench_sim(const Args& args_value) {
     if (!std::isnan(exponent))
         std::printf("neighbour search (grid build, reorder, neighbour lists) grows as N^%.3f from %u to %u particles\n",
                     exponent, measured.front().particles, measured.back().particles);
-    nlohmann::json doc = {{"benchmark", "sim"},
-                          {"device", ctx.info().name},
-                          {"device_type", gpu::device_type_name(ctx.info().type)},
-                          {"records", records},
-                          {"neighbor_search_exponent", std::isnan(exponent) ? nlohmann::json(nullptr) : nlohmann::json(exponent)}};
-    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; }); !written)
+    nlohmann::json doc = {
+        {"benchmark", "sim"},
+        {"device", ctx.info().name},
+        {"device_type", gpu::device_type_name(ctx.info().type)},
+        {"records", records},
+        {"neighbor_search_exponent", std::isnan(exponent) ? nlohmann::json(nullptr) : nlohmann::json(exponent)}};
+    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; });
+        !written)
         return exit_status(ctx, refuse("bench", written.error(), kExitFailure));
     std::printf("wrote %s\n", out_path.c_str());
     return exit_status(ctx, kExitOk);

@@ -10,14 +10,14 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
-#include "core/file_write.h"
-#include "core/text_escape.h"
-#include "core/interrupt.h"
-#include "core/number_text.h"
-#include "gpu/context.h"
 #include "bench/bench_checks.h"
 #include "bench/bench_control.h"
 #include "bench/bench_control_run.h"
+#include "core/file_write.h"
+#include "core/interrupt.h"
+#include "core/number_text.h"
+#include "core/text_escape.h"
+#include "gpu/context.h"
 
 namespace aquaform::cli {
 
@@ -33,8 +33,10 @@ std::optional<std::vector<double>> parse_scales(const std::string& text, std::st
         // Below a thousandth the pressure is no control at all (1e-300 rounded the scene's
         // control.pressure to 0 mid-sweep, a key the user never wrote).
         if (!(v >= 0.001 && v <= 1000.0)) {
-            *error = "--scales takes pressure multiples of the automatic strength, like 0.5,1,2 (each from 0.001 to "
-                     "1000), got \"" + item + "\" in \"" + text + "\"";
+            *error =
+                "--scales takes pressure multiples of the automatic strength, like 0.5,1,2 (each from 0.001 to "
+                "1000), got \"" +
+                item + "\" in \"" + text + "\"";
             return std::nullopt;
         }
         scales.push_back(v);
@@ -44,7 +46,9 @@ std::optional<std::vector<double>> parse_scales(const std::string& text, std::st
 
 }  // namespace
 
-FlagSpec bench_control_flags() { return {{"--out", "--device", "--particles", "--scales"}, {"--validation", "--quick"}}; }
+FlagSpec bench_control_flags() {
+    return {{"--out", "--device", "--particles", "--scales"}, {"--validation", "--quick"}};
+}
 
 int bench_control(const Args& args) {
     const bool quick = args.has("--quick");
@@ -81,7 +85,8 @@ int bench_control(const Args& args) {
                                 {"shape_spacing", spacing},
                                 {"records", result->records},
                                 {"targets", result->targets}};
-    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; }); !written)
+    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; });
+        !written)
         return exit_status(ctx, refuse("bench control", written.error(), kExitFailure));
     std::printf("wrote %s\n", out_path.string().c_str());
     return exit_status(ctx, kExitOk);

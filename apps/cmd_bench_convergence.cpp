@@ -11,13 +11,13 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
+#include "bench/bench_checks.h"
+#include "bench/bench_convergence_run.h"
+#include "bench/bench_frames.h"
 #include "core/file_write.h"
 #include "core/interrupt.h"
 #include "core/text_escape.h"
 #include "gpu/context.h"
-#include "bench/bench_checks.h"
-#include "bench/bench_convergence_run.h"
-#include "bench/bench_frames.h"
 
 namespace aquaform::cli {
 
@@ -57,8 +57,10 @@ int bench_convergence(const Args& args) {
 
     const std::filesystem::path out_dir = args.value("--out", "out/bench_convergence");
     if (!prepare_output("bench convergence", out_dir)) return kExitUsage;
-    const std::filesystem::path chart_path = out_dir / "convergence_front.svg", json_path = out_dir / "convergence.json";
-    if (auto files = study::check_bench_files({chart_path, json_path}); !files) return refuse("bench convergence", files.error());
+    const std::filesystem::path chart_path = out_dir / "convergence_front.svg",
+                                json_path = out_dir / "convergence.json";
+    if (auto files = study::check_bench_files({chart_path, json_path}); !files)
+        return refuse("bench convergence", files.error());
 
     gpu::Context ctx({args.value("--device"), validation_requested(args)});
     std::printf("bench convergence on %s (%s)%s\n", ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type),
@@ -72,7 +74,8 @@ int bench_convergence(const Args& args) {
                           {"device", ctx.info().name},
                           {"device_type", gpu::device_type_name(ctx.info().type)}};
     doc.update(result->doc);
-    if (auto written = write_file_with(json_path, [&](std::ostream& out) { out << json_text(doc, 1) << "\n"; }); !written)
+    if (auto written = write_file_with(json_path, [&](std::ostream& out) { out << json_text(doc, 1) << "\n"; });
+        !written)
         return exit_status(ctx, refuse("bench convergence", written.error(), kExitFailure));
     std::printf("wrote %s and %s\n", json_path.string().c_str(), chart_path.string().c_str());
     return exit_status(ctx, kExitOk);

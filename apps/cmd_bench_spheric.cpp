@@ -4,22 +4,22 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <initializer_list>
 #include <filesystem>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
+#include "bench/bench_checks.h"
+#include "bench/bench_frames.h"
+#include "bench/bench_spheric.h"
 #include "core/file_write.h"
 #include "core/interrupt.h"
 #include "core/number_text.h"
 #include "core/text_escape.h"
 #include "gpu/context.h"
-#include "bench/bench_checks.h"
-#include "bench/bench_frames.h"
-#include "bench/bench_spheric.h"
 
 namespace aquaform::cli {
 
@@ -36,7 +36,9 @@ std::vector<std::string> charted(const std::vector<std::string>& compared, std::
 
 }  // namespace
 
-FlagSpec bench_spheric_flags() { return {{"--out", "--device", "--sizes", "--seconds", "--scene", "--data"}, {"--validation"}}; }
+FlagSpec bench_spheric_flags() {
+    return {{"--out", "--device", "--sizes", "--seconds", "--scene", "--data"}, {"--validation"}};
+}
 
 int bench_spheric(const Args& args) {
     std::string error;
@@ -45,10 +47,12 @@ int bench_spheric(const Args& args) {
     auto base = load_scene(scene_path);
     if (!base) return refuse("bench spheric", base.error());
     if (!base.value().probes)
-        return refuse("bench spheric", scene_path.string() + " has no probes to compare; give SPHERIC test 2's scene (--scene)");
+        return refuse("bench spheric",
+                      scene_path.string() + " has no probes to compare; give SPHERIC test 2's scene (--scene)");
     auto data = study::load_spheric_data(args.value("--data", study::default_spheric_data_dir().string()));
     if (!data) return refuse("bench spheric", data.error() + " (give the folder with --data DIR)");
-    const std::optional<double> seconds_flag = args.has("--seconds") ? number_text::finite_number(args.value("--seconds")) : 6.0;
+    const std::optional<double> seconds_flag =
+        args.has("--seconds") ? number_text::finite_number(args.value("--seconds")) : 6.0;
     if (!seconds_flag || *seconds_flag <= 0.0 || *seconds_flag > 7.0)
         return refuse("bench spheric", "--seconds must be a time from 0 to 7 s (the measurement's length), got \"" +
                                            args.value("--seconds") + "\"");
@@ -97,8 +101,11 @@ int bench_spheric(const Args& args) {
         study::compare_spheric(*run, data.value(), *seconds_flag);
         study::print_spheric_run(*run);
         if (!study::compared_anything(*run))
-            return exit_status(ctx, refuse("bench spheric", run->label + ": no step of the run fell within the measurement, "
-                                           "so nothing was compared; give --seconds within the data's time", kExitFailure));
+            return exit_status(ctx,
+                               refuse("bench spheric",
+                                      run->label + ": no step of the run fell within the measurement, "
+                                                   "so nothing was compared; give --seconds within the data's time",
+                                      kExitFailure));
         runs.push_back(std::move(*run));
     }
     nlohmann::json doc = {{"benchmark", "spheric_test2"},
@@ -106,8 +113,10 @@ int bench_spheric(const Args& args) {
                           {"device_type", gpu::device_type_name(ctx.info().type)},
                           {"scene", scene_path.string()},
                           {"seconds", *seconds_flag},
-                          {"targets", {{"height_relative", study::kHeightTarget}, {"p1_arrival_s", study::kArrivalTarget},
-                                       {"pressure_level_relative", study::kPressureLevelTarget}}},
+                          {"targets",
+                           {{"height_relative", study::kHeightTarget},
+                            {"p1_arrival_s", study::kArrivalTarget},
+                            {"pressure_level_relative", study::kPressureLevelTarget}}},
                           {"runs", nlohmann::json::array()}};
     for (const auto& run : runs) doc["runs"].push_back(study::to_json(run));
     std::string chart_list;

@@ -6,21 +6,21 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <functional>
-#include <optional>
 #include <filesystem>
+#include <functional>
 #include <memory>
+#include <optional>
 
 #include "apps/cli.h"
 #include "apps/render_options.h"
-#include "geometry/mesh.h"
-#include "control/placement.h"
 #include "control/place_command.h"
+#include "control/placement.h"
 #include "core/file_write.h"
 #include "core/host_memory.h"
 #include "core/interrupt.h"
 #include "core/number_text.h"
 #include "core/output_dir.h"
+#include "geometry/mesh.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
@@ -42,8 +42,8 @@ std::optional<float> parse_spacing(const std::string& text, float diagonal, std:
     if (value && *value >= low && *value <= high) return float(*value);
     char message[320];
     std::snprintf(message, sizeof message,
-                  "--spacing must be a length from %g to %g (1/2000 to 1/2 of the mesh's diagonal, %g), got \"%s\"", low,
-                  high, diagonal, text.c_str());
+                  "--spacing must be a length from %g to %g (1/2000 to 1/2 of the mesh's diagonal, %g), got \"%s\"",
+                  low, high, diagonal, text.c_str());
     *error = message;
     return std::nullopt;
 }
@@ -52,11 +52,14 @@ std::optional<float> parse_spacing(const std::string& text, float diagonal, std:
 
 int cmd_control(const std::vector<std::string>& argv) {
     std::string error;
-    auto args = parse_args(argv, {{"--method", "--spacing", "--out", "--device", "--resolution"}, {"--no-png", "--validation"}},
-                           "control", &error);
+    auto args =
+        parse_args(argv, {{"--method", "--spacing", "--out", "--device", "--resolution"}, {"--no-png", "--validation"}},
+                   "control", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     if (args->positional.size() != 2 || args->positional[0] != "place")
-        return refuse("control", "use aquaform control place MESH.obj [--method vertices|inside|raster] [--spacing S] [--out DIR]");
+        return refuse(
+            "control",
+            "use aquaform control place MESH.obj [--method vertices|inside|raster] [--spacing S] [--out DIR]");
     const std::string method = args->value("--method", "inside");
     if (method != "vertices" && method != "inside" && method != "raster")
         return refuse("control", "unknown --method '" + method + "'; use vertices, inside or raster");
@@ -79,20 +82,23 @@ int cmd_control(const std::vector<std::string>& argv) {
     // The raster method and the picture need the GPU; the context is made once, when first needed.
     std::unique_ptr<gpu::Context> ctx;
     const std::function<gpu::Context&()> context = [&]() -> gpu::Context& {
-        if (!ctx) ctx = std::make_unique<gpu::Context>(gpu::ContextOptions{args->value("--device"), validation_requested(*args)});
+        if (!ctx)
+            ctx = std::make_unique<gpu::Context>(
+                gpu::ContextOptions{args->value("--device"), validation_requested(*args)});
         return *ctx;
     };
     const double host = double(available_host_memory().value_or(UINT64_MAX));
-    if (auto refusal = control::placement_memory_refusal(method, loaded.value(), spacing, host, [&] {
-            return double(context().info().device_local_bytes);
-        }))
+    if (auto refusal = control::placement_memory_refusal(method, loaded.value(), spacing, host,
+                                                         [&] { return double(context().info().device_local_bytes); }))
         return refuse("control", "'" + args->positional[1] + "': " + *refusal);
-    const std::filesystem::path out_dir = args->value("--out", "out/control_" + std::filesystem::path(args->positional[1]).stem().string());
+    const std::filesystem::path out_dir =
+        args->value("--out", "out/control_" + std::filesystem::path(args->positional[1]).stem().string());
     if (!prepare_output("control place", out_dir)) return kExitUsage;
     std::error_code ec;
 
     const double ply_bytes = control::expected_ply_bytes(method, loaded.value(), spacing);
-    if (const std::filesystem::space_info space = std::filesystem::space(out_dir, ec); !ec && ply_bytes > double(space.available))
+    if (const std::filesystem::space_info space = std::filesystem::space(out_dir, ec);
+        !ec && ply_bytes > double(space.available))
         return std::fprintf(stderr,
                             "aquaform control: '%s': points.ply at --spacing %g would take about %.0f MB but %.0f MB "
                             "are free in %s; use a larger --spacing or another --out\n",
@@ -107,7 +113,9 @@ int cmd_control(const std::vector<std::string>& argv) {
     if (!points.complete)
         return refuse("control", "interrupted during the placement; nothing written", kExitInterrupted);
     std::printf("%s\n", line.c_str());
-    if (auto written = write_file_with(out_dir / "report.txt", [&](std::ostream& out) { out << report << "\n" << line << "\n"; });
+    if (auto written =
+            write_file_with(out_dir / "report.txt", [&](std::ostream& out) { out << report << "\n"
+                                                                                 << line << "\n"; });
         !written)
         return refuse("control", written.error(), ctx ? exit_status(*ctx, kExitFailure) : kExitFailure);
     if (points.points.empty())
@@ -135,8 +143,9 @@ int cmd_control(const std::vector<std::string>& argv) {
     gpu::upload(device, velocities, snapshot.v.data(), snapshot.v.size() * sizeof(glm::vec4));
     ImpostorStyle style;
     style.radius = 0.35f * spacing;
-    const Image image = view.render(positions, velocities, uint32_t(snapshot.x.size()),
-                                    camera_for_domain(bounds, float(size->width) / float(size->height)), style, bounds, {});
+    const Image image =
+        view.render(positions, velocities, uint32_t(snapshot.x.size()),
+                    camera_for_domain(bounds, float(size->width) / float(size->height)), style, bounds, {});
     if (auto written = write_png(out_dir / "points.png", image); !written)
         return exit_status(device, refuse("control", written.error(), kExitFailure));
     std::printf("wrote points.ply, points.png and report.txt to %s\n", out_dir.string().c_str());

@@ -20,14 +20,19 @@ int cmd_info(const std::vector<std::string>& argv) {
                     gpu::device_type_name(d.type), VK_API_VERSION_MAJOR(d.api_version),
                     VK_API_VERSION_MINOR(d.api_version), double(d.device_local_bytes) / double(1ull << 30),
                     d.usable ? "usable" : ("unusable: " + d.unusable_reason).c_str());
-        std::printf("     work budget: %.2g particle visits a dispatch (longer passes are split, well inside a display "
-                    "driver's watchdog)\n", double(d.dispatch_work_budget));
+        std::printf(
+            "     work budget: %.2g particle visits a dispatch (longer passes are split, well inside a display "
+            "driver's watchdog)\n",
+            double(d.dispatch_work_budget));
         if (d.loop_iteration_limit)
-            std::printf("     quirk: ends a shader invocation's loops after %u iterations in total (long ray "
-                        "marches yield and resume in further passes)\n", d.loop_iteration_limit);
+            std::printf(
+                "     quirk: ends a shader invocation's loops after %u iterations in total (long ray "
+                "marches yield and resume in further passes)\n",
+                d.loop_iteration_limit);
         if (d.slow_in_order_queue)
-            std::printf("     quirk: runs on the CPU, one submission at a time (the viewer cuts its frames into "
-                        "slices so that the window keeps drawing)\n");
+            std::printf(
+                "     quirk: runs on the CPU, one submission at a time (the viewer cuts its frames into "
+                "slices so that the window keeps drawing)\n");
     }
     int chosen = gpu::Context::choose_device(devices, args->value("--device"), &error);
     if (chosen < 0) {

@@ -7,25 +7,28 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/cli.h"
-#include "core/file_write.h"
-#include "core/text_escape.h"
 #include "apps/render_options.h"
 #include "apps/run_report.h"
+#include "bench/render_measure.h"
+#include "bench/render_report.h"
+#include "core/file_write.h"
+#include "core/text_escape.h"
 #include "gpu/context.h"
 #include "render/registry.h"
 #include "sim/pbf_solver.h"
-#include "bench/render_measure.h"
-#include "bench/render_report.h"
 
 namespace aquaform::cli {
 
 int cmd_render(const std::vector<std::string>& argv) {
     std::string error;
-    const FlagSpec spec = with_render_flags({{"--frame", "--out", "--device", "--resolution", "--particles", "--camera", "--whitewater"}, {"--no-reference", "--validation"}});
+    const FlagSpec spec =
+        with_render_flags({{"--frame", "--out", "--device", "--resolution", "--particles", "--camera", "--whitewater"},
+                           {"--no-reference", "--validation"}});
     auto args = parse_args(argv, spec, "render", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     if (args->positional.size() != 1)
-        return refuse("render", "give exactly one scene file, e.g. aquaform render assets/scenes/dam_break.json --frame 40");
+        return refuse("render",
+                      "give exactly one scene file, e.g. aquaform render assets/scenes/dam_break.json --frame 40");
     auto loaded = load_scene(args->positional[0]);
     if (!loaded) return std::fprintf(stderr, "aquaform: %s\n", loaded.error().c_str()), kExitUsage;
     if (!scale_to_particles_flag(*args, loaded.value(), &error) || !apply_camera_flag(*args, loaded.value(), &error) ||
@@ -74,7 +77,8 @@ int cmd_render(const std::vector<std::string>& argv) {
             return exit_status(ctx, refuse("render", written.error(), kExitFailure));
         names += name + ", ";
     }
-    if (auto written = write_file_with(out_dir / "render.json", [&](std::ostream& out) { out << json_text(report, 2) << "\n"; });
+    if (auto written =
+            write_file_with(out_dir / "render.json", [&](std::ostream& out) { out << json_text(report, 2) << "\n"; });
         !written)
         return exit_status(ctx, refuse("render", written.error(), kExitFailure));
     std::printf("wrote %sand render.json to %s\n", names.c_str(), out_dir.string().c_str());

@@ -25,8 +25,9 @@ namespace aquaform::cli {
 
 int cmd_run(const std::vector<std::string>& argv) {
     std::string error;
-    FlagSpec flags{{"--frames", "--out", "--device", "--resolution", "--particles", "--camera", "--video", "--whitewater"},
-                   {"--no-png", "--preview", "--validation", "--wireframe"}};
+    FlagSpec flags{
+        {"--frames", "--out", "--device", "--resolution", "--particles", "--camera", "--video", "--whitewater"},
+        {"--no-png", "--preview", "--validation", "--wireframe"}};
     for (const std::string& flag : frame_export_flags()) flags.with_value.push_back(flag);
     auto args = parse_args(argv, with_render_flags(std::move(flags)), "run", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
@@ -64,7 +65,8 @@ int cmd_run(const std::vector<std::string>& argv) {
     const std::optional<PictureSize> size = resolution_flag(*args, kViewingPicture, &error);
     if (!size) return refuse("run", error);
     picture.size = *size;
-    const std::filesystem::path out_dir = args->value("--out", "out/" + std::filesystem::path(args->positional[0]).stem().string());
+    const std::filesystem::path out_dir =
+        args->value("--out", "out/" + std::filesystem::path(args->positional[0]).stem().string());
     if (!prepare_output("run", out_dir)) return kExitUsage;
     const Result<size_t> earlier = runner::clear_earlier_run(out_dir);
     if (!earlier) return refuse("run", earlier.error());
@@ -117,16 +119,20 @@ int cmd_run(const std::vector<std::string>& argv) {
                      "(speed_capped in stats.csv): those frames lost kinetic energy; raise solver.max_speed or remove "
                      "it (the time step follows the speeds without it)\n",
                      scene.solver.max_speed, (unsigned long long)done.capped_frames, done.frames);
-    std::printf("%u frames (%.3f s simulated) in %s wall time, %.1f steps/s; output in %s\n", done.frames, done.simulated_s,
-                format_duration(wall).c_str(), wall > 0 ? double(done.steps) / wall : 0.0, out_dir.string().c_str());
+    std::printf("%u frames (%.3f s simulated) in %s wall time, %.1f steps/s; output in %s\n", done.frames,
+                done.simulated_s, format_duration(wall).c_str(), wall > 0 ? double(done.steps) / wall : 0.0,
+                out_dir.string().c_str());
     if (done.host_gap_ms > 0.0)
-        std::printf("host time between frames: %.1f ms a frame (the device waits from the end of a frame to the next "
-                    "one's submission)\n", done.host_gap_ms);
+        std::printf(
+            "host time between frames: %.1f ms a frame (the device waits from the end of a frame to the next "
+            "one's submission)\n",
+            done.host_gap_ms);
     // The frames written make the video, also after a Ctrl-C or a failure: nothing done is lost.
     if (video && done.frames > 0) {
         const VideoFrames made{out_dir, "frame_%04d.png", done.frames, video_fps(scene.solver.frame_dt)};
         if (auto encoded = encode_video(*ffmpeg, made, *video); encoded)
-            std::printf("video: %s (%u frames at %g frames/s, H.264)\n", video->string().c_str(), done.frames, made.fps);
+            std::printf("video: %s (%u frames at %g frames/s, H.264)\n", video->string().c_str(), done.frames,
+                        made.fps);
         else
             status = refuse("run", encoded.error(), status == kExitOk ? kExitFailure : status);
     }

@@ -8,21 +8,21 @@
 // the shards into the files of one run (study/study_shards.h).
 #include <algorithm>
 #include <cstdio>
-#include <optional>
 #include <exception>
 #include <filesystem>
+#include <optional>
 
 #include "apps/cli.h"
 #include "core/interrupt.h"
 #include "core/output_dir.h"
+#include "gpu/context.h"
+#include "study/shard_run.h"
 #include "study/study_charts.h"
 #include "study/study_rows.h"
 #include "study/study_run.h"
-#include "study/shard_run.h"
 #include "study/study_shards.h"
 #include "study/study_solver_map.h"
 #include "study/study_spec.h"
-#include "gpu/context.h"
 
 namespace aquaform::cli {
 
@@ -34,7 +34,8 @@ int cmd_study_merge(const std::vector<std::string>& argv) {
     auto args = parse_args(argv, {{"--out", "--spec"}, {"--no-charts"}}, "study merge", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     if (!args->has("--out"))
-        return std::fprintf(stderr, "aquaform study merge: give --out DIR, the folder of the merged study\n"), kExitUsage;
+        return std::fprintf(stderr, "aquaform study merge: give --out DIR, the folder of the merged study\n"),
+               kExitUsage;
     std::vector<std::filesystem::path> dirs(args->positional.begin(), args->positional.end());
     auto shards = study::read_shard_set(dirs);
     if (!shards) return refuse("study merge", shards.error());
@@ -43,13 +44,18 @@ int cmd_study_merge(const std::vector<std::string>& argv) {
     const std::filesystem::path out_dir = args->value("--out");
     if (!prepare_output("study merge", out_dir)) return kExitUsage;
     if (std::error_code ec; std::filesystem::exists(out_dir / "study.csv", ec))
-        std::printf("study merge: %s holds a study already; its study.csv, study_passes.csv, solver_map.csv and "
-                    "study.md are replaced by the merge\n", out_dir.string().c_str());
+        std::printf(
+            "study merge: %s holds a study already; its study.csv, study_passes.csv, solver_map.csv and "
+            "study.md are replaced by the merge\n",
+            out_dir.string().c_str());
     auto merged = study::merge_shards(spec.value(), shards.value(), out_dir);
     if (!merged) return refuse("study merge", merged.error(), exit_status_of(merged));
-    std::printf("merged %zu shards of %s into %s\n", shards.value().size(), spec.value().name.c_str(), out_dir.string().c_str());
-    return study::write_study_report(out_dir, spec.value(), merged.value().rows, merged.value().device, !args->has("--no-charts"))
-               ? kExitOk : kExitFailure;
+    std::printf("merged %zu shards of %s into %s\n", shards.value().size(), spec.value().name.c_str(),
+                out_dir.string().c_str());
+    return study::write_study_report(out_dir, spec.value(), merged.value().rows, merged.value().device,
+                                     !args->has("--no-charts"))
+               ? kExitOk
+               : kExitFailure;
 }
 
 }  // namespace
@@ -57,14 +63,16 @@ int cmd_study_merge(const std::vector<std::string>& argv) {
 int cmd_study(const std::vector<std::string>& argv) {
     if (!argv.empty() && argv[0] == "merge") return cmd_study_merge({argv.begin() + 1, argv.end()});
     std::string error;
-    auto args = parse_args(argv, {{"--out", "--device", "--particles", "--shard"}, {"--no-charts", "--validation", "--fresh"}},
-                           "study", &error);
+    auto args =
+        parse_args(argv, {{"--out", "--device", "--particles", "--shard"}, {"--no-charts", "--validation", "--fresh"}},
+                   "study", &error);
     if (!args) {
         std::fprintf(stderr, "%s\n", error.c_str());
         return kExitUsage;
     }
     if (args->positional.size() != 1) {
-        std::fprintf(stderr, "aquaform study: give exactly one spec file, e.g. aquaform study assets/studies/default.json\n");
+        std::fprintf(stderr,
+                     "aquaform study: give exactly one spec file, e.g. aquaform study assets/studies/default.json\n");
         return kExitUsage;
     }
     auto spec = study::load_study_spec(args->positional[0]);
@@ -81,7 +89,8 @@ int cmd_study(const std::vector<std::string>& argv) {
     }
     // Every scene and solver map checked now, not after hours of measurements.
     if (auto checked = study::check_study_scenes(spec.value()); !checked)
-        return std::fprintf(stderr, "aquaform study: %s: %s\n", args->positional[0].c_str(), checked.error().c_str()), kExitUsage;
+        return std::fprintf(stderr, "aquaform study: %s: %s\n", args->positional[0].c_str(), checked.error().c_str()),
+               kExitUsage;
     std::optional<study::StudyShard> shard;
     if (args->has("--shard")) {
         auto parsed = study::parse_shard(args->value("--shard"));
@@ -129,7 +138,8 @@ int cmd_study(const std::vector<std::string>& argv) {
         if (status != kExitOk || interrupted()) break;
         if (!share.owns_map(i)) continue;
         auto map = study::run_solver_map(
-            ctx, map_spec, [](const std::string& line) { std::fprintf(stderr, "study: solver map: %s\n", line.c_str()); },
+            ctx, map_spec,
+            [](const std::string& line) { std::fprintf(stderr, "study: solver map: %s\n", line.c_str()); },
             {[&](const study::SolverMapRecord& cell) { return files.map_done(cell); },
              [&](const study::SolverMapRecord& record) { return kept(files.add(record)); }});
         if (!map) kept(Error{"solver map of " + map_spec.scene.string() + ": " + map.error()});
@@ -138,10 +148,12 @@ int cmd_study(const std::vector<std::string>& argv) {
     if (auto written = share.write_manifest(device, share.complete(files) && status == kExitOk && !stopped); !written)
         status = refuse("study", written.error(), status == kExitOk ? kExitFailure : status);
     // The charts of a shard's part would be redrawn by the merge.
-    if (!study::write_study_report(out_dir, spec.value(), files.rows(), device, !args->has("--no-charts") && !shard) && status == kExitOk)
+    if (!study::write_study_report(out_dir, spec.value(), files.rows(), device, !args->has("--no-charts") && !shard) &&
+        status == kExitOk)
         status = kExitFailure;
     if (stopped) {
-        std::fprintf(stderr, "aquaform study: interrupted; %zu of %zu cells kept in %s (study.md from them); run the same "
+        std::fprintf(stderr,
+                     "aquaform study: interrupted; %zu of %zu cells kept in %s (study.md from them); run the same "
                      "command again to resume, or add --fresh to start over\n",
                      files.cells_done(), files.cells_total(), (out_dir / "study.csv").string().c_str());
         return exit_status(ctx, kExitInterrupted);

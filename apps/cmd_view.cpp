@@ -12,6 +12,7 @@
 
 #include "apps/cli.h"
 #include "apps/render_options.h"
+#include "bench/bench_scenes.h"
 #include "core/file_write.h"
 #include "core/interrupt.h"
 #include "core/number_text.h"
@@ -19,7 +20,6 @@
 #include "core/text_escape.h"
 #include "gpu/context.h"
 #include "render/surface_settings.h"
-#include "bench/bench_scenes.h"
 #include "viewer/view_headless.h"
 #include "viewer/view_script.h"
 #include "viewer/view_setup.h"
@@ -59,16 +59,17 @@ int view_headless(gpu::Context& ctx, const Args& args, const Scene& scene, sessi
 
 int cmd_view(const std::vector<std::string>& argv) {
     std::string error;
-    const FlagSpec spec =
-        with_render_flags({{"--device", "--script", "--record", "--size", "--frames", "--shaders", "--particles", "--scale", "--out", "--whitewater"},
-                           {"--validation", "--play", "--async", "--headless"}});
+    const FlagSpec spec = with_render_flags({{"--device", "--script", "--record", "--size", "--frames", "--shaders",
+                                              "--particles", "--scale", "--out", "--whitewater"},
+                                             {"--validation", "--play", "--async", "--headless"}});
     auto args = parse_args(argv, spec, "view", &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
     // --particles alone: a generated dam break of that size; with a scene: the scene scaled to it.
     const bool generated = args->has("--particles") && args->positional.empty();
     if (args->positional.size() != (generated ? 0u : 1u))
-        return refuse("view", "give exactly one scene file, e.g. aquaform view assets/scenes/dam_break.json, or "
-                              "--particles N alone for a generated dam break (with a scene, --particles N scales it)");
+        return refuse("view",
+                      "give exactly one scene file, e.g. aquaform view assets/scenes/dam_break.json, or "
+                      "--particles N alone for a generated dam break (with a scene, --particles N scales it)");
     Scene scene;
     if (generated) {
         // The benchmarks' dam break (bench/bench_scenes.h), for frame rates at a chosen size.
@@ -117,8 +118,10 @@ int cmd_view(const std::vector<std::string>& argv) {
     const std::optional<PictureSize> size = resolution_flag(*args, kViewingPicture, &error, size_flag);
     if (!size) return refuse("view", error);
     if (args->has("--size"))
-        std::fprintf(stderr, "aquaform view: --size is the old name of --resolution (as every command calls it); "
-                             "give --resolution %s\n", size->text().c_str());
+        std::fprintf(stderr,
+                     "aquaform view: --size is the old name of --resolution (as every command calls it); "
+                     "give --resolution %s\n",
+                     size->text().c_str());
     const uint32_t width = size->width, height = size->height;
     if (args->has("--scale")) {
         const std::string text = args->value("--scale");
@@ -136,18 +139,18 @@ int cmd_view(const std::vector<std::string>& argv) {
         // What needs the window: its pictures and its UI actions.
         for (const char* windowed : {"--record", "--script", "--async"})
             if (args->has(windowed))
-                return refuse("view", std::string(windowed) + " needs the window; drop --headless, or drop " + windowed +
-                                          " (aquaform run writes the pictures of a headless run)");
+                return refuse("view", std::string(windowed) + " needs the window; drop --headless, or drop " +
+                                          windowed + " (aquaform run writes the pictures of a headless run)");
         if (args->has("--out"))
-            if (auto ready = prepare_output_file(args->value("--out")); !ready)
-                return refuse("view", ready.error());
+            if (auto ready = prepare_output_file(args->value("--out")); !ready) return refuse("view", ready.error());
     }
     const fs::path record_dir = args->value("--record", "");
     if (!record_dir.empty()) {
         if (!prepare_output("view", record_dir, "--record")) return kExitUsage;
     }
     if (auto writable = viewer::check_script_outputs(options.script, record_dir.empty() ? fs::path(".") : record_dir,
-                                                     args->value("--script", "")); !writable)
+                                                     args->value("--script", ""));
+        !writable)
         return refuse("view", writable.error());
 
     // The window and its picture are input the device may not hold: refused before the simulation.

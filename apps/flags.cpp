@@ -13,8 +13,8 @@ std::string Args::value(const std::string& flag, const std::string& fallback) co
     return it == values.end() ? fallback : it->second;
 }
 
-std::optional<Args> parse_args(const std::vector<std::string>& argv, const FlagSpec& spec,
-                               const std::string& command, std::string* error) {
+std::optional<Args> parse_args(const std::vector<std::string>& argv, const FlagSpec& spec, const std::string& command,
+                               std::string* error) {
     Args args;
     auto contains = [](const std::vector<std::string>& v, const std::string& s) {
         return std::find(v.begin(), v.end(), s) != v.end();
@@ -37,8 +37,8 @@ std::optional<Args> parse_args(const std::vector<std::string>& argv, const FlagS
             std::string known;
             for (const auto& f : spec.with_value) known += " " + f;
             for (const auto& f : spec.switches) known += " " + f;
-            *error = "aquaform " + command + ": unknown flag " + a + "; known flags:" +
-                     (known.empty() ? " (none)" : known) + " (see aquaform " + command + " --help)";
+            *error = "aquaform " + command + ": unknown flag " + a +
+                     "; known flags:" + (known.empty() ? " (none)" : known) + " (see aquaform " + command + " --help)";
             return std::nullopt;
         }
     }
@@ -57,7 +57,8 @@ std::optional<long> parse_positive(const std::string& flag, const std::string& t
 std::optional<uint32_t> parse_frame_index(const std::string& flag, const std::string& text, std::string* error) {
     const std::optional<uint64_t> v = number_text::whole_number(text);
     if (!v || *v >= uint64_t(kMaxFrames)) {
-        *error = flag + " must be a frame number from 0 to " + std::to_string(kMaxFrames - 1) + ", got \"" + text + "\"";
+        *error =
+            flag + " must be a frame number from 0 to " + std::to_string(kMaxFrames - 1) + ", got \"" + text + "\"";
         return std::nullopt;
     }
     return uint32_t(*v);

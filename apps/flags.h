@@ -33,8 +33,8 @@ struct FlagSpec {
 };
 
 /// Parses argv[first..]; on error returns nullopt and fills `error` (naming the flag and the fix).
-std::optional<Args> parse_args(const std::vector<std::string>& argv, const FlagSpec& spec,
-                               const std::string& command, std::string* error);
+std::optional<Args> parse_args(const std::vector<std::string>& argv, const FlagSpec& spec, const std::string& command,
+                               std::string* error);
 
 /// A whole number from 1 to `max` (the same limit as the scene file's key, where there is one);
 /// nullopt with `error` naming the flag, the range and the text otherwise.

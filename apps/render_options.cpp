@@ -26,8 +26,7 @@ const std::vector<std::string>& render_switches() {
 const char* render_flags_usage() {
     static const std::string text =
         "      render flags: --method NAME (default adaptive; any method below) --resolution WxH (each side " +
-        picture_side_range() + ")\n" +
-        render_registry().usage() +
+        picture_side_range() + ")\n" + render_registry().usage() +
         "        (lengths in particle radii; see render/surface_settings.h, render/metaball_renderer.h and\n"
         "         render/screen_space.h for the defaults and why)\n";
     return text.c_str();
@@ -53,8 +52,10 @@ void draw_spray_unless_told(const Args& args, MethodSettings& settings) {
 
 bool apply_camera_flag(const Args& args, Scene& scene, std::string* error) {
     const std::string choice = args.value("--camera", "scene");
-    if (choice == "auto") scene.camera.reset();
-    else if (choice != "scene") return *error = "--camera takes auto or scene, got \"" + choice + "\"", false;
+    if (choice == "auto")
+        scene.camera.reset();
+    else if (choice != "scene")
+        return *error = "--camera takes auto or scene, got \"" + choice + "\"", false;
     return true;
 }
 
@@ -71,8 +72,10 @@ std::optional<SurfaceSettings> render_settings_from(const Args& args, std::strin
     if (!settings) return std::nullopt;
     const SurfaceSettings* surface = settings->get<SurfaceSettings>();
     if (!surface)
-        return *error = "--method " + settings->method() + " is not an SPH surface method; this command takes adaptive, "
-                        "uniform or reference", std::nullopt;
+        return *error = "--method " + settings->method() +
+                        " is not an SPH surface method; this command takes adaptive, "
+                        "uniform or reference",
+               std::nullopt;
     return *surface;
 }
 

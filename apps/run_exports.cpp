@@ -50,7 +50,8 @@ std::optional<FrameExportOptions> frame_export_options_from(Args args, std::stri
         if (!up) return *error = std::string(kUpFlag) + ": " + up.error(), std::nullopt;
         options.up = up.value();
         if (options.every == FrameExportOptions{}.every)
-            return *error = std::string(kUpFlag) + " turns the exported files; give an export flag too (e.g. --mesh-every K)",
+            return *error = std::string(kUpFlag) +
+                            " turns the exported files; give an export flag too (e.g. --mesh-every K)",
                    std::nullopt;
     }
     return options;

@@ -14,7 +14,10 @@ namespace aquaform::cli {
 inline constexpr const char* kMeshFormatFlag = "--mesh-format";
 inline constexpr const char* kWhitewaterFormatFlag = "--whitewater-format";
 inline constexpr const char* kUpFlag = "--up";
-struct RenamedFlag { const char* old_name; const char* name; };  // taken, said to be old; refused beside the new
+struct RenamedFlag {
+    const char* old_name;
+    const char* name;
+};  // taken, said to be old; refused beside the new
 inline constexpr RenamedFlag kRenamedExportFlags[] = {{"--diffuse-every", "--whitewater-every"},
                                                       {"--diffuse-format", kWhitewaterFormatFlag}};
 

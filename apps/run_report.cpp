@@ -15,7 +15,9 @@ void print_run_header(const gpu::Context& ctx, const PbfSolver& solver) {
     std::printf("scene %s: %u particles, spacing %g m, h %g m, %u to %u steps per frame (cfl %g), %u iterations%s\n",
                 scene.name.c_str(), solver.particle_count(), scene.particle_spacing, p.h, scene.solver.substeps,
                 scene.solver.max_substeps, scene.solver.cfl, scene.solver.iterations,
-                scene.solver.max_speed > 0.0f ? (", speeds capped at " + std::to_string(scene.solver.max_speed) + " m/s").c_str() : "");
+                scene.solver.max_speed > 0.0f
+                    ? (", speeds capped at " + std::to_string(scene.solver.max_speed) + " m/s").c_str()
+                    : "");
     std::printf("device: %s (%s)\n", ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type));
     std::string passes;
     for (const auto& name : solver.enabled_passes()) passes += (passes.empty() ? "" : ", ") + name;
@@ -26,7 +28,8 @@ void print_run_header(const gpu::Context& ctx, const PbfSolver& solver) {
         total += b.bytes;
     }
     const uint64_t cells = solver.grid().geometry().cell_count();
-    const double per_particle = double(total - uint64_t(kGridBytesPerCell) * cells) / std::max(1u, solver.particle_count());
+    const double per_particle =
+        double(total - uint64_t(kGridBytesPerCell) * cells) / std::max(1u, solver.particle_count());
     std::printf("  %-24s %10.3f MiB (%.0f B per particle + %u B per grid cell, %llu cells)\n", "total",
                 double(total) / (1 << 20), per_particle, kGridBytesPerCell, (unsigned long long)cells);
     std::fflush(stdout);

@@ -179,7 +179,6 @@ bool print_command_help(const std::string& command, const std::vector<std::strin
     return true;
 }
 
-
 void print_usage() {
     std::fputs(kUsage, stdout);
     std::fputs(render_flags_usage(), stdout);

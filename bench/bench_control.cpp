@@ -6,18 +6,18 @@
 #include <cstdio>
 #include <memory>
 
-#include "core/format_text.h"
 #include "control/placement.h"
-#include "geometry/primitives.h"
 #include "control/raster_placement.h"
 #include "control/section_builder.h"
 #include "core/error.h"
+#include "core/format_text.h"
+#include "geometry/primitives.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
 #include "session/simulation_session.h"
+#include "sim/blowup.h"
 #include "sim/pbf_params.h"
 #include "sim/pbf_solver.h"
-#include "sim/blowup.h"
 
 namespace aquaform::study {
 
@@ -26,12 +26,14 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using nlohmann::json;
 
-constexpr double kInsideBudgetS = 60.0;           // longest CPU inside placement we wait for
-constexpr float kSphereRadiusPlacement = 0.5f;    // the placement sphere (point counts do not depend on it)
-constexpr uint32_t kPlacementSubdivisions = 4;    // 5120 triangles
+constexpr double kInsideBudgetS = 60.0;         // longest CPU inside placement we wait for
+constexpr float kSphereRadiusPlacement = 0.5f;  // the placement sphere (point counts do not depend on it)
+constexpr uint32_t kPlacementSubdivisions = 4;  // 5120 triangles
 constexpr int kRepeats = kBenchRepeats;
 
-double ms_since(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
+double ms_since(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
 
 }  // namespace
 
@@ -42,7 +44,6 @@ double lattice_points_in_bounds(const Box& b, float spacing) {
     const glm::dvec3 n = glm::floor(glm::dvec3(b.max - b.min) / double(spacing)) + 1.0;
     return n.x * n.y * n.z;
 }
-
 
 json to_json(const PlacementRow& r) {
     json j = {{"kind", "placement"},
@@ -62,7 +63,7 @@ json to_json(const PlacementRow& r) {
 /// `inside_ms_per_test` (ms per lattice point per triangle) comes from the previous size and
 /// decides whether the CPU inside placement fits the time budget.
 std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, double* inside_ms_per_test,
-                                           const BenchProgress& say) {
+                                            const BenchProgress& say) {
     const float r = kSphereRadiusPlacement;
     const float spacing = float(std::cbrt(4.0 / 3.0 * M_PI * r * r * r / double(target)));
     const geometry::Mesh mesh = geometry::make_sphere(r, kPlacementSubdivisions);
@@ -73,8 +74,8 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
 
     {
         PlacementRow row{"vertices", target, spacing, tris.size() / 3};
-        say(format_text("placing on the vertices of a %zu-triangle sphere at spacing %.4g (target %u points)", row.triangles,
-                     spacing, target));
+        say(format_text("placing on the vertices of a %zu-triangle sphere at spacing %.4g (target %u points)",
+                        row.triangles, spacing, target));
         for (int i = 0; i < kRepeats; ++i) {
             const control::ControlPoints p = control::place_on_vertices(mesh, spacing);
             row.points = uint32_t(p.points.size());
@@ -97,13 +98,14 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
                 subdivisions = kPlacementSubdivisions - 1;
                 inside_mesh = geometry::make_sphere(r, subdivisions);
                 const double coarse_s = estimate_s * double(inside_mesh.faces.size()) / double(mesh.faces.size());
-                note = format_text("on the %zu-triangle mesh it would take about %.0f s (> %.0f s budget): measured on a coarser "
-                           "icosphere (subdivision %u, %zu triangles) instead",
-                           mesh.faces.size(), estimate_s, kInsideBudgetS, subdivisions, inside_mesh.faces.size());
+                note = format_text(
+                    "on the %zu-triangle mesh it would take about %.0f s (> %.0f s budget): measured on a coarser "
+                    "icosphere (subdivision %u, %zu triangles) instead",
+                    mesh.faces.size(), estimate_s, kInsideBudgetS, subdivisions, inside_mesh.faces.size());
                 if (coarse_s > kInsideBudgetS) {
                     skip = true;
-                    note = format_text("skipped: about %.0f s even on the %zu-triangle icosphere (> %.0f s budget)", coarse_s,
-                               inside_mesh.faces.size(), kInsideBudgetS);
+                    note = format_text("skipped: about %.0f s even on the %zu-triangle icosphere (> %.0f s budget)",
+                                       coarse_s, inside_mesh.faces.size(), kInsideBudgetS);
                 }
             }
         }
@@ -112,12 +114,14 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
         row.note = note;
         row.extra["subdivisions"] = subdivisions;
         if (!skip) {
-            say(format_text("placing inside the %zu-triangle sphere on the CPU (ray crossings on a triangle grid)", row.triangles));
+            say(format_text("placing inside the %zu-triangle sphere on the CPU (ray crossings on a triangle grid)",
+                            row.triangles));
             // One run: the table says so (it was the slow method once, by winding number).
             const control::ControlPoints p = control::place_inside(inside_tris, spacing, false, 1, origin);
             row.points = uint32_t(p.points.size());
             row.ms = p.ms;
-            const double tests = lattice_points_in_bounds(control::bounds_of(inside_tris), spacing) * double(row.triangles);
+            const double tests =
+                lattice_points_in_bounds(control::bounds_of(inside_tris), spacing) * double(row.triangles);
             *inside_ms_per_test = p.ms / tests;
             row.extra["lattice_points_tested"] = lattice_points_in_bounds(control::bounds_of(inside_tris), spacing);
         }
@@ -126,8 +130,8 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
 
     {
         PlacementRow row{"raster", target, spacing, tris.size() / 3};
-        say(format_text("placing by GPU rasterisation of the %zu-triangle sphere (warm-up, then best of %d)", row.triangles,
-                     kRepeats));
+        say(format_text("placing by GPU rasterisation of the %zu-triangle sphere (warm-up, then best of %d)",
+                        row.triangles, kRepeats));
         const glm::dvec3 cells = glm::dvec3(bounds.max - bounds.min) / double(spacing) + 1.0;
         const uint32_t capacity = uint32_t(lattice_points_in_bounds(bounds, spacing));
         const uint32_t pixels = uint32_t((cells.x + 3.0) * (cells.y + 3.0));
@@ -147,7 +151,8 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
                      {"overflowed_pixels", stats.overflowed_pixels},
                      {"open_pixels", stats.open_pixels},
                      {"pixels", stats.pixels}};
-        row.note = "ms: host wall time of place_on_gpu (upload, both passes, wait, counter read-back); points stay on the GPU";
+        row.note =
+            "ms: host wall time of place_on_gpu (upload, both passes, wait, counter read-back); points stay on the GPU";
         rows.push_back(row);
     }
     const PlacementRow& inside = rows[1];
@@ -158,7 +163,6 @@ std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, 
 }
 
 // ---- shapes for the solver -------------------------------------------------------------------
-
 
 constexpr float kSphereRadius = 0.12f;
 const glm::vec3 kCentre{0.3f, 0.32f, 0.3f};
@@ -195,7 +199,8 @@ ShapeScene sphere_scene(float spacing) {
     const glm::vec3 half(0.1f, 0.09f, 0.1f);
     const double volume = 4.0 / 3.0 * M_PI * std::pow(kSphereRadius, 3.0);
     return make_shape_scene("sphere", geometry::make_sphere(kSphereRadius, 3), 2.0f * kSphereRadius,
-                            {{kCentre - half, kCentre + half}}, "box 0.2 x 0.18 x 0.2 m around the centre", volume, spacing);
+                            {{kCentre - half, kCentre + half}}, "box 0.2 x 0.18 x 0.2 m around the centre", volume,
+                            spacing);
 }
 
 /// A torus of the sphere's volume (R = 3 r), lying flat: its ring in the xz plane. The fluid starts
@@ -217,15 +222,21 @@ ShapeScene torus_scene(float spacing) {
         {{c.x - a, c.y - t, c.z - b}, {c.x - b, c.y + t, c.z + b}},  // left
         {{c.x + b, c.y - t, c.z - b}, {c.x + a, c.y + t, c.z + b}},  // right
     };
-    return make_shape_scene("torus", std::move(mesh), 2.0f * minor, std::move(frame),
-                            format_text("flat torus R = %.4f m, r = %.3f m; fluid: square frame 0.36 m outside, 0.2 m hole, "
-                                "0.08 m thick, over the ring",
-                                double(major), double(minor)),
-                            volume, spacing);
+    return make_shape_scene(
+        "torus", std::move(mesh), 2.0f * minor, std::move(frame),
+        format_text("flat torus R = %.4f m, r = %.3f m; fluid: square frame 0.36 m outside, 0.2 m hole, "
+                    "0.08 m thick, over the ring",
+                    double(major), double(minor)),
+        volume, spacing);
 }
 
 FillRun::FillRun(gpu::Context& ctx, const ShapeScene& s, float pressure) {
-    auto section = control::SectionBuilder(s.scene).mesh(s.name, s.mesh).pressure(pressure).fixed_substeps().attach(s.name).build();
+    auto section = control::SectionBuilder(s.scene)
+                       .mesh(s.name, s.mesh)
+                       .pressure(pressure)
+                       .fixed_substeps()
+                       .attach(s.name)
+                       .build();
     if (!section) throw internal_failure(section.error());  // the bench's own shapes: a bug, not input
     sim = std::make_unique<session::SimulationSession>(ctx, session::plan_session(s.scene, std::move(section.value())),
                                                        session::SessionOptions{false});
@@ -258,7 +269,6 @@ double FillRun::cfl_speed() const {
 
 // ---- (2) the force's share of a step --------------------------------------------------------
 
-
 double total_of(const std::map<std::string, double>& passes) {
     double sum = 0.0;
     for (const auto& [name, ms] : passes) sum += ms;
@@ -275,9 +285,10 @@ double median(std::vector<double> v) {
 Overhead measure_overhead(gpu::Context& ctx, const ShapeScene& s, double warm_s, uint32_t steps, int repeats,
                           const BenchProgress& say) {
     FillRun run(ctx, s, s.strength.pressure);
-    say(format_text("force overhead: filling the sphere for %.2f s, then %d x %u steps with and without the force "
-                 "(%u particles, %u control points)",
-                 warm_s, repeats, steps, run.sim->solver().particle_count(), run.sim->control()->force().point_count()));
+    say(format_text(
+        "force overhead: filling the sphere for %.2f s, then %d x %u steps with and without the force "
+        "(%u particles, %u control points)",
+        warm_s, repeats, steps, run.sim->solver().particle_count(), run.sim->control()->force().point_count()));
     run.advance(warm_s);
     require_physical(run.stats, run.sim->scene());  // the overhead of a fluid that left physics means nothing
     PbfSolver& solver = run.sim->solver();
@@ -328,7 +339,6 @@ Overhead measure_overhead(gpu::Context& ctx, const ShapeScene& s, double warm_s,
 
 // ---- (3) IoU against pressure -----------------------------------------------------------------
 
-
 json to_json(const SweepRow& r, const ShapeScene& s) {
     json j = {{"kind", "sweep"},
               {"shape", r.shape},
@@ -373,6 +383,5 @@ SweepRow sweep_one(gpu::Context& ctx, const ShapeScene& s, double scale, double 
     row.wall_s = ms_since(t0) / 1000.0;
     return row;
 }
-
 
 }  // namespace aquaform::study

@@ -17,9 +17,9 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
-#include "geometry/mesh.h"
 #include "control/shape_metrics.h"
 #include "control/strength.h"
+#include "geometry/mesh.h"
 #include "sim/frame_stats.h"
 #include "sim/scene.h"
 
@@ -57,7 +57,7 @@ nlohmann::json to_json(const PlacementRow& row);
 /// `inside_ms_per_test` (ms per lattice point per triangle) comes from the previous size and
 /// decides whether the CPU inside placement fits its time budget (60 s).
 std::vector<PlacementRow> measure_placement(gpu::Context& ctx, uint32_t target, double* inside_ms_per_test,
-                                           const BenchProgress& say);
+                                            const BenchProgress& say);
 
 // ---- shapes for the solver -------------------------------------------------------------------
 
@@ -111,15 +111,15 @@ struct FillRun {
 
 struct Overhead {
     uint32_t particles = 0, control_points = 0, steps = 0, repeats = 0;
-    double force_ms = 0.0;            // control_force GPU ms per step (best run)
-    double step_ms_with = 0.0;        // all passes, GPU ms per step, with the force (best run)
-    double step_ms_without = 0.0;     // without (best run)
+    double force_ms = 0.0;                             // control_force GPU ms per step (best run)
+    double step_ms_with = 0.0;                         // all passes, GPU ms per step, with the force (best run)
+    double step_ms_without = 0.0;                      // without (best run)
     double wall_ms_with = 0.0, wall_ms_without = 0.0;  // per step (best runs)
     std::map<std::string, double> passes_with, passes_without;  // GPU ms per step (best runs)
     // Medians over the repeats, each from one run (ratios are steadier than best-of times
     // when the load of a shared machine comes and goes):
-    double added = 0.0;             // control_force / the rest of the same step
-    double share = 0.0;             // control_force / the whole step
+    double added = 0.0;                 // control_force / the rest of the same step
+    double share = 0.0;                 // control_force / the whole step
     double gpu_with_vs_without = 0.0;   // step GPU time with / without, paired runs
     double wall_with_vs_without = 0.0;  // step wall time with / without, paired runs
 };

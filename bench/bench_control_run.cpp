@@ -4,11 +4,11 @@
 #include <cstdio>
 #include <string>
 
+#include "bench/bench_control.h"
+#include "bench/verdict.h"
 #include "core/format_text.h"
 #include "core/interrupt.h"
 #include "gpu/context.h"
-#include "bench/bench_control.h"
-#include "bench/verdict.h"
 
 namespace aquaform::study {
 
@@ -16,10 +16,10 @@ namespace {
 
 using nlohmann::json;
 
-constexpr double kRasterMsTarget = 50.0;          // raster placement of 100k points [ms], software device
+constexpr double kRasterMsTarget = 50.0;  // raster placement of 100k points [ms], software device
 constexpr uint32_t kRasterTargetPoints = 100000;
-constexpr double kForceShareTarget = 0.25;        // control force time / rest of the step
-constexpr double kIouTarget = 0.85;               // at the automatic strength, after the fixed time
+constexpr double kForceShareTarget = 0.25;  // control force time / rest of the step
+constexpr double kIouTarget = 0.85;         // at the automatic strength, after the fixed time
 constexpr int kRepeats = kBenchRepeats;     // best of, for every timing
 
 void progress(const std::string& line) {
@@ -43,7 +43,8 @@ Verdict verdict(const std::string& name, const std::string& target, std::optiona
 
 void print_sweep_row(const SweepRow& r) {
     std::printf("%-7s %6g %9.0f %7s %7s %8s %9.3f %8.3f %9.4f %7s", r.shape.c_str(), r.scale, double(r.pressure),
-                r.finite ? format_text("%.3f", r.m.iou).c_str() : "-", r.finite ? format_text("%.3f", r.m.fill_fraction).c_str() : "-",
+                r.finite ? format_text("%.3f", r.m.iou).c_str() : "-",
+                r.finite ? format_text("%.3f", r.m.fill_fraction).c_str() : "-",
                 r.finite ? format_text("%.3f", r.m.outside_fraction).c_str() : "-", r.rms_speed, r.cfl_speed,
                 r.max_density_error, r.stable ? "yes" : "NO");
     if (r.iou_later) std::printf("   IoU %.3f after %.2g s", *r.iou_later, r.later_seconds);
@@ -110,16 +111,17 @@ std::optional<ControlBenchResult> run_control_bench(gpu::Context& ctx, const Con
     std::vector<std::pair<const ShapeScene*, std::vector<SweepRow>>> sweeps = {{&sphere, {}}, {&torus, {}}};
     for (auto& [shape, rows] : sweeps) {
         progress(format_text("%s: %s; %llu particles (%.5f m^3 of fluid for %.5f m^3 of shape), %zu control points; %s",
-                     shape->name.c_str(), shape->layout.c_str(), (unsigned long long)shape->scene.particle_count(),
-                     shape->fluid_volume, shape->shape_volume, shape->points.size(), shape->strength.describe().c_str()));
+                             shape->name.c_str(), shape->layout.c_str(),
+                             (unsigned long long)shape->scene.particle_count(), shape->fluid_volume,
+                             shape->shape_volume, shape->points.size(), shape->strength.describe().c_str()));
         for (double scale : scales) {
             if (interrupted()) break;
             progress(format_text("%s: pressure x%g = %.0f Pa for %.2g s", shape->name.c_str(), scale,
-                         double(shape->strength.pressure * scale), seconds));
+                                 double(shape->strength.pressure * scale), seconds));
             rows.push_back(sweep_one(ctx, *shape, scale, seconds, scale == 1.0 ? later_seconds : 0.0));
             const SweepRow& r = rows.back();
-            progress(format_text("  IoU %.3f, rms speed %.3f m/s, max density error %.3f: %s (%.1f s)", r.m.iou, r.rms_speed,
-                         r.max_density_error, r.stable ? "stable" : "NOT stable", r.wall_s));
+            progress(format_text("  IoU %.3f, rms speed %.3f m/s, max density error %.3f: %s (%.1f s)", r.m.iou,
+                                 r.rms_speed, r.max_density_error, r.stable ? "stable" : "NOT stable", r.wall_s));
             records.push_back(to_json(r, *shape));
         }
     }
@@ -127,27 +129,30 @@ std::optional<ControlBenchResult> run_control_bench(gpu::Context& ctx, const Con
     if (interrupted()) return std::nullopt;
     // The tables.
     std::printf("\nplacement (sphere, best of %d host ms; inside: one run)\n", kRepeats);
-    std::printf("%-9s %8s %9s %9s %10s %10s %10s  %s\n", "method", "target", "spacing", "triangles", "points", "ms", "gpu ms",
-                "note");
+    std::printf("%-9s %8s %9s %9s %10s %10s %10s  %s\n", "method", "target", "spacing", "triangles", "points", "ms",
+                "gpu ms", "note");
     for (const PlacementRow& r : placement)
-        std::printf("%-9s %8u %9.5f %9zu %10s %10s %10s  %s\n", r.method.c_str(), r.target, double(r.spacing), r.triangles,
-                    r.points ? std::to_string(*r.points).c_str() : "-", r.ms ? format_text("%.2f", *r.ms).c_str() : "-",
-                    r.gpu_ms ? format_text("%.2f", *r.gpu_ms).c_str() : "-",
-                    r.method == "raster" ? "" : r.note.c_str());
+        std::printf(
+            "%-9s %8u %9.5f %9zu %10s %10s %10s  %s\n", r.method.c_str(), r.target, double(r.spacing), r.triangles,
+            r.points ? std::to_string(*r.points).c_str() : "-", r.ms ? format_text("%.2f", *r.ms).c_str() : "-",
+            r.gpu_ms ? format_text("%.2f", *r.gpu_ms).c_str() : "-", r.method == "raster" ? "" : r.note.c_str());
 
-    std::printf("\ncontrol force cost (sphere fill, %u particles, %u control points; %u runs of %u steps each side, "
-                "alternating; times: best run, ratios: median of the runs)\n",
-                o.particles, o.control_points, o.repeats, o.steps);
+    std::printf(
+        "\ncontrol force cost (sphere fill, %u particles, %u control points; %u runs of %u steps each side, "
+        "alternating; times: best run, ratios: median of the runs)\n",
+        o.particles, o.control_points, o.repeats, o.steps);
     std::printf("  control_force pass      %8.3f GPU ms/step\n", o.force_ms);
     std::printf("  step with the force     %8.3f GPU ms/step  %8.3f wall ms/step\n", o.step_ms_with, o.wall_ms_with);
-    std::printf("  step without the force  %8.3f GPU ms/step  %8.3f wall ms/step\n", o.step_ms_without, o.wall_ms_without);
+    std::printf("  step without the force  %8.3f GPU ms/step  %8.3f wall ms/step\n", o.step_ms_without,
+                o.wall_ms_without);
     std::printf("  control_force = %.1f%% of the step's GPU time, +%.1f%% on the rest of the step\n", 100.0 * share,
                 100.0 * added);
     std::printf("  whole step with / without the force (paired runs): GPU %+.1f%%, wall %+.1f%%\n", 100.0 * gpu_added,
                 100.0 * wall_added);
 
-    std::printf("\nIoU after %.2g s against control pressure (automatic x scale; substeps fixed at the automatic strength's)\n",
-                seconds);
+    std::printf(
+        "\nIoU after %.2g s against control pressure (automatic x scale; substeps fixed at the automatic strength's)\n",
+        seconds);
     for (const auto& [shape, rows] : sweeps) {
         std::printf("%s: %s\n  %s\n", shape->name.c_str(), shape->layout.c_str(), shape->strength.describe().c_str());
     }
@@ -161,27 +166,31 @@ std::optional<ControlBenchResult> run_control_bench(gpu::Context& ctx, const Con
     {
         const std::string name = "raster placement speed";
         const std::string target = format_text("raster places %uk points in <= %.0f ms on the software device",
-                                       kRasterTargetPoints / 1000, kRasterMsTarget);
+                                               kRasterTargetPoints / 1000, kRasterMsTarget);
         const PlacementRow* raster = nullptr;
         for (const PlacementRow& r : placement)
             if (r.method == "raster" && r.target == kRasterTargetPoints) raster = &r;
         if (!raster)
             verdicts.push_back(verdict(name, target, std::nullopt, "needs the 100k placement (run without --quick)"));
         else
-            verdicts.push_back(verdict(name, target, *raster->ms <= kRasterMsTarget,
-                                       format_text("%u points in %.2f ms (GPU %.2f ms)", *raster->points, *raster->ms, *raster->gpu_ms),
-                                       {{"points", *raster->points}, {"ms", *raster->ms}, {"gpu_ms", *raster->gpu_ms},
-                                        {"ms_max", kRasterMsTarget}}));
+            verdicts.push_back(verdict(
+                name, target, *raster->ms <= kRasterMsTarget,
+                format_text("%u points in %.2f ms (GPU %.2f ms)", *raster->points, *raster->ms, *raster->gpu_ms),
+                {{"points", *raster->points},
+                 {"ms", *raster->ms},
+                 {"gpu_ms", *raster->gpu_ms},
+                 {"ms_max", kRasterMsTarget}}));
     }
-    verdicts.push_back(verdict("control force cost", "the control force adds <= 25% to a step (GPU time of its pass)",
-                               std::isfinite(added) ? std::optional<bool>(added <= kForceShareTarget) : std::nullopt,
-                               format_text("control_force pass +%.1f%% on the rest of the step (%.3f ms of %.3f ms); whole "
-                                   "step with / without: GPU %+.1f%%, wall %+.1f%%",
-                                   100.0 * added, o.force_ms, o.step_ms_with, 100.0 * gpu_added, 100.0 * wall_added),
-                               {{"added", std::isfinite(added) ? json(added) : json(nullptr)},
-                                {"added_max", kForceShareTarget},
-                                {"step_gpu_added_paired", std::isfinite(gpu_added) ? json(gpu_added) : json(nullptr)},
-                                {"step_wall_added_paired", std::isfinite(wall_added) ? json(wall_added) : json(nullptr)}}));
+    verdicts.push_back(
+        verdict("control force cost", "the control force adds <= 25% to a step (GPU time of its pass)",
+                std::isfinite(added) ? std::optional<bool>(added <= kForceShareTarget) : std::nullopt,
+                format_text("control_force pass +%.1f%% on the rest of the step (%.3f ms of %.3f ms); whole "
+                            "step with / without: GPU %+.1f%%, wall %+.1f%%",
+                            100.0 * added, o.force_ms, o.step_ms_with, 100.0 * gpu_added, 100.0 * wall_added),
+                {{"added", std::isfinite(added) ? json(added) : json(nullptr)},
+                 {"added_max", kForceShareTarget},
+                 {"step_gpu_added_paired", std::isfinite(gpu_added) ? json(gpu_added) : json(nullptr)},
+                 {"step_wall_added_paired", std::isfinite(wall_added) ? json(wall_added) : json(nullptr)}}));
     for (const auto& [shape, rows] : sweeps) {
         const std::string name = "IoU at the automatic strength, " + shape->name;
         const std::string target = format_text("IoU >= %.2f after %.2g s", kIouTarget, seconds);
@@ -193,7 +202,8 @@ std::optional<ControlBenchResult> run_control_bench(gpu::Context& ctx, const Con
                                        automatic ? "the run became non-finite" : "not run"));
             continue;
         }
-        std::string detail = format_text("IoU %.3f (%s)", automatic->m.iou, automatic->stable ? "stable" : "not stable");
+        std::string detail =
+            format_text("IoU %.3f (%s)", automatic->m.iou, automatic->stable ? "stable" : "not stable");
         json figures = {{"iou", automatic->m.iou}, {"iou_min", kIouTarget}, {"stable", automatic->stable}};
         if (automatic->iou_later) {
             detail += format_text(", %.3f after %.2g s", *automatic->iou_later, automatic->later_seconds);

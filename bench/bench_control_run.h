@@ -15,9 +15,9 @@ class Context;
 namespace aquaform::study {
 
 struct ControlBenchPlan {
-    bool quick = false;             ///< 10k points only, 2 pressures, 0.5 s runs
-    float spacing = 0.0f;           ///< the shapes' particle spacing
-    std::vector<double> scales;     ///< multiples of the automatic pressure swept
+    bool quick = false;          ///< 10k points only, 2 pressures, 0.5 s runs
+    float spacing = 0.0f;        ///< the shapes' particle spacing
+    std::vector<double> scales;  ///< multiples of the automatic pressure swept
 };
 
 /// What bench_control.json holds besides the device: the records and the targets (nullopt when

@@ -25,7 +25,6 @@ json optional_number(std::optional<double> v) { return v && std::isfinite(*v) ? 
 /// A long run says where it is about every this many frames.
 constexpr uint32_t kProgressEveryFrames = 10;
 
-
 /// A frame's part of the figures both kinds of run share.
 void count_frame(RunFigures& r, const FrameStats& s, const SolverSettings& solver) {
     ++r.frames;
@@ -66,25 +65,31 @@ float column_front(const Scene& scene) {
 Result<Scene> convergence_scene(const Scene& base, uint32_t divisions, uint32_t depth_layers, float cfl) {
     const std::string origin = base.path.empty() ? base.name : base.path.string();
     if (!base.column_width || base.fluid_blocks.size() != 1)
-        return Error{origin + ": a convergence run needs a dam break with column_width and exactly one fluid block "
-                              "(e.g. assets/scenes/dam_break.json)"};
+        return Error{origin +
+                     ": a convergence run needs a dam break with column_width and exactly one fluid block "
+                     "(e.g. assets/scenes/dam_break.json)"};
     const float a = *base.column_width;
     const Box column = base.fluid_blocks.front();
-    if (std::abs((column.max.y - column.min.y) / a - 2.0f) > 0.01f || std::abs((column.max.x - column.min.x) / a - 1.0f) > 0.01f)
-        return Error{origin + ": the column must be a wide and 2a tall (Martin & Moyce's n^2 = 2) to compare with "
-                              "their front; it is " + std::to_string(column.max.x - column.min.x) + " x " +
-                     std::to_string(column.max.y - column.min.y) + " m for column_width " + std::to_string(a)};
+    if (std::abs((column.max.y - column.min.y) / a - 2.0f) > 0.01f ||
+        std::abs((column.max.x - column.min.x) / a - 1.0f) > 0.01f)
+        return Error{origin +
+                     ": the column must be a wide and 2a tall (Martin & Moyce's n^2 = 2) to compare with "
+                     "their front; it is " +
+                     std::to_string(column.max.x - column.min.x) + " x " + std::to_string(column.max.y - column.min.y) +
+                     " m for column_width " + std::to_string(a)};
     // Martin & Moyce's front falls under gravity straight down; with none (or sideways, or up)
     // the dimensionless time T = t sqrt(2 g / a) never reaches its end and the run would not end.
     const glm::vec3 g = base.gravity;
     if (!(g.y <= -kConvergenceLeastGravity) || std::hypot(g.x, g.z) > 0.01f * std::abs(g.y))
         return Error{origin + ": \"gravity\" is [" + format_text("%g", g.x) + ", " + format_text("%g", g.y) + ", " +
-                     format_text("%g", g.z) + "]; the front is compared with Martin & Moyce's, which falls under gravity "
-                     "straight down: give at least " + format_text("%g", kConvergenceLeastGravity) +
-                     " m/s^2 down, e.g. [0, -9.81, 0]"};
+                     format_text("%g", g.z) +
+                     "]; the front is compared with Martin & Moyce's, which falls under gravity "
+                     "straight down: give at least " +
+                     format_text("%g", kConvergenceLeastGravity) + " m/s^2 down, e.g. [0, -9.81, 0]"};
     if (divisions < 2 || depth_layers < 1 || !(cfl > 0.0f))
         return Error{"convergence runs need at least 2 particles across the column, 1 layer deep and cfl > 0 (got " +
-                     std::to_string(divisions) + ", " + std::to_string(depth_layers) + ", " + std::to_string(cfl) + ")"};
+                     std::to_string(divisions) + ", " + std::to_string(depth_layers) + ", " + std::to_string(cfl) +
+                     ")"};
     Scene s = base;
     s.name = base.name + " a/" + std::to_string(divisions) + " cfl " + format_text("%g", cfl);
     s.particle_spacing = a / float(divisions);

@@ -14,11 +14,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/bench_control.h"
 #include "core/result.h"
 #include "sim/dam_break_reference.h"
 #include "sim/frame_stats.h"
 #include "sim/scene.h"
-#include "bench/bench_control.h"
 
 namespace aquaform::gpu {
 class Context;
@@ -56,10 +56,10 @@ struct RunFigures {
 struct FrontRun : RunFigures {
     uint32_t divisions = 0;
     float spacing = 0.0f, cfl = 0.0f;
-    double max_cfl_number = 0.0;          ///< the largest v_max dt / h a frame ended with
-    double max_density_error = 0.0;       ///< the largest of the frames' mean density errors
-    std::vector<FrontSample> front;       ///< every frame's front, in Martin & Moyce's units
-    std::optional<FrontComparison> error; ///< against Martin & Moyce over [T_min, T_max]
+    double max_cfl_number = 0.0;           ///< the largest v_max dt / h a frame ended with
+    double max_density_error = 0.0;        ///< the largest of the frames' mean density errors
+    std::vector<FrontSample> front;        ///< every frame's front, in Martin & Moyce's units
+    std::optional<FrontComparison> error;  ///< against Martin & Moyce over [T_min, T_max]
 };
 
 /// Runs `scene` (a convergence_scene) until T = t sqrt(2g/a) reaches T_end, then compares its

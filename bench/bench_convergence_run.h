@@ -33,7 +33,7 @@ struct ConvergenceBenchPlan {
 
 /// The plan from the two scenes (checked before any work: a violent scene needs column_width).
 Result<ConvergenceBenchPlan> convergence_bench_plan(const Scene& front_base, const Scene& violent_base, bool quick,
-                                                   uint32_t depth_layers, uint64_t violent_particles);
+                                                    uint32_t depth_layers, uint64_t violent_particles);
 
 struct ConvergenceBenchResult {
     nlohmann::json doc;  ///< convergence.json without the device

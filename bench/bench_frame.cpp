@@ -3,6 +3,7 @@
 #include <chrono>
 #include <memory>
 
+#include "bench/bench_scenes.h"
 #include "core/error.h"
 #include "core/format_text.h"
 #include "core/interrupt.h"
@@ -10,9 +11,8 @@
 #include "gpu/timer.h"
 #include "render/registry.h"
 #include "session/simulation_session.h"
-#include "sim/pbf_solver.h"
-#include "bench/bench_scenes.h"
 #include "sim/blowup.h"
+#include "sim/pbf_solver.h"
 
 namespace aquaform::study {
 
@@ -31,7 +31,8 @@ FrameBenchRecord measure_frame(gpu::Context& ctx, uint32_t target_particles, con
     // Refused before any buffer is made, with the count that fits in the message.
     auto plan_bytes = plan_memory(scene);
     if (!plan_bytes) throw Failure(plan_bytes.error(), Failure::Kind::input);
-    if (auto fits = check_fits(scene, plan_bytes.value(), ctx.info()); !fits) throw Failure(fits.error(), Failure::Kind::input);
+    if (auto fits = check_fits(scene, plan_bytes.value(), ctx.info()); !fits)
+        throw Failure(fits.error(), Failure::Kind::input);
     // As the viewer runs it: no shape metrics, the frame grid that the renderer reads in place.
     session::SimulationSession session(ctx, session::plan_session(scene, std::nullopt),
                                        {.measure_shapes = false, .frame_grid = true});
@@ -115,7 +116,8 @@ nlohmann::json to_json(const FrameBenchRecord& r) {
             {"real_time_factor", r.real_time_factor}};
 }
 
-Verdict frame_target(const FrameTarget& target, const std::vector<FrameBenchRecord>& records, const gpu::DeviceInfo& device) {
+Verdict frame_target(const FrameTarget& target, const std::vector<FrameBenchRecord>& records,
+                     const gpu::DeviceInfo& device) {
     const std::string size = target.particles % 1000000 == 0 ? format_text("%uM", target.particles / 1000000)
                                                              : format_text("%uk", target.particles / 1000);
     const std::string what = format_text("real-time factor >= %.1f at %s particles and 1920x1080 on a discrete GPU",
@@ -129,17 +131,23 @@ Verdict frame_target(const FrameTarget& target, const std::vector<FrameBenchReco
     // Device first: a software device's figures say nothing of the H200's, whatever the size.
     if (device.type == VK_PHYSICAL_DEVICE_TYPE_CPU) return not_judged("software device (" + device.name + ")");
     if (device.type != VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU)
-        return not_judged(std::string("not a discrete GPU (") + gpu::device_type_name(device.type) + ": " + device.name + ")");
+        return not_judged(std::string("not a discrete GPU (") + gpu::device_type_name(device.type) + ": " +
+                          device.name + ")");
     const FrameBenchRecord* r = nullptr;
     for (const FrameBenchRecord& c : records)
         if (c.requested == target.particles && !c.steps.empty()) r = &c;
     if (!r) return not_judged(format_text("not measured: give --sizes with %u", target.particles));
     if (uint64_t(r->width) * r->height < uint64_t(kTargetDisplay.width) * kTargetDisplay.height)
-        return not_judged("measured below " + kTargetDisplay.text() + ": run with --resolution " + kTargetDisplay.text());
+        return not_judged("measured below " + kTargetDisplay.text() + ": run with --resolution " +
+                          kTargetDisplay.text());
     const bool pass = r->real_time_factor >= target.min_real_time_factor;
     Verdict v;
-    v.json = {{"target", what},          {"real_time_factor", r->real_time_factor}, {"min", target.min_real_time_factor},
-              {"particles", r->particles}, {"status", pass ? "PASS" : "MISS"},     {"pass", pass}};
+    v.json = {{"target", what},
+              {"real_time_factor", r->real_time_factor},
+              {"min", target.min_real_time_factor},
+              {"particles", r->particles},
+              {"status", pass ? "PASS" : "MISS"},
+              {"pass", pass}};
     v.line = format_text("%s: real-time factor %.3f at %u particles, %ux%u (target >= %.1f): %s", target.key,
                          r->real_time_factor, r->particles, r->width, r->height, target.min_real_time_factor,
                          pass ? "PASS" : "MISS");

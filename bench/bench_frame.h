@@ -12,8 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "render/picture_size.h"
 #include "bench/bench_render.h"
+#include "render/picture_size.h"
 
 namespace aquaform::gpu {
 class Context;
@@ -41,7 +41,7 @@ struct FrameBenchRecord {
     uint32_t width = 0, height = 0;
     uint32_t iterations = 0;
     uint32_t warmup_frames = 0;
-    std::vector<uint32_t> steps;  ///< the time-step rule's steps of each timed frame
+    std::vector<uint32_t> steps;   ///< the time-step rule's steps of each timed frame
     double steps_per_frame = 0.0;  ///< their mean
     double sim_seconds = 0.0;      ///< simulated time the timed frames advanced
     double wall_seconds = 0.0;     ///< wall time they took, submission to result
@@ -73,6 +73,7 @@ struct FrameTarget {
     const char* key;
 };
 inline constexpr FrameTarget kFrameTargets[] = {{500000, 1.0, "realtime_500k"}, {1000000, 0.8, "realtime_1m"}};
-Verdict frame_target(const FrameTarget& target, const std::vector<FrameBenchRecord>& records, const gpu::DeviceInfo& device);
+Verdict frame_target(const FrameTarget& target, const std::vector<FrameBenchRecord>& records,
+                     const gpu::DeviceInfo& device);
 
 }  // namespace aquaform::study

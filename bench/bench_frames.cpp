@@ -4,8 +4,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/data_dir.h"
 #include "bench/bench_scenes.h"
+#include "core/data_dir.h"
 
 namespace aquaform::study {
 
@@ -23,14 +23,17 @@ const BenchFrame kFrames[] = {
      "constructed: 60 lone droplets 0.2 m in front of a slab; rays cross empty space between them and the bulk",
      FrameCheck::droplets},
     {"double_collision", "double_dam_break.json", 0.55, "Wu et al. Fig. 1: the two columns' fronts collide mid-tank"},
-    {"violent_wall", "violent_dam_break.json", 0.80, "Wu et al. Fig. 9: the wave runs up the far wall and throws spray"},
+    {"violent_wall", "violent_dam_break.json", 0.80,
+     "Wu et al. Fig. 9: the wave runs up the far wall and throws spray"},
     {"crown", "crown_splash.json", 0.25, "Wu et al. Fig. 10d: the crown of a ball thrown into a pool"},
     {"sheet", nullptr, 0.0,
      "constructed: a sheet one particle thick (24 x 24 at the particle spacing, jittered by 0.1), face on; "
-     "--particles does not apply", FrameCheck::sheet, 1.0f},
+     "--particles does not apply",
+     FrameCheck::sheet, 1.0f},
     {"sheet_sparse", nullptr, 0.0,
      "constructed: the sheet at 1.5 spacings (16 x 16): too few neighbours for the anisotropic kernel to flatten; "
-     "--particles does not apply", FrameCheck::sheet, 1.5f},
+     "--particles does not apply",
+     FrameCheck::sheet, 1.5f},
 };
 
 constexpr float kSheetSpacing = 0.02f;
@@ -53,11 +56,13 @@ Result<Scene> sheet_scene(const BenchFrame& frame) {
     ViewCamera camera;
     camera.target = sheet.centre();
     camera.eye = camera.target + glm::vec3(0.0f, 0.0f, 1.0f);
-    camera.fov_y_degrees = 2.0f * glm::degrees(std::atan(0.5f * sheet.side + 2.0f * kSheetSpacing));  // a margin of 2 spacings
+    camera.fov_y_degrees =
+        2.0f * glm::degrees(std::atan(0.5f * sheet.side + 2.0f * kSheetSpacing));  // a margin of 2 spacings
     s.camera = camera;
     if (s.particle_count() != sheet.particles.size())
-        return Error{std::string("frame ") + frame.name + ": the sheet's blocks hold " + std::to_string(s.particle_count()) +
-                     " particles, not one each (" + std::to_string(sheet.particles.size()) + ")"};
+        return Error{std::string("frame ") + frame.name + ": the sheet's blocks hold " +
+                     std::to_string(s.particle_count()) + " particles, not one each (" +
+                     std::to_string(sheet.particles.size()) + ")"};
     return s;
 }
 
@@ -114,7 +119,8 @@ Result<std::vector<const BenchFrame*>> parse_bench_frames(const std::string& tex
     std::stringstream ss(text);
     std::string item;
     while (std::getline(ss, item, ',')) {
-        const bool known = std::any_of(std::begin(kFrames), std::end(kFrames), [&](const BenchFrame& f) { return item == f.name; });
+        const bool known =
+            std::any_of(std::begin(kFrames), std::end(kFrames), [&](const BenchFrame& f) { return item == f.name; });
         if (!known) return Error{"--frames: unknown frame \"" + item + "\"; choose from " + known_frame_names()};
         wanted.push_back(item);
     }
@@ -148,7 +154,8 @@ Result<Scene> bench_frame_scene(const BenchFrame& frame, std::optional<uint64_t>
     const std::filesystem::path path = scene_dir / frame.scene_file;
     auto scene = load_scene(path);
     if (!scene)
-        return Error{scene.error() + " (frame '" + frame.name + "' needs it; give the directory of the shipped scenes with --scene-dir)"};
+        return Error{scene.error() + " (frame '" + frame.name +
+                     "' needs it; give the directory of the shipped scenes with --scene-dir)"};
     if (!particles) return scene;
     return scaled_scene(scene.value(), *particles);
 }

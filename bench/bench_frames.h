@@ -11,10 +11,10 @@
 #include <string>
 #include <vector>
 
+#include "bench/surface_checks.h"
 #include "core/result.h"
 #include "sim/pbf_solver.h"
 #include "sim/scene.h"
-#include "bench/surface_checks.h"
 
 namespace aquaform::study {
 

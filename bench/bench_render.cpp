@@ -27,9 +27,9 @@ const BenchConfig kConfigs[] = {
     {"adaptive_full_res", kAdaptive, true, true, false, true, "every mechanism but adaptive resolution"},
 };
 
-constexpr double kStepsTarget = 0.50;        // mask+skip march steps per ray / uniform's (Wu et al.: ~50 %)
-constexpr double kResTimeTarget = 0.60;      // adaptive (march + upsample) / full-resolution march (Wu Table 1: 0.57)
-constexpr double kResPsnrTarget = 40.0;      // dB, adaptive against its full-resolution twin
+constexpr double kStepsTarget = 0.50;    // mask+skip march steps per ray / uniform's (Wu et al.: ~50 %)
+constexpr double kResTimeTarget = 0.60;  // adaptive (march + upsample) / full-resolution march (Wu Table 1: 0.57)
+constexpr double kResPsnrTarget = 40.0;  // dB, adaptive against its full-resolution twin
 // Issue 36, 1M particles at 1920x1080 on a GPU: the whole reconstruction (with the solver's frame
 // grid, judged by scripts/gpu_check_report.py), all depth sprites, and the march.
 constexpr double kGpuMsTarget = 4.0;
@@ -154,16 +154,18 @@ Verdict steps_target(const std::vector<Measured>& results) {
               {"uniform_depth_err_mean", u->cmp.depth_err_mean},
               {"status", status_of(pass)},
               {"pass", pass}};
-    v.line = format_text("mask+skip steps/ray = %.1f%% of uniform (%.2f vs %.2f; target <= %.0f%%; all evaluations %.2f vs %.2f), "
-                 "depth error %.3f vs %.3f radii (target: equal or lower): %s",
-                 100.0 * ratio, steps, base, 100.0 * kStepsTarget, evals_per_ray(ms->m), evals_per_ray(u->m),
-                 ms->cmp.depth_err_mean, u->cmp.depth_err_mean, status_of(pass));
+    v.line = format_text(
+        "mask+skip steps/ray = %.1f%% of uniform (%.2f vs %.2f; target <= %.0f%%; all evaluations %.2f vs %.2f), "
+        "depth error %.3f vs %.3f radii (target: equal or lower): %s",
+        100.0 * ratio, steps, base, 100.0 * kStepsTarget, evals_per_ray(ms->m), evals_per_ray(u->m),
+        ms->cmp.depth_err_mean, u->cmp.depth_err_mean, status_of(pass));
     return v;
 }
 
 Verdict resolution_target(const std::vector<Measured>& results) {
     const std::string name = "adaptive resolution";
-    const std::string target = "march + upsample <= 60% of the full-resolution march, PSNR >= 40 dB against full resolution";
+    const std::string target =
+        "march + upsample <= 60% of the full-resolution march, PSNR >= 40 dB against full resolution";
     const Measured* a = result_of(results, "adaptive");
     const Measured* full = result_of(results, "adaptive_full_res");
     if (!a || !full) return not_measured(name, target, "needs the adaptive and adaptive_full_res configurations");
@@ -190,9 +192,10 @@ Verdict resolution_target(const std::vector<Measured>& results) {
               {"used", a->m.stats.resolution_note.empty()},
               {"status", status_of(pass)},
               {"pass", pass}};
-    v.line = format_text("adaptive resolution: march + upsample = %.1f%% of the full-resolution march (%.2f + %.2f vs %.2f ms; "
-                 "target <= %.0f%%), PSNR %.1f dB against full resolution (target >= %.0f dB): %s",
-                 100.0 * ratio, march, upsample, full_march, 100.0 * kResTimeTarget, db, kResPsnrTarget, status_of(pass));
+    v.line = format_text(
+        "adaptive resolution: march + upsample = %.1f%% of the full-resolution march (%.2f + %.2f vs %.2f ms; "
+        "target <= %.0f%%), PSNR %.1f dB against full resolution (target >= %.0f dB): %s",
+        100.0 * ratio, march, upsample, full_march, 100.0 * kResTimeTarget, db, kResPsnrTarget, status_of(pass));
     return v;
 }
 
@@ -242,7 +245,8 @@ nlohmann::json picture_checks_json(const PictureChecks& p, const PictureChecks& 
     nlohmann::json out = nlohmann::json::object();
     if (p.droplets) {
         const DropletCensus& c = *p.droplets;
-        out["droplets"] = {{"expected", c.pixels.size()}, {"found", c.found()}, {"pixels", c.pixels}, {"mean_pixels", mean_pixels(c)}};
+        out["droplets"] = {
+            {"expected", c.pixels.size()}, {"found", c.found()}, {"pixels", c.pixels}, {"mean_pixels", mean_pixels(c)}};
         if (&p != &reference && reference.droplets) {
             const auto [lo, hi] = area_change(*reference.droplets, c);
             out["droplets"]["area_change_vs_reference_min"] = lo;
@@ -250,8 +254,10 @@ nlohmann::json picture_checks_json(const PictureChecks& p, const PictureChecks& 
         }
     }
     if (p.sheet)
-        out["sheet"] = {{"inside_pixels", p.sheet->inside}, {"covered_pixels", p.sheet->covered},
-                        {"coverage", p.sheet->coverage()}, {"holes", p.sheet->holes}};
+        out["sheet"] = {{"inside_pixels", p.sheet->inside},
+                        {"covered_pixels", p.sheet->covered},
+                        {"coverage", p.sheet->coverage()},
+                        {"holes", p.sheet->holes}};
     return out;
 }
 
@@ -259,20 +265,23 @@ void print_picture_checks(const std::vector<PictureChecks>& pictures) {
     if (pictures.empty()) return;
     const PictureChecks& ref = pictures.front();
     if (ref.droplets) {
-        std::printf("\nlone droplets (a pixel is a droplet's when its hit lies within r of the droplet's centre)\n"
-                    "%-22s %7s %9s %9s %9s %24s\n", "method", "found", "mean px", "min px", "max px", "area vs reference");
+        std::printf(
+            "\nlone droplets (a pixel is a droplet's when its hit lies within r of the droplet's centre)\n"
+            "%-22s %7s %9s %9s %9s %24s\n",
+            "method", "found", "mean px", "min px", "max px", "area vs reference");
         for (const PictureChecks& p : pictures) {
             const DropletCensus& c = *p.droplets;
             const auto [lo, hi] = area_change(*ref.droplets, c);
             const auto [mn, mx] = std::minmax_element(c.pixels.begin(), c.pixels.end());
-            std::printf("%-22s %3u/%-3zu %9.1f %9u %9u %24s\n", p.label.c_str(), c.found(), c.pixels.size(), mean_pixels(c),
-                        c.pixels.empty() ? 0u : *mn, c.pixels.empty() ? 0u : *mx,
+            std::printf("%-22s %3u/%-3zu %9.1f %9u %9u %24s\n", p.label.c_str(), c.found(), c.pixels.size(),
+                        mean_pixels(c), c.pixels.empty() ? 0u : *mn, c.pixels.empty() ? 0u : *mx,
                         &p == &ref ? "-" : format_text("%+.1f%% .. %+.1f%%", 100.0 * lo, 100.0 * hi).c_str());
         }
     }
     if (ref.sheet) {
-        std::printf("\nsheet (%llu pixels inside the square its lattice spans, inset by a particle radius)\n%-22s %9s %7s\n",
-                    (unsigned long long)ref.sheet->inside, "method", "covered", "holes");
+        std::printf(
+            "\nsheet (%llu pixels inside the square its lattice spans, inset by a particle radius)\n%-22s %9s %7s\n",
+            (unsigned long long)ref.sheet->inside, "method", "covered", "holes");
         for (const PictureChecks& p : pictures)
             std::printf("%-22s %8.2f%% %7u\n", p.label.c_str(), 100.0 * p.sheet->coverage(), p.sheet->holes);
     }
@@ -282,7 +291,7 @@ namespace {
 
 /// The pictures of both surfaces with the same label, in the anisotropic list's order.
 std::vector<std::pair<const PictureChecks*, const PictureChecks*>> paired(const std::vector<PictureChecks>& iso,
-                                                                         const std::vector<PictureChecks>& aniso) {
+                                                                          const std::vector<PictureChecks>& aniso) {
     std::vector<std::pair<const PictureChecks*, const PictureChecks*>> pairs;
     for (const PictureChecks& a : aniso)
         for (const PictureChecks& i : iso)
@@ -294,10 +303,12 @@ std::vector<std::pair<const PictureChecks*, const PictureChecks*>> paired(const 
 
 Verdict droplets_target(const std::vector<PictureChecks>& isotropic, const std::vector<PictureChecks>& anisotropic) {
     const std::string name = "droplets kept";
-    const std::string target = "anisotropic surface: every droplet present, each projected area within 10% of the isotropic one's";
+    const std::string target =
+        "anisotropic surface: every droplet present, each projected area within 10% of the isotropic one's";
     const auto pairs = paired(isotropic, anisotropic);
     if (pairs.empty() || !pairs.front().first->droplets || !pairs.front().second->droplets)
-        return not_measured(name, target, "needs both surfaces' pictures of a frame of lone droplets (--compare-surfaces)");
+        return not_measured(name, target,
+                            "needs both surfaces' pictures of a frame of lone droplets (--compare-surfaces)");
     const size_t expected = pairs.front().second->droplets->pixels.size();
     uint32_t found_iso = uint32_t(expected), found_aniso = uint32_t(expected);
     double lo = 0.0, hi = 0.0;
@@ -307,19 +318,29 @@ Verdict droplets_target(const std::vector<PictureChecks>& isotropic, const std::
         found_iso = std::min(found_iso, i->droplets->found());
         found_aniso = std::min(found_aniso, a->droplets->found());
         lo = std::min(lo, l), hi = std::max(hi, h);
-        pictures.push_back({{"label", a->label}, {"found_isotropic", i->droplets->found()}, {"found_anisotropic", a->droplets->found()},
-                            {"area_change_min", l}, {"area_change_max", h}});
+        pictures.push_back({{"label", a->label},
+                            {"found_isotropic", i->droplets->found()},
+                            {"found_anisotropic", a->droplets->found()},
+                            {"area_change_min", l},
+                            {"area_change_max", h}});
     }
     const bool pass = found_aniso == expected && std::max(-lo, hi) <= kDropletAreaTolerance;
     Verdict v;
-    v.json = {{"target", target},          {"expected", expected},          {"found_anisotropic", found_aniso},
-              {"found_isotropic", found_iso}, {"area_change_min", lo},       {"area_change_max", hi},
-              {"area_change_tolerance", kDropletAreaTolerance}, {"pictures", pictures},
-              {"status", status_of(pass)}, {"pass", pass}};
-    v.line = format_text("droplets kept: anisotropic %u/%zu present (isotropic %u/%zu; fewest of %zu pictures), projected area "
-                         "%+.1f%% .. %+.1f%% of the isotropic (target: all, each within %.0f%%): %s",
-                         found_aniso, expected, found_iso, expected, pairs.size(), 100.0 * lo, 100.0 * hi,
-                         100.0 * kDropletAreaTolerance, status_of(pass));
+    v.json = {{"target", target},
+              {"expected", expected},
+              {"found_anisotropic", found_aniso},
+              {"found_isotropic", found_iso},
+              {"area_change_min", lo},
+              {"area_change_max", hi},
+              {"area_change_tolerance", kDropletAreaTolerance},
+              {"pictures", pictures},
+              {"status", status_of(pass)},
+              {"pass", pass}};
+    v.line = format_text(
+        "droplets kept: anisotropic %u/%zu present (isotropic %u/%zu; fewest of %zu pictures), projected area "
+        "%+.1f%% .. %+.1f%% of the isotropic (target: all, each within %.0f%%): %s",
+        found_aniso, expected, found_iso, expected, pairs.size(), 100.0 * lo, 100.0 * hi, 100.0 * kDropletAreaTolerance,
+        status_of(pass));
     return v;
 }
 
@@ -335,8 +356,11 @@ Verdict sheet_target(const std::vector<PictureChecks>& isotropic, const std::vec
     for (const auto& [i, a] : pairs) {
         if (!iso || i->sheet->coverage() < iso->coverage()) iso = &*i->sheet;
         if (!aniso || a->sheet->coverage() < aniso->coverage()) aniso = &*a->sheet;
-        pictures.push_back({{"label", a->label}, {"coverage_isotropic", i->sheet->coverage()}, {"holes_isotropic", i->sheet->holes},
-                            {"coverage_anisotropic", a->sheet->coverage()}, {"holes_anisotropic", a->sheet->holes}});
+        pictures.push_back({{"label", a->label},
+                            {"coverage_isotropic", i->sheet->coverage()},
+                            {"holes_isotropic", i->sheet->holes},
+                            {"coverage_anisotropic", a->sheet->coverage()},
+                            {"holes_anisotropic", a->sheet->holes}});
     }
     const bool pass = aniso->coverage() >= kSheetCoverageTarget;
     Verdict v;
@@ -349,17 +373,18 @@ Verdict sheet_target(const std::vector<PictureChecks>& isotropic, const std::vec
               {"pictures", pictures},
               {"status", status_of(pass)},
               {"pass", pass}};
-    v.line = format_text("sheet kept whole: anisotropic covers %.2f%% of its area (%u holes), isotropic %.2f%% (%u holes; worst of "
-                         "%zu pictures) (target: anisotropic >= %.0f%%): %s",
-                         100.0 * aniso->coverage(), aniso->holes, 100.0 * iso->coverage(), iso->holes, pairs.size(),
-                         100.0 * kSheetCoverageTarget, status_of(pass));
+    v.line = format_text(
+        "sheet kept whole: anisotropic covers %.2f%% of its area (%u holes), isotropic %.2f%% (%u holes; worst of "
+        "%zu pictures) (target: anisotropic >= %.0f%%): %s",
+        100.0 * aniso->coverage(), aniso->holes, 100.0 * iso->coverage(), iso->holes, pairs.size(),
+        100.0 * kSheetCoverageTarget, status_of(pass));
     return v;
 }
 
 const Sweep& mask_sweep() {
     static const Sweep sweep = [] {
         Sweep s{"mask", "mask_skip", "a", "b", {}, [](SurfaceSettings base, float a, float b) {
-                    base.tight_mask = false;  // the weights are Wu et al.'s convolution's, whose count
+                    base.tight_mask = false;                  // the weights are Wu et al.'s convolution's, whose count
                     base.surface = SurfaceKernel::isotropic;  // bound holds for the isotropic kernel
                     base.mask_a = a;
                     base.mask_b = b;
@@ -394,7 +419,8 @@ Chart sweep_chart(const std::vector<SweepPoint>& points, const std::string& titl
     static const char* kColors[] = {"#1f6fb4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"};
     Chart chart{title, x_label, y_label, {}};
     for (const SweepPoint& p : points) {
-        auto it = std::find_if(chart.series.begin(), chart.series.end(), [&](const ChartSeries& s) { return s.name == p.frame; });
+        auto it = std::find_if(chart.series.begin(), chart.series.end(),
+                               [&](const ChartSeries& s) { return s.name == p.frame; });
         if (it == chart.series.end()) {
             chart.series.push_back({p.frame, {}, true, kColors[chart.series.size() % std::size(kColors)]});
             it = chart.series.end() - 1;
@@ -421,15 +447,16 @@ Chart mask_sweep_coverage_chart(const std::vector<SweepPoint>& points) {
 }
 
 Chart blend_sweep_chart(const std::vector<SweepPoint>& points) {
-    return sweep_chart(points, "Normal blending (A, B): roughness on flat regions against normal error",
-                       "mean normal error against the field's gradient [deg]",
-                       [](const SweepPoint& p) { return p.cmp.normal_err_deg_mean; }, "roughness [deg]",
-                       [](const SweepPoint& p) { return p.cmp.roughness_deg; });
+    return sweep_chart(
+        points, "Normal blending (A, B): roughness on flat regions against normal error",
+        "mean normal error against the field's gradient [deg]",
+        [](const SweepPoint& p) { return p.cmp.normal_err_deg_mean; }, "roughness [deg]",
+        [](const SweepPoint& p) { return p.cmp.roughness_deg; });
 }
 
 /// `requested`: --particles (the lattice holds a little fewer: 986,078 for 1,000,000).
-Verdict gpu_target(const std::vector<Measured>& results, const gpu::DeviceInfo& device, long requested, uint32_t particles,
-                   uint32_t width, uint32_t height) {
+Verdict gpu_target(const std::vector<Measured>& results, const gpu::DeviceInfo& device, long requested,
+                   uint32_t particles, uint32_t width, uint32_t height) {
     const std::string target = format_text(
         "adaptive reconstruction <= %.0f ms, its depth sprites <= %.1f ms and its march <= %.0f ms for 1M particles at "
         "1920x1080 on a real GPU",
@@ -438,7 +465,8 @@ Verdict gpu_target(const std::vector<Measured>& results, const gpu::DeviceInfo& 
     if (device.type == VK_PHYSICAL_DEVICE_TYPE_CPU)
         why = "applies on a real GPU only; this device (" + device.name + ") is a software device";
     else if (requested < long(kGpuTargetParticles) || uint64_t(width) * height < uint64_t(1920) * 1080)
-        why = "applies to 1M particles at 1920x1080: run aquaform bench render --particles 1000000 --resolution 1920x1080";
+        why =
+            "applies to 1M particles at 1920x1080: run aquaform bench render --particles 1000000 --resolution 1920x1080";
     Verdict v;
     if (!why.empty()) {
         v.json = {{"target", target}, {"status", "not applicable"}, {"pass", nullptr}, {"reason", why}};
@@ -458,10 +486,11 @@ Verdict gpu_target(const std::vector<Measured>& results, const gpu::DeviceInfo& 
               {"march_ms_max", kGpuMarchMsTarget},
               {"status", status_of(pass)},
               {"pass", pass}};
-    v.line = format_text("real-time: adaptive reconstruction of %u particles at %ux%u = %.2f ms (target <= %.0f ms), sprites %.2f ms "
-                         "(<= %.1f), march %.2f ms (<= %.0f): %s",
-                         particles, width, height, a->m.ms_total, kGpuMsTarget, sprites, kGpuSpriteMsTarget, march,
-                         kGpuMarchMsTarget, status_of(pass));
+    v.line = format_text(
+        "real-time: adaptive reconstruction of %u particles at %ux%u = %.2f ms (target <= %.0f ms), sprites %.2f ms "
+        "(<= %.1f), march %.2f ms (<= %.0f): %s",
+        particles, width, height, a->m.ms_total, kGpuMsTarget, sprites, kGpuSpriteMsTarget, march, kGpuMarchMsTarget,
+        status_of(pass));
     return v;
 }
 

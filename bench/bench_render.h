@@ -11,15 +11,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/result.h"
-#include "gpu/context.h"
-#include "render/surface_metrics.h"
-#include "render/surface_settings.h"
-#include "pictures/svg_chart.h"
 #include "bench/bench_frames.h"
 #include "bench/render_measure.h"
 #include "bench/surface_checks.h"
 #include "bench/verdict.h"
+#include "core/result.h"
+#include "gpu/context.h"
+#include "pictures/svg_chart.h"
+#include "render/surface_metrics.h"
+#include "render/surface_settings.h"
 
 namespace aquaform::study {
 
@@ -62,9 +62,9 @@ Verdict resolution_target(const std::vector<Measured>& results);
 /// A sweep of two of the adaptive method's parameters (`bench render --mask-sweep`,
 /// `--blend-sweep`): the configuration it draws and the pairs it sets.
 struct Sweep {
-    const char* name;        ///< "mask", "blend"
-    const char* config;      ///< the bench configuration drawn at each pair
-    const char* a_name;      ///< the parameters' names in the table
+    const char* name;    ///< "mask", "blend"
+    const char* config;  ///< the bench configuration drawn at each pair
+    const char* a_name;  ///< the parameters' names in the table
     const char* b_name;
     std::vector<std::pair<float, float>> pairs;
     /// `base` with the pair set.
@@ -128,7 +128,7 @@ Verdict sheet_target(const std::vector<PictureChecks>& isotropic, const std::vec
 /// Real time on a GPU (issue 36): the adaptive reconstruction of 1M particles at 1920x1080 within
 /// 4 ms, its depth sprites within 0.6 ms and its march within 2 ms.
 /// `requested`: --particles (the lattice holds a little fewer: 986,078 for 1,000,000).
-Verdict gpu_target(const std::vector<Measured>& results, const gpu::DeviceInfo& device, long requested, uint32_t particles,
-                   uint32_t width, uint32_t height);
+Verdict gpu_target(const std::vector<Measured>& results, const gpu::DeviceInfo& device, long requested,
+                   uint32_t particles, uint32_t width, uint32_t height);
 
 }  // namespace aquaform::study

@@ -4,6 +4,7 @@
 #include <map>
 #include <memory>
 
+#include "bench/render_measure.h"
 #include "core/file_write.h"
 #include "core/interrupt.h"
 #include "core/text_escape.h"
@@ -12,7 +13,6 @@
 #include "render/surface_renderer.h"
 #include "session/simulation_session.h"
 #include "sim/pbf_solver.h"
-#include "bench/render_measure.h"
 
 namespace aquaform::study {
 
@@ -29,28 +29,29 @@ struct FrameResult {
 /// What the sprites and the march did, in counts that do not depend on the device (a GPU's
 /// gain shows here on the software device): one row per configuration.
 void print_work_table(const std::vector<std::pair<std::string, const RenderMeasurement*>>& rows) {
-    std::printf("\nwork per frame (device-independent; longest: the most pixels one invocation walked, largest: the "
-                "largest sprite, what one invocation a sprite walked)\n%-22s %9s %11s %11s %11s %11s %8s %8s %9s %11s %10s %6s\n",
-                "method", "sprites", "px walked", "px covered", "depth atom", "thick atom", "longest", "largest", "rays",
-                "march evals", "bisect", "lanes");
+    std::printf(
+        "\nwork per frame (device-independent; longest: the most pixels one invocation walked, largest: the "
+        "largest sprite, what one invocation a sprite walked)\n%-22s %9s %11s %11s %11s %11s %8s %8s %9s %11s %10s %6s\n",
+        "method", "sprites", "px walked", "px covered", "depth atom", "thick atom", "longest", "largest", "rays",
+        "march evals", "bisect", "lanes");
     for (const auto& [label, m] : rows) {
         const RenderStats& s = m->stats;
         std::printf("%-22s %9llu %11llu %11llu %11llu %11llu %8llu %8llu %9llu %11llu %10llu %6u\n", label.c_str(),
-                    (unsigned long long)s.sprites, (unsigned long long)s.sprite_pixels, (unsigned long long)s.sprite_covered,
-                    (unsigned long long)s.sprite_depth_atomics, (unsigned long long)s.sprite_thickness_atomics,
-                    (unsigned long long)s.sprite_longest_walk, (unsigned long long)s.sprite_largest_footprint,
-                    (unsigned long long)s.rays,
+                    (unsigned long long)s.sprites, (unsigned long long)s.sprite_pixels,
+                    (unsigned long long)s.sprite_covered, (unsigned long long)s.sprite_depth_atomics,
+                    (unsigned long long)s.sprite_thickness_atomics, (unsigned long long)s.sprite_longest_walk,
+                    (unsigned long long)s.sprite_largest_footprint, (unsigned long long)s.rays,
                     (unsigned long long)s.march_steps, (unsigned long long)s.bisection_evaluations, s.march_lanes);
     }
 }
 
 /// Milliseconds per pass, one row per configuration, in the renderer's pass order.
 void print_pass_table(const std::vector<std::pair<std::string, const RenderMeasurement*>>& rows) {
-    static const char* kPasses[] = {"render_grid",  "render_classify",       "render_mask",  "render_splat",
-                                    "render_smooth", "render_screen_normals", "render_tiles", "render_march",
-                                    "render_upsample", "render_normal_filter", "render_compose"};
-    static const char* kShort[] = {"grid", "classify", "mask", "splat", "smooth", "normals",
-                                   "tiles", "march", "upsample", "nfilter", "compose"};
+    static const char* kPasses[] = {"render_grid",     "render_classify",       "render_mask",   "render_splat",
+                                    "render_smooth",   "render_screen_normals", "render_tiles",  "render_march",
+                                    "render_upsample", "render_normal_filter",  "render_compose"};
+    static const char* kShort[] = {"grid",  "classify", "mask",     "splat",   "smooth", "normals",
+                                   "tiles", "march",    "upsample", "nfilter", "compose"};
     std::printf("\nms per pass\n%-22s", "method");
     for (const char* s : kShort) std::printf(" %9s", s);
     std::printf("\n");
@@ -67,28 +68,28 @@ void print_pass_table(const std::vector<std::pair<std::string, const RenderMeasu
     }
 }
 
-
 /// The sweep's configuration at every pair, against the reference; step counts and errors do
 /// not depend on the device, so each pair is rendered once.
 std::vector<SweepPoint> run_sweep(gpu::Context& ctx, Renderer& renderer, const FrameInput& frame,
-                                         const ViewCamera& camera, const SurfaceSettings& base, const SurfaceFrame& reference,
-                                         float radius, const char* frame_name, const Sweep& sweep) {
+                                  const ViewCamera& camera, const SurfaceSettings& base, const SurfaceFrame& reference,
+                                  float radius, const char* frame_name, const Sweep& sweep) {
     const BenchConfig* uniform = find_config("uniform");
     const BenchConfig* config = find_config(sweep.config);
     const RenderMeasurement u = measure_render(ctx, renderer, frame, camera, settings_for(*uniform, base), 1);
     std::vector<SweepPoint> points;
-    std::printf("\n%s sweep (%s; uniform: %.2f steps/ray)\n%6s %6s %10s %8s %10s %9s %10s %9s\n", sweep.name, sweep.config,
-                steps_per_ray(u), sweep.a_name, sweep.b_name, "steps/ray", "/uniform", "depth err", "coverage",
-                "normal err", "roughness");
+    std::printf("\n%s sweep (%s; uniform: %.2f steps/ray)\n%6s %6s %10s %8s %10s %9s %10s %9s\n", sweep.name,
+                sweep.config, steps_per_ray(u), sweep.a_name, sweep.b_name, "steps/ray", "/uniform", "depth err",
+                "coverage", "normal err", "roughness");
     for (const auto& [a, b] : sweep.pairs) {
-        std::fprintf(stderr, "bench render: %s: %s sweep %s = %.2f, %s = %.2f (%zu/%zu)\n", frame_name, sweep.name, sweep.a_name,
-                     a, sweep.b_name, b, points.size() + 1, sweep.pairs.size());
+        std::fprintf(stderr, "bench render: %s: %s sweep %s = %.2f, %s = %.2f (%zu/%zu)\n", frame_name, sweep.name,
+                     sweep.a_name, a, sweep.b_name, b, points.size() + 1, sweep.pairs.size());
         const MethodSettings settings = settings_for(*config, sweep.apply(base, a, b));
         const RenderMeasurement m = measure_render(ctx, renderer, frame, camera, settings, 1);
-        SweepPoint p{frame_name, a, b, steps_per_ray(m), steps_per_ray(u), compare_surfaces(reference, m.frame, radius)};
+        SweepPoint p{
+            frame_name, a, b, steps_per_ray(m), steps_per_ray(u), compare_surfaces(reference, m.frame, radius)};
         std::printf("%6.2f %6.2f %10.2f %7.1f%% %10.3f %8.2f%% %10.2f %9.2f\n", a, b, p.steps_per_ray,
-                    100.0 * p.steps_per_ray / p.uniform_steps_per_ray, p.cmp.depth_err_mean, 100.0 * p.cmp.coverage_mismatch,
-                    p.cmp.normal_err_deg_mean, p.cmp.roughness_deg);
+                    100.0 * p.steps_per_ray / p.uniform_steps_per_ray, p.cmp.depth_err_mean,
+                    100.0 * p.cmp.coverage_mismatch, p.cmp.normal_err_deg_mean, p.cmp.roughness_deg);
         points.push_back(p);
     }
     return points;
@@ -116,7 +117,8 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const BenchFrame& be
                                          const SurfaceSettings& base, const BenchRenderPlan& plan) {
     const uint32_t width = plan.size.width, height = plan.size.height, repeats = plan.repeats;
     const std::vector<const BenchConfig*>& configs = plan.configs;
-    session::SimulationSession sim(ctx, session::plan_session(scene, std::nullopt), {.measure_shapes = false, .frame_grid = true});
+    session::SimulationSession sim(ctx, session::plan_session(scene, std::nullopt),
+                                   {.measure_shapes = false, .frame_grid = true});
     PbfSolver& solver = sim.solver();
     const uint32_t n = solver.particle_count();
     const double time_s = frame * double(scene.solver.frame_dt);
@@ -129,10 +131,12 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const BenchFrame& be
     const MethodSettings reference = reference_settings(base);
     const std::unique_ptr<Renderer> renderer =
         render_registry().create(ctx, scene.particle_domain(), width, height, n, reference);
-    if (plan.march_lanes) concrete_of<SurfaceRenderer>(*renderer)->set_march_lanes(plan.march_lanes);  // checked against the device before
+    if (plan.march_lanes)
+        concrete_of<SurfaceRenderer>(*renderer)->set_march_lanes(
+            plan.march_lanes);  // checked against the device before
     std::map<std::string, double> last_frame_ms;
     if (!simulate_frames(sim, frame, std::string(bench.name) + ": simulating to frame " + std::to_string(frame),
-                                &last_frame_ms))
+                         &last_frame_ms))
         return std::nullopt;
     const FrameInput drawn = sim.frame_input();
     const ViewCamera camera = scene_camera(scene, float(width) / float(height));
@@ -142,16 +146,16 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const BenchFrame& be
     const float radius = scene.particle_domain().particle_radius();
     nlohmann::json records = nlohmann::json::array();
     // The reference's own roughness: the bumps of the SPH field itself, the floor for the methods.
-    const SurfaceComparison ref_self = compare_surfaces(ref.frame, ref.frame, scene.particle_domain().particle_radius());
+    const SurfaceComparison ref_self =
+        compare_surfaces(ref.frame, ref.frame, scene.particle_domain().particle_radius());
     records.push_back(render_record("reference", ref, &ref_self));
 
     std::vector<Measured> results;
     results.reserve(configs.size());
     for (const BenchConfig* c : configs) {
-        std::fprintf(stderr, "bench render: %s: rendering %s (%zu/%zu: %s)\n", bench.name, c->label, results.size() + 2, total,
-                     c->what);
-        Measured r{c, measure_render(ctx, *renderer, drawn, camera, settings_for(*c, base), repeats),
-                          {}};
+        std::fprintf(stderr, "bench render: %s: rendering %s (%zu/%zu: %s)\n", bench.name, c->label, results.size() + 2,
+                     total, c->what);
+        Measured r{c, measure_render(ctx, *renderer, drawn, camera, settings_for(*c, base), repeats), {}};
         r.cmp = compare_surfaces(ref.frame, r.m.frame, radius);
         records.push_back(render_record(c->label, r.m, &r.cmp));
         results.push_back(std::move(r));
@@ -163,7 +167,8 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const BenchFrame& be
             check_subjects(bench, scene, solver, camera, render_radius(base, scene.particle_domain()));
         out.checks.push_back(check_picture("reference", ref.frame, subjects));
         for (const Measured& r : results) out.checks.push_back(check_picture(r.config->label, r.m.frame, subjects));
-        for (size_t i = 0; i < out.checks.size(); ++i) records[i].update(picture_checks_json(out.checks[i], out.checks[0]));
+        for (size_t i = 0; i < out.checks.size(); ++i)
+            records[i].update(picture_checks_json(out.checks[i], out.checks[0]));
     }
 
     std::printf("\n");
@@ -192,26 +197,28 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const BenchFrame& be
             auto it = m.find(pass);
             return it == m.end() ? 0.0 : it->second;
         };
-        const double own_grid_ms = ms(own.ms_per_pass, "render_grid"), frame_grid_ms = ms(last_frame_ms, "sim_frame_grid");
+        const double own_grid_ms = ms(own.ms_per_pass, "render_grid"),
+                     frame_grid_ms = ms(last_frame_ms, "sim_frame_grid");
         const double saved_mib = double(own_bytes) / (1024.0 * 1024.0);
         double frame_ms = 0.0;
         for (const auto& [pass, t] : last_frame_ms) frame_ms += t;
-        std::printf("\nthe solver's grid in place: the renderer's own grid and sorted copy would take %.2f ms a frame "
-                    "(render_grid) and %.2f MiB more; ",
-                    own_grid_ms, saved_mib);
+        std::printf(
+            "\nthe solver's grid in place: the renderer's own grid and sorted copy would take %.2f ms a frame "
+            "(render_grid) and %.2f MiB more; ",
+            own_grid_ms, saved_mib);
         if (last_frame_ms.empty())
             std::printf("the solver's frame grid is its initial sort here (no frame simulated)\n");
         else
             std::printf("the solver's frame grid (one more sort per frame) took %.2f ms of the last frame's %.2f\n",
                         frame_grid_ms, frame_ms);
         in_place = {{"own_grid_ms", own_grid_ms},
-                     {"own_grid_extra_mib", saved_mib},
-                     {"solver_frame_grid_ms", frame_grid_ms},
-                     {"renderer_mib_in_place", double(own.memory_bytes - own_bytes) / (1024.0 * 1024.0)}};
+                    {"own_grid_extra_mib", saved_mib},
+                    {"solver_frame_grid_ms", frame_grid_ms},
+                    {"renderer_mib_in_place", double(own.memory_bytes - own_bytes) / (1024.0 * 1024.0)}};
     }
 
     const Verdict verdicts[] = {steps_target(results), resolution_target(results),
-                                       gpu_target(results, ctx.info(), plan.requested_particles, n, width, height)};
+                                gpu_target(results, ctx.info(), plan.requested_particles, n, width, height)};
     const char* keys[] = {"mask_skip_steps", "adaptive_resolution", "realtime_1m_1080p"};
     nlohmann::json targets = nlohmann::json::object();
     std::printf("\ntargets on %s\n", bench.name);
@@ -220,9 +227,15 @@ std::optional<FrameResult> measure_frame(gpu::Context& ctx, const BenchFrame& be
         targets[keys[i]] = verdicts[i].json;
         out.verdict_lines.push_back(verdicts[i].line);
     }
-    out.json = {{"name", bench.name},   {"what", bench.what}, {"scene", scene.name}, {"particles", n},
+    out.json = {{"name", bench.name},
+                {"what", bench.what},
+                {"scene", scene.name},
+                {"particles", n},
                 {"surface", base.surface == SurfaceKernel::anisotropic ? "anisotropic" : "isotropic"},
-                {"frame", frame},       {"time_s", time_s},   {"records", records},  {"targets", targets},
+                {"frame", frame},
+                {"time_s", time_s},
+                {"records", records},
+                {"targets", targets},
                 {"in_place", in_place}};
     if (plan.mask_sweep && base.surface == SurfaceKernel::isotropic) {  // Wu et al.'s count mask needs it
         out.mask_sweep = run_sweep(ctx, *renderer, drawn, camera, base, ref.frame, radius, bench.name, mask_sweep());
@@ -273,8 +286,9 @@ BenchRenderResult run_bench_render(gpu::Context& ctx, const BenchRenderPlan& pla
             out.frames.push_back(result->json);
             out.mask_points.insert(out.mask_points.end(), result->mask_sweep.begin(), result->mask_sweep.end());
             out.blend_points.insert(out.blend_points.end(), result->blend_sweep.begin(), result->blend_sweep.end());
-            out.summary.emplace_back(std::string(f.name) + (surface.surface == SurfaceKernel::anisotropic ? " aniso" : " iso"),
-                                 result->verdict_lines);
+            out.summary.emplace_back(
+                std::string(f.name) + (surface.surface == SurfaceKernel::anisotropic ? " aniso" : " iso"),
+                result->verdict_lines);
         }
     }
     return out;
@@ -301,7 +315,8 @@ std::vector<std::pair<std::string, Chart>> sweep_charts(const BenchRenderResult&
 
 Result<bool> write_bench_render_files(const std::filesystem::path& out_path, const nlohmann::json& doc,
                                       const BenchRenderResult& result, const BenchRenderPlan& plan) {
-    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; }); !written)
+    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; });
+        !written)
         return written;
     std::printf("wrote %s\n", out_path.string().c_str());
     const std::string stem = (out_path.parent_path() / out_path.stem()).string();

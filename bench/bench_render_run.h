@@ -13,27 +13,27 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/result.h"
-#include "render/picture_size.h"
-#include "pictures/svg_chart.h"
-#include "sim/scene.h"
 #include "bench/bench_render.h"
+#include "core/result.h"
+#include "pictures/svg_chart.h"
+#include "render/picture_size.h"
+#include "sim/scene.h"
 
 namespace aquaform::study {
 
 /// What `bench render` measures.
 struct BenchRenderPlan {
     std::vector<const BenchFrame*> frames;
-    std::vector<Scene> scenes;                ///< one per frame, loaded before any work
-    std::optional<uint32_t> frame_override;   ///< --frame K instead of each frame's event
+    std::vector<Scene> scenes;               ///< one per frame, loaded before any work
+    std::optional<uint32_t> frame_override;  ///< --frame K instead of each frame's event
     std::vector<const BenchConfig*> configs;
-    SurfaceSettings base;                     ///< the render parameters every configuration shares
-    bool compare_surfaces = false;            ///< each frame with both fields, each against its own reference
+    SurfaceSettings base;           ///< the render parameters every configuration shares
+    bool compare_surfaces = false;  ///< each frame with both fields, each against its own reference
     PictureSize size;
     uint32_t repeats = 2;
-    long requested_particles = 0;             ///< --particles (the GPU target applies to 1M)
+    long requested_particles = 0;  ///< --particles (the GPU target applies to 1M)
     bool mask_sweep = false, blend_sweep = false;
-    uint32_t march_lanes = 0;                 ///< 0: the device's default
+    uint32_t march_lanes = 0;  ///< 0: the device's default
 };
 
 /// What it measured, for bench_render.json, the summary and the charts.

@@ -4,20 +4,21 @@
 #include <cmath>
 #include <cstdio>
 
+#include "bench/bench_scenes.h"
 #include "core/interrupt.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
 #include "grid/neighbor_grid.h"
 #include "session/simulation_session.h"
-#include "sim/pbf_solver.h"
-#include "bench/bench_scenes.h"
 #include "sim/blowup.h"
+#include "sim/pbf_solver.h"
 
 namespace aquaform::study {
 
 SolverBenchRecord measure_solver(gpu::Context& ctx, uint32_t target_particles, const SolverBenchOptions& options) {
     // The bench scene has no control: the session's solver alone, stepped without frame figures.
-    session::SimulationSession session(ctx, session::plan_session(bench_scene(target_particles, options.iterations), std::nullopt));
+    session::SimulationSession session(
+        ctx, session::plan_session(bench_scene(target_particles, options.iterations), std::nullopt));
     PbfSolver& solver = session.solver();
     gpu::GpuTimer timer(ctx);
     // Warmed up as a run steps: whole frames, each with the steps the time-step rule gives it,
@@ -99,18 +100,20 @@ nlohmann::json to_json(const SolverBenchRecord& r) {
         floors[p.name] = ms_at(p.unique_bytes, r.bandwidth_gbps);
         // The rate the timed pass reached on its unique bytes (null when it was not timed).
         const auto ms = r.ms_per_pass.find(p.name);
-        gbps[p.name] = ms != r.ms_per_pass.end() && ms->second > 0.0 ? nlohmann::json(double(p.unique_bytes) / ms->second * 1.0e-6)
-                                                                     : nlohmann::json(nullptr);
+        gbps[p.name] = ms != r.ms_per_pass.end() && ms->second > 0.0
+                           ? nlohmann::json(double(p.unique_bytes) / ms->second * 1.0e-6)
+                           : nlohmann::json(nullptr);
     }
     const GridCounts& c = r.counts;
-    const nlohmann::json counts = {{"particles", c.particles},
-                                   {"cells", c.cells},
-                                   {"occupied_cells", c.occupied_cells},
-                                   {"list_capacity", c.capacity},
-                                   {"list_entries", c.list_entries},
-                                   {"list_fill", c.particles ? double(c.list_entries) / double(c.particles * c.capacity) : 0.0},
-                                   {"candidates", c.candidates},
-                                   {"overflow_particles", c.overflow_particles}};
+    const nlohmann::json counts = {
+        {"particles", c.particles},
+        {"cells", c.cells},
+        {"occupied_cells", c.occupied_cells},
+        {"list_capacity", c.capacity},
+        {"list_entries", c.list_entries},
+        {"list_fill", c.particles ? double(c.list_entries) / double(c.particles * c.capacity) : 0.0},
+        {"candidates", c.candidates},
+        {"overflow_particles", c.overflow_particles}};
     return {{"particles", r.particles},
             {"iterations", r.iterations},
             {"warmup_steps", r.warmup_steps},
@@ -142,8 +145,10 @@ namespace {
 
 std::string gbps_text(uint64_t bytes, double ms) {
     char buf[32];
-    if (ms > 0.0) std::snprintf(buf, sizeof buf, "%.1f", double(bytes) / ms * 1.0e-6);
-    else std::snprintf(buf, sizeof buf, "-");
+    if (ms > 0.0)
+        std::snprintf(buf, sizeof buf, "%.1f", double(bytes) / ms * 1.0e-6);
+    else
+        std::snprintf(buf, sizeof buf, "-");
     return buf;
 }
 
@@ -162,22 +167,24 @@ void print_traffic(const SolverBenchRecord& r) {
     }
     std::printf("  %-18s %5s %9.3f %10.2f %10.2f %11s %10s %10.4f\n", "step", "", r.ms_per_step,
                 double(r.unique_bytes_per_step()) * 1e-6, double(r.bytes_per_step()) * 1e-6,
-                gbps_text(r.unique_bytes_per_step(), r.ms_per_step).c_str(), gbps_text(r.bytes_per_step(), r.ms_per_step).c_str(),
-                r.memory_floor_ms());
-    std::printf("  memory floor at %g GB/s: %.4f ms a step on the unique bytes (%.1f%% of the step), %.4f ms if every load "
-                "came from memory; %.1f list entries a particle (%.0f%% of the list), %.1f candidates tested\n",
-                r.bandwidth_gbps, r.memory_floor_ms(), 100.0 * r.memory_floor_ms() / r.ms_per_step, r.all_loads_floor_ms(),
-                double(r.counts.list_entries) / double(r.counts.particles),
-                100.0 * double(r.counts.list_entries) / double(r.counts.particles * r.counts.capacity),
-                double(r.counts.candidates) / double(r.counts.particles));
+                gbps_text(r.unique_bytes_per_step(), r.ms_per_step).c_str(),
+                gbps_text(r.bytes_per_step(), r.ms_per_step).c_str(), r.memory_floor_ms());
+    std::printf(
+        "  memory floor at %g GB/s: %.4f ms a step on the unique bytes (%.1f%% of the step), %.4f ms if every load "
+        "came from memory; %.1f list entries a particle (%.0f%% of the list), %.1f candidates tested\n",
+        r.bandwidth_gbps, r.memory_floor_ms(), 100.0 * r.memory_floor_ms() / r.ms_per_step, r.all_loads_floor_ms(),
+        double(r.counts.list_entries) / double(r.counts.particles),
+        100.0 * double(r.counts.list_entries) / double(r.counts.particles * r.counts.capacity),
+        double(r.counts.candidates) / double(r.counts.particles));
 }
 
 void print_solver_record(const SolverBenchRecord& r) {
     std::printf("%10s %6s %12s %10s %14s %12s %12s %10s %10s %12s\n", "particles", "iters", "ms/step", "steps/s",
                 "grid ms/step", "B/particle", "(of lists)", "B/cell", "overflow", "steps/frame");
-    std::printf("%10u %6u %12.2f %10.2f %14.2f %12.1f %12u %10u %9.2f%% %12u\n", r.particles, r.iterations, r.ms_per_step,
-                r.steps_per_s, r.neighbor_search_ms, r.gpu_bytes_per_particle, r.neighbor_list_bytes_per_particle,
-                r.gpu_bytes_per_cell, 100.0 * r.list_overflow_fraction, r.steps_per_frame);
+    std::printf("%10u %6u %12.2f %10.2f %14.2f %12.1f %12u %10u %9.2f%% %12u\n", r.particles, r.iterations,
+                r.ms_per_step, r.steps_per_s, r.neighbor_search_ms, r.gpu_bytes_per_particle,
+                r.neighbor_list_bytes_per_particle, r.gpu_bytes_per_cell, 100.0 * r.list_overflow_fraction,
+                r.steps_per_frame);
     print_traffic(r);
 }
 

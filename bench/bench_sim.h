@@ -40,8 +40,8 @@ struct SolverBenchRecord {
     double steps_per_s = 0.0;
     /// Grid build, reorder and neighbour lists per step (the passes of kNeighborSearchPasses).
     double neighbor_search_ms = 0.0;
-    std::map<std::string, double> ms_per_pass;  ///< GPU ms per step of every pass
-    double gpu_bytes_per_particle = 0.0;        ///< every buffer but the grid's cells, per particle
+    std::map<std::string, double> ms_per_pass;      ///< GPU ms per step of every pass
+    double gpu_bytes_per_particle = 0.0;            ///< every buffer but the grid's cells, per particle
     uint32_t neighbor_list_bytes_per_particle = 0;  ///< of which the neighbour lists
     uint32_t gpu_bytes_per_cell = 0;
     uint32_t grid_cells = 0;

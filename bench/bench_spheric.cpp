@@ -7,12 +7,12 @@
 #include <fstream>
 #include <sstream>
 
+#include "bench/bench_checks.h"
 #include "core/data_dir.h"
 #include "core/interrupt.h"
 #include "gpu/context.h"
 #include "sim/blowup.h"
 #include "sim/pbf_solver.h"
-#include "bench/bench_checks.h"
 
 namespace aquaform::study {
 
@@ -25,7 +25,8 @@ std::string column_name(const std::string& header) { return header.substr(0, hea
 
 Result<MeasuredSeries> read_series(const std::filesystem::path& path) {
     std::ifstream in(path);
-    if (!in) return Error{path.string() + ": cannot be read; the SPHERIC test 2 data ship in assets/data/spheric_test2"};
+    if (!in)
+        return Error{path.string() + ": cannot be read; the SPHERIC test 2 data ship in assets/data/spheric_test2"};
     MeasuredSeries s;
     s.path = path;
     std::string line;
@@ -48,7 +49,8 @@ Result<MeasuredSeries> read_series(const std::filesystem::path& path) {
         s.time.push_back(t);
         for (auto& column : s.values) {
             double v = 0.0;
-            if (!(row >> v)) return Error{path.string() + ":" + std::to_string(number) + ": fewer values than the header names"};
+            if (!(row >> v))
+                return Error{path.string() + ":" + std::to_string(number) + ": fewer values than the header names"};
             column.push_back(v);
         }
     }
@@ -94,11 +96,12 @@ Result<bool> check_column(const MeasuredSeries& series, const std::string& name,
         if (series.time[k] >= 0.0 && series.time[k] <= seconds) peak = std::max(peak, series.values[c][k]), ++samples;
     char text[640];
     if (samples == 0) {
-        std::snprintf(text, sizeof text,
-                      "%s: the column %s has no sample in the run's %g s (its samples run from %g to %g s), so there is "
-                      "nothing to compare; give --seconds past %g or data that cover the run (--data DIR)",
-                      series.path.string().c_str(), name.c_str(), seconds, series.time.front(), series.time.back(),
-                      series.time.front());
+        std::snprintf(
+            text, sizeof text,
+            "%s: the column %s has no sample in the run's %g s (its samples run from %g to %g s), so there is "
+            "nothing to compare; give --seconds past %g or data that cover the run (--data DIR)",
+            series.path.string().c_str(), name.c_str(), seconds, series.time.front(), series.time.back(),
+            series.time.front());
         return Error{text};
     }
     if (!(peak > 0.0)) {
@@ -108,10 +111,11 @@ Result<bool> check_column(const MeasuredSeries& series, const std::string& name,
             if (series.values[c][k] > 0.0) first = series.time[k];
         char fix[160] = "give data with the measured values (--data DIR)";
         if (first) std::snprintf(fix, sizeof fix, "give --seconds %.4g or more (where it first rises above 0)", *first);
-        std::snprintf(text, sizeof text,
-                      "%s: the column %s (%s) never rises above 0 in the run's %g s (%zu samples), so an error relative "
-                      "to its peak means nothing; %s",
-                      series.path.string().c_str(), name.c_str(), what, seconds, samples, fix);
+        std::snprintf(
+            text, sizeof text,
+            "%s: the column %s (%s) never rises above 0 in the run's %g s (%zu samples), so an error relative "
+            "to its peak means nothing; %s",
+            series.path.string().c_str(), name.c_str(), what, seconds, samples, fix);
         return Error{text};
     }
     return true;
@@ -164,14 +168,16 @@ Result<SphericComparable> spheric_comparable(const Scene& scene, const SphericDa
     c.gauges = in_common(gauges, data.heights, &missing_gauges);
     c.sensors = in_common(sensors, data.pressures, &missing_sensors);
     if (c.gauges.empty() && c.sensors.empty())
-        return Error{"nothing to compare: the scene's gauges (" + name_list(gauges) + ") and sensors (" + name_list(sensors) +
-                     ") have no column in " + data.heights.path.string() + " (" + name_list(data.heights.names) + ") or " +
-                     data.pressures.path.string() + " (" + name_list(data.pressures.names) +
-                     "); name the scene's probes as the data's columns, or give the data of these probes with --data DIR"};
+        return Error{
+            "nothing to compare: the scene's gauges (" + name_list(gauges) + ") and sensors (" + name_list(sensors) +
+            ") have no column in " + data.heights.path.string() + " (" + name_list(data.heights.names) + ") or " +
+            data.pressures.path.string() + " (" + name_list(data.pressures.names) +
+            "); name the scene's probes as the data's columns, or give the data of these probes with --data DIR"};
     for (const std::string& name : missing_gauges)
         c.notes.push_back("gauge " + name + " has no column in " + data.heights.path.string() + "; it is not compared");
     for (const std::string& name : missing_sensors)
-        c.notes.push_back("sensor " + name + " has no column in " + data.pressures.path.string() + "; it is not compared");
+        c.notes.push_back("sensor " + name + " has no column in " + data.pressures.path.string() +
+                          "; it is not compared");
     // A column with nothing to compare within the run (a short run ends before a sensor's first
     // impact) is left out with a note; a run left with nothing at all is refused.
     std::string empty_columns;
@@ -200,7 +206,8 @@ std::optional<SphericRun> run_spheric(gpu::Context& ctx, const Scene& scene, dou
     const auto start = std::chrono::steady_clock::now();
     PbfSolver solver(ctx, scene);
     run.particles = solver.particle_count();
-    run.label = std::to_string(run.particles) + " particles (spacing " + std::to_string(scene.particle_spacing).substr(0, 6) + " m)";
+    run.label = std::to_string(run.particles) + " particles (spacing " +
+                std::to_string(scene.particle_spacing).substr(0, 6) + " m)";
     const uint32_t frames = uint32_t(std::ceil(seconds / scene.solver.frame_dt - 1e-9));
     for (uint32_t f = 0; f < frames; ++f) {
         if (interrupted()) return std::nullopt;
@@ -246,7 +253,8 @@ void compare_spheric(SphericRun& run, const SphericData& data, double seconds) {
         if (!c) continue;
         SensorComparison cmp{run.sensors[p]};
         const MeasuredSeries& m = data.pressures;
-        for (size_t k = 0; k < m.time.size() && m.time[k] <= seconds; ++k) cmp.measured_peak_pa = std::max(cmp.measured_peak_pa, m.values[*c][k]);
+        for (size_t k = 0; k < m.time.size() && m.time[k] <= seconds; ++k)
+            cmp.measured_peak_pa = std::max(cmp.measured_peak_pa, m.values[*c][k]);
         const double threshold = kArrivalFraction * cmp.measured_peak_pa;
         for (size_t k = 0; k < m.time.size() && m.time[k] <= seconds; ++k)
             if (m.values[*c][k] > threshold) {
@@ -281,22 +289,27 @@ bool compared_anything(const SphericRun& run) {
 json to_json(const SphericRun& run) {
     json heights = json::array(), pressures = json::array();
     for (const GaugeComparison& g : run.heights)
-        heights.push_back({{"gauge", g.name}, {"mean_abs_m", g.mean_abs_m}, {"measured_peak_m", g.peak_m},
-                           {"relative", g.relative}, {"steps_compared", g.samples},
+        heights.push_back({{"gauge", g.name},
+                           {"mean_abs_m", g.mean_abs_m},
+                           {"measured_peak_m", g.peak_m},
+                           {"relative", g.relative},
+                           {"steps_compared", g.samples},
                            {"within_target", g.samples ? json(g.relative <= kHeightTarget) : json(nullptr)}});
     for (const SensorComparison& s : run.pressures) {
-        json p = {{"sensor", s.name}, {"steps_compared", s.samples}, {"peak_pa", s.peak_pa}, {"measured_peak_pa", s.measured_peak_pa},
+        json p = {{"sensor", s.name},       {"steps_compared", s.samples},
+                  {"peak_pa", s.peak_pa},   {"measured_peak_pa", s.measured_peak_pa},
                   {"level_pa", s.level_pa}, {"measured_level_pa", s.measured_level_pa}};
         p["arrival_s"] = s.arrival_s ? json(*s.arrival_s) : json(nullptr);
         p["measured_arrival_s"] = s.measured_arrival_s ? json(*s.measured_arrival_s) : json(nullptr);
         if (s.measured_arrival_s)  // a run whose impact never came missed it
-            p["arrival_within_target"] = s.arrival_s && std::abs(*s.arrival_s - *s.measured_arrival_s) <= kArrivalTarget;
+            p["arrival_within_target"] =
+                s.arrival_s && std::abs(*s.arrival_s - *s.measured_arrival_s) <= kArrivalTarget;
         if (s.level_samples > 0 && s.measured_level_pa != 0.0)
             p["level_relative"] = std::abs(s.level_pa - s.measured_level_pa) / std::abs(s.measured_level_pa);
         pressures.push_back(p);
     }
-    return {{"particles", run.particles}, {"spacing_m", run.spacing}, {"steps", run.steps}, {"wall_s", run.wall_s},
-            {"heights", heights}, {"pressures", pressures}};
+    return {{"particles", run.particles}, {"spacing_m", run.spacing}, {"steps", run.steps},
+            {"wall_s", run.wall_s},       {"heights", heights},       {"pressures", pressures}};
 }
 
 namespace {
@@ -309,7 +322,8 @@ Chart series_chart(const std::vector<SphericRun>& runs, const MeasuredSeries& me
         ChartSeries m{"measured (MARIN)", {}, false, "#222222", true};
         // Every 5th sample (1 kHz is more than a chart shows) in the window.
         for (size_t k = 0; k < measured.time.size(); k += 5)
-            if (measured.time[k] >= t0 && measured.time[k] <= t1) m.points.push_back({measured.time[k], measured.values[*c][k]});
+            if (measured.time[k] >= t0 && measured.time[k] <= t1)
+                m.points.push_back({measured.time[k], measured.values[*c][k]});
         chart.series.push_back(std::move(m));
     }
     for (size_t r = 0; r < runs.size(); ++r) {
@@ -319,7 +333,8 @@ Chart series_chart(const std::vector<SphericRun>& runs, const MeasuredSeries& me
         const size_t i = size_t(it - names.begin());
         ChartSeries s{runs[r].label, {}, false, kRunColors[r % 4]};
         for (const ProbeStep& step : runs[r].steps_readings)
-            if (step.time_s >= t0 && step.time_s <= t1) s.points.push_back({step.time_s, heights ? step.heights[i] : step.pressures[i]});
+            if (step.time_s >= t0 && step.time_s <= t1)
+                s.points.push_back({step.time_s, heights ? step.heights[i] : step.pressures[i]});
         chart.series.push_back(std::move(s));
     }
     return chart;
@@ -327,11 +342,13 @@ Chart series_chart(const std::vector<SphericRun>& runs, const MeasuredSeries& me
 }  // namespace
 
 Chart spheric_height_chart(const std::vector<SphericRun>& runs, const SphericData& data, const std::string& gauge) {
-    return series_chart(runs, data.heights, gauge, true, 0.0, 6.0, "SPHERIC test 2: water height " + gauge, "height [m]");
+    return series_chart(runs, data.heights, gauge, true, 0.0, 6.0, "SPHERIC test 2: water height " + gauge,
+                        "height [m]");
 }
 
 Chart spheric_pressure_chart(const std::vector<SphericRun>& runs, const SphericData& data, const std::string& sensor) {
-    return series_chart(runs, data.pressures, sensor, false, 0.3, 2.0, "SPHERIC test 2: pressure " + sensor, "pressure [Pa]");
+    return series_chart(runs, data.pressures, sensor, false, 0.3, 2.0, "SPHERIC test 2: pressure " + sensor,
+                        "pressure [Pa]");
 }
 
 void print_spheric_run(const SphericRun& run) {
@@ -340,15 +357,16 @@ void print_spheric_run(const SphericRun& run) {
                 100.0 * kHeightTarget);
     for (const auto& g : run.heights) {
         if (g.samples == 0) {  // no step within the measurement: no verdict
-            std::printf("  %-4s %12s %10.4f m %9s  not compared (no step within the measurement)\n", g.name.c_str(), "-",
-                        g.peak_m, "-");
+            std::printf("  %-4s %12s %10.4f m %9s  not compared (no step within the measurement)\n", g.name.c_str(),
+                        "-", g.peak_m, "-");
             continue;
         }
-        std::printf("  %-4s %10.4f m %10.4f m %8.1f %%  %s\n", g.name.c_str(), g.mean_abs_m, g.peak_m, 100.0 * g.relative,
-                    verdict(g.relative <= kHeightTarget));
+        std::printf("  %-4s %10.4f m %10.4f m %8.1f %%  %s\n", g.name.c_str(), g.mean_abs_m, g.peak_m,
+                    100.0 * g.relative, verdict(g.relative <= kHeightTarget));
     }
     if (run.pressures.empty()) return (void)std::fflush(stdout);
-    std::printf("  %-4s %10s %10s %10s %10s %10s %10s\n", "", "arrival", "(MARIN)", "peak kPa", "(MARIN)", "0.5-2 s", "(MARIN)");
+    std::printf("  %-4s %10s %10s %10s %10s %10s %10s\n", "", "arrival", "(MARIN)", "peak kPa", "(MARIN)", "0.5-2 s",
+                "(MARIN)");
     for (const auto& p : run.pressures) {
         std::printf("  %-4s %8.4f s %8.4f s %10.2f %10.2f", p.name.c_str(), p.arrival_s.value_or(NAN),
                     p.measured_arrival_s.value_or(NAN), p.peak_pa / 1000.0, p.measured_peak_pa / 1000.0);

@@ -18,11 +18,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/bench_control.h"
 #include "core/result.h"
 #include "pictures/svg_chart.h"
 #include "sim/probes.h"
 #include "sim/scene.h"
-#include "bench/bench_control.h"
 
 namespace aquaform::gpu {
 class Context;
@@ -32,10 +32,10 @@ namespace aquaform::study {
 
 /// One measured series: time [s] and a value per column.
 struct MeasuredSeries {
-    std::filesystem::path path;                 ///< the file it was read from (for messages)
-    std::vector<std::string> names;             ///< "H1" ... or "P1" ...
+    std::filesystem::path path;      ///< the file it was read from (for messages)
+    std::vector<std::string> names;  ///< "H1" ... or "P1" ...
     std::vector<double> time;
-    std::vector<std::vector<double>> values;    ///< [column][sample]
+    std::vector<std::vector<double>> values;  ///< [column][sample]
 
     /// Column `name`'s value at t, linearly between samples (nullopt beyond them or for an unknown name).
     std::optional<double> at(const std::string& name, double t) const;
@@ -51,10 +51,10 @@ struct SphericData {
 Result<SphericData> load_spheric_data(const std::filesystem::path& dir);
 std::filesystem::path default_spheric_data_dir();
 
-inline constexpr double kHeightTarget = 0.05;       ///< mean |difference| / peak
-inline constexpr double kArrivalTarget = 0.010;     ///< [s]
+inline constexpr double kHeightTarget = 0.05;         ///< mean |difference| / peak
+inline constexpr double kArrivalTarget = 0.010;       ///< [s]
 inline constexpr double kPressureLevelTarget = 0.20;  ///< relative
-inline constexpr double kArrivalFraction = 0.1;     ///< of the measured peak
+inline constexpr double kArrivalFraction = 0.1;       ///< of the measured peak
 
 struct GaugeComparison {
     std::string name;
@@ -66,8 +66,8 @@ struct SensorComparison {
     std::optional<double> arrival_s, measured_arrival_s;
     double peak_pa = 0.0, measured_peak_pa = 0.0;
     double level_pa = 0.0, measured_level_pa = 0.0;  ///< mean over 0.5..2 s (up to the run's end)
-    size_t samples = 0;        ///< the run's steps compared; 0: not compared
-    size_t level_samples = 0;  ///< the run's steps in that window; 0: the level is not compared
+    size_t samples = 0;                              ///< the run's steps compared; 0: not compared
+    size_t level_samples = 0;                        ///< the run's steps in that window; 0: the level is not compared
 };
 
 /// A run of the scene: its probes' readings at every step.
@@ -96,7 +96,8 @@ Result<SphericComparable> spheric_comparable(const Scene& scene, const SphericDa
 
 /// Runs `scene` for `seconds`, its probes every step. Returns nullopt when Ctrl-C stopped it;
 /// throws LeftPhysics (sim/blowup.h) at the first frame that left physics.
-std::optional<SphericRun> run_spheric(gpu::Context& ctx, const Scene& scene, double seconds, const BenchProgress& say = {});
+std::optional<SphericRun> run_spheric(gpu::Context& ctx, const Scene& scene, double seconds,
+                                      const BenchProgress& say = {});
 /// Fills run.heights and run.pressures from the measurement, over [0, seconds].
 void compare_spheric(SphericRun& run, const SphericData& data, double seconds);
 /// Whether compare_spheric compared anything (a gauge's or a sensor's readings).

@@ -61,12 +61,11 @@ PassTimes time_best_of(gpu::Context& ctx, uint32_t repeats,
     return best;
 }
 
-RenderMeasurement measure_render(gpu::Context& ctx, Renderer& renderer, const FrameInput& frame, const ViewCamera& camera,
-                                 const MethodSettings& settings, uint32_t repeats) {
+RenderMeasurement measure_render(gpu::Context& ctx, Renderer& renderer, const FrameInput& frame,
+                                 const ViewCamera& camera, const MethodSettings& settings, uint32_t repeats) {
     renderer.configure(settings);
-    const PassTimes times = time_best_of(ctx, repeats, [&](VkCommandBuffer cmd, gpu::GpuTimer* timer) {
-        renderer.record(cmd, frame, camera, timer);
-    });
+    const PassTimes times = time_best_of(
+        ctx, repeats, [&](VkCommandBuffer cmd, gpu::GpuTimer* timer) { renderer.record(cmd, frame, camera, timer); });
     RenderMeasurement best;
     best.settings = settings;
     best.particles = frame.count;
@@ -84,7 +83,9 @@ RenderMeasurement measure_render(gpu::Context& ctx, Renderer& renderer, const Fr
 }
 
 namespace {
-double per_ray(const RenderMeasurement& m, uint64_t count) { return m.stats.rays ? double(count) / double(m.stats.rays) : 0.0; }
+double per_ray(const RenderMeasurement& m, uint64_t count) {
+    return m.stats.rays ? double(count) / double(m.stats.rays) : 0.0;
+}
 }  // namespace
 
 double evals_per_ray(const RenderMeasurement& m) { return per_ray(m, m.stats.evaluations); }
@@ -107,8 +108,10 @@ nlohmann::json surface_bytes_model(const RenderMeasurement& m, bool anisotropic)
     // results (hit, normal, counts, weights, spray: 60 B). A nominal figure: the candidates per
     // evaluation are not counted.
     const double evaluations = double(s.march_steps + s.bisection_evaluations);
-    const double march = evaluations * (kFieldVisitsPerEvaluation * 16.0 + 27.0 * 12.0) + double(s.rays) * (28.0 + 60.0);
-    return {{"render_splat", sprites}, {"render_march", march},
+    const double march =
+        evaluations * (kFieldVisitsPerEvaluation * 16.0 + 27.0 * 12.0) + double(s.rays) * (28.0 + 60.0);
+    return {{"render_splat", sprites},
+            {"render_march", march},
             {"what", "modelled bytes each pass reads and writes (bench/render_measure.cpp); the march's is nominal"}};
 }
 
@@ -149,7 +152,8 @@ nlohmann::json render_record(const std::string& label, const RenderMeasurement& 
         r["march_lanes"] = m.stats.march_lanes;
         r["march_steps"] = m.stats.march_steps;
         r["bisection_evaluations"] = m.stats.bisection_evaluations;
-        r["bytes_model"] = surface_bytes_model(m, m.settings.get<SurfaceSettings>()->surface == SurfaceKernel::anisotropic);
+        r["bytes_model"] =
+            surface_bytes_model(m, m.settings.get<SurfaceSettings>()->surface == SurfaceKernel::anisotropic);
     }
     if (cmp) {
         r["depth_err_mean"] = cmp->depth_err_mean;
@@ -167,8 +171,8 @@ nlohmann::json render_record(const std::string& label, const RenderMeasurement& 
 void print_render_header() {
     std::printf("%-22s %9s %8s %7s %7s %7s %10s %10s %9s %8s %9s\n", "method", "ms", "rays", "steps", "bisect", "evals",
                 "depth err", "normal err", "coverage", "PSNR", "roughness");
-    std::printf("%-22s %9s %8s %7s %7s %7s %10s %10s %9s %8s %9s\n", "", "", "", "/ray", "/ray", "/ray", "[radii]", "[deg]",
-                "mismatch", "[dB]", "[deg]");
+    std::printf("%-22s %9s %8s %7s %7s %7s %10s %10s %9s %8s %9s\n", "", "", "", "/ray", "/ray", "/ray", "[radii]",
+                "[deg]", "mismatch", "[dB]", "[deg]");
 }
 
 void print_render_row(const std::string& label, const RenderMeasurement& m, const SurfaceComparison* cmp) {

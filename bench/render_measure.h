@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "render/surface_metrics.h"
 #include "render/renderer.h"
+#include "render/surface_metrics.h"
 #include "session/simulation_session.h"
 #include "sim/pbf_solver.h"
 
@@ -40,7 +40,7 @@ struct RenderMeasurement {
     SurfaceFrame frame;
     std::map<std::string, double> ms_per_pass;
     double ms_total = 0.0;
-    RenderStats stats;  ///< the counters of the last frame: rays, evaluations, cut rays, lists
+    RenderStats stats;                  ///< the counters of the last frame: rays, evaluations, cut rays, lists
     std::vector<uint32_t> march_steps;  ///< per pixel, the SPH surface methods only (Wu et al. Fig. 5)
     uint64_t memory_bytes = 0;          ///< the renderer's GPU memory
 };
@@ -48,8 +48,8 @@ struct RenderMeasurement {
 /// Configures `renderer` with `settings` (of its family), renders `repeats` times (the first run
 /// warms caches and pipelines) and keeps the fastest total; the frame and the counters are the
 /// last run's.
-RenderMeasurement measure_render(gpu::Context& ctx, Renderer& renderer, const FrameInput& frame, const ViewCamera& camera,
-                                 const MethodSettings& settings, uint32_t repeats);
+RenderMeasurement measure_render(gpu::Context& ctx, Renderer& renderer, const FrameInput& frame,
+                                 const ViewCamera& camera, const MethodSettings& settings, uint32_t repeats);
 
 /// Mean density (or field) evaluations per ray cast: RenderStats::evaluations over its rays
 /// (the surface renderer's ray list); 0 when no ray was cast.
@@ -67,7 +67,8 @@ nlohmann::json surface_bytes_model(const RenderMeasurement& m, bool anisotropic)
 
 /// The record of one method: the fields bench_render.json and render.json share (the SPH
 /// surface methods also name their mechanisms).
-nlohmann::json render_record(const std::string& label, const RenderMeasurement& m, const SurfaceComparison* against_reference);
+nlohmann::json render_record(const std::string& label, const RenderMeasurement& m,
+                             const SurfaceComparison* against_reference);
 
 /// A one-line summary per method for the terminal.
 void print_render_row(const std::string& label, const RenderMeasurement& m, const SurfaceComparison* cmp);

@@ -2,12 +2,12 @@
 
 #include <cstdio>
 
+#include "bench/render_measure.h"
+#include "pictures/image_metrics.h"
 #include "render/surface_renderer.h"
 #include "render/surface_views.h"
 #include "session/simulation_session.h"
 #include "sim/pbf_solver.h"
-#include "bench/render_measure.h"
-#include "pictures/image_metrics.h"
 
 namespace aquaform::study {
 
@@ -20,17 +20,22 @@ FrameRenderReport other_family_report(gpu::Context& ctx, Renderer& renderer, ses
     PbfSolver& solver = sim.solver();
     const uint32_t n = solver.particle_count();
     const MethodSettings settings = renderer.settings();  // as made: measure_render configures it again
-    const FrameInput frame = sim.frame_input();  // the method and its reference draw the very same frame
+    const FrameInput frame = sim.frame_input();           // the method and its reference draw the very same frame
     const RenderMeasurement m = measure_render(ctx, renderer, frame, camera, settings, 2);
     const RenderStats& stats = m.stats;
     std::vector<std::pair<std::string, Image>> images{{"image.png", m.frame.color}};
-    nlohmann::json record = {{"label", renderer.method()}, {"method", renderer.method()}, {"width", renderer.width()},
-                             {"height", renderer.height()}, {"particles", n}, {"ms_total", m.ms_total},
-                             {"ms_per_pass", m.ms_per_pass}, {"stats", stats.describe()}};
+    nlohmann::json record = {{"label", renderer.method()},
+                             {"method", renderer.method()},
+                             {"width", renderer.width()},
+                             {"height", renderer.height()},
+                             {"particles", n},
+                             {"ms_total", m.ms_total},
+                             {"ms_per_pass", m.ms_per_pass},
+                             {"stats", stats.describe()}};
     print_render_header();
     if (with_reference) {
-        auto reference = render_registry().create(ctx, solver.scene().particle_domain(), renderer.width(), renderer.height(), n,
-                                                  render_registry().find("reference")->defaults);
+        auto reference = render_registry().create(ctx, solver.scene().particle_domain(), renderer.width(),
+                                                  renderer.height(), n, render_registry().find("reference")->defaults);
         const SurfaceFrame ref = reference->render(frame, camera);
         const float radius = 0.5f * solver.scene().particle_spacing;
         const SurfaceComparison cmp = compare_surfaces(ref, m.frame, radius);
@@ -41,7 +46,8 @@ FrameRenderReport other_family_report(gpu::Context& ctx, Renderer& renderer, ses
         record["psnr_db"] = cmp.psnr_db;
         images.emplace_back("reference.png", ref.color);
         const SurfaceErrorMaps errors = surface_error_maps(ref, m.frame, radius);
-        images.emplace_back("depth_error.png", heat_map(errors.depth_err, renderer.width(), renderer.height(), 1.0f, &m.frame.color));
+        images.emplace_back("depth_error.png",
+                            heat_map(errors.depth_err, renderer.width(), renderer.height(), 1.0f, &m.frame.color));
     } else {
         print_render_row(renderer.method(), m, nullptr);
     }
@@ -69,7 +75,8 @@ FrameRenderReport render_frame_report(gpu::Context& ctx, Renderer& made, session
     nlohmann::json report;
     print_render_header();
     if (settings->method != SurfaceMethod::reference && with_reference) {
-        RenderMeasurement ref = measure_render(ctx, made, frame, camera, render_registry().find("reference")->defaults, 1);
+        RenderMeasurement ref =
+            measure_render(ctx, made, frame, camera, render_registry().find("reference")->defaults, 1);
         const SurfaceComparison cmp = compare_surfaces(ref.frame, m.frame, renderer.params().particle_radius);
         print_render_row(method_name(settings->method), m, &cmp);
         print_render_row("reference", ref, nullptr);
@@ -77,7 +84,8 @@ FrameRenderReport render_frame_report(gpu::Context& ctx, Renderer& made, session
         report["reference"] = render_record("reference", ref, nullptr);
         images.emplace_back("reference.png", ref.frame.color);
         const SurfaceErrorMaps errors = surface_error_maps(ref.frame, m.frame, renderer.params().particle_radius);
-        images.emplace_back("depth_error.png", heat_map(errors.depth_err, made.width(), made.height(), 1.0f, &m.frame.color));
+        images.emplace_back("depth_error.png",
+                            heat_map(errors.depth_err, made.width(), made.height(), 1.0f, &m.frame.color));
     } else {
         print_render_row(method_name(settings->method), m, nullptr);
         report["render"] = render_record(method_name(settings->method), m, nullptr);

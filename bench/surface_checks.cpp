@@ -38,7 +38,8 @@ Sheet one_particle_thick_sheet(glm::vec3 corner, float spacing, int n, float pit
     for (int x = 0; x < n; ++x)
         for (int y = 0; y < n; ++y) {
             const float jx = unit(rng), jy = unit(rng), jz = unit(rng);  // drawn in order: the same sheet everywhere
-            sheet.particles.emplace_back(corner.x + (pitch * x + jitter * jx) * spacing, corner.y + (pitch * y + jitter * jy) * spacing,
+            sheet.particles.emplace_back(corner.x + (pitch * x + jitter * jx) * spacing,
+                                         corner.y + (pitch * y + jitter * jy) * spacing,
                                          corner.z + 0.15f * jitter * jz * spacing, 0.0f);
         }
     return sheet;

@@ -45,17 +45,21 @@ ordered_json character_animation(const geometry::Skeleton& skeleton) {
 /// Each element of `array` on its own line, compact: short to read and diff, easy to copy into a scene.
 std::string one_per_line(const ordered_json& array, const std::string& indent) {
     std::string s = "[\n";
-    for (size_t i = 0; i < array.size(); ++i) s += indent + "  " + array[i].dump() + (i + 1 < array.size() ? ",\n" : "\n");
+    for (size_t i = 0; i < array.size(); ++i)
+        s += indent + "  " + array[i].dump() + (i + 1 < array.size() ? ",\n" : "\n");
     return s + indent + "]";
 }
 
 std::string animation_text(const ordered_json& j) {
-    return "{\n  \"skeleton\": {\"bones\": " + one_per_line(j["skeleton"]["bones"], "  ") + "},\n  \"keyframes\": " +
-           one_per_line(j["keyframes"], "  ") + ",\n  \"loop\": " + j["loop"].dump() + "\n}\n";
+    return "{\n  \"skeleton\": {\"bones\": " + one_per_line(j["skeleton"]["bones"], "  ") +
+           "},\n  \"keyframes\": " + one_per_line(j["keyframes"], "  ") + ",\n  \"loop\": " + j["loop"].dump() +
+           "\n}\n";
 }
 
 }  // namespace
 
-std::string character_walk_text(const geometry::Skeleton& skeleton) { return animation_text(character_animation(skeleton)); }
+std::string character_walk_text(const geometry::Skeleton& skeleton) {
+    return animation_text(character_animation(skeleton));
+}
 
 }  // namespace aquaform::control

@@ -7,8 +7,8 @@
 #include <cstdio>
 
 #include "control/placement.h"
-#include "sim/pbf_params.h"
 #include "gpu/staging.h"
+#include "sim/pbf_params.h"
 
 namespace aquaform::control {
 
@@ -60,7 +60,9 @@ const std::vector<glm::vec3>& ControlDriver::base_points(int mesh) {
         const geometry::Mesh& rest = m.animation.placed_rest();
         const glm::vec3 origin = lattice_origin(scene_, section_.spacing);
         switch (m.method) {
-            case PlacementMethod::vertices: base_points_[mesh] = place_on_vertices(rest, section_.spacing).points; break;
+            case PlacementMethod::vertices:
+                base_points_[mesh] = place_on_vertices(rest, section_.spacing).points;
+                break;
             case PlacementMethod::inside:
                 base_points_[mesh] = place_inside(rest.triangle_soup(), section_.spacing, false, 1, origin).points;
                 break;

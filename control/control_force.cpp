@@ -4,10 +4,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/error.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "gpu/timer.h"
-#include "core/error.h"
 
 namespace aquaform::control {
 
@@ -48,7 +48,7 @@ void ControlForce::set_points(const std::vector<glm::vec4>& cpu_points, const st
     for (const auto& g : gpu_points) total += g.count;
     if (total >= (1ull << 24))
         throw resource_failure(std::to_string(total) +
-                                 " control points is more than 16,777,216; increase the control spacing");
+                               " control points is more than 16,777,216; increase the control spacing");
     count_ = uint32_t(total);
     reserve(count_);
     gpu::UploadBatch uploads(*ctx_);  // the points join the grid's submission
@@ -63,14 +63,15 @@ void ControlForce::set_points(const std::vector<glm::vec4>& cpu_points, const st
             offset += copy.size;
         }
         grid_->build(cmd, *points_, count_, nullptr);
-        gpu::dispatch(*ctx_, cmd, gather_, count_, shader::CountPush{count_}, {{"points", points_}, {"order", &grid_->order()}, {"sorted", sorted_}});
+        gpu::dispatch(*ctx_, cmd, gather_, count_, shader::CountPush{count_},
+                      {{"points", points_}, {"order", &grid_->order()}, {"sorted", sorted_}});
     });
 }
 
 void ControlForce::set_sets(const std::vector<ForceSet>& sets) {
     if (sets.size() > CONTROL_MAX_SETS)
         throw resource_failure(std::to_string(sets.size()) + " control sets are active at once; at most " +
-                                 std::to_string(CONTROL_MAX_SETS) + " can be: release some before attaching more");
+                               std::to_string(CONTROL_MAX_SETS) + " can be: release some before attaching more");
     params_.set_count = uint32_t(sets.size());
     active_ = false;
     for (size_t i = 0; i < sets.size(); ++i) {
@@ -87,7 +88,13 @@ void ControlForce::record(VkCommandBuffer cmd, const gpu::Buffer& sim_params, co
     if (!active_ || count_ == 0) return;  // released: the fluid runs plain physics at no cost
     gpu::GpuScope s(timer, cmd, "control_force");
     gpu::dispatch(*ctx_, cmd, force_, count, shader::CountPush{count},
-                  {{"sim", &sim_params}, {"control", params_buf_}, {"x", &x}, {"v", &v}, {"points", sorted_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}});
+                  {{"sim", &sim_params},
+                   {"control", params_buf_},
+                   {"x", &x},
+                   {"v", &v},
+                   {"points", sorted_},
+                   {"cell_rank", &grid_->cell_rank()},
+                   {"cell_start", &grid_->cell_start()}});
 }
 
 std::vector<glm::vec4> ControlForce::download_points() const {

@@ -12,8 +12,8 @@
 
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
-#include "shaders/shared/control/control_layout.h"
 #include "grid/neighbor_grid.h"
+#include "shaders/shared/control/control_layout.h"
 #include "sim/pbf_solver.h"
 #include "sim/scene.h"
 
@@ -25,9 +25,9 @@ inline constexpr float kDefaultDamping = 5.0f;
 
 /// One control set (a mesh's points) as the force sees it.
 struct ForceSet {
-    float pressure = 0.0f;      ///< control pressure P [Pa], a suction: > 0 attracts
-    float weight = 1.0f;        ///< blend weight in [0, 1] (cross-fading morphs)
-    uint32_t tag_mask = ~0u;    ///< fluid tags it acts on (bit t: tag t)
+    float pressure = 0.0f;    ///< control pressure P [Pa], a suction: > 0 attracts
+    float weight = 1.0f;      ///< blend weight in [0, 1] (cross-fading morphs)
+    uint32_t tag_mask = ~0u;  ///< fluid tags it acts on (bit t: tag t)
 };
 
 class ControlForce final : public StepForce {

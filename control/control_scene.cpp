@@ -30,7 +30,8 @@ ControlMesh read_mesh(const json& v, const std::string& name, const std::string&
         fail(path + " must be an object such as {\"file\": \"../meshes/sphere.obj\"}, got " + written(v));
     check_keys(v, "in " + path, kMeshKeys);
     MeshSpec spec;
-    if (v.contains("animation")) spec.animation = geometry::parse_animation(v["animation"], path + ".animation", base_dir);
+    if (v.contains("animation"))
+        spec.animation = geometry::parse_animation(v["animation"], path + ".animation", base_dir);
     const bool sequence = std::holds_alternative<geometry::SequenceAnimation>(spec.animation.kind());
     if (!sequence) require(v, "file", "in " + path, "\"file\": \"../meshes/sphere.obj\"");
     if (v.contains("method")) spec.method = read_method(v["method"], path + ".method");
@@ -44,8 +45,8 @@ ControlMesh read_mesh(const json& v, const std::string& name, const std::string&
         if (!result) fail(path + ".file: " + result.error());
         loaded = std::move(result.value());
     }
-    return bind_control_mesh(name, file, loaded ? &loaded->mesh : nullptr, loaded ? loaded->report : geometry::MeshReport{},
-                             std::move(spec), path);
+    return bind_control_mesh(name, file, loaded ? &loaded->mesh : nullptr,
+                             loaded ? loaded->report : geometry::MeshReport{}, std::move(spec), path);
 }
 
 /// A shape placed outside the domain holds no fluid, and one reaching out of it can never fill:
@@ -56,8 +57,8 @@ void check_inside_domain(const ControlMesh& mesh, const Box& domain, float slack
     for (int a = 0; a < 3; ++a)
         if (b.min[a] < domain.min[a] - slack || b.max[a] > domain.max[a] + slack)
             fail(path + " is placed at " + fmt(b) + ", which reaches outside the domain " + fmt(domain) + " on " +
-                 "xyz"[a] + "; fluid cannot go there, so the shape could never fill: move or scale it inside (" +
-                 path + ".placement: fit_into within the domain, or position and scale)");
+                 "xyz"[a] + "; fluid cannot go there, so the shape could never fill: move or scale it inside (" + path +
+                 ".placement: fit_into within the domain, or position and scale)");
 }
 
 ControlSection read_section(const json& j, const Scene& scene, const std::filesystem::path& base_dir) {
@@ -84,11 +85,14 @@ ControlSection read_section(const json& j, const Scene& scene, const std::filesy
     }
     s.damping = kDefaultDamping;
     if (j.contains("damping"))
-        s.damping = read_number(j["damping"], "control.damping", {0.0, 100.0, false, false, "a rate from 0 to 100 per second"});
+        s.damping =
+            read_number(j["damping"], "control.damping", {0.0, 100.0, false, false, "a rate from 0 to 100 per second"});
     const json& meshes = j["meshes"];
     if (!meshes.is_object() || meshes.empty())
-        fail("control.meshes must be a non-empty object of named meshes, e.g. {\"ball\": {\"file\": "
-             "\"../meshes/sphere.obj\"}}, got " + written(meshes));
+        fail(
+            "control.meshes must be a non-empty object of named meshes, e.g. {\"ball\": {\"file\": "
+            "\"../meshes/sphere.obj\"}}, got " +
+            written(meshes));
     std::vector<std::string> names;
     for (const auto& [name, entry] : meshes.items()) {
         names.push_back(name);

@@ -7,9 +7,12 @@ namespace aquaform::control {
 
 const char* method_name(PlacementMethod method) {
     switch (method) {
-        case PlacementMethod::vertices: return "vertices";
-        case PlacementMethod::inside: return "inside";
-        case PlacementMethod::raster: return "raster";
+        case PlacementMethod::vertices:
+            return "vertices";
+        case PlacementMethod::inside:
+            return "inside";
+        case PlacementMethod::raster:
+            return "raster";
     }
     return "?";
 }

@@ -9,10 +9,10 @@
 
 #include <glm/glm.hpp>
 
-#include "geometry/animation.h"
-#include "geometry/mesh.h"
 #include "control/strength.h"
 #include "control/timeline.h"
+#include "geometry/animation.h"
+#include "geometry/mesh.h"
 
 namespace aquaform::control {
 
@@ -24,8 +24,8 @@ struct ControlMesh {
     std::string name;
     std::filesystem::path file;  ///< empty for an OBJ sequence (its frames are in the animation)
     PlacementMethod method = PlacementMethod::inside;
-    geometry::MeshAnimation animation;     ///< bound to the mesh and its placement
-    geometry::MeshReport report;           ///< of the rest mesh as loaded
+    geometry::MeshAnimation animation;  ///< bound to the mesh and its placement
+    geometry::MeshReport report;        ///< of the rest mesh as loaded
 };
 
 struct ControlSection {

@@ -42,12 +42,12 @@ constexpr double kOutputBytesPerPoint = sizeof(glm::vec3) + 36.0;
 double planned_inside_bytes(const geometry::LoadedMesh& loaded, float spacing) {
     const Box bounds = loaded.mesh.bounds();
     const double kept = expected_inside_points(bounds, spacing, loaded.report);
-    return std::max(place_inside_bytes(bounds, spacing, loaded.mesh.faces.size(), kept),
-                    kept * kOutputBytesPerPoint);
+    return std::max(place_inside_bytes(bounds, spacing, loaded.mesh.faces.size(), kept), kept * kOutputBytesPerPoint);
 }
 
-std::optional<std::string> placement_memory_refusal(const std::string& method, const geometry::LoadedMesh& loaded, float spacing,
-                                                    double host, const std::function<double()>& device_bytes) {
+std::optional<std::string> placement_memory_refusal(const std::string& method, const geometry::LoadedMesh& loaded,
+                                                    float spacing, double host,
+                                                    const std::function<double()>& device_bytes) {
     const geometry::Mesh& mesh = loaded.mesh;
     const Box bounds = mesh.bounds();
     if (method == "vertices")
@@ -61,20 +61,20 @@ std::optional<std::string> placement_memory_refusal(const std::string& method, c
     const double over = std::max(columns / double(1u << 26), points / double(1u << 30));
     if (over > 1.0) {  // the rasteriser's own limits (2^26 columns) and 32-bit point counts
         char message[300];
-        std::snprintf(message, sizeof message,
-                      "--method raster at --spacing %g needs %.3g lattice columns and up to %.3g points (at most %u and "
-                      "%u); use --spacing %.3g or larger",
-                      spacing, columns, points, 1u << 26, 1u << 30, spacing * std::sqrt(over) * 1.05);
+        std::snprintf(
+            message, sizeof message,
+            "--method raster at --spacing %g needs %.3g lattice columns and up to %.3g points (at most %u and "
+            "%u); use --spacing %.3g or larger",
+            spacing, columns, points, 1u << 26, 1u << 30, spacing * std::sqrt(over) * 1.05);
         return std::string(message);
     }
-    const double device = 1.25 * (columns * (4.0 + RASTER_MAX_LAYERS * 8.0) + double(mesh.faces.size()) * 48.0) +
-                          points * 16.0;
+    const double device =
+        1.25 * (columns * (4.0 + RASTER_MAX_LAYERS * 8.0) + double(mesh.faces.size()) * 48.0) + points * 16.0;
     // The download (vec4) and the sorted copy, then the output.
     const double host_bytes = std::max(points * (sizeof(glm::vec4) + sizeof(glm::vec3)), points * kOutputBytesPerPoint);
     if (auto refusal = memory_refusal("--method raster (host copy of the points)", host_bytes, host, spacing, 3.0))
         return refusal;
-    return memory_refusal("--method raster (device memory)", device, device_bytes(),
-                          spacing, 3.0);
+    return memory_refusal("--method raster (device memory)", device, device_bytes(), spacing, 3.0);
 }
 
 double expected_ply_bytes(const std::string& method, const geometry::LoadedMesh& loaded, float spacing) {
@@ -91,8 +91,8 @@ PlacementRun place_by_method(const std::string& method, const geometry::LoadedMe
     if (method == "inside") points = place_inside(mesh.triangle_soup(), spacing);
     if (method == "raster") points = place_raster(context(), mesh.triangle_soup(), spacing, {}, &raster);
     char summary[256];
-    std::snprintf(summary, sizeof summary, "method %s, spacing %g: %zu control points in %.1f ms", method.c_str(), spacing,
-                  points.points.size(), points.ms);
+    std::snprintf(summary, sizeof summary, "method %s, spacing %g: %zu control points in %.1f ms", method.c_str(),
+                  spacing, points.points.size(), points.ms);
     std::string line = summary;
     if (method == "inside") {
         std::snprintf(summary, sizeof summary, " (memory planned: %.0f MB, the output included)",

@@ -9,8 +9,8 @@
 #include <optional>
 #include <string>
 
-#include "geometry/mesh.h"
 #include "control/placement.h"
+#include "geometry/mesh.h"
 
 namespace aquaform::gpu {
 class Context;
@@ -24,8 +24,9 @@ double planned_inside_bytes(const geometry::LoadedMesh& loaded, float spacing);
 /// Why placing by `method` (vertices, inside or raster) at `spacing` would not fit: the need,
 /// what is available and the --spacing that would fit; nullopt when it fits. `host`: the
 /// host memory available; `device_bytes` is asked for the raster method only (it may open a device).
-std::optional<std::string> placement_memory_refusal(const std::string& method, const geometry::LoadedMesh& loaded, float spacing,
-                                                    double host, const std::function<double()>& device_bytes);
+std::optional<std::string> placement_memory_refusal(const std::string& method, const geometry::LoadedMesh& loaded,
+                                                    float spacing, double host,
+                                                    const std::function<double()>& device_bytes);
 
 /// Bytes of the points.ply a placement writes (36 a point: position, velocity, density, id, tag).
 double expected_ply_bytes(const std::string& method, const geometry::LoadedMesh& loaded, float spacing);

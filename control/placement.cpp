@@ -2,16 +2,16 @@
 
 #include <algorithm>
 #include <chrono>
-#include <optional>
 #include <cmath>
+#include <optional>
 #include <random>
 #include <unordered_map>
 #include <unordered_set>
 
-#include "geometry/inside.h"
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "core/progress.h"
+#include "geometry/inside.h"
 
 namespace aquaform::control {
 
@@ -146,7 +146,8 @@ double vertex_candidate_count(const geometry::Mesh& mesh, float spacing) {
 double place_on_vertices_bytes(const geometry::Mesh& mesh, float spacing) {
     // Candidates, kept points and the thinning grid's entries (a hash node per point); the set of
     // visited edges (a hash node each, 1.5 edges per face).
-    return vertex_candidate_count(mesh, spacing) * (2.0 * sizeof(glm::vec3) + 48.0) + 1.5 * 40.0 * double(mesh.faces.size());
+    return vertex_candidate_count(mesh, spacing) * (2.0 * sizeof(glm::vec3) + 48.0) +
+           1.5 * 40.0 * double(mesh.faces.size());
 }
 
 ControlPoints place_inside(const std::vector<glm::vec3>& triangles, float spacing, bool jitter, uint32_t seed,

@@ -16,8 +16,8 @@ namespace aquaform::control {
 
 struct ControlPoints {
     std::vector<glm::vec3> points;
-    std::string method;  ///< "vertices", "inside" (+ " jittered") or "raster"
-    double ms = 0.0;     ///< wall time of the placement
+    std::string method;    ///< "vertices", "inside" (+ " jittered") or "raster"
+    double ms = 0.0;       ///< wall time of the placement
     bool complete = true;  ///< false when Ctrl-C stopped the placement: `points` is then partial
 };
 

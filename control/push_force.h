@@ -24,8 +24,8 @@ public:
     std::string pass_name() const override { return "push_force"; }
     const shader::PushParams& params() const { return params_; }
 
-    void record(VkCommandBuffer cmd, const gpu::Buffer& sim_params, const gpu::Buffer& x, gpu::Buffer& v, uint32_t count,
-                gpu::GpuTimer* timer) override;
+    void record(VkCommandBuffer cmd, const gpu::Buffer& sim_params, const gpu::Buffer& x, gpu::Buffer& v,
+                uint32_t count, gpu::GpuTimer* timer) override;
 
 private:
     gpu::Context* ctx_;

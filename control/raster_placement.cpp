@@ -7,11 +7,11 @@
 #include <string>
 #include <tuple>
 
+#include "core/error.h"
 #include "gpu/barriers.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "shaders/shared/control/raster_layout.h"
-#include "core/error.h"
 
 namespace aquaform::control {
 
@@ -31,7 +31,7 @@ double max_threads(const gpu::Context& ctx, uint32_t workgroup) {
     return double(ctx.limits().maxComputeWorkGroupCount[0]) * workgroup;
 }
 
-constexpr VkDeviceSize kLayerBytes = 2 * sizeof(float);  // (z, step)
+constexpr VkDeviceSize kLayerBytes = 2 * sizeof(float);         // (z, step)
 constexpr VkDeviceSize kTriangleBytes = 3 * sizeof(glm::vec4);  // its corners
 
 /// raster_fill.comp counts each column's points (emit 0) or writes them at the column's offset (emit 1).
@@ -46,12 +46,12 @@ glm::ivec4 pixel_rect(const Box& bounds, float spacing, glm::vec3 origin, double
     const glm::dvec2 high = glm::ceil((glm::dvec2(bounds.max) - glm::dvec2(origin)) / double(spacing)) + 1.0;
     const glm::dvec2 size = high - low + 1.0;
     const double limit = double(1 << 30);
-    if (!(std::abs(low.x) < limit && std::abs(low.y) < limit && std::abs(high.x) < limit &&
-          std::abs(high.y) < limit && size.x * size.y <= max_pixels))
-        throw Failure("raster placement: the mesh spans " + std::to_string(size.x) + " x " +
-                                    std::to_string(size.y) + " lattice columns at spacing " +
-                                    std::to_string(spacing) + " (at most " + std::to_string(uint64_t(max_pixels)) +
-                                    "); use a larger spacing or a lattice origin nearer the mesh");
+    if (!(std::abs(low.x) < limit && std::abs(low.y) < limit && std::abs(high.x) < limit && std::abs(high.y) < limit &&
+          size.x * size.y <= max_pixels))
+        throw Failure("raster placement: the mesh spans " + std::to_string(size.x) + " x " + std::to_string(size.y) +
+                      " lattice columns at spacing " + std::to_string(spacing) + " (at most " +
+                      std::to_string(uint64_t(max_pixels)) +
+                      "); use a larger spacing or a lattice origin nearer the mesh");
     return glm::ivec4(int(low.x), int(low.y), int(size.x), int(size.y));
 }
 
@@ -60,7 +60,8 @@ glm::ivec4 pixel_rect(const Box& bounds, float spacing, glm::vec3 origin, double
 RasterPlacer::RasterPlacer(gpu::Context& ctx, uint32_t max_triangles, uint32_t max_points, uint32_t max_pixels)
     : ctx_(&ctx),
       layers_pass_(ctx, {"control/raster_layers.comp", 3, sizeof(shader::RasterPush), RASTER_LAYERS_WORKGROUP}),
-      count_pass_(ctx, raster_fill(0u)), emit_pass_(ctx, raster_fill(1u)),
+      count_pass_(ctx, raster_fill(0u)),
+      emit_pass_(ctx, raster_fill(1u)),
       timer_(ctx, 4) {
     reserve_triangles(max_triangles * kTriangleBytes);
     grow(layer_count_, "raster.layer_count", VkDeviceSize(max_pixels) * sizeof(uint32_t), gpu::MemoryUse::device);
@@ -120,13 +121,17 @@ void RasterPlacer::record_placement(VkCommandBuffer cmd, const shader::RasterPus
     gpu::fill(*ctx_, cmd, *column_offsets_, 0, VkDeviceSize(pixels + 1) * sizeof(uint32_t));
     {
         gpu::GpuScope scope(&timer_, cmd, "raster_layers");
-        gpu::dispatch(*ctx_, cmd, layers_pass_, push.triangle_count, push, {{"corners", &triangles_}, {"layer_count", &layer_count_}, {"layers", &layers_}});
+        gpu::dispatch(*ctx_, cmd, layers_pass_, push.triangle_count, push,
+                      {{"corners", &triangles_}, {"layer_count", &layer_count_}, {"layers", &layers_}});
     }
     // Count, scan, emit: each column writes its points at its offset in the scan, so the list is
     // in column order on every run (an atomic counter handing out slots would give the order
     // the threads ran in, and the control force's sums over the list would differ run to run).
-    const gpu::Bindings fill_buffers = {{"layer_count", &layer_count_}, {"layers", &layers_}, {"counters", &counters_},
-                                        {"points", &points_}, {"column_offsets", column_offsets_}};
+    const gpu::Bindings fill_buffers = {{"layer_count", &layer_count_},
+                                        {"layers", &layers_},
+                                        {"counters", &counters_},
+                                        {"points", &points_},
+                                        {"column_offsets", column_offsets_}};
     {
         gpu::GpuScope scope(&timer_, cmd, "raster_count");
         gpu::dispatch(*ctx_, cmd, count_pass_, pixels, push, fill_buffers);
@@ -144,22 +149,21 @@ void RasterPlacer::record_placement(VkCommandBuffer cmd, const shader::RasterPus
     gpu::host_read_barrier(cmd);
 }
 
-RasterStats RasterPlacer::place_on_gpu(const std::vector<glm::vec3>& triangles, float spacing,
-                                       glm::vec3 lattice_origin, float w_value) {
+RasterStats RasterPlacer::place_on_gpu(const std::vector<glm::vec3>& triangles, float spacing, glm::vec3 lattice_origin,
+                                       float w_value) {
     const auto start = Clock::now();
     if (!(spacing > 0.0f) || !std::isfinite(spacing))
-        throw Failure("raster placement: the spacing must be a positive number, got " +
-                                    std::to_string(spacing));
+        throw Failure("raster placement: the spacing must be a positive number, got " + std::to_string(spacing));
     if (triangles.size() % 3 != 0)
         throw Failure("raster placement: " + std::to_string(triangles.size()) +
-                                    " corners do not make whole triangles (three per triangle)");
+                      " corners do not make whole triangles (three per triangle)");
     RasterStats stats;
     const uint32_t triangle_count = uint32_t(triangles.size() / 3);
     if (triangle_count == 0) return stats;
 
     if (triangle_count > max_threads(*ctx_, RASTER_LAYERS_WORKGROUP))
         throw Failure("raster placement: " + std::to_string(triangle_count) + " triangles, more than " +
-                                    ctx_->info().name + " can rasterise in one pass; simplify the mesh");
+                      ctx_->info().name + " can rasterise in one pass; simplify the mesh");
     const glm::ivec4 rect = pixel_rect(bounds_of(triangles), spacing, lattice_origin,
                                        std::min(kMaxPixels, max_threads(*ctx_, RASTER_FILL_WORKGROUP)));
     stats.pixels = uint32_t(rect.z) * uint32_t(rect.w);
@@ -173,7 +177,8 @@ RasterStats RasterPlacer::place_on_gpu(const std::vector<glm::vec3>& triangles, 
         grow(layers_, "raster.layers", headroom(VkDeviceSize(stats.pixels) * RASTER_MAX_LAYERS * kLayerBytes),
              gpu::MemoryUse::device);
     }
-    if (column_capacity_ < stats.pixels) reserve_columns(uint32_t(std::min(headroom(stats.pixels), VkDeviceSize(kMaxPixels))));
+    if (column_capacity_ < stats.pixels)
+        reserve_columns(uint32_t(std::min(headroom(stats.pixels), VkDeviceSize(kMaxPixels))));
     auto* corners = static_cast<glm::vec4*>(triangles_staging_.mapped);
     for (size_t i = 0; i < triangles.size(); ++i) corners[i] = glm::vec4(triangles[i], 1.0f);
 
@@ -204,8 +209,7 @@ ControlPoints place_raster(gpu::Context& ctx, const std::vector<glm::vec3>& tria
     ControlPoints result;
     result.method = "raster";
     if (!(spacing > 0.0f) || !std::isfinite(spacing))
-        throw Failure("raster placement: the spacing must be a positive number, got " +
-                                    std::to_string(spacing));
+        throw Failure("raster placement: the spacing must be a positive number, got " + std::to_string(spacing));
     const Box bounds = bounds_of(triangles);
     const glm::vec3 origin = lattice_origin.value_or(centred_lattice_origin(bounds, spacing));
     // First guess: half the lattice points of the bounding box (a sphere fills 52 %), at most 2^22;
@@ -224,9 +228,8 @@ ControlPoints place_raster(gpu::Context& ctx, const std::vector<glm::vec3>& tria
     for (const glm::vec4& point : points) result.points.emplace_back(point);
     // The GPU writes the points in column order (y, x, z), the same every run; place_inside() and
     // the callers use layer order (z, y, x), so both methods give identical lists.
-    std::sort(result.points.begin(), result.points.end(), [](const glm::vec3& a, const glm::vec3& b) {
-        return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x);
-    });
+    std::sort(result.points.begin(), result.points.end(),
+              [](const glm::vec3& a, const glm::vec3& b) { return std::tie(a.z, a.y, a.x) < std::tie(b.z, b.y, b.x); });
     result.ms = milliseconds_since(start);
     if (stats_out) *stats_out = stats;
     return result;

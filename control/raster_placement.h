@@ -77,11 +77,12 @@ private:
     /// Column offsets and the prefix sum over them for at least `pixels` columns.
     void reserve_columns(uint32_t pixels);
     /// The placement's passes for `pixels` columns (the corners uploaded, the counters read back).
-    void record_placement(VkCommandBuffer cmd, const shader::RasterPush& push, VkDeviceSize corner_bytes, uint32_t pixels);
+    void record_placement(VkCommandBuffer cmd, const shader::RasterPush& push, VkDeviceSize corner_bytes,
+                          uint32_t pixels);
     /// The buffers this placer owns outright (the column buffers are a set of their own).
     template <class Self>
     static auto own_buffers(Self& self) {
-        return std::array{&self.triangles_staging_, &self.triangles_, &self.layer_count_,      &self.layers_,
+        return std::array{&self.triangles_staging_, &self.triangles_,         &self.layer_count_, &self.layers_,
                           &self.counters_,          &self.counters_readback_, &self.points_};
     }
 

@@ -10,8 +10,8 @@ namespace aquaform::control {
 
 using json_fields::fmt;
 
-ControlMesh bind_control_mesh(std::string name, std::filesystem::path file, const geometry::Mesh* rest, const geometry::MeshReport& report,
-                              MeshSpec spec, const std::string& path) {
+ControlMesh bind_control_mesh(std::string name, std::filesystem::path file, const geometry::Mesh* rest,
+                              const geometry::MeshReport& report, MeshSpec spec, const std::string& path) {
     ControlMesh mesh;
     mesh.name = std::move(name);
     mesh.file = std::move(file);
@@ -33,7 +33,8 @@ ControlMesh bind_control_mesh(std::string name, std::filesystem::path file, cons
 }
 
 SectionBuilder::SectionBuilder(const Scene& scene)
-    : particle_spacing_(scene.particle_spacing), kernel_radius_(scene.solver.kernel_radius_factor * scene.particle_spacing) {
+    : particle_spacing_(scene.particle_spacing),
+      kernel_radius_(scene.solver.kernel_radius_factor * scene.particle_spacing) {
     section_.spacing = scene.particle_spacing;
     section_.damping = kDefaultDamping;
 }
@@ -51,7 +52,8 @@ SectionBuilder& SectionBuilder::spacing(float metres) {
 }
 
 SectionBuilder& SectionBuilder::pressure(float pascal) {
-    if (!(pascal > 0.0f && std::isfinite(pascal))) fail("control.pressure is " + fmt(pascal) + "; use a positive number");
+    if (!(pascal > 0.0f && std::isfinite(pascal)))
+        fail("control.pressure is " + fmt(pascal) + "; use a positive number");
     section_.overrides.pressure = pascal;
     return *this;
 }
@@ -95,7 +97,8 @@ SectionBuilder& SectionBuilder::mesh(const std::string& name, const std::filesys
 SectionBuilder& SectionBuilder::mesh(const std::string& name, const geometry::Mesh& rest, MeshSpec spec) {
     const std::string path = "control.meshes." + name;
     try {
-        section_.meshes.push_back(bind_control_mesh(name, {}, &rest, geometry::check_mesh(rest), std::move(spec), path));
+        section_.meshes.push_back(
+            bind_control_mesh(name, {}, &rest, geometry::check_mesh(rest), std::move(spec), path));
     } catch (const json_fields::Invalid& e) {
         fail(e.message);
     }
@@ -147,7 +150,8 @@ Result<ControlSection> SectionBuilder::build() const {
     for (size_t i = 0; i < section_.meshes.size(); ++i)
         for (size_t j = 0; j < i; ++j)
             if (section_.meshes[i].name == section_.meshes[j].name)
-                return Error{"control.meshes has two meshes named \"" + section_.meshes[i].name + "\"; give each its own name"};
+                return Error{"control.meshes has two meshes named \"" + section_.meshes[i].name +
+                             "\"; give each its own name"};
     ControlSection section = section_;
     section.timeline = Timeline(events_);
     return section;

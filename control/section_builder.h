@@ -32,8 +32,8 @@ struct MeshSpec {
 /// A ControlMesh named `name` from its rest mesh (`file` as loaded, or none for an OBJ sequence)
 /// and spec: checks the method against the animation and binds the animation. `path` names the
 /// mesh in messages ("control.meshes.ball"). Throws json_fields::Invalid.
-ControlMesh bind_control_mesh(std::string name, std::filesystem::path file, const geometry::Mesh* rest, const geometry::MeshReport& report,
-                              MeshSpec spec, const std::string& path);
+ControlMesh bind_control_mesh(std::string name, std::filesystem::path file, const geometry::Mesh* rest,
+                              const geometry::MeshReport& report, MeshSpec spec, const std::string& path);
 
 class SectionBuilder {
 public:

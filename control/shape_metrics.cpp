@@ -10,9 +10,7 @@ namespace aquaform::control {
 
 glm::ivec3 VoxelLattice::index_of(const glm::vec3& p) const { return glm::ivec3(glm::floor((p - origin) / spacing)); }
 
-glm::vec3 VoxelLattice::centre(const glm::ivec3& index) const {
-    return origin + spacing * (glm::vec3(index) + 0.5f);
-}
+glm::vec3 VoxelLattice::centre(const glm::ivec3& index) const { return origin + spacing * (glm::vec3(index) + 0.5f); }
 
 uint64_t VoxelLattice::key(const glm::ivec3& index) {
     constexpr int64_t kOffset = 1 << 20;

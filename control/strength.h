@@ -48,13 +48,13 @@ struct StrengthOverrides {
 };
 
 struct Strength {
-    float support = 0.0f;          ///< H [m]
-    float pressure = 0.0f;         ///< P [Pa], what the force uses
-    float hold_pressure = 0.0f;    ///< P_hold [Pa]
-    float stable_pressure = 0.0f;  ///< largest quiet P at the chosen substeps [Pa]
-    uint32_t substeps = 0;         ///< solver steps per frame the scene should run with
+    float support = 0.0f;              ///< H [m]
+    float pressure = 0.0f;             ///< P [Pa], what the force uses
+    float hold_pressure = 0.0f;        ///< P_hold [Pa]
+    float stable_pressure = 0.0f;      ///< largest quiet P at the chosen substeps [Pa]
+    uint32_t substeps = 0;             ///< solver steps per frame the scene should run with
     const char* source = "automatic";  ///< of the pressure: "automatic" or "given"
-    std::string warning;           ///< non-empty when the shape cannot be held quietly
+    std::string warning;               ///< non-empty when the shape cannot be held quietly
     /// One line for the log: the numbers and where they came from.
     std::string describe() const;
 };

@@ -37,11 +37,16 @@ uint32_t read_tags(const json& v, const std::string& path, size_t fluid_blocks) 
 
 const char* action_name(TimelineAction action) {
     switch (action) {
-        case TimelineAction::attach: return "attach";
-        case TimelineAction::union_with: return "union";
-        case TimelineAction::morph: return "morph";
-        case TimelineAction::hold: return "hold";
-        case TimelineAction::release: return "release";
+        case TimelineAction::attach:
+            return "attach";
+        case TimelineAction::union_with:
+            return "union";
+        case TimelineAction::morph:
+            return "morph";
+        case TimelineAction::hold:
+            return "hold";
+        case TimelineAction::release:
+            return "release";
     }
     return "?";
 }
@@ -65,15 +70,17 @@ Timeline Timeline::parse(const json& v, const std::string& path, const std::vect
             fail(where + ".t is " + written(e["t"]) + ", earlier than the event before it (t = " +
                  fmt(events.back().t) + "); list the events in time order");
         const json& action = e["do"];
-        const auto found = action.is_string() ? std::find(std::begin(kActions), std::end(kActions),
-                                                          action.get<std::string>())
-                                              : std::end(kActions);
+        const auto found = action.is_string()
+                               ? std::find(std::begin(kActions), std::end(kActions), action.get<std::string>())
+                               : std::end(kActions);
         if (found == std::end(kActions))
             fail(where + ".do is " + written(action) + "; it must be one of " + join(kActions));
         ev.action = TimelineAction(found - std::begin(kActions));
         const bool needs_mesh = ev.action == TimelineAction::attach || ev.action == TimelineAction::union_with ||
                                 ev.action == TimelineAction::morph;
-        if (needs_mesh) require(e, "mesh", "in " + where, "\"mesh\": \"" + (mesh_names.empty() ? std::string("ball") : mesh_names[0]) + "\"");
+        if (needs_mesh)
+            require(e, "mesh", "in " + where,
+                    "\"mesh\": \"" + (mesh_names.empty() ? std::string("ball") : mesh_names[0]) + "\"");
         if (e.contains("mesh")) {
             if (ev.action == TimelineAction::hold) fail(where + ": hold takes no mesh; remove \"mesh\"");
             const json& m = e["mesh"];
@@ -92,7 +99,8 @@ Timeline Timeline::parse(const json& v, const std::string& path, const std::vect
             ev.tag_mask = read_tags(e["tags"], where + ".tags", fluid_blocks);
         }
         if (e.contains("duration") || e.contains("mode")) {
-            if (ev.action != TimelineAction::morph) fail(where + ": \"duration\" and \"mode\" belong to morph events; remove them");
+            if (ev.action != TimelineAction::morph)
+                fail(where + ": \"duration\" and \"mode\" belong to morph events; remove them");
         }
         if (ev.action == TimelineAction::morph) {
             std::string mode = "crossfade";
@@ -118,7 +126,9 @@ std::vector<ActiveShape> Timeline::active_at(double t) const {
         if (ev.t > t) break;
         const auto same = [&](const ActiveShape& s) { return s.mesh == ev.mesh; };
         switch (ev.action) {
-            case TimelineAction::attach: active = {{ev.mesh, 1.0f, ev.tag_mask}}; break;
+            case TimelineAction::attach:
+                active = {{ev.mesh, 1.0f, ev.tag_mask}};
+                break;
             case TimelineAction::union_with:
                 std::erase_if(active, same);
                 active.push_back({ev.mesh, 1.0f, ev.tag_mask});
@@ -131,10 +141,13 @@ std::vector<ActiveShape> Timeline::active_at(double t) const {
                 active.push_back({ev.mesh, f, ev.tag_mask});
                 break;
             }
-            case TimelineAction::hold: break;
+            case TimelineAction::hold:
+                break;
             case TimelineAction::release:
-                if (ev.mesh < 0) active.clear();
-                else std::erase_if(active, same);
+                if (ev.mesh < 0)
+                    active.clear();
+                else
+                    std::erase_if(active, same);
                 break;
         }
     }

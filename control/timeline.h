@@ -23,9 +23,9 @@ enum class TimelineAction { attach, union_with, morph, hold, release };
 struct TimelineEvent {
     double t = 0.0;
     TimelineAction action = TimelineAction::attach;
-    int mesh = -1;              ///< index into the section's meshes; -1: none (hold, release all)
+    int mesh = -1;  ///< index into the section's meshes; -1: none (hold, release all)
     uint32_t tag_mask = ~0u;
-    double duration = 0.0;      ///< morph only; 0 = replace at once
+    double duration = 0.0;  ///< morph only; 0 = replace at once
 };
 
 /// A shape that pulls at some time: a mesh, its strength weight in [0, 1] and its tags.

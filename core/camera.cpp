@@ -51,7 +51,8 @@ ViewCamera camera_for_domain(const Box& domain, float aspect) {
         for (int i = 0; i < 8; ++i) {
             const glm::vec3 d = corner(i) - target;
             const float z = glm::dot(d, back);
-            distance = std::max({distance, z + std::abs(glm::dot(d, right)) / tan_x, z + std::abs(glm::dot(d, up)) / tan_y});
+            distance =
+                std::max({distance, z + std::abs(glm::dot(d, right)) / tan_x, z + std::abs(glm::dot(d, up)) / tan_y});
         }
         if (pass == 3) break;
         glm::vec2 lo(1e30f), hi(-1e30f);  // the picture of the box, in units of the frame's half size

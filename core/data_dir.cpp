@@ -10,7 +10,8 @@ std::vector<fs::path> data_dir_candidates(const std::string& what) {
     const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
     if (!ec) {
         const fs::path bin = exe.parent_path();
-        for (const fs::path& p : {bin / ".." / "share" / "aquaform" / what, bin / ".." / what, bin / ".." / ".." / what})
+        for (const fs::path& p :
+             {bin / ".." / "share" / "aquaform" / what, bin / ".." / what, bin / ".." / ".." / what})
             candidates.push_back(p.lexically_normal());
     }
 #ifdef AQUAFORM_SOURCE_DIR

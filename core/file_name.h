@@ -13,7 +13,8 @@ inline constexpr const char* kFileNameRule = "1 to 64 ASCII letters, digits, '_'
 
 inline bool is_file_name(std::string_view name) {
     const auto allowed = [](char c) {
-        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
+        return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' ||
+               c == '.';
     };
     return !name.empty() && name.size() <= 64 && name.front() != '.' && name.front() != '-' &&
            std::all_of(name.begin(), name.end(), allowed);

@@ -18,11 +18,15 @@ std::string why_not_writable(const fs::path& where, int errno_value, const std::
         case EPERM:
             return where.string() + " is not writable (permission denied); make it writable (chmod u+w " +
                    where.string() + ") or " + other;
-        case EROFS: return where.string() + " is on a read-only file system; " + other;
+        case EROFS:
+            return where.string() + " is on a read-only file system; " + other;
         case ENOSPC:
-        case EDQUOT: return "no space left on the disk of " + where.string() + "; free some or " + other;
-        case ENOTDIR: return where.string() + " has a file where a folder should be; " + other;
-        default: return "cannot write in " + where.string() + " (" + std::strerror(errno_value) + "); " + other;
+        case EDQUOT:
+            return "no space left on the disk of " + where.string() + "; free some or " + other;
+        case ENOTDIR:
+            return where.string() + " has a file where a folder should be; " + other;
+        default:
+            return "cannot write in " + where.string() + " (" + std::strerror(errno_value) + "); " + other;
     }
 }
 
@@ -35,14 +39,16 @@ fs::path folder_of(const fs::path& path) { return path.has_parent_path() ? path.
 /// the user's to fix in what they gave.
 Error::Kind kind_of(int errno_value) {
     return errno_value == ENOSPC || errno_value == EDQUOT || errno_value == EIO ? Error::Kind::resource
-                                                                               : Error::Kind::input;
+                                                                                : Error::Kind::input;
 }
 
 /// A failed write or close: errno is the stream's last system error, when it set one.
 Error write_failed(const fs::path& path, int errno_value) {
     if (errno_value == 0)
-        return Error{"writing " + path.string() + " failed part-way; check that the disk has space and the folder "
-                     "is writable, or choose another folder with --out", Error::Kind::resource};
+        return Error{"writing " + path.string() +
+                         " failed part-way; check that the disk has space and the folder "
+                         "is writable, or choose another folder with --out",
+                     Error::Kind::resource};
     return Error{"writing " + path.string() + " failed part-way: " + why_not_writable(folder_of(path), errno_value),
                  Error::Kind::resource};
 }
@@ -77,9 +83,12 @@ private:
     bool write_out() {
         for (const char* at = pbase(); at < pptr();) {
             const ssize_t n = ::write(fd_, at, size_t(pptr() - at));
-            if (n > 0) at += n;
-            else if (n < 0 && errno == EINTR) continue;
-            else return error_ = n < 0 ? errno : ENOSPC, false;
+            if (n > 0)
+                at += n;
+            else if (n < 0 && errno == EINTR)
+                continue;
+            else
+                return error_ = n < 0 ? errno : ENOSPC, false;
         }
         setp(bytes_, bytes_ + sizeof bytes_);
         return error_ == 0;
@@ -96,8 +105,8 @@ Error link_refused(const fs::path& path) {
     std::error_code ec;
     const fs::path target = fs::read_symlink(path, ec);
     return Error{path.string() + " is a symbolic link" + (ec ? std::string() : " (to " + target.string() + ")") +
-                 "; aquaform writes only where it is told, never through a link: remove the link (rm " +
-                 path.string() + ") or choose another folder with --out"};
+                 "; aquaform writes only where it is told, never through a link: remove the link (rm " + path.string() +
+                 ") or choose another folder with --out"};
 }
 
 Result<int> open_for_writing(const fs::path& path, WriteOpen how, const fs::path& named) {
@@ -113,10 +122,12 @@ Result<int> open_for_writing(const fs::path& path, WriteOpen how, const fs::path
     const fs::file_status there = fs::symlink_status(path, ec);
     if (fs::is_symlink(there)) return link_refused(name);
     if (fs::is_directory(there))
-        return Error{"cannot write " + name.string() + ": it is a folder; move it away or choose another folder with --out"};
+        return Error{"cannot write " + name.string() +
+                     ": it is a folder; move it away or choose another folder with --out"};
     // A file that is there is at fault itself (someone else's, read-only); otherwise its folder.
-    return Error{"cannot write " + name.string() + ": " + why_not_writable(fs::exists(there) ? path : folder_of(path), why),
-                 kind_of(why)};
+    return Error{
+        "cannot write " + name.string() + ": " + why_not_writable(fs::exists(there) ? path : folder_of(path), why),
+        kind_of(why)};
 }
 
 Result<bool> write_file_with(const fs::path& path, const std::function<void(std::ostream&)>& fill) {

@@ -49,17 +49,31 @@ std::optional<uint64_t> user_limit() {
     std::string digits = text;
     uint64_t unit = 1;
     switch (digits.back()) {
-        case 'K': case 'k': unit = uint64_t(1) << 10; digits.pop_back(); break;
-        case 'M': case 'm': unit = uint64_t(1) << 20; digits.pop_back(); break;
-        case 'G': case 'g': unit = uint64_t(1) << 30; digits.pop_back(); break;
+        case 'K':
+        case 'k':
+            unit = uint64_t(1) << 10;
+            digits.pop_back();
+            break;
+        case 'M':
+        case 'm':
+            unit = uint64_t(1) << 20;
+            digits.pop_back();
+            break;
+        case 'G':
+        case 'g':
+            unit = uint64_t(1) << 30;
+            digits.pop_back();
+            break;
     }
     const std::string given = std::string(kLimitVariable) + " is \"" + text + "\"";
-    const std::string fix = "give the host memory aquaform may plan for as a size, e.g. 8G, 512M or 1000000000 "
-                            "(bytes: digits with an optional K, M or G), or unset it";
+    const std::string fix =
+        "give the host memory aquaform may plan for as a size, e.g. 8G, 512M or 1000000000 "
+        "(bytes: digits with an optional K, M or G), or unset it";
     const std::optional<uint64_t> n = number_text::whole_number(digits);
     if (!n) throw Failure(given + "; " + fix);
     if (*n == 0) throw Failure(given + ", no memory at all; " + fix);
-    if (*n > std::numeric_limits<uint64_t>::max() / unit) throw Failure(given + ", more than a 64-bit count of bytes; " + fix);
+    if (*n > std::numeric_limits<uint64_t>::max() / unit)
+        throw Failure(given + ", more than a 64-bit count of bytes; " + fix);
     return *n * unit;
 }
 

@@ -32,12 +32,18 @@ std::string written(const json& v) {
 
 std::string kind_of(const json& v) {
     switch (v.type()) {
-        case json::value_t::null: return "null";
-        case json::value_t::boolean: return "a boolean";
-        case json::value_t::string: return "a string";
-        case json::value_t::object: return "an object";
-        case json::value_t::array: return "an array of " + std::to_string(v.size()) + " elements";
-        default: return "a number";
+        case json::value_t::null:
+            return "null";
+        case json::value_t::boolean:
+            return "a boolean";
+        case json::value_t::string:
+            return "a string";
+        case json::value_t::object:
+            return "an object";
+        case json::value_t::array:
+            return "an array of " + std::to_string(v.size()) + " elements";
+        default:
+            return "a number";
     }
 }
 
@@ -127,14 +133,17 @@ float read_number(const json& v, const std::string& path, const Range& r) {
     // of a non-zero value to zero or to the denormals, which lose its precision.
     float f = static_cast<float>(d);
     if (std::isinf(f) || (d != 0.0 && std::fabs(f) < FLT_MIN))
-        fail(path + " is " + written(v) + ", which a 32-bit float cannot hold; use a value between about 1e-30 "
-             "and 1e30 (it must be " + r.what + ")");
+        fail(path + " is " + written(v) +
+             ", which a 32-bit float cannot hold; use a value between about 1e-30 "
+             "and 1e30 (it must be " +
+             r.what + ")");
     return f;
 }
 
 void check_count(const json& v, const std::string& path, size_t max, const std::string& fix) {
     if (v.is_array() && v.size() > max)
-        fail(path + " has " + std::to_string(v.size()) + " elements; at most " + std::to_string(max) + " are allowed: " + fix);
+        fail(path + " has " + std::to_string(v.size()) + " elements; at most " + std::to_string(max) +
+             " are allowed: " + fix);
 }
 
 uint32_t read_integer(const json& v, const std::string& path, uint32_t lo, uint32_t hi) {
@@ -193,7 +202,8 @@ ViewCamera read_view_camera(const json& v, const std::string& path) {
     c.eye = read_vec3(v["eye"], child(path, "eye"), "an array of three numbers [x, y, z] in metres");
     c.target = read_vec3(v["target"], child(path, "target"), "an array of three numbers [x, y, z] in metres");
     if (v.contains("fov"))
-        c.fov_y_degrees = read_number(v["fov"], child(path, "fov"), {1.0, 170.0, false, false, "degrees from 1 to 170"});
+        c.fov_y_degrees =
+            read_number(v["fov"], child(path, "fov"), {1.0, 170.0, false, false, "degrees from 1 to 170"});
     if (!(glm::length(c.eye - c.target) > 0.0f)) fail(path + ": eye and target coincide; move the eye away");
     return c;
 }
@@ -238,19 +248,27 @@ std::string describe_bytes(uintmax_t bytes, uintmax_t other) {
 
 void check_json_size(uintmax_t bytes, const std::string& origin) {
     if (bytes > kMaxJsonBytes)
-        throw Invalid{origin + ": the file is " + describe_bytes(bytes, kMaxJsonBytes) + "; aquaform reads JSON files of "
-                      "at most " + describe_bytes(kMaxJsonBytes, bytes) + " (a scene, spec or script is a few KiB): "
-                      "check that this is the file you meant, and describe large data (meshes, animations) in files of "
-                      "their own", true};
+        throw Invalid{
+            origin + ": the file is " + describe_bytes(bytes, kMaxJsonBytes) +
+                "; aquaform reads JSON files of "
+                "at most " +
+                describe_bytes(kMaxJsonBytes, bytes) +
+                " (a scene, spec or script is a few KiB): "
+                "check that this is the file you meant, and describe large data (meshes, animations) in files of "
+                "their own",
+            true};
 }
 
 std::string read_json_file(const std::filesystem::path& path, const std::string& what, const std::string& hint) {
     std::error_code ec;
     const std::string name = what + " \"" + path.string() + "\"";
     if (!std::filesystem::is_regular_file(path, ec))
-        throw Invalid{"cannot open " + name + (std::filesystem::is_directory(path, ec) ? " (it is a folder)" :
-                                               std::filesystem::exists(path, ec) ? " (it is not a regular file)" : "") +
-                          "; " + hint, true};
+        throw Invalid{"cannot open " + name +
+                          (std::filesystem::is_directory(path, ec) ? " (it is a folder)"
+                           : std::filesystem::exists(path, ec)     ? " (it is not a regular file)"
+                                                                   : "") +
+                          "; " + hint,
+                      true};
     check_json_size(std::filesystem::file_size(path, ec), path.string());
     std::ifstream in(path, std::ios::binary);
     std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -301,18 +319,23 @@ std::optional<std::string> check_shape(const std::string& text, const std::strin
                 escaped = false;
                 // A NUL ends a C string: a path or a name holding one would name another file.
                 if (c == 'u' && text.compare(at + 1, 4, "0000") == 0)
-                    refuse(line, "a string holds \\u0000 (a NUL character), which would cut a file name or path "
-                                 "short and name another file; remove it");
-            } else if (c == '\\') escaped = true;
-            else if (c == '"') in_string = false;
-            else if (last_string.size() < 4096) last_string += c;  // longer keys compare by this prefix
+                    refuse(line,
+                           "a string holds \\u0000 (a NUL character), which would cut a file name or path "
+                           "short and name another file; remove it");
+            } else if (c == '\\')
+                escaped = true;
+            else if (c == '"')
+                in_string = false;
+            else if (last_string.size() < 4096)
+                last_string += c;  // longer keys compare by this prefix
             continue;
         }
         if (c == '"') in_string = true, last_string.clear();
         if (c == ':' && !open.empty() && open.back().object) {
             open.back().key = last_string;
             if (!open.back().keys.insert(last_string).second && !duplicate)
-                duplicate = origin + ": line " + std::to_string(line) + ": " + path() + ": duplicate key \"" + last_string +
+                duplicate = origin + ": line " + std::to_string(line) + ": " + path() + ": duplicate key \"" +
+                            last_string +
                             "\" (written twice in the same object, and only the last would count); keep one of them";
         }
         if (c == '[' || c == '{') {

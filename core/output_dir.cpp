@@ -44,8 +44,10 @@ Result<bool> prepare_output_dir(const fs::path& dir, const std::string& flag) {
     while (!existing.empty() && !fs::exists(fs::status(existing, ec))) existing = existing.parent_path();
     if (existing.empty()) existing = dir.is_absolute() ? fs::path("/") : fs::path(".");
     if (!fs::is_directory(existing, ec))
-        return Error{"cannot make " + dir.string() + ": " + existing.string() + " is a file, not a folder; choose "
-                     "another folder with " + flag};
+        return Error{"cannot make " + dir.string() + ": " + existing.string() +
+                     " is a file, not a folder; choose "
+                     "another folder with " +
+                     flag};
     fs::create_directories(dir, ec);
     if (ec) return Error{"cannot make " + dir.string() + ": " + why_not_writable(existing, ec.value(), flag)};
     return try_writing(dir, flag);

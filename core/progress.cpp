@@ -1,7 +1,7 @@
 #include "core/progress.h"
 
-#include <cstdio>
 #include <unistd.h>
+#include <cstdio>
 
 namespace aquaform {
 
@@ -20,8 +20,13 @@ ProgressBar::ProgressBar(std::string label, uint64_t total)
 
 ProgressBar::ProgressBar(std::string label, uint64_t total, std::FILE* out, bool terminal,
                          std::chrono::steady_clock::duration log_every)
-    : label_(std::move(label)), total_(total ? total : 1), out_(out), tty_(terminal), log_every_(log_every),
-      start_(std::chrono::steady_clock::now()), last_draw_(start_) {}
+    : label_(std::move(label)),
+      total_(total ? total : 1),
+      out_(out),
+      tty_(terminal),
+      log_every_(log_every),
+      start_(std::chrono::steady_clock::now()),
+      last_draw_(start_) {}
 
 void ProgressBar::update(uint64_t done, const std::string& note) {
     auto now = std::chrono::steady_clock::now();

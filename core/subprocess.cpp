@@ -34,7 +34,8 @@ ProcessResult run_process(const std::vector<std::string>& argv) {
     // stderr goes to a temporary file: a pipe would need a reader beside the wait.
     std::string err_path = (fs::temp_directory_path() / "aquaform_process_XXXXXX").string();
     const int err_fd = mkstemp(err_path.data());
-    if (err_fd < 0) return result.errors = "cannot create a temporary file in " + fs::temp_directory_path().string(), result;
+    if (err_fd < 0)
+        return result.errors = "cannot create a temporary file in " + fs::temp_directory_path().string(), result;
 
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
@@ -52,8 +53,7 @@ ProcessResult run_process(const std::vector<std::string>& argv) {
         return result.errors = "cannot start " + argv[0] + ": " + std::strerror(started), result;
     }
     int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
     result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     std::ifstream in(err_path, std::ios::binary);
     std::string errors((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

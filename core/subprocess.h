@@ -13,8 +13,8 @@ namespace aquaform {
 std::optional<std::filesystem::path> find_on_path(const std::string& name);
 
 struct ProcessResult {
-    int exit_code = -1;   ///< the program's exit status; -1 when it could not start or ended by a signal
-    std::string errors;   ///< what it wrote on stderr (its last 4 KiB), or why it could not start
+    int exit_code = -1;  ///< the program's exit status; -1 when it could not start or ended by a signal
+    std::string errors;  ///< what it wrote on stderr (its last 4 KiB), or why it could not start
     bool ok() const { return exit_code == 0; }
 };
 

@@ -36,7 +36,9 @@ void for_each_character(std::string_view text, Each each) {
     }
 }
 
-bool is_control(std::string_view c) { return c.size() == 1 && (static_cast<unsigned char>(c[0]) < 0x20 || c[0] == 0x7F); }
+bool is_control(std::string_view c) {
+    return c.size() == 1 && (static_cast<unsigned char>(c[0]) < 0x20 || c[0] == 0x7F);
+}
 
 }  // namespace
 
@@ -54,15 +56,23 @@ std::string json_text(const nlohmann::json& doc, int indent) {
 std::string xml_text(std::string_view text) {
     std::string out;
     for_each_character(text, [&](std::string_view c) {
-        if (c == "&") out += "&amp;";
-        else if (c == "<") out += "&lt;";
-        else if (c == ">") out += "&gt;";
-        else if (c == "\"") out += "&quot;";
-        else if (c == "'") out += "&apos;";
-        else if (c == "\t" || c == "\n" || c == "\r") out += c;
+        if (c == "&")
+            out += "&amp;";
+        else if (c == "<")
+            out += "&lt;";
+        else if (c == ">")
+            out += "&gt;";
+        else if (c == "\"")
+            out += "&quot;";
+        else if (c == "'")
+            out += "&apos;";
+        else if (c == "\t" || c == "\n" || c == "\r")
+            out += c;
         // XML 1.0 allows neither the other control characters nor U+FFFE and U+FFFF.
-        else if (is_control(c) || c == "\xEF\xBF\xBE" || c == "\xEF\xBF\xBF") out += kReplacement;
-        else out += c;
+        else if (is_control(c) || c == "\xEF\xBF\xBE" || c == "\xEF\xBF\xBF")
+            out += kReplacement;
+        else
+            out += c;
     });
     return out;
 }

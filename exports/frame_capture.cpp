@@ -83,7 +83,9 @@ std::string FrameCapturer::memory_line() const {
     if (host_) bytes += host_->total_bytes();
     char line[128];
     std::snprintf(line, sizeof line, "  %-26s %.3f MiB (grows with the fluid's extent)",
-                  !mesher_ ? "density volume" : exports_->enabled(FrameExport::vdb) ? "surface mesh and volume" : "surface mesh",
+                  !mesher_                              ? "density volume"
+                  : exports_->enabled(FrameExport::vdb) ? "surface mesh and volume"
+                                                        : "surface mesh",
                   double(bytes) / (1024.0 * 1024.0));
     return line;
 }

@@ -128,12 +128,14 @@ Result<bool> FrameExports::write(uint32_t frame, double time_s, const FrameCaptu
 Result<bool> FrameExports::write_file(FrameExport kind, const std::filesystem::path& path, double time_s,
                                       const FrameCapture& frame) {
     switch (kind) {
-        case FrameExport::ply: return write_particles_ply(path, *frame.particles);
+        case FrameExport::ply:
+            return write_particles_ply(path, *frame.particles);
         case FrameExport::vtk: {
             Result<bool> written = write_particles_vtu(path, *frame.particles);
             return written ? particles_pvd_.add(time_s, path.filename()) : written;
         }
-        case FrameExport::vdb: return write_density_vdb(path, *frame.volume);
+        case FrameExport::vdb:
+            return write_density_vdb(path, *frame.volume);
         case FrameExport::whitewater: {
             if (options_.whitewater_format == WhitewaterFormat::ply)
                 return write_whitewater_ply(path, *frame.whitewater);

@@ -36,11 +36,11 @@ enum class FrameData : uint8_t { particles, volume, mesh, whitewater };
 
 struct FrameExportKind {
     FrameExport kind;
-    const char* name;          ///< the kind in exports.csv: "ply", "vtk", "vdb", "mesh", "whitewater"
-    const char* flag;          ///< the `run` flag that gives K, e.g. "--vtk-every"
-    const char* file_stem;     ///< the file is <stem>_NNNN<extension>, numbered by file
-    const char* extension;     ///< (a mesh's and the whitewater's follow their formats)
-    FrameData needs;           ///< what it is written from
+    const char* name;       ///< the kind in exports.csv: "ply", "vtk", "vdb", "mesh", "whitewater"
+    const char* flag;       ///< the `run` flag that gives K, e.g. "--vtk-every"
+    const char* file_stem;  ///< the file is <stem>_NNNN<extension>, numbered by file
+    const char* extension;  ///< (a mesh's and the whitewater's follow their formats)
+    FrameData needs;        ///< what it is written from
 };
 
 /// Every kind, in FrameExport order.
@@ -54,10 +54,14 @@ struct FrameCapture {
     std::optional<WhitewaterSnapshot> whitewater;  ///< the whitewater's particles
     bool has(FrameData data) const {
         switch (data) {
-            case FrameData::particles: return bool(particles);
-            case FrameData::volume: return bool(volume);
-            case FrameData::mesh: return bool(mesh);
-            case FrameData::whitewater: return bool(whitewater);
+            case FrameData::particles:
+                return bool(particles);
+            case FrameData::volume:
+                return bool(volume);
+            case FrameData::mesh:
+                return bool(mesh);
+            case FrameData::whitewater:
+                return bool(whitewater);
         }
         return false;
     }

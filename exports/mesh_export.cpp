@@ -40,9 +40,12 @@ Result<MeshFormat> parse_mesh_format(const std::string& text) {
 
 const char* mesh_format_extension(MeshFormat format) {
     switch (format) {
-        case MeshFormat::obj: return "obj";
-        case MeshFormat::ply: return "ply";
-        case MeshFormat::vtp: return "vtp";
+        case MeshFormat::obj:
+            return "obj";
+        case MeshFormat::ply:
+            return "ply";
+        case MeshFormat::vtp:
+            return "vtp";
     }
     return "";
 }
@@ -98,7 +101,8 @@ Result<bool> write_mesh_ply(const std::filesystem::path& path, const SurfaceMesh
         for (size_t i = 0; i < mesh.vertices.size(); ++i) {
             const glm::vec3 n = i < mesh.normals.size() ? mesh.normals[i] : glm::vec3(0.0f);
             const float record[6] = {mesh.vertices[i].x, mesh.vertices[i].y, mesh.vertices[i].z, n.x, n.y, n.z};
-            block.insert(block.end(), reinterpret_cast<const char*>(record), reinterpret_cast<const char*>(record) + 24);
+            block.insert(block.end(), reinterpret_cast<const char*>(record),
+                         reinterpret_cast<const char*>(record) + 24);
         }
         out.write(block.data(), std::streamsize(block.size()));
         block.clear();
@@ -115,9 +119,12 @@ Result<bool> write_mesh_ply(const std::filesystem::path& path, const SurfaceMesh
 
 Result<bool> write_mesh(const std::filesystem::path& path, const SurfaceMesh& mesh, MeshFormat format) {
     switch (format) {
-        case MeshFormat::obj: return write_mesh_obj(path, mesh);
-        case MeshFormat::ply: return write_mesh_ply(path, mesh);
-        case MeshFormat::vtp: return write_mesh_vtp(path, mesh);
+        case MeshFormat::obj:
+            return write_mesh_obj(path, mesh);
+        case MeshFormat::ply:
+            return write_mesh_ply(path, mesh);
+        case MeshFormat::vtp:
+            return write_mesh_vtp(path, mesh);
     }
     return Error{"cannot write " + path.string() + ": unknown mesh format"};
 }

@@ -18,7 +18,9 @@ std::string still_file(const std::string& name) { return "obstacle_" + name + ".
 // run.json records the printf pattern for other tools; the file itself is named by appending the
 // number (a name is the user's text, never a format), and the scene's name rule keeps '%' out.
 std::string moving_pattern(const std::string& name) { return "obstacle_" + name + "_%04u.obj"; }
-std::string moving_file(const std::string& name, uint32_t frame) { return numbered_file("obstacle_" + name, frame, ".obj"); }
+std::string moving_file(const std::string& name, uint32_t frame) {
+    return numbered_file("obstacle_" + name, frame, ".obj");
+}
 
 }  // namespace
 
@@ -47,8 +49,10 @@ nlohmann::json ObstacleExports::description(const Scene& scene) {
         out.push_back({{"name", name}, {"file", still_file(name)}});
     }
     for (const ObstacleSpec& o : scene.obstacles) {
-        if (o.moves) out.push_back({{"name", o.name}, {"files", moving_pattern(o.name)}, {"moves", true}});
-        else out.push_back({{"name", o.name}, {"file", still_file(o.name)}});
+        if (o.moves)
+            out.push_back({{"name", o.name}, {"files", moving_pattern(o.name)}, {"moves", true}});
+        else
+            out.push_back({{"name", o.name}, {"file", still_file(o.name)}});
     }
     return out;
 }

@@ -107,11 +107,13 @@ Result<bool> write_particles_vtu(const std::filesystem::path& path, const Partic
     return write_appended_vtk(
         path, "UnstructuredGrid",
         "NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfCells=\"" + std::to_string(n) + "\"",
-        {{"PointData", " Scalars=\"density\" Vectors=\"velocity\"",
+        {{"PointData",
+          " Scalars=\"density\" Vectors=\"velocity\"",
           {array_of("Float32", "velocity", 3, velocity), array_of("Float32", "density", 1, density),
            array_of("UInt32", "id", 1, id), array_of("UInt32", "tag", 1, tag)}},
          {"Points", "", {array_of("Float32", "", 3, points)}},
-         {"Cells", "",
+         {"Cells",
+          "",
           {array_of("Int32", "connectivity", 1, connectivity), array_of("Int32", "offsets", 1, offsets),
            array_of("UInt8", "types", 1, types)}}});
 }
@@ -132,15 +134,16 @@ Result<bool> write_mesh_vtp(const std::filesystem::path& path, const SurfaceMesh
     std::vector<AppendedArray> point_data;
     if (normals) point_data.push_back(array_of("Float32", "normals", 3, mesh.normals));
 
-    return write_appended_vtk(path, "PolyData",
-                              "NumberOfPoints=\"" + std::to_string(n) +
-                                  "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"" +
-                                  std::to_string(triangles) + "\"",
-                              {{"PointData", normals ? " Normals=\"normals\"" : "", point_data},
-                               {"Points", "", {array_of("Float32", "", 3, mesh.vertices)}},
-                               {"Polys", "",
-                                {array_of("Int32", "connectivity", 1, connectivity),
-                                 array_of("Int32", "offsets", 1, offsets)}}});
+    return write_appended_vtk(
+        path, "PolyData",
+        "NumberOfPoints=\"" + std::to_string(n) +
+            "\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"" +
+            std::to_string(triangles) + "\"",
+        {{"PointData", normals ? " Normals=\"normals\"" : "", point_data},
+         {"Points", "", {array_of("Float32", "", 3, mesh.vertices)}},
+         {"Polys",
+          "",
+          {array_of("Int32", "connectivity", 1, connectivity), array_of("Int32", "offsets", 1, offsets)}}});
 }
 
 Result<bool> write_whitewater_vtp(const std::filesystem::path& path, const WhitewaterSnapshot& d) {
@@ -165,31 +168,31 @@ Result<bool> write_whitewater_vtp(const std::filesystem::path& path, const White
         connectivity[i] = int32_t(i);
         offsets[i] = int32_t(i + 1);
     }
-    return write_appended_vtk(path, "PolyData",
-                              "NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
-                                  "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\"",
-                              {{"PointData", " Scalars=\"kind\" Vectors=\"velocity\"",
-                                {array_of("Float32", "velocity", 3, velocity), array_of("UInt8", "kind", 1, kind),
-                                 array_of("Float32", "life", 1, life)}},
-                               {"Points", "", {array_of("Float32", "", 3, points)}},
-                               {"Verts", "",
-                                {array_of("Int32", "connectivity", 1, connectivity),
-                                 array_of("Int32", "offsets", 1, offsets)}}});
+    return write_appended_vtk(
+        path, "PolyData",
+        "NumberOfPoints=\"" + std::to_string(n) + "\" NumberOfVerts=\"" + std::to_string(n) +
+            "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\"",
+        {{"PointData",
+          " Scalars=\"kind\" Vectors=\"velocity\"",
+          {array_of("Float32", "velocity", 3, velocity), array_of("UInt8", "kind", 1, kind),
+           array_of("Float32", "life", 1, life)}},
+         {"Points", "", {array_of("Float32", "", 3, points)}},
+         {"Verts",
+          "",
+          {array_of("Int32", "connectivity", 1, connectivity), array_of("Int32", "offsets", 1, offsets)}}});
 }
 
 Result<bool> VtkCollection::add(double time_s, const std::string& file) {
     entries_.push_back({time_s, file});
-    return write_file_with(
-        path_,
-        [&](std::ostream& out) {
-            out << "<?xml version=\"1.0\"?>\n"
-                << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
-            for (const Entry& e : entries_) {
-                out << "    <DataSet timestep=\"" << format_text(kTimeFormat, e.time_s)
-                    << "\" group=\"\" part=\"0\" file=\"" << xml_text(e.file) << "\"/>\n";
-            }
-            out << "  </Collection>\n</VTKFile>\n";
-        });
+    return write_file_with(path_, [&](std::ostream& out) {
+        out << "<?xml version=\"1.0\"?>\n"
+            << "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n";
+        for (const Entry& e : entries_) {
+            out << "    <DataSet timestep=\"" << format_text(kTimeFormat, e.time_s)
+                << "\" group=\"\" part=\"0\" file=\"" << xml_text(e.file) << "\"/>\n";
+        }
+        out << "  </Collection>\n</VTKFile>\n";
+    });
 }
 
 }  // namespace aquaform

@@ -12,8 +12,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/json_fields.h"
 #include "core/error.h"
+#include "core/json_fields.h"
 
 namespace aquaform::geometry {
 
@@ -45,7 +45,8 @@ std::string item(const std::string& path, size_t i) { return path + "[" + std::t
 bool read_loop(const json& v, const std::string& path) {
     if (!v.contains("loop")) return false;
     if (!v["loop"].is_boolean())
-        fail(child(path, "loop") + " must be true or false, got " + written(v["loop"]) + " (" + kind_of(v["loop"]) + ")");
+        fail(child(path, "loop") + " must be true or false, got " + written(v["loop"]) + " (" + kind_of(v["loop"]) +
+             ")");
     return v["loop"].get<bool>();
 }
 
@@ -72,12 +73,14 @@ double read_time(const json& key, const std::string& key_path, const std::vector
 
 void check_key_object(const json& key, const std::string& key_path, std::span<const std::string_view> keys,
                       const char* example) {
-    if (!key.is_object()) fail(key_path + " must be an object such as " + std::string(example) + ", got " + written(key));
+    if (!key.is_object())
+        fail(key_path + " must be an object such as " + std::string(example) + ", got " + written(key));
     check_keys(key, "in " + key_path, keys);
 }
 
 RigidAnimation parse_rigid(const json& v, const std::string& path) {
-    constexpr const char* kExample = "{\"t\": 0, \"position\": [0, 0, 0], \"rotation_degrees\": [0, 0, 0], \"scale\": 1}";
+    constexpr const char* kExample =
+        "{\"t\": 0, \"position\": [0, 0, 0], \"rotation_degrees\": [0, 0, 0], \"scale\": 1}";
     check_keys(v, where(path), kRigidKeys);
     RigidAnimation anim;
     anim.loop = read_loop(v, path);
@@ -90,7 +93,8 @@ RigidAnimation parse_rigid(const json& v, const std::string& path) {
         RigidKey key;
         if (k.contains("position")) key.position = read_vec3(k["position"], kp + ".position", kPointWhat);
         if (k.contains("rotation_degrees"))
-            key.rotation = rotation_xyz_degrees(read_vec3(k["rotation_degrees"], kp + ".rotation_degrees", kAnglesWhat));
+            key.rotation =
+                rotation_xyz_degrees(read_vec3(k["rotation_degrees"], kp + ".rotation_degrees", kAnglesWhat));
         if (k.contains("scale")) key.scale = read_number(k["scale"], kp + ".scale", kScaleRange);
         anim.keys.push_back(key);
     }
@@ -111,8 +115,9 @@ struct FramePattern {
 };
 
 FramePattern parse_pattern(const json& v, const std::string& key_path) {
-    const std::string fix = "; write the file name with one frame-number placeholder, e.g. \"walk_%03d.obj\" for "
-                            "walk_000.obj, walk_001.obj, ...";
+    const std::string fix =
+        "; write the file name with one frame-number placeholder, e.g. \"walk_%03d.obj\" for "
+        "walk_000.obj, walk_001.obj, ...";
     if (!v.is_string() || v.get<std::string>().empty())
         fail(key_path + " must be a file name pattern, got " + written(v) + " (" + kind_of(v) + ")" + fix);
     const std::string text = v.get<std::string>();
@@ -135,7 +140,8 @@ FramePattern parse_pattern(const json& v, const std::string& key_path) {
         const size_t digits_start = j;
         while (j < text.size() && std::isdigit(static_cast<unsigned char>(text[j])) && j - digits_start < 2) ++j;
         if (j >= text.size() || text[j] != 'd' || found)
-            fail(key_path + " is " + written(v) + (found ? ", which has more than one %" : ", whose % is not %d") + fix);
+            fail(key_path + " is " + written(v) + (found ? ", which has more than one %" : ", whose % is not %d") +
+                 fix);
         found = true;
         p.zero_pad = zero;
         p.width = j > digits_start ? std::stoi(text.substr(digits_start, j - digits_start)) : 0;
@@ -155,7 +161,8 @@ SequenceAnimation parse_sequence(const json& v, const std::string& path, const f
     const uint32_t first = v.contains("first") ? read_integer(v["first"], child(path, "first"), 0, 1000000000) : 0;
     const uint32_t count = read_integer(v["count"], child(path, "count"), 1, kMaxFrames);
     SequenceAnimation anim;
-    anim.fps = read_number(v["fps"], child(path, "fps"), {0.0, 10000.0, true, false, "a positive number of frames per second, e.g. 24"});
+    anim.fps = read_number(v["fps"], child(path, "fps"),
+                           {0.0, 10000.0, true, false, "a positive number of frames per second, e.g. 24"});
     anim.loop = read_loop(v, path);
     auto frames = std::make_shared<std::vector<Mesh>>();
     for (uint32_t f = 0; f < count; ++f) {
@@ -176,7 +183,8 @@ SequenceAnimation parse_sequence(const json& v, const std::string& path, const f
 }
 
 SkeletalAnimation parse_skeletal(const json& v, const std::string& path) {
-    constexpr const char* kExample = "{\"t\": 0, \"root_offset\": [0, 0, 0], \"rotations_degrees\": {\"thigh_l\": [-25, 0, 0]}}";
+    constexpr const char* kExample =
+        "{\"t\": 0, \"root_offset\": [0, 0, 0], \"rotations_degrees\": {\"thigh_l\": [-25, 0, 0]}}";
     check_keys(v, where(path), kSkeletalKeys);
     SkeletalAnimation anim;
     anim.skeleton = parse_skeleton(v["skeleton"], child(path, "skeleton"));
@@ -209,7 +217,8 @@ SkeletalAnimation parse_skeletal(const json& v, const std::string& path) {
 }
 
 MeshAnimation parse_animation_object(const json& v, const std::string& path, const fs::path& base_dir) {
-    if (!v.is_object()) fail(path + " must be an object; " + kKindsHelp + "; got " + written(v) + " (" + kind_of(v) + ")");
+    if (!v.is_object())
+        fail(path + " must be an object; " + kKindsHelp + "; got " + written(v) + " (" + kind_of(v) + ")");
     if (v.contains("sequence")) return MeshAnimation(parse_sequence(v, path, base_dir));
     if (v.contains("skeleton")) return MeshAnimation(parse_skeletal(v, path));
     if (v.contains("keyframes")) return MeshAnimation(parse_rigid(v, path));
@@ -234,8 +243,10 @@ glm::quat rotation_xyz_degrees(const glm::vec3& degrees) {
 
 MeshPlacement parse_placement(const json& v, const std::string& path) {
     if (!v.is_object())
-        fail(path + " must be an object such as {\"position\": [0.5, 0.2, 0.5], \"rotation_degrees\": [0, 90, 0], "
-                    "\"scale\": 0.5}, got " + written(v) + " (" + kind_of(v) + ")");
+        fail(path +
+             " must be an object such as {\"position\": [0.5, 0.2, 0.5], \"rotation_degrees\": [0, 90, 0], "
+             "\"scale\": 0.5}, got " +
+             written(v) + " (" + kind_of(v) + ")");
     check_keys(v, where(path), kPlacementKeys);
     MeshPlacement p;
     if (v.contains("position")) p.position = read_vec3(v["position"], child(path, "position"), kPointWhat);
@@ -245,9 +256,12 @@ MeshPlacement parse_placement(const json& v, const std::string& path) {
     if (v.contains("fit_into")) {
         for (const char* ignored : {"position", "scale"})
             if (v.contains(ignored))
-                fail(child(path, ignored) + " would be ignored: fit_into chooses the size and position itself; "
-                     "remove \"" + ignored + "\" or \"fit_into\"");
-        p.fit_into = read_box(v["fit_into"], child(path, "fit_into"), "\"fit_into\": {\"min\": [0.2, 0, 0.2], \"max\": [0.8, 0.6, 0.8]}");
+                fail(child(path, ignored) +
+                     " would be ignored: fit_into chooses the size and position itself; "
+                     "remove \"" +
+                     ignored + "\" or \"fit_into\"");
+        p.fit_into = read_box(v["fit_into"], child(path, "fit_into"),
+                              "\"fit_into\": {\"min\": [0.2, 0, 0.2], \"max\": [0.8, 0.6, 0.8]}");
     }
     return p;
 }
@@ -310,7 +324,8 @@ SkeletonPose SkeletalAnimation::pose_at(double t) const {
     SkeletonPose pose;
     pose.root_offset = glm::mix(a.root_offset, b.root_offset, s.alpha);
     pose.rotations.resize(a.rotations.size());
-    for (size_t i = 0; i < a.rotations.size(); ++i) pose.rotations[i] = glm::slerp(a.rotations[i], b.rotations[i], s.alpha);
+    for (size_t i = 0; i < a.rotations.size(); ++i)
+        pose.rotations[i] = glm::slerp(a.rotations[i], b.rotations[i], s.alpha);
     return pose;
 }
 
@@ -331,10 +346,14 @@ std::vector<double> MeshAnimation::key_times() const {
 }
 
 bool MeshAnimation::loops() const {
-    return std::visit([](const auto& k) {
-        if constexpr (requires { k.loop; }) return k.loop;
-        else return false;
-    }, kind_);
+    return std::visit(
+        [](const auto& k) {
+            if constexpr (requires { k.loop; })
+                return k.loop;
+            else
+                return false;
+        },
+        kind_);
 }
 
 void MeshAnimation::bind(const Mesh& rest, const MeshPlacement& placement) {
@@ -345,7 +364,8 @@ void MeshAnimation::bind(const Mesh& rest, const MeshPlacement& placement) {
     apply(placement, placed_rest_);
     const Box b = placed_rest_.bounds();
     pivot_ = (b.min + b.max) * 0.5f;
-    if (const auto* k = std::get_if<SkeletalAnimation>(&kind_)) weights_ = compute_skin_weights(rest_.vertices, k->skeleton);
+    if (const auto* k = std::get_if<SkeletalAnimation>(&kind_))
+        weights_ = compute_skin_weights(rest_.vertices, k->skeleton);
     bound_ = true;
 }
 
@@ -361,7 +381,8 @@ glm::mat4 MeshAnimation::transform_at(double t) const {
 
 Mesh MeshAnimation::mesh_at(double t) const {
     require_bound("mesh_at");
-    if (const auto* q = std::get_if<SequenceAnimation>(&kind_)) return transformed((*q->frames)[q->frame_at(t)], placement_);
+    if (const auto* q = std::get_if<SequenceAnimation>(&kind_))
+        return transformed((*q->frames)[q->frame_at(t)], placement_);
     if (const auto* k = std::get_if<SkeletalAnimation>(&kind_)) {
         std::vector<glm::mat4> matrices = bone_matrices(k->skeleton, k->pose_at(t));
         for (glm::mat4& m : matrices) m = placement_ * m;  // skin straight into scene coordinates

@@ -17,8 +17,8 @@ namespace {
 /// for each of its eight half-size octants (octant x + 2 y + 4 z, 0: the low half on that axis).
 struct BallCube {
     glm::ivec3 offset;
-    double weight = 0.0;             // Integral_cube W(|u|) du
-    glm::dvec3 gradient{0.0};        // Integral_cube 6 c (h^2 - |u|^2)^2 u du
+    double weight = 0.0;       // Integral_cube W(|u|) du
+    glm::dvec3 gradient{0.0};  // Integral_cube 6 c (h^2 - |u|^2)^2 u du
     std::array<double, 8> octant_weight{};
     std::array<glm::dvec3, 8> octant_gradient{};
 };
@@ -78,10 +78,12 @@ std::vector<BallCube> ball_cubes(const BoundaryKernel& kernel, double cube, int 
                         for (int j = 0; j < kSplit; ++j)
                             for (int i = 0; i < kSplit; ++i) {
                                 const glm::dvec3 sub = corner + part * glm::dvec3(i, j, k);
-                                if (squared_distance_to_box(sub, sub + part) < h2) integrate_box(sub, part, h2, c, weight, gradient);
+                                if (squared_distance_to_box(sub, sub + part) < h2)
+                                    integrate_box(sub, part, h2, c, weight, gradient);
                             }
                 }
-                for (int o = 0; o < 8; ++o) entry.weight += entry.octant_weight[o], entry.gradient += entry.octant_gradient[o];
+                for (int o = 0; o < 8; ++o)
+                    entry.weight += entry.octant_weight[o], entry.gradient += entry.octant_gradient[o];
                 total += entry.weight;
                 cubes.push_back(entry);
             }
@@ -130,14 +132,17 @@ BoundaryMap build_boundary_map(const DistanceField& sdf, const BoundaryKernel& k
         throw Failure(format_text("boundary map: the kernel radius %g and poly6 coefficient %g must be > 0", double(h),
                                   double(kernel.poly6_coeff)));
     if (glm::any(glm::lessThan(grid.dims, glm::uvec3(2u))) || sdf.distance.size() != grid.node_count())
-        throw Failure("boundary map: the distance field has no grid (fewer than 2 nodes on an axis, or values missing)");
+        throw Failure(
+            "boundary map: the distance field has no grid (fewer than 2 nodes on an axis, or values missing)");
     if (sdf.band < h)
-        throw Failure(format_text("boundary map: the distance field's band (%g m) is narrower than the kernel radius h "
-                                  "(%g m); build it with a margin (or band) of at least h",
-                                  double(sdf.band), double(h)));
+        throw Failure(
+            format_text("boundary map: the distance field's band (%g m) is narrower than the kernel radius h "
+                        "(%g m); build it with a margin (or band) of at least h",
+                        double(sdf.band), double(h)));
 
     const auto ball_in_clip = [&](const glm::vec3& p) {
-        return !clip || (glm::all(glm::greaterThanEqual(p - h, clip->min)) && glm::all(glm::lessThanEqual(p + h, clip->max)));
+        return !clip ||
+               (glm::all(glm::greaterThanEqual(p - h, clip->min)) && glm::all(glm::lessThanEqual(p + h, clip->max)));
     };
     const auto ball_meets_clip = [&](const glm::vec3& p) {
         if (!clip) return true;
@@ -149,9 +154,10 @@ BoundaryMap build_boundary_map(const DistanceField& sdf, const BoundaryKernel& k
         const glm::uvec3 node = grid.node_of(n);
         const bool face = glm::any(glm::equal(node, glm::uvec3(0u))) || glm::any(glm::equal(node, grid.dims - 1u));
         if (face && sdf.distance[n] < h && ball_meets_clip(grid.position(node)))
-            throw Failure(format_text("boundary map: the distance field's grid ends %g m from the solid, within the "
-                                      "kernel radius h = %g m; build it with a margin of at least h",
-                                      double(std::max(sdf.distance[n], 0.0f)), double(h)));
+            throw Failure(
+                format_text("boundary map: the distance field's grid ends %g m from the solid, within the "
+                            "kernel radius h = %g m; build it with a margin of at least h",
+                            double(std::max(sdf.distance[n], 0.0f)), double(h)));
     }
 
     BoundaryMap map;
@@ -168,7 +174,8 @@ BoundaryMap build_boundary_map(const DistanceField& sdf, const BoundaryKernel& k
             glm::uvec3 lo = node, hi = node;
             if (lo[a] > 0) --lo[a];
             if (hi[a] + 1 < grid.dims[a]) ++hi[a];
-            slope[a] = (sdf.distance[grid.index(hi)] - sdf.distance[grid.index(lo)]) / (float(hi[a] - lo[a]) * grid.cell);
+            slope[a] =
+                (sdf.distance[grid.index(hi)] - sdf.distance[grid.index(lo)]) / (float(hi[a] - lo[a]) * grid.cell);
         }
         const float length = glm::length(slope);
         map.distance[n] = glm::vec4(length > 1e-6f ? slope / length : glm::vec3(0.0f), sdf.distance[n]);
@@ -187,7 +194,8 @@ BoundaryMap build_boundary_map(const DistanceField& sdf, const BoundaryKernel& k
         cube_offsets.push_back(entry.offset);
         cube_whole.emplace_back(glm::vec3(entry.gradient), float(entry.weight));
         std::array<glm::vec4, 8>& octants = cube_octants.emplace_back();
-        for (int o = 0; o < 8; ++o) octants[o] = glm::vec4(glm::vec3(entry.octant_gradient[o]), float(entry.octant_weight[o]));
+        for (int o = 0; o < 8; ++o)
+            octants[o] = glm::vec4(glm::vec3(entry.octant_gradient[o]), float(entry.octant_weight[o]));
     }
     const double half_diagonal = 0.5 * std::sqrt(3.0) * cube;
 
@@ -211,8 +219,10 @@ BoundaryMap build_boundary_map(const DistanceField& sdf, const BoundaryKernel& k
             const glm::dvec3 step(o & 1, (o >> 1) & 1, (o >> 2) & 1);
             double fraction = 1.0;
             if (clip)
-                for (int a = 0; a < 3; ++a) fraction *= overlap(low[a] + 0.5 * cube * step[a], 0.5 * cube, clip->min[a], clip->max[a]);
-            if (d >= half_diagonal) fraction = 0.0;
+                for (int a = 0; a < 3; ++a)
+                    fraction *= overlap(low[a] + 0.5 * cube * step[a], 0.5 * cube, clip->min[a], clip->max[a]);
+            if (d >= half_diagonal)
+                fraction = 0.0;
             else if (d > -half_diagonal && fraction > 0.0) {
                 const double offset = d + glm::dot(normal, (step - 0.5) * (0.5 * cube));
                 fraction *= normal == glm::dvec3(0.0) ? std::clamp(0.5 - d / cube, 0.0, 1.0)
@@ -241,8 +251,10 @@ BoundaryMap build_boundary_map(const DistanceField& sdf, const BoundaryKernel& k
                     const float d = sdf.distance[n];
                     const glm::vec3 p = grid.position(node);
                     if (d >= h || !ball_meets_clip(p)) continue;  // stays 0
-                    if (d <= -h && ball_in_clip(p)) map.density[n] = glm::vec4(0.0f, 0.0f, 0.0f, float(deep));
-                    else band_nodes.push_back(n);
+                    if (d <= -h && ball_in_clip(p))
+                        map.density[n] = glm::vec4(0.0f, 0.0f, 0.0f, float(deep));
+                    else
+                        band_nodes.push_back(n);
                 }
         if (band_nodes.empty()) return;
         // Whole cubes keep one fraction (0 or 1); cut ones (-1 - index) point to their octants.
@@ -262,10 +274,12 @@ BoundaryMap build_boundary_map(const DistanceField& sdf, const BoundaryKernel& k
             signed char& known = empty[at.x + size_t(cells.x) * (at.y + size_t(cells.y) * at.z)];
             if (known < 0) {
                 known = 0;
-                if (glm::all(glm::greaterThanEqual(c, glm::ivec3(0))) && glm::all(glm::lessThan(c, glm::ivec3(grid.dims) - 1))) {
+                if (glm::all(glm::greaterThanEqual(c, glm::ivec3(0))) &&
+                    glm::all(glm::lessThan(c, glm::ivec3(grid.dims) - 1))) {
                     float nearest = sdf.distance[grid.index(glm::uvec3(c))];
                     for (int corner = 1; corner < 8; ++corner)
-                        nearest = std::min(nearest, sdf.distance[grid.index(glm::uvec3(c + glm::ivec3(corner & 1, (corner >> 1) & 1, corner >> 2)))]);
+                        nearest = std::min(nearest, sdf.distance[grid.index(glm::uvec3(
+                                                        c + glm::ivec3(corner & 1, (corner >> 1) & 1, corner >> 2)))]);
                     known = nearest >= half_diagonal;
                 }
             }
@@ -278,8 +292,10 @@ BoundaryMap build_boundary_map(const DistanceField& sdf, const BoundaryKernel& k
                     if (empty_cell(f)) continue;  // fraction 0
                     const double fraction = octant_fractions(f, octants);
                     float& slot = fractions[x + size_t(size.x) * (y + size_t(size.y) * z)];
-                    if (fraction > 0.0 && fraction < 1.0) slot = -1.0f - float(cut.size()), cut.push_back(octants);
-                    else slot = float(fraction);
+                    if (fraction > 0.0 && fraction < 1.0)
+                        slot = -1.0f - float(cut.size()), cut.push_back(octants);
+                    else
+                        slot = float(fraction);
                 }
         std::vector<int64_t> steps(cube_offsets.size());  // the table's offsets as steps in `fractions`
         for (size_t e = 0; e < steps.size(); ++e)

@@ -3,9 +3,9 @@
 #include <cmath>
 #include <limits>
 
-#include "geometry/inside.h"
 #include "core/error.h"
 #include "core/format_text.h"
+#include "geometry/inside.h"
 #include "geometry/parallel_work.h"
 
 namespace aquaform::geometry {
@@ -79,12 +79,18 @@ float triangle_distance2(const glm::vec3& p, const glm::vec3& a, const glm::vec3
         const glm::vec3 cp = p - c;
         const float d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
         const float vc = d1 * d4 - d3 * d2, vb = d5 * d2 - d1 * d6, va = d3 * d6 - d5 * d4;
-        if (d3 >= 0.0f && d4 <= d3) q = b;
-        else if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) q = a + d1 / (d1 - d3) * ab;
-        else if (d6 >= 0.0f && d5 <= d6) q = c;
-        else if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) q = a + d2 / (d2 - d6) * ac;
-        else if (va <= 0.0f && d4 - d3 >= 0.0f && d5 - d6 >= 0.0f) q = b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
-        else q = a + (vb * ab + vc * ac) / (va + vb + vc);
+        if (d3 >= 0.0f && d4 <= d3)
+            q = b;
+        else if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f)
+            q = a + d1 / (d1 - d3) * ab;
+        else if (d6 >= 0.0f && d5 <= d6)
+            q = c;
+        else if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f)
+            q = a + d2 / (d2 - d6) * ac;
+        else if (va <= 0.0f && d4 - d3 >= 0.0f && d5 - d6 >= 0.0f)
+            q = b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b);
+        else
+            q = a + (vb * ab + vc * ac) / (va + vb + vc);
     }
     const glm::vec3 d = p - q;
     return glm::dot(d, d);
@@ -105,7 +111,9 @@ bool is_buried(const InsideTest& inside, const glm::vec3* t, float offset) {
     if (!(length > 0.0f)) return false;
     const glm::vec3 step = n / length * offset;
     const glm::vec3 centre = (t[0] + t[1] + t[2]) / 3.0f;
-    const auto both_sides_inside = [&](const glm::vec3& p) { return inside.contains(p + step) && inside.contains(p - step); };
+    const auto both_sides_inside = [&](const glm::vec3& p) {
+        return inside.contains(p + step) && inside.contains(p - step);
+    };
     if (!both_sides_inside(centre)) return false;  // most triangles stop here, after one or two queries
     for (int v = 0; v < 3; ++v)
         if (!both_sides_inside(glm::mix(centre, t[v], 0.9f))) return false;
@@ -121,7 +129,8 @@ namespace {
 /// Why a triangle soup cannot make a field; empty when it can.
 std::string soup_problem(const std::vector<glm::vec3>& soup) {
     if (soup.empty()) return "the mesh has no triangles; give a mesh with faces";
-    if (soup.size() % 3 != 0) return format_text("%zu points do not make whole triangles (three points each)", soup.size());
+    if (soup.size() % 3 != 0)
+        return format_text("%zu points do not make whole triangles (three points each)", soup.size());
     for (size_t i = 0; i < soup.size(); ++i)
         if (!std::isfinite(soup[i].x) || !std::isfinite(soup[i].y) || !std::isfinite(soup[i].z))
             return format_text("triangle %zu has a coordinate that is not a finite number; fix the mesh", i / 3);
@@ -139,7 +148,8 @@ Result<DistanceField> build_distance_field(const std::vector<glm::vec3>& soup, f
         return field_error(format_text("the margin %g is not a number >= 0", double(margin)));
     if (band <= 0.0f) band = margin;
     if (!std::isfinite(band) || band <= 0.0f)
-        return field_error("the band (the margin, when no band is given) must be > 0 for a field with any distances in it");
+        return field_error(
+            "the band (the margin, when no band is given) must be > 0 for a field with any distances in it");
 
     Box bounds{soup[0], soup[0]};
     for (const glm::vec3& p : soup) bounds.min = glm::min(bounds.min, p), bounds.max = glm::max(bounds.max, p);
@@ -161,9 +171,11 @@ namespace {
 /// Whether a triangle lies on one of the walls' planes or beyond it, within `slack`.
 bool on_or_beyond_a_wall(const glm::vec3* v, const Box& walls, float slack) {
     for (int axis = 0; axis < 3; ++axis) {
-        if (v[0][axis] <= walls.min[axis] + slack && v[1][axis] <= walls.min[axis] + slack && v[2][axis] <= walls.min[axis] + slack)
+        if (v[0][axis] <= walls.min[axis] + slack && v[1][axis] <= walls.min[axis] + slack &&
+            v[2][axis] <= walls.min[axis] + slack)
             return true;
-        if (v[0][axis] >= walls.max[axis] - slack && v[1][axis] >= walls.max[axis] - slack && v[2][axis] >= walls.max[axis] - slack)
+        if (v[0][axis] >= walls.max[axis] - slack && v[1][axis] >= walls.max[axis] - slack &&
+            v[2][axis] >= walls.max[axis] - slack)
             return true;
     }
     return false;
@@ -194,7 +206,8 @@ Result<DistanceField> build_distance_field_on(const std::vector<glm::vec3>& soup
         for (size_t t = chunk * kTriangleChunk; t < std::min(triangles, (chunk + 1) * kTriangleChunk); ++t) {
             const glm::vec3* v = &soup[3 * t];
             sliver[t] = is_sliver(v[0], v[1], v[2]);
-            skip[t] = (walls && on_or_beyond_a_wall(v, *walls, wall_slack)) || (!sliver[t] && is_buried(inside, v, 1e-3f * cell));
+            skip[t] = (walls && on_or_beyond_a_wall(v, *walls, wall_slack)) ||
+                      (!sliver[t] && is_buried(inside, v, 1e-3f * cell));
         }
     });
     if (!classified) return field_error("interrupted (Ctrl-C) while building; run again to build it");
@@ -205,7 +218,8 @@ Result<DistanceField> build_distance_field_on(const std::vector<glm::vec3>& soup
     const uint32_t slabs = (grid.dims.z + kSlab - 1) / kSlab;
     const auto node_range = [&](size_t t) {
         const glm::vec3* v = &soup[3 * t];
-        const glm::vec3 low = glm::min(v[0], glm::min(v[1], v[2])) - band, high = glm::max(v[0], glm::max(v[1], v[2])) + band;
+        const glm::vec3 low = glm::min(v[0], glm::min(v[1], v[2])) - band,
+                        high = glm::max(v[0], glm::max(v[1], v[2])) + band;
         const glm::vec3 last(grid.dims - 1u);
         const glm::uvec3 first(glm::clamp(glm::ceil((low - grid.origin) / cell), glm::vec3(0.0f), last));
         const glm::uvec3 end(glm::clamp(glm::floor((high - grid.origin) / cell), glm::vec3(0.0f), last));
@@ -252,17 +266,19 @@ Result<DistanceField> build_distance_field_on(const std::vector<glm::vec3>& soup
     // point just inside it: past the faces left out there (on the wall's plane the inside test
     // could go either way), short of anything thinner.
     const float wall_inset = 1.5f * wall_slack;
-    const bool signed_ok = parallel_items(grid.dims.z, show ? progress_label + " (inside)" : std::string(), [&](size_t k) {
-        for (uint32_t j = 0; j < grid.dims.y; ++j)
-            for (uint32_t i = 0; i < grid.dims.x; ++i) {
-                const glm::uvec3 node(i, j, uint32_t(k));
-                float& value = d2[grid.index(node)];
-                const float magnitude = std::min(std::sqrt(value), band);
-                const glm::vec3 p = grid.position(node);
-                value = inside.contains(walls ? glm::clamp(p, walls->min + wall_inset, walls->max - wall_inset) : p) ? -magnitude
-                                                                                                                        : magnitude;
-            }
-    });
+    const bool signed_ok =
+        parallel_items(grid.dims.z, show ? progress_label + " (inside)" : std::string(), [&](size_t k) {
+            for (uint32_t j = 0; j < grid.dims.y; ++j)
+                for (uint32_t i = 0; i < grid.dims.x; ++i) {
+                    const glm::uvec3 node(i, j, uint32_t(k));
+                    float& value = d2[grid.index(node)];
+                    const float magnitude = std::min(std::sqrt(value), band);
+                    const glm::vec3 p = grid.position(node);
+                    value = inside.contains(walls ? glm::clamp(p, walls->min + wall_inset, walls->max - wall_inset) : p)
+                                ? -magnitude
+                                : magnitude;
+                }
+        });
     if (!signed_ok) return field_error("interrupted (Ctrl-C) while building; run again to build it");
     return field;
 }
@@ -270,7 +286,8 @@ Result<DistanceField> build_distance_field_on(const std::vector<glm::vec3>& soup
 float distance_to_surface(const std::vector<glm::vec3>& soup, const glm::vec3& point) {
     float best = INFINITY;
     for (size_t t = 0; t + 2 < soup.size(); t += 3)
-        best = std::min(best, triangle_distance2(point, soup[t], soup[t + 1], soup[t + 2], is_sliver(soup[t], soup[t + 1], soup[t + 2])));
+        best = std::min(best, triangle_distance2(point, soup[t], soup[t + 1], soup[t + 2],
+                                                 is_sliver(soup[t], soup[t + 1], soup[t + 2])));
     return std::sqrt(best);
 }
 
@@ -285,12 +302,14 @@ DistanceField box_distance_field(const Box& box, float cell, float margin) {
     if (!glm::all(glm::lessThan(box.min, box.max)))
         throw Failure("box_distance_field: the box is empty (its min is not below its max on every axis)");
     if (!(cell > 0.0f) || !(margin > 0.0f) || !std::isfinite(cell) || !std::isfinite(margin))
-        throw Failure(format_text("box_distance_field: cell %g and margin %g must be > 0", double(cell), double(margin)));
+        throw Failure(
+            format_text("box_distance_field: cell %g and margin %g must be > 0", double(cell), double(margin)));
     const double nodes = GridSpec::count_covering(box, cell, margin);
     if (nodes > double(kMaxDistanceFieldNodes))
-        throw Failure(format_text("box_distance_field: a cell of %g m over the box needs %.3g nodes, more than the %llu "
-                                  "allowed; use a larger particle_spacing",
-                                  double(cell), nodes, (unsigned long long)kMaxDistanceFieldNodes));
+        throw Failure(
+            format_text("box_distance_field: a cell of %g m over the box needs %.3g nodes, more than the %llu "
+                        "allowed; use a larger particle_spacing",
+                        double(cell), nodes, (unsigned long long)kMaxDistanceFieldNodes));
     DistanceField field;
     field.grid = GridSpec::covering(box, cell, margin);
     field.band = margin;

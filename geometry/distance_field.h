@@ -101,8 +101,8 @@ Result<DistanceField> build_distance_field(const std::vector<glm::vec3>& triangl
 /// surface, and nodes beyond a wall take the side of the nearest point inside. So inside the
 /// tank the distance leads to the faces fluid can reach: a mesh standing on the floor has no
 /// floor face that a particle caught inside it would be pushed out through, into the floor.
-Result<DistanceField> build_distance_field_on(const std::vector<glm::vec3>& triangle_soup, const GridSpec& grid, float band,
-                                              const std::string& progress_label = {},
+Result<DistanceField> build_distance_field_on(const std::vector<glm::vec3>& triangle_soup, const GridSpec& grid,
+                                              float band, const std::string& progress_label = {},
                                               const std::optional<Box>& walls = std::nullopt);
 
 /// The distance from `point` to the nearest triangle of a soup (unsigned; brute force, for a few points).

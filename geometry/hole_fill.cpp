@@ -108,7 +108,8 @@ HoleClosing close_holes(Mesh& mesh) {
         glm::dvec3 vector_area(0.0);
         double cap_area = 0.0;
         for (const LoopEdge& e : loop) {
-            const glm::dvec3 half = 0.5 * glm::cross(glm::dvec3(mesh.vertices[e.from]) - centre, glm::dvec3(mesh.vertices[e.to]) - centre);
+            const glm::dvec3 half =
+                0.5 * glm::cross(glm::dvec3(mesh.vertices[e.from]) - centre, glm::dvec3(mesh.vertices[e.to]) - centre);
             vector_area += half;
             cap_area += glm::length(half);
         }

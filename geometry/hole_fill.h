@@ -22,8 +22,8 @@ struct HoleClosing {
     size_t open_edges = 0;          ///< boundary edges left open: on no closed loop, or around no area
     size_t added_vertices = 0;
     size_t added_faces = 0;
-    double loop_area = 0.0;         ///< sum of the holes' |vector area|
-    double cap_area = 0.0;          ///< sum of the added triangles' areas
+    double loop_area = 0.0;  ///< sum of the holes' |vector area|
+    double cap_area = 0.0;   ///< sum of the added triangles' areas
 };
 
 /// Caps every boundary loop of `mesh` (edges used by one face, on welded_vertex_ids()). Each loop is

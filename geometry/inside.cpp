@@ -90,11 +90,14 @@ void InsideTest::build(RayGrid& grid, int axis) const {
         high = glm::max(high, across(p, axis));
     }
     const glm::dvec2 extent = glm::max(high - low, glm::dvec2(1e-30));
-    const auto range = [&](size_t t) { return cell_range(&triangles_[3 * t], axis, grid.origin, grid.cell_size, grid.cells); };
+    const auto range = [&](size_t t) {
+        return cell_range(&triangles_[3 * t], axis, grid.origin, grid.cell_size, grid.cells);
+    };
     for (uint64_t target = std::min<uint64_t>(count, kMaxCells);; target = std::max<uint64_t>(1, target / 4)) {
         const double side = std::sqrt(extent.x * extent.y / double(target));
         grid.cells = glm::clamp(glm::ivec2(glm::ceil(extent / side)), glm::ivec2(1), glm::ivec2(int(kMaxCells)));
-        while (uint64_t(grid.cells.x) * uint64_t(grid.cells.y) > kMaxCells) grid.cells = glm::max(grid.cells / 2, glm::ivec2(1));
+        while (uint64_t(grid.cells.x) * uint64_t(grid.cells.y) > kMaxCells)
+            grid.cells = glm::max(grid.cells / 2, glm::ivec2(1));
         grid.origin = low;
         grid.cell_size = extent / glm::dvec2(grid.cells) * (1.0 + 1e-9);
         uint64_t entries = 0;
@@ -132,7 +135,7 @@ std::optional<bool> InsideTest::cast(const RayGrid& grid, const glm::vec3& point
         glm::dvec2 a = across(t[0], axis), b = across(t[1], axis), c = across(t[2], axis);
         glm::dvec3 depth(t[0][axis], t[1][axis], t[2][axis]);
         const double area = edge_function(a, b, c);
-        if (area == 0.0) continue;  // seen edge-on: its neighbours decide
+        if (area == 0.0) continue;             // seen edge-on: its neighbours decide
         const int sign = area > 0.0 ? 1 : -1;  // the sign of the normal's component along the ray
         if (area < 0.0) std::swap(b, c), std::swap(depth.y, depth.z);
         const double w0 = edge_function(b, c, p), w1 = edge_function(c, a, p), w2 = edge_function(a, b, p);

@@ -52,7 +52,7 @@ private:
         int axis = 2;
         glm::dvec2 origin{0.0}, cell_size{1.0};
         glm::ivec2 cells{0};
-        std::vector<uint64_t> first;     // per cell, into entries (CSR)
+        std::vector<uint64_t> first;    // per cell, into entries (CSR)
         std::vector<uint32_t> entries;  // triangle indices
     };
     void build(RayGrid& grid, int axis) const;

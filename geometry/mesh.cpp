@@ -26,17 +26,13 @@ namespace aquaform::geometry {
 
 namespace {
 
-uint64_t edge_key(uint32_t a, uint32_t b) {
-    return (uint64_t{std::min(a, b)} << 32) | std::max(a, b);
-}
+uint64_t edge_key(uint32_t a, uint32_t b) { return (uint64_t{std::min(a, b)} << 32) | std::max(a, b); }
 
 glm::uvec2 edge_from_key(uint64_t key) {
     return {static_cast<uint32_t>(key >> 32), static_cast<uint32_t>(key & 0xffffffffu)};
 }
 
-bool has_repeated_index(const glm::uvec3& face) {
-    return face.x == face.y || face.y == face.z || face.z == face.x;
-}
+bool has_repeated_index(const glm::uvec3& face) { return face.x == face.y || face.y == face.z || face.z == face.x; }
 
 template <typename T>
 void keep_first(std::vector<T>& list, size_t count) {
@@ -86,8 +82,7 @@ bool triangulate(const std::vector<glm::vec3>& vertices, const std::vector<uint3
     const int drop = size.x >= size.y && size.x >= size.z ? 0 : (size.y >= size.z ? 1 : 2);
     const double sign = normal[drop] >= 0.0 ? 1.0 : -1.0;
     std::vector<glm::dvec2> p(n);
-    for (size_t i = 0; i < n; ++i)
-        p[i] = {vertices[corners[i]][(drop + 1) % 3], vertices[corners[i]][(drop + 2) % 3]};
+    for (size_t i = 0; i < n; ++i) p[i] = {vertices[corners[i]][(drop + 1) % 3], vertices[corners[i]][(drop + 2) % 3]};
     const auto turn = [&](size_t a, size_t b, size_t c) {
         return sign * ((p[b].x - p[a].x) * (p[c].y - p[a].y) - (p[b].y - p[a].y) * (p[c].x - p[a].x));
     };
@@ -209,10 +204,12 @@ private:
                                  size_t min_count, size_t max_count, size_t ordinal, double* out = nullptr) {
         const std::string element = what + " " + std::to_string(ordinal);
         if (values.size() < min_count || values.size() > max_count)
-            return fail(at, element + " has " + std::to_string(values.size()) + (values.size() == 1 ? " number" : " numbers"),
-                        "it needs " + (min_count == max_count ? std::to_string(min_count)
-                                                              : std::to_string(min_count) + " to " + std::to_string(max_count)) +
-                            (what == "vertex" ? " (x y z, optionally w or r g b)" : "") + "; repair or re-export the mesh");
+            return fail(
+                at, element + " has " + std::to_string(values.size()) + (values.size() == 1 ? " number" : " numbers"),
+                "it needs " +
+                    (min_count == max_count ? std::to_string(min_count)
+                                            : std::to_string(min_count) + " to " + std::to_string(max_count)) +
+                    (what == "vertex" ? " (x y z, optionally w or r g b)" : "") + "; repair or re-export the mesh");
         for (size_t i = 0; i < values.size(); ++i) {
             const std::optional<double> value = number(values[i]);
             if (!value)
@@ -223,8 +220,9 @@ private:
                             "repair or re-export the mesh; a modelling tool can usually find such vertices");
             if (out && i < 3) {
                 if (std::abs(*value) > kMaxMeshCoordinate)
-                    return fail(at, element + " has coordinate " + format_number(*value) + ", too large: beyond +-" +
-                                        format_number(kMaxMeshCoordinate) + " float precision is meaningless",
+                    return fail(at,
+                                element + " has coordinate " + format_number(*value) + ", too large: beyond +-" +
+                                    format_number(kMaxMeshCoordinate) + " float precision is meaningless",
                                 "scale the mesh down in the modelling tool (the scene placement can scale it up)");
                 out[i] = *value;
             }
@@ -251,19 +249,21 @@ private:
         const char* first = token.data() + (!token.empty() && token[0] == '+');
         const auto [end, error] = std::from_chars(first, token.data() + token.size(), value);
         if (token.empty() || end != token.data() + token.size() || error == std::errc::invalid_argument)
-            return fail(at, where + " has " + kind + " index '" + shown(token) + "', not a whole number",
-                        "OBJ indices are whole numbers counting from 1 (negative ones count back from the last " + kind + ")");
+            return fail(
+                at, where + " has " + kind + " index '" + shown(token) + "', not a whole number",
+                "OBJ indices are whole numbers counting from 1 (negative ones count back from the last " + kind + ")");
         const bool too_large = error == std::errc::result_out_of_range;
         if (!too_large && value == 0)
             return fail(at, where + " has " + kind + " index 0",
                         "OBJ indices count from 1 (negative ones count back from the last " + kind + ")");
         const int64_t resolved = value > 0 ? value - 1 : int64_t(defined) + value;
         if (too_large || resolved < 0 || resolved >= int64_t(defined))
-            return fail(at, where + " refers to " + kind + " " + shown(token) + " but " + std::to_string(defined) + " " +
-                                (defined == 1 ? kind + " is" : (kind == "vertex" ? "vertices" : kind + "s") + " are") +
-                                " defined above this line",
-                        "correct the index (1 to " + std::to_string(defined) + ", or -1 to -" + std::to_string(defined) +
-                            ") or re-export the mesh");
+            return fail(at,
+                        where + " refers to " + kind + " " + shown(token) + " but " + std::to_string(defined) + " " +
+                            (defined == 1 ? kind + " is" : (kind == "vertex" ? "vertices" : kind + "s") + " are") +
+                            " defined above this line",
+                        "correct the index (1 to " + std::to_string(defined) + ", or -1 to -" +
+                            std::to_string(defined) + ") or re-export the mesh");
         if (out) *out = uint32_t(resolved);
         return std::nullopt;
     }
@@ -272,7 +272,8 @@ private:
         ++face_number_;
         const std::string element = "face " + std::to_string(face_number_);
         if (values.size() < 3)
-            return fail(at, element + " has " + std::to_string(values.size()) + " corner" + (values.size() == 1 ? "" : "s"),
+            return fail(at,
+                        element + " has " + std::to_string(values.size()) + " corner" + (values.size() == 1 ? "" : "s"),
                         "a face needs at least 3 vertex indices ('f 1 2 3'); repair or re-export the mesh");
         std::vector<uint32_t> corners(values.size());
         for (size_t c = 0; c < values.size(); ++c) {
@@ -281,10 +282,14 @@ private:
             size_t count = 0;
             for (std::string_view rest = values[c];; ++count) {
                 const size_t slash = rest.find('/');
-                if (count == 3) return fail(at, where + " '" + shown(values[c]) + "' has more than three parts",
-                                            "write v, v/vt, v//vn or v/vt/vn");
+                if (count == 3)
+                    return fail(at, where + " '" + shown(values[c]) + "' has more than three parts",
+                                "write v, v/vt, v//vn or v/vt/vn");
                 parts[count] = rest.substr(0, slash);
-                if (slash == std::string_view::npos) { ++count; break; }
+                if (slash == std::string_view::npos) {
+                    ++count;
+                    break;
+                }
                 rest = rest.substr(slash + 1);
             }
             if (auto error = index(parts[0], mesh_.vertices.size(), "vertex", at, where, &corners[c])) return error;
@@ -327,7 +332,9 @@ std::vector<uint32_t> welded_ids(const Mesh& mesh) {
     return ids;
 }
 
-glm::uvec3 weld(const glm::uvec3& face, const std::vector<uint32_t>& ids) { return {ids[face.x], ids[face.y], ids[face.z]}; }
+glm::uvec3 weld(const glm::uvec3& face, const std::vector<uint32_t>& ids) {
+    return {ids[face.x], ids[face.y], ids[face.z]};
+}
 
 // Groups boundary edges into holes (union-find on their vertices) and sums |vector area| of each
 // hole's boundary loop: the area a flat patch over it needs. Per hole, so that holes at the two ends
@@ -353,7 +360,8 @@ void measure_holes(const Mesh& mesh, const EdgeMap& edges, MeshReport& report) {
         if (use.faces != 1) continue;
         glm::uvec2 e = edge_from_key(key);  // low to high; the face runs it so when low_to_high
         if (!use.low_to_high) std::swap(e.x, e.y);
-        loop_area[root(e.x)] += 0.5 * glm::cross(glm::dvec3(mesh.vertices[e.x]) - centre, glm::dvec3(mesh.vertices[e.y]) - centre);
+        loop_area[root(e.x)] +=
+            0.5 * glm::cross(glm::dvec3(mesh.vertices[e.x]) - centre, glm::dvec3(mesh.vertices[e.y]) - centre);
     }
     report.hole_count = loop_area.size();
     for (const auto& [hole, area] : loop_area) report.hole_area += glm::length(area);
@@ -507,7 +515,8 @@ size_t orient_consistently(Mesh& mesh) {
     for (uint32_t f = 0; f < mesh.faces.size(); ++f) {
         const glm::uvec3 face = weld(mesh.faces[f], ids);
         if (has_repeated_index(face)) continue;
-        for (int i = 0; i < 3; ++i) uses.push_back({edge_key(face[i], face[(i + 1) % 3]), f, face[i] < face[(i + 1) % 3]});
+        for (int i = 0; i < 3; ++i)
+            uses.push_back({edge_key(face[i], face[(i + 1) % 3]), f, face[i] < face[(i + 1) % 3]});
     }
     std::sort(uses.begin(), uses.end(), [](const Use& a, const Use& b) { return a.edge < b.edge; });
     // Up to three neighbours per face; `same` marks one that runs the shared edge the same way (flipped).
@@ -522,7 +531,8 @@ size_t orient_consistently(Mesh& mesh) {
             (i > 0 && uses[i - 1].edge == uses[i].edge) || uses[i].face == uses[i + 1].face)
             continue;  // only edges with exactly two faces: a non-manifold edge gives no reliable neighbour
         const bool same = uses[i].low_to_high == uses[i + 1].low_to_high;
-        for (const auto& [from, to] : {std::pair{uses[i].face, uses[i + 1].face}, std::pair{uses[i + 1].face, uses[i].face}})
+        for (const auto& [from, to] :
+             {std::pair{uses[i].face, uses[i + 1].face}, std::pair{uses[i + 1].face, uses[i].face}})
             if (link_count[from] < 3) links[from][link_count[from]++] = {to, same};
     }
     const Box box = mesh.bounds();
@@ -668,14 +678,17 @@ std::string describe(const MeshReport& report) {
             << "% of its surface area) with caps: the mesh is used closed (";
         for (size_t i = 0; i < report.closed_holes.size(); ++i) {
             const ClosedHole& hole = report.closed_holes[i];
-            out << (i ? "; " : report.closed_holes.size() < report.closed_hole_count ? "largest: " : "")
+            out << (i                                                       ? "; "
+                    : report.closed_holes.size() < report.closed_hole_count ? "largest: "
+                                                                            : "")
                 << hole.edges << " edges around (" << hole.centre.x << ", " << hole.centre.y << ", " << hole.centre.z
                 << ")";
         }
         out << ")\n";
     }
     if (report.hole_count) {
-        out << report.hole_count << " holes left open (their edges form no closed loop, or enclose no area); closing them would take "
+        out << report.hole_count
+            << " holes left open (their edges form no closed loop, or enclose no area); closing them would take "
             << 100.0 * report.hole_fraction() << "% of the surface area (points near them may be missing)\n";
     }
     if (report.inward_facing()) {
@@ -694,14 +707,15 @@ Result<Mesh> read_obj(const std::filesystem::path& path) {
         return mesh_error(path, "not a regular file", "give the path of a Wavefront .obj file");
     }
     const uint64_t bytes = std::filesystem::file_size(path, error);
-    if (!error && bytes == 0) return mesh_error(path, "the file is empty (0 bytes)", "export the mesh again as Wavefront OBJ");
+    if (!error && bytes == 0)
+        return mesh_error(path, "the file is empty (0 bytes)", "export the mesh again as Wavefront OBJ");
     // The text, the parsed mesh and the checks' edge and half-edge tables: about 6 times the file
     // (a 76 MB OBJ of 2M triangles peaks at 430 MB).
     const std::optional<uint64_t> available = available_host_memory();
     if (!error && available && 6 * bytes > *available)
         return mesh_error(path,
-                          "reading this " + memory_size_text(bytes) + " file needs about " + memory_size_text(6 * bytes) +
-                              " of memory but " + available_memory_text(*available),
+                          "reading this " + memory_size_text(bytes) + " file needs about " +
+                              memory_size_text(6 * bytes) + " of memory but " + available_memory_text(*available),
                           "simplify (decimate) the mesh in a modelling tool, or free memory");
     std::ifstream file(path, std::ios::binary);
     std::string text(error ? 0 : size_t(bytes), '\0');  // read in place: one copy of a large file, not two
@@ -713,8 +727,9 @@ Result<Mesh> read_obj(const std::filesystem::path& path) {
     if (body.starts_with("\xFF\xFE") || body.starts_with("\xFE\xFF"))
         return mesh_error(path, "the file is UTF-16 text", "save it as UTF-8 or ASCII (Wavefront OBJ is plain text)");
     if (const size_t zero = body.find('\0'); zero != std::string_view::npos)
-        return mesh_error(path, "not OBJ text: byte " + std::to_string(zero + 1) +
-                                    " is 0 (a binary file, or UTF-16 text without a byte order mark)",
+        return mesh_error(path,
+                          "not OBJ text: byte " + std::to_string(zero + 1) +
+                              " is 0 (a binary file, or UTF-16 text without a byte order mark)",
                           "give a Wavefront OBJ text file, saved as UTF-8 or ASCII");
     if (body.find_first_not_of(" \t\r\n") == std::string_view::npos) {
         return mesh_error(path, "the file is empty", "export the mesh again as Wavefront OBJ");

@@ -15,8 +15,8 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <glm/glm.hpp>
 
-#include "core/result.h"
 #include "core/box.h"
+#include "core/result.h"
 
 namespace aquaform::geometry {
 
@@ -65,15 +65,15 @@ struct MeshReport {
     size_t duplicated_vertex_count = 0;    ///< vertices at exactly the position of an earlier vertex
     double signed_volume = 0.0;            ///< sum of signed tetrahedron volumes; < 0: normals face inward
     double surface_area = 0.0;
-    glm::dvec3 bounds_size{0.0};         ///< extent of the vertices' bounding box
-    size_t hole_count = 0;                 ///< connected groups of boundary edges
-    double hole_area = 0.0;                ///< sum over holes of |vector area| of their boundary loops
-    size_t reoriented_face_count = 0;      ///< faces load_obj() turned to agree with their neighbours
-    size_t closed_hole_count = 0;          ///< boundary loops load_obj() closed with caps
-    size_t closed_boundary_edge_count = 0; ///< boundary edges around them
-    double closed_hole_area = 0.0;         ///< sum over them of |vector area| of their loops
-    double cap_area = 0.0;                 ///< area of the caps' triangles (part of surface_area)
-    std::vector<ClosedHole> closed_holes;  ///< the largest few (by area), largest first
+    glm::dvec3 bounds_size{0.0};            ///< extent of the vertices' bounding box
+    size_t hole_count = 0;                  ///< connected groups of boundary edges
+    double hole_area = 0.0;                 ///< sum over holes of |vector area| of their boundary loops
+    size_t reoriented_face_count = 0;       ///< faces load_obj() turned to agree with their neighbours
+    size_t closed_hole_count = 0;           ///< boundary loops load_obj() closed with caps
+    size_t closed_boundary_edge_count = 0;  ///< boundary edges around them
+    double closed_hole_area = 0.0;          ///< sum over them of |vector area| of their loops
+    double cap_area = 0.0;                  ///< area of the caps' triangles (part of surface_area)
+    std::vector<ClosedHole> closed_holes;   ///< the largest few (by area), largest first
 
     std::vector<glm::uvec2> boundary_edges;      ///< vertex index pairs
     std::vector<glm::uvec2> non_manifold_edges;  ///< vertex index pairs

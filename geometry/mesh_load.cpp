@@ -37,5 +37,4 @@ Result<LoadedMesh> load_obj(const std::filesystem::path& path) {
     return loaded;
 }
 
-
 }  // namespace aquaform::geometry

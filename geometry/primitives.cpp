@@ -2,8 +2,8 @@
 #include "core/error.h"
 
 #include <algorithm>
-#include <cmath>
 #include <array>
+#include <cmath>
 #include <map>
 #include <numbers>
 #include <stdexcept>
@@ -14,11 +14,11 @@ namespace aquaform::geometry {
 Mesh make_sphere(float radius, uint32_t subdivisions) {
     const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
     Mesh mesh;
-    mesh.vertices = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                     {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-    mesh.faces = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                  {11, 10, 2}, {10, 7, 6}, {7, 1, 8},   {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                  {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+    mesh.vertices = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                     {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+    mesh.faces = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                  {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                  {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
     for (uint32_t level = 0; level < subdivisions; ++level) {
         // Each edge's midpoint is created once and shared by both faces, so the mesh stays closed.
         std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoints;
@@ -82,8 +82,7 @@ Mesh make_torus(float major_radius, float minor_radius, uint32_t major_segments,
     return mesh;
 }
 
-Mesh make_tube(const glm::vec3& a, const glm::vec3& b, float radius_a, float radius_b, uint32_t rings,
-               uint32_t sides) {
+Mesh make_tube(const glm::vec3& a, const glm::vec3& b, float radius_a, float radius_b, uint32_t rings, uint32_t sides) {
     rings = std::max(rings, 2u);
     sides = std::max(sides, 3u);
     // Frame (u, v, axis) right-handed, so side quads wound (a_k, a_k+1, b_k+1) face outward.
@@ -144,16 +143,19 @@ void append(Mesh& to, const Mesh& part) {
 Mesh make_block_letter(char letter, float cell, float depth) {
     const auto found = block_font().find(letter);
     if (found == block_font().end())
-        throw Failure(std::string("make_block_letter: no glyph for '") + letter + "'; letters: " +
-                                    std::string(kBlockLetters));
+        throw Failure(std::string("make_block_letter: no glyph for '") + letter +
+                      "'; letters: " + std::string(kBlockLetters));
     const auto& rows = found->second;
     // Pixel (i, j) with j counted from the bottom; outside the glyph is empty.
-    const auto filled = [&](int i, int j) { return i >= 0 && i < 5 && j >= 0 && j < 7 && rows[size_t(6 - j)][i] == '#'; };
+    const auto filled = [&](int i, int j) {
+        return i >= 0 && i < 5 && j >= 0 && j < 7 && rows[size_t(6 - j)][i] == '#';
+    };
     Mesh mesh;
     std::map<std::array<int, 3>, uint32_t> corner_index;  // only corners that faces use become vertices
     const auto corner = [&](std::array<int, 3> c) {
         const auto [it, inserted] = corner_index.emplace(c, static_cast<uint32_t>(mesh.vertices.size()));
-        if (inserted) mesh.vertices.emplace_back((float(c[0]) - 2.5f) * cell, float(c[1]) * cell, (float(c[2]) - 0.5f) * depth);
+        if (inserted)
+            mesh.vertices.emplace_back((float(c[0]) - 2.5f) * cell, float(c[1]) * cell, (float(c[2]) - 0.5f) * depth);
         return it->second;
     };
     for (int j = 0; j < 7; ++j)
@@ -214,7 +216,8 @@ Character make_character() {
         // The arm starts a little inside the torso so that the shoulder has no gap.
         const glm::vec3 arm_start = shoulder - 0.05f * glm::normalize(hand - shoulder);
         append(ch.mesh, make_tube(arm_start * m, hand * m, 0.048f, 0.035f, 23, 10));
-        append(ch.mesh, make_tube(glm::vec3(0.1f, 0.96f, 0.0f) * m, glm::vec3(0.1f, 0.03f, 0.0f) * m, 0.075f, 0.05f, 32, 12));
+        append(ch.mesh,
+               make_tube(glm::vec3(0.1f, 0.96f, 0.0f) * m, glm::vec3(0.1f, 0.03f, 0.0f) * m, 0.075f, 0.05f, 32, 12));
         const float foot_x = hip.x * m.x;  // under the hip, reaching forward (+z) from the heel
         append(ch.mesh, make_box({{foot_x - 0.045f, 0.0f, -0.05f}, {foot_x + 0.045f, 0.07f, 0.17f}}));
     }

@@ -20,8 +20,7 @@ Mesh make_box(const Box& box);
 Mesh make_torus(float major_radius, float minor_radius, uint32_t major_segments = 48, uint32_t minor_segments = 24);
 /// Closed tube from `a` (radius_a) to `b` (radius_b): `rings` rings (at least 2) of `sides` vertices (at
 /// least 3), both ends capped with a fan around a centre vertex. More rings let skinning bend it smoothly.
-Mesh make_tube(const glm::vec3& a, const glm::vec3& b, float radius_a, float radius_b, uint32_t rings,
-               uint32_t sides);
+Mesh make_tube(const glm::vec3& a, const glm::vec3& b, float radius_a, float radius_b, uint32_t rings, uint32_t sides);
 
 /// The capitals make_block_letter draws.
 inline constexpr std::string_view kBlockLetters = "AQUFORM";

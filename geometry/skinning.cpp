@@ -10,8 +10,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/json_fields.h"
 #include "core/error.h"
+#include "core/json_fields.h"
 
 namespace aquaform::geometry {
 
@@ -135,8 +135,8 @@ Skeleton parse_skeleton(const json& v, const std::string& path) {
         skeleton.bones.push_back(std::move(bone));
     }
     if (with_radius != 0 && with_radius != list.size()) {
-        const auto missing = std::find_if(skeleton.bones.begin(), skeleton.bones.end(),
-                                          [](const Bone& b) { return !b.radius; });
+        const auto missing =
+            std::find_if(skeleton.bones.begin(), skeleton.bones.end(), [](const Bone& b) { return !b.radius; });
         fail(list_path + "[" + std::to_string(missing - skeleton.bones.begin()) + "] (\"" + missing->name +
              "\") has no \"radius\" but other bones have one; give every bone a radius or none");
     }
@@ -217,15 +217,15 @@ SkinWeights compute_skin_weights(const std::vector<glm::vec3>& rest_vertices, co
 
 std::vector<glm::mat4> bone_matrices(const Skeleton& skeleton, const SkeletonPose& pose) {
     if (pose.rotations.size() != skeleton.bones.size())
-        throw Failure("bone_matrices: the pose has " + std::to_string(pose.rotations.size()) +
-                                    " rotations for " + std::to_string(skeleton.bones.size()) + " bones");
+        throw Failure("bone_matrices: the pose has " + std::to_string(pose.rotations.size()) + " rotations for " +
+                      std::to_string(skeleton.bones.size()) + " bones");
     std::vector<glm::mat4> out(skeleton.bones.size());
     for (size_t i = 0; i < skeleton.bones.size(); ++i) {
         const Bone& b = skeleton.bones[i];
         const glm::mat4 local = glm::translate(glm::mat4(1.0f), b.head) * glm::mat4_cast(pose.rotations[i]) *
                                 glm::translate(glm::mat4(1.0f), -b.head);
-        const glm::mat4 above = b.parent < 0 ? glm::translate(glm::mat4(1.0f), pose.root_offset)
-                                             : out[static_cast<size_t>(b.parent)];
+        const glm::mat4 above =
+            b.parent < 0 ? glm::translate(glm::mat4(1.0f), pose.root_offset) : out[static_cast<size_t>(b.parent)];
         out[i] = above * local;
     }
     return out;
@@ -233,8 +233,8 @@ std::vector<glm::mat4> bone_matrices(const Skeleton& skeleton, const SkeletonPos
 
 Mesh skin(const Mesh& rest, const SkinWeights& weights, const std::vector<glm::mat4>& matrices) {
     if (weights.bones.size() != rest.vertices.size())
-        throw Failure("skin: weights for " + std::to_string(weights.bones.size()) +
-                                    " vertices, mesh has " + std::to_string(rest.vertices.size()));
+        throw Failure("skin: weights for " + std::to_string(weights.bones.size()) + " vertices, mesh has " +
+                      std::to_string(rest.vertices.size()));
     Mesh out;
     out.faces = rest.faces;
     out.vertices.resize(rest.vertices.size());

@@ -18,7 +18,7 @@ namespace aquaform::geometry {
 
 struct Bone {
     std::string name;
-    int parent = -1;  ///< index into Skeleton::bones, always lower than this bone's index; -1: a root
+    int parent = -1;       ///< index into Skeleton::bones, always lower than this bone's index; -1: a root
     glm::vec3 head{0.0f};  ///< the joint the bone rotates about, in the mesh's file coordinates
     /// End of the bone's segment for the skin weights. Unset: the head of the bone's first child, or
     /// for a leaf a stub a quarter as long as its parent, continuing the parent's direction.

@@ -4,9 +4,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/error.h"
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
-#include "core/error.h"
 
 namespace aquaform::gpu {
 
@@ -28,8 +28,9 @@ Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size, M
     b.texels_only = texels_only;
     VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     info.size = size;
-    info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
-                 VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT |
+                 VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
+                 VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     VK_CHECK(vkCreateBuffer(ctx.device(), &info, nullptr, &b.buffer));
     VkMemoryRequirements req{};
@@ -45,8 +46,8 @@ Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size, M
     VkResult r = vkAllocateMemory(ctx.device(), &alloc, nullptr, &b.memory);
     if (r != VK_SUCCESS) {
         vkDestroyBuffer(ctx.device(), b.buffer, nullptr);
-        throw VulkanError(r, "cannot allocate " + std::to_string(size) + " bytes for buffer '" + name +
-                                 "' on " + ctx.info().name + " (" + vk_result_name(r) +
+        throw VulkanError(r, "cannot allocate " + std::to_string(size) + " bytes for buffer '" + name + "' on " +
+                                 ctx.info().name + " (" + vk_result_name(r) +
                                  "); use fewer particles (a larger particle_spacing)");
     }
     VK_CHECK(vkBindBufferMemory(ctx.device(), b.buffer, b.memory, 0));
@@ -70,13 +71,17 @@ namespace {
 uint32_t format_bytes(VkFormat format) {
     switch (format) {
         case VK_FORMAT_R32G32B32A32_SFLOAT:
-        case VK_FORMAT_R32G32B32A32_UINT: return 16;
+        case VK_FORMAT_R32G32B32A32_UINT:
+            return 16;
         case VK_FORMAT_R32G32_SFLOAT:
-        case VK_FORMAT_R32G32_UINT: return 8;
+        case VK_FORMAT_R32G32_UINT:
+            return 8;
         case VK_FORMAT_R32_SFLOAT:
         case VK_FORMAT_R32_UINT:
-        case VK_FORMAT_R32_SINT: return 4;
-        default: throw internal_failure("texel_view: unsupported format " + std::to_string(int(format)));
+        case VK_FORMAT_R32_SINT:
+            return 4;
+        default:
+            throw internal_failure("texel_view: unsupported format " + std::to_string(int(format)));
     }
 }
 
@@ -99,7 +104,8 @@ VkBufferView texel_view(Context& ctx, const Buffer& b, VkFormat format) {
     if (elements > ctx.limits().maxTexelBufferElements)
         throw VulkanError(VK_ERROR_OUT_OF_DEVICE_MEMORY,
                           "buffer '" + b.name + "' holds " + std::to_string(elements) + " elements but " +
-                              ctx.info().name + " reads at most " + std::to_string(ctx.limits().maxTexelBufferElements) +
+                              ctx.info().name + " reads at most " +
+                              std::to_string(ctx.limits().maxTexelBufferElements) +
                               " through a texel buffer; use fewer particles (a larger particle_spacing)");
     VkBufferViewCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
     info.buffer = b.buffer;

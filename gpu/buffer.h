@@ -37,8 +37,8 @@ enum class MemoryUse { device, host };
 /// Creates a storage buffer (also usable as transfer source/destination and as texels). Host
 /// buffers are mapped for their whole life. Fails with a message naming the buffer when it
 /// exceeds the device's storage-buffer range (texels_only: its texel-buffer size).
-Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size,
-                     MemoryUse use = MemoryUse::device, bool texels_only = false);
+Buffer create_buffer(Context& ctx, const std::string& name, VkDeviceSize size, MemoryUse use = MemoryUse::device,
+                     bool texels_only = false);
 void destroy_buffer(Context& ctx, Buffer& buffer);
 
 /// The buffer seen as a storage texel buffer of `format` (whole size), made on first use and
@@ -63,7 +63,8 @@ public:
     BufferSet(const BufferSet&) = delete;
     BufferSet& operator=(const BufferSet&) = delete;
 
-    Buffer& add(const std::string& name, VkDeviceSize size, MemoryUse use = MemoryUse::device, bool texels_only = false);
+    Buffer& add(const std::string& name, VkDeviceSize size, MemoryUse use = MemoryUse::device,
+                bool texels_only = false);
     void release();
     std::vector<BufferReport> report() const;
     VkDeviceSize total_bytes() const;

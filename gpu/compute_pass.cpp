@@ -4,11 +4,11 @@
 #include <utility>
 #include <vector>
 
+#include "core/error.h"
 #include "gpu/barriers.h"
 #include "gpu/context.h"
 #include "gpu/shader_registry.h"
 #include "gpu/vk_check.h"
-#include "core/error.h"
 
 namespace aquaform::gpu {
 
@@ -17,16 +17,24 @@ namespace {
 /// The view format of a storage texel buffer from its SPIR-V image format.
 VkFormat texel_vk_format(const ShaderBinding& b, const std::string& shader) {
     switch (b.texel_format) {
-        case 1: return VK_FORMAT_R32G32B32A32_SFLOAT;
-        case 3: return VK_FORMAT_R32_SFLOAT;
-        case 6: return VK_FORMAT_R32G32_SFLOAT;
-        case 24: return VK_FORMAT_R32_SINT;
-        case 30: return VK_FORMAT_R32G32B32A32_UINT;
-        case 33: return VK_FORMAT_R32_UINT;
-        case 35: return VK_FORMAT_R32G32_UINT;
+        case 1:
+            return VK_FORMAT_R32G32B32A32_SFLOAT;
+        case 3:
+            return VK_FORMAT_R32_SFLOAT;
+        case 6:
+            return VK_FORMAT_R32G32_SFLOAT;
+        case 24:
+            return VK_FORMAT_R32_SINT;
+        case 30:
+            return VK_FORMAT_R32G32B32A32_UINT;
+        case 33:
+            return VK_FORMAT_R32_UINT;
+        case 35:
+            return VK_FORMAT_R32G32_UINT;
         default:
             throw internal_failure(shader + ": texel buffer '" + b.name + "' has image format " +
-                                   std::to_string(b.texel_format) + "; use rgba32f, rg32f, r32f, rgba32ui, rg32ui, r32ui or r32i");
+                                   std::to_string(b.texel_format) +
+                                   "; use rgba32f, rg32f, r32f, rgba32ui, rg32ui, r32ui or r32i");
     }
 }
 
@@ -40,8 +48,7 @@ VkDescriptorType descriptor_type(const ShaderBinding& b) {
 ComputePass::ComputePass(Context& ctx, const ComputePassDesc& desc)
     : ctx_(&ctx), desc_(desc), bindings_(reflect_bindings(find_shader(desc.shader), desc.shader)) {
     for (const ShaderBinding& b : bindings_) {
-        if (b.set != 0)
-            throw internal_failure(desc.shader + ": binding '" + b.name + "' must be in descriptor set 0");
+        if (b.set != 0) throw internal_failure(desc.shader + ": binding '" + b.name + "' must be in descriptor set 0");
         if (b.texel_format) texel_vk_format(b, desc.shader);  // a format the pass can view
     }
     if (desc.bindings != 0 && desc.bindings != bindings_.size())
@@ -75,8 +82,10 @@ ComputePass::ComputePass(Context& ctx, const ComputePassDesc& desc)
     std::vector<uint32_t> values{desc_.local_size};
     values.insert(values.end(), desc_.constants.begin(), desc_.constants.end());
     std::vector<VkSpecializationMapEntry> entries;
-    for (uint32_t i = 0; i < values.size(); ++i) entries.push_back({i, i * uint32_t(sizeof(uint32_t)), sizeof(uint32_t)});
-    VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(), values.size() * sizeof(uint32_t), values.data()};
+    for (uint32_t i = 0; i < values.size(); ++i)
+        entries.push_back({i, i * uint32_t(sizeof(uint32_t)), sizeof(uint32_t)});
+    VkSpecializationInfo spec{uint32_t(entries.size()), entries.data(), values.size() * sizeof(uint32_t),
+                              values.data()};
     VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
     info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -166,8 +175,7 @@ void bind_pass(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const
         if (i == declared_bindings.size())
             throw internal_failure(d.shader + ": no binding named '" + std::string(given.name) +
                                    "'; the shader declares: " + declared(pass));
-        if (by_index[i])
-            throw internal_failure(d.shader + ": binding '" + std::string(given.name) + "' given twice");
+        if (by_index[i]) throw internal_failure(d.shader + ": binding '" + std::string(given.name) + "' given twice");
         if (!given.buffer || !given.buffer->buffer)
             throw internal_failure(d.shader + ": binding '" + std::string(given.name) + "' given no buffer");
         by_index[i] = given.buffer;
@@ -198,7 +206,8 @@ void bind_pass(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const
             views[i] = texel_view(ctx, *by_index[i], texel_vk_format(declared_binding, d.shader));
             writes[i].pTexelBufferView = &views[i];
         } else {
-            if (declared_binding.storage && (by_index[i]->texels_only || by_index[i]->size > ctx.info().max_storage_buffer_bytes))
+            if (declared_binding.storage &&
+                (by_index[i]->texels_only || by_index[i]->size > ctx.info().max_storage_buffer_bytes))
                 throw internal_failure(d.shader + ": storage buffer '" + declared_binding.name + "' bound to buffer '" +
                                        by_index[i]->name + "' of " + std::to_string(by_index[i]->size) +
                                        " bytes, made for texels only or larger than the device's storage-buffer range");
@@ -219,8 +228,8 @@ void bind_pass(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const
 
 }  // namespace
 
-void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads,
-                  const void* push, uint32_t push_bytes, Bindings bindings) {
+void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads, const void* push,
+                  uint32_t push_bytes, Bindings bindings) {
     if (threads == 0) return bind_pass(ctx, cmd, pass, push, push_bytes, bindings, nullptr);  // checks only
     ctx.command_boundary(cmd);
     const ComputePassDesc& d = pass.desc();

@@ -29,9 +29,9 @@ class Context;
 constexpr uint32_t kDefaultLocalSize = 128;
 
 struct ComputePassDesc {
-    std::string shader;          ///< embedded shader name, e.g. "sim/predict.comp"
-    uint32_t bindings = 0;       ///< storage buffers the shader declares (checked; 0 = take the shader's)
-    uint32_t push_bytes = 0;     ///< push-constant block size (0 = none)
+    std::string shader;                       ///< embedded shader name, e.g. "sim/predict.comp"
+    uint32_t bindings = 0;                    ///< storage buffers the shader declares (checked; 0 = take the shader's)
+    uint32_t push_bytes = 0;                  ///< push-constant block size (0 = none)
     uint32_t local_size = kDefaultLocalSize;  ///< workgroup size, fed to the shader's local_size_x_id = 0
     /// Specialization constants 1, 2, ... (constant_id = index + 1): choices fixed per pipeline,
     /// so that the compiler drops the code of the other choice.
@@ -75,18 +75,17 @@ using Bindings = std::initializer_list<Binding>;
 /// its own bound). In the calling thread's recording a barrier goes before it only where it
 /// depends on an earlier command (gpu/barriers.h: it reads or writes a buffer written since the
 /// last barrier, or writes one read since); in any other command buffer a full barrier follows.
-void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads,
-                  const void* push, uint32_t push_bytes, Bindings bindings);
+void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads, const void* push,
+                  uint32_t push_bytes, Bindings bindings);
 
 template <typename Push>
-void dispatch(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads,
-              const Push& push, Bindings bindings) {
+void dispatch(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads, const Push& push,
+              Bindings bindings) {
     dispatch_raw(ctx, cmd, pass, threads, &push, sizeof(Push), bindings);
 }
 
 /// For passes without push constants.
-inline void dispatch(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads,
-                     Bindings bindings) {
+inline void dispatch(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads, Bindings bindings) {
     dispatch_raw(ctx, cmd, pass, threads, nullptr, 0, bindings);
 }
 

@@ -1,8 +1,8 @@
 #include "gpu/context.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -10,9 +10,9 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "core/error.h"
 #include "gpu/barriers.h"
 #include "gpu/vk_check.h"
-#include "core/error.h"
 
 namespace aquaform::gpu {
 
@@ -44,8 +44,7 @@ int find_queue_family(VkPhysicalDevice pd) {
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &count, families.data());
     const VkQueueFlags need = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
     for (uint32_t i = 0; i < count; ++i)
-        if ((families[i].queueFlags & need) == need && families[i].timestampValidBits > 0)
-            return static_cast<int>(i);
+        if ((families[i].queueFlags & need) == need && families[i].timestampValidBits > 0) return static_cast<int>(i);
     return -1;
 }
 
@@ -73,12 +72,15 @@ bool gpu_assisted_validation_requested() {
 /// a count of 460 million groups and hung a run. docs/validation.md has the evidence.
 void refuse_gpu_assisted_without_push_descriptors(uint32_t layer_version) {
     if (layer_version >= VK_MAKE_API_VERSION(0, 1, 3, 250) || !gpu_assisted_validation_requested()) return;
-    throw Failure("GPU-assisted validation is switched on (VK_LAYER_ENABLES or vk_layer_settings.txt), but validation "
-                  "layer " + std::to_string(VK_API_VERSION_MAJOR(layer_version)) + "." +
-                  std::to_string(VK_API_VERSION_MINOR(layer_version)) + "." + std::to_string(VK_API_VERSION_PATCH(layer_version)) +
-                  " cannot check push descriptors, which every aquaform pass uses: its reports would all be false "
-                  "(see docs/validation.md); use --validation without GPU-assisted checks (unset VK_LAYER_ENABLES), "
-                  "or a validation layer of 1.3.250 or later");
+    throw Failure(
+        "GPU-assisted validation is switched on (VK_LAYER_ENABLES or vk_layer_settings.txt), but validation "
+        "layer " +
+        std::to_string(VK_API_VERSION_MAJOR(layer_version)) + "." +
+        std::to_string(VK_API_VERSION_MINOR(layer_version)) + "." +
+        std::to_string(VK_API_VERSION_PATCH(layer_version)) +
+        " cannot check push descriptors, which every aquaform pass uses: its reports would all be false "
+        "(see docs/validation.md); use --validation without GPU-assisted checks (unset VK_LAYER_ENABLES), "
+        "or a validation layer of 1.3.250 or later");
 }
 
 /// Whether the loader (or an implicit layer) offers the instance extension `name`.
@@ -130,9 +132,10 @@ VkInstance create_instance(bool validation, const std::vector<std::string>& extr
     VkInstance instance = VK_NULL_HANDLE;
     VkResult r = vkCreateInstance(&info, nullptr, &instance);
     if (r == VK_ERROR_INCOMPATIBLE_DRIVER)
-        throw VulkanError(r, "no Vulkan driver found; on a machine without a GPU install Mesa's "
-                             "software device with: apt-get install mesa-vulkan-drivers "
-                             "(scripts/setup.sh does this)");
+        throw VulkanError(r,
+                          "no Vulkan driver found; on a machine without a GPU install Mesa's "
+                          "software device with: apt-get install mesa-vulkan-drivers "
+                          "(scripts/setup.sh does this)");
     VK_CHECK(r);
     return instance;
 }
@@ -143,8 +146,10 @@ uint64_t dispatch_work_budget(VkPhysicalDeviceType type) {
     constexpr double kSeconds = 0.25;
     switch (type) {
         case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
-        case VK_PHYSICAL_DEVICE_TYPE_CPU: return uint64_t(2e10 * kSeconds);
-        default: return uint64_t(4e9 * kSeconds);  // integrated, virtual, other
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return uint64_t(2e10 * kSeconds);
+        default:
+            return uint64_t(4e9 * kSeconds);  // integrated, virtual, other
     }
 }
 
@@ -156,9 +161,7 @@ uint32_t slices_for_budget(double work, uint64_t budget) {
 namespace {
 
 /// Loop iterations an invocation may run before the driver ends its loops (0 = unlimited).
-uint32_t loop_iteration_limit(VkDriverId driver) {
-    return driver == VK_DRIVER_ID_MESA_LLVMPIPE ? 65535u : 0u;
-}
+uint32_t loop_iteration_limit(VkDriverId driver) { return driver == VK_DRIVER_ID_MESA_LLVMPIPE ? 65535u : 0u; }
 
 DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
     VkPhysicalDeviceProperties props{};
@@ -204,10 +207,14 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
 
 int type_rank(VkPhysicalDeviceType t) {
     switch (t) {
-        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 3;
-        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 2;
-        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 1;
-        default: return 0;  // CPU (software) and other
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return 3;
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return 2;
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return 1;
+        default:
+            return 0;  // CPU (software) and other
     }
 }
 
@@ -223,6 +230,8 @@ std::vector<VkPhysicalDevice> physical_devices(VkInstance instance) {
 
 const char* vk_result_name(VkResult result) {
     switch (result) {
+        // A table of cases laid out by hand: clang-format would read the macros as nested statements.
+        // clang-format off
 #define AF_CASE(x) case x: return #x;
         AF_CASE(VK_SUCCESS) AF_CASE(VK_NOT_READY) AF_CASE(VK_TIMEOUT) AF_CASE(VK_INCOMPLETE)
         AF_CASE(VK_ERROR_OUT_OF_HOST_MEMORY) AF_CASE(VK_ERROR_OUT_OF_DEVICE_MEMORY)
@@ -232,28 +241,35 @@ const char* vk_result_name(VkResult result) {
         AF_CASE(VK_ERROR_INCOMPATIBLE_DRIVER) AF_CASE(VK_ERROR_TOO_MANY_OBJECTS)
         AF_CASE(VK_ERROR_FORMAT_NOT_SUPPORTED) AF_CASE(VK_ERROR_OUT_OF_POOL_MEMORY)
 #undef AF_CASE
-        default: return "VK_ERROR_(other)";
+            // clang-format on
+            default : return "VK_ERROR_(other)";
     }
 }
 
 void throw_vk_error(VkResult result, const char* call, const char* file, int line) {
     char buf[512];
-    std::snprintf(buf, sizeof buf, "%s:%d: %s failed with %s (%d)", file, line, call,
-                  vk_result_name(result), static_cast<int>(result));
+    std::snprintf(buf, sizeof buf, "%s:%d: %s failed with %s (%d)", file, line, call, vk_result_name(result),
+                  static_cast<int>(result));
     std::string msg = buf;
     if (result == VK_ERROR_OUT_OF_DEVICE_MEMORY || result == VK_ERROR_OUT_OF_HOST_MEMORY)
-        msg += "; the scene needs more memory than the device has: use fewer particles "
-               "(a larger particle_spacing)";
+        msg +=
+            "; the scene needs more memory than the device has: use fewer particles "
+            "(a larger particle_spacing)";
     throw VulkanError(result, msg);
 }
 
 const char* device_type_name(VkPhysicalDeviceType type) {
     switch (type) {
-        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_CPU: return "software (CPU)";
-        default: return "other";
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return "discrete GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return "integrated GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return "virtual GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return "software (CPU)";
+        default:
+            return "other";
     }
 }
 
@@ -267,8 +283,7 @@ std::vector<DeviceInfo> Context::list_devices() {
     return out;
 }
 
-int Context::choose_device(const std::vector<DeviceInfo>& devices, const std::string& request,
-                           std::string* error) {
+int Context::choose_device(const std::vector<DeviceInfo>& devices, const std::string& request, std::string* error) {
     auto available = [&] {
         std::string s;  // one line, like every refusal
         for (const auto& d : devices)
@@ -277,26 +292,33 @@ int Context::choose_device(const std::vector<DeviceInfo>& devices, const std::st
         return s.empty() ? std::string(" (none)") : s;
     };
     if (devices.empty()) {
-        *error = "no Vulkan device found; on a machine without a GPU install Mesa's software "
-                 "device with: apt-get install mesa-vulkan-drivers (scripts/setup.sh does this)";
+        *error =
+            "no Vulkan device found; on a machine without a GPU install Mesa's software "
+            "device with: apt-get install mesa-vulkan-drivers (scripts/setup.sh does this)";
         return -1;
     }
     if (!request.empty()) {
         int found = -1;
         bool numeric = std::all_of(request.begin(), request.end(), ::isdigit);
         for (const auto& d : devices) {
-            bool match = numeric ? std::to_string(d.index) == request
-                                 : lower(d.name).find(lower(request)) != std::string::npos;
-            if (match) { found = static_cast<int>(d.index); break; }
+            bool match =
+                numeric ? std::to_string(d.index) == request : lower(d.name).find(lower(request)) != std::string::npos;
+            if (match) {
+                found = static_cast<int>(d.index);
+                break;
+            }
         }
         if (found < 0) {
-            *error = "--device " + request + " matches no Vulkan device; give an index or part "
-                     "of a name from this list:" + available();
+            *error = "--device " + request +
+                     " matches no Vulkan device; give an index or part "
+                     "of a name from this list:" +
+                     available();
             return -1;
         }
         if (!devices[found].usable) {
-            *error = "device " + request + " (" + devices[found].name + ") cannot run aquaform: " +
-                     devices[found].unusable_reason + "; choose another with --device:" + available();
+            *error = "device " + request + " (" + devices[found].name +
+                     ") cannot run aquaform: " + devices[found].unusable_reason +
+                     "; choose another with --device:" + available();
             return -1;
         }
         return found;
@@ -306,9 +328,10 @@ int Context::choose_device(const std::vector<DeviceInfo>& devices, const std::st
         if (d.usable && (best < 0 || type_rank(d.type) > type_rank(devices[best].type)))
             best = static_cast<int>(d.index);
     if (best < 0)
-        *error = "no usable Vulkan device (aquaform needs Vulkan 1.3, a graphics+compute queue "
-                 "and VK_KHR_push_descriptor):" + available() +
-                 "\ninstall Mesa's software device with: apt-get install mesa-vulkan-drivers";
+        *error =
+            "no usable Vulkan device (aquaform needs Vulkan 1.3, a graphics+compute queue "
+            "and VK_KHR_push_descriptor):" +
+            available() + "\ninstall Mesa's software device with: apt-get install mesa-vulkan-drivers";
     return best;
 }
 
@@ -316,16 +339,26 @@ namespace {
 
 const char* object_type_name(VkObjectType type) {
     switch (type) {
-        case VK_OBJECT_TYPE_BUFFER: return "VkBuffer";
-        case VK_OBJECT_TYPE_BUFFER_VIEW: return "VkBufferView";
-        case VK_OBJECT_TYPE_IMAGE: return "VkImage";
-        case VK_OBJECT_TYPE_IMAGE_VIEW: return "VkImageView";
-        case VK_OBJECT_TYPE_PIPELINE: return "VkPipeline";
-        case VK_OBJECT_TYPE_PIPELINE_LAYOUT: return "VkPipelineLayout";
-        case VK_OBJECT_TYPE_SHADER_MODULE: return "VkShaderModule";
-        case VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT: return "VkDescriptorSetLayout";
-        case VK_OBJECT_TYPE_COMMAND_BUFFER: return "VkCommandBuffer";
-        default: return "object";
+        case VK_OBJECT_TYPE_BUFFER:
+            return "VkBuffer";
+        case VK_OBJECT_TYPE_BUFFER_VIEW:
+            return "VkBufferView";
+        case VK_OBJECT_TYPE_IMAGE:
+            return "VkImage";
+        case VK_OBJECT_TYPE_IMAGE_VIEW:
+            return "VkImageView";
+        case VK_OBJECT_TYPE_PIPELINE:
+            return "VkPipeline";
+        case VK_OBJECT_TYPE_PIPELINE_LAYOUT:
+            return "VkPipelineLayout";
+        case VK_OBJECT_TYPE_SHADER_MODULE:
+            return "VkShaderModule";
+        case VK_OBJECT_TYPE_DESCRIPTOR_SET_LAYOUT:
+            return "VkDescriptorSetLayout";
+        case VK_OBJECT_TYPE_COMMAND_BUFFER:
+            return "VkCommandBuffer";
+        default:
+            return "object";
     }
 }
 
@@ -349,9 +382,9 @@ std::string describe_message(const VkDebugUtilsMessengerCallbackDataEXT& data) {
 
 }  // namespace
 
-VKAPI_ATTR VkBool32 VKAPI_CALL Context::debug_callback(
-    VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT,
-    const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+VKAPI_ATTR VkBool32 VKAPI_CALL Context::debug_callback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                       VkDebugUtilsMessageTypeFlagsEXT,
+                                                       const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
     auto* self = static_cast<Context*>(user);
     if (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) {
         self->validation_errors_++;
@@ -379,8 +412,8 @@ void Context::create(const ContextOptions& options) {
     instance_ = create_instance(options.validation, options.instance_extensions, &debug_utils);
     if (options.validation) {
         VkDebugUtilsMessengerCreateInfoEXT info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-        info.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT |
-                               VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
+        info.messageSeverity =
+            VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT;
         info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                            VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
                            VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
@@ -436,8 +469,8 @@ void Context::create(const ContextOptions& options) {
     device_info.ppEnabledExtensionNames = extensions.data();
     VK_CHECK(vkCreateDevice(physical_, &device_info, nullptr, &device_));
     vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
-    push_descriptor_ = reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(
-        vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
+    push_descriptor_ =
+        reinterpret_cast<PFN_vkCmdPushDescriptorSetKHR>(vkGetDeviceProcAddr(device_, "vkCmdPushDescriptorSetKHR"));
     if (debug_utils) {  // instance-extension commands: through the instance, as the loader asks
         set_object_name_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
             vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
@@ -451,7 +484,6 @@ void Context::create(const ContextOptions& options) {
             end_label_ = nullptr;
         }
     }
-
 }
 
 Context::~Context() { destroy(); }
@@ -508,8 +540,7 @@ uint32_t Context::find_memory_type(uint32_t type_bits, VkMemoryPropertyFlags wan
                                    VkMemoryPropertyFlags fallback) const {
     for (VkMemoryPropertyFlags flags : {wanted, fallback})
         for (uint32_t i = 0; i < memory_.memoryTypeCount; ++i)
-            if ((type_bits & (1u << i)) && (memory_.memoryTypes[i].propertyFlags & flags) == flags)
-                return i;
+            if ((type_bits & (1u << i)) && (memory_.memoryTypes[i].propertyFlags & flags) == flags) return i;
     throw VulkanError(VK_ERROR_FEATURE_NOT_PRESENT, "no suitable Vulkan memory type on " + info_.name);
 }
 
@@ -601,8 +632,9 @@ uint64_t Context::flush(Recorder& r) {
 Submission Context::submit(const Recording& record) {
     Recorder& r = recorder();
     if (r.recording)
-        throw internal_failure("gpu::Context::submit called inside a recording on the same thread; record "
-                               "into the command buffer being recorded instead (gpu::upload does so by itself)");
+        throw internal_failure(
+            "gpu::Context::submit called inside a recording on the same thread; record "
+            "into the command buffer being recorded instead (gpu::upload does so by itself)");
     begin(r, free_slot(r));
     r.open_scopes = 0;
     try {
@@ -619,7 +651,8 @@ Submission Context::submit(const Recording& record) {
 void Context::wait(Submission s) {
     if (s.serial == 0) return;
     if (s.thread != std::this_thread::get_id())
-        throw internal_failure("gpu::Context::wait on a submission of another thread; wait on the thread that submitted");
+        throw internal_failure(
+            "gpu::Context::wait on a submission of another thread; wait on the thread that submitted");
     Recorder& r = recorder();
     for (Slot& slot : r.slots)
         if (slot.serial && slot.serial <= s.serial) retire(slot);
@@ -629,7 +662,8 @@ void Context::wait(Submission s) {
 bool Context::done(Submission s) {
     if (s.serial == 0) return true;
     if (s.thread != std::this_thread::get_id())
-        throw internal_failure("gpu::Context::done on a submission of another thread; ask on the thread that submitted");
+        throw internal_failure(
+            "gpu::Context::done on a submission of another thread; ask on the thread that submitted");
     for (const Slot& slot : recorder().slots)
         if (slot.serial && slot.serial <= s.serial && vkGetFenceStatus(device_, slot.fence) != VK_SUCCESS) return false;
     return true;

@@ -47,13 +47,13 @@ struct DeviceInfo {
     std::string name;
     VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
     uint32_t api_version = 0;
-    uint64_t device_local_bytes = 0;     ///< size of the largest device-local heap
+    uint64_t device_local_bytes = 0;  ///< size of the largest device-local heap
     uint64_t max_storage_buffer_bytes = 0;
     /// The largest buffer a storage texel buffer views: maxTexelBufferElements of the widest texel
     /// (16 B, rgba32). Buffers read and written only as texels (the neighbour lists) may exceed the
     /// storage-buffer range up to this (lavapipe: 128 MiB storage range, 2 GiB as texels).
     uint64_t max_texel_buffer_bytes = 0;
-    uint32_t max_workgroups_x = 0;       ///< largest dispatch along x
+    uint32_t max_workgroups_x = 0;  ///< largest dispatch along x
     /// Lanes of a subgroup in compute shaders, where they can shuffle values among themselves;
     /// 1 where compute shaders have no subgroup shuffles.
     uint32_t subgroup_size = 1;
@@ -70,7 +70,7 @@ struct DeviceInfo {
     /// and kernel: the unit every long pass is made of). dispatch_work_budget() chooses it from
     /// the device's type; Context::dispatch_slices splits a pass that could exceed it.
     uint64_t dispatch_work_budget = 0;
-    bool usable = false;                 ///< has the queue, Vulkan 1.3 and extensions we need
+    bool usable = false;  ///< has the queue, Vulkan 1.3 and extensions we need
     std::string unusable_reason;
 };
 
@@ -120,8 +120,7 @@ public:
     static std::vector<DeviceInfo> list_devices();
     /// The device automatic choice would take: discrete GPU, else any GPU, else the software
     /// device. Returns the index into `devices`, or -1 when none is usable.
-    static int choose_device(const std::vector<DeviceInfo>& devices, const std::string& request,
-                             std::string* error);
+    static int choose_device(const std::vector<DeviceInfo>& devices, const std::string& request, std::string* error);
 
     VkInstance instance() const { return instance_; }
     VkPhysicalDevice physical_device() const { return physical_; }
@@ -134,8 +133,7 @@ public:
     float timestamp_period_ns() const { return limits_.timestampPeriod; }
     PFN_vkCmdPushDescriptorSetKHR push_descriptor_fn() const { return push_descriptor_; }
 
-    uint32_t find_memory_type(uint32_t type_bits, VkMemoryPropertyFlags wanted,
-                              VkMemoryPropertyFlags fallback) const;
+    uint32_t find_memory_type(uint32_t type_bits, VkMemoryPropertyFlags wanted, VkMemoryPropertyFlags fallback) const;
 
     /// Debug names through VK_EXT_debug_utils, which the context enables whenever the loader
     /// offers it: validation messages and GPU debuggers then say "grid.neighbors" or
@@ -167,7 +165,10 @@ public:
     void submit_and_wait(const Recording& record) { wait(submit(record)); }
     /// The calling thread's command buffer while it records inside submit, else VK_NULL_HANDLE
     /// (gpu::upload records into it instead of submitting).
-    VkCommandBuffer recording() { Recorder& r = recorder(); return r.recording ? r.current->cmd : VK_NULL_HANDLE; }
+    VkCommandBuffer recording() {
+        Recorder& r = recorder();
+        return r.recording ? r.current->cmd : VK_NULL_HANDLE;
+    }
     /// The calling thread's submission memory (gpu/staging.h fills it on first use); what a
     /// submission took is recycled once it completes.
     std::unique_ptr<SubmissionMemory>& submission_memory() { return recorder().memory; }
@@ -189,7 +190,7 @@ public:
     /// single pass may ask long_pass_slices() into how many dispatches to split itself.
     struct QueueSharing {
         bool enabled = false;
-        uint32_t long_pass_slices = 4;            ///< slices of one long pass while enabled
+        uint32_t long_pass_slices = 4;              ///< slices of one long pass while enabled
         const std::atomic<bool>* cancel = nullptr;  ///< set: a cut throws Cancelled instead
     };
     /// Sets the calling thread's sharing. With `cancel`, a cut that finds it set throws Cancelled
@@ -262,19 +263,19 @@ private:
         std::unique_ptr<SubmissionMemory> memory;
         std::unique_ptr<BarrierTracker> tracker;
     };
-    Recorder& recorder();  ///< the calling thread's, made at its first use
+    Recorder& recorder();          ///< the calling thread's, made at its first use
     Slot& free_slot(Recorder& r);  ///< a slot to record into (waits for the oldest when all are busy)
     void begin(Recorder& r, Slot& slot);
     uint64_t flush(Recorder& r);  ///< ends and submits the recording; its serial
-    void retire(Slot& slot);  ///< waits for a slot's submission and frees the slot
-    void recycle(Recorder& r);  ///< staging of every completed submission back to the pool
+    void retire(Slot& slot);      ///< waits for a slot's submission and frees the slot
+    void recycle(Recorder& r);    ///< staging of every completed submission back to the pool
 
     void create(const ContextOptions& options);
     void destroy();
     void name_object(VkObjectType type, uint64_t handle, const std::string& name) const;
-    static VKAPI_ATTR VkBool32 VKAPI_CALL debug_callback(
-        VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,
-        const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
+    static VKAPI_ATTR VkBool32 VKAPI_CALL debug_callback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                         VkDebugUtilsMessageTypeFlagsEXT types,
+                                                         const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
 
     VkInstance instance_ = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;

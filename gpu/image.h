@@ -18,8 +18,8 @@ struct Image2D {
 
 /// A device-local, optimally tiled image of one mip level and layer, with a view on `aspect`;
 /// `name` names the image and its view in validation messages and debuggers.
-Image2D create_image(Context& ctx, const std::string& name, uint32_t width, uint32_t height, VkFormat format, VkImageUsageFlags usage,
-                     VkImageAspectFlags aspect);
+Image2D create_image(Context& ctx, const std::string& name, uint32_t width, uint32_t height, VkFormat format,
+                     VkImageUsageFlags usage, VkImageAspectFlags aspect);
 void destroy_image(Context& ctx, Image2D& image);
 
 /// Records a layout transition with its execution and memory dependency (synchronization2).

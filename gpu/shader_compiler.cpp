@@ -100,8 +100,10 @@ ShaderWatcher::Reload ShaderWatcher::poll() {
         if (known == stamp) continue;
         known = stamp;
         const std::string ext = entry.path().extension().string();
-        if (ext == ".comp" || ext == ".vert" || ext == ".frag") changed_shaders.push_back(entry.path());
-        else include_changed = true;  // a header or .glsl: recompile everything that may use it
+        if (ext == ".comp" || ext == ".vert" || ext == ".frag")
+            changed_shaders.push_back(entry.path());
+        else
+            include_changed = true;  // a header or .glsl: recompile everything that may use it
     }
     if (include_changed) {
         changed_shaders.clear();

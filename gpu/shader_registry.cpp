@@ -4,9 +4,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/error.h"
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
-#include "core/error.h"
 
 namespace aquaform::gpu {
 

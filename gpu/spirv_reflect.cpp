@@ -11,8 +11,8 @@ namespace {
 
 // Opcodes, decorations and storage classes of the SPIR-V specification (unified 1.6).
 constexpr uint32_t kMagic = 0x07230203;
-constexpr uint32_t kOpName = 5, kOpMemberName = 6, kOpTypeImage = 25, kOpTypeStruct = 30, kOpTypePointer = 32, kOpVariable = 59,
-                   kOpDecorate = 71, kOpMemberDecorate = 72;
+constexpr uint32_t kOpName = 5, kOpMemberName = 6, kOpTypeImage = 25, kOpTypeStruct = 30, kOpTypePointer = 32,
+                   kOpVariable = 59, kOpDecorate = 71, kOpMemberDecorate = 72;
 constexpr uint32_t kDecorationBufferBlock = 3, kDecorationNonWritable = 24, kDecorationNonReadable = 25,
                    kDecorationBinding = 33, kDecorationDescriptorSet = 34;
 constexpr uint32_t kStorageUniformConstant = 0, kStorageUniform = 2, kStorageBuffer = 12;
@@ -50,8 +50,7 @@ void set_flag(std::vector<bool>& flags, uint32_t member) {
 }  // namespace
 
 std::vector<ShaderBinding> reflect_bindings(std::span<const uint32_t> spirv, std::string_view shader) {
-    if (spirv.size() < 5 || spirv[0] != kMagic)
-        throw Failure(std::string(shader) + ": not a SPIR-V module");
+    if (spirv.size() < 5 || spirv[0] != kMagic) throw Failure(std::string(shader) + ": not a SPIR-V module");
     std::unordered_map<uint32_t, Id> ids;
     for (size_t at = 5; at < spirv.size();) {
         const uint32_t op = spirv[at] & 0xffff, count = spirv[at] >> 16;
@@ -59,14 +58,18 @@ std::vector<ShaderBinding> reflect_bindings(std::span<const uint32_t> spirv, std
             throw Failure(std::string(shader) + ": truncated SPIR-V instruction");
         const std::span<const uint32_t> w = spirv.subspan(at, count);
         switch (op) {
-            case kOpName: ids[w[1]].name = literal(w.subspan(2)); break;
+            case kOpName:
+                ids[w[1]].name = literal(w.subspan(2));
+                break;
             case kOpMemberName: {
                 Id& id = ids[w[1]];
                 if (id.member_names.size() <= w[2]) id.member_names.resize(w[2] + 1);
                 id.member_names[w[2]] = literal(w.subspan(3));
                 break;
             }
-            case kOpTypeStruct: ids[w[1]].members = count - 2; break;
+            case kOpTypeStruct:
+                ids[w[1]].members = count - 2;
+                break;
             case kOpTypeImage:
                 // A storage texel buffer always names its format (GLSL needs layout(format)).
                 if (count > 8 && w[3] == kDimBuffer && w[7] == kSampledStorage) ids[w[1]].texel_format = w[8];
@@ -87,11 +90,16 @@ std::vector<ShaderBinding> reflect_bindings(std::span<const uint32_t> spirv, std
             }
             case kOpDecorate: {
                 Id& id = ids[w[1]];
-                if (w[2] == kDecorationBinding) id.binding = int(w[3]);
-                else if (w[2] == kDecorationDescriptorSet) id.set = int(w[3]);
-                else if (w[2] == kDecorationNonWritable) id.non_writable = true;
-                else if (w[2] == kDecorationNonReadable) id.non_readable = true;
-                else if (w[2] == kDecorationBufferBlock) id.buffer_block = true;
+                if (w[2] == kDecorationBinding)
+                    id.binding = int(w[3]);
+                else if (w[2] == kDecorationDescriptorSet)
+                    id.set = int(w[3]);
+                else if (w[2] == kDecorationNonWritable)
+                    id.non_writable = true;
+                else if (w[2] == kDecorationNonReadable)
+                    id.non_readable = true;
+                else if (w[2] == kDecorationBufferBlock)
+                    id.buffer_block = true;
                 break;
             }
             case kOpMemberDecorate: {
@@ -100,7 +108,8 @@ std::vector<ShaderBinding> reflect_bindings(std::span<const uint32_t> spirv, std
                 if (w[3] == kDecorationNonReadable) set_flag(id.member_non_readable, w[2]);
                 break;
             }
-            default: break;
+            default:
+                break;
         }
         at += count;
     }
@@ -124,9 +133,12 @@ std::vector<ShaderBinding> reflect_bindings(std::span<const uint32_t> spirv, std
         b.texel_format = texel ? block.texel_format : 0;
         b.writes = b.storage && !(var.non_writable || all(block.member_non_writable));
         b.reads = !(var.non_readable || all(block.member_non_readable));
-        if (!var.name.empty()) b.name = var.name;
-        else if (block.member_names.size() == 1 && !block.member_names[0].empty()) b.name = block.member_names[0];
-        else b.name = block.name;
+        if (!var.name.empty())
+            b.name = var.name;
+        else if (block.member_names.size() == 1 && !block.member_names[0].empty())
+            b.name = block.member_names[0];
+        else
+            b.name = block.name;
         out.push_back(std::move(b));
     }
     std::sort(out.begin(), out.end(), [](const ShaderBinding& a, const ShaderBinding& b) {

@@ -19,12 +19,12 @@ struct ShaderBinding {
     uint32_t set = 0;
     uint32_t binding = 0;
     std::string name;
-    bool storage = true;      ///< storage buffer or storage texel buffer (else a uniform buffer)
+    bool storage = true;  ///< storage buffer or storage texel buffer (else a uniform buffer)
     /// A storage texel buffer (`layout(rgba32f) uniform imageBuffer`): the SPIR-V image format
     /// of its elements (1 rgba32f, 3 r32f, 30 rgba32ui, 33 r32ui, ...); 0 for a buffer block.
     uint32_t texel_format = 0;
-    bool reads = true;        ///< false: NonReadable (`writeonly`)
-    bool writes = true;       ///< false: NonWritable (`readonly`)
+    bool reads = true;   ///< false: NonReadable (`writeonly`)
+    bool writes = true;  ///< false: NonWritable (`readonly`)
 };
 
 /// The module's buffer bindings, ordered by (set, binding). Throws aquaform::Failure when

@@ -6,10 +6,10 @@
 #include <memory>
 #include <stdexcept>
 
+#include "core/error.h"
 #include "gpu/barriers.h"
 #include "gpu/compute_pass.h"
 #include "gpu/context.h"
-#include "core/error.h"
 
 namespace aquaform::gpu {
 
@@ -95,7 +95,7 @@ UploadBatch::UploadBatch(Context& ctx) : ctx_(&ctx) { ++staging_pool(ctx).batch_
 UploadBatch::~UploadBatch() noexcept(false) {
     StagingPool& pool = staging_pool(*ctx_);
     --pool.batch_depth;
-    if (pool.batch_depth > 0) return;  // an outer batch submits
+    if (pool.batch_depth > 0) return;      // an outer batch submits
     if (std::uncaught_exceptions() > 0) {  // unwinding: the destinations may be gone
         pool.discard_pending();
         return;
@@ -116,8 +116,10 @@ void record_upload(Context& ctx, VkCommandBuffer cmd, Buffer& dst, const void* d
     // In the thread's recording the tracker orders the write (gpu/barriers.h); elsewhere barriers
     // on both sides.
     BarrierTracker* tracker = cmd == ctx.recording() ? &ctx.tracker() : nullptr;
-    if (tracker) tracker->access(cmd, {}, {dst.buffer});
-    else barrier_before_transfer_write(cmd);
+    if (tracker)
+        tracker->access(cmd, {}, {dst.buffer});
+    else
+        barrier_before_transfer_write(cmd);
     if (bytes <= kInlineBytes && bytes % 4 == 0 && offset % 4 == 0) {
         vkCmdUpdateBuffer(cmd, dst.buffer, offset, bytes, data);
     } else {
@@ -159,9 +161,10 @@ void download(Context& ctx, const Buffer& src, void* data, VkDeviceSize bytes, V
 void record_download(Context& ctx, VkCommandBuffer cmd, const Buffer& src, const Buffer& dst, VkDeviceSize bytes,
                      VkDeviceSize offset) {
     if (!dst.mapped || offset + bytes > src.size || bytes > dst.size)
-        throw internal_failure("download of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) + " of '" +
-                               src.name + "' (" + std::to_string(src.size) + " bytes) into '" + dst.name + "' (" +
-                               std::to_string(dst.size) + (dst.mapped ? " bytes)" : " bytes, not host-visible)"));
+        throw internal_failure("download of " + std::to_string(bytes) + " bytes at " + std::to_string(offset) +
+                               " of '" + src.name + "' (" + std::to_string(src.size) + " bytes) into '" + dst.name +
+                               "' (" + std::to_string(dst.size) +
+                               (dst.mapped ? " bytes)" : " bytes, not host-visible)"));
     copy(ctx, cmd, src, dst, {offset, 0, bytes});
     host_read_barrier(cmd);
 }

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "core/error.h"
 #include "gpu/context.h"
 #include "gpu/vk_check.h"
-#include "core/error.h"
 
 namespace aquaform::gpu {
 
@@ -55,9 +55,8 @@ void GpuTimer::end(VkCommandBuffer cmd) {
 void GpuTimer::collect() {
     if (used_ == 0) return;
     std::vector<uint64_t> stamps(2 * used_);
-    VK_CHECK(vkGetQueryPoolResults(ctx_->device(), pool_, 0, 2 * used_, stamps.size() * sizeof(uint64_t),
-                                   stamps.data(), sizeof(uint64_t),
-                                   VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
+    VK_CHECK(vkGetQueryPoolResults(ctx_->device(), pool_, 0, 2 * used_, stamps.size() * sizeof(uint64_t), stamps.data(),
+                                   sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT));
     const double ns = ctx_->timestamp_period_ns();
     for (uint32_t i = 0; i < used_; ++i) {
         const double ms = double(stamps[2 * i + 1] - stamps[2 * i]) * ns * 1e-6;

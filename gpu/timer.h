@@ -59,8 +59,8 @@ private:
     Context* ctx_;
     VkQueryPool pool_ = VK_NULL_HANDLE;
     uint32_t capacity_;
-    std::vector<std::string> open_;     // scope names of this submission, in order
-    std::vector<uint32_t> stack_;       // slots of the scopes still open (scopes may nest)
+    std::vector<std::string> open_;  // scope names of this submission, in order
+    std::vector<uint32_t> stack_;    // slots of the scopes still open (scopes may nest)
     uint32_t used_ = 0;
     std::vector<Stamp> stamps_;
     std::map<std::string, double> totals_;

@@ -20,9 +20,9 @@ const char* vk_result_name(VkResult result);
 
 }  // namespace aquaform::gpu
 
-#define VK_CHECK(call)                                                                   \
-    do {                                                                                 \
-        VkResult vk_check_result_ = (call);                                              \
-        if (vk_check_result_ != VK_SUCCESS)                                              \
+#define VK_CHECK(call)                                                                    \
+    do {                                                                                  \
+        VkResult vk_check_result_ = (call);                                               \
+        if (vk_check_result_ != VK_SUCCESS)                                               \
             ::aquaform::gpu::throw_vk_error(vk_check_result_, #call, __FILE__, __LINE__); \
     } while (0)

@@ -47,7 +47,8 @@ GridCounts count_grid_work(const GridGeometry& geometry, uint32_t capacity, cons
             const glm::ivec3 n = cell + glm::ivec3(k % 3, (k / 3) % 3, k / 9) - glm::ivec3(1);
             if (glm::any(glm::lessThan(n, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(n, dims))) continue;
             ++cells;
-            candidates += members(rank[uint32_t(n.x) + uint32_t(dims.x) * (uint32_t(n.y) + uint32_t(dims.y) * uint32_t(n.z))]);
+            candidates +=
+                members(rank[uint32_t(n.x) + uint32_t(dims.x) * (uint32_t(n.y) + uint32_t(dims.y) * uint32_t(n.z))]);
         }
         c.cell_visits += cells;
         c.candidates += candidates;

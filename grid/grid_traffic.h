@@ -28,9 +28,9 @@ class Context;
 
 /// One pass's modelled traffic per step (summed over its `runs` dispatches in a step).
 struct PassTraffic {
-    std::string name;       ///< the pass's GPU timer scope
-    uint32_t runs = 1;      ///< dispatches of it per step (the constraint iterations)
-    uint64_t bytes = 0;     ///< every load and store
+    std::string name;           ///< the pass's GPU timer scope
+    uint32_t runs = 1;          ///< dispatches of it per step (the constraint iterations)
+    uint64_t bytes = 0;         ///< every load and store
     uint64_t unique_bytes = 0;  ///< distinct bytes touched, summed over runs
     /// Neighbours visited, summed over runs: a neighbour loop's list entries (or a cell scan's
     /// candidates); the list fill's candidates tested.
@@ -51,8 +51,8 @@ struct GridCounts {
     uint64_t stored_texels = 0;       ///< groups the fill stores (overflowing lists cut at capacity)
     uint64_t overflow_particles = 0;  ///< particles past their list, which scan cells instead
     uint64_t overflow_cell_visits = 0;
-    uint64_t overflow_visits = 0;     ///< candidates other than self of those particles
-    uint64_t neighbor_pairs = 0;      ///< sum of the true counts, listed or not
+    uint64_t overflow_visits = 0;  ///< candidates other than self of those particles
+    uint64_t neighbor_pairs = 0;   ///< sum of the true counts, listed or not
 
     /// Neighbours one neighbour loop (common/neighbor_list.glsl) visits over all particles.
     uint64_t visits() const { return list_entries + overflow_visits; }

@@ -5,11 +5,11 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "core/error.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "gpu/timer.h"
 #include "shaders/shared/grid/morton.h"
-#include "core/error.h"
 
 namespace aquaform {
 
@@ -31,8 +31,7 @@ Result<GridGeometry> grid_for_domain(glm::vec3 min, glm::vec3 max, float cell_si
         double cells = std::ceil(double(max[a] - min[a]) / cell_size - 1.0e-4) + 2.0;
         if (!(cells <= shader::MORTON_MAX_CELLS_PER_AXIS))
             return Error{"the domain is " + std::to_string(cells) + " kernel radii long on " + axes[a] +
-                         "; the neighbour grid holds at most " +
-                         std::to_string(shader::MORTON_MAX_CELLS_PER_AXIS) +
+                         "; the neighbour grid holds at most " + std::to_string(shader::MORTON_MAX_CELLS_PER_AXIS) +
                          " cells per axis: shrink the domain or increase particle_spacing"};
         g.dims[a] = static_cast<uint32_t>(cells);
     }
@@ -96,13 +95,17 @@ NeighborGrid::NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const Gri
         neighbors_pass_ = gpu::ComputePass(ctx, {"grid/neighbor_lists.comp", 6, sizeof(shader::NeighborListPush)});
 }
 
-void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
-                         gpu::GpuTimer* timer) {
+void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count, gpu::GpuTimer* timer) {
     const shader::GridPush push = geometry_.push(count);
     {
         gpu::GpuScope scope(timer, cmd, timer_prefix_ + "grid_count");
         gpu::fill(*ctx_, cmd, *cell_start_, 0);
-        gpu::dispatch(*ctx_, cmd, count_pass_, count, push, {{"positions", &positions}, {"cell_rank", cell_rank_}, {"cell_count", cell_start_}, {"keys", keys_}, {"slots", slots_}});
+        gpu::dispatch(*ctx_, cmd, count_pass_, count, push,
+                      {{"positions", &positions},
+                       {"cell_rank", cell_rank_},
+                       {"cell_count", cell_start_},
+                       {"keys", keys_},
+                       {"slots", slots_}});
     }
     {
         gpu::GpuScope scope(timer, cmd, timer_prefix_ + "grid_scan");
@@ -110,13 +113,15 @@ void NeighborGrid::build(VkCommandBuffer cmd, const gpu::Buffer& positions, uint
     }
     {
         gpu::GpuScope scope(timer, cmd, timer_prefix_ + "grid_scatter");
-        gpu::dispatch(*ctx_, cmd, scatter_pass_, count, push, {{"keys", keys_}, {"slots", slots_}, {"cell_start", cell_start_}, {"arrival", arrival_}});
+        gpu::dispatch(*ctx_, cmd, scatter_pass_, count, push,
+                      {{"keys", keys_}, {"slots", slots_}, {"cell_start", cell_start_}, {"arrival", arrival_}});
         record_stable_order(cmd, count);
     }
 }
 
 void NeighborGrid::record_stable_order(VkCommandBuffer cmd, uint32_t count) {
-    gpu::dispatch(*ctx_, cmd, stable_pass_, count, geometry_.push(count), {{"keys", keys_}, {"cell_start", cell_start_}, {"arrival", arrival_}, {"order", order_}});
+    gpu::dispatch(*ctx_, cmd, stable_pass_, count, geometry_.push(count),
+                  {{"keys", keys_}, {"cell_start", cell_start_}, {"arrival", arrival_}, {"order", order_}});
 }
 
 void NeighborGrid::record_neighbor_lists(VkCommandBuffer cmd, const gpu::Buffer& sorted_positions, uint32_t count,
@@ -128,13 +133,19 @@ void NeighborGrid::record_neighbor_lists(VkCommandBuffer cmd, const gpu::Buffer&
     push.grid = geometry_.push(count);
     push.radius = radius;
     push.capacity = neighbor_capacity_;
-    gpu::dispatch(*ctx_, cmd, neighbors_pass_, count, push, {{"positions", &sorted_positions}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"list_cell", list_cell_}, {"neighbor_count", neighbor_count_}, {"neighbors", neighbors_}});
+    gpu::dispatch(*ctx_, cmd, neighbors_pass_, count, push,
+                  {{"positions", &sorted_positions},
+                   {"cell_rank", cell_rank_},
+                   {"cell_start", cell_start_},
+                   {"list_cell", list_cell_},
+                   {"neighbor_count", neighbor_count_},
+                   {"neighbors", neighbors_}});
 }
 
 void NeighborGrid::check_radius(float radius) const {
     if (radius > geometry_.cell_size)
         throw Failure("neighbour query radius " + std::to_string(radius) + " exceeds the grid's cell size " +
-                                    std::to_string(geometry_.cell_size) + "; build a grid with larger cells");
+                      std::to_string(geometry_.cell_size) + "; build a grid with larger cells");
 }
 
 void NeighborGrid::record_list_neighbors(VkCommandBuffer cmd, const gpu::Buffer& positions, uint32_t count,
@@ -146,7 +157,13 @@ void NeighborGrid::record_list_neighbors(VkCommandBuffer cmd, const gpu::Buffer&
     push.grid = geometry_.push(count);
     push.radius = radius;
     push.capacity = capacity;
-    gpu::dispatch(*ctx_, cmd, list_pass_, count, push, {{"positions", &positions}, {"order", order_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"counts", &counts}, {"lists", &lists}});
+    gpu::dispatch(*ctx_, cmd, list_pass_, count, push,
+                  {{"positions", &positions},
+                   {"order", order_},
+                   {"cell_rank", cell_rank_},
+                   {"cell_start", cell_start_},
+                   {"counts", &counts},
+                   {"lists", &lists}});
 }
 
 }  // namespace aquaform

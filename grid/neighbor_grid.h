@@ -11,11 +11,11 @@
 
 #include <glm/glm.hpp>
 
+#include "core/result.h"
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
 #include "grid/prefix_sum.h"
 #include "shaders/shared/grid/grid_layout.h"
-#include "core/result.h"
 
 namespace aquaform {
 
@@ -62,8 +62,8 @@ public:
     /// record_neighbor_lists must not be called. Its timed scopes are its user's:
     /// `timer_prefix` + grid_count, grid_scan, grid_scatter and neighbor_lists ("sim_" gives
     /// "sim_grid_count"; grid_pass_traffic names its passes the same way).
-    NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const GridGeometry& geometry,
-                 uint32_t max_particles, const std::string& prefix = "grid", uint32_t neighbor_capacity = 0,
+    NeighborGrid(gpu::Context& ctx, gpu::BufferSet& buffers, const GridGeometry& geometry, uint32_t max_particles,
+                 const std::string& prefix = "grid", uint32_t neighbor_capacity = 0,
                  const std::string& timer_prefix = "");
 
     /// Records the build: count per cell, exclusive scan into starts, scatter into `arrival`,
@@ -77,8 +77,8 @@ public:
     /// order, as the solver keeps them): the particles of the 27 surrounding cells that lie
     /// within `radius` <= cell size. Passes then visit them with common/neighbor_list.glsl.
     /// Timed (with a timer) as timer_prefix + neighbor_lists.
-    void record_neighbor_lists(VkCommandBuffer cmd, const gpu::Buffer& sorted_positions, uint32_t count,
-                               float radius, gpu::GpuTimer* timer);
+    void record_neighbor_lists(VkCommandBuffer cmd, const gpu::Buffer& sorted_positions, uint32_t count, float radius,
+                               gpu::GpuTimer* timer);
     uint32_t neighbor_capacity() const { return neighbor_capacity_; }
     const gpu::Buffer& list_cell() const { return *list_cell_; }
     const gpu::Buffer& neighbor_count() const { return *neighbor_count_; }

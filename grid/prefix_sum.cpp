@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "shaders/shared/grid/scan_layout.h"
 #include "core/error.h"
+#include "shaders/shared/grid/scan_layout.h"
 
 namespace aquaform::gpu {
 

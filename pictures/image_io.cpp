@@ -45,8 +45,8 @@ Result<bool> write_png(const std::filesystem::path& path, const Image& image) {
                      std::to_string(image.height) + " pixels); render at least 1x1 pixels"};
     if (image.rgba.size() != size_t(image.width) * image.height * 4)
         return Error{where + ": the image holds " + std::to_string(image.rgba.size()) + " bytes but " +
-                     std::to_string(image.width) + "x" + std::to_string(image.height) +
-                     " RGBA pixels need " + std::to_string(size_t(image.width) * image.height * 4)};
+                     std::to_string(image.width) + "x" + std::to_string(image.height) + " RGBA pixels need " +
+                     std::to_string(size_t(image.width) * image.height * 4)};
     // stb takes int sizes and strides
     if (image.width > (1u << 24) || image.height > (1u << 24))
         return Error{where + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
@@ -60,8 +60,8 @@ Result<bool> write_png(const std::filesystem::path& path, const Image& image) {
 
     std::vector<uint8_t> png;
     png.reserve(image.rgba.size() / 2);
-    const int ok = stbi_write_png_to_func(&append, &png, int(image.width), int(image.height), 4,
-                                          image.rgba.data(), int(image.width * 4));
+    const int ok = stbi_write_png_to_func(&append, &png, int(image.width), int(image.height), 4, image.rgba.data(),
+                                          int(image.width * 4));
     if (!ok) return Error{where + ": the PNG encoder failed (out of memory?)"};
 
     return write_file_with(path, [&](std::ostream& out) {

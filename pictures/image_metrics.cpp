@@ -12,7 +12,6 @@
 #include <stdexcept>
 #include <system_error>
 
-
 namespace aquaform {
 
 namespace {
@@ -26,7 +25,7 @@ void require_same_size(const Image& a, const Image& b, const std::string& what) 
     require_well_formed(b, what + " (second image)");
     if (a.width != b.width || a.height != b.height)
         throw Failure(what + ": the images differ in size (" + size_text(a.width, a.height) + " vs " +
-                                    size_text(b.width, b.height) + ")");
+                      size_text(b.width, b.height) + ")");
 }
 
 double srgb_to_linear(uint8_t value) {
@@ -170,17 +169,16 @@ Image heat_map(const std::vector<float>& values, uint32_t width, uint32_t height
     const size_t pixels = pixel_count(width, height);
     if (values.size() != pixels)
         throw Failure("cannot draw a heat map: " + size_text(width, height) + " pixels but " +
-                                    std::to_string(values.size()) + " values");
+                      std::to_string(values.size()) + " values");
     if (!(max_value > 0.0f) || !std::isfinite(max_value))
         throw Failure("cannot draw a heat map: the full-scale value must be positive and finite, not " +
-                                    std::to_string(max_value));
+                      std::to_string(max_value));
     Image image{width, height, std::vector<uint8_t>(pixels * 4, 0)};
     if (background) {
         require_well_formed(*background, "the heat map's background");
         if (background->width != width || background->height != height)
-            throw Failure("cannot draw a heat map: " + size_text(width, height) +
-                                        " pixels but the background is " +
-                                        size_text(background->width, background->height));
+            throw Failure("cannot draw a heat map: " + size_text(width, height) + " pixels but the background is " +
+                          size_text(background->width, background->height));
         // darkened so that the ramp's colours stand out against it
         image = tint_image(*background, {0, 0, 0}, 0.6f);
     }
@@ -215,8 +213,8 @@ GoldenCheck check_golden(const Image& actual, const std::filesystem::path& golde
     std::string measurements = comparison.problem;
     if (compared) {
         const auto& delta_e = comparison.delta_e;
-        const size_t bad = size_t(std::count_if(delta_e.begin(), delta_e.end(),
-                                                [&](float value) { return value > tol.pixel_delta_e; }));
+        const size_t bad = size_t(
+            std::count_if(delta_e.begin(), delta_e.end(), [&](float value) { return value > tol.pixel_delta_e; }));
         const double count = double(std::max<size_t>(1, delta_e.size()));
         check.mean_delta_e = std::accumulate(delta_e.begin(), delta_e.end(), 0.0) / count;
         check.bad_fraction = double(bad) / count;
@@ -261,8 +259,9 @@ GoldenCheck check_golden(const Image& actual, const std::filesystem::path& golde
                                                  format_text("%g", tol.pixel_delta_e) + "): " + diff_path.string()
                                            : "; could not save the Delta E heat map: " + diff_written.error();
     }
-    check.message += ". If the actual image is the intended result, re-run the test with the environment variable "
-                     "AQUAFORM_UPDATE_GOLDEN=1 to update the golden image";
+    check.message +=
+        ". If the actual image is the intended result, re-run the test with the environment variable "
+        "AQUAFORM_UPDATE_GOLDEN=1 to update the golden image";
     return check;
 }
 

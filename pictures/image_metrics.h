@@ -49,14 +49,14 @@ Image heat_map(const std::vector<float>& values, uint32_t width, uint32_t height
 Image tint_image(const Image& image, const std::array<uint8_t, 3>& colour, float amount);
 
 struct GoldenTolerance {
-    double mean_delta_e = 1.0;       ///< fail above this mean Delta E
-    double pixel_delta_e = 10.0;     ///< a pixel is "bad" above this Delta E
-    double max_bad_fraction = 0.005; ///< fail when more than this fraction of pixels is bad
+    double mean_delta_e = 1.0;        ///< fail above this mean Delta E
+    double pixel_delta_e = 10.0;      ///< a pixel is "bad" above this Delta E
+    double max_bad_fraction = 0.005;  ///< fail when more than this fraction of pixels is bad
 };
 
 struct GoldenCheck {
     bool passed = false;
-    std::string message;  ///< what was compared, the measurements against the tolerance, where the evidence went
+    std::string message;        ///< what was compared, the measurements against the tolerance, where the evidence went
     double mean_delta_e = 0.0;  ///< NaN when nothing could be compared (golden missing or of other size)
     double bad_fraction = 0.0;  ///< NaN when nothing could be compared
 };

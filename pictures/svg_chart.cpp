@@ -44,20 +44,27 @@ std::string chart_svg(const Chart& chart) {
     auto px = [&](double x) { return kLeft + (x - x0) / (x1 - x0) * pw; };
     auto py = [&](double y) { return kTop + ph - (y - y0) / (y1 - y0) * ph; };
 
-    std::string svg = format_text("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" ", kWidth, kHeight) +
-                      "font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-    svg += format_text("<text x=\"%.0f\" y=\"24\" font-size=\"15\" text-anchor=\"middle\">", kWidth / 2) + xml_text(chart.title) +
-           "</text>\n";
+    std::string svg =
+        format_text("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" ", kWidth, kHeight) +
+        "font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+    svg += format_text("<text x=\"%.0f\" y=\"24\" font-size=\"15\" text-anchor=\"middle\">", kWidth / 2) +
+           xml_text(chart.title) + "</text>\n";
     for (double x = x0; x <= x1 + 1e-9 * dx; x += dx) {
-        svg += format_text("<line x1=\"%.1f\" y1=\"%.1f\" ", px(x), kTop) + format_text("x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>\n", px(x), kTop + ph);
-        svg += format_text("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">", px(x), kTop + ph + 16) + format_text("%g", x) + "</text>\n";
+        svg += format_text("<line x1=\"%.1f\" y1=\"%.1f\" ", px(x), kTop) +
+               format_text("x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>\n", px(x), kTop + ph);
+        svg += format_text("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">", px(x), kTop + ph + 16) +
+               format_text("%g", x) + "</text>\n";
     }
     for (double y = y0; y <= y1 + 1e-9 * dy; y += dy) {
-        svg += format_text("<line x1=\"%.1f\" y1=\"%.1f\" ", kLeft, py(y)) + format_text("x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>\n", kLeft + pw, py(y));
-        svg += format_text("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">", kLeft - 6, py(y) + 4) + format_text("%g", y) + "</text>\n";
+        svg += format_text("<line x1=\"%.1f\" y1=\"%.1f\" ", kLeft, py(y)) +
+               format_text("x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/>\n", kLeft + pw, py(y));
+        svg += format_text("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">", kLeft - 6, py(y) + 4) +
+               format_text("%g", y) + "</text>\n";
     }
-    svg += format_text("<rect x=\"%.0f\" y=\"%.0f\" ", kLeft, kTop) + format_text("width=\"%.0f\" height=\"%.0f\" fill=\"none\" stroke=\"#333\"/>\n", pw, ph);
-    svg += format_text("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">", kLeft + pw / 2, kHeight - 12) + xml_text(chart.x_label) + "</text>\n";
+    svg += format_text("<rect x=\"%.0f\" y=\"%.0f\" ", kLeft, kTop) +
+           format_text("width=\"%.0f\" height=\"%.0f\" fill=\"none\" stroke=\"#333\"/>\n", pw, ph);
+    svg += format_text("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">", kLeft + pw / 2, kHeight - 12) +
+           xml_text(chart.x_label) + "</text>\n";
     svg += format_text("<text transform=\"translate(16,%.1f) rotate(-90)\" text-anchor=\"middle\">", kTop + ph / 2) +
            xml_text(chart.y_label) + "</text>\n";
     for (size_t i = 0; i < chart.series.size(); ++i) {
@@ -65,7 +72,8 @@ std::string chart_svg(const Chart& chart) {
         if (s.markers) {
             for (const auto& [x, y] : s.points)
                 if (std::isfinite(x) && std::isfinite(y))
-                    svg += format_text("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3.5\" fill=\"none\" ", px(x), py(y)) + "stroke=\"" + s.color + "\"/>\n";
+                    svg += format_text("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3.5\" fill=\"none\" ", px(x), py(y)) +
+                           "stroke=\"" + s.color + "\"/>\n";
         } else {
             svg += "<polyline fill=\"none\" stroke-width=\"2\" stroke=\"" + s.color + "\"" +
                    (s.dashed ? " stroke-dasharray=\"6,4\"" : "") + " points=\"";
@@ -76,10 +84,12 @@ std::string chart_svg(const Chart& chart) {
         const double ly = kTop + 16 + 18 * double(i);
         if (s.dashed)
             svg += format_text("<line x1=\"%.0f\" y1=\"%.0f\" ", kLeft + 8, ly - 4) +
-                   format_text("x2=\"%.0f\" y2=\"%.0f\" stroke-width=\"2\" stroke-dasharray=\"6,4\" ", kLeft + 28, ly - 4) +
+                   format_text("x2=\"%.0f\" y2=\"%.0f\" stroke-width=\"2\" stroke-dasharray=\"6,4\" ", kLeft + 28,
+                               ly - 4) +
                    "stroke=\"" + s.color + "\"/>\n";
         else
-            svg += format_text("<rect x=\"%.0f\" y=\"%.0f\" width=\"14\" height=\"4\" ", kLeft + 12, ly - 6) + "fill=\"" + s.color + "\"/>\n";
+            svg += format_text("<rect x=\"%.0f\" y=\"%.0f\" width=\"14\" height=\"4\" ", kLeft + 12, ly - 6) +
+                   "fill=\"" + s.color + "\"/>\n";
         svg += format_text("<text x=\"%.0f\" y=\"%.0f\">", kLeft + 32, ly) + xml_text(s.name) + "</text>\n";
     }
     svg += "</svg>\n";

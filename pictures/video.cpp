@@ -19,9 +19,10 @@ namespace fs = std::filesystem;
 
 Result<fs::path> find_ffmpeg() {
     if (auto found = find_on_path("ffmpeg")) return *found;
-    return Error{"--video needs ffmpeg, which is not on PATH; install it (Debian: apt-get install ffmpeg, which "
-                 "scripts/setup.sh does) or drop --video and make the video later from the PNG frames with: ffmpeg "
-                 "-framerate 60 -i OUT/frame_%04d.png -c:v libx264 -pix_fmt yuv420p video.mp4"};
+    return Error{
+        "--video needs ffmpeg, which is not on PATH; install it (Debian: apt-get install ffmpeg, which "
+        "scripts/setup.sh does) or drop --video and make the video later from the PNG frames with: ffmpeg "
+        "-framerate 60 -i OUT/frame_%04d.png -c:v libx264 -pix_fmt yuv420p video.mp4"};
 }
 
 Result<bool> check_video_path(const fs::path& video) {
@@ -32,7 +33,8 @@ Result<bool> check_video_path(const fs::path& video) {
     const fs::path dir = video.has_parent_path() ? video.parent_path() : fs::path(".");
     if (auto ready = prepare_output_dir(dir, "--video"); !ready) return ready;
     std::error_code ec;
-    if (fs::is_directory(video, ec)) return Error{"--video " + video.string() + " is a folder; give a file name ending in .mp4"};
+    if (fs::is_directory(video, ec))
+        return Error{"--video " + video.string() + " is a folder; give a file name ending in .mp4"};
     if (fs::is_symlink(fs::symlink_status(video, ec))) return link_refused(video);
     return true;
 }
@@ -67,10 +69,31 @@ std::vector<std::string> video_command(const fs::path& ffmpeg, const VideoFrames
     const std::string input = literal_pattern_part(file_argument(frames.dir)) + "/" + frames.pattern;
     // yuv420p (what every player decodes) needs even sides: an odd side gets one more row or
     // column of padding. -nostdin: ffmpeg must not read the terminal the user types Ctrl-C in.
-    return {ffmpeg.string(), "-hide_banner", "-loglevel", "error", "-nostdin", "-y", "-framerate", fps,
-            "-start_number", "0", "-i", input, "-frames:v",
-            std::to_string(frames.count), "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "20", "-vf",
-            "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-movflags", "+faststart", file_argument(video)};
+    return {ffmpeg.string(),
+            "-hide_banner",
+            "-loglevel",
+            "error",
+            "-nostdin",
+            "-y",
+            "-framerate",
+            fps,
+            "-start_number",
+            "0",
+            "-i",
+            input,
+            "-frames:v",
+            std::to_string(frames.count),
+            "-c:v",
+            "libx264",
+            "-pix_fmt",
+            "yuv420p",
+            "-crf",
+            "20",
+            "-vf",
+            "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+            "-movflags",
+            "+faststart",
+            file_argument(video)};
 }
 
 Result<bool> mp4_is_whole(const fs::path& video) {
@@ -97,14 +120,18 @@ Result<bool> mp4_is_whole(const fs::path& video) {
             box = size - at;  // to the end of the file
         }
         if (box < 8 || box > size - at)
-            return Error{video.string() + ": its \"" + type + "\" box at byte " + std::to_string(at) + " runs past the end"};
+            return Error{video.string() + ": its \"" + type + "\" box at byte " + std::to_string(at) +
+                         " runs past the end"};
         ftyp = ftyp || type == "ftyp";
         moov = moov || type == "moov";
         mdat = mdat || type == "mdat";
         at += box;
     }
     if (!ftyp || !moov || !mdat)
-        return Error{video.string() + " lacks its " + std::string(!ftyp ? "header (ftyp)" : !moov ? "index (moov)" : "frames (mdat)")};
+        return Error{video.string() + " lacks its " +
+                     std::string(!ftyp   ? "header (ftyp)"
+                                 : !moov ? "index (moov)"
+                                         : "frames (mdat)")};
     return true;
 }
 
@@ -112,7 +139,8 @@ Result<bool> encode_video(const fs::path& ffmpeg, const VideoFrames& frames, con
     if (frames.count == 0) return Error{"no frames were written, so there is no video to make"};
     // Made beside the video and renamed over it once checked: a failed encode neither leaves a
     // cut file nor removes an earlier video of that name.
-    const fs::path staged = video.parent_path() / ("." + video.stem().string() + ".partial" + std::to_string(getpid()) + ".mp4");
+    const fs::path staged =
+        video.parent_path() / ("." + video.stem().string() + ".partial" + std::to_string(getpid()) + ".mp4");
     std::error_code ec;
     fs::remove(staged, ec);  // ffmpeg -y would write through a link left there
     const ProcessResult run = run_process(video_command(ffmpeg, frames, staged));

@@ -18,10 +18,10 @@ Result<std::filesystem::path> find_ffmpeg();
 Result<bool> check_video_path(const std::filesystem::path& video);
 
 struct VideoFrames {
-    std::filesystem::path dir;      ///< where the frames are
+    std::filesystem::path dir;               ///< where the frames are
     const char* pattern = "frame_%04d.png";  ///< their names (printf style, numbered from 0)
-    uint32_t count = 0;             ///< frames 0..count-1
-    double fps = 60.0;              ///< frames per second of simulated time
+    uint32_t count = 0;                      ///< frames 0..count-1
+    double fps = 60.0;                       ///< frames per second of simulated time
 };
 
 /// Frames per second for frames `frame_dt` seconds apart, a whole number when within 0.1 % of
@@ -35,6 +35,7 @@ std::vector<std::string> video_command(const std::filesystem::path& ffmpeg, cons
 /// index and the frames (a file cut by a full disk fails, naming what is missing).
 Result<bool> mp4_is_whole(const std::filesystem::path& video);
 /// Runs it and checks the file; the error carries ffmpeg's own message.
-Result<bool> encode_video(const std::filesystem::path& ffmpeg, const VideoFrames& frames, const std::filesystem::path& video);
+Result<bool> encode_video(const std::filesystem::path& ffmpeg, const VideoFrames& frames,
+                          const std::filesystem::path& video);
 
 }  // namespace aquaform

@@ -42,7 +42,8 @@ DensitySampler::DensitySampler(gpu::Context& ctx, const ParticleDomain& domain, 
                   shader::cubic_shape(std::min(field.lone_radius * particle_radius / r, 1.0f));
     clip_samples_ = 1;
     for (int a = 0; a < 3; ++a)
-        clip_samples_ *= uint64_t(std::ceil(double(params_.clip_max[a] - params_.clip_min[a]) / voxel)) + 2;  // + 1 for float rounding
+        clip_samples_ *= uint64_t(std::ceil(double(params_.clip_max[a] - params_.clip_min[a]) / voxel)) +
+                         2;  // + 1 for float rounding
 
     params_buf_ = &buffers_.add("mesh.params", sizeof(shader::MeshParams));
     bounds_ = &buffers_.add("mesh.bounds", kBoundsWords * 4);
@@ -51,7 +52,8 @@ DensitySampler::DensitySampler(gpu::Context& ctx, const ParticleDomain& domain, 
     bounds_pass_ = gpu::ComputePass(ctx, {"render/mesh_bounds.comp", 3, 0, MESH_WORKGROUP});
     sample_groups_ = &buffers_.add("mesh.sample_groups", 16);
     lattice_pass_ = gpu::ComputePass(ctx, {"render/mesh_lattice.comp", 4, 0, 1});
-    sample_pass_ = gpu::ComputePass(ctx, {"render/mesh_sample.comp", 8, sizeof(shader::MeshSamplePush), MESH_WORKGROUP});
+    sample_pass_ =
+        gpu::ComputePass(ctx, {"render/mesh_sample.comp", 8, sizeof(shader::MeshSamplePush), MESH_WORKGROUP});
     params_.anisotropic = field.surface == SurfaceKernel::anisotropic ? 1u : 0u;
 
     // A first guess: the lattice around a compact cube of the particles; reserve() grows it.
@@ -123,8 +125,9 @@ void DensitySampler::record(VkCommandBuffer cmd, const gpu::Buffer& positions, u
         const shader::SurfaceParams kernel_params = make_field_params(field_, domain_, geometry, count);
         gpu::record_upload(*ctx_, cmd, *kernel_params_, &kernel_params, sizeof(kernel_params));
         if (use_order) {
-            gpu::dispatch(*ctx_, cmd, gather_pass_, std::max(count, 1u),
-                          {{"params", kernel_params_}, {"positions", &positions}, {"order", order}, {"sorted", sorted_copy_}});
+            gpu::dispatch(
+                *ctx_, cmd, gather_pass_, std::max(count, 1u),
+                {{"params", kernel_params_}, {"positions", &positions}, {"order", order}, {"sorted", sorted_copy_}});
             sorted = sorted_copy_;
         }
         kernels_->record_shapes(cmd, *kernel_params_, *sorted, *cell_rank, *cell_start, count);
@@ -152,11 +155,19 @@ void DensitySampler::record(VkCommandBuffer cmd, const gpu::Buffer& positions, u
     gpu::fill(*ctx_, cmd, *bounds_, MESH_EMPTY_KEY);
     gpu::dispatch(*ctx_, cmd, bounds_pass_, std::max(count, 1u),
                   {{"params", params_buf_}, {"positions", &positions}, {"bounds", bounds_}});
-    gpu::dispatch(*ctx_, cmd, lattice_pass_, 1, {{"params", params_buf_}, {"bounds", bounds_}, {"lattice", lattice_}, {"sample_groups", sample_groups_}});
+    gpu::dispatch(
+        *ctx_, cmd, lattice_pass_, 1,
+        {{"params", params_buf_}, {"bounds", bounds_}, {"lattice", lattice_}, {"sample_groups", sample_groups_}});
     for (uint32_t slice = 0; slice < params_.sample_slices; ++slice)
         gpu::dispatch_indirect(*ctx_, cmd, sample_pass_, *sample_groups_, shader::MeshSamplePush{slice, 0, 0, 0},
-                               {{"params", params_buf_}, {"lattice", lattice_}, {"positions", particles}, {"order", order},
-                                {"cell_rank", cell_rank}, {"cell_start", cell_start}, {"values", values_}, {"shape", shape}});
+                               {{"params", params_buf_},
+                                {"lattice", lattice_},
+                                {"positions", particles},
+                                {"order", order},
+                                {"cell_rank", cell_rank},
+                                {"cell_start", cell_start},
+                                {"values", values_},
+                                {"shape", shape}});
 }
 
 void DensitySampler::make_own_grid() {

@@ -35,7 +35,8 @@ struct FrameInput {
     /// (`capacity`) or the buffer holds fewer than `count` positions.
     void check(const std::string& who, uint32_t capacity) const {
         if (count > capacity)
-            throw Failure(who + ": " + std::to_string(count) + " particles, but it was made for " + std::to_string(capacity));
+            throw Failure(who + ": " + std::to_string(count) + " particles, but it was made for " +
+                          std::to_string(capacity));
         if (!positions || positions->size < uint64_t(count) * 16)
             throw Failure(who + ": the positions buffer '" + (positions ? positions->name : std::string("(none)")) +
                           "' holds fewer than " + std::to_string(count) + " vec4 positions");

@@ -8,12 +8,12 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "core/error.h"
 #include "gpu/context.h"
 #include "gpu/image.h"
 #include "gpu/shader_registry.h"
 #include "gpu/vk_check.h"
 #include "shaders/shared/render/impostor_layout.h"
-#include "core/error.h"
 
 namespace aquaform {
 
@@ -61,15 +61,25 @@ VkPipeline ImpostorView::Impl::create_pipeline(gpu::Context& ctx, uint32_t mode,
     VkSpecializationMapEntry entry{0, 0, sizeof(uint32_t)};
     VkSpecializationInfo spec{1, &entry, sizeof(uint32_t), &mode};
     VkPipelineShaderStageCreateInfo stages[2] = {};
-    stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT,
-                 vert, "main", &spec};
-    stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT,
-                 frag, "main", &spec};
+    stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+                 nullptr,
+                 0,
+                 VK_SHADER_STAGE_VERTEX_BIT,
+                 vert,
+                 "main",
+                 &spec};
+    stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+                 nullptr,
+                 0,
+                 VK_SHADER_STAGE_FRAGMENT_BIT,
+                 frag,
+                 "main",
+                 &spec};
 
     VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    assembly.topology = mode == IMPOSTOR_MODE_LINES ? VK_PRIMITIVE_TOPOLOGY_LINE_LIST
-                                                    : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    assembly.topology =
+        mode == IMPOSTOR_MODE_LINES ? VK_PRIMITIVE_TOPOLOGY_LINE_LIST : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
     VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
     viewport.viewportCount = 1;
     viewport.scissorCount = 1;
@@ -87,8 +97,8 @@ VkPipeline ImpostorView::Impl::create_pipeline(gpu::Context& ctx, uint32_t mode,
     depth.depthWriteEnable = mode == IMPOSTOR_MODE_SOLID || mode == IMPOSTOR_MODE_PARTICLES;
     depth.depthCompareOp = mode == IMPOSTOR_MODE_LINES ? VK_COMPARE_OP_LESS_OR_EQUAL : VK_COMPARE_OP_LESS;
     VkPipelineColorBlendAttachmentState blend_attachment{};
-    blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
-                                      VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    blend_attachment.colorWriteMask =
+        VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     blend.attachmentCount = 1;
     blend.pAttachments = &blend_attachment;
@@ -124,14 +134,14 @@ ImpostorView::ImpostorView(gpu::Context& ctx, uint32_t width, uint32_t height)
     : ctx_(&ctx), width_(width), height_(height), impl_(new Impl) {
     try {
         if (width == 0 || height == 0)
-            throw Failure("impostor view of " + std::to_string(width) + "x" +
-                                        std::to_string(height) + " pixels; give a width and height of at least 1");
+            throw Failure("impostor view of " + std::to_string(width) + "x" + std::to_string(height) +
+                          " pixels; give a width and height of at least 1");
         const auto& lim = ctx.limits();
         if (width > lim.maxFramebufferWidth || height > lim.maxFramebufferHeight)
             throw Failure("impostor view of " + std::to_string(width) + "x" + std::to_string(height) +
-                                        " pixels exceeds the device's framebuffer limit of " +
-                                        std::to_string(lim.maxFramebufferWidth) + "x" +
-                                        std::to_string(lim.maxFramebufferHeight) + "; render a smaller image");
+                          " pixels exceeds the device's framebuffer limit of " +
+                          std::to_string(lim.maxFramebufferWidth) + "x" + std::to_string(lim.maxFramebufferHeight) +
+                          "; render a smaller image");
         VkFormatProperties depth_props{};
         vkGetPhysicalDeviceFormatProperties(ctx.physical_device(), kDepthFormat, &depth_props);
         if (!(depth_props.optimalTilingFeatures & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT))
@@ -140,12 +150,12 @@ ImpostorView::ImpostorView(gpu::Context& ctx, uint32_t width, uint32_t height)
 
         Impl& m = *impl_;
         m.color = gpu::create_image(ctx, "impostor color", width, height, kColorFormat,
-                               VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                               VK_IMAGE_ASPECT_COLOR_BIT);
-        m.depth = gpu::create_image(ctx, "impostor depth", width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                               VK_IMAGE_ASPECT_DEPTH_BIT);
-        m.readback = gpu::create_buffer(ctx, "impostor readback", VkDeviceSize(width) * height * 4,
-                                        gpu::MemoryUse::host);
+                                    VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                                    VK_IMAGE_ASPECT_COLOR_BIT);
+        m.depth = gpu::create_image(ctx, "impostor depth", width, height, kDepthFormat,
+                                    VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
+        m.readback =
+            gpu::create_buffer(ctx, "impostor readback", VkDeviceSize(width) * height * 4, gpu::MemoryUse::host);
         m.dummy = gpu::create_buffer(ctx, "impostor empty particles", 16);
 
         VkDescriptorSetLayoutBinding bindings[2] = {};
@@ -173,7 +183,8 @@ ImpostorView::ImpostorView(gpu::Context& ctx, uint32_t width, uint32_t height)
             frag = gpu::create_shader_module(ctx, "render/impostor.frag");
             for (uint32_t mode = 0; mode < kModeCount; ++mode) {
                 m.pipelines[mode] = m.create_pipeline(ctx, mode, vert, frag);
-                ctx.set_name(VK_OBJECT_TYPE_PIPELINE, m.pipelines[mode], "render/impostor mode " + std::to_string(mode));
+                ctx.set_name(VK_OBJECT_TYPE_PIPELINE, m.pipelines[mode],
+                             "render/impostor mode " + std::to_string(mode));
             }
         } catch (...) {
             vkDestroyShaderModule(ctx.device(), vert, nullptr);
@@ -197,9 +208,8 @@ ImpostorView::~ImpostorView() {
 Image ImpostorView::render(const gpu::Buffer& positions, const gpu::Buffer& velocities, uint32_t count,
                            const ViewCamera& camera, const ImpostorStyle& style, const Box& domain,
                            std::span<const Box> static_boxes) {
-    ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
-        record(cmd, positions, velocities, count, camera, style, domain, static_boxes);
-    });
+    ctx_->submit_and_wait(
+        [&](VkCommandBuffer cmd) { record(cmd, positions, velocities, count, camera, style, domain, static_boxes); });
     return image();
 }
 
@@ -212,21 +222,21 @@ void ImpostorView::record(VkCommandBuffer cmd, const gpu::Buffer& positions, con
         for (const gpu::Buffer* b : {&positions, &velocities})
             if (!b->buffer || b->size < need)
                 throw Failure("impostor view: buffer '" + b->name + "' holds " + std::to_string(b->size) +
-                                            " bytes but " + std::to_string(count) + " particles need " +
-                                            std::to_string(need) + " (one vec4 each); pass the particle count "
-                                            "that the buffers were made for");
+                              " bytes but " + std::to_string(count) + " particles need " + std::to_string(need) +
+                              " (one vec4 each); pass the particle count "
+                              "that the buffers were made for");
         if (count > UINT32_MAX / 6)
             throw Failure("impostor view: " + std::to_string(count) + " particles exceed " +
-                                        std::to_string(UINT32_MAX / 6) + " (6 vertices each)");
+                          std::to_string(UINT32_MAX / 6) + " (6 vertices each)");
     }
     if (!(style.radius > 0.0f) || !(style.speed_for_full_color > 0.0f))
         throw Failure("impostor view: radius and speed_for_full_color must be positive (got " +
-                                    std::to_string(style.radius) + " and " +
-                                    std::to_string(style.speed_for_full_color) + ")");
+                      std::to_string(style.radius) + " and " + std::to_string(style.speed_for_full_color) + ")");
 
     if (!(glm::length(camera.target - camera.eye) > 0.0f))
-        throw Failure("impostor view: the camera's eye and target coincide (or are not finite); "
-                                    "place the eye away from the point it looks at");
+        throw Failure(
+            "impostor view: the camera's eye and target coincide (or are not finite); "
+            "place the eye away from the point it looks at");
     const float aspect = float(width_) / float(height_);
     const glm::vec3 up = camera_axes(camera)[1];
     shader::ImpostorPush push{};
@@ -238,10 +248,12 @@ void ImpostorView::record(VkCommandBuffer cmd, const gpu::Buffer& positions, con
     const gpu::Buffer& vel = count > 0 ? velocities : m.dummy;
 
     // The solver's compute passes may have written the particles earlier in this command buffer.
-    const VkMemoryBarrier2 particles{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2, nullptr,
+    const VkMemoryBarrier2 particles{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2,
+                                     nullptr,
                                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT,
                                      VK_ACCESS_2_SHADER_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                                     VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT};
+                                     VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
+                                     VK_ACCESS_2_SHADER_STORAGE_READ_BIT};
     const VkDependencyInfo particles_dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO, nullptr, 0, 1, &particles};
     vkCmdPipelineBarrier2(cmd, &particles_dep);
     // The previous render's copy read the colour image; its contents are not kept.
@@ -294,8 +306,8 @@ void ImpostorView::record(VkCommandBuffer cmd, const gpu::Buffer& positions, con
         push.box_min = with_w(box.min, albedo);
         push.box_max = with_w(box.max, 0.0f);
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, m.pipelines[mode]);
-        vkCmdPushConstants(cmd, m.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
-                           sizeof push, &push);
+        vkCmdPushConstants(cmd, m.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push,
+                           &push);
         vkCmdDraw(cmd, vertices, 1, first, 0);
     };
     draw(IMPOSTOR_MODE_SKY, domain, 0.0f, 3, 0);
@@ -312,8 +324,7 @@ void ImpostorView::record(VkCommandBuffer cmd, const gpu::Buffer& positions, con
     VkBufferImageCopy region{};
     region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     region.imageExtent = {width_, height_, 1};
-    vkCmdCopyImageToBuffer(cmd, m.color.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, m.readback.buffer, 1,
-                           &region);
+    vkCmdCopyImageToBuffer(cmd, m.color.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, m.readback.buffer, 1, &region);
     // The host reads the copy after the fence wait; this makes the transfer write visible to it.
     VkBufferMemoryBarrier2 to_host{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
     to_host.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;

@@ -7,13 +7,13 @@
 #include <cstdint>
 #include <span>
 
-#include <glm/glm.hpp>
 #include <vulkan/vulkan.h>
+#include <glm/glm.hpp>
 
-#include "gpu/buffer.h"
-#include "pictures/image_io.h"
 #include "core/box.h"
 #include "core/camera.h"
+#include "gpu/buffer.h"
+#include "pictures/image_io.h"
 
 namespace aquaform {
 
@@ -22,7 +22,7 @@ class Context;
 }
 
 struct ImpostorStyle {
-    float radius = 0.01f;          ///< sphere radius [m] (half the particle spacing)
+    float radius = 0.01f;               ///< sphere radius [m] (half the particle spacing)
     float speed_for_full_color = 2.0f;  ///< speed [m/s] mapped to the end of the colour ramp
 };
 
@@ -36,9 +36,8 @@ public:
     /// Draws `count` particles (positions: vec4 xyz; velocities: vec4 xyz, colour by speed)
     /// over a background with the domain's floor and walls outlined and the static boxes shaded,
     /// and returns the image.
-    Image render(const gpu::Buffer& positions, const gpu::Buffer& velocities, uint32_t count,
-                 const ViewCamera& camera, const ImpostorStyle& style, const Box& domain,
-                 std::span<const Box> static_boxes);
+    Image render(const gpu::Buffer& positions, const gpu::Buffer& velocities, uint32_t count, const ViewCamera& camera,
+                 const ImpostorStyle& style, const Box& domain, std::span<const Box> static_boxes);
     /// render() in two halves, for a frame kept in flight: records the drawing and the image's
     /// copy into host-visible memory into `cmd`; image() reads it once the submission completed.
     void record(VkCommandBuffer cmd, const gpu::Buffer& positions, const gpu::Buffer& velocities, uint32_t count,

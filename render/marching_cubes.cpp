@@ -40,8 +40,7 @@ std::array<Face, 6> cube_faces() {
             const uint32_t u = (axis + 1) % 3, v = (axis + 2) % 3;
             const glm::uvec2 around[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
             Face& f = faces[axis * 2 + side];
-            for (int i = 0; i < 4; ++i)
-                f.corners[i] = (side << axis) | (around[i].x << u) | (around[i].y << v);
+            for (int i = 0; i < 4; ++i) f.corners[i] = (side << axis) | (around[i].x << u) | (around[i].y << v);
             f.outward = glm::vec3(0.0f);
             f.outward[axis] = side ? 1.0f : -1.0f;
         }
@@ -99,7 +98,8 @@ std::vector<uint32_t> case_triangles(uint32_t pattern, bool flip) {
     auto add_segment = [&](const Face& f, uint32_t a, uint32_t b, uint32_t c) {
         const glm::vec3 p = edge_midpoint(a), q = edge_midpoint(b), corner(mesh_corner(c));
         if (glm::dot(glm::cross(q - p, corner - p), f.outward) < 0.0f) std::swap(a, b);
-        if (next[a] != -1) throw internal_failure("marching cubes table: edge " + std::to_string(a) + " starts two segments");
+        if (next[a] != -1)
+            throw internal_failure("marching cubes table: edge " + std::to_string(a) + " starts two segments");
         next[a] = int(b);
     };
     for (const Face& f : cube_faces()) {

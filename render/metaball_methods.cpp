@@ -33,9 +33,10 @@ std::vector<SettingSpec> metaball_settings() {
     return {
         choice<S>("visual", "--visual", "visual", &S::visual, {"gradient", "real"},
                   "gradient: normal colours; real: reflection and refraction"),
-        setting<S>("size", "--metaball-size", "size", kNumber, &S::size, 0.5, 8, "a number of particle spacings from 0.5 to 8",
-                   "metaball range in particle spacings"),
-        setting<S>("iso", "--iso", "iso", kNumber, &S::iso, 0, 1, "0 < iso < 1 (a lone ball's peak is 1)", "iso value of the field"),
+        setting<S>("size", "--metaball-size", "size", kNumber, &S::size, 0.5, 8,
+                   "a number of particle spacings from 0.5 to 8", "metaball range in particle spacings"),
+        setting<S>("iso", "--iso", "iso", kNumber, &S::iso, 0, 1, "0 < iso < 1 (a lone ball's peak is 1)",
+                   "iso value of the field"),
         setting<S>("step", "--step", "step", kNumber, &S::step_radii, 0.01, 4, "0.01..4 particle radii",
                    "marching step in particle radii"),
         setting<S>("max_steps", "--max-steps", "max_steps", kInteger, &S::max_steps, 1, 1000000, "1..1000000",
@@ -46,18 +47,19 @@ std::vector<SettingSpec> metaball_settings() {
                    "surface interactions of the real visual"),
         setting<S>("keep_near", "--keep-near", "keep_near", SettingType::on_switch, &S::keep_near, 0, 1, "",
                    "visit the particles at the eye plane from a near list"),
-        setting<S>("list_bytes_per_pixel", "--list-bytes", "list_bytes_per_pixel", kInteger, &S::list_bytes_per_pixel, 0, 65536,
-                   "0 (256) or 8..65536 bytes per pixel", "list memory per pixel"),
+        setting<S>("list_bytes_per_pixel", "--list-bytes", "list_bytes_per_pixel", kInteger, &S::list_bytes_per_pixel,
+                   0, 65536, "0 (256) or 8..65536 bytes per pixel", "list memory per pixel"),
     };
 }
 
 void add(Registry& registry, MetaballMethod method, const char* name, const char* description) {
     MetaballSettings defaults;
     defaults.method = method;
-    MethodEntry e = family_entry<MetaballMethodRenderer>(name, "metaball", description, method != MetaballMethod::brute_force,
-                                                         defaults, metaball_settings());
+    MethodEntry e = family_entry<MetaballMethodRenderer>(
+        name, "metaball", description, method != MetaballMethod::brute_force, defaults, metaball_settings());
     // The list memory is the renderer's, fixed when it is made.
-    e.make = [](gpu::Context& ctx, const ParticleDomain& domain, uint32_t w, uint32_t h, uint32_t n, const MethodSettings& m) {
+    e.make = [](gpu::Context& ctx, const ParticleDomain& domain, uint32_t w, uint32_t h, uint32_t n,
+                const MethodSettings& m) {
         const uint64_t list_bytes = uint64_t(m.as<MetaballSettings>().list_bytes_per_pixel) * w * h;
         return std::unique_ptr<Renderer>(std::make_unique<MetaballMethodRenderer>(m, ctx, domain, w, h, n, list_bytes));
     };

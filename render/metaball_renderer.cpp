@@ -6,12 +6,12 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/error.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "gpu/timer.h"
-#include "render/surface_settings.h"
-#include "core/error.h"
 #include "render/picture_size.h"
+#include "render/surface_settings.h"
 
 namespace aquaform {
 
@@ -35,9 +35,12 @@ MetaballPush mode_push(uint32_t mode) {
 
 uint32_t method_code(MetaballMethod method) {
     switch (method) {
-    case MetaballMethod::brute_force: return METABALL_BRUTE_FORCE;
-    case MetaballMethod::a_buffer: return METABALL_A_BUFFER;
-    case MetaballMethod::s_buffer: return METABALL_S_BUFFER;
+        case MetaballMethod::brute_force:
+            return METABALL_BRUTE_FORCE;
+        case MetaballMethod::a_buffer:
+            return METABALL_A_BUFFER;
+        case MetaballMethod::s_buffer:
+            return METABALL_S_BUFFER;
     }
     return METABALL_BRUTE_FORCE;
 }
@@ -53,9 +56,12 @@ std::string mib(uint64_t bytes) {
 
 const char* method_name(MetaballMethod method) {
     switch (method) {
-    case MetaballMethod::brute_force: return "brute";
-    case MetaballMethod::a_buffer: return "abuffer";
-    case MetaballMethod::s_buffer: return "sbuffer";
+        case MetaballMethod::brute_force:
+            return "brute";
+        case MetaballMethod::a_buffer:
+            return "abuffer";
+        case MetaballMethod::s_buffer:
+            return "sbuffer";
     }
     return "?";
 }
@@ -71,13 +77,15 @@ const char* visual_name(MetaballVisual visual) { return visual == MetaballVisual
 Result<MetaballVisual> parse_visual(const std::string& text) {
     for (MetaballVisual v : {MetaballVisual::gradient, MetaballVisual::real})
         if (text == visual_name(v)) return v;
-    return Error{"unknown metaball visual '" + text + "'; use gradient (normal colours) or real (reflection and refraction)"};
+    return Error{"unknown metaball visual '" + text +
+                 "'; use gradient (normal colours) or real (reflection and refraction)"};
 }
 
 Result<bool> validate(const MetaballSettings& s) {
     if (!(s.size >= 0.5f && s.size <= 8.0f)) return out_of_range("size", s.size, "0.5..8 particle spacings");
     if (!(s.iso > 0.0f && s.iso < 1.0f)) return out_of_range("iso", s.iso, "0 < iso < 1 (a lone ball's peak is 1)");
-    if (!(s.step_radii >= 0.01f && s.step_radii <= 4.0f)) return out_of_range("step", s.step_radii, "0.01..4 particle radii");
+    if (!(s.step_radii >= 0.01f && s.step_radii <= 4.0f))
+        return out_of_range("step", s.step_radii, "0.01..4 particle radii");
     if (s.max_steps < 1 || s.max_steps > 1000000) return out_of_range("max_steps", s.max_steps, "1..1000000");
     if (s.bisection_steps > 32) return out_of_range("bisection_steps", s.bisection_steps, "0..32");
     if (s.recursion_depth < 1 || s.recursion_depth > METABALL_MAX_DEPTH)
@@ -89,14 +97,14 @@ float metaball_radius(const MetaballSettings& settings, const ParticleDomain& do
     return settings.size * domain.particle_spacing;
 }
 
-uint32_t list_entry_bytes(MetaballMethod method) {
-    return method == MetaballMethod::a_buffer ? 8u : 4u;
-}
+uint32_t list_entry_bytes(MetaballMethod method) { return method == MetaballMethod::a_buffer ? 8u : 4u; }
 
 std::string MetaballStats::describe() const {
     std::ostringstream text;
-    if (list_capacity == 0) text << "brute force: no lists";
-    else text << list_entries << " list entries of " << list_capacity;
+    if (list_capacity == 0)
+        text << "brute force: no lists";
+    else
+        text << list_entries << " list entries of " << list_capacity;
     if (overflow)
         text << ": OVERFLOW, the lists were cut short; this frame needs " << mib(list_bytes_needed)
              << " of list memory (give the renderer at least that, or make the metaballs smaller)";
@@ -114,7 +122,11 @@ std::string MetaballStats::describe() const {
 
 MetaballRenderer::MetaballRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height,
                                    uint32_t max_particles, uint64_t list_bytes)
-    : ctx_(&ctx), domain_(domain), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
+    : ctx_(&ctx),
+      domain_(domain),
+      width_(width),
+      height_(height),
+      max_particles_(std::max(max_particles, 1u)),
       buffers_(ctx) {
     require_picture_size("metaball renderer", width, height);
     const uint64_t pixels = uint64_t(width) * height;
@@ -124,7 +136,8 @@ MetaballRenderer::MetaballRenderer(gpu::Context& ctx, const ParticleDomain& doma
     if (list_bytes_ / 4 >= METABALL_NIL)
         throw Failure("metaball renderer: " + mib(list_bytes_) + " of list memory (" +
                       std::to_string(list_bytes_ / pixels) + " B per pixel at " + std::to_string(width) + "x" +
-                      std::to_string(height) + ") is more than its 32-bit entry indices address (16 GiB); lower "
+                      std::to_string(height) +
+                      ") is more than its 32-bit entry indices address (16 GiB); lower "
                       "--list-bytes (list_bytes_per_pixel) or the resolution");
     params_buf_ = &buffers_.add("metaball.params", sizeof(shader::MetaballParams));
     counters_ = &buffers_.add("metaball.counters", sizeof(MetaballCounters));
@@ -147,8 +160,8 @@ MetaballRenderer::MetaballRenderer(gpu::Context& ctx, const ParticleDomain& doma
 
 MetaballRenderer::~MetaballRenderer() = default;
 
-void MetaballRenderer::record(VkCommandBuffer cmd, const FrameInput& frame,
-                              const ViewCamera& camera, const MetaballSettings& settings, gpu::GpuTimer* timer) {
+void MetaballRenderer::record(VkCommandBuffer cmd, const FrameInput& frame, const ViewCamera& camera,
+                              const MetaballSettings& settings, gpu::GpuTimer* timer) {
     if (auto valid = validate(settings); !valid) throw Failure(valid.error());
     frame.check("metaball renderer", max_particles_);
     const gpu::Buffer& positions = *frame.positions;
@@ -188,14 +201,17 @@ void MetaballRenderer::record(VkCommandBuffer cmd, const FrameInput& frame,
 
     const uint32_t pixels = width_ * height_;
     const uint32_t particles = std::max(count, 1u);
-    const gpu::Bindings list_buffers{
-        {"params", params_buf_}, {"positions", &positions}, {"counters", counters_}, {"heads", heads_}, {"nodes", entries_}, {"offsets", offsets_}, {"cursors", cursors_}, {"ids", entries_}, {"span", span_}, {"near_ids", near_}};
+    const gpu::Bindings list_buffers{{"params", params_buf_}, {"positions", &positions}, {"counters", counters_},
+                                     {"heads", heads_},       {"nodes", entries_},       {"offsets", offsets_},
+                                     {"cursors", cursors_},   {"ids", entries_},         {"span", span_},
+                                     {"near_ids", near_}};
     {
         gpu::GpuScope scope(timer, cmd, "metaball_bounds");
         MetaballCounters init{};
         init.bounds_min_x = init.bounds_min_y = init.bounds_min_z = 0xffffffffu;
         gpu::record_upload(*ctx_, cmd, *counters_, &init, sizeof(init));
-        gpu::dispatch(*ctx_, cmd, bounds_, particles, {{"params", params_buf_}, {"positions", &positions}, {"counters", counters_}});
+        gpu::dispatch(*ctx_, cmd, bounds_, particles,
+                      {{"params", params_buf_}, {"positions", &positions}, {"counters", counters_}});
     }
     if (settings.method != MetaballMethod::brute_force) {
         gpu::GpuScope scope(timer, cmd, "metaball_lists");
@@ -227,10 +243,25 @@ void MetaballRenderer::record(VkCommandBuffer cmd, const FrameInput& frame,
         MetaballPush push{};
         push.first_pixel = first;
         gpu::dispatch(*ctx_, cmd, march_, std::min(per_slice, pixels - first), push,
-                      {{"params", params_buf_}, {"positions", &positions}, {"counters", counters_}, {"heads", heads_}, {"nodes", entries_}, {"offsets", offsets_}, {"ids", entries_}, {"span", span_}, {"hit", hit_}, {"normal", normal_}, {"color", color_}, {"visits", visits_}, {"near_ids", near_}, {"solid_nodes", &solid_nodes(frame.solids, *params_buf_)}});
+                      {{"params", params_buf_},
+                       {"positions", &positions},
+                       {"counters", counters_},
+                       {"heads", heads_},
+                       {"nodes", entries_},
+                       {"offsets", offsets_},
+                       {"ids", entries_},
+                       {"span", span_},
+                       {"hit", hit_},
+                       {"normal", normal_},
+                       {"color", color_},
+                       {"visits", visits_},
+                       {"near_ids", near_},
+                       {"solid_nodes", &solid_nodes(frame.solids, *params_buf_)}});
     }
-    whitewater_.record(*ctx_, cmd, frame.whitewater, width_, height_, camera, *hit_,
-                       {&params_.tank, params_.domain_min, params_.domain_max, &solid_nodes(frame.solids, *params_buf_)}, *color_, timer);
+    whitewater_.record(
+        *ctx_, cmd, frame.whitewater, width_, height_, camera, *hit_,
+        {&params_.tank, params_.domain_min, params_.domain_max, &solid_nodes(frame.solids, *params_buf_)}, *color_,
+        timer);
     method_ = settings.method;
 }
 
@@ -281,7 +312,8 @@ std::vector<std::vector<uint32_t>> MetaballRenderer::pixel_lists() {
         const auto heads = gpu::download_vector<uint32_t>(*ctx_, *heads_, pixels);
         const auto nodes = gpu::download_vector<glm::uvec2>(*ctx_, *entries_, used);
         for (size_t p = 0; p < pixels; ++p)
-            for (uint32_t at = heads[p]; at != METABALL_NIL && at < used; at = nodes[at].y) lists[p].push_back(nodes[at].x);
+            for (uint32_t at = heads[p]; at != METABALL_NIL && at < used; at = nodes[at].y)
+                lists[p].push_back(nodes[at].x);
     } else if (method_ == MetaballMethod::s_buffer) {
         const auto offsets = gpu::download_vector<uint32_t>(*ctx_, *offsets_, pixels + 1);
         const uint64_t used = std::min<uint64_t>(offsets[pixels], list_capacity(method_));

@@ -18,14 +18,14 @@
 #include <string>
 #include <vector>
 
+#include "core/box.h"
+#include "core/result.h"
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
 #include "grid/prefix_sum.h"
 #include "render/impostor_view.h"
 #include "render/surface_frame.h"
 #include "shaders/shared/render/metaball_layout.h"
-#include "core/result.h"
-#include "core/box.h"
 
 namespace aquaform {
 
@@ -53,9 +53,9 @@ struct MetaballSettings {
     /// Marching step in particle radii; as for the surface renderer, one radius cannot jump over a
     /// lone droplet's centre.
     float step_radii = 1.0f;
-    uint32_t max_steps = 512;     ///< field evaluations per ray segment before it gives up
-    uint32_t bisection_steps = 3; ///< the paper's Table 1 uses 2 and 3
-    uint32_t recursion_depth = 1; ///< surface interactions of the "real" visual, 1..4
+    uint32_t max_steps = 512;      ///< field evaluations per ray segment before it gives up
+    uint32_t bisection_steps = 3;  ///< the paper's Table 1 uses 2 and 3
+    uint32_t recursion_depth = 1;  ///< surface interactions of the "real" visual, 1..4
     /// Keep the particles whose range reaches the eye plane (no finite billboard, so in no list)
     /// in a near list every ray visits: the lists' field is then exact in close-ups too. Not the
     /// paper's method (it drops them); the study's reference turns it on.
@@ -79,20 +79,20 @@ uint32_t list_entry_bytes(MetaballMethod method);
 constexpr uint32_t kDefaultListBytesPerPixel = 256;
 
 struct MetaballStats {
-    uint64_t list_entries = 0;   ///< entries the lists needed in the last frame (0 for brute force)
-    uint64_t list_capacity = 0;  ///< entries they could hold
-    bool overflow = false;       ///< needed more than the capacity: lists were cut short
-    uint64_t list_bytes_needed = 0;  ///< list entries needed times list_entry_bytes
-    uint64_t kernel_evaluations = 0; ///< particle visits of every field and gradient evaluation
-    uint64_t field_evaluations = 0;  ///< samples along every ray
+    uint64_t list_entries = 0;        ///< entries the lists needed in the last frame (0 for brute force)
+    uint64_t list_capacity = 0;       ///< entries they could hold
+    bool overflow = false;            ///< needed more than the capacity: lists were cut short
+    uint64_t list_bytes_needed = 0;   ///< list entries needed times list_entry_bytes
+    uint64_t kernel_evaluations = 0;  ///< particle visits of every field and gradient evaluation
+    uint64_t field_evaluations = 0;   ///< samples along every ray
     /// Pixels whose loops the device ended early (llvmpipe stops each shader invocation after
     /// 65535 loop iterations in all): their surface may be missing and the time is a lower bound.
     uint64_t cut_pixels = 0;
     /// Particles whose range reaches the eye plane: they have no billboard and are in no list
     /// (brute force sees them), so a close-up's lists are no longer exact, unless kept.
     uint64_t dropped_particles = 0;
-    bool near_kept = false;  ///< MetaballSettings::keep_near: they were visited from the near list
-    std::string describe() const;    ///< one line; on overflow or cut pixels, what it means and the fix
+    bool near_kept = false;        ///< MetaballSettings::keep_near: they were visited from the near list
+    std::string describe() const;  ///< one line; on overflow or cut pixels, what it means and the fix
 };
 
 class MetaballRenderer {
@@ -100,8 +100,8 @@ public:
     /// Allocates every buffer for `max_particles` at width x height, with `list_bytes` of list
     /// memory (0: kDefaultListBytesPerPixel per pixel). Throws aquaform::Failure on a
     /// resolution outside render/picture_size.h's limits and aquaform::Failure (a resource failure) when a buffer exceeds the device's limits.
-    MetaballRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles,
-                     uint64_t list_bytes = 0);
+    MetaballRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height,
+                     uint32_t max_particles, uint64_t list_bytes = 0);
     ~MetaballRenderer();
     MetaballRenderer(const MetaballRenderer&) = delete;
     MetaballRenderer& operator=(const MetaballRenderer&) = delete;
@@ -111,8 +111,8 @@ public:
     void record(VkCommandBuffer cmd, const FrameInput& frame, const ViewCamera& camera,
                 const MetaballSettings& settings, gpu::GpuTimer* timer);
     /// Records, submits, waits and reads the frame back.
-    SurfaceFrame render(const FrameInput& frame, const ViewCamera& camera,
-                        const MetaballSettings& settings, gpu::GpuTimer* timer = nullptr);
+    SurfaceFrame render(const FrameInput& frame, const ViewCamera& camera, const MetaballSettings& settings,
+                        gpu::GpuTimer* timer = nullptr);
     SurfaceFrame read_frame();
     /// Counters of the last frame (reads back the counters and the per-pixel visits).
     MetaballStats stats();

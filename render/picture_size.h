@@ -27,7 +27,8 @@ inline std::string picture_side_range() {
 }
 
 inline bool picture_size_ok(uint64_t width, uint64_t height) {
-    return width >= kMinPictureSide && height >= kMinPictureSide && width <= kMaxPictureSide && height <= kMaxPictureSide;
+    return width >= kMinPictureSide && height >= kMinPictureSide && width <= kMaxPictureSide &&
+           height <= kMaxPictureSide;
 }
 
 /// A renderer's check of the size it is made with; `renderer` names it in the message.

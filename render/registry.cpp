@@ -57,7 +57,8 @@ std::string RenderStats::describe() const {
     text << rays << " rays";
     if (rays) text << ", " << double(evaluations) / double(rays) << " evaluations per ray";
     if (cut)
-        text << "; " << cut << " " << cut_unit << " CUT SHORT by the device's loop limit (their surface may be missing)";
+        text << "; " << cut << " " << cut_unit
+             << " CUT SHORT by the device's loop limit (their surface may be missing)";
     if (list_overflow) text << "; lists OVERFLOWED (need " << list_bytes_needed << " bytes)";
     if (dropped_particles) text << "; " << dropped_particles << " particles at the eye plane in no list";
     if (!family_line.empty()) text << " [" << family_line << "]";
@@ -73,10 +74,13 @@ void Renderer::configure(const MethodSettings& settings) {
 std::string SettingSpec::default_text(const MethodSettings& defaults) const {
     const double v = get(defaults);
     switch (type) {
-    case SettingType::choice: return choices.at(size_t(v));
-    case SettingType::off_switch:
-    case SettingType::on_switch: return v != 0.0 ? "on" : "off";
-    default: return format_number(v);
+        case SettingType::choice:
+            return choices.at(size_t(v));
+        case SettingType::off_switch:
+        case SettingType::on_switch:
+            return v != 0.0 ? "on" : "off";
+        default:
+            return format_number(v);
     }
 }
 
@@ -110,15 +114,17 @@ Result<const MethodEntry*> Registry::lookup(const std::string& name) const {
     return Error{"unknown render method '" + name + "'; use " + names() + " (aquaform help describes each)"};
 }
 
-std::unique_ptr<Renderer> Registry::create(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height,
-                                           uint32_t max_particles, const MethodSettings& settings) const {
+std::unique_ptr<Renderer> Registry::create(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width,
+                                           uint32_t height, uint32_t max_particles,
+                                           const MethodSettings& settings) const {
     auto entry = lookup(settings.method());
     if (!entry) throw Failure(entry.error());
     if (auto valid = finish(*entry.value(), settings); !valid) throw Failure(valid.error());
     return entry.value()->make(ctx, domain, width, height, max_particles, settings);
 }
 
-Result<MethodSettings> Registry::from_flags(const std::string& method, const std::map<std::string, std::string>& flags) const {
+Result<MethodSettings> Registry::from_flags(const std::string& method,
+                                            const std::map<std::string, std::string>& flags) const {
     auto found = lookup(method);
     if (!found) return Error{found.error()};
     const MethodEntry& entry = *found.value();
@@ -127,8 +133,7 @@ Result<MethodSettings> Registry::from_flags(const std::string& method, const std
         const SettingSpec* s = entry.setting_by_flag(flag);
         if (!s) {
             const std::string others = methods_with_flag(*this, flag);
-            if (!others.empty())
-                return Error{flag + " applies to the methods " + others + ", not to " + method};
+            if (!others.empty()) return Error{flag + " applies to the methods " + others + ", not to " + method};
             continue;
         }
         double v = 0.0;
@@ -151,8 +156,8 @@ Result<MethodSettings> Registry::from_flags(const std::string& method, const std
                 parsed = whole ? std::optional<double>(double(*whole)) : std::nullopt;
             }
             if (!parsed)
-                return Error{flag + " must be " + (number ? "a number" : "a whole number") + " (render setting " + s->key +
-                             ": " + range_text(*s) + "), got \"" + text + "\""};
+                return Error{flag + " must be " + (number ? "a number" : "a whole number") + " (render setting " +
+                             s->key + ": " + range_text(*s) + "), got \"" + text + "\""};
             if (!in_range(*s, *parsed, flag))  // said with the value as typed, every digit kept
                 return Error{flag + " = " + text + " is out of range for render setting " + s->key + "; use " +
                              range_text(*s)};
@@ -179,7 +184,8 @@ Result<MethodSettings> Registry::from_json(const std::string& method, const nloh
             if (!v.is_boolean()) return Error{where + " must be true or false, got " + v.dump()};
             x = v.get<bool>() ? 1.0 : 0.0;
         } else if (s.type == SettingType::choice) {
-            auto it = v.is_string() ? std::find(s.choices.begin(), s.choices.end(), v.get<std::string>()) : s.choices.end();
+            auto it =
+                v.is_string() ? std::find(s.choices.begin(), s.choices.end(), v.get<std::string>()) : s.choices.end();
             if (it == s.choices.end()) {
                 std::string options;
                 for (const auto& c : s.choices) options += (options.empty() ? "" : ", ") + c;
@@ -248,7 +254,8 @@ std::string Registry::usage() const {
                 }
                 text << "          " << flag << std::string(flag.size() < 26 ? 26 - flag.size() : 1, ' ') << s.help;
                 if (!is_switch(s.type))
-                    text << " (default " << s.default_text(m.defaults) << (s.range.empty() ? "" : "; " + s.range) << ")";
+                    text << " (default " << s.default_text(m.defaults) << (s.range.empty() ? "" : "; " + s.range)
+                         << ")";
                 text << "\n";
             }
         }

@@ -24,11 +24,11 @@ class Context;
 }  // namespace gpu
 
 enum class SettingType {
-    number,    ///< a float
-    integer,   ///< a non-negative integer
+    number,      ///< a float
+    integer,     ///< a non-negative integer
     off_switch,  ///< a boolean; the CLI flag (a switch without a value) turns it off
     on_switch,   ///< a boolean; the CLI flag turns it on
-    choice,    ///< one of `choices`
+    choice,      ///< one of `choices`
 };
 
 /// One setting of a method: how users name it and what it accepts. get/set read and write it
@@ -86,7 +86,8 @@ public:
     Result<MethodSettings> from_flags(const std::string& method, const std::map<std::string, std::string>& flags) const;
     /// Settings of `method` from a JSON object of spec keys (other keys are the caller's); `path`
     /// prefixes the messages ("cases[0].methods[1]").
-    Result<MethodSettings> from_json(const std::string& method, const nlohmann::json& object, const std::string& path) const;
+    Result<MethodSettings> from_json(const std::string& method, const nlohmann::json& object,
+                                     const std::string& path) const;
     /// Every CLI flag of every method: with a value, and switches.
     std::vector<std::string> value_flags() const;
     std::vector<std::string> switch_flags() const;
@@ -122,8 +123,10 @@ SettingSpec setting(std::string key, std::string flag, std::string spec_key, Set
     s.help = std::move(help);
     s.get = [field](const MethodSettings& m) { return double(m.as<Settings>().*field); };
     s.set = [field](MethodSettings& m, double v) {
-        if constexpr (std::is_same_v<Field, bool>) m.get<Settings>()->*field = v != 0.0;
-        else m.get<Settings>()->*field = Field(v);
+        if constexpr (std::is_same_v<Field, bool>)
+            m.get<Settings>()->*field = v != 0.0;
+        else
+            m.get<Settings>()->*field = Field(v);
     };
     return s;
 }
@@ -149,8 +152,8 @@ SettingSpec choice(std::string key, std::string flag, std::string spec_key, Enum
 /// The entry of a method drawn by `Adapter` (a FamilyRenderer whose constructor takes the
 /// concrete renderer's arguments after the settings) with `defaults` of type `Settings`.
 template <typename Adapter, typename Settings>
-MethodEntry family_entry(std::string name, std::string family, std::string description, bool watchable, Settings defaults,
-                         std::vector<SettingSpec> settings) {
+MethodEntry family_entry(std::string name, std::string family, std::string description, bool watchable,
+                         Settings defaults, std::vector<SettingSpec> settings) {
     MethodEntry e;
     e.name = std::move(name);
     e.family = std::move(family);
@@ -159,7 +162,8 @@ MethodEntry family_entry(std::string name, std::string family, std::string descr
     e.defaults = MethodSettings(e.name, std::move(defaults));
     e.settings = std::move(settings);
     e.validate = [](const MethodSettings& m) { return validate(m.as<Settings>()); };
-    e.make = [](gpu::Context& ctx, const ParticleDomain& domain, uint32_t w, uint32_t h, uint32_t n, const MethodSettings& m) {
+    e.make = [](gpu::Context& ctx, const ParticleDomain& domain, uint32_t w, uint32_t h, uint32_t n,
+                const MethodSettings& m) {
         return std::unique_ptr<Renderer>(std::make_unique<Adapter>(m, ctx, domain, w, h, n));
     };
     return e;

@@ -36,9 +36,13 @@ public:
     const std::string& method() const { return method_; }
     /// The family's settings, or nullptr when they are of another type.
     template <typename T>
-    const T* get() const { return std::any_cast<T>(&value_); }
+    const T* get() const {
+        return std::any_cast<T>(&value_);
+    }
     template <typename T>
-    T* get() { return std::any_cast<T>(&value_); }
+    T* get() {
+        return std::any_cast<T>(&value_);
+    }
     /// Like get(), but a mismatch is a Failure naming the method.
     template <typename T>
     const T& as() const {
@@ -53,29 +57,30 @@ private:
 
 /// What every family counts in a frame (zero where a family has no such thing).
 struct RenderStats {
-    uint64_t rays = 0;           ///< rays cast (the surface renderer's ray list; a ray per covered pixel otherwise)
-    uint64_t evaluations = 0;    ///< density or field evaluations along every ray
+    uint64_t rays = 0;         ///< rays cast (the surface renderer's ray list; a ray per covered pixel otherwise)
+    uint64_t evaluations = 0;  ///< density or field evaluations along every ray
     // The SPH surface methods split the evaluations (zero for the other families):
-    uint64_t march_steps = 0;    ///< evaluations of the stepping loops: Wu et al.'s steps
+    uint64_t march_steps = 0;            ///< evaluations of the stepping loops: Wu et al.'s steps
     uint64_t bisection_evaluations = 0;  ///< evaluations refining hits
-    uint64_t mask_leaps = 0;     ///< jumps over empty cells of the binary density grid (a lookup each)
-    uint64_t cut = 0;            ///< rays or pixels whose loops the device ended early (cut_unit)
+    uint64_t mask_leaps = 0;             ///< jumps over empty cells of the binary density grid (a lookup each)
+    uint64_t cut = 0;                    ///< rays or pixels whose loops the device ended early (cut_unit)
     const char* cut_unit = "rays";
-    uint64_t list_entries = 0;   ///< entries the per-pixel lists needed (A-/S-buffer metaballs)
+    uint64_t list_entries = 0;     ///< entries the per-pixel lists needed (A-/S-buffer metaballs)
     uint64_t particle_visits = 0;  ///< particles visited by every field evaluation (metaballs; not counted for SPH)
-    bool list_overflow = false;  ///< per-pixel lists needed more than their memory (metaballs)
+    bool list_overflow = false;    ///< per-pixel lists needed more than their memory (metaballs)
     uint64_t list_bytes_needed = 0;
     uint64_t dropped_particles = 0;  ///< particles at the eye plane left out of every list
     // The SPH surface methods' depth sprites (render/surface_renderer.h, SpriteCounts):
-    uint64_t sprites = 0;              ///< particles whose sprite reached the screen
-    uint64_t sprite_pixels = 0;        ///< pixels walked over the footprints
-    uint64_t sprite_covered = 0;       ///< of which pixels that see a sprite's support
-    uint64_t sprite_depth_atomics = 0;  ///< atomics issued into the depth maps
+    uint64_t sprites = 0;                   ///< particles whose sprite reached the screen
+    uint64_t sprite_pixels = 0;             ///< pixels walked over the footprints
+    uint64_t sprite_covered = 0;            ///< of which pixels that see a sprite's support
+    uint64_t sprite_depth_atomics = 0;      ///< atomics issued into the depth maps
     uint64_t sprite_thickness_atomics = 0;  ///< atomics issued into the thickness
-    uint64_t sprite_longest_walk = 0;  ///< the most pixels one invocation walked
-    uint64_t sprite_largest_footprint = 0;  ///< the largest sprite's square (the longest walk with one invocation a sprite)
-    uint32_t march_lanes = 0;          ///< lanes that shared each ray's evaluations (0: not a ray march)
-    std::string family_line;         ///< the family's own one-line account (e.g. MetaballStats::describe)
+    uint64_t sprite_longest_walk = 0;       ///< the most pixels one invocation walked
+    uint64_t sprite_largest_footprint =
+        0;                     ///< the largest sprite's square (the longest walk with one invocation a sprite)
+    uint32_t march_lanes = 0;  ///< lanes that shared each ray's evaluations (0: not a ray march)
+    std::string family_line;   ///< the family's own one-line account (e.g. MetaballStats::describe)
     /// The SPH surface methods: why adaptive resolution was asked for and not used (empty otherwise).
     std::string resolution_note;
     /// One line: rays, evaluations per ray, and what went wrong with the fix.

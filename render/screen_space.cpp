@@ -5,12 +5,12 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/error.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "gpu/timer.h"
-#include "render/surface_settings.h"
-#include "core/error.h"
 #include "render/picture_size.h"
+#include "render/surface_settings.h"
 
 namespace aquaform {
 
@@ -33,9 +33,12 @@ SurfacePassPush axis_push(uint32_t axis) {
 
 uint32_t filter_code(ScreenSpaceFilter filter) {
     switch (filter) {
-    case ScreenSpaceFilter::bilateral: return SS_FILTER_BILATERAL;
-    case ScreenSpaceFilter::curvature_flow: return SS_FILTER_CURVATURE_FLOW;
-    case ScreenSpaceFilter::narrow_range: return SS_FILTER_NARROW_RANGE;
+        case ScreenSpaceFilter::bilateral:
+            return SS_FILTER_BILATERAL;
+        case ScreenSpaceFilter::curvature_flow:
+            return SS_FILTER_CURVATURE_FLOW;
+        case ScreenSpaceFilter::narrow_range:
+            return SS_FILTER_NARROW_RANGE;
     }
     return SS_FILTER_BILATERAL;
 }
@@ -62,9 +65,12 @@ shader::ScreenSpaceParams make_filter_params(const ScreenSpaceSettings& s, const
 
 const char* filter_name(ScreenSpaceFilter filter) {
     switch (filter) {
-    case ScreenSpaceFilter::bilateral: return "bilateral";
-    case ScreenSpaceFilter::curvature_flow: return "curvature_flow";
-    case ScreenSpaceFilter::narrow_range: return "narrow_range";
+        case ScreenSpaceFilter::bilateral:
+            return "bilateral";
+        case ScreenSpaceFilter::curvature_flow:
+            return "curvature_flow";
+        case ScreenSpaceFilter::narrow_range:
+            return "narrow_range";
     }
     return "?";
 }
@@ -101,9 +107,13 @@ Result<bool> validate(const ScreenSpaceSettings& s) {
     return true;
 }
 
-ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height,
-                                         uint32_t max_particles)
-    : ctx_(&ctx), domain_(domain), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
+ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width,
+                                         uint32_t height, uint32_t max_particles)
+    : ctx_(&ctx),
+      domain_(domain),
+      width_(width),
+      height_(height),
+      max_particles_(std::max(max_particles, 1u)),
       buffers_(ctx) {
     require_picture_size("screen-space renderer", width, height);
     const uint64_t pixels = uint64_t(width) * height;
@@ -136,8 +146,8 @@ ScreenSpaceRenderer::ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain
 
 ScreenSpaceRenderer::~ScreenSpaceRenderer() = default;
 
-void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const FrameInput& frame,
-                                 const ViewCamera& camera, const ScreenSpaceSettings& settings, gpu::GpuTimer* timer) {
+void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const FrameInput& frame, const ViewCamera& camera,
+                                 const ScreenSpaceSettings& settings, gpu::GpuTimer* timer) {
     if (auto valid = validate(settings); !valid) throw Failure(valid.error());
     frame.check("screen-space renderer", max_particles_);
     const gpu::Buffer& positions = *frame.positions;
@@ -162,7 +172,16 @@ void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const FrameInput& frame,
         gpu::fill(*ctx_, cmd, *thickness_, 0u);
         gpu::fill(*ctx_, cmd, *splat_counters_, 0u);
         gpu::dispatch(*ctx_, cmd, splat_, std::max(count, 1u), axis_push(0),
-                      {{"params", params_buf_}, {"sorted", &positions}, {"shape", unused_}, {"aggregate", aggregate_}, {"depth_all", raw_}, {"depth_agg", unused_}, {"thickness", thickness_}, {"front_class", unused_}, {"depth_splash_back", unused_}, {"splat_counters", splat_counters_}});
+                      {{"params", params_buf_},
+                       {"sorted", &positions},
+                       {"shape", unused_},
+                       {"aggregate", aggregate_},
+                       {"depth_all", raw_},
+                       {"depth_agg", unused_},
+                       {"thickness", thickness_},
+                       {"front_class", unused_},
+                       {"depth_splash_back", unused_},
+                       {"splat_counters", splat_counters_}});
     }
     {
         gpu::GpuScope scope(timer, cmd, "ss_filter");
@@ -170,15 +189,25 @@ void ScreenSpaceRenderer::record(VkCommandBuffer cmd, const FrameInput& frame,
     }
     {
         gpu::GpuScope scope(timer, cmd, "ss_normals");
-        gpu::dispatch(*ctx_, cmd, normals_, pixels, {{"params", params_buf_}, {"depth_smooth", filtered_}, {"normal_screen", normal_}});
+        gpu::dispatch(*ctx_, cmd, normals_, pixels,
+                      {{"params", params_buf_}, {"depth_smooth", filtered_}, {"normal_screen", normal_}});
         gpu::dispatch(*ctx_, cmd, hit_pass_, pixels, {{"params", params_buf_}, {"depth", filtered_}, {"hit", hit_}});
     }
     {
         gpu::GpuScope scope(timer, cmd, "ss_compose");
-        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}, {"spray", unused_}, {"solid_nodes", &solid_nodes(frame.solids, *params_buf_)}});
+        gpu::dispatch(*ctx_, cmd, compose_, pixels,
+                      {{"params", params_buf_},
+                       {"hit", hit_},
+                       {"normal", normal_},
+                       {"thickness", thickness_},
+                       {"color", color_},
+                       {"spray", unused_},
+                       {"solid_nodes", &solid_nodes(frame.solids, *params_buf_)}});
     }
-    whitewater_.record(*ctx_, cmd, frame.whitewater, width_, height_, camera, *hit_,
-                       {&params_.tank, params_.domain_min, params_.domain_max, &solid_nodes(frame.solids, *params_buf_)}, *color_, timer);
+    whitewater_.record(
+        *ctx_, cmd, frame.whitewater, width_, height_, camera, *hit_,
+        {&params_.tank, params_.domain_min, params_.domain_max, &solid_nodes(frame.solids, *params_buf_)}, *color_,
+        timer);
 }
 
 void ScreenSpaceRenderer::record_filter(VkCommandBuffer cmd, const ScreenSpaceSettings& settings) {
@@ -189,14 +218,17 @@ void ScreenSpaceRenderer::record_filter(VkCommandBuffer cmd, const ScreenSpaceSe
         const gpu::Buffer* src = raw_;
         for (uint32_t i = 0; i < n; ++i) {
             const gpu::Buffer* dst = (n - 1 - i) % 2 == 0 ? filtered_ : scratch_;
-            gpu::dispatch(*ctx_, cmd, curvature_flow_, pixels, {{"ss", filter_params_buf_}, {"src", src}, {"dst", dst}});
+            gpu::dispatch(*ctx_, cmd, curvature_flow_, pixels,
+                          {{"ss", filter_params_buf_}, {"src", src}, {"dst", dst}});
             src = dst;
         }
         return;
     }
     const gpu::ComputePass& pass = settings.filter == ScreenSpaceFilter::bilateral ? bilateral_ : narrow_range_;
-    gpu::dispatch(*ctx_, cmd, pass, pixels, axis_push(0), {{"ss", filter_params_buf_}, {"src", raw_}, {"dst", scratch_}});
-    gpu::dispatch(*ctx_, cmd, pass, pixels, axis_push(1), {{"ss", filter_params_buf_}, {"src", scratch_}, {"dst", filtered_}});
+    gpu::dispatch(*ctx_, cmd, pass, pixels, axis_push(0),
+                  {{"ss", filter_params_buf_}, {"src", raw_}, {"dst", scratch_}});
+    gpu::dispatch(*ctx_, cmd, pass, pixels, axis_push(1),
+                  {{"ss", filter_params_buf_}, {"src", scratch_}, {"dst", filtered_}});
 }
 
 SurfaceFrame ScreenSpaceRenderer::render(const FrameInput& frame, const ViewCamera& camera,

@@ -25,14 +25,14 @@
 #include <string>
 #include <vector>
 
+#include "core/box.h"
+#include "core/result.h"
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
 #include "render/impostor_view.h"
 #include "render/surface_frame.h"
 #include "shaders/shared/render/screen_space_layout.h"
 #include "shaders/shared/render/surface_layout.h"
-#include "core/result.h"
-#include "core/box.h"
 
 namespace aquaform {
 
@@ -109,7 +109,8 @@ class ScreenSpaceRenderer {
 public:
     /// Allocates every buffer for `max_particles` particles of `scene` at width x height.
     /// Throws aquaform::Failure for a resolution outside the picture sizes of render/picture_size.h.
-    ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles);
+    ScreenSpaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height,
+                        uint32_t max_particles);
     ~ScreenSpaceRenderer();
     ScreenSpaceRenderer(const ScreenSpaceRenderer&) = delete;
     ScreenSpaceRenderer& operator=(const ScreenSpaceRenderer&) = delete;
@@ -120,8 +121,8 @@ public:
     void record(VkCommandBuffer cmd, const FrameInput& frame, const ViewCamera& camera,
                 const ScreenSpaceSettings& settings, gpu::GpuTimer* timer);
     /// Records, submits, waits and reads the frame back.
-    SurfaceFrame render(const FrameInput& frame, const ViewCamera& camera,
-                        const ScreenSpaceSettings& settings, gpu::GpuTimer* timer = nullptr);
+    SurfaceFrame render(const FrameInput& frame, const ViewCamera& camera, const ScreenSpaceSettings& settings,
+                        gpu::GpuTimer* timer = nullptr);
     /// Reads back the last frame recorded.
     SurfaceFrame read_frame();
 

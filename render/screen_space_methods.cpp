@@ -28,28 +28,28 @@ std::vector<SettingSpec> common_settings() {
 std::vector<SettingSpec> filter_settings(ScreenSpaceFilter filter) {
     std::vector<SettingSpec> s = common_settings();
     switch (filter) {
-    case ScreenSpaceFilter::bilateral:
-        s.push_back(setting<S>("bilateral_sigma", "--sigma", "sigma", kNumber, &S::bilateral_sigma_radii, 0, 16,
-                               "(0, 16] particle radii", "spatial sigma"));
-        s.push_back(setting<S>("bilateral_depth_sigma", "--depth-sigma", "depth_sigma", kNumber,
-                               &S::bilateral_depth_sigma_radii, 0, 64, "(0, 64] particle radii", "range sigma"));
-        break;
-    case ScreenSpaceFilter::narrow_range:
-        s.push_back(setting<S>("narrow_sigma", "--sigma", "sigma", kNumber, &S::narrow_sigma_radii, 0, 16,
-                               "(0, 16] particle radii", "spatial sigma"));
-        s.push_back(setting<S>("narrow_range", "--range", "range", kNumber, &S::narrow_range_radii, 0, 64,
-                               "(0, 64] particle radii", "range half-width delta"));
-        s.push_back(setting<S>("narrow_clamp", "--clamp", "clamp", kNumber, &S::narrow_clamp_radii, 0, 64,
-                               "0..narrow_range particle radii", "clamp mu"));
-        break;
-    case ScreenSpaceFilter::curvature_flow:
-        s.push_back(setting<S>("flow_iterations", "--flow-iterations", "iterations", kInteger, &S::flow_iterations, 1, 1000,
-                               "1..1000", "iterations of the flow"));
-        s.push_back(setting<S>("flow_step", "--flow-step", "flow_step", kNumber, &S::flow_step, 0, 0.25,
-                               "(0, 0.25] px^2 (the explicit scheme's stability bound)", "step kappa"));
-        s.push_back(setting<S>("flow_jump", "--flow-jump", "flow_jump", kNumber, &S::flow_jump_radii, 0, 64,
-                               "(0, 64] particle radii", "depth step that counts as a discontinuity"));
-        break;
+        case ScreenSpaceFilter::bilateral:
+            s.push_back(setting<S>("bilateral_sigma", "--sigma", "sigma", kNumber, &S::bilateral_sigma_radii, 0, 16,
+                                   "(0, 16] particle radii", "spatial sigma"));
+            s.push_back(setting<S>("bilateral_depth_sigma", "--depth-sigma", "depth_sigma", kNumber,
+                                   &S::bilateral_depth_sigma_radii, 0, 64, "(0, 64] particle radii", "range sigma"));
+            break;
+        case ScreenSpaceFilter::narrow_range:
+            s.push_back(setting<S>("narrow_sigma", "--sigma", "sigma", kNumber, &S::narrow_sigma_radii, 0, 16,
+                                   "(0, 16] particle radii", "spatial sigma"));
+            s.push_back(setting<S>("narrow_range", "--range", "range", kNumber, &S::narrow_range_radii, 0, 64,
+                                   "(0, 64] particle radii", "range half-width delta"));
+            s.push_back(setting<S>("narrow_clamp", "--clamp", "clamp", kNumber, &S::narrow_clamp_radii, 0, 64,
+                                   "0..narrow_range particle radii", "clamp mu"));
+            break;
+        case ScreenSpaceFilter::curvature_flow:
+            s.push_back(setting<S>("flow_iterations", "--flow-iterations", "iterations", kInteger, &S::flow_iterations,
+                                   1, 1000, "1..1000", "iterations of the flow"));
+            s.push_back(setting<S>("flow_step", "--flow-step", "flow_step", kNumber, &S::flow_step, 0, 0.25,
+                                   "(0, 0.25] px^2 (the explicit scheme's stability bound)", "step kappa"));
+            s.push_back(setting<S>("flow_jump", "--flow-jump", "flow_jump", kNumber, &S::flow_jump_radii, 0, 64,
+                                   "(0, 64] particle radii", "depth step that counts as a discontinuity"));
+            break;
     }
     return s;
 }
@@ -57,8 +57,8 @@ std::vector<SettingSpec> filter_settings(ScreenSpaceFilter filter) {
 void add(Registry& registry, ScreenSpaceFilter filter, const char* description) {
     ScreenSpaceSettings defaults;
     defaults.filter = filter;
-    registry.add(family_entry<ScreenSpaceMethodRenderer>(filter_name(filter), "screen_space", description, true, defaults,
-                                                         filter_settings(filter)));
+    registry.add(family_entry<ScreenSpaceMethodRenderer>(filter_name(filter), "screen_space", description, true,
+                                                         defaults, filter_settings(filter)));
 }
 
 }  // namespace

@@ -14,8 +14,12 @@ SurfaceKernels::SurfaceKernels(gpu::Context& ctx, gpu::BufferSet& buffers, const
 void SurfaceKernels::record_shapes(VkCommandBuffer cmd, const gpu::Buffer& params, const gpu::Buffer& sorted,
                                    const gpu::Buffer& cell_rank, const gpu::Buffer& cell_start, uint32_t count) {
     gpu::dispatch(*ctx_, cmd, shape_pass_, std::max(count, 1u),
-                  {{"params", &params}, {"sorted", &sorted}, {"cell_rank", &cell_rank}, {"cell_start", &cell_start},
-                   {"shape", shape_}, {"centres", centres_}});
+                  {{"params", &params},
+                   {"sorted", &sorted},
+                   {"cell_rank", &cell_rank},
+                   {"cell_start", &cell_start},
+                   {"shape", shape_},
+                   {"centres", centres_}});
 }
 
 void SurfaceKernels::record_kernels(VkCommandBuffer cmd, const gpu::Buffer& params, const gpu::Buffer& aggregate,
@@ -23,7 +27,8 @@ void SurfaceKernels::record_kernels(VkCommandBuffer cmd, const gpu::Buffer& para
     if (!grid_) {
         const uint64_t n = max_particles_;
         kernel_buffers_ = std::make_unique<gpu::BufferSet>(*ctx_);
-        grid_ = std::make_unique<NeighborGrid>(*ctx_, *kernel_buffers_, geometry_, max_particles_, prefix_ + ".kernel_grid");
+        grid_ = std::make_unique<NeighborGrid>(*ctx_, *kernel_buffers_, geometry_, max_particles_,
+                                               prefix_ + ".kernel_grid");
         kernel_centres_ = &kernel_buffers_->add(prefix_ + ".kernel_centres", n * 16);
         kernel_shape_ = &kernel_buffers_->add(prefix_ + ".kernel_shape", n * 48);
         kernel_aggregate_ = &kernel_buffers_->add(prefix_ + ".kernel_aggregate", n * 4);
@@ -31,9 +36,15 @@ void SurfaceKernels::record_kernels(VkCommandBuffer cmd, const gpu::Buffer& para
     }
     grid_->build(cmd, *centres_, count, nullptr);
     gpu::dispatch(*ctx_, cmd, gather_pass_, std::max(count, 1u),
-                  {{"params", &params}, {"order", &grid_->order()}, {"centres", centres_}, {"shape", shape_},
-                   {"aggregate", &aggregate}, {"kernel_centres", kernel_centres_}, {"kernel_shape", kernel_shape_},
-                   {"kernel_aggregate", kernel_aggregate_}, {"class_density", &class_density},
+                  {{"params", &params},
+                   {"order", &grid_->order()},
+                   {"centres", centres_},
+                   {"shape", shape_},
+                   {"aggregate", &aggregate},
+                   {"kernel_centres", kernel_centres_},
+                   {"kernel_shape", kernel_shape_},
+                   {"kernel_aggregate", kernel_aggregate_},
+                   {"class_density", &class_density},
                    {"kernel_class_density", kernel_class_density_}});
 }
 

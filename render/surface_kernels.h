@@ -73,7 +73,7 @@ private:
     std::unique_ptr<NeighborGrid> grid_;
     std::string prefix_;
     gpu::Buffer *shape_, *centres_, *kernel_centres_ = nullptr, *kernel_shape_ = nullptr, *kernel_aggregate_ = nullptr,
-                *kernel_class_density_ = nullptr;
+                                    *kernel_class_density_ = nullptr;
     gpu::ComputePass shape_pass_, gather_pass_;
 };
 

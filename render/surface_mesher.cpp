@@ -95,8 +95,12 @@ void SurfaceMesher::record_march(VkCommandBuffer cmd) {
     gpu::fill(*ctx_, cmd, *vertex_offset_, 0u);
     gpu::fill(*ctx_, cmd, *triangle_offset_, 0u);
     gpu::dispatch_indirect(*ctx_, cmd, classify_, *lattice,
-                           {{"params", params}, {"lattice", lattice}, {"values", values}, {"table", table_},
-                            {"vertex_count", vertex_offset_}, {"triangle_count", triangle_offset_}});
+                           {{"params", params},
+                            {"lattice", lattice},
+                            {"values", values},
+                            {"table", table_},
+                            {"vertex_count", vertex_offset_},
+                            {"triangle_count", triangle_offset_}});
     const uint32_t entries = sampler_.capacity() + 1;
     scan_.record(cmd, *vertex_offset_, entries);
     scan_.record(cmd, *triangle_offset_, entries);
@@ -105,11 +109,19 @@ void SurfaceMesher::record_march(VkCommandBuffer cmd) {
     gpu::copy(*ctx_, cmd, *vertex_offset_, *lattice, {end, totals, 4});
     gpu::copy(*ctx_, cmd, *triangle_offset_, *lattice, {end, totals + 4, 4});
     gpu::dispatch_indirect(*ctx_, cmd, vertices_pass_, *lattice,
-                           {{"params", params}, {"lattice", lattice}, {"values", values},
-                            {"vertex_offset", vertex_offset_}, {"vertices", vertices_}, {"normals", normals_}});
+                           {{"params", params},
+                            {"lattice", lattice},
+                            {"values", values},
+                            {"vertex_offset", vertex_offset_},
+                            {"vertices", vertices_},
+                            {"normals", normals_}});
     gpu::dispatch_indirect(*ctx_, cmd, triangles_pass_, *lattice,
-                           {{"params", params}, {"lattice", lattice}, {"values", values}, {"table", table_},
-                            {"vertex_offset", vertex_offset_}, {"triangle_offset", triangle_offset_},
+                           {{"params", params},
+                            {"lattice", lattice},
+                            {"values", values},
+                            {"table", table_},
+                            {"vertex_offset", vertex_offset_},
+                            {"triangle_offset", triangle_offset_},
                             {"triangles", triangles_}});
 }
 
@@ -122,8 +134,10 @@ SurfaceMesh SurfaceMesher::collect(gpu::GpuTimer* timer) {
         if (lattice_fits && output_fits) break;
         if (attempt == 2 || !positions_)
             throw internal_failure("surface mesh: the mesh did not fit the buffers made for it");
-        if (!lattice_fits) reserve_lattice(grown(lattice.dims.w, sampler_.sample_limit()));
-        else reserve_output(grown(lattice.totals.x, UINT32_MAX), grown(lattice.totals.y, UINT32_MAX));
+        if (!lattice_fits)
+            reserve_lattice(grown(lattice.dims.w, sampler_.sample_limit()));
+        else
+            reserve_output(grown(lattice.totals.x, UINT32_MAX), grown(lattice.totals.y, UINT32_MAX));
         gpu::submit_timed(*ctx_, timer, [&](VkCommandBuffer cmd) { record(cmd, *positions_, count_, timer); });
         lattice = sampler_.lattice();
     }

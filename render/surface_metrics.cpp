@@ -1,8 +1,8 @@
 #include "render/surface_metrics.h"
 
-#include "shaders/shared/render/anisotropy.h"
 #include "core/error.h"
 #include "pictures/image_metrics.h"
+#include "shaders/shared/render/anisotropy.h"
 
 #include <algorithm>
 #include <cmath>
@@ -15,17 +15,15 @@ namespace aquaform {
 
 namespace {
 
-
 void require_well_formed(const SurfaceFrame& frame, const std::string& what) {
     const size_t pixels = size_t(frame.width) * frame.height;
     if (frame.hit.size() != pixels || frame.normal.size() != pixels)
-        throw Failure(what + " frame is malformed: " + size_text(frame.width, frame.height) +
-                                    " pixels but " + std::to_string(frame.hit.size()) + " hits and " +
-                                    std::to_string(frame.normal.size()) + " normals");
+        throw Failure(what + " frame is malformed: " + size_text(frame.width, frame.height) + " pixels but " +
+                      std::to_string(frame.hit.size()) + " hits and " + std::to_string(frame.normal.size()) +
+                      " normals");
     if (frame.color.width != frame.width || frame.color.height != frame.height)
-        throw Failure(what + " frame is " + size_text(frame.width, frame.height) +
-                                    " pixels but its colour image is " +
-                                    size_text(frame.color.width, frame.color.height));
+        throw Failure(what + " frame is " + size_text(frame.width, frame.height) + " pixels but its colour image is " +
+                      size_text(frame.color.width, frame.color.height));
     require_well_formed(frame.color, what + " colour image");
 }
 
@@ -34,11 +32,11 @@ void require_comparable(const SurfaceFrame& reference, const SurfaceFrame& test,
     require_well_formed(test, "the test");
     if (reference.width != test.width || reference.height != test.height)
         throw Failure("cannot compare surfaces of different sizes: the reference is " +
-                                    size_text(reference.width, reference.height) + " pixels, the test " +
-                                    size_text(test.width, test.height));
+                      size_text(reference.width, reference.height) + " pixels, the test " +
+                      size_text(test.width, test.height));
     if (!(particle_radius > 0.0f) || !std::isfinite(particle_radius))
         throw Failure("cannot compare surfaces: the particle radius must be positive, not " +
-                                    std::to_string(particle_radius));
+                      std::to_string(particle_radius));
 }
 
 double mean(const std::vector<double>& values) {
@@ -128,7 +126,8 @@ SurfaceRoughness surface_roughness(const SurfaceFrame& reference, const SurfaceF
             float footprint = INFINITY;
             for (const size_t q : {at(x - 1, y), at(x + 1, y), at(x, y - 1), at(x, y + 1)})
                 if (reference.has_surface(q))
-                    footprint = std::min(footprint, glm::length(glm::vec3(reference.hit[q]) - glm::vec3(reference.hit[p])));
+                    footprint =
+                        std::min(footprint, glm::length(glm::vec3(reference.hit[q]) - glm::vec3(reference.hit[p])));
             if (!(footprint > 0.0f && footprint < INFINITY)) continue;
             const int half = int(std::lround(0.5f * kRoughnessWindowRadii * particle_radius / footprint));
             if (half < 2 || half > 16 || x - half < 0 || y - half < 0 || x + half >= w || y + half >= h) continue;

@@ -34,7 +34,7 @@ struct SurfaceComparison {
     /// (only_reference + only_test) / pixels with a surface in either frame (0 when neither has one).
     double coverage_mismatch = 0.0;
 
-    double psnr_db = 0.0;        ///< of the shaded colour images, capped at kPsnrCapDb
+    double psnr_db = 0.0;  ///< of the shaded colour images, capped at kPsnrCapDb
     /// Smoothness (surface_roughness): the test frame's rms normal deviation [deg] from the plane
     /// the reference's surface fits, over the regions the reference shows flat; 0 when none.
     double roughness_deg = 0.0;

@@ -3,10 +3,10 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "core/error.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "gpu/timer.h"
-#include "core/error.h"
 #include "render/picture_size.h"
 
 namespace aquaform {
@@ -52,11 +52,16 @@ SurfacePassPush axis_push(uint32_t axis) {
 
 SurfaceRenderer::SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height,
                                  uint32_t max_particles)
-    : ctx_(&ctx), domain_(domain), width_(width), height_(height), max_particles_(std::max(max_particles, 1u)),
+    : ctx_(&ctx),
+      domain_(domain),
+      width_(width),
+      height_(height),
+      max_particles_(std::max(max_particles, 1u)),
       buffers_(ctx) {
     require_picture_size("surface renderer", width, height);
     const uint64_t pixels = uint64_t(width) * height;
-    const uint64_t tiles = uint64_t((width + SURFACE_TILE - 1) / SURFACE_TILE) * ((height + SURFACE_TILE - 1) / SURFACE_TILE);
+    const uint64_t tiles =
+        uint64_t((width + SURFACE_TILE - 1) / SURFACE_TILE) * ((height + SURFACE_TILE - 1) / SURFACE_TILE);
     const uint64_t n = max_particles_;
     params_buf_ = &buffers_.add("render.params", sizeof(shader::SurfaceParams));
     class_density_ = &buffers_.add("render.class_density", n * 4);
@@ -156,18 +161,40 @@ void SurfaceRenderer::record_mask(VkCommandBuffer cmd, bool tight) {
     gpu::fill(*ctx_, cmd, *coarse_, 0u);
     const uint32_t cells = geometry_.cell_count();
     if (tight) {
-        gpu::dispatch(*ctx_, cmd, mask_bound_, cells, {{"params", params_buf_}, {"sorted", field_sorted_}, {"cell_rank", field_cell_rank_}, {"cell_start", field_cell_start_}, {"shape", field_shape_}, {"dst", conv_a_}});
+        gpu::dispatch(*ctx_, cmd, mask_bound_, cells,
+                      {{"params", params_buf_},
+                       {"sorted", field_sorted_},
+                       {"cell_rank", field_cell_rank_},
+                       {"cell_start", field_cell_start_},
+                       {"shape", field_shape_},
+                       {"dst", conv_a_}});
     } else {
         // counts (from the grid) -x-> a -y-> b -z-> a
-        gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(0), {{"params", params_buf_}, {"cell_rank", field_cell_rank_}, {"cell_start", field_cell_start_}, {"src", conv_b_}, {"dst", conv_a_}});
-        gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(1), {{"params", params_buf_}, {"cell_rank", field_cell_rank_}, {"cell_start", field_cell_start_}, {"src", conv_a_}, {"dst", conv_b_}});
-        gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(2), {{"params", params_buf_}, {"cell_rank", field_cell_rank_}, {"cell_start", field_cell_start_}, {"src", conv_b_}, {"dst", conv_a_}});
+        gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(0),
+                      {{"params", params_buf_},
+                       {"cell_rank", field_cell_rank_},
+                       {"cell_start", field_cell_start_},
+                       {"src", conv_b_},
+                       {"dst", conv_a_}});
+        gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(1),
+                      {{"params", params_buf_},
+                       {"cell_rank", field_cell_rank_},
+                       {"cell_start", field_cell_start_},
+                       {"src", conv_a_},
+                       {"dst", conv_b_}});
+        gpu::dispatch(*ctx_, cmd, mask_convolve_, cells, axis_push(2),
+                      {{"params", params_buf_},
+                       {"cell_rank", field_cell_rank_},
+                       {"cell_start", field_cell_start_},
+                       {"src", conv_b_},
+                       {"dst", conv_a_}});
     }
-    gpu::dispatch(*ctx_, cmd, mask_pack_, params_.mask_dims.w, {{"params", params_buf_}, {"counts", conv_a_}, {"mask", mask_}, {"coarse", coarse_}});
+    gpu::dispatch(*ctx_, cmd, mask_pack_, params_.mask_dims.w,
+                  {{"params", params_buf_}, {"counts", conv_a_}, {"mask", mask_}, {"coarse", coarse_}});
 }
 
-void SurfaceRenderer::record(VkCommandBuffer cmd, const FrameInput& frame,
-                             const ViewCamera& camera, const SurfaceSettings& settings, gpu::GpuTimer* timer) {
+void SurfaceRenderer::record(VkCommandBuffer cmd, const FrameInput& frame, const ViewCamera& camera,
+                             const SurfaceSettings& settings, gpu::GpuTimer* timer) {
     if (auto valid = validate(settings); !valid) throw Failure(valid.error());
     frame.check("surface renderer", max_particles_);
     const gpu::Buffer& positions = *frame.positions;
@@ -200,7 +227,11 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const FrameInput& frame,
         gpu::GpuScope scope(timer, cmd, "render_grid");
         prepare_own_grid();
         own_grid_->build(cmd, positions, count, nullptr);
-        gpu::dispatch(*ctx_, cmd, gather_, particles, {{"params", params_buf_}, {"positions", &positions}, {"order", &own_grid_->order()}, {"sorted", own_sorted_}});
+        gpu::dispatch(*ctx_, cmd, gather_, particles,
+                      {{"params", params_buf_},
+                       {"positions", &positions},
+                       {"order", &own_grid_->order()},
+                       {"sorted", own_sorted_}});
         particles_ = own_sorted_;
         cell_rank_ = &own_grid_->cell_rank();
         cell_start_ = &own_grid_->cell_start();
@@ -213,7 +244,13 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const FrameInput& frame,
             kernels_->record_shapes(cmd, *params_buf_, *particles_, *cell_rank_, *cell_start_, particles);
         if (classify)
             gpu::dispatch(*ctx_, cmd, classify_density_, particles,
-                          {{"params", params_buf_}, {"sorted", particles_}, {"cell_rank", cell_rank_}, {"cell_start", cell_start_}, {"shape", &kernels_->particle_shapes()}, {"class_density", class_density_}, {"aggregate", aggregate_}});
+                          {{"params", params_buf_},
+                           {"sorted", particles_},
+                           {"cell_rank", cell_rank_},
+                           {"cell_start", cell_start_},
+                           {"shape", &kernels_->particle_shapes()},
+                           {"class_density", class_density_},
+                           {"aggregate", aggregate_}});
     }
     if (!classify) gpu::fill(*ctx_, cmd, *aggregate_, 0u);
     field_sorted_ = particles_;
@@ -246,9 +283,16 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const FrameInput& frame,
         gpu::fill(*ctx_, cmd, *front_class_, 0u);
         gpu::fill(*ctx_, cmd, *splat_counters_, 0u);
     }
-    const gpu::Bindings splat_buffers{
-        {"params", params_buf_}, {"sorted", field_sorted_}, {"shape", field_shape_}, {"aggregate", field_aggregate_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_}, {"thickness", thickness_}, {"front_class", front_class_},
-        {"depth_splash_back", depth_splash_back_}, {"splat_counters", splat_counters_}};
+    const gpu::Bindings splat_buffers{{"params", params_buf_},
+                                      {"sorted", field_sorted_},
+                                      {"shape", field_shape_},
+                                      {"aggregate", field_aggregate_},
+                                      {"depth_all", depth_all_},
+                                      {"depth_agg", depth_agg_},
+                                      {"thickness", thickness_},
+                                      {"front_class", front_class_},
+                                      {"depth_splash_back", depth_splash_back_},
+                                      {"splat_counters", splat_counters_}};
     // The splat is a long pass too: where the caller shares the queue (gpu::Context::QueueSharing)
     // it runs in slices of particles, each its own timed scope, so that the queue can be cut
     // between them (as in record_first_march).
@@ -279,20 +323,38 @@ void SurfaceRenderer::record(VkCommandBuffer cmd, const FrameInput& frame,
     if (params_.flags & SURFACE_ADAPTIVE_RES) {
         gpu::GpuScope scope(timer, cmd, "render_upsample");
         gpu::fill(*ctx_, cmd, *edge_count_, 0u);
-        gpu::dispatch(*ctx_, cmd, upsample_, pixels, {{"params", params_buf_}, {"tile_level", tile_level_}, {"hit", hit_}, {"normal", normal_}, {"edge_rays", edge_rays_}, {"edge_count", edge_count_}, {"spray", spray_}});
+        gpu::dispatch(*ctx_, cmd, upsample_, pixels,
+                      {{"params", params_buf_},
+                       {"tile_level", tile_level_},
+                       {"hit", hit_},
+                       {"normal", normal_},
+                       {"edge_rays", edge_rays_},
+                       {"edge_count", edge_count_},
+                       {"spray", spray_}});
         record_march(cmd, *edge_rays_, *edge_count_);
     }
     if ((params_.flags & SURFACE_XIAO_NORMALS) || params_.normal_smoothing > 0.0f) {
         gpu::GpuScope scope(timer, cmd, "render_normal_filter");
-        gpu::dispatch(*ctx_, cmd, normal_filter_, pixels, axis_push(0), {{"params", params_buf_}, {"hit", hit_}, {"src", normal_}, {"dst", normal_tmp_}});
-        gpu::dispatch(*ctx_, cmd, normal_filter_, pixels, axis_push(1), {{"params", params_buf_}, {"hit", hit_}, {"src", normal_tmp_}, {"dst", normal_}});
+        gpu::dispatch(*ctx_, cmd, normal_filter_, pixels, axis_push(0),
+                      {{"params", params_buf_}, {"hit", hit_}, {"src", normal_}, {"dst", normal_tmp_}});
+        gpu::dispatch(*ctx_, cmd, normal_filter_, pixels, axis_push(1),
+                      {{"params", params_buf_}, {"hit", hit_}, {"src", normal_tmp_}, {"dst", normal_}});
     }
     {
         gpu::GpuScope scope(timer, cmd, "render_compose");
-        gpu::dispatch(*ctx_, cmd, compose_, pixels, {{"params", params_buf_}, {"hit", hit_}, {"normal", normal_}, {"thickness", thickness_}, {"color", color_}, {"spray", spray_}, {"solid_nodes", &solid_nodes(frame.solids, *params_buf_)}});
+        gpu::dispatch(*ctx_, cmd, compose_, pixels,
+                      {{"params", params_buf_},
+                       {"hit", hit_},
+                       {"normal", normal_},
+                       {"thickness", thickness_},
+                       {"color", color_},
+                       {"spray", spray_},
+                       {"solid_nodes", &solid_nodes(frame.solids, *params_buf_)}});
     }
-    whitewater_.record(*ctx_, cmd, frame.whitewater, width_, height_, camera, *hit_,
-                       {&params_.tank, params_.domain_min, params_.domain_max, &solid_nodes(frame.solids, *params_buf_)}, *color_, timer);
+    whitewater_.record(
+        *ctx_, cmd, frame.whitewater, width_, height_, camera, *hit_,
+        {&params_.tank, params_.domain_min, params_.domain_max, &solid_nodes(frame.solids, *params_buf_)}, *color_,
+        timer);
 }
 
 void SurfaceRenderer::record_first_march(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
@@ -328,7 +390,8 @@ void SurfaceRenderer::set_march_lanes(uint32_t lanes) {
     if (lanes == 0 || lanes > kMaxMarchLanes || (lanes & (lanes - 1)) != 0)
         throw Failure("surface renderer: " + std::to_string(lanes) + " march lanes a ray; use 1, 2, 4 or 8");
     if (lanes > 1 && ctx_->info().subgroup_size % lanes != 0)
-        throw Failure("surface renderer: " + std::to_string(lanes) + " march lanes a ray do not divide the device's subgroup of " +
+        throw Failure("surface renderer: " + std::to_string(lanes) +
+                      " march lanes a ray do not divide the device's subgroup of " +
                       std::to_string(ctx_->info().subgroup_size) + " lanes; use fewer");
     if (lanes == march_lanes_ && ray_march_[0].pipeline()) return;
     march_lanes_ = lanes;
@@ -391,11 +454,29 @@ void SurfaceRenderer::dispatch_march_list(VkCommandBuffer cmd, const gpu::Buffer
 
 void SurfaceRenderer::dispatch_march(VkCommandBuffer cmd, const gpu::Buffer* rays, const gpu::Buffer& ray_count,
                                      uint32_t mode, int resume_out, uint32_t first, uint32_t threads) {
-    const gpu::Bindings buffers{
-        {"params", params_buf_}, {"sorted", field_sorted_}, {"shape", field_shape_}, {"cell_rank", field_cell_rank_}, {"cell_start", field_cell_start_}, {"mask", mask_}, {"coarse", coarse_}, {"depth_all", depth_all_}, {"depth_agg", depth_agg_},
-        {"normal_screen", normal_screen_}, {"rays", rays}, {"ray_count", &ray_count}, {"hit", hit_}, {"normal", normal_}, {"march_cut", march_cut_}, {"resume_rays", resume_rays_[resume_out]}, {"resume_count", resume_count_[resume_out]},
-        {"resume_state", resume_state_}, {"ray_counts", ray_counts_}, {"blend_weights", blend_weights_},
-        {"depth_splash_back", depth_splash_back_}, {"class_density", field_class_density_}, {"spray", spray_}};
+    const gpu::Bindings buffers{{"params", params_buf_},
+                                {"sorted", field_sorted_},
+                                {"shape", field_shape_},
+                                {"cell_rank", field_cell_rank_},
+                                {"cell_start", field_cell_start_},
+                                {"mask", mask_},
+                                {"coarse", coarse_},
+                                {"depth_all", depth_all_},
+                                {"depth_agg", depth_agg_},
+                                {"normal_screen", normal_screen_},
+                                {"rays", rays},
+                                {"ray_count", &ray_count},
+                                {"hit", hit_},
+                                {"normal", normal_},
+                                {"march_cut", march_cut_},
+                                {"resume_rays", resume_rays_[resume_out]},
+                                {"resume_count", resume_count_[resume_out]},
+                                {"resume_state", resume_state_},
+                                {"ray_counts", ray_counts_},
+                                {"blend_weights", blend_weights_},
+                                {"depth_splash_back", depth_splash_back_},
+                                {"class_density", field_class_density_},
+                                {"spray", spray_}};
     SurfacePassPush push = axis_push(mode);
     push.first = first;
     push.evals_per_pass = resume_passes() > 0 ? evals_per_pass() : 0u;  // 0: no pass follows, count cut rays
@@ -430,20 +511,27 @@ void SurfaceRenderer::record_screen_passes(VkCommandBuffer cmd, gpu::GpuTimer* t
     if (params_.flags & SURFACE_BLEND_NORMALS) {
         {
             gpu::GpuScope scope(timer, cmd, "render_smooth");
-            gpu::dispatch(*ctx_, cmd, depth_smooth_, pixels, axis_push(0), {{"params", params_buf_}, {"src", depth_all_}, {"dst", smooth_b_}});
-            gpu::dispatch(*ctx_, cmd, depth_smooth_, pixels, axis_push(1), {{"params", params_buf_}, {"src", smooth_b_}, {"dst", smooth_a_}});
+            gpu::dispatch(*ctx_, cmd, depth_smooth_, pixels, axis_push(0),
+                          {{"params", params_buf_}, {"src", depth_all_}, {"dst", smooth_b_}});
+            gpu::dispatch(*ctx_, cmd, depth_smooth_, pixels, axis_push(1),
+                          {{"params", params_buf_}, {"src", smooth_b_}, {"dst", smooth_a_}});
         }
         gpu::GpuScope scope(timer, cmd, "render_screen_normals");
-        gpu::dispatch(*ctx_, cmd, screen_normals_, pixels, {{"params", params_buf_}, {"depth_smooth", smooth_a_}, {"normal_screen", normal_screen_}});
+        gpu::dispatch(*ctx_, cmd, screen_normals_, pixels,
+                      {{"params", params_buf_}, {"depth_smooth", smooth_a_}, {"normal_screen", normal_screen_}});
     }
     gpu::GpuScope scope(timer, cmd, "render_tiles");
     gpu::fill(*ctx_, cmd, *ray_count_, 0u);
-    gpu::dispatch(*ctx_, cmd, tiles_, params_.screen.z * params_.screen.w, 
-                  {{"params", params_buf_}, {"depth_all", depth_all_}, {"tile_level", tile_level_}, {"rays", rays_}, {"ray_count", ray_count_}});
+    gpu::dispatch(*ctx_, cmd, tiles_, params_.screen.z * params_.screen.w,
+                  {{"params", params_buf_},
+                   {"depth_all", depth_all_},
+                   {"tile_level", tile_level_},
+                   {"rays", rays_},
+                   {"ray_count", ray_count_}});
 }
 
-SurfaceFrame SurfaceRenderer::render(const FrameInput& frame, const ViewCamera& camera,
-                                     const SurfaceSettings& settings, gpu::GpuTimer* timer) {
+SurfaceFrame SurfaceRenderer::render(const FrameInput& frame, const ViewCamera& camera, const SurfaceSettings& settings,
+                                     gpu::GpuTimer* timer) {
     gpu::submit_timed(*ctx_, timer, [&](VkCommandBuffer cmd) { record(cmd, frame, camera, settings, timer); });
     return read_frame();
 }
@@ -458,7 +546,9 @@ std::vector<uint32_t> SurfaceRenderer::tile_levels() {
 std::vector<uint32_t> SurfaceRenderer::front_classes() {
     return gpu::download_vector<uint32_t>(*ctx_, *front_class_, size_t(width_) * height_);
 }
-std::vector<float> SurfaceRenderer::depth_all() { return gpu::download_vector<float>(*ctx_, *depth_all_, size_t(width_) * height_); }
+std::vector<float> SurfaceRenderer::depth_all() {
+    return gpu::download_vector<float>(*ctx_, *depth_all_, size_t(width_) * height_);
+}
 std::vector<float> SurfaceRenderer::depth_splash_back() {
     return gpu::download_vector<float>(*ctx_, *depth_splash_back_, size_t(width_) * height_);
 }
@@ -468,7 +558,9 @@ std::vector<float> SurfaceRenderer::thickness() {
     for (size_t i = 0; i < metres.size(); ++i) metres[i] = float(micrometres[i]) * 1.0e-6f;
     return metres;
 }
-std::vector<float> SurfaceRenderer::depth_agg() { return gpu::download_vector<float>(*ctx_, *depth_agg_, size_t(width_) * height_); }
+std::vector<float> SurfaceRenderer::depth_agg() {
+    return gpu::download_vector<float>(*ctx_, *depth_agg_, size_t(width_) * height_);
+}
 std::vector<glm::vec4> SurfaceRenderer::sorted_positions() {
     return particles_ ? gpu::download_vector<glm::vec4>(*ctx_, *particles_, count_) : std::vector<glm::vec4>{};
 }
@@ -480,15 +572,24 @@ std::vector<glm::vec4> SurfaceRenderer::kernel_shapes() {
     if (!(params_.flags & SURFACE_ANISOTROPIC_FIELD)) return {};
     return gpu::download_vector<glm::vec4>(*ctx_, kernels_->shapes(), size_t(count_) * 3);
 }
-std::vector<uint32_t> SurfaceRenderer::aggregate_flags() { return gpu::download_vector<uint32_t>(*ctx_, *aggregate_, count_); }
-std::vector<float> SurfaceRenderer::class_densities() { return gpu::download_vector<float>(*ctx_, *class_density_, count_); }
-std::vector<uint32_t> SurfaceRenderer::mask_words() { return gpu::download_vector<uint32_t>(*ctx_, *mask_, params_.mask_dims.w); }
-std::vector<uint32_t> SurfaceRenderer::coarse_words() { return gpu::download_vector<uint32_t>(*ctx_, *coarse_, params_.coarse_dims.w); }
+std::vector<uint32_t> SurfaceRenderer::aggregate_flags() {
+    return gpu::download_vector<uint32_t>(*ctx_, *aggregate_, count_);
+}
+std::vector<float> SurfaceRenderer::class_densities() {
+    return gpu::download_vector<float>(*ctx_, *class_density_, count_);
+}
+std::vector<uint32_t> SurfaceRenderer::mask_words() {
+    return gpu::download_vector<uint32_t>(*ctx_, *mask_, params_.mask_dims.w);
+}
+std::vector<uint32_t> SurfaceRenderer::coarse_words() {
+    return gpu::download_vector<uint32_t>(*ctx_, *coarse_, params_.coarse_dims.w);
+}
 std::vector<RayCounts> SurfaceRenderer::ray_counts() {
     const auto packed = gpu::download_vector<glm::uvec2>(*ctx_, *ray_counts_, size_t(width_) * height_);
     std::vector<RayCounts> counts(packed.size());
     for (size_t i = 0; i < packed.size(); ++i)
-        counts[i] = {packed[i].x, packed[i].y & ((1u << RAY_COUNT_BISECTION_BITS) - 1u), packed[i].y >> RAY_COUNT_BISECTION_BITS};
+        counts[i] = {packed[i].x, packed[i].y & ((1u << RAY_COUNT_BISECTION_BITS) - 1u),
+                     packed[i].y >> RAY_COUNT_BISECTION_BITS};
     return counts;
 }
 std::vector<glm::vec2> SurfaceRenderer::blend_weights() {
@@ -498,8 +599,9 @@ uint32_t SurfaceRenderer::cut_rays() { return gpu::download_vector<uint32_t>(*ct
 
 SpriteCounts SurfaceRenderer::sprite_counts() {
     const auto c = gpu::download_vector<uint32_t>(*ctx_, *splat_counters_, SPLAT_COUNTERS);
-    return {c[SPLAT_COUNTER_SPRITES],       c[SPLAT_COUNTER_PIXELS],           c[SPLAT_COUNTER_COVERED],
-            c[SPLAT_COUNTER_DEPTH_ATOMICS], c[SPLAT_COUNTER_THICKNESS_ATOMICS], c[SPLAT_COUNTER_LONGEST_WALK],
+    return {c[SPLAT_COUNTER_SPRITES],           c[SPLAT_COUNTER_PIXELS],
+            c[SPLAT_COUNTER_COVERED],           c[SPLAT_COUNTER_DEPTH_ATOMICS],
+            c[SPLAT_COUNTER_THICKNESS_ATOMICS], c[SPLAT_COUNTER_LONGEST_WALK],
             c[SPLAT_COUNTER_LARGEST_FOOTPRINT]};
 }
 

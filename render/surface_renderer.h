@@ -35,14 +35,14 @@
 #include <string>
 #include <vector>
 
+#include "core/box.h"
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
-#include "render/impostor_view.h"
-#include "render/surface_kernels.h"
-#include "render/surface_frame.h"
-#include "render/surface_settings.h"
 #include "grid/neighbor_grid.h"
-#include "core/box.h"
+#include "render/impostor_view.h"
+#include "render/surface_frame.h"
+#include "render/surface_kernels.h"
+#include "render/surface_settings.h"
 
 namespace aquaform {
 
@@ -90,18 +90,19 @@ class SurfaceRenderer {
 public:
     /// Allocates every buffer for `max_particles` particles of `scene` at width x height.
     /// Throws aquaform::Failure (a resource failure) when the render grid does not fit (the message names the fix).
-    SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height, uint32_t max_particles);
+    SurfaceRenderer(gpu::Context& ctx, const ParticleDomain& domain, uint32_t width, uint32_t height,
+                    uint32_t max_particles);
     ~SurfaceRenderer();
     SurfaceRenderer(const SurfaceRenderer&) = delete;
     SurfaceRenderer& operator=(const SurfaceRenderer&) = delete;
 
     /// Records the whole pipeline for `frame` (its particles, solids, whitewater and grid).
     /// The parameter block is recorded into `cmd` too, so frames may share a submission.
-    void record(VkCommandBuffer cmd, const FrameInput& frame, const ViewCamera& camera,
-                const SurfaceSettings& settings, gpu::GpuTimer* timer);
+    void record(VkCommandBuffer cmd, const FrameInput& frame, const ViewCamera& camera, const SurfaceSettings& settings,
+                gpu::GpuTimer* timer);
     /// Records, submits, waits and reads the frame back.
-    SurfaceFrame render(const FrameInput& frame, const ViewCamera& camera,
-                        const SurfaceSettings& settings, gpu::GpuTimer* timer = nullptr);
+    SurfaceFrame render(const FrameInput& frame, const ViewCamera& camera, const SurfaceSettings& settings,
+                        gpu::GpuTimer* timer = nullptr);
     /// Reads back the last frame recorded.
     SurfaceFrame read_frame();
 
@@ -114,23 +115,24 @@ public:
     void set_diagnostics(bool on) { diagnostics_ = on; }
 
     // Diagnostics of the last frame, read back on request.
-    std::vector<uint32_t> tile_levels();      ///< per tile, TILE_*; row-major
-    std::vector<uint32_t> front_classes();    ///< per pixel: 0 none, 1 splash, 2 aggregate (adaptive, diagnostics on)
-    std::vector<float> depth_all();           ///< per pixel eye depth, +inf where empty
+    std::vector<uint32_t> tile_levels();    ///< per tile, TILE_*; row-major
+    std::vector<uint32_t> front_classes();  ///< per pixel: 0 none, 1 splash, 2 aggregate (adaptive, diagnostics on)
+    std::vector<float> depth_all();         ///< per pixel eye depth, +inf where empty
     std::vector<float> depth_agg();
     std::vector<float> thickness();          ///< per pixel: the fluid's thickness along the ray [m] (splat.comp)
     std::vector<float> depth_splash_back();  ///< per pixel eye depth of the farthest splash sphere's back, 0 where none
-    std::vector<glm::vec4> sorted_positions();  ///< in grid order; w: the index in the given buffer (own grid) or the particle id (in place)
-    std::vector<uint32_t> aggregate_flags();    ///< per sorted particle
+    std::vector<glm::vec4>
+    sorted_positions();  ///< in grid order; w: the index in the given buffer (own grid) or the particle id (in place)
+    std::vector<uint32_t> aggregate_flags();  ///< per sorted particle
     /// The anisotropic surface's kernels in their grid's order (empty for the isotropic surface):
     /// xyz the smoothed centre; and 3 rows of G per kernel (shaders/render/classify_shape.comp).
     std::vector<glm::vec4> kernel_centres();
     std::vector<glm::vec4> kernel_shapes();
-    std::vector<float> class_densities();       ///< per sorted particle
-    std::vector<uint32_t> mask_words();         ///< the binary density grid (layout: surface_layout.h)
+    std::vector<float> class_densities();  ///< per sorted particle
+    std::vector<uint32_t> mask_words();    ///< the binary density grid (layout: surface_layout.h)
     std::vector<uint32_t> coarse_words();
-    uint32_t rays_cast();                        ///< length of the last ray list
-    SpriteCounts sprite_counts();                ///< the last frame's depth sprites
+    uint32_t rays_cast();          ///< length of the last ray list
+    SpriteCounts sprite_counts();  ///< the last frame's depth sprites
     /// Whether adaptive resolution, where asked for, is used at this renderer's picture size on
     /// this device: it has fixed costs that a small picture on a GPU does not earn back.
     bool adaptive_resolution_pays() const;
@@ -208,7 +210,8 @@ private:
     gpu::BufferSet buffers_;
     std::unique_ptr<gpu::BufferSet> mask_buffers_;  // per radius
     std::unique_ptr<gpu::BufferSet> own_buffers_;   // the renderer's own grid and sorted copy, when needed
-    std::unique_ptr<gpu::BufferSet> kernel_buffers_;  // per radius: the particles' shapes (the kernels' own buffers are made on first use)
+    std::unique_ptr<gpu::BufferSet>
+        kernel_buffers_;  // per radius: the particles' shapes (the kernels' own buffers are made on first use)
     std::unique_ptr<SurfaceKernels> kernels_;
     std::unique_ptr<NeighborGrid> own_grid_;
     gpu::Buffer* own_sorted_ = nullptr;
@@ -221,8 +224,10 @@ private:
     const gpu::Buffer* field_class_density_ = nullptr;
     const gpu::Buffer *field_cell_rank_ = nullptr, *field_cell_start_ = nullptr;
     gpu::Buffer *params_buf_, *class_density_, *aggregate_;
-    gpu::Buffer *depth_all_, *depth_agg_, *depth_splash_back_, *thickness_, *front_class_, *smooth_a_, *smooth_b_, *normal_screen_;
-    gpu::Buffer *tile_level_, *rays_, *ray_count_, *edge_rays_, *edge_count_, *march_groups_, *hit_, *normal_, *normal_tmp_, *color_;
+    gpu::Buffer *depth_all_, *depth_agg_, *depth_splash_back_, *thickness_, *front_class_, *smooth_a_, *smooth_b_,
+        *normal_screen_;
+    gpu::Buffer *tile_level_, *rays_, *ray_count_, *edge_rays_, *edge_count_, *march_groups_, *hit_, *normal_,
+        *normal_tmp_, *color_;
     gpu::Buffer *march_cut_, *splat_counters_;
     gpu::Buffer *ray_counts_, *blend_weights_, *spray_;
     gpu::Buffer *resume_rays_[2], *resume_count_[2], *resume_state_;
@@ -236,7 +241,9 @@ private:
     gpu::ComputePass depth_smooth_, screen_normals_, tiles_, ray_args_, upsample_, normal_filter_, compose_;
     /// The ray march for the isotropic [0] and the anisotropic [1] field (its constant_id 1).
     gpu::ComputePass ray_march_[2];
-    const gpu::ComputePass& march_pass() const { return ray_march_[(params_.flags & SURFACE_ANISOTROPIC_FIELD) ? 1 : 0]; }
+    const gpu::ComputePass& march_pass() const {
+        return ray_march_[(params_.flags & SURFACE_ANISOTROPIC_FIELD) ? 1 : 0];
+    }
 };
 
 }  // namespace aquaform

@@ -27,9 +27,12 @@ Result<bool> out_of_range(const char* name, T value, const char* range) {
 
 const char* method_name(SurfaceMethod method) {
     switch (method) {
-    case SurfaceMethod::uniform: return "uniform";
-    case SurfaceMethod::adaptive: return "adaptive";
-    case SurfaceMethod::reference: return "reference";
+        case SurfaceMethod::uniform:
+            return "uniform";
+        case SurfaceMethod::adaptive:
+            return "adaptive";
+        case SurfaceMethod::reference:
+            return "reference";
     }
     return "?";
 }
@@ -54,7 +57,8 @@ Result<bool> validate(const SurfaceSettings& s) {
         return out_of_range("mask_b", s.mask_b, "0 < b <= a (outer cells weigh less than the centre)");
     if (!(s.tile_eps1 >= 0.0f && s.tile_eps2 > s.tile_eps1))
         return out_of_range("tile_eps2", s.tile_eps2, "a value above tile_eps1 (>= 0)");
-    if (!(s.blend_a >= 0.0f) || !std::isfinite(s.blend_b)) return out_of_range("blend_a", s.blend_a, "A >= 0, finite B");
+    if (!(s.blend_a >= 0.0f) || !std::isfinite(s.blend_b))
+        return out_of_range("blend_a", s.blend_a, "A >= 0, finite B");
     if (!(s.smooth_sigma_px > 0.0f) || s.smooth_radius_px > 32)
         return out_of_range("smooth_radius_px", s.smooth_radius_px, "1..32 px with a positive sigma");
     if (!(s.spray_whiteness >= 0.0f && s.spray_whiteness <= 1.0f))
@@ -64,8 +68,9 @@ Result<bool> validate(const SurfaceSettings& s) {
     if (!(s.centre_smoothing >= 0.0f && s.centre_smoothing <= 1.0f))
         return out_of_range("centre_smoothing", s.centre_smoothing, "0..1");
     if (s.surface == SurfaceKernel::anisotropic && !s.tight_mask)
-        return Error{"render setting tight_mask = 0 (--wu-mask) needs the isotropic surface: Wu et al.'s count bound "
-                     "assumes every kernel peaks at W(0); add --surface isotropic, or drop --wu-mask"};
+        return Error{
+            "render setting tight_mask = 0 (--wu-mask) needs the isotropic surface: Wu et al.'s count bound "
+            "assumes every kernel peaks at W(0); add --surface isotropic, or drop --wu-mask"};
     if (!(s.reference_step_radii > 0.0f))
         return out_of_range("reference_step", s.reference_step_radii, "a step above 0 particle radii");
     return true;
@@ -80,9 +85,9 @@ Result<GridGeometry> render_grid(const SurfaceSettings& settings, const Particle
     return grid_for_domain(domain.bounds.min, domain.bounds.max, render_radius(settings, domain));
 }
 
-shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const ParticleDomain& domain, const GridGeometry& grid,
-                                          const ViewCamera& camera, uint32_t width, uint32_t height,
-                                          uint32_t particle_count) {
+shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const ParticleDomain& domain,
+                                          const GridGeometry& grid, const ViewCamera& camera, uint32_t width,
+                                          uint32_t height, uint32_t particle_count) {
     shader::SurfaceParams p = make_field_params(s, domain, grid, particle_count);
     const CameraBlock view = camera_block(camera, width, height);
     const float tan_y = view.right.w;
@@ -95,8 +100,8 @@ shader::SurfaceParams make_surface_params(const SurfaceSettings& s, const Partic
     return p;
 }
 
-shader::SurfaceParams make_field_params(const SurfaceSettings& s, const ParticleDomain& domain, const GridGeometry& grid,
-                                        uint32_t particle_count) {
+shader::SurfaceParams make_field_params(const SurfaceSettings& s, const ParticleDomain& domain,
+                                        const GridGeometry& grid, uint32_t particle_count) {
     shader::SurfaceParams p{};
     p.grid_origin_cell = with_w(grid.origin, grid.cell_size);
     p.grid_dims = {grid.dims, grid.cell_count()};
@@ -167,8 +172,8 @@ shader::SurfaceParams make_field_params(const SurfaceSettings& s, const Particle
     p.centre_smoothing = s.centre_smoothing;
     p.shading = s.spray_whiteness > 0.0f ? SHADE_SPRAY : 0u;
     p.spray_whiteness = s.spray_whiteness;
-    p.normal_smoothing = adaptive && s.normal_smoothing_deg > 0.0f
-                             ? 1.0f - std::cos(glm::radians(s.normal_smoothing_deg)) : 0.0f;
+    p.normal_smoothing =
+        adaptive && s.normal_smoothing_deg > 0.0f ? 1.0f - std::cos(glm::radians(s.normal_smoothing_deg)) : 0.0f;
 
     p.light_dir = kLightDirection;
     p.fluid_color = kFluidOptics;

@@ -6,12 +6,12 @@
 #include <cstdint>
 #include <string>
 
+#include "core/box.h"
+#include "core/result.h"
+#include "grid/neighbor_grid.h"
 #include "render/impostor_view.h"
 #include "shaders/shared/render/anisotropy.h"
 #include "shaders/shared/render/surface_layout.h"
-#include "grid/neighbor_grid.h"
-#include "core/result.h"
-#include "core/box.h"
 
 namespace aquaform {
 
@@ -79,7 +79,7 @@ struct SurfaceSettings {
     /// Marching step in particle radii. A lone droplet is two radii across, so a step of one
     /// radius cannot jump over a droplet's centre.
     float step_radii = 1.0f;
-    uint32_t max_steps = 256;      ///< density evaluations per ray before it gives up
+    uint32_t max_steps = 256;  ///< density evaluations per ray before it gives up
     /// The skip to D_agg waits until the ray has passed every splash particle's sphere on its
     /// pixel (D_splash_back), so it jumps only over space where the field is zero and loses
     /// nothing. Off: Wu et al.'s skip after max_skip_evals evaluations, wherever the ray is,
@@ -88,8 +88,8 @@ struct SurfaceSettings {
     /// 2.4 particle radii on the double dam break's collision, from 0.10 to 1.4 on the violent
     /// dam break's wave and from 0.21 to 6.3 on the crown splash, for 4-19 % fewer steps.
     bool exact_skip = true;
-    uint32_t max_skip_evals = 8;   ///< maxSkipCounts: evaluations before Wu et al.'s jump to D_agg
-    uint32_t refine_steps = 6;     ///< bisection steps: the hit is within step / 64
+    uint32_t max_skip_evals = 8;  ///< maxSkipCounts: evaluations before Wu et al.'s jump to D_agg
+    uint32_t refine_steps = 6;    ///< bisection steps: the hit is within step / 64
     /// The binary density grid bounds each cell's field by the kernel at each particle's nearest
     /// point of the cell, V sum_j W(d_j) (shaders/render/mask_bound.comp): exact, and a lone
     /// droplet marks only the cells its iso-sphere reaches instead of all 27 around it. Off:

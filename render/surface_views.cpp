@@ -3,9 +3,9 @@
 #include <array>
 #include <stdexcept>
 
+#include "core/error.h"
 #include "pictures/image_metrics.h"
 #include "shaders/shared/render/surface_layout.h"
-#include "core/error.h"
 
 namespace aquaform {
 

@@ -23,8 +23,9 @@ WhitewaterLayer::WhitewaterLayer(gpu::Context& ctx, uint32_t width, uint32_t hei
     resolve_ = gpu::ComputePass(ctx, {"render/whitewater_resolve.comp", 3});
 }
 
-void WhitewaterLayer::record(VkCommandBuffer cmd, const WhitewaterView& view, const ViewCamera& camera, const gpu::Buffer& hit,
-                             const WhitewaterSolids& solids, gpu::Buffer& color, gpu::GpuTimer* timer) {
+void WhitewaterLayer::record(VkCommandBuffer cmd, const WhitewaterView& view, const ViewCamera& camera,
+                             const gpu::Buffer& hit, const WhitewaterSolids& solids, gpu::Buffer& color,
+                             gpu::GpuTimer* timer) {
     const CameraBlock c = camera_block(camera, width_, height_);
     shader::WhitewaterDrawParams p{};
     p.eye = c.eye;
@@ -42,11 +43,17 @@ void WhitewaterLayer::record(VkCommandBuffer cmd, const WhitewaterView& view, co
     if (!cleared_) gpu::fill(*ctx_, cmd, *coverage_, 0u);  // then the resolve pass clears what it reads
     cleared_ = true;
     gpu::dispatch(*ctx_, cmd, splat_, view.capacity,
-                  {{"params", params_}, {"pool_x0", view.positions[0]}, {"pool_x1", view.positions[1]}, {"pool_v0", view.velocities[0]},
-                   {"pool_v1", view.velocities[1]}, {"counters", view.counters},
-                   {"hit", &hit}, {"coverage", coverage_},
+                  {{"params", params_},
+                   {"pool_x0", view.positions[0]},
+                   {"pool_x1", view.positions[1]},
+                   {"pool_v0", view.velocities[0]},
+                   {"pool_v1", view.velocities[1]},
+                   {"counters", view.counters},
+                   {"hit", &hit},
+                   {"coverage", coverage_},
                    {"solid_nodes", solids.nodes ? solids.nodes : params_}});  // no nodes: a stand-in never read
-    gpu::dispatch(*ctx_, cmd, resolve_, width_ * height_, {{"params", params_}, {"coverage", coverage_}, {"color", &color}});
+    gpu::dispatch(*ctx_, cmd, resolve_, width_ * height_,
+                  {{"params", params_}, {"coverage", coverage_}, {"color", &color}});
 }
 
 }  // namespace aquaform

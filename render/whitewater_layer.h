@@ -65,8 +65,8 @@ class WhitewaterSlot {
 public:
     /// Records the layer over the family's frame when there is whitewater (`view`); nothing otherwise.
     void record(gpu::Context& ctx, VkCommandBuffer cmd, const WhitewaterView* view, uint32_t width, uint32_t height,
-                const ViewCamera& camera,
-                const gpu::Buffer& hit, const WhitewaterSolids& solids, gpu::Buffer& color, gpu::GpuTimer* timer);
+                const ViewCamera& camera, const gpu::Buffer& hit, const WhitewaterSolids& solids, gpu::Buffer& color,
+                gpu::GpuTimer* timer);
 
 private:
     std::unique_ptr<WhitewaterLayer> layer_;

@@ -18,7 +18,8 @@ struct Projector {
 
     glm::vec3 to_camera(const glm::vec3& p) const {
         const glm::vec3 rel = p - glm::vec3(view.eye);
-        return {glm::dot(rel, glm::vec3(view.right)), glm::dot(rel, glm::vec3(view.up)), glm::dot(rel, glm::vec3(view.forward))};
+        return {glm::dot(rel, glm::vec3(view.right)), glm::dot(rel, glm::vec3(view.up)),
+                glm::dot(rel, glm::vec3(view.forward))};
     }
     /// Pixel coordinates (pixel centres at integers, y down) of a camera-space point with z > 0.
     glm::vec2 to_pixel(const glm::vec3& c) const {

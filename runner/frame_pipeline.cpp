@@ -55,12 +55,19 @@ SurfaceSettings field_of(const MethodSettings& method) {
 
 FramePipeline::FramePipeline(gpu::Context& ctx, session::SimulationSession& sim, const std::filesystem::path& out_dir,
                              const FrameExportOptions& exports, PictureOptions picture)
-    : ctx_(ctx), sim_(sim), out_dir_(out_dir), picture_(std::move(picture)),
+    : ctx_(ctx),
+      sim_(sim),
+      out_dir_(out_dir),
+      picture_(std::move(picture)),
       preview_(picture_.kind == PictureOptions::Kind::preview
                    ? std::make_unique<ImpostorView>(ctx, picture_.size.width, picture_.size.height)
                    : nullptr),
-      surface_(make_surface(ctx, sim, picture_)), exports_(out_dir, exports), obstacles_(out_dir, sim.scene(), exports.up), timer_(ctx),
-      capturer_(ctx, exports_, sim.solver(), sim.scene().particle_domain(), field_of(picture_.method)), readback_(ctx),
+      surface_(make_surface(ctx, sim, picture_)),
+      exports_(out_dir, exports),
+      obstacles_(out_dir, sim.scene(), exports.up),
+      timer_(ctx),
+      capturer_(ctx, exports_, sim.solver(), sim.scene().particle_domain(), field_of(picture_.method)),
+      readback_(ctx),
       camera_(scene_camera(sim.scene(), float(picture_.size.width) / float(std::max(1u, picture_.size.height)))) {
     const Scene& scene = sim.scene();
     style_.radius = 0.5f * scene.particle_spacing;
@@ -130,8 +137,10 @@ bool FramePipeline::write(const FinishedFrame& f, RunFiles& files, RunTotals& to
     if (f.capture.volume && !said_iso_) {
         // The level the surface is drawn at: Blender shows no grid metadata (aquaform_iso).
         said_iso_ = true;
-        std::printf("\ndensity volumes: the surface is the level %.6g (the grid's aquaform_iso; Blender: the "
-                    "threshold of a Volume to Mesh modifier)\n", double(f.capture.volume->iso));
+        std::printf(
+            "\ndensity volumes: the surface is the level %.6g (the grid's aquaform_iso; Blender: the "
+            "threshold of a Volume to Mesh modifier)\n",
+            double(f.capture.volume->iso));
     }
     if (auto written = files.write_probes(f.report.probes); !written) return failed(written.error());
     // The row last: stats.csv lists the frames whose files are all written.
@@ -177,7 +186,8 @@ RunTotals FramePipeline::run(uint32_t frames, RunFiles& files) {
                 // Frame 0 is the state at t = 0 (the first picture and exports); frame f is f frames on.
                 next = frame == 0 ? sim_.submit_initial_state(&timer_, record) : sim_.submit_frame(&timer_, record);
                 if (device_idle_since) {
-                    host_gap_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - *device_idle_since).count();
+                    host_gap_s +=
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - *device_idle_since).count();
                     ++host_gaps;
                 }
             }

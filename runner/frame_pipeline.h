@@ -29,13 +29,13 @@ struct PictureOptions {
     enum class Kind { none, preview, surface };
     Kind kind = Kind::surface;  ///< none: no PNG; preview: quick sphere impostors; surface: `method`
     PictureSize size;
-    MethodSettings method;      ///< the method of the surface (its field also makes the volumes and meshes)
-    bool wireframe = false;     ///< the active control meshes drawn over each picture
+    MethodSettings method;   ///< the method of the surface (its field also makes the volumes and meshes)
+    bool wireframe = false;  ///< the active control meshes drawn over each picture
 };
 
 /// What a run did, for its closing lines.
 struct RunTotals {
-    uint32_t frames = 0;         ///< frames whose files are all written
+    uint32_t frames = 0;  ///< frames whose files are all written
     double simulated_s = 0.0;
     uint64_t steps = 0;          ///< the time-step rule's steps
     uint64_t capped_frames = 0;  ///< frames the speed cap bound in

@@ -9,11 +9,13 @@
 namespace aquaform::runner {
 
 namespace {
-constexpr const char* kColors[] = {"#1f6fb4", "#d9541e", "#2a9d3a", "#8c4fb0", "#c59f1a", "#17a2b8", "#e05297", "#6c757d"};
+constexpr const char* kColors[] = {"#1f6fb4", "#d9541e", "#2a9d3a", "#8c4fb0",
+                                   "#c59f1a", "#17a2b8", "#e05297", "#6c757d"};
 const char* color(size_t i) { return kColors[i % (sizeof kColors / sizeof *kColors)]; }
 }  // namespace
 
-ProbeFiles::ProbeFiles(const std::filesystem::path& dir, const Scene& scene) : dir_(dir), on_(scene.probes.has_value()) {
+ProbeFiles::ProbeFiles(const std::filesystem::path& dir, const Scene& scene)
+    : dir_(dir), on_(scene.probes.has_value()) {
     if (!on_) return;
     std::vector<std::string> header{"time_s"};
     for (const HeightGauge& g : scene.probes->gauges) header.push_back(g.name + "_m");
@@ -27,8 +29,10 @@ ProbeFiles::ProbeFiles(const std::filesystem::path& dir, const Scene& scene) : d
     }
     auto file = AppendedFile::open(dir / "probes.csv");
     auto written = file ? file.value().append(csv_line(header) + "\n") : Result<bool>(Error{file.error()});
-    if (!written) error_ = written.error();
-    else csv_ = std::move(file.value());
+    if (!written)
+        error_ = written.error();
+    else
+        csv_ = std::move(file.value());
 }
 
 Result<bool> ProbeFiles::write_frame(const ProbeFrame& frame) {
@@ -53,8 +57,8 @@ Result<bool> ProbeFiles::write_frame(const ProbeFrame& frame) {
 Result<bool> ProbeFiles::finish(const Scene& scene) {
     if (!on_ || steps_.empty()) return true;
     const ProbeSpec& spec = *scene.probes;
-    auto chart = [&](const char* file, const std::string& title, const std::string& y_label, size_t n,
-                     auto name_of, auto value_of) -> Result<bool> {
+    auto chart = [&](const char* file, const std::string& title, const std::string& y_label, size_t n, auto name_of,
+                     auto value_of) -> Result<bool> {
         if (n == 0) return true;
         Chart c{title + ": " + scene.name, "time [s]", y_label, {}};
         for (size_t i = 0; i < n; ++i) {
@@ -64,19 +68,22 @@ Result<bool> ProbeFiles::finish(const Scene& scene) {
         }
         return write_chart_svg(dir_ / file, c);
     };
-    if (auto w = chart("probe_heights.svg", "Water heights", "height [m]", spec.gauges.size(),
-                       [&](size_t i) { return spec.gauges[i].name; }, [](const ProbeStep& s, size_t i) { return s.heights[i]; });
+    if (auto w = chart(
+            "probe_heights.svg", "Water heights", "height [m]", spec.gauges.size(),
+            [&](size_t i) { return spec.gauges[i].name; }, [](const ProbeStep& s, size_t i) { return s.heights[i]; });
         !w)
         return w;
-    if (auto w = chart("probe_pressures.svg", "Pressures", "pressure [Pa]", spec.sensors.size(),
-                       [&](size_t i) { return spec.sensors[i].name; }, [](const ProbeStep& s, size_t i) { return s.pressures[i]; });
+    if (auto w = chart(
+            "probe_pressures.svg", "Pressures", "pressure [Pa]", spec.sensors.size(),
+            [&](size_t i) { return spec.sensors[i].name; },
+            [](const ProbeStep& s, size_t i) { return s.pressures[i]; });
         !w)
         return w;
     if (loads_.empty()) return true;
     Chart forces{"Forces on the solids: " + scene.name, "time [s]", "force [N]", {}};
     for (size_t o = 0; o < loads_.front().second.size(); ++o)
         for (int axis = 0; axis < 3; ++axis) {
-            ChartSeries series{loads_.front().second[o].name + " F" + "xyz"[axis], {}, false, color(o * 3 + axis)};
+            ChartSeries series{loads_.front().second[o].name + " F" + "xyz" [axis], {}, false, color(o * 3 + axis)};
             series.dashed = axis == 2;
             for (const auto& [t, loads] : loads_) series.points.push_back({t, loads[o].force[axis]});
             forces.series.push_back(std::move(series));

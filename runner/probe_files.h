@@ -34,7 +34,7 @@ private:
     bool on_ = false;
     AppendedFile csv_;
     std::string error_;
-    std::vector<ProbeStep> steps_;                              // for the charts
+    std::vector<ProbeStep> steps_;                                  // for the charts
     std::vector<std::pair<double, std::vector<SolidLoad>>> loads_;  // (time, loads) per frame
 };
 

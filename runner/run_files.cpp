@@ -48,8 +48,10 @@ RunFiles::RunFiles(const std::filesystem::path& dir, const Scene& scene) : dir_(
     if (has_front_) {
         auto front = AppendedFile::open(dir / "front.csv");
         auto header = front ? front.value().append("time_s,front_m\n") : Result<bool>(Error{front.error()});
-        if (!header) error_ = header.error();
-        else front_ = std::move(front.value());
+        if (!header)
+            error_ = header.error();
+        else
+            front_ = std::move(front.value());
     }
 }
 
@@ -91,9 +93,10 @@ Result<bool> RunFiles::write_waiting_rows() {
     const bool has_shape = bool(waiting_.front().shape);
     if (header_.empty()) {
         for (const auto& [name, ms] : waiting_.back().stats.gpu_ms) pass_columns_.push_back(name);
-        header_ = "frame,time_s,particles,density_err_mean,density_err_max,density_dev_mean,kinetic_energy_j,"
-                  "max_speed_mps,substeps,dt_s,cfl_number,speed_capped,outside,in_solid,non_finite,splash_fraction,droplets,"
-                  "runup_m,list_overflow,gpu_ms_total";
+        header_ =
+            "frame,time_s,particles,density_err_mean,density_err_max,density_dev_mean,kinetic_energy_j,"
+            "max_speed_mps,substeps,dt_s,cfl_number,speed_capped,outside,in_solid,non_finite,splash_fraction,droplets,"
+            "runup_m,list_overflow,gpu_ms_total";
         if (has_shape) header_ += ",shape_iou,shape_fill_fraction,fluid_outside_shape,active_shapes";
         has_whitewater_ = bool(waiting_.front().stats.whitewater);
         if (has_whitewater_) header_ += ",spray,foam,bubbles,whitewater_emitted,whitewater_dropped";
@@ -109,10 +112,11 @@ Result<bool> RunFiles::write_waiting_rows() {
         const std::string droplets = s.droplets ? std::to_string(*s.droplets) : "";
         char runup[32] = "";
         if (s.runup) std::snprintf(runup, sizeof runup, "%.5f", *s.runup);
-        std::snprintf(row, sizeof row, "%u,%.6f,%u,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.4f,%d,%u,%u,%u,%.5f,%s,%s,%.5f,%.4f",
-                      w.frame, s.time_s, s.particles, s.mean_density_error, s.max_density_error, s.mean_density_deviation,
-                      s.kinetic_energy, s.max_speed, s.substeps, s.dt, s.cfl_number, s.speed_capped ? 1 : 0, s.outside, s.in_solid,
-                      s.non_finite, s.splash_fraction, droplets.c_str(), runup, s.list_overflow_fraction, total);
+        std::snprintf(
+            row, sizeof row, "%u,%.6f,%u,%.6g,%.6g,%.6g,%.6g,%.6g,%u,%.6g,%.4f,%d,%u,%u,%u,%.5f,%s,%s,%.5f,%.4f",
+            w.frame, s.time_s, s.particles, s.mean_density_error, s.max_density_error, s.mean_density_deviation,
+            s.kinetic_energy, s.max_speed, s.substeps, s.dt, s.cfl_number, s.speed_capped ? 1 : 0, s.outside,
+            s.in_solid, s.non_finite, s.splash_fraction, droplets.c_str(), runup, s.list_overflow_fraction, total);
         text += row;
         if (w.shape) {
             std::snprintf(row, sizeof row, ",%.4f,%.4f,%.4f,", w.shape->iou, w.shape->fill_fraction,
@@ -121,8 +125,8 @@ Result<bool> RunFiles::write_waiting_rows() {
         }
         if (has_whitewater_) {
             const WhitewaterCounts c = s.whitewater.value_or(WhitewaterCounts{});
-            std::snprintf(row, sizeof row, ",%u,%u,%u,%llu,%llu", c.spray, c.foam, c.bubbles, (unsigned long long)c.emitted,
-                          (unsigned long long)c.dropped);
+            std::snprintf(row, sizeof row, ",%u,%u,%u,%llu,%llu", c.spray, c.foam, c.bubbles,
+                          (unsigned long long)c.emitted, (unsigned long long)c.dropped);
             text += row;
         }
         for (const auto& name : pass_columns_) {
@@ -185,9 +189,11 @@ Result<size_t> clear_earlier_run(const std::filesystem::path& dir) {
     // The numbered frames and the obstacles' meshes; diffuse_*: the whitewater's files' old name.
     static const std::regex written(
         R"((frame|particles|whitewater|diffuse|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp)|obstacle_.+\.obj)");
-    static const std::set<std::string> named{"stats.csv",     "front.csv",   "front.svg",     "whitewater.svg", "particles.pvd",
-                                             "surface.pvd",   "whitewater.pvd", "diffuse.pvd",  kExportListing, kRunDescriptionName};
-    static const std::set<std::string> probe_files(std::begin(ProbeFiles::kFileNames), std::end(ProbeFiles::kFileNames));
+    static const std::set<std::string> named{"stats.csv",     "front.csv",        "front.svg",      "whitewater.svg",
+                                             "particles.pvd", "surface.pvd",      "whitewater.pvd", "diffuse.pvd",
+                                             kExportListing,  kRunDescriptionName};
+    static const std::set<std::string> probe_files(std::begin(ProbeFiles::kFileNames),
+                                                   std::end(ProbeFiles::kFileNames));
     std::vector<std::filesystem::path> earlier;
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {

@@ -29,7 +29,7 @@ if [ -e "$build_dir" ] && [ ! -d "$build_dir" ]; then
 fi
 
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config clang-format
   libvulkan-dev vulkan-validationlayers mesa-vulkan-drivers vulkan-tools
   glslang-dev glslang-tools spirv-tools
   libglfw3-dev libglm-dev libtinyobjloader-dev libopenmesh-dev

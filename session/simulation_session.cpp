@@ -4,12 +4,12 @@
 #include <cmath>
 
 #include "control/section_builder.h"
+#include "core/json_fields.h"
 #include "gpu/context.h"
 #include "render/renderer.h"
 #include "sim/blowup.h"
 #include "sim/obstacles.h"
 #include "sim/pbf_params.h"
-#include "core/json_fields.h"
 
 #include <nlohmann/json.hpp>
 
@@ -20,7 +20,8 @@ namespace fs = std::filesystem;
 namespace {
 
 control::Strength strength_for(const Scene& scene, const control::ControlSection& section) {
-    return control::automatic_strength({&scene, section.spacing, section.shape_height(scene.gravity)}, section.overrides);
+    return control::automatic_strength({&scene, section.spacing, section.shape_height(scene.gravity)},
+                                       section.overrides);
 }
 
 std::optional<ControlSummary> summarize(const std::optional<control::PreparedControl>& control) {
@@ -35,8 +36,10 @@ std::optional<ControlSummary> summarize(const std::optional<control::PreparedCon
             note += " " + std::to_string(m.report.reoriented_face_count) +
                     " faces pointed against their neighbours and were turned back;";
         if (m.report.closed_hole_count > 0)
-            note += " " + std::to_string(m.report.closed_hole_count) + " hole(s) were closed with caps, and the mesh is used closed;";
-        else if (!m.report.watertight()) note += " it is not watertight;";
+            note += " " + std::to_string(m.report.closed_hole_count) +
+                    " hole(s) were closed with caps, and the mesh is used closed;";
+        else if (!m.report.watertight())
+            note += " it is not watertight;";
         s.mesh_notes.push_back(note + "\n" + geometry::describe(m.report));
     }
     return s;
@@ -80,15 +83,21 @@ Result<control::ControlSection> shape_section(const Scene& scene, const std::vec
         spec.placement.fit_into = box;
         builder.mesh(key, meshes[i], std::move(spec));
         const bool morph = op == ShapeOp::morph && i > 0 && i + 1 == meshes.size();
-        if (i == 0) builder.attach(key);
-        else if (morph) builder.morph(key, 0.0, 1.0);
-        else builder.union_with(key);
+        if (i == 0)
+            builder.attach(key);
+        else if (morph)
+            builder.morph(key, 0.0, 1.0);
+        else
+            builder.union_with(key);
     }
     return builder.build();
 }
 
 SimulationSession::SimulationSession(gpu::Context& ctx, SessionPlan plan, SessionOptions options)
-    : ctx_(&ctx), scene_(std::move(plan.scene)), control_(std::move(plan.control)), options_(options),
+    : ctx_(&ctx),
+      scene_(std::move(plan.scene)),
+      control_(std::move(plan.control)),
+      options_(options),
       own_obstacles_(scene_.obstacles.size()) {
     rebuild(false);
     // The scene's own shapes are listed like attached ones (union and morph start from them).
@@ -99,7 +108,8 @@ SimulationSession::SimulationSession(gpu::Context& ctx, SessionPlan plan, Sessio
 
 SimulationSession::~SimulationSession() = default;
 
-Result<std::unique_ptr<SimulationSession>> SimulationSession::create(gpu::Context& ctx, Scene scene, SessionOptions options) {
+Result<std::unique_ptr<SimulationSession>> SimulationSession::create(gpu::Context& ctx, Scene scene,
+                                                                     SessionOptions options) {
     auto plan = plan_session(std::move(scene));
     if (!plan) return Error{plan.error()};
     return std::make_unique<SimulationSession>(ctx, std::move(plan.value()), options);
@@ -120,7 +130,10 @@ const SolidsView* SimulationSession::solids() {
 const WhitewaterView* SimulationSession::whitewater() {
     const Whitewater* w = solver_->whitewater();
     if (!w) return nullptr;
-    whitewater_ = {{&w->positions(0), &w->positions(1)}, {&w->velocities(0), &w->velocities(1)}, &w->counters(), w->capacity(),
+    whitewater_ = {{&w->positions(0), &w->positions(1)},
+                   {&w->velocities(0), &w->velocities(1)},
+                   &w->counters(),
+                   w->capacity(),
                    scene_.particle_spacing};
     return &whitewater_;
 }
@@ -165,7 +178,8 @@ void SimulationSession::connect_forces() {
 
 FrameReport SimulationSession::run_frame(gpu::GpuTimer* timer) { return finish_frame(submit_frame(timer), timer); }
 
-gpu::Submission SimulationSession::submit_frame(gpu::GpuTimer* timer, const std::function<void(VkCommandBuffer)>& also) {
+gpu::Submission SimulationSession::submit_frame(gpu::GpuTimer* timer,
+                                                const std::function<void(VkCommandBuffer)>& also) {
     if (driver_) driver_->update(solver_->time());
     return ctx_->submit([&](VkCommandBuffer cmd) {
         solver_->record_frame(cmd, timer);
@@ -257,15 +271,18 @@ Result<SimulationSession::AddedObstacle> SimulationSession::add_obstacle(const f
     // Named after its file, numbered when that name is taken (a mesh may be dropped twice).
     std::string name = file.stem().string();
     for (int k = 2; std::any_of(scene_.obstacles.begin(), scene_.obstacles.end(),
-                                [&](const ObstacleSpec& o) { return o.name == name; }); ++k)
+                                [&](const ObstacleSpec& o) { return o.name == name; });
+         ++k)
         name = file.stem().string() + "_" + std::to_string(k);
     const auto point = [](const glm::vec3& p) { return nlohmann::json::array({p.x, p.y, p.z}); };
     const nlohmann::json entry = {
-        {name, {{"file", fs::absolute(file).string()},
-                {"placement", {{"fit_into", {{"min", point(box.min)}, {"max", point(box.max)}}}}}}}};
+        {name,
+         {{"file", fs::absolute(file).string()},
+          {"placement", {{"fit_into", {{"min", point(box.min)}, {"max", point(box.max)}}}}}}}};
     std::vector<ObstacleSpec> added;
     try {
-        added = read_obstacles(entry, scene_, {}, PBF_MAX_SOLIDS - scene_.static_boxes.size() - scene_.obstacles.size());
+        added =
+            read_obstacles(entry, scene_, {}, PBF_MAX_SOLIDS - scene_.static_boxes.size() - scene_.obstacles.size());
     } catch (const json_fields::Invalid& e) {
         return Error{e.message};
     }
@@ -276,8 +293,7 @@ Result<SimulationSession::AddedObstacle> SimulationSession::add_obstacle(const f
         kept.x.push_back(state.x[i]);
         kept.v.push_back(state.v[i]);
     }
-    if (kept.x.empty())
-        return Error{"the mesh would hold every particle of the fluid; drop it beside the water"};
+    if (kept.x.empty()) return Error{"the mesh would hold every particle of the fluid; drop it beside the water"};
     AddedObstacle report{name, state.x.size() - kept.x.size(), added.front().mesh_notes};
     scene_.obstacles.push_back(std::move(added.front()));
     start_solver(&kept);

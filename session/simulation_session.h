@@ -17,10 +17,10 @@
 
 #include "control/control_driver.h"
 #include "control/push_force.h"
+#include "core/result.h"
 #include "render/frame_input.h"
 #include "render/solids_view.h"
 #include "render/whitewater_layer.h"
-#include "core/result.h"
 #include "sim/frame_stats.h"
 #include "sim/pbf_solver.h"
 #include "sim/scene.h"
@@ -48,7 +48,7 @@ struct ShapeColumns {
 struct FrameReport {
     FrameStats stats;
     std::optional<ShapeColumns> shape;  ///< with mesh control and SessionOptions::measure_shapes
-    ProbeFrame probes;                   ///< the scene's probes' readings (empty without probes)
+    ProbeFrame probes;                  ///< the scene's probes' readings (empty without probes)
 };
 
 struct SessionOptions {
@@ -106,7 +106,8 @@ public:
     SimulationSession& operator=(const SimulationSession&) = delete;
 
     /// plan_session(scene) and a session from it.
-    static Result<std::unique_ptr<SimulationSession>> create(gpu::Context& ctx, Scene scene, SessionOptions options = {});
+    static Result<std::unique_ptr<SimulationSession>> create(gpu::Context& ctx, Scene scene,
+                                                             SessionOptions options = {});
 
     /// One frame: the control shapes at the current time, the solver's substeps, the shape metrics.
     FrameReport run_frame(gpu::GpuTimer* timer);
@@ -187,7 +188,7 @@ private:
     /// when the scene makes none).
     const SolidsView* solids();
     const WhitewaterView* whitewater();
-    SolidsView solids_;  // what solids() hands out
+    SolidsView solids_;          // what solids() hands out
     WhitewaterView whitewater_;  // what whitewater() hands out
     void rebuild(bool keep_particles);
     /// A new solver from `start` (nullptr: the scene's blocks), and the control and forces on it.

@@ -17,7 +17,8 @@ Exceeded exceeded(const FrameStats& s, const BlowupBounds& bounds) {
     if (s.non_finite > 0) return Exceeded::non_finite;
     if (s.outside > 0) return Exceeded::outside;
     if (!std::isfinite(s.max_speed) || s.max_speed > bounds.max_speed) return Exceeded::speed;
-    if (!std::isfinite(s.max_density_error) || s.max_density_error > bounds.max_density_error) return Exceeded::compression;
+    if (!std::isfinite(s.max_density_error) || s.max_density_error > bounds.max_density_error)
+        return Exceeded::compression;
     if (!std::isfinite(s.cfl_number) || s.cfl_number > bounds.max_courant) return Exceeded::courant;
     return Exceeded::none;
 }
@@ -44,22 +45,27 @@ BlowupBounds blowup_bounds(const Scene& scene) {
     const double diagonal = glm::length(scene.domain.max - scene.domain.min);
     const double g = std::max(double(glm::length(scene.gravity)), 9.81);
     double start = 0.0;
-    for (size_t i = 0; i < scene.fluid_blocks.size(); ++i) start = std::max(start, double(glm::length(scene.fill_of(i).velocity)));
+    for (size_t i = 0; i < scene.fluid_blocks.size(); ++i)
+        start = std::max(start, double(glm::length(scene.fill_of(i).velocity)));
     return {10.0 * std::sqrt(start * start + 2.0 * g * diagonal), 0.5, 2.0};
 }
 
 std::string blowup_reason(const FrameStats& s, const BlowupBounds& bounds) {
     switch (exceeded(s, bounds)) {
-        case Exceeded::none: return "";
-        case Exceeded::non_finite: return format_text("%u particles have non-finite positions or velocities", s.non_finite);
-        case Exceeded::outside: return format_text("%u particles left the domain", s.outside);
+        case Exceeded::none:
+            return "";
+        case Exceeded::non_finite:
+            return format_text("%u particles have non-finite positions or velocities", s.non_finite);
+        case Exceeded::outside:
+            return format_text("%u particles left the domain", s.outside);
         case Exceeded::speed:
             return format_text("max speed %.3g m/s is above the plausible %.3g m/s", s.max_speed, bounds.max_speed);
         case Exceeded::compression:
             return format_text("max density error %.3g is above %.3g", s.max_density_error, bounds.max_density_error);
         case Exceeded::courant:
-            return format_text("Courant number %.3g is above %.3g (particles cross more than two kernel radii per step)",
-                               s.cfl_number, bounds.max_courant);
+            return format_text(
+                "Courant number %.3g is above %.3g (particles cross more than two kernel radii per step)", s.cfl_number,
+                bounds.max_courant);
     }
     return "";
 }
@@ -71,9 +77,10 @@ std::string blowup_fix(const FrameStats& s, const Scene& scene) {
             return "the iterations no longer hold the fluid at this step: raise solver.substeps or solver.iterations, "
                    "or lower solver.frame_dt";
         case Exceeded::courant:
-            return format_text("the steps were too long for the speeds (the step rule stops at solver.max_substeps = %u): "
-                               "raise solver.max_substeps or lower solver.frame_dt",
-                               solver.max_substeps);
+            return format_text(
+                "the steps were too long for the speeds (the step rule stops at solver.max_substeps = %u): "
+                "raise solver.max_substeps or lower solver.frame_dt",
+                solver.max_substeps);
         case Exceeded::speed:
             // The step rule held the Courant number: smaller steps would move as fast.
             if (std::isfinite(s.cfl_number) && s.cfl_number <= 1.01 * solver.cfl)
@@ -81,7 +88,8 @@ std::string blowup_fix(const FrameStats& s, const Scene& scene) {
                        "energy (solver.vorticity, solver.scorr_k, \"density_constraint\": \"two_sided\", a control "
                        "pressure, a fast start velocity) in the scene";
             return kBlowupFix;
-        default: return kBlowupFix;
+        default:
+            return kBlowupFix;
     }
 }
 

@@ -24,7 +24,9 @@ float map_cell(const Scene& scene) {
 }
 
 /// How far a map reaches beyond its solid: h (the density's reach) and a cell for interpolation.
-float map_margin(const Scene& scene) { return scene.solver.kernel_radius_factor * scene.particle_spacing + map_cell(scene); }
+float map_margin(const Scene& scene) {
+    return scene.solver.kernel_radius_factor * scene.particle_spacing + map_cell(scene);
+}
 
 /// A static box that reaches a wall reaches through it: its faces on the walls are not faces
 /// the fluid can meet, and a particle inside the box must be pushed out into the tank, not
@@ -66,7 +68,8 @@ std::string solid_name(const Scene& scene, size_t solid) {
 /// The rows of the world-to-local map of a rigid transform (rotation and translation).
 void set_to_local(shader::SolidParams& table, const glm::mat4& to_world) {
     const glm::mat4 to_local = glm::inverse(to_world);
-    for (int r = 0; r < 3; ++r) table.to_local[r] = glm::vec4(to_local[0][r], to_local[1][r], to_local[2][r], to_local[3][r]);
+    for (int r = 0; r < 3; ++r)
+        table.to_local[r] = glm::vec4(to_local[0][r], to_local[1][r], to_local[2][r], to_local[3][r]);
 }
 
 }  // namespace
@@ -93,8 +96,8 @@ Result<Boundary> Boundary::build(const Scene& scene) {
     const size_t solids = scene.static_boxes.size() + scene.obstacles.size();
     if (solids > PBF_MAX_SOLIDS)
         return Error{(scene.path.empty() ? scene.name : scene.path.string()) + ": " + std::to_string(solids) +
-                     " solids (static_boxes and obstacles); the solver takes at most " + std::to_string(PBF_MAX_SOLIDS) +
-                     ": merge boxes, or join meshes into one OBJ"};
+                     " solids (static_boxes and obstacles); the solver takes at most " +
+                     std::to_string(PBF_MAX_SOLIDS) + ": merge boxes, or join meshes into one OBJ"};
     try {
         for (size_t s = 0; s < solids; ++s) {
             Solid solid;
@@ -122,7 +125,9 @@ Result<Boundary> Boundary::build(const Scene& scene) {
             Solid& placed = b.solids_.back();
             if (!placed.shape)
                 b.store(placed, geometry::box_distance_field(extent, cell, margin), scene.domain);
-            else if (auto made = b.make_maps(placed, placed.deforms ? placed.shape->mesh_at(0.0) : placed.shape->placed_rest()); !made)
+            else if (auto made =
+                         b.make_maps(placed, placed.deforms ? placed.shape->mesh_at(0.0) : placed.shape->placed_rest());
+                     !made)
                 return Error{placed.name + ": " + made.error()};
             placed.shape_key = placed.deforms ? 0 : -1;
         }
@@ -138,8 +143,9 @@ Result<bool> Boundary::make_maps(Solid& solid, const geometry::Mesh& mesh) {
     // at rest and move) reaches through the walls, as a static box does, and is clipped to the
     // tank for its density: beyond the walls they count already.
     const std::optional<Box> walls = solid.moves && !solid.deforms ? std::optional<Box>() : std::optional<Box>(domain_);
-    auto field = geometry::build_distance_field_on(mesh.triangle_soup(), solid.grid, margin_of_map_,
-                                                   solid.grid.node_count() > 1000000 ? solid.name : std::string(), walls);
+    auto field =
+        geometry::build_distance_field_on(mesh.triangle_soup(), solid.grid, margin_of_map_,
+                                          solid.grid.node_count() > 1000000 ? solid.name : std::string(), walls);
     if (!field) return Error{field.error()};
     store(solid, field.value(), walls);
     return true;
@@ -204,7 +210,8 @@ bool Boundary::reshape(double t) {
 std::vector<glm::vec3> Boundary::centres(double t) const {
     std::vector<glm::vec3> out;
     for (const Solid& s : solids_) {
-        out.push_back(s.shape && s.moves && !s.deforms ? glm::vec3(s.shape->transform_at(t) * glm::vec4(s.centre, 1.0f)) : s.centre);
+        out.push_back(s.shape && s.moves && !s.deforms ? glm::vec3(s.shape->transform_at(t) * glm::vec4(s.centre, 1.0f))
+                                                       : s.centre);
     }
     return out;
 }

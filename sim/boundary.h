@@ -32,7 +32,7 @@ struct Scene;
 namespace geometry {
 class MeshAnimation;
 struct Mesh;
-}
+}  // namespace geometry
 
 /// A pass's specialization constants: its own from constant_id 1, then whether the scene has
 /// solids (static boxes or mesh obstacles) at PBF_SOLIDS_CONSTANT (shaders/shared/sim/pbf_boundary.h;

@@ -25,8 +25,8 @@ std::vector<FrontSample> nondimensional_front(std::span<const std::pair<double, 
                                               double g);
 
 struct FrontComparison {
-    int points = 0;               ///< experimental points within the run's time span
-    double mean_relative = 0.0;   ///< mean |Z_sim - Z_exp| / Z_exp
+    int points = 0;              ///< experimental points within the run's time span
+    double mean_relative = 0.0;  ///< mean |Z_sim - Z_exp| / Z_exp
     double max_relative = 0.0;
 };
 

@@ -22,12 +22,20 @@ void DropletCount::record_measure(VkCommandBuffer cmd, const StepState& fluid) {
     gpu::fill(*ctx_, cmd, *found_, 0);
     gpu::fill(*ctx_, cmd, *sizes_, 0);
     const NeighborGrid& grid = fluid.grid;
-    for (uint32_t phase : {DROPLET_INIT, DROPLET_COMPRESS, DROPLET_HOOK, DROPLET_COMPRESS, DROPLET_SIZE, DROPLET_COUNT}) {
+    for (uint32_t phase :
+         {DROPLET_INIT, DROPLET_COMPRESS, DROPLET_HOOK, DROPLET_COMPRESS, DROPLET_SIZE, DROPLET_COUNT}) {
         const DropletPush push{count_, phase, droplet_size_limit(count_), h2_};
         gpu::dispatch(*ctx_, cmd, pass_, count_, push,
-                      {{"params", &fluid.params}, {"x", &fluid.x}, {"cell_rank", &grid.cell_rank()}, {"cell_start", &grid.cell_start()},
-                       {"list_cell", &grid.list_cell()}, {"neighbor_count", &grid.neighbor_count()}, {"neighbors", &grid.neighbors()},
-                       {"parent", parent_}, {"sizes", sizes_}, {"droplets", found_}});
+                      {{"params", &fluid.params},
+                       {"x", &fluid.x},
+                       {"cell_rank", &grid.cell_rank()},
+                       {"cell_start", &grid.cell_start()},
+                       {"list_cell", &grid.list_cell()},
+                       {"neighbor_count", &grid.neighbor_count()},
+                       {"neighbors", &grid.neighbors()},
+                       {"parent", parent_},
+                       {"sizes", sizes_},
+                       {"droplets", found_}});
     }
 }
 

@@ -111,18 +111,21 @@ uint32_t count_droplets(std::span<const glm::vec4> positions, float link, uint32
     const float link2 = link * link;
     for (uint64_t c = 0; c < cell_count; ++c) {
         if (start[c] == start[c + 1]) continue;
-        const int64_t cx = int64_t(c % dims[0]), cy = int64_t((c / dims[0]) % dims[1]), cz = int64_t(c / (dims[0] * dims[1]));
+        const int64_t cx = int64_t(c % dims[0]), cy = int64_t((c / dims[0]) % dims[1]),
+                      cz = int64_t(c / (dims[0] * dims[1]));
         for (int dz = -1; dz <= 1; ++dz)
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dx = -1; dx <= 1; ++dx) {
                     const int64_t nx = cx + dx, ny = cy + dy, nz = cz + dz;
-                    if (nx < 0 || ny < 0 || nz < 0 || nx >= int64_t(dims[0]) || ny >= int64_t(dims[1]) || nz >= int64_t(dims[2]))
+                    if (nx < 0 || ny < 0 || nz < 0 || nx >= int64_t(dims[0]) || ny >= int64_t(dims[1]) ||
+                        nz >= int64_t(dims[2]))
                         continue;
                     const uint64_t n = uint64_t(nx) + dims[0] * (uint64_t(ny) + dims[1] * uint64_t(nz));
                     if (n < c) continue;  // each pair of cells once
                     for (uint32_t a = start[c]; a < start[c + 1]; ++a)
                         for (uint32_t b = n == c ? a + 1 : start[n]; b < start[n + 1]; ++b) {
-                            const glm::vec3 d = glm::vec3(positions[finite[sorted[a]]]) - glm::vec3(positions[finite[sorted[b]]]);
+                            const glm::vec3 d =
+                                glm::vec3(positions[finite[sorted[a]]]) - glm::vec3(positions[finite[sorted[b]]]);
                             if (glm::dot(d, d) < link2) groups.unite(sorted[a], sorted[b]);
                         }
                 }

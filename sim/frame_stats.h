@@ -16,8 +16,8 @@ namespace aquaform {
 /// A frame's whitewater figures (sim/whitewater.h; stats.csv).
 struct WhitewaterCounts {
     uint32_t spray = 0, foam = 0, bubbles = 0;  ///< alive at the frame's end, by kind
-    uint64_t emitted = 0;  ///< made during the frame
-    uint64_t dropped = 0;  ///< made or carried but not kept: the pool was full
+    uint64_t emitted = 0;                       ///< made during the frame
+    uint64_t dropped = 0;                       ///< made or carried but not kept: the pool was full
     uint32_t live() const { return spray + foam + bubbles; }
 };
 
@@ -26,18 +26,18 @@ struct FrameStats {
     double mean_density_error = 0.0;  ///< mean of max(rho/rho0 - 1, 0): compression, the constraint error
     double max_density_error = 0.0;
     double mean_density_deviation = 0.0;  ///< mean |rho/rho0 - 1|, free-surface deficiency included
-    double kinetic_energy = 0.0;      ///< [J]
-    double max_speed = 0.0;           ///< [m/s]
-    uint32_t substeps = 0;            ///< solver steps this frame took (the time-step rule)
-    double dt = 0.0;                  ///< their step [s]
-    double cfl_number = 0.0;          ///< max_speed * dt / h at the frame's end (the rule keeps it <= cfl)
-    bool speed_capped = false;        ///< the scene's safety cap (solver.max_speed) bound in this frame
+    double kinetic_energy = 0.0;          ///< [J]
+    double max_speed = 0.0;               ///< [m/s]
+    uint32_t substeps = 0;                ///< solver steps this frame took (the time-step rule)
+    double dt = 0.0;                      ///< their step [s]
+    double cfl_number = 0.0;              ///< max_speed * dt / h at the frame's end (the rule keeps it <= cfl)
+    bool speed_capped = false;            ///< the scene's safety cap (solver.max_speed) bound in this frame
     uint32_t particles = 0;
-    uint32_t outside = 0;             ///< particles outside the domain box (leaked)
-    uint32_t in_solid = 0;            ///< particles whose centre is inside a solid (collision failed)
-    uint32_t non_finite = 0;          ///< particles with NaN or infinite state
-    std::optional<double> front;      ///< dam-break front [m from the wall], when the scene has one
-    double splash_fraction = 0.0;     ///< fraction of the particles with few neighbours (kSplashNeighborFraction)
+    uint32_t outside = 0;          ///< particles outside the domain box (leaked)
+    uint32_t in_solid = 0;         ///< particles whose centre is inside a solid (collision failed)
+    uint32_t non_finite = 0;       ///< particles with NaN or infinite state
+    std::optional<double> front;   ///< dam-break front [m from the wall], when the scene has one
+    double splash_fraction = 0.0;  ///< fraction of the particles with few neighbours (kSplashNeighborFraction)
     /// Dam breaks: the highest fluid point on the far wall (domain.max.x), the top of the highest
     /// particle within a spacing of it that is not spray (kSplashNeighborFraction: the sheet
     /// climbing the wall, not droplets flying up it), above the floor [m]; empty when none.
@@ -47,7 +47,7 @@ struct FrameStats {
     /// Fraction of the particles with more neighbours than their list holds: they, and on SIMD
     /// hardware the particles sharing their instructions, scan 27 cells instead (a slow step).
     double list_overflow_fraction = 0.0;
-    std::map<std::string, double> gpu_ms;  ///< GPU time per pass during this frame
+    std::map<std::string, double> gpu_ms;        ///< GPU time per pass during this frame
     std::optional<WhitewaterCounts> whitewater;  ///< with the scene's whitewater on
 };
 

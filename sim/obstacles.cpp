@@ -33,7 +33,8 @@ namespace {
 using namespace json_fields;
 
 constexpr std::string_view kObstacleKeys[] = {"file", "placement", "animation"};
-constexpr const char* kExample = "{\"rock\": {\"file\": \"../meshes/sphere.obj\", \"placement\": {\"position\": [0.5, 0.1, 0.2]}}}";
+constexpr const char* kExample =
+    "{\"rock\": {\"file\": \"../meshes/sphere.obj\", \"placement\": {\"position\": [0.5, 0.1, 0.2]}}}";
 
 /// Times at which a motion is checked: every key (so that no key, however close to the next,
 /// aliases away: between keys the motion is interpolated, and its speed is that of the span), and
@@ -57,7 +58,8 @@ std::vector<double> check_times(const geometry::MeshAnimation& a) {
 double largest_move(const geometry::Mesh& a, const geometry::Mesh& b) {
     double d = 0.0;
     if (a.vertices.size() == b.vertices.size()) {
-        for (size_t i = 0; i < a.vertices.size(); ++i) d = std::max(d, double(glm::length(a.vertices[i] - b.vertices[i])));
+        for (size_t i = 0; i < a.vertices.size(); ++i)
+            d = std::max(d, double(glm::length(a.vertices[i] - b.vertices[i])));
         return d;
     }
     const Box ba = a.bounds(), bb = b.bounds();
@@ -66,7 +68,8 @@ double largest_move(const geometry::Mesh& a, const geometry::Mesh& b) {
 
 ObstacleSpec read_obstacle(const json& v, const std::string& name, const std::string& path, const SceneBasics& scene,
                            const std::filesystem::path& base_dir) {
-    if (!v.is_object()) fail(path + " must be an object such as {\"file\": \"../meshes/sphere.obj\"}, got " + written(v));
+    if (!v.is_object())
+        fail(path + " must be an object such as {\"file\": \"../meshes/sphere.obj\"}, got " + written(v));
     check_keys(v, "in " + path, kObstacleKeys);
     ObstacleSpec o;
     o.name = name;
@@ -77,7 +80,8 @@ ObstacleSpec read_obstacle(const json& v, const std::string& name, const std::st
             if (rigid->keys[k].scale != 1.0f)
                 fail(path + ".animation.keyframes[" + std::to_string(k) + "].scale is " + fmt(rigid->keys[k].scale) +
                      "; an obstacle keeps its size as it moves (its boundary is made once, at that size): give the "
-                     "size in " + path + ".placement.scale and leave scale out of the keyframes");
+                     "size in " +
+                     path + ".placement.scale and leave scale out of the keyframes");
     const bool sequence = std::holds_alternative<geometry::SequenceAnimation>(motion.kind());
     if (!sequence) require(v, "file", "in " + path, "\"file\": \"../meshes/sphere.obj\"");
     geometry::MeshPlacement placement;
@@ -124,8 +128,10 @@ ObstacleSpec read_obstacle(const json& v, const std::string& name, const std::st
 /// An obstacle's name becomes part of its files' names (exports/obstacle_export.h): the file name rule.
 void check_name(const std::string& name) {
     if (!is_file_name(name))
-        fail("obstacles: the name " + written(json(name)) + " cannot name the obstacle's files (obstacle_<name>.obj); a name "
-             "is " + std::string(kFileNameRule) + ", e.g. \"rock_1\": rename it");
+        fail("obstacles: the name " + written(json(name)) +
+             " cannot name the obstacle's files (obstacle_<name>.obj); a name "
+             "is " +
+             std::string(kFileNameRule) + ", e.g. \"rock_1\": rename it");
 }
 
 std::string lower(std::string text) {
@@ -159,7 +165,8 @@ void check_files_apart(const std::vector<ObstacleSpec>& obstacles, size_t static
             const bool frame = !a.moves && b.moves && takes_frame_file(a.name, b.name);
             if (same || frame)
                 fail(a.path + " and " + b.path + " would write the same file (" +
-                     (frame ? "obstacle_" + a.name + ".obj is one of " + b.path + "'s frames, obstacle_" + b.name + "_NNNN.obj"
+                     (frame ? "obstacle_" + a.name + ".obj is one of " + b.path + "'s frames, obstacle_" + b.name +
+                                  "_NNNN.obj"
                             : "obstacle_" + a.name + (a.moves ? "_NNNN" : "") + ".obj, names compared without case") +
                      "); rename one of them");
         }
@@ -175,7 +182,8 @@ double max_obstacle_speed(const SceneBasics& scene) {
 
 std::vector<ObstacleSpec> read_obstacles(const json& v, const SceneBasics& scene, const std::filesystem::path& base_dir,
                                          size_t slots) {
-    if (!v.is_object()) fail("obstacles must be an object of named obstacles, e.g. " + std::string(kExample) + ", got " + written(v));
+    if (!v.is_object())
+        fail("obstacles must be an object of named obstacles, e.g. " + std::string(kExample) + ", got " + written(v));
     if (v.size() > slots)
         fail("obstacles has " + std::to_string(v.size()) + " entries but the solver takes " + std::to_string(slots) +
              " more solids besides the static_boxes (" + std::to_string(scene.static_boxes.size()) +

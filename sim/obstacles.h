@@ -21,8 +21,8 @@ namespace aquaform {
 /// Reads the "obstacles" section: {"name": {"file": "...", "placement": {...}, "animation": ...}}.
 /// `slots` is how many obstacles the solver still takes (its table less the static boxes).
 /// Throws json_fields::Invalid naming the key path, the value and the fix.
-std::vector<ObstacleSpec> read_obstacles(const nlohmann::json& v, const SceneBasics& scene, const std::filesystem::path& base_dir,
-                                         size_t slots);
+std::vector<ObstacleSpec> read_obstacles(const nlohmann::json& v, const SceneBasics& scene,
+                                         const std::filesystem::path& base_dir, size_t slots);
 
 /// Whether a point lies inside an obstacle as it stands at t = 0 (fluid is not started there).
 bool inside_start_solid(const std::vector<ObstacleSpec>& obstacles, const glm::vec3& p);

@@ -15,8 +15,8 @@ Result<bool> write_particles_ply(const std::filesystem::path& path, const Partic
             << "property float vx\nproperty float vy\nproperty float vz\n"
             << "property float density\nproperty uint id\nproperty uint tag\nend_header\n";
         for (size_t i = 0; i < n && out; ++i) {
-            float f[7] = {s.x[i].x, s.x[i].y, s.x[i].z, s.v[i].x, s.v[i].y, s.v[i].z,
-                          i < s.density.size() ? s.density[i] : 0.0f};
+            float f[7] = {
+                s.x[i].x, s.x[i].y, s.x[i].z, s.v[i].x, s.v[i].y, s.v[i].z, i < s.density.size() ? s.density[i] : 0.0f};
             uint32_t u[2] = {static_cast<uint32_t>(s.x[i].w), static_cast<uint32_t>(s.v[i].w)};
             out.write(reinterpret_cast<const char*>(f), sizeof f);
             out.write(reinterpret_cast<const char*>(u), sizeof u);

@@ -4,8 +4,8 @@
 
 #include <filesystem>
 
-#include "sim/pbf_solver.h"
 #include "core/result.h"
+#include "sim/pbf_solver.h"
 
 namespace aquaform {
 

@@ -25,8 +25,8 @@ PbfConstants pbf_constants(const Scene& scene) {
     const float spiky_coeff = shader::spiky_gradient_coefficient(c.h);
     const int reach = static_cast<int>(std::ceil(scene.solver.kernel_radius_factor));
     double w_sum = 0.0;
-    double w_half = 0.0;     // the particle's own layer and those on one side of it
-    double grad2_sum = 0.0;  // sum |grad W|^2, to be scaled by the particle volume squared
+    double w_half = 0.0;       // the particle's own layer and those on one side of it
+    double grad2_sum = 0.0;    // sum |grad W|^2, to be scaled by the particle volume squared
     double consistency = 0.0;  // sum (x_j - x_i) . grad W_ij, to be scaled by the volume
     for (int z = -reach; z <= reach; ++z)
         for (int y = -reach; y <= reach; ++y)

@@ -2,8 +2,8 @@
 // reference so that both run exactly the same numbers.
 #pragma once
 
-#include "shaders/shared/sim/pbf_layout.h"
 #include "grid/neighbor_grid.h"
+#include "shaders/shared/sim/pbf_layout.h"
 #include "sim/scene.h"
 
 namespace aquaform {

@@ -11,16 +11,21 @@
 namespace aquaform {
 
 PbfPressure::PbfPressure(gpu::Context& ctx, const SolverSettings& settings, bool solids, bool measure_pressure)
-    : ctx_(&ctx), iterations_(settings.iterations), xsph_on_(step_shape(settings).xsph), vorticity_on_(settings.vorticity > 0.0f) {
+    : ctx_(&ctx),
+      iterations_(settings.iterations),
+      xsph_on_(step_shape(settings).xsph),
+      vorticity_on_(settings.vorticity > 0.0f) {
     using shader::CountPush;
     const uint32_t local = gpu::kDefaultLocalSize, pressure = measure_pressure ? 1u : 0u;
-    predict_ = gpu::ComputePass(ctx, {"sim/pbf_predict.comp", 5, sizeof(CountPush), local, solid_constants({}, solids)});
-    lambda_pass_ = gpu::ComputePass(ctx, {"sim/pbf_lambda.comp", 10, sizeof(CountPush), local, solid_constants({}, solids)});
-    correct_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 12, sizeof(shader::CorrectPush), local,
-                                      solid_constants({0u, pressure}, solids)});
+    predict_ =
+        gpu::ComputePass(ctx, {"sim/pbf_predict.comp", 5, sizeof(CountPush), local, solid_constants({}, solids)});
+    lambda_pass_ =
+        gpu::ComputePass(ctx, {"sim/pbf_lambda.comp", 10, sizeof(CountPush), local, solid_constants({}, solids)});
+    correct_ = gpu::ComputePass(
+        ctx, {"sim/pbf_correct.comp", 12, sizeof(shader::CorrectPush), local, solid_constants({0u, pressure}, solids)});
     // The last iteration's correction also updates v and x (kLastIteration).
-    correct_last_ = gpu::ComputePass(ctx, {"sim/pbf_correct.comp", 12, sizeof(shader::CorrectPush), local,
-                                           solid_constants({1u, pressure}, solids)});
+    correct_last_ = gpu::ComputePass(
+        ctx, {"sim/pbf_correct.comp", 12, sizeof(shader::CorrectPush), local, solid_constants({1u, pressure}, solids)});
     if (xsph_on_) xsph_curl_ = gpu::ComputePass(ctx, {"sim/pbf_xsph_curl.comp", 11, sizeof(CountPush)});
     if (vorticity_on_) vorticity_ = gpu::ComputePass(ctx, {"sim/pbf_vorticity.comp", 10, sizeof(CountPush)});
 }
@@ -40,7 +45,11 @@ void PbfPressure::record_step(VkCommandBuffer cmd, FluidArrays fluid, const Flui
     {
         gpu::GpuScope s(timer, cmd, "sim_predict");
         gpu::dispatch(*ctx_, cmd, predict_, fluid.count, push,
-                      {{"params", &fluid.params}, {"x", fluid.x}, {"v", fluid.v}, {"p", fluid.p}, {"boundary_nodes", &fluid.boundary_nodes}});
+                      {{"params", &fluid.params},
+                       {"x", fluid.x},
+                       {"v", fluid.v},
+                       {"p", fluid.p},
+                       {"boundary_nodes", &fluid.boundary_nodes}});
     }
     sort(cmd, *fluid.p, timer);
     for (uint32_t it = 0; it < iterations_; ++it)
@@ -51,13 +60,32 @@ void PbfPressure::record_step(VkCommandBuffer cmd, FluidArrays fluid, const Flui
     if (xsph_on_) {
         gpu::GpuScope s(timer, cmd, "sim_xsph_curl");
         gpu::dispatch(*ctx_, cmd, xsph_curl_, fluid.count, push,
-                      {{"params", &fluid.params}, {"x", fluid.x}, {"v", fluid.v}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"density", &fluid.density}, {"v_out", fluid.s1}, {"omega", fluid.s0}});
+                      {{"params", &fluid.params},
+                       {"x", fluid.x},
+                       {"v", fluid.v},
+                       {"cell_rank", &rank},
+                       {"cell_start", &start},
+                       {"list_cell", &cells},
+                       {"neighbor_count", &counts},
+                       {"neighbors", &neighbors},
+                       {"density", &fluid.density},
+                       {"v_out", fluid.s1},
+                       {"omega", fluid.s0}});
         std::swap(fluid.v, fluid.s1);
     }
     if (vorticity_on_) {
         gpu::GpuScope s(timer, cmd, "sim_vorticity");
         gpu::dispatch(*ctx_, cmd, vorticity_, fluid.count, push,
-                      {{"params", &fluid.params}, {"x", fluid.x}, {"v", fluid.v}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"density", &fluid.density}, {"omega", fluid.s0}});
+                      {{"params", &fluid.params},
+                       {"x", fluid.x},
+                       {"v", fluid.v},
+                       {"cell_rank", &rank},
+                       {"cell_start", &start},
+                       {"list_cell", &cells},
+                       {"neighbor_count", &counts},
+                       {"neighbors", &neighbors},
+                       {"density", &fluid.density},
+                       {"omega", fluid.s0}});
     }
 }
 
@@ -75,12 +103,32 @@ void PbfPressure::record_iteration(VkCommandBuffer cmd, FluidArrays& fluid, cons
     {
         gpu::GpuScope s(timer, cmd, "sim_lambda");
         gpu::dispatch(*ctx_, cmd, lambda_pass_, fluid.count, push,
-                      {{"params", &fluid.params}, {"p", fluid.p}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"q", fluid.s0}, {"density", &fluid.density}, {"boundary_nodes", &fluid.boundary_nodes}});
+                      {{"params", &fluid.params},
+                       {"p", fluid.p},
+                       {"cell_rank", &rank},
+                       {"cell_start", &start},
+                       {"list_cell", &cells},
+                       {"neighbor_count", &counts},
+                       {"neighbors", &neighbors},
+                       {"q", fluid.s0},
+                       {"density", &fluid.density},
+                       {"boundary_nodes", &fluid.boundary_nodes}});
     }
     gpu::GpuScope s(timer, cmd, "sim_correct");
     const shader::CorrectPush correct_push{fluid.count, iteration, 0u, 0u};
     gpu::dispatch(*ctx_, cmd, correct, fluid.count, correct_push,
-                  {{"params", &fluid.params}, {"q", fluid.s0}, {"cell_rank", &rank}, {"cell_start", &start}, {"list_cell", &cells}, {"neighbor_count", &counts}, {"neighbors", &neighbors}, {"p_out", fluid.p}, {"x", fluid.x}, {"v", fluid.v}, {"boundary_nodes", &fluid.boundary_nodes}, {"pressure", &fluid.pressure}});
+                  {{"params", &fluid.params},
+                   {"q", fluid.s0},
+                   {"cell_rank", &rank},
+                   {"cell_start", &start},
+                   {"list_cell", &cells},
+                   {"neighbor_count", &counts},
+                   {"neighbors", &neighbors},
+                   {"p_out", fluid.p},
+                   {"x", fluid.x},
+                   {"v", fluid.v},
+                   {"boundary_nodes", &fluid.boundary_nodes},
+                   {"pressure", &fluid.pressure}});
 }
 
 void PbfPressure::record_density(VkCommandBuffer cmd, FluidArrays fluid, const gpu::Buffer& positions) {
@@ -88,7 +136,16 @@ void PbfPressure::record_density(VkCommandBuffer cmd, FluidArrays fluid, const g
     const shader::CountPush push{fluid.count};
     const NeighborGrid& grid = fluid.grid;
     gpu::dispatch(*ctx_, cmd, lambda_pass_, fluid.count, push,
-                  {{"params", &fluid.params}, {"p", &positions}, {"cell_rank", &grid.cell_rank()}, {"cell_start", &grid.cell_start()}, {"list_cell", &grid.list_cell()}, {"neighbor_count", &grid.neighbor_count()}, {"neighbors", &grid.neighbors()}, {"q", fluid.s0}, {"density", &fluid.density}, {"boundary_nodes", &fluid.boundary_nodes}});
+                  {{"params", &fluid.params},
+                   {"p", &positions},
+                   {"cell_rank", &grid.cell_rank()},
+                   {"cell_start", &grid.cell_start()},
+                   {"list_cell", &grid.list_cell()},
+                   {"neighbor_count", &grid.neighbor_count()},
+                   {"neighbors", &grid.neighbors()},
+                   {"q", fluid.s0},
+                   {"density", &fluid.density},
+                   {"boundary_nodes", &fluid.boundary_nodes}});
 }
 
 }  // namespace aquaform

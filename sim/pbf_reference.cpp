@@ -25,7 +25,8 @@ std::vector<std::vector<uint32_t>> find_neighbors(const SimParams& p, const std:
         const glm::ivec3 c = cell_of(pos[i]);
         for (int k = 0; k < 27; ++k) {
             glm::ivec3 n = c + glm::ivec3(k % 3, (k / 3) % 3, k / 9) - glm::ivec3(1);
-            if (glm::any(glm::lessThan(n, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(n, glm::ivec3(p.grid_dims))))
+            if (glm::any(glm::lessThan(n, glm::ivec3(0))) ||
+                glm::any(glm::greaterThanEqual(n, glm::ivec3(p.grid_dims))))
                 continue;
             for (uint32_t j : cells[shader::grid_linear(n, p.grid_dims)]) {
                 glm::vec3 d = xyz(pos[i]) - xyz(pos[j]);

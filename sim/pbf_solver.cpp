@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/error.h"
 #include "gpu/barriers.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
@@ -15,7 +16,6 @@
 #include "shaders/shared/sim/pbf_boundary.h"
 #include "sim/pbf_params.h"
 #include "sim/pbf_pressure.h"
-#include "core/error.h"
 
 namespace aquaform {
 
@@ -54,10 +54,12 @@ Result<MemoryPlan> plan_memory(const Scene& scene, std::optional<uint64_t> parti
                              "sim.grid.list_cell", "sim.grid.neighbor_count"})
         plan.buffers.push_back({name, n * 4});
     // Read and written only as rgba32ui texels (NeighborGrid): the texel limit applies.
-    plan.buffers.push_back({"sim.grid.neighbors", n * neighbor_list_capacity(scene.solver.kernel_radius_factor) * 4, true});
+    plan.buffers.push_back(
+        {"sim.grid.neighbors", n * neighbor_list_capacity(scene.solver.kernel_radius_factor) * 4, true});
     plan.buffers.push_back({"sim.grid.cell_rank", cells * 4});
     plan.buffers.push_back({"sim.grid.cell_start", (cells + 1) * 4});
-    plan.buffers.push_back({"sim.stats_partials", ((n + PBF_STATS_WORKGROUP - 1) / PBF_STATS_WORKGROUP) * sizeof(shader::StatsPartial)});
+    plan.buffers.push_back(
+        {"sim.stats_partials", ((n + PBF_STATS_WORKGROUP - 1) / PBF_STATS_WORKGROUP) * sizeof(shader::StatsPartial)});
     plan.buffers.push_back({"sim.params", sizeof(shader::SimParams)});
     plan.buffers.push_back({"sim.boundary_nodes", Boundary::planned_bytes(scene), true});  // read as texels
     if (scene.probes) plan.buffers.push_back({"sim.pressure", n * 8});
@@ -83,7 +85,8 @@ Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::D
                      "; make the blocks larger than the spacing"};
     if (n > kMaxSceneParticles)
         return Error{where + ": " + std::to_string(n) + " particles is more than the " +
-                     std::to_string(kMaxSceneParticles) + " aquaform can index" + fix(double(kMaxSceneParticles) / double(n))};
+                     std::to_string(kMaxSceneParticles) + " aquaform can index" +
+                     fix(double(kMaxSceneParticles) / double(n))};
     const uint64_t max_dispatch = uint64_t(device.max_workgroups_x) * gpu::kDefaultLocalSize;
     if (n > max_dispatch)
         return Error{where + ": " + std::to_string(n) + " particles is more than " + device.name +
@@ -99,8 +102,8 @@ Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::D
     // Keep a quarter of the device for the renderer, the driver and other programs.
     const uint64_t budget = device.device_local_bytes / 4 * 3;
     if (plan.total_bytes() > budget)
-        return Error{where + ": the scene needs " + gib(plan.total_bytes()) + " of GPU memory for " + std::to_string(n) +
-                     " particles but " + device.name + " has " + gib(device.device_local_bytes) +
+        return Error{where + ": the scene needs " + gib(plan.total_bytes()) + " of GPU memory for " +
+                     std::to_string(n) + " particles but " + device.name + " has " + gib(device.device_local_bytes) +
                      " (aquaform uses at most 3/4 of it)" + fix(double(budget) / double(plan.total_bytes()))};
     return true;
 }
@@ -128,7 +131,8 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapsh
     // The first frame's steps follow the start velocities (set_state measures them again), so the
     // start's figures (its Courant number at frame 0) are those of the step that will be taken.
     if (start)
-        for (const glm::vec4& v : start->v) last_max_speed_ = std::max(last_max_speed_, double(glm::length(glm::vec3(v))));
+        for (const glm::vec4& v : start->v)
+            last_max_speed_ = std::max(last_max_speed_, double(glm::length(glm::vec3(v))));
     for (size_t b = 0; !start && b < scene.fluid_blocks.size(); ++b)
         last_max_speed_ = std::max(last_max_speed_, double(glm::length(scene.fill_of(b).velocity)));
     set_frame_steps(rule_substeps());
@@ -140,7 +144,8 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapsh
     s0_ = &buffers_.add(kParticleBuffers[3], n * 16);
     s1_ = &buffers_.add(kParticleBuffers[4], n * 16);
     density_ = &buffers_.add("sim.density", n * 4);
-    grid_ = std::make_unique<NeighborGrid>(ctx, buffers_, geometry, count_, "sim.grid", params_.neighbor_capacity, "sim_");
+    grid_ =
+        std::make_unique<NeighborGrid>(ctx, buffers_, geometry, count_, "sim.grid", params_.neighbor_capacity, "sim_");
     partials_ = &buffers_.add("sim.stats_partials", uint64_t(stats_groups(count_)) * sizeof(shader::StatsPartial),
                               gpu::MemoryUse::host);
     params_buf_ = &buffers_.add("sim.params", sizeof(shader::SimParams));
@@ -153,7 +158,8 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapsh
     if (scene.probes) {
         std::vector<std::string> solids;
         for (size_t s = 0; s < boundary_->solid_count(); ++s) solids.push_back(boundary_->name(s));
-        probes_ = std::make_unique<ProbeRecorder>(ctx, scene, solids, std::max(scene.solver.max_substeps, scene.solver.substeps));
+        probes_ = std::make_unique<ProbeRecorder>(ctx, scene, solids,
+                                                  std::max(scene.solver.max_substeps, scene.solver.substeps));
         attach(probes_.get());
     }
     if (scene.has_whitewater()) {
@@ -165,7 +171,8 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapsh
     const bool has_solids = boundary_->solid_count() > 0;
     const uint32_t local = gpu::kDefaultLocalSize;
     pressure_solve_ = std::make_unique<PbfPressure>(ctx, scene.solver, has_solids, measure_pressure != 0);
-    reorder_ = gpu::ComputePass(ctx, {"sim/pbf_reorder.comp", 9, sizeof(CountPush), local, solid_constants({measure_pressure}, has_solids)});
+    reorder_ = gpu::ComputePass(
+        ctx, {"sim/pbf_reorder.comp", 9, sizeof(CountPush), local, solid_constants({measure_pressure}, has_solids)});
     stats_ = gpu::ComputePass(ctx, {"sim/pbf_stats.comp", 11, sizeof(shader::StatsPush), PBF_STATS_WORKGROUP,
                                     solid_constants({}, has_solids)});
 
@@ -212,7 +219,7 @@ constexpr uint32_t kStartRelaxIterations = 10;  ///< per round, between re-sorts
 // only compression corrected), the velocities kept. A lattice at rest density is not moved.
 void PbfSolver::relax_start() {
     shader::SimParams relax = params_;
-    relax.dt = 0.0f;  // the sort's p = x + dt v is then x
+    relax.dt = 0.0f;       // the sort's p = x + dt v is then x
     relax.scorr_k = 0.0f;  // s_corr pulls a free surface in without end: it is the steps' business
     relax.constraint_min = 0.0f;
     for (uint32_t round = 0; round < kStartRelaxRounds; ++round) {
@@ -242,7 +249,8 @@ std::vector<std::string> PbfSolver::enabled_passes() const {
         if (stage->place() == StagePlace::before_pressure) passes.push_back(stage->pass_name());
     for (const std::string& pass : pressure_solve_->pass_names()) passes.push_back(pass);
     for (const SolverStage* stage : stages_)
-        if (stage->place() == StagePlace::after_pressure && !stage->measures_at_frame_end()) passes.push_back(stage->pass_name());
+        if (stage->place() == StagePlace::after_pressure && !stage->measures_at_frame_end())
+            passes.push_back(stage->pass_name());
     passes.push_back("sim_stats (once per frame)");
     for (const SolverStage* stage : stages_)
         if (stage->measures_at_frame_end()) passes.push_back(stage->pass_name() + " (once per frame)");
@@ -260,7 +268,8 @@ FluidArrays PbfSolver::fluid_arrays() {
 }
 
 StepState PbfSolver::fluid_state(double time, gpu::GpuTimer* timer) const {
-    return {*params_buf_, *x_, *v_, *pressure_, *grid_, *boundary_nodes_, *boundary_, count_, step_in_frame_, time, timer};
+    return {*params_buf_,   *x_,  *v_,  *pressure_, *grid_, *boundary_nodes_, *boundary_, count_,
+            step_in_frame_, time, timer};
 }
 
 bool PbfSolver::stages_measure() const {
@@ -269,23 +278,27 @@ bool PbfSolver::stages_measure() const {
 
 void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     for (SolverStage* stage : stages_)
-        if (stage->place() == StagePlace::before_pressure) stage->record_step(cmd, fluid_state(time_ + params_.dt, timer));
+        if (stage->place() == StagePlace::before_pressure)
+            stage->record_step(cmd, fluid_state(time_ + params_.dt, timer));
     if (boundary_->moves()) record_solid_motion(cmd);
-    const FluidSort sort = [this](VkCommandBuffer c, const gpu::Buffer& keys, gpu::GpuTimer* t) { record_sort(c, keys, t); };
+    const FluidSort sort = [this](VkCommandBuffer c, const gpu::Buffer& keys, gpu::GpuTimer* t) {
+        record_sort(c, keys, t);
+    };
     pressure_solve_->record_step(cmd, fluid_arrays(), sort, timer);
     for (SolverStage* stage : stages_)
-        if (stage->place() == StagePlace::after_pressure) stage->record_step(cmd, fluid_state(time_ + params_.dt, timer));
+        if (stage->place() == StagePlace::after_pressure)
+            stage->record_step(cmd, fluid_state(time_ + params_.dt, timer));
     time_ += params_.dt;
 }
 
 uint32_t PbfSolver::rule_substeps() const {
     // A moving solid's surface counts as a speed too: it pushes the fluid ahead of it.
-    const double solid_speed = std::max(boundary_->surface_speed(time_), boundary_->surface_speed(time_ + scene_.solver.frame_dt));
-    return substeps_for_compression(
-        scene_.solver,
-        substeps_for_speed(scene_.solver, params_.h, std::max(last_max_speed_, solid_speed), glm::length(scene_.gravity),
-                           last_speed_growth_),
-        substeps_, last_max_density_error_);
+    const double solid_speed =
+        std::max(boundary_->surface_speed(time_), boundary_->surface_speed(time_ + scene_.solver.frame_dt));
+    return substeps_for_compression(scene_.solver,
+                                    substeps_for_speed(scene_.solver, params_.h, std::max(last_max_speed_, solid_speed),
+                                                       glm::length(scene_.gravity), last_speed_growth_),
+                                    substeps_, last_max_density_error_);
 }
 
 bool PbfSolver::set_frame_steps(uint32_t substeps) {
@@ -301,12 +314,22 @@ void PbfSolver::record_solid_motion(VkCommandBuffer cmd) {
     gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
 }
 
-void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer, bool lists_of_x) {
+void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer,
+                            bool lists_of_x) {
     grid_->build(cmd, key_positions, count_, timer);
     {
         gpu::GpuScope s(timer, cmd, "sim_reorder");
         const shader::CountPush push{count_};
-        gpu::dispatch(*ctx_, cmd, reorder_, count_, push, {{"params", params_buf_}, {"order", &grid_->order()}, {"x_in", x_}, {"v_in", v_}, {"x_out", s0_}, {"v_out", s1_}, {"p_out", p_}, {"boundary_nodes", boundary_nodes_}, {"pressure", pressure_}});
+        gpu::dispatch(*ctx_, cmd, reorder_, count_, push,
+                      {{"params", params_buf_},
+                       {"order", &grid_->order()},
+                       {"x_in", x_},
+                       {"v_in", v_},
+                       {"x_out", s0_},
+                       {"v_out", s1_},
+                       {"p_out", p_},
+                       {"boundary_nodes", boundary_nodes_},
+                       {"pressure", pressure_}});
         std::swap(x_, s0_);
         std::swap(v_, s1_);
     }
@@ -330,7 +353,17 @@ void PbfSolver::record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
     const float splash = float(kSplashNeighborFraction * full_neighbor_count(scene_.solver.kernel_radius_factor));
     const shader::StatsPush stats_push{count_, splash, runup_x, 0u};
     gpu::dispatch(*ctx_, cmd, stats_, stats_groups(count_) * PBF_STATS_WORKGROUP, stats_push,
-                  {{"params", params_buf_}, {"x", x_}, {"v", v_}, {"density", density_}, {"partials", partials_}, {"cell_rank", &grid_->cell_rank()}, {"cell_start", &grid_->cell_start()}, {"list_cell", &grid_->list_cell()}, {"neighbor_count", &grid_->neighbor_count()}, {"neighbors", &grid_->neighbors()}, {"boundary_nodes", boundary_nodes_}});
+                  {{"params", params_buf_},
+                   {"x", x_},
+                   {"v", v_},
+                   {"density", density_},
+                   {"partials", partials_},
+                   {"cell_rank", &grid_->cell_rank()},
+                   {"cell_start", &grid_->cell_start()},
+                   {"list_cell", &grid_->list_cell()},
+                   {"neighbor_count", &grid_->neighbor_count()},
+                   {"neighbors", &grid_->neighbors()},
+                   {"boundary_nodes", boundary_nodes_}});
     for (SolverStage* stage : stages_)
         if (stage->measures_at_frame_end()) stage->record_measure(cmd, fluid_state(time_, timer));
     gpu::host_read_barrier(cmd);
@@ -444,8 +477,7 @@ ParticleSnapshot PbfSolver::snapshot() {
 void PbfSolver::set_state(const std::vector<glm::vec4>& x, const std::vector<glm::vec4>& v) {
     if (x.size() != count_ || v.size() != count_)
         throw Failure("PbfSolver::set_state: " + std::to_string(x.size()) + " positions and " +
-                                    std::to_string(v.size()) + " velocities for " + std::to_string(count_) +
-                                    " particles");
+                      std::to_string(v.size()) + " velocities for " + std::to_string(count_) + " particles");
     gpu::UploadBatch uploads(*ctx_);  // the uploads join the sort's submission
     gpu::upload(*ctx_, *x_, x.data(), x.size() * sizeof(glm::vec4));
     gpu::upload(*ctx_, *v_, v.data(), v.size() * sizeof(glm::vec4));

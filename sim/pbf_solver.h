@@ -14,18 +14,18 @@
 
 #include <glm/glm.hpp>
 
+#include "core/result.h"
 #include "gpu/buffer.h"
 #include "gpu/compute_pass.h"
-#include "shaders/shared/sim/pbf_layout.h"
-#include "sim/frame_stats.h"
-#include "sim/pbf_traffic.h"
 #include "grid/neighbor_grid.h"
-#include "core/result.h"
-#include "sim/scene.h"
+#include "shaders/shared/sim/pbf_layout.h"
 #include "sim/boundary.h"
 #include "sim/droplets.h"
+#include "sim/frame_stats.h"
+#include "sim/pbf_traffic.h"
 #include "sim/pressure_solve.h"
 #include "sim/probes.h"
+#include "sim/scene.h"
 #include "sim/solver_stage.h"
 #include "sim/whitewater.h"
 
@@ -57,8 +57,8 @@ Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::D
 
 /// A particle as read back for tests, PLY dumps and the front measurement.
 struct ParticleSnapshot {
-    std::vector<glm::vec4> x;    ///< w: particle id
-    std::vector<glm::vec4> v;    ///< w: tag (source fluid block)
+    std::vector<glm::vec4> x;  ///< w: particle id
+    std::vector<glm::vec4> v;  ///< w: tag (source fluid block)
     std::vector<float> density;
 };
 
@@ -154,7 +154,8 @@ private:
     /// Builds the grid over `key_positions` and reorders x, v, p into its Morton order, then
     /// lists the neighbours of the (reordered) predicted positions p, or of x itself with
     /// `lists_of_x` (the frame grid: the lists the statistics use at x).
-    void record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer, bool lists_of_x = false);
+    void record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer,
+                     bool lists_of_x = false);
     void record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer);
     /// The particle arrays as the pressure solve works on them (its swaps are the solver's).
     FluidArrays fluid_arrays();
@@ -178,9 +179,9 @@ private:
     double time_ = 0.0;
     shader::SimParams params_{};
     uint32_t substeps_ = 1;
-    uint32_t recorded_steps_ = 0;  // steps of the frame last recorded (0: the initial state)
-    double last_max_speed_ = 0.0;  // the largest speed at the end of the last frame [m/s]
-    double last_speed_growth_ = 0.0;  // how much it grew over that frame [m/s]
+    uint32_t recorded_steps_ = 0;          // steps of the frame last recorded (0: the initial state)
+    double last_max_speed_ = 0.0;          // the largest speed at the end of the last frame [m/s]
+    double last_speed_growth_ = 0.0;       // how much it grew over that frame [m/s]
     double last_max_density_error_ = 0.0;  // its largest density error (substeps_for_compression)
     bool frame_grid_ = false;
     gpu::BufferSet buffers_;
@@ -198,7 +199,7 @@ private:
     gpu::Buffer* pressure_;  ///< the particles' pressures (with probes; else a stand-in the passes never touch)
     static inline const ProbeFrame no_probe_frame_{};
     uint32_t step_in_frame_ = 0;  ///< the step being recorded within its frame (the probes' slot)
-    gpu::Buffer* partials_;  ///< host-visible: the host reduces them after the frame's fence
+    gpu::Buffer* partials_;       ///< host-visible: the host reduces them after the frame's fence
     std::unique_ptr<NeighborGrid> grid_;
     std::unique_ptr<PressureSolve> pressure_solve_;
     gpu::ComputePass reorder_, stats_;

@@ -6,8 +6,8 @@
 #include "gpu/barriers.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
-#include "grid/neighbor_grid.h"
 #include "gpu/timer.h"
+#include "grid/neighbor_grid.h"
 #include "sim/boundary.h"
 #include "sim/scene.h"
 
@@ -33,7 +33,10 @@ double gauge_height(const std::vector<float>& samples, float lowest_y, float spa
 
 ProbeRecorder::ProbeRecorder(gpu::Context& ctx, const Scene& scene, const std::vector<std::string>& solid_names,
                              uint32_t max_steps)
-    : ctx_(&ctx), spec_(scene.probes.value_or(ProbeSpec{})), solid_names_(solid_names), max_steps_(std::max(max_steps, 1u)),
+    : ctx_(&ctx),
+      spec_(scene.probes.value_or(ProbeSpec{})),
+      solid_names_(solid_names),
+      max_steps_(std::max(max_steps, 1u)),
       buffers_(ctx) {
     if (!spec_.forces) solid_names_.clear();
     floor_y_ = scene.domain.min.y;
@@ -41,21 +44,25 @@ ProbeRecorder::ProbeRecorder(gpu::Context& ctx, const Scene& scene, const std::v
     // PROBE_MAX_GAUGE_SAMPLES: a tall tank is sampled more coarsely).
     const float height = scene.domain.max.y - scene.domain.min.y;
     const float spacing = std::max(0.5f * scene.particle_spacing, height / float(PROBE_MAX_GAUGE_SAMPLES - 1));
-    samples_per_gauge_ = spec_.gauges.empty() ? 0u : std::min<uint32_t>(PROBE_MAX_GAUGE_SAMPLES, uint32_t(height / spacing) + 1);
-    for (size_t s = 0; s < spec_.sensors.size(); ++s) params_.sensors[s] = glm::vec4(spec_.sensors[s].position, 0.5f * spec_.sensors[s].size);
+    samples_per_gauge_ =
+        spec_.gauges.empty() ? 0u : std::min<uint32_t>(PROBE_MAX_GAUGE_SAMPLES, uint32_t(height / spacing) + 1);
+    for (size_t s = 0; s < spec_.sensors.size(); ++s)
+        params_.sensors[s] = glm::vec4(spec_.sensors[s].position, 0.5f * spec_.sensors[s].size);
     for (size_t g = 0; g < spec_.gauges.size(); ++g)
-        params_.gauges[g] = glm::vec4(spec_.gauges[g].x, floor_y_ + 0.25f * scene.particle_spacing, spec_.gauges[g].z, spacing);
+        params_.gauges[g] =
+            glm::vec4(spec_.gauges[g].x, floor_y_ + 0.25f * scene.particle_spacing, spec_.gauges[g].z, spacing);
     params_.counts = glm::uvec4(uint32_t(spec_.sensors.size()), uint32_t(spec_.gauges.size()), samples_per_gauge_,
                                 uint32_t(solid_names_.size()));
     probe_params_ = &buffers_.add("sim.probes.params", sizeof(shader::ProbeParams));
     gpu::upload(ctx, *probe_params_, &params_, sizeof params_);
     const uint64_t per_step = spec_.sensors.size() + uint64_t(spec_.gauges.size()) * samples_per_gauge_;
-    readings_ = &buffers_.add("sim.probes.readings", std::max<uint64_t>(per_step * max_steps_, 1) * sizeof(float), gpu::MemoryUse::host);
-    const uint64_t count = scene.particle_count();
-    partials_ = &buffers_.add("sim.probes.loads",
-                              std::max<uint64_t>(uint64_t(force_groups(uint32_t(count))) * solid_names_.size() * 2, 1) *
-                                  sizeof(glm::vec4),
+    readings_ = &buffers_.add("sim.probes.readings", std::max<uint64_t>(per_step * max_steps_, 1) * sizeof(float),
                               gpu::MemoryUse::host);
+    const uint64_t count = scene.particle_count();
+    partials_ = &buffers_.add(
+        "sim.probes.loads",
+        std::max<uint64_t>(uint64_t(force_groups(uint32_t(count))) * solid_names_.size() * 2, 1) * sizeof(glm::vec4),
+        gpu::MemoryUse::host);
     if (per_step) sample_ = gpu::ComputePass(ctx, {"sim/probe_sample.comp", 8, sizeof(shader::ProbePush)});
     if (!solid_names_.empty())
         forces_ = gpu::ComputePass(ctx, {"sim/probe_forces.comp", 6, sizeof(shader::ProbePush), PROBE_FORCE_WORKGROUP});
@@ -71,15 +78,20 @@ void ProbeRecorder::record_step(VkCommandBuffer cmd, uint32_t slot, double time_
     if (readings == 0) return;
     const shader::ProbePush push{slot, count, 0u, 0u};
     gpu::dispatch(*ctx_, cmd, sample_, readings, push,
-                  {{"params", &params}, {"probes", probe_params_}, {"x", &x}, {"pressure", &pressure},
-                   {"cell_rank", &grid.cell_rank()}, {"cell_start", &grid.cell_start()},
-                   {"boundary_nodes", &boundary_nodes}, {"readings", readings_}});
+                  {{"params", &params},
+                   {"probes", probe_params_},
+                   {"x", &x},
+                   {"pressure", &pressure},
+                   {"cell_rank", &grid.cell_rank()},
+                   {"cell_start", &grid.cell_start()},
+                   {"boundary_nodes", &boundary_nodes},
+                   {"readings", readings_}});
 }
 
 void ProbeRecorder::record_step(VkCommandBuffer cmd, const StepState& fluid) {
     gpu::GpuScope s(fluid.timer, cmd, "sim_probes");
-    record_step(cmd, fluid.step_in_frame, fluid.time, fluid.params, fluid.x, fluid.pressure, fluid.grid, fluid.boundary_nodes,
-                fluid.count);
+    record_step(cmd, fluid.step_in_frame, fluid.time, fluid.params, fluid.x, fluid.pressure, fluid.grid,
+                fluid.boundary_nodes, fluid.count);
 }
 
 void ProbeRecorder::record_frame_end(VkCommandBuffer cmd, const StepState& fluid) {
@@ -96,8 +108,12 @@ void ProbeRecorder::record_loads(VkCommandBuffer cmd, const gpu::Buffer& params,
     gpu::record_upload(*ctx_, cmd, *probe_params_, &params_, sizeof params_);
     const shader::ProbePush push{0u, count, 0u, 0u};
     gpu::dispatch(*ctx_, cmd, forces_, force_groups(count) * PROBE_FORCE_WORKGROUP, push,
-                  {{"params", &params}, {"probes", probe_params_}, {"x", &x}, {"pressure", &pressure},
-                   {"boundary_nodes", &boundary_nodes}, {"partials", partials_}});
+                  {{"params", &params},
+                   {"probes", probe_params_},
+                   {"x", &x},
+                   {"pressure", &pressure},
+                   {"boundary_nodes", &boundary_nodes},
+                   {"partials", partials_}});
     loads_recorded_ = true;
 }
 
@@ -112,7 +128,8 @@ ProbeFrame ProbeRecorder::collect() {
         const float* at = r + slot * per_step;
         for (size_t s = 0; s < sensors; ++s) step.pressures.push_back(at[s]);
         for (size_t g = 0; g < gauges; ++g) {
-            const std::vector<float> samples(at + sensors + g * samples_per_gauge_, at + sensors + (g + 1) * samples_per_gauge_);
+            const std::vector<float> samples(at + sensors + g * samples_per_gauge_,
+                                             at + sensors + (g + 1) * samples_per_gauge_);
             step.heights.push_back(gauge_height(samples, params_.gauges[g].y, params_.gauges[g].w, floor_y_));
         }
         frame.steps.push_back(std::move(step));

@@ -14,8 +14,8 @@
 #include "gpu/compute_pass.h"
 #include "shaders/shared/sim/probe_layout.h"
 #include "sim/probe_spec.h"
-#include "sim/solver_stage.h"
 #include "sim/scene.h"
+#include "sim/solver_stage.h"
 
 namespace aquaform {
 
@@ -50,7 +50,8 @@ double gauge_height(const std::vector<float>& samples, float lowest_y, float spa
 class ProbeRecorder : public SolverStage {
 public:
     /// `max_steps`: the most steps a frame can take (the solver's max_substeps).
-    ProbeRecorder(gpu::Context& ctx, const Scene& scene, const std::vector<std::string>& solid_names, uint32_t max_steps);
+    ProbeRecorder(gpu::Context& ctx, const Scene& scene, const std::vector<std::string>& solid_names,
+                  uint32_t max_steps);
 
     /// After step `slot` of the frame (time `time_s` at its end): the readings into that slot.
     void record_step(VkCommandBuffer cmd, uint32_t slot, double time_s, const gpu::Buffer& params, const gpu::Buffer& x,

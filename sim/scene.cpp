@@ -16,22 +16,22 @@
 #include <string_view>
 
 #include "core/json_fields.h"
-#include "sim/obstacles.h"
 #include "shaders/shared/sim/pbf_layout.h"
+#include "sim/obstacles.h"
 
 namespace aquaform {
 namespace {
 
 using namespace json_fields;
 
-constexpr std::string_view kTopKeys[] = {"name",         "domain", "particle_spacing", "rest_density",
-                                         "gravity",      "fluid_blocks", "static_boxes", "frames",
-                                         "column_width", "solver", "control", "camera",
-                                         "event_frame",  "obstacles",    "probes",   "whitewater"};
-constexpr std::string_view kSolverKeys[] = {"frame_dt",  "substeps", "iterations", "kernel_radius_factor",
-                                            "relaxation", "viscosity", "vorticity", "scorr_k",
-                                            "scorr_n",   "scorr_dq", "cfl", "max_substeps", "max_speed",
-                                            "density_constraint"};
+constexpr std::string_view kTopKeys[] = {"name",         "domain",       "particle_spacing", "rest_density",
+                                         "gravity",      "fluid_blocks", "static_boxes",     "frames",
+                                         "column_width", "solver",       "control",          "camera",
+                                         "event_frame",  "obstacles",    "probes",           "whitewater"};
+constexpr std::string_view kSolverKeys[] = {"frame_dt",   "substeps",          "iterations", "kernel_radius_factor",
+                                            "relaxation", "viscosity",         "vorticity",  "scorr_k",
+                                            "scorr_n",    "scorr_dq",          "cfl",        "max_substeps",
+                                            "max_speed",  "density_constraint"};
 
 constexpr const char* kAxis[] = {"x", "y", "z"};
 
@@ -94,8 +94,10 @@ bool for_each_row(const Box& b, const BlockFill& fill, float spacing, uint64_t c
             if (rem < 0.0) continue;
             // x_i = min.x + s (i + 0.5) within c.x -+ w.
             const double w = std::sqrt(rem);
-            const double lo = std::ceil((c.x - w - b.min.x) / s - 0.5), hi = std::floor((c.x + w - b.min.x) / s - 0.5) + 1.0;
-            const uint64_t i0 = uint64_t(std::clamp(lo, 0.0, double(n[0]))), i1 = uint64_t(std::clamp(hi, 0.0, double(n[0])));
+            const double lo = std::ceil((c.x - w - b.min.x) / s - 0.5),
+                         hi = std::floor((c.x + w - b.min.x) / s - 0.5) + 1.0;
+            const uint64_t i0 = uint64_t(std::clamp(lo, 0.0, double(n[0]))),
+                           i1 = uint64_t(std::clamp(hi, 0.0, double(n[0])));
             if (i1 > i0) fn(j, k, i0, i1);
         }
     return true;
@@ -120,7 +122,8 @@ void for_each_lattice_point(const Scene& scene, Fn fn) {
         for_each_row(b, scene.fill_of(bi), scene.particle_spacing, std::numeric_limits<uint64_t>::max(),
                      [&](uint64_t j, uint64_t k, uint64_t i0, uint64_t i1) {
                          for (uint64_t i = i0; i < i1; ++i)
-                             fn(glm::vec3(static_cast<float>(b.min.x + s * (i + 0.5)), static_cast<float>(b.min.y + s * (j + 0.5)),
+                             fn(glm::vec3(static_cast<float>(b.min.x + s * (i + 0.5)),
+                                          static_cast<float>(b.min.y + s * (j + 0.5)),
                                           static_cast<float>(b.min.z + s * (k + 0.5))),
                                 bi);
                      });
@@ -142,43 +145,58 @@ void read_solver(const json& s, SolverSettings& out) {
         Range range;
     };
     const FloatKey floats[] = {
-        {"frame_dt", &SolverSettings::frame_dt,
+        {"frame_dt",
+         &SolverSettings::frame_dt,
          {kMinFrameDt, kMaxFrameDt, false, false,
           "a number of seconds from " + fmt(kMinFrameDt) + " to " + fmt(kMaxFrameDt) + ", e.g. 0.0166667 (1/60 s)"}},
-        {"kernel_radius_factor", &SolverSettings::kernel_radius_factor,
+        {"kernel_radius_factor",
+         &SolverSettings::kernel_radius_factor,
          {kMinKernelRadiusFactor, kMaxKernelRadiusFactor, false, false,
           "a number from " + fmt(kMinKernelRadiusFactor) + " to " + fmt(kMaxKernelRadiusFactor) +
               " (h = factor * particle_spacing; 2.0 is usual)"}},
-        {"relaxation", &SolverSettings::relaxation, {0.0, HUGE_VAL, true, false, "a positive number, e.g. 0.01 (relative to the stiffness of a full neighbourhood)"}},
-        {"viscosity", &SolverSettings::viscosity,
+        {"relaxation",
+         &SolverSettings::relaxation,
+         {0.0, HUGE_VAL, true, false,
+          "a positive number, e.g. 0.01 (relative to the stiffness of a full neighbourhood)"}},
+        {"viscosity",
+         &SolverSettings::viscosity,
          {0.0, kMaxViscosity, false, false, "a number from 0 to " + fmt(kMaxViscosity) + ", e.g. 0.01"}},
-        {"vorticity", &SolverSettings::vorticity,
+        {"vorticity",
+         &SolverSettings::vorticity,
          {0.0, HUGE_VAL, false, false, "a number >= 0, e.g. 0.0001 (0 turns it off)"}},
-        {"scorr_k", &SolverSettings::scorr_k, {0.0, HUGE_VAL, false, false, "a number >= 0, e.g. 0.1 (0 turns it off)"}},
-        {"scorr_dq", &SolverSettings::scorr_dq,
+        {"scorr_k",
+         &SolverSettings::scorr_k,
+         {0.0, HUGE_VAL, false, false, "a number >= 0, e.g. 0.1 (0 turns it off)"}},
+        {"scorr_dq",
+         &SolverSettings::scorr_dq,
          {0.0, 1.0, true, true, "a number strictly between 0 and 1 (a fraction of h), e.g. 0.2"}},
-        {"cfl", &SolverSettings::cfl,
+        {"cfl",
+         &SolverSettings::cfl,
          {0.0, kMaxCfl, true, false, "a number greater than 0 and at most " + fmt(kMaxCfl) + ", e.g. 0.4"}},
-        {"max_speed", &SolverSettings::max_speed,
+        {"max_speed",
+         &SolverSettings::max_speed,
          {0.0, kMaxSpeedCap, false, false,
           "a speed in m/s from 0 (no cap, the default) to " + fmt(kMaxSpeedCap) + ", e.g. 50"}},
     };
     for (const auto& f : floats)
         if (s.contains(f.key)) out.*f.member = read_number(s[f.key], child("solver", f.key), f.range);
     if (s.contains("substeps")) out.substeps = read_integer(s["substeps"], "solver.substeps", 1, kMaxSubsteps);
-    if (s.contains("max_substeps")) out.max_substeps = read_integer(s["max_substeps"], "solver.max_substeps", 1, kMaxMaxSubsteps);
+    if (s.contains("max_substeps"))
+        out.max_substeps = read_integer(s["max_substeps"], "solver.max_substeps", 1, kMaxMaxSubsteps);
     if (!s.contains("max_substeps")) out.max_substeps = std::max(out.max_substeps, out.substeps);
     if (out.max_substeps < out.substeps)
         fail("solver.max_substeps is " + std::to_string(out.max_substeps) + ", below solver.substeps (" +
              std::to_string(out.substeps) + ", the least steps per frame); raise max_substeps or lower substeps");
-    if (s.contains("iterations")) out.iterations = read_integer(s["iterations"], "solver.iterations", 1, kMaxIterations);
+    if (s.contains("iterations"))
+        out.iterations = read_integer(s["iterations"], "solver.iterations", 1, kMaxIterations);
     // An integer power: the GPU raises to it by squarings, without pow (sim/pbf_physics.h).
     if (s.contains("scorr_n")) out.scorr_n = float(read_integer(s["scorr_n"], "solver.scorr_n", 1, kMaxScorrN));
     if (s.contains("density_constraint")) {
         const json& c = s["density_constraint"];
         const bool known = c.is_string() && (c == "clamped" || c == "two_sided");
         if (!known)
-            fail("solver.density_constraint is " + written(c) + "; use \"clamped\" (only compression is corrected, "
+            fail("solver.density_constraint is " + written(c) +
+                 "; use \"clamped\" (only compression is corrected, "
                  "the default) or \"two_sided\" (under-dense particles are pulled together too)");
         out.density_constraint = c == "two_sided" ? DensityConstraint::two_sided : DensityConstraint::clamped;
     }
@@ -186,8 +204,8 @@ void read_solver(const json& s, SolverSettings& out) {
 
 std::vector<Box> read_boxes(const json& v, const std::string& key, const Box& domain) {
     if (!v.is_array())
-        fail(key + " must be an array of boxes such as [" + kBlockExample + "], got " + written(v) + " (" +
-             kind_of(v) + ")");
+        fail(key + " must be an array of boxes such as [" + kBlockExample + "], got " + written(v) + " (" + kind_of(v) +
+             ")");
     std::vector<Box> boxes;
     for (size_t i = 0; i < v.size(); ++i) {
         std::string path = key + "[" + std::to_string(i) + "]";
@@ -204,11 +222,14 @@ constexpr std::string_view kSphereBlockKeys[] = {"shape", "center", "radius", "v
 /// optional start "velocity".
 std::pair<Box, BlockFill> read_fluid_block(const json& v, const std::string& path, const Box& domain) {
     if (!v.is_object())
-        fail(path + " must be an object such as " + std::string(kBlockExample) + " or {\"shape\": \"sphere\", "
-             "\"center\": [x, y, z], \"radius\": r}, got " + written(v) + " (" + kind_of(v) + ")");
+        fail(path + " must be an object such as " + std::string(kBlockExample) +
+             " or {\"shape\": \"sphere\", "
+             "\"center\": [x, y, z], \"radius\": r}, got " +
+             written(v) + " (" + kind_of(v) + ")");
     const json* shape = v.contains("shape") ? &v["shape"] : nullptr;
     if (shape && !(shape->is_string() && (*shape == "box" || *shape == "sphere")))
-        fail(path + ".shape is " + written(*shape) + "; use \"box\" (with min and max) or \"sphere\" (with center and radius)");
+        fail(path + ".shape is " + written(*shape) +
+             "; use \"box\" (with min and max) or \"sphere\" (with center and radius)");
     Box box;
     BlockFill fill;
     if (shape && *shape == "sphere") {
@@ -216,7 +237,8 @@ std::pair<Box, BlockFill> read_fluid_block(const json& v, const std::string& pat
         require(v, "center", "in " + path, "\"center\": [0.5, 0.6, 0.5]");
         require(v, "radius", "in " + path, "\"radius\": 0.1");
         const glm::vec3 c = read_vec3(v["center"], path + ".center", "an array of three numbers [x, y, z] in metres");
-        const float r = read_number(v["radius"], path + ".radius", {0.0, HUGE_VAL, true, false, "a positive number of metres"});
+        const float r =
+            read_number(v["radius"], path + ".radius", {0.0, HUGE_VAL, true, false, "a positive number of metres"});
         box = {c - glm::vec3(r), c + glm::vec3(r)};
         fill.sphere_radius = r;
         for (int a = 0; a < 3; ++a)
@@ -259,14 +281,15 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
     scene.name = name.get<std::string>();
 
     scene.domain = read_box(j["domain"], "domain", "\"max\": [1.6, 0.8, 0.2]");
-    scene.particle_spacing =
-        read_number(j["particle_spacing"], "particle_spacing", {0.0, HUGE_VAL, true, false,
-                                                                "a positive number of metres, e.g. 0.02"});
+    scene.particle_spacing = read_number(j["particle_spacing"], "particle_spacing",
+                                         {0.0, HUGE_VAL, true, false, "a positive number of metres, e.g. 0.02"});
     if (j.contains("rest_density"))
-        scene.rest_density = read_number(j["rest_density"], "rest_density",
-                                         {0.0, HUGE_VAL, true, false, "a positive number in kg/m^3, e.g. 1000 for water"});
+        scene.rest_density =
+            read_number(j["rest_density"], "rest_density",
+                        {0.0, HUGE_VAL, true, false, "a positive number in kg/m^3, e.g. 1000 for water"});
     if (j.contains("gravity")) {
-        scene.gravity = read_vec3(j["gravity"], "gravity", "an array of three numbers [x, y, z] in m/s^2, e.g. [0, -9.81, 0]");
+        scene.gravity =
+            read_vec3(j["gravity"], "gravity", "an array of three numbers [x, y, z] in m/s^2, e.g. [0, -9.81, 0]");
         // Beyond this the substep rule (substeps_for_speed) reaches its maximum and the speed cap
         // binds in every frame, so a run would show the cap, not the gravity.
         if (!(glm::length(scene.gravity) <= kMaxGravity))
@@ -312,33 +335,37 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
             if (lattice_points(b.max[a] - b.min[a], scene.particle_spacing) == 0 ||
                 fill_count(b, scene.fill_of(i), scene.particle_spacing) == 0)
                 fail(path + " " + fmt(b) + " is thinner on " + kAxis[a] + " than particle_spacing " +
-                     written(j["particle_spacing"]) + ", so it holds no particles; widen the block or reduce "
+                     written(j["particle_spacing"]) +
+                     ", so it holds no particles; widen the block or reduce "
                      "particle_spacing");
         for (size_t s = 0; s < scene.static_boxes.size(); ++s)
             if (overlaps(b, scene.static_boxes[s]))
                 fail(path + " " + fmt(b) + " overlaps static_boxes[" + std::to_string(s) + "] " +
-                     fmt(scene.static_boxes[s]) + "; fluid cannot start inside a solid: shrink or move the block "
+                     fmt(scene.static_boxes[s]) +
+                     "; fluid cannot start inside a solid: shrink or move the block "
                      "(boxes may touch)");
         for (size_t k = 0; k < i; ++k)
             if (overlaps(b, scene.fluid_blocks[k]))
                 fail(path + " " + fmt(b) + " overlaps fluid_blocks[" + std::to_string(k) + "] " +
-                     fmt(scene.fluid_blocks[k]) + ", which would place particles on top of each other; make the "
+                     fmt(scene.fluid_blocks[k]) +
+                     ", which would place particles on top of each other; make the "
                      "blocks disjoint (they may touch)");
     }
 
     if (j.contains("obstacles"))
-        scene.obstacles = read_obstacles(j["obstacles"], scene, base_dir,
-                                         PBF_MAX_SOLIDS - scene.static_boxes.size());
+        scene.obstacles = read_obstacles(j["obstacles"], scene, base_dir, PBF_MAX_SOLIDS - scene.static_boxes.size());
     if (j.contains("probes")) scene.probes = read_probes(j["probes"], scene);
     if (j.contains("whitewater")) scene.whitewater = read_whitewater(j["whitewater"]);
 
     if (j.contains("column_width")) {
         const json& cw = j["column_width"];
-        float a = read_number(cw, "column_width", {0.0, HUGE_VAL, true, false,
-                                                   "a positive number of metres (the x-extent of fluid_blocks[0])"});
+        float a =
+            read_number(cw, "column_width",
+                        {0.0, HUGE_VAL, true, false, "a positive number of metres (the x-extent of fluid_blocks[0])"});
         const Box& b = scene.fluid_blocks[0];
         if (scene.fill_of(0).sphere_radius)
-            fail("column_width is " + written(cw) + " but fluid_blocks[0] is a sphere; a dam break's column is a box "
+            fail("column_width is " + written(cw) +
+                 " but fluid_blocks[0] is a sphere; a dam break's column is a box "
                  "against the wall at domain.min.x: make it fluid_blocks[0] or remove column_width");
         float extent = b.max.x - b.min.x;
         if (std::fabs(a - extent) > 1e-4f * std::max(a, extent))
@@ -355,12 +382,10 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
     uint64_t count = scene.particle_count();
     if (count > kMaxSceneParticles)
         fail("the fluid blocks hold " + (count < 1000000000000ull ? std::to_string(count) : fmt(double(count))) +
-             " particles at particle_spacing " +
-             written(j["particle_spacing"]) + ", more than the limit of " + std::to_string(kMaxSceneParticles) +
-             "; increase particle_spacing or shrink fluid_blocks");
+             " particles at particle_spacing " + written(j["particle_spacing"]) + ", more than the limit of " +
+             std::to_string(kMaxSceneParticles) + "; increase particle_spacing or shrink fluid_blocks");
     return scene;
 }
-
 
 }  // namespace
 
@@ -376,7 +401,8 @@ uint64_t Scene::particle_count() const {
 
 uint64_t Scene::particles_in_solids() const {
     uint64_t inside = 0;
-    for_each_lattice_point(*this, [&](const glm::vec3& p, size_t) { inside += inside_start_solid(obstacles, p) ? 1 : 0; });
+    for_each_lattice_point(*this,
+                           [&](const glm::vec3& p, size_t) { inside += inside_start_solid(obstacles, p) ? 1 : 0; });
     return inside;
 }
 
@@ -443,7 +469,8 @@ Result<Scene> with_particle_count(const Scene& scene, uint64_t particles, const 
         return Error{flag + " " + std::to_string(particles) + " cannot be met by " + scene.name +
                      ": its thinnest fluid block holds no particle at that size; ask for more particles"};
     // A finer spacing is a shorter step's reach: speeds the scene's own spacing carried may not be.
-    if (const std::string fast = speed_beyond_step_rule(out, "at " + flag + " " + std::to_string(particles)); !fast.empty())
+    if (const std::string fast = speed_beyond_step_rule(out, "at " + flag + " " + std::to_string(particles));
+        !fast.empty())
         return Error{fast};
     return out;
 }
@@ -453,12 +480,15 @@ std::string speed_beyond_step_rule(const Scene& scene, const std::string& at) {
     const double per_step = double(scene.solver.cfl) * scene.solver.kernel_radius_factor * scene.particle_spacing;
     const auto refuse = [&](const std::string& what, double speed, const std::string& slower) {
         const uint32_t steps = uint32_t(std::ceil(scene.solver.max_substeps * speed / limit));
-        return what + " " + fmt(speed) + " m/s" + (at.empty() ? "" : " " + at) + ", faster than the time-step rule "
-               "can carry: a step moves at most solver.cfl * h = " + fmt(per_step) + " m and a frame has at most "
-               "solver.max_substeps = " + std::to_string(scene.solver.max_substeps) + " steps, so at most " + fmt(limit) +
-               " m/s; " + slower + (steps <= kMaxMaxSubsteps ? " or raise solver.max_substeps to " + std::to_string(steps)
-                                                            : " (solver.max_substeps goes up to " +
-                                                                  std::to_string(kMaxMaxSubsteps) + ")");
+        return what + " " + fmt(speed) + " m/s" + (at.empty() ? "" : " " + at) +
+               ", faster than the time-step rule "
+               "can carry: a step moves at most solver.cfl * h = " +
+               fmt(per_step) +
+               " m and a frame has at most "
+               "solver.max_substeps = " +
+               std::to_string(scene.solver.max_substeps) + " steps, so at most " + fmt(limit) + " m/s; " + slower +
+               (steps <= kMaxMaxSubsteps ? " or raise solver.max_substeps to " + std::to_string(steps)
+                                         : " (solver.max_substeps goes up to " + std::to_string(kMaxMaxSubsteps) + ")");
     };
     for (size_t i = 0; i < scene.fluid_blocks.size(); ++i) {
         // The first frame's steps follow the start speed and a frame of gravity (pbf_params.cpp).
@@ -509,7 +539,8 @@ ViewCamera scene_camera(const Scene& scene, float aspect) {
     return scene.camera ? *scene.camera : camera_for_domain(framed_region(scene), aspect);
 }
 
-Result<Scene> parse_scene(const std::string& json_text, const std::string& origin, const std::filesystem::path& base_dir) {
+Result<Scene> parse_scene(const std::string& json_text, const std::string& origin,
+                          const std::filesystem::path& base_dir) {
     try {
         return read_scene(parse_strict(json_text, origin), base_dir);
     } catch (const Invalid& e) {
@@ -545,11 +576,13 @@ std::vector<std::string> obstacle_notes(const Scene& scene) {
             one.obstacles = {o};
             mine = one.particles_in_solids();
             if (mine > 0)
-                notes.push_back("obstacles." + o.name + ": " + std::to_string(mine) +
-                                " particles of the fluid blocks would start inside it and are not started (the scene's " +
-                                std::to_string(scene.particle_count()) + " particles are those left)");
+                notes.push_back(
+                    "obstacles." + o.name + ": " + std::to_string(mine) +
+                    " particles of the fluid blocks would start inside it and are not started (the scene's " +
+                    std::to_string(scene.particle_count()) + " particles are those left)");
         }
-        if (!o.mesh_notes.empty()) notes.push_back("obstacles." + o.name + " (" + o.file.string() + "): " + o.mesh_notes);
+        if (!o.mesh_notes.empty())
+            notes.push_back("obstacles." + o.name + " (" + o.file.string() + "): " + o.mesh_notes);
     }
     return notes;
 }

@@ -34,16 +34,16 @@ inline constexpr float kMaxGravity = 1000.0f;
 /// relaxed to rest density (PbfSolver), so a small step is never worse than a large one.
 inline constexpr double kMinFrameDt = 1.0e-5;
 inline constexpr double kMaxFrameDt = 0.1;
-inline constexpr uint32_t kMaxSubsteps = 64;       ///< solver.substeps, from 1
-inline constexpr uint32_t kMaxMaxSubsteps = 256;   ///< solver.max_substeps, from 1
-inline constexpr uint32_t kMaxIterations = 100;    ///< solver.iterations, from 1
+inline constexpr uint32_t kMaxSubsteps = 64;      ///< solver.substeps, from 1
+inline constexpr uint32_t kMaxMaxSubsteps = 256;  ///< solver.max_substeps, from 1
+inline constexpr uint32_t kMaxIterations = 100;   ///< solver.iterations, from 1
 inline constexpr double kMinKernelRadiusFactor = 1.0;
 inline constexpr double kMaxKernelRadiusFactor = 4.0;
-inline constexpr double kMaxViscosity = 1.0;       ///< solver.viscosity, from 0
-inline constexpr double kMaxCfl = 1.0;             ///< solver.cfl, above 0
-inline constexpr double kMaxSpeedCap = 1.0e4;      ///< solver.max_speed [m/s], from 0 (off)
-inline constexpr uint32_t kMaxScorrN = 15;         ///< solver.scorr_n, from 1
-inline constexpr uint32_t kMaxFrames = 1000000;    ///< frames and event_frame
+inline constexpr double kMaxViscosity = 1.0;     ///< solver.viscosity, from 0
+inline constexpr double kMaxCfl = 1.0;           ///< solver.cfl, above 0
+inline constexpr double kMaxSpeedCap = 1.0e4;    ///< solver.max_speed [m/s], from 0 (off)
+inline constexpr uint32_t kMaxScorrN = 15;       ///< solver.scorr_n, from 1
+inline constexpr uint32_t kMaxFrames = 1000000;  ///< frames and event_frame
 /// A fluid block's start speed [m/s]. The blow-up bound (sim/blowup.h) counts the fastest start
 /// speed in, so every accepted start runs.
 inline constexpr float kMaxStartSpeed = 100.0f;
@@ -58,9 +58,9 @@ struct BlockFill {
 /// A scene: its basics (the tank, the spacing, the solver, the solids: sim/scene_basics.h) and
 /// the rest of its file.
 struct Scene : SceneBasics {
-    std::filesystem::path path;         ///< file it was loaded from (empty when built in code)
+    std::filesystem::path path;  ///< file it was loaded from (empty when built in code)
     std::string name;
-    float rest_density = 1000.0f;        ///< rho0 [kg/m^3]
+    float rest_density = 1000.0f;  ///< rho0 [kg/m^3]
     glm::vec3 gravity{0.0f, -9.81f, 0.0f};
     std::vector<Box> fluid_blocks;       ///< filled with particles on a lattice at t = 0
     std::vector<BlockFill> block_fills;  ///< per fluid block; a block without one is a box at rest
@@ -69,7 +69,7 @@ struct Scene : SceneBasics {
     /// Spray, foam and bubbles made from the flow (its "whitewater" key; sim/whitewater.h).
     std::optional<WhitewaterSettings> whitewater;
     bool has_whitewater() const { return whitewater && whitewater->enabled; }
-    uint32_t frames = 60;                ///< default number of frames for `aquaform run`
+    uint32_t frames = 60;  ///< default number of frames for `aquaform run`
     /// Dam-break scenes: width a of the column against the wall at domain.min.x. When set,
     /// `aquaform run` writes front.csv (leading edge of the first fluid block on the floor).
     std::optional<float> column_width;
@@ -86,7 +86,9 @@ struct Scene : SceneBasics {
     BlockFill fill_of(size_t block) const { return block < block_fills.size() ? block_fills[block] : BlockFill{}; }
 
     /// The part of the scene a renderer needs: the domain and the particles' size.
-    ParticleDomain particle_domain() const { return {domain, particle_spacing, solver.kernel_radius_factor, static_boxes}; }
+    ParticleDomain particle_domain() const {
+        return {domain, particle_spacing, solver.kernel_radius_factor, static_boxes};
+    }
     /// Number of particles the fluid blocks produce (computed without generating them, in
     /// 64 bits so that absurd spacings are caught before any allocation), less those that would
     /// start inside an obstacle.
@@ -131,6 +133,7 @@ std::vector<std::string> obstacle_notes(const Scene& scene);
 Result<Scene> load_scene(const std::filesystem::path& path);
 /// Validates a scene given as JSON text; `origin` names it in messages; files it names (obstacle
 /// meshes) are relative to `base_dir`.
-Result<Scene> parse_scene(const std::string& json_text, const std::string& origin, const std::filesystem::path& base_dir = {});
+Result<Scene> parse_scene(const std::string& json_text, const std::string& origin,
+                          const std::filesystem::path& base_dir = {});
 
 }  // namespace aquaform

@@ -29,7 +29,7 @@ struct StepState {
     const gpu::Buffer& x;
     gpu::Buffer& v;
     const gpu::Buffer& pressure;  ///< the particles' pressures (PbfSolver::pressures; a stand-in without probes)
-    const NeighborGrid& grid;     ///< with neighbour lists of the step's predicted positions (of x at a frame's measure)
+    const NeighborGrid& grid;  ///< with neighbour lists of the step's predicted positions (of x at a frame's measure)
     const gpu::Buffer& boundary_nodes;
     const Boundary& boundary;
     uint32_t count = 0;

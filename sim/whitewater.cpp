@@ -6,8 +6,8 @@
 
 #include "gpu/context.h"
 #include "gpu/staging.h"
-#include "grid/neighbor_grid.h"
 #include "gpu/timer.h"
+#include "grid/neighbor_grid.h"
 #include "sim/boundary.h"
 #include "sim/scene.h"
 
@@ -38,7 +38,8 @@ Whitewater::Whitewater(gpu::Context& ctx, const Scene& scene, uint32_t fluid_par
     const uint32_t local = gpu::kDefaultLocalSize;
     args_ = gpu::ComputePass(ctx, {"sim/whitewater_args.comp", 3, sizeof(shader::WhitewaterPush), 1, {local}});
     normals_pass_ = gpu::ComputePass(ctx, {"sim/whitewater_normals.comp", 8, sizeof(shader::CountPush)});
-    emit_ = gpu::ComputePass(ctx, {"sim/whitewater_emit.comp", 15, sizeof(shader::WhitewaterPush), local, solid_constants({}, solids)});
+    emit_ = gpu::ComputePass(
+        ctx, {"sim/whitewater_emit.comp", 15, sizeof(shader::WhitewaterPush), local, solid_constants({}, solids)});
     advect_ = gpu::ComputePass(ctx, {"sim/whitewater_advect.comp", 12, 0, local, solid_constants({}, solids)});
 }
 
@@ -51,28 +52,55 @@ void Whitewater::record_step(VkCommandBuffer cmd, const StepState& fluid) {
     record_step(cmd, fluid.params, fluid.x, fluid.v, fluid.grid, fluid.boundary_nodes, fluid.count);
 }
 
-void Whitewater::record_step(VkCommandBuffer cmd, const gpu::Buffer& sim_params, const gpu::Buffer& x, const gpu::Buffer& v,
-                             const NeighborGrid& grid, const gpu::Buffer& boundary_nodes, uint32_t count) {
+void Whitewater::record_step(VkCommandBuffer cmd, const gpu::Buffer& sim_params, const gpu::Buffer& x,
+                             const gpu::Buffer& v, const NeighborGrid& grid, const gpu::Buffer& boundary_nodes,
+                             uint32_t count) {
     params_.kinds.w = ++steps_ * 2654435761u;  // each step draws afresh
     gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
     const int next = 1 - current_;
     const shader::WhitewaterPush generation{uint32_t(next), 0u, 0u, 0u};
-    gpu::dispatch(*ctx_, cmd, args_, 1, generation, {{"ww", params_buf_}, {"counters", counters_}, {"groups", groups_}});
+    gpu::dispatch(*ctx_, cmd, args_, 1, generation,
+                  {{"ww", params_buf_}, {"counters", counters_}, {"groups", groups_}});
     gpu::dispatch_indirect(*ctx_, cmd, advect_, *groups_,
-                           {{"params", &sim_params}, {"ww", params_buf_}, {"x", &x}, {"v", &v}, {"cell_rank", &grid.cell_rank()},
-                            {"cell_start", &grid.cell_start()}, {"boundary_nodes", &boundary_nodes}, {"live_x", pool_x_[current_]},
-                            {"live_v", pool_v_[current_]}, {"next_x", pool_x_[next]}, {"next_v", pool_v_[next]}, {"counters", counters_}});
+                           {{"params", &sim_params},
+                            {"ww", params_buf_},
+                            {"x", &x},
+                            {"v", &v},
+                            {"cell_rank", &grid.cell_rank()},
+                            {"cell_start", &grid.cell_start()},
+                            {"boundary_nodes", &boundary_nodes},
+                            {"live_x", pool_x_[current_]},
+                            {"live_v", pool_v_[current_]},
+                            {"next_x", pool_x_[next]},
+                            {"next_v", pool_v_[next]},
+                            {"counters", counters_}});
     const shader::CountPush push{count, 0u, 0u, 0u};
     gpu::dispatch(*ctx_, cmd, normals_pass_, count, push,
-                  {{"params", &sim_params}, {"x", &x}, {"cell_rank", &grid.cell_rank()}, {"cell_start", &grid.cell_start()},
-                   {"list_cell", &grid.list_cell()}, {"neighbor_count", &grid.neighbor_count()}, {"neighbors", &grid.neighbors()},
+                  {{"params", &sim_params},
+                   {"x", &x},
+                   {"cell_rank", &grid.cell_rank()},
+                   {"cell_start", &grid.cell_start()},
+                   {"list_cell", &grid.list_cell()},
+                   {"neighbor_count", &grid.neighbor_count()},
+                   {"neighbors", &grid.neighbors()},
                    {"normals", normals_}});
     const shader::WhitewaterPush emit_push{count, 0u, 0u, 0u};
     gpu::dispatch(*ctx_, cmd, emit_, count, emit_push,
-                  {{"params", &sim_params}, {"ww", params_buf_}, {"x", &x}, {"v", &v}, {"cell_rank", &grid.cell_rank()},
-                   {"cell_start", &grid.cell_start()}, {"list_cell", &grid.list_cell()}, {"neighbor_count", &grid.neighbor_count()},
-                   {"neighbors", &grid.neighbors()}, {"normals", normals_}, {"potentials", potentials_}, {"pool_x", pool_x_[next]},
-                   {"pool_v", pool_v_[next]}, {"counters", counters_}, {"boundary_nodes", &boundary_nodes}});
+                  {{"params", &sim_params},
+                   {"ww", params_buf_},
+                   {"x", &x},
+                   {"v", &v},
+                   {"cell_rank", &grid.cell_rank()},
+                   {"cell_start", &grid.cell_start()},
+                   {"list_cell", &grid.list_cell()},
+                   {"neighbor_count", &grid.neighbor_count()},
+                   {"neighbors", &grid.neighbors()},
+                   {"normals", normals_},
+                   {"potentials", potentials_},
+                   {"pool_x", pool_x_[next]},
+                   {"pool_v", pool_v_[next]},
+                   {"counters", counters_},
+                   {"boundary_nodes", &boundary_nodes}});
     current_ = next;
 }
 

@@ -17,18 +17,18 @@ struct WhitewaterSettings {
     /// Most whitewater particles alive at once; 0: sized from the fluid and the device
     /// (whitewater_capacity). Particles that do not fit are counted (stats.csv), not made.
     uint32_t capacity = 0;
-    glm::vec2 trapped_air{5.0f, 20.0f};   ///< Phi_ta's thresholds [m/s] (Ihmsen et al.: 5-20)
-    glm::vec2 wave_crest{2.0f, 8.0f};     ///< Phi_wc's thresholds (Ihmsen et al.: 2-8)
+    glm::vec2 trapped_air{5.0f, 20.0f};    ///< Phi_ta's thresholds [m/s] (Ihmsen et al.: 5-20)
+    glm::vec2 wave_crest{2.0f, 8.0f};      ///< Phi_wc's thresholds (Ihmsen et al.: 2-8)
     glm::vec2 kinetic_energy{1.0f, 8.0f};  ///< Phi_k's thresholds [J/kg]: from 1.4 to 4 m/s
-    float k_trapped_air = 2000.0f;        ///< whitewater particles a second at Phi_ta = 1 (Ihmsen et al.: 4000)
-    float k_wave_crest = 20000.0f;        ///< whitewater particles a second at Phi_wc = 1 (Ihmsen et al.: 50000)
-    glm::vec2 lifetime{2.0f, 5.0f};       ///< each particle's life is drawn from this range [s]
-    uint32_t spray_below = 6;             ///< fluid neighbours within h: fewer is spray
-    uint32_t bubble_above = 20;           ///< more is a bubble; between is foam
-    uint32_t emit_min_neighbors = 15;     ///< fluid particles with fewer neighbours emit nothing
-    float air_drag = 0.5f;                ///< spray's drag [1/s]
-    float buoyancy = 2.0f;                ///< bubbles rise at this many times -g
-    float bubble_drag = 0.5f;             ///< bubbles take this share of the fluid's velocity a step
+    float k_trapped_air = 2000.0f;         ///< whitewater particles a second at Phi_ta = 1 (Ihmsen et al.: 4000)
+    float k_wave_crest = 20000.0f;         ///< whitewater particles a second at Phi_wc = 1 (Ihmsen et al.: 50000)
+    glm::vec2 lifetime{2.0f, 5.0f};        ///< each particle's life is drawn from this range [s]
+    uint32_t spray_below = 6;              ///< fluid neighbours within h: fewer is spray
+    uint32_t bubble_above = 20;            ///< more is a bubble; between is foam
+    uint32_t emit_min_neighbors = 15;      ///< fluid particles with fewer neighbours emit nothing
+    float air_drag = 0.5f;                 ///< spray's drag [1/s]
+    float buoyancy = 2.0f;                 ///< bubbles rise at this many times -g
+    float bubble_drag = 0.5f;              ///< bubbles take this share of the fluid's velocity a step
 };
 
 /// Reads {"enabled": true, "capacity": 0, "trapped_air": [5, 20], "wave_crest": [2, 8],

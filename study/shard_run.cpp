@@ -6,7 +6,8 @@
 
 namespace aquaform::study {
 
-Result<bool> check_shard_folder(const std::filesystem::path& out_dir, const std::optional<StudyShard>& shard, bool fresh) {
+Result<bool> check_shard_folder(const std::filesystem::path& out_dir, const std::optional<StudyShard>& shard,
+                                bool fresh) {
     auto held = read_manifest(out_dir);
     if (!held) return Error{held.error()};
     if (!held.value() || fresh) return true;
@@ -25,8 +26,10 @@ ShardRun::ShardRun(const StudySpec& spec, const std::filesystem::path& spec_path
     // A shard measures the cells of its units only (study/study_shards.h) and says so in its manifest.
     for (const StudyUnit& unit : shard_units(spec, *shard_)) {
         manifest_.cells.insert(manifest_.cells.end(), unit.cells.begin(), unit.cells.end());
-        if (unit.solver_map) maps_.insert(*unit.solver_map);
-        else cells_.insert(unit.cells.begin(), unit.cells.end());
+        if (unit.solver_map)
+            maps_.insert(*unit.solver_map);
+        else
+            cells_.insert(unit.cells.begin(), unit.cells.end());
     }
     if (auto before = read_manifest(out_dir); before && before.value() && !fresh)
         manifest_.wall_s = before.value()->wall_s;  // a resumed shard's time goes on
@@ -39,8 +42,8 @@ ShardRun::ShardRun(const StudySpec& spec, const std::filesystem::path& spec_path
 }
 
 std::string ShardRun::describe() const {
-    return "shard " + shard_->text() + ": " + std::to_string(manifest_.cells.size()) + " of " + std::to_string(total_cells_) +
-           " cells (study and solver map)";
+    return "shard " + shard_->text() + ": " + std::to_string(manifest_.cells.size()) + " of " +
+           std::to_string(total_cells_) + " cells (study and solver map)";
 }
 
 bool ShardRun::complete(const StudyFiles& files) const {

@@ -19,7 +19,8 @@ namespace aquaform::study {
 
 /// `--shard K/N` (or an unsharded run, `shard` empty) refused in a folder holding another shard's
 /// (or the whole spec's) manifest, unless `fresh` starts over there.
-Result<bool> check_shard_folder(const std::filesystem::path& out_dir, const std::optional<StudyShard>& shard, bool fresh);
+Result<bool> check_shard_folder(const std::filesystem::path& out_dir, const std::optional<StudyShard>& shard,
+                                bool fresh);
 
 class ShardRun {
 public:

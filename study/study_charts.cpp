@@ -43,10 +43,12 @@ std::string read_all(const fs::path& path) {
 
 Result<fs::path> find_study_charts_script(const fs::path& exe_path) {
     std::vector<fs::path> candidates;
-    if (const char* dir = std::getenv(kScriptsDirVariable); dir && *dir) candidates.push_back(fs::path(dir) / kScriptName);
+    if (const char* dir = std::getenv(kScriptsDirVariable); dir && *dir)
+        candidates.push_back(fs::path(dir) / kScriptName);
     if (!exe_path.empty()) {
         const fs::path dir = exe_path.parent_path();
-        for (const fs::path& p : {dir / ".." / "share" / "aquaform" / "scripts", dir / ".." / "scripts", dir / "scripts"})
+        for (const fs::path& p :
+             {dir / ".." / "share" / "aquaform" / "scripts", dir / ".." / "scripts", dir / "scripts"})
             candidates.push_back(p / kScriptName);
     }
     for (const fs::path& dir : data_dir_candidates("scripts")) candidates.push_back(dir / kScriptName);
@@ -61,14 +63,16 @@ Result<fs::path> find_study_charts_script(const fs::path& exe_path) {
 
 Result<std::string> find_chart_python(const std::vector<std::string>& candidates) {
     // python3 on PATH first (a venv the user chose), then Debian's, which python3-matplotlib serves.
-    const std::vector<std::string> pythons = candidates.empty() ? std::vector<std::string>{"python3", "/usr/bin/python3"} : candidates;
+    const std::vector<std::string> pythons =
+        candidates.empty() ? std::vector<std::string>{"python3", "/usr/bin/python3"} : candidates;
     for (const std::string& python : pythons) {
         const std::string probe = shell_quoted(python) + " -c 'import matplotlib' >/dev/null 2>&1";
         if (std::system(probe.c_str()) == 0) return python;
     }
     std::string tried;
     for (const std::string& python : pythons) tried += (tried.empty() ? "" : ", ") + python;
-    return Error{"no Python with matplotlib (tried " + tried + "); install it (Debian: apt-get install "
+    return Error{"no Python with matplotlib (tried " + tried +
+                 "); install it (Debian: apt-get install "
                  "python3-matplotlib) and draw the charts later with python3 scripts/study_charts.py OUT_DIR"};
 }
 
@@ -82,7 +86,9 @@ Result<StudyCharts> draw_study_charts(const fs::path& out_dir) {
     // stdout carries the written paths; stderr goes to a file, for the message on failure.
     std::string err_path = (fs::temp_directory_path() / "aquaform_study_charts_XXXXXX").string();
     const int fd = mkstemp(err_path.data());
-    if (fd < 0) return Error{"cannot create a temporary file in " + fs::temp_directory_path().string() + " for the chart script's messages"};
+    if (fd < 0)
+        return Error{"cannot create a temporary file in " + fs::temp_directory_path().string() +
+                     " for the chart script's messages"};
     close(fd);
     const std::string command = shell_quoted(python) + " " + shell_quoted(script.value().string()) + " " +
                                 shell_quoted(out_dir.string()) + " 2>" + shell_quoted(err_path);
@@ -114,8 +120,8 @@ Result<StudyCharts> draw_study_charts(const fs::path& out_dir) {
 }
 
 // study.md and the charts, with the counts and the targets printed.
-bool write_study_report(const std::filesystem::path& out_dir, const StudySpec& spec,
-                        const std::vector<StudyRow>& rows, const std::string& device, bool charts) {
+bool write_study_report(const std::filesystem::path& out_dir, const StudySpec& spec, const std::vector<StudyRow>& rows,
+                        const std::string& device, bool charts) {
     bool ok = true;
     const std::vector<std::string> targets = study_targets(rows);
     if (auto md = write_study_markdown(out_dir / "study.md", spec, rows, targets, device); !md) {

@@ -26,7 +26,6 @@ constexpr const char* kPassesColumns = "case,scene,method,width,height,particles
 constexpr const char* kKeepOrStartOver =
     "; to keep those rows, run this spec with another --out; to start over in that folder, pass --fresh";
 
-
 /// The complete lines of `path`; `torn`: a last line without its line break (cut by a kill).
 std::vector<std::string> complete_lines(const fs::path& path, bool* torn) {
     std::ifstream in(path, std::ios::binary);
@@ -57,16 +56,16 @@ std::string frame_of(const std::string& cell) { return cell.substr(0, cell.find(
 
 /// Columns of the row files that hold text; every other column holds a number or nothing.
 bool text_column(const std::string& name) {
-    static const std::set<std::string> names{"case", "scene", "method", "visual", "status", "image", "steps_image",
-                                             "pass", "spec", "cell"};
+    static const std::set<std::string> names{"case",  "scene",       "method", "visual", "status",
+                                             "image", "steps_image", "pass",   "spec",   "cell"};
     return names.count(name) > 0;
 }
 
 /// Columns that count (sizes, steps, rays): whole numbers from 0 to the largest returned (0:
 /// not such a column).
 double whole_column_limit(const std::string& name) {
-    static const std::set<std::string> counts{"width", "height", "particles", "recursion_depth", "bisection_steps",
-                                              "iterations", "stable"};
+    static const std::set<std::string> counts{"width",           "height",     "particles", "recursion_depth",
+                                              "bisection_steps", "iterations", "stable"};
     if (counts.count(name)) return 4294967295.0;
     return name == "rays" ? 9007199254740992.0 : 0.0;  // 2^53: counted in a double exactly
 }
@@ -87,7 +86,8 @@ std::string row_problem(const std::vector<std::string>& columns, const std::vect
         const bool whole_ok = limit == 0.0 || (v >= 0.0 && v <= limit && v == std::floor(v));
         if (!finite || !whole_ok)
             return "\"" + columns[c] + "\" is \"" + field.substr(0, 40) + "\", not " +
-                   (limit > 0.0 ? "a whole number from 0 to " + format_number("%.0f", limit) : std::string("a finite number"));
+                   (limit > 0.0 ? "a whole number from 0 to " + format_number("%.0f", limit)
+                                : std::string("a finite number"));
     }
     return "";
 }
@@ -103,14 +103,17 @@ Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, c
     std::error_code ec;
     const bool existed = fs::exists(path, ec);
     if (existed && !fs::is_regular_file(path, ec))
-        return Error{path.string() + " is not a file; move it away (aquaform study writes it: run it with --fresh to start that folder over)"};
+        return Error{
+            path.string() +
+            " is not a file; move it away (aquaform study writes it: run it with --fresh to start that folder over)"};
     bool rewrite = !existed;
     if (existed) {
         bool torn = false;
         const std::vector<std::string> lines = complete_lines(path, &torn);
         const size_t pass_column = file.column("pass");
         std::map<std::string, size_t> line_of;  // a row's key -> the line that holds it
-        if (lines.empty()) rewrite = true;  // killed before its header was whole: nothing kept
+        if (lines.empty())
+            rewrite = true;  // killed before its header was whole: nothing kept
         else if (lines[0] != header)
             return Error{path.string() + " has other columns than this version of aquaform writes" + kKeepOrStartOver};
         for (size_t i = 1; i < lines.size(); ++i) {
@@ -118,8 +121,9 @@ Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, c
             if (const std::string problem = row_problem(file.columns_, fields); !problem.empty()) {
                 // Damaged: a run measures the row again; a merge, which only reads, says where.
                 if (access == RowAccess::read_only)
-                    return Error{path.string() + " line " + std::to_string(i + 1) + ": " + problem +
-                                 "; it is written by aquaform study: rerun that folder's study (or shard) with --fresh"};
+                    return Error{
+                        path.string() + " line " + std::to_string(i + 1) + ": " + problem +
+                        "; it is written by aquaform study: rerun that folder's study (or shard) with --fresh"};
                 rewrite = true;
                 continue;
             }
@@ -132,7 +136,8 @@ Result<RowFile> RowFile::open(const fs::path& path, const std::string& header, c
             }
             // A row is one cell's (one pass of it in study_passes.csv): a second one for the same
             // is dropped by a run, and refused by a merge, as a cell in two shards is.
-            const std::string key = fields.back() + (pass_column < fields.size() ? ", pass " + fields[pass_column] : "");
+            const std::string key =
+                fields.back() + (pass_column < fields.size() ? ", pass " + fields[pass_column] : "");
             if (const auto [first, added] = line_of.emplace(key, i + 1); !added) {
                 if (access == RowAccess::read_only)
                     return Error{path.string() + " lines " + std::to_string(first->second) + " and " +
@@ -183,14 +188,15 @@ Result<StudyFiles> StudyFiles::open(const fs::path& dir, const StudySpec& spec, 
     std::set<std::string> frames;  // a frame that failed to simulate has a row of its own
     for (const std::string& cell : files.cells_) frames.insert(frame_of(cell));
 
-    auto study = RowFile::open(dir / "study.csv", kStudyColumns, files.hash_, [&](const RowFile::Fields& f) {
-        return cells.count(f.back()) || frames.count(f.back());
-    }, access);
+    auto study = RowFile::open(
+        dir / "study.csv", kStudyColumns, files.hash_,
+        [&](const RowFile::Fields& f) { return cells.count(f.back()) || frames.count(f.back()); }, access);
     if (!study) return study.failure();
     files.study_ = std::move(study.value());
     for (const RowFile::Fields& f : files.study_->kept()) files.done_.insert(f.back());
-    auto passes = RowFile::open(dir / "study_passes.csv", kPassesColumns, files.hash_,
-                                [&](const RowFile::Fields& f) { return files.done_.count(f.back()) > 0; }, access);
+    auto passes = RowFile::open(
+        dir / "study_passes.csv", kPassesColumns, files.hash_,
+        [&](const RowFile::Fields& f) { return files.done_.count(f.back()) > 0; }, access);
     if (!passes) return passes.failure();
     files.passes_ = std::move(passes.value());
     auto map = RowFile::open(dir / "solver_map.csv", solver_map_csv_header(), files.hash_, {}, access);
@@ -205,9 +211,7 @@ Result<StudyFiles> StudyFiles::open(const fs::path& dir, const StudySpec& spec, 
     return files;
 }
 
-bool StudyFiles::done(const std::string& cell) const {
-    return done_.count(cell) || done_.count(frame_of(cell));
-}
+bool StudyFiles::done(const std::string& cell) const { return done_.count(cell) || done_.count(frame_of(cell)); }
 
 size_t StudyFiles::cells_done() const {
     return size_t(std::count_if(cells_.begin(), cells_.end(), [&](const std::string& c) { return done(c); }));
@@ -288,9 +292,8 @@ std::vector<StudyRow> in_spec_order(const StudySpec& spec, std::vector<StudyRow>
         order.emplace(cells[i], i);
         order.emplace(frame_of(cells[i]), i);  // a failed frame's row: where its first cell goes
     }
-    std::stable_sort(rows.begin(), rows.end(), [&](const StudyRow& a, const StudyRow& b) {
-        return order[a.cell] < order[b.cell];
-    });
+    std::stable_sort(rows.begin(), rows.end(),
+                     [&](const StudyRow& a, const StudyRow& b) { return order[a.cell] < order[b.cell]; });
     return rows;
 }
 
@@ -302,7 +305,9 @@ Result<bool> StudyFiles::add_map_row(const RowFile::Fields& fields) {
     return true;
 }
 
-bool StudyFiles::map_done(const SolverMapRecord& record) const { return map_done_.count(solver_map_cell_key(record)) > 0; }
+bool StudyFiles::map_done(const SolverMapRecord& record) const {
+    return map_done_.count(solver_map_cell_key(record)) > 0;
+}
 
 Result<bool> StudyFiles::add(const SolverMapRecord& record) {
     if (auto ok = map_->append(solver_map_csv_line(record, hash_)); !ok) return ok;

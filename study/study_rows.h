@@ -62,7 +62,7 @@ public:
 
     /// Measured already (the cell, or its whole frame when that failed to simulate).
     bool done(const std::string& cell) const;
-    size_t cells_done() const;   ///< of study_cell_keys(spec)
+    size_t cells_done() const;  ///< of study_cell_keys(spec)
     size_t cells_total() const { return cells_.size(); }
     /// Appends the row's passes, then the row (the row last: a row present has its passes).
     Result<bool> add(const StudyRow& row);
@@ -79,7 +79,8 @@ public:
     std::vector<StudyRow> rows() const;
 
 private:
-    StudyRow read_back(const RowFile::Fields& fields, const std::map<std::string, std::map<std::string, double>>& passes) const;
+    StudyRow read_back(const RowFile::Fields& fields,
+                       const std::map<std::string, std::map<std::string, double>>& passes) const;
 
     const StudySpec* spec_ = nullptr;
     std::string hash_;

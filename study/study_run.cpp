@@ -1,30 +1,30 @@
 #include "study/study_run.h"
 
-#include <map>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <sstream>
 #include <tuple>
 
-#include "core/format_text.h"
 #include "bench/bench_frames.h"
 #include "bench/bench_scenes.h"
 #include "bench/render_measure.h"
+#include "core/error.h"
+#include "core/file_write.h"
+#include "core/format_text.h"
+#include "core/interrupt.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
 #include "pictures/image_io.h"
-#include "render/surface_metrics.h"
 #include "render/metaball_renderer.h"
 #include "render/registry.h"
+#include "render/surface_metrics.h"
 #include "render/surface_settings.h"
 #include "render/surface_views.h"
 #include "sim/pbf_solver.h"
-#include "core/error.h"
-#include "core/file_write.h"
-#include "core/interrupt.h"
 
 namespace aquaform::study {
 
@@ -103,14 +103,16 @@ public:
         solver_ = &session_->solver();
         const uint32_t frames = case_.time_s ? uint32_t(std::lround(*case_.time_s / scene_.solver.frame_dt))
                                              : study::bench_half_tank_frame(scene_);
-        return simulate_frames(*session_, frames, "study " + case_.name + ": simulating " +
-                                                      std::to_string(solver_->particle_count()) + " particles");
+        return simulate_frames(
+            *session_, frames,
+            "study " + case_.name + ": simulating " + std::to_string(solver_->particle_count()) + " particles");
     }
     uint32_t particles() const { return solver_->particle_count(); }
 
     /// The rows of the methods at w x h that `hooks` has not seen, each handed over as measured;
     /// false when the study is to stop (Ctrl-C, or `measured` said so).
-    bool measure(uint32_t w, uint32_t h, const std::string& frame_key, const StudyHooks& hooks, std::vector<StudyRow>& rows) {
+    bool measure(uint32_t w, uint32_t h, const std::string& frame_key, const StudyHooks& hooks,
+                 std::vector<StudyRow>& rows) {
         width_ = w;
         height_ = h;
         camera_ = study_camera(case_.camera, scene_, float(w) / float(h));
@@ -151,8 +153,8 @@ private:
 
     /// <case>_<particles>_<WxH>_<method><suffix>.png, with the spaces and '+' of labels as '_'.
     static std::string image_name(const StudyRow& row, const std::string& suffix) {
-        std::string name = row.case_name + "_" + std::to_string(row.particles) + "_" + resolution_text(row.width, row.height) +
-                           "_" + row.method + suffix + ".png";
+        std::string name = row.case_name + "_" + std::to_string(row.particles) + "_" +
+                           resolution_text(row.width, row.height) + "_" + row.method + suffix + ".png";
         for (char& ch : name)
             if (ch == ' ' || ch == '+') ch = '_';
         return name;
@@ -202,7 +204,8 @@ private:
 
     /// Renders `settings` at w x h, the fastest of `repeats`; the row (when given) gets the
     /// times and what went wrong: lists that overflowed, loops the device ended early.
-    RenderMeasurement measure_method(const MethodSettings& settings, uint32_t w, uint32_t h, uint32_t repeats, StudyRow* row) {
+    RenderMeasurement measure_method(const MethodSettings& settings, uint32_t w, uint32_t h, uint32_t repeats,
+                                     StudyRow* row) {
         RenderMeasurement m =
             measure_render(ctx_, renderer(settings, w, h), session_->frame_input(), camera_, settings, repeats);
         if (row) {
@@ -216,7 +219,8 @@ private:
             // A GPU draws a small picture at full resolution when adaptive resolution is asked
             // for (render/surface_renderer.cpp): the row is the full-resolution one, said once.
             if (!m.stats.resolution_note.empty() && !resolution_noted_) {
-                progress(row->method + " at " + std::to_string(w) + "x" + std::to_string(h) + ": " + m.stats.resolution_note);
+                progress(row->method + " at " + std::to_string(w) + "x" + std::to_string(h) + ": " +
+                         m.stats.resolution_note);
                 resolution_noted_ = true;
             }
             // The software device ends long shader loops early (RenderStats::cut).
@@ -299,13 +303,14 @@ private:
     /// The metaball reference's settings for metaballs of range `size`, with lists of
     /// `bytes_per_pixel` (the registry's make fixes a renderer's list memory from them).
     static MethodSettings metaball_reference_settings(float size, uint32_t bytes_per_pixel) {
-        const nlohmann::json object = {{"size", size},
-                                       {"step", kMetaballReferenceStepRadii},
-                                       {"bisection", kMetaballReferenceBisections},
-                                       {"max_steps", 1000000},
-                                       // exact in close-ups too: particles at the eye plane are visited from the near list
-                                       {"keep_near", true},
-                                       {"list_bytes_per_pixel", bytes_per_pixel}};
+        const nlohmann::json object = {
+            {"size", size},
+            {"step", kMetaballReferenceStepRadii},
+            {"bisection", kMetaballReferenceBisections},
+            {"max_steps", 1000000},
+            // exact in close-ups too: particles at the eye plane are visited from the near list
+            {"keep_near", true},
+            {"list_bytes_per_pixel", bytes_per_pixel}};
         auto settings = render_registry().from_json("sbuffer", object, "the metaball reference");
         if (!settings) throw internal_failure(settings.error());
         return settings.value();
@@ -377,11 +382,14 @@ private:
                 row.status = "reference cut: " + std::to_string(metaball_reference_cut_[m.size]) + " pixels";
             // A close-up: the lists leave out the particles at the eye (the reference keeps them).
             else if (r.stats.dropped_particles)
-                row.status = "dropped: " + std::to_string(r.stats.dropped_particles) + " particles at the eye plane are in no list";
+                row.status = "dropped: " + std::to_string(r.stats.dropped_particles) +
+                             " particles at the eye plane are in no list";
         }
         // The primary hit is the same for both visuals; only the gradient image is comparable.
-        if (reference) compare(row, *reference, r.frame, particle_radius(), m.visual == "gradient");
-        else if (row.status == "ok") row.status = why;
+        if (reference)
+            compare(row, *reference, r.frame, particle_radius(), m.visual == "gradient");
+        else if (row.status == "ok")
+            row.status = why;
         return r.frame.color;
     }
 
@@ -397,7 +405,8 @@ private:
     std::map<std::string, std::pair<SurfaceFrame, StudyRow>> sph_references_;  // by surface
     std::map<float, SurfaceFrame> metaball_references_;
     std::map<float, uint64_t> metaball_reference_cut_;  // pixels of a reference the device cut short
-    std::map<std::tuple<std::string, uint32_t, uint32_t>, std::unique_ptr<Renderer>> renderers_;  // family, width, height
+    std::map<std::tuple<std::string, uint32_t, uint32_t>, std::unique_ptr<Renderer>>
+        renderers_;                    // family, width, height
     std::unique_ptr<Renderer> roomy_;  // the metaball reference's, with lists of roomy_bytes_per_pixel_
     uint32_t roomy_bytes_per_pixel_ = 0;
     bool resolution_noted_ = false;  // the frame's note that adaptive resolution gave way (said once)
@@ -409,8 +418,8 @@ double fps(double ms) { return ms > 0.0 ? 1000.0 / ms : 0.0; }
 const StudyRow* find_row(const std::vector<StudyRow>& rows, const std::string& case_name, const std::string& method,
                          uint32_t particles, uint32_t w, uint32_t h) {
     for (const auto& r : rows)
-        if (r.case_name == case_name && r.method == method && r.particles == particles && r.width == w && r.height == h &&
-            r.status.rfind("failed", 0) != 0)
+        if (r.case_name == case_name && r.method == method && r.particles == particles && r.width == w &&
+            r.height == h && r.status.rfind("failed", 0) != 0)
             return &r;
     return nullptr;
 }
@@ -510,17 +519,21 @@ std::vector<std::string> study_targets(const std::vector<StudyRow>& rows) {
     // Each comparison is made within one case (the same frames), the first case that has both rows.
     // S-buffer >= 3x faster than brute force at 4k particles, 512x512 (Karpati measured ~3x).
     {
-        std::snprintf(buf, sizeof buf, "S-buffer vs brute force (target >= 3x at 4k particles, 512x512): not measured (needs rows '%s' and '%s' at 512x512 in one case)",
-                      brute.c_str(), sbuf.c_str());
+        std::snprintf(
+            buf, sizeof buf,
+            "S-buffer vs brute force (target >= 3x at 4k particles, 512x512): not measured (needs rows '%s' and '%s' at 512x512 in one case)",
+            brute.c_str(), sbuf.c_str());
         for (const std::string& c : case_names(rows)) {
             const uint32_t n = closest_count(rows, c, sbuf, 4096, 512, 512);
             const StudyRow *b = find_row(rows, c, brute, n, 512, 512), *s = find_row(rows, c, sbuf, n, 512, 512);
             if (!b || !s || s->ms_total <= 0) continue;
             const double ratio = b->ms_total / s->ms_total;
-            std::snprintf(buf, sizeof buf, "S-buffer vs brute force (target >= 3x at 4k particles, 512x512): %.1fx at %u particles in %s (%.0f vs %.0f ms)%s: %s",
-                          ratio, n, c.c_str(), s->ms_total, b->ms_total,
-                          b->status == "ok" ? "" : " (brute force cut short by the device: its time is a lower bound)",
-                          ratio >= 3.0 ? "MET" : "MISS");
+            std::snprintf(
+                buf, sizeof buf,
+                "S-buffer vs brute force (target >= 3x at 4k particles, 512x512): %.1fx at %u particles in %s (%.0f vs %.0f ms)%s: %s",
+                ratio, n, c.c_str(), s->ms_total, b->ms_total,
+                b->status == "ok" ? "" : " (brute force cut short by the device: its time is a lower bound)",
+                ratio >= 3.0 ? "MET" : "MISS");
             break;
         }
         lines.push_back(buf);
@@ -530,8 +543,10 @@ std::vector<std::string> study_targets(const std::vector<StudyRow>& rows) {
     // (interpolated in log-log between the counts measured).
     const std::string sbuf2 = "sbuffer gradient x2 b3";
     {
-        std::snprintf(buf, sizeof buf, "adaptive vs S-buffer x2 (target >= 2x at 100k particles, 512x512): not measured (needs rows 'adaptive' and '%s' at 512x512 in one case)",
-                      sbuf2.c_str());
+        std::snprintf(
+            buf, sizeof buf,
+            "adaptive vs S-buffer x2 (target >= 2x at 100k particles, 512x512): not measured (needs rows 'adaptive' and '%s' at 512x512 in one case)",
+            sbuf2.c_str());
         std::string crossover = "not measured (needs both methods at two or more particle counts in one case)";
         // The case whose count (with both rows) comes nearest 100k.
         std::string nearest_case;
@@ -551,8 +566,11 @@ std::vector<std::string> study_targets(const std::vector<StudyRow>& rows) {
             if (!a || !s || a->ms_total <= 0 || !a->depth_err_mean || !s->depth_err_mean) continue;
             const double ratio = s->ms_total / a->ms_total;
             const bool met = ratio >= 2.0 && *a->depth_err_mean < *s->depth_err_mean;
-            std::snprintf(buf, sizeof buf, "adaptive vs S-buffer x2 (target >= 2x at 100k particles, 512x512, lower depth error): %.2fx at %u particles in %s (%.0f vs %.0f ms), depth error %.3f vs %.3f radii (each against its own field's reference): %s",
-                          ratio, n, c.c_str(), a->ms_total, s->ms_total, *a->depth_err_mean, *s->depth_err_mean, met ? "MET" : "MISS");
+            std::snprintf(
+                buf, sizeof buf,
+                "adaptive vs S-buffer x2 (target >= 2x at 100k particles, 512x512, lower depth error): %.2fx at %u particles in %s (%.0f vs %.0f ms), depth error %.3f vs %.3f radii (each against its own field's reference): %s",
+                ratio, n, c.c_str(), a->ms_total, s->ms_total, *a->depth_err_mean, *s->depth_err_mean,
+                met ? "MET" : "MISS");
             std::vector<std::pair<uint32_t, double>> ratio_by_n;  // S-buffer ms / adaptive ms
             for (const auto& r : rows)
                 if (r.case_name == c && r.method == adaptive && r.width == 512 && r.height == 512)
@@ -563,14 +581,16 @@ std::vector<std::string> study_targets(const std::vector<StudyRow>& rows) {
                 crossover = "not within the counts measured (" + std::to_string(ratio_by_n.front().first) + " to " +
                             std::to_string(ratio_by_n.back().first) + " particles)";
                 if (ratio_by_n.front().second >= 1.0)
-                    crossover = "at or below " + std::to_string(ratio_by_n.front().first) + " particles (adaptive is faster at every count measured)";
+                    crossover = "at or below " + std::to_string(ratio_by_n.front().first) +
+                                " particles (adaptive is faster at every count measured)";
                 else
                     for (size_t i = 1; i < ratio_by_n.size(); ++i) {
                         const auto [n0, r0] = ratio_by_n[i - 1];
                         const auto [n1, r1] = ratio_by_n[i];
                         if (r0 < 1.0 && r1 >= 1.0) {
                             const double f = -std::log(r0) / (std::log(r1) - std::log(r0));
-                            const double nx = std::exp(std::log(double(n0)) + f * (std::log(double(n1)) - std::log(double(n0))));
+                            const double nx =
+                                std::exp(std::log(double(n0)) + f * (std::log(double(n1)) - std::log(double(n0))));
                             crossover = "about " + std::to_string(long(std::lround(nx))) + " particles";
                             break;
                         }
@@ -590,9 +610,11 @@ std::vector<std::string> study_targets(const std::vector<StudyRow>& rows) {
             if (!ms || !ms->steps_per_ray || !ms->depth_err_mean || !(*u.steps_per_ray > 0.0)) continue;
             const double ratio = *ms->steps_per_ray / *u.steps_per_ray;
             const bool met = ratio <= 0.5 && *ms->depth_err_mean <= *u.depth_err_mean + 1e-3;
-            std::snprintf(buf, sizeof buf, "mask+skip steps/ray in %s (target <= 50%% of uniform's at equal or lower depth error): %.1f%% (%.2f vs %.2f at %u particles, %ux%u), depth error %.3f vs %.3f radii: %s",
-                          c.c_str(), 100.0 * ratio, *ms->steps_per_ray, *u.steps_per_ray, u.particles, u.width, u.height,
-                          *ms->depth_err_mean, *u.depth_err_mean, met ? "MET" : "MISS");
+            std::snprintf(
+                buf, sizeof buf,
+                "mask+skip steps/ray in %s (target <= 50%% of uniform's at equal or lower depth error): %.1f%% (%.2f vs %.2f at %u particles, %ux%u), depth error %.3f vs %.3f radii: %s",
+                c.c_str(), 100.0 * ratio, *ms->steps_per_ray, *u.steps_per_ray, u.particles, u.width, u.height,
+                *ms->depth_err_mean, *u.depth_err_mean, met ? "MET" : "MISS");
             lines.push_back(buf);
         }
     // Wu et al. Table 1: adaptive resolution's march and upsampling against the full-resolution
@@ -609,9 +631,11 @@ std::vector<std::string> study_targets(const std::vector<StudyRow>& rows) {
             const double full_march = pass(*full, "render_march");
             if (!(full_march > 0.0)) continue;
             const double ratio = (pass(a, "render_march") + pass(a, "render_upsample")) / full_march;
-            std::snprintf(buf, sizeof buf, "adaptive resolution in %s (target: march + upsample <= 0.6x the full-resolution march): %.2fx at %u particles, %ux%u (PSNR against the reference %.1f vs %.1f dB): %s",
-                          c.c_str(), ratio, a.particles, a.width, a.height, a.psnr_db.value_or(0.0), full->psnr_db.value_or(0.0),
-                          ratio <= 0.6 ? "MET" : "MISS");
+            std::snprintf(
+                buf, sizeof buf,
+                "adaptive resolution in %s (target: march + upsample <= 0.6x the full-resolution march): %.2fx at %u particles, %ux%u (PSNR against the reference %.1f vs %.1f dB): %s",
+                c.c_str(), ratio, a.particles, a.width, a.height, a.psnr_db.value_or(0.0), full->psnr_db.value_or(0.0),
+                ratio <= 0.6 ? "MET" : "MISS");
             lines.push_back(buf);
         }
     return lines;
@@ -644,10 +668,11 @@ void write_cost_table(std::ostream& md, const std::string& case_name, const std:
     for (const StudyRow& r : rows) {
         if (r.case_name != case_name || r.rays == 0) continue;
         md << "| " << r.method << " | " << r.particles << " | " << resolution_text(r.width, r.height) << " | " << r.rays
-           << " | " << format_number(r.steps_per_ray, "%.2f") << " | " << format_number(r.bisection_per_ray, "%.2f") << " | "
-           << format_number(r.evals_per_ray, "%.2f") << " | " << format_number(r.leaps_per_ray, "%.2f") << " | "
-           << format_number(r.list_entries_per_pixel, "%.1f") << " | " << format_number(r.list_bytes_per_pixel, "%.0f")
-           << " | " << format_number(r.particle_visits_per_pixel, "%.0f") << " | "
+           << " | " << format_number(r.steps_per_ray, "%.2f") << " | " << format_number(r.bisection_per_ray, "%.2f")
+           << " | " << format_number(r.evals_per_ray, "%.2f") << " | " << format_number(r.leaps_per_ray, "%.2f")
+           << " | " << format_number(r.list_entries_per_pixel, "%.1f") << " | "
+           << format_number(r.list_bytes_per_pixel, "%.0f") << " | "
+           << format_number(r.particle_visits_per_pixel, "%.0f") << " | "
            << format_number(r.memory_bytes_per_pixel, "%.0f") << " |\n";
     }
 }
@@ -702,9 +727,11 @@ Result<bool> write_study_markdown(const fs::path& path, const StudySpec& spec, c
             for (const StudyRow& r : rows) {
                 if (r.case_name != c.name) continue;
                 md << "| " << r.method << " | " << r.particles << " | " << resolution_text(r.width, r.height) << " | "
-                   << num(r.ms_total, "%.1f") << " | " << num(fps(r.ms_total), "%.2f") << " | " << num(r.depth_err_mean, "%.3f")
-                   << " | " << num(r.depth_err_p95, "%.3f") << " | " << num(r.normal_err_deg_mean, "%.1f") << " | "
-                   << num(r.coverage_mismatch ? std::optional<double>(*r.coverage_mismatch * 100.0) : std::nullopt, "%.1f %%")
+                   << num(r.ms_total, "%.1f") << " | " << num(fps(r.ms_total), "%.2f") << " | "
+                   << num(r.depth_err_mean, "%.3f") << " | " << num(r.depth_err_p95, "%.3f") << " | "
+                   << num(r.normal_err_deg_mean, "%.1f") << " | "
+                   << num(r.coverage_mismatch ? std::optional<double>(*r.coverage_mismatch * 100.0) : std::nullopt,
+                          "%.1f %%")
                    << " | " << num(r.psnr_db, "%.1f") << " | " << num(r.roughness_deg, "%.1f") << " | " << r.status
                    << (r.device.empty() ? "" : " (on " + r.device + ")")
                    << (r.overflow_mib > 0 ? " (needs " + num(r.overflow_mib, "%.0f") + " MiB)" : "")
@@ -722,7 +749,8 @@ Result<bool> write_study_markdown(const fs::path& path, const StudySpec& spec, c
                     if (r.case_name != c.name || r.config.family != StudyFamily::metaball) continue;
                     StudyMethod key = r.config;
                     const std::string id = key.visual + std::to_string(key.size) + std::to_string(key.recursion) +
-                                           std::to_string(key.bisection) + std::to_string(r.particles) + resolution_text(r.width, r.height);
+                                           std::to_string(key.bisection) + std::to_string(r.particles) +
+                                           resolution_text(r.width, r.height);
                     if (std::find(seen.begin(), seen.end(), id) != seen.end()) continue;
                     seen.push_back(id);
                     auto cell = [&](const char* method) {
@@ -730,8 +758,9 @@ Result<bool> write_study_markdown(const fs::path& path, const StudySpec& spec, c
                         const StudyRow* x = find_row(rows, c.name, key.label(), r.particles, r.width, r.height);
                         return x ? num(fps(x->ms_total), "%.2f") : std::string("–");
                     };
-                    md << "| " << key.visual << " | ×" << key.size << " | " << key.recursion << " | " << key.bisection << " | "
-                       << r.particles << " | " << cell("brute") << " | " << cell("abuffer") << " | " << cell("sbuffer") << " |\n";
+                    md << "| " << key.visual << " | ×" << key.size << " | " << key.recursion << " | " << key.bisection
+                       << " | " << r.particles << " | " << cell("brute") << " | " << cell("abuffer") << " | "
+                       << cell("sbuffer") << " |\n";
                 }
             }
             // Wu Table 2's shape: time per pass of the SPH and screen-space methods.
@@ -747,8 +776,10 @@ Result<bool> write_study_markdown(const fs::path& path, const StudySpec& spec, c
                 for (size_t i = 0; i < passes.size(); ++i) md << "---:|";
                 md << "\n";
                 for (const StudyRow& r : rows) {
-                    if (r.case_name != c.name || r.config.family == StudyFamily::metaball || r.ms_per_pass.empty()) continue;
-                    md << "| " << r.method << " | " << r.particles << " | " << resolution_text(r.width, r.height) << " |";
+                    if (r.case_name != c.name || r.config.family == StudyFamily::metaball || r.ms_per_pass.empty())
+                        continue;
+                    md << "| " << r.method << " | " << r.particles << " | " << resolution_text(r.width, r.height)
+                       << " |";
                     for (const auto& p : passes) {
                         auto it = r.ms_per_pass.find(p);
                         md << " " << (it == r.ms_per_pass.end() ? std::string("–") : num(it->second, "%.1f")) << " |";

@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "study/study_spec.h"
 #include "core/result.h"
+#include "study/study_spec.h"
 
 namespace aquaform {
 namespace gpu {
@@ -43,11 +43,11 @@ struct StudyRow {
     // What the frame cost, counted rather than timed: the same on every device.
     uint64_t rays = 0;
     std::optional<double> steps_per_ray, bisection_per_ray;  ///< SPH methods (render/renderer.h)
-    double evals_per_ray = 0.0;        ///< density or field evaluations per ray
-    std::optional<double> leaps_per_ray;  ///< SPH methods with the mask: empty cells leapt per ray
+    double evals_per_ray = 0.0;                              ///< density or field evaluations per ray
+    std::optional<double> leaps_per_ray;                     ///< SPH methods with the mask: empty cells leapt per ray
     std::optional<double> list_entries_per_pixel, list_bytes_per_pixel;  ///< A-/S-buffer metaballs
-    std::optional<double> particle_visits_per_pixel;  ///< metaballs
-    double memory_bytes_per_pixel = 0.0;  ///< the renderer's GPU memory over the pixels
+    std::optional<double> particle_visits_per_pixel;                     ///< metaballs
+    double memory_bytes_per_pixel = 0.0;                                 ///< the renderer's GPU memory over the pixels
     /// Merged shards: the device of a row measured on another than study.md's header names (not in the CSV).
     std::string device;
 };
@@ -66,8 +66,8 @@ struct StudyHooks {
 
 /// Runs every case of the spec, printing progress to stderr; rows come in spec order. With an
 /// `images_dir`, every method's shaded frame is written there as PNG. Returns the rows measured.
-std::vector<StudyRow> run_study_cases(gpu::Context& ctx, const StudySpec& spec, const std::filesystem::path& images_dir = {},
-                                      const StudyHooks& hooks = {});
+std::vector<StudyRow> run_study_cases(gpu::Context& ctx, const StudySpec& spec,
+                                      const std::filesystem::path& images_dir = {}, const StudyHooks& hooks = {});
 /// study.md: a table per case, the papers' table shapes (Karpati Table 1 as frames per second,
 /// Wu Table 1 as time and error per resolution, Wu Table 2 as time per pass), and the targets.
 /// `device`: the name of the device the times come from (study.md says which conclusions depend on it).

@@ -43,7 +43,8 @@ Result<bool> copy_images(const fs::path& from, const fs::path& to) {
     for (auto it = fs::recursive_directory_iterator(from, ec); !ec && it != fs::recursive_directory_iterator();
          it.increment(ec)) {
         const fs::path target = to / fs::relative(it->path(), from, ec);
-        if (it->is_directory(ec)) fs::create_directories(target, ec);
+        if (it->is_directory(ec))
+            fs::create_directories(target, ec);
         else if (it->is_regular_file(ec)) {
             fs::create_directories(target.parent_path(), ec);
             std::ifstream in(it->path(), std::ios::binary);
@@ -133,9 +134,9 @@ std::vector<StudyUnit> shard_units(const StudySpec& spec, StudyShard shard) {
 }
 
 Result<bool> write_manifest(const fs::path& dir, const ShardManifest& m) {
-    nlohmann::json j = {{"spec_hash", m.spec_hash}, {"spec_name", m.spec_name},  {"spec_path", m.spec_path},
-                        {"version", m.version},     {"device", m.device},        {"shard", m.shard.index},
-                        {"shards", m.shard.count},  {"cells", m.cells},          {"wall_s", m.wall_s},
+    nlohmann::json j = {{"spec_hash", m.spec_hash}, {"spec_name", m.spec_name}, {"spec_path", m.spec_path},
+                        {"version", m.version},     {"device", m.device},       {"shard", m.shard.index},
+                        {"shards", m.shard.count},  {"cells", m.cells},         {"wall_s", m.wall_s},
                         {"complete", m.complete}};
     j["particles"] = m.particles ? nlohmann::json(*m.particles) : nlohmann::json(nullptr);
     return write_file_with(dir / kManifestName, [&](std::ostream& out) { out << json_text(j, 2) << '\n'; });
@@ -190,17 +191,24 @@ Result<std::optional<ShardManifest>> read_manifest(const fs::path& dir) {
     m.shard.count = uint32_t(whole("shards", 1, UINT32_MAX));
     if (problem.empty()) m.shard.index = uint32_t(whole("shard", 0, m.shard.count - 1));
     if (const nlohmann::json* v = key("cells")) {
-        const bool strings = v->is_array() && std::all_of(v->begin(), v->end(), [](const auto& c) { return c.is_string(); });
-        if (strings) m.cells = v->get<std::vector<std::string>>();
-        else problem = "\"cells\" must be a list of cell names";
+        const bool strings =
+            v->is_array() && std::all_of(v->begin(), v->end(), [](const auto& c) { return c.is_string(); });
+        if (strings)
+            m.cells = v->get<std::vector<std::string>>();
+        else
+            problem = "\"cells\" must be a list of cell names";
     }
     if (const nlohmann::json* v = key("wall_s")) {
-        if (v->is_number() && std::isfinite(v->get<double>()) && v->get<double>() >= 0.0) m.wall_s = v->get<double>();
-        else problem = "\"wall_s\" is " + v->dump().substr(0, 40) + ", not a time in seconds (0 or more)";
+        if (v->is_number() && std::isfinite(v->get<double>()) && v->get<double>() >= 0.0)
+            m.wall_s = v->get<double>();
+        else
+            problem = "\"wall_s\" is " + v->dump().substr(0, 40) + ", not a time in seconds (0 or more)";
     }
     if (const nlohmann::json* v = key("complete")) {
-        if (v->is_boolean()) m.complete = v->get<bool>();
-        else problem = "\"complete\" must be true or false";
+        if (v->is_boolean())
+            m.complete = v->get<bool>();
+        else
+            problem = "\"complete\" must be true or false";
     }
     if (!problem.empty()) return Error{path.string() + ": " + problem + fix};
     return std::optional<ShardManifest>(std::move(m));
@@ -216,13 +224,14 @@ Result<std::vector<ShardInput>> read_shard_set(const std::vector<fs::path>& dirs
                          ": give the folders that aquaform study SPEC --shard K/N --out DIR wrote"};
         shards.push_back({dir, *read.value()});
     }
-    if (shards.empty()) return Error{"give the shard folders to merge, e.g. aquaform study merge out/s0 out/s1 --out out/study"};
+    if (shards.empty())
+        return Error{"give the shard folders to merge, e.g. aquaform study merge out/s0 out/s1 --out out/study"};
     const ShardInput& first = shards.front();
     for (const ShardInput& s : shards) {
         if (s.manifest.spec_hash != first.manifest.spec_hash)
-            return Error{s.dir.string() + " holds shard " + s.manifest.shard.text() + " of spec " + s.manifest.spec_name +
-                         " (" + s.manifest.spec_hash + ") but " + first.dir.string() + " one of spec " +
-                         first.manifest.spec_name + " (" + first.manifest.spec_hash +
+            return Error{s.dir.string() + " holds shard " + s.manifest.shard.text() + " of spec " +
+                         s.manifest.spec_name + " (" + s.manifest.spec_hash + ") but " + first.dir.string() +
+                         " one of spec " + first.manifest.spec_name + " (" + first.manifest.spec_hash +
                          "): merge the shards of one spec (and one --particles)"};
         if (s.manifest.shard.count != first.manifest.shard.count)
             return Error{s.dir.string() + " holds shard " + s.manifest.shard.text() + " but " + first.dir.string() +
@@ -244,8 +253,8 @@ Result<std::vector<ShardInput>> read_shard_set(const std::vector<fs::path>& dirs
     for (const ShardInput& s : shards)
         if (!s.manifest.complete)
             return Error{"shard " + s.manifest.shard.text() + " in " + s.dir.string() +
-                         " is incomplete (stopped before its last cell); " + rerun(s.manifest, s.manifest.shard.index, s.dir) +
-                         " to resume it, then merge again"};
+                         " is incomplete (stopped before its last cell); " +
+                         rerun(s.manifest, s.manifest.shard.index, s.dir) + " to resume it, then merge again"};
     return shards;
 }
 
@@ -266,7 +275,8 @@ Result<StudySpec> load_shard_spec(const ShardInput& shard, const fs::path& path)
     return spec;
 }
 
-Result<MergedStudy> merge_shards(const StudySpec& spec, const std::vector<ShardInput>& shards, const fs::path& out_dir) {
+Result<MergedStudy> merge_shards(const StudySpec& spec, const std::vector<ShardInput>& shards,
+                                 const fs::path& out_dir) {
     std::error_code ec;
     for (const ShardInput& s : shards)
         if (fs::equivalent(s.dir, out_dir, ec))
@@ -317,8 +327,7 @@ Result<MergedStudy> merge_shards(const StudySpec& spec, const std::vector<ShardI
 
     // The rows in an unsharded run's order, written through the same files.
     fs::create_directories(out_dir, ec);
-    if (ec)
-        return Error{"cannot create " + out_dir.string() + ": " + ec.message()};
+    if (ec) return Error{"cannot create " + out_dir.string() + ": " + ec.message()};
     auto out = StudyFiles::open(out_dir, spec, true);
     if (!out) return out.failure();
     std::map<std::string, size_t> shard_of;  // cell -> shard
@@ -353,8 +362,8 @@ Result<MergedStudy> merge_shards(const StudySpec& spec, const std::vector<ShardI
     }
     merged.rows = out.value().rows();
     for (StudyRow& r : merged.rows)
-        if (auto it = shard_of.find(r.cell); it != shard_of.end() && cells_on.size() > 1 &&
-                                             shards[it->second].manifest.device != majority->first)
+        if (auto it = shard_of.find(r.cell);
+            it != shard_of.end() && cells_on.size() > 1 && shards[it->second].manifest.device != majority->first)
             r.device = shards[it->second].manifest.device;
     return merged;
 }

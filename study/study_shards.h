@@ -35,10 +35,10 @@ struct StudyShard {
 Result<StudyShard> parse_shard(const std::string& text);
 
 struct StudyUnit {
-    std::string key;                  ///< the frame's key (study_frame_key), or "solver_map[i]"
-    std::vector<std::string> cells;   ///< study cell keys, or solver map cell keys
+    std::string key;                   ///< the frame's key (study_frame_key), or "solver_map[i]"
+    std::vector<std::string> cells;    ///< study cell keys, or solver map cell keys
     std::optional<size_t> solver_map;  ///< index in spec.solver_maps for a map's unit
-    double cost = 0.0;                ///< the estimate the split balances
+    double cost = 0.0;                 ///< the estimate the split balances
 };
 
 /// Every unit of the spec, in spec order (frames, then solver maps).
@@ -51,7 +51,7 @@ std::vector<std::string> solver_map_cell_keys(const SolverMapSpec& map);
 /// manifest.json of a shard's folder: what it belongs to and whether it finished.
 struct ShardManifest {
     std::string spec_hash, spec_name, spec_path;  ///< spec_path: absolute, for merge to read the spec
-    std::optional<uint64_t> particles;           ///< the run's --particles (part of the spec's identity)
+    std::optional<uint64_t> particles;            ///< the run's --particles (part of the spec's identity)
     std::string version, device;
     StudyShard shard;
     std::vector<std::string> cells;  ///< the study and solver map cells the shard owns

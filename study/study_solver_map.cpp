@@ -7,11 +7,11 @@
 #include <exception>
 #include <memory>
 
+#include "core/csv.h"
 #include "core/file_write.h"
 #include "core/format_text.h"
 #include "core/interrupt.h"
 #include "gpu/context.h"
-#include "core/csv.h"
 #include "session/simulation_session.h"
 
 namespace aquaform::study {
@@ -29,26 +29,32 @@ constexpr double kMinStepsPerCell = 16;
 
 Result<bool> check_spec(const SolverMapSpec& spec, const Scene& scene) {
     const std::string where = "solver map of " + spec.scene.string() + ": ";
-    if (spec.frame_dts.empty()) return Error{where + "no time steps given; list at least one dt in seconds, e.g. [0.002, 0.008]"};
+    if (spec.frame_dts.empty())
+        return Error{where + "no time steps given; list at least one dt in seconds, e.g. [0.002, 0.008]"};
     if (spec.iterations.empty()) return Error{where + "no iteration counts given; list at least one, e.g. [1, 4]"};
     for (float dt : spec.frame_dts)
         if (!std::isfinite(dt) || dt <= 0.0f)
-            return Error{where + format_text("time step %g is not a positive number of seconds; use e.g. 0.004", double(dt))};
+            return Error{where +
+                         format_text("time step %g is not a positive number of seconds; use e.g. 0.004", double(dt))};
     for (uint32_t it : spec.iterations)
         if (it == 0) return Error{where + "0 constraint iterations leaves the fluid unconstrained; use 1 or more"};
     if (!std::isfinite(spec.sim_time_s) || spec.sim_time_s <= 0.0f)
-        return Error{where + format_text("sim_time_s %g must be a positive number of seconds", double(spec.sim_time_s))};
+        return Error{where +
+                     format_text("sim_time_s %g must be a positive number of seconds", double(spec.sim_time_s))};
     for (float p : spec.control_pressures)
         if (!std::isfinite(p) || p <= 0.0f)
             return Error{where + format_text("control pressure %g Pa must be positive", double(p))};
     if (!spec.control_pressures.empty() && !scene.control_json)
-        return Error{where + "control pressures are given but the scene has no \"control\" section; remove them or "
-                             "use a scene with mesh control"};
+        return Error{where +
+                     "control pressures are given but the scene has no \"control\" section; remove them or "
+                     "use a scene with mesh control"};
     for (float dt : spec.frame_dts)
         if (double(spec.sim_time_s) / dt > kMaxStepsPerCell)
-            return Error{where + format_text("dt %g s over %g s is %.3g steps per cell, more than %.0g; use a larger dt or a "
+            return Error{where +
+                         format_text("dt %g s over %g s is %.3g steps per cell, more than %.0g; use a larger dt or a "
                                      "shorter sim_time_s",
-                                     double(dt), double(spec.sim_time_s), double(spec.sim_time_s) / dt, kMaxStepsPerCell)};
+                                     double(dt), double(spec.sim_time_s), double(spec.sim_time_s) / dt,
+                                     kMaxStepsPerCell)};
     return true;
 }
 
@@ -171,8 +177,9 @@ Result<std::vector<SolverMapRecord>> run_solver_map(gpu::Context& ctx, const Sol
                 id.control_pressure = pressure;
                 if (hooks.done && hooks.done(id)) continue;
                 if (interrupted()) return records;
-                const std::string cell = format_text("%s, dt %g s, %u iterations", label.c_str(), double(dt), iterations) +
-                                         (pressure ? format_text(", control %g Pa", double(*pressure)) : "");
+                const std::string cell =
+                    format_text("%s, dt %g s, %u iterations", label.c_str(), double(dt), iterations) +
+                    (pressure ? format_text(", control %g Pa", double(*pressure)) : "");
                 try {
                     records.push_back(run_cell(ctx, scene, section, spec, label, dt, iterations, pressure));
                 } catch (const std::exception& e) {
@@ -180,9 +187,10 @@ Result<std::vector<SolverMapRecord>> run_solver_map(gpu::Context& ctx, const Sol
                 }
                 const SolverMapRecord& r = records.back();
                 say(format_text("[%zu/%zu] ", cell_index, cells) + cell + ": " +
-                    (r.stable ? std::string("stable") : format_text("blew up at %.3g s (", r.blowup_time_s) + r.failure + ")") +
+                    (r.stable ? std::string("stable")
+                              : format_text("blew up at %.3g s (", r.blowup_time_s) + r.failure + ")") +
                     format_text("; max density error %.4g, mean %.4g (%u frames, %.1f s)", r.density_err_max,
-                        r.density_err_mean, r.frames, r.wall_s));
+                                r.density_err_mean, r.frames, r.wall_s));
                 if (hooks.measured && !hooks.measured(r)) return records;
             }
     return records;

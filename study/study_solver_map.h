@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "core/result.h"
 #include "sim/blowup.h"
 #include "sim/frame_stats.h"
-#include "core/result.h"
 #include "sim/scene.h"
 
 namespace aquaform::gpu {
@@ -39,12 +39,12 @@ struct SolverMapRecord {
     float dt = 0.0f;
     uint32_t iterations = 0;
     std::optional<float> control_pressure;  ///< empty: the scene as is
-    double density_err_max = 0.0;   ///< max over frames of the max compression rho/rho0 - 1
-    double density_err_mean = 0.0;  ///< mean over frames of the mean compression
+    double density_err_max = 0.0;           ///< max over frames of the max compression rho/rho0 - 1
+    double density_err_mean = 0.0;          ///< mean over frames of the mean compression
     bool stable = true;
-    double blowup_time_s = -1.0;    ///< simulated time of the first failing frame; -1 if stable
-    std::string failure;            ///< why it blew up (empty when stable); not in the CSV
-    uint32_t frames = 0;            ///< frames run (to the blow-up, or all)
+    double blowup_time_s = -1.0;  ///< simulated time of the first failing frame; -1 if stable
+    std::string failure;          ///< why it blew up (empty when stable); not in the CSV
+    uint32_t frames = 0;          ///< frames run (to the blow-up, or all)
     double wall_s = 0.0;
 };
 

@@ -9,13 +9,13 @@
 #include <sstream>
 #include <string_view>
 
+#include "bench/bench_frames.h"
 #include "core/file_name.h"
 #include "core/json_fields.h"
-#include "bench/bench_frames.h"
-#include "sim/scene.h"
+#include "render/picture_size.h"
 #include "render/registry.h"
 #include "render/surface_settings.h"
-#include "render/picture_size.h"
+#include "sim/scene.h"
 
 namespace aquaform::study {
 
@@ -25,8 +25,8 @@ using namespace json_fields;
 namespace fs = std::filesystem;
 
 constexpr std::array<std::string_view, 4> kTopKeys{"name", "repeats", "cases", "solver_map"};
-constexpr std::array<std::string_view, 9> kCaseKeys{"name", "scene", "particles", "time", "camera",
-                                                    "resolutions", "methods", "note", "list_bytes_per_pixel"};
+constexpr std::array<std::string_view, 9> kCaseKeys{
+    "name", "scene", "particles", "time", "camera", "resolutions", "methods", "note", "list_bytes_per_pixel"};
 constexpr std::array<std::string_view, 8> kMethodKeys{"method",    "visual",     "size",     "recursion",
                                                       "bisection", "resolution", "stepping", "surface"};
 constexpr std::array<std::string_view, 5> kMapKeys{"scene", "dt", "iterations", "control_pressure", "time"};
@@ -127,7 +127,8 @@ std::vector<StudyMethod> read_methods(const json& v, const std::string& path, ui
         if (m.contains("surface") && !entry->setting_by_spec_key("surface"))
             fail(child(where, "surface") + " applies to " + methods_with_key("surface") + " only, not " + name);
         if (m.contains("stepping") && m.contains("resolution"))
-            fail(child(where, "stepping") + " draws a ray per pixel (full resolution); drop \"resolution\" or give the "
+            fail(child(where, "stepping") +
+                 " draws a ray per pixel (full resolution); drop \"resolution\" or give the "
                  "stepping configurations a method entry of their own");
         auto strings = [&](const char* key, std::vector<std::string> fallback, std::set<std::string> allowed) {
             if (!m.contains(key)) return fallback;
@@ -144,42 +145,45 @@ std::vector<StudyMethod> read_methods(const json& v, const std::string& path, ui
         };
         auto numbers = [&](const char* key, float fallback, const Range& r) {
             if (!m.contains(key)) return std::vector<float>{fallback};
-            return read_list<float>(m[key], child(where, key), [&](const json& x, const std::string& p) { return read_number(x, p, r); });
+            return read_list<float>(m[key], child(where, key),
+                                    [&](const json& x, const std::string& p) { return read_number(x, p, r); });
         };
         auto integers = [&](const char* key, uint32_t fallback, uint32_t lo, uint32_t hi) {
             if (!m.contains(key)) return std::vector<uint32_t>{fallback};
-            return read_list<uint32_t>(m[key], child(where, key), [&](const json& x, const std::string& p) { return read_integer(x, p, lo, hi); });
+            return read_list<uint32_t>(m[key], child(where, key),
+                                       [&](const json& x, const std::string& p) { return read_integer(x, p, lo, hi); });
         };
         const auto visuals = strings("visual", {"gradient"}, {"gradient", "real"});
-        const auto sizes = numbers("size", 1.0f, {0.5, 8.0, false, false, "a number of particle spacings from 0.5 to 8"});
+        const auto sizes =
+            numbers("size", 1.0f, {0.5, 8.0, false, false, "a number of particle spacings from 0.5 to 8"});
         const auto recursions = integers("recursion", 1, 1, 4);
         const auto bisections = integers("bisection", 3, 0, 32);
         const auto resolutions = strings("resolution", {"adaptive"}, {"full", "half", "quarter", "adaptive"});
         const auto steppings = strings("stepping", {"all"}, {"all", "mask", "mask_skip", "mask_wu_skip"});
         const auto surfaces = strings("surface", {"anisotropic"}, {"isotropic", "anisotropic"});
         for (const auto& surface : surfaces)
-        for (const auto& visual : visuals)
-            for (float size : sizes)
-                for (uint32_t recursion : recursions)
-                    for (uint32_t bisection : bisections)
-                        for (const auto& resolution : resolutions)
-                        for (const auto& stepping : steppings) {
-                            StudyMethod sm;
-                            sm.method = name;
-                            sm.family = family;
-                            sm.visual = visual;
-                            sm.size = size;
-                            sm.recursion = visual == "real" ? recursion : 1;
-                            sm.bisection = bisection;
-                            sm.resolution = resolution;
-                            sm.stepping = stepping;
-                            sm.surface = entry->setting_by_spec_key("surface") ? surface : "anisotropic";
-                            bool seen = false;
-                            for (const auto& o : out) seen = seen || o.label() == sm.label();
-                            if (seen) continue;
-                            sm.settings = settings_of(sm, list_bytes_per_pixel, where);
-                            out.push_back(std::move(sm));
-                        }
+            for (const auto& visual : visuals)
+                for (float size : sizes)
+                    for (uint32_t recursion : recursions)
+                        for (uint32_t bisection : bisections)
+                            for (const auto& resolution : resolutions)
+                                for (const auto& stepping : steppings) {
+                                    StudyMethod sm;
+                                    sm.method = name;
+                                    sm.family = family;
+                                    sm.visual = visual;
+                                    sm.size = size;
+                                    sm.recursion = visual == "real" ? recursion : 1;
+                                    sm.bisection = bisection;
+                                    sm.resolution = resolution;
+                                    sm.stepping = stepping;
+                                    sm.surface = entry->setting_by_spec_key("surface") ? surface : "anisotropic";
+                                    bool seen = false;
+                                    for (const auto& o : out) seen = seen || o.label() == sm.label();
+                                    if (seen) continue;
+                                    sm.settings = settings_of(sm, list_bytes_per_pixel, where);
+                                    out.push_back(std::move(sm));
+                                }
     }
     return out;
 }
@@ -189,7 +193,8 @@ StudyCamera read_camera(const json& v, const std::string& path) {
     if (v.is_string()) {
         c.preset = v.get<std::string>();
         if (c.preset != "front" && c.preset != "far" && c.preset != "closeup")
-            fail(path + " is \"" + c.preset + "\"; use front, far (twice the distance), closeup (inside the fluid's reach) "
+            fail(path + " is \"" + c.preset +
+                 "\"; use front, far (twice the distance), closeup (inside the fluid's reach) "
                  "or {\"eye\": [x, y, z], \"target\": [x, y, z], \"fov\": 40}");
         return c;
     }
@@ -200,9 +205,11 @@ StudyCamera read_camera(const json& v, const std::string& path) {
 }
 
 StudyCase read_case(const json& v, const std::string& path, const fs::path& base_dir) {
-    if (!v.is_object()) fail(path + " must be an object with \"name\", \"resolutions\" and \"methods\", got " + written(v));
+    if (!v.is_object())
+        fail(path + " must be an object with \"name\", \"resolutions\" and \"methods\", got " + written(v));
     check_keys(v, "in " + path, kCaseKeys);
-    for (const char* key : {"name", "resolutions", "methods"}) require(v, key, "in " + path, std::string("\"") + key + "\": ...");
+    for (const char* key : {"name", "resolutions", "methods"})
+        require(v, key, "in " + path, std::string("\"") + key + "\": ...");
     StudyCase c;
     c.name = checked_name(read_string(v["name"], child(path, "name"), "a name"), child(path, "name"));
     if (v.contains("scene")) {
@@ -215,24 +222,27 @@ StudyCase read_case(const json& v, const std::string& path, const fs::path& base
         }
     }
     if (v.contains("particles")) {
-        c.particles = read_list<uint32_t>(v["particles"], child(path, "particles"), [](const json& x, const std::string& p) {
-            return read_integer(x, p, 64, 64u << 20);
-        });
+        c.particles =
+            read_list<uint32_t>(v["particles"], child(path, "particles"),
+                                [](const json& x, const std::string& p) { return read_integer(x, p, 64, 64u << 20); });
     } else if (c.scene == "dam_break") {
         c.particles = {4096};
     }
     if (v.contains("time") && !(v["time"].is_string() && v["time"] == "half_tank"))
-        c.time_s = read_number(v["time"], child(path, "time"), {0.0, 60.0, false, false, "\"half_tank\" or seconds from 0 to 60"});
+        c.time_s = read_number(v["time"], child(path, "time"),
+                               {0.0, 60.0, false, false, "\"half_tank\" or seconds from 0 to 60"});
     if (v.contains("camera")) c.camera = read_camera(v["camera"], child(path, "camera"));
-    c.resolutions = read_list<std::pair<uint32_t, uint32_t>>(v["resolutions"], child(path, "resolutions"),
-                                                             [](const json& x, const std::string& p) {
-        std::pair<uint32_t, uint32_t> wh;
-        if (!x.is_string() || !parse_resolution(x.get<std::string>(), &wh.first, &wh.second))
-            fail(p + " must be a resolution such as \"512x512\" (each side " + picture_side_range() + "), got " + written(x));
-        return wh;
-    });
+    c.resolutions = read_list<std::pair<uint32_t, uint32_t>>(
+        v["resolutions"], child(path, "resolutions"), [](const json& x, const std::string& p) {
+            std::pair<uint32_t, uint32_t> wh;
+            if (!x.is_string() || !parse_resolution(x.get<std::string>(), &wh.first, &wh.second))
+                fail(p + " must be a resolution such as \"512x512\" (each side " + picture_side_range() + "), got " +
+                     written(x));
+            return wh;
+        });
     if (v.contains("list_bytes_per_pixel"))
-        c.list_bytes_per_pixel = read_integer(v["list_bytes_per_pixel"], child(path, "list_bytes_per_pixel"), 8, 1u << 16);
+        c.list_bytes_per_pixel =
+            read_integer(v["list_bytes_per_pixel"], child(path, "list_bytes_per_pixel"), 8, 1u << 16);
     c.methods = read_methods(v["methods"], child(path, "methods"), c.list_bytes_per_pixel);
     if (v.contains("note")) c.note = read_string(v["note"], child(path, "note"), "a sentence");
     return c;
@@ -241,22 +251,28 @@ StudyCase read_case(const json& v, const std::string& path, const fs::path& base
 SolverMapSpec read_map(const json& v, const std::string& path, const fs::path& base_dir) {
     if (!v.is_object()) fail(path + " must be an object with \"scene\", \"dt\" and \"iterations\", got " + written(v));
     check_keys(v, "in " + path, kMapKeys);
-    for (const char* key : {"scene", "dt", "iterations"}) require(v, key, "in " + path, std::string("\"") + key + "\": ...");
+    for (const char* key : {"scene", "dt", "iterations"})
+        require(v, key, "in " + path, std::string("\"") + key + "\": ...");
     SolverMapSpec m;
     m.scene = (base_dir / read_string(v["scene"], child(path, "scene"), "a scene file path")).lexically_normal();
     std::error_code ec;
     if (!fs::is_regular_file(m.scene, ec))
         fail(child(path, "scene") + ": no scene file " + m.scene.string() + "; paths are relative to the spec file");
     m.frame_dts = read_list<float>(v["dt"], child(path, "dt"), [](const json& x, const std::string& p) {
-        return read_number(x, p, {0.0, kMaxFrameDt, true, false, "a time step in seconds, above 0 and at most " + fmt(kMaxFrameDt)});
+        return read_number(
+            x, p, {0.0, kMaxFrameDt, true, false, "a time step in seconds, above 0 and at most " + fmt(kMaxFrameDt)});
     });
-    m.iterations = read_list<uint32_t>(v["iterations"], child(path, "iterations"),
-                                       [](const json& x, const std::string& p) { return read_integer(x, p, 1, kMaxIterations); });
+    m.iterations =
+        read_list<uint32_t>(v["iterations"], child(path, "iterations"),
+                            [](const json& x, const std::string& p) { return read_integer(x, p, 1, kMaxIterations); });
     if (v.contains("control_pressure"))
-        m.control_pressures = read_list<float>(v["control_pressure"], child(path, "control_pressure"), [](const json& x, const std::string& p) {
-            return read_number(x, p, {0.0, 1e9, true, false, "a pressure in pascals above 0"});
-        });
-    if (v.contains("time")) m.sim_time_s = read_number(v["time"], child(path, "time"), {0.0, 60.0, true, false, "seconds above 0, at most 60"});
+        m.control_pressures = read_list<float>(
+            v["control_pressure"], child(path, "control_pressure"), [](const json& x, const std::string& p) {
+                return read_number(x, p, {0.0, 1e9, true, false, "a pressure in pascals above 0"});
+            });
+    if (v.contains("time"))
+        m.sim_time_s =
+            read_number(v["time"], child(path, "time"), {0.0, 60.0, true, false, "seconds above 0, at most 60"});
     return m;
 }
 
@@ -266,7 +282,8 @@ Result<StudyFamily> study_family(const std::string& family) {
     if (family == "surface") return StudyFamily::surface;
     if (family == "metaball") return StudyFamily::metaball;
     if (family == "screen_space") return StudyFamily::screen_space;
-    return Error{"a method of the family \"" + family + "\", which a study cannot measure (it knows surface, "
+    return Error{"a method of the family \"" + family +
+                 "\", which a study cannot measure (it knows surface, "
                  "metaball and screen_space); use a method of those families (aquaform help lists them)"};
 }
 
@@ -287,27 +304,29 @@ std::string StudyMethod::label() const {
     return text.str();
 }
 
-uint32_t StudyMethod::resolution_divisor() const {
-    return resolution == "half" ? 2 : resolution == "quarter" ? 4 : 1;
-}
+uint32_t StudyMethod::resolution_divisor() const { return resolution == "half" ? 2 : resolution == "quarter" ? 4 : 1; }
 
 Result<StudySpec> parse_study_spec(const std::string& text, const std::string& origin, const fs::path& base_dir) {
     try {
         const json j = parse_strict(text, origin);
-        if (!j.is_object()) fail("the top level must be an object {\"name\": ..., \"cases\": [...]}, got " + written(j));
+        if (!j.is_object())
+            fail("the top level must be an object {\"name\": ..., \"cases\": [...]}, got " + written(j));
         check_keys(j, "at top level", kTopKeys);
-        require(j, "cases", "at top level", "\"cases\": [{\"name\": \"small\", \"resolutions\": [\"256x256\"], \"methods\": [...]}]");
+        require(j, "cases", "at top level",
+                "\"cases\": [{\"name\": \"small\", \"resolutions\": [\"256x256\"], \"methods\": [...]}]");
         StudySpec spec;
-        spec.name = j.contains("name") ? checked_name(read_string(j["name"], "name", "a name"), "name")
-                                       : checked_name(fs::path(origin).stem().string(),
-                                                      "name (none given, so the file's name)");
+        spec.name = j.contains("name")
+                        ? checked_name(read_string(j["name"], "name", "a name"), "name")
+                        : checked_name(fs::path(origin).stem().string(), "name (none given, so the file's name)");
         if (j.contains("repeats")) spec.repeats = read_integer(j["repeats"], "repeats", 1, 20);
-        if (!j["cases"].is_array() || j["cases"].empty()) fail("cases must be a non-empty array of cases, got " + written(j["cases"]));
+        if (!j["cases"].is_array() || j["cases"].empty())
+            fail("cases must be a non-empty array of cases, got " + written(j["cases"]));
         std::set<std::string> names;
         for (size_t i = 0; i < j["cases"].size(); ++i) {
             spec.cases.push_back(read_case(j["cases"][i], "cases[" + std::to_string(i) + "]", base_dir));
             if (!names.insert(spec.cases.back().name).second)
-                fail("cases[" + std::to_string(i) + "].name \"" + spec.cases.back().name + "\" is used twice; names label the rows");
+                fail("cases[" + std::to_string(i) + "].name \"" + spec.cases.back().name +
+                     "\" is used twice; names label the rows");
         }
         if (j.contains("solver_map")) {
             const json& maps = j["solver_map"];
@@ -320,7 +339,8 @@ Result<StudySpec> parse_study_spec(const std::string& text, const std::string& o
         }
         spec.identity = j.dump();
         for (const StudyCase& c : spec.cases)
-            if (c.scene != "dam_break") spec.identity += "\n" + read_file_text(c.scene);  // contents: any working directory
+            if (c.scene != "dam_break")
+                spec.identity += "\n" + read_file_text(c.scene);  // contents: any working directory
         for (const SolverMapSpec& m : spec.solver_maps) spec.identity += "\n" + read_file_text(m.scene);
         return spec;
     } catch (const Invalid& e) {
@@ -373,7 +393,8 @@ std::vector<std::string> study_cell_keys(const StudySpec& spec) {
     for (const StudyCase& c : spec.cases)
         for (const auto& n : study_frame_counts(c))
             for (const auto& [w, h] : c.resolutions)
-                for (const StudyMethod& m : c.methods) keys.push_back(study_cell_key(study_frame_key(c, n), w, h, m.label()));
+                for (const StudyMethod& m : c.methods)
+                    keys.push_back(study_cell_key(study_frame_key(c, n), w, h, m.label()));
     return keys;
 }
 

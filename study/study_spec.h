@@ -30,10 +30,10 @@
 #include <string>
 #include <vector>
 
-#include "study/study_solver_map.h"
+#include "core/result.h"
 #include "render/impostor_view.h"
 #include "render/renderer.h"
-#include "core/result.h"
+#include "study/study_solver_map.h"
 
 namespace aquaform::study {
 
@@ -44,12 +44,12 @@ Result<StudyFamily> study_family(const std::string& family);
 
 /// One expanded method configuration.
 struct StudyMethod {
-    std::string method;                 ///< as in the spec
+    std::string method;  ///< as in the spec
     StudyFamily family = StudyFamily::surface;
-    std::string visual = "gradient";    ///< metaballs
-    float size = 1.0f;                  ///< metaballs: range in particle spacings
-    uint32_t recursion = 1;             ///< metaballs, real visual
-    uint32_t bisection = 3;             ///< metaballs
+    std::string visual = "gradient";      ///< metaballs
+    float size = 1.0f;                    ///< metaballs: range in particle spacings
+    uint32_t recursion = 1;               ///< metaballs, real visual
+    uint32_t bisection = 3;               ///< metaballs
     std::string resolution = "adaptive";  ///< adaptive method: full, half, quarter or adaptive
     /// Adaptive method, Wu et al. Fig. 5: "all" mechanisms (default), "mask" (the binary density
     /// grid alone), "mask_skip" (with the skip to D_agg) or "mask_wu_skip" (with Wu et al.'s skip
@@ -76,15 +76,15 @@ struct StudyCamera {
 
 struct StudyCase {
     std::string name;
-    std::string scene = "dam_break";        ///< "dam_break" or a scene file path (resolved)
+    std::string scene = "dam_break";  ///< "dam_break" or a scene file path (resolved)
     /// Particle counts: the generated dam break's (default 4096), or a scene file scaled to each
     /// (scaled_scene in bench/bench_frames.h; empty: the file's own particles).
     std::vector<uint32_t> particles;
-    std::optional<double> time_s;           ///< empty: half_tank
+    std::optional<double> time_s;  ///< empty: half_tank
     StudyCamera camera;
     std::vector<std::pair<uint32_t, uint32_t>> resolutions;
     std::vector<StudyMethod> methods;
-    std::string note;  ///< what the case shows, for the report
+    std::string note;                   ///< what the case shows, for the report
     uint32_t list_bytes_per_pixel = 0;  ///< metaball list memory; 0: the renderer's default
 };
 
@@ -97,7 +97,6 @@ struct StudySpec {
     /// hash (spec_hash) marks every row written, so a rerun resumes only the rows of this spec.
     std::string identity;
 };
-
 
 /// 16 hex digits of a hash of spec.identity.
 std::string spec_hash(const StudySpec& spec);

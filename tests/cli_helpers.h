@@ -4,16 +4,16 @@
 #include <fcntl.h>
 #include <signal.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <array>
 #include <chrono>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 #include <vector>
 
 namespace aquaform::test_cli {

@@ -11,8 +11,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <openvdb/openvdb.h>
+#include <nlohmann/json.hpp>
 
 #include "render/marching_cubes.h"
 #include "tests/cli_helpers.h"

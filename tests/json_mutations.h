@@ -39,19 +39,40 @@ inline Mutation mutate(const json& scene, const json::json_pointer& path, std::m
     const auto pick = [&](size_t n) { return std::uniform_int_distribution<size_t>(0, n - 1)(random); };
     json deep = json::array();
     for (int i = 0; i < 80; ++i) deep = json::array({deep});
-    const json values[] = {nullptr, true, "text", -1, 0, 1e308, -1e308, 1e-320, 4294967296.0, 18446744073709551615ull,
-                           json::array(), json::object(), deep, std::string(100000, 'x'), json::array({1, 2}),
-                           json::object({{"x", 1}}), -0.0, 2.5, 1e6, json::array({0, 0, 0})};
+    const json values[] = {nullptr,
+                           true,
+                           "text",
+                           -1,
+                           0,
+                           1e308,
+                           -1e308,
+                           1e-320,
+                           4294967296.0,
+                           18446744073709551615ull,
+                           json::array(),
+                           json::object(),
+                           deep,
+                           std::string(100000, 'x'),
+                           json::array({1, 2}),
+                           json::object({{"x", 1}}),
+                           -0.0,
+                           2.5,
+                           1e6,
+                           json::array({0, 0, 0})};
     const char* raw[] = {"NaN", "Infinity", "1e400", "-", "[", "}", "0x10", "'x'", "tru"};
     json j = scene;
     Mutation m{"", path, false};
     switch (pick(5)) {
         case 0:
-        case 1: j[path] = values[pick(std::size(values))]; break;
+        case 1:
+            j[path] = values[pick(std::size(values))];
+            break;
         case 2:  // delete, or (under an object) an unknown key beside it
             if (j[path.parent_pointer()].is_object()) {
-                if (pick(2)) j[path.parent_pointer()].erase(path.back());
-                else j[path.parent_pointer()][path.back() + "_typo"] = 1;
+                if (pick(2))
+                    j[path.parent_pointer()].erase(path.back());
+                else
+                    j[path.parent_pointer()][path.back() + "_typo"] = 1;
             } else {
                 j[path.parent_pointer()].erase(std::stoul(path.back()));
             }

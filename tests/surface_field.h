@@ -27,7 +27,8 @@ inline FieldKernels field_kernels(SurfaceRenderer& renderer, const std::vector<g
 
 /// The kernel j's G (the rows as the GPU stores them).
 inline glm::mat3 kernel_shape(const FieldKernels& k, size_t j) {
-    return glm::transpose(glm::mat3(glm::vec3(k.shapes[3 * j]), glm::vec3(k.shapes[3 * j + 1]), glm::vec3(k.shapes[3 * j + 2])));
+    return glm::transpose(
+        glm::mat3(glm::vec3(k.shapes[3 * j]), glm::vec3(k.shapes[3 * j + 1]), glm::vec3(k.shapes[3 * j + 2])));
 }
 
 /// phi(x) = V sum_j W(x - x_j, r) over every particle, or V sum_j W(x - x_bar_j, G_j) over
@@ -36,8 +37,9 @@ inline float cpu_field(const shader::SurfaceParams& p, const FieldKernels& kerne
     float sum = 0.0f;
     for (size_t j = 0; j < kernels.centres.size(); ++j) {
         const glm::vec3 d = x - glm::vec3(kernels.centres[j]);
-        sum += kernels.shapes.empty() ? shader::cubic_kernel(glm::dot(d, d), p.inv_radius, p.kernel_coeff)
-                                      : shader::anisotropic_kernel(d, kernel_shape(kernels, j), kernels.shapes[3 * j].w);
+        sum += kernels.shapes.empty()
+                   ? shader::cubic_kernel(glm::dot(d, d), p.inv_radius, p.kernel_coeff)
+                   : shader::anisotropic_kernel(d, kernel_shape(kernels, j), kernels.shapes[3 * j].w);
     }
     return p.volume * sum;
 }

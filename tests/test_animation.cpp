@@ -13,10 +13,10 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "core/error.h"
+#include "core/json_fields.h"
 #include "geometry/animation.h"
 #include "geometry/primitives.h"
 #include "geometry/skinning.h"
-#include "core/json_fields.h"
 
 namespace {
 
@@ -61,23 +61,28 @@ protected:
 
 TEST(AnimationPlacement, ParsesAndMatchesApply) {
     const Mesh rest = make_torus(0.35f, 0.15f, 12, 6);
-    for (const char* text : {R"({"position": [1, 2, 3], "rotation_degrees": [10, 20, 30], "scale": 0.5})",
-                             R"({"rotation_degrees": [0, 90, 0], "fit_into": {"min": [0, 0, 0], "max": [1, 0.5, 2]}})"}) {
+    for (const char* text :
+         {R"({"position": [1, 2, 3], "rotation_degrees": [10, 20, 30], "scale": 0.5})",
+          R"({"rotation_degrees": [0, 90, 0], "fit_into": {"min": [0, 0, 0], "max": [1, 0.5, 2]}})"}) {
         const MeshPlacement p = parse_placement(json::parse(text), "placement");
         Mesh placed = rest;
         apply(p, placed);
         const glm::mat4 m = placement_matrix(p, rest);
-        for (size_t i = 0; i < rest.vertices.size(); ++i) expect_near(transform(m, rest.vertices[i]), placed.vertices[i]);
+        for (size_t i = 0; i < rest.vertices.size(); ++i)
+            expect_near(transform(m, rest.vertices[i]), placed.vertices[i]);
     }
 }
 
 TEST(AnimationPlacement, BadPlacementsNameTheKey) {
-    EXPECT_NE(error_of([] { parse_placement(json::parse(R"({"postion": [0, 0, 0]})"), "control.meshes[0].placement"); })
-                  .find("\"postion\" in control.meshes[0].placement; did you mean \"position\""),
-              std::string::npos);
-    EXPECT_NE(error_of([] { parse_placement(json::parse(R"({"scale": 0})"), "p"); }).find("p.scale is 0"), std::string::npos);
     EXPECT_NE(error_of([] {
-                  parse_placement(json::parse(R"({"scale": 2, "fit_into": {"min": [0, 0, 0], "max": [1, 1, 1]}})"), "p");
+                  parse_placement(json::parse(R"({"postion": [0, 0, 0]})"), "control.meshes[0].placement");
+              }).find("\"postion\" in control.meshes[0].placement; did you mean \"position\""),
+              std::string::npos);
+    EXPECT_NE(error_of([] { parse_placement(json::parse(R"({"scale": 0})"), "p"); }).find("p.scale is 0"),
+              std::string::npos);
+    EXPECT_NE(error_of([] {
+                  parse_placement(json::parse(R"({"scale": 2, "fit_into": {"min": [0, 0, 0], "max": [1, 1, 1]}})"),
+                                  "p");
               }).find("p.scale would be ignored"),
               std::string::npos);
 }
@@ -99,7 +104,8 @@ TEST(AnimationRigid, InterpolatesPositionScaleAndSlerpAboutThePlacedCentre) {
     const glm::mat4 half = anim.transform_at(1.0);
     expect_near(transform(half, centre), centre + glm::vec3(0, 0.15f, 0));
     const float c = std::cos(glm::radians(60.0f)), s = std::sin(glm::radians(60.0f));
-    expect_near(transform(half, centre + glm::vec3(1, 0, 0)), centre + glm::vec3(0, 0.15f, 0) + 1.5f * glm::vec3(c, 0, -s));
+    expect_near(transform(half, centre + glm::vec3(1, 0, 0)),
+                centre + glm::vec3(0, 0.15f, 0) + 1.5f * glm::vec3(c, 0, -s));
     // Clamped outside the keys.
     expect_near(transform(anim.transform_at(-3.0), centre + glm::vec3(1, 0, 0)), centre + glm::vec3(1, 0, 0));
     const glm::vec3 end = transform(anim.transform_at(2.0), centre + glm::vec3(1, 0, 0));
@@ -116,8 +122,10 @@ TEST(AnimationRigid, LoopWrapsAndSpinsThroughKeysUnder180DegreesApart) {
         {"t": 4, "rotation_degrees": [0, 0, 360]}]})");
     anim.bind(make_torus(0.35f, 0.15f, 12, 6), {});
     const glm::vec3 x(1, 0, 0);
-    expect_near(transform(anim.transform_at(1.5), x), {std::cos(glm::radians(135.0f)), std::sin(glm::radians(135.0f)), 0});
-    expect_near(transform(anim.transform_at(3.5), x), {std::cos(glm::radians(315.0f)), std::sin(glm::radians(315.0f)), 0});
+    expect_near(transform(anim.transform_at(1.5), x),
+                {std::cos(glm::radians(135.0f)), std::sin(glm::radians(135.0f)), 0});
+    expect_near(transform(anim.transform_at(3.5), x),
+                {std::cos(glm::radians(315.0f)), std::sin(glm::radians(315.0f)), 0});
     expect_near(transform(anim.transform_at(9.5), x), transform(anim.transform_at(1.5), x));
     expect_near(transform(anim.transform_at(-2.5), x), transform(anim.transform_at(1.5), x));
     EXPECT_DOUBLE_EQ(anim.duration(), 4.0);
@@ -135,19 +143,25 @@ TEST(AnimationRigid, NoAnimationIsThePlacedMesh) {
 }
 
 TEST(AnimationRigid, BadKeyframesNameTheKey) {
-    EXPECT_NE(error_of([] { rigid(R"({"keyframes": [{"t": 0}, {"t": 1}, {"t": 1}]})"); })
-                  .find("animation.keyframes[2].t is 1 but the key before it is at t = 1; key times must increase strictly"),
+    EXPECT_NE(
+        error_of([] {
+            rigid(R"({"keyframes": [{"t": 0}, {"t": 1}, {"t": 1}]})");
+        }).find("animation.keyframes[2].t is 1 but the key before it is at t = 1; key times must increase strictly"),
+        std::string::npos);
+    EXPECT_NE(error_of([] {
+                  rigid(R"({"keyframes": [{"t": 0, "rotations_degrees": [0, 0, 0]}]})");
+              }).find("did you mean \"rotation_degrees\""),
               std::string::npos);
-    EXPECT_NE(error_of([] { rigid(R"({"keyframes": [{"t": 0, "rotations_degrees": [0, 0, 0]}]})"); })
-                  .find("did you mean \"rotation_degrees\""),
+    EXPECT_NE(error_of([] {
+                  rigid(R"({"keyframes": [{"position": [0, 0, 0]}]})");
+              }).find("missing required key \"t\" in animation.keyframes[0]"),
               std::string::npos);
-    EXPECT_NE(error_of([] { rigid(R"({"keyframes": [{"position": [0, 0, 0]}]})"); })
-                  .find("missing required key \"t\" in animation.keyframes[0]"),
-              std::string::npos);
-    EXPECT_NE(error_of([] { rigid(R"({"keyframes": [], "loop": true})"); }).find("animation.keyframes must be an array of 1"),
-              std::string::npos);
-    EXPECT_NE(error_of([] { rigid(R"({"keyframes": [{"t": 0}], "loop": 1})"); }).find("animation.loop must be true or false"),
-              std::string::npos);
+    EXPECT_NE(
+        error_of([] { rigid(R"({"keyframes": [], "loop": true})"); }).find("animation.keyframes must be an array of 1"),
+        std::string::npos);
+    EXPECT_NE(
+        error_of([] { rigid(R"({"keyframes": [{"t": 0}], "loop": 1})"); }).find("animation.loop must be true or false"),
+        std::string::npos);
     EXPECT_NE(error_of([] { rigid(R"({"spin": 1})"); }).find("say how the mesh moves"), std::string::npos);
 }
 
@@ -186,22 +200,26 @@ TEST_F(AnimationTest, SequencePicksTheFrameAtTAndLoops) {
 TEST_F(AnimationTest, SequenceErrorsNameTheMissingFrameAndThePattern) {
     ASSERT_TRUE(write_obj(dir_ / "f_0.obj", make_box({{0, 0, 0}, {1, 1, 1}})).ok());
     const std::string missing = error_of([&] {
-        parse_animation(json::parse(R"({"sequence": "f_%d.obj", "count": 2, "fps": 24})"), "control.meshes[1].animation", dir_);
+        parse_animation(json::parse(R"({"sequence": "f_%d.obj", "count": 2, "fps": 24})"),
+                        "control.meshes[1].animation", dir_);
     });
     EXPECT_NE(missing.find("control.meshes[1].animation.sequence"), std::string::npos) << missing;
     EXPECT_NE(missing.find("frame 1"), std::string::npos) << missing;
     EXPECT_NE(missing.find((dir_ / "f_1.obj").string()), std::string::npos) << missing;
-    EXPECT_NE(error_of([&] { parse_animation(json::parse(R"({"sequence": "f.obj", "count": 1, "fps": 24})"), "a", dir_); })
-                  .find("no frame number"),
+    EXPECT_NE(error_of([&] {
+                  parse_animation(json::parse(R"({"sequence": "f.obj", "count": 1, "fps": 24})"), "a", dir_);
+              }).find("no frame number"),
               std::string::npos);
-    EXPECT_NE(error_of([&] { parse_animation(json::parse(R"({"sequence": "f_%d.obj", "count": 1})"), "a", dir_); })
-                  .find("missing required key \"fps\" in a"),
+    EXPECT_NE(error_of([&] {
+                  parse_animation(json::parse(R"({"sequence": "f_%d.obj", "count": 1})"), "a", dir_);
+              }).find("missing required key \"fps\" in a"),
               std::string::npos);
 }
 
 // ---- skinning --------------------------------------------------------------------------------
 
-constexpr const char* kTwoBones = R"({"bones": [{"name": "lower", "parent": "upper", "head": [0, 1, 0], "tail": [0, 2, 0]},
+constexpr const char* kTwoBones =
+    R"({"bones": [{"name": "lower", "parent": "upper", "head": [0, 1, 0], "tail": [0, 2, 0]},
                                                 {"name": "upper", "parent": null, "head": [0, 0, 0]}]})";
 
 TEST(AnimationSkinning, OneBoneTurnsItsVerticesAboutItsJointAndLeavesTheOthers) {
@@ -273,38 +291,49 @@ TEST(AnimationSkinning, PoseKeysInterpolateAndMeshAtSkinsInSceneCoordinates) {
 
 TEST(AnimationSkinning, BadSkeletonsNameTheBoneAndTheFix) {
     const auto skeletal = [](const std::string& bones, const std::string& rotations) {
-        parse_animation(json::parse(R"({"skeleton": {"bones": )" + bones + R"(}, "keyframes": [{"t": 0, "rotations_degrees": )" +
-                                    rotations + "}]}"),
+        parse_animation(json::parse(R"({"skeleton": {"bones": )" + bones +
+                                    R"(}, "keyframes": [{"t": 0, "rotations_degrees": )" + rotations + "}]}"),
                         "animation", ".");
     };
-    const std::string ok = R"([{"name": "hips", "head": [0, 1, 0]}, {"name": "thigh_l", "parent": "hips", "head": [0.1, 0.9, 0]}])";
+    const std::string ok =
+        R"([{"name": "hips", "head": [0, 1, 0]}, {"name": "thigh_l", "parent": "hips", "head": [0.1, 0.9, 0]}])";
     const std::string unknown = error_of([&] { skeletal(ok, R"({"thigh_x": [10, 0, 0]})"); });
-    EXPECT_NE(unknown.find("unknown key \"thigh_x\" in animation.keyframes[0].rotations_degrees"), std::string::npos) << unknown;
+    EXPECT_NE(unknown.find("unknown key \"thigh_x\" in animation.keyframes[0].rotations_degrees"), std::string::npos)
+        << unknown;
     EXPECT_NE(unknown.find("did you mean \"thigh_l\""), std::string::npos) << unknown;
 
     const std::string cycle = error_of([&] {
-        skeletal(R"([{"name": "a", "parent": "b", "head": [0, 0, 0]}, {"name": "b", "parent": "a", "head": [0, 1, 0]}])", "{}");
+        skeletal(
+            R"([{"name": "a", "parent": "b", "head": [0, 0, 0]}, {"name": "b", "parent": "a", "head": [0, 1, 0]}])",
+            "{}");
     });
-    EXPECT_NE(cycle.find("animation.skeleton.bones[0].parent closes a cycle of parents: a -> b -> a"), std::string::npos) << cycle;
+    EXPECT_NE(cycle.find("animation.skeleton.bones[0].parent closes a cycle of parents: a -> b -> a"),
+              std::string::npos)
+        << cycle;
 
-    EXPECT_NE(error_of([&] { skeletal(R"([{"name": "a", "parent": "c", "head": [0, 0, 0]}])", "{}"); })
-                  .find("animation.skeleton.bones[0].parent is \"c\", which is not the name of a bone"),
-              std::string::npos);
-    EXPECT_NE(error_of([&] { skeletal(R"([{"name": "a", "head": [0, 0, 0]}, {"name": "a", "head": [0, 1, 0]}])", "{}"); })
-                  .find("animation.skeleton.bones[1].name \"a\" is already the name of animation.skeleton.bones[0]"),
+    EXPECT_NE(error_of([&] {
+                  skeletal(R"([{"name": "a", "parent": "c", "head": [0, 0, 0]}])", "{}");
+              }).find("animation.skeleton.bones[0].parent is \"c\", which is not the name of a bone"),
               std::string::npos);
     EXPECT_NE(error_of([&] {
-                  skeletal(R"([{"name": "a", "head": [0, 0, 0], "radius": 0.1}, {"name": "b", "parent": "a", "head": [0, 1, 0]}])",
-                           "{}");
-              }).find("give every bone a radius or none"),
+                  skeletal(R"([{"name": "a", "head": [0, 0, 0]}, {"name": "a", "head": [0, 1, 0]}])", "{}");
+              }).find("animation.skeleton.bones[1].name \"a\" is already the name of animation.skeleton.bones[0]"),
               std::string::npos);
+    EXPECT_NE(
+        error_of([&] {
+            skeletal(
+                R"([{"name": "a", "head": [0, 0, 0], "radius": 0.1}, {"name": "b", "parent": "a", "head": [0, 1, 0]}])",
+                "{}");
+        }).find("give every bone a radius or none"),
+        std::string::npos);
 }
 
 TEST_F(AnimationTest, AnimationFromAFileNamesTheFileInItsErrors) {
     std::ofstream(dir_ / "spin.json") << R"({"keyframes": [{"t": 0}, {"t": 1, "rotation_degrees": [0, 90, 0]}]})";
     EXPECT_TRUE(parse_animation(json("spin.json"), "animation", dir_).moves());
     std::ofstream(dir_ / "bad.json") << R"({"keyframes": [{"t": 1}, {"t": 0}]})";
-    const std::string message = error_of([&] { parse_animation(json("bad.json"), "control.meshes[0].animation", dir_); });
+    const std::string message =
+        error_of([&] { parse_animation(json("bad.json"), "control.meshes[0].animation", dir_); });
     EXPECT_NE(message.find("control.meshes[0].animation (bad.json)"), std::string::npos) << message;
     EXPECT_NE(message.find("keyframes[1].t is 0"), std::string::npos) << message;
     EXPECT_NE(error_of([&] { parse_animation(json("none.json"), "animation", dir_); }).find("is not a readable file"),

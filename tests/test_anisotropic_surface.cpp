@@ -14,9 +14,9 @@
 #include <random>
 #include <vector>
 
+#include "bench/surface_checks.h"
 #include "render/surface_metrics.h"
 #include "render/surface_renderer.h"
-#include "bench/surface_checks.h"
 #include "tests/gpu_test.h"
 
 namespace aquaform {
@@ -34,8 +34,8 @@ protected:
         s.surface = surface;
         return s;
     }
-    SurfaceFrame render(const std::vector<glm::vec4>& particles, const ViewCamera& camera, const SurfaceSettings& settings,
-                        uint32_t size = 128) {
+    SurfaceFrame render(const std::vector<glm::vec4>& particles, const ViewCamera& camera,
+                        const SurfaceSettings& settings, uint32_t size = 128) {
         DeviceParticles device(ctx(), particles);
         SurfaceRenderer renderer(ctx(), scene.particle_domain(), size, size, device.count);
         SurfaceFrame frame = renderer.render({device.buffer, device.count}, camera, settings);
@@ -106,7 +106,8 @@ TEST_F(AnisotropicSurfaceTest, AStillBlocksFacesAreFlatAndUnstriped) {
     camera.fov_y_degrees = 24.0f;
     DeviceParticles device(ctx(), block);
     SurfaceRenderer renderer(ctx(), scene.particle_domain(), 160, 160, device.count);
-    const SurfaceFrame frame = renderer.render({device.buffer, device.count}, camera, reference(SurfaceKernel::anisotropic));
+    const SurfaceFrame frame =
+        renderer.render({device.buffer, device.count}, camera, reference(SurfaceKernel::anisotropic));
     const std::vector<float> thickness = renderer.thickness();
     // The front face (normal +z): its pixels' normals against +z, and its thickness column by column.
     double sum2 = 0.0;
@@ -154,7 +155,8 @@ TEST_F(AnisotropicSurfaceTest, NormalSmoothingFlattensBumpsAndKeepsDropletsRound
     for (int z = 0; z < 14; ++z)
         for (int y = 0; y < 4; ++y)
             for (int x = 0; x < 14; ++x)
-                particles.emplace_back(0.06f + kSpacing * float(x) + jitter(rng), 0.01f + kSpacing * float(y) + jitter(rng),
+                particles.emplace_back(0.06f + kSpacing * float(x) + jitter(rng),
+                                       0.01f + kSpacing * float(y) + jitter(rng),
                                        0.06f + kSpacing * float(z) + jitter(rng), 0.0f);
     const size_t slab = particles.size();
     for (int k = 0; k < 3; ++k) particles.emplace_back(0.1f + 0.08f * float(k), 0.2f, 0.2f, 0.0f);
@@ -179,16 +181,18 @@ TEST_F(AnisotropicSurfaceTest, NormalSmoothingFlattensBumpsAndKeepsDropletsRound
         size_t n = 0;
         for (size_t i = 0; i < ref.hit.size(); ++i) {
             if (!ref.has_surface(i) || !f.has_surface(i) || ref.hit[i].y < 0.15f) continue;
-            sum += glm::degrees(std::acos(std::clamp(glm::dot(glm::vec3(ref.normal[i]), glm::vec3(f.normal[i])), -1.0f, 1.0f)));
+            sum += glm::degrees(
+                std::acos(std::clamp(glm::dot(glm::vec3(ref.normal[i]), glm::vec3(f.normal[i])), -1.0f, 1.0f)));
             ++n;
         }
         EXPECT_GT(n, 30u) << "the droplets should be drawn";
         return n ? sum / double(n) : 0.0;
     };
     const double drop_on = droplet_error(a), drop_off = droplet_error(b), drop_wide = droplet_error(c);
-    std::printf("[ smoothing ] %zu slab particles: roughness %.2f deg smoothed, %.2f off (%zu flat pixels); droplets' "
-                "normal error %.1f deg smoothed, %.1f off, %.1f with the angle hardly weighing\n",
-                slab, rough_on.rms_deg, rough_off.rms_deg, rough_on.flat_pixels, drop_on, drop_off, drop_wide);
+    std::printf(
+        "[ smoothing ] %zu slab particles: roughness %.2f deg smoothed, %.2f off (%zu flat pixels); droplets' "
+        "normal error %.1f deg smoothed, %.1f off, %.1f with the angle hardly weighing\n",
+        slab, rough_on.rms_deg, rough_off.rms_deg, rough_on.flat_pixels, drop_on, drop_off, drop_wide);
     ASSERT_GT(rough_on.flat_pixels, 200u);
     EXPECT_LT(rough_on.rms_deg, 0.7 * rough_off.rms_deg) << "the smoothing should flatten the particles' bumps";
     EXPECT_LT(drop_on, 6.0) << "the smoothing should keep a droplet round";
@@ -233,7 +237,8 @@ TEST_F(AnisotropicSurfaceTest, SprayIsDrawnWhiteWithoutMovingTheSurface) {
             droplet_lum[0] += ca[0] + ca[1] + ca[2], droplet_lum[1] += cb[0] + cb[1] + cb[2];
         } else {
             ++bulk_pixels;
-            bulk_change += std::abs(int(ca[0]) - int(cb[0])) + std::abs(int(ca[1]) - int(cb[1])) + std::abs(int(ca[2]) - int(cb[2]));
+            bulk_change += std::abs(int(ca[0]) - int(cb[0])) + std::abs(int(ca[1]) - int(cb[1])) +
+                           std::abs(int(ca[2]) - int(cb[2]));
         }
     }
     EXPECT_EQ(flipped, 0u) << "spray moved the silhouette";

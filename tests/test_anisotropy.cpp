@@ -16,10 +16,10 @@
 #include "gpu/compute_pass.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
+#include "grid/neighbor_grid.h"
 #include "shaders/shared/render/anisotropy.h"
 #include "shaders/shared/render/render_kernels.h"
 #include "shaders/shared/render/surface_layout.h"
-#include "grid/neighbor_grid.h"
 #include "tests/gpu_test.h"
 
 namespace aquaform {
@@ -388,7 +388,7 @@ TEST(AnisotropyClassification, DensitiesMatchTheDocumentedDefaults) {
         {"surface edge", scene.index(6, top, 0), 12, 0.720f, 2.331f},
         {"surface corner", scene.index(0, top, 0), 8, 0.607f, 1.349f},
         {"layer below the surface", scene.index(6, top - 1, 6), 27, 1.000f, 1.000f},  // eq. 8 alone: 0.850
-        {"below a corner", scene.index(1, top - 1, 1), 27, 1.000f, 1.000f},  // eq. 8 alone: 0.608
+        {"below a corner", scene.index(1, top - 1, 1), 27, 1.000f, 1.000f},           // eq. 8 alone: 0.608
         {"2x2x2 droplet", scene.droplet, 8, 0.607f, 0.607f},
         {"lone particle", scene.lone, 1, 1.0f / shader::RENDER_PI, 1.0f / shader::RENDER_PI},
     };
@@ -473,10 +473,20 @@ protected:
         ctx().submit_and_wait([&](VkCommandBuffer cmd) {
             if (anisotropic)
                 gpu::dispatch_raw(ctx(), cmd, shape_pass, n, nullptr, 0,
-                                  {{"params", &params_buffer}, {"sorted", &positions}, {"cell_rank", &grid.cell_rank()}, {"cell_start", &grid.cell_start()}, {"shape", &shape}, {"centres", &centres}});
+                                  {{"params", &params_buffer},
+                                   {"sorted", &positions},
+                                   {"cell_rank", &grid.cell_rank()},
+                                   {"cell_start", &grid.cell_start()},
+                                   {"shape", &shape},
+                                   {"centres", &centres}});
             gpu::dispatch_raw(ctx(), cmd, density_pass, n, nullptr, 0,
-                              {{"params", &params_buffer}, {"sorted", &positions}, {"cell_rank", &grid.cell_rank()}, {"cell_start", &grid.cell_start()},
-                               {"shape", anisotropic ? &shape : &dummy_shape}, {"class_density", &density}, {"aggregate", &aggregate}});
+                              {{"params", &params_buffer},
+                               {"sorted", &positions},
+                               {"cell_rank", &grid.cell_rank()},
+                               {"cell_start", &grid.cell_start()},
+                               {"shape", anisotropic ? &shape : &dummy_shape},
+                               {"class_density", &density},
+                               {"aggregate", &aggregate}});
         });
         Result r;
         if (anisotropic) r.shape = gpu::download_vector<glm::vec4>(ctx(), shape, uint64_t(n) * 3);
@@ -529,9 +539,9 @@ TEST_F(AnisotropyGpuTest, ShapesDensitiesAndClassesMatchTheCpu) {
                     for (int col = 0; col < 3; ++col)
                         if (std::abs(gpu_result.shape[3 * i + row][col] - s.g[col][row]) > 1.0e-4f * g_scale) {
                             ++mismatches;
-                            ADD_FAILURE() << "G[" << row << "][" << col << "] of particle at (" << p.x << ", " << p.y
-                                          << ", " << p.z << "): GPU " << gpu_result.shape[3 * i + row][col] << ", CPU "
-                                          << s.g[col][row];
+                            ADD_FAILURE()
+                                << "G[" << row << "][" << col << "] of particle at (" << p.x << ", " << p.y << ", "
+                                << p.z << "): GPU " << gpu_result.shape[3 * i + row][col] << ", CPU " << s.g[col][row];
                         }
                 EXPECT_NEAR(gpu_result.shape[3 * i].w, s.det_g, 1.0e-4f * s.det_g);
                 EXPECT_EQ(gpu_result.shape[3 * i + 1].w, float(cpu.counts[i]));

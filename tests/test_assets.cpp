@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "core/error.h"
 #include "cli_helpers.h"
+#include "core/error.h"
 #include "geometry/animation.h"
 #include "geometry/mesh.h"
 #include "geometry/primitives.h"
@@ -88,7 +88,8 @@ TEST(Assets, RegeneratingReproducesTheCommittedFilesByteForByte) {
     for (const std::string& name : generated) {
         EXPECT_NE(run.output.find(name), std::string::npos) << run.output;
         EXPECT_TRUE(read_file(dir / name) == read_file(kMeshes / name))
-            << name << " differs from the generator's output; regenerate with `aquaform assets` from the repository root";
+            << name
+            << " differs from the generator's output; regenerate with `aquaform assets` from the repository root";
     }
     EXPECT_EQ(run_aquaform("assets stray").exit_code, 2);
     fs::remove_all(dir);

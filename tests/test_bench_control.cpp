@@ -58,7 +58,8 @@ TEST(BenchControl, QuickRunWritesPlacementForceAndSweepRecords) {
         } else if (kind == "overhead") {
             ++overheads;
             EXPECT_GT(r["control_force_ms_per_step"].get<double>(), 0.0) << r.dump();
-            EXPECT_GT(r["step_gpu_ms_with_force"].get<double>(), r["control_force_ms_per_step"].get<double>()) << r.dump();
+            EXPECT_GT(r["step_gpu_ms_with_force"].get<double>(), r["control_force_ms_per_step"].get<double>())
+                << r.dump();
         }
     }
     EXPECT_EQ(placements, 3u) << "vertices, inside and raster at 10k points";
@@ -77,7 +78,8 @@ TEST(BenchControl, QuickRunWritesPlacementForceAndSweepRecords) {
 }
 
 TEST(BenchControl, BadFlagsAreUsageErrorsNamingTheFlag) {
-    for (const char* args : {"--bogus", "--particles 0", "--particles lots", "--scales 1,,2", "--scales -1", "--scales nan", "--sizes 1000"}) {
+    for (const char* args : {"--bogus", "--particles 0", "--particles lots", "--scales 1,,2", "--scales -1",
+                             "--scales nan", "--sizes 1000"}) {
         const Outcome o = run_aquaform(std::string("bench control ") + args);
         EXPECT_EQ(o.exit_code, 2) << args << ": " << o.output;
         const std::string flag = std::string(args).substr(0, std::string(args).find(' '));
@@ -94,7 +96,7 @@ TEST(BenchControl, UncreatableOutputFailsNamingThePath) {
 TEST(BenchControl, LinkWhereItsJsonGoesIsRefusedBeforeAnyWork) {
     const fs::path out = temp_dir("bench_control_link") / "out";
     EXPECT_EQ(link_refusal_problem("bench control --quick --out " + out.string(), out / "bench_control.json",
-                                             "bench control on "),
+                                   "bench control on "),
               "");
 }
 

@@ -39,8 +39,8 @@ TEST(BenchConvergence, QuickRunWritesTableJsonAndChart) {
     for (const auto& r : doc["records"]) {
         if (r["kind"] == "front") {
             ++fronts;
-            for (const char* key : {"divisions", "spacing_m", "cfl", "particles", "mean_error", "max_error", "points", "steps",
-                                    "wall_s", "front_T_Z"})
+            for (const char* key : {"divisions", "spacing_m", "cfl", "particles", "mean_error", "max_error", "points",
+                                    "steps", "wall_s", "front_T_Z"})
                 ASSERT_TRUE(r.contains(key)) << key << " in " << r.dump();
             EXPECT_GT(r["particles"].get<int>(), 0);
             EXPECT_EQ(r["points"].get<int>(), 4) << "Martin & Moyce's points up to T = 1.45";
@@ -49,7 +49,8 @@ TEST(BenchConvergence, QuickRunWritesTableJsonAndChart) {
             EXPECT_GT(r["front_T_Z"].size(), 10u);
         } else if (r["kind"] == "step") {
             ++steps;
-            for (const char* key : {"cfl", "max_runup_m", "mean_splash_fraction", "impact_s", "steps", "frames_at_max_substeps"})
+            for (const char* key :
+                 {"cfl", "max_runup_m", "mean_splash_fraction", "impact_s", "steps", "frames_at_max_substeps"})
                 ASSERT_TRUE(r.contains(key)) << key << " in " << r.dump();
             EXPECT_TRUE(r["max_runup_m"].is_number()) << "the wave reaches the far wall within 0.75 s: " << r.dump();
         }
@@ -95,7 +96,8 @@ TEST(BenchConvergence, FrontThatLeavesPhysicsStopsAtTheVerdict) {
     const Outcome o = run_aquaform("bench convergence --quick --out " + (dir / "out").string() + " --front-scene " +
                                    scene.string() + " --violent-scene " + kScenes + "violent_dam_break.json");
     EXPECT_EQ(o.exit_code, 1) << o.output;
-    EXPECT_NE(o.output.find("aquaform bench convergence: the fluid left physics at frame "), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("aquaform bench convergence: the fluid left physics at frame "), std::string::npos)
+        << o.output;
     EXPECT_EQ(o.output.find("PASS"), std::string::npos) << o.output;
     EXPECT_FALSE(fs::exists(dir / "out" / "convergence.json"));
 }
@@ -110,8 +112,8 @@ FrameStats frame(double t, std::optional<double> runup, double splash) {
 
 TEST(StepMeasures, ImpactMaxRunupAndSplashMeanFromImpactOn) {
     // Before impact the splash fraction is high (the column's corners) and must not count.
-    const std::vector<FrameStats> frames = {frame(0.1, std::nullopt, 0.9), frame(0.2, std::nullopt, 0.9),
-                                            frame(0.3, 0.10, 0.02),        frame(0.4, 0.50, 0.04),
+    const std::vector<FrameStats> frames = {frame(0.1, std::nullopt, 0.9),  frame(0.2, std::nullopt, 0.9),
+                                            frame(0.3, 0.10, 0.02),         frame(0.4, 0.50, 0.04),
                                             frame(0.5, std::nullopt, 0.06), frame(0.6, 0.30, 0.08)};
     const study::StepMeasures m = study::step_measures(frames);
     ASSERT_TRUE(m.impact_s && m.max_runup_m && m.mean_splash_fraction);

@@ -8,10 +8,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "session/simulation_session.h"
-#include "sim/pbf_solver.h"
 #include "bench/bench_frame.h"
 #include "bench/bench_scenes.h"
+#include "session/simulation_session.h"
+#include "sim/pbf_solver.h"
 #include "tests/cli_helpers.h"
 #include "tests/gpu_test.h"
 
@@ -36,9 +36,11 @@ TEST_F(BenchFrameTest, TimesWholeFramesAtTheRulesStepsWithEveryPartOnTheGpu) {
     // The steps are the rule's: a session of the same scene, stepped by itself, takes the same.
     const Scene scene = study::bench_scene(4000, 2);
     EXPECT_GT(r.steps_per_frame, double(scene.solver.substeps)) << "fixed steps would take the scene's 2 a frame";
-    session::SimulationSession replay(ctx(), session::plan_session(scene, std::nullopt), {.measure_shapes = false, .frame_grid = true});
+    session::SimulationSession replay(ctx(), session::plan_session(scene, std::nullopt),
+                                      {.measure_shapes = false, .frame_grid = true});
     std::vector<uint32_t> steps;
-    for (uint32_t f = 0; f < options.warmup + options.frames; ++f) steps.push_back(replay.run_frame(nullptr).stats.substeps);
+    for (uint32_t f = 0; f < options.warmup + options.frames; ++f)
+        steps.push_back(replay.run_frame(nullptr).stats.substeps);
     EXPECT_EQ(r.steps, std::vector<uint32_t>(steps.end() - 2, steps.end()));
 
     // Simulated time is whole frames; the factor is simulated over wall time.
@@ -90,8 +92,10 @@ TEST(BenchFrameTarget, JudgedOnADiscreteGpuOnly) {
 TEST(BenchFrameCli, WritesConsistentFiguresAndSaysWhyNoVerdict) {
     const fs::path dir = test_cli::temp_dir("bench_frame");
     const fs::path out = dir / "frame.json";
-    const test_cli::Outcome o = test_cli::run_aquaform("bench frame --sizes 3000 --resolution 96x64 --warmup 2 --frames 2 "
-                                                       "--iterations 2 --out " + out.string());
+    const test_cli::Outcome o = test_cli::run_aquaform(
+        "bench frame --sizes 3000 --resolution 96x64 --warmup 2 --frames 2 "
+        "--iterations 2 --out " +
+        out.string());
     ASSERT_EQ(o.exit_code, 0) << o.output;
     EXPECT_NE(o.output.find("RT factor"), std::string::npos) << "the table's header: " << o.output;
     const nlohmann::json j = nlohmann::json::parse(test_cli::read_file(out));
@@ -111,8 +115,10 @@ TEST(BenchFrameCli, WritesConsistentFiguresAndSaysWhyNoVerdict) {
     EXPECT_DOUBLE_EQ(r.at("sim_s_per_frame").get<double>(), sim / 2.0);
     EXPECT_NEAR(r.at("wall_ms_per_frame").get<double>(), 500.0 * wall, 1e-9);
     const auto& gpu = r.at("gpu_ms_per_frame");
-    EXPECT_NEAR(gpu.at("total").get<double>(),
-                gpu.at("solver").get<double>() + gpu.at("reconstruction").get<double>() + gpu.at("compose").get<double>(), 1e-9);
+    EXPECT_NEAR(
+        gpu.at("total").get<double>(),
+        gpu.at("solver").get<double>() + gpu.at("reconstruction").get<double>() + gpu.at("compose").get<double>(),
+        1e-9);
     for (const char* key : {"realtime_500k", "realtime_1m"}) {
         EXPECT_EQ(j.at("targets").at(key).at("status"), "not judged") << j["targets"].dump();
         EXPECT_NE(j["targets"][key].at("reason").get<std::string>().find("software device"), std::string::npos);
@@ -124,11 +130,12 @@ TEST(BenchFrameCli, RefusesBadFlagsByNameWithExitTwo) {
     struct Case {
         std::string flags, says;
     };
-    for (const Case& c : {Case{"--frobnicate", "unknown flag --frobnicate"}, Case{"--sizes 0", "--sizes must be"},
-                          Case{"--sizes 1000,,2000", "--sizes has an empty item"}, Case{"--sizes 10", "too few"},
-                          Case{"--sizes 99999999999", "--sizes must be"}, Case{"--resolution 7x", "--resolution must look like"},
-                          Case{"--frames 0", "--frames must be"}, Case{"--warmup x", "--warmup must be"},
-                          Case{"--iterations 1000", "--iterations must be"}, Case{"extra", "unexpected argument"}}) {
+    for (const Case& c :
+         {Case{"--frobnicate", "unknown flag --frobnicate"}, Case{"--sizes 0", "--sizes must be"},
+          Case{"--sizes 1000,,2000", "--sizes has an empty item"}, Case{"--sizes 10", "too few"},
+          Case{"--sizes 99999999999", "--sizes must be"}, Case{"--resolution 7x", "--resolution must look like"},
+          Case{"--frames 0", "--frames must be"}, Case{"--warmup x", "--warmup must be"},
+          Case{"--iterations 1000", "--iterations must be"}, Case{"extra", "unexpected argument"}}) {
         const test_cli::Outcome o = test_cli::run_aquaform("bench frame " + c.flags + " --out " + out.string());
         EXPECT_EQ(o.exit_code, 2) << c.flags << ": " << o.output;
         EXPECT_NE(o.output.find(c.says), std::string::npos) << c.flags << ": " << o.output;
@@ -138,8 +145,9 @@ TEST(BenchFrameCli, RefusesBadFlagsByNameWithExitTwo) {
 
 TEST(ViewHeadless, PlaysTheViewersFramesWithNoDisplayAndWritesTheirFigures) {
     const fs::path out = test_cli::temp_dir("view_headless") / "view.json";
-    const test_cli::Outcome o = test_cli::run_aquaform(
-        "view --particles 2000 --headless --frames 3 --resolution 96x64 --out " + out.string(), "DISPLAY= WAYLAND_DISPLAY=");
+    const test_cli::Outcome o =
+        test_cli::run_aquaform("view --particles 2000 --headless --frames 3 --resolution 96x64 --out " + out.string(),
+                               "DISPLAY= WAYLAND_DISPLAY=");
     ASSERT_EQ(o.exit_code, 0) << o.output;
     EXPECT_NE(o.output.find("real-time factor"), std::string::npos) << o.output;
     const nlohmann::json j = nlohmann::json::parse(test_cli::read_file(out));
@@ -171,7 +179,8 @@ TEST(ViewHeadless, RefusesWhatNeedsTheWindowAndOutWithoutHeadless) {
                           Case{"--headless --async", "--async needs the window"},
                           Case{"--out " + (dir / "v.json").string(), "--out goes with --headless"},
                           Case{"--headless --frames 0", "--frames must be"}}) {
-        const test_cli::Outcome o = test_cli::run_aquaform("view " + scene + " " + c.flags, "DISPLAY= WAYLAND_DISPLAY=");
+        const test_cli::Outcome o =
+            test_cli::run_aquaform("view " + scene + " " + c.flags, "DISPLAY= WAYLAND_DISPLAY=");
         EXPECT_EQ(o.exit_code, 2) << c.flags << ": " << o.output;
         EXPECT_NE(o.output.find(c.says), std::string::npos) << c.flags << ": " << o.output;
     }

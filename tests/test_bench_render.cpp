@@ -59,8 +59,8 @@ TEST(BenchRender, QuickRunWritesRecordsAgainstTheReferenceForEveryFrame) {
         ASSERT_GE(frame["records"].size(), 5u) << name;  // the reference and the four quick configurations
         for (const auto& r : frame["records"]) {
             const std::string label = name + "/" + r.value("label", "?");
-            for (const char* key : {"label", "method", "width", "height", "ms_total", "ms_per_pass", "rays", "evals_per_ray",
-                                    "steps_per_ray", "bisection_per_ray", "mask_leaps_per_ray"})
+            for (const char* key : {"label", "method", "width", "height", "ms_total", "ms_per_pass", "rays",
+                                    "evals_per_ray", "steps_per_ray", "bisection_per_ray", "mask_leaps_per_ray"})
                 EXPECT_TRUE(r.contains(key)) << label << ": " << key;
             EXPECT_EQ(r["width"], 96) << label;
             for (const char* key : {"ms_total", "rays", "evals_per_ray", "steps_per_ray", "bisection_per_ray"})
@@ -69,7 +69,8 @@ TEST(BenchRender, QuickRunWritesRecordsAgainstTheReferenceForEveryFrame) {
             EXPECT_GT(r["rays"].get<double>(), 0.0) << label;
             // Steps and bisection add up to the evaluations.
             EXPECT_NEAR(r["steps_per_ray"].get<double>() + r["bisection_per_ray"].get<double>(),
-                        r["evals_per_ray"].get<double>(), 1e-6) << label;
+                        r["evals_per_ray"].get<double>(), 1e-6)
+                << label;
             EXPECT_GT(r["bisection_per_ray"].get<double>(), 0.0) << label;
             ASSERT_TRUE(r["ms_per_pass"].is_object()) << label;
             EXPECT_TRUE(r["ms_per_pass"].contains("render_march")) << label;
@@ -79,7 +80,8 @@ TEST(BenchRender, QuickRunWritesRecordsAgainstTheReferenceForEveryFrame) {
             EXPECT_GE(sprites.at("pixels_walked").get<double>(), sprites.at("pixels_covered").get<double>()) << label;
             EXPECT_LE(sprites.at("longest_walk").get<double>(), sprites.at("pixels_walked").get<double>()) << label;
             EXPECT_GT(r.at("bytes_model").at("render_splat").get<double>(), 0.0) << label;
-            EXPECT_EQ(r.at("march_lanes").get<int>(), 1) << label << ": the software device marches with one lane a ray";
+            EXPECT_EQ(r.at("march_lanes").get<int>(), 1)
+                << label << ": the software device marches with one lane a ray";
             // Used only by the adaptive method with the mechanism on (the software device uses it at any size).
             const bool adaptive_res = r["label"] == "adaptive";
             EXPECT_EQ(r.at("adaptive_resolution_used").get<bool>(), adaptive_res) << label;
@@ -107,9 +109,10 @@ TEST(BenchRender, QuickRunWritesRecordsAgainstTheReferenceForEveryFrame) {
 TEST(BenchRender, SweepsWriteTheirPointsAndCharts) {
     const fs::path dir = temp_dir("bench_render_sweeps");
     const fs::path out = dir / "s.json";
-    const Outcome o = run_aquaform("bench render --frames curtain --configs uniform --mask-sweep --blend-sweep --surface isotropic --particles 3000 "
-                                   "--resolution 64x64 --repeats 1 --scene-dir " + std::string(AQUAFORM_ASSETS_DIR) +
-                                   "/scenes --out " + out.string());
+    const Outcome o = run_aquaform(
+        "bench render --frames curtain --configs uniform --mask-sweep --blend-sweep --surface isotropic --particles 3000 "
+        "--resolution 64x64 --repeats 1 --scene-dir " +
+        std::string(AQUAFORM_ASSETS_DIR) + "/scenes --out " + out.string());
     ASSERT_EQ(o.exit_code, 0) << o.output;
     const auto doc = nlohmann::json::parse(read_file(out));
     const auto& frame = doc["frames"][0];
@@ -156,9 +159,10 @@ TEST(BenchRender, CtrlCStopsAfterTheFrameBeingMeasuredAndWritesTheFramesDone) {
     const fs::path out = dir / "b.json";
     // SIGINT once the second of four frames starts: that one is finished (and, on a loaded
     // machine, perhaps the third, already begun), the last is never begun.
-    const int status = interrupt_aquaform({"bench", "render", "--frames", "calm,curtain,double_collision,crown", "--configs",
-                                           "uniform", "--particles", "400", "--resolution", "48x48", "--out", out.string()},
-                                          dir / "log", "bench render: curtain:");
+    const int status =
+        interrupt_aquaform({"bench", "render", "--frames", "calm,curtain,double_collision,crown", "--configs",
+                            "uniform", "--particles", "400", "--resolution", "48x48", "--out", out.string()},
+                           dir / "log", "bench render: curtain:");
     const std::string log = read_file(dir / "log");
     ASSERT_EQ(status, 130) << log;
     const auto doc = nlohmann::json::parse(read_file(out));
@@ -179,9 +183,9 @@ TEST(BenchRender, UnwritableOutputFailsNamingThePath) {
 TEST(BenchRender, LinkWhereASweepChartGoesIsRefusedBeforeAnyWork) {
     const fs::path dir = temp_dir("bench_render_link") / "out";
     EXPECT_EQ(link_refusal_problem("bench render --frames curtain --configs uniform --blend-sweep --particles 3000 "
-                                             "--resolution 64x64 --repeats 1 --scene-dir " + std::string(AQUAFORM_ASSETS_DIR) +
-                                                 "/scenes --out " + (dir / "s.json").string(),
-                                             dir / "s_blend_sweep.svg", "bench render on "),
+                                   "--resolution 64x64 --repeats 1 --scene-dir " +
+                                       std::string(AQUAFORM_ASSETS_DIR) + "/scenes --out " + (dir / "s.json").string(),
+                                   dir / "s_blend_sweep.svg", "bench render on "),
               "");
     EXPECT_FALSE(fs::exists(dir / "s.json"));
 }
@@ -189,9 +193,10 @@ TEST(BenchRender, LinkWhereASweepChartGoesIsRefusedBeforeAnyWork) {
 TEST(BenchRender, CompareSurfacesMeasuresEachFrameWithBothFields) {
     const fs::path dir = temp_dir("bench_render_surfaces");
     const fs::path out = dir / "s.json";
-    const Outcome o = run_aquaform("bench render --frames curtain --configs uniform,adaptive --compare-surfaces --particles 2000 "
-                                   "--resolution 64x64 --repeats 1 --scene-dir " + std::string(AQUAFORM_ASSETS_DIR) +
-                                   "/scenes --out " + out.string());
+    const Outcome o = run_aquaform(
+        "bench render --frames curtain --configs uniform,adaptive --compare-surfaces --particles 2000 "
+        "--resolution 64x64 --repeats 1 --scene-dir " +
+        std::string(AQUAFORM_ASSETS_DIR) + "/scenes --out " + out.string());
     ASSERT_EQ(o.exit_code, 0) << o.output;
     const auto doc = nlohmann::json::parse(read_file(out));
     ASSERT_EQ(doc["frames"].size(), 2u);
@@ -204,7 +209,8 @@ TEST(BenchRender, CompareSurfacesMeasuresEachFrameWithBothFields) {
         EXPECT_LT((*adaptive)["coverage_mismatch"].get<double>(), 0.02) << frame["surface"];
     }
     // Wu et al.'s count mask holds for the isotropic field only: its sweep needs that field.
-    const Outcome refused = run_aquaform("bench render --frames curtain --mask-sweep --out " + (dir / "r.json").string());
+    const Outcome refused =
+        run_aquaform("bench render --frames curtain --mask-sweep --out " + (dir / "r.json").string());
     EXPECT_EQ(refused.exit_code, 2) << refused.output;
     EXPECT_NE(refused.output.find("--surface isotropic"), std::string::npos) << refused.output;
     fs::remove_all(dir);
@@ -213,9 +219,10 @@ TEST(BenchRender, CompareSurfacesMeasuresEachFrameWithBothFields) {
 TEST(BenchRender, CompareSurfacesCountsTheCurtainsDropletsAndTheSheetsCoverage) {
     const fs::path dir = temp_dir("bench_render_checks");
     const fs::path out = dir / "c.json";
-    const Outcome o = run_aquaform("bench render --frames curtain,sheet,sheet_sparse --configs uniform --compare-surfaces "
-                                   "--particles 2000 --resolution 96x96 --repeats 1 --scene-dir " + std::string(AQUAFORM_ASSETS_DIR) +
-                                   "/scenes --out " + out.string());
+    const Outcome o = run_aquaform(
+        "bench render --frames curtain,sheet,sheet_sparse --configs uniform --compare-surfaces "
+        "--particles 2000 --resolution 96x96 --repeats 1 --scene-dir " +
+        std::string(AQUAFORM_ASSETS_DIR) + "/scenes --out " + out.string());
     ASSERT_EQ(o.exit_code, 0) << o.output;
     EXPECT_NE(o.output.find("droplets kept: anisotropic 60/60 present"), std::string::npos) << o.output;
     EXPECT_NE(o.output.find("sheet kept whole:"), std::string::npos) << o.output;
@@ -230,7 +237,8 @@ TEST(BenchRender, CompareSurfacesCountsTheCurtainsDropletsAndTheSheetsCoverage) 
                 EXPECT_EQ(r["droplets"]["expected"], 60) << label;
                 EXPECT_EQ(r["droplets"]["found"], 60) << label;
                 EXPECT_GT(r["droplets"]["mean_pixels"].get<double>(), 5.0) << label;
-                EXPECT_LT(r["droplets"]["mean_pixels"].get<double>(), 40.0) << label << ": the bulk counted as droplets?";
+                EXPECT_LT(r["droplets"]["mean_pixels"].get<double>(), 40.0)
+                    << label << ": the bulk counted as droplets?";
             } else {
                 ASSERT_TRUE(r.contains("sheet")) << label;
                 EXPECT_GT(r["sheet"]["inside_pixels"].get<double>(), 4000.0) << label;
@@ -260,7 +268,8 @@ TEST(BenchRender, TheSurfaceVerdictsMissALostOrFattenedDropletAndATornSheet) {
     const auto iso = droplets({40, 40, 40});
     EXPECT_EQ(aquaform::study::droplets_target(iso, droplets({40, 42, 38})).json["pass"], true);
     EXPECT_EQ(aquaform::study::droplets_target(iso, droplets({40, 0, 40})).json["pass"], false) << "a droplet lost";
-    EXPECT_EQ(aquaform::study::droplets_target(iso, droplets({40, 45, 40})).json["pass"], false) << "a droplet fattened";
+    EXPECT_EQ(aquaform::study::droplets_target(iso, droplets({40, 45, 40})).json["pass"], false)
+        << "a droplet fattened";
     auto sheet = [](uint64_t covered, uint32_t holes) {
         return std::vector<PictureChecks>{{"reference", {}, aquaform::study::SheetCoverage{1000, covered, holes}}};
     };
@@ -269,8 +278,10 @@ TEST(BenchRender, TheSurfaceVerdictsMissALostOrFattenedDropletAndATornSheet) {
     // The census: each hit to the nearest droplet within reach; the bulk beyond it to none.
     aquaform::SurfaceFrame frame;
     frame.width = 4, frame.height = 1;
-    frame.hit = {{0.0f, 0.0f, 0.01f, 1.0f}, {1.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, -0.5f, 1.0f}, {0.0f, 0.0f, 0.0f, -1.0f}};
-    const auto census = aquaform::study::droplet_census(frame, {{0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.02f}, {5.0f, 0.0f, 0.0f}}, 0.04f);
+    frame.hit = {
+        {0.0f, 0.0f, 0.01f, 1.0f}, {1.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, -0.5f, 1.0f}, {0.0f, 0.0f, 0.0f, -1.0f}};
+    const auto census =
+        aquaform::study::droplet_census(frame, {{0.0f, 0.0f, 0.0f}, {1.0f, 0.0f, 0.02f}, {5.0f, 0.0f, 0.0f}}, 0.04f);
     EXPECT_EQ(census.pixels, (std::vector<uint32_t>{1, 1, 0}));
     EXPECT_EQ(census.found(), 2u);
 }

@@ -5,10 +5,10 @@
 #include <random>
 #include <set>
 
-#include "gpu/timer.h"
-#include "sim/pbf_solver.h"
 #include "bench/bench_scenes.h"
 #include "bench/bench_sim.h"
+#include "gpu/timer.h"
+#include "sim/pbf_solver.h"
 #include "tests/gpu_test.h"
 
 namespace aquaform {
@@ -48,7 +48,8 @@ TEST_F(BenchSimTest, MeasuresTheSolverOnADamBreakOfTheAskedSize) {
     EXPECT_NEAR(r.memory_floor_ms(), double(r.unique_bytes_per_step()) / (study::kH200CopyGbps * 1e9) * 1e3, 1e-12);
     EXPECT_GT(r.all_loads_floor_ms(), r.memory_floor_ms());
     const nlohmann::json j = study::to_json(r);
-    for (const char* key : {"bytes_per_pass", "unique_bytes_per_pass", "memory_floor_ms", "grid_counts", "neighbor_visits_per_pass"})
+    for (const char* key :
+         {"bytes_per_pass", "unique_bytes_per_pass", "memory_floor_ms", "grid_counts", "neighbor_visits_per_pass"})
         EXPECT_TRUE(j.contains(key)) << key;
     EXPECT_EQ(j["bytes_per_pass"].size(), r.ms_per_pass.size());
 }
@@ -123,7 +124,8 @@ TEST(TrafficModel, ScalesWithTheStateAndSumsToItsTotal) {
     fuller.list_entries *= 2;
     const std::vector<PassTraffic> more = step_traffic(fuller, {4, true, true});
     for (size_t i = 0; i < one.size(); ++i)
-        EXPECT_EQ(more[i].bytes > one[i].bytes, one[i].neighbor_visits > 0 && one[i].name != "sim_neighbor_lists") << one[i].name;
+        EXPECT_EQ(more[i].bytes > one[i].bytes, one[i].neighbor_visits > 0 && one[i].name != "sim_neighbor_lists")
+            << one[i].name;
 }
 
 TEST(TrafficModel, TheConstraintPassesRunOncePerIteration) {
@@ -136,7 +138,8 @@ TEST(TrafficModel, TheConstraintPassesRunOncePerIteration) {
         // The last correction's velocity update (loads x, stores v and x for p) comes once a step.
         const uint64_t update = four[i].name == "sim_correct" ? 32u * 1000 : 0;
         EXPECT_EQ(eight[i].bytes - update, (four[i].bytes - update) * (constraint ? 2 : 1)) << four[i].name;
-        EXPECT_EQ(eight[i].unique_bytes - update, (four[i].unique_bytes - update) * (constraint ? 2 : 1)) << four[i].name;
+        EXPECT_EQ(eight[i].unique_bytes - update, (four[i].unique_bytes - update) * (constraint ? 2 : 1))
+            << four[i].name;
     }
     // Passes a scene turns off are not modelled.
     std::set<std::string> names;
@@ -159,8 +162,8 @@ TEST(TrafficModel, CountsCellsCandidatesAndListsFromTheGridsTables) {
     const GridCounts c = count_grid_work(g, 8, start, counts, list_cell);
     EXPECT_EQ(c.particles, 6u);
     EXPECT_EQ(c.occupied_cells, 3u);
-    EXPECT_EQ(c.cell_visits, 2u * 2 + 3 + 3u * 2);        // cells 0 and 3 have one neighbour cell in the grid
-    EXPECT_EQ(c.candidates, 2u * 3 + 1u * 3 + 3u * 3);    // cells 0+1, 0+1+2, 2+3
+    EXPECT_EQ(c.cell_visits, 2u * 2 + 3 + 3u * 2);      // cells 0 and 3 have one neighbour cell in the grid
+    EXPECT_EQ(c.candidates, 2u * 3 + 1u * 3 + 3u * 3);  // cells 0+1, 0+1+2, 2+3
     EXPECT_EQ(c.cell_member_reads, 4u + 1 + 9);
     EXPECT_EQ(c.list_entries, 9u);
     EXPECT_EQ(c.list_texels, 5u);
@@ -182,9 +185,11 @@ TEST_F(BenchSimTest, TheModelFollowsTheStepsPassesAndTheListsItFills) {
     const float spacing = solver.scene().particle_spacing;
     // Kept where collision keeps them (pbf_collide), so that the predicted positions are x.
     const float margin = solver.params().domain_min.w;
-    const glm::vec3 lo = glm::vec3(solver.params().domain_min) + margin, hi = glm::vec3(solver.params().domain_max) - margin;
+    const glm::vec3 lo = glm::vec3(solver.params().domain_min) + margin,
+                    hi = glm::vec3(solver.params().domain_max) - margin;
     for (glm::vec4& x : s.x)
-        x = glm::vec4(glm::clamp(glm::vec3(x) + glm::vec3(jitter(rng), jitter(rng), jitter(rng)) * spacing, lo, hi), x.w);
+        x = glm::vec4(glm::clamp(glm::vec3(x) + glm::vec3(jitter(rng), jitter(rng), jitter(rng)) * spacing, lo, hi),
+                      x.w);
     solver.set_state(s.x, std::vector<glm::vec4>(s.x.size(), glm::vec4(0.0f)));
     s = solver.snapshot();
     const GridCounts c = solver.grid_counts();
@@ -204,10 +209,14 @@ TEST_F(BenchSimTest, TheModelFollowsTheStepsPassesAndTheListsItFills) {
     // Candidates: each particle's 27 cells' members, binned on the host.
     const GridGeometry& g = solver.grid().geometry();
     std::vector<uint64_t> members(g.cell_count(), 0);
-    for (const glm::vec4& x : s.x) ++members[shader::grid_linear(shader::grid_cell(glm::vec3(x), glm::vec4(g.origin, g.cell_size), glm::uvec4(g.dims, g.cell_count())), glm::uvec4(g.dims, g.cell_count()))];
+    for (const glm::vec4& x : s.x)
+        ++members[shader::grid_linear(
+            shader::grid_cell(glm::vec3(x), glm::vec4(g.origin, g.cell_size), glm::uvec4(g.dims, g.cell_count())),
+            glm::uvec4(g.dims, g.cell_count()))];
     uint64_t candidates = 0;
     for (const glm::vec4& x : s.x) {
-        const glm::ivec3 cell = shader::grid_cell(glm::vec3(x), glm::vec4(g.origin, g.cell_size), glm::uvec4(g.dims, g.cell_count()));
+        const glm::ivec3 cell =
+            shader::grid_cell(glm::vec3(x), glm::vec4(g.origin, g.cell_size), glm::uvec4(g.dims, g.cell_count()));
         for (int k = 0; k < 27; ++k) {
             const glm::ivec3 n = cell + glm::ivec3(k % 3, (k / 3) % 3, k / 9) - glm::ivec3(1);
             if (glm::all(glm::greaterThanEqual(n, glm::ivec3(0))) && glm::all(glm::lessThan(n, glm::ivec3(g.dims))))

@@ -61,15 +61,16 @@ bool started(const Outcome& o) { return o.output.find("bench spheric on ") != st
 /// `bench spheric` on `scene_text` (written in `dir`) against the data in `data`, for `seconds`.
 Outcome bench(const fs::path& dir, const char* scene_text, const std::string& data, const std::string& seconds) {
     const fs::path scene = write_file(dir / "scene.json", scene_text);
-    return run_aquaform("bench spheric --scene " + scene.string() + " --data " + data + " --seconds " + seconds + " --out " +
-                        (dir / "out").string());
+    return run_aquaform("bench spheric --scene " + scene.string() + " --data " + data + " --seconds " + seconds +
+                        " --out " + (dir / "out").string());
 }
 
 TEST(BenchSpheric, RunThatLeavesPhysicsStopsAtTheVerdictWithNoOk) {
     const fs::path dir = temp_dir("bench_spheric_wild");
     const Outcome o = bench(dir, kWildScene, kData, "0.5");
     EXPECT_EQ(o.exit_code, 1) << o.output;
-    EXPECT_NE(o.output.find("aquaform bench spheric: the fluid left physics at frame 1"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("aquaform bench spheric: the fluid left physics at frame 1"), std::string::npos)
+        << o.output;
     EXPECT_EQ(o.output.find(" ok"), std::string::npos) << o.output;
     EXPECT_EQ(o.output.find("MISSED"), std::string::npos) << o.output;
     EXPECT_FALSE(fs::exists(dir / "out" / "spheric.json"));

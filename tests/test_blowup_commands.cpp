@@ -40,19 +40,18 @@ std::string verdict_of(const std::string& output) {
 TEST(BlowupCommands, EveryCommandThatStepsTheSolverSaysTheSameVerdictAndExitsOne) {
     const fs::path dir = test_cli::temp_dir("blowup_commands");
     const fs::path scene = test_cli::write_file(dir / "wild.json", kWildScene);
-    const fs::path spec = test_cli::write_file(
-        dir / "study.json",
-        R"({"cases": [{"name": "wild", "scene": "wild.json", "resolutions": ["32x32"], "time": 0.1,
+    const fs::path spec =
+        test_cli::write_file(dir / "study.json",
+                             R"({"cases": [{"name": "wild", "scene": "wild.json", "resolutions": ["32x32"], "time": 0.1,
                        "methods": [{"method": "adaptive"}]}]})");
     const std::string s = scene.string(), out = (dir / "out").string();
     const Outcome run = run_aquaform("run " + s + " --out " + out + "_run --resolution 32x32");
     ASSERT_EQ(run.exit_code, 1) << run.output;
     const std::string expected = verdict_of(run.output);
     ASSERT_NE(expected.find("at frame 1 (t = 0.017 s)"), std::string::npos) << run.output;
-    for (const std::string& command :
-         {"render " + s + " --frame 5 --resolution 32x32 --out " + out + "_render",
-          "view " + s + " --headless --resolution 32x32 --frames 5",
-          "study " + spec.string() + " --out " + out + "_study"}) {
+    for (const std::string& command : {"render " + s + " --frame 5 --resolution 32x32 --out " + out + "_render",
+                                       "view " + s + " --headless --resolution 32x32 --frames 5",
+                                       "study " + spec.string() + " --out " + out + "_study"}) {
         const Outcome o = run_aquaform(command);
         EXPECT_EQ(o.exit_code, 1) << command << "\n" << o.output;
         EXPECT_EQ(verdict_of(o.output), expected) << command << "\n" << o.output;

@@ -61,7 +61,8 @@ TEST(SvgChart, DrawsEverySeriesWithLegendAndEscapedText) {
     chart.series.push_back({"line", {{0, 1}, {1, 2}, {2, 4}}, false, "#123456"});
     chart.series.push_back({"points", {{0.5, 1.5}, {1.5, 3.0}}, true, "#654321"});
     const std::string svg = chart_svg(chart);
-    EXPECT_EQ(svg.rfind("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"640\" height=\"420\" ", 0), 0u) << svg.substr(0, 120);
+    EXPECT_EQ(svg.rfind("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"640\" height=\"420\" ", 0), 0u)
+        << svg.substr(0, 120);
     EXPECT_NE(svg.find("Front &lt;test&gt; &amp; more"), std::string::npos);
     EXPECT_NE(svg.find("<polyline"), std::string::npos);
     const std::regex circle("<circle");
@@ -82,7 +83,9 @@ TEST(SvgChart, DashedSeriesIsDrawnDashedAndOnlyIt) {
 }
 
 TEST(SvgChart, EmptyAndNonFiniteDataStillGiveAValidChart) {
-    Chart chart{"empty", "x", "y",
+    Chart chart{"empty",
+                "x",
+                "y",
                 {{"nothing", {}, false, "#000"},
                  {"bad values", {{NAN, 1.0}, {1.0, INFINITY}}, false, "#000"},
                  {"bad marks", {{NAN, 1.0}, {2.0, -INFINITY}}, true, "#000"}}};

@@ -1,24 +1,24 @@
 // The `aquaform` command as a user meets it: exit codes, messages and the files it writes.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <array>
 #include <cctype>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <chrono>
 #include <thread>
-#include <sys/wait.h>
 
 #include <nlohmann/json.hpp>
 
 #include "apps/render_options.h"
+#include "bench/bench_frame.h"
 #include "core/number_text.h"
 #include "geometry/mesh.h"
 #include "geometry/primitives.h"
 #include "render/picture_size.h"
-#include "bench/bench_frame.h"
 #include "tests/cli_helpers.h"
 
 namespace aquaform {
@@ -73,15 +73,20 @@ TEST(Cli, BadSceneFilesGetClearErrors) {
     const std::vector<Case> cases = {
         {"syntax.json", "{\"name\": \"x\",\n \"domain\": }", "line 2"},
         {"unknown_key.json", R"({"name":"x","domain":{"min":[0,0,0],"max":[1,1,1]},"particle_spacing":0.1,
-           "fluid_blocks":[{"min":[0,0,0],"max":[0.5,0.5,0.5]}],"gravty":[0,-9.81,0]})", "gravity"},
+           "fluid_blocks":[{"min":[0,0,0],"max":[0.5,0.5,0.5]}],"gravty":[0,-9.81,0]})",
+         "gravity"},
         {"wrong_type.json", R"({"name":"x","domain":{"min":[0,0,0],"max":[1,1,1]},"particle_spacing":"0.1",
-           "fluid_blocks":[{"min":[0,0,0],"max":[0.5,0.5,0.5]}]})", "particle_spacing"},
+           "fluid_blocks":[{"min":[0,0,0],"max":[0.5,0.5,0.5]}]})",
+         "particle_spacing"},
         {"zero_spacing.json", R"({"name":"x","domain":{"min":[0,0,0],"max":[1,1,1]},"particle_spacing":0,
-           "fluid_blocks":[{"min":[0,0,0],"max":[0.5,0.5,0.5]}]})", "particle_spacing"},
+           "fluid_blocks":[{"min":[0,0,0],"max":[0.5,0.5,0.5]}]})",
+         "particle_spacing"},
         {"outside.json", R"({"name":"x","domain":{"min":[0,0,0],"max":[1,1,1]},"particle_spacing":0.1,
-           "fluid_blocks":[{"min":[0,0,0],"max":[1.5,0.5,0.5]}]})", "fluid_blocks[0]"},
+           "fluid_blocks":[{"min":[0,0,0],"max":[1.5,0.5,0.5]}]})",
+         "fluid_blocks[0]"},
         {"huge.json", R"({"name":"x","domain":{"min":[0,0,0],"max":[1,1,1]},"particle_spacing":0.0001,
-           "fluid_blocks":[{"min":[0,0,0],"max":[1,1,1]}]})", "particle_spacing"},
+           "fluid_blocks":[{"min":[0,0,0],"max":[1,1,1]}]})",
+         "particle_spacing"},
     };
     for (const auto& c : cases) {
         Outcome o = run_aquaform("run " + write_file(dir / c.file, c.text).string() + " --frames 1 --out " +
@@ -128,17 +133,20 @@ TEST(Cli, IntegerFlagsAreStrictAndRangeCheckedNeverWrapped) {
     // Values past 2^32 once wrapped (4294967296 frames ran 0 frames with exit 0); a sign, a space
     // or an exponent was taken by strtol. Each is refused naming the flag and its range.
     const std::string scene = std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json";
-    for (const char* args : {"run SCENE --frames 4294967296", "run SCENE --frames 4294967297", "run SCENE --frames 1000000000000",
-                             "run SCENE --frames 1000001", "run SCENE --ply-every 4294967296", "run SCENE --frames +5",
-                             "run SCENE --frames \" 5\"", "run SCENE --frames 1e3", "bench sim --iterations 4294967296",
-                             "bench sim --sizes 99999999999", "bench sim --repeats 101x", "bench render --repeats 18446744073709551617",
-                             "bench convergence --depth-layers 4294967296"}) {
+    for (const char* args :
+         {"run SCENE --frames 4294967296", "run SCENE --frames 4294967297", "run SCENE --frames 1000000000000",
+          "run SCENE --frames 1000001", "run SCENE --ply-every 4294967296", "run SCENE --frames +5",
+          "run SCENE --frames \" 5\"", "run SCENE --frames 1e3", "bench sim --iterations 4294967296",
+          "bench sim --sizes 99999999999", "bench sim --repeats 101x", "bench render --repeats 18446744073709551617",
+          "bench convergence --depth-layers 4294967296"}) {
         std::string command = args;
         if (const size_t at = command.find("SCENE"); at != std::string::npos) command.replace(at, 5, scene);
         const Outcome o = run_aquaform(command);
         EXPECT_EQ(o.exit_code, 2) << args << ": " << o.output;
-        const std::string flag = command.substr(command.find("--"), command.find(' ', command.find("--")) - command.find("--"));
-        EXPECT_NE(o.output.find(flag + " must be a whole number from 1 to "), std::string::npos) << args << ": " << o.output;
+        const std::string flag =
+            command.substr(command.find("--"), command.find(' ', command.find("--")) - command.find("--"));
+        EXPECT_NE(o.output.find(flag + " must be a whole number from 1 to "), std::string::npos)
+            << args << ": " << o.output;
     }
 }
 
@@ -151,7 +159,8 @@ TEST(Cli, NumberTextTakesTheWholeTextOrNothing) {
     EXPECT_EQ(finite_number("-0.25"), -0.25);
     EXPECT_EQ(finite_number("2e-3"), 2e-3);
     EXPECT_EQ(finite_number("7"), 7.0);
-    for (const char* bad : {"", "nan", "inf", "-inf", "1e999", " 1", "1 ", "0x10", ".5", "5.", "1e", "+1", "1,5", "--1"})
+    for (const char* bad :
+         {"", "nan", "inf", "-inf", "1e999", " 1", "1 ", "0x10", ".5", "5.", "1e", "+1", "1,5", "--1"})
         EXPECT_FALSE(finite_number(bad)) << bad;
     EXPECT_EQ(split_list("a,b"), (std::vector<std::string>{"a", "b"}));
     for (const char* bad : {"", ",", "a,", ",a", "a,,b"}) EXPECT_FALSE(split_list(bad)) << bad;
@@ -165,28 +174,30 @@ TEST(Cli, RenderSettingsFrameNumbersAndListsAreStrict) {
         const char* args;
         const char* says;
     };
-    for (const Case& c : {Case{"render SCENE --max-steps 4294967296", "--max-steps = 4294967296 is out of range for render setting max_steps; use 1..100000"},
-                          Case{"render SCENE --max-steps 0x10", "--max-steps must be a whole number"},
-                          Case{"render SCENE --eps1 nan", "--eps1 must be a number (render setting tile_eps1"},
-                          Case{"render SCENE --step inf", "--step must be a number"},
-                          Case{"render SCENE --step \" 1\"", "--step must be a number"},
-                          Case{"render SCENE --frame 4294967296", "--frame must be a frame number from 0 to 999999"},
-                          Case{"bench render --frame -1", "--frame must be a frame number"},
-                          Case{"bench sim --sizes \"\"", "--sizes is empty; give its values separated by single commas"},
-                          Case{"bench sim --sizes 1000,", "--sizes has an empty item in \"1000,\""},
-                          Case{"bench sim --bandwidth 0", "--bandwidth must be a memory bandwidth in GB/s from 1 to 100000"},
-                          Case{"bench sim --bandwidth 4.3e12", "(the H200's copy bandwidth is 4300), got \"4.3e12\""},
-                          Case{"bench sim --bandwidth nan", "--bandwidth must be a memory bandwidth"},
-                          Case{"bench render --frames calm,", "--frames has an empty item"},
-                          Case{"bench render --configs ,uniform", "--configs has an empty item"},
-                          Case{"bench control --scales 1,,2", "--scales has an empty item"},
-                          Case{"bench control --scales nan", "--scales takes pressure multiples"},
-                          Case{"bench control --scales 1e-300", "each from 0.001 to 1000"},
-                          Case{"bench convergence --particles 10", "--particles must be a particle count from 64"},
-                          Case{"view SCENE --scale 0x0.8", "--scale is the picture's size"},
-                          Case{"render SCENE --resolution 640x480junk", "--resolution must look like"},
-                          Case{"run SCENE --resolution 4294967312x64", "--resolution must look like"},
-                          Case{"run SCENE --resolution \" 64x64\"", "--resolution must look like"}}) {
+    for (const Case& c :
+         {Case{"render SCENE --max-steps 4294967296",
+               "--max-steps = 4294967296 is out of range for render setting max_steps; use 1..100000"},
+          Case{"render SCENE --max-steps 0x10", "--max-steps must be a whole number"},
+          Case{"render SCENE --eps1 nan", "--eps1 must be a number (render setting tile_eps1"},
+          Case{"render SCENE --step inf", "--step must be a number"},
+          Case{"render SCENE --step \" 1\"", "--step must be a number"},
+          Case{"render SCENE --frame 4294967296", "--frame must be a frame number from 0 to 999999"},
+          Case{"bench render --frame -1", "--frame must be a frame number"},
+          Case{"bench sim --sizes \"\"", "--sizes is empty; give its values separated by single commas"},
+          Case{"bench sim --sizes 1000,", "--sizes has an empty item in \"1000,\""},
+          Case{"bench sim --bandwidth 0", "--bandwidth must be a memory bandwidth in GB/s from 1 to 100000"},
+          Case{"bench sim --bandwidth 4.3e12", "(the H200's copy bandwidth is 4300), got \"4.3e12\""},
+          Case{"bench sim --bandwidth nan", "--bandwidth must be a memory bandwidth"},
+          Case{"bench render --frames calm,", "--frames has an empty item"},
+          Case{"bench render --configs ,uniform", "--configs has an empty item"},
+          Case{"bench control --scales 1,,2", "--scales has an empty item"},
+          Case{"bench control --scales nan", "--scales takes pressure multiples"},
+          Case{"bench control --scales 1e-300", "each from 0.001 to 1000"},
+          Case{"bench convergence --particles 10", "--particles must be a particle count from 64"},
+          Case{"view SCENE --scale 0x0.8", "--scale is the picture's size"},
+          Case{"render SCENE --resolution 640x480junk", "--resolution must look like"},
+          Case{"run SCENE --resolution 4294967312x64", "--resolution must look like"},
+          Case{"run SCENE --resolution \" 64x64\"", "--resolution must look like"}}) {
         std::string command = c.args;
         if (const size_t at = command.find("SCENE"); at != std::string::npos) command.replace(at, 5, scene);
         const Outcome o = run_aquaform(command);
@@ -201,26 +212,28 @@ TEST(Cli, EveryCommandHasItsOwnHelp) {
         std::vector<const char*> says;
         std::vector<const char*> not_says;
     };
-    for (const Case& c : {Case{"run --help", {"usage: aquaform run SCENE.json", "--particles N", "--step"}, {"study SPEC"}},
-                          Case{"run scene.json --frames 3 --help", {"usage: aquaform run SCENE.json"}, {}},
-                          Case{"bench render -h", {"usage: aquaform bench render", "--mask-sweep", "--step"}, {"bench sim"}},
-                          Case{"bench --help", {"bench sim", "bench render", "bench control", "bench frame"}, {"study SPEC"}},
-                          Case{"bench frame --help", {"usage: aquaform bench frame", "--sizes", "real-time factor"}, {"study SPEC"}},
-                          Case{"control place --help", {"usage: aquaform control place MESH.obj"}, {"--step"}},
-                          Case{"study --help", {"usage: aquaform study SPEC.json", "--particles N"}, {"--step"}},
-                          Case{"info --help", {"usage: aquaform info"}, {"run SCENE"}},
-                          Case{"assets --help", {"usage: aquaform assets"}, {}},
-                          Case{"view --help", {"usage: aquaform view SCENE.json"}, {}}}) {
+    for (const Case& c :
+         {Case{"run --help", {"usage: aquaform run SCENE.json", "--particles N", "--step"}, {"study SPEC"}},
+          Case{"run scene.json --frames 3 --help", {"usage: aquaform run SCENE.json"}, {}},
+          Case{"bench render -h", {"usage: aquaform bench render", "--mask-sweep", "--step"}, {"bench sim"}},
+          Case{"bench --help", {"bench sim", "bench render", "bench control", "bench frame"}, {"study SPEC"}},
+          Case{"bench frame --help", {"usage: aquaform bench frame", "--sizes", "real-time factor"}, {"study SPEC"}},
+          Case{"control place --help", {"usage: aquaform control place MESH.obj"}, {"--step"}},
+          Case{"study --help", {"usage: aquaform study SPEC.json", "--particles N"}, {"--step"}},
+          Case{"info --help", {"usage: aquaform info"}, {"run SCENE"}},
+          Case{"assets --help", {"usage: aquaform assets"}, {}},
+          Case{"view --help", {"usage: aquaform view SCENE.json"}, {}}}) {
         const Outcome o = run_aquaform(c.args);
         EXPECT_EQ(o.exit_code, 0) << c.args << ": " << o.output;
-        for (const char* s : c.says) EXPECT_NE(o.output.find(s), std::string::npos) << c.args << " lacks " << s << ": " << o.output;
+        for (const char* s : c.says)
+            EXPECT_NE(o.output.find(s), std::string::npos) << c.args << " lacks " << s << ": " << o.output;
         for (const char* s : c.not_says) EXPECT_EQ(o.output.find(s), std::string::npos) << c.args << " has " << s;
     }
     // Every flag a command takes is in its help: the refusal of an unknown flag lists what the
     // command's parser accepts, and each of those must appear in `COMMAND --help`.
-    for (const char* command : {"run s.json", "render s.json", "control place m.obj", "view s.json", "study s.json", "assets",
-                                "info", "bench sim", "bench render", "bench control", "bench convergence", "bench frame",
-                                "study merge"}) {
+    for (const char* command :
+         {"run s.json", "render s.json", "control place m.obj", "view s.json", "study s.json", "assets", "info",
+          "bench sim", "bench render", "bench control", "bench convergence", "bench frame", "study merge"}) {
         const Outcome refused = run_aquaform(std::string(command) + " --no-such-flag");
         const size_t from = refused.output.find("known flags:"), to = refused.output.find(" (see aquaform");
         ASSERT_TRUE(from != std::string::npos && to != std::string::npos) << command << ": " << refused.output;
@@ -230,7 +243,8 @@ TEST(Cli, EveryCommandHasItsOwnHelp) {
             if (flag == "(none)") continue;
             bool listed = false;  // as a whole word: --frame is not --frames
             for (size_t at = help.find(flag); at != std::string::npos && !listed; at = help.find(flag, at + 1))
-                listed = at + flag.size() == help.size() || !(std::isalnum(help[at + flag.size()]) || help[at + flag.size()] == '-');
+                listed = at + flag.size() == help.size() ||
+                         !(std::isalnum(help[at + flag.size()]) || help[at + flag.size()] == '-');
             EXPECT_TRUE(listed) << command << " --help does not list " << flag;
         }
     }
@@ -252,22 +266,27 @@ TEST(Cli, BadInputExitsTwoWhateverLayerFindsIt) {
         std::string says;
         std::string env = "";
     };
-    for (const Case& c : {Case{"run " + scene + " --particles 20000000", "--particles must be a particle count from 64 to 16777215"},
-                          Case{"run " + scene + " --frames 1 --out " + file.string(), "is a file"},
-                          Case{"render " + scene + " --out " + (file / "sub").string(), file.string()},
-                          Case{"bench render --quick --out " + (file / "b.json").string(), "is a file"},
-                          // A picture the device cannot bind: refused before the simulation, not after.
-                          Case{"render " + scene + " --frame 300 --resolution 8192x8192 --method reference --particles 1000 "
-                               "--out " + (dir / "big").string(), "binds at most"},
-                          Case{"bench render --frames calm --particles 1000 --resolution 8192x8192 --configs uniform --out " +
-                                   (dir / "b8k.json").string(), "binds at most"},
-                          // A folder where the results file goes: measured everything, then failed.
-                          Case{"bench render --quick --out " + dir.string(), "is a folder; give a file name in it"},
-                          Case{"bench sim --sizes 1000 --out " + dir.string(), "is a folder; give a file name in it"},
-                          Case{"assets --out " + file.string(), "is a file"},
-                          Case{"run " + scene + " --frames 1 --validation --out " + (dir / "o").string(),
-                               "GPU-assisted validation is switched on",
-                               "VK_LAYER_ENABLES=VK_VALIDATION_FEATURE_ENABLE_GPU_ASSISTED_EXT"}}) {
+    for (const Case& c :
+         {Case{"run " + scene + " --particles 20000000", "--particles must be a particle count from 64 to 16777215"},
+          Case{"run " + scene + " --frames 1 --out " + file.string(), "is a file"},
+          Case{"render " + scene + " --out " + (file / "sub").string(), file.string()},
+          Case{"bench render --quick --out " + (file / "b.json").string(), "is a file"},
+          // A picture the device cannot bind: refused before the simulation, not after.
+          Case{"render " + scene +
+                   " --frame 300 --resolution 8192x8192 --method reference --particles 1000 "
+                   "--out " +
+                   (dir / "big").string(),
+               "binds at most"},
+          Case{"bench render --frames calm --particles 1000 --resolution 8192x8192 --configs uniform --out " +
+                   (dir / "b8k.json").string(),
+               "binds at most"},
+          // A folder where the results file goes: measured everything, then failed.
+          Case{"bench render --quick --out " + dir.string(), "is a folder; give a file name in it"},
+          Case{"bench sim --sizes 1000 --out " + dir.string(), "is a folder; give a file name in it"},
+          Case{"assets --out " + file.string(), "is a file"},
+          Case{"run " + scene + " --frames 1 --validation --out " + (dir / "o").string(),
+               "GPU-assisted validation is switched on",
+               "VK_LAYER_ENABLES=VK_VALIDATION_FEATURE_ENABLE_GPU_ASSISTED_EXT"}}) {
         const Outcome o = run_aquaform(c.args, c.env);
         EXPECT_EQ(o.exit_code, 2) << c.args << ": " << o.output;
         EXPECT_NE(o.output.find(c.says), std::string::npos) << c.args << ": " << o.output;
@@ -278,8 +297,7 @@ TEST(Cli, RunWritesFramesStatsFrontAndDumps) {
     fs::path dir = temp_dir("run");
     fs::path scene = write_file(dir / "tiny.json", kTinyDamBreak);
     fs::path out = dir / "out";
-    Outcome o = run_aquaform("run " + scene.string() + " --out " + out.string() +
-                             " --ply-every 2 --resolution 160x90");
+    Outcome o = run_aquaform("run " + scene.string() + " --out " + out.string() + " --ply-every 2 --resolution 160x90");
     ASSERT_EQ(o.exit_code, 0) << o.output;
     // The start-up report: passes and the memory of every buffer.
     EXPECT_NE(o.output.find("passes: sim_predict"), std::string::npos) << o.output;
@@ -347,7 +365,8 @@ TEST(Cli, TwoWritersIntoOneFolderAreRefusedNotMixed) {
     text.replace(text.find("\"frames\": 3"), 11, "\"frames\": 240");
     const fs::path scene = write_file(dir / "tank.json", text), out = dir / "out";
     Outcome first;
-    std::thread writer([&] { first = run_aquaform("run " + scene.string() + " --out " + out.string() + " --resolution 32x32"); });
+    std::thread writer(
+        [&] { first = run_aquaform("run " + scene.string() + " --out " + out.string() + " --resolution 32x32"); });
     for (int k = 0; k < 600 && read_file(out / ".aquaform.lock").find("pid") == std::string::npos; ++k)
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
     const Outcome second = run_aquaform("run " + scene.string() + " --out " + out.string() + " --resolution 32x32");
@@ -361,7 +380,8 @@ TEST(Cli, TwoWritersIntoOneFolderAreRefusedNotMixed) {
     for (std::string line; std::getline(stats, line);) ++rows;
     EXPECT_EQ(rows, 240) << "the first run's rows alone";
     write_file(out / "notes.txt", "mine");
-    const Outcome again = run_aquaform("run " + scene.string() + " --frames 2 --out " + out.string() + " --resolution 32x32");
+    const Outcome again =
+        run_aquaform("run " + scene.string() + " --frames 2 --out " + out.string() + " --resolution 32x32");
     EXPECT_EQ(again.exit_code, 0) << "a folder whose writer ended is free: " << again.output;
     EXPECT_NE(again.output.find("held an earlier run"), std::string::npos) << again.output;
     EXPECT_FALSE(fs::exists(out / "frame_0100.png")) << "the earlier run's frames do not pass for this one's";
@@ -373,15 +393,16 @@ TEST(Cli, TwoWritersIntoOneFolderAreRefusedNotMixed) {
 TEST(Cli, BenchSimWritesItsRecords) {
     fs::path dir = temp_dir("bench");
     const fs::path out = dir / "bench_sim.json";
-    Outcome o = run_aquaform("bench sim --sizes 1500,3000 --steps 1 --repeats 1 --warmup 1 --bandwidth 1000 --out " + out.string());
+    Outcome o = run_aquaform("bench sim --sizes 1500,3000 --steps 1 --repeats 1 --warmup 1 --bandwidth 1000 --out " +
+                             out.string());
     ASSERT_EQ(o.exit_code, 0) << o.output;
     EXPECT_NE(o.output.find("memory floor at 1000 GB/s"), std::string::npos) << o.output;
     EXPECT_NE(o.output.find("grows as N^"), std::string::npos) << o.output;
     const auto doc = nlohmann::json::parse(read_file(out));
     ASSERT_EQ(doc["records"].size(), 2u);
     for (const auto& r : doc["records"]) {
-        for (const char* key : {"particles", "iterations", "ms_per_step", "ms_per_pass", "steps_per_s",
-                                "gpu_bytes_per_particle"})
+        for (const char* key :
+             {"particles", "iterations", "ms_per_step", "ms_per_pass", "steps_per_s", "gpu_bytes_per_particle"})
             EXPECT_TRUE(r.contains(key)) << key;
         EXPECT_GT(r["ms_per_step"].get<double>(), 0.0);
         EXPECT_TRUE(r["ms_per_pass"].contains("sim_lambda"));
@@ -392,7 +413,8 @@ TEST(Cli, BenchSimWritesItsRecords) {
         // the README's "Neighbour search" states).
         EXPECT_EQ(r["neighbor_list_bytes_per_particle"].get<int>(), 4 * 64);
         EXPECT_TRUE(r["list_overflow_fraction"].is_number());
-        EXPECT_LE(r["gpu_bytes_per_particle"].get<double>() - r["neighbor_list_bytes_per_particle"].get<double>(), 160.0);
+        EXPECT_LE(r["gpu_bytes_per_particle"].get<double>() - r["neighbor_list_bytes_per_particle"].get<double>(),
+                  160.0);
     }
     EXPECT_LT(doc["records"][0]["particles"].get<int>(), doc["records"][1]["particles"].get<int>());
     EXPECT_TRUE(doc["neighbor_search_exponent"].is_number());
@@ -404,7 +426,8 @@ TEST(Cli, BenchSimWritesItsRecords) {
 TEST(Cli, RenderWritesTheImageTheViewsAndMetricsAgainstTheReference) {
     fs::path dir = temp_dir("render");
     fs::path scene = write_file(dir / "tiny.json", kTinyDamBreak);
-    Outcome ok = run_aquaform("render " + scene.string() + " --frame 2 --resolution 64x48 --out " + (dir / "out").string());
+    Outcome ok =
+        run_aquaform("render " + scene.string() + " --frame 2 --resolution 64x48 --out " + (dir / "out").string());
     ASSERT_EQ(ok.exit_code, 0) << ok.output;
     for (const char* file : {"image.png", "evals.png", "tiles.png", "classification.png", "reference.png",
                              "depth_error.png", "render.json"})
@@ -487,11 +510,12 @@ TEST(Cli, EveryPictureIsSizedByResolutionWithOneLimitAndANamedDefault) {
         std::string command, help;
         PictureSize fallback;
     };
-    for (const Case& c : {Case{"run " + scene, "run", cli::kViewingPicture}, Case{"view " + scene, "view", cli::kViewingPicture},
-                          Case{"control place " + mesh, "control place", cli::kViewingPicture},
-                          Case{"render " + scene, "render", cli::kMeasuredPicture},
-                          Case{"bench render", "bench render", cli::kMeasuredPicture},
-                          Case{"bench frame", "bench frame", study::kTargetDisplay}}) {
+    for (const Case& c :
+         {Case{"run " + scene, "run", cli::kViewingPicture}, Case{"view " + scene, "view", cli::kViewingPicture},
+          Case{"control place " + mesh, "control place", cli::kViewingPicture},
+          Case{"render " + scene, "render", cli::kMeasuredPicture},
+          Case{"bench render", "bench render", cli::kMeasuredPicture},
+          Case{"bench frame", "bench frame", study::kTargetDisplay}}) {
         for (const PictureSize bad : {PictureSize{kMinPictureSide - 1, 64}, PictureSize{64, kMaxPictureSide + 1}}) {
             const Outcome o = run_aquaform_env("DISPLAY= WAYLAND_DISPLAY=", c.command + " --resolution " + bad.text());
             EXPECT_EQ(o.exit_code, 2) << c.command << ": " << o.output;
@@ -502,7 +526,8 @@ TEST(Cli, EveryPictureIsSizedByResolutionWithOneLimitAndANamedDefault) {
         }
         const std::string help = run_aquaform(c.help + " --help").output;
         EXPECT_NE(help.find(c.fallback.text()), std::string::npos) << c.help << " --help does not name its default";
-        EXPECT_NE(help.find("each side " + picture_side_range()), std::string::npos) << c.help << " --help lacks the limit";
+        EXPECT_NE(help.find("each side " + picture_side_range()), std::string::npos)
+            << c.help << " --help lacks the limit";
     }
 }
 

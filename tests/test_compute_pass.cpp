@@ -26,10 +26,11 @@ class ComputePassTest : public testing::GpuTest {};
 TEST(SpirvReflect, TheRayMarchDeclaresItsTwentyThreeBuffersByName) {
     const auto bindings = gpu::reflect_bindings(gpu::find_shader("render/ray_march.comp"), "render/ray_march.comp");
     ASSERT_EQ(bindings.size(), 23u);
-    const char* names[] = {"params", "sorted", "cell_rank", "cell_start", "mask", "coarse", "depth_all",
-                           "depth_agg", "normal_screen", "rays", "ray_count", "hit", "normal", "march_cut",
-                           "resume_rays", "resume_count", "resume_state", "ray_counts", "blend_weights", "depth_splash_back",
-                           "shape", "class_density", "spray"};
+    const char* names[] = {"params",       "sorted",        "cell_rank",  "cell_start",    "mask",
+                           "coarse",       "depth_all",     "depth_agg",  "normal_screen", "rays",
+                           "ray_count",    "hit",           "normal",     "march_cut",     "resume_rays",
+                           "resume_count", "resume_state",  "ray_counts", "blend_weights", "depth_splash_back",
+                           "shape",        "class_density", "spray"};
     for (uint32_t i = 0; i < 23; ++i) {
         EXPECT_EQ(bindings[i].binding, i);
         EXPECT_EQ(bindings[i].name, names[i]);
@@ -59,7 +60,7 @@ TEST(SpirvReflect, TexelBuffersCarryTheirFormatAndParameterBlocksAreUniform) {
     EXPECT_EQ(p.texel_format, 1u);  // SPIR-V Rgba32f
     EXPECT_FALSE(p.writes);
     EXPECT_EQ(rank.texel_format, 33u);  // R32ui
-    EXPECT_EQ(q.texel_format, 0u);  // written as a plain storage buffer
+    EXPECT_EQ(q.texel_format, 0u);      // written as a plain storage buffer
     EXPECT_TRUE(q.writes);
 }
 
@@ -142,8 +143,9 @@ TEST_F(BarrierTest, ASurfaceFrameRecordsFewerBarriersThanCommands) {
         const uint64_t barriers = t.barriers(), commands = t.commands();
         cube.render(settings);
         const uint64_t b = t.barriers() - barriers, c = t.commands() - commands;
-        std::printf("%s frame: %llu barriers for %llu commands\n", method == SurfaceMethod::adaptive ? "adaptive" : "uniform",
-                    (unsigned long long)b, (unsigned long long)c);
+        std::printf("%s frame: %llu barriers for %llu commands\n",
+                    method == SurfaceMethod::adaptive ? "adaptive" : "uniform", (unsigned long long)b,
+                    (unsigned long long)c);
         EXPECT_GT(b, 0u);
         EXPECT_LT(b, c);
     }

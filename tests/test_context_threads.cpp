@@ -9,10 +9,10 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <map>
 #include <cstring>
-#include <string>
+#include <map>
 #include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -101,7 +101,8 @@ TEST_F(ContextThreadsTest, TwoThreadsSubmittingAtOnceEachGetTheirResults) {
     gpu::Context& c = ctx();
     constexpr int kThreads = 2, kRounds = 40;
     std::vector<gpu::Buffer> buffers;
-    for (int t = 0; t < kThreads; ++t) buffers.push_back(gpu::create_buffer(c, "test.thread" + std::to_string(t), 4096, gpu::MemoryUse::host));
+    for (int t = 0; t < kThreads; ++t)
+        buffers.push_back(gpu::create_buffer(c, "test.thread" + std::to_string(t), 4096, gpu::MemoryUse::host));
     std::atomic<int> wrong{0};
     std::vector<std::thread> threads;
     for (int t = 0; t < kThreads; ++t)
@@ -115,8 +116,8 @@ TEST_F(ContextThreadsTest, TwoThreadsSubmittingAtOnceEachGetTheirResults) {
                     VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
                     barrier.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
                     barrier.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-                    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &barrier, 0,
-                                         nullptr, 0, nullptr);
+                    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1,
+                                         &barrier, 0, nullptr, 0, nullptr);
                     const VkBufferCopy copy{0, 2048, 2048};
                     vkCmdCopyBuffer(cmd, buffers[t].buffer, buffers[t].buffer, 1, &copy);
                 });
@@ -156,7 +157,8 @@ TEST_F(ContextThreadsTest, SharingTheQueueCutsASolverFrameWithoutChangingIt) {
     EXPECT_LE(whole_submissions, 2u) << "without sharing a frame is one submission (and its statistics' readback)";
     // At least one cut per substep and per iteration: the solver's phases are timed scopes.
     const SolverSettings& s = scene.value().solver;
-    EXPECT_GT(cut_submissions, whole_submissions + uint64_t(s.substeps) * (s.iterations + 1)) << "the frame was not cut";
+    EXPECT_GT(cut_submissions, whole_submissions + uint64_t(s.substeps) * (s.iterations + 1))
+        << "the frame was not cut";
     ASSERT_EQ(whole.size(), cut.size());
     // (Equal up to the order of float sums where the grid's atomics order a cell's particles.)
     float largest = 0.0f;
@@ -168,4 +170,3 @@ TEST_F(ContextThreadsTest, SharingTheQueueCutsASolverFrameWithoutChangingIt) {
 
 }  // namespace
 }  // namespace aquaform
-

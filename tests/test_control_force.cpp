@@ -7,18 +7,18 @@
 #include <cstdio>
 #include <random>
 
+#include "bench/bench_control.h"
 #include "control/control_force.h"
 #include "control/placement.h"
-#include "geometry/primitives.h"
 #include "control/section_builder.h"
 #include "control/shape_metrics.h"
 #include "control/strength.h"
+#include "geometry/primitives.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
-#include "sim/pbf_params.h"
 #include "session/simulation_session.h"
+#include "sim/pbf_params.h"
 #include "sim/pbf_solver.h"
-#include "bench/bench_control.h"
 #include "tests/gpu_test.h"
 
 namespace aquaform::control {
@@ -52,8 +52,8 @@ TEST_F(ControlForceTest, GpuPassMatchesCpuSum) {
     force.set_sets(sets);
     ASSERT_EQ(force.point_count(), points.size());
 
-    shader::SimParams params = make_sim_params(scene, grid_for_domain(scene.domain.min, scene.domain.max, 0.04f).value(),
-                                               uint32_t(x.size()));
+    shader::SimParams params =
+        make_sim_params(scene, grid_for_domain(scene.domain.min, scene.domain.max, 0.04f).value(), uint32_t(x.size()));
     gpu::BufferSet buffers(ctx());
     gpu::Buffer& params_buf = buffers.add("params", sizeof params);
     gpu::Buffer& xb = buffers.add("x", x.size() * 16);
@@ -61,7 +61,8 @@ TEST_F(ControlForceTest, GpuPassMatchesCpuSum) {
     gpu::upload(ctx(), params_buf, &params, sizeof params);
     gpu::upload(ctx(), xb, x.data(), x.size() * 16);
     gpu::upload(ctx(), vb, v.data(), v.size() * 16);
-    ctx().submit_and_wait([&](VkCommandBuffer cmd) { force.record(cmd, params_buf, xb, vb, uint32_t(x.size()), nullptr); });
+    ctx().submit_and_wait(
+        [&](VkCommandBuffer cmd) { force.record(cmd, params_buf, xb, vb, uint32_t(x.size()), nullptr); });
     const auto gpu_v = gpu::download_vector<glm::vec4>(ctx(), vb, v.size());
 
     const float h2 = support * support, coeff = shader::poly6_coefficient(support);
@@ -102,8 +103,7 @@ TEST_F(ControlForceTest, SphereFillsHoldsAndReleases) {
                 fill.strength.describe().c_str(), held.iou, held.fill_fraction, held.outside_fraction, run.rms_speed,
                 run.stats.max_density_error);
     EXPECT_GE(held.iou, 0.8) << "a sphere must fill to IoU 0.8 within 1 s at the automatic strength";
-    EXPECT_TRUE(run.stable(true)) << "rms speed " << run.rms_speed << ", density error "
-                                         << run.stats.max_density_error;
+    EXPECT_TRUE(run.stable(true)) << "rms speed " << run.rms_speed << ", density error " << run.stats.max_density_error;
 
     const auto mean_height = [&] {
         double sum = 0.0;
@@ -153,15 +153,16 @@ TEST_F(ControlForceTest, AutomaticStrengthScalesWithTheParticleCount) {
     const SphereFill fine = study::sphere_scene(0.5f * study::kShapeSpacing);
     EXPECT_GT(fine.scene.particle_count(), 7 * coarse.scene.particle_count());
     EXPECT_FLOAT_EQ(fine.strength.support, 0.5f * coarse.strength.support);
-    EXPECT_FLOAT_EQ(fine.strength.pressure, coarse.strength.pressure) << "holding depends on the shape, not the spacing";
+    EXPECT_FLOAT_EQ(fine.strength.pressure, coarse.strength.pressure)
+        << "holding depends on the shape, not the spacing";
     EXPECT_GE(float(fine.strength.substeps), 1.8f * float(coarse.strength.substeps) - 1.0f);
 
     FillRun run(ctx(), fine, fine.strength.pressure);
     ASSERT_TRUE(run.advance(kSeconds));
     const ShapeMetrics held = run.metrics(fine);
     std::printf("%zu particles, %s\nafter %.2g s: IoU %.3f, rms speed %.3f m/s, max density error %.3f\n",
-                size_t(fine.scene.particle_count()), fine.strength.describe().c_str(), kSeconds, held.iou, run.rms_speed,
-                run.stats.max_density_error);
+                size_t(fine.scene.particle_count()), fine.strength.describe().c_str(), kSeconds, held.iou,
+                run.rms_speed, run.stats.max_density_error);
     EXPECT_GE(held.iou, 0.85);
     EXPECT_TRUE(run.stable(true)) << "rms speed " << run.rms_speed << ", density error " << run.stats.max_density_error;
 

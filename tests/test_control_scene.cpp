@@ -65,7 +65,8 @@ TEST(ControlTimeline, ReplaceMorphSwitchesAtOnce) {
 
 TEST(ControlTimeline, ErrorsNameTheEventAndTheFix) {
     EXPECT_NE(timeline_error(R"([{"t": 1, "do": "attach", "mesh": "a"}, {"t": 0.5, "do": "release"}])")
-                  .find("control.timeline[1].t"), std::string::npos);
+                  .find("control.timeline[1].t"),
+              std::string::npos);
     EXPECT_NE(timeline_error(R"([{"t": 0, "do": "attach", "mesh": "ghost"}])").find("\"ghost\""), std::string::npos);
     EXPECT_NE(timeline_error(R"([{"t": 0, "do": "attach", "mesh": "ghost"}])").find("\"a\", \"b\""), std::string::npos);
     EXPECT_NE(timeline_error(R"([{"t": 0, "do": "explode"}])").find("attach, union, morph, hold, release"),
@@ -118,7 +119,8 @@ TEST(ControlScene, BadSectionsGetClearErrors) {
     const std::string dir = std::string(AQUAFORM_ASSETS_DIR) + "/scenes/";
     auto error_of = [&](const std::string& control) {
         auto scene = parse_scene(R"({"name": "t", "domain": {"min": [0,0,0], "max": [1,1,1]}, "particle_spacing": 0.05,
-            "fluid_blocks": [{"min": [0,0,0], "max": [0.5,0.5,0.5]}], "control": )" + control + "}",
+            "fluid_blocks": [{"min": [0,0,0], "max": [0.5,0.5,0.5]}], "control": )" +
+                                     control + "}",
                                  "test.json");
         EXPECT_TRUE(scene.ok()) << scene.error();
         scene.value().path = dir + "test.json";
@@ -128,11 +130,13 @@ TEST(ControlScene, BadSectionsGetClearErrors) {
     const std::string missing = error_of(R"({"meshes": {"m": {"file": "../meshes/nope.obj"}}, "timeline": []})");
     EXPECT_NE(missing.find("control.meshes.m.file"), std::string::npos) << missing;
     EXPECT_NE(missing.find("nope.obj"), std::string::npos) << missing;
-    const std::string method = error_of(R"({"meshes": {"m": {"file": "../meshes/sphere.obj", "method": "magic"}}, "timeline": []})");
+    const std::string method =
+        error_of(R"({"meshes": {"m": {"file": "../meshes/sphere.obj", "method": "magic"}}, "timeline": []})");
     EXPECT_NE(method.find("\"vertices\", \"inside\" or \"raster\""), std::string::npos) << method;
     const std::string no_timeline = error_of(R"({"meshes": {"m": {"file": "../meshes/sphere.obj"}}})");
     EXPECT_NE(no_timeline.find("timeline"), std::string::npos) << no_timeline;
-    const std::string pressure = error_of(R"({"pressure": -3, "meshes": {"m": {"file": "../meshes/sphere.obj"}}, "timeline": []})");
+    const std::string pressure =
+        error_of(R"({"pressure": -3, "meshes": {"m": {"file": "../meshes/sphere.obj"}}, "timeline": []})");
     EXPECT_NE(pressure.find("control.pressure"), std::string::npos) << pressure;
     // A shape placed where fluid cannot go could never fill: refused, not run to an IoU of 0.
     const std::string outside = error_of(R"({"meshes": {"m": {"file": "../meshes/sphere.obj",
@@ -143,14 +147,15 @@ TEST(ControlScene, BadSectionsGetClearErrors) {
         "placement": {"position": [0.5, 1.0, 0.5], "scale": 0.2}}}, "timeline": []})");
     EXPECT_NE(poking.find("on y"), std::string::npos) << poking;
     EXPECT_EQ(error_of(R"({"meshes": {"m": {"file": "../meshes/sphere.obj",
-        "placement": {"fit_into": {"min": [0.2, 0.2, 0.2], "max": [0.8, 0.8, 0.8]}}}}, "timeline": []})"), "");
+        "placement": {"fit_into": {"min": [0.2, 0.2, 0.2], "max": [0.8, 0.8, 0.8]}}}}, "timeline": []})"),
+              "");
 }
 
 TEST(ControlCli, RunWritesShapeColumns) {
     using namespace test_cli;
     const auto dir = temp_dir("control_run");
-    const auto out = run_aquaform("run " + std::string(AQUAFORM_ASSETS_DIR) + "/scenes/morph.json --frames 12 --no-png --out " +
-                                  dir.string());
+    const auto out = run_aquaform("run " + std::string(AQUAFORM_ASSETS_DIR) +
+                                  "/scenes/morph.json --frames 12 --no-png --out " + dir.string());
     ASSERT_EQ(out.exit_code, 0) << out.output;
     EXPECT_NE(out.output.find("control pressure"), std::string::npos) << out.output;
     EXPECT_NE(out.output.find("control_force"), std::string::npos) << "the pass list names the force";
@@ -176,18 +181,22 @@ TEST(ControlCli, RunSaysWhenTheShapeNeverFills) {
     using namespace test_cli;
     const auto dir = temp_dir("never_fills");
     const std::string meshes = std::string(AQUAFORM_ASSETS_DIR) + "/meshes/";
-    const auto scene = write_file(dir / "far.json", R"({"name": "far", "domain": {"min": [0, 0, 0], "max": [3, 0.6, 0.3]},
+    const auto scene =
+        write_file(dir / "far.json", R"({"name": "far", "domain": {"min": [0, 0, 0], "max": [3, 0.6, 0.3]},
         "particle_spacing": 0.05, "frames": 24, "solver": {"frame_dt": 0.05, "substeps": 2},
         "fluid_blocks": [{"min": [0, 0, 0], "max": [0.25, 0.25, 0.3]}],
-        "control": {"meshes": {"ball": {"file": ")" + meshes + R"(sphere.obj",
+        "control": {"meshes": {"ball": {"file": ")" +
+                                         meshes + R"(sphere.obj",
                     "placement": {"fit_into": {"min": [2.6, 0, 0.02], "max": [2.9, 0.3, 0.28]}}}},
                     "timeline": [{"t": 0, "do": "attach", "mesh": "ball"}]}})");
     const Outcome far = run_aquaform("run " + scene.string() + " --no-png --out " + (dir / "out").string());
     ASSERT_EQ(far.exit_code, 0) << far.output;
     EXPECT_NE(far.output.find("warning: the control shape never filled: its IoU with the fluid peaked at 0.00"),
-              std::string::npos) << far.output;
-    const Outcome filled = run_aquaform("run " + std::string(AQUAFORM_ASSETS_DIR) +
-                                        "/scenes/morph.json --frames 70 --particles 800 --no-png --out " + (dir / "morph").string());
+              std::string::npos)
+        << far.output;
+    const Outcome filled =
+        run_aquaform("run " + std::string(AQUAFORM_ASSETS_DIR) +
+                     "/scenes/morph.json --frames 70 --particles 800 --no-png --out " + (dir / "morph").string());
     ASSERT_EQ(filled.exit_code, 0) << filled.output;
     EXPECT_EQ(filled.output.find("never filled"), std::string::npos) << filled.output;
 }
@@ -197,16 +206,18 @@ TEST(ControlCli, RunSaysWhichMeshFacesItTurnedBack) {
     // says so, as control place does.
     using namespace test_cli;
     const auto dir = temp_dir("flipped_run");
-    write_file(dir / "cube.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
-                                 "f 1 4 3\nf 1 3 2\nf 5 7 6\nf 5 8 7\n"  // the top (z = 1) flipped
-                                 "f 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\nf 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n");
+    write_file(dir / "cube.obj",
+               "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n"
+               "f 1 4 3\nf 1 3 2\nf 5 7 6\nf 5 8 7\n"  // the top (z = 1) flipped
+               "f 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\nf 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n");
     const auto scene = write_file(dir / "cube.json", R"({"name": "cube", "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
         "particle_spacing": 0.05, "frames": 1, "fluid_blocks": [{"min": [0.3, 0, 0.3], "max": [0.7, 0.4, 0.7]}],
         "control": {"meshes": {"box": {"file": "cube.obj", "placement": {"fit_into": {"min": [0.3, 0, 0.3], "max": [0.7, 0.4, 0.7]}}}},
                     "timeline": [{"t": 0, "do": "attach", "mesh": "box"}]}})");
     const Outcome o = run_aquaform("run " + scene.string() + " --no-png --out " + (dir / "out").string());
     ASSERT_EQ(o.exit_code, 0) << o.output;
-    EXPECT_NE(o.output.find("2 faces pointed against their neighbours and were turned back"), std::string::npos) << o.output;
+    EXPECT_NE(o.output.find("2 faces pointed against their neighbours and were turned back"), std::string::npos)
+        << o.output;
 }
 
 TEST(ControlCli, RenderSimulatesTheScenesControlBeforeItDraws) {

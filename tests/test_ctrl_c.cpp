@@ -85,9 +85,12 @@ TEST(CtrlC, EveryLongCommandStopsWithExit130AndWholeFiles) {
     const std::vector<Case> cases = {
         {{"render", assets + "/scenes/dam_break.json", "--particles", "2000", "--frame", "100000"}, "rendering frame"},
         {{"bench", "sim", "--sizes", "2000,4000,8000,16000,32000", "--steps", "200"}, "ms/step", "bench_sim.json"},
-        {{"bench", "frame", "--sizes", "2000,4000,8000,16000", "--resolution", "64x64", "--frames", "1000"}, "RT factor",
+        {{"bench", "frame", "--sizes", "2000,4000,8000,16000", "--resolution", "64x64", "--frames", "1000"},
+         "RT factor",
          "bench_frame.json"},
-        {{"view", "--particles", "2000", "--headless", "--resolution", "64x64", "--frames", "100000"}, "GPU draw ms", "view.json"},
+        {{"view", "--particles", "2000", "--headless", "--resolution", "64x64", "--frames", "100000"},
+         "GPU draw ms",
+         "view.json"},
         {{"bench", "control", "--quick"}, "bench control on"},
         {{"bench", "convergence", "--quick"}, "Martin & Moyce front"},
         {{"control", "place", assets + "/meshes/character.obj", "--method", "inside", "--spacing", "0.002", "--no-png"},
@@ -105,9 +108,9 @@ TEST(CtrlC, ALargePlacementStopsWithinTwoSeconds) {
     const fs::path dir = test_cli::temp_dir("ctrl_c_place");
     const std::string mesh = std::string(AQUAFORM_ASSETS_DIR) + "/meshes/character.obj";
     double stop_seconds = 0.0;
-    const int status = test_cli::interrupt_aquaform(
-        {"control", "place", mesh, "--method", "inside", "--spacing", "0.00103", "--no-png", "--out", (dir / "out").string()},
-        dir / "log.txt", "faces", &stop_seconds);
+    const int status = test_cli::interrupt_aquaform({"control", "place", mesh, "--method", "inside", "--spacing",
+                                                     "0.00103", "--no-png", "--out", (dir / "out").string()},
+                                                    dir / "log.txt", "faces", &stop_seconds);
     const std::string output = test_cli::read_file(dir / "log.txt");
     EXPECT_EQ(status, 130) << output;
     EXPECT_LT(stop_seconds, 2.0) << output;
@@ -130,14 +133,16 @@ TEST(CtrlC, TheViewerClosesItsWindowAndExits130) {
     setenv("DISPLAY", display.c_str(), 1);
     const fs::path dir = test_cli::temp_dir("ctrl_c_view");
     const fs::path log = dir / "log.txt";
-    const int status = test_cli::interrupt_aquaform(
-        {"view", std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json", "--particles", "2000", "--play", "--frames", "3000"}, log,
-        "quits");
+    const int status =
+        test_cli::interrupt_aquaform({"view", std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json",
+                                      "--particles", "2000", "--play", "--frames", "3000"},
+                                     log, "quits");
     kill(xvfb, SIGTERM);
     const std::string output = test_cli::read_file(log);
     EXPECT_EQ(status, 130) << output;
     EXPECT_NE(output.find("interrupted"), std::string::npos) << output;
-    EXPECT_NE(output.find("window frames"), std::string::npos) << "the viewer should end as it does on Esc:\n" << output;
+    EXPECT_NE(output.find("window frames"), std::string::npos) << "the viewer should end as it does on Esc:\n"
+                                                               << output;
     fs::remove_all(dir);
 }
 

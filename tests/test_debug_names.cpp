@@ -17,7 +17,6 @@ namespace {
 
 struct NotSubmitted {};  // thrown to end a recording unsubmitted
 
-
 TEST(DebugNames, ValidationMessageNamesTheBufferAndTheTimedPassesAroundIt) {
     gpu::Context ctx(gpu::ContextOptions{"", /*validation=*/true});
     ASSERT_TRUE(ctx.debug_names()) << "the loader offers no VK_EXT_debug_utils";
@@ -31,7 +30,8 @@ TEST(DebugNames, ValidationMessageNamesTheBufferAndTheTimedPassesAroundIt) {
         const VkBufferCopy past_the_end{0, 512, 4};  // past its end: VUID-vkCmdCopyBuffer-dstOffset-00114
         vkCmdCopyBuffer(cmd, misused.buffer, misused.buffer, 1, &past_the_end);
         throw NotSubmitted{};
-    }), NotSubmitted);
+    }),
+                 NotSubmitted);
     ASSERT_EQ(ctx.validation_errors(), 1u);
     const std::string message = ctx.last_validation_message();
     EXPECT_NE(message.find("objects: VkBuffer \"test.misused\""), std::string::npos) << message;
@@ -46,7 +46,8 @@ TEST(DebugNames, ValidationMessageNamesTheComputePipelineByItsShader) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pass.pipeline());
         vkCmdDispatch(cmd, 1, 1, 1);  // none of its buffers bound
         throw NotSubmitted{};
-    }), NotSubmitted);
+    }),
+                 NotSubmitted);
     ASSERT_GE(ctx.validation_errors(), 1u);
     const std::string message = ctx.last_validation_message();
     EXPECT_NE(message.find("VkPipeline \"render/gather.comp\""), std::string::npos) << message;

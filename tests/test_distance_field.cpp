@@ -9,10 +9,10 @@
 #include <numbers>
 #include <random>
 
-#include "geometry/primitives.h"
 #include "core/error.h"
 #include "geometry/boundary_map.h"
 #include "geometry/distance_field.h"
+#include "geometry/primitives.h"
 #include "shaders/shared/core/sph_kernels.h"
 #include "shaders/shared/sim/pbf_physics.h"
 
@@ -120,7 +120,8 @@ TEST(DistanceField, SignHoldsAcrossASmallHole) {
         if (centre(f).z > centre(hole).z) hole = f;
     }
     const glm::uvec3 removed = sphere.faces[hole];
-    const glm::vec3 hole_centre = (sphere.vertices[removed.x] + sphere.vertices[removed.y] + sphere.vertices[removed.z]) / 3.0f;
+    const glm::vec3 hole_centre =
+        (sphere.vertices[removed.x] + sphere.vertices[removed.y] + sphere.vertices[removed.z]) / 3.0f;
     sphere.faces.erase(sphere.faces.begin() + long(hole));
     const float cell = 0.04f;
     const DistanceField field = built(sphere.triangle_soup(), cell, 0.12f);
@@ -146,7 +147,8 @@ TEST(DistanceField, TwoPartsAndOverlappingPartsGiveTheUnionsDistance) {
     // Two separate cubes.
     const Box a{glm::vec3(0.0f), glm::vec3(1.0f)}, b{glm::vec3(1.5f, 0.0f, 0.0f), glm::vec3(2.5f, 1.0f, 1.0f)};
     const DistanceField apart = built(joined(box_soup(a), box_soup(b)), cell, margin);
-    EXPECT_LT(largest_node_gap(apart, [&](glm::vec3 p) { return std::min(box_signed_distance(a, p), box_signed_distance(b, p)); }),
+    EXPECT_LT(largest_node_gap(
+                  apart, [&](glm::vec3 p) { return std::min(box_signed_distance(a, p), box_signed_distance(b, p)); }),
               1e-5f);
     EXPECT_GT(apart.sample({1.25f, 0.5f, 0.5f}), 0.2f);  // the gap between them is outside
     // Two cubes that overlap into one box [0, 1.6] x [0, 1]^2: the faces hidden inside the other
@@ -284,7 +286,8 @@ Errors half_space_errors(float top) {
         ++e.nodes;
     }
     std::mt19937 random(11);
-    std::uniform_real_distribution<float> across(-half + kH + cell, half - kH - cell), along(top - 1.2f * kH, top + 1.2f * kH);
+    std::uniform_real_distribution<float> across(-half + kH + cell, half - kH - cell),
+        along(top - 1.2f * kH, top + 1.2f * kH);
     for (int i = 0; i < 3000; ++i) {
         const glm::vec3 p(across(random), along(random), across(random));
         e.sampled = std::max(e.sampled, std::abs(map.sample_density(p).w - half_space_m(double(p.y) - top)));
@@ -315,8 +318,10 @@ TEST(BoundaryMap, HalfSpaceMatchesTheWallsClosedForm) {
 TEST(BoundaryMap, TiltedHalfSpaceMatchesTheClosedForm) {
     // A large box mesh turned off the axes: its top face is a plane no sub-grid cube is aligned with.
     const float half = 3.0f * kH, cell = kH / 4.0f;
-    const glm::mat3 turn = glm::mat3(glm::vec3(0.8660254f, 0.5f, 0.0f), glm::vec3(-0.5f, 0.8660254f, 0.0f), glm::vec3(0, 0, 1)) *
-                           glm::mat3(glm::vec3(1, 0, 0), glm::vec3(0.0f, 0.9396926f, 0.3420201f), glm::vec3(0.0f, -0.3420201f, 0.9396926f));
+    const glm::mat3 turn =
+        glm::mat3(glm::vec3(0.8660254f, 0.5f, 0.0f), glm::vec3(-0.5f, 0.8660254f, 0.0f), glm::vec3(0, 0, 1)) *
+        glm::mat3(glm::vec3(1, 0, 0), glm::vec3(0.0f, 0.9396926f, 0.3420201f),
+                  glm::vec3(0.0f, -0.3420201f, 0.9396926f));
     std::vector<glm::vec3> soup = box_soup({glm::vec3(-half), glm::vec3(half)});
     for (glm::vec3& p : soup) p = turn * p;
     const BoundaryMap map = build_boundary_map(built(soup, cell, kH + cell), kernel());
@@ -326,12 +331,14 @@ TEST(BoundaryMap, TiltedHalfSpaceMatchesTheClosedForm) {
     for (size_t n = 0; n < map.density.size(); ++n) {
         const glm::vec3 p = map.grid.position(map.grid.node_of(n));
         const glm::vec3 local = glm::transpose(turn) * p;  // in the box's own frame
-        if (std::abs(local.x) > half - kH - cell || std::abs(local.z) > half - kH - cell || local.y < -half + kH + cell) continue;
+        if (std::abs(local.x) > half - kH - cell || std::abs(local.z) > half - kH - cell || local.y < -half + kH + cell)
+            continue;
         const double d = double(local.y) - half;
         if (d > kH + cell) continue;
         ++nodes;
         worst_m = std::max(worst_m, std::abs(map.density[n].w - half_space_m(d)));
-        worst_gradient = std::max(worst_gradient, glm::length(glm::dvec3(map.density[n]) - half_space_slope(d) * glm::dvec3(normal)));
+        worst_gradient = std::max(worst_gradient,
+                                  glm::length(glm::dvec3(map.density[n]) - half_space_slope(d) * glm::dvec3(normal)));
         if (std::abs(d) < kH - cell) {
             EXPECT_LT(glm::length(glm::vec3(map.distance[n]) - normal), 1e-3f);
         }
@@ -362,7 +369,8 @@ TEST(BoundaryMap, DeepInsideIsPhiAndFarOutsideIsZero) {
             ASSERT_EQ(map.density[n], glm::vec4(0.0f));
         }
         // Just inside the shortcut's reach the quadrature agrees with it (and with the closed form).
-        if (d > -kH && d < -kH + 1.01f * cell && std::abs(p.x - 2.0f * kH) < 0.5f * cell && std::abs(p.z - 2.0f * kH) < 0.5f * cell) {
+        if (d > -kH && d < -kH + 1.01f * cell && std::abs(p.x - 2.0f * kH) < 0.5f * cell &&
+            std::abs(p.z - 2.0f * kH) < 0.5f * cell) {
             EXPECT_NEAR(map.density[n].w, half_space_m(d), 1e-3 * kPhi);
         }
     }
@@ -401,12 +409,12 @@ double quarter_space_m(double a, double b) {
         return sum * (to - from) / (3.0 * kSteps);
     };
     return kPhi * simpson(-double(kH), std::min(-a, double(kH)), [&](double u) {
-        const double reach = std::sqrt(std::max(h2 - u * u, 0.0));
-        return simpson(-reach, std::min(-b, reach), [&](double v) {
-            const double q = std::max(h2 - u * u - v * v, 0.0);
-            return c * 32.0 / 35.0 * q * q * q * std::sqrt(q);
-        });
-    });
+               const double reach = std::sqrt(std::max(h2 - u * u, 0.0));
+               return simpson(-reach, std::min(-b, reach), [&](double v) {
+                   const double q = std::max(h2 - u * u - v * v, 0.0);
+                   return c * 32.0 / 35.0 * q * q * q * std::sqrt(q);
+               });
+           });
 }
 
 // A box's edge x = y = top, with its faces on the nodes, at cell h/4 and h/8. The field's trilinear
@@ -421,7 +429,7 @@ double edge_errors(float cell, double tolerance) {
     for (size_t n = 0; n < map.density.size(); ++n) {
         const glm::vec3 p = map.grid.position(map.grid.node_of(n));
         if (std::abs(p.z) > top - kH - cell) continue;  // away from the box's corners
-        const float a = p.x - top, b = p.y - top;    // outside the x face by a, the y face by b
+        const float a = p.x - top, b = p.y - top;       // outside the x face by a, the y face by b
         if (std::abs(a) > kH + cell || std::abs(b) > kH + cell) continue;
         ++near_edge;
         const float m = map.density[n].w;
@@ -458,7 +466,8 @@ TEST(BoundaryMap, ClipKeepsOnlyTheSolidInsideTheTank) {
     size_t checked = 0;
     for (size_t n = 0; n < clipped.density.size(); ++n) {
         const glm::vec3 p = clipped.grid.position(clipped.grid.node_of(n));
-        if (std::abs(p.x) > half - kH - cell || std::abs(p.z) > half - kH - cell || std::abs(p.y) > half - kH - cell) continue;
+        if (std::abs(p.x) > half - kH - cell || std::abs(p.z) > half - kH - cell || std::abs(p.y) > half - kH - cell)
+            continue;
         ++checked;
         // Deep in the box the solid in the tank is the half-space y > 0: its closed form at d = -y.
         EXPECT_NEAR(clipped.density[n].w, half_space_m(-p.y), 0.01 * kPhi) << p.y;
@@ -483,8 +492,10 @@ double ball_m(double s, double radius) {
     for (int i = 0; i <= kSteps; ++i) {
         const double r = kH * double(i) / kSteps;
         double area = 0.0;
-        if (r <= radius - s) area = 4.0 * std::numbers::pi * r * r;
-        else if (r >= std::abs(s - radius) && s > 0.0) area = std::numbers::pi * r * (radius * radius - (s - r) * (s - r)) / s;
+        if (r <= radius - s)
+            area = 4.0 * std::numbers::pi * r * r;
+        else if (r >= std::abs(s - radius) && s > 0.0)
+            area = std::numbers::pi * r * (radius * radius - (s - r) * (s - r)) / s;
         const double q = h2 - r * r;
         sum += (i == 0 || i == kSteps ? 1.0 : i % 2 ? 4.0 : 2.0) * c * q * q * q * area;
     }
@@ -515,10 +526,10 @@ TEST(BoundaryMap, SphereMeshMatchesTheBallIntegralAndReportsItsBuildTime) {
         const double slope = (ball_m(s + step, radius) - ball_m(s - step, radius)) / (2.0 * step);
         worst_gradient = std::max(worst_gradient, glm::length(glm::dvec3(map.density[n]) - slope * glm::dvec3(p) / s));
     }
-    std::cout << "[ sphere R = " << radius << " m (20480 faces), h = " << kH << ", cell = h/4: " << map.grid.node_count()
-              << " nodes, " << band << " in the band; distance field " << field_s << " s, boundary map " << map_s
-              << " s; node m error " << worst_m / kPhi << " phi, grad error " << worst_gradient / largest_slope()
-              << " of max |grad| ]\n";
+    std::cout << "[ sphere R = " << radius << " m (20480 faces), h = " << kH
+              << ", cell = h/4: " << map.grid.node_count() << " nodes, " << band << " in the band; distance field "
+              << field_s << " s, boundary map " << map_s << " s; node m error " << worst_m / kPhi << " phi, grad error "
+              << worst_gradient / largest_slope() << " of max |grad| ]\n";
     ::testing::Test::RecordProperty("distance_field_seconds", std::to_string(field_s));
     ::testing::Test::RecordProperty("boundary_map_seconds", std::to_string(map_s));
     EXPECT_GT(band, 10000u);

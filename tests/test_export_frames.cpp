@@ -16,13 +16,13 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
 #include <openvdb/openvdb.h>
+#include <nlohmann/json.hpp>
 
-#include "geometry/mesh.h"
 #include "exports/frame_exports.h"
 #include "exports/mesh_export.h"
 #include "exports/vtk_export.h"
+#include "geometry/mesh.h"
 #include "sim/scene.h"
 #include "tests/cli_helpers.h"
 #include "tests/export_readers.h"
@@ -126,7 +126,8 @@ void expect_mesh(const SurfaceMesh& got, const SurfaceMesh& expected, bool turn,
         }
         ASSERT_LT(std::sqrt(best), 1e-6f) << context << " vertex " << i;
         if (!expected.normals.empty()) {
-            ASSERT_GT(glm::dot(got.normals[i], maybe_turned(expected.normals[nearest])), 0.999f) << context << " normal " << i;
+            ASSERT_GT(glm::dot(got.normals[i], maybe_turned(expected.normals[nearest])), 0.999f)
+                << context << " normal " << i;
         }
     }
     const double volume = signed_volume(got.vertices, got.triangles);
@@ -208,9 +209,9 @@ TEST(ExportSeries, EachKindNumbersItsFilesFromZeroAndListsThemWithFrameAndTime) 
     // exports.csv: a row per file, in the order written, with its frame and simulated time.
     const std::map<std::string, uint32_t> every = {{"ply", 2}, {"vtk", 3}, {"vdb", 4}, {"mesh", 5}};
     const std::map<std::string, std::pair<std::string, std::string>> file_of = {{"ply", {"particles", "ply"}},
-                                                                             {"vtk", {"particles", "vtu"}},
-                                                                             {"vdb", {"density", "vdb"}},
-                                                                             {"mesh", {"surface", "vtp"}}};
+                                                                                {"vtk", {"particles", "vtu"}},
+                                                                                {"vdb", {"density", "vdb"}},
+                                                                                {"mesh", {"surface", "vtp"}}};
     const auto rows = listing_rows(dir);
     EXPECT_EQ(rows.size(), expected.size() - 3) << "every numbered file once";
     uint32_t last_frame = 0;
@@ -405,17 +406,20 @@ TEST(ExportRun, MixedCadencesRunWhileTheFluidsVolumeGrows) {
     for (int corner = 0; corner < 8; ++corner) {
         const glm::vec3 s(corner & 1 ? 1.0f : -1.0f, corner & 2 ? 1.0f : -1.0f, corner & 4 ? 1.0f : -1.0f);
         const glm::vec3 c = glm::vec3(0.5f) + 0.05f * s, v = 3.0f * s;
-        blocks += std::string(corner ? ", " : "") + "{\"min\": [" + std::to_string(c.x - 0.04f) + ", " + std::to_string(c.y - 0.04f) +
-                  ", " + std::to_string(c.z - 0.04f) + "], \"max\": [" + std::to_string(c.x + 0.04f) + ", " +
-                  std::to_string(c.y + 0.04f) + ", " + std::to_string(c.z + 0.04f) + "], \"velocity\": [" +
-                  std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + "]}";
+        blocks += std::string(corner ? ", " : "") + "{\"min\": [" + std::to_string(c.x - 0.04f) + ", " +
+                  std::to_string(c.y - 0.04f) + ", " + std::to_string(c.z - 0.04f) + "], \"max\": [" +
+                  std::to_string(c.x + 0.04f) + ", " + std::to_string(c.y + 0.04f) + ", " +
+                  std::to_string(c.z + 0.04f) + "], \"velocity\": [" + std::to_string(v.x) + ", " +
+                  std::to_string(v.y) + ", " + std::to_string(v.z) + "]}";
     }
-    const fs::path scene = test_cli::write_file(dir / "burst.json", R"({"name": "burst", "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
-        "particle_spacing": 0.02, "fluid_blocks": [)" + blocks + "]}");
+    const fs::path scene =
+        test_cli::write_file(dir / "burst.json", R"({"name": "burst", "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
+        "particle_spacing": 0.02, "fluid_blocks": [)" +
+                                                     blocks + "]}");
     for (const char* flags : {"--mesh-every 2 --vdb-every 3", "--vdb-every 2 --mesh-every 3 --ply-every 5"}) {
         const fs::path out = dir / "out";
-        auto o = test_cli::run_aquaform("run " + scene.string() + " --frames 6 --no-png " + std::string(flags) + " --out " +
-                                        out.string());
+        auto o = test_cli::run_aquaform("run " + scene.string() + " --frames 6 --no-png " + std::string(flags) +
+                                        " --out " + out.string());
         ASSERT_EQ(o.exit_code, 0) << flags << "\n" << o.output;
         std::vector<double> volumes;  // of each density file's active voxels' bounds
         for (const auto& row : listing_rows(out)) {

@@ -10,9 +10,9 @@
 #include <set>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Count.h>
+#include <nlohmann/json.hpp>
 
 #include "exports/frame_capture.h"
 #include "exports/frame_exports.h"
@@ -228,11 +228,10 @@ TEST(ExportSchedule, EachKindIsWrittenEveryKFramesFromFrameZero) {
     std::set<std::string> names;
     for (const auto& entry : fs::directory_iterator(dir)) names.insert(entry.path().filename().string());
     // Each kind's files are numbered by its own count (frame / K); exports.csv lists them.
-    const std::set<std::string> expected = {"particles_0000.ply", "particles_0001.ply", "particles_0002.ply",
-                                            "particles_0003.ply", "particles_0000.vtu", "particles_0001.vtu",
-                                            "particles_0002.vtu", "particles.pvd",      "density_0000.vdb",
-                                            "density_0001.vdb",   "surface_0000.ply",   "surface_0001.ply",
-                                            "exports.csv"};
+    const std::set<std::string> expected = {
+        "particles_0000.ply", "particles_0001.ply", "particles_0002.ply", "particles_0003.ply", "particles_0000.vtu",
+        "particles_0001.vtu", "particles_0002.vtu", "particles.pvd",      "density_0000.vdb",   "density_0001.vdb",
+        "surface_0000.ply",   "surface_0001.ply",   "exports.csv"};
     EXPECT_EQ(names, expected);
     // A due kind whose data the frame did not capture is an error naming the file, not a skip.
     auto missing = exports.write(8, 0.08, FrameCapture{});
@@ -249,47 +248,50 @@ class ExportCapture : public testing::GpuTest {};
 TEST_F(ExportCapture, FrameVolumeIsTheSamplersVolumeAlsoWhenTheLatticeOutgrowsItsBuffers) {
     const fs::path dir = test_cli::temp_dir("export_capture");
     const Box compact{glm::vec3(0.2f), glm::vec3(0.3f)};
-    const std::vector<std::vector<Box>> cases = {{compact}, {{glm::vec3(0.0f), glm::vec3(0.06f)},
-                                                             {glm::vec3(0.44f), glm::vec3(0.5f)}}};
+    const std::vector<std::vector<Box>> cases = {
+        {compact}, {{glm::vec3(0.0f), glm::vec3(0.06f)}, {glm::vec3(0.44f), glm::vec3(0.5f)}}};
     for (const bool with_mesh : {false, true})
-    for (const auto& blocks : cases) {
-        Scene scene = testing::scene_with({glm::vec3(0.0f), glm::vec3(0.5f)}, 0.02f);
-        scene.fluid_blocks = blocks;
-        PbfSolver solver(ctx(), scene);
-        FrameExportOptions options;
-        options.every[size_t(FrameExport::vdb)] = 1;
-        options.every[size_t(FrameExport::mesh)] = with_mesh ? 1 : 0;
-        FrameExports exports(dir, options);
-        FrameCapturer capturer(ctx(), exports, solver, scene.particle_domain(), SurfaceSettings{});
-        ctx().submit_and_wait([&](VkCommandBuffer cmd) { capturer.record(cmd, 0, {solver.positions(), solver.particle_count()}, nullptr); });
-        gpu::GpuTimer timer(ctx());
-        FrameStats stats;
-        const FrameCapture capture = capturer.collect(0, timer, stats);
-        ASSERT_TRUE(capture.volume);
-        EXPECT_FALSE(capture.particles) << "no particle export is due";
-        EXPECT_EQ(bool(capture.mesh), with_mesh);
-        if (with_mesh) {
-            EXPECT_GT(capture.mesh->triangles.size(), 100u) << blocks.size() << " blocks";
-        }
+        for (const auto& blocks : cases) {
+            Scene scene = testing::scene_with({glm::vec3(0.0f), glm::vec3(0.5f)}, 0.02f);
+            scene.fluid_blocks = blocks;
+            PbfSolver solver(ctx(), scene);
+            FrameExportOptions options;
+            options.every[size_t(FrameExport::vdb)] = 1;
+            options.every[size_t(FrameExport::mesh)] = with_mesh ? 1 : 0;
+            FrameExports exports(dir, options);
+            FrameCapturer capturer(ctx(), exports, solver, scene.particle_domain(), SurfaceSettings{});
+            ctx().submit_and_wait([&](VkCommandBuffer cmd) {
+                capturer.record(cmd, 0, {solver.positions(), solver.particle_count()}, nullptr);
+            });
+            gpu::GpuTimer timer(ctx());
+            FrameStats stats;
+            const FrameCapture capture = capturer.collect(0, timer, stats);
+            ASSERT_TRUE(capture.volume);
+            EXPECT_FALSE(capture.particles) << "no particle export is due";
+            EXPECT_EQ(bool(capture.mesh), with_mesh);
+            if (with_mesh) {
+                EXPECT_GT(capture.mesh->triangles.size(), 100u) << blocks.size() << " blocks";
+            }
 
-        DensitySampler sampler(ctx(), scene.particle_domain(), solver.particle_count());
-        const DensityVolume expected = sampler.sample_volume(solver.positions(), solver.particle_count());
-        const DensityVolume& got = *capture.volume;
-        EXPECT_EQ(got.dims, expected.dims) << blocks.size() << " blocks";
-        EXPECT_EQ(got.origin, expected.origin);
-        EXPECT_EQ(got.voxel, expected.voxel);
-        EXPECT_EQ(got.iso, expected.iso);
-        ASSERT_EQ(got.values.size(), expected.values.size());
-        EXPECT_TRUE(got.values == expected.values) << blocks.size() << " blocks";
-        EXPECT_GT(*std::max_element(got.values.begin(), got.values.end()), 0.5f);
-    }
+            DensitySampler sampler(ctx(), scene.particle_domain(), solver.particle_count());
+            const DensityVolume expected = sampler.sample_volume(solver.positions(), solver.particle_count());
+            const DensityVolume& got = *capture.volume;
+            EXPECT_EQ(got.dims, expected.dims) << blocks.size() << " blocks";
+            EXPECT_EQ(got.origin, expected.origin);
+            EXPECT_EQ(got.voxel, expected.voxel);
+            EXPECT_EQ(got.iso, expected.iso);
+            ASSERT_EQ(got.values.size(), expected.values.size());
+            EXPECT_TRUE(got.values == expected.values) << blocks.size() << " blocks";
+            EXPECT_GT(*std::max_element(got.values.begin(), got.values.end()), 0.5f);
+        }
 }
 
 /// Two frames of the dam break at 300 particles with `flags`, into a fresh folder `test`/out.
 fs::path run_two_frames(const std::string& test, const std::string& flags) {
     const fs::path out = test_cli::temp_dir(test) / "out";
     const std::string scene = std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json";
-    auto o = test_cli::run_aquaform("run " + scene + " --frames 2 --particles 300 --no-png " + flags + " --out " + out.string());
+    auto o = test_cli::run_aquaform("run " + scene + " --frames 2 --particles 300 --no-png " + flags + " --out " +
+                                    out.string());
     EXPECT_EQ(o.exit_code, 0) << o.output;
     return out;
 }

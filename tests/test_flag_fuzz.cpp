@@ -26,9 +26,33 @@ struct FlagCommand {
 };
 
 const std::vector<std::string> kHostileValues = {
-    "",      "-1",    "0",       "nan",   "inf",       "-inf",   "1e300", "-1e-300", "1e-300", "abc",    "1,,2",
-    "%s%n",  "0x10",  "4294967297", "-0", "2.5",       "1e9",    "7x",    "x7",      "1x1",    "99999x99999",
-    "'a b'", "--out", "-5e3",    "1e-30", "18446744073709551616", std::string(300, '9'),
+    "",
+    "-1",
+    "0",
+    "nan",
+    "inf",
+    "-inf",
+    "1e300",
+    "-1e-300",
+    "1e-300",
+    "abc",
+    "1,,2",
+    "%s%n",
+    "0x10",
+    "4294967297",
+    "-0",
+    "2.5",
+    "1e9",
+    "7x",
+    "x7",
+    "1x1",
+    "99999x99999",
+    "'a b'",
+    "--out",
+    "-5e3",
+    "1e-30",
+    "18446744073709551616",
+    std::string(300, '9'),
 };
 
 std::string quoted(const std::string& value) {
@@ -42,8 +66,10 @@ size_t line_count(const std::string& text) {
     size_t lines = 0;
     bool content = false;
     for (char c : text) {
-        if (c == '\n') lines += content, content = false;
-        else content = content || c != ' ';
+        if (c == '\n')
+            lines += content, content = false;
+        else
+            content = content || c != ' ';
     }
     return lines + content;
 }
@@ -57,22 +83,48 @@ TEST(FlagFuzz, HostileValuesOfExportAndBenchFlagsAreRefusedInOneLineOrRun) {
                                "\", \"particles\": [600], \"time\": 0.02, \"resolutions\": [\"32x32\"], "
                                "\"methods\": [{\"method\": \"uniform\"}]}]}");
     const std::vector<FlagCommand> commands = {
-        {{"run", scene, "--particles", "600", "--frames", "2", "--resolution", "64x48", "--vtk-every", "1", "--ply-every",
-          "1", "--vdb-every", "1", "--mesh-every", "1", "--mesh-format", "obj", "--camera", "auto", "--whitewater", "on", "--whitewater-every", "1", "--whitewater-format", "ply",
-          "--out", out},
+        {{"run",
+          scene,
+          "--particles",
+          "600",
+          "--frames",
+          "2",
+          "--resolution",
+          "64x48",
+          "--vtk-every",
+          "1",
+          "--ply-every",
+          "1",
+          "--vdb-every",
+          "1",
+          "--mesh-every",
+          "1",
+          "--mesh-format",
+          "obj",
+          "--camera",
+          "auto",
+          "--whitewater",
+          "on",
+          "--whitewater-every",
+          "1",
+          "--whitewater-format",
+          "ply",
+          "--out",
+          out},
          {"--particles", "--frames", "--resolution", "--vtk-every", "--ply-every", "--vdb-every", "--mesh-every",
-          "--mesh-format", "--camera", "--video", "--step", "--spray", "--surface", "--whitewater", "--whitewater-every",
-          "--whitewater-format"}},
-        {{"render", scene, "--particles", "600", "--frame", "1", "--resolution", "64x48", "--method", "uniform", "--out", out},
+          "--mesh-format", "--camera", "--video", "--step", "--spray", "--surface", "--whitewater",
+          "--whitewater-every", "--whitewater-format"}},
+        {{"render", scene, "--particles", "600", "--frame", "1", "--resolution", "64x48", "--method", "uniform",
+          "--out", out},
          {"--particles", "--frame", "--resolution", "--method", "--max-steps", "--refine", "--centre-smoothing"}},
-        {{"bench", "sim", "--sizes", "600", "--steps", "2", "--repeats", "1", "--warmup", "1", "--iterations", "2", "--out",
-          out + "/sim.json"},
+        {{"bench", "sim", "--sizes", "600", "--steps", "2", "--repeats", "1", "--warmup", "1", "--iterations", "2",
+          "--out", out + "/sim.json"},
          {"--sizes", "--steps", "--repeats", "--warmup", "--iterations", "--bandwidth"}},
         {{"bench", "render", "--frames", "calm", "--particles", "600", "--resolution", "64x48", "--repeats", "1",
           "--configs", "uniform", "--out", out + "/render.json"},
          {"--frames", "--particles", "--resolution", "--repeats", "--configs", "--frame"}},
-        {{"bench", "frame", "--sizes", "600", "--resolution", "32x32", "--warmup", "1", "--frames", "1", "--iterations", "2",
-          "--out", out + "/frame.json"},
+        {{"bench", "frame", "--sizes", "600", "--resolution", "32x32", "--warmup", "1", "--frames", "1", "--iterations",
+          "2", "--out", out + "/frame.json"},
          {"--sizes", "--resolution", "--warmup", "--frames", "--iterations"}},
         {{"bench", "control", "--quick", "--scales", "1", "--out", out}, {"--particles", "--scales"}},
         {{"bench", "convergence", "--quick", "--out", out}, {"--particles", "--depth-layers", "--front-scene"}},
@@ -104,9 +156,12 @@ TEST(FlagFuzz, HostileValuesOfExportAndBenchFlagsAreRefusedInOneLineOrRun) {
             for (size_t v = 0; v < 2; ++v) {
                 std::vector<std::string> args = command.args;
                 const auto at = std::find(args.begin(), args.end(), flag);
-                if (at != args.end() && at + 1 != args.end()) *(at + 1) = values[v];
-                else if (args.size() >= 2 && args[args.size() - 2] == "--out") args.insert(args.end() - 2, {flag, values[v]});
-                else args.insert(args.end(), {flag, values[v]});
+                if (at != args.end() && at + 1 != args.end())
+                    *(at + 1) = values[v];
+                else if (args.size() >= 2 && args[args.size() - 2] == "--out")
+                    args.insert(args.end() - 2, {flag, values[v]});
+                else
+                    args.insert(args.end(), {flag, values[v]});
                 std::string line;
                 for (const std::string& a : args) line += quoted(a) + " ";
                 fs::remove_all(out);
@@ -119,11 +174,13 @@ TEST(FlagFuzz, HostileValuesOfExportAndBenchFlagsAreRefusedInOneLineOrRun) {
                         << "working for " << kPatienceSeconds << " s without saying how long it will take: " << context;
                     continue;
                 }
-                ASSERT_TRUE(o.exit_code == 0 || o.exit_code == 1 || o.exit_code == 2) << "exit " << o.exit_code << ": " << context;
+                ASSERT_TRUE(o.exit_code == 0 || o.exit_code == 1 || o.exit_code == 2)
+                    << "exit " << o.exit_code << ": " << context;
                 if (o.exit_code == 2) {
                     ++refused;
                     EXPECT_EQ(line_count(o.err), 1u) << "a refusal is one line: " << context;
-                    EXPECT_NE(o.err.find(flag), std::string::npos) << "the refusal should name " << flag << ": " << context;
+                    EXPECT_NE(o.err.find(flag), std::string::npos)
+                        << "the refusal should name " << flag << ": " << context;
                     for (const char* garbage : {"use --spacing nan", " nan or", " inf or", "-nan"})
                         EXPECT_EQ(o.err.find(garbage), std::string::npos) << context;
                 } else {
@@ -132,8 +189,8 @@ TEST(FlagFuzz, HostileValuesOfExportAndBenchFlagsAreRefusedInOneLineOrRun) {
             }
         }
     }
-    std::printf("[ flags ] %zu mutated command lines: %zu refused (2), %zu ran (0 or 1), %zu long work stopped\n", cases,
-                refused, ran, long_work);
+    std::printf("[ flags ] %zu mutated command lines: %zu refused (2), %zu ran (0 or 1), %zu long work stopped\n",
+                cases, refused, ran, long_work);
     EXPECT_GT(refused, cases / 2) << "most hostile values should be refused";
     fs::remove_all(dir);
 }

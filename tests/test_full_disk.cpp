@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
 #include <openvdb/openvdb.h>
+#include <nlohmann/json.hpp>
 
 #include "core/file_write.h"
 #include "pictures/image_io.h"
@@ -45,10 +45,11 @@ SmallDiskRun run_on_small_disk(const fs::path& work, uint64_t kib, std::string a
     fs::create_directories(disk);
     for (size_t at; (at = args.find("@DISK@")) != std::string::npos;) args.replace(at, 6, disk.string());
     const fs::path script = test_cli::write_file(
-        work / "on_small_disk.sh",
-        "mount -t tmpfs -o size=" + std::to_string(kib) + "k tmpfs '" + disk.string() + "' || exit 99\n" + AQUAFORM_BINARY +
-            " " + args + " --out '" + (disk / "out").string() + "' >'" + log.string() + "' 2>&1\necho $? >'" +
-            code.string() + "'\ncp -a '" + (disk / "out").string() + "' '" + copy.string() + "'\n");
+        work / "on_small_disk.sh", "mount -t tmpfs -o size=" + std::to_string(kib) + "k tmpfs '" + disk.string() +
+                                       "' || exit 99\n" + AQUAFORM_BINARY + " " + args + " --out '" +
+                                       (disk / "out").string() + "' >'" + log.string() + "' 2>&1\necho $? >'" +
+                                       code.string() + "'\ncp -a '" + (disk / "out").string() + "' '" + copy.string() +
+                                       "'\n");
     const std::string command = "unshare -rm sh '" + script.string() + "'";
     const int status = std::system(command.c_str());
     EXPECT_EQ(status, 0) << "could not make the small disk: " << command;
@@ -80,8 +81,8 @@ std::string ply_problem(const std::string& bytes) {
         uint64_t fixed = 0;           // bytes of its scalar properties
         std::vector<int> list_sizes;  // (count type size, item size) pairs, flattened
     };
-    const std::map<std::string, int> size_of{{"char", 1}, {"uchar", 1}, {"short", 2}, {"ushort", 2}, {"int", 4},
-                                             {"uint", 4}, {"float", 4}, {"double", 8}};
+    const std::map<std::string, int> size_of{{"char", 1}, {"uchar", 1}, {"short", 2}, {"ushort", 2},
+                                             {"int", 4},  {"uint", 4},  {"float", 4}, {"double", 8}};
     std::vector<Element> elements;
     for (std::string line; std::getline(header, line);) {
         std::istringstream words(line);
@@ -258,7 +259,8 @@ TEST(FileWrite, AFileCutShortIsRemovedAndTheEarlierOneKept) {
     EXPECT_NE(fresh.error().find("cut.txt"), std::string::npos) << fresh.error();
     EXPECT_FALSE(fs::exists(dir / "cut.txt")) << "a file cut short is not left";
     ASSERT_FALSE(replacing);
-    EXPECT_EQ(test_cli::read_file(dir / "kept.txt"), "earlier\n") << "the earlier file stays until the new one is whole";
+    EXPECT_EQ(test_cli::read_file(dir / "kept.txt"), "earlier\n")
+        << "the earlier file stays until the new one is whole";
     EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1) << "no staged file is left";
     fs::remove_all(dir);
 }
@@ -274,12 +276,14 @@ const std::vector<double> kFillPoints = {0.03, 0.15, 0.35, 0.6, 0.85};
 TEST(FullDisk, RunLeavesOnlyWholeFilesAndItsStatsListTheFramesWritten) {
     const fs::path work = test_cli::temp_dir("full_disk_run");
     const std::string scene = std::string(AQUAFORM_SOURCE_DIR) + "/assets/scenes/dam_break.json";
-    const std::string exports = " --particles 1000 --frames 6 --resolution 160x90 --vtk-every 1 --ply-every 1 "
-                                "--vdb-every 2 --mesh-every 1 --video '@DISK@/out/frames.mp4'";
+    const std::string exports =
+        " --particles 1000 --frames 6 --resolution 160x90 --vtk-every 1 --ply-every 1 "
+        "--vdb-every 2 --mesh-every 1 --video '@DISK@/out/frames.mp4'";
     // The whole output, on a disk with room, sets the sizes that cut it (for both mesh writers).
     uint64_t total[2] = {0, 0};
     for (int ply = 0; ply < 2; ++ply) {
-        const SmallDiskRun roomy = run_on_small_disk(work, 1 << 20, "run " + scene + exports + (ply ? " --mesh-format ply" : ""));
+        const SmallDiskRun roomy =
+            run_on_small_disk(work, 1 << 20, "run " + scene + exports + (ply ? " --mesh-format ply" : ""));
         ASSERT_EQ(roomy.exit_code, 0) << roomy.output;
         total[ply] = folder_bytes(roomy.copy);
         ASSERT_GT(expect_every_file_whole(roomy.copy, "roomy"), 20u);
@@ -301,7 +305,8 @@ TEST(FullDisk, RunLeavesOnlyWholeFilesAndItsStatsListTheFramesWritten) {
             EXPECT_TRUE(fs::exists(run.copy / name)) << context << ": stats.csv has frame " << f << " but not " << name;
         }
         EXPECT_NE(run.output.find(std::to_string(rows) + " frames ("), std::string::npos)
-            << context << ": the summary should count the " << rows << " frames stats.csv lists:\n" << run.output;
+            << context << ": the summary should count the " << rows << " frames stats.csv lists:\n"
+            << run.output;
     }
     fs::remove_all(work);
 }

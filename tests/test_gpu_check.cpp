@@ -4,8 +4,8 @@
 
 #include <chrono>
 #include <filesystem>
-#include <utility>
 #include <string>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -45,8 +45,8 @@ TEST(GpuCheck, QuickRunWritesEveryStepFigureAndVerdictIntoOneJson) {
         EXPECT_EQ(s.at("exit").get<int>(), 0);
         EXPECT_GT(s.at("limit_s").get<int>(), 0);
     }
-    EXPECT_EQ(names, (std::vector<std::string>{"info", "gpu_tests", "bench_sim", "bench_render", "bench_render_lanes", "run",
-                                               "bench_frame", "view_headless", "study"}));
+    EXPECT_EQ(names, (std::vector<std::string>{"info", "gpu_tests", "bench_sim", "bench_render", "bench_render_lanes",
+                                               "run", "bench_frame", "view_headless", "study"}));
     EXPECT_NE(j["steps"][0]["output"].get<std::string>().find("aquaform will use device"), std::string::npos);
     EXPECT_NE(j["steps"][1]["output"].get<std::string>().find("PASSED"), std::string::npos);
     EXPECT_FALSE(j.at("device").is_null()) << "the device info chose";
@@ -149,11 +149,15 @@ TEST(GpuCheck, VerdictsOnAGpuPassOrFailAgainstTheTargetsAndAMissingDeviceSaysWhy
     const fs::path out = work / "gpu_check.json";
     test_cli::write_file(work / "meta.json", R"({"quick": false, "particles": 1000000, "resolution": "1920x1080",
         "frames": 60, "budget_s": 420, "host": "h", "date": "d", "vulkan": "drivers: none"})");
-    test_cli::write_file(work / "steps.jsonl", "{\"name\": \"info\", \"status\": \"failed\", \"exit\": 1, \"seconds\": 0.5}\n");
-    test_cli::write_file(work / "info.log", "aquaform: no Vulkan device found; install a driver (mesa-vulkan-drivers) or check VK_DRIVER_FILES\n");
+    test_cli::write_file(work / "steps.jsonl",
+                         "{\"name\": \"info\", \"status\": \"failed\", \"exit\": 1, \"seconds\": 0.5}\n");
+    test_cli::write_file(
+        work / "info.log",
+        "aquaform: no Vulkan device found; install a driver (mesa-vulkan-drivers) or check VK_DRIVER_FILES\n");
     test_cli::write_file(work / "bench_sim.json", R"({"device": "NVIDIA H200", "device_type": "discrete GPU",
         "records": [{"particles": 1000000, "iterations": 4, "ms_per_step": 1.1}]})");
-    test_cli::write_file(work / "bench_render.json", R"({"device": "NVIDIA H200", "device_type": "discrete GPU", "frames": [
+    test_cli::write_file(work / "bench_render.json",
+                         R"({"device": "NVIDIA H200", "device_type": "discrete GPU", "frames": [
         {"name": "calm", "particles": 1000000, "in_place": {"solver_frame_grid_ms": 0.5},
          "records": [{"label": "adaptive", "ms_total": 2.0, "ms_per_pass": {"render_splat": 0.5, "render_march": 1.0}}],
          "targets": {"adaptive_resolution": {"ms_total": 2.0, "full_res_ms_total": 3.2, "used": true}}},
@@ -165,15 +169,16 @@ TEST(GpuCheck, VerdictsOnAGpuPassOrFailAgainstTheTargetsAndAMissingDeviceSaysWhy
          "targets": {"adaptive_resolution": {"ms_total": 3.0, "full_res_ms_total": 3.6, "used": true}}}]})");
     // Real time: 500k at a factor of 1.1 passes (>= 1), 1M at 0.7 fails (>= 0.8); the headless
     // viewer at 1M, 0.85, passes.
-    test_cli::write_file(work / "bench_frame.json", R"({"device": "NVIDIA H200", "device_type": "discrete GPU", "records": [
+    test_cli::write_file(work / "bench_frame.json",
+                         R"({"device": "NVIDIA H200", "device_type": "discrete GPU", "records": [
         {"requested": 500000, "particles": 493039, "resolution": "1920x1080", "real_time_factor": 1.1, "frames_per_s": 66.0,
          "steps_per_frame": 6.0, "gpu_ms_per_frame": {"solver": 8.0, "reconstruction": 6.0, "compose": 0.2, "total": 14.2}},
         {"requested": 1000000, "particles": 986078, "resolution": "1920x1080", "real_time_factor": 0.7, "frames_per_s": 42.0,
          "steps_per_frame": 8.0, "gpu_ms_per_frame": {"solver": 15.0, "reconstruction": 12.0, "compose": 0.2, "total": 27.2}}]})");
     test_cli::write_file(work / "view_headless.json", R"({"device": "NVIDIA H200", "device_type": "discrete GPU",
         "particles": 986078, "resolution": "1920x1080", "real_time_factor": 0.85, "frames_per_s": 51.0})");
-    const std::string cmd = "python3 " + std::string(AQUAFORM_SOURCE_DIR) + "/scripts/gpu_check_report.py " + work.string() +
-                            " " + out.string() + " 2>&1";
+    const std::string cmd = "python3 " + std::string(AQUAFORM_SOURCE_DIR) + "/scripts/gpu_check_report.py " +
+                            work.string() + " " + out.string() + " 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
     const nlohmann::json j = nlohmann::json::parse(test_cli::read_file(out));
     EXPECT_EQ(j["verdicts"].at("frame_500k").at("status"), "pass") << j["verdicts"].dump();

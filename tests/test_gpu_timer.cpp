@@ -47,8 +47,9 @@ TEST_F(GpuTimerTest, AScopeAroundAFrameAgreesWithTheSumOfItsPasses) {
     const auto& totals = timer.totals_ms();
     ASSERT_TRUE(totals.count("frame"));
     const double frame = totals.at("frame");
-    const double passes = std::accumulate(totals.begin(), totals.end(), 0.0,
-                                          [](double sum, const auto& t) { return t.first == "frame" ? sum : sum + t.second; });
+    const double passes = std::accumulate(totals.begin(), totals.end(), 0.0, [](double sum, const auto& t) {
+        return t.first == "frame" ? sum : sum + t.second;
+    });
     std::printf("frame scope %.3f ms, its %zu passes %.3f ms\n", frame, totals.size() - 1, passes);
     ASSERT_GT(frame, 0.0);
     // The passes tile the frame; what lies between them (the parameter upload, fills outside a

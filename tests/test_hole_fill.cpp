@@ -52,7 +52,8 @@ Mesh without_faces(const Mesh& mesh, const PointFilter& remove) {
         if (remove(mesh.vertices[f.x]) && remove(mesh.vertices[f.y]) && remove(mesh.vertices[f.z])) continue;
         glm::uvec3 kept;
         for (int i = 0; i < 3; ++i) {
-            if (index[f[i]] == UINT32_MAX) index[f[i]] = uint32_t(out.vertices.size()), out.vertices.push_back(mesh.vertices[f[i]]);
+            if (index[f[i]] == UINT32_MAX)
+                index[f[i]] = uint32_t(out.vertices.size()), out.vertices.push_back(mesh.vertices[f[i]]);
             kept[i] = index[f[i]];
         }
         out.faces.push_back(kept);
@@ -100,8 +101,10 @@ Mesh window_box(float frame) {
                 for (int j = 0; j < 3; ++j) {
                     if (i == 1 && j == 1) continue;  // the window
                     const uint32_t a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
-                    if (side == 1.0f) mesh.faces.insert(mesh.faces.end(), {{a, b, c}, {a, c, d}});
-                    else mesh.faces.insert(mesh.faces.end(), {{a, c, b}, {a, d, c}});
+                    if (side == 1.0f)
+                        mesh.faces.insert(mesh.faces.end(), {{a, b, c}, {a, c, d}});
+                    else
+                        mesh.faces.insert(mesh.faces.end(), {{a, c, b}, {a, d, c}});
                 }
         }
     return mesh;
@@ -136,20 +139,17 @@ std::vector<OpenShape> open_shapes() {
             return p.z < -0.46f || glm::length(p - eyes[0]) < 0.09f || glm::length(p - eyes[1]) < 0.09f;
         });
         // The base's loop runs below z = -0.46, between rings of vertices: the shape ends at its cap.
-        shapes.push_back({"open_base_and_eyes", open,
-                          {{head, above_cap(-0.5, -0.4)}}, 3});
+        shapes.push_back({"open_base_and_eyes", open, {{head, above_cap(-0.5, -0.4)}}, 3});
     }
-    shapes.push_back({"window_box", window_box(0.18f), {{make_box({glm::vec3(0.0f), glm::vec3(1.0f)}), kEverywhere}}, 6});
+    shapes.push_back(
+        {"window_box", window_box(0.18f), {{make_box({glm::vec3(0.0f), glm::vec3(1.0f)}), kEverywhere}}, 6});
     {  // A pot without its top and a lid (a dome open below) that does not meet it.
         const Mesh pot = make_tube({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.6f}, 0.5f, 0.5f, 6, 48);
         const Mesh ball = moved(make_sphere(0.6f, 4), {0.0f, 0.0f, 0.3f});
         const Mesh lid = without_faces(ball, [](const glm::vec3& p) { return p.z < 0.66f; });
         const Mesh open_pot = without_faces(pot, [](const glm::vec3& p) { return p.z > 0.59f; });
-        shapes.push_back({"pot_and_lid",
-                          joined({open_pot, lid}),
-                          {{pot, kEverywhere},
-                           {ball, above_cap(0.61, 0.7)}},
-                          2});
+        shapes.push_back(
+            {"pot_and_lid", joined({open_pot, lid}), {{pot, kEverywhere}, {ball, above_cap(0.61, 0.7)}}, 2});
     }
     {  // Two cylinders of different radii meeting at z = 1, the step between them left open.
         const Mesh wide = make_tube({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}, 0.5f, 0.5f, 8, 48);
@@ -157,14 +157,18 @@ std::vector<OpenShape> open_shapes() {
         const auto top_cap = [](const glm::vec3& p) { return p.z > 0.99f; };
         const auto bottom_cap = [](const glm::vec3& p) { return p.z < 1.01f; };
         // Closed, the same two as one file (so on the same lattice): their caps overlap, facing apart.
-        shapes.push_back({"two_cylinders", joined({without_faces(wide, top_cap), without_faces(narrow, bottom_cap)}),
-                          {{joined({wide, narrow}), kEverywhere}}, 2});
+        shapes.push_back({"two_cylinders",
+                          joined({without_faces(wide, top_cap), without_faces(narrow, bottom_cap)}),
+                          {{joined({wide, narrow}), kEverywhere}},
+                          2});
     }
     {  // Two boxes without lids, touching at one corner: their loops share a vertex.
         const Box a{glm::vec3(0.0f), glm::vec3(1.0f)}, b{glm::vec3(1.0f, 1.0f, 0.0f), glm::vec3(2.0f, 2.0f, 1.0f)};
         const auto lid = [](const glm::vec3& p) { return p.z == 1.0f; };
-        shapes.push_back({"boxes_touching_at_a_corner", joined({without_faces(make_box(a), lid), without_faces(make_box(b), lid)}),
-                          {{joined({make_box(a), make_box(b)}), kEverywhere}}, 2});
+        shapes.push_back({"boxes_touching_at_a_corner",
+                          joined({without_faces(make_box(a), lid), without_faces(make_box(b), lid)}),
+                          {{joined({make_box(a), make_box(b)}), kEverywhere}},
+                          2});
     }
     return shapes;
 }
@@ -188,7 +192,8 @@ protected:
     }
 
     std::vector<glm::vec3> placed(const std::string& method, const LoadedMesh& loaded, float spacing) {
-        return control::place_by_method(method, loaded, spacing, [&]() -> gpu::Context& { return ctx(); }).points.points;
+        return control::place_by_method(method, loaded, spacing, [&]() -> gpu::Context& { return ctx(); })
+            .points.points;
     }
 
     size_t placed_in(const std::string& method, const Mesh& mesh, float spacing, const PointFilter& keep) {
@@ -212,7 +217,8 @@ TEST_F(HoleFillTest, OpenShapesAreClosedAndEveryMethodFillsThem) {
         EXPECT_EQ(report.closed_boundary_edge_count, check_mesh(shape.open).boundary_edge_count) << said;
         EXPECT_NE(said.find("closed " + std::to_string(shape.holes) + " hole(s) (" +
                             std::to_string(report.closed_boundary_edge_count) + " boundary edges, "),
-                  std::string::npos) << said;
+                  std::string::npos)
+            << said;
         EXPECT_FALSE(report.watertight()) << "the file was open: the commands note it";
         EXPECT_EQ(unusable_reason(report), "");
 
@@ -224,7 +230,8 @@ TEST_F(HoleFillTest, OpenShapesAreClosedAndEveryMethodFillsThem) {
                 closed += placed_in(method, part, spacing, keep(report));
             const size_t open = placed(method, loaded.value(), spacing).size();
             std::printf("%s, %s: %zu points, %zu in the same shape closed\n", shape.name.c_str(), method, open, closed);
-            EXPECT_NEAR(double(open), double(closed), 0.03 * double(closed)) << method << ": open " << open << ", closed " << closed;
+            EXPECT_NEAR(double(open), double(closed), 0.03 * double(closed))
+                << method << ": open " << open << ", closed " << closed;
         }
         // The surface method covers the caps: a point at the middle of every hole wider than the spacing.
         const std::vector<glm::vec3> surface = placed("vertices", loaded.value(), spacing);
@@ -280,8 +287,10 @@ TEST_F(HoleFillTest, ARealMeshCutOpenIsClosedAndFilled) {
     for (const char* method : kFillingMethods) {
         // The cut runs between `cut` and the ring of vertices below it: compare above its caps.
         double caps_at = 0.0;
-        for (const ClosedHole& hole : report.closed_holes) caps_at += hole.centre.y / double(report.closed_holes.size());
-        const size_t closed = placed_in(method, whole.value().mesh, spacing, [&](const glm::vec3& p) { return p.y > caps_at; });
+        for (const ClosedHole& hole : report.closed_holes)
+            caps_at += hole.centre.y / double(report.closed_holes.size());
+        const size_t closed =
+            placed_in(method, whole.value().mesh, spacing, [&](const glm::vec3& p) { return p.y > caps_at; });
         const size_t open = placed(method, loaded.value(), spacing).size();
         std::printf("spot, hooves cut off, %s: %zu points, %zu in the same shape closed\n", method, open, closed);
         EXPECT_NEAR(double(open), double(closed), 0.03 * double(closed)) << method;
@@ -307,7 +316,8 @@ TEST_F(HoleFillTest, AnObstacleWithHolesIsSolidInside) {
         ASSERT_EQ(field.value().distance[n] < 0.0f, want < 0.0f) << p.x << " " << p.y << " " << p.z;
     }
     EXPECT_GT(inside, 1000u);
-    std::printf("window box: distance field %s at its middle\n", field.value().sample(glm::vec3(0.5f)) < 0.0f ? "negative" : "positive");
+    std::printf("window box: distance field %s at its middle\n",
+                field.value().sample(glm::vec3(0.5f)) < 0.0f ? "negative" : "positive");
 
     // The same box as an obstacle in a tank full of fluid: the lattice points in it do not start.
     std::ofstream(directory_ / "scene.json")
@@ -321,7 +331,9 @@ TEST_F(HoleFillTest, AnObstacleWithHolesIsSolidInside) {
                 (unsigned long long)scene.value().particles_in_solids(), solid);
     EXPECT_NEAR(double(scene.value().particles_in_solids()), solid, 0.1 * solid);
     const std::vector<std::string> notes = obstacle_notes(scene.value());
-    const bool noted = std::any_of(notes.begin(), notes.end(), [](const std::string& n) { return n.find("closed 6 hole(s)") != std::string::npos; });
+    const bool noted = std::any_of(notes.begin(), notes.end(), [](const std::string& n) {
+        return n.find("closed 6 hole(s)") != std::string::npos;
+    });
     EXPECT_TRUE(noted) << "the closing is said before a run";
 }
 
@@ -332,7 +344,8 @@ TEST_F(HoleFillTest, AFlatMeshOrAnOpenSheetIsRefusedInWordsForAnyUse) {
     constexpr int kSide = 12;
     for (int j = 0; j <= kSide; ++j)
         for (int i = 0; i <= kSide; ++i)
-            sheet.vertices.emplace_back(float(i) / kSide, float(j) / kSide, 0.1f * std::sin(3.14159f * float(i) / kSide));
+            sheet.vertices.emplace_back(float(i) / kSide, float(j) / kSide,
+                                        0.1f * std::sin(3.14159f * float(i) / kSide));
     for (int j = 0; j < kSide; ++j)
         for (int i = 0; i < kSide; ++i) {
             const uint32_t a = uint32_t(j * (kSide + 1) + i), b = a + 1, c = a + kSide + 2, d = a + kSide + 1;
@@ -350,7 +363,8 @@ TEST_F(HoleFillTest, AFlatMeshOrAnOpenSheetIsRefusedInWordsForAnyUse) {
         EXPECT_EQ(error.find("control point"), std::string::npos) << "an obstacle is no control mesh: " << error;
     }
     // A bowl (a hemisphere, its opening half its area) is a solid with a lid, not a sheet.
-    const Result<LoadedMesh> bowl = load(without_faces(make_sphere(1.0f, 3), [](const glm::vec3& p) { return p.z > -0.01f; }), "bowl");
+    const Result<LoadedMesh> bowl =
+        load(without_faces(make_sphere(1.0f, 3), [](const glm::vec3& p) { return p.z > -0.01f; }), "bowl");
     ASSERT_TRUE(bowl.ok()) << bowl.error();
     EXPECT_EQ(bowl.value().report.closed_hole_count, 1u);
 }

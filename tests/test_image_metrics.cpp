@@ -186,7 +186,7 @@ TEST(ImageMetrics, CoverageCountsOnCraftedMasks) {
 
 TEST(ImageMetrics, EvaluationsPerRayCountOnlyPixelsThatCastARay) {
     const SurfaceFrame reference = disc_frame();
-    SurfaceFrame test = disc_frame(0.0f);  // all interpolated ...
+    SurfaceFrame test = disc_frame(0.0f);                                                        // all interpolated ...
     for (size_t i = 0; i < test.normal.size(); i += 4) test.normal[i].w = 10.0f + float(i % 8);  // ... but every 4th
     const SurfaceComparison result = compare_surfaces(reference, test, kRadius);
     EXPECT_EQ(result.rays, test.normal.size() / 4);
@@ -326,7 +326,7 @@ TEST(ImageMetrics, GoldenFailsForAShiftedSquareAndLeavesTheEvidence) {
     for (const std::string& expected : {golden.string(), actual_path.string(), diff_path.string(),
                                         std::string("AQUAFORM_UPDATE_GOLDEN=1"), std::string("tolerance")})
         EXPECT_NE(shifted.message.find(expected), std::string::npos) << "missing '" << expected << "' in\n"
-                                                                      << shifted.message;
+                                                                     << shifted.message;
     const Result<Image> actual_written = read_png(actual_path);
     ASSERT_TRUE(actual_written.ok());
     EXPECT_EQ(actual_written.value().rgba, square_image(24, 20).rgba);

@@ -34,7 +34,8 @@ TEST_F(MarchLanesTest, EveryLaneCountDrawsTheFrameOneLaneDraws) {
         bool xiao;
         const char* name;
     };
-    for (const Case c : {Case{SurfaceMethod::adaptive, true, false, "adaptive"}, Case{SurfaceMethod::adaptive, false, false, "adaptive, isotropic"},
+    for (const Case c : {Case{SurfaceMethod::adaptive, true, false, "adaptive"},
+                         Case{SurfaceMethod::adaptive, false, false, "adaptive, isotropic"},
                          Case{SurfaceMethod::uniform, false, true, "uniform (Xiao's normals)"}}) {
         SurfaceSettings settings;
         settings.method = c.method;
@@ -78,7 +79,8 @@ TEST_F(MarchLanesTest, ALaneCountTheDeviceCannotShareIsRefusedByName) {
             renderer->set_march_lanes(lanes);
             ADD_FAILURE() << lanes << " lanes were accepted";
         } catch (const Failure& e) {
-            EXPECT_NE(std::string(e.what()).find(std::to_string(lanes) + " march lanes"), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find(std::to_string(lanes) + " march lanes"), std::string::npos)
+                << e.what();
         }
     }
     EXPECT_EQ(renderer->march_lanes(), default_march_lanes(ctx().info())) << "a refused count changes nothing";

@@ -12,10 +12,10 @@
 #include <numbers>
 #include <random>
 
+#include "control/placement.h"
+#include "core/host_memory.h"
 #include "geometry/inside.h"
 #include "geometry/mesh.h"
-#include "core/host_memory.h"
-#include "control/placement.h"
 #include "geometry/primitives.h"
 
 namespace {
@@ -28,8 +28,8 @@ class MeshTest : public ::testing::Test {
 protected:
     void SetUp() override {
         const std::string test_name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-        directory_ = std::filesystem::temp_directory_path() /
-                     ("aquaform_mesh_" + test_name + "_" + std::to_string(::getpid()));
+        directory_ =
+            std::filesystem::temp_directory_path() / ("aquaform_mesh_" + test_name + "_" + std::to_string(::getpid()));
         std::filesystem::create_directories(directory_);
     }
     void TearDown() override { std::filesystem::remove_all(directory_); }
@@ -129,7 +129,8 @@ TEST_F(MeshTest, MeshSmallHoleIsClosedWhenLoadedAndToleratedByTheInsideTest) {
     EXPECT_EQ(loaded.report.boundary_edge_count, 0u) << "as used";
     EXPECT_EQ(loaded.report.closed_hole_count, 1u);
     EXPECT_EQ(loaded.report.closed_boundary_edge_count, 6u);
-    EXPECT_NE(describe(loaded.report).find("closed 1 hole(s) (6 boundary edges, "), std::string::npos) << describe(loaded.report);
+    EXPECT_NE(describe(loaded.report).find("closed 1 hole(s) (6 boundary edges, "), std::string::npos)
+        << describe(loaded.report);
 
     std::vector<glm::vec3> lattice;
     for (float z = -1.05f; z <= 1.05f; z += 0.1f) {
@@ -275,7 +276,8 @@ TEST_F(MeshTest, MeshObjRefusesEachBadLineNamingLineAndElement) {
         std::string text;
         std::vector<std::string> expected;
     } cases[] = {
-        {tri + "f 1 2 99999999999999999999\n", {"line 4: face 1 corner 3", "refers to vertex 99999999999999999999", "3 vertices are defined"}},
+        {tri + "f 1 2 99999999999999999999\n",
+         {"line 4: face 1 corner 3", "refers to vertex 99999999999999999999", "3 vertices are defined"}},
         {tri + "f 1 2 4\n", {"line 4: face 1 corner 3 refers to vertex 4"}},
         {tri + "f 1.5 2 3\n", {"line 4: face 1 corner 1", "'1.5', not a whole number"}},
         {tri + "f 0 1 2\n", {"line 4: face 1 corner 1 has vertex index 0", "count from 1"}},
@@ -295,14 +297,18 @@ TEST_F(MeshTest, MeshObjRefusesEachBadLineNamingLineAndElement) {
         {tri + "bogus 1 2 3\n", {"line 4: not an OBJ statement: 'bogus'"}},
         {tri + "\x01\x02\xff\n", {"line 4: not an OBJ statement: '\?\?\?'"}},
         {tri + "curv 0 1 1 2\n", {"line 4: free-form geometry ('curv')"}},
-        {"\xEF\xBB\xBF" "v 0 0 0\r\nv 1 0 0\r\nf 1 2 3\r\n", {"line 3: face 1 corner 3 refers to vertex 3 but 2 vertices"}},
+        {"\xEF\xBB\xBF"
+         "v 0 0 0\r\nv 1 0 0\r\nf 1 2 3\r\n",
+         {"line 3: face 1 corner 3 refers to vertex 3 but 2 vertices"}},
         {"# comment\n" + tri + "f 1 \\\n 2 9\n", {"line 5: face 1 corner 3"}},
         {tri + "f 1 2 \\", {"line 4: face 1 has 2 corners"}},
         {"v 0 0 0\rv 1 0 0\rv 0 1 0\rf 1 2 4\r", {"line 4: face 1 corner 3 refers to vertex 4 but 3 vertices"}},
         {"", {"empty"}},
         {" \n\t\n", {"empty"}},
         {std::string("v 0 0 0\n\0\0\0", 11), {"byte 9 is 0", "binary"}},
-        {"\xFF\xFEv\0 \0" "0\0", {"UTF-16"}},
+        {"\xFF\xFEv\0 \0"
+         "0\0",
+         {"UTF-16"}},
     };
     int number = 0;
     for (const auto& c : cases) {
@@ -317,7 +323,9 @@ TEST_F(MeshTest, MeshObjRefusesEachBadLineNamingLineAndElement) {
 TEST_F(MeshTest, MeshObjAcceptsBomCrlfQuadsAndIndexForms) {
     // A unit cube as quads with texture and normal indices, negative (relative) indices, CRLF line
     // ends and a UTF-8 byte order mark that must not swallow the first vertex.
-    std::string text = "\xEF\xBB\xBF" "v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nv 0 1 0\r\nv 0 0 1\r\nv 1 0 1\r\nv 1 1 1\r\nv 0 1 1\r\n";
+    std::string text =
+        "\xEF\xBB\xBF"
+        "v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nv 0 1 0\r\nv 0 0 1\r\nv 1 0 1\r\nv 1 1 1\r\nv 0 1 1\r\n";
     text += "vt 0 0\r\nvn 0 0 1\r\no cube\r\ng side\r\ns off\r\nusemtl none\r\n";
     text += "f 1/1/1 4/1/1 3/1/1 2/1/1\r\nf 5//1 6//1 7//1 8//1\r\nf -8/1 -7/1 -3/1 -4/1\r\n";
     text += "f 2 3 7 6\r\nf 3 4 8 7\r\nf 4 1 5 8\r\n";
@@ -336,7 +344,8 @@ TEST_F(MeshTest, MeshConcavePolygonsAreEarClipped) {
     const glm::vec2 outline[] = {{2, 1}, {1, 1}, {1, 2}, {0, 2}, {0, 0}, {2, 0}};
     std::string text;
     for (float z : {0.0f, 1.0f})
-        for (const glm::vec2& p : outline) text += "v " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(z) + "\n";
+        for (const glm::vec2& p : outline)
+            text += "v " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(z) + "\n";
     text += "f 6 5 4 3 2 1\nf 7 8 9 10 11 12\n";
     for (int i = 0; i < 6; ++i) {
         const int j = (i + 1) % 6;
@@ -386,14 +395,15 @@ TEST_F(MeshTest, MeshConvexPolygonOfAHundredThousandCornersIsAFan) {
 TEST_F(MeshTest, MeshWithoutVolumeIsRefused) {
     const std::string plane = load_error(write_text("plane.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n"));
     const std::string triangle = load_error(write_text("triangle.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
-    const std::string degenerate = load_error(write_text(
-        "degenerate.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3\nf 2 3 4\nf 1 3 4\nf 1 2 4\n"));
+    const std::string degenerate = load_error(
+        write_text("degenerate.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3\nf 2 3 4\nf 1 3 4\nf 1 2 4\n"));
     Mesh double_sided = make_box(Box{glm::vec3(0.0f), glm::vec3(1.0f)});
     for (size_t f = 0, n = double_sided.faces.size(); f < n; ++f) {
         const glm::uvec3 face = double_sided.faces[f];
         double_sided.faces.emplace_back(face.x, face.z, face.y);
     }
-    const std::string doubled = load_error((write_obj(directory_ / "doubled.obj", double_sided), directory_ / "doubled.obj"));
+    const std::string doubled =
+        load_error((write_obj(directory_ / "doubled.obj", double_sided), directory_ / "doubled.obj"));
     for (const std::string& error : {plane, triangle, degenerate, doubled}) {
         EXPECT_NE(error.find("encloses no volume"), std::string::npos) << error;
         EXPECT_NE(error.find("use a closed solid mesh"), std::string::npos) << error;
@@ -416,14 +426,16 @@ TEST_F(MeshTest, MeshOpenShellIsClosedNotRefused) {
     EXPECT_EQ(loaded.report.closed_hole_count, 1u);
     EXPECT_NEAR(loaded.report.closed_hole_fraction(), 0.2, 1e-6);
     EXPECT_NEAR(loaded.report.signed_volume, 1.0, 1e-6);
-    EXPECT_NE(describe(loaded.report).find("closed 1 hole(s) (4 boundary edges, 20% of its surface area)"), std::string::npos)
+    EXPECT_NE(describe(loaded.report).find("closed 1 hole(s) (4 boundary edges, 20% of its surface area)"),
+              std::string::npos)
         << describe(loaded.report);
     // A tube open at both ends: the two holes must not cancel each other, and each gets its cap.
     Mesh tube = make_tube({0, 0, 0}, {0, 2, 0}, 0.5f, 0.5f, 4, 16);
     const MeshReport closed = check_mesh(tube);
     EXPECT_EQ(closed.hole_count, 0u);
     const uint32_t sides = 16;
-    std::erase_if(tube.faces, [&](const glm::uvec3& f) { return f.x >= 4 * sides || f.y >= 4 * sides || f.z >= 4 * sides; });
+    std::erase_if(tube.faces,
+                  [&](const glm::uvec3& f) { return f.x >= 4 * sides || f.y >= 4 * sides || f.z >= 4 * sides; });
     const MeshReport open = check_mesh(tube);
     EXPECT_EQ(open.hole_count, 2u);
     EXPECT_GT(open.hole_fraction(), 0.1);
@@ -543,7 +555,8 @@ TEST_F(MeshTest, MeshRaysThroughAHoleTryTheOtherAxes) {
     size_t disagree = 0, points = 0;
     for (float z = -0.39f; z < 0.4f; z += 0.05f)
         for (float y = -1.39f; y < 1.4f; y += 0.05f)
-            for (float x = -1.39f; x < 1.4f; x += 0.05f, ++points) disagree += test.contains({x, y, z}) != full.contains({x, y, z});
+            for (float x = -1.39f; x < 1.4f; x += 0.05f, ++points)
+                disagree += test.contains({x, y, z}) != full.contains({x, y, z});
     EXPECT_GT(test.rays_through_holes(), 200u);
     EXPECT_LT(test.fallbacks() * 20, test.rays_through_holes()) << "most rays through the hole need no brute force";
     EXPECT_LE(disagree, points / 200) << "classified as if the hole were closed";

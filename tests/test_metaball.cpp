@@ -6,8 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <iterator>
 #include <cstdint>
+#include <iterator>
 #include <vector>
 
 #include "gpu/context.h"
@@ -74,8 +74,10 @@ void cpu_lists(const std::vector<glm::vec4>& particles, const ViewCamera& camera
                 const float b = glm::dot(dir, rel);
                 const float miss2 = glm::dot(rel, rel) - b * b;  // squared distance of the ray from the centre
                 const float r2 = radius * radius;
-                if (std::abs(miss2 - r2) < 1e-3f * r2) ambiguous[y * w + x].push_back(id);
-                else if (miss2 < r2) lists[y * w + x].push_back(id);
+                if (std::abs(miss2 - r2) < 1e-3f * r2)
+                    ambiguous[y * w + x].push_back(id);
+                else if (miss2 < r2)
+                    lists[y * w + x].push_back(id);
             }
         }
 }
@@ -110,7 +112,8 @@ TEST_F(MetaballTest, ListsHoldExactlyTheParticlesWhoseBillboardsCoverEachPixel) 
                                 std::back_inserter(extra));
             for (uint32_t id : extra)
                 ASSERT_NE(std::find(ambiguous[p].begin(), ambiguous[p].end(), id), ambiguous[p].end())
-                    << method_name(method) << ": pixel " << p << " lists particle " << id << " whose billboard misses it";
+                    << method_name(method) << ": pixel " << p << " lists particle " << id
+                    << " whose billboard misses it";
             ambiguous_taken += extra.size();
             ASSERT_TRUE(std::includes(lists[p].begin(), lists[p].end(), expected[p].begin(), expected[p].end()))
                 << method_name(method) << ": pixel " << p << " lacks a covering particle";
@@ -212,7 +215,8 @@ TEST_F(MetaballTest, LoneBallIsASphereOfHalfItsRange) {
                 ASSERT_NEAR(glm::length(glm::vec3(frame.hit[i]) - centre), expected, tolerance)
                     << method_name(method) << " size " << size;
                 // The outward normal of a sphere points away from its centre.
-                ASSERT_GT(glm::dot(glm::vec3(frame.normal[i]), glm::normalize(glm::vec3(frame.hit[i]) - centre)), 0.999f);
+                ASSERT_GT(glm::dot(glm::vec3(frame.normal[i]), glm::normalize(glm::vec3(frame.hit[i]) - centre)),
+                          0.999f);
             }
             const float pixel = 2.0f * 0.5f * std::tan(glm::radians(3.0f)) / 64.0f;
             const float area = 3.14159f * expected * expected / (pixel * pixel);
@@ -274,7 +278,8 @@ TEST_F(MetaballTest, ParticlesAtTheEyePlaneAreCountedAsDroppedFromTheLists) {
         settings.method = method;
         renderer.render({particles.buffer, particles.count}, close, settings);
         const MetaballStats stats = renderer.stats();
-        EXPECT_EQ(stats.dropped_particles, method == MetaballMethod::brute_force ? 0u : expected) << method_name(method);
+        EXPECT_EQ(stats.dropped_particles, method == MetaballMethod::brute_force ? 0u : expected)
+            << method_name(method);
         if (method != MetaballMethod::brute_force) {
             EXPECT_NE(stats.describe().find("reach the eye plane"), std::string::npos) << stats.describe();
         }
@@ -296,7 +301,8 @@ TEST_F(MetaballTest, ParticlesAtTheEyePlaneAreCountedAsDroppedFromTheLists) {
         EXPECT_TRUE(renderer.stats().near_kept);
         EXPECT_NE(renderer.stats().describe().find("near list"), std::string::npos) << renderer.stats().describe();
         const SurfaceComparison kept = compare_surfaces(truth, kept_frame, radius);
-        EXPECT_GT(dropped.coverage_mismatch + dropped.depth_err_mean, 0.01) << method_name(method) << ": dropping changed nothing";
+        EXPECT_GT(dropped.coverage_mismatch + dropped.depth_err_mean, 0.01)
+            << method_name(method) << ": dropping changed nothing";
         EXPECT_LT(kept.coverage_mismatch, 1e-3) << method_name(method);
         EXPECT_LT(kept.depth_err_mean, 1e-3) << method_name(method);
     }

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <random>
 
-#include "shaders/shared/grid/morton.h"
 #include "grid/neighbor_grid.h"
+#include "shaders/shared/grid/morton.h"
 
 namespace aquaform {
 namespace {

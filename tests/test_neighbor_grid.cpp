@@ -4,14 +4,14 @@
 
 #include <algorithm>
 #include <map>
-#include <tuple>
 #include <random>
+#include <tuple>
 
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
-#include "shaders/shared/grid/morton.h"
 #include "grid/neighbor_grid.h"
+#include "shaders/shared/grid/morton.h"
 #include "sim/pbf_reference.h"
 #include "tests/gpu_test.h"
 
@@ -171,7 +171,8 @@ TEST_F(NeighborGridTest, ACellsParticlesComeInIndexOrderWhateverOrderTheAtomicsT
     if (HasFatalFailure()) return;
     // Reverse every cell's arrival order and rank again.
     auto arrival = gpu::download_vector<uint32_t>(ctx(), grid.arrival(), n);
-    for (size_t c = 0; c + 1 < start.size(); ++c) std::reverse(arrival.begin() + start[c], arrival.begin() + start[c + 1]);
+    for (size_t c = 0; c + 1 < start.size(); ++c)
+        std::reverse(arrival.begin() + start[c], arrival.begin() + start[c + 1]);
     gpu::upload(ctx(), grid.arrival(), arrival.data(), n * 4);
     ctx().submit_and_wait([&](VkCommandBuffer cmd) { grid.record_stable_order(cmd, n); });
     check("after scrambling the arrival order", reranked);
@@ -221,7 +222,7 @@ TEST_F(NeighborGridTest, OutOfDomainMatchesBruteForce) {
     auto p = uniform_random(1500, kMin, kMax, 5);
     auto outside = uniform_random(300, glm::vec3(-3.0f, -2.0f, -1.0f), glm::vec3(7.0f, 4.0f, 3.0f), 6);
     p.insert(p.end(), outside.begin(), outside.end());
-    p.push_back(glm::vec4(-1.0e6f, 5.0f, 0.5f, 0.0f));     // very far away
+    p.push_back(glm::vec4(-1.0e6f, 5.0f, 0.5f, 0.0f));        // very far away
     p.push_back(glm::vec4(kMax.x + 0.1f, 1.0f, 0.7f, 0.0f));  // just outside, with neighbours inside
     p.push_back(glm::vec4(kMax.x - 0.05f, 1.0f, 0.7f, 0.0f));
     expect_sets_match_brute_force(p, 256);

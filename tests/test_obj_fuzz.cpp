@@ -20,8 +20,8 @@
 
 #include "geometry/mesh.h"
 #include "geometry/primitives.h"
-#include "tests/cli_helpers.h"
 #include "render/picture_size.h"
+#include "tests/cli_helpers.h"
 
 namespace aquaform {
 namespace {
@@ -89,15 +89,24 @@ std::string mutate(const std::string& text, std::mt19937& random) {
         for (const std::string& t : tokens) line += (line.empty() ? "" : " ") + t;
         lines[found[pick(found.size())]] = line;
     };
-    const char* indices[] = {"0", "-999999", "99999999999999999999", "1.5", "-1", "4294967297", "", "a", "1//",
-                             "1/2/3/4", "+2", "2/", "/1", "1e2", "-0"};
-    const char* numbers[] = {"nan", "inf", "-inf", "1e39", "1e300", "2e6", "0x10", "", "1,5", "--1", "1e-320", "-0",
-                             "3.4e38", "1..2", "NaN", ".", "e5"};
+    const char* indices[] = {"0",       "-999999", "99999999999999999999",
+                             "1.5",     "-1",      "4294967297",
+                             "",        "a",       "1//",
+                             "1/2/3/4", "+2",      "2/",
+                             "/1",      "1e2",     "-0"};
+    const char* numbers[] = {"nan", "inf",    "-inf", "1e39",   "1e300", "2e6", "0x10", "",  "1,5",
+                             "--1", "1e-320", "-0",   "3.4e38", "1..2",  "NaN", ".",    "e5"};
     std::string bytes;
     switch (pick(14)) {
-        case 0: replace_token("f ", indices[pick(std::size(indices))]); break;
-        case 1: replace_token("f ", std::to_string(int(pick(4000)) - 2000)); break;
-        case 2: replace_token("v ", numbers[pick(std::size(numbers))]); break;
+        case 0:
+            replace_token("f ", indices[pick(std::size(indices))]);
+            break;
+        case 1:
+            replace_token("f ", std::to_string(int(pick(4000)) - 2000));
+            break;
+        case 2:
+            replace_token("v ", numbers[pick(std::size(numbers))]);
+            break;
         case 3: {  // drop a face (a hole) or a vertex (indices shift)
             const std::vector<size_t> found = lines_starting(pick(2) ? "f " : "v ");
             if (!found.empty()) lines.erase(lines.begin() + std::ptrdiff_t(found[pick(found.size())]));
@@ -105,24 +114,39 @@ std::string mutate(const std::string& text, std::mt19937& random) {
         }
         case 4: {  // flip or shorten faces
             for (size_t i : lines_starting("f "))
-                if (pick(2)) lines[i] = pick(4) ? "f " + lines[i].substr(lines[i].rfind(' ') + 1) + lines[i].substr(1, lines[i].rfind(' ') - 1) : lines[i].substr(0, lines[i].rfind(' '));
+                if (pick(2))
+                    lines[i] = pick(4) ? "f " + lines[i].substr(lines[i].rfind(' ') + 1) +
+                                             lines[i].substr(1, lines[i].rfind(' ') - 1)
+                                       : lines[i].substr(0, lines[i].rfind(' '));
             break;
         }
-        case 5: lines.push_back(pick(2) ? "f 1 1 1" : "f 1 2 3 4 5 6 7 8 9 10 11 12"); break;
-        case 6: lines.insert(lines.begin(), pick(2) ? "vt 0.5" : "vn 0 0 1"); replace_token("f ", "1/1/1"); break;
-        case 7: return "\xEF\xBB\xBF" + join_lines(lines, pick(2) ? "\r\n" : "\n");
+        case 5:
+            lines.push_back(pick(2) ? "f 1 1 1" : "f 1 2 3 4 5 6 7 8 9 10 11 12");
+            break;
+        case 6:
+            lines.insert(lines.begin(), pick(2) ? "vt 0.5" : "vn 0 0 1");
+            replace_token("f ", "1/1/1");
+            break;
+        case 7:
+            return "\xEF\xBB\xBF" + join_lines(lines, pick(2) ? "\r\n" : "\n");
         case 8: {  // UTF-16 little endian, with or without its byte order mark
             std::string wide = pick(2) ? "\xFF\xFE" : "";
             for (const char c : text) (wide += c) += '\0';
             return wide;
         }
-        case 9: return text.substr(0, pick(text.size() + 1));
+        case 9:
+            return text.substr(0, pick(text.size() + 1));
         case 10:
             for (size_t n = 1 + pick(16); n > 0; --n) bytes += char(pick(256));
             return text.substr(0, pick(text.size())) + bytes + text.substr(pick(text.size()));
-        case 11: lines[pick(lines.size())] = "v " + std::string(100000 + pick(100000), '1'); break;
-        case 12: lines.insert(lines.begin() + std::ptrdiff_t(pick(lines.size())), pick(2) ? "bogus 1 2" : "curv 0 1 1 2"); break;
-        case 13: return pick(4) ? std::string(pick(3), ' ') : std::string();
+        case 11:
+            lines[pick(lines.size())] = "v " + std::string(100000 + pick(100000), '1');
+            break;
+        case 12:
+            lines.insert(lines.begin() + std::ptrdiff_t(pick(lines.size())), pick(2) ? "bogus 1 2" : "curv 0 1 1 2");
+            break;
+        case 13:
+            return pick(4) ? std::string(pick(3), ' ') : std::string();
     }
     return join_lines(lines);
 }
@@ -141,8 +165,9 @@ TEST(ObjFuzz, MutatedShippedMeshesExitCleanly) {
     std::vector<std::string> seeds;
     for (const char* name : {"letter_A.obj", "letter_O.obj", "letter_R.obj"}) seeds.push_back(read_file(assets / name));
     // A cube of quads with texture and normal indices, and a tetrahedron with relative indices.
-    seeds.push_back("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\nvt 0 0\nvn 0 0 1\n"
-                    "f 1/1/1 4/1/1 3/1/1 2/1/1\nf 5//1 6//1 7//1 8//1\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
+    seeds.push_back(
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\nvt 0 0\nvn 0 0 1\n"
+        "f 1/1/1 4/1/1 3/1/1 2/1/1\nf 5//1 6//1 7//1 8//1\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n");
     seeds.push_back("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf -4 -2 -3\nf -4 -3 -1\nf -4 -1 -2\nf -3 -2 -1\n");
     // AQUAFORM_FUZZ_SEED replays or widens the search; the suite runs the fixed seed.
     const char* seed = std::getenv("AQUAFORM_FUZZ_SEED");
@@ -268,7 +293,8 @@ TEST(ControlPlaceCli, AHostMemoryLimitThatIsNotASizeIsRefused) {
     unsetenv("AQUAFORM_HOST_MEMORY");
     EXPECT_EQ(run.exit_code, 2) << run.err;
     EXPECT_NE(run.err.find("AQUAFORM_HOST_MEMORY is \"lots\"; give the host memory aquaform may plan for as a size"),
-              std::string::npos) << run.err;
+              std::string::npos)
+        << run.err;
     fs::remove_all(dir);
 }
 
@@ -281,8 +307,8 @@ void expect_interrupt_stops(const fs::path& dir, const fs::path& mesh, const cha
         dup2(null, STDOUT_FILENO);
         const int err = ::open((dir / "stderr.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
         dup2(err, STDERR_FILENO);
-        execl(AQUAFORM_BINARY, AQUAFORM_BINARY, "control", "place", mesh.c_str(), "--method", method, "--spacing", spacing,
-              "--no-png", "--out", (dir / "out").c_str(), static_cast<char*>(nullptr));
+        execl(AQUAFORM_BINARY, AQUAFORM_BINARY, "control", "place", mesh.c_str(), "--method", method, "--spacing",
+              spacing, "--no-png", "--out", (dir / "out").c_str(), static_cast<char*>(nullptr));
         _exit(127);
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(700));
@@ -301,7 +327,8 @@ void expect_interrupt_stops(const fs::path& dir, const fs::path& mesh, const cha
 
 TEST(ControlPlaceCli, CtrlCStopsThePlacement) {
     const fs::path dir = temp_dir("place_interrupt");
-    expect_interrupt_stops(dir, write_mesh(dir, "torus.obj", geometry::make_torus(1.0f, 0.4f, 48, 24)), "inside", "0.006");
+    expect_interrupt_stops(dir, write_mesh(dir, "torus.obj", geometry::make_torus(1.0f, 0.4f, 48, 24)), "inside",
+                           "0.006");
     expect_interrupt_stops(dir, write_mesh(dir, "fine.obj", geometry::make_torus(1.0f, 0.4f, 400, 100)), "vertices",
                            "0.00203");
     fs::remove_all(dir);
@@ -317,10 +344,11 @@ TEST(ControlPlaceCli, SceneControlMeshesGetTheSameChecks) {
     scene.replace(scene.find("../meshes/torus.obj"), 19, "../meshes/sheet.obj");
     test_cli::write_file(dir / "scenes" / "s.json", scene);
     // Two faces folded by 10 degrees: one open sheet, no solid.
-    test_cli::write_file(dir / "meshes" / "sheet.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0.17\nv 2 1 0.17\n"
-                                                    "f 1 2 3 4\nf 2 5 6 3\n");
-    const test_cli::Outcome run = test_cli::run_aquaform("run '" + (dir / "scenes" / "s.json").string() + "' --frames 1 --out '" +
-                                                         (dir / "out").string() + "'");
+    test_cli::write_file(dir / "meshes" / "sheet.obj",
+                         "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 2 0 0.17\nv 2 1 0.17\n"
+                         "f 1 2 3 4\nf 2 5 6 3\n");
+    const test_cli::Outcome run = test_cli::run_aquaform("run '" + (dir / "scenes" / "s.json").string() +
+                                                         "' --frames 1 --out '" + (dir / "out").string() + "'");
     EXPECT_EQ(run.exit_code, 2) << run.output;
     EXPECT_NE(run.output.find("control.meshes.ring.file: mesh '"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("the mesh is an open sheet"), std::string::npos) << run.output;
@@ -339,12 +367,14 @@ TEST(ControlPlaceCli, AnOpenMeshIsClosedAndSaysSo) {
     const fs::path lidless = write_mesh(dir, "open.obj", open);
     const auto count = [](const std::string& out) {
         const size_t at = out.find(" control points");
-        return at == std::string::npos ? std::string() : out.substr(out.rfind(' ', at - 1) + 1, at - out.rfind(' ', at - 1) - 1);
+        return at == std::string::npos ? std::string()
+                                       : out.substr(out.rfind(' ', at - 1) + 1, at - out.rfind(' ', at - 1) - 1);
     };
     for (const char* method : {"vertices", "inside", "raster"}) {
         const PlaceRun a = place(lidless, std::string("--spacing 0.1 --method ") + method, dir, 60);
         EXPECT_EQ(a.exit_code, 0) << method << ": " << a.err;
-        EXPECT_NE(a.out.find("closed 1 hole(s) (4 boundary edges, 20% of its surface area)"), std::string::npos) << a.out;
+        EXPECT_NE(a.out.find("closed 1 hole(s) (4 boundary edges, 20% of its surface area)"), std::string::npos)
+            << a.out;
         EXPECT_EQ(a.out.find("warning"), std::string::npos) << a.out;
         const PlaceRun b = place(closed, std::string("--spacing 0.1 --method ") + method, dir, 60);
         if (std::string(method) != "vertices") {  // the cap's fan has edges of its own

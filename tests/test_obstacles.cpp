@@ -61,10 +61,12 @@ TEST_F(ObstacleTest, FluidRestingOnAnObstacleHasNoDensityDeficit) {
     box_obj(dir, "raised_floor", {glm::vec3(0.0f), glm::vec3(0.3f, 0.1f, 0.1f)});
     const std::string frames = R"("frames": 60)";
     Scene on_floor = parse(scene_json(R"({"min": [0, 0.1, 0], "max": [0.3, 0.3, 0.1]})",
-                                      R"({"min": [0, 0.1, 0], "max": [0.3, 0.16, 0.1]})", frames), dir);
-    Scene on_mesh = parse(scene_json(R"({"min": [0, 0, 0], "max": [0.3, 0.3, 0.1]})",
-                                     R"({"min": [0, 0.1, 0], "max": [0.3, 0.16, 0.1]})",
-                                     frames + R"(, "obstacles": {"raised": {"file": "raised_floor.obj"}})"), dir);
+                                      R"({"min": [0, 0.1, 0], "max": [0.3, 0.16, 0.1]})", frames),
+                           dir);
+    Scene on_mesh = parse(
+        scene_json(R"({"min": [0, 0, 0], "max": [0.3, 0.3, 0.1]})", R"({"min": [0, 0.1, 0], "max": [0.3, 0.16, 0.1]})",
+                   frames + R"(, "obstacles": {"raised": {"file": "raised_floor.obj"}})"),
+        dir);
     ASSERT_EQ(on_mesh.obstacles.size(), 1u);
     ASSERT_EQ(on_floor.particle_count(), on_mesh.particle_count());
     double density[2];
@@ -137,10 +139,11 @@ TEST_F(ObstacleTest, TwoBodiesThatTouchLeakNothingAndAGapBetweenThemLetsFluidThr
     const std::string domain = R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})";
     const std::string block = R"({"min": [0, 0, 0], "max": [0.2, 0.24, 0.06], "velocity": [1, 0, 0]})";
     for (const bool gap : {false, true}) {
-        Scene scene = parse(scene_json(domain, block,
-                                       std::string(R"("obstacles": {"lower": {"file": "lower.obj"}, "upper": {"file": ")") +
-                                           (gap ? "upper_gap" : "upper") + R"(.obj"}})"),
-                            dir);
+        Scene scene =
+            parse(scene_json(domain, block,
+                             std::string(R"("obstacles": {"lower": {"file": "lower.obj"}, "upper": {"file": ")") +
+                                 (gap ? "upper_gap" : "upper") + R"(.obj"}})"),
+                  dir);
         PbfSolver solver(ctx(), scene);
         size_t through = 0;
         run_checked(solver, 45, [&](int f, const FrameStats& stats, const ParticleSnapshot& s) {
@@ -169,9 +172,8 @@ TEST_F(ObstacleTest, AThinChannelDrainsWithoutSticking) {
     run_checked(solver, 30, [&](int f, const FrameStats& stats, const ParticleSnapshot& s) {
         ASSERT_EQ(stats.in_solid, 0u) << "frame " << f;
         // (Water that fell out splashes and climbs the tank's walls: only the channel counts.)
-        in_channel = size_t(std::count_if(s.x.begin(), s.x.end(), [](const glm::vec4& x) {
-            return x.y > 0.12f && x.x > 0.17f && x.x < 0.23f;
-        }));
+        in_channel = size_t(std::count_if(
+            s.x.begin(), s.x.end(), [](const glm::vec4& x) { return x.y > 0.12f && x.x > 0.17f && x.x < 0.23f; }));
     });
     EXPECT_EQ(in_channel, 0u) << "of " << n << " particles, these stayed in the channel after 0.5 s";
 }
@@ -179,12 +181,13 @@ TEST_F(ObstacleTest, AThinChannelDrainsWithoutSticking) {
 TEST_F(ObstacleTest, AMovingPaddlePushesFluidAndTakesNoneIn) {
     auto dir = test_cli::temp_dir("obstacle_paddle");
     box_obj(dir, "paddle", {glm::vec3(0.0f), glm::vec3(0.02f, 0.2f, 0.06f)});
-    Scene scene = parse(scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})",
-                                   R"({"min": [0.1, 0, 0], "max": [0.4, 0.04, 0.06]})",
-                                   R"("obstacles": {"paddle": {"file": "paddle.obj", "placement": {"position": [0.03, 0.0, 0.0]},
+    Scene scene =
+        parse(scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})",
+                         R"({"min": [0.1, 0, 0], "max": [0.4, 0.04, 0.06]})",
+                         R"("obstacles": {"paddle": {"file": "paddle.obj", "placement": {"position": [0.03, 0.0, 0.0]},
                                        "animation": {"keyframes": [{"t": 0, "position": [0, 0, 0]},
                                                                    {"t": 0.5, "position": [0.25, 0, 0]}]}}})"),
-                        dir);
+              dir);
     ASSERT_TRUE(scene.obstacles[0].moves);
     EXPECT_NEAR(scene.obstacles[0].max_speed, 0.5, 0.01);
     PbfSolver solver(ctx(), scene);
@@ -193,7 +196,8 @@ TEST_F(ObstacleTest, AMovingPaddlePushesFluidAndTakesNoneIn) {
     run_checked(solver, 30, [&](int f, const FrameStats& stats, const ParticleSnapshot& s) {
         ASSERT_EQ(stats.in_solid, 0u) << "frame " << f;
         const ExactSolid paddle(scene.obstacles[0].shape->mesh_at(solver.time()));
-        for (const auto& x : s.x) ASSERT_FALSE(paddle.contains(glm::vec3(x))) << "frame " << f << " t " << solver.time();
+        for (const auto& x : s.x)
+            ASSERT_FALSE(paddle.contains(glm::vec3(x))) << "frame " << f << " t " << solver.time();
     });
     // The paddle swept the first 0.25 m: the fluid was pushed ahead of it (a box of 0.02 m).
     float min_x = 1.0f;
@@ -214,10 +218,11 @@ TEST_F(ObstacleTest, ADeformingObstaclesMapsFollowItsShape) {
         std::snprintf(name, sizeof name, "grow_%02d", k);
         box_obj(dir, name, {glm::vec3(0.0f), glm::vec3(0.04f + 0.01f * float(k), 0.2f, 0.06f)});
     }
-    Scene scene = parse(scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})",
-                                   R"({"min": [0.1, 0, 0], "max": [0.4, 0.04, 0.06]})",
-                                   R"("obstacles": {"block": {"animation": {"sequence": "grow_%02d.obj", "first": 0, "count": 11, "fps": 20}}})"),
-                        dir);
+    Scene scene = parse(
+        scene_json(
+            R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})", R"({"min": [0.1, 0, 0], "max": [0.4, 0.04, 0.06]})",
+            R"("obstacles": {"block": {"animation": {"sequence": "grow_%02d.obj", "first": 0, "count": 11, "fps": 20}}})"),
+        dir);
     ASSERT_TRUE(scene.obstacles[0].deforms);
     PbfSolver solver(ctx(), scene);
     run_checked(solver, 36, [&](int f, const FrameStats& stats, const ParticleSnapshot& s) {
@@ -229,16 +234,17 @@ TEST_F(ObstacleTest, ADeformingObstaclesMapsFollowItsShape) {
     EXPECT_NEAR(scene.obstacles[0].shape->mesh_at(solver.time()).bounds().max.x, 0.14f, 1e-5f);
     // Pushed ahead of its face, or thrown onto its top; none left at its foot.
     for (const auto& x : solver.snapshot().x)
-        EXPECT_TRUE(x.x > 0.14f || x.y > 0.2f) << "fluid left where the block grew: " << x.x << " " << x.y << " " << x.z;
+        EXPECT_TRUE(x.x > 0.14f || x.y > 0.2f)
+            << "fluid left where the block grew: " << x.x << " " << x.y << " " << x.z;
 }
 
 TEST(ObstacleScene, FluidInsideAnObstacleIsNotStartedAndCounted) {
     auto dir = test_cli::temp_dir("obstacle_overlap");
     box_obj(dir, "rock", {glm::vec3(0.05f, 0.0f, 0.0f), glm::vec3(0.1f, 0.05f, 0.06f)});
-    Scene scene = parse(scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})",
-                                   R"({"min": [0, 0, 0], "max": [0.2, 0.1, 0.06]})",
-                                   R"("obstacles": {"rock": {"file": "rock.obj"}})"),
-                        dir);
+    Scene scene = parse(
+        scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})", R"({"min": [0, 0, 0], "max": [0.2, 0.1, 0.06]})",
+                   R"("obstacles": {"rock": {"file": "rock.obj"}})"),
+        dir);
     EXPECT_EQ(scene.particles_in_solids(), 5u * 5u * 6u);
     EXPECT_EQ(scene.particle_count(), 20u * 10u * 6u - 5u * 5u * 6u);
     std::vector<glm::vec4> x;
@@ -291,8 +297,8 @@ TEST(ObstacleScene, NamesThatWouldNameFilesBadlyOrTwiceAreRefusedWhenTheSceneIsR
         return scene.ok() ? std::string("(accepted)") : scene.error();
     };
     const std::string long_name(300, 'a');
-    for (const std::string name : {"a/b", "../../../escape", "a%s%s%s%s", "x%n%n", "p%d", "<b>markup</b>", "a b", "-flag",
-                                   "", "a\\u0001b", long_name.c_str()}) {
+    for (const std::string name : {"a/b", "../../../escape", "a%s%s%s%s", "x%n%n", "p%d", "<b>markup</b>", "a b",
+                                   "-flag", "", "a\\u0001b", long_name.c_str()}) {
         const std::string e = error("{\"" + name + "\": " + still + "}");
         EXPECT_NE(e.find("obstacles: the name"), std::string::npos) << name << ": " << e;
         EXPECT_NE(e.find("ASCII letters, digits"), std::string::npos) << name << ": the rule: " << e;
@@ -303,9 +309,11 @@ TEST(ObstacleScene, NamesThatWouldNameFilesBadlyOrTwiceAreRefusedWhenTheSceneIsR
     // frame of a moving one, or two names that differ in case only.
     const std::string box = R"(, "static_boxes": [{"min": [0.35, 0, 0], "max": [0.4, 0.02, 0.06]}])";
     const std::string as_box = error(R"({"static_box_0": )" + still + "}", box);
-    EXPECT_NE(as_box.find("static_boxes[0] and obstacles.static_box_0 would write the same file"), std::string::npos) << as_box;
+    EXPECT_NE(as_box.find("static_boxes[0] and obstacles.static_box_0 would write the same file"), std::string::npos)
+        << as_box;
     const std::string as_frame = error(R"({"a": )" + moving + R"(, "a_0000": )" + still + "}");
-    EXPECT_NE(as_frame.find("obstacles.a_0000 and obstacles.a would write the same file"), std::string::npos) << as_frame;
+    EXPECT_NE(as_frame.find("obstacles.a_0000 and obstacles.a would write the same file"), std::string::npos)
+        << as_frame;
     const std::string by_case = error(R"({"Rock": )" + still + R"(, "rock": )" + still + "}");
     EXPECT_NE(by_case.find("names compared without case"), std::string::npos) << by_case;
     EXPECT_EQ(error(R"({"a": )" + moving + R"(, "a_b": )" + still + "}"), "(accepted)") << "a_b is no frame of a";
@@ -320,9 +328,10 @@ TEST(ObstacleScene, TheSpeedCheckSeesEveryKeyHoweverCloseTheKeysAre) {
     for (int k = 0; k <= 1000; ++k)
         keys += std::string(k ? ", " : "") + "{\"t\": " + std::to_string(k * 0.001) + ", \"position\": [" +
                 (k % 2 ? "0.02" : "0") + ", 0, 0]}";
-    auto scene = load_text(scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})", R"({"min": [0.2, 0, 0], "max": [0.3, 0.1, 0.06]})",
-                                      R"("obstacles": {"block": {"file": "block.obj", "animation": {"keyframes": [)" + keys + "]}}}"),
-                           dir);
+    auto scene = load_text(
+        scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})", R"({"min": [0.2, 0, 0], "max": [0.3, 0.1, 0.06]})",
+                   R"("obstacles": {"block": {"file": "block.obj", "animation": {"keyframes": [)" + keys + "]}}}"),
+        dir);
     ASSERT_FALSE(scene.ok()) << "a zigzag at 20 m/s accepted";
     const size_t at = scene.error().find("obstacles.block moves at up to ");
     ASSERT_NE(at, std::string::npos) << scene.error();
@@ -339,18 +348,23 @@ TEST(ObstacleRun, RunWritesEverySolidAsItStandsTheProbesAndSaysWhatFluidItDidNot
     auto dir = test_cli::temp_dir("obstacle_run");
     box_obj(dir, "paddle", {glm::vec3(0.0f), glm::vec3(0.02f, 0.2f, 0.06f)});
     box_obj(dir, "rock", {glm::vec3(0.3f, 0.0f, 0.0f), glm::vec3(0.35f, 0.05f, 0.06f)});
-    test_cli::write_file(dir / "scene.json", scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})",
-        R"({"min": [0.1, 0, 0], "max": [0.4, 0.04, 0.06]})",
-        R"("obstacles": {"paddle": {"file": "paddle.obj", "placement": {"position": [0.03, 0, 0]},
+    test_cli::write_file(
+        dir / "scene.json",
+        scene_json(R"({"min": [0, 0, 0], "max": [0.4, 0.3, 0.06]})",
+                   R"({"min": [0.1, 0, 0], "max": [0.4, 0.04, 0.06]})",
+                   R"("obstacles": {"paddle": {"file": "paddle.obj", "placement": {"position": [0.03, 0, 0]},
                                     "animation": {"keyframes": [{"t": 0, "position": [0, 0, 0]}, {"t": 1, "position": [0.2, 0, 0]}]}},
                          "rock": {"file": "rock.obj"}},
            "static_boxes": [{"min": [0.0, 0.0, 0.0], "max": [0.02, 0.02, 0.06]}],
            "probes": {"gauges": {"H": {"x": 0.2, "z": 0.03}}, "sensors": {"P": {"position": [0.4, 0.01, 0.03]}}})"));
     const auto out = dir / "run";
-    const auto r = test_cli::run_aquaform("run " + (dir / "scene.json").string() + " --frames 4 --no-png --out " + out.string());
+    const auto r =
+        test_cli::run_aquaform("run " + (dir / "scene.json").string() + " --frames 4 --no-png --out " + out.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     // The rock stands in the fluid block: 5 x 4 x 6 lattice points are not started, and said so.
-    EXPECT_NE(r.output.find("obstacles.rock: 120 particles of the fluid blocks would start inside it"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("obstacles.rock: 120 particles of the fluid blocks would start inside it"),
+              std::string::npos)
+        << r.output;
     auto scene = load_scene(dir / "scene.json");
     ASSERT_TRUE(scene.ok()) << scene.error();
     const ObstacleSpec& paddle = scene.value().obstacles[0];
@@ -364,7 +378,8 @@ TEST(ObstacleRun, RunWritesEverySolidAsItStandsTheProbesAndSaysWhatFluidItDidNot
         ASSERT_EQ(written.value().mesh.vertices.size(), expected.vertices.size());
         // The loader may reorder nothing: the same vertices in the same order, where the paddle stood.
         for (size_t v = 0; v < expected.vertices.size(); ++v)
-            EXPECT_LT(glm::length(written.value().mesh.vertices[v] - expected.vertices[v]), 1e-4f) << name << " vertex " << v;
+            EXPECT_LT(glm::length(written.value().mesh.vertices[v] - expected.vertices[v]), 1e-4f)
+                << name << " vertex " << v;
     }
     EXPECT_TRUE(std::filesystem::exists(out / "obstacle_rock.obj"));
     EXPECT_FALSE(std::filesystem::exists(out / "obstacle_rock_0001.obj")) << "a still obstacle is written once";
@@ -374,11 +389,12 @@ TEST(ObstacleRun, RunWritesEverySolidAsItStandsTheProbesAndSaysWhatFluidItDidNot
     EXPECT_NE(run_json.find("\"file\": \"obstacle_rock.obj\""), std::string::npos) << run_json;
     // probes.csv: a header naming every probe and solid, then a row per step of the 4 frames.
     const std::string probes = test_cli::read_file(out / "probes.csv");
-    EXPECT_EQ(probes.substr(0, probes.find('\n')),
-              "time_s,H_m,P_Pa,static_boxes[0]_Fx_N,static_boxes[0]_Fy_N,static_boxes[0]_Fz_N,static_boxes[0]_Tx_Nm,"
-              "static_boxes[0]_Ty_Nm,static_boxes[0]_Tz_Nm,obstacles.paddle_Fx_N,obstacles.paddle_Fy_N,obstacles.paddle_Fz_N,"
-              "obstacles.paddle_Tx_Nm,obstacles.paddle_Ty_Nm,obstacles.paddle_Tz_Nm,obstacles.rock_Fx_N,obstacles.rock_Fy_N,"
-              "obstacles.rock_Fz_N,obstacles.rock_Tx_Nm,obstacles.rock_Ty_Nm,obstacles.rock_Tz_Nm");
+    EXPECT_EQ(
+        probes.substr(0, probes.find('\n')),
+        "time_s,H_m,P_Pa,static_boxes[0]_Fx_N,static_boxes[0]_Fy_N,static_boxes[0]_Fz_N,static_boxes[0]_Tx_Nm,"
+        "static_boxes[0]_Ty_Nm,static_boxes[0]_Tz_Nm,obstacles.paddle_Fx_N,obstacles.paddle_Fy_N,obstacles.paddle_Fz_N,"
+        "obstacles.paddle_Tx_Nm,obstacles.paddle_Ty_Nm,obstacles.paddle_Tz_Nm,obstacles.rock_Fx_N,obstacles.rock_Fy_N,"
+        "obstacles.rock_Fz_N,obstacles.rock_Tx_Nm,obstacles.rock_Ty_Nm,obstacles.rock_Tz_Nm");
     EXPECT_GE(std::count(probes.begin(), probes.end(), '\n'), 1 + 3 * 2) << "frames 1 to 3, at least 2 steps each";
     EXPECT_TRUE(std::filesystem::exists(out / "probe_heights.svg"));
     EXPECT_TRUE(std::filesystem::exists(out / "probe_pressures.svg"));
@@ -410,11 +426,14 @@ TEST_F(ObstacleTest, EveryMethodDrawsAMeshObstacleAndTheFluidInFrontOfItHidesIt)
     // right one only. Every method must draw the left ball, and much less of the right one.
     auto dir = test_cli::temp_dir("obstacle_drawn");
     const std::string sphere = (std::filesystem::path(AQUAFORM_SOURCE_DIR) / "assets/meshes/sphere.obj").string();
-    Scene scene = parse(scene_json(R"({"min": [0, 0, 0], "max": [0.6, 0.3, 0.4]})",
-                                   R"({"min": [0.33, 0, 0.2], "max": [0.57, 0.2, 0.3]})",
-                                   R"("obstacles": {"left": {"file": ")" + sphere + R"(", "placement": {"fit_into": {"min": [0.05, 0, 0.02], "max": [0.25, 0.2, 0.18]}}},
-                                                    "right": {"file": ")" + sphere + R"(", "placement": {"fit_into": {"min": [0.35, 0, 0.02], "max": [0.55, 0.2, 0.18]}}}})"),
-                        dir);
+    Scene scene = parse(
+        scene_json(
+            R"({"min": [0, 0, 0], "max": [0.6, 0.3, 0.4]})", R"({"min": [0.33, 0, 0.2], "max": [0.57, 0.2, 0.3]})",
+            R"("obstacles": {"left": {"file": ")" + sphere +
+                R"(", "placement": {"fit_into": {"min": [0.05, 0, 0.02], "max": [0.25, 0.2, 0.18]}}},
+                                                    "right": {"file": ")" +
+                sphere + R"(", "placement": {"fit_into": {"min": [0.35, 0, 0.02], "max": [0.55, 0.2, 0.18]}}}})"),
+        dir);
     ASSERT_EQ(scene.obstacles.size(), 2u);
     PbfSolver solver(ctx(), scene);
     SolidsView solids{&solver.boundary_nodes(), {solver.params().solids, solver.params().solids + 2}};
@@ -446,12 +465,16 @@ TEST(ObstacleRender, TheReferenceOfAnotherFamilysMethodSeesTheSameFrameAsTheMeth
     // the grid alone, and the comparison set a ball against a picture without it).
     auto dir = test_cli::temp_dir("obstacle_reference");
     const std::string sphere = (std::filesystem::path(AQUAFORM_SOURCE_DIR) / "assets/meshes/sphere.obj").string();
-    test_cli::write_file(dir / "scene.json", scene_json(R"({"min": [0, 0, 0], "max": [0.6, 0.3, 0.4]})",
-        R"({"min": [0.45, 0, 0.3], "max": [0.6, 0.06, 0.4]})",
-        R"("obstacles": {"ball": {"file": ")" + sphere +
-            R"(", "placement": {"fit_into": {"min": [0.15, 0, 0.1], "max": [0.35, 0.2, 0.3]}}}})"));
-    const auto r = test_cli::run_aquaform("render " + (dir / "scene.json").string() + " --frame 1 --method brute "
-                                          "--resolution 96x64 --out " + (dir / "out").string());
+    test_cli::write_file(
+        dir / "scene.json",
+        scene_json(R"({"min": [0, 0, 0], "max": [0.6, 0.3, 0.4]})",
+                   R"({"min": [0.45, 0, 0.3], "max": [0.6, 0.06, 0.4]})",
+                   R"("obstacles": {"ball": {"file": ")" + sphere +
+                       R"(", "placement": {"fit_into": {"min": [0.15, 0, 0.1], "max": [0.35, 0.2, 0.3]}}}})"));
+    const auto r = test_cli::run_aquaform("render " + (dir / "scene.json").string() +
+                                          " --frame 1 --method brute "
+                                          "--resolution 96x64 --out " +
+                                          (dir / "out").string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     auto image = read_png(dir / "out" / "image.png");
     auto reference = read_png(dir / "out" / "reference.png");

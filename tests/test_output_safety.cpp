@@ -17,14 +17,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "geometry/mesh.h"
-#include "geometry/primitives.h"
+#include "core/csv.h"
 #include "core/error.h"
 #include "core/file_write.h"
 #include "core/host_memory.h"
 #include "core/output_dir.h"
-#include "core/csv.h"
 #include "core/text_escape.h"
+#include "geometry/mesh.h"
+#include "geometry/primitives.h"
 #include "study/study_rows.h"
 #include "study/study_spec.h"
 #include "tests/cli_helpers.h"
@@ -56,8 +56,9 @@ void expect_refused_link(const std::string& message, const fs::path& link) {
 
 /// Whether /usr/bin/python3's XML parser accepts `file` (the check that tools reading an SVG make).
 bool well_formed_xml(const fs::path& file) {
-    const std::string command = "/usr/bin/python3 -c 'import sys, xml.dom.minidom; xml.dom.minidom.parse(sys.argv[1])' '" +
-                                file.string() + "' 2>/dev/null";
+    const std::string command =
+        "/usr/bin/python3 -c 'import sys, xml.dom.minidom; xml.dom.minidom.parse(sys.argv[1])' '" + file.string() +
+        "' 2>/dev/null";
     return std::system(command.c_str()) == 0;
 }
 
@@ -108,13 +109,15 @@ TEST(OutputSafety, TheLockRefusesALinkAFolderAndAnotherHolderNamingTheLockFile) 
     const Result<bool> taken = hold_output_dir(held, "test");
     ::close(other);
     ASSERT_FALSE(taken.ok());
-    EXPECT_NE(taken.error().find("which holds " + (held / kOutputLockName).string()), std::string::npos) << taken.error();
+    EXPECT_NE(taken.error().find("which holds " + (held / kOutputLockName).string()), std::string::npos)
+        << taken.error();
     fs::remove_all(root);
 }
 
 TEST(OutputSafety, RunRefusesALinkWhereItWritesBeforeAnyWork) {
     const fs::path root = temp_dir("run_links");
-    const fs::path scene = write_file(root / "tiny.json", R"({"name": "tiny", "domain": {"min": [0, 0, 0], "max": [0.4, 0.2, 0.08]},
+    const fs::path scene =
+        write_file(root / "tiny.json", R"({"name": "tiny", "domain": {"min": [0, 0, 0], "max": [0.4, 0.2, 0.08]},
         "particle_spacing": 0.02, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.1, 0.2, 0.08]}], "frames": 2})");
     for (const std::string name : {kOutputLockName, "stats.csv", "run.json", "exports.csv"}) {
         const fs::path out = root / ("out_" + name.substr(name.find_first_not_of('.')));
@@ -161,10 +164,12 @@ TEST(OutputSafety, JsonTextReplacesBytesThatAreNotUtf8) {
 
 TEST(OutputSafety, ASceneFileNameThatIsNotUtf8RunsAndItsRecordsParse) {
     const fs::path root = temp_dir("utf8_name");
-    const fs::path scene = write_file(root / "dam\xff\xfe.json", R"({"name": "tiny", "domain": {"min": [0, 0, 0], "max": [0.4, 0.2, 0.08]},
+    const fs::path scene =
+        write_file(root / "dam\xff\xfe.json", R"({"name": "tiny", "domain": {"min": [0, 0, 0], "max": [0.4, 0.2, 0.08]},
         "particle_spacing": 0.02, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.1, 0.2, 0.08]}], "frames": 2})");
     const fs::path run_out = root / "run", render_out = root / "render";
-    const test_cli::Outcome run = test_cli::run_aquaform("run '" + scene.string() + "' --no-png --out " + run_out.string());
+    const test_cli::Outcome run =
+        test_cli::run_aquaform("run '" + scene.string() + "' --no-png --out " + run_out.string());
     ASSERT_EQ(run.exit_code, 0) << run.output;
     const nlohmann::json described = nlohmann::json::parse(read_file(run_out / "run.json"));
     EXPECT_NE(described["scene"].get<std::string>().find("dam\xEF\xBF\xBD"), std::string::npos) << described.dump();
@@ -175,7 +180,8 @@ TEST(OutputSafety, ASceneFileNameThatIsNotUtf8RunsAndItsRecordsParse) {
 
     const test_cli::Outcome render = test_cli::run_aquaform("render '" + scene.string() +
                                                             "' --frame 0 --resolution 32x32 --method uniform "
-                                                            "--no-reference --out " + render_out.string());
+                                                            "--no-reference --out " +
+                                                            render_out.string());
     ASSERT_EQ(render.exit_code, 0) << render.output;
     const nlohmann::json report = nlohmann::json::parse(read_file(render_out / "render.json"));
     EXPECT_NE(report["scene"].get<std::string>().find("dam\xEF\xBF\xBD"), std::string::npos) << report.dump();
@@ -214,17 +220,24 @@ TEST(OutputSafety, NoTextAUserGivesIsAFormat) {
     // digits, '_' and '-' only, so a directive there is refused, not run.
     const fs::path root = temp_dir("format_names");
     const std::string odd = "%s%n%d%04u";
-    ASSERT_TRUE(geometry::write_obj(root / ("rock" + odd + ".obj"), geometry::make_box({{0.3f, 0.0f, 0.0f}, {0.36f, 0.04f, 0.08f}})).ok());
+    ASSERT_TRUE(geometry::write_obj(root / ("rock" + odd + ".obj"),
+                                    geometry::make_box({{0.3f, 0.0f, 0.0f}, {0.36f, 0.04f, 0.08f}}))
+                    .ok());
     const auto scene_text = [&](const std::string& obstacle_name) {
-        return R"({"name": ")" + odd + R"(", "domain": {"min": [0, 0, 0], "max": [0.4, 0.2, 0.08]}, "particle_spacing": 0.02,
+        return R"({"name": ")" + odd +
+               R"(", "domain": {"min": [0, 0, 0], "max": [0.4, 0.2, 0.08]}, "particle_spacing": 0.02,
             "fluid_blocks": [{"min": [0, 0, 0], "max": [0.1, 0.2, 0.08]}], "frames": 3, "whitewater": {},
-            "obstacles": {")" + obstacle_name + R"(": {"file": "rock)" + odd + R"(.obj"}},
-            "probes": {"gauges": {"H)" + odd + R"(": {"x": 0.2, "z": 0.04}}, "sensors": {"P)" + odd + R"(": {"position": [0.2, 0, 0.04]}}}})";
+            "obstacles": {")" +
+               obstacle_name + R"(": {"file": "rock)" + odd + R"(.obj"}},
+            "probes": {"gauges": {"H)" +
+               odd + R"(": {"x": 0.2, "z": 0.04}}, "sensors": {"P)" + odd + R"(": {"position": [0.2, 0, 0.04]}}}})";
     };
     const fs::path scene = write_file(root / ("scene" + odd + ".json"), scene_text("rock"));
     const fs::path out = root / ("out" + odd);
-    const test_cli::Outcome o = test_cli::run_aquaform("run '" + scene.string() + "' --no-png --vtk-every 1 --mesh-every 2 "
-                                                       "--whitewater-every 1 --out '" + out.string() + "'");
+    const test_cli::Outcome o = test_cli::run_aquaform("run '" + scene.string() +
+                                                       "' --no-png --vtk-every 1 --mesh-every 2 "
+                                                       "--whitewater-every 1 --out '" +
+                                                       out.string() + "'");
     ASSERT_EQ(o.exit_code, 0) << o.output;
     EXPECT_NE(o.output.find(odd), std::string::npos) << "the scene's name printed as it is: " << o.output;
     EXPECT_EQ(nlohmann::json::parse(read_file(out / "run.json"))["name"], odd);
@@ -235,7 +248,8 @@ TEST(OutputSafety, NoTextAUserGivesIsAFormat) {
 
     for (const std::string name : {"a%s%s%s%s", "x%n%n", "p%d", "q%04u"}) {
         write_file(scene, scene_text(name));
-        const test_cli::Outcome refused = test_cli::run_aquaform("run '" + scene.string() + "' --no-png --out '" + out.string() + "'");
+        const test_cli::Outcome refused =
+            test_cli::run_aquaform("run '" + scene.string() + "' --no-png --out '" + out.string() + "'");
         EXPECT_EQ(refused.exit_code, 2) << name << ": " << refused.output;
         EXPECT_NE(refused.output.find("obstacles: the name \"" + name + "\""), std::string::npos) << refused.output;
     }
@@ -257,7 +271,8 @@ TEST(OutputSafety, AnEarlierRunsFileThatCannotBeRemovedIsReportedBeforeAnyWork) 
     write_file(out / "probe_heights.svg", "<svg/>");
     std::string as_user;
     if (geteuid() == 0) {
-        ASSERT_TRUE(fs::exists("/usr/bin/setpriv")) << "util-linux's setpriv runs the check as nobody; install util-linux";
+        ASSERT_TRUE(fs::exists("/usr/bin/setpriv"))
+            << "util-linux's setpriv runs the check as nobody; install util-linux";
         as_user = "exec /usr/bin/setpriv --reuid=65534 --regid=65534 --clear-groups";
     } else {
         GTEST_SKIP() << "needs root to own the earlier file";  // CI runs as root
@@ -278,13 +293,17 @@ TEST(HostMemory, ASmallLimitFromTheVariableIsSaidInKibAndNamed) {
     EXPECT_EQ(available_memory_text(4096), "4 KiB are available") << "a figure the variable did not set";
 
     const fs::path dir = temp_dir("host_memory");
-    write_file(dir / "quad.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 1 2 5\nf 2 3 5\n"
-                                 "f 3 4 5\nf 4 1 5\n# padding the file past 1 KiB / 6 " + std::string(200, '#') + "\n");
+    write_file(dir / "quad.obj",
+               "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 1 2 5\nf 2 3 5\n"
+               "f 3 4 5\nf 4 1 5\n# padding the file past 1 KiB / 6 " +
+                   std::string(200, '#') + "\n");
     const auto loaded = geometry::load_obj(dir / "quad.obj");
     unsetenv("AQUAFORM_HOST_MEMORY");
     ASSERT_FALSE(loaded.ok());
-    EXPECT_NE(loaded.error().find("KiB of memory but 1 KiB are available (AQUAFORM_HOST_MEMORY=1K; unset it or raise it)"),
-              std::string::npos) << loaded.error();
+    EXPECT_NE(
+        loaded.error().find("KiB of memory but 1 KiB are available (AQUAFORM_HOST_MEMORY=1K; unset it or raise it)"),
+        std::string::npos)
+        << loaded.error();
     EXPECT_EQ(loaded.error().find("0 MB"), std::string::npos) << loaded.error();
     fs::remove_all(dir);
 

@@ -186,7 +186,8 @@ TEST(PbfWalls, WallCompletesTheDensityOfALatticeParticleAtTheFloor) {
     // Its derivative matches the density it integrates (finite difference over the distance).
     const float eps = 1e-4f;
     const float dw = (shader::pbf_wall_term(centre + glm::vec3(0, eps, 0), p).w -
-                      shader::pbf_wall_term(centre - glm::vec3(0, eps, 0), p).w) / (2.0f * eps);
+                      shader::pbf_wall_term(centre - glm::vec3(0, eps, 0), p).w) /
+                     (2.0f * eps);
     EXPECT_NEAR(dw, wall.y, 2e-2f * std::abs(wall.y));
 }
 

@@ -29,7 +29,9 @@ protected:
 Scene free_fall_scene(const std::string& solver_extra) {
     auto scene = parse_scene(R"({"name": "free fall", "domain": {"min": [0, 0, 0], "max": [1, 6, 1]},
         "particle_spacing": 0.05, "fluid_blocks": [{"min": [0.45, 5.9, 0.45], "max": [0.5, 5.95, 0.5]}],
-        "solver": {"substeps": 1, "max_substeps": 16, "cfl": 0.4)" + solver_extra + "}}", "free_fall.json");
+        "solver": {"substeps": 1, "max_substeps": 16, "cfl": 0.4)" +
+                                 solver_extra + "}}",
+                             "free_fall.json");
     EXPECT_TRUE(scene.ok()) << scene.error();
     return scene.value();
 }
@@ -52,7 +54,8 @@ TEST_F(PhysicsTest, AFreelyFallingParticleKeepsItsEnergyAndTheStepFollowsItsSpee
     EXPECT_EQ(last.substeps, expected);
     EXPECT_GE(last.substeps, 4u);
     for (size_t f = 1; f < frames.size(); ++f) {
-        EXPECT_GE(frames[f].substeps, frames[f - 1].substeps) << "frame " << f << ": falling faster needs no fewer steps";
+        EXPECT_GE(frames[f].substeps, frames[f - 1].substeps)
+            << "frame " << f << ": falling faster needs no fewer steps";
         EXPECT_LE(frames[f].cfl_number, scene.solver.cfl + 1e-6) << "frame " << f;
         EXPECT_NEAR(frames[f].dt, scene.solver.frame_dt / frames[f].substeps, 1e-9);
     }

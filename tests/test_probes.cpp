@@ -4,9 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 
 #include "sim/pbf_solver.h"
 #include "tests/cli_helpers.h"
@@ -70,7 +70,8 @@ TEST_F(ProbeTest, AtRestASensorAtDepthDReadsRhoGD) {
     ASSERT_EQ(scene.probes->sensors[0].name, "F");
     for (size_t i = 0; i < 6; ++i) {
         const double expected = rho_g * (surface - ys[i]);
-        EXPECT_NEAR(mean.pressures[i], expected, 0.05 * expected) << scene.probes->sensors[i].name << " at depth " << surface - ys[i];
+        EXPECT_NEAR(mean.pressures[i], expected, 0.05 * expected)
+            << scene.probes->sensors[i].name << " at depth " << surface - ys[i];
     }
 }
 
@@ -111,8 +112,8 @@ TEST_F(ProbeTest, ASensorReadsTheMeanPressureOverItsFace) {
     std::string sensors = R"("W": {"position": [0, 0.3, 0.04], "size": 0.04}, "P0": {"position": [0, 0.3, 0.04]})";
     for (int k = 0; k < 6; ++k) {
         const double a = k * std::numbers::pi / 3.0;
-        sensors += ", \"P" + std::to_string(k + 1) + "\": {\"position\": [0, " + std::to_string(y + r * std::sin(a)) + ", " +
-                   std::to_string(z + r * std::cos(a)) + "]}";
+        sensors += ", \"P" + std::to_string(k + 1) + "\": {\"position\": [0, " + std::to_string(y + r * std::sin(a)) +
+                   ", " + std::to_string(z + r * std::cos(a)) + "]}";
     }
     Scene scene = load_text(R"({"name": "sensor faces", "domain": {"min": [0, 0, 0], "max": [0.2, 0.4, 0.08]},
         "particle_spacing": 0.01, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.2, 0.3, 0.08]}],)" +
@@ -131,11 +132,13 @@ TEST_F(ProbeTest, ASensorReadsTheMeanPressureOverItsFace) {
 
 TEST(GaugeHeight, CountsTheWaterConnectedToWhatItStandsOnNotSprayAboveIt) {
     // Samples every 0.01 m from y = 0.005: two in a solid, water to 0.055, air, then spray.
-    const std::vector<float> samples{PROBE_IN_SOLID, PROBE_IN_SOLID, 1.0f, 1.0f, 1.0f, 0.75f, 0.25f, 0.0f, 0.0f, 0.9f, 0.9f, 0.0f};
+    const std::vector<float> samples{PROBE_IN_SOLID, PROBE_IN_SOLID, 1.0f, 1.0f, 1.0f, 0.75f,
+                                     0.25f,          0.0f,           0.0f, 0.9f, 0.9f, 0.0f};
     // The column crosses a half between 0.055 (0.75) and 0.065 (0.25): at 0.06.
     EXPECT_NEAR(gauge_height(samples, 0.005f, 0.01f, 0.0f), 0.06, 1e-6);
     EXPECT_NEAR(gauge_height(samples, 0.005f, 0.01f, -0.1f), 0.16, 1e-6) << "measured from the floor given";
-    EXPECT_EQ(gauge_height({0.1f, 0.9f, 0.9f}, 0.0f, 0.01f, 0.0f), 0.0) << "dry at its foot: spray above does not count";
+    EXPECT_EQ(gauge_height({0.1f, 0.9f, 0.9f}, 0.0f, 0.01f, 0.0f), 0.0)
+        << "dry at its foot: spray above does not count";
     EXPECT_NEAR(gauge_height({1.0f, 1.0f, 1.0f}, 0.0f, 0.01f, 0.0f), 0.02, 1e-6) << "full to its top";
 }
 
@@ -143,7 +146,8 @@ TEST(ProbeScene, SensorsMustSitOnASolidAndGaugesInTheTank) {
     auto dir = test_cli::temp_dir("probe_refused");
     auto error = [&](const std::string& probes) {
         std::ofstream(dir / "scene.json") << R"({"name": "p", "domain": {"min": [0, 0, 0], "max": [0.2, 0.4, 0.08]},
-            "particle_spacing": 0.01, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.2, 0.3, 0.08]}], "probes": )" + probes + "}";
+            "particle_spacing": 0.01, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.2, 0.3, 0.08]}], "probes": )" +
+                                                 probes + "}";
         auto scene = load_scene(dir / "scene.json");
         return scene.ok() ? std::string("(accepted)") : scene.error();
     };

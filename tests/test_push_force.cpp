@@ -43,7 +43,8 @@ TEST_F(PushForceTest, GpuPassMatchesTheBrushRule) {
     // The eye inside the box, looking along -z through its middle: particles behind it are spared.
     push.set({0.2f, 0.2f, 0.25f}, {0.0f, 0.0f, -1.0f}, 0.08f, {30.0f, 0.0f, 0.0f});
     ASSERT_TRUE(push.active());
-    ctx().submit_and_wait([&](VkCommandBuffer cmd) { push.record(cmd, params_buf, xb, vb, uint32_t(x.size()), nullptr); });
+    ctx().submit_and_wait(
+        [&](VkCommandBuffer cmd) { push.record(cmd, params_buf, xb, vb, uint32_t(x.size()), nullptr); });
     const auto out = gpu::download_vector<glm::vec4>(ctx(), vb, v.size());
     size_t pushed = 0, spared_behind = 0;
     for (size_t i = 0; i < x.size(); ++i) {

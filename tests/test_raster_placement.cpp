@@ -11,10 +11,10 @@
 #include <tuple>
 #include <vector>
 
+#include "control/raster_placement.h"
 #include "core/error.h"
 #include "geometry/inside.h"
 #include "geometry/primitives.h"
-#include "control/raster_placement.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
 #include "shaders/shared/control/raster_layout.h"
@@ -107,7 +107,8 @@ TEST_F(RasterTest, AgreesWithPlaceInsideOnTheSameLattice) {
             const ControlPoints inside = place_inside(*triangles, spacing, false, 1, given);
             const ControlPoints raster = place_raster(ctx(), *triangles, spacing, given);
             ASSERT_GT(inside.points.size(), 2000u);
-            EXPECT_NEAR(double(raster.points.size()), double(inside.points.size()), 0.01 * double(inside.points.size()));
+            EXPECT_NEAR(double(raster.points.size()), double(inside.points.size()),
+                        0.01 * double(inside.points.size()));
             const size_t differ = symmetric_difference(lattice_indices(inside.points, origin, spacing),
                                                        lattice_indices(raster.points, origin, spacing));
             EXPECT_LT(double(differ), 0.01 * double(inside.points.size()));
@@ -157,7 +158,8 @@ TEST_F(RasterTest, MoreLayersThanTheListsHoldAreReported) {
     const auto stack = [](uint32_t boxes) {
         std::vector<Mesh> meshes;
         for (uint32_t i = 0; i < boxes; ++i)
-            meshes.push_back(make_box(Box{glm::vec3(-0.5f, -0.5f, 0.3f * float(i)), glm::vec3(0.5f, 0.5f, 0.3f * float(i) + 0.2f)}));
+            meshes.push_back(
+                make_box(Box{glm::vec3(-0.5f, -0.5f, 0.3f * float(i)), glm::vec3(0.5f, 0.5f, 0.3f * float(i) + 0.2f)}));
         return soup_of(meshes);
     };
     const float spacing = 0.05f;
@@ -262,9 +264,9 @@ TEST(RasterCli, ControlPlaceWithTheRasterMethod) {
     namespace fs = std::filesystem;
     const fs::path dir = test_cli::temp_dir("raster");
     ASSERT_TRUE(write_obj(dir / "ball.obj", make_sphere(0.1f, 3)).ok());
-    const test_cli::Outcome ok = test_cli::run_aquaform("control place " + (dir / "ball.obj").string() +
-                                                        " --method raster --spacing 0.02 --no-png --out " +
-                                                        (dir / "out").string());
+    const test_cli::Outcome ok =
+        test_cli::run_aquaform("control place " + (dir / "ball.obj").string() +
+                               " --method raster --spacing 0.02 --no-png --out " + (dir / "out").string());
     ASSERT_EQ(ok.exit_code, 0) << ok.output;
     EXPECT_NE(ok.output.find("method raster"), std::string::npos) << ok.output;
     EXPECT_NE(ok.output.find("GPU"), std::string::npos) << ok.output;
@@ -288,9 +290,11 @@ TEST(RasterCli, AnimatedControlMeshRunsWriteTheSameBytes) {
     std::vector<std::string> frames;
     for (int run = 0; run < 3; ++run) {
         const fs::path out = dir / ("run" + std::to_string(run));
-        const test_cli::Outcome o = test_cli::run_aquaform("run " + scene + " --frames 3 --particles 10000 --no-png --ply-every 1 --out " + out.string());
+        const test_cli::Outcome o = test_cli::run_aquaform(
+            "run " + scene + " --frames 3 --particles 10000 --no-png --ply-every 1 --out " + out.string());
         ASSERT_EQ(o.exit_code, 0) << o.output;
-        frames.push_back(test_cli::read_file(out / "particles_0001.ply") + test_cli::read_file(out / "particles_0002.ply"));
+        frames.push_back(test_cli::read_file(out / "particles_0001.ply") +
+                         test_cli::read_file(out / "particles_0002.ply"));
         ASSERT_GT(frames.back().size(), 1000u);
         EXPECT_TRUE(frames.back() == frames.front()) << "run " << run << " wrote other frames 1-2 than run 0";
     }

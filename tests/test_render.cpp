@@ -146,8 +146,8 @@ TEST_F(RenderTest, SingleParticleAtTheProjectedCentreWithTheProjectedRadius) {
 
     // Projected radius of a sphere on the view axis: tan(asin(r / d)) / tan(fov / 2) half-heights.
     const float d = glm::length(cam.eye - kCentre);
-    const float expected = std::tan(std::asin(style.radius / d)) /
-                           std::tan(glm::radians(cam.fov_y_degrees) * 0.5f) * (kH * 0.5f);
+    const float expected =
+        std::tan(std::asin(style.radius / d)) / std::tan(glm::radians(cam.fov_y_degrees) * 0.5f) * (kH * 0.5f);
     ASSERT_GT(expected, 6.0f);  // big enough for the check to mean something
     int row = 0, col = 0;
     for (uint32_t x = 0; x < kW; ++x) row += difference(pixel(img, x, kH / 2), pixel(bg, x, kH / 2)) > 24;
@@ -230,11 +230,13 @@ TEST_F(RenderTest, ParticlesFarOutsideTheViewDoNotAppear) {
     const float inf = std::numeric_limits<float>::infinity();
     const glm::vec3 back = glm::normalize(cam.eye - cam.target);
     const std::vector<glm::vec4> pos = {
-        {100.0f, 0.5f, 0.0f, 0.0f}, {0.0f, -1e6f, 0.0f, 0.0f},
-        glm::vec4(cam.eye + 3.0f * back, 0.0f),          // behind the camera
-        glm::vec4(cam.eye, 0.0f),                        // the eye inside the sphere
-        glm::vec4(cam.eye + 0.05f * back, 0.0f),         // just behind the eye, still around it
-        {nan, 0.5f, 0.0f, 0.0f}, {inf, inf, inf, 0.0f}};
+        {100.0f, 0.5f, 0.0f, 0.0f},
+        {0.0f, -1e6f, 0.0f, 0.0f},
+        glm::vec4(cam.eye + 3.0f * back, 0.0f),   // behind the camera
+        glm::vec4(cam.eye, 0.0f),                 // the eye inside the sphere
+        glm::vec4(cam.eye + 0.05f * back, 0.0f),  // just behind the eye, still around it
+        {nan, 0.5f, 0.0f, 0.0f},
+        {inf, inf, inf, 0.0f}};
     const std::vector<glm::vec4> vel(pos.size(), glm::vec4(nan));
     Particles p(ctx(), pos, vel);
     EXPECT_EQ(image_difference(draw(view, p), background(view)), 0);
@@ -284,8 +286,8 @@ TEST_F(RenderTest, RejectsBuffersSmallerThanTheCount) {
 }
 
 uint32_t big_endian(const std::vector<char>& b, size_t at) {
-    return uint32_t(uint8_t(b[at])) << 24 | uint32_t(uint8_t(b[at + 1])) << 16 |
-           uint32_t(uint8_t(b[at + 2])) << 8 | uint32_t(uint8_t(b[at + 3]));
+    return uint32_t(uint8_t(b[at])) << 24 | uint32_t(uint8_t(b[at + 1])) << 16 | uint32_t(uint8_t(b[at + 2])) << 8 |
+           uint32_t(uint8_t(b[at + 3]));
 }
 
 TEST(WritePng, WritesASignatureAndTheImageSize) {

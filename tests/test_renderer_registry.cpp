@@ -64,7 +64,8 @@ TEST_F(RendererRegistryTest, EveryMethodDrawsTheBlockWhereItIs) {
             if (!frame.has_surface(p)) continue;
             ++covered;
             const glm::vec3 x(frame.hit[p]);
-            if (glm::any(glm::lessThan(x, kBlock.min - margin)) || glm::any(glm::greaterThan(x, kBlock.max + margin))) ++outside;
+            if (glm::any(glm::lessThan(x, kBlock.min - margin)) || glm::any(glm::greaterThan(x, kBlock.max + margin)))
+                ++outside;
         }
         // The block covers about a fifth of the picture; the sky and floor around it stay empty.
         EXPECT_GT(covered, frame.hit.size() / 20) << covered;
@@ -85,7 +86,8 @@ TEST_F(RendererRegistryTest, EveryMethodRefusesAPictureOutsideTheOneLimit) {
                 render_registry().create(ctx(), scene.particle_domain(), bad.width, bad.height, 16, entry.defaults);
                 ADD_FAILURE() << bad.text() << " was accepted";
             } catch (const Failure& e) {
-                EXPECT_NE(std::string(e.what()).find(bad.text() + " is outside " + picture_side_range()), std::string::npos)
+                EXPECT_NE(std::string(e.what()).find(bad.text() + " is outside " + picture_side_range()),
+                          std::string::npos)
                     << e.what();
             }
         }
@@ -98,7 +100,8 @@ TEST_F(RendererRegistryTest, EveryMethodRefusesAPictureOutsideTheOneLimit) {
 
 TEST_F(RendererRegistryTest, ConfigureSwitchesWithinAFamilyOnly) {
     const Scene scene = testing::scene_with(Box{{0.0f, 0.0f, 0.0f}, {0.4f, 0.4f, 0.4f}}, kSpacing);
-    auto r = render_registry().create(ctx(), scene.particle_domain(), 32, 32, 16, render_registry().find("adaptive")->defaults);
+    auto r = render_registry().create(ctx(), scene.particle_domain(), 32, 32, 16,
+                                      render_registry().find("adaptive")->defaults);
     ASSERT_NE(concrete_of<SurfaceRenderer>(*r), nullptr);  // its diagnostics stay reachable
     EXPECT_EQ(concrete_of<MetaballRenderer>(*r), nullptr);
     r->configure(render_registry().find("reference")->defaults);
@@ -115,10 +118,12 @@ TEST(RendererRegistry, UnknownNamesAndBadSettingsAreRefusedWithMessages) {
 
     auto range = reg.from_flags("sbuffer", {{"--metaball-size", "20"}});
     ASSERT_FALSE(range.ok());
-    for (const char* part : {"--metaball-size", "20", "0.5 to 8"}) EXPECT_NE(range.error().find(part), std::string::npos) << range.error();
+    for (const char* part : {"--metaball-size", "20", "0.5 to 8"})
+        EXPECT_NE(range.error().find(part), std::string::npos) << range.error();
     auto step = reg.from_flags("adaptive", {{"--step", "9"}});
     ASSERT_FALSE(step.ok());
-    for (const char* part : {"--step", "9", "0.01..4"}) EXPECT_NE(step.error().find(part), std::string::npos) << step.error();
+    for (const char* part : {"--step", "9", "0.01..4"})
+        EXPECT_NE(step.error().find(part), std::string::npos) << step.error();
     auto number = reg.from_flags("narrow_range", {{"--sigma", "wide"}});
     ASSERT_FALSE(number.ok());
     EXPECT_NE(number.error().find("--sigma must be a number"), std::string::npos) << number.error();
@@ -142,7 +147,8 @@ TEST(RendererRegistry, UnknownNamesAndBadSettingsAreRefusedWithMessages) {
 
     auto json = reg.from_json("brute", nlohmann::json{{"bisection", 40}}, "methods[0]");
     ASSERT_FALSE(json.ok());
-    for (const char* part : {"methods[0].bisection", "40", "0..32"}) EXPECT_NE(json.error().find(part), std::string::npos) << json.error();
+    for (const char* part : {"methods[0].bisection", "40", "0..32"})
+        EXPECT_NE(json.error().find(part), std::string::npos) << json.error();
     auto json_ok = reg.from_json("curvature_flow", nlohmann::json{{"iterations", 40}}, "m");
     ASSERT_TRUE(json_ok.ok()) << json_ok.error();
     EXPECT_EQ(json_ok.value().as<ScreenSpaceSettings>().flow_iterations, 40u);
@@ -168,7 +174,8 @@ TEST(RendererRegistry, BothEndsOfEveryFlagsRangeAreAccepted) {
                 ++checked;
                 if (made.ok()) continue;
                 bool across = false;
-                for (const std::string& other : flagged) across = across || (other != s.key && made.error().find(other) != std::string::npos);
+                for (const std::string& other : flagged)
+                    across = across || (other != s.key && made.error().find(other) != std::string::npos);
                 // An end the range says is open ("0 < a", "(0, 16]", "iso < 1") may be refused.
                 const std::string& m = made.error();
                 const std::string t = text;
@@ -192,7 +199,8 @@ TEST(RendererRegistry, HelpListsEveryMethodAndFlag) {
                 EXPECT_NE(help.output.find(s.flag), std::string::npos) << s.flag;
             }
     }
-    const Outcome unknown = run_aquaform("render " + std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json --method octree");
+    const Outcome unknown =
+        run_aquaform("render " + std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json --method octree");
     EXPECT_EQ(unknown.exit_code, 2);
     EXPECT_NE(unknown.output.find("sbuffer"), std::string::npos) << unknown.output;
 }

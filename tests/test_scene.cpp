@@ -130,7 +130,8 @@ TEST(SceneFile, UnknownKeySuggestsTheClosestAllowedKey) {
 
     j = valid_scene();
     j["fluid_blocks"][1]["maximum"] = {1, 1, 1};
-    EXPECT_TRUE(mentions(error_of(j), {"\"maximum\"", "in fluid_blocks[1]", "Allowed keys: shape, min, max, velocity"}));
+    EXPECT_TRUE(
+        mentions(error_of(j), {"\"maximum\"", "in fluid_blocks[1]", "Allowed keys: shape, min, max, velocity"}));
 }
 
 TEST(SceneFile, WrongTypeNamesKeyValueAndType) {
@@ -234,15 +235,15 @@ TEST(SceneFile, MissingFileNamesThePath) {
 TEST(SceneFile, ColumnWidthMustMatchTheFirstBlock) {
     json j = valid_scene();
     j["column_width"] = 0.25;
-    EXPECT_TRUE(mentions(error_of(j), {"column_width is 0.25", "fluid_blocks[0] is 0.5 m wide on x",
-                                       "set column_width to 0.5"}));
+    EXPECT_TRUE(mentions(error_of(j),
+                         {"column_width is 0.25", "fluid_blocks[0] is 0.5 m wide on x", "set column_width to 0.5"}));
 
     j = valid_scene();
     j["column_width"] = 0.5;
     j["fluid_blocks"][0]["min"] = {0.1, 0, 0};
     j["fluid_blocks"][0]["max"] = {0.6, 0.5, 0.5};
-    EXPECT_TRUE(mentions(error_of(j), {"column_width is 0.5", "starts at x = 0.1", "domain.min.x = 0",
-                                       "move the block to the wall"}));
+    EXPECT_TRUE(mentions(
+        error_of(j), {"column_width is 0.5", "starts at x = 0.1", "domain.min.x = 0", "move the block to the wall"}));
 
     j = valid_scene();
     j["column_width"] = 0.5;
@@ -303,7 +304,8 @@ TEST(SceneFile, MalformedInputNeverThrows) {
 TEST(SceneFile, HostileShapesAreRefusedBeforeTheyCostStackOrTime) {
     // 10^5 nested arrays once overflowed the stack (the message echoing the value recursed); the
     // refusal comes from a scan of the text, with the line it stopped on.
-    std::string deep = "{\"name\": \"x\",\n\"static_boxes\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
+    std::string deep =
+        "{\"name\": \"x\",\n\"static_boxes\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
     Result<Scene> r = Error{};
     EXPECT_NO_THROW(r = parse_scene(deep, kOrigin));
     ASSERT_FALSE(r.ok());
@@ -360,13 +362,14 @@ TEST(SceneFile, AStartSpeedBeyondWhatTheStepRuleCarriesIsRefusedAtItsSpacing) {
     ASSERT_TRUE(scene.ok()) << scene.error();
     const Result<Scene> fine = with_particle_count(scene.value(), 128000);
     ASSERT_FALSE(fine.ok()) << "50 m/s at spacing " << fine.value().particle_spacing;
-    EXPECT_NE(fine.error().find("at --particles 128000, faster than the time-step rule"), std::string::npos) << fine.error();
+    EXPECT_NE(fine.error().find("at --particles 128000, faster than the time-step rule"), std::string::npos)
+        << fine.error();
 }
 
 TEST(SceneFile, AStringHoldingANulIsRefusedNotCutShort) {
     // "a.obj\u0000b" would open a.obj; a name with one would name a file cut short.
-    for (const std::string& text :
-         {std::string(R"({"name": "a\u0000b"})"), std::string(R"({"obstacles": {"rock": {"file": "sphere.obj\u0000.txt"}}})")}) {
+    for (const std::string& text : {std::string(R"({"name": "a\u0000b"})"),
+                                    std::string(R"({"obstacles": {"rock": {"file": "sphere.obj\u0000.txt"}}})")}) {
         json j = valid_scene();
         j.update(json::parse(text));
         const std::string e = error_of(j);

@@ -36,10 +36,10 @@ json base_scene() {
 }
 
 struct Bound {
-    std::string key;       ///< as docs/scenes.md's table names it
+    std::string key;  ///< as docs/scenes.md's table names it
     std::function<void(json&, double)> set;
-    double edge, past;     ///< accepted, and refused just past it
-    std::string number;    ///< the bound as the message and the docs write it
+    double edge, past;   ///< accepted, and refused just past it
+    std::string number;  ///< the bound as the message and the docs write it
 };
 
 std::function<void(json&, double)> solver_key(const char* key) {
@@ -56,7 +56,8 @@ std::vector<Bound> bounds() {
         {"solver.frame_dt", solver_key("frame_dt"), kMaxFrameDt, 0.1000001, fmt(kMaxFrameDt)},
         {"solver.frame_dt", solver_key("frame_dt"), kMinFrameDt, 0.99e-5, fmt(kMinFrameDt)},
         {"solver.substeps", solver_integer("substeps"), kMaxSubsteps, kMaxSubsteps + 1, whole(kMaxSubsteps)},
-        {"solver.max_substeps", solver_integer("max_substeps"), kMaxMaxSubsteps, kMaxMaxSubsteps + 1, whole(kMaxMaxSubsteps)},
+        {"solver.max_substeps", solver_integer("max_substeps"), kMaxMaxSubsteps, kMaxMaxSubsteps + 1,
+         whole(kMaxMaxSubsteps)},
         {"solver.iterations", solver_integer("iterations"), kMaxIterations, kMaxIterations + 1, whole(kMaxIterations)},
         {"solver.kernel_radius_factor", solver_key("kernel_radius_factor"), kMaxKernelRadiusFactor, 4.001,
          fmt(kMaxKernelRadiusFactor)},
@@ -66,11 +67,17 @@ std::vector<Bound> bounds() {
         {"solver.cfl", solver_key("cfl"), kMaxCfl, 1.001, fmt(kMaxCfl)},
         {"solver.max_speed", solver_key("max_speed"), kMaxSpeedCap, 10000.1, fmt(kMaxSpeedCap)},
         {"solver.scorr_n", solver_integer("scorr_n"), kMaxScorrN, kMaxScorrN + 1, whole(kMaxScorrN)},
-        {"frames", [](json& j, double v) { j["frames"] = int64_t(v); }, kMaxFrames, kMaxFrames + 1.0, whole(kMaxFrames)},
-        {"gravity", [](json& j, double v) { j["gravity"] = {0.0, -v, 0.0}; }, kMaxGravity, 1000.1, fmt(kMaxGravity)},
+        {"frames", [](json& j, double v) { j["frames"] = int64_t(v); }, kMaxFrames, kMaxFrames + 1.0,
+         whole(kMaxFrames)},
+        {"gravity",
+         [](json& j, double v) {
+             j["gravity"] = {0.0, -v, 0.0};
+         },
+         kMaxGravity, 1000.1, fmt(kMaxGravity)},
         // At the bound the time-step rule needs more than the default 32 steps a frame (checked
         // on its own: SceneFile.AStartSpeedBeyondWhatTheStepRuleCarriesIsRefusedAtItsSpacing).
-        {"fluid_blocks[].velocity", [](json& j, double v) {
+        {"fluid_blocks[].velocity",
+         [](json& j, double v) {
              j["fluid_blocks"][0]["velocity"] = {0.0, -v, 0.0};
              j["solver"]["max_substeps"] = 64;
          },
@@ -123,7 +130,8 @@ TEST(SceneBounds, AStudySolverMapTakesTheLargestStepAsWritten) {
     const std::string scene = std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json";
     auto spec = [&](const char* dt) {
         return std::string(R"({"cases": [{"name": "a", "resolutions": ["32x32"], "methods": [{"method": "adaptive"}]}],
-                               "solver_map": {"scene": ")") + scene + R"(", "dt": [)" + dt + R"(], "iterations": [4]}})";
+                               "solver_map": {"scene": ")") +
+               scene + R"(", "dt": [)" + dt + R"(], "iterations": [4]}})";
     };
     const auto edge = study::parse_study_spec(spec("0.1"), "study.json", "/");
     EXPECT_TRUE(edge.ok()) << edge.error();
@@ -137,7 +145,8 @@ TEST(SceneBounds, AFileOneByteOverTheLimitSaysSoInBytes) {
         json_fields::check_json_size(json_fields::kMaxJsonBytes + 1, "big.json");
         FAIL() << "a file over the limit was accepted";
     } catch (const json_fields::Invalid& e) {
-        EXPECT_NE(e.message.find(std::to_string(json_fields::kMaxJsonBytes + 1) + " bytes"), std::string::npos) << e.message;
+        EXPECT_NE(e.message.find(std::to_string(json_fields::kMaxJsonBytes + 1) + " bytes"), std::string::npos)
+            << e.message;
         EXPECT_NE(e.message.find("at most " + std::to_string(json_fields::kMaxJsonBytes) + " bytes"), std::string::npos)
             << e.message;
     }

@@ -64,18 +64,19 @@ PicturePoint project(const CameraBlock& c, const glm::vec3& world) {
     const glm::vec3 d = world - glm::vec3(c.eye);
     const float z = glm::dot(d, glm::vec3(c.forward));
     if (!(z > 1e-6f)) return {};
-    return {{glm::dot(d, glm::vec3(c.right)) / (z * c.forward.w), glm::dot(d, glm::vec3(c.up)) / (z * c.right.w)}, true};
+    return {{glm::dot(d, glm::vec3(c.right)) / (z * c.forward.w), glm::dot(d, glm::vec3(c.up)) / (z * c.right.w)},
+            true};
 }
 
 /// How the fluid of one frame lands in the picture.
 struct Framing {
-    float coverage = 0.0f;        ///< the share of the picture that the fluid's bounding box covers
-    glm::vec2 extent{0.0f};       ///< the bounding box's width and height, as shares of the picture's
+    float coverage = 0.0f;   ///< the share of the picture that the fluid's bounding box covers
+    glm::vec2 extent{0.0f};  ///< the bounding box's width and height, as shares of the picture's
     size_t particles_outside = 0;
     int tank_corners_outside = 0;
-    float fluid_top = 0.0f;       ///< the highest particle [m]
-    float top_in_picture = -1.0f; ///< where the fluid's highest point lands: -1 bottom, 1 top edge
-    std::string first_outside;    ///< a point that is cut off, for the message
+    float fluid_top = 0.0f;        ///< the highest particle [m]
+    float top_in_picture = -1.0f;  ///< where the fluid's highest point lands: -1 bottom, 1 top edge
+    std::string first_outside;     ///< a point that is cut off, for the message
 };
 
 Framing framing_of(const ViewCamera& camera, const Scene& scene, const std::vector<glm::vec4>& x) {
@@ -128,7 +129,8 @@ std::vector<glm::vec4> particles_at_event(gpu::Context& ctx, const Scene& scene,
         scene.generate_particles(x, block);
         return x;
     }
-    const uint64_t wanted = scene.control_json ? kControlParticles : std::max<uint64_t>(kParticles, kParticleFrames / frame);
+    const uint64_t wanted =
+        scene.control_json ? kControlParticles : std::max<uint64_t>(kParticles, kParticleFrames / frame);
     auto scaled = with_particle_count(scene, std::min(scene.particle_count(), wanted));
     EXPECT_TRUE(scaled.ok()) << scaled.error();
     if (!scaled) return x;
@@ -156,11 +158,12 @@ TEST_P(SceneFraming, TheCameraShowsTheWholeEventLarge) {
     ASSERT_FALSE(x.empty());
     const ViewCamera camera = scene_camera(scene, float(kWidth) / float(kHeight));
     const Framing f = framing_of(camera, scene, x);
-    std::printf("%s (%s camera), frame %u, %zu particles: fluid box %.0f %% of the picture (%.0f %% x %.0f %%), "
-                "fluid top %.3f m (at %.2f of the picture's height), %zu particles and %d tank corners outside\n",
-                GetParam().filename().c_str(), scene.camera ? "own" : "automatic", *scene.event_frame, x.size(),
-                100.0f * f.coverage, 100.0f * f.extent.x, 100.0f * f.extent.y, f.fluid_top, 0.5f * (f.top_in_picture + 1.0f), f.particles_outside,
-                f.tank_corners_outside);
+    std::printf(
+        "%s (%s camera), frame %u, %zu particles: fluid box %.0f %% of the picture (%.0f %% x %.0f %%), "
+        "fluid top %.3f m (at %.2f of the picture's height), %zu particles and %d tank corners outside\n",
+        GetParam().filename().c_str(), scene.camera ? "own" : "automatic", *scene.event_frame, x.size(),
+        100.0f * f.coverage, 100.0f * f.extent.x, 100.0f * f.extent.y, f.fluid_top, 0.5f * (f.top_in_picture + 1.0f),
+        f.particles_outside, f.tank_corners_outside);
     EXPECT_EQ(f.particles_outside, 0u) << f.first_outside;
     EXPECT_EQ(f.tank_corners_outside, 0) << f.first_outside;
     EXPECT_GE(f.coverage, kMinCoverage) << "the fluid is small in the picture: bring the camera closer";
@@ -177,7 +180,9 @@ INSTANTIATE_TEST_SUITE_P(Shipped, SceneFraming, ::testing::ValuesIn(shipped_scen
 TEST(SceneEventFrame, IsAFrameOfTheSceneAndRefusedOtherwise) {
     const auto with = [](const std::string& extra) {
         return parse_scene(R"({"name": "s", "domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "particle_spacing": 0.1,
-            "fluid_blocks": [{"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}], "frames": 100)" + extra + "}", "s.json");
+            "fluid_blocks": [{"min": [0, 0, 0], "max": [0.5, 0.5, 0.5]}], "frames": 100)" +
+                               extra + "}",
+                           "s.json");
     };
     ASSERT_TRUE(with("").ok());
     EXPECT_FALSE(with("").value().event_frame.has_value());
@@ -185,8 +190,8 @@ TEST(SceneEventFrame, IsAFrameOfTheSceneAndRefusedOtherwise) {
     ASSERT_TRUE(r.ok()) << r.error();
     EXPECT_EQ(r.value().event_frame, 48u);
     EXPECT_TRUE(with(R"(, "event_frame": 0)").ok());
-    for (const char* bad : {R"(, "event_frame": 101)", R"(, "event_frame": -1)", R"(, "event_frame": 2.5)",
-                            R"(, "event_frame": "48")"}) {
+    for (const char* bad :
+         {R"(, "event_frame": 101)", R"(, "event_frame": -1)", R"(, "event_frame": 2.5)", R"(, "event_frame": "48")"}) {
         auto refused = with(bad);
         ASSERT_FALSE(refused.ok()) << bad;
         EXPECT_NE(refused.error().find("event_frame"), std::string::npos) << refused.error();

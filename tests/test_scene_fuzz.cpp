@@ -66,7 +66,8 @@ TEST(SceneFuzz, EveryKeyOfEveryShippedSceneMutatedIsRefusedInOneLineNamingIt) {
     // The mutations must mostly be refused, or the fuzz would test nothing.
     EXPECT_GT(refused, mutations / 2) << refused << " of " << mutations;
     EXPECT_GT(controls_loaded, 20);
-    std::printf("scene fuzz: %d mutations, %d refused, %d control sections loaded\n", mutations, refused, controls_loaded);
+    std::printf("scene fuzz: %d mutations, %d refused, %d control sections loaded\n", mutations, refused,
+                controls_loaded);
 }
 
 TEST(SceneFuzz, EveryKeyOfTheShippedStudySpecsMutatedIsRefusedInOneLineNamingIt) {
@@ -84,7 +85,8 @@ TEST(SceneFuzz, EveryKeyOfTheShippedStudySpecsMutatedIsRefusedInOneLineNamingIt)
                 const Mutation m = mutate(spec, path, random);
                 ++mutations;
                 Result<study::StudySpec> parsed = Error{};
-                ASSERT_NO_THROW(parsed = study::parse_study_spec(m.text, file.string(), file.parent_path())) << path.to_string();
+                ASSERT_NO_THROW(parsed = study::parse_study_spec(m.text, file.string(), file.parent_path()))
+                    << path.to_string();
                 std::string error = parsed.ok() ? "" : parsed.error();
                 if (parsed.ok()) {
                     Result<bool> checked = Error{};
@@ -103,7 +105,8 @@ TEST(SceneFuzz, EveryKeyOfTheShippedStudySpecsMutatedIsRefusedInOneLineNamingIt)
 TEST(SceneFuzz, MutatedScenesThroughTheBinaryNeverCrashOrHang) {
     const fs::path dir = test_cli::temp_dir("scene_fuzz");
     fs::create_directories(dir / "scenes");
-    fs::create_directory_symlink(fs::path(AQUAFORM_ASSETS_DIR) / "meshes", dir / "meshes");  // "../meshes/x.obj" resolves
+    fs::create_directory_symlink(fs::path(AQUAFORM_ASSETS_DIR) / "meshes",
+                                 dir / "meshes");  // "../meshes/x.obj" resolves
     std::mt19937 random(7);
     const std::vector<fs::path> files = shipped_scenes();
     int refused = 0;
@@ -114,11 +117,13 @@ TEST(SceneFuzz, MutatedScenesThroughTheBinaryNeverCrashOrHang) {
         std::vector<json::json_pointer> paths;
         collect_paths(scene, json::json_pointer(), paths);
         const json::json_pointer path = paths[std::uniform_int_distribution<size_t>(0, paths.size() - 1)(random)];
-        const fs::path mutated = test_cli::write_file(dir / "scenes" / file.filename(), mutate(scene, path, random).text);
+        const fs::path mutated =
+            test_cli::write_file(dir / "scenes" / file.filename(), mutate(scene, path, random).text);
         const test_cli::SplitOutcome o = test_cli::run_aquaform_split(
-            "run '" + mutated.string() + "' --frames 1 --particles 300 --no-png --out '" + (dir / "out").string() + "'", dir, 120);
-        const std::string what = file.filename().string() + " " + path.to_string() + ": exit " +
-                                 std::to_string(o.exit_code) + ": " + o.err;
+            "run '" + mutated.string() + "' --frames 1 --particles 300 --no-png --out '" + (dir / "out").string() + "'",
+            dir, 120);
+        const std::string what =
+            file.filename().string() + " " + path.to_string() + ": exit " + std::to_string(o.exit_code) + ": " + o.err;
         ASSERT_TRUE(o.exit_code == 0 || o.exit_code == 1 || o.exit_code == 2) << what;
         if (o.exit_code != 2) continue;
         ++refused;

@@ -16,8 +16,8 @@
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/timer.h"
-#include "render/surface_metrics.h"
 #include "render/screen_space.h"
+#include "render/surface_metrics.h"
 #include "render/surface_renderer.h"
 #include "tests/gpu_test.h"
 
@@ -208,14 +208,16 @@ struct CpuFiltered {
 CpuFiltered cpu_filter(const ScreenSpaceParams& f, const ScreenSpaceSettings& s, const std::vector<float>& raw) {
     CpuFiltered out;
     switch (s.filter) {
-    case ScreenSpaceFilter::bilateral: out.depth = bilateral_pass(f, bilateral_pass(f, raw, 0), 1); break;
-    case ScreenSpaceFilter::narrow_range:
-        out.depth = narrow_pass(f, narrow_pass(f, raw, 0, out.narrow), 1, out.narrow);
-        break;
-    case ScreenSpaceFilter::curvature_flow:
-        out.depth = raw;
-        for (uint32_t i = 0; i < s.flow_iterations; ++i) out.depth = flow_step(f, out.depth, out.flow_cut);
-        break;
+        case ScreenSpaceFilter::bilateral:
+            out.depth = bilateral_pass(f, bilateral_pass(f, raw, 0), 1);
+            break;
+        case ScreenSpaceFilter::narrow_range:
+            out.depth = narrow_pass(f, narrow_pass(f, raw, 0, out.narrow), 1, out.narrow);
+            break;
+        case ScreenSpaceFilter::curvature_flow:
+            out.depth = raw;
+            for (uint32_t i = 0; i < s.flow_iterations; ++i) out.depth = flow_step(f, out.depth, out.flow_cut);
+            break;
     }
     return out;
 }
@@ -307,7 +309,7 @@ TEST_F(ScreenSpaceTest, NarrowRangeMatchesItsCpuReference) {
 struct DepthStats {
     size_t n = 0;
     double mean = 0.0, rms = 0.0, worst = 0.0;  // of (height - expected) [radii]
-    double roughness = 0.0;                    // standard deviation [radii]
+    double roughness = 0.0;                     // standard deviation [radii]
 };
 
 /// Heights eye.y - depth of the covered pixels in `mask`, against `expected` [m], in radii.
@@ -377,10 +379,12 @@ TEST_F(ScreenSpaceTest, EachFilterFlattensAJitteredSlabAndStaysNearItsSurface) {
             renderer.render({particles.buffer, particles.count}, camera, settings);
             const DepthStats before = height_stats(renderer.raw_depth(), inner, camera.eye.y, surface, r);
             const DepthStats after = height_stats(renderer.filtered_depth(), inner, camera.eye.y, surface, r);
-            const std::string name = std::string(filter_name(filter)) + ", sprites of " + std::to_string(c.sprite_radius);
-            std::printf("[ %s ] %zu px: raw mean %+.3f rough %.3f worst %.3f | filtered mean %+.3f rough %.3f worst %.3f radii\n",
-                        name.c_str(), after.n, before.mean, before.roughness, before.worst, after.mean, after.roughness,
-                        after.worst);
+            const std::string name =
+                std::string(filter_name(filter)) + ", sprites of " + std::to_string(c.sprite_radius);
+            std::printf(
+                "[ %s ] %zu px: raw mean %+.3f rough %.3f worst %.3f | filtered mean %+.3f rough %.3f worst %.3f radii\n",
+                name.c_str(), after.n, before.mean, before.roughness, before.worst, after.mean, after.roughness,
+                after.worst);
             EXPECT_GT(after.n, 8000u) << name;
             EXPECT_LT(after.roughness, c.max_roughness_ratio * before.roughness) << name;
             EXPECT_LT(std::abs(after.mean), c.max_mean) << name;
@@ -467,9 +471,10 @@ TEST_F(ScreenSpaceTest, NarrowRangeKeepsAStepBetweenTwoLayersSharp) {
         const int two_sigma = int(std::ceil(2.0f * f.sigma * f.pixel_scale / front_depth));
         double back_worst = 0.0;
         for (int k = 1; k <= max_k; ++k) back_worst = std::max(back_worst, std::abs(p.back[k]));
-        std::printf("[ %s ] step of 12 radii: back layer within %.3f radii of its far depth from 1 px on; front layer "
-                    "%+.3f at 3 px, %+.3f at 2 sigma = %d px\n",
-                    filter_name(filter), back_worst, p.front[3], p.front[two_sigma], two_sigma);
+        std::printf(
+            "[ %s ] step of 12 radii: back layer within %.3f radii of its far depth from 1 px on; front layer "
+            "%+.3f at 3 px, %+.3f at 2 sigma = %d px\n",
+            filter_name(filter), back_worst, p.front[3], p.front[two_sigma], two_sigma);
         if (filter != ScreenSpaceFilter::narrow_range) continue;  // measured for comparison only
         // Behind the step: the front layer is out of range and left out with its mirror samples,
         // so the back layer keeps its depth right up to the step.
@@ -517,49 +522,52 @@ TEST_F(ScreenSpaceTest, FrameFollowsSurfaceFrameAndIsMeasuredAgainstTheReference
         float sprite_radius, max_depth_err, max_normal_err_deg, max_coverage_mismatch;
     };
     for (const Case c : {Case{1.0f, 2.75f, 30.0f, 0.15f}, Case{1.5f, 1.25f, 20.0f, 0.06f}})
-    for (ScreenSpaceFilter filter : kFilters) {
-        ScreenSpaceSettings settings;
-        settings.filter = filter;
-        settings.sprite_radius = c.sprite_radius;
-        const SurfaceFrame frame = renderer.render({particles.buffer, particles.count}, camera, settings, &timer);
-        const std::string label = std::string(filter_name(filter)) + ", sprites of " + std::to_string(c.sprite_radius);
-        const char* name = label.c_str();
-        ASSERT_EQ(frame.width, w);
-        ASSERT_EQ(frame.hit.size(), size_t(w) * h);
-        const auto depth = renderer.filtered_depth();
-        const auto& p = renderer.params();
-        size_t hits = 0;
-        for (uint32_t y = 0; y < h; ++y)
-            for (uint32_t x = 0; x < w; ++x) {
-                const size_t i = size_t(y) * w + x;
-                const glm::vec4 hit = frame.hit[i], n = frame.normal[i];
-                if (std::isinf(depth[i])) {
-                    ASSERT_LT(hit.w, 0.0f) << name << " pixel " << i;
-                    ASSERT_EQ(n, glm::vec4(0.0f)) << name << " pixel " << i;
-                    continue;
+        for (ScreenSpaceFilter filter : kFilters) {
+            ScreenSpaceSettings settings;
+            settings.filter = filter;
+            settings.sprite_radius = c.sprite_radius;
+            const SurfaceFrame frame = renderer.render({particles.buffer, particles.count}, camera, settings, &timer);
+            const std::string label =
+                std::string(filter_name(filter)) + ", sprites of " + std::to_string(c.sprite_radius);
+            const char* name = label.c_str();
+            ASSERT_EQ(frame.width, w);
+            ASSERT_EQ(frame.hit.size(), size_t(w) * h);
+            const auto depth = renderer.filtered_depth();
+            const auto& p = renderer.params();
+            size_t hits = 0;
+            for (uint32_t y = 0; y < h; ++y)
+                for (uint32_t x = 0; x < w; ++x) {
+                    const size_t i = size_t(y) * w + x;
+                    const glm::vec4 hit = frame.hit[i], n = frame.normal[i];
+                    if (std::isinf(depth[i])) {
+                        ASSERT_LT(hit.w, 0.0f) << name << " pixel " << i;
+                        ASSERT_EQ(n, glm::vec4(0.0f)) << name << " pixel " << i;
+                        continue;
+                    }
+                    ++hits;
+                    const float u = 2.0f * (x + 0.5f) / w - 1.0f, v = 2.0f * (y + 0.5f) / h - 1.0f;
+                    const glm::vec3 dir = glm::normalize(glm::vec3(p.forward) + u * p.forward.w * glm::vec3(p.right) -
+                                                         v * p.right.w * glm::vec3(p.up));
+                    const float t = depth[i] / glm::dot(dir, glm::vec3(p.forward));
+                    ASSERT_NEAR(hit.w, t, 1e-5f * t) << name << " pixel " << i;
+                    ASSERT_LT(glm::length(glm::vec3(hit) - (camera.eye + dir * t)), 1e-4f * t)
+                        << name << " pixel " << i;
+                    ASSERT_NEAR(glm::length(glm::vec3(n)), 1.0f, 1e-4f) << name << " pixel " << i;
+                    ASSERT_EQ(n.w, 0.0f) << name << ": no density evaluations";
+                    ASSERT_LT(glm::dot(glm::vec3(n), dir), 0.0f) << name << " pixel " << i << ": normal faces away";
                 }
-                ++hits;
-                const float u = 2.0f * (x + 0.5f) / w - 1.0f, v = 2.0f * (y + 0.5f) / h - 1.0f;
-                const glm::vec3 dir = glm::normalize(glm::vec3(p.forward) + u * p.forward.w * glm::vec3(p.right) -
-                                                     v * p.right.w * glm::vec3(p.up));
-                const float t = depth[i] / glm::dot(dir, glm::vec3(p.forward));
-                ASSERT_NEAR(hit.w, t, 1e-5f * t) << name << " pixel " << i;
-                ASSERT_LT(glm::length(glm::vec3(hit) - (camera.eye + dir * t)), 1e-4f * t) << name << " pixel " << i;
-                ASSERT_NEAR(glm::length(glm::vec3(n)), 1.0f, 1e-4f) << name << " pixel " << i;
-                ASSERT_EQ(n.w, 0.0f) << name << ": no density evaluations";
-                ASSERT_LT(glm::dot(glm::vec3(n), dir), 0.0f) << name << " pixel " << i << ": normal faces away";
-            }
-        EXPECT_GT(hits, 2000u) << name;
-        const SurfaceComparison m = compare_surfaces(reference, frame, r);
-        std::printf("[ %s ] against the reference: depth error mean %.3f p95 %.3f radii, normal error mean %.1f "
-                    "p95 %.1f deg, coverage mismatch %.3f, %.1f dB\n",
-                    name, m.depth_err_mean, m.depth_err_p95, m.normal_err_deg_mean, m.normal_err_deg_p95,
-                    m.coverage_mismatch, m.psnr_db);
-        EXPECT_LT(m.depth_err_mean, c.max_depth_err) << name;
-        EXPECT_LT(m.normal_err_deg_mean, c.max_normal_err_deg) << name;
-        EXPECT_LT(m.coverage_mismatch, c.max_coverage_mismatch) << name;
-        EXPECT_EQ(m.rays, 0u) << name << ": the frame claims density evaluations";
-    }
+            EXPECT_GT(hits, 2000u) << name;
+            const SurfaceComparison m = compare_surfaces(reference, frame, r);
+            std::printf(
+                "[ %s ] against the reference: depth error mean %.3f p95 %.3f radii, normal error mean %.1f "
+                "p95 %.1f deg, coverage mismatch %.3f, %.1f dB\n",
+                name, m.depth_err_mean, m.depth_err_p95, m.normal_err_deg_mean, m.normal_err_deg_p95,
+                m.coverage_mismatch, m.psnr_db);
+            EXPECT_LT(m.depth_err_mean, c.max_depth_err) << name;
+            EXPECT_LT(m.normal_err_deg_mean, c.max_normal_err_deg) << name;
+            EXPECT_LT(m.coverage_mismatch, c.max_coverage_mismatch) << name;
+            EXPECT_EQ(m.rays, 0u) << name << ": the frame claims density evaluations";
+        }
     for (const char* pass : {"ss_splat", "ss_filter", "ss_normals", "ss_compose"}) {
         ASSERT_TRUE(timer.totals_ms().count(pass)) << pass << " was not timed";
         EXPECT_GT(timer.totals_ms().at(pass), 0.0) << pass;

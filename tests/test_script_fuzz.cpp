@@ -40,7 +40,8 @@ fs::path fuzz_dir(const std::string& name) {
         ~RemovedAtExit() {
             std::error_code ignored;
             for (const fs::path& d : dirs) {
-                for (const char* sibling : {".stdout", ".stderr", ".stub", ".stub_log"}) fs::remove(d.string() + sibling, ignored);
+                for (const char* sibling : {".stdout", ".stderr", ".stub", ".stub_log"})
+                    fs::remove(d.string() + sibling, ignored);
                 fs::remove_all(d, ignored);
             }
         }
@@ -52,8 +53,8 @@ fs::path fuzz_dir(const std::string& name) {
 /// Runs `command` in `dir` (killed after `timeout_s`), its streams through files beside `dir`.
 Outcome run_in(const fs::path& dir, const std::string& command, int timeout_s = 120) {
     const fs::path out = dir.string() + ".stdout", err = dir.string() + ".stderr";
-    const std::string line = "cd '" + dir.string() + "' && timeout -s KILL " + std::to_string(timeout_s) + " " + command +
-                             " >'" + out.string() + "' 2>'" + err.string() + "'";
+    const std::string line = "cd '" + dir.string() + "' && timeout -s KILL " + std::to_string(timeout_s) + " " +
+                             command + " >'" + out.string() + "' 2>'" + err.string() + "'";
     const int status = std::system(line.c_str());
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, test_cli::read_file(out), test_cli::read_file(err)};
 }
@@ -91,7 +92,8 @@ void expect_refused(const std::string& prefix, const std::vector<BadCall>& calls
                                     o.out.substr(o.out.size() > 1500 ? o.out.size() - 1500 : 0);
         EXPECT_EQ(o.status, 2) << context;
         EXPECT_EQ(lines_in(o.err), 1u) << "a refusal is one line: " << context;
-        EXPECT_NE(o.err.find(call.names), std::string::npos) << "the refusal should name " << call.names << ": " << context;
+        EXPECT_NE(o.err.find(call.names), std::string::npos)
+            << "the refusal should name " << call.names << ": " << context;
         EXPECT_EQ(listing(dir), before) << "a refusal made files: " << context;
     }
 }
@@ -107,31 +109,33 @@ TEST(ScriptFuzz, GpuCheckRefusesMissingBadAndUnwritableValuesBeforeAnyStep) {
     fs::create_symlink(dir / "nowhere" / "x.json", dir / "dangling.json");
     const std::string out = " --out " + q(dir / "gpu_check.json");
     const std::string prefix = "bash " + kScripts + "/gpu_check.sh --quick --build " + q(kBuild);
-    expect_refused(prefix, {
-        {out + " --budget", "--budget"},                // no value
-        {"--budget" + out, "--budget"},                 // the next flag in its place
-        {"--budget ''" + out, "--budget"},
-        {"--budget -5" + out, "--budget"},
-        {"--budget 1e3" + out, "--budget"},
-        {"--budget 0" + out, "--budget"},
-        {"--budget 99999999999999999999" + out, "--budget"},
-        {"--budget 08x" + out, "--budget"},
-        {out + " --build", "--build"},
-        {"--build " + q(dir / "no_build") + out, "--build"},
-        {"--build " + q(dir) + out, "--build"},          // a folder without aquaform
-        {"--out", "--out"},
-        {"--out ''", "--out"},
-        {"--out --quick", "--out"},
-        {"--out " + q(dir / "a_folder"), "--out"},        // a folder, not a file
-        {"--out " + q(dir / "a_file" / "x.json"), "--out"},  // its folder is a file
-        {"--out " + q(dir / "a_file" / "deeper" / "x.json"), "--out"},
-        {"--out " + q(dir / "dangling.json"), "--out"},   // a link to nothing
-        {"--out /proc/aquaform_gpu_check.json", "--out"},  // a folder nobody can write, not even root
-        {out + " --device", "--device"},
-        {"--device --quick" + out, "--device"},
-        {"--frobnicate" + out, "--frobnicate"},
-        {"extra" + out, "extra"},
-    }, dir);
+    expect_refused(prefix,
+                   {
+                       {out + " --budget", "--budget"},  // no value
+                       {"--budget" + out, "--budget"},   // the next flag in its place
+                       {"--budget ''" + out, "--budget"},
+                       {"--budget -5" + out, "--budget"},
+                       {"--budget 1e3" + out, "--budget"},
+                       {"--budget 0" + out, "--budget"},
+                       {"--budget 99999999999999999999" + out, "--budget"},
+                       {"--budget 08x" + out, "--budget"},
+                       {out + " --build", "--build"},
+                       {"--build " + q(dir / "no_build") + out, "--build"},
+                       {"--build " + q(dir) + out, "--build"},  // a folder without aquaform
+                       {"--out", "--out"},
+                       {"--out ''", "--out"},
+                       {"--out --quick", "--out"},
+                       {"--out " + q(dir / "a_folder"), "--out"},           // a folder, not a file
+                       {"--out " + q(dir / "a_file" / "x.json"), "--out"},  // its folder is a file
+                       {"--out " + q(dir / "a_file" / "deeper" / "x.json"), "--out"},
+                       {"--out " + q(dir / "dangling.json"), "--out"},    // a link to nothing
+                       {"--out /proc/aquaform_gpu_check.json", "--out"},  // a folder nobody can write, not even root
+                       {out + " --device", "--device"},
+                       {"--device --quick" + out, "--device"},
+                       {"--frobnicate" + out, "--frobnicate"},
+                       {"extra" + out, "extra"},
+                   },
+                   dir);
 }
 
 TEST(ScriptFuzz, GpuCheckReadsAnOctalLookingBudgetAsDecimalAndMakesTheOutFolder) {
@@ -139,7 +143,8 @@ TEST(ScriptFuzz, GpuCheckReadsAnOctalLookingBudgetAsDecimalAndMakesTheOutFolder)
     // recorded as skipped (exit 1), and the JSON lands in the folder --out named, made for it.
     const fs::path dir = fuzz_dir("fuzz_gpu_check_zeros");
     const fs::path out = dir / "made" / "here" / "gpu_check.json";
-    const Outcome o = run_in(dir, "bash " + kScripts + "/gpu_check.sh --quick --build " + q(kBuild) + " --budget 09 --out " + q(out));
+    const Outcome o =
+        run_in(dir, "bash " + kScripts + "/gpu_check.sh --quick --build " + q(kBuild) + " --budget 09 --out " + q(out));
     EXPECT_EQ(o.status, 1) << o.err;
     EXPECT_EQ(o.err.find("value too great"), std::string::npos) << o.err;
     ASSERT_TRUE(fs::exists(out)) << o.err;
@@ -152,8 +157,9 @@ TEST(ScriptFuzz, GpuCheckReadsAnOctalLookingBudgetAsDecimalAndMakesTheOutFolder)
 
 /// A run folder as `aquaform run --mesh-every 3` leaves it, small: two meshes (a tetrahedron,
 /// frames 0 and 3), exports.csv, stats.csv and run.json. `changes` replaces files (nullopt removes).
-const std::string kTetrahedron = "v 0.4 0.1 0.4\nv 0.7 0.1 0.4\nv 0.5 0.1 0.7\nv 0.5 0.5 0.5\n"
-                                 "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+const std::string kTetrahedron =
+    "v 0.4 0.1 0.4\nv 0.7 0.1 0.4\nv 0.5 0.1 0.7\nv 0.5 0.5 0.5\n"
+    "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
 // run.json with a still solid, and with a moving one (a file per frame), as `aquaform run` lists them.
 const std::string kRock = R"({"domain": {"min": [0, 0, 0], "max": [1, 1, 1]}, "up": "y",
                              "obstacles": [{"name": "rock", "file": "obstacle_rock.obj"}]})";
@@ -185,49 +191,54 @@ TEST(ScriptFuzz, BlenderSceneRefusesBadFlagsBeforeImportingAnything) {
     const fs::path dir = fuzz_dir("fuzz_blender_flags");
     const fs::path run = blender_run(dir / "run");
     const std::string render = " --render " + q(dir / "pictures" / "cycles_");  // pictures/ must not be made
-    expect_refused(blender_scene(run), {
-        {render + " --size", "--size"},
-        {render + " --size --frames 0:3", "--size"},
-        {render + " --size 0x0", "--size"},
-        {render + " --size -5x3", "--size"},
-        {render + " --size 15x360", "--size"},
-        {render + " --size 100000x100000", "--size"},
-        {render + " --size 640", "--size"},
-        {render + " --size 1e3x16", "--size"},
-        {render + " --resolution 0x0", "--resolution"},
-        {render + " --resolution 8193x16", "--resolution"},
-        {render + " --resolution", "--resolution"},
-        {render + " --resolution 64x36 --size 64x36", "--resolution alone"},  // the old name beside the new
-        {render + " --frames 3:1", "--frames"},
-        {render + " --frames 0:9", "0..3"},  // beyond the run: the message names the run's range
-        {render + " --frames 4:5", "0..3"},
-        {render + " --frames 0:3:0", "--frames"},
-        {render + " --frames -1:3", "--frames"},
-        {render + " --frames a:b", "--frames"},
-        {render + " --frames 0:99999999999", "--frames"},
-        {render + " --samples 0", "--samples"},
-        {render + " --samples 99999", "--samples"},
-        {render + " --samples", "--samples"},
-        {" --size 64x36", "--size"},  // a render flag without --render
-        {" --resolution 64x36", "--resolution"},
-        {" --render", "--render"},
-        {" --render " + q(dir / "run" / "surface_0000.obj" / "x_"), "--render"},  // its folder is a file
-        {" --render /proc/aquaform/cycles_", "--render"},
-        {" --up w", "--up"},
-        {" --up", "--up"},
-        {" --domain 1,2,3", "--domain"},
-        {" --domain 0,0,0,0,1,1", "--domain"},  // min not below max
-        {" --domain 0,0,0,nan,1,1", "--domain"},
-        {" --domain 0,0,0,1,1,x", "--domain"},
-        {" --up y --up z", "--up"},
-        {" --frobnicate 1", "--frobnicate"},
-    }, dir);
+    expect_refused(
+        blender_scene(run),
+        {
+            {render + " --size", "--size"},
+            {render + " --size --frames 0:3", "--size"},
+            {render + " --size 0x0", "--size"},
+            {render + " --size -5x3", "--size"},
+            {render + " --size 15x360", "--size"},
+            {render + " --size 100000x100000", "--size"},
+            {render + " --size 640", "--size"},
+            {render + " --size 1e3x16", "--size"},
+            {render + " --resolution 0x0", "--resolution"},
+            {render + " --resolution 8193x16", "--resolution"},
+            {render + " --resolution", "--resolution"},
+            {render + " --resolution 64x36 --size 64x36", "--resolution alone"},  // the old name beside the new
+            {render + " --frames 3:1", "--frames"},
+            {render + " --frames 0:9", "0..3"},  // beyond the run: the message names the run's range
+            {render + " --frames 4:5", "0..3"},
+            {render + " --frames 0:3:0", "--frames"},
+            {render + " --frames -1:3", "--frames"},
+            {render + " --frames a:b", "--frames"},
+            {render + " --frames 0:99999999999", "--frames"},
+            {render + " --samples 0", "--samples"},
+            {render + " --samples 99999", "--samples"},
+            {render + " --samples", "--samples"},
+            {" --size 64x36", "--size"},  // a render flag without --render
+            {" --resolution 64x36", "--resolution"},
+            {" --render", "--render"},
+            {" --render " + q(dir / "run" / "surface_0000.obj" / "x_"), "--render"},  // its folder is a file
+            {" --render /proc/aquaform/cycles_", "--render"},
+            {" --up w", "--up"},
+            {" --up", "--up"},
+            {" --domain 1,2,3", "--domain"},
+            {" --domain 0,0,0,0,1,1", "--domain"},  // min not below max
+            {" --domain 0,0,0,nan,1,1", "--domain"},
+            {" --domain 0,0,0,1,1,x", "--domain"},
+            {" --up y --up z", "--up"},
+            {" --frobnicate 1", "--frobnicate"},
+        },
+        dir);
     // The run folder first, and one that exists.
-    expect_refused("blender -b --factory-startup -P " + kScripts + "/blender_scene.py --", {
-        {"", "run folder"},
-        {"--up z " + q(run), "--up"},
-        {q(dir / "no_run"), "no_run"},
-    }, dir);
+    expect_refused("blender -b --factory-startup -P " + kScripts + "/blender_scene.py --",
+                   {
+                       {"", "run folder"},
+                       {"--up z " + q(run), "--up"},
+                       {q(dir / "no_run"), "no_run"},
+                   },
+                   dir);
 }
 
 TEST(ScriptFuzz, BlenderSceneSizesPicturesWithinTheCommandsOneLimit) {
@@ -236,7 +247,7 @@ TEST(ScriptFuzz, BlenderSceneSizesPicturesWithinTheCommandsOneLimit) {
     const std::string line = "MIN_SIDE, MAX_SIDE = " + std::to_string(aquaform::kMinPictureSide) + ", " +
                              std::to_string(aquaform::kMaxPictureSide) + "\n";
     EXPECT_NE(script.find("\n" + line), std::string::npos) << "blender_scene.py's picture limit differs from "
-                                                               "render/picture_size.h's";
+                                                              "render/picture_size.h's";
 }
 
 TEST(ScriptFuzz, BlenderSceneRefusesACorruptRunFolderNamingTheFileAndKey) {
@@ -254,7 +265,10 @@ TEST(ScriptFuzz, BlenderSceneRefusesACorruptRunFolderNamingTheFileAndKey) {
         {{{"run.json", R"({"domain": {"min": [0, 0, 0], "max": [1, -1, 1]}})"}}, "\"domain\""},
         {{{"run.json", R"({"domain": [0, 0, 0, 1, 1, 1]})"}}, "\"domain\""},
         {{{"run.json", R"({"frame_dt": "fast"})"}}, "\"frame_dt\""},
-        {{{"surface_0001.obj", std::string("\x7f" "ELF\0\0\x01", 7)}}, "surface_0001.obj"},
+        {{{"surface_0001.obj", std::string("\x7f"
+                                           "ELF\0\0\x01",
+                                           7)}},
+         "surface_0001.obj"},
         {{{"surface_0002.ply", ""}}, "surface_0002.ply"},
         {{{"surface_0000.obj", std::nullopt}, {"surface_0001.obj", std::nullopt}, {"density_0000.vdb", "not a volume"}},
          "density_0000.vdb"},
@@ -265,28 +279,41 @@ TEST(ScriptFuzz, BlenderSceneRefusesACorruptRunFolderNamingTheFileAndKey) {
         // skipped without a word, a garbage one failed after the scene had been started.
         {{{"run.json", kRock}}, "obstacle_rock.obj is missing"},
         {{{"run.json", kRock}, {"obstacle_rock.obj", "hello, not a mesh\n"}}, "obstacle_rock.obj"},
-        {{{"run.json", kRock}, {"obstacle_rock.obj", std::string("\x7f" "ELF\0\0\x01", 7)}}, "obstacle_rock.obj"},
+        {{{"run.json", kRock},
+          {"obstacle_rock.obj", std::string("\x7f"
+                                            "ELF\0\0\x01",
+                                            7)}},
+         "obstacle_rock.obj"},
         {{{"run.json", kRock}, {"obstacle_rock.obj", ""}}, "obstacle_rock.obj"},
         {{{"run.json", kRock}, {"obstacle_rock.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n"}}, "obstacle_rock.obj"},
         {{{"run.json", kRock}, {"obstacle_rock.obj", "v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n"}}, "obstacle_rock.obj"},
         // A moving solid has a file at every frame of the surfaces (0..3): frame 2's is missing.
-        {{{"run.json", kMoving}, {"obstacle_m_0000.obj", kTetrahedron}, {"obstacle_m_0001.obj", kTetrahedron},
-          {"obstacle_m_0003.obj", kTetrahedron}}, "obstacle_m_0002.obj"},
-        {{{"run.json", R"({"obstacles": [{"name": "m", "files": "obstacle_%s_%04u.obj", "moves": true}]})"}}, "\"files\""},
+        {{{"run.json", kMoving},
+          {"obstacle_m_0000.obj", kTetrahedron},
+          {"obstacle_m_0001.obj", kTetrahedron},
+          {"obstacle_m_0003.obj", kTetrahedron}},
+         "obstacle_m_0002.obj"},
+        {{{"run.json", R"({"obstacles": [{"name": "m", "files": "obstacle_%s_%04u.obj", "moves": true}]})"}},
+         "\"files\""},
         // The volumes' iso level is read with the surfaces, not after the scene is started.
-        {{{"surface_0000.obj", std::nullopt}, {"surface_0001.obj", std::nullopt},
-          {"density_0000.vdb", std::string("\x20\x42\x44\x56\0\0\0\0\x0c\0\0\0aquaform_iso", 24)}}, "density_0000.vdb"},
+        {{{"surface_0000.obj", std::nullopt},
+          {"surface_0001.obj", std::nullopt},
+          {"density_0000.vdb", std::string("\x20\x42\x44\x56\0\0\0\0\x0c\0\0\0aquaform_iso", 24)}},
+         "density_0000.vdb"},
     };
     for (size_t k = 0; k < runs.size(); ++k) {
         const fs::path run = blender_run(dir / ("run" + std::to_string(k)), runs[k].changes);
-        expect_refused(blender_scene(run), {{" --render " + q(dir / ("pictures" + std::to_string(k)) / "x_"), runs[k].names}},
-                       dir);
+        expect_refused(blender_scene(run),
+                       {{" --render " + q(dir / ("pictures" + std::to_string(k)) / "x_"), runs[k].names}}, dir);
     }
     // The same solids, every file there, are drawn: a still one and a moving one at each frame.
     const fs::path good = blender_run(dir / "good", {{"run.json", R"({"domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
         "obstacles": [{"name": "rock", "file": "obstacle_rock.obj"}, {"name": "m", "files": "obstacle_m_%04u.obj", "moves": true}]})"},
-        {"obstacle_rock.obj", kTetrahedron}, {"obstacle_m_0000.obj", kTetrahedron}, {"obstacle_m_0001.obj", kTetrahedron},
-        {"obstacle_m_0002.obj", kTetrahedron}, {"obstacle_m_0003.obj", kTetrahedron}});
+                                                     {"obstacle_rock.obj", kTetrahedron},
+                                                     {"obstacle_m_0000.obj", kTetrahedron},
+                                                     {"obstacle_m_0001.obj", kTetrahedron},
+                                                     {"obstacle_m_0002.obj", kTetrahedron},
+                                                     {"obstacle_m_0003.obj", kTetrahedron}});
     const Outcome o = run_in(dir, blender_scene(good));
     EXPECT_EQ(o.status, 0) << o.err;
 }
@@ -297,7 +324,8 @@ TEST(ScriptFuzz, BlenderSceneRendersAGoodRunAndSaysWhatItAssumesWithoutRunJson) 
     const fs::path dir = fuzz_dir("fuzz_blender_good");
     const fs::path run = blender_run(dir / "run", {{"run.json", std::nullopt}});
     const fs::path prefix = dir / "pictures" / "cycles_";
-    const Outcome o = run_in(dir, blender_scene(run) + " --render " + q(prefix) + " --size 016x24 --samples 01 --frames 3:3");
+    const Outcome o =
+        run_in(dir, blender_scene(run) + " --render " + q(prefix) + " --size 016x24 --samples 01 --frames 3:3");
     ASSERT_EQ(o.status, 0) << o.err;
     EXPECT_NE(o.err.find("no run.json"), std::string::npos) << o.err;
     EXPECT_NE(o.err.find("assuming up y"), std::string::npos) << o.err;
@@ -315,9 +343,12 @@ TEST(ScriptFuzz, BlenderSceneEndsWith130WhenCtrlCStopsTheRender) {
     const fs::path run = blender_run(dir / "run");
     const fs::path log = dir / "blender.log";
     const Outcome o = run_in(dir, "bash -c " + q(blender_scene(run) + " --render " + (dir / "x_").string() +
-                                              " --size 640x360 --samples 4096 > " + log.string() + " 2>&1 & pid=$!; "
-                                              "until grep -q Sample " + log.string() + "; do sleep 0.2; done; "
-                                              "kill -INT $pid; wait $pid"));
+                                                 " --size 640x360 --samples 4096 > " + log.string() +
+                                                 " 2>&1 & pid=$!; "
+                                                 "until grep -q Sample " +
+                                                 log.string() +
+                                                 "; do sleep 0.2; done; "
+                                                 "kill -INT $pid; wait $pid"));
     const std::string said = test_cli::read_file(log);
     EXPECT_EQ(o.status, 130) << said.substr(said.size() > 2000 ? said.size() - 2000 : 0);
     EXPECT_NE(said.find("blender_scene: stopped by Ctrl-C"), std::string::npos);
@@ -349,12 +380,13 @@ TEST(ScriptFuzz, StudyDriversRefuseBadSpecCountAndOutBeforeMakingAnything) {
     };
     expect_refused("env AQUAFORM_BIN=" + q(stub) + " bash " + kScripts + "/study_parallel.sh", calls, dir);
     expect_refused("env AQUAFORM_BIN=" + q(stub) + " bash " + kScripts + "/slurm/study_array.sh", calls, dir);
-    expect_refused("env AQUAFORM_BIN=" + q(dir / "a_file") + " bash " + kScripts + "/study_parallel.sh", {{q(spec) + " 2 out", "AQUAFORM_BIN"}},
-                   dir);
+    expect_refused("env AQUAFORM_BIN=" + q(dir / "a_file") + " bash " + kScripts + "/study_parallel.sh",
+                   {{q(spec) + " 2 out", "AQUAFORM_BIN"}}, dir);
     EXPECT_FALSE(fs::exists(log)) << "no shard was started: " << test_cli::read_file(log);
 
     // The good case: two shards and the merge, through GNU parallel, into OUT.
-    const Outcome o = run_in(dir, "env AQUAFORM_BIN=" + q(stub) + " bash " + kScripts + "/study_parallel.sh " + q(spec) + " 2 out");
+    const Outcome o =
+        run_in(dir, "env AQUAFORM_BIN=" + q(stub) + " bash " + kScripts + "/study_parallel.sh " + q(spec) + " 2 out");
     ASSERT_EQ(o.status, 0) << o.err;
     const std::string calls_made = test_cli::read_file(log);
     for (const char* expected : {"--shard 0/2", "--shard 1/2", "study merge"})
@@ -368,27 +400,34 @@ TEST(ScriptFuzz, SetupPicturesChartsAndReportRefuseBadArgumentsBeforeAnyWork) {
     fs::create_directory(dir / "bad_csv");
     test_cli::write_file(dir / "bad_csv" / "study.csv", "case,scene\nc,s\n");
     // setup.sh installs and builds nothing when its arguments are wrong.
-    expect_refused("bash " + kScripts + "/setup.sh", {
-        {"--tool", "--tool"},
-        {"--tools --jobs 4", "--jobs"},
-        {"one two", "'two'"},
-        {"''", "BUILD_DIR"},
-        {"a_file", "a_file"},
-    }, dir);
-    expect_refused("bash " + kScripts + "/readme_pictures.sh", {
-        {"--build", "--build"},
-        {"a b", "a b"},
-        {q(dir), dir.string() + "/aquaform"},
-    }, dir);
-    expect_refused("/usr/bin/python3 " + kScripts + "/study_charts.py", {
-        {"", "usage"},
-        {"--out", "--out"},
-        {"a b", "usage"},
-        {"missing", "missing"},
-        {"no_csv", "study.csv"},
-        {"bad_csv", "\"method\""},
-    }, dir);
-    expect_refused("python3 " + kScripts + "/gpu_check_report.py", {{"", "usage"}, {"missing out.json", "WORK_DIR"}}, dir);
+    expect_refused("bash " + kScripts + "/setup.sh",
+                   {
+                       {"--tool", "--tool"},
+                       {"--tools --jobs 4", "--jobs"},
+                       {"one two", "'two'"},
+                       {"''", "BUILD_DIR"},
+                       {"a_file", "a_file"},
+                   },
+                   dir);
+    expect_refused("bash " + kScripts + "/readme_pictures.sh",
+                   {
+                       {"--build", "--build"},
+                       {"a b", "a b"},
+                       {q(dir), dir.string() + "/aquaform"},
+                   },
+                   dir);
+    expect_refused("/usr/bin/python3 " + kScripts + "/study_charts.py",
+                   {
+                       {"", "usage"},
+                       {"--out", "--out"},
+                       {"a b", "usage"},
+                       {"missing", "missing"},
+                       {"no_csv", "study.csv"},
+                       {"bad_csv", "\"method\""},
+                   },
+                   dir);
+    expect_refused("python3 " + kScripts + "/gpu_check_report.py", {{"", "usage"}, {"missing out.json", "WORK_DIR"}},
+                   dir);
 }
 
 }  // namespace

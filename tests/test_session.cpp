@@ -119,12 +119,13 @@ TEST_F(SessionTest, WithoutControlTheCubeFallsOutOfTheSphere) {
     const Scene& scene = sim.scene();
     const control::VoxelLattice lattice{scene.domain.min, scene.particle_spacing};
     const auto shape = control::voxel_keys(
-        lattice, control::place_inside(section.meshes[0].animation.placed_rest().triangle_soup(), scene.particle_spacing,
-                                       false, 1, lattice.centre(glm::ivec3(0)))
+        lattice, control::place_inside(section.meshes[0].animation.placed_rest().triangle_soup(),
+                                       scene.particle_spacing, false, 1, lattice.centre(glm::ivec3(0)))
                      .points);
     const ParticleSnapshot snap = sim.solver().snapshot();
     const PbfConstants k = pbf_constants(scene);
-    const double iou = control::shape_metrics({&snap.x, &snap.v, ~0u, k.h, k.mass, scene.rest_density}, lattice, shape).iou;
+    const double iou =
+        control::shape_metrics({&snap.x, &snap.v, ~0u, k.h, k.mass, scene.rest_density}, lattice, shape).iou;
     std::printf("without control: IoU %.3f after 0.75 s\n", iou);
     EXPECT_LT(iou, 0.1);
     EXPECT_FALSE(sim.run_frame(nullptr).shape) << "no shape columns without control";
@@ -149,9 +150,11 @@ TEST_F(SessionTest, AFrameKeptInFlightWithItsRenderMatchesTheFrameRunThenRendere
     const gpu::Buffer& color = host.add("test.color", VkDeviceSize(w) * h * 4, gpu::MemoryUse::host);
     for (int frame = 0; frame < 3; ++frame) {
         const FrameReport a = apart->run_frame(nullptr);
-        const Image image = apart_renderer->render({apart->solver().positions(), apart->solver().particle_count()}, camera).color;
+        const Image image =
+            apart_renderer->render({apart->solver().positions(), apart->solver().particle_count()}, camera).color;
         const gpu::Submission in_flight = together->submit_frame(nullptr, [&](VkCommandBuffer cmd) {
-            together_renderer->record(cmd, {together->solver().positions(), together->solver().particle_count()}, camera, nullptr);
+            together_renderer->record(cmd, {together->solver().positions(), together->solver().particle_count()},
+                                      camera, nullptr);
             gpu::record_download(ctx(), cmd, together_renderer->color_buffer(), color, color.size);
         });
         const FrameReport b = together->finish_frame(in_flight, nullptr);
@@ -164,7 +167,8 @@ TEST_F(SessionTest, AFrameKeptInFlightWithItsRenderMatchesTheFrameRunThenRendere
         size_t differing = 0;
         const auto* bytes = static_cast<const uint8_t*>(color.mapped);
         for (size_t i = 0; i < image.rgba.size(); ++i) differing += std::abs(int(image.rgba[i]) - int(bytes[i])) > 2;
-        EXPECT_LE(differing, image.rgba.size() / 1000) << "frame " << frame << ": the image in the frame's submission differs";
+        EXPECT_LE(differing, image.rgba.size() / 1000)
+            << "frame " << frame << ": the image in the frame's submission differs";
     }
 }
 
@@ -215,7 +219,8 @@ TEST_F(SessionTest, NewSolverSettingsKeepTheParticles) {
     EXPECT_EQ(sim.solver().scene().solver.iterations, 7u) << "the solver runs the new settings";
     const ParticleSnapshot after = sim.solver().snapshot();
     EXPECT_EQ(largest_difference(by_id(before.x), by_id(after.x)), 0.0f);
-    EXPECT_EQ(largest_difference(velocities_by_id(before), velocities_by_id(after)), 0.0f) << "velocities (and tags) are kept";
+    EXPECT_EQ(largest_difference(velocities_by_id(before), velocities_by_id(after)), 0.0f)
+        << "velocities (and tags) are kept";
 }
 
 TEST_F(SessionTest, ShapesAttachUniteMorphAndRelease) {
@@ -306,7 +311,8 @@ TEST_F(SessionTest, AMeshDroppedAsAnObstacleTakesOutTheFluidInsideItAndKeepsTheR
 TEST(SectionBuilderTest, MatchesTheJsonLoader) {
     Scene scene = cube_in_air();
     scene.path = fs::path(AQUAFORM_ASSETS_DIR) / "scenes/built.json";
-    scene.control_json = R"({"spacing": 0.03, "pressure": 900, "support_radius": 0.07, "fixed_substeps": true, "damping": 2,
+    scene.control_json =
+        R"({"spacing": 0.03, "pressure": 900, "support_radius": 0.07, "fixed_substeps": true, "damping": 2,
         "meshes": {"ball": {"file": "../meshes/sphere.obj", "method": "raster",
                             "placement": {"fit_into": {"min": [0.1, 0.1, 0.1], "max": [0.3, 0.3, 0.3]}}},
                    "ring": {"file": "../meshes/torus.obj", "placement": {"position": [0.2, 0.1, 0.2], "scale": 0.4,
@@ -376,19 +382,23 @@ TEST(SectionBuilderTest, MatchesTheJsonLoader) {
 TEST(SectionBuilderTest, BadInputNamesTheProblem) {
     const Scene scene = cube_in_air();
     auto error_of = [](const Result<control::ControlSection>& r) { return r.ok() ? std::string() : r.error(); };
-    const std::string missing = error_of(control::SectionBuilder(scene).mesh("m", "/nonexistent/nope.obj").attach("m").build());
+    const std::string missing =
+        error_of(control::SectionBuilder(scene).mesh("m", "/nonexistent/nope.obj").attach("m").build());
     EXPECT_NE(missing.find("control.meshes.m.file"), std::string::npos) << missing;
     EXPECT_NE(missing.find("nope.obj"), std::string::npos) << missing;
     const std::string ghost = error_of(control::SectionBuilder(scene).mesh("ball", kSphere).attach("ghost").build());
     EXPECT_NE(ghost.find("control.timeline[0].mesh"), std::string::npos) << ghost;
     EXPECT_NE(ghost.find("\"ghost\""), std::string::npos) << ghost;
     EXPECT_NE(ghost.find("\"ball\""), std::string::npos) << "names the meshes there are: " << ghost;
-    const std::string order = error_of(control::SectionBuilder(scene).mesh("b", kSphere).attach("b", 2.0).release(1.0).build());
+    const std::string order =
+        error_of(control::SectionBuilder(scene).mesh("b", kSphere).attach("b", 2.0).release(1.0).build());
     EXPECT_NE(order.find("control.timeline[1].t"), std::string::npos) << order;
     EXPECT_NE(order.find("time order"), std::string::npos) << order;
-    const std::string spacing = error_of(control::SectionBuilder(scene).spacing(1.0f).mesh("b", kSphere).attach("b").build());
+    const std::string spacing =
+        error_of(control::SectionBuilder(scene).spacing(1.0f).mesh("b", kSphere).attach("b").build());
     EXPECT_NE(spacing.find("control.spacing"), std::string::npos) << spacing;
-    const std::string twice = error_of(control::SectionBuilder(scene).mesh("b", kSphere).mesh("b", kTorus).attach("b").build());
+    const std::string twice =
+        error_of(control::SectionBuilder(scene).mesh("b", kSphere).mesh("b", kTorus).attach("b").build());
     EXPECT_NE(twice.find("two meshes named \"b\""), std::string::npos) << twice;
     EXPECT_NE(error_of(control::SectionBuilder(scene).build()).find("control.meshes"), std::string::npos);
 }
@@ -396,7 +406,8 @@ TEST(SectionBuilderTest, BadInputNamesTheProblem) {
 TEST(SessionPlanTest, ABadControlSectionIsRefusedBeforeAnyDevice) {
     Scene scene = cube_in_air();
     scene.path = fs::path(AQUAFORM_ASSETS_DIR) / "scenes/bad.json";
-    scene.control_json = R"({"meshes": {"m": {"file": "../meshes/sphere.obj", "placement": {"position": [0.2, 0.2, 0.2], "scale": 0.3}}},
+    scene.control_json =
+        R"({"meshes": {"m": {"file": "../meshes/sphere.obj", "placement": {"position": [0.2, 0.2, 0.2], "scale": 0.3}}},
                              "timeline": [{"t": 0, "do": "attach", "mesh": "x"}]})";
     auto plan = plan_session(scene);
     ASSERT_FALSE(plan.ok());

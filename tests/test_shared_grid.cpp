@@ -9,12 +9,12 @@
 #include <string>
 #include <vector>
 
+#include "gpu/staging.h"
 #include "render/surface_metrics.h"
 #include "render/surface_renderer.h"
 #include "shaders/shared/grid/grid_layout.h"
 #include "sim/pbf_solver.h"
 #include "tests/gpu_test.h"
-#include "gpu/staging.h"
 
 namespace aquaform {
 namespace {
@@ -62,7 +62,8 @@ TEST_F(SharedGridTest, TheFrameGridHoldsEveryParticleInItsCellAndTheStepGridDoes
         << "after a frame's steps some particles have left the cells of the grid they were sorted by";
     // A stage that measures at the frame's end (the droplet count) sorts by the final positions too.
     auto measured = dam_break(false, 12, true);
-    EXPECT_EQ(particles_outside_their_cell(*measured), 0u) << "the droplets are counted on lists of the final positions";
+    EXPECT_EQ(particles_outside_their_cell(*measured), 0u)
+        << "the droplets are counted on lists of the final positions";
 }
 
 TEST_F(SharedGridTest, TheRendererReadsTheFrameGridInPlaceAndDrawsTheSameSurface) {

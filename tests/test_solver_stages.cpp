@@ -84,7 +84,8 @@ TEST_F(SolverStages, AStageRunsAtItsPlaceInEveryStepOnceAFrameAndCollectsItsFigu
         EXPECT_EQ(stage.collects, 1);
         EXPECT_EQ(stats.droplets.value_or(0), 12345u) << "its figures reach the frame's";
         const auto report = solver.memory_report();
-        EXPECT_TRUE(std::any_of(report.begin(), report.end(), [](const gpu::BufferReport& b) { return b.name == "counting.buffer"; }));
+        EXPECT_TRUE(std::any_of(report.begin(), report.end(),
+                                [](const gpu::BufferReport& b) { return b.name == "counting.buffer"; }));
 
         solver.detach(&stage);
         EXPECT_FALSE(lists(solver, "counting"));

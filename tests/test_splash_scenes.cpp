@@ -104,7 +104,8 @@ TEST(SceneShapes, BadSphereVelocityAndCameraKeysAreRefusedByName) {
 }
 
 TEST(SceneShapes, ParticleCountRederivesTheSpacingWithinAFewPerCent) {
-    for (const char* name : {"double_dam_break.json", "violent_dam_break.json", "crown_splash.json", "dam_break.json"}) {
+    for (const char* name :
+         {"double_dam_break.json", "violent_dam_break.json", "crown_splash.json", "dam_break.json"}) {
         const Scene scene = load(name);
         for (uint64_t n : {5000ull, 10000ull, 100000ull, 1000000ull}) {
             auto scaled = with_particle_count(scene, n);
@@ -176,8 +177,9 @@ TEST_F(SplashScenes, EachNewSceneRunsAFewFramesAtCiSize) {
 TEST(SplashScenesCli, ParticlesFlagIsRefusedOutOfRangeNamingTheFlag) {
     for (const char* command : {"run", "render", "view"}) {
         for (const char* bad : {"10", "abc", "999999999999"}) {
-            const auto o = run_aquaform(std::string(command) + " " + scene_file("crown_splash.json") + " --particles " + bad,
-                                        "DISPLAY= WAYLAND_DISPLAY=");
+            const auto o =
+                run_aquaform(std::string(command) + " " + scene_file("crown_splash.json") + " --particles " + bad,
+                             "DISPLAY= WAYLAND_DISPLAY=");
             EXPECT_EQ(o.exit_code, 2) << command << " " << bad << ": " << o.output;
             EXPECT_NE(o.output.find("--particles"), std::string::npos) << o.output;
         }
@@ -192,14 +194,15 @@ TEST(SplashScenesCli, ParticlesFlagIsRefusedOutOfRangeNamingTheFlag) {
 
 TEST(SplashScenesCli, RunWithParticlesSizesTheSceneAndWritesTheSplashColumns) {
     const auto dir = test_cli::temp_dir("splash_run");
-    const auto o = run_aquaform("run " + scene_file("violent_dam_break.json") + " --particles 3000 --frames 2 --no-png --out " +
-                                dir.string());
+    const auto o = run_aquaform("run " + scene_file("violent_dam_break.json") +
+                                " --particles 3000 --frames 2 --no-png --out " + dir.string());
     ASSERT_EQ(o.exit_code, 0) << o.output;
     std::ifstream csv(dir / "stats.csv");
     std::string header, row;
     std::getline(csv, header);
     std::getline(csv, row);
-    for (const char* column : {"splash_fraction", "droplets", "runup_m"}) EXPECT_NE(header.find(column), std::string::npos);
+    for (const char* column : {"splash_fraction", "droplets", "runup_m"})
+        EXPECT_NE(header.find(column), std::string::npos);
     // The particles column: within 15 % of 3000.
     const size_t a = row.find(','), b = row.find(',', a + 1), c = row.find(',', b + 1);
     const double particles = std::stod(row.substr(b + 1, c - b - 1));

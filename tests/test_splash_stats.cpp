@@ -155,10 +155,10 @@ TEST_F(SplashStats, TheGpusDropletCountIsTheHostsOnADamBreaksSpray) {
 TEST(Droplets, GroupsAreConnectedThroughChainsAndCountedBelowTheLimit) {
     const float link = 1.0f;
     std::vector<glm::vec4> x;
-    for (int i = 0; i < 5; ++i) x.push_back({0.9f * i, 0.0f, 0.0f, 0.0f});   // a chain, 3.6 long: one group of 5
+    for (int i = 0; i < 5; ++i) x.push_back({0.9f * i, 0.0f, 0.0f, 0.0f});          // a chain, 3.6 long: one group of 5
     for (int i = 0; i < 4; ++i) x.push_back({20.0f + 1.1f * i, 0.0f, 0.0f, 0.0f});  // 4 apart: 4 lone ones
-    x.push_back({0.0f, NAN, 0.0f, 0.0f});                                   // belongs to no group
-    x.push_back({1.0e4f, 1.0e4f, 1.0e4f, 0.0f});                            // far away: the grid widens its cells
+    x.push_back({0.0f, NAN, 0.0f, 0.0f});                                           // belongs to no group
+    x.push_back({1.0e4f, 1.0e4f, 1.0e4f, 0.0f});  // far away: the grid widens its cells
     EXPECT_EQ(count_droplets(x, link, 5), 5u) << "the chain of 5 is not below the limit of 5";
     EXPECT_EQ(count_droplets(x, link, 6), 6u);
     EXPECT_EQ(count_droplets(x, 0.8f, 2), 10u) << "links shorter than the chain's steps: every particle alone";

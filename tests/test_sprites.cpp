@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "bench/render_measure.h"
 #include "render/surface_renderer.h"
 #include "sim/pbf_solver.h"
-#include "bench/render_measure.h"
 #include "tests/dam_break_frame.h"
 #include "tests/gpu_test.h"
 
@@ -33,8 +33,8 @@ struct SpriteMaps {
     SpriteCounts counts;
 };
 
-SpriteMaps sprite_maps(SurfaceRenderer& renderer, const gpu::Buffer& positions, uint32_t count, const ViewCamera& camera,
-                       const SurfaceSettings& settings, bool balanced) {
+SpriteMaps sprite_maps(SurfaceRenderer& renderer, const gpu::Buffer& positions, uint32_t count,
+                       const ViewCamera& camera, const SurfaceSettings& settings, bool balanced) {
     renderer.set_balanced_sprites(balanced);
     renderer.render({positions, count}, camera, settings);
     return {bits_of(renderer.depth_all()), bits_of(renderer.depth_agg()), bits_of(renderer.thickness()),
@@ -54,7 +54,8 @@ TEST_F(DamBreakSprites, TheBalancedWalkDrawsTheSameMapsBitForBit) {
         SurfaceSettings settings;  // adaptive: D_all, D_agg, thickness and the exact skip's D_splash_back
         settings.anisotropic = anisotropic;
         const auto one = sprite_maps(*renderer, solver->positions(), solver->particle_count(), camera, settings, false);
-        const auto shared = sprite_maps(*renderer, solver->positions(), solver->particle_count(), camera, settings, true);
+        const auto shared =
+            sprite_maps(*renderer, solver->positions(), solver->particle_count(), camera, settings, true);
         const char* name = anisotropic ? "anisotropic" : "isotropic";
         EXPECT_EQ(differing(one.depth_all, shared.depth_all), 0u) << name;
         EXPECT_EQ(differing(one.depth_agg, shared.depth_agg), 0u) << name;
@@ -67,7 +68,8 @@ TEST_F(DamBreakSprites, TheBalancedWalkDrawsTheSameMapsBitForBit) {
         EXPECT_EQ(one.counts.covered, shared.counts.covered) << name;
         // A depth atomic only where the sprite is nearer than the map: the front layers'.
         // Without the early test every covered pixel issues one into D_all (and D_agg).
-        EXPECT_LT(shared.counts.depth_atomics * 2, shared.counts.covered) << name << ": occluded pixels still issue atomics";
+        EXPECT_LT(shared.counts.depth_atomics * 2, shared.counts.covered)
+            << name << ": occluded pixels still issue atomics";
         size_t covered = 0;
         for (uint32_t t : shared.thickness) covered += t != 0u;
         EXPECT_GT(covered, 1000u) << name;
@@ -82,7 +84,8 @@ TEST_F(SpriteTest, ASpriteCloseToTheCameraIsSharedOutOverItsWorkgroup) {
     std::vector<glm::vec4> positions;
     for (int z = 0; z < 8; ++z)
         for (int y = 0; y < 16; ++y)
-            for (int x = 0; x < 16; ++x) positions.push_back({0.3f + x * spacing, 0.3f + y * spacing, 0.3f + z * spacing, 0.0f});
+            for (int x = 0; x < 16; ++x)
+                positions.push_back({0.3f + x * spacing, 0.3f + y * spacing, 0.3f + z * spacing, 0.0f});
     ViewCamera camera;
     camera.target = {0.45f, 0.45f, 0.4f};
     camera.eye = {0.45f, 0.45f, 0.95f};
@@ -116,8 +119,10 @@ TEST(SurfaceBytesModel, CountsTheClearedMapsEachSpriteEachCoveredPixelAndEachAto
     m.stats.sprite_depth_atomics = 5;
     m.stats.sprite_thickness_atomics = 7;
     // 5 maps of 100 pixels, 2 sprites of 20 B, 30 depth reads, 12 atomics of 8 B.
-    EXPECT_DOUBLE_EQ(study::surface_bytes_model(m, false).at("render_splat").get<double>(), 2000.0 + 40.0 + 120.0 + 96.0);
-    EXPECT_DOUBLE_EQ(study::surface_bytes_model(m, true).at("render_splat").get<double>(), 2256.0 + 2 * 48.0) << "G per sprite";
+    EXPECT_DOUBLE_EQ(study::surface_bytes_model(m, false).at("render_splat").get<double>(),
+                     2000.0 + 40.0 + 120.0 + 96.0);
+    EXPECT_DOUBLE_EQ(study::surface_bytes_model(m, true).at("render_splat").get<double>(), 2256.0 + 2 * 48.0)
+        << "G per sprite";
     m.stats.rays = 3;
     m.stats.march_steps = 4;
     m.stats.bisection_evaluations = 1;

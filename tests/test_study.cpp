@@ -19,14 +19,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "core/output_dir.h"
 #include "bench/bench_scenes.h"
+#include "core/output_dir.h"
+#include "render/metaball_renderer.h"
+#include "render/surface_settings.h"
 #include "study/study_charts.h"
 #include "study/study_rows.h"
 #include "study/study_run.h"
 #include "study/study_spec.h"
-#include "render/metaball_renderer.h"
-#include "render/surface_settings.h"
 #include "tests/cli_helpers.h"
 
 namespace aquaform::cli {
@@ -34,7 +34,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-Result<study::StudySpec> parse(const std::string& text) { return study::parse_study_spec(text, "spec.json", AQUAFORM_ASSETS_DIR "/studies"); }
+Result<study::StudySpec> parse(const std::string& text) {
+    return study::parse_study_spec(text, "spec.json", AQUAFORM_ASSETS_DIR "/studies");
+}
 
 TEST(StudySpecTest, ArrayParametersExpandIntoConfigurations) {
     auto spec = parse(R"({"cases": [{"name": "a", "resolutions": ["64x32", "32x32"], "particles": [1000, 2000],
@@ -73,7 +75,8 @@ TEST(StudySpecTest, ShippedSpecsLoadWithTheirScenes) {
     // The default study measures on splashy frames and the curtain, with Wu et al. Fig. 5's stepping.
     const auto spec = study::load_study_spec(fs::path(AQUAFORM_ASSETS_DIR) / "studies" / "default.json").value();
     for (const char* name : {"calm", "curtain", "double_collision", "violent_wall", "crown"}) {
-        auto c = std::find_if(spec.cases.begin(), spec.cases.end(), [&](const study::StudyCase& x) { return x.name == name; });
+        auto c = std::find_if(spec.cases.begin(), spec.cases.end(),
+                              [&](const study::StudyCase& x) { return x.name == name; });
         ASSERT_NE(c, spec.cases.end()) << name;
         bool mask_skip = false;
         for (const auto& m : c->methods) mask_skip |= m.label() == "adaptive mask+skip";
@@ -113,27 +116,33 @@ TEST(StudySpecTest, ErrorsNameTheKeyAndTheFix) {
                  {"resolution", "resolutions"});
     expect_error(R"({"cases": [{"name": "a", "resolutions": ["64 by 64"], "methods": [{"method": "brute"}]}]})",
                  {"cases[0].resolutions", "512x512"});
-    expect_error(R"({"cases": [{"name": "a", "resolutions": ["64x64"], "methods": [{"method": "adaptive", "size": 2}]}]})",
-                 {"size", "metaball"});
-    expect_error(R"({"cases": [{"name": "a", "resolutions": ["64x64"], "methods": [{"method": "brute", "recursion": 9}]}]})",
-                 {"recursion"});
-    expect_error(R"({"cases": [{"name": "a", "scene": "nowhere.json", "resolutions": ["64x64"], "methods": [{"method": "brute"}]}]})",
-                 {"nowhere.json", "relative to the spec"});
+    expect_error(
+        R"({"cases": [{"name": "a", "resolutions": ["64x64"], "methods": [{"method": "adaptive", "size": 2}]}]})",
+        {"size", "metaball"});
+    expect_error(
+        R"({"cases": [{"name": "a", "resolutions": ["64x64"], "methods": [{"method": "brute", "recursion": 9}]}]})",
+        {"recursion"});
+    expect_error(
+        R"({"cases": [{"name": "a", "scene": "nowhere.json", "resolutions": ["64x64"], "methods": [{"method": "brute"}]}]})",
+        {"nowhere.json", "relative to the spec"});
     expect_error(R"({"cases": []})", {"cases"});
     expect_error(R"({"cases": [{"name": "a", "resolutions": ["64x64"], "methods": [{"method": "brute"}]},
                                {"name": "a", "resolutions": ["64x64"], "methods": [{"method": "brute"}]}]})",
                  {"used twice"});
     expect_error("{\"cases\": [", {"spec.json"});
-    expect_error(R"({"cases": [{"name": "a", "resolutions": ["64x64"], "methods": [{"method": "uniform", "stepping": "mask"}]}]})",
-                 {"stepping", "adaptive method only"});
-    expect_error(R"({"cases": [{"name": "a", "resolutions": ["64x64"], "methods": [{"method": "adaptive", "stepping": "skip"}]}]})",
-                 {"stepping", "mask_skip"});
+    expect_error(
+        R"({"cases": [{"name": "a", "resolutions": ["64x64"], "methods": [{"method": "uniform", "stepping": "mask"}]}]})",
+        {"stepping", "adaptive method only"});
+    expect_error(
+        R"({"cases": [{"name": "a", "resolutions": ["64x64"], "methods": [{"method": "adaptive", "stepping": "skip"}]}]})",
+        {"stepping", "mask_skip"});
     expect_error(R"({"cases": [{"name": "a", "resolutions": ["64x64"],
                                 "methods": [{"method": "adaptive", "stepping": "mask", "resolution": "half"}]}]})",
                  {"stepping", "full resolution"});
 }
 
-study::StudyRow row(const std::string& case_name, const std::string& method, uint32_t particles, double ms, double depth) {
+study::StudyRow row(const std::string& case_name, const std::string& method, uint32_t particles, double ms,
+                    double depth) {
     study::StudyRow r;
     r.case_name = case_name;
     r.method = method;
@@ -148,8 +157,7 @@ TEST(StudyTargetsTest, ComparisonsStayWithinACaseAndTheCrossoverIsInterpolated) 
     const std::string s = "sbuffer gradient x1 b3", s2 = "sbuffer gradient x2 b3", b = "brute gradient x1 b3";
     std::vector<study::StudyRow> rows{
         // A case with brute force only, and one with both: the ratio comes from the second.
-        row("other", b, 4096, 1000.0, 0.1),
-        row("k", b, 4096, 900.0, 0.1), row("k", s, 4096, 100.0, 0.1),
+        row("other", b, 4096, 1000.0, 0.1), row("k", b, 4096, 900.0, 0.1), row("k", s, 4096, 100.0, 0.1),
         // A case of one count far from 100k: the comparison takes the case that comes nearer.
         row("small", "adaptive", 2000, 100.0, 0.01), row("small", s2, 2000, 900.0, 0.05),
         // The S-buffer x2 is 2x faster at 10k, the adaptive method 2x faster at 1M: equal at 100k.
@@ -202,7 +210,8 @@ TEST(StudyCameraTest, TheCloseUpBringsParticlesWithinAMetaballRangeOfTheEyePlane
         const glm::vec3 rel = glm::vec3(p) - camera.eye;
         const float depth = glm::dot(rel, forward);
         nearest = std::min(nearest, glm::length(rel));
-        if (depth > 0.0f && depth < range && glm::length(rel - depth * forward) < depth * tan_half + range) ++near_plane;
+        if (depth > 0.0f && depth < range && glm::length(rel - depth * forward) < depth * tan_half + range)
+            ++near_plane;
     }
     EXPECT_GT(near_plane, 0u) << "no particle within R = " << range << " m of the eye plane";
     EXPECT_GE(nearest, 0.45f * scene.particle_spacing) << "the eye is inside the fluid";
@@ -227,9 +236,12 @@ std::vector<std::vector<std::string>> read_csv(const fs::path& path) {
         std::string field;
         bool quoted = false;
         for (char c : line) {
-            if (c == '"') quoted = !quoted;
-            else if (c == ',' && !quoted) fields.push_back(std::move(field)), field.clear();
-            else field += c;
+            if (c == '"')
+                quoted = !quoted;
+            else if (c == ',' && !quoted)
+                fields.push_back(std::move(field)), field.clear();
+            else
+                field += c;
         }
         fields.push_back(field);
         rows.push_back(fields);
@@ -256,7 +268,8 @@ TEST(StudySpecTest, NamesThatBecomePathsStayInsideTheOutputFolder) {
     const fs::path dir = test_cli::temp_dir("study_name");
     const fs::path spec = test_cli::write_file(dir / "escape.json", R"({"name": "../../escaped", "cases": [{"name": "a",
         "resolutions": ["64x64"], "methods": [{"method": "brute"}]}]})");
-    auto run = test_cli::run_aquaform("study " + spec.string(), "cd " + dir.string() + " &&");  // out/study/../../escaped
+    auto run =
+        test_cli::run_aquaform("study " + spec.string(), "cd " + dir.string() + " &&");  // out/study/../../escaped
     EXPECT_EQ(run.exit_code, 2) << run.output;
     EXPECT_NE(run.output.find("name is \"../../escaped\""), std::string::npos) << run.output;
     EXPECT_FALSE(fs::exists(dir / "escaped"));
@@ -272,8 +285,11 @@ std::string small_spec(const std::string& extra = "") {
             "methods": [{"method": "reference"}, {"method": "uniform"}, {"method": "sbuffer"}, {"method": "bilateral"},
                         {"method": "narrow_range"}]},
            {"name": "b", "scene": "dam_break", "particles": [1000], "time": 0.05, "resolutions": ["64x64"],
-            "methods": [{"method": "adaptive"}]})" + extra + R"(],
- "solver_map": {"scene": ")" AQUAFORM_ASSETS_DIR R"(/scenes/hydrostatic.json", "dt": [0.004], "iterations": [2], "time": 0.05}})";
+            "methods": [{"method": "adaptive"}]})" +
+           extra +
+           R"(],
+ "solver_map": {"scene": ")" AQUAFORM_ASSETS_DIR
+           R"(/scenes/hydrostatic.json", "dt": [0.004], "iterations": [2], "time": 0.05}})";
 }
 
 TEST(StudyCliTest, TheWholeSpecIsCheckedBeforeAnyMeasurement) {
@@ -282,7 +298,8 @@ TEST(StudyCliTest, TheWholeSpecIsCheckedBeforeAnyMeasurement) {
         const fs::path spec = test_cli::write_file(dir / "spec.json", text);
         auto run = test_cli::run_aquaform("study " + spec.string() + " --out " + (dir / "out").string());
         EXPECT_EQ(run.exit_code, 2) << run.output;
-        for (const auto& part : parts) EXPECT_NE(run.output.find(part), std::string::npos) << part << ": " << run.output;
+        for (const auto& part : parts)
+            EXPECT_NE(run.output.find(part), std::string::npos) << part << ": " << run.output;
         EXPECT_EQ(run.output.find("study small on"), std::string::npos) << "measured before the check: " << run.output;
         EXPECT_FALSE(fs::exists(dir / "out" / "study.csv"));
     };
@@ -292,8 +309,10 @@ TEST(StudyCliTest, TheWholeSpecIsCheckedBeforeAnyMeasurement) {
     refused(spec, {"solver_map", "no \"control\" section"});
     // A case's scene file that does not load, after a good case.
     test_cli::write_file(dir / "broken.json", "{\"domain\": ");
-    refused(small_spec(R"(, {"name": "c", "scene": "broken.json", "resolutions": ["64x64"], "methods": [{"method": "brute"}]})"),
-            {"cases[2] (c)", "broken.json"});
+    refused(
+        small_spec(
+            R"(, {"name": "c", "scene": "broken.json", "resolutions": ["64x64"], "methods": [{"method": "brute"}]})"),
+        {"cases[2] (c)", "broken.json"});
     fs::remove_all(dir);
 }
 
@@ -323,7 +342,8 @@ TEST(StudyCliTest, AnUnwritableOutputFolderIsReportedPrecisely) {
                                    fs::perms::group_exec | fs::perms::others_read | fs::perms::others_exec);
     std::string as_user;
     if (geteuid() == 0) {
-        ASSERT_TRUE(fs::exists("/usr/bin/setpriv")) << "util-linux's setpriv runs the check as nobody; install util-linux";
+        ASSERT_TRUE(fs::exists("/usr/bin/setpriv"))
+            << "util-linux's setpriv runs the check as nobody; install util-linux";
         as_user = "exec /usr/bin/setpriv --reuid=65534 --regid=65534 --clear-groups";
     }
     expect(read_only, read_only.string() + " is not writable", as_user);
@@ -342,15 +362,18 @@ TEST(StudyChartsLookupTest, TheScriptIsFoundFromABuildFolderAnywhereAndTheEnviro
     // An executable far from the sources: the source tree's scripts/, from the configure step.
     auto found = study::find_study_charts_script("/nonexistent/build/aquaform");
     ASSERT_TRUE(found.ok()) << found.error();
-    EXPECT_TRUE(fs::equivalent(found.value(), fs::path(AQUAFORM_SOURCE_DIR) / "scripts" / "study_charts.py")) << found.value();
+    EXPECT_TRUE(fs::equivalent(found.value(), fs::path(AQUAFORM_SOURCE_DIR) / "scripts" / "study_charts.py"))
+        << found.value();
     const fs::path dir = test_cli::temp_dir("study_scripts");
     test_cli::write_file(dir / "study_charts.py", "# a user's own\n");
     setenv("AQUAFORM_SCRIPTS_DIR", dir.c_str(), 1);
     found = study::find_study_charts_script();
     ASSERT_TRUE(found.ok()) << found.error();
     EXPECT_TRUE(fs::equivalent(found.value(), dir / "study_charts.py"));
-    if (saved) setenv("AQUAFORM_SCRIPTS_DIR", restore.c_str(), 1);
-    else unsetenv("AQUAFORM_SCRIPTS_DIR");
+    if (saved)
+        setenv("AQUAFORM_SCRIPTS_DIR", restore.c_str(), 1);
+    else
+        unsetenv("AQUAFORM_SCRIPTS_DIR");
     fs::remove_all(dir);
 }
 
@@ -448,8 +471,8 @@ TEST(StudyFilesTest, AResumedStudyReportsExactlyAsOneUninterruptedRun) {
 TEST(StudyCliTest, CtrlCKeepsTheRowsAndTheReportAndARerunResumes) {
     const fs::path dir = test_cli::temp_dir("study_resume");
     const fs::path spec = test_cli::write_file(dir / "spec.json", small_spec()), out = dir / "out";
-    const int stopped = test_cli::interrupt_aquaform({"study", spec.string(), "--out", out.string(), "--no-charts"}, dir / "log",
-                                           ": reference: ");
+    const int stopped = test_cli::interrupt_aquaform({"study", spec.string(), "--out", out.string(), "--no-charts"},
+                                                     dir / "log", ": reference: ");
     const std::string log = test_cli::read_file(dir / "log");
     ASSERT_EQ(stopped, 130) << log;
     EXPECT_NE(log.find("interrupted"), std::string::npos) << log;
@@ -458,12 +481,14 @@ TEST(StudyCliTest, CtrlCKeepsTheRowsAndTheReportAndARerunResumes) {
     const size_t done = kept.size() - 1;
     ASSERT_GE(done, 1u) << "the reference row was measured before Ctrl-C";
     ASSERT_LT(done, 5u) << "stopped after the current row, not at the end of the frame: " << log;
-    EXPECT_NE(test_cli::read_file(out / "study.md").find("| reference |"), std::string::npos) << "the report of the rows kept";
+    EXPECT_NE(test_cli::read_file(out / "study.md").find("| reference |"), std::string::npos)
+        << "the report of the rows kept";
 
     auto resumed = test_cli::run_aquaform("study " + spec.string() + " --out " + out.string() + " --no-charts",
                                           "AQUAFORM_VALIDATION=1");
     ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
-    EXPECT_NE(resumed.output.find("resuming: " + std::to_string(done) + " of 6 cells done"), std::string::npos) << resumed.output;
+    EXPECT_NE(resumed.output.find("resuming: " + std::to_string(done) + " of 6 cells done"), std::string::npos)
+        << resumed.output;
     size_t measured = 0;
     for (size_t at = 0; (at = resumed.output.find("study: a, ", at)) != std::string::npos; ++at) ++measured;
     for (size_t at = 0; (at = resumed.output.find("study: b, ", at)) != std::string::npos; ++at) ++measured;
@@ -484,7 +509,8 @@ TEST(StudyCliTest, CtrlCKeepsTheRowsAndTheReportAndARerunResumes) {
     }
     EXPECT_EQ(read_csv(out / "solver_map.csv").size(), 2u) << "a header and the map's cell";
     const std::string md = test_cli::read_file(out / "study.md");
-    for (const char* row : {"| reference |", "| uniform |", "| sbuffer gradient x1 b3 |", "| narrow_range |", "| adaptive |"})
+    for (const char* row :
+         {"| reference |", "| uniform |", "| sbuffer gradient x1 b3 |", "| narrow_range |", "| adaptive |"})
         EXPECT_NE(md.find(row), std::string::npos) << row;
 
     // Another spec into the same folder is refused, naming the folder and both ways out; --fresh
@@ -495,7 +521,7 @@ TEST(StudyCliTest, CtrlCKeepsTheRowsAndTheReportAndARerunResumes) {
     auto refused = test_cli::run_aquaform(again);
     EXPECT_EQ(refused.exit_code, 2) << refused.output;
     for (const std::string& part : {(out / "study.csv").string(), std::string("another spec"), std::string("--fresh"),
-                                   std::string("another --out")})
+                                    std::string("another --out")})
         EXPECT_NE(refused.output.find(part), std::string::npos) << part << ": " << refused.output;
     EXPECT_EQ(read_csv(out / "study.csv").size(), 7u) << "the rows stay as they were";
     auto fresh = test_cli::run_aquaform(again + " --fresh", "AQUAFORM_VALIDATION=1");
@@ -552,7 +578,8 @@ TEST(StudyCliTest, TinySpecRunsEndToEndWithCsvTablesAndCharts) {
         if (family == "reference" || family == "adaptive" || family == "uniform") {
             ++sph_rows;
             ASSERT_FALSE(r[steps].empty()) << r[method];
-            EXPECT_NEAR(std::stod(r[steps]) + std::stod(r[bisect]), std::stod(r[evals]), 1e-3 * std::stod(r[evals])) << r[method];
+            EXPECT_NEAR(std::stod(r[steps]) + std::stod(r[bisect]), std::stod(r[evals]), 1e-3 * std::stod(r[evals]))
+                << r[method];
             if (r[case_name] == "curtain") curtain_steps[r[method]] = std::stod(r[steps]);
         } else {
             EXPECT_TRUE(r[steps].empty()) << r[method];
@@ -567,7 +594,8 @@ TEST(StudyCliTest, TinySpecRunsEndToEndWithCsvTablesAndCharts) {
         }
     }
     EXPECT_TRUE(overflow_seen);
-    for (const char* m : {"reference", "adaptive", "uniform", "brute", "abuffer", "sbuffer", "bilateral", "curvature_flow", "narrow_range"})
+    for (const char* m : {"reference", "adaptive", "uniform", "brute", "abuffer", "sbuffer", "bilateral",
+                          "curvature_flow", "narrow_range"})
         EXPECT_NE(std::find(methods_seen.begin(), methods_seen.end(), m), methods_seen.end()) << m;
     EXPECT_GT(read_csv(out / "study_passes.csv").size(), 10u);
     size_t images = 0;

@@ -7,8 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <random>
 #include <set>
@@ -60,8 +60,10 @@ std::vector<std::string> table_rows(const fs::path& md) {
     std::istringstream in(test_cli::read_file(md));
     bool in_table = false;
     for (std::string line; std::getline(in, line);) {
-        if (line.rfind("| method | particles | resolution | ms |", 0) == 0) in_table = true;
-        else if (line.empty() || line[0] != '|') in_table = false;
+        if (line.rfind("| method | particles | resolution | ms |", 0) == 0)
+            in_table = true;
+        else if (line.empty() || line[0] != '|')
+            in_table = false;
         else if (in_table && line.rfind("|---", 0) != 0) {
             std::vector<std::string> cells;
             std::istringstream fields(line.substr(1));
@@ -110,7 +112,8 @@ void expect_says(const std::string& output, const std::vector<std::string>& part
 TEST(StudyShardTest, BadShardValuesAreRefusedNamingTheFlag) {
     for (const char* bad : {"3/3", "x/2", "0/0", "-1/2", "1", "1/2/3", ""}) {
         EXPECT_FALSE(parse_shard(bad).ok()) << bad;
-        auto o = test_cli::run_aquaform("study " + kAssetTiny + " --shard '" + bad + "' --out /tmp/aquaform_never_written");
+        auto o =
+            test_cli::run_aquaform("study " + kAssetTiny + " --shard '" + bad + "' --out /tmp/aquaform_never_written");
         EXPECT_EQ(o.exit_code, 2) << bad << ": " << o.output;
         EXPECT_NE(o.output.find("--shard"), std::string::npos) << o.output;
         EXPECT_EQ(std::count(o.output.begin(), o.output.end(), '\n'), 1) << "one line: " << o.output;
@@ -129,7 +132,8 @@ TEST(StudyShardTest, TheSplitKeepsFramesWholeCoversEveryCellOnceAndIsBalanced) {
     auto spec = load_study_spec(kAssetTiny);
     ASSERT_TRUE(spec.ok()) << spec.error();
     const std::vector<StudyUnit> units = study_units(spec.value());
-    ASSERT_EQ(units.size(), 5u) << "4 frames (methods/1000, methods/2000, curtain/1500, large_metaballs/1000) and the map";
+    ASSERT_EQ(units.size(), 5u)
+        << "4 frames (methods/1000, methods/2000, curtain/1500, large_metaballs/1000) and the map";
     for (uint32_t n : {1u, 2u, 3u, 7u}) {
         std::multiset<std::string> cells;
         std::vector<double> load;
@@ -196,7 +200,8 @@ TEST(StudyShardCliTest, ThreeShardsMergeToTheUnshardedRowsAndTables) {
             char* end_b = nullptr;
             const double x = std::strtod(a.c_str(), &end_a), y = std::strtod(b.c_str(), &end_b);
             if (!a.empty() && *end_a == '\0' && !b.empty() && *end_b == '\0')  // the device's float sums vary a little
-                EXPECT_NEAR(x, y, 0.02 * std::max(std::abs(x), std::abs(y)) + 1e-3) << whole[i].back() << " " << header[c];
+                EXPECT_NEAR(x, y, 0.02 * std::max(std::abs(x), std::abs(y)) + 1e-3)
+                    << whole[i].back() << " " << header[c];
             else
                 EXPECT_EQ(a, b) << whole[i].back() << " " << header[c];
         }
@@ -267,11 +272,13 @@ TEST(StudyShardCliTest, MergeRefusesMissingDoubledIncompleteAndForeignShards) {
     EXPECT_FALSE(fs::exists(out / "study.csv")) << "nothing written when refused";
 
     // Another spec's shard (empty: the other spec has one unit).
-    const fs::path other_spec = test_cli::write_file(d / "other.json", R"({"name": "other", "repeats": 1, "cases": [{"name": "c",
+    const fs::path other_spec =
+        test_cli::write_file(d / "other.json", R"({"name": "other", "repeats": 1, "cases": [{"name": "c",
         "scene": "dam_break", "particles": [1000], "time": 0.05, "resolutions": ["64x64"], "methods": [{"method": "bilateral"}]}]})");
     auto other = aquaform("study " + other_spec.string() + " --shard 2/3 --out " + (d / "other2").string());
     ASSERT_EQ(other.exit_code, 0) << other.output;
-    expect_says(merge({s0, s1, d / "other2"}, out, 2), {(d / "other2").string(), s0.string(), "other", "tiny", "one spec"});
+    expect_says(merge({s0, s1, d / "other2"}, out, 2),
+                {(d / "other2").string(), s0.string(), "other", "tiny", "one spec"});
 
     // Another shard into a shard's folder is refused, naming both.
     auto into = test_cli::run_aquaform("study " + tiny() + " --shard 0/3 --out " + s1.string());
@@ -375,8 +382,12 @@ TEST(StudyShardCliTest, MutatedManifestsAndRowsAreRefusedNamingTheFileAndTheKey)
     std::printf("manifest fuzz: %d mutations, %d refused\n", mutations, refused);
 
     // The shard numbers that crashed the merge, through the binary: exit 2 naming the key.
-    for (const auto& [key, value] : std::vector<std::pair<std::string, json>>{
-             {"shard", 5}, {"shard", -1}, {"shards", 0}, {"shard", 3}, {"shards", 4294967296.0}, {"particles", 1e300}}) {
+    for (const auto& [key, value] : std::vector<std::pair<std::string, json>>{{"shard", 5},
+                                                                              {"shard", -1},
+                                                                              {"shards", 0},
+                                                                              {"shard", 3},
+                                                                              {"shards", 4294967296.0},
+                                                                              {"particles", 1e300}}) {
         fresh_copy();
         json changed = manifest;
         changed[key] = value;
@@ -393,7 +404,8 @@ TEST(StudyShardCliTest, MutatedManifestsAndRowsAreRefusedNamingTheFileAndTheKey)
     for (size_t c = 0; c < header.size(); ++c) {
         if (rows[1][c].empty() || rows[1][c].find_first_not_of("0123456789.e+-") != std::string::npos) continue;
         for (const char* bad : {"-1", "nan", "1e400", "x", "4294967296e9"}) {
-            if (std::string(bad) == "-1" && header[c] != "width" && header[c] != "rays" && header[c] != "particles") continue;
+            if (std::string(bad) == "-1" && header[c] != "width" && header[c] != "rays" && header[c] != "particles")
+                continue;
             fresh_copy();
             std::vector<std::vector<std::string>> changed = rows;
             changed[1][c] = bad;
@@ -428,8 +440,8 @@ TEST(StudyShardCliTest, MutatedManifestsAndRowsAreRefusedNamingTheFileAndTheKey)
 TEST(StudyShardCliTest, AShardStoppedMidwayIsIncompleteUntilItsRerunResumes) {
     const fs::path& d = tiny_runs();
     const fs::path k1 = d / "k1";
-    const int stopped = test_cli::interrupt_aquaform({"study", tiny(), "--shard", "1/3", "--out", k1.string()}, d / "k1.log",
-                                                     ": reference: ");
+    const int stopped = test_cli::interrupt_aquaform({"study", tiny(), "--shard", "1/3", "--out", k1.string()},
+                                                     d / "k1.log", ": reference: ");
     const std::string log = test_cli::read_file(d / "k1.log");
     ASSERT_EQ(stopped, 130) << log;
     const size_t kept = read_csv(k1 / "study.csv").size() - 1;

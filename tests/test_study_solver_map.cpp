@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <optional>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -41,7 +41,8 @@ std::string tiny_shape_scene() {
   "fluid_blocks": [{"min": [0, 0, 0], "max": [0.16, 0.08, 0.16]}],
   "solver": {"frame_dt": 0.0166667, "substeps": 2, "iterations": 4},
   "control": {
-    "meshes": {"ball": {"file": ")") + AQUAFORM_ASSETS_DIR + R"(/meshes/sphere.obj", "method": "inside",
+    "meshes": {"ball": {"file": ")") +
+           AQUAFORM_ASSETS_DIR + R"(/meshes/sphere.obj", "method": "inside",
                         "placement": {"fit_into": {"min": [0.02, 0.02, 0.02], "max": [0.14, 0.14, 0.14]}}}},
     "timeline": [{"t": 0, "do": "attach", "mesh": "ball"}]
   }
@@ -55,7 +56,7 @@ fs::path write_scene(const fs::path& dir, const std::string& name, const std::st
 }
 
 const study::SolverMapRecord* find(const std::vector<study::SolverMapRecord>& rs, float dt, uint32_t iterations,
-                            std::optional<float> pressure = std::nullopt) {
+                                   std::optional<float> pressure = std::nullopt) {
     for (const auto& r : rs)
         if (r.dt == dt && r.iterations == iterations && r.control_pressure == pressure) return &r;
     return nullptr;
@@ -63,11 +64,11 @@ const study::SolverMapRecord* find(const std::vector<study::SolverMapRecord>& rs
 
 void print(const std::vector<study::SolverMapRecord>& rs) {
     for (const auto& r : rs)
-        std::printf("  %s dt %g s, %u iterations%s: max density error %.4f, mean %.5f, %s\n", r.scene.c_str(),
-                    double(r.dt), r.iterations,
-                    r.control_pressure ? (", " + std::to_string(int(*r.control_pressure)) + " Pa").c_str() : "",
-                    r.density_err_max, r.density_err_mean,
-                    r.stable ? "stable" : ("blew up at " + std::to_string(r.blowup_time_s) + " s: " + r.failure).c_str());
+        std::printf(
+            "  %s dt %g s, %u iterations%s: max density error %.4f, mean %.5f, %s\n", r.scene.c_str(), double(r.dt),
+            r.iterations, r.control_pressure ? (", " + std::to_string(int(*r.control_pressure)) + " Pa").c_str() : "",
+            r.density_err_max, r.density_err_mean,
+            r.stable ? "stable" : ("blew up at " + std::to_string(r.blowup_time_s) + " s: " + r.failure).c_str());
 }
 
 class SolverMap : public testing::GpuTest {};
@@ -121,7 +122,8 @@ TEST_F(SolverMap, SmallStepsHoldALargeStepWithOneIterationBlowsUpAndErrorFollows
     std::stringstream in(read_file(csv));
     std::string header, line;
     std::getline(in, header);
-    EXPECT_EQ(header, "scene,dt,iterations,control_pressure,density_err_max,density_err_mean,stable,blowup_time_s,spec,cell");
+    EXPECT_EQ(header,
+              "scene,dt,iterations,control_pressure,density_err_max,density_err_mean,stable,blowup_time_s,spec,cell");
     std::vector<std::string> rows;
     while (std::getline(in, line)) rows.push_back(line);
     ASSERT_EQ(rows.size(), rs.size());
@@ -248,11 +250,12 @@ void write_study_csvs(const fs::path& dir, bool solver_map_has_pressure = true) 
                                                "c2,dam,xiao,128,128,1000,ray_march,7.0\n"
                                                "c2,dam,xiao,128,128,1000,shade,\n";
     std::ofstream(dir / "solver_map.csv")
-        << (solver_map_has_pressure ? "scene,dt,iterations,control_pressure,density_err_max,density_err_mean,stable,blowup_time_s\n"
-                                      "tiny,0.002,2,,0.01,0.002,1,\n"
-                                      "tiny,0.25,2,,3.5,1.0,0,0.25\n"
-                                    : "scene,dt,iterations,density_err_max,density_err_mean,stable,blowup_time_s\n"
-                                      "tiny,0.002,2,0.01,0.002,1,\n");
+        << (solver_map_has_pressure
+                ? "scene,dt,iterations,control_pressure,density_err_max,density_err_mean,stable,blowup_time_s\n"
+                  "tiny,0.002,2,,0.01,0.002,1,\n"
+                  "tiny,0.25,2,,3.5,1.0,0,0.25\n"
+                : "scene,dt,iterations,density_err_max,density_err_mean,stable,blowup_time_s\n"
+                  "tiny,0.002,2,0.01,0.002,1,\n");
 }
 
 class StudyCharts : public ::testing::Test {

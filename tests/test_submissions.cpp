@@ -106,7 +106,8 @@ TEST_F(SubmissionsTest, TwoSubmissionsInFlightFromOneThreadBothComplete) {
     // More submissions than the ring holds: the oldest is waited for, every result lands.
     std::vector<gpu::Submission> tickets;
     for (uint32_t i = 0; i < 2 * gpu::Context::kInFlight + 1; ++i)
-        tickets.push_back(c.submit([&, i](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, a.buffer, 4 * i, 4, 100u + i); }));
+        tickets.push_back(
+            c.submit([&, i](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, a.buffer, 4 * i, 4, 100u + i); }));
     c.wait(tickets[1]);
     EXPECT_EQ(word(a, 1), 101u);
     c.wait(tickets.back());
@@ -152,7 +153,10 @@ TEST_F(SubmissionsTest, StagingMemoryOfASubmissionInFlightIsNotReused) {
 TEST_F(SubmissionsTest, WaitingOnAnotherThreadsSubmissionIsRefused) {
     gpu::Context& c = ctx();
     gpu::Submission theirs;
-    std::thread([&] { theirs = c.submit([](VkCommandBuffer) {}); c.wait(theirs); }).join();
+    std::thread([&] {
+        theirs = c.submit([](VkCommandBuffer) {});
+        c.wait(theirs);
+    }).join();
     EXPECT_THROW(c.wait(theirs), Failure);
 }
 

@@ -6,9 +6,9 @@
 #include <memory>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
-#include <cmath>
 #include <vector>
 
 #include "gpu/buffer.h"
@@ -17,8 +17,8 @@
 #include "pictures/image_metrics.h"
 #include "render/surface_metrics.h"
 #include "render/surface_renderer.h"
-#include "sim/pbf_solver.h"
 #include "shaders/shared/render/render_kernels.h"
+#include "sim/pbf_solver.h"
 #include "tests/dam_break_frame.h"
 #include "tests/gpu_test.h"
 #include "tests/surface_field.h"
@@ -128,8 +128,9 @@ TEST_F(SurfaceTest, MasksMarkEveryCellWhereTheFieldReachesTheIso) {
     // The tight bound (the default) and Wu et al.'s count bound with unit weights are both exact.
     // The anisotropic surface's kernels are bounded by their largest semi-axis (tight bound only).
     uint32_t marked_by[2] = {0, 0};
-    for (const auto& [tight, surface] : {std::pair{true, SurfaceKernel::isotropic}, std::pair{false, SurfaceKernel::isotropic},
-                                        std::pair{true, SurfaceKernel::anisotropic}}) {
+    for (const auto& [tight, surface] :
+         {std::pair{true, SurfaceKernel::isotropic}, std::pair{false, SurfaceKernel::isotropic},
+          std::pair{true, SurfaceKernel::anisotropic}}) {
         SCOPED_TRACE(surface == SurfaceKernel::anisotropic ? "anisotropic surface" : "isotropic surface");
         SurfaceSettings settings;
         settings.tight_mask = tight;
@@ -154,13 +155,15 @@ TEST_F(SurfaceTest, MasksMarkEveryCellWhereTheFieldReachesTheIso) {
                     }
                     float peak = 0.0f;
                     for (int s = 0; s < kSamples * kSamples * kSamples; ++s) {
-                        const glm::vec3 f{float(s % kSamples), float(s / kSamples % kSamples), float(s / (kSamples * kSamples))};
+                        const glm::vec3 f{float(s % kSamples), float(s / kSamples % kSamples),
+                                          float(s / (kSamples * kSamples))};
                         const glm::vec3 at = g.origin + (glm::vec3(x, y, z) + f / float(kSamples - 1)) * g.cell_size;
                         peak = std::max(peak, cpu_field(p, kernels, at));
                     }
                     if (peak >= p.iso) {
                         ++needed;
-                        ASSERT_TRUE(bit) << (tight ? "tight" : "Wu") << ": cell " << x << "," << y << "," << z << " reaches phi " << peak;
+                        ASSERT_TRUE(bit) << (tight ? "tight" : "Wu") << ": cell " << x << "," << y << "," << z
+                                         << " reaches phi " << peak;
                     }
                 }
         EXPECT_GT(needed, 10u);
@@ -214,8 +217,8 @@ TEST_F(SurfaceTest, FlatSlabHasFlatNormalsAndAnAggregateTopLayer) {
         for (size_t i = 0; i < frame.hit.size(); ++i) {
             if (!frame.has_surface(i)) continue;
             const glm::vec3 x{frame.hit[i]};
-            const bool inner = x.x > min.x + margin && x.x < min.x + spacing * (n - 1) - margin && x.z > min.z + margin &&
-                               x.z < min.z + spacing * (n - 1) - margin && x.y > top;
+            const bool inner = x.x > min.x + margin && x.x < min.x + spacing * (n - 1) - margin &&
+                               x.z > min.z + margin && x.z < min.z + spacing * (n - 1) - margin && x.y > top;
             if (!inner) continue;
             ++checked;
             worst = std::max(worst, glm::degrees(std::acos(std::clamp(frame.normal[i].y, -1.0f, 1.0f))));
@@ -234,7 +237,8 @@ TEST_F(SurfaceTest, FlatSlabHasFlatNormalsAndAnAggregateTopLayer) {
         const SurfaceFrame reduced = renderer.render({particles.buffer, particles.count}, camera, settings);
         const auto levels = renderer.tile_levels();
         EXPECT_GT(std::count(levels.begin(), levels.end(), uint32_t(TILE_QUARTER)) +
-                      std::count(levels.begin(), levels.end(), uint32_t(TILE_HALF)), 4);
+                      std::count(levels.begin(), levels.end(), uint32_t(TILE_HALF)),
+                  4);
         EXPECT_LT(renderer.rays_cast(), 0.7 * full_rays);
         // (The shaded images are not compared: refraction of the checker floor turns a degree of
         // normal into a visible shift.)
@@ -294,8 +298,7 @@ TEST_F(DamBreakFrameTest, UniformAndAdaptiveAgreeWithTheReferenceAndAdaptiveEval
     const SurfaceFrame adaptive_frame = render(settings);
     const SurfaceComparison adaptive = compare_surfaces(reference, adaptive_frame, radius);
     settings.adaptive_resolution = false;
-    const SurfaceComparison stepping =
-        compare_surfaces(reference, render(settings), radius);
+    const SurfaceComparison stepping = compare_surfaces(reference, render(settings), radius);
     for (const auto* c : {&uniform, &adaptive, &stepping}) {
         const char* name = c == &uniform ? "uniform" : c == &adaptive ? "adaptive" : "adaptive at full resolution";
         EXPECT_GT(c->both_hit, 1000u) << name;
@@ -319,9 +322,9 @@ TEST_F(DamBreakFrameTest, UniformAndAdaptiveAgreeWithTheReferenceAndAdaptiveEval
 // exceeds every type's budget, so it is split on every kind, each slice within the budget.
 TEST(DispatchBudget, ALongPassIsSplitOnEveryKindOfDevice) {
     const double march_1080p = 1920.0 * 1080.0 * RAY_MARCH_EVALS_PER_PASS * 216.0;
-    for (VkPhysicalDeviceType type : {VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU, VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU,
-                                      VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU, VK_PHYSICAL_DEVICE_TYPE_CPU,
-                                      VK_PHYSICAL_DEVICE_TYPE_OTHER}) {
+    for (VkPhysicalDeviceType type :
+         {VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU, VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU,
+          VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU, VK_PHYSICAL_DEVICE_TYPE_CPU, VK_PHYSICAL_DEVICE_TYPE_OTHER}) {
         const uint64_t budget = gpu::dispatch_work_budget(type);
         ASSERT_GT(budget, 0u) << gpu::device_type_name(type);
         const uint32_t slices = gpu::slices_for_budget(march_1080p, budget);
@@ -354,7 +357,9 @@ TEST_F(DamBreakFrameTest, AMarchOverTheWorkBudgetIsSplitAndDrawsTheSameFrame) {
         const size_t split_scopes = march_scopes(split);
         const uint32_t split_cut = renderer->cut_rays();
         ctx().override_dispatch_work_budget(saved);
-        const char* name = method == SurfaceMethod::adaptive ? "adaptive" : method == SurfaceMethod::uniform ? "uniform" : "reference";
+        const char* name = method == SurfaceMethod::adaptive  ? "adaptive"
+                           : method == SurfaceMethod::uniform ? "uniform"
+                                                              : "reference";
         EXPECT_GE(split_scopes, whole_scopes + 9) << name << ": the first march should run as ten timed slices";
         const SurfaceComparison c = compare_surfaces(whole, split, renderer->params().particle_radius);
         EXPECT_GT(c.both_hit, 1000u) << name;
@@ -410,7 +415,8 @@ TEST_F(GoldenTest, DropletsOverAPoolWithTheAdaptiveMethod) {
     const float spacing = 0.02f;
     Scene scene = scene_with({{0.0f, 0.0f, 0.0f}, {0.4f, 0.3f, 0.4f}}, spacing);
     auto positions = slab({0.06f, 0.02f, 0.06f}, spacing, 15, 3, 15);
-    for (const glm::vec3 drop : {glm::vec3(0.15f, 0.17f, 0.2f), glm::vec3(0.25f, 0.2f, 0.18f), glm::vec3(0.2f, 0.24f, 0.26f)})
+    for (const glm::vec3 drop :
+         {glm::vec3(0.15f, 0.17f, 0.2f), glm::vec3(0.25f, 0.2f, 0.18f), glm::vec3(0.2f, 0.24f, 0.26f)})
         positions.emplace_back(drop, 0.0f);
     for (const glm::vec3 d : {glm::vec3(0.0f), glm::vec3(spacing, 0.0f, 0.0f), glm::vec3(0.0f, spacing, 0.0f)})
         positions.emplace_back(glm::vec3(0.3f, 0.13f, 0.28f) + d, 0.0f);
@@ -475,7 +481,8 @@ TEST_F(SurfaceTest, DocumentedBytesPerPixelAndPerParticleMatchTheAllocations) {
         return bytes;
     };
     const uint64_t grid_cells_bytes = (uint64_t(g.cell_count()) * 2u + 1u) * 4u;
-    EXPECT_EQ(total_bytes(more) - before, 2000u * kOwnGridBytesPerParticle + grid_cells_bytes + scan_sums("render.grid"));
+    EXPECT_EQ(total_bytes(more) - before,
+              2000u * kOwnGridBytesPerParticle + grid_cells_bytes + scan_sums("render.grid"));
     // The anisotropic surface adds its kernels' grid and arrays on first use, and nothing more.
     const uint64_t isotropic_bytes = total_bytes(more);
     more.render({one.buffer, one.count}, camera_for_domain(scene.domain, 1.0f), SurfaceSettings{});

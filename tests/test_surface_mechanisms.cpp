@@ -34,7 +34,8 @@ using testing::cpu_field;
 glm::vec3 pixel_ray(const shader::SurfaceParams& p, glm::uvec2 pixel) {
     const float u = 2.0f * (float(pixel.x) + 0.5f) / float(p.screen.x) - 1.0f;
     const float v = 2.0f * (float(pixel.y) + 0.5f) / float(p.screen.y) - 1.0f;
-    return glm::normalize(glm::vec3(p.forward) + u * p.forward.w * glm::vec3(p.right) - v * p.right.w * glm::vec3(p.up));
+    return glm::normalize(glm::vec3(p.forward) + u * p.forward.w * glm::vec3(p.right) -
+                          v * p.right.w * glm::vec3(p.up));
 }
 
 struct Frame {
@@ -119,18 +120,22 @@ TEST_F(CurtainTest, MaskIsTheSeparableConvolutionOfTheCellCountsCellForCell) {
                     for (int k = 0; k < 27; ++k) {
                         const glm::ivec3 o(k % 3 - 1, k / 3 % 3 - 1, k / 9 - 1);
                         const glm::ivec3 c = glm::ivec3(x, y, z) + o;
-                        if (glm::any(glm::lessThan(c, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(c, dims))) continue;
+                        if (glm::any(glm::lessThan(c, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(c, dims)))
+                            continue;
                         n += weight[o.x + 1] * weight[o.y + 1] * weight[o.z + 1] * counts[linear(c)];
                     }
                     const glm::uvec3 w = glm::uvec3(x / MASK_BLOCK_X, y / MASK_BLOCK_Y, z / MASK_BLOCK_Z);
-                    const glm::uvec3 in = glm::uvec3(x, y, z) - w * glm::uvec3(MASK_BLOCK_X, MASK_BLOCK_Y, MASK_BLOCK_Z);
-                    const bool bit = (words[w.x + p.mask_dims.x * (w.y + p.mask_dims.y * w.z)] >> (in.x + 4 * in.y + 16 * in.z)) & 1u;
+                    const glm::uvec3 in =
+                        glm::uvec3(x, y, z) - w * glm::uvec3(MASK_BLOCK_X, MASK_BLOCK_Y, MASK_BLOCK_Z);
+                    const bool bit =
+                        (words[w.x + p.mask_dims.x * (w.y + p.mask_dims.y * w.z)] >> (in.x + 4 * in.y + 16 * in.z)) &
+                        1u;
                     marked += bit;
                     if (std::abs(n - p.mask_count_threshold) < 1e-3f) continue;  // float order decides
                     ++compared;
                     ASSERT_EQ(bit, n >= p.mask_count_threshold)
-                        << "a = " << ab.x << ", b = " << ab.y << ": cell " << x << "," << y << "," << z << " has N_c = " << n
-                        << " against the threshold " << p.mask_count_threshold;
+                        << "a = " << ab.x << ", b = " << ab.y << ": cell " << x << "," << y << "," << z
+                        << " has N_c = " << n << " against the threshold " << p.mask_count_threshold;
                 }
         EXPECT_GT(compared, g.cell_count() * 9 / 10);
         EXPECT_GT(marked, 0u);
@@ -147,47 +152,50 @@ TEST_F(CurtainTest, TightMaskIsTheNearestPointBoundCellForCellAndMarksLessThanWu
     SurfaceSettings settings = adaptive(true, true);
     settings.surface = SurfaceKernel::isotropic;
     for (const SurfaceSettings& s : {anisotropic, settings}) {
-    render(s);
-    const testing::FieldKernels kernels = testing::field_kernels(*renderer, positions);
-    const shader::SurfaceParams& p = renderer->params();
-    const GridGeometry& g = renderer->grid();
-    const glm::ivec3 dims(g.dims);
-    const auto words = renderer->mask_words();
-    auto bit = [&](glm::ivec3 c, const std::vector<uint32_t>& w) {
-        const glm::uvec3 word = glm::uvec3(c) / glm::uvec3(MASK_BLOCK_X, MASK_BLOCK_Y, MASK_BLOCK_Z);
-        const glm::uvec3 in = glm::uvec3(c) - word * glm::uvec3(MASK_BLOCK_X, MASK_BLOCK_Y, MASK_BLOCK_Z);
-        return bool((w[word.x + p.mask_dims.x * (word.y + p.mask_dims.y * word.z)] >> (in.x + 4 * in.y + 16 * in.z)) & 1u);
-    };
-    // phi_max(c) = V sum_j W(distance from x_j to the box of c), by brute force over every particle.
-    uint32_t marked = 0, compared = 0;
-    for (int z = 0; z < dims.z; ++z)
-        for (int y = 0; y < dims.y; ++y)
-            for (int x = 0; x < dims.x; ++x) {
-                const glm::vec3 lo = g.origin + glm::vec3(x, y, z) * g.cell_size, hi = lo + glm::vec3(g.cell_size);
-                float bound = 0.0f;
-                for (size_t j = 0; j < kernels.centres.size(); ++j) {
-                    const glm::vec3 q(kernels.centres[j]);
-                    const glm::vec3 outside = glm::max(lo - q, glm::vec3(0.0f)) + glm::max(q - hi, glm::vec3(0.0f));
-                    bound += kernels.shapes.empty()
-                                 ? shader::cubic_kernel(glm::dot(outside, outside), p.inv_radius, p.kernel_coeff)
-                                 : (8.0f / shader::RENDER_PI) * kernels.shapes[3 * j].w *
-                                       shader::cubic_shape(glm::length(outside) / kernels.shapes[3 * j + 2].w);
+        render(s);
+        const testing::FieldKernels kernels = testing::field_kernels(*renderer, positions);
+        const shader::SurfaceParams& p = renderer->params();
+        const GridGeometry& g = renderer->grid();
+        const glm::ivec3 dims(g.dims);
+        const auto words = renderer->mask_words();
+        auto bit = [&](glm::ivec3 c, const std::vector<uint32_t>& w) {
+            const glm::uvec3 word = glm::uvec3(c) / glm::uvec3(MASK_BLOCK_X, MASK_BLOCK_Y, MASK_BLOCK_Z);
+            const glm::uvec3 in = glm::uvec3(c) - word * glm::uvec3(MASK_BLOCK_X, MASK_BLOCK_Y, MASK_BLOCK_Z);
+            return bool(
+                (w[word.x + p.mask_dims.x * (word.y + p.mask_dims.y * word.z)] >> (in.x + 4 * in.y + 16 * in.z)) & 1u);
+        };
+        // phi_max(c) = V sum_j W(distance from x_j to the box of c), by brute force over every particle.
+        uint32_t marked = 0, compared = 0;
+        for (int z = 0; z < dims.z; ++z)
+            for (int y = 0; y < dims.y; ++y)
+                for (int x = 0; x < dims.x; ++x) {
+                    const glm::vec3 lo = g.origin + glm::vec3(x, y, z) * g.cell_size, hi = lo + glm::vec3(g.cell_size);
+                    float bound = 0.0f;
+                    for (size_t j = 0; j < kernels.centres.size(); ++j) {
+                        const glm::vec3 q(kernels.centres[j]);
+                        const glm::vec3 outside = glm::max(lo - q, glm::vec3(0.0f)) + glm::max(q - hi, glm::vec3(0.0f));
+                        bound += kernels.shapes.empty()
+                                     ? shader::cubic_kernel(glm::dot(outside, outside), p.inv_radius, p.kernel_coeff)
+                                     : (8.0f / shader::RENDER_PI) * kernels.shapes[3 * j].w *
+                                           shader::cubic_shape(glm::length(outside) / kernels.shapes[3 * j + 2].w);
+                    }
+                    bound *= p.volume;
+                    const bool b = bit({x, y, z}, words);
+                    marked += b;
+                    if (std::abs(bound - p.iso) < 1e-4f * p.iso) continue;  // float order decides
+                    ++compared;
+                    ASSERT_EQ(b, bound >= p.iso)
+                        << "cell " << x << "," << y << "," << z << ": bound " << bound << ", iso " << p.iso;
                 }
-                bound *= p.volume;
-                const bool b = bit({x, y, z}, words);
-                marked += b;
-                if (std::abs(bound - p.iso) < 1e-4f * p.iso) continue;  // float order decides
-                ++compared;
-                ASSERT_EQ(b, bound >= p.iso) << "cell " << x << "," << y << "," << z << ": bound " << bound << ", iso " << p.iso;
-            }
-    EXPECT_GT(compared, g.cell_count() * 9 / 10);
+        EXPECT_GT(compared, g.cell_count() * 9 / 10);
     }
     const shader::SurfaceParams& p = renderer->params();
     const auto words = renderer->mask_words();
     auto bit = [&](glm::ivec3 c, const std::vector<uint32_t>& w) {
         const glm::uvec3 word = glm::uvec3(c) / glm::uvec3(MASK_BLOCK_X, MASK_BLOCK_Y, MASK_BLOCK_Z);
         const glm::uvec3 in = glm::uvec3(c) - word * glm::uvec3(MASK_BLOCK_X, MASK_BLOCK_Y, MASK_BLOCK_Z);
-        return bool((w[word.x + p.mask_dims.x * (word.y + p.mask_dims.y * word.z)] >> (in.x + 4 * in.y + 16 * in.z)) & 1u);
+        return bool((w[word.x + p.mask_dims.x * (word.y + p.mask_dims.y * word.z)] >> (in.x + 4 * in.y + 16 * in.z)) &
+                    1u);
     };
     uint32_t marked = 0;
     for (uint32_t w : words) marked += __builtin_popcount(w);
@@ -214,49 +222,49 @@ TEST_F(CurtainTest, TightMaskIsTheNearestPointBoundCellForCellAndMarksLessThanWu
 // Both surfaces: the mechanisms must stay exact with the anisotropic surface's kernels too.
 TEST_F(CurtainTest, MaskAndSkipEachSaveMarchStepsAtTheSameDepth) {
     for (const SurfaceKernel surface : {SurfaceKernel::anisotropic, SurfaceKernel::isotropic}) {
-    SCOPED_TRACE(surface == SurfaceKernel::anisotropic ? "anisotropic surface" : "isotropic surface");
-    SurfaceSettings reference_settings;
-    reference_settings.surface = surface;
-    reference_settings.method = SurfaceMethod::reference;
-    const SurfaceFrame reference = render(reference_settings).surface;
-    SurfaceSettings uniform_settings = reference_settings;
-    uniform_settings.method = SurfaceMethod::uniform;
-    const Frame uniform = render(uniform_settings);
-    const Frame none = render(adaptive(false, false, surface));
-    const Frame mask = render(adaptive(true, false, surface));
-    const Frame skip = render(adaptive(false, true, surface));
-    const Frame both = render(adaptive(true, true, surface));
-    const float radius = renderer->params().particle_radius;
-    // Without either mechanism the adaptive method steps exactly as the uniform one.
-    EXPECT_NEAR(none.steps_per_ray, uniform.steps_per_ray, 1e-9);
-    // Rays that pass a droplet cross 0.2 m (10 particle radii' worth of steps, and more) of
-    // empty space to the slab: the mask leaps over it, the skip jumps to D_agg after 8 steps.
-    EXPECT_LT(mask.steps_per_ray, 0.8 * uniform.steps_per_ray) << "the mask saves no steps on the curtain";
-    EXPECT_LT(skip.steps_per_ray, 0.8 * uniform.steps_per_ray) << "the skip saves no steps on the curtain";
-    // With the tight mask the skip has little left to jump over (it re-starts the lattice at
-    // D_agg, which may cost a step here and there), but it must not cost more than that.
-    EXPECT_LT(both.steps_per_ray, 1.05 * mask.steps_per_ray);
-    uint64_t leaps = 0;
-    for (const RayCounts& c : mask.counts) leaps += c.leaps;
-    EXPECT_GT(leaps, 0u);
-    for (const Frame* f : {&uniform, &mask, &skip, &both}) {
-        const SurfaceComparison c = compare_surfaces(reference, f->surface, radius);
-        EXPECT_LT(c.depth_err_mean, 0.05) << "steps/ray " << f->steps_per_ray;
-        EXPECT_LT(c.coverage_mismatch, 0.01) << "steps/ray " << f->steps_per_ray;
-    }
-    // The mask only removes samples that cannot reach the iso value: every pixel finds the same
-    // surface as without it (the samples stay on the lattice of steps from the entry).
-    for (size_t i = 0; i < none.surface.hit.size(); ++i) {
-        ASSERT_EQ(none.surface.has_surface(i), mask.surface.has_surface(i)) << "pixel " << i;
-        if (none.surface.has_surface(i)) {
-            // (to the bisection's last interval: the samples agree to rounding, which may tip one halving)
-            const float resolution = renderer->params().step / float(1u << renderer->params().refine_steps);
-            ASSERT_NEAR(none.surface.hit[i].w, mask.surface.hit[i].w, 1.01f * resolution) << "pixel " << i;
+        SCOPED_TRACE(surface == SurfaceKernel::anisotropic ? "anisotropic surface" : "isotropic surface");
+        SurfaceSettings reference_settings;
+        reference_settings.surface = surface;
+        reference_settings.method = SurfaceMethod::reference;
+        const SurfaceFrame reference = render(reference_settings).surface;
+        SurfaceSettings uniform_settings = reference_settings;
+        uniform_settings.method = SurfaceMethod::uniform;
+        const Frame uniform = render(uniform_settings);
+        const Frame none = render(adaptive(false, false, surface));
+        const Frame mask = render(adaptive(true, false, surface));
+        const Frame skip = render(adaptive(false, true, surface));
+        const Frame both = render(adaptive(true, true, surface));
+        const float radius = renderer->params().particle_radius;
+        // Without either mechanism the adaptive method steps exactly as the uniform one.
+        EXPECT_NEAR(none.steps_per_ray, uniform.steps_per_ray, 1e-9);
+        // Rays that pass a droplet cross 0.2 m (10 particle radii' worth of steps, and more) of
+        // empty space to the slab: the mask leaps over it, the skip jumps to D_agg after 8 steps.
+        EXPECT_LT(mask.steps_per_ray, 0.8 * uniform.steps_per_ray) << "the mask saves no steps on the curtain";
+        EXPECT_LT(skip.steps_per_ray, 0.8 * uniform.steps_per_ray) << "the skip saves no steps on the curtain";
+        // With the tight mask the skip has little left to jump over (it re-starts the lattice at
+        // D_agg, which may cost a step here and there), but it must not cost more than that.
+        EXPECT_LT(both.steps_per_ray, 1.05 * mask.steps_per_ray);
+        uint64_t leaps = 0;
+        for (const RayCounts& c : mask.counts) leaps += c.leaps;
+        EXPECT_GT(leaps, 0u);
+        for (const Frame* f : {&uniform, &mask, &skip, &both}) {
+            const SurfaceComparison c = compare_surfaces(reference, f->surface, radius);
+            EXPECT_LT(c.depth_err_mean, 0.05) << "steps/ray " << f->steps_per_ray;
+            EXPECT_LT(c.coverage_mismatch, 0.01) << "steps/ray " << f->steps_per_ray;
         }
-    }
-    // The march's evaluations and the bisection's add up to what the normal buffer counts.
-    for (size_t i = 0; i < both.counts.size(); ++i)
-        ASSERT_EQ(double(both.counts[i].evaluations()), double(both.surface.normal[i].w)) << "pixel " << i;
+        // The mask only removes samples that cannot reach the iso value: every pixel finds the same
+        // surface as without it (the samples stay on the lattice of steps from the entry).
+        for (size_t i = 0; i < none.surface.hit.size(); ++i) {
+            ASSERT_EQ(none.surface.has_surface(i), mask.surface.has_surface(i)) << "pixel " << i;
+            if (none.surface.has_surface(i)) {
+                // (to the bisection's last interval: the samples agree to rounding, which may tip one halving)
+                const float resolution = renderer->params().step / float(1u << renderer->params().refine_steps);
+                ASSERT_NEAR(none.surface.hit[i].w, mask.surface.hit[i].w, 1.01f * resolution) << "pixel " << i;
+            }
+        }
+        // The march's evaluations and the bisection's add up to what the normal buffer counts.
+        for (size_t i = 0; i < both.counts.size(); ++i)
+            ASSERT_EQ(double(both.counts[i].evaluations()), double(both.surface.normal[i].w)) << "pixel " << i;
     }
 }
 
@@ -273,7 +281,8 @@ TEST_F(CurtainTest, DaggHoldsTheSlabAndNotTheDroplets) {
         ++droplet_pixels;
         // Behind a droplet D_agg is the slab (or nothing where the droplet is off the slab).
         if (std::isfinite(d_agg[i])) {
-            ASSERT_GT(d_agg[i], slab_depth - renderer->params().radius - 0.01f) << "pixel " << i << ": a droplet in D_agg";
+            ASSERT_GT(d_agg[i], slab_depth - renderer->params().radius - 0.01f)
+                << "pixel " << i << ": a droplet in D_agg";
         }
     }
     EXPECT_GT(droplet_pixels, 200u);
@@ -302,7 +311,8 @@ TEST_F(SkipTest, TheSkipWaitsUntilTheRayHasPassedEverySplashAndLosesNone) {
     std::vector<glm::vec4> particles;
     for (int x = 0; x < 16; ++x)
         for (int y = 0; y < 16; ++y)
-            for (int z = 0; z < 3; ++z) particles.emplace_back(0.05f + spacing * x, 0.05f + spacing * y, 0.01f + spacing * z, 0.0f);
+            for (int z = 0; z < 3; ++z)
+                particles.emplace_back(0.05f + spacing * x, 0.05f + spacing * y, 0.01f + spacing * z, 0.0f);
     const glm::vec3 centre{0.2f, 0.2f, 0.0f};
     const float r = 2.0f * spacing;  // the kernel radius (kernel_radius_factor 2)
     const glm::vec3 hit_droplet = centre + glm::vec3(0.0f, 0.0f, 0.25f);
@@ -382,7 +392,8 @@ TEST_F(LoneParticleTest, MarchStartsOneStepPastTheEntryAndBlendWeightsFollowEqua
                 const float t_hit = frame.hit[i].w;
                 const float w1 = settings.blend_a / (0.5f * spacing) * (t_hit - t_entry);
                 const float z = glm::dot(glm::vec3(frame.hit[i]) - camera.eye, glm::vec3(0.0f, 0.0f, -1.0f));
-                const float R = float(kSize) * spacing / (2.0f * z * std::tan(glm::radians(camera.fov_y_degrees) / 2.0f));
+                const float R =
+                    float(kSize) * spacing / (2.0f * z * std::tan(glm::radians(camera.fov_y_degrees) / 2.0f));
                 const float w2 = std::exp(settings.blend_b * R);
                 EXPECT_NEAR(weights[i].x, w1, 1e-3f * w1 + 1e-5f) << "w1 at pixel " << x << "," << y;
                 EXPECT_NEAR(weights[i].y, w2, 1e-4f * w2) << "w2 at pixel " << x << "," << y;

@@ -20,9 +20,9 @@
 
 #include <openvdb/openvdb.h>
 
-#include "geometry/mesh.h"
 #include "core/error.h"
 #include "exports/mesh_export.h"
+#include "geometry/mesh.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
 #include "gpu/staging.h"
@@ -31,8 +31,8 @@
 #include "render/marching_cubes.h"
 #include "render/surface_mesher.h"
 #include "render/surface_renderer.h"
-#include "sim/scene.h"
 #include "shaders/shared/render/render_kernels.h"
+#include "sim/scene.h"
 #include "tests/cli_helpers.h"
 #include "tests/export_readers.h"
 #include "tests/gpu_test.h"
@@ -153,15 +153,16 @@ TEST_F(SurfaceMeshTest, SampledVolumeEqualsTheRenderersFieldOnTheHost) {
             for (uint32_t j = 0; j < aniso.dims.y; ++j)
                 for (uint32_t i = 0; i < aniso.dims.x; ++i)
                     aniso_worst = std::max(
-                        aniso_worst, std::abs(aniso.at(i, j, k) -
-                                              clipped(testing::cpu_field(renderer.params(), kernels, aniso.position(i, j, k)),
-                                                      aniso.position(i, j, k), scene.domain, aniso)));
+                        aniso_worst,
+                        std::abs(aniso.at(i, j, k) -
+                                 clipped(testing::cpu_field(renderer.params(), kernels, aniso.position(i, j, k)),
+                                         aniso.position(i, j, k), scene.domain, aniso)));
         EXPECT_LT(aniso_worst, 1e-4f) << "the anisotropic volume differs from the renderer's field";
         EXPECT_FLOAT_EQ(aniso.iso, volume.iso);
     }
     const float worst = max_field_error(sampler, particles, volume, scene.domain);
-    std::printf("[ field ] %ux%ux%u samples, max |phi_gpu - phi_cpu| = %.2e (iso %.3f)\n", volume.dims.x,
-                volume.dims.y, volume.dims.z, worst, volume.iso);
+    std::printf("[ field ] %ux%ux%u samples, max |phi_gpu - phi_cpu| = %.2e (iso %.3f)\n", volume.dims.x, volume.dims.y,
+                volume.dims.z, worst, volume.iso);
     EXPECT_LT(worst, 2e-5f);
     EXPECT_GT(*std::max_element(volume.values.begin(), volume.values.end()), 0.9f);  // inside the cube
 
@@ -256,8 +257,8 @@ struct Topology {
     size_t open_or_non_manifold_edges = 0;
     size_t misoriented_edges = 0;
     size_t non_finite_vertices = 0;
-    std::vector<long> euler;      // per part
-    std::vector<double> volume;   // per part, > 0: faces point out
+    std::vector<long> euler;     // per part
+    std::vector<double> volume;  // per part, > 0: faces point out
 };
 
 Topology topology(const SurfaceMesh& mesh) {
@@ -335,8 +336,8 @@ TEST(MarchingCubesTable, RandomFieldsGiveClosedConsistentlyOrientedSurfaces) {
         for (uint32_t k = 0; k < v.dims.z; ++k)
             for (uint32_t j = 0; j < v.dims.y; ++j)
                 for (uint32_t i = 0; i < v.dims.x; ++i) {
-                    const bool border = i == 0 || j == 0 || k == 0 || i + 1 == v.dims.x || j + 1 == v.dims.y ||
-                                        k + 1 == v.dims.z;
+                    const bool border =
+                        i == 0 || j == 0 || k == 0 || i + 1 == v.dims.x || j + 1 == v.dims.y || k + 1 == v.dims.z;
                     v.values[v.index(i, j, k)] = border ? 0.0f : uniform(rng);
                 }
         for (uint32_t k = 0; k + 1 < v.dims.z; ++k)
@@ -414,9 +415,10 @@ TEST_F(SurfaceMeshTest, MeshLiesOnTheExhaustiveReferenceSurface) {
         }
         ASSERT_GT(hits, 1000u);
         const double mean = sum / double(hits);
-        std::printf("[ accuracy ] voxel %.2f particle radii: %zu triangles; over %zu reference pixels the mesh lies "
-                    "%.4f particle radii from the surface on average, %.3f at most\n",
-                    voxel_radii, mesh.triangles.size(), hits, mean, worst);
+        std::printf(
+            "[ accuracy ] voxel %.2f particle radii: %zu triangles; over %zu reference pixels the mesh lies "
+            "%.4f particle radii from the surface on average, %.3f at most\n",
+            voxel_radii, mesh.triangles.size(), hits, mean, worst);
         if (voxel_radii == kDefaultMeshVoxelRadii) {
             EXPECT_LT(mean, 0.05);
             EXPECT_LT(worst, 0.5f);
@@ -457,9 +459,9 @@ TEST_F(SurfaceMeshTest, WrittenFilesReadBackWithTheProjectsObjLoaderAndAsPly) {
 TEST(SurfaceMeshRun, MeshEveryWritesAMeshPerFrameAndRefusesUnknownFormats) {
     const fs::path dir = test_cli::temp_dir("surface_mesh_run");
     const std::string scene = std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json";
-    auto o = test_cli::run_aquaform("run " + scene + " --frames 2 --particles 300 --no-png --mesh-every 1 --out " +
-                                        (dir / "obj").string(),
-                                    "AQUAFORM_VALIDATION=1");
+    auto o = test_cli::run_aquaform(
+        "run " + scene + " --frames 2 --particles 300 --no-png --mesh-every 1 --out " + (dir / "obj").string(),
+        "AQUAFORM_VALIDATION=1");
     ASSERT_EQ(o.exit_code, 0) << o.output;
     for (const char* name : {"surface_0000.obj", "surface_0001.obj"}) {
         auto loaded = geometry::load_obj(dir / "obj" / name);
@@ -469,8 +471,10 @@ TEST(SurfaceMeshRun, MeshEveryWritesAMeshPerFrameAndRefusesUnknownFormats) {
     }
     EXPECT_FALSE(fs::exists(dir / "obj" / "surface_0002.obj"));
 
-    o = test_cli::run_aquaform("run " + scene + " --frames 3 --particles 300 --no-png --mesh-every 2 --mesh-format ply "
-                               "--out " + (dir / "ply").string());
+    o = test_cli::run_aquaform("run " + scene +
+                               " --frames 3 --particles 300 --no-png --mesh-every 2 --mesh-format ply "
+                               "--out " +
+                               (dir / "ply").string());
     ASSERT_EQ(o.exit_code, 0) << o.output;
     EXPECT_GT(read_mesh_ply(dir / "ply" / "surface_0000.ply").triangles.size(), 500u);
     // Frames 0 and 2: the meshes are numbered by their own count, exports.csv gives the frame.
@@ -492,8 +496,10 @@ TEST(SurfaceMeshRun, TheExportedSurfaceStaysInsideTheTank) {
     // about r beyond them, and an unclipped surface pokes about 2 cm through the glass.
     const fs::path dir = test_cli::temp_dir("surface_in_tank");
     const std::string scene_path = std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json";
-    auto o = test_cli::run_aquaform("run " + scene_path + " --frames 31 --particles 3000 --no-png --mesh-every 10 "
-                                    "--vdb-every 10 --out " + dir.string());
+    auto o = test_cli::run_aquaform("run " + scene_path +
+                                    " --frames 31 --particles 3000 --no-png --mesh-every 10 "
+                                    "--vdb-every 10 --out " +
+                                    dir.string());
     ASSERT_EQ(o.exit_code, 0) << o.output;
     auto scene = load_scene(scene_path);
     ASSERT_TRUE(scene) << scene.error();

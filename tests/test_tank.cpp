@@ -51,7 +51,9 @@ Rgb colour_at(const SurfaceFrame& frame, glm::ivec2 p) {
     return {frame.color.rgba[i], frame.color.rgba[i + 1], frame.color.rgba[i + 2]};
 }
 
-bool has_surface_at(const SurfaceFrame& frame, glm::ivec2 p) { return frame.has_surface(size_t(p.y) * frame.width + size_t(p.x)); }
+bool has_surface_at(const SurfaceFrame& frame, glm::ivec2 p) {
+    return frame.has_surface(size_t(p.y) * frame.width + size_t(p.x));
+}
 
 /// Each family draws the tank through its own shader: the SPH surface and screen-space methods
 /// through compose.comp, the metaballs (their shaded "real" visual) through metaball_march.comp.
@@ -68,7 +70,8 @@ protected:
         Scene scene = testing::scene_with(kTank, 0.02f);
         if (with_obstacle) scene.static_boxes = {kObstacle};
         DeviceParticles fluid(ctx(), testing::particle_cube({0.07f, 0.02f, 0.1f}, 0.02f, 4));
-        auto renderer = render_registry().create(ctx(), scene.particle_domain(), kW, kH, fluid.count, method_settings(GetParam()));
+        auto renderer =
+            render_registry().create(ctx(), scene.particle_domain(), kW, kH, fluid.count, method_settings(GetParam()));
         return renderer->render({fluid.buffer, fluid.count}, tank_camera());
     }
 };
@@ -81,7 +84,8 @@ TEST_P(TankTest, TheFrameIsDrawnDarkAlongTheWallsEdges) {
     const glm::ivec2 post = pixel_of(camera, {0.4f, 0.2f, 0.4f});
     Rgb on = colour_at(frame, post);
     for (int dx = -2; dx <= 2; ++dx)
-        if (colour_at(frame, post + glm::ivec2(dx, 0)).sum() < on.sum()) on = colour_at(frame, post + glm::ivec2(dx, 0));
+        if (colour_at(frame, post + glm::ivec2(dx, 0)).sum() < on.sum())
+            on = colour_at(frame, post + glm::ivec2(dx, 0));
     const Rgb inside = colour_at(frame, post - glm::ivec2(6, 0));
     const Rgb outside = colour_at(frame, post + glm::ivec2(6, 0));
     EXPECT_LT(on.sum() + 150, inside.sum()) << "the frame should be darker than the glass beside it";
@@ -137,13 +141,15 @@ TEST_P(RefractionTest, NoDarkCurvesCrossTheWater) {
     std::vector<glm::vec4> sheet;
     for (int x = 0; x < 13; ++x)
         for (int y = 0; y < 11; ++y)
-            for (int z = 0; z < 3; ++z) sheet.emplace_back(0.08f + 0.02f * x, 0.02f + 0.02f * y, 0.3f + 0.02f * z, float(sheet.size()));
+            for (int z = 0; z < 3; ++z)
+                sheet.emplace_back(0.08f + 0.02f * x, 0.02f + 0.02f * y, 0.3f + 0.02f * z, float(sheet.size()));
     DeviceParticles fluid(ctx(), sheet);
     ViewCamera camera;
     camera.eye = {0.2f, 0.25f, 1.2f};
     camera.target = {0.2f, 0.08f, 0.2f};
     camera.fov_y_degrees = 40.0f;
-    auto renderer = render_registry().create(ctx(), scene.particle_domain(), kW, kH, fluid.count, method_settings(GetParam()));
+    auto renderer =
+        render_registry().create(ctx(), scene.particle_domain(), kW, kH, fluid.count, method_settings(GetParam()));
     const SurfaceFrame frame = renderer->render({fluid.buffer, fluid.count}, camera);
     const int foot = pixel_of(camera, {0.2f, 0.0f, 0.0f}).y;  // a level row: the eye is centred
     int surface = 0, on_foot_row = 0, dark = 0;
@@ -157,7 +163,8 @@ TEST_P(RefractionTest, NoDarkCurvesCrossTheWater) {
         }
     ASSERT_GT(surface, 2000) << "the sheet should cover much of the picture";
     ASSERT_GT(on_foot_row, 50) << "the wall's foot should lie behind the water";
-    EXPECT_EQ(dark, 0) << "dark pixels on the water (the wall's foot is row " << foot << "), e.g. (" << at.x << ", " << at.y << ")";
+    EXPECT_EQ(dark, 0) << "dark pixels on the water (the wall's foot is row " << foot << "), e.g. (" << at.x << ", "
+                       << at.y << ")";
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryFamily, TankTest, ::testing::Values("adaptive", "brute", "bilateral"));
@@ -186,7 +193,8 @@ Framing framing_of(const ViewCamera& camera, const Box& box, float aspect) {
     glm::vec2 lo(1e9f), hi(-1e9f);
     Framing f;
     for (int c = 0; c < 8; ++c) {
-        const glm::vec3 corner{c & 1 ? box.max.x : box.min.x, c & 2 ? box.max.y : box.min.y, c & 4 ? box.max.z : box.min.z};
+        const glm::vec3 corner{c & 1 ? box.max.x : box.min.x, c & 2 ? box.max.y : box.min.y,
+                               c & 4 ? box.max.z : box.min.z};
         const glm::vec4 clip = m * glm::vec4(corner, 1.0f);
         const glm::vec2 ndc = glm::vec2(clip) / clip.w;
         lo = glm::min(lo, ndc);

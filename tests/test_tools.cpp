@@ -64,7 +64,8 @@ fs::path work_dir(const std::string& name) {
 fs::path simulate(const std::string& name, const std::string& flags) {
     const fs::path dir = work_dir(name);
     const fs::path out = dir / "run";
-    const auto o = test_cli::run_aquaform_split("run '" + kScene + "' --out '" + out.string() + "' --no-png " + flags, dir, 300);
+    const auto o =
+        test_cli::run_aquaform_split("run '" + kScene + "' --out '" + out.string() + "' --no-png " + flags, dir, 300);
     EXPECT_EQ(o.exit_code, 0) << "aquaform run " << flags << ":\n" << o.err;
     return out;
 }
@@ -160,7 +161,8 @@ size_t colours_in(const fs::path& png) {
     std::set<uint32_t> colours;
     const auto& px = image.value().rgba;
     for (size_t i = 0; i + 3 < px.size(); i += 4)
-        colours.insert(uint32_t(px[i]) | uint32_t(px[i + 1]) << 8 | uint32_t(px[i + 2]) << 16 | uint32_t(px[i + 3]) << 24);
+        colours.insert(uint32_t(px[i]) | uint32_t(px[i + 1]) << 8 | uint32_t(px[i + 2]) << 16 |
+                       uint32_t(px[i + 3]) << 24);
     return colours.size();
 }
 
@@ -194,12 +196,11 @@ json paraview_report(const fs::path& run, const std::string& png = "") {
     // An X server that Xvfb could not bring up (seen once in a loaded CI run: "bad X server
     // connection") is the machine's, not the export's: tried again on another display, twice.
     for (int attempt = 0; attempt < 3; ++attempt) {
-        command = png.empty()
-            ? "pvpython '" + script + "' '" + run.string() + "'"
-            // xvfb-run -a alone starts at display 99, where tests running side by side race for it:
-            // start from a number of this process's own (-a still steps past one in use).
-            : "xvfb-run -a -n " + std::to_string(300 + (getpid() + 7919 * attempt) % 20000) + " pvbatch '" + script +
-                  "' '" + run.string() + "' --png '" + png + "'";
+        command = png.empty() ? "pvpython '" + script + "' '" + run.string() + "'"
+                              // xvfb-run -a alone starts at display 99, where tests running side by side race for it:
+                              // start from a number of this process's own (-a still steps past one in use).
+                              : "xvfb-run -a -n " + std::to_string(300 + (getpid() + 7919 * attempt) % 20000) +
+                                    " pvbatch '" + script + "' '" + run.string() + "' --png '" + png + "'";
         c = run_command(command, run.parent_path(), png.empty() ? "paraview" : "paraview_png");
         if (c.status == 0 || png.empty() || (c.err + c.out).find("bad X server connection") == std::string::npos) break;
     }
@@ -216,8 +217,8 @@ json paraview_report(const fs::path& run, const std::string& png = "") {
 
 /// blender_check.py's report (Blender prints its own lines round the JSON's markers).
 json blender_report(const fs::path& run, const std::string& args, const std::string& name) {
-    const std::string command = "blender -b --factory-startup --python '" + kSource + "/tests/tools/blender_check.py' -- '" +
-                                run.string() + "' " + args;
+    const std::string command = "blender -b --factory-startup --python '" + kSource +
+                                "/tests/tools/blender_check.py' -- '" + run.string() + "' " + args;
     const auto c = run_command(command, run.parent_path(), name);
     EXPECT_EQ(c.status, 0) << command << "\n" << c.err;
     const auto begin = c.out.find("AQUAFORM_JSON_BEGIN"), end = c.out.find("AQUAFORM_JSON_END");
@@ -272,7 +273,8 @@ TEST(ToolsParaView, ParticlesAreOneSeriesAtTheExportedFramesTimesWithEveryPartic
     for (const auto& step : particles["steps"]) {
         EXPECT_EQ(step["points"].get<long>(), count) << "at t = " << step["time"];
         for (const char* name : {"velocity", "density", "id", "tag"})
-            EXPECT_NE(std::find(step["point_arrays"].begin(), step["point_arrays"].end(), name), step["point_arrays"].end())
+            EXPECT_NE(std::find(step["point_arrays"].begin(), step["point_arrays"].end(), name),
+                      step["point_arrays"].end())
                 << name << " at t = " << step["time"];
         bounds.insert(step["bounds"].get<std::vector<double>>());
     }
@@ -308,8 +310,9 @@ TEST(ToolsParaView, VtpSurfaceIsASecondSeriesAtTheParticlesTimes) {
 TEST(ToolsParaView, WhitewaterVtpIsASeriesBesideTheParticlesWithEachFramesLiveParticles) {
     // --whitewater-format vtp: whitewater_NNNN.vtp and whitewater.pvd, at the particles' times, each file
     // the frame's live whitewater (stats.csv's spray + foam + bubbles) as drawable vertex cells.
-    const fs::path run = simulate("whitewater_vtp", "--particles 4000 --frames 31 --whitewater on --vtk-every 10 "
-                                                    "--whitewater-every 10 --whitewater-format vtp");
+    const fs::path run = simulate("whitewater_vtp",
+                                  "--particles 4000 --frames 31 --whitewater on --vtk-every 10 "
+                                  "--whitewater-every 10 --whitewater-format vtp");
     const json report = paraview_report(run);
     ASSERT_TRUE(report.contains("whitewater") && report["whitewater"].is_object()) << report.dump().substr(0, 400);
     const json& whitewater = report["whitewater"];
@@ -317,7 +320,8 @@ TEST(ToolsParaView, WhitewaterVtpIsASeriesBesideTheParticlesWithEachFramesLivePa
     EXPECT_EQ(whitewater["time_steps"], report["particles"]["time_steps"]) << "beside the particles, at their times";
     std::map<double, long> live;  // stats.csv: time -> whitewater particles alive
     for (const auto& row : read_csv(run / "stats.csv"))
-        live[std::stod(row.at("time_s"))] = std::stol(row.at("spray")) + std::stol(row.at("foam")) + std::stol(row.at("bubbles"));
+        live[std::stod(row.at("time_s"))] =
+            std::stol(row.at("spray")) + std::stol(row.at("foam")) + std::stol(row.at("bubbles"));
     long most = 0;
     for (const auto& step : whitewater["steps"]) {
         const double t = step["time"].get<double>();
@@ -326,7 +330,8 @@ TEST(ToolsParaView, WhitewaterVtpIsASeriesBesideTheParticlesWithEachFramesLivePa
         EXPECT_EQ(step["points"].get<long>(), row->second) << "the live whitewater at t = " << t;
         EXPECT_EQ(step["cells"].get<long>(), step["points"].get<long>()) << "a vertex cell per particle at t = " << t;
         for (const char* name : {"velocity", "kind", "life"})
-            EXPECT_NE(std::find(step["point_arrays"].begin(), step["point_arrays"].end(), name), step["point_arrays"].end())
+            EXPECT_NE(std::find(step["point_arrays"].begin(), step["point_arrays"].end(), name),
+                      step["point_arrays"].end())
                 << name << " at t = " << t;
         if (step["points"].get<long>() == 0) continue;
         most = std::max(most, step["points"].get<long>());
@@ -337,7 +342,8 @@ TEST(ToolsParaView, WhitewaterVtpIsASeriesBesideTheParticlesWithEachFramesLivePa
         const auto bounds = step["bounds"].get<std::vector<double>>();  // x0, x1, y0, y1, z0, z1
         for (int a = 0; a < 3; ++a) {
             EXPECT_GE(bounds[2 * a], -1e-3) << "inside the tank, axis " << a << " at t = " << t;
-            EXPECT_LE(bounds[2 * a + 1], (a == 0 ? 1.6 : 0.8) + 1e-3) << "inside the tank, axis " << a << " at t = " << t;
+            EXPECT_LE(bounds[2 * a + 1], (a == 0 ? 1.6 : 0.8) + 1e-3)
+                << "inside the tank, axis " << a << " at t = " << t;
         }
     }
     EXPECT_GT(most, 100) << "the collision of the two columns makes whitewater by frame 30";
@@ -345,8 +351,9 @@ TEST(ToolsParaView, WhitewaterVtpIsASeriesBesideTheParticlesWithEachFramesLivePa
 
 TEST(ToolsParaView, AMissingRunFolderIsOneLineAndNonZero) {
     const fs::path dir = work_dir("pv_missing");
-    const auto c = run_command("pvpython '" + kSource + "/tests/tools/paraview_check.py' '" + (dir / "nothing").string() + "'",
-                               dir, "missing");
+    const auto c =
+        run_command("pvpython '" + kSource + "/tests/tools/paraview_check.py' '" + (dir / "nothing").string() + "'",
+                    dir, "missing");
     EXPECT_NE(c.status, 0);
     EXPECT_NE(c.err.find("paraview_check: "), std::string::npos) << c.err;
     EXPECT_EQ(std::count(c.err.begin(), c.err.end(), '\n'), 1) << c.err;
@@ -412,8 +419,9 @@ TEST(ToolsBlender, VolumeToMeshAtTheIsoMatchesTheExportedMeshWithinAVoxelAndCycl
         if (f == frame) volume = file;
     ASSERT_FALSE(volume.empty()) << "no volume of frame " << frame << ", the frame of " << mesh;
     // --obj-axes file: the OBJ in its own coordinates, the frame the volume sits in.
-    const json report = blender_report(run, "--mesh '" + (run / mesh).string() + "' --volume '" + (run / volume).string() +
-                                                "' --obj-axes file --png '" + png + "' --size 64x36 --samples 4",
+    const json report = blender_report(run,
+                                       "--mesh '" + (run / mesh).string() + "' --volume '" + (run / volume).string() +
+                                           "' --obj-axes file --png '" + png + "' --size 64x36 --samples 4",
                                        "blender_v2m");
     ASSERT_TRUE(report["volume_to_mesh"].is_object());
     const json& v2m = report["volume_to_mesh"];
@@ -429,13 +437,15 @@ TEST(ToolsBlender, VolumeToMeshAtTheIsoMatchesTheExportedMeshWithinAVoxelAndCycl
 TEST(ToolsBlender, UpZRunStandsOnBlendersFloorWithItsHeightAlongBlendersZ) {
     // --up z: the run's files in Blender's axes; the PLY importer and the volume import keep
     // the files' coordinates, so the water's height is Blender's z and the floor its lowest z.
-    const fs::path run = simulate("upz", "--particles 4000 --frames 1 --up z --mesh-every 1 --mesh-format ply --vdb-every 1");
+    const fs::path run =
+        simulate("upz", "--particles 4000 --frames 1 --up z --mesh-every 1 --mesh-format ply --vdb-every 1");
     const auto meshes = files_of(run, "surface", "ply");
     const auto volumes = files_of(run, "density", "vdb");
     ASSERT_FALSE(meshes.empty());
     ASSERT_FALSE(volumes.empty());
-    const json report = blender_report(run, "--mesh '" + (run / meshes[0]).string() + "' --volume '" +
-                                                (run / volumes[0]).string() + "'", "blender_upz");
+    const json report = blender_report(
+        run, "--mesh '" + (run / meshes[0]).string() + "' --volume '" + (run / volumes[0]).string() + "'",
+        "blender_upz");
     // The double dam break: two columns 0.6 m high on a 1.6 x 0.8 m floor (y-up in the scene).
     for (const char* what : {"mesh", "volume_to_mesh"}) {
         ASSERT_TRUE(report[what].is_object()) << what;
@@ -492,18 +502,23 @@ TEST(ToolsBlenderScene, PlacesTheRunsObstaclesAsTheyStandAtEachFrame) {
     // A block pushed along the tank from x 0.2 to 1.2 m over a second: Blender shows it where the
     // run's per-frame files put it, left at frame 0, right at frame 54.
     const fs::path dir = work_dir("scene_obstacle");
-    ASSERT_TRUE(geometry::write_obj(dir / "block.obj", geometry::make_box({glm::vec3(0.0f), glm::vec3(0.1f, 0.3f, 0.2f)})).ok());
-    test_cli::write_file(dir / "scene.json", R"({"name": "pushed block", "domain": {"min": [0, 0, 0], "max": [1.6, 0.8, 0.8]},
+    ASSERT_TRUE(
+        geometry::write_obj(dir / "block.obj", geometry::make_box({glm::vec3(0.0f), glm::vec3(0.1f, 0.3f, 0.2f)}))
+            .ok());
+    test_cli::write_file(dir / "scene.json",
+                         R"({"name": "pushed block", "domain": {"min": [0, 0, 0], "max": [1.6, 0.8, 0.8]},
         "particle_spacing": 0.04, "fluid_blocks": [{"min": [1.3, 0, 0], "max": [1.6, 0.2, 0.8]}],
         "obstacles": {"block": {"file": "block.obj", "placement": {"position": [0.2, 0, 0.3]},
                       "animation": {"keyframes": [{"t": 0, "position": [0, 0, 0]}, {"t": 1, "position": [1.0, 0, 0]}]}}}})");
     const fs::path run = dir / "run";
-    const auto o = test_cli::run_aquaform_split("run '" + (dir / "scene.json").string() + "' --out '" + run.string() +
-                                                    "' --no-png --frames 55 --mesh-every 54", dir, 300);
+    const auto o = test_cli::run_aquaform_split(
+        "run '" + (dir / "scene.json").string() + "' --out '" + run.string() + "' --no-png --frames 55 --mesh-every 54",
+        dir, 300);
     ASSERT_EQ(o.exit_code, 0) << o.err;
     const fs::path prefix = dir / "scene_";
     const std::string command = "blender -b --factory-startup -P '" + kSource + "/scripts/blender_scene.py' -- '" +
-                                run.string() + "' --render '" + prefix.string() + "' --resolution 96x54 --frames 0:54:54 --samples 4";
+                                run.string() + "' --render '" + prefix.string() +
+                                "' --resolution 96x54 --frames 0:54:54 --samples 4";
     const auto c = run_command(command, dir, "blender_scene_obstacle");
     ASSERT_EQ(c.status, 0) << command << "\n" << c.err;
     const double before = warm_column(prefix.string() + "0000.png"), after = warm_column(prefix.string() + "0054.png");
@@ -533,7 +548,8 @@ TEST(ToolsBlenderScene, DrawsTheWhitewaterAsWhitePointsAtItsOwnFrames) {
     // The double dam break's collision makes foam and spray by frame 30; frame 0 has none. The
     // same scene rendered with --whitewater on and off: white where the whitewater is at frame
     // 30, the same picture at frame 0 (frame 30's particles are not shown there).
-    const fs::path run = simulate("scene_whitewater", "--particles 4000 --frames 31 --whitewater on --mesh-every 30 --whitewater-every 30");
+    const fs::path run = simulate("scene_whitewater",
+                                  "--particles 4000 --frames 31 --whitewater on --mesh-every 30 --whitewater-every 30");
     const fs::path dir = run.parent_path();
     auto render = [&](const std::string& prefix, const std::string& whitewater) {
         const std::string command = "blender -b --factory-startup -P '" + kSource + "/scripts/blender_scene.py' -- '" +
@@ -547,7 +563,8 @@ TEST(ToolsBlenderScene, DrawsTheWhitewaterAsWhitePointsAtItsOwnFrames) {
     EXPECT_NE(on.out.find("whitewater from 2 files"), std::string::npos) << on.out;
     EXPECT_EQ(off.out.find("whitewater from"), std::string::npos) << off.out;
     EXPECT_GT(whiter_pixels(dir / "on_0030.png", dir / "off_0030.png"), 20) << "no whitewater drawn at frame 30";
-    EXPECT_EQ(pixels_differing(dir / "on_0000.png", dir / "off_0000.png"), 0) << "frame 30's whitewater shows at frame 0";
+    EXPECT_EQ(pixels_differing(dir / "on_0000.png", dir / "off_0000.png"), 0)
+        << "frame 30's whitewater shows at frame 0";
 
     // A whitewater file cut short is refused before any work, with the file and the fix.
     const fs::path last = run / "whitewater_0001.ply";
@@ -560,8 +577,8 @@ TEST(ToolsBlenderScene, DrawsTheWhitewaterAsWhitePointsAtItsOwnFrames) {
 
 TEST(ToolsBlenderScene, RendersNothingOfAnEmptyFolderAndSaysWhy) {
     const fs::path dir = work_dir("scene_empty");
-    const auto c = run_command("blender -b --factory-startup -P '" + kSource + "/scripts/blender_scene.py' -- '" + dir.string() +
-                                   "' --render '" + (dir / "x_").string() + "'",
+    const auto c = run_command("blender -b --factory-startup -P '" + kSource + "/scripts/blender_scene.py' -- '" +
+                                   dir.string() + "' --render '" + (dir / "x_").string() + "'",
                                dir, "empty");
     EXPECT_NE(c.status, 0);
     EXPECT_NE(c.err.find("blender_scene: no surface"), std::string::npos) << c.err;
@@ -574,10 +591,12 @@ TEST(ToolsBlenderMesh, SuzanneWithHerOpenEyesFillsHerShapeByEveryMethod) {
     // would leave the raster fill's columns empty there).
     const fs::path dir = work_dir("suzanne");
     const fs::path obj = dir / "suzanne.obj";
-    const auto made = run_command("blender -b --factory-startup --python-expr \"import bpy; "
-                                  "bpy.ops.wm.read_factory_settings(use_empty=True); bpy.ops.mesh.primitive_monkey_add(); "
-                                  "bpy.ops.export_scene.obj(filepath='" + obj.string() + "', use_materials=False)\"",
-                                  dir, "suzanne");
+    const auto made = run_command(
+        "blender -b --factory-startup --python-expr \"import bpy; "
+        "bpy.ops.wm.read_factory_settings(use_empty=True); bpy.ops.mesh.primitive_monkey_add(); "
+        "bpy.ops.export_scene.obj(filepath='" +
+            obj.string() + "', use_materials=False)\"",
+        dir, "suzanne");
     ASSERT_EQ(made.status, 0) << made.err;
     ASSERT_TRUE(fs::exists(obj)) << made.out;
     std::map<std::string, size_t> points;

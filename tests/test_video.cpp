@@ -28,8 +28,10 @@ const char* kTinyTank = R"({
 /// What ffprobe says of the video's stream: "codec,width,height,frames".
 std::string probe(const fs::path& video) {
     const test_cli::Outcome o = [&] {
-        const std::string cmd = "ffprobe -v error -select_streams v:0 -count_frames -show_entries "
-                                "stream=codec_name,width,height,nb_read_frames -of csv=p=0 '" + video.string() + "' 2>&1";
+        const std::string cmd =
+            "ffprobe -v error -select_streams v:0 -count_frames -show_entries "
+            "stream=codec_name,width,height,nb_read_frames -of csv=p=0 '" +
+            video.string() + "' 2>&1";
         test_cli::Outcome out;
         FILE* pipe = popen(cmd.c_str(), "r");
         char buf[256];
@@ -46,11 +48,12 @@ TEST(Video, ARunEndsWithAnH264VideoOfItsFrames) {
     const fs::path dir = temp_dir("video_run");
     const fs::path scene = write_file(dir / "tank.json", kTinyTank);
     // An odd height: the encoder needs even sides, so the video is padded by one row.
-    const auto o = run_aquaform("run " + scene.string() + " --frames 3 --resolution 64x47 --out " + (dir / "out").string() +
-                                " --video " + (dir / "movies" / "tank.mp4").string());
+    const auto o = run_aquaform("run " + scene.string() + " --frames 3 --resolution 64x47 --out " +
+                                (dir / "out").string() + " --video " + (dir / "movies" / "tank.mp4").string());
     ASSERT_EQ(o.exit_code, 0) << o.output;
     EXPECT_NE(o.output.find("video: " + (dir / "movies" / "tank.mp4").string() + " (3 frames at 60 frames/s"),
-              std::string::npos) << o.output;
+              std::string::npos)
+        << o.output;
     EXPECT_EQ(probe(dir / "movies" / "tank.mp4"), "h264,64,48,3");
     EXPECT_TRUE(fs::exists(dir / "out" / "frame_0002.png")) << "the frames stay beside the video";
 }
@@ -62,7 +65,8 @@ TEST(Video, IsRefusedBeforeAnyWorkWhenItCannotBeMade) {
 
     // No ffmpeg on PATH: the message says how to get it and how to make the video later.
     fs::create_directories(dir / "empty_path");
-    const auto missing = run_aquaform(run + " --video " + (dir / "a.mp4").string(), "PATH=" + (dir / "empty_path").string());
+    const auto missing =
+        run_aquaform(run + " --video " + (dir / "a.mp4").string(), "PATH=" + (dir / "empty_path").string());
     EXPECT_EQ(missing.exit_code, 2) << missing.output;
     EXPECT_NE(missing.output.find("apt-get install ffmpeg"), std::string::npos) << missing.output;
     EXPECT_NE(missing.output.find("frame_%04d.png"), std::string::npos) << missing.output;
@@ -103,9 +107,11 @@ TEST(Video, PlaysAtTheScenesFrameRateRoundedWhereItIsAWholeNumber) {
 TEST(Video, OddNamesReachFfmpegAsFilesAndABrokenVideoIsNotReportedMade) {
     // A '%' in the folder is literal, not a pattern; a name starting with '-' is not an option.
     const auto command = video_command("/usr/bin/ffmpeg", {"runs/100%", "frame_%04d.png", 3, 60.0}, "-y.mp4");
-    EXPECT_EQ(command[std::find(command.begin(), command.end(), "-i") - command.begin() + 1], "runs/100%%/frame_%04d.png");
+    EXPECT_EQ(command[std::find(command.begin(), command.end(), "-i") - command.begin() + 1],
+              "runs/100%%/frame_%04d.png");
     EXPECT_EQ(command.back(), "./-y.mp4");
-    EXPECT_EQ(video_command("/usr/bin/ffmpeg", {"/abs", "frame_%04d.png", 3, 60.0}, "/abs/-v.mp4").back(), "/abs/-v.mp4");
+    EXPECT_EQ(video_command("/usr/bin/ffmpeg", {"/abs", "frame_%04d.png", 3, 60.0}, "/abs/-v.mp4").back(),
+              "/abs/-v.mp4");
 
     // A real video through both, then the same file cut short (a disk that filled up before
     // ffmpeg's trailer): the whole one passes, every cut one is refused.

@@ -14,15 +14,15 @@
 
 #include <unistd.h>
 
+#include "control/control_scene.h"
 #include "geometry/mesh.h"
 #include "geometry/primitives.h"
 #include "gpu/context.h"
+#include "pictures/image_io.h"
+#include "tests/cli_helpers.h"
 #include "viewer/view_script.h"
 #include "viewer/view_shapes.h"
 #include "viewer/view_worker.h"
-#include "control/control_scene.h"
-#include "pictures/image_io.h"
-#include "tests/cli_helpers.h"
 
 namespace aquaform {
 namespace {
@@ -91,10 +91,13 @@ TEST(ViewCliTest, WithoutADisplayItSaysSoAndSuggestsRun) {
 }
 
 TEST(ViewCliTest, ScriptedSessionUnderXvfbShowsFluidAndFollowsTheMethod) {
-    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0)
+        << "xvfb-run is missing: scripts/setup.sh installs xvfb";
     const fs::path out = test_cli::temp_dir("view");
-    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --resolution 320x240 --script " AQUAFORM_SOURCE_DIR
-                                                "/tests/data/view_session.json --record " + out.string());
+    auto [status, output] = run_view_under_xvfb(
+        AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --resolution 320x240 --script " AQUAFORM_SOURCE_DIR
+                            "/tests/data/view_session.json --record " +
+        out.string());
     ASSERT_EQ(status, 0) << output;
     Image shots[3];
     const char* names[3] = {"adaptive.png", "sbuffer.png", "narrow_range.png"};
@@ -134,8 +137,10 @@ TEST(ViewCliTest, TheWhitewaterSwitchDrawsItOrNot) {
     // The dam break with whitewater, paused after its surge hits the far wall: the same frame
     // drawn with whitewater, without it, and with it again.
     const fs::path out = test_cli::temp_dir("view_whitewater");
-    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --whitewater on --resolution 320x240 --script "
-                                                AQUAFORM_SOURCE_DIR "/tests/data/view_whitewater.json --record " + out.string());
+    auto [status, output] = run_view_under_xvfb(
+        AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --whitewater on --resolution 320x240 --script " AQUAFORM_SOURCE_DIR
+                            "/tests/data/view_whitewater.json --record " +
+        out.string());
     ASSERT_EQ(status, 0) << output;
     Image shots[3];
     const char* names[3] = {"whitewater_on.png", "whitewater_off.png", "whitewater_again.png"};
@@ -150,7 +155,8 @@ TEST(ViewCliTest, TheWhitewaterSwitchDrawsItOrNot) {
         for (int c = 0; c < 3; ++c) brighter = brighter && shots[0].rgba[i + c] > shots[1].rgba[i + c] + 8;
         whiter += brighter;
     }
-    EXPECT_GT(whiter, 200u) << whiter << ": switching whitewater off changed little: it was not drawn, or is drawn regardless";
+    EXPECT_GT(whiter, 200u) << whiter
+                            << ": switching whitewater off changed little: it was not drawn, or is drawn regardless";
     EXPECT_EQ(shots[2].rgba, shots[0].rgba) << "switched on again, the paused frame is drawn as before";
     fs::remove_all(out);
 }
@@ -158,7 +164,8 @@ TEST(ViewCliTest, TheWhitewaterSwitchDrawsItOrNot) {
 TEST(ViewCliTest, AFluidThatLeavesPhysicsPausesTheWindowAndTheCommandExitsOneWithTheVerdict) {
     // The window paused and printed a line without frame or time, and view exited 0. It keeps the
     // window open, paused, and says the verdict `run` says (frame, time, bound, fix) on closing.
-    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0)
+        << "xvfb-run is missing: scripts/setup.sh installs xvfb";
     const fs::path dir = test_cli::temp_dir("view_left_physics");
     const fs::path scene = test_cli::write_file(dir / "wild.json", R"({"name": "wild",
         "domain": {"min": [0, 0, 0], "max": [0.4, 0.2, 0.08]}, "particle_spacing": 0.02,
@@ -167,7 +174,8 @@ TEST(ViewCliTest, AFluidThatLeavesPhysicsPausesTheWindowAndTheCommandExitsOneWit
         {"frame": 6, "do": "quit"}]})");
     auto [status, output] = run_view_under_xvfb(scene.string() + " --resolution 64x48 --script " + script.string());
     EXPECT_EQ(status, 1) << output;
-    EXPECT_NE(output.find("aquaform view: the fluid left physics at frame 1 (t = 0.017 s)"), std::string::npos) << output;
+    EXPECT_NE(output.find("aquaform view: the fluid left physics at frame 1 (t = 0.017 s)"), std::string::npos)
+        << output;
     fs::remove_all(dir);
 }
 
@@ -175,8 +183,10 @@ TEST(ViewCliTest, PlayingTheWindowDrawsMoreFramesThanTheFluidHasPictures) {
     // Unscripted, the window does not wait for the simulation: while the worker makes one picture
     // (a simulation frame and a ray-marched image, hundreds of ms here) the window draws many
     // frames. A window that waited for every picture would draw exactly as many.
-    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
-    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --resolution 200x150 --play --frames 120");
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0)
+        << "xvfb-run is missing: scripts/setup.sh installs xvfb";
+    auto [status, output] =
+        run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --resolution 200x150 --play --frames 120");
     ASSERT_EQ(status, 0) << output;
     unsigned frames = 0, pictures = 0;
     const size_t at = output.find("aquaform view: ");
@@ -194,7 +204,8 @@ TEST(ViewCliTest, PlayingTheWindowDrawsMoreFramesThanTheFluidHasPictures) {
 
 TEST(ViewCliTest, AFluidTooLargeIsReportedWithTheFixAndNoCrash) {
     // The error is thrown after the window and the device exist: both must still go in order.
-    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0)
+        << "xvfb-run is missing: scripts/setup.sh installs xvfb";
     // 5M particles pass the flag's range but need 1.9 GB, more than the 3/4 of llvmpipe's 2 GiB the
     // solver takes: refused as bad input when the solver plans its buffers, after the window and
     // the device exist.
@@ -213,17 +224,20 @@ TEST(ViewCliTest, AFluidTooLargeIsReportedWithTheFixAndNoCrash) {
 TEST(ViewCliTest, AWindowTheDeviceCannotHoldIsRefusedBeforeTheSimulation) {
     // llvmpipe binds at most 128 MiB per storage buffer: an 8000x8000 picture is refused when the
     // command checks the picture against the device, before any frame (exit 2, not 1 mid-run).
-    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --particles 2000 --resolution 8000x8000 --frames 5");
+    auto [status, output] = run_view_under_xvfb(
+        AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --particles 2000 --resolution 8000x8000 --frames 5");
     EXPECT_EQ(status, 2) << output;
     EXPECT_NE(output.find("binds at most"), std::string::npos) << output;
     EXPECT_EQ(output.find("window frames"), std::string::npos) << "the viewer should not have started:\n" << output;
 }
 
 TEST(ViewCliTest, PictureScaleMakesTheFluidsPictureSmallerThanTheWindow) {
-    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0)
+        << "xvfb-run is missing: scripts/setup.sh installs xvfb";
     const fs::path out = test_cli::temp_dir("view_scale");
-    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --resolution 200x150 --scale 0.5 --frames 2 --record " +
-                                                out.string());
+    auto [status, output] = run_view_under_xvfb(
+        AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --resolution 200x150 --scale 0.5 --frames 2 --record " +
+        out.string());
     ASSERT_EQ(status, 0) << output;
     auto frame = read_png(out / "frame_0001.png");
     ASSERT_TRUE(frame.ok()) << frame.error() << "\n" << output;
@@ -239,12 +253,16 @@ TEST(ViewCliTest, PictureScaleMakesTheFluidsPictureSmallerThanTheWindow) {
 TEST(ViewCliTest, ResizingTheWindowResizesTheFluidsPicture) {
     // Smaller, then larger than the first picture: the swapchain is rebuilt, the renderers are
     // made again at the new size and the picture buffers grow, with no validation error.
-    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0)
+        << "xvfb-run is missing: scripts/setup.sh installs xvfb";
     const fs::path out = test_cli::temp_dir("view_resize");
-    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --resolution 320x240 --script " AQUAFORM_SOURCE_DIR
-                                                "/tests/data/view_resize.json --record " + out.string());
+    auto [status, output] = run_view_under_xvfb(
+        AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --resolution 320x240 --script " AQUAFORM_SOURCE_DIR
+                            "/tests/data/view_resize.json --record " +
+        out.string());
     ASSERT_EQ(status, 0) << output;
-    const std::pair<const char*, std::pair<uint32_t, uint32_t>> shots[] = {{"smaller.png", {240, 180}}, {"larger.png", {400, 300}}};
+    const std::pair<const char*, std::pair<uint32_t, uint32_t>> shots[] = {{"smaller.png", {240, 180}},
+                                                                           {"larger.png", {400, 300}}};
     for (const auto& [name, size] : shots) {
         auto image = read_png(out / name);
         ASSERT_TRUE(image.ok()) << image.error() << "\n" << output;
@@ -260,10 +278,13 @@ TEST(ViewCliTest, AnUnsteppedScriptSwitchesShapesMethodsAndSizeWhileTheWorkerRun
     // --async: the script's actions land while the worker is in the middle of its frames (method
     // switches, a shape, a resize, a debug view, release, reset, a solver change), checking the
     // threads' hand-over under validation rather than pictures.
-    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0)
+        << "xvfb-run is missing: scripts/setup.sh installs xvfb";
     const fs::path out = test_cli::temp_dir("view_async");
-    auto [status, output] = run_view_under_xvfb(AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --resolution 320x240 --async --script " AQUAFORM_SOURCE_DIR
-                                                "/tests/data/view_async.json --record " + out.string());
+    auto [status, output] = run_view_under_xvfb(
+        AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --resolution 320x240 --async --script " AQUAFORM_SOURCE_DIR
+                            "/tests/data/view_async.json --record " +
+        out.string());
     ASSERT_EQ(status, 0) << output;
     EXPECT_NE(output.find("attached sphere.obj"), std::string::npos) << output;
     EXPECT_NE(output.find("released the control shape"), std::string::npos) << output;
@@ -318,7 +339,8 @@ TEST(ViewQueueSharing, TheWorkerSharesTheQueueWhereASimulationFrameOutlastsAWind
 }
 
 TEST(ViewScriptTest, ActionsAreCheckedAndSortedByFrame) {
-    auto ok = viewer::parse_view_script(R"({"actions": [{"frame": 5, "do": "quit"}, {"frame": 1, "do": "method", "value": "sbuffer"}]})", "s.json");
+    auto ok = viewer::parse_view_script(
+        R"({"actions": [{"frame": 5, "do": "quit"}, {"frame": 1, "do": "method", "value": "sbuffer"}]})", "s.json");
     ASSERT_TRUE(ok.ok()) << ok.error();
     ASSERT_EQ(ok.value().size(), 2u);
     EXPECT_EQ(ok.value()[0].what, "method");
@@ -327,7 +349,8 @@ TEST(ViewScriptTest, ActionsAreCheckedAndSortedByFrame) {
     ASSERT_FALSE(unknown.ok());
     EXPECT_NE(unknown.error().find("actions[0].do"), std::string::npos) << unknown.error();
     EXPECT_NE(unknown.error().find("screenshot"), std::string::npos) << unknown.error();
-    auto attach = viewer::parse_view_script(R"({"actions": [{"frame": 2, "do": "attach", "file": "m.obj"}, {"frame": 3, "do": "release"}]})", "s.json");
+    auto attach = viewer::parse_view_script(
+        R"({"actions": [{"frame": 2, "do": "attach", "file": "m.obj"}, {"frame": 3, "do": "release"}]})", "s.json");
     ASSERT_TRUE(attach.ok()) << attach.error();
     EXPECT_EQ(attach.value()[0].value, "m.obj");
     auto missing = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "screenshot"}]})", "s.json");
@@ -340,7 +363,8 @@ TEST(ViewScriptTest, ActionsAreCheckedAndSortedByFrame) {
     for (const auto& [text, says] : std::vector<std::pair<std::string, std::string>>{
              {R"({"actions": [{"frame": 90, "do": "method", "value": "octree"}]})", "actions[0].value is \"octree\""},
              {R"({"actions": [{"frame": 90, "do": "view", "value": "normals"}]})", "actions[0].value is \"normals\""},
-             {R"({"actions": [{"frame": 9, "do": "whitewater", "value": "yes"}]})", "actions[0].value is \"yes\"; use \"on\" or \"off\""},
+             {R"({"actions": [{"frame": 9, "do": "whitewater", "value": "yes"}]})",
+              "actions[0].value is \"yes\"; use \"on\" or \"off\""},
              {R"({"actions": [{"frame": 90, "do": "screenshot", "file": "shot.jpg"}]})", "ending in .png"}}) {
         auto refused = viewer::parse_view_script(text, "s.json");
         ASSERT_FALSE(refused.ok()) << text;
@@ -362,20 +386,23 @@ TEST(ViewScriptTest, AScreenshotThatCannotBeWrittenIsRefusedAtLoadWithItsLine) {
     const fs::path file = test_cli::write_file(dir / "a_file", "not a folder");
     fs::create_directories(dir / "a_folder.png");
     fs::create_symlink(dir / "a_file", dir / "link.png");
-    for (const auto& [shot, says] : std::vector<std::pair<std::string, std::string>>{
-             {(file / "shot.png").string(), "is not a folder"},
-             {(dir / "a_folder.png").string(), "it is a folder"},
-             {(dir / "link.png").string(), "symbolic link"}}) {
-        const fs::path script = test_cli::write_file(dir / "s.json", "{\"actions\": [\n  {\"frame\": 0, \"do\": \"play\"},\n"
-                                                     "  {\"frame\": 3, \"do\": \"screenshot\", \"file\": \"" + shot + "\"}\n]}");
+    for (const auto& [shot, says] :
+         std::vector<std::pair<std::string, std::string>>{{(file / "shot.png").string(), "is not a folder"},
+                                                          {(dir / "a_folder.png").string(), "it is a folder"},
+                                                          {(dir / "link.png").string(), "symbolic link"}}) {
+        const fs::path script = test_cli::write_file(dir / "s.json",
+                                                     "{\"actions\": [\n  {\"frame\": 0, \"do\": \"play\"},\n"
+                                                     "  {\"frame\": 3, \"do\": \"screenshot\", \"file\": \"" +
+                                                         shot + "\"}\n]}");
         auto loaded = viewer::load_view_script(script);
         ASSERT_TRUE(loaded.ok()) << loaded.error();
         auto checked = viewer::check_script_outputs(loaded.value(), dir, script.string());
         ASSERT_FALSE(checked.ok()) << shot;
         EXPECT_NE(checked.error().find("line 3"), std::string::npos) << checked.error();
         EXPECT_NE(checked.error().find(says), std::string::npos) << checked.error();
-        const auto o = test_cli::run_aquaform("view " AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --script " + script.string(),
-                                              "DISPLAY= WAYLAND_DISPLAY=");
+        const auto o =
+            test_cli::run_aquaform("view " AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --script " + script.string(),
+                                   "DISPLAY= WAYLAND_DISPLAY=");
         EXPECT_EQ(o.exit_code, 2) << o.output;
         EXPECT_NE(o.output.find("line 3"), std::string::npos) << o.output;
     }
@@ -385,26 +412,31 @@ TEST(ViewScriptTest, AScreenshotThatCannotBeWrittenIsRefusedAtLoadWithItsLine) {
              {"/proc/nope/x.png", "/proc/nope cannot be made"},
              {"/proc/x.png", "/proc is not writable"},
              {(dir / std::string(300, 'n') / "x.png").string(), "longer than a name may be"}}) {
-        const fs::path script = test_cli::write_file(dir / "s.json", "{\"actions\": [\n  {\"frame\": 0, \"do\": \"play\"},\n"
-                                                     "  {\"frame\": 1, \"do\": \"screenshot\", \"file\": \"" + shot + "\"}\n]}");
+        const fs::path script = test_cli::write_file(dir / "s.json",
+                                                     "{\"actions\": [\n  {\"frame\": 0, \"do\": \"play\"},\n"
+                                                     "  {\"frame\": 1, \"do\": \"screenshot\", \"file\": \"" +
+                                                         shot + "\"}\n]}");
         auto loaded = viewer::load_view_script(script);
         ASSERT_TRUE(loaded.ok()) << loaded.error();
         auto checked = viewer::check_script_outputs(loaded.value(), dir, script.string());
         ASSERT_FALSE(checked.ok()) << shot << " passed the load check";
         EXPECT_NE(checked.error().find("line 3"), std::string::npos) << checked.error();
         EXPECT_NE(checked.error().find(says), std::string::npos) << checked.error();
-        const auto o = test_cli::run_aquaform("view " AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --script " + script.string(),
-                                              "DISPLAY= WAYLAND_DISPLAY=");
+        const auto o =
+            test_cli::run_aquaform("view " AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --script " + script.string(),
+                                   "DISPLAY= WAYLAND_DISPLAY=");
         EXPECT_EQ(o.exit_code, 2) << o.output;
         EXPECT_NE(o.output.find(says), std::string::npos) << o.output;
     }
     // The check leaves nothing behind: the folder it made to try is gone again.
-    auto deep = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "screenshot", "file": "made/deeper/shot.png"}]})", "s.json");
+    auto deep = viewer::parse_view_script(
+        R"({"actions": [{"frame": 1, "do": "screenshot", "file": "made/deeper/shot.png"}]})", "s.json");
     ASSERT_TRUE(deep.ok());
     EXPECT_TRUE(viewer::check_script_outputs(deep.value(), dir, "s.json").ok());
     EXPECT_FALSE(fs::exists(dir / "made")) << "the load check left the folder it tried";
     // A folder that does not exist yet is made by the screenshot: accepted.
-    auto fine = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "screenshot", "file": "new/shot.png"}]})", "s.json");
+    auto fine = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "screenshot", "file": "new/shot.png"}]})",
+                                          "s.json");
     ASSERT_TRUE(fine.ok());
     EXPECT_TRUE(viewer::check_script_outputs(fine.value(), dir, "s.json").ok());
     fs::remove_all(dir);
@@ -419,28 +451,38 @@ TEST(ViewScriptTest, AFlatOrGarbageMeshIsRefusedWhenTheScriptLoadsForEveryMeshAc
     for (const std::string action : {"attach", "union", "morph", "obstacle"})
         for (const std::string mesh : {"flat.obj", "garbage.obj"}) {
             const fs::path script = test_cli::write_file(
-                dir / "s.json", "{\"actions\": [\n  {\"frame\": 0, \"do\": \"play\"},\n  {\"frame\": 40, \"do\": \"" + action +
-                                    "\", \"file\": \"" + mesh + "\"},\n  {\"frame\": 41, \"do\": \"quit\"}\n]}");
+                dir / "s.json", "{\"actions\": [\n  {\"frame\": 0, \"do\": \"play\"},\n  {\"frame\": 40, \"do\": \"" +
+                                    action + "\", \"file\": \"" + mesh +
+                                    "\"},\n  {\"frame\": 41, \"do\": \"quit\"}\n]}");
             auto loaded = viewer::load_view_script(script);
             ASSERT_FALSE(loaded.ok()) << action << " " << mesh << " passed the load";
             for (const std::string& says : std::vector<std::string>{"line 3", "the " + action + " at frame 40", mesh})
                 EXPECT_NE(loaded.error().find(says), std::string::npos) << says << ": " << loaded.error();
             // The command stops there, exit 2, before any window (none is needed to refuse it).
-            const auto o = test_cli::run_aquaform("view " AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --script " + script.string(),
-                                                  "DISPLAY= WAYLAND_DISPLAY=");
+            const auto o =
+                test_cli::run_aquaform("view " AQUAFORM_ASSETS_DIR "/scenes/dam_break.json --script " + script.string(),
+                                       "DISPLAY= WAYLAND_DISPLAY=");
             EXPECT_EQ(o.exit_code, 2) << o.output;
             EXPECT_NE(o.output.find("line 3"), std::string::npos) << o.output;
-            EXPECT_EQ(o.output.find("no display"), std::string::npos) << "refused only when the window opened: " << o.output;
+            EXPECT_EQ(o.output.find("no display"), std::string::npos)
+                << "refused only when the window opened: " << o.output;
         }
     fs::remove_all(dir);
 }
 
 TEST(ViewScriptTest, AMissingKeyGetsAnExampleThatFitsItsAction) {
     // Every action was told to add "file": "shot.png", a mesh action too.
-    for (const auto& [action, example] : std::vector<std::pair<std::string, std::string>>{
-             {"attach", ".obj"}, {"union", ".obj"}, {"morph", ".obj"}, {"obstacle", ".obj"}, {"screenshot", "shot.png"},
-             {"method", "\"value\": \"adaptive\""}, {"view", "\"value\": \"tiles\""}, {"iterations", "\"value\": 4"},
-             {"resize", "\"value\": \"640x480\""}, {"whitewater", "\"value\": \"on\""}}) {
+    for (const auto& [action, example] :
+         std::vector<std::pair<std::string, std::string>>{{"attach", ".obj"},
+                                                          {"union", ".obj"},
+                                                          {"morph", ".obj"},
+                                                          {"obstacle", ".obj"},
+                                                          {"screenshot", "shot.png"},
+                                                          {"method", "\"value\": \"adaptive\""},
+                                                          {"view", "\"value\": \"tiles\""},
+                                                          {"iterations", "\"value\": 4"},
+                                                          {"resize", "\"value\": \"640x480\""},
+                                                          {"whitewater", "\"value\": \"on\""}}) {
         auto refused = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": ")" + action + R"("}]})", "s.json");
         ASSERT_FALSE(refused.ok()) << action;
         EXPECT_NE(refused.error().find(example), std::string::npos) << action << ": " << refused.error();
@@ -449,7 +491,8 @@ TEST(ViewScriptTest, AMissingKeyGetsAnExampleThatFitsItsAction) {
         }
     }
     // A key the action does not read is refused, not ignored.
-    auto ignored = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "obstacle", "value": "rock.obj"}]})", "s.json");
+    auto ignored =
+        viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "obstacle", "value": "rock.obj"}]})", "s.json");
     ASSERT_FALSE(ignored.ok());
     EXPECT_NE(ignored.error().find("obstacle takes a \"file\""), std::string::npos) << ignored.error();
     auto play = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "play", "file": "x.obj"}]})", "s.json");
@@ -461,7 +504,8 @@ TEST(ViewScriptTest, AMissingKeyGetsAnExampleThatFitsItsAction) {
 Scene tiny_scene(const fs::path& dir, const std::string& extra = "") {
     const fs::path path = test_cli::write_file(dir / "tiny.json", R"({"name": "tiny",
         "domain": {"min": [0, 0, 0], "max": [0.3, 0.3, 0.3]}, "particle_spacing": 0.01,
-        "fluid_blocks": [{"min": [0.125, 0, 0.125], "max": [0.175, 0.05, 0.175]}])" + extra + "}");
+        "fluid_blocks": [{"min": [0.125, 0, 0.125], "max": [0.175, 0.05, 0.175]}])" +
+                                                                      extra + "}");
     auto scene = load_scene(path);
     EXPECT_TRUE(scene.ok()) << scene.error();
     return scene.ok() ? scene.value() : Scene{};
@@ -475,7 +519,8 @@ TEST(ViewScriptTest, TheSeventeenthDropIsRefusedAtLoadSayingWhatTheViewerHoldsAn
     auto script = [&](int drops, bool remove_before_last) {
         std::string text = "{\"actions\": [\n";
         for (int i = 0; i < drops; ++i) {
-            if (remove_before_last && i + 1 == drops) text += "  {\"frame\": " + std::to_string(i) + ", \"do\": \"remove_obstacles\"},\n";
+            if (remove_before_last && i + 1 == drops)
+                text += "  {\"frame\": " + std::to_string(i) + ", \"do\": \"remove_obstacles\"},\n";
             text += "  {\"frame\": " + std::to_string(i) + ", \"do\": \"obstacle\", \"file\": \"cube.obj\"},\n";
         }
         return test_cli::write_file(dir / "s.json", text + "  {\"frame\": 40, \"do\": \"quit\"}\n]}");
@@ -483,18 +528,21 @@ TEST(ViewScriptTest, TheSeventeenthDropIsRefusedAtLoadSayingWhatTheViewerHoldsAn
     const Scene scene = tiny_scene(dir, R"(, "static_boxes": [{"min": [0, 0, 0], "max": [0.05, 0.05, 0.05]}])");
     auto sixteen = viewer::load_view_script(script(15, false));
     ASSERT_TRUE(sixteen.ok()) << sixteen.error();
-    EXPECT_TRUE(viewer::check_script_actions(sixteen.value(), scene, {}).ok()) << "a box and 15 drops fill the 16 solids";
+    EXPECT_TRUE(viewer::check_script_actions(sixteen.value(), scene, {}).ok())
+        << "a box and 15 drops fill the 16 solids";
     auto seventeen = viewer::load_view_script(script(16, false));
     ASSERT_TRUE(seventeen.ok()) << seventeen.error();
     auto refused = viewer::check_script_actions(seventeen.value(), scene, {});
     ASSERT_FALSE(refused.ok());
-    for (const char* says : {"line 17: the obstacle at frame 15", "the viewer holds 16 solids (1 static box, 15 dropped obstacles)",
-                             "the most the solver takes (16)", "remove_obstacles"})
+    for (const char* says :
+         {"line 17: the obstacle at frame 15", "the viewer holds 16 solids (1 static box, 15 dropped obstacles)",
+          "the most the solver takes (16)", "remove_obstacles"})
         EXPECT_NE(refused.error().find(says), std::string::npos) << says << ": " << refused.error();
     EXPECT_EQ(refused.error().find("entries"), std::string::npos) << refused.error();
     auto freed = viewer::load_view_script(script(16, true));
     ASSERT_TRUE(freed.ok()) << freed.error();
-    EXPECT_TRUE(viewer::check_script_actions(freed.value(), scene, {}).ok()) << "remove_obstacles frees the dropped ones";
+    EXPECT_TRUE(viewer::check_script_actions(freed.value(), scene, {}).ok())
+        << "remove_obstacles frees the dropped ones";
     // The worker's own refusal (a mesh dropped on the window) says the same.
     EXPECT_NE(viewer::obstacle_limit_refusal(1, 0, 15).find("the viewer holds 16 solids"), std::string::npos);
     EXPECT_EQ(viewer::obstacle_limit_refusal(1, 0, 14), "");
@@ -502,7 +550,8 @@ TEST(ViewScriptTest, TheSeventeenthDropIsRefusedAtLoadSayingWhatTheViewerHoldsAn
 }
 
 TEST(ViewCliTest, ScriptedMeshActionsAreCheckedAgainstTheSceneBeforeAnyFrameAndAFailureAtItsFrameExitsOne) {
-    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0) << "xvfb-run is missing: scripts/setup.sh installs xvfb";
+    ASSERT_EQ(std::system("command -v xvfb-run > /dev/null"), 0)
+        << "xvfb-run is missing: scripts/setup.sh installs xvfb";
     const fs::path dir = test_cli::temp_dir("view_script_scene");
     ASSERT_TRUE(geometry::write_obj(dir / "cube.obj", geometry::make_box({glm::vec3(0.0f), glm::vec3(1.0f)})).ok());
     (void)tiny_scene(dir);
@@ -510,15 +559,20 @@ TEST(ViewCliTest, ScriptedMeshActionsAreCheckedAgainstTheSceneBeforeAnyFrameAndA
     std::string text = "{\"actions\": [\n";
     for (int i = 0; i < 17; ++i) text += "  {\"frame\": 0, \"do\": \"obstacle\", \"file\": \"cube.obj\"},\n";
     const fs::path many = test_cli::write_file(dir / "many.json", text + "  {\"frame\": 1, \"do\": \"quit\"}\n]}");
-    auto [status, output] = run_view_under_xvfb((dir / "tiny.json").string() + " --resolution 64x48 --script " + many.string());
+    auto [status, output] =
+        run_view_under_xvfb((dir / "tiny.json").string() + " --resolution 64x48 --script " + many.string());
     EXPECT_EQ(status, 2) << output;
-    EXPECT_NE(output.find("line 18: the obstacle at frame 0 cannot drop cube.obj: the viewer holds 16 solids"), std::string::npos) << output;
+    EXPECT_NE(output.find("line 18: the obstacle at frame 0 cannot drop cube.obj: the viewer holds 16 solids"),
+              std::string::npos)
+        << output;
     EXPECT_EQ(output.find("window frames"), std::string::npos) << "the viewer started:\n" << output;
     // The cube dropped at the tank's centre would hold all the fluid: that shows only at its frame
     // (where the fluid then is), and the command exits 1 naming the action.
-    const fs::path all = test_cli::write_file(dir / "all.json", "{\"actions\": [\n  {\"frame\": 0, \"do\": \"obstacle\", "
+    const fs::path all = test_cli::write_file(dir / "all.json",
+                                              "{\"actions\": [\n  {\"frame\": 0, \"do\": \"obstacle\", "
                                               "\"file\": \"cube.obj\"},\n  {\"frame\": 1, \"do\": \"quit\"}\n]}");
-    auto [late, said] = run_view_under_xvfb((dir / "tiny.json").string() + " --resolution 64x48 --script " + all.string());
+    auto [late, said] =
+        run_view_under_xvfb((dir / "tiny.json").string() + " --resolution 64x48 --script " + all.string());
     EXPECT_EQ(late, 1) << said;
     EXPECT_NE(said.find("line 2: the obstacle at frame 0: cannot use"), std::string::npos) << said;
     EXPECT_NE(said.find("every particle"), std::string::npos) << said;
@@ -539,9 +593,11 @@ TEST(ViewShapesTest, SectionsAttachUnionAndMorph) {
     EXPECT_GE(box.min.z, 0.0f);
     EXPECT_LE(box.max.z, 0.2f);
     EXPECT_NEAR(box.min.y, 0.02f, 1e-6f) << "standing on the floor";
-    const fs::path sphere = fs::path(AQUAFORM_ASSETS_DIR) / "meshes/sphere.obj", torus = fs::path(AQUAFORM_ASSETS_DIR) / "meshes/torus.obj";
+    const fs::path sphere = fs::path(AQUAFORM_ASSETS_DIR) / "meshes/sphere.obj",
+                   torus = fs::path(AQUAFORM_ASSETS_DIR) / "meshes/torus.obj";
     for (viewer::ShapeOp op : {viewer::ShapeOp::attach, viewer::ShapeOp::union_with, viewer::ShapeOp::morph}) {
-        const std::vector<fs::path> meshes = op == viewer::ShapeOp::attach ? std::vector<fs::path>{sphere} : std::vector<fs::path>{sphere, torus};
+        const std::vector<fs::path> meshes =
+            op == viewer::ShapeOp::attach ? std::vector<fs::path>{sphere} : std::vector<fs::path>{sphere, torus};
         auto section = session::shape_section(scene, meshes, op, box);
         ASSERT_TRUE(section.ok()) << section.error();
         EXPECT_EQ(section.value().meshes.size(), meshes.size());
@@ -568,11 +624,13 @@ TEST(ViewShapesTest, ADroppedMeshStandsUnderTheCursor) {
     EXPECT_LT(left->x, centre->x - 0.2f) << "the left of the window is the left of the tank";
     EXPECT_GT(right->x, centre->x + 0.2f);
     for (const auto& p : {*centre, *left, *right}) {
-        EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, scene.domain.min)) && glm::all(glm::lessThanEqual(p, scene.domain.max)));
+        EXPECT_TRUE(glm::all(glm::greaterThanEqual(p, scene.domain.min)) &&
+                    glm::all(glm::lessThanEqual(p, scene.domain.max)));
     }
     // The shape's cube stands above the point (clamped into the tank), not above the fluid.
     const Box box = viewer::shape_box(scene, fluid, right);
-    EXPECT_NEAR(0.5f * (box.min.x + box.max.x), std::min(right->x, scene.domain.max.x - 0.5f * (box.max.x - box.min.x)), 1e-5f);
+    EXPECT_NEAR(0.5f * (box.min.x + box.max.x), std::min(right->x, scene.domain.max.x - 0.5f * (box.max.x - box.min.x)),
+                1e-5f);
     EXPECT_GT(0.5f * (box.min.x + box.max.x), 0.5f) << "still above the fluid at x = 0.3";
     // A camera turned away from the tank gives nothing rather than a point behind the eye.
     ViewCamera away = camera;

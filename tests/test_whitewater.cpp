@@ -35,8 +35,10 @@ class WhitewaterTest : public testing::GpuTest {};
 /// meet and throw crests up.
 Scene collision(const std::string& whitewater_json = "{}") {
     Scene scene = testing::scene_with({glm::vec3(0.0f), glm::vec3(0.4f, 0.3f, 0.2f)}, 0.02f);
-    scene.fluid_blocks = {{glm::vec3(0.0f), glm::vec3(0.12f, 0.12f, 0.2f)}, {glm::vec3(0.28f, 0.0f, 0.0f), glm::vec3(0.4f, 0.12f, 0.2f)}};
-    scene.block_fills = {BlockFill{std::nullopt, glm::vec3(2.0f, 0.0f, 0.0f)}, BlockFill{std::nullopt, glm::vec3(-2.0f, 0.0f, 0.0f)}};
+    scene.fluid_blocks = {{glm::vec3(0.0f), glm::vec3(0.12f, 0.12f, 0.2f)},
+                          {glm::vec3(0.28f, 0.0f, 0.0f), glm::vec3(0.4f, 0.12f, 0.2f)}};
+    scene.block_fills = {BlockFill{std::nullopt, glm::vec3(2.0f, 0.0f, 0.0f)},
+                         BlockFill{std::nullopt, glm::vec3(-2.0f, 0.0f, 0.0f)}};
     scene.whitewater = read_whitewater(nlohmann::json::parse(whitewater_json));
     return scene;
 }
@@ -86,8 +88,8 @@ TEST_F(WhitewaterTest, ThePotentialsAreIhmsensOnTheSameParticles) {
     // A whitewater of the test's own, one step on the solver's state as the frame left it.
     Whitewater ww(ctx(), scene, solver.particle_count(), false);
     ctx().submit_and_wait([&](VkCommandBuffer cmd) {
-        ww.record_step(cmd, solver.params_buffer(), solver.positions(), solver.velocities(), solver.grid(), solver.boundary_nodes(),
-                       solver.particle_count());
+        ww.record_step(cmd, solver.params_buffer(), solver.positions(), solver.velocities(), solver.grid(),
+                       solver.boundary_nodes(), solver.particle_count());
     });
     const std::vector<glm::vec4> gpu = ww.potentials();
     const std::vector<glm::vec3> cpu = cpu_potentials(solver.snapshot(), solver.params());
@@ -127,8 +129,11 @@ TEST_F(WhitewaterTest, ThePoolNeverHoldsMoreThanItsCapacityAndCountsWhatDidNotFi
 
 TEST_F(WhitewaterTest, NoWhitewaterParticleLeavesTheTankOrEntersASolid) {
     auto dir = test_cli::temp_dir("whitewater_solid");
-    ASSERT_TRUE(geometry::write_obj(dir / "block.obj", geometry::make_box({glm::vec3(0.18f, 0.0f, 0.05f), glm::vec3(0.22f, 0.2f, 0.15f)})).ok());
-    std::ofstream(dir / "scene.json") << R"({"name": "whitewater against a block", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
+    ASSERT_TRUE(geometry::write_obj(dir / "block.obj",
+                                    geometry::make_box({glm::vec3(0.18f, 0.0f, 0.05f), glm::vec3(0.22f, 0.2f, 0.15f)}))
+                    .ok());
+    std::ofstream(dir / "scene.json")
+        << R"({"name": "whitewater against a block", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
         "particle_spacing": 0.02, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.12, 0.12, 0.2], "velocity": [2, 0, 0]},
         {"min": [0.28, 0, 0], "max": [0.4, 0.12, 0.2], "velocity": [-2, 0, 0]}],
         "obstacles": {"block": {"file": "block.obj"}}, "whitewater": {"k_trapped_air": 40000, "k_wave_crest": 400000}})";
@@ -143,9 +148,11 @@ TEST_F(WhitewaterTest, NoWhitewaterParticleLeavesTheTankOrEntersASolid) {
         seen = std::max(seen, d.x.size());
         for (const glm::vec4& p : d.x) {
             const glm::vec3 q(p);
-            ASSERT_TRUE(glm::all(glm::greaterThanEqual(q, scene.value().domain.min)) && glm::all(glm::lessThanEqual(q, scene.value().domain.max)))
+            ASSERT_TRUE(glm::all(glm::greaterThanEqual(q, scene.value().domain.min)) &&
+                        glm::all(glm::lessThanEqual(q, scene.value().domain.max)))
                 << "frame " << f << ": a whitewater particle left the tank at " << q.x << " " << q.y << " " << q.z;
-            ASSERT_FALSE(geometry::is_inside(block, q)) << "frame " << f << ": a whitewater particle in the block at " << q.x << " " << q.y << " " << q.z;
+            ASSERT_FALSE(geometry::is_inside(block, q))
+                << "frame " << f << ": a whitewater particle in the block at " << q.x << " " << q.y << " " << q.z;
             ASSERT_GT(p.w, 0.0f) << "a particle whose life ran out is still in the pool";
         }
     }
@@ -201,7 +208,8 @@ size_t changed(const Image& a, const Image& b, uint32_t x0, uint32_t x1) {
     for (uint32_t y = 0; y < a.height; ++y)
         for (uint32_t x = x0; x < x1; ++x)
             for (int k = 0; k < 3; ++k)
-                if (std::abs(int(a.rgba[(size_t(y) * a.width + x) * 4 + k]) - int(b.rgba[(size_t(y) * b.width + x) * 4 + k])) > 4) {
+                if (std::abs(int(a.rgba[(size_t(y) * a.width + x) * 4 + k]) -
+                             int(b.rgba[(size_t(y) * b.width + x) * 4 + k])) > 4) {
                     ++n;
                     break;
                 }
@@ -239,7 +247,8 @@ TEST_F(WhitewaterTest, EveryMethodDrawsItWithDepthAgainstTheWaterAndWithoutItThe
     testing::for_each_method(ctx(), scene, solver.particle_count(), [&](Renderer& r, const MethodEntry& entry) {
         // A renderer never handed whitewater draws the method's own frame.
         const Image own = testing::tank_renderer(ctx(), scene, solver.particle_count(), entry)
-                              ->render({solver.positions(), solver.particle_count()}, camera).color;
+                              ->render({solver.positions(), solver.particle_count()}, camera)
+                              .color;
         FrameInput frame(solver.positions(), solver.particle_count());
         frame.whitewater = &in_front.view;
         const Image front = r.render(frame, camera).color;
@@ -249,7 +258,8 @@ TEST_F(WhitewaterTest, EveryMethodDrawsItWithDepthAgainstTheWaterAndWithoutItThe
         const Image off = r.render(frame, camera).color;
         // Against the bright sky white foam changes little, but it is there.
         EXPECT_GT(changed(front, own, 0, width / 2), 20u) << "foam in the air is drawn";
-        const double over_water = whiter(front, own, width / 2, width), through_water = whiter(behind, own, width / 2, width);
+        const double over_water = whiter(front, own, width / 2, width),
+                     through_water = whiter(behind, own, width / 2, width);
         EXPECT_GT(over_water, 800.0) << "foam in front of the water is drawn white";
         EXPECT_GT(through_water, 0.0) << "bubbles are seen through the water";
         EXPECT_LT(through_water, 0.85 * over_water) << "the water in front of the bubbles dims them";
@@ -261,8 +271,11 @@ TEST_F(WhitewaterTest, SolidsHideTheWhitewaterBehindThemInEveryMethod) {
     // A mesh block on the left and a static box on the right, each with foam behind it (hidden)
     // and foam in front of it (drawn over it). The water is a small pool at the back.
     auto dir = test_cli::temp_dir("whitewater_hidden");
-    ASSERT_TRUE(geometry::write_obj(dir / "block.obj", geometry::make_box({glm::vec3(0.05f, 0.0f, 0.32f), glm::vec3(0.25f, 0.2f, 0.37f)})).ok());
-    std::ofstream(dir / "scene.json") << R"({"name": "foam behind solids", "domain": {"min": [0, 0, 0], "max": [0.6, 0.3, 0.4]},
+    ASSERT_TRUE(geometry::write_obj(dir / "block.obj",
+                                    geometry::make_box({glm::vec3(0.05f, 0.0f, 0.32f), glm::vec3(0.25f, 0.2f, 0.37f)}))
+                    .ok());
+    std::ofstream(dir / "scene.json")
+        << R"({"name": "foam behind solids", "domain": {"min": [0, 0, 0], "max": [0.6, 0.3, 0.4]},
         "particle_spacing": 0.01, "fluid_blocks": [{"min": [0.25, 0, 0], "max": [0.35, 0.04, 0.06]}],
         "static_boxes": [{"min": [0.35, 0, 0.3], "max": [0.55, 0.2, 0.35]}], "obstacles": {"block": {"file": "block.obj"}}})";
     auto loaded = load_scene(dir / "scene.json");
@@ -305,15 +318,18 @@ std::pair<size_t, size_t> ply_vertices(const std::filesystem::path& path) {
 
 TEST(WhitewaterRun, WhitewaterEveryWritesTheLiveParticlesAsPlyAndListsThem) {
     const auto dir = test_cli::temp_dir("whitewater_run");
-    test_cli::write_file(dir / "scene.json", R"({"name": "collision", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
+    test_cli::write_file(dir / "scene.json",
+                         R"({"name": "collision", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
         "particle_spacing": 0.02, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.12, 0.12, 0.2], "velocity": [2, 0, 0]},
         {"min": [0.28, 0, 0], "max": [0.4, 0.12, 0.2], "velocity": [-2, 0, 0]}], "whitewater": {"k_trapped_air": 40000}})");
     const auto out = dir / "out";
-    auto r = test_cli::run_aquaform("run " + (dir / "scene.json").string() + " --frames 11 --no-png --whitewater-every 5 --out " + out.string());
+    auto r = test_cli::run_aquaform("run " + (dir / "scene.json").string() +
+                                    " --frames 11 --no-png --whitewater-every 5 --out " + out.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const std::string stats = test_cli::read_file(out / "stats.csv");
     std::vector<std::string> rows;
-    for (size_t at = 0, next; (next = stats.find('\n', at)) != std::string::npos; at = next + 1) rows.push_back(stats.substr(at, next - at));
+    for (size_t at = 0, next; (next = stats.find('\n', at)) != std::string::npos; at = next + 1)
+        rows.push_back(stats.substr(at, next - at));
     const auto column = [&](const std::string& name) {
         const std::string& header = rows.front();
         return size_t(std::count(header.begin(), header.begin() + header.find(name), ','));
@@ -330,7 +346,8 @@ TEST(WhitewaterRun, WhitewaterEveryWritesTheLiveParticlesAsPlyAndListsThem) {
         ASSERT_TRUE(std::filesystem::exists(out / name)) << name << "\n" << r.output;
         const auto [vertices, body] = ply_vertices(out / name);
         const size_t row = 1 + 5 * k;  // frame 5k
-        EXPECT_EQ(vertices, field(row, spray) + field(row, foam) + field(row, bubbles)) << name << ": the frame's live count";
+        EXPECT_EQ(vertices, field(row, spray) + field(row, foam) + field(row, bubbles))
+            << name << ": the frame's live count";
         EXPECT_EQ(body, vertices * 29) << name << ": position, velocity, kind, life";
         if (k > 0) EXPECT_GT(vertices, 0u) << name;
     }
@@ -346,7 +363,8 @@ TEST(WhitewaterRun, WhitewaterEveryWritesTheLiveParticlesAsPlyAndListsThem) {
     for (size_t at = 0; (at = chart.find("<polyline", at)) != std::string::npos; ++at) {
         const size_t begin = chart.find("points=\"", at) + 8, end = chart.find('"', begin);
         const std::string points = chart.substr(begin, end - begin);
-        EXPECT_EQ(std::count(points.begin(), points.end(), ','), 11) << "a point per frame (11): " << points.substr(0, 80);
+        EXPECT_EQ(std::count(points.begin(), points.end(), ','), 11)
+            << "a point per frame (11): " << points.substr(0, 80);
         ++lines;
     }
     EXPECT_EQ(lines, 4u) << "spray, foam, bubbles and their sum";
@@ -354,18 +372,22 @@ TEST(WhitewaterRun, WhitewaterEveryWritesTheLiveParticlesAsPlyAndListsThem) {
     // Without whitewater there is nothing to write: refused before any work, with the fix.
     test_cli::write_file(dir / "plain.json", R"({"name": "plain", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
         "particle_spacing": 0.02, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.12, 0.12, 0.2]}]})");
-    r = test_cli::run_aquaform("run " + (dir / "plain.json").string() + " --frames 2 --no-png --whitewater-every 1 --out " + (dir / "o2").string());
+    r = test_cli::run_aquaform("run " + (dir / "plain.json").string() +
+                               " --frames 2 --no-png --whitewater-every 1 --out " + (dir / "o2").string());
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find("--whitewater on"), std::string::npos) << r.output;
 
     // --whitewater-format: a format ParaView reads (tests/test_tools.cpp opens it), refused without
     // the files it is the format of, or with a format there is none of.
-    for (const std::string& flags : {std::string("--whitewater-format vtp"), std::string("--whitewater-every 1 --whitewater-format obj")}) {
-        r = test_cli::run_aquaform("run " + (dir / "scene.json").string() + " --frames 2 --no-png " + flags + " --out " +
-                                   (dir / "o3").string());
+    for (const std::string& flags :
+         {std::string("--whitewater-format vtp"), std::string("--whitewater-every 1 --whitewater-format obj")}) {
+        r = test_cli::run_aquaform("run " + (dir / "scene.json").string() + " --frames 2 --no-png " + flags +
+                                   " --out " + (dir / "o3").string());
         EXPECT_EQ(r.exit_code, 2) << flags << "\n" << r.output;
-        EXPECT_NE(r.output.find(flags.find("obj") != std::string::npos ? "use ply (Blender) or vtp" : "give --whitewater-every K"),
-                  std::string::npos) << r.output;
+        EXPECT_NE(r.output.find(flags.find("obj") != std::string::npos ? "use ply (Blender) or vtp"
+                                                                       : "give --whitewater-every K"),
+                  std::string::npos)
+            << r.output;
     }
 }
 
@@ -373,7 +395,8 @@ TEST(WhitewaterRun, TheOldDiffuseFlagsAreTakenAndSaidToBeTheOldNames) {
     // --diffuse-every and --diffuse-format were the names of --whitewater-every and
     // --whitewater-format: still taken, said once to be the old names; beside the new, refused.
     const auto dir = test_cli::temp_dir("whitewater_old_flags");
-    test_cli::write_file(dir / "scene.json", R"({"name": "collision", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
+    test_cli::write_file(dir / "scene.json",
+                         R"({"name": "collision", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
         "particle_spacing": 0.02, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.12, 0.12, 0.2], "velocity": [2, 0, 0]},
         {"min": [0.28, 0, 0], "max": [0.4, 0.12, 0.2], "velocity": [-2, 0, 0]}], "whitewater": {"k_trapped_air": 40000}})");
     const std::string run = "run '" + (dir / "scene.json").string() + "' --frames 5 --no-png ";
@@ -394,17 +417,20 @@ TEST(WhitewaterRun, TheOldDiffuseFlagsAreTakenAndSaidToBeTheOldNames) {
     EXPECT_EQ(bad.exit_code, 2) << bad.err;
     const size_t said = bad.err.find("aquaform run: --diffuse-every is the old name of --whitewater-every");
     EXPECT_NE(said, std::string::npos) << bad.err;
-    EXPECT_NE(bad.err.find("aquaform run: --whitewater-every must be a whole number", said), std::string::npos) << bad.err;
+    EXPECT_NE(bad.err.find("aquaform run: --whitewater-every must be a whole number", said), std::string::npos)
+        << bad.err;
 
     // The old names alone work, write the new files and say so, once each; the files an earlier
     // version wrote under the old names go as an earlier run's do.
     std::filesystem::create_directories(out);
     test_cli::write_file(out / "diffuse_0003.ply", "ply\n");
     test_cli::write_file(out / "diffuse.pvd", "<VTKFile/>\n");
-    const auto old = test_cli::run_aquaform_split(run + "--diffuse-every 2 --diffuse-format vtp --out '" + out.string() + "'", dir, 300);
+    const auto old = test_cli::run_aquaform_split(
+        run + "--diffuse-every 2 --diffuse-format vtp --out '" + out.string() + "'", dir, 300);
     ASSERT_EQ(old.exit_code, 0) << old.err;
-    for (const std::string said : {"aquaform run: --diffuse-every is the old name of --whitewater-every; give --whitewater-every 2",
-                                   "aquaform run: --diffuse-format is the old name of --whitewater-format; give --whitewater-format vtp"}) {
+    for (const std::string said :
+         {"aquaform run: --diffuse-every is the old name of --whitewater-every; give --whitewater-every 2",
+          "aquaform run: --diffuse-format is the old name of --whitewater-format; give --whitewater-format vtp"}) {
         const size_t at = old.err.find(said);
         EXPECT_NE(at, std::string::npos) << old.err;
         EXPECT_EQ(old.err.find(said.substr(0, 40), at + 1), std::string::npos) << "said once: " << old.err;
@@ -425,12 +451,15 @@ TEST(WhitewaterRun, TwoRunsWriteTheSameBytes) {
     // The pool's slots go to whichever invocation's atomicAdd comes first, so the same particles
     // sit in other slots from run to run; the files list them in an order of their own values.
     const auto dir = test_cli::temp_dir("whitewater_same_bits");
-    test_cli::write_file(dir / "scene.json", R"({"name": "collision", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
+    test_cli::write_file(dir / "scene.json",
+                         R"({"name": "collision", "domain": {"min": [0, 0, 0], "max": [0.4, 0.3, 0.2]},
         "particle_spacing": 0.02, "fluid_blocks": [{"min": [0, 0, 0], "max": [0.12, 0.12, 0.2], "velocity": [2, 0, 0]},
         {"min": [0.28, 0, 0], "max": [0.4, 0.12, 0.2], "velocity": [-2, 0, 0]}], "whitewater": {"k_trapped_air": 40000}})");
     for (const char* run : {"a", "b"}) {
-        auto r = test_cli::run_aquaform("run " + (dir / "scene.json").string() + " --frames 9 --no-png --whitewater-every 4 "
-                                        "--ply-every 8 --out " + (dir / run).string());
+        auto r = test_cli::run_aquaform("run " + (dir / "scene.json").string() +
+                                        " --frames 9 --no-png --whitewater-every 4 "
+                                        "--ply-every 8 --out " +
+                                        (dir / run).string());
         ASSERT_EQ(r.exit_code, 0) << r.output;
     }
     for (const char* name : {"whitewater_0001.ply", "whitewater_0002.ply", "particles_0001.ply"}) {

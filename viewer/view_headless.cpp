@@ -7,9 +7,9 @@
 
 #include "core/interrupt.h"
 #include "gpu/context.h"
+#include "viewer/view_setup.h"
 #include "viewer/view_shapes.h"
 #include "viewer/view_worker.h"
-#include "viewer/view_setup.h"
 
 namespace aquaform::viewer {
 
@@ -97,7 +97,10 @@ double HeadlessSummary::mean_gpu_render_ms() const { return mean_of(frames, &Hea
 nlohmann::json to_json(const HeadlessSummary& run) {
     nlohmann::json frames = nlohmann::json::array();
     for (const HeadlessFrame& h : run.frames)
-        frames.push_back({{"wall_ms", h.wall_ms}, {"steps", h.steps}, {"sim_s", h.sim_s}, {"gpu_solver_ms", h.gpu_solver_ms},
+        frames.push_back({{"wall_ms", h.wall_ms},
+                          {"steps", h.steps},
+                          {"sim_s", h.sim_s},
+                          {"gpu_solver_ms", h.gpu_solver_ms},
                           {"gpu_render_ms", h.gpu_render_ms}});
     return {{"particles", run.particles},
             {"resolution", std::to_string(run.width) + "x" + std::to_string(run.height)},
@@ -116,20 +119,23 @@ nlohmann::json to_json(const HeadlessSummary& run) {
 
 HeadlessSummary run_headless_printed(gpu::Context& ctx, session::SessionPlan plan, const ViewerOptions& options,
                                      uint32_t width, uint32_t height, const std::string& scene_name) {
-    std::printf("viewing %s headless: %llu particles on %s (%s), %u frames of the viewer's worker (simulate + %s "
-                "picture); Ctrl-C stops\n", scene_name.c_str(), (unsigned long long)plan.scene.particle_count(),
-                ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type), options.max_frames, options.method.c_str());
+    std::printf(
+        "viewing %s headless: %llu particles on %s (%s), %u frames of the viewer's worker (simulate + %s "
+        "picture); Ctrl-C stops\n",
+        scene_name.c_str(), (unsigned long long)plan.scene.particle_count(), ctx.info().name.c_str(),
+        gpu::device_type_name(ctx.info().type), options.max_frames, options.method.c_str());
     std::printf("%6s %10s %6s %10s %12s %12s\n", "frame", "wall ms", "steps", "sim ms", "GPU sim ms", "GPU draw ms");
     const HeadlessSummary run = run_headless(
         ctx, std::move(plan), options, width, height, options.max_frames, [](uint32_t f, const HeadlessFrame& h) {
-            std::printf("%6u %10.2f %6u %10.2f %12.2f %12.2f\n", f, h.wall_ms, h.steps, 1000.0 * h.sim_s, h.gpu_solver_ms,
-                        h.gpu_render_ms);
+            std::printf("%6u %10.2f %6u %10.2f %12.2f %12.2f\n", f, h.wall_ms, h.steps, 1000.0 * h.sim_s,
+                        h.gpu_solver_ms, h.gpu_render_ms);
         });
-    std::printf("aquaform view --headless: %zu frames in %.2f s: %.2f frames/s, %.2f steps a frame, GPU %.2f ms simulation + "
-                "%.2f ms picture a frame (%u particles, %ux%u, %s); real-time factor %.3f (%.3f s simulated)\n",
-                run.frames.size(), run.wall_seconds, run.frames_per_s(), run.mean_steps(), run.mean_gpu_solver_ms(),
-                run.mean_gpu_render_ms(), run.particles, run.width, run.height, run.method.c_str(), run.real_time_factor(),
-                run.sim_seconds);
+    std::printf(
+        "aquaform view --headless: %zu frames in %.2f s: %.2f frames/s, %.2f steps a frame, GPU %.2f ms simulation + "
+        "%.2f ms picture a frame (%u particles, %ux%u, %s); real-time factor %.3f (%.3f s simulated)\n",
+        run.frames.size(), run.wall_seconds, run.frames_per_s(), run.mean_steps(), run.mean_gpu_solver_ms(),
+        run.mean_gpu_render_ms(), run.particles, run.width, run.height, run.method.c_str(), run.real_time_factor(),
+        run.sim_seconds);
     if (!run.fatal.empty()) std::fprintf(stderr, "aquaform view: the simulation stopped: %s\n", run.fatal.c_str());
     if (!run.blowup.empty()) std::fprintf(stderr, "aquaform view: %s\n", run.blowup.c_str());
     return run;

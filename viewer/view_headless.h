@@ -24,9 +24,9 @@ namespace aquaform::viewer {
 
 /// One frame of a headless session.
 struct HeadlessFrame {
-    double wall_ms = 0.0;  ///< from asking the worker for the frame to its picture
-    uint32_t steps = 0;    ///< the time-step rule's steps of its simulation frame
-    double sim_s = 0.0;    ///< simulated time it advanced
+    double wall_ms = 0.0;                             ///< from asking the worker for the frame to its picture
+    uint32_t steps = 0;                               ///< the time-step rule's steps of its simulation frame
+    double sim_s = 0.0;                               ///< simulated time it advanced
     double gpu_solver_ms = 0.0, gpu_render_ms = 0.0;  ///< the worker's timers: simulation, picture
 };
 

@@ -31,9 +31,9 @@ namespace {
 using namespace json_fields;
 
 constexpr std::array<std::string_view, 4> kActionKeys{"frame", "do", "value", "file"};
-constexpr std::array<std::string_view, 17> kActions{"play", "pause", "step", "reset", "method", "iterations", "substeps",
-                                                    "screenshot", "attach", "union", "morph", "release", "view", "resize",
-                                                    "obstacle", "remove_obstacles", "whitewater"};
+constexpr std::array<std::string_view, 17> kActions{
+    "play",  "pause", "step",    "reset", "method", "iterations", "substeps",         "screenshot", "attach",
+    "union", "morph", "release", "view",  "resize", "obstacle",   "remove_obstacles", "whitewater"};
 
 /// Actions whose "file" is a mesh, named relative to the script.
 bool takes_mesh(const std::string& what) {
@@ -42,8 +42,10 @@ bool takes_mesh(const std::string& what) {
 
 /// What a missing "file" or "value" of `what` should look like, as an example to add.
 std::string example_of(const std::string& what) {
-    if (what == "screenshot") return "\"file\": \"shot.png\" (a PNG; relative names go to --record DIR or the working folder)";
-    if (takes_mesh(what)) return "\"file\": \"sphere.obj\" (an OBJ mesh; a relative path starts at the script's folder)";
+    if (what == "screenshot")
+        return "\"file\": \"shot.png\" (a PNG; relative names go to --record DIR or the working folder)";
+    if (takes_mesh(what))
+        return "\"file\": \"sphere.obj\" (an OBJ mesh; a relative path starts at the script's folder)";
     if (what == "method") return "\"value\": \"adaptive\" (a method of the viewer's menu)";
     if (what == "view") return "\"value\": \"tiles\" (image, steps, classification, tiles, depth_all or depth_agg)";
     if (what == "iterations") return "\"value\": 4 (1 to 64)";
@@ -62,9 +64,12 @@ std::vector<uint32_t> action_lines(const std::string& text) {
     for (char c : text) {
         if (c == '\n') ++line;
         if (in_string) {
-            if (escaped) escaped = false;
-            else if (c == '\\') escaped = true;
-            else if (c == '"') in_string = false;
+            if (escaped)
+                escaped = false;
+            else if (c == '\\')
+                escaped = true;
+            else if (c == '"')
+                in_string = false;
             continue;
         }
         if (c == '"') in_string = true;
@@ -95,16 +100,20 @@ std::string cannot_write_in(const fs::path& folder) {
 /// below it must be names a folder can have).
 std::string unwritable(const fs::path& file) {
     std::error_code ec;
-    if (fs::is_symlink(fs::symlink_status(file, ec))) return "it is a symbolic link (aquaform does not write through links)";
+    if (fs::is_symlink(fs::symlink_status(file, ec)))
+        return "it is a symbolic link (aquaform does not write through links)";
     if (fs::is_directory(file, ec)) return "it is a folder";
-    if (file.string().size() >= PATH_MAX) return "its path is longer than the system allows (" + std::to_string(PATH_MAX) + " bytes)";
+    if (file.string().size() >= PATH_MAX)
+        return "its path is longer than the system allows (" + std::to_string(PATH_MAX) + " bytes)";
     for (const fs::path& part : file)
         if (part.string().size() > NAME_MAX)
-            return "its part \"" + part.string().substr(0, 40) + "...\" is longer than a name may be (" + std::to_string(NAME_MAX) + " bytes)";
+            return "its part \"" + part.string().substr(0, 40) + "...\" is longer than a name may be (" +
+                   std::to_string(NAME_MAX) + " bytes)";
     // The nearest folder that exists: the screenshot's folder, or the one it would be made in.
     fs::path folder = file.parent_path().empty() ? fs::path(".") : file.parent_path();
     fs::path first_missing;
-    while (!fs::exists(fs::symlink_status(folder, ec)) && folder.has_relative_path() && folder != folder.parent_path()) {
+    while (!fs::exists(fs::symlink_status(folder, ec)) && folder.has_relative_path() &&
+           folder != folder.parent_path()) {
         first_missing = folder;
         folder = folder.parent_path().empty() ? fs::path(".") : folder.parent_path();
     }
@@ -132,7 +141,8 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
         for (size_t i = 0; i < j["actions"].size(); ++i) {
             const json& a = j["actions"][i];
             const std::string where = "actions[" + std::to_string(i) + "]";
-            if (!a.is_object()) fail(where + " must be an object such as {\"frame\": 3, \"do\": \"pause\"}, got " + written(a));
+            if (!a.is_object())
+                fail(where + " must be an object such as {\"frame\": 3, \"do\": \"pause\"}, got " + written(a));
             check_keys(a, "in " + where, kActionKeys);
             require(a, "frame", "in " + where, "\"frame\": 0");
             require(a, "do", "in " + where, "\"do\": \"play\"");
@@ -142,21 +152,23 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
             action.frame = read_integer(a["frame"], child(where, "frame"), 0, 1u << 30);
             if (!a["do"].is_string()) fail(child(where, "do") + " must be an action name, got " + written(a["do"]));
             action.what = a["do"].get<std::string>();
-            const bool known = action.what == "quit" ||
-                               std::find(kActions.begin(), kActions.end(), action.what) != kActions.end();
+            const bool known =
+                action.what == "quit" || std::find(kActions.begin(), kActions.end(), action.what) != kActions.end();
             if (!known)
                 fail(child(where, "do") + " is \"" + action.what +
                      "\"; use play, pause, step, reset, method, view, iterations, substeps, screenshot, attach, union, "
                      "morph, release, obstacle, remove_obstacles, resize, whitewater or quit");
             const bool takes_file = action.what == "screenshot" || takes_mesh(action.what);
             const char* key = takes_file ? "file" : "value";
-            const bool needs = takes_file || action.what == "method" || action.what == "view" || action.what == "iterations" ||
-                               action.what == "substeps" || action.what == "resize" || action.what == "whitewater";
+            const bool needs = takes_file || action.what == "method" || action.what == "view" ||
+                               action.what == "iterations" || action.what == "substeps" || action.what == "resize" ||
+                               action.what == "whitewater";
             // A key the action does not read is refused rather than ignored.
             for (const char* other : {"file", "value"})
                 if (a.contains(other) && (!needs || std::string_view(other) != key))
                     fail(child(where, other) + ": " + action.what + " takes " +
-                         (needs ? "a \"" + std::string(key) + "\", not a \"" + other + "\"; e.g. " + example_of(action.what)
+                         (needs ? "a \"" + std::string(key) + "\", not a \"" + other + "\"; e.g. " +
+                                      example_of(action.what)
                                 : "neither \"file\" nor \"value\"; remove it"));
             if (needs) {
                 require(a, key, "in " + where, example_of(action.what));
@@ -168,27 +180,31 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
                     fail(child(where, key) + " must be a string, got " + written(a[key]));
                 uint32_t w = 0, h = 0;
                 if (action.what == "resize" && !parse_resolution(action.value, &w, &h))
-                    fail(child(where, key) + " must be a window size such as \"640x480\", got \"" + action.value + "\"");
+                    fail(child(where, key) + " must be a window size such as \"640x480\", got \"" + action.value +
+                         "\"");
                 // Checked here, when the script is loaded, not when its frame is reached.
                 const auto& methods = view_methods();
-                if (action.what == "method" && std::find(methods.begin(), methods.end(), action.value) == methods.end()) {
+                if (action.what == "method" &&
+                    std::find(methods.begin(), methods.end(), action.value) == methods.end()) {
                     std::string names;
                     for (const std::string& m : methods) names += (names.empty() ? "" : ", ") + m;
                     fail(child(where, key) + " is \"" + action.value + "\"; use one of the viewer's methods: " + names);
                 }
                 if (action.what == "whitewater" && action.value != "on" && action.value != "off")
                     fail(child(where, key) + " is \"" + action.value + "\"; use \"on\" or \"off\"");
-                if (action.what == "view" &&
-                    std::find(std::begin(kDebugViewNames), std::end(kDebugViewNames), action.value) == std::end(kDebugViewNames))
+                if (action.what == "view" && std::find(std::begin(kDebugViewNames), std::end(kDebugViewNames),
+                                                       action.value) == std::end(kDebugViewNames))
                     fail(child(where, key) + " is \"" + action.value +
                          "\"; use image, steps, classification, tiles, depth_all or depth_agg");
                 const std::filesystem::path file(action.value);
                 if (action.what == "screenshot" && (file.extension() != ".png" || !file.has_stem()))
-                    fail(child(where, key) + " is \"" + action.value + "\"; a screenshot is a PNG: give a name ending in .png");
+                    fail(child(where, key) + " is \"" + action.value +
+                         "\"; a screenshot is a PNG: give a name ending in .png");
             }
             actions.push_back(action);
         }
-        std::stable_sort(actions.begin(), actions.end(), [](const ViewAction& a, const ViewAction& b) { return a.frame < b.frame; });
+        std::stable_sort(actions.begin(), actions.end(),
+                         [](const ViewAction& a, const ViewAction& b) { return a.frame < b.frame; });
         return actions;
     } catch (const Invalid& e) {
         return Error{e.has_origin ? e.message : origin + ": " + e.message};
@@ -203,9 +219,10 @@ Result<bool> check_script_outputs(const std::vector<ViewAction>& actions, const 
         if (a.what != "screenshot") continue;
         const fs::path file = fs::path(a.value).is_absolute() ? fs::path(a.value) : screenshot_dir / a.value;
         if (const std::string why = unwritable(file); !why.empty())
-            return Error{origin + ": line " + std::to_string(a.line) + ": the screenshot at frame " + std::to_string(a.frame) +
-                         " cannot be written to " + file.string() + ": " + why +
-                         "; name a file in a writable folder (relative names go to --record DIR or the working folder)"};
+            return Error{
+                origin + ": line " + std::to_string(a.line) + ": the screenshot at frame " + std::to_string(a.frame) +
+                " cannot be written to " + file.string() + ": " + why +
+                "; name a file in a writable folder (relative names go to --record DIR or the working folder)"};
     }
     return true;
 }
@@ -230,8 +247,10 @@ Result<std::vector<ViewAction>> load_view_script(const std::filesystem::path& pa
         if (fresh) {
             std::error_code ec;
             if (!fs::is_regular_file(a.value, ec))
-                it->second = a.value + " is not a file; give an OBJ mesh's path (a relative one starts at the script's folder)";
-            else if (auto loaded = geometry::load_obj(a.value); !loaded) it->second = loaded.error();
+                it->second =
+                    a.value + " is not a file; give an OBJ mesh's path (a relative one starts at the script's folder)";
+            else if (auto loaded = geometry::load_obj(a.value); !loaded)
+                it->second = loaded.error();
         }
         if (!it->second.empty()) return Error{a.where() + " cannot use its mesh: " + it->second};
     }
@@ -250,8 +269,10 @@ Result<bool> check_script_actions(const std::vector<ViewAction>& actions, const 
     std::vector<fs::path> active = shapes;  // the control shapes as the actions before leave them
     std::optional<Box> shape_place;         // where a shape goes (the fluid as it starts)
     for (const ViewAction& a : actions) {
-        if (a.what == "remove_obstacles") dropped = 0;
-        else if (a.what == "release") active.clear();
+        if (a.what == "remove_obstacles")
+            dropped = 0;
+        else if (a.what == "release")
+            active.clear();
         else if (a.what == "obstacle") {
             if (std::string full = obstacle_limit_refusal(boxes, own, dropped); !full.empty())
                 return Error{a.where() + " cannot drop " + fs::path(a.value).filename().string() + ": " + full};
@@ -276,7 +297,7 @@ Result<bool> check_script_actions(const std::vector<ViewAction>& actions, const 
                 scene.generate_particles(particles, block_of);
                 shape_place = shape_box(scene, particles);
             }
-            const session::ShapeOp op = a.what == "attach" ? session::ShapeOp::attach
+            const session::ShapeOp op = a.what == "attach"  ? session::ShapeOp::attach
                                         : a.what == "union" ? session::ShapeOp::union_with
                                                             : session::ShapeOp::morph;
             // As SimulationSession::apply_shape makes the section: over the shapes before it.

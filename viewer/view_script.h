@@ -34,10 +34,11 @@ namespace aquaform::viewer {
 
 struct ViewAction {
     uint32_t frame = 0;
-    std::string what;   ///< play, pause, step, reset, method, iterations, substeps, screenshot, attach, union, morph, release, obstacle, remove_obstacles, resize, whitewater, quit
-    std::string value;  ///< method name, integer, or file
-    uint32_t line = 0;  ///< where the script writes it (1-based; 0: not from a file)
-    std::string origin; ///< the script's file (empty: not from a script)
+    std::string
+        what;  ///< play, pause, step, reset, method, iterations, substeps, screenshot, attach, union, morph, release, obstacle, remove_obstacles, resize, whitewater, quit
+    std::string value;   ///< method name, integer, or file
+    uint32_t line = 0;   ///< where the script writes it (1-based; 0: not from a file)
+    std::string origin;  ///< the script's file (empty: not from a script)
 
     /// "s.json: line 4: the obstacle at frame 3", for messages about this action.
     std::string where() const;

@@ -25,8 +25,8 @@ PictureSize picture_of_window(uint32_t width, uint32_t height, float scale);
 /// Throws Failure (kind input) naming what does not fit and the fix: a window of `width` x
 /// `height` larger than the device's images (`size_flag` names the flag to shrink), the scene's
 /// fluid, or the picture at `picture_scale` of the window drawn with `method`.
-void check_view_fits(gpu::Context& ctx, const Scene& scene, const MethodSettings& method, uint32_t width, uint32_t height,
-                     float picture_scale, const std::string& size_flag);
+void check_view_fits(gpu::Context& ctx, const Scene& scene, const MethodSettings& method, uint32_t width,
+                     uint32_t height, float picture_scale, const std::string& size_flag);
 
 /// The shader tree hot reload watches: `given` (--shaders DIR), else the source tree's shaders/
 /// beside the build; empty when it is not a directory (with `warning` set when `given` was not).

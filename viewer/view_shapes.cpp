@@ -51,11 +51,13 @@ Box shape_box(const Scene& scene, const std::vector<glm::vec4>& particles, std::
     }
     const glm::vec3 extent = scene.domain.max - scene.domain.min;
     const float volume = float(particles.size()) * std::pow(scene.particle_spacing, 3.0f);
-    const float size = std::min(std::cbrt(6.0f * volume / 3.14159265f), 0.9f * std::min({extent.x, extent.y, extent.z}));
+    const float size =
+        std::min(std::cbrt(6.0f * volume / 3.14159265f), 0.9f * std::min({extent.x, extent.y, extent.z}));
     centre.x = std::clamp(centre.x, scene.domain.min.x + 0.5f * size, scene.domain.max.x - 0.5f * size);
     centre.z = std::clamp(centre.z, scene.domain.min.z + 0.5f * size, scene.domain.max.z - 0.5f * size);
     const float floor = scene.domain.min.y + scene.particle_spacing;
-    return {{centre.x - 0.5f * size, floor, centre.z - 0.5f * size}, {centre.x + 0.5f * size, floor + size, centre.z + 0.5f * size}};
+    return {{centre.x - 0.5f * size, floor, centre.z - 0.5f * size},
+            {centre.x + 0.5f * size, floor + size, centre.z + 0.5f * size}};
 }
 
 Box obstacle_box(const Scene& scene, std::optional<glm::vec3> at) {
@@ -66,13 +68,16 @@ Box obstacle_box(const Scene& scene, std::optional<glm::vec3> at) {
     centre.x = std::clamp(centre.x, scene.domain.min.x + 0.5f * side, scene.domain.max.x - 0.5f * side);
     centre.z = std::clamp(centre.z, scene.domain.min.z + 0.5f * side, scene.domain.max.z - 0.5f * side);
     const float floor = scene.domain.min.y;
-    return {{centre.x - 0.5f * side, floor, centre.z - 0.5f * side}, {centre.x + 0.5f * side, floor + height, centre.z + 0.5f * side}};
+    return {{centre.x - 0.5f * side, floor, centre.z - 0.5f * side},
+            {centre.x + 0.5f * side, floor + height, centre.z + 0.5f * side}};
 }
 
 std::string obstacle_limit_refusal(size_t boxes, size_t own, size_t dropped) {
     const size_t held = boxes + own + dropped;
     if (held < PBF_MAX_SOLIDS) return "";
-    auto count = [](size_t n, const char* one, const char* many) { return std::to_string(n) + " " + (n == 1 ? one : many); };
+    auto count = [](size_t n, const char* one, const char* many) {
+        return std::to_string(n) + " " + (n == 1 ? one : many);
+    };
     std::string parts;
     if (boxes) parts += count(boxes, "static box", "static boxes");
     if (own) parts += (parts.empty() ? "" : ", ") + count(own, "obstacle of the scene", "obstacles of the scene");

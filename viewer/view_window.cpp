@@ -28,9 +28,11 @@ std::string glfw_error() {
 Result<std::unique_ptr<ViewWindow>> ViewWindow::open(int width, int height, const std::string& title) {
     const char* x11 = std::getenv("DISPLAY");
     const char* wayland = std::getenv("WAYLAND_DISPLAY");
-    const std::string fix = "; the viewer needs a desktop session (or Xvfb: xvfb-run -a aquaform view SCENE); "
-                            "to simulate and write frames without one, use: aquaform run SCENE";
-    if ((!x11 || !*x11) && (!wayland || !*wayland)) return Error{"no display (DISPLAY and WAYLAND_DISPLAY are unset)" + fix};
+    const std::string fix =
+        "; the viewer needs a desktop session (or Xvfb: xvfb-run -a aquaform view SCENE); "
+        "to simulate and write frames without one, use: aquaform run SCENE";
+    if ((!x11 || !*x11) && (!wayland || !*wayland))
+        return Error{"no display (DISPLAY and WAYLAND_DISPLAY are unset)" + fix};
     if (!glfwInit()) return Error{"cannot open the display: " + glfw_error() + fix};
     if (!glfwVulkanSupported()) {
         glfwTerminate();
@@ -259,9 +261,10 @@ void ViewWindow::ensure_staging(uint32_t width, uint32_t height) {
     if (staging_.image && staging_w_ == width && staging_h_ == height) return;
     ctx_->wait_queue_idle();
     gpu::destroy_image(*ctx_, staging_);
-    staging_ = gpu::create_image(*ctx_, "window picture", width, height, VK_FORMAT_R8G8B8A8_UNORM,
-                                 VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
-                                 VK_IMAGE_ASPECT_COLOR_BIT);  // sampled: create_image makes a view, which needs a view usage
+    staging_ = gpu::create_image(
+        *ctx_, "window picture", width, height, VK_FORMAT_R8G8B8A8_UNORM,
+        VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_SAMPLED_BIT,
+        VK_IMAGE_ASPECT_COLOR_BIT);  // sampled: create_image makes a view, which needs a view usage
     staging_w_ = width;
     staging_h_ = height;
 }
@@ -281,17 +284,18 @@ void ViewWindow::blit(VkCommandBuffer cmd, const gpu::Buffer& rgba, uint32_t wid
     copy.imageExtent = {width, height, 1};
     vkCmdCopyBufferToImage(cmd, rgba.buffer, staging_.image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &copy);
     gpu::image_barrier(cmd, staging_.image, color, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
-                       VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-    gpu::image_barrier(cmd, target, color, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, 0, VK_IMAGE_LAYOUT_UNDEFINED,
-                       VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
+                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_BLIT_BIT,
+                       VK_ACCESS_2_TRANSFER_READ_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    gpu::image_barrier(cmd, target, color, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, 0,
+                       VK_IMAGE_LAYOUT_UNDEFINED, VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                       VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
     VkImageBlit region{};
     region.srcSubresource = {color, 0, 0, 1};
     region.srcOffsets[1] = {int32_t(width), int32_t(height), 1};
     region.dstSubresource = {color, 0, 0, 1};
     region.dstOffsets[1] = {int32_t(extent_.width), int32_t(extent_.height), 1};
-    vkCmdBlitImage(cmd, staging_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                   1, &region, VK_FILTER_LINEAR);
+    vkCmdBlitImage(cmd, staging_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, target,
+                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region, VK_FILTER_LINEAR);
     gpu::image_barrier(cmd, target, color, VK_PIPELINE_STAGE_2_BLIT_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                        VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                        VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
@@ -310,7 +314,8 @@ void ViewWindow::end_ui(VkCommandBuffer cmd) { vkCmdEndRenderPass(cmd); }
 
 void ViewWindow::end_frame(VkCommandBuffer cmd) {
     VK_CHECK(vkEndCommandBuffer(cmd));
-    const VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    const VkPipelineStageFlags wait_stage =
+        VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
     VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
     submit.waitSemaphoreCount = 1;
     submit.pWaitSemaphores = &acquired_;

@@ -11,9 +11,9 @@
 
 #include <vulkan/vulkan.h>
 
+#include "core/result.h"
 #include "gpu/buffer.h"
 #include "gpu/image.h"
-#include "core/result.h"
 
 struct GLFWwindow;
 

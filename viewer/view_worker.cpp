@@ -6,20 +6,20 @@
 #include <cstdio>
 #include <cstring>
 
-#include "viewer/view_shapes.h"
 #include "control/push_force.h"
 #include "gpu/compute_pass.h"
 #include "gpu/context.h"
 #include "gpu/shader_compiler.h"
 #include "gpu/timer.h"
 #include "pictures/image_metrics.h"
+#include "render/picture_size.h"
 #include "render/registry.h"
 #include "render/surface_renderer.h"
 #include "render/surface_views.h"
 #include "session/simulation_session.h"
 #include "sim/blowup.h"
 #include "sim/pbf_solver.h"
-#include "render/picture_size.h"
+#include "viewer/view_shapes.h"
 
 namespace aquaform::viewer {
 
@@ -37,7 +37,7 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-constexpr size_t kHistory = 120;                        // frames in the timing chart
+constexpr size_t kHistory = 120;                              // frames in the timing chart
 constexpr auto kShaderPoll = std::chrono::milliseconds(500);  // how often edited shaders are looked for
 constexpr auto kIdleWait = std::chrono::milliseconds(250);
 }  // namespace
@@ -59,9 +59,14 @@ int PictureSlots::take() {
 
 struct ViewWorker::Sim {
     Sim(gpu::Context& c, session::SessionPlan plan)
-        : ctx(c), render_timer(c), sim_timer(c), push(c),
-          session(std::make_unique<session::SimulationSession>(c, std::move(plan), session::SessionOptions{.measure_shapes = false, .frame_grid = true})),
-          scene(session->scene()), solver{session.get()} {
+        : ctx(c),
+          render_timer(c),
+          sim_timer(c),
+          push(c),
+          session(std::make_unique<session::SimulationSession>(
+              c, std::move(plan), session::SessionOptions{.measure_shapes = false, .frame_grid = true})),
+          scene(session->scene()),
+          solver{session.get()} {
         session->add_step_force(&push);
     }
     ~Sim() {
@@ -82,7 +87,7 @@ struct ViewWorker::Sim {
     std::map<std::string, std::unique_ptr<Renderer>> renderers;
     uint32_t render_w = 0, render_h = 0;
     uint32_t render_particles = 0;  // the count the renderers were made for
-    gpu::Buffer debug_image{};  // a debug view, drawn on the host
+    gpu::Buffer debug_image{};      // a debug view, drawn on the host
     std::unique_ptr<gpu::ShaderWatcher> watcher;
     Clock::time_point next_poll = Clock::now();
     std::optional<ViewControls> drawn;  // the controls of the last picture
@@ -93,7 +98,7 @@ struct ViewWorker::Sim {
     std::string status;
     uint32_t blowups = 0;
     std::string blowup;
-    std::vector<std::string> refused;  // scripted commands not done (ViewReport::refused)
+    std::vector<std::string> refused;                                // scripted commands not done (ViewReport::refused)
     const size_t own_obstacles = session->scene().obstacles.size();  // the scene's; the rest were dropped
 
     void say(std::string message) {
@@ -130,8 +135,10 @@ struct ViewWorker::Sim {
     /// which prints it at the end and exits 1.
     void refuse(const ViewCommand& c, const std::string& why) {
         status = why;
-        if (!c.script.empty()) refused.push_back(c.script + ": " + why);
-        else std::fprintf(stderr, "aquaform view: %s\n", why.c_str());
+        if (!c.script.empty())
+            refused.push_back(c.script + ": " + why);
+        else
+            std::fprintf(stderr, "aquaform view: %s\n", why.c_str());
     }
 
     /// A still obstacle from `file` (an OBJ), standing on the floor under `at` (obstacle_box); the
@@ -140,7 +147,8 @@ struct ViewWorker::Sim {
     void obstacle(const ViewCommand& c) {
         const fs::path& file = c.file;
         const size_t dropped = session->scene().obstacles.size() - own_obstacles;
-        if (std::string full = obstacle_limit_refusal(session->scene().static_boxes.size(), own_obstacles, dropped); !full.empty())
+        if (std::string full = obstacle_limit_refusal(session->scene().static_boxes.size(), own_obstacles, dropped);
+            !full.empty())
             return refuse(c, "cannot drop " + file.filename().string() + ": " + full);
         auto added = session->add_obstacle(file, obstacle_box(scene, c.at));
         if (!added) return refuse(c, "cannot use " + file.string() + " as an obstacle: " + added.error());
@@ -157,19 +165,33 @@ struct ViewWorker::Sim {
     /// Runs one command; true when the simulation should advance a frame (step).
     bool apply(const ViewCommand& c) {
         switch (c.op) {
-        case ViewOp::step: return true;
-        case ViewOp::reset: session->reset(); halted = false; break;
-        case ViewOp::attach: shape(ShapeOp::attach, c); break;
-        case ViewOp::union_with: shape(ShapeOp::union_with, c); break;
-        case ViewOp::morph: shape(ShapeOp::morph, c); break;
-        case ViewOp::release: release(); break;
-        case ViewOp::solver:
-            session->set_solver_settings(c.solver);
-            break;
-        case ViewOp::obstacle: obstacle(c); break;
-        case ViewOp::remove_obstacles:
-            if (session->remove_added_obstacles()) say("removed the dropped obstacles");
-            break;
+            case ViewOp::step:
+                return true;
+            case ViewOp::reset:
+                session->reset();
+                halted = false;
+                break;
+            case ViewOp::attach:
+                shape(ShapeOp::attach, c);
+                break;
+            case ViewOp::union_with:
+                shape(ShapeOp::union_with, c);
+                break;
+            case ViewOp::morph:
+                shape(ShapeOp::morph, c);
+                break;
+            case ViewOp::release:
+                release();
+                break;
+            case ViewOp::solver:
+                session->set_solver_settings(c.solver);
+                break;
+            case ViewOp::obstacle:
+                obstacle(c);
+                break;
+            case ViewOp::remove_obstacles:
+                if (session->remove_added_obstacles()) say("removed the dropped obstacles");
+                break;
         }
         return false;
     }
@@ -223,8 +245,11 @@ struct ViewWorker::Sim {
             render_particles = solver->particle_count();
         }
         auto& r = renderers[render_registry().find(c.method)->family];
-        if (!r) r = render_registry().create(ctx, scene.particle_domain(), render_w, render_h, solver->particle_count(), settings);
-        else r->configure(settings);
+        if (!r)
+            r = render_registry().create(ctx, scene.particle_domain(), render_w, render_h, solver->particle_count(),
+                                         settings);
+        else
+            r->configure(settings);
         return *r;
     }
 
@@ -260,11 +285,21 @@ struct ViewWorker::Sim {
             return heat_map(depth, render_w, render_h, 1.05f, &frame.color);
         };
         switch (c.view) {
-        case 1: image = evals_view(frame, float(s.max_steps) / 4.0f); break;
-        case 2: image = classification_view(frame.color, surface->front_classes()); break;
-        case 3: image = tile_view(frame.color, surface->tile_levels(), surface->params().screen.z); break;
-        case 4: image = depth_view(surface->depth_all()); break;
-        default: image = depth_view(surface->depth_agg()); break;
+            case 1:
+                image = evals_view(frame, float(s.max_steps) / 4.0f);
+                break;
+            case 2:
+                image = classification_view(frame.color, surface->front_classes());
+                break;
+            case 3:
+                image = tile_view(frame.color, surface->tile_levels(), surface->params().screen.z);
+                break;
+            case 4:
+                image = depth_view(surface->depth_all());
+                break;
+            default:
+                image = depth_view(surface->depth_agg());
+                break;
         }
         const uint64_t bytes = image.rgba.size();
         if (debug_image.size < bytes) {
@@ -298,7 +333,9 @@ ViewWorker::~ViewWorker() {
         if (s.rgba.buffer) gpu::destroy_buffer(ctx_, s.rgba);
 }
 
-void ViewWorker::start() { thread_ = std::thread([this] { loop(); }); }
+void ViewWorker::start() {
+    thread_ = std::thread([this] { loop(); });
+}
 
 void ViewWorker::set_controls(const ViewControls& controls) {
     {
@@ -394,8 +431,10 @@ void ViewWorker::loop() {
         bool made = false;
         std::string fatal;
         try {
-            if (!idle) made = frame(controls, std::move(commands), stroke, serving > 0 && serving > completed_);
-            else if (sim_->reload_shaders()) sim_->drawn.reset();  // drawn again when next asked
+            if (!idle)
+                made = frame(controls, std::move(commands), stroke, serving > 0 && serving > completed_);
+            else if (sim_->reload_shaders())
+                sim_->drawn.reset();  // drawn again when next asked
         } catch (const gpu::Cancelled&) {
             return;  // the viewer is closing: the frame's state no longer matters
         } catch (const std::exception& e) {
@@ -407,8 +446,8 @@ void ViewWorker::loop() {
         if (made) {
             const double dt = std::chrono::duration<double>(now - last).count();
             last = now;
-            report_.frames_per_s = report_.frames == 0 ? 1.0 / std::max(dt, 1e-6)
-                                                       : 0.8 * report_.frames_per_s + 0.2 / std::max(dt, 1e-6);
+            report_.frames_per_s =
+                report_.frames == 0 ? 1.0 / std::max(dt, 1e-6) : 0.8 * report_.frames_per_s + 0.2 / std::max(dt, 1e-6);
             ++report_.frames;
         }
         report_.particles = sim_->solver->particle_count();
@@ -423,8 +462,10 @@ void ViewWorker::loop() {
         report_.shape_files = sim_->session->shape_files();
         report_.solver = sim_->scene.solver;
         const control::ControlDriver* driver = sim_->session->control();
-        if (!driver) report_.shapes.reset();
-        else if (made) report_.shapes = std::make_shared<const std::vector<geometry::Mesh>>(driver->active_meshes());
+        if (!driver)
+            report_.shapes.reset();
+        else if (made)
+            report_.shapes = std::make_shared<const std::vector<geometry::Mesh>>(driver->active_meshes());
         report_.fatal = fatal;
         done_.notify_all();
         if (!fatal.empty()) return;
@@ -437,8 +478,10 @@ bool ViewWorker::frame(const ViewControls& controls, std::deque<ViewCommand> com
     bool changed = s.reload_shaders() || !commands.empty();
     bool step = false;
     for (const ViewCommand& c : commands) step |= s.apply(c);
-    if (stroke && glm::length(stroke->accel) > 0.0f) s.push.set(stroke->origin, stroke->dir, stroke->radius, stroke->accel);
-    else s.push.clear();
+    if (stroke && glm::length(stroke->accel) > 0.0f)
+        s.push.set(stroke->origin, stroke->dir, stroke->radius, stroke->accel);
+    else
+        s.push.clear();
     const bool advanced = (controls.playing && !s.halted) || step;
     if (advanced) s.advance();
     changed |= advanced;

@@ -57,8 +57,10 @@ const std::vector<std::string>& view_methods();
 bool share_viewer_queue(const gpu::DeviceInfo& device, uint32_t particles, uint32_t substeps);
 /// Debug views of the SPH renderer (Wu et al. Figs. 5-7 and the depth maps), as the menu and
 /// scripts name them.
-inline constexpr const char* kDebugViews[] = {"image", "steps per ray", "classification", "tile resolution", "D_all", "D_agg"};
-inline constexpr const char* kDebugViewNames[] = {"image", "steps", "classification", "tiles", "depth_all", "depth_agg"};
+inline constexpr const char* kDebugViews[] = {"image",           "steps per ray", "classification",
+                                              "tile resolution", "D_all",         "D_agg"};
+inline constexpr const char* kDebugViewNames[] = {"image", "steps",     "classification",
+                                                  "tiles", "depth_all", "depth_agg"};
 
 /// What the window wants drawn; the worker takes the latest at the start of each frame.
 struct ViewControls {
@@ -87,7 +89,8 @@ struct ViewCommand {
     ViewOp op = ViewOp::step;
     std::filesystem::path file;  ///< the mesh of attach, union_with, morph, obstacle
     SolverSettings solver;       ///< the settings of `solver` (the solver continues from its particles)
-    std::optional<glm::vec3> at; ///< where a shape or obstacle goes (a mesh dropped under the cursor); else view_shapes.h's default
+    std::optional<glm::vec3>
+        at;  ///< where a shape or obstacle goes (a mesh dropped under the cursor); else view_shapes.h's default
     /// A script's action (ViewAction::where()), or empty for the window's own: a scripted command
     /// that cannot be done is kept in ViewReport::refused (the command then exits 1); the
     /// window's are said and the session goes on.
@@ -98,21 +101,21 @@ struct ViewCommand {
 struct ViewReport {
     uint32_t particles = 0;
     double sim_time = 0.0;
-    uint32_t substeps = 0;      ///< the time-step rule's steps of the last simulated frame
+    uint32_t substeps = 0;                       ///< the time-step rule's steps of the last simulated frame
     std::optional<WhitewaterCounts> whitewater;  ///< alive after the last simulated frame (a scene with whitewater)
-    uint64_t frames = 0;        ///< pictures made
-    double frames_per_s = 0.0;  ///< pictures per second of wall time, smoothed
+    uint64_t frames = 0;                         ///< pictures made
+    double frames_per_s = 0.0;                   ///< pictures per second of wall time, smoothed
     std::map<std::string, double> render_ms, sim_ms;  ///< GPU time per pass of the last frame
     /// GPU ms of recent pictures: "render" (the total), each render pass, and "simulation" (the
     /// frame's total, for pictures that advanced it).
     std::map<std::string, std::deque<float>> history;
-    std::string status;                               ///< the latest message for the user
-    uint32_t blowups = 0;                             ///< times the simulation left physics
-    std::string blowup;  ///< the last of those times' verdict (blowup_verdict), kept to the end: the command exits 1
-    std::vector<std::filesystem::path> shape_files;   ///< meshes of the active shape, in its order
+    std::string status;    ///< the latest message for the user
+    uint32_t blowups = 0;  ///< times the simulation left physics
+    std::string blowup;    ///< the last of those times' verdict (blowup_verdict), kept to the end: the command exits 1
+    std::vector<std::filesystem::path> shape_files;  ///< meshes of the active shape, in its order
     SolverSettings solver;
     std::shared_ptr<const std::vector<geometry::Mesh>> shapes;  ///< the active shapes' meshes, in scene coordinates
-    std::string fatal;  ///< set when the worker stopped on an error
+    std::string fatal;                                          ///< set when the worker stopped on an error
     std::vector<std::string> refused;  ///< every scripted command that could not be done, with why
 };
 

@@ -25,9 +25,9 @@
 #include "pictures/image_io.h"
 #include "render/registry.h"
 #include "render/wireframe.h"
+#include "viewer/view_setup.h"
 #include "viewer/view_shapes.h"
 #include "viewer/view_window.h"
-#include "viewer/view_setup.h"
 
 namespace aquaform::viewer {
 
@@ -45,8 +45,13 @@ void on_drop(GLFWwindow*, int count, const char** paths) {
 class Viewer {
 public:
     Viewer(gpu::Context& ctx, ViewWindow& window, session::SessionPlan plan, const ViewerOptions& options)
-        : ctx_(ctx), window_(window), options_(options), scene_name_(plan.scene.name), domain_(plan.scene.domain),
-          spacing_(plan.scene.particle_spacing), solver_settings_(plan.scene.solver),
+        : ctx_(ctx),
+          window_(window),
+          options_(options),
+          scene_name_(plan.scene.name),
+          domain_(plan.scene.domain),
+          spacing_(plan.scene.particle_spacing),
+          solver_settings_(plan.scene.solver),
           picture_scale_(options.picture_scale) {
         int w = 0, h = 0;
         glfwGetFramebufferSize(window_.handle(), &w, &h);
@@ -79,7 +84,8 @@ public:
         uint32_t frame = 0;
         auto frame_start = std::chrono::steady_clock::now();
         // Ctrl-C in the terminal closes the window as Esc does (the command then exits 130).
-        for (; !window_.should_close() && !quit_ && !interrupted() && (options_.max_frames == 0 || frame < options_.max_frames);
+        for (; !window_.should_close() && !quit_ && !interrupted() &&
+               (options_.max_frames == 0 || frame < options_.max_frames);
              ++frame) {
             glfwPollEvents();
             while (next_action < script.size() && script[next_action].frame <= frame) apply(script[next_action++]);
@@ -95,8 +101,8 @@ public:
             }
             const auto now = std::chrono::steady_clock::now();
             if (frame > 0)
-                summary.longest_frame_ms = std::max(summary.longest_frame_ms,
-                                                    std::chrono::duration<double, std::milli>(now - frame_start).count());
+                summary.longest_frame_ms = std::max(
+                    summary.longest_frame_ms, std::chrono::duration<double, std::milli>(now - frame_start).count());
             frame_start = now;
         }
         summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -188,7 +194,9 @@ private:
         worker_->post({op, file, solver_settings_, at});
     }
     /// A script's action on the worker: one it cannot do makes the command exit 1.
-    void post(ViewOp op, const ViewAction& a) { worker_->post({op, a.value, solver_settings_, std::nullopt, a.where()}); }
+    void post(ViewOp op, const ViewAction& a) {
+        worker_->post({op, a.value, solver_settings_, std::nullopt, a.where()});
+    }
 
     /// A mesh dropped on the window becomes the shape, standing where the cursor points; with
     /// Shift held it becomes a still obstacle there instead.
@@ -199,33 +207,49 @@ private:
         int w = 1, h = 1;
         glfwGetCursorPos(window_.handle(), &x, &y);
         glfwGetWindowSize(window_.handle(), &w, &h);
-        const glm::vec2 ndc(2.0f * float(x) / float(std::max(w, 1)) - 1.0f, 2.0f * float(y) / float(std::max(h, 1)) - 1.0f);
+        const glm::vec2 ndc(2.0f * float(x) / float(std::max(w, 1)) - 1.0f,
+                            2.0f * float(y) / float(std::max(h, 1)) - 1.0f);
         post(as_obstacle ? ViewOp::obstacle : ViewOp::attach, file,
              point_under_cursor(orbit_.camera(), domain_, ndc, float(w) / float(std::max(h, 1))));
     }
 
     void apply(const ViewAction& a) {
-        if (a.what == "play") playing_ = true;
-        else if (a.what == "pause") playing_ = false;
-        else if (a.what == "step") post(ViewOp::step);
-        else if (a.what == "reset") post(ViewOp::reset);
+        if (a.what == "play")
+            playing_ = true;
+        else if (a.what == "pause")
+            playing_ = false;
+        else if (a.what == "step")
+            post(ViewOp::step);
+        else if (a.what == "reset")
+            post(ViewOp::reset);
         else if (a.what == "quit") {
             worker_->wait(worker_->request_frame());  // a script's actions all take effect first
             quit_ = true;
-        }
-        else if (a.what == "screenshot") screenshot(fs::path(a.value).is_absolute() ? fs::path(a.value) : options_.screenshot_dir / a.value);
-        else if (a.what == "method") set_method_checked(a.value);
-        else if (a.what == "attach") post(ViewOp::attach, a);
-        else if (a.what == "union") post(ViewOp::union_with, a);
-        else if (a.what == "morph") post(ViewOp::morph, a);
-        else if (a.what == "view") set_view_checked(a.value);
-        else if (a.what == "release") post(ViewOp::release);
-        else if (a.what == "obstacle") post(ViewOp::obstacle, a);
-        else if (a.what == "remove_obstacles") post(ViewOp::remove_obstacles);
-        else if (a.what == "resize") resize(a.value);
-        else if (a.what == "whitewater") controls_.show_whitewater = a.value == "on";
+        } else if (a.what == "screenshot")
+            screenshot(fs::path(a.value).is_absolute() ? fs::path(a.value) : options_.screenshot_dir / a.value);
+        else if (a.what == "method")
+            set_method_checked(a.value);
+        else if (a.what == "attach")
+            post(ViewOp::attach, a);
+        else if (a.what == "union")
+            post(ViewOp::union_with, a);
+        else if (a.what == "morph")
+            post(ViewOp::morph, a);
+        else if (a.what == "view")
+            set_view_checked(a.value);
+        else if (a.what == "release")
+            post(ViewOp::release);
+        else if (a.what == "obstacle")
+            post(ViewOp::obstacle, a);
+        else if (a.what == "remove_obstacles")
+            post(ViewOp::remove_obstacles);
+        else if (a.what == "resize")
+            resize(a.value);
+        else if (a.what == "whitewater")
+            controls_.show_whitewater = a.value == "on";
         else if (a.what == "iterations" || a.what == "substeps") {
-            (a.what == "iterations" ? solver_settings_.iterations : solver_settings_.substeps) = uint32_t(std::stoul(a.value));
+            (a.what == "iterations" ? solver_settings_.iterations : solver_settings_.substeps) =
+                uint32_t(std::stoul(a.value));
             post(ViewOp::solver);
         }
     }
@@ -248,7 +272,8 @@ private:
     void set_view_checked(const std::string& name) {
         const auto it = std::find(std::begin(kDebugViewNames), std::end(kDebugViewNames), name);
         if (it == std::end(kDebugViewNames)) {
-            errors_.push_back("unknown view \"" + name + "\" in the script; use image, steps, classification, tiles, "
+            errors_.push_back("unknown view \"" + name +
+                              "\" in the script; use image, steps, classification, tiles, "
                               "depth_all or depth_agg");
             return;
         }
@@ -271,15 +296,16 @@ private:
             const ViewCamera camera = orbit_.camera();
             const glm::mat3 axes = camera_axes(camera);
             // World metres per pixel at the orbit's target.
-            const float metres_per_px = 2.0f * orbit_.distance * std::tan(glm::radians(orbit_.fov) * 0.5f) /
-                                        std::max(io.DisplaySize.y, 1.0f);
+            const float metres_per_px =
+                2.0f * orbit_.distance * std::tan(glm::radians(orbit_.fov) * 0.5f) / std::max(io.DisplaySize.y, 1.0f);
             if (ImGui::IsMouseDragging(ImGuiMouseButton_Left)) {
                 const CameraBlock view = camera_block(camera, uint32_t(std::max(io.DisplaySize.x, 1.0f)),
                                                       uint32_t(std::max(io.DisplaySize.y, 1.0f)));
                 const float u = 2.0f * io.MousePos.x / std::max(io.DisplaySize.x, 1.0f) - 1.0f;
                 const float v = 2.0f * io.MousePos.y / std::max(io.DisplaySize.y, 1.0f) - 1.0f;
-                const glm::vec3 dir = glm::normalize(glm::vec3(view.forward) + u * view.forward.w * glm::vec3(view.right) -
-                                                     v * view.right.w * glm::vec3(view.up));
+                const glm::vec3 dir =
+                    glm::normalize(glm::vec3(view.forward) + u * view.forward.w * glm::vec3(view.right) -
+                                   v * view.right.w * glm::vec3(view.up));
                 const glm::vec3 drag = (io.MouseDelta.x * axes[0] - io.MouseDelta.y * axes[1]) * metres_per_px;
                 // A drag of one centimetre per simulated frame accelerates the fluid at about 1 g
                 // (the worker adds up the strokes of the window frames between two of its frames).
@@ -303,15 +329,17 @@ private:
                 // W/S forward and back, A/D sideways, Q/E down and up, half the domain per second.
                 const glm::mat3 axes = camera_axes(orbit_.camera());
                 const float speed = 0.5f * glm::length(domain_.max - domain_.min) * io.DeltaTime;
-                const std::pair<int, glm::vec3> moves[] = {{GLFW_KEY_W, axes[2]}, {GLFW_KEY_S, -axes[2]}, {GLFW_KEY_D, axes[0]},
-                                                           {GLFW_KEY_A, -axes[0]}, {GLFW_KEY_E, axes[1]}, {GLFW_KEY_Q, -axes[1]}};
+                const std::pair<int, glm::vec3> moves[] = {{GLFW_KEY_W, axes[2]}, {GLFW_KEY_S, -axes[2]},
+                                                           {GLFW_KEY_D, axes[0]}, {GLFW_KEY_A, -axes[0]},
+                                                           {GLFW_KEY_E, axes[1]}, {GLFW_KEY_Q, -axes[1]}};
                 for (const auto& [key, axis] : moves)
                     if (ImGui::IsKeyDown(key)) orbit_.target += speed * axis;
             }
             if (ImGui::IsKeyPressed(GLFW_KEY_SPACE)) playing_ = !playing_;
             if (ImGui::IsKeyPressed(GLFW_KEY_N)) post(ViewOp::step);
             if (ImGui::IsKeyPressed(GLFW_KEY_R)) post(ViewOp::reset);
-            if (ImGui::IsKeyPressed(GLFW_KEY_P)) screenshot(options_.screenshot_dir / ("screenshot_" + std::to_string(shots_++) + ".png"));
+            if (ImGui::IsKeyPressed(GLFW_KEY_P))
+                screenshot(options_.screenshot_dir / ("screenshot_" + std::to_string(shots_++) + ".png"));
             if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) quit_ = true;
         }
     }
@@ -325,7 +353,8 @@ private:
         ImGui::Text("fluid: %.2f pictures/s (%llu made)", report_.frames_per_s, (unsigned long long)report_.frames);
         if (const auto& w = report_.whitewater) {
             ImGui::Checkbox("whitewater", &controls_.show_whitewater);
-            if (ImGui::IsItemHovered()) ImGui::SetTooltip("draw the spray, foam and bubbles (they are made either way)");
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("draw the spray, foam and bubbles (they are made either way)");
             ImGui::SameLine();
             ImGui::Text("%u spray, %u foam, %u bubbles", w->spray, w->foam, w->bubbles);
         }
@@ -335,7 +364,8 @@ private:
         ImGui::SameLine();
         if (ImGui::Button("Reset")) post(ViewOp::reset);
         ImGui::SliderFloat("picture scale", &picture_scale_, 0.25f, 1.0f, "%.2f");
-        if (ImGui::IsItemHovered()) ImGui::SetTooltip("the fluid's picture against the window's size: smaller is quicker");
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("the fluid's picture against the window's size: smaller is quicker");
         if (ImGui::BeginCombo("method", controls_.method.c_str())) {
             for (const std::string& m : view_methods())
                 if (ImGui::Selectable(m.c_str(), controls_.method == m)) controls_.method = m;
@@ -369,7 +399,8 @@ private:
             ImGui::SameLine();
             if (ImGui::Button("Release")) post(ViewOp::release);
             if (ImGui::Button("Obstacle")) post(ViewOp::obstacle, mesh_path_);
-            if (ImGui::IsItemHovered()) ImGui::SetTooltip("the mesh as a still solid in the flow (or drop an OBJ with Shift held)");
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("the mesh as a still solid in the flow (or drop an OBJ with Shift held)");
             ImGui::SameLine();
             if (ImGui::Button("Remove obstacles")) post(ViewOp::remove_obstacles);
             ImGui::Checkbox("show shapes", &show_shapes_);
@@ -406,7 +437,8 @@ private:
             ImGui::SliderFloat("normal smoothing [deg]", &r.normal_smoothing_deg, 0.0f, 90.0f);
             ImGui::SliderFloat("blend B", &r.blend_b, -0.5f, 0.5f);
             bool wu_skip = !r.exact_skip;
-            if (ImGui::Checkbox("Wu's skip (after maxSkipCounts; can jump over splashes)", &wu_skip)) r.exact_skip = !wu_skip;
+            if (ImGui::Checkbox("Wu's skip (after maxSkipCounts; can jump over splashes)", &wu_skip))
+                r.exact_skip = !wu_skip;
             int skip = int(r.max_skip_evals);
             if (ImGui::SliderInt("maxSkipCounts", &skip, 1, 64)) r.max_skip_evals = uint32_t(skip);
             if (auto valid = validate(r); !valid) {
@@ -428,7 +460,8 @@ private:
             chart("render", "render", 48.0f);
             chart("simulation", "simulation", 48.0f);
             for (const auto& [name, ms] : report_.render_ms) {
-                const std::string label = name.rfind("render_", 0) == 0 ? name.substr(7) : name;  // "render_march": "march"
+                const std::string label =
+                    name.rfind("render_", 0) == 0 ? name.substr(7) : name;  // "render_march": "march"
                 chart(name, label.c_str(), 18.0f);
             }
         }
@@ -498,7 +531,8 @@ ViewSummary run_viewer(gpu::Context& ctx, ViewWindow& window, session::SessionPl
     if (plan.control)
         for (const control::ControlMesh& m : plan.control->section.meshes)
             if (!m.file.empty()) shapes.push_back(m.file);
-    if (auto checked = check_script_actions(options.script, plan.scene, shapes); !checked) throw Failure(checked.error());
+    if (auto checked = check_script_actions(options.script, plan.scene, shapes); !checked)
+        throw Failure(checked.error());
     Viewer viewer(ctx, window, std::move(plan), options);
     return viewer.run();
 }
@@ -511,13 +545,14 @@ bool run_viewer_printed(gpu::Context& ctx, ViewWindow& window, session::SessionP
     const ViewSummary run = run_viewer(ctx, window, std::move(plan), options);
     const ViewReport& report = run.report;
     const double s = run.seconds > 0.0 ? run.seconds : 1.0;
-    std::printf("aquaform view: %u window frames in %.1f s (%.2f frames/s, the longest %.0f ms); %llu pictures of the fluid "
-                "(%.2f/s; %u particles, %ux%u, %s)\n",
-                run.window_frames, run.seconds, run.window_frames / s, run.longest_frame_ms,
-                (unsigned long long)report.frames, report.frames / s, report.particles, run.width, run.height,
-                run.method.c_str());
+    std::printf(
+        "aquaform view: %u window frames in %.1f s (%.2f frames/s, the longest %.0f ms); %llu pictures of the fluid "
+        "(%.2f/s; %u particles, %ux%u, %s)\n",
+        run.window_frames, run.seconds, run.window_frames / s, run.longest_frame_ms, (unsigned long long)report.frames,
+        report.frames / s, report.particles, run.width, run.height, run.method.c_str());
     for (const std::string& e : run.errors) std::fprintf(stderr, "aquaform view: %s\n", e.c_str());
-    if (!report.fatal.empty()) std::fprintf(stderr, "aquaform view: the simulation stopped: %s\n", report.fatal.c_str());
+    if (!report.fatal.empty())
+        std::fprintf(stderr, "aquaform view: the simulation stopped: %s\n", report.fatal.c_str());
     if (!report.blowup.empty()) std::fprintf(stderr, "aquaform view: %s\n", report.blowup.c_str());
     return run.errors.empty() && report.fatal.empty() && report.blowup.empty();
 }

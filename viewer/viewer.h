@@ -31,14 +31,14 @@ namespace aquaform::viewer {
 class ViewWindow;
 
 struct ViewerOptions {
-    SurfaceSettings surface;      ///< the panel edits the SPH surface methods' settings
+    SurfaceSettings surface;  ///< the panel edits the SPH surface methods' settings
     std::string method = "adaptive";
     std::filesystem::path watch_shaders;  ///< a shader tree to reload edited shaders from, or empty
     /// Every window frame waits for a picture of the fluid made after that frame's actions
     /// (scripts, recordings); otherwise the window never waits for the worker.
     bool lockstep = false;
     std::vector<ViewAction> script;
-    std::filesystem::path record_dir;           ///< every frame drawn as PNG there; empty: none
+    std::filesystem::path record_dir;            ///< every frame drawn as PNG there; empty: none
     std::filesystem::path screenshot_dir = ".";  ///< where P and relative script screenshots go
     float picture_scale = 1.0f;                  ///< the picture's size against the window's
     uint32_t max_frames = 0;                     ///< window frames until it closes; 0: until closed
@@ -48,8 +48,8 @@ struct ViewerOptions {
 struct ViewSummary {
     uint32_t window_frames = 0;
     double seconds = 0.0;
-    double longest_frame_ms = 0.0;  ///< the slowest window frame: what the user waits for at worst
-    ViewReport report;              ///< the worker's last report (pictures, particles, a fatal error)
+    double longest_frame_ms = 0.0;   ///< the slowest window frame: what the user waits for at worst
+    ViewReport report;               ///< the worker's last report (pictures, particles, a fatal error)
     uint32_t width = 0, height = 0;  ///< the last picture's size
     std::string method;
     std::vector<std::string> errors;  ///< script actions refused, screenshots not written
