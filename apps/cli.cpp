@@ -6,6 +6,8 @@
 #include <exception>
 #include <new>
 
+#include <nlohmann/json.hpp>
+
 #include "apps/usage.h"
 #include "core/error.h"
 #include "core/interrupt.h"
@@ -43,6 +45,11 @@ bool stopped_by_ctrl_c(const char* command) {
     std::fprintf(stderr, "aquaform %s: interrupted (Ctrl-C) before the measurements were complete; nothing written\n",
                  command);
     return true;
+}
+
+nlohmann::json bench_doc(const gpu::Context& ctx, const std::string& benchmark) {
+    return {
+        {"benchmark", benchmark}, {"device", ctx.info().name}, {"device_type", gpu::device_type_name(ctx.info().type)}};
 }
 
 int exit_status(const gpu::Context& ctx, int status) {

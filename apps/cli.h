@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "apps/flags.h"
 #include "core/result.h"
 
@@ -44,6 +46,8 @@ int bench_convergence(const Args& args);
 FlagSpec bench_convergence_flags();  ///< `aquaform bench convergence` (apps/cmd_bench_convergence.cpp)
 int bench_spheric(const Args& args);
 FlagSpec bench_spheric_flags();  ///< `aquaform bench spheric` (apps/cmd_bench_spheric.cpp)
+int bench_wave(const Args& args);
+FlagSpec bench_wave_flags();  ///< `aquaform bench wave` (apps/cmd_bench_wave.cpp)
 int bench_frame(const Args& args);
 FlagSpec bench_frame_flags();  ///< `aquaform bench frame` (apps/cmd_bench_frame.cpp)
 
@@ -66,5 +70,7 @@ void print_notes(const char* command, const std::vector<std::string>& notes);
 /// `status`, or a failure when the validation layer reported errors during the command (so a
 /// test that runs the binary fails on them too).
 int exit_status(const gpu::Context& ctx, int status);
+/// A benchmark's JSON starts with what it is and where it ran: {"benchmark", "device", "device_type"}.
+nlohmann::json bench_doc(const gpu::Context& ctx, const std::string& benchmark);
 
 }  // namespace aquaform::cli

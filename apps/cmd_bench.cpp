@@ -52,29 +52,38 @@ std::optional<double> parse_bandwidth(const std::string& text, std::string* erro
 
 int bench_sim(const Args& args);
 
+/// Every benchmark: its name after `bench`, what it measures, its flags and its command.
+struct Bench {
+    const char* name;
+    const char* measures;
+    FlagSpec (*flags)();
+    int (*run)(const Args&);
+};
+const Bench kBenches[] = {
+    {"sim", "solver", bench_sim_flags, bench_sim},
+    {"render", "surface reconstruction", bench_render_flags, bench_render},
+    {"frame", "a displayed frame: solver, reconstruction and composition", bench_frame_flags, bench_frame},
+    {"control", "mesh control", bench_control_flags, bench_control},
+    {"convergence", "the dam-break front against Martin & Moyce in space and time step", bench_convergence_flags,
+     bench_convergence},
+    {"spheric", "SPHERIC test 2: the dam break against a box, against MARIN's measurements", bench_spheric_flags,
+     bench_spheric},
+    {"wave", "a standing wave's period and decay against linear theory", bench_wave_flags, bench_wave},
+};
+
 }  // namespace
 
 int cmd_bench(const std::vector<std::string>& argv) {
     // The benchmark comes first (aquaform bench sim ...), so its own flags are the ones parsed.
     const std::string which = argv.empty() ? "" : argv[0];
-    if (which != "sim" && which != "render" && which != "control" && which != "convergence" && which != "frame" &&
-        which != "spheric") {
-        std::fprintf(
-            stderr,
-            "aquaform bench: say what to measure first: aquaform bench sim (solver), aquaform bench render "
-            "(surface reconstruction), aquaform bench frame (a displayed frame: solver, reconstruction and "
-            "composition), aquaform bench control (mesh control) or aquaform bench "
-            "convergence (the dam-break front against Martin & Moyce in space and time step) or aquaform bench spheric "
-            "(SPHERIC test 2: the dam break against a box, against MARIN's measurements)\n");
-        return kExitUsage;
+    const Bench* bench = nullptr;
+    std::string menu;
+    for (const Bench& b : kBenches) {
+        if (which == b.name) bench = &b;
+        menu += std::string(menu.empty() ? "" : ", ") + "aquaform bench " + b.name + " (" + b.measures + ")";
     }
-    const bool render = which == "render";
-    const FlagSpec spec = render                   ? bench_render_flags()
-                          : which == "control"     ? bench_control_flags()
-                          : which == "convergence" ? bench_convergence_flags()
-                          : which == "frame"       ? bench_frame_flags()
-                          : which == "spheric"     ? bench_spheric_flags()
-                                                   : bench_sim_flags();
+    if (!bench) return refuse("bench", "say what to measure first: " + menu);
+    const FlagSpec spec = bench->flags();
     std::string error;
     auto args = parse_args(std::vector<std::string>(argv.begin() + 1, argv.end()), spec, "bench " + which, &error);
     if (!args) return std::fprintf(stderr, "%s\n", error.c_str()), kExitUsage;
@@ -84,12 +93,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
     // Every bench stops at the first frame that left physics (sim/blowup.h's require_physical
     // throws the verdict): its figures would mean nothing, so none is printed as a result.
     try {
-        if (render) return bench_render(*args);
-        if (which == "control") return bench_control(*args);
-        if (which == "convergence") return bench_convergence(*args);
-        if (which == "frame") return bench_frame(*args);
-        if (which == "spheric") return bench_spheric(*args);
-        return bench_sim(*args);
+        return bench->run(*args);
     } catch (const LeftPhysics& e) {
         return refuse("bench " + which, e.what(), kExitFailure);
     }
@@ -134,14 +138,11 @@ int bench_sim(const Args& args_value) {
     if (!std::isnan(exponent))
         std::printf("neighbour search (grid build, reorder, neighbour lists) grows as N^%.3f from %u to %u particles\n",
                     exponent, measured.front().particles, measured.back().particles);
-    nlohmann::json doc = {
-        {"benchmark", "sim"},
-        {"device", ctx.info().name},
-        {"device_type", gpu::device_type_name(ctx.info().type)},
-        {"records", records},
-        {"neighbor_search_exponent", std::isnan(exponent) ? nlohmann::json(nullptr) : nlohmann::json(exponent)}};
-    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; });
-        !written)
+    nlohmann::json doc = bench_doc(ctx, "sim");
+    doc.update(
+        {{"records", records},
+         {"neighbor_search_exponent", std::isnan(exponent) ? nlohmann::json(nullptr) : nlohmann::json(exponent)}});
+    if (auto written = write_json_file(out_path, doc, 2); !written)
         return exit_status(ctx, refuse("bench", written.error(), kExitFailure));
     std::printf("wrote %s\n", out_path.c_str());
     return exit_status(ctx, kExitOk);

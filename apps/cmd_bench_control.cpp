@@ -77,16 +77,13 @@ int bench_control(const Args& args) {
     std::fflush(stdout);
     const auto result = study::run_control_bench(ctx, {quick, spacing, scales});
     if (!result) return stopped_by_ctrl_c("bench control"), exit_status(ctx, kExitInterrupted);
-    const nlohmann::json doc = {{"benchmark", "control"},
-                                {"device", ctx.info().name},
-                                {"device_type", gpu::device_type_name(ctx.info().type)},
-                                {"quick", quick},
-                                {"sweep_seconds", result->sweep_seconds},
-                                {"shape_spacing", spacing},
-                                {"records", result->records},
-                                {"targets", result->targets}};
-    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; });
-        !written)
+    nlohmann::json doc = bench_doc(ctx, "control");
+    doc.update({{"quick", quick},
+                {"sweep_seconds", result->sweep_seconds},
+                {"shape_spacing", spacing},
+                {"records", result->records},
+                {"targets", result->targets}});
+    if (auto written = write_json_file(out_path, doc, 2); !written)
         return exit_status(ctx, refuse("bench control", written.error(), kExitFailure));
     std::printf("wrote %s\n", out_path.string().c_str());
     return exit_status(ctx, kExitOk);

@@ -70,12 +70,9 @@ int bench_convergence(const Args& args) {
     if (!result) return stopped_by_ctrl_c("bench convergence"), exit_status(ctx, kExitInterrupted);
     if (auto written = write_chart_svg(chart_path, result->front_chart); !written)
         return exit_status(ctx, refuse("bench convergence", written.error(), kExitFailure));
-    nlohmann::json doc = {{"benchmark", "convergence"},
-                          {"device", ctx.info().name},
-                          {"device_type", gpu::device_type_name(ctx.info().type)}};
+    nlohmann::json doc = bench_doc(ctx, "convergence");
     doc.update(result->doc);
-    if (auto written = write_file_with(json_path, [&](std::ostream& out) { out << json_text(doc, 1) << "\n"; });
-        !written)
+    if (auto written = write_json_file(json_path, doc, 1); !written)
         return exit_status(ctx, refuse("bench convergence", written.error(), kExitFailure));
     std::printf("wrote %s and %s\n", json_path.string().c_str(), chart_path.string().c_str());
     return exit_status(ctx, kExitOk);

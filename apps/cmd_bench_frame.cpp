@@ -56,45 +56,19 @@ int bench_frame(const Args& args) {
         "time-step rule, the adaptive reconstruction and its composition at %ux%u; %u frames timed after %u\n",
         ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type), options.iterations, options.width,
         options.height, options.frames, options.warmup);
-    std::printf("%10s %8s %10s %10s %8s %10s %10s %10s %10s %8s\n", "particles", "steps/f", "sim ms/f", "wall ms/f",
-                "fps", "GPU solver", "recon", "compose", "GPU total", "RT factor");
-    std::vector<study::FrameBenchRecord> measured;
-    nlohmann::json records = nlohmann::json::array();
-    for (uint32_t target : sizes) {
-        if (interrupted()) break;
-        const study::FrameBenchRecord r = study::measure_frame(ctx, target, options);
-        if (interrupted()) break;  // a size cut short is not a measurement
-        std::printf("%10u %8.2f %10.2f %10.2f %8.2f %10.2f %10.2f %10.2f %10.2f %8.3f\n", r.particles,
-                    r.steps_per_frame, 1000.0 * r.sim_s_per_frame, r.wall_ms_per_frame, r.frames_per_s, r.gpu_solver_ms,
-                    r.gpu_reconstruction_ms, r.gpu_compose_ms,
-                    r.gpu_solver_ms + r.gpu_reconstruction_ms + r.gpu_compose_ms, r.real_time_factor);
-        std::fflush(stdout);
-        measured.push_back(r);
-        records.push_back(study::to_json(r));
-    }
-    if (stopped_by_ctrl_c("bench frame")) return exit_status(ctx, kExitInterrupted);
-    nlohmann::json targets = nlohmann::json::object();
-    std::printf("targets (the H200's, issue 36)\n");
-    for (const study::FrameTarget& t : study::kFrameTargets) {
-        const study::Verdict v = study::frame_target(t, measured, ctx.info());
-        std::printf("  %s\n", v.line.c_str());
-        targets[t.key] = v.json;
-    }
-    nlohmann::json doc = {
-        {"benchmark", "frame"},
-        {"device", ctx.info().name},
-        {"device_type", gpu::device_type_name(ctx.info().type)},
-        {"scene", study::kFrameBenchScene},
-        {"scene_what", "bench sim's dam break: a column a x 2a x a in a 4a x 2.5a x a tank, 1 cm spacing"},
-        {"method", "adaptive"},
-        {"resolution", std::to_string(options.width) + "x" + std::to_string(options.height)},
-        {"warmup_frames", options.warmup},
-        {"frames", options.frames},
-        {"iterations", options.iterations},
-        {"records", records},
-        {"targets", targets}};
-    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; });
-        !written)
+    const std::optional<study::FrameBenchResult> result = study::run_frame_bench(ctx, sizes, options);
+    if (!result) return stopped_by_ctrl_c("bench frame"), exit_status(ctx, kExitInterrupted);
+    nlohmann::json doc = bench_doc(ctx, "frame");
+    doc.update({{"scene", study::kFrameBenchScene},
+                {"scene_what", "bench sim's dam break: a column a x 2a x a in a 4a x 2.5a x a tank, 1 cm spacing"},
+                {"method", "adaptive"},
+                {"resolution", std::to_string(options.width) + "x" + std::to_string(options.height)},
+                {"warmup_frames", options.warmup},
+                {"frames", options.frames},
+                {"iterations", options.iterations},
+                {"records", result->records},
+                {"targets", result->targets}});
+    if (auto written = write_json_file(out_path, doc, 2); !written)
         return exit_status(ctx, refuse("bench frame", written.error(), kExitFailure));
     std::printf("wrote %s\n", out_path.c_str());
     return exit_status(ctx, kExitOk);

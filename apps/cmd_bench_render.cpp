@@ -137,10 +137,12 @@ int bench_render(const Args& args) {
     for (const auto& [name, lines] : result.summary)
         for (const std::string& line : lines) std::printf("  %-22s %s\n", name.c_str(), line.c_str());
 
-    nlohmann::json doc = {
-        {"benchmark", "render"},  {"device", ctx.info().name}, {"device_type", gpu::device_type_name(ctx.info().type)},
-        {"width", size->width},   {"height", size->height},    {"repeats", *repeats},
-        {"interrupted", stopped}, {"frames", result.frames}};
+    nlohmann::json doc = bench_doc(ctx, "render");
+    doc.update({{"width", size->width},
+                {"height", size->height},
+                {"repeats", *repeats},
+                {"interrupted", stopped},
+                {"frames", result.frames}});
     if (auto written = study::write_bench_render_files(out_path, doc, result, plan); !written)
         return exit_status(ctx, refuse("bench render", written.error(), kExitFailure));
     return exit_status(ctx, stopped ? kExitInterrupted : kExitOk);

@@ -1,11 +1,9 @@
 // `aquaform bench spheric`: SPHERIC test 2 (MARIN's dam break against a box) at one or more particle
 // counts, its probes against the measured water heights and pressures (bench/bench_spheric.h
-// measures and compares). Here: flags, the table and the files.
-#include <algorithm>
+// measures, compares and writes the files). Here: the flags.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -15,26 +13,11 @@
 #include "bench/bench_checks.h"
 #include "bench/bench_frames.h"
 #include "bench/bench_spheric.h"
-#include "core/file_write.h"
 #include "core/interrupt.h"
 #include "core/number_text.h"
-#include "core/text_escape.h"
 #include "gpu/context.h"
 
 namespace aquaform::cli {
-
-namespace {
-
-/// The charts: the SPHERIC gauges and sensors that are compared (other names are compared in the
-/// tables and the JSON only: a name from the scene never becomes a file name).
-std::vector<std::string> charted(const std::vector<std::string>& compared, std::initializer_list<const char*> spheric) {
-    std::vector<std::string> names;
-    for (const char* name : spheric)
-        if (std::find(compared.begin(), compared.end(), name) != compared.end()) names.push_back(name);
-    return names;
-}
-
-}  // namespace
 
 FlagSpec bench_spheric_flags() {
     return {{"--out", "--device", "--sizes", "--seconds", "--scene", "--data"}, {"--validation"}};
@@ -76,16 +59,12 @@ int bench_spheric(const Args& args) {
         comparable = std::move(c.value());
     }
     print_notes("bench spheric", comparable.notes);
-    const std::vector<std::string> gauge_charts = charted(comparable.gauges, {"H1", "H2", "H3", "H4"});
-    const std::vector<std::string> sensor_charts = charted(comparable.sensors, {"P1", "P3"});
-    std::vector<std::string> names{"spheric.json"};
-    for (const auto& name : gauge_charts) names.push_back("spheric_" + name + ".svg");
-    for (const auto& name : sensor_charts) names.push_back("spheric_" + name + ".svg");
+    const study::SphericFiles files = study::spheric_files(comparable);
     const std::filesystem::path out_dir = args.value("--out", "out/bench_spheric");
     // Every file is checked before the run, as run checks its own: a link, a folder in a file's place.
     if (!prepare_output("bench spheric", out_dir)) return kExitUsage;
-    if (auto files = study::check_bench_files(study::files_in(out_dir, names)); !files)
-        return refuse("bench spheric", files.error());
+    if (auto checked = study::check_bench_files(study::files_in(out_dir, files.names())); !checked)
+        return refuse("bench spheric", checked.error());
 
     gpu::Context ctx({args.value("--device"), validation_requested(args)});
     std::printf("bench spheric on %s (%s): %s for %g s at %zu particle count(s)\n", ctx.info().name.c_str(),
@@ -108,36 +87,15 @@ int bench_spheric(const Args& args) {
                                       kExitFailure));
         runs.push_back(std::move(*run));
     }
-    nlohmann::json doc = {{"benchmark", "spheric_test2"},
-                          {"device", ctx.info().name},
-                          {"device_type", gpu::device_type_name(ctx.info().type)},
-                          {"scene", scene_path.string()},
-                          {"seconds", *seconds_flag},
-                          {"targets",
-                           {{"height_relative", study::kHeightTarget},
-                            {"p1_arrival_s", study::kArrivalTarget},
-                            {"pressure_level_relative", study::kPressureLevelTarget}}},
-                          {"runs", nlohmann::json::array()}};
-    for (const auto& run : runs) doc["runs"].push_back(study::to_json(run));
-    std::string chart_list;
-    for (const auto& gauge : gauge_charts) {
-        const auto path = out_dir / ("spheric_" + gauge + ".svg");
-        if (auto w = write_chart_svg(path, study::spheric_height_chart(runs, data.value(), gauge)); !w)
-            return exit_status(ctx, refuse("bench spheric", w.error(), kExitFailure));
-        chart_list += (chart_list.empty() ? "" : ", ") + path.filename().string();
-    }
-    for (const auto& sensor : sensor_charts) {
-        const auto path = out_dir / ("spheric_" + sensor + ".svg");
-        if (auto w = write_chart_svg(path, study::spheric_pressure_chart(runs, data.value(), sensor)); !w)
-            return exit_status(ctx, refuse("bench spheric", w.error(), kExitFailure));
-        chart_list += (chart_list.empty() ? "" : ", ") + path.filename().string();
-    }
-    const auto json_path = out_dir / "spheric.json";
-    if (auto w = write_file_with(json_path, [&](std::ostream& out) { out << json_text(doc, 1) << "\n"; }); !w)
-        return exit_status(ctx, refuse("bench spheric", w.error(), kExitFailure));
-    std::printf("\nwrote %s and %zu charts (%s) in %s\n", json_path.string().c_str(),
-                gauge_charts.size() + sensor_charts.size(), chart_list.empty() ? "none" : chart_list.c_str(),
-                out_dir.string().c_str());
+    nlohmann::json doc = bench_doc(ctx, "spheric_test2");
+    doc.update({{"scene", scene_path.string()},
+                {"seconds", *seconds_flag},
+                {"targets",
+                 {{"height_relative", study::kHeightTarget},
+                  {"p1_arrival_s", study::kArrivalTarget},
+                  {"pressure_level_relative", study::kPressureLevelTarget}}}});
+    if (auto written = study::write_spheric_files(out_dir, files, doc, runs, data.value()); !written)
+        return exit_status(ctx, refuse("bench spheric", written.error(), kExitFailure));
     return exit_status(ctx, kExitOk);
 }
 

@@ -77,9 +77,7 @@ int cmd_render(const std::vector<std::string>& argv) {
             return exit_status(ctx, refuse("render", written.error(), kExitFailure));
         names += name + ", ";
     }
-    if (auto written =
-            write_file_with(out_dir / "render.json", [&](std::ostream& out) { out << json_text(report, 2) << "\n"; });
-        !written)
+    if (auto written = write_json_file(out_dir / "render.json", report, 2); !written)
         return exit_status(ctx, refuse("render", written.error(), kExitFailure));
     std::printf("wrote %sand render.json to %s\n", names.c_str(), out_dir.string().c_str());
     return exit_status(ctx, kExitOk);

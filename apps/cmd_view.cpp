@@ -42,15 +42,9 @@ int view_headless(gpu::Context& ctx, const Args& args, const Scene& scene, sessi
         viewer::run_headless_printed(ctx, std::move(plan), options, width, height, scene.name);
     if (stopped_by_ctrl_c("view --headless")) return kExitInterrupted;
     if (args.has("--out")) {
-        nlohmann::json doc = {{"command", "view --headless"},
-                              {"scene", scene.name},
-                              {"device", ctx.info().name},
-                              {"device_type", gpu::device_type_name(ctx.info().type)}};
-        doc.update(viewer::to_json(run));
-        const std::string out = args.value("--out");
-        if (auto written = write_file_with(out, [&](std::ostream& o) { o << json_text(doc, 2) << "\n"; }); !written)
+        if (auto written = write_json_file(args.value("--out"), viewer::to_json(run)); !written)
             return refuse("view", written.error(), kExitFailure);
-        std::printf("wrote %s\n", out.c_str());
+        std::printf("wrote %s\n", args.value("--out").c_str());
     }
     return run.fatal.empty() && run.blowup.empty() ? kExitOk : kExitFailure;
 }

@@ -73,6 +73,22 @@ std::optional<std::vector<std::string>> parse_list(const std::string& flag, cons
     return items;
 }
 
+std::optional<std::vector<double>> parse_positive_numbers(const std::string& flag, const std::string& text,
+                                                          const std::string& example, std::string* error) {
+    const auto items = parse_list(flag, text, example, error);
+    if (!items) return std::nullopt;
+    std::vector<double> numbers;
+    for (const std::string& item : *items) {
+        const std::optional<double> v = number_text::finite_number(item);
+        if (!v || *v <= 0.0) {
+            *error = flag + " takes positive numbers, e.g. " + flag + " " + example + "; got \"" + item + "\"";
+            return std::nullopt;
+        }
+        numbers.push_back(*v);
+    }
+    return numbers;
+}
+
 std::vector<uint32_t> parse_sizes(const std::string& text, std::string* error) {
     std::vector<uint32_t> sizes;
     const auto items = parse_list("--sizes", text, "16384,65536", error);

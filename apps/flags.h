@@ -45,6 +45,10 @@ std::optional<uint32_t> parse_frame_index(const std::string& flag, const std::st
 /// text or an item is empty.
 std::optional<std::vector<std::string>> parse_list(const std::string& flag, const std::string& text,
                                                    const std::string& example, std::string* error);
+/// "a,b,c" of positive finite numbers; nullopt with `error` naming the flag, the item and
+/// `example` otherwise.
+std::optional<std::vector<double>> parse_positive_numbers(const std::string& flag, const std::string& text,
+                                                          const std::string& example, std::string* error);
 /// `--sizes a,b,c`: particle counts from 1 to kMaxSceneParticles (bench sim, bench frame); empty
 /// with `error` naming the flag, the item and the fix otherwise.
 std::vector<uint32_t> parse_sizes(const std::string& text, std::string* error);

@@ -54,10 +54,13 @@ std::unique_ptr<session::SimulationSession> make_session(gpu::Context& ctx, cons
 /// The front at t = 0 as the solver measures it: the foremost particle centre plus its radius,
 /// from the wall.
 float column_front(const Scene& scene) {
-    const double s = scene.particle_spacing;
-    const Box& b = scene.fluid_blocks.front();
-    const double n = std::floor((b.max.x - b.min.x) / s + 1e-6);
-    return float(b.min.x + s * (n - 0.5) + 0.5 * s - (scene.domain.min.x - 0.5 * s));
+    std::vector<glm::vec4> x;
+    std::vector<uint32_t> block_of;
+    scene.generate_particles(x, block_of);
+    float foremost = scene.fluid_blocks.front().min.x;
+    for (const glm::vec4& p : x) foremost = std::max(foremost, p.x);
+    const float s = scene.particle_spacing;
+    return foremost + 0.5f * s - (scene.domain.min.x - 0.5f * s);
 }
 
 }  // namespace

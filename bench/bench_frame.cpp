@@ -1,6 +1,7 @@
 #include "bench/bench_frame.h"
 
 #include <chrono>
+#include <cstdio>
 #include <memory>
 
 #include "bench/bench_scenes.h"
@@ -152,6 +153,33 @@ Verdict frame_target(const FrameTarget& target, const std::vector<FrameBenchReco
                          r->real_time_factor, r->particles, r->width, r->height, target.min_real_time_factor,
                          pass ? "PASS" : "MISS");
     return v;
+}
+
+std::optional<FrameBenchResult> run_frame_bench(gpu::Context& ctx, const std::vector<uint32_t>& sizes,
+                                                const FrameBenchOptions& options) {
+    std::printf("%10s %8s %10s %10s %8s %10s %10s %10s %10s %8s\n", "particles", "steps/f", "sim ms/f", "wall ms/f",
+                "fps", "GPU solver", "recon", "compose", "GPU total", "RT factor");
+    FrameBenchResult result;
+    std::vector<FrameBenchRecord> measured;
+    for (uint32_t target : sizes) {
+        if (interrupted()) return std::nullopt;
+        const FrameBenchRecord r = measure_frame(ctx, target, options);
+        if (interrupted()) return std::nullopt;
+        std::printf("%10u %8.2f %10.2f %10.2f %8.2f %10.2f %10.2f %10.2f %10.2f %8.3f\n", r.particles,
+                    r.steps_per_frame, 1000.0 * r.sim_s_per_frame, r.wall_ms_per_frame, r.frames_per_s, r.gpu_solver_ms,
+                    r.gpu_reconstruction_ms, r.gpu_compose_ms,
+                    r.gpu_solver_ms + r.gpu_reconstruction_ms + r.gpu_compose_ms, r.real_time_factor);
+        std::fflush(stdout);
+        measured.push_back(r);
+        result.records.push_back(to_json(r));
+    }
+    std::printf("targets (the H200's, issue 36)\n");
+    for (const FrameTarget& t : kFrameTargets) {
+        const Verdict v = frame_target(t, measured, ctx.info());
+        std::printf("  %s\n", v.line.c_str());
+        result.targets[t.key] = v.json;
+    }
+    return result;
 }
 
 }  // namespace aquaform::study

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -75,5 +76,14 @@ struct FrameTarget {
 inline constexpr FrameTarget kFrameTargets[] = {{500000, 1.0, "realtime_500k"}, {1000000, 0.8, "realtime_1m"}};
 Verdict frame_target(const FrameTarget& target, const std::vector<FrameBenchRecord>& records,
                      const gpu::DeviceInfo& device);
+
+struct FrameBenchResult {
+    nlohmann::json records = nlohmann::json::array();   ///< a record per size (to_json)
+    nlohmann::json targets = nlohmann::json::object();  ///< each kFrameTargets verdict, by key
+};
+/// measure_frame at each size, a table row printed as each is measured, then the targets' verdicts;
+/// nullopt when Ctrl-C stopped it (a size cut short is not a measurement).
+std::optional<FrameBenchResult> run_frame_bench(gpu::Context& ctx, const std::vector<uint32_t>& sizes,
+                                                const FrameBenchOptions& options);
 
 }  // namespace aquaform::study

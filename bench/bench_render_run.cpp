@@ -315,9 +315,7 @@ std::vector<std::pair<std::string, Chart>> sweep_charts(const BenchRenderResult&
 
 Result<bool> write_bench_render_files(const std::filesystem::path& out_path, const nlohmann::json& doc,
                                       const BenchRenderResult& result, const BenchRenderPlan& plan) {
-    if (auto written = write_file_with(out_path, [&](std::ostream& out) { out << json_text(doc, 2) << "\n"; });
-        !written)
-        return written;
+    if (auto written = write_json_file(out_path, doc, 2); !written) return written;
     std::printf("wrote %s\n", out_path.string().c_str());
     const std::string stem = (out_path.parent_path() / out_path.stem()).string();
     for (const auto& [suffix, chart] : sweep_charts(result, plan)) {

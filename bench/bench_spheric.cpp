@@ -9,7 +9,9 @@
 
 #include "bench/bench_checks.h"
 #include "core/data_dir.h"
+#include "core/file_write.h"
 #include "core/interrupt.h"
+#include "core/text_escape.h"
 #include "gpu/context.h"
 #include "sim/blowup.h"
 #include "sim/pbf_solver.h"
@@ -388,6 +390,44 @@ void print_spheric_run(const SphericRun& run) {
         std::printf("\n");
     }
     std::fflush(stdout);
+}
+
+SphericFiles spheric_files(const SphericComparable& comparable) {
+    auto charted = [](const std::vector<std::string>& compared, std::initializer_list<const char*> spheric) {
+        std::vector<std::string> names;
+        for (const char* name : spheric)
+            if (std::find(compared.begin(), compared.end(), name) != compared.end()) names.push_back(name);
+        return names;
+    };
+    return {charted(comparable.gauges, {"H1", "H2", "H3", "H4"}), charted(comparable.sensors, {"P1", "P3"})};
+}
+
+std::vector<std::string> SphericFiles::names() const {
+    std::vector<std::string> all{"spheric.json"};
+    for (const auto& name : gauges) all.push_back("spheric_" + name + ".svg");
+    for (const auto& name : sensors) all.push_back("spheric_" + name + ".svg");
+    return all;
+}
+
+Result<bool> write_spheric_files(const std::filesystem::path& out_dir, const SphericFiles& files, nlohmann::json doc,
+                                 const std::vector<SphericRun>& runs, const SphericData& data) {
+    doc["runs"] = nlohmann::json::array();
+    for (const auto& run : runs) doc["runs"].push_back(to_json(run));
+    std::string chart_list;
+    for (const auto& [names, height] : {std::pair{&files.gauges, true}, std::pair{&files.sensors, false}})
+        for (const auto& name : *names) {
+            const auto path = out_dir / ("spheric_" + name + ".svg");
+            const Chart chart =
+                height ? spheric_height_chart(runs, data, name) : spheric_pressure_chart(runs, data, name);
+            if (auto written = write_chart_svg(path, chart); !written) return written;
+            chart_list += (chart_list.empty() ? "" : ", ") + path.filename().string();
+        }
+    const auto json_path = out_dir / "spheric.json";
+    if (auto written = write_json_file(json_path, doc, 1); !written) return written;
+    std::printf("\nwrote %s and %zu charts (%s) in %s\n", json_path.string().c_str(),
+                files.gauges.size() + files.sensors.size(), chart_list.empty() ? "none" : chart_list.c_str(),
+                out_dir.string().c_str());
+    return true;
 }
 
 }  // namespace aquaform::study

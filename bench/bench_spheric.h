@@ -111,4 +111,17 @@ nlohmann::json to_json(const SphericRun& run);
 Chart spheric_height_chart(const std::vector<SphericRun>& runs, const SphericData& data, const std::string& gauge);
 Chart spheric_pressure_chart(const std::vector<SphericRun>& runs, const SphericData& data, const std::string& sensor);
 
+/// A comparison's files: spheric.json, and a chart per SPHERIC gauge (H1-H4) and sensor (P1, P3)
+/// it compares (other names are compared in the tables and the JSON only: a name from the scene
+/// never becomes a file name).
+struct SphericFiles {
+    std::vector<std::string> gauges, sensors;  ///< charted
+    std::vector<std::string> names() const;    ///< every file's name
+};
+SphericFiles spheric_files(const SphericComparable& comparable);
+/// Writes the files into `out_dir` (spheric.json: `doc` with the runs added), saying what it
+/// wrote; the first error.
+Result<bool> write_spheric_files(const std::filesystem::path& out_dir, const SphericFiles& files, nlohmann::json doc,
+                                 const std::vector<SphericRun>& runs, const SphericData& data);
+
 }  // namespace aquaform::study

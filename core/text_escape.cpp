@@ -1,5 +1,7 @@
 #include "core/text_escape.h"
 
+#include "core/file_write.h"
+
 namespace aquaform {
 
 namespace {
@@ -75,6 +77,10 @@ std::string xml_text(std::string_view text) {
             out += c;
     });
     return out;
+}
+
+Result<bool> write_json_file(const std::filesystem::path& path, const nlohmann::json& doc, int indent) {
+    return write_file_with(path, [&](std::ostream& out) { out << json_text(doc, indent) << "\n"; });
 }
 
 }  // namespace aquaform

@@ -1,5 +1,6 @@
 #include "sim/pbf_pressure.h"
 
+#include <string>
 #include <utility>
 
 #include "gpu/timer.h"
@@ -42,6 +43,7 @@ std::vector<std::string> PbfPressure::pass_names() const {
 
 void PbfPressure::record_step(VkCommandBuffer cmd, FluidArrays fluid, const FluidSort& sort, gpu::GpuTimer* timer) {
     const shader::CountPush push{fluid.count};
+    observe(cmd, "start", fluid, PassState::settled);
     {
         gpu::GpuScope s(timer, cmd, "sim_predict");
         gpu::dispatch(*ctx_, cmd, predict_, fluid.count, push,
@@ -51,9 +53,14 @@ void PbfPressure::record_step(VkCommandBuffer cmd, FluidArrays fluid, const Flui
                        {"p", fluid.p},
                        {"boundary_nodes", &fluid.boundary_nodes}});
     }
+    observe(cmd, "predict", fluid, PassState::predicted);
     sort(cmd, *fluid.p, timer);
-    for (uint32_t it = 0; it < iterations_; ++it)
-        record_iteration(cmd, fluid, it + 1 == iterations_ ? correct_last_ : correct_, it, timer);
+    for (uint32_t it = 0; it < iterations_; ++it) {
+        const bool last = it + 1 == iterations_;
+        record_iteration(cmd, fluid, last ? correct_last_ : correct_, it, timer);
+        const std::string pass = last ? "last iteration, velocity update" : "iteration " + std::to_string(it + 1);
+        observe(cmd, pass.c_str(), fluid, last ? PassState::settled : PassState::predicted);
+    }
     const NeighborGrid& grid = fluid.grid;
     const gpu::Buffer &rank = grid.cell_rank(), &start = grid.cell_start(), &cells = grid.list_cell();
     const gpu::Buffer &counts = grid.neighbor_count(), &neighbors = grid.neighbors();
@@ -72,6 +79,7 @@ void PbfPressure::record_step(VkCommandBuffer cmd, FluidArrays fluid, const Flui
                        {"v_out", fluid.s1},
                        {"omega", fluid.s0}});
         std::swap(fluid.v, fluid.s1);
+        observe(cmd, "xsph", fluid, PassState::settled);
     }
     if (vorticity_on_) {
         gpu::GpuScope s(timer, cmd, "sim_vorticity");
@@ -86,6 +94,7 @@ void PbfPressure::record_step(VkCommandBuffer cmd, FluidArrays fluid, const Flui
                        {"neighbors", &neighbors},
                        {"density", &fluid.density},
                        {"omega", fluid.s0}});
+        observe(cmd, "vorticity", fluid, PassState::settled);
     }
 }
 

@@ -103,6 +103,9 @@ public:
     /// scene's own come first: probes, whitewater); it must outlive its use or be detached.
     void attach(SolverStage* stage);
     void detach(SolverStage* stage);
+    /// Has `observer` watch the pressure solve's passes in every following step (the energy
+    /// budget, sim/energy_budget.h); nullptr stops.
+    void watch_pressure_solve(PassObserver* observer) { pressure_solve_->watch(observer); }
 
     uint32_t particle_count() const { return count_; }
     gpu::Context& context() const { return *ctx_; }

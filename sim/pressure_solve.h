@@ -42,9 +42,23 @@ struct FluidArrays {
 /// neighbours of the reordered predicted positions p (PbfSolver::record_sort).
 using FluidSort = std::function<void(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer)>;
 
+/// What the arrays hold after a pass: the state x and v (a step's start, and from its velocity
+/// update on), or the prediction p between them, moving at (p - x) / dt.
+enum class PassState { settled, predicted };
+
+/// Watches a step pass by pass (sim/energy_budget.h): a pressure solve calls `after` at the start
+/// of its step and after each of its passes, in the command buffer, with the arrays as they are.
+class PassObserver {
+public:
+    virtual ~PassObserver() = default;
+    virtual void after(VkCommandBuffer cmd, const char* pass, const FluidArrays& fluid, PassState state) = 0;
+};
+
 class PressureSolve {
 public:
     virtual ~PressureSolve() = default;
+    /// Watches the steps recorded from now on; nullptr stops.
+    void watch(PassObserver* observer) { observer_ = observer; }
     /// Its passes in a step, in order (PbfSolver::enabled_passes).
     virtual std::vector<std::string> pass_names() const = 0;
     /// One step: from x and v (with the stages' accelerations) to the step's final x and v,
@@ -56,6 +70,14 @@ public:
     /// The densities at `positions` into fluid.density, on the grid's current neighbour lists
     /// (the frame's statistics).
     virtual void record_density(VkCommandBuffer cmd, FluidArrays fluid, const gpu::Buffer& positions) = 0;
+
+protected:
+    void observe(VkCommandBuffer cmd, const char* pass, const FluidArrays& fluid, PassState state) {
+        if (observer_) observer_->after(cmd, pass, fluid, state);
+    }
+
+private:
+    PassObserver* observer_ = nullptr;
 };
 
 }  // namespace aquaform

@@ -53,81 +53,16 @@ bool overlaps(const Box& a, const Box& b) {
 
 // ---- lattice ---------------------------------------------------------------------------------
 
-uint64_t saturating_mul(uint64_t a, uint64_t b) {
-    uint64_t r;
-    return __builtin_mul_overflow(a, b, &r) ? std::numeric_limits<uint64_t>::max() : r;
-}
+/// A block side shorter than the spacing (to a relative 1e-4, for sides given as multiples of it)
+/// holds no whole layer: refused at load.
+bool thinner_than_spacing(float extent, float spacing) { return !(double(extent) / double(spacing) + 1e-4 >= 1.0); }
 
-/// Points per axis: floor(extent / spacing + 1e-4), in double, saturated to uint64.
-uint64_t lattice_points(float extent, float spacing) {
-    if (!(spacing > 0.0f) || !(extent > 0.0f)) return 0;
-    double n = std::floor(static_cast<double>(extent) / static_cast<double>(spacing) + 1e-4);
-    if (!(n >= 0.0)) return 0;
-    if (n >= 18446744073709551616.0) return std::numeric_limits<uint64_t>::max();
-    return static_cast<uint64_t>(n);
-}
-
-uint64_t block_count(const Box& b, float spacing) {
-    uint64_t n = 1;
-    for (int a = 0; a < 3; ++a) n = saturating_mul(n, lattice_points(b.max[a] - b.min[a], spacing));
-    return n;
-}
-
-/// The lattice points of a block, row by row: fn(j, k, i0, i1) for the points i0 <= i < i1 of
-/// row (j, k). A sphere keeps the points of its bounding box's lattice within its radius.
-/// Returns false (having called nothing) when the block's box holds more than `cap` points.
+/// fn(point, block) for every particle of every fluid block (sim/block_fill.h), block by block.
 template <typename Fn>
-bool for_each_row(const Box& b, const BlockFill& fill, float spacing, uint64_t cap, Fn fn) {
-    uint64_t n[3];
-    for (int a = 0; a < 3; ++a) n[a] = lattice_points(b.max[a] - b.min[a], spacing);
-    if (block_count(b, spacing) > cap) return false;
-    const double s = spacing;
-    const glm::dvec3 c = 0.5 * (glm::dvec3(b.min) + glm::dvec3(b.max));
-    for (uint64_t k = 0; k < n[2]; ++k)
-        for (uint64_t j = 0; j < n[1]; ++j) {
-            if (!fill.sphere_radius) {
-                fn(j, k, uint64_t{0}, n[0]);
-                continue;
-            }
-            const double dy = b.min.y + s * (j + 0.5) - c.y, dz = b.min.z + s * (k + 0.5) - c.z;
-            const double r = *fill.sphere_radius, rem = r * r - dy * dy - dz * dz;
-            if (rem < 0.0) continue;
-            // x_i = min.x + s (i + 0.5) within c.x -+ w.
-            const double w = std::sqrt(rem);
-            const double lo = std::ceil((c.x - w - b.min.x) / s - 0.5),
-                         hi = std::floor((c.x + w - b.min.x) / s - 0.5) + 1.0;
-            const uint64_t i0 = uint64_t(std::clamp(lo, 0.0, double(n[0]))),
-                           i1 = uint64_t(std::clamp(hi, 0.0, double(n[0])));
-            if (i1 > i0) fn(j, k, i0, i1);
-        }
-    return true;
-}
-
-/// Particles of one block (saturated; a box too large to list gives its box count, which is
-/// over the limit anyway).
-uint64_t fill_count(const Box& b, const BlockFill& fill, float spacing) {
-    uint64_t count = 0;
-    const uint64_t cap = 8 * kMaxSceneParticles;
-    if (!for_each_row(b, fill, spacing, cap, [&](uint64_t, uint64_t, uint64_t i0, uint64_t i1) { count += i1 - i0; }))
-        return block_count(b, spacing);
-    return count;
-}
-
-/// fn(point, block) for every lattice point of every fluid block, block by block, row by row.
-template <typename Fn>
-void for_each_lattice_point(const Scene& scene, Fn fn) {
-    const double s = scene.particle_spacing;
-    for (size_t bi = 0; bi < scene.fluid_blocks.size(); ++bi) {
-        const Box& b = scene.fluid_blocks[bi];
-        for_each_row(b, scene.fill_of(bi), scene.particle_spacing, std::numeric_limits<uint64_t>::max(),
-                     [&](uint64_t j, uint64_t k, uint64_t i0, uint64_t i1) {
-                         for (uint64_t i = i0; i < i1; ++i)
-                             fn(glm::vec3(static_cast<float>(b.min.x + s * (i + 0.5)),
-                                          static_cast<float>(b.min.y + s * (j + 0.5)),
-                                          static_cast<float>(b.min.z + s * (k + 0.5))),
-                                bi);
-                     });
-    }
+void for_each_block_point(const Scene& scene, Fn fn) {
+    for (size_t bi = 0; bi < scene.fluid_blocks.size(); ++bi)
+        for_each_block_particle(scene.fluid_blocks[bi], scene.fill_of(bi), scene.particle_spacing, scene.gravity,
+                                [&](const glm::vec3& p) { fn(p, bi); });
 }
 
 // ---- the scene -------------------------------------------------------------------------------
@@ -215,7 +150,35 @@ std::vector<Box> read_boxes(const json& v, const std::string& key, const Box& do
     return boxes;
 }
 
-constexpr std::string_view kBoxBlockKeys[] = {"shape", "min", "max", "velocity"};
+constexpr std::string_view kBoxBlockKeys[] = {"shape", "min", "max", "velocity", "surface_wave"};
+constexpr std::string_view kSurfaceWaveKeys[] = {"amplitude", "wavelength", "along"};
+
+/// A box block's "surface_wave" {amplitude, wavelength, along} (sim/block_fill.h): the trough above
+/// the block's bottom, the crest inside the domain.
+SurfaceWave read_surface_wave(const json& v, const std::string& path, const Box& box, const Box& domain) {
+    if (!v.is_object())
+        fail(path + " must be an object such as {\"amplitude\": 0.03, \"wavelength\": 2.0, \"along\": \"x\"}, got " +
+             written(v) + " (" + kind_of(v) + ")");
+    check_keys(v, "in " + path, kSurfaceWaveKeys);
+    require(v, "amplitude", "in " + path, "\"amplitude\": 0.03");
+    require(v, "wavelength", "in " + path, "\"wavelength\": 2.0");
+    SurfaceWave wave;
+    const float height = box.max.y - box.min.y;
+    wave.amplitude = read_number(v["amplitude"], path + ".amplitude",
+                                 {0.0, double(height), false, true, "metres, from 0 to below the block's height"});
+    wave.length =
+        read_number(v["wavelength"], path + ".wavelength", {0.0, HUGE_VAL, true, false, "a positive length in metres"});
+    if (v.contains("along")) {
+        const json& a = v["along"];
+        if (!(a.is_string() && (a == "x" || a == "z")))
+            fail(path + ".along is " + written(a) + "; use \"x\" or \"z\" (the wave runs across the block's top)");
+        wave.along = a == "x" ? 0 : 2;
+    }
+    if (box.max.y + wave.amplitude > domain.max.y)
+        fail(path + ".amplitude " + written(v["amplitude"]) + " lifts the crest to " + fmt(box.max.y + wave.amplitude) +
+             ", above the domain's top " + fmt(domain.max.y) + "; lower the block or the amplitude");
+    return wave;
+}
 constexpr std::string_view kSphereBlockKeys[] = {"shape", "center", "radius", "velocity"};
 
 /// A fluid block: a box {min, max} or {"shape": "sphere", center, radius}, either with an
@@ -251,8 +214,11 @@ std::pair<Box, BlockFill> read_fluid_block(const json& v, const std::string& pat
         json plain = v;  // read_box knows only min and max
         plain.erase("shape");
         plain.erase("velocity");
+        plain.erase("surface_wave");
         box = read_box(plain, path, "\"max\": [0.3, 0.6, 0.2]");
         check_inside(box, v, path, domain);
+        if (v.contains("surface_wave"))
+            fill.wave = read_surface_wave(v["surface_wave"], path + ".surface_wave", box, domain);
     }
     if (v.contains("velocity")) {
         fill.velocity = read_vec3(v["velocity"], path + ".velocity", "an array of three numbers [x, y, z] in m/s");
@@ -332,8 +298,8 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
         const Box& b = scene.fluid_blocks[i];
         std::string path = "fluid_blocks[" + std::to_string(i) + "]";
         for (int a = 0; a < 3; ++a)
-            if (lattice_points(b.max[a] - b.min[a], scene.particle_spacing) == 0 ||
-                fill_count(b, scene.fill_of(i), scene.particle_spacing) == 0)
+            if (thinner_than_spacing(b.max[a] - b.min[a], scene.particle_spacing) ||
+                block_particle_count(b, scene.fill_of(i), scene.particle_spacing) == 0)
                 fail(path + " " + fmt(b) + " is thinner on " + kAxis[a] + " than particle_spacing " +
                      written(j["particle_spacing"]) +
                      ", so it holds no particles; widen the block or reduce "
@@ -392,7 +358,7 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
 uint64_t Scene::particle_count() const {
     uint64_t total = 0;
     for (size_t i = 0; i < fluid_blocks.size(); ++i) {
-        uint64_t n = fill_count(fluid_blocks[i], fill_of(i), particle_spacing);
+        uint64_t n = block_particle_count(fluid_blocks[i], fill_of(i), particle_spacing);
         total = n > std::numeric_limits<uint64_t>::max() - total ? std::numeric_limits<uint64_t>::max() : total + n;
     }
     // Only a count the solver could hold is worth the inside test's time.
@@ -401,8 +367,8 @@ uint64_t Scene::particle_count() const {
 
 uint64_t Scene::particles_in_solids() const {
     uint64_t inside = 0;
-    for_each_lattice_point(*this,
-                           [&](const glm::vec3& p, size_t) { inside += inside_start_solid(obstacles, p) ? 1 : 0; });
+    for_each_block_point(*this,
+                         [&](const glm::vec3& p, size_t) { inside += inside_start_solid(obstacles, p) ? 1 : 0; });
     return inside;
 }
 
@@ -412,7 +378,7 @@ void Scene::generate_particles(std::vector<glm::vec4>& positions, std::vector<ui
     uint64_t total = particle_count();
     positions.reserve(total);  // throws std::length_error for absurd counts instead of looping forever
     block_of.reserve(total);
-    for_each_lattice_point(*this, [&](const glm::vec3& p, size_t block) {
+    for_each_block_point(*this, [&](const glm::vec3& p, size_t block) {
         if (!obstacles.empty() && inside_start_solid(obstacles, p)) return;
         positions.emplace_back(p, 0.0f);
         block_of.push_back(static_cast<uint32_t>(block));
@@ -443,8 +409,8 @@ Result<Scene> with_particle_count(const Scene& scene, uint64_t particles, const 
     // (droplet_curtain's 60 droplets at 4000 particles) and the scene would lose it silently.
     auto loses_a_block = [&](double spacing, size_t* which) {
         for (size_t i = 0; i < scene.fluid_blocks.size(); ++i)
-            if (fill_count(scene.fluid_blocks[i], scene.fill_of(i), scene.particle_spacing) > 0 &&
-                fill_count(scene.fluid_blocks[i], scene.fill_of(i), float(spacing)) == 0) {
+            if (block_particle_count(scene.fluid_blocks[i], scene.fill_of(i), scene.particle_spacing) > 0 &&
+                block_particle_count(scene.fluid_blocks[i], scene.fill_of(i), float(spacing)) == 0) {
                 if (which) *which = i;
                 return true;
             }

@@ -13,6 +13,7 @@
 #include "core/box.h"
 #include "core/camera.h"
 #include "core/result.h"
+#include "sim/block_fill.h"
 #include "sim/probe_spec.h"
 #include "sim/scene_basics.h"
 #include "sim/whitewater_spec.h"
@@ -48,13 +49,6 @@ inline constexpr uint32_t kMaxFrames = 1000000;  ///< frames and event_frame
 /// speed in, so every accepted start runs.
 inline constexpr float kMaxStartSpeed = 100.0f;
 
-/// How a fluid block is filled beyond its box (Scene::fluid_blocks keeps the box; a sphere's is
-/// its bounding box, so every check on boxes holds for spheres too).
-struct BlockFill {
-    std::optional<float> sphere_radius;  ///< a ball of this radius about the box's centre, not the whole box
-    glm::vec3 velocity{0.0f};            ///< the block's particles start with it [m/s]
-};
-
 /// A scene: its basics (the tank, the spacing, the solver, the solids: sim/scene_basics.h) and
 /// the rest of its file.
 struct Scene : SceneBasics {
@@ -62,7 +56,7 @@ struct Scene : SceneBasics {
     std::string name;
     float rest_density = 1000.0f;  ///< rho0 [kg/m^3]
     glm::vec3 gravity{0.0f, -9.81f, 0.0f};
-    std::vector<Box> fluid_blocks;       ///< filled with particles on a lattice at t = 0
+    std::vector<Box> fluid_blocks;       ///< filled with particles at t = 0 (sim/block_fill.h)
     std::vector<BlockFill> block_fills;  ///< per fluid block; a block without one is a box at rest
     /// What the scene measures every step (its "probes" key): gauges, sensors, forces.
     std::optional<ProbeSpec> probes;
@@ -89,14 +83,15 @@ struct Scene : SceneBasics {
     ParticleDomain particle_domain() const {
         return {domain, particle_spacing, solver.kernel_radius_factor, static_boxes};
     }
-    /// Number of particles the fluid blocks produce (computed without generating them, in
-    /// 64 bits so that absurd spacings are caught before any allocation), less those that would
-    /// start inside an obstacle.
+    /// Number of particles the fluid blocks produce, each block's volume over spacing^3
+    /// (sim/block_fill.h; in 64 bits so that absurd spacings are caught before any allocation),
+    /// less those that would start inside an obstacle.
     uint64_t particle_count() const;
     /// Lattice points of the fluid blocks that stand inside an obstacle at t = 0, which are not
     /// started (the commands say how many).
     uint64_t particles_in_solids() const;
-    /// The lattice positions of every fluid particle, with the index of the block each came from.
+    /// The start positions of every fluid particle (sim/block_fill.h), with the index of the block
+    /// each came from.
     void generate_particles(std::vector<glm::vec4>& positions, std::vector<uint32_t>& block_of) const;
 };
 

@@ -1,6 +1,7 @@
 // The scenes the papers draw (double dam break, violent dam break, crown splash): the scene
 // keys they need (spheres, start velocities, cameras), --particles, and a few frames of each.
 #include <gtest/gtest.h>
+#include <algorithm>
 
 #include <set>
 
@@ -45,7 +46,7 @@ std::string error_of(const json& j) {
     return r.ok() ? "" : r.error();
 }
 
-TEST(SceneShapes, SphereBlockHoldsTheLatticePointsInsideItsRadius) {
+TEST(SceneShapes, SphereBlockHoldsItsVolumeOnTheLatticePointsNearestItsCentre) {
     auto r = parse_scene(sphere_scene().dump(), "ball.json");
     ASSERT_TRUE(r.ok()) << r.error();
     const Scene& s = r.value();
@@ -53,17 +54,19 @@ TEST(SceneShapes, SphereBlockHoldsTheLatticePointsInsideItsRadius) {
     std::vector<uint32_t> block;
     s.generate_particles(x, block);
     ASSERT_EQ(x.size(), s.particle_count());
-    // A brute-force count over the bounding box's lattice (8 x 8 x 8 points at 0.05 m).
-    uint64_t inside = 0;
-    for (int k = 0; k < 8; ++k)
-        for (int j = 0; j < 8; ++j)
-            for (int i = 0; i < 8; ++i) {
-                const glm::vec3 p = glm::vec3(0.3f) + 0.05f * (glm::vec3(i, j, k) + 0.5f);
-                inside += glm::length(p - glm::vec3(0.5f)) <= 0.2f + 1e-6f;
-            }
-    EXPECT_EQ(s.particle_count(), inside);
+    // The ball's volume in particles of 0.05^3 m^3 (sim/block_fill.h): round(4/3 pi 4^3) = 268.
+    EXPECT_EQ(s.particle_count(), 268u);
     EXPECT_LT(s.particle_count(), 8u * 8u * 8u) << "the corners of the box are left out";
-    for (const auto& p : x) EXPECT_LE(glm::length(glm::vec3(p) - glm::vec3(0.5f)), 0.2f + 1e-5f);
+    // The nearest lattice points: within the radius and half a spacing, and every lattice point
+    // closer to the centre than the farthest taken is taken.
+    float farthest = 0.0f;
+    for (const auto& p : x) farthest = std::max(farthest, glm::length(glm::vec3(p) - glm::vec3(0.5f)));
+    EXPECT_LE(farthest, 0.2f + 0.025f);
+    uint64_t nearer = 0;
+    for (int k = -5; k <= 5; ++k)
+        for (int j = -5; j <= 5; ++j)
+            for (int i = -5; i <= 5; ++i) nearer += 0.05f * glm::length(glm::vec3(i, j, k)) < farthest - 1e-5f;
+    EXPECT_LE(nearer, x.size());
     EXPECT_EQ(s.fill_of(0).velocity, glm::vec3(0, -2, 1));
     ASSERT_TRUE(s.camera.has_value());
     EXPECT_EQ(scene_camera(s, 1.0f).eye, glm::vec3(0.5f, 0.5f, 3.0f));
@@ -132,10 +135,17 @@ TEST(SceneShapes, ScalingKeepsEveryFluidBlockOrSaysWhatCountWould) {
         return kept.size();
     };
     ASSERT_EQ(blocks_kept(curtain), curtain.fluid_blocks.size());
+    // Too few particles for the droplets: refused with the count that keeps them, or (where a
+    // droplet still holds half a particle's volume) taken with every block.
+    size_t refusals = 0;
     for (uint64_t n : {64ull, 200ull, 4000ull}) {
-        auto refused = with_particle_count(curtain, n);
-        ASSERT_FALSE(refused.ok()) << n << " particles";
-        const std::string& e = refused.error();
+        auto scaled = with_particle_count(curtain, n);
+        if (scaled.ok()) {
+            EXPECT_EQ(blocks_kept(scaled.value()), curtain.fluid_blocks.size()) << "at " << n;
+            continue;
+        }
+        ++refusals;
+        const std::string& e = scaled.error();
         const size_t at = e.find("at least ");
         ASSERT_NE(at, std::string::npos) << e;
         const uint64_t advice = std::stoull(e.substr(at + 9));
@@ -143,6 +153,7 @@ TEST(SceneShapes, ScalingKeepsEveryFluidBlockOrSaysWhatCountWould) {
         ASSERT_TRUE(taken.ok()) << "the advised count " << advice << ": " << taken.error();
         EXPECT_EQ(blocks_kept(taken.value()), curtain.fluid_blocks.size()) << "at " << advice;
     }
+    EXPECT_GE(refusals, 2u) << "64 and 200 particles cannot keep 60 droplets and a slab";
     for (uint64_t n : {10000ull, 100000ull}) {
         auto scaled = with_particle_count(curtain, n);
         ASSERT_TRUE(scaled.ok()) << scaled.error();

@@ -102,7 +102,11 @@ nlohmann::json to_json(const HeadlessSummary& run) {
                           {"sim_s", h.sim_s},
                           {"gpu_solver_ms", h.gpu_solver_ms},
                           {"gpu_render_ms", h.gpu_render_ms}});
-    return {{"particles", run.particles},
+    return {{"command", "view --headless"},
+            {"scene", run.scene},
+            {"device", run.device},
+            {"device_type", run.device_type},
+            {"particles", run.particles},
             {"resolution", std::to_string(run.width) + "x" + std::to_string(run.height)},
             {"method", run.method},
             {"frames", frames},
@@ -125,11 +129,14 @@ HeadlessSummary run_headless_printed(gpu::Context& ctx, session::SessionPlan pla
         scene_name.c_str(), (unsigned long long)plan.scene.particle_count(), ctx.info().name.c_str(),
         gpu::device_type_name(ctx.info().type), options.max_frames, options.method.c_str());
     std::printf("%6s %10s %6s %10s %12s %12s\n", "frame", "wall ms", "steps", "sim ms", "GPU sim ms", "GPU draw ms");
-    const HeadlessSummary run = run_headless(
-        ctx, std::move(plan), options, width, height, options.max_frames, [](uint32_t f, const HeadlessFrame& h) {
-            std::printf("%6u %10.2f %6u %10.2f %12.2f %12.2f\n", f, h.wall_ms, h.steps, 1000.0 * h.sim_s,
-                        h.gpu_solver_ms, h.gpu_render_ms);
-        });
+    HeadlessSummary run = run_headless(ctx, std::move(plan), options, width, height, options.max_frames,
+                                       [](uint32_t f, const HeadlessFrame& h) {
+                                           std::printf("%6u %10.2f %6u %10.2f %12.2f %12.2f\n", f, h.wall_ms, h.steps,
+                                                       1000.0 * h.sim_s, h.gpu_solver_ms, h.gpu_render_ms);
+                                       });
+    run.scene = scene_name;
+    run.device = ctx.info().name;
+    run.device_type = gpu::device_type_name(ctx.info().type);
     std::printf(
         "aquaform view --headless: %zu frames in %.2f s: %.2f frames/s, %.2f steps a frame, GPU %.2f ms simulation + "
         "%.2f ms picture a frame (%u particles, %ux%u, %s); real-time factor %.3f (%.3f s simulated)\n",

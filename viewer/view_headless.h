@@ -31,6 +31,7 @@ struct HeadlessFrame {
 };
 
 struct HeadlessSummary {
+    std::string scene, device, device_type;  ///< what was played where (run_headless_printed names them)
     std::vector<HeadlessFrame> frames;
     uint32_t particles = 0;
     uint32_t width = 0, height = 0;
@@ -47,7 +48,8 @@ struct HeadlessSummary {
     double mean_gpu_render_ms() const;
 };
 
-/// `view --headless --out FILE`'s document: every frame, the means and the real-time factor.
+/// `view --headless --out FILE`'s document: the scene and the device, every frame, the means and
+/// the real-time factor.
 nlohmann::json to_json(const HeadlessSummary& run);
 
 /// Plays `frames` frames of `plan` at `width` x `height` (options.picture_scale applies) with
