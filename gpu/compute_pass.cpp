@@ -162,7 +162,7 @@ BarrierTracker* tracker_for(Context& ctx, VkCommandBuffer cmd) {
 /// the pipeline, the buffers and the push constants; with a tracker, first records the barrier
 /// the dispatch needs (its reads and writes from the shader's access, plus `indirect`).
 void bind_pass(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const void* push, uint32_t push_bytes,
-               Bindings bindings, BarrierTracker* tracker, const Buffer* indirect = nullptr) {
+               std::span<const Binding> bindings, BarrierTracker* tracker, const Buffer* indirect = nullptr) {
     const ComputePassDesc& d = pass.desc();
     if (push_bytes != d.push_bytes)
         throw internal_failure(d.shader + ": push constants of " + std::to_string(push_bytes) +
@@ -229,7 +229,7 @@ void bind_pass(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const
 }  // namespace
 
 void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads, const void* push,
-                  uint32_t push_bytes, Bindings bindings) {
+                  uint32_t push_bytes, std::span<const Binding> bindings) {
     if (threads == 0) return bind_pass(ctx, cmd, pass, push, push_bytes, bindings, nullptr);  // checks only
     ctx.command_boundary(cmd);
     const ComputePassDesc& d = pass.desc();
@@ -246,11 +246,11 @@ void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, ui
 
 void dispatch_indirect(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const Buffer& group_counts,
                        Bindings bindings) {
-    dispatch_indirect_raw(ctx, cmd, pass, group_counts, nullptr, 0, bindings);
+    dispatch_indirect_raw(ctx, cmd, pass, group_counts, nullptr, 0, std::span(bindings.begin(), bindings.size()));
 }
 
 void dispatch_indirect_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const Buffer& group_counts,
-                           const void* push, uint32_t push_bytes, Bindings bindings) {
+                           const void* push, uint32_t push_bytes, std::span<const Binding> bindings) {
     ctx.command_boundary(cmd);
     BarrierTracker* tracker = tracker_for(ctx, cmd);
     DispatchLabel label(ctx, cmd, pass.desc().shader);

@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <initializer_list>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -70,23 +71,31 @@ struct Binding {
     const Buffer* buffer;
 };
 using Bindings = std::initializer_list<Binding>;
+/// Bindings built in pieces (a grid's neighbour lists and a pass's own: NeighborGrid's with_lists).
+using BindingList = std::vector<Binding>;
 
 /// Records `threads` invocations of `pass` (rounded up to whole workgroups; the shader checks
 /// its own bound). In the calling thread's recording a barrier goes before it only where it
 /// depends on an earlier command (gpu/barriers.h: it reads or writes a buffer written since the
 /// last barrier, or writes one read since); in any other command buffer a full barrier follows.
 void dispatch_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads, const void* push,
-                  uint32_t push_bytes, Bindings bindings);
+                  uint32_t push_bytes, std::span<const Binding> bindings);
 
 template <typename Push>
 void dispatch(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads, const Push& push,
               Bindings bindings) {
+    dispatch_raw(ctx, cmd, pass, threads, &push, sizeof(Push), std::span(bindings.begin(), bindings.size()));
+}
+
+template <typename Push>
+void dispatch(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads, const Push& push,
+              const BindingList& bindings) {
     dispatch_raw(ctx, cmd, pass, threads, &push, sizeof(Push), bindings);
 }
 
 /// For passes without push constants.
 inline void dispatch(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, uint32_t threads, Bindings bindings) {
-    dispatch_raw(ctx, cmd, pass, threads, nullptr, 0, bindings);
+    dispatch_raw(ctx, cmd, pass, threads, nullptr, 0, std::span(bindings.begin(), bindings.size()));
 }
 
 /// Records a dispatch whose workgroup counts (uint x, y, z at offset 0) an earlier pass wrote
@@ -94,12 +103,13 @@ inline void dispatch(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass,
 void dispatch_indirect(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const Buffer& group_counts,
                        Bindings bindings);
 void dispatch_indirect_raw(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const Buffer& group_counts,
-                           const void* push, uint32_t push_bytes, Bindings bindings);
+                           const void* push, uint32_t push_bytes, std::span<const Binding> bindings);
 
 template <typename Push>
 void dispatch_indirect(Context& ctx, VkCommandBuffer cmd, const ComputePass& pass, const Buffer& group_counts,
                        const Push& push, Bindings bindings) {
-    dispatch_indirect_raw(ctx, cmd, pass, group_counts, &push, sizeof(Push), bindings);
+    dispatch_indirect_raw(ctx, cmd, pass, group_counts, &push, sizeof(Push),
+                          std::span(bindings.begin(), bindings.size()));
 }
 
 /// Transfers between passes, ordered by the same per-buffer tracking as dispatches.

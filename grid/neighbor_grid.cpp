@@ -166,4 +166,14 @@ void NeighborGrid::record_list_neighbors(VkCommandBuffer cmd, const gpu::Buffer&
                    {"lists", &lists}});
 }
 
+gpu::BindingList NeighborGrid::with_lists(gpu::Bindings own) const {
+    gpu::BindingList bindings(own);
+    bindings.insert(bindings.end(), {{"cell_rank", &cell_rank()},
+                                     {"cell_start", &cell_start()},
+                                     {"list_cell", &list_cell()},
+                                     {"neighbor_count", &neighbor_count()},
+                                     {"neighbors", &neighbors()}});
+    return bindings;
+}
+
 }  // namespace aquaform

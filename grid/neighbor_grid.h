@@ -83,6 +83,10 @@ public:
     const gpu::Buffer& list_cell() const { return *list_cell_; }
     const gpu::Buffer& neighbor_count() const { return *neighbor_count_; }
     const gpu::Buffer& neighbors() const { return *neighbors_; }
+    /// A neighbour pass's bindings: `own`, then the grid's tables and lists as
+    /// common/neighbor_list.glsl names them (cell_rank, cell_start, list_cell, neighbor_count,
+    /// neighbors).
+    gpu::BindingList with_lists(gpu::Bindings own) const;
 
     /// Records a query of the built grid: for every particle of `positions` (the buffer given
     /// to build(), in its own order), the indices of the others within `radius` <= cell size.

@@ -5,8 +5,10 @@
 
 #include "grid/neighbor_grid.h"
 #include "shaders/shared/core/sph_kernels.h"
+#include "shaders/shared/sim/dfsph_physics.h"
 #include "shaders/shared/sim/pbf_physics.h"
 #include "shaders/shared/solids/tank_layout.h"
+#include "sim/frame_stats.h"
 
 static_assert(TANK_MAX_BOXES == PBF_MAX_SOLIDS, "the renderers draw every static box the solver takes");
 
@@ -88,6 +90,9 @@ shader::SimParams make_sim_params(const Scene& scene, const GridGeometry& grid, 
     p.wall_f_h = shader::pbf_wall_antiderivative(c.h, p.h2);
     p.constraint_min = sv.density_constraint == DensityConstraint::two_sided ? -1.0e30f : 0.0f;
     p.pressure_scale = c.gradient_consistency * scene.rest_density;
+    // Fewer and the particle is at a free surface, where a divergence-free solve would hold the
+    // water together (shaders/sim/dfsph_rate.comp).
+    p.divergence_min_neighbors = float(DFSPH_NEIGHBOR_FRACTION * full_neighbor_count(sv.kernel_radius_factor));
     return p;
 }
 

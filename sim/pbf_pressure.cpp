@@ -7,15 +7,11 @@
 #include "grid/neighbor_grid.h"
 #include "shaders/shared/sim/pbf_layout.h"
 #include "sim/boundary.h"
-#include "sim/pbf_traffic.h"
 
 namespace aquaform {
 
 PbfPressure::PbfPressure(gpu::Context& ctx, const SolverSettings& settings, bool solids, bool measure_pressure)
-    : ctx_(&ctx),
-      iterations_(settings.iterations),
-      xsph_on_(step_shape(settings).xsph),
-      vorticity_on_(settings.vorticity > 0.0f) {
+    : ctx_(&ctx), iterations_(settings.iterations), filters_(ctx, settings) {
     using shader::CountPush;
     const uint32_t local = gpu::kDefaultLocalSize, pressure = measure_pressure ? 1u : 0u;
     predict_ =
@@ -27,8 +23,6 @@ PbfPressure::PbfPressure(gpu::Context& ctx, const SolverSettings& settings, bool
     // The last iteration's correction also updates v and x (kLastIteration).
     correct_last_ = gpu::ComputePass(
         ctx, {"sim/pbf_correct.comp", 12, sizeof(shader::CorrectPush), local, solid_constants({1u, pressure}, solids)});
-    if (xsph_on_) xsph_curl_ = gpu::ComputePass(ctx, {"sim/pbf_xsph_curl.comp", 11, sizeof(CountPush)});
-    if (vorticity_on_) vorticity_ = gpu::ComputePass(ctx, {"sim/pbf_vorticity.comp", 10, sizeof(CountPush)});
 }
 
 std::vector<std::string> PbfPressure::pass_names() const {
@@ -36,8 +30,7 @@ std::vector<std::string> PbfPressure::pass_names() const {
                                        "sim_grid_scatter", "sim_reorder",    "sim_neighbor_lists"};
     passes.push_back("sim_lambda x" + std::to_string(iterations_));
     passes.push_back("sim_correct x" + std::to_string(iterations_) + " (the last with the velocity update)");
-    if (xsph_on_) passes.push_back(vorticity_on_ ? "sim_xsph_curl" : "sim_xsph_curl (XSPH viscosity only)");
-    if (vorticity_on_) passes.push_back("sim_vorticity");
+    for (const std::string& pass : filters_.pass_names()) passes.push_back(pass);
     return passes;
 }
 
@@ -61,41 +54,7 @@ void PbfPressure::record_step(VkCommandBuffer cmd, FluidArrays fluid, const Flui
         const std::string pass = last ? "last iteration, velocity update" : "iteration " + std::to_string(it + 1);
         observe(cmd, pass.c_str(), fluid, last ? PassState::settled : PassState::predicted);
     }
-    const NeighborGrid& grid = fluid.grid;
-    const gpu::Buffer &rank = grid.cell_rank(), &start = grid.cell_start(), &cells = grid.list_cell();
-    const gpu::Buffer &counts = grid.neighbor_count(), &neighbors = grid.neighbors();
-    if (xsph_on_) {
-        gpu::GpuScope s(timer, cmd, "sim_xsph_curl");
-        gpu::dispatch(*ctx_, cmd, xsph_curl_, fluid.count, push,
-                      {{"params", &fluid.params},
-                       {"x", fluid.x},
-                       {"v", fluid.v},
-                       {"cell_rank", &rank},
-                       {"cell_start", &start},
-                       {"list_cell", &cells},
-                       {"neighbor_count", &counts},
-                       {"neighbors", &neighbors},
-                       {"density", &fluid.density},
-                       {"v_out", fluid.s1},
-                       {"omega", fluid.s0}});
-        std::swap(fluid.v, fluid.s1);
-        observe(cmd, "xsph", fluid, PassState::settled);
-    }
-    if (vorticity_on_) {
-        gpu::GpuScope s(timer, cmd, "sim_vorticity");
-        gpu::dispatch(*ctx_, cmd, vorticity_, fluid.count, push,
-                      {{"params", &fluid.params},
-                       {"x", fluid.x},
-                       {"v", fluid.v},
-                       {"cell_rank", &rank},
-                       {"cell_start", &start},
-                       {"list_cell", &cells},
-                       {"neighbor_count", &counts},
-                       {"neighbors", &neighbors},
-                       {"density", &fluid.density},
-                       {"omega", fluid.s0}});
-        observe(cmd, "vorticity", fluid, PassState::settled);
-    }
+    filters_.record(cmd, fluid, timer, [&](const char* pass) { observe(cmd, pass, fluid, PassState::settled); });
 }
 
 void PbfPressure::record_projections(VkCommandBuffer cmd, FluidArrays fluid, uint32_t iterations) {
@@ -107,37 +66,25 @@ void PbfPressure::record_iteration(VkCommandBuffer cmd, FluidArrays& fluid, cons
     // One Jacobi iteration: lambda writes q = (p, lambda) into scratch0, correct writes p back.
     const shader::CountPush push{fluid.count};
     const NeighborGrid& grid = fluid.grid;
-    const gpu::Buffer &rank = grid.cell_rank(), &start = grid.cell_start(), &cells = grid.list_cell();
-    const gpu::Buffer &counts = grid.neighbor_count(), &neighbors = grid.neighbors();
     {
         gpu::GpuScope s(timer, cmd, "sim_lambda");
         gpu::dispatch(*ctx_, cmd, lambda_pass_, fluid.count, push,
-                      {{"params", &fluid.params},
-                       {"p", fluid.p},
-                       {"cell_rank", &rank},
-                       {"cell_start", &start},
-                       {"list_cell", &cells},
-                       {"neighbor_count", &counts},
-                       {"neighbors", &neighbors},
-                       {"q", fluid.s0},
-                       {"density", &fluid.density},
-                       {"boundary_nodes", &fluid.boundary_nodes}});
+                      grid.with_lists({{"params", &fluid.params},
+                                       {"p", fluid.p},
+                                       {"q", fluid.s0},
+                                       {"density", &fluid.density},
+                                       {"boundary_nodes", &fluid.boundary_nodes}}));
     }
     gpu::GpuScope s(timer, cmd, "sim_correct");
     const shader::CorrectPush correct_push{fluid.count, iteration, 0u, 0u};
     gpu::dispatch(*ctx_, cmd, correct, fluid.count, correct_push,
-                  {{"params", &fluid.params},
-                   {"q", fluid.s0},
-                   {"cell_rank", &rank},
-                   {"cell_start", &start},
-                   {"list_cell", &cells},
-                   {"neighbor_count", &counts},
-                   {"neighbors", &neighbors},
-                   {"p_out", fluid.p},
-                   {"x", fluid.x},
-                   {"v", fluid.v},
-                   {"boundary_nodes", &fluid.boundary_nodes},
-                   {"pressure", &fluid.pressure}});
+                  grid.with_lists({{"params", &fluid.params},
+                                   {"q", fluid.s0},
+                                   {"p_out", fluid.p},
+                                   {"x", fluid.x},
+                                   {"v", fluid.v},
+                                   {"boundary_nodes", &fluid.boundary_nodes},
+                                   {"pressure", &fluid.pressure}}));
 }
 
 void PbfPressure::record_density(VkCommandBuffer cmd, FluidArrays fluid, const gpu::Buffer& positions) {
@@ -145,16 +92,11 @@ void PbfPressure::record_density(VkCommandBuffer cmd, FluidArrays fluid, const g
     const shader::CountPush push{fluid.count};
     const NeighborGrid& grid = fluid.grid;
     gpu::dispatch(*ctx_, cmd, lambda_pass_, fluid.count, push,
-                  {{"params", &fluid.params},
-                   {"p", &positions},
-                   {"cell_rank", &grid.cell_rank()},
-                   {"cell_start", &grid.cell_start()},
-                   {"list_cell", &grid.list_cell()},
-                   {"neighbor_count", &grid.neighbor_count()},
-                   {"neighbors", &grid.neighbors()},
-                   {"q", fluid.s0},
-                   {"density", &fluid.density},
-                   {"boundary_nodes", &fluid.boundary_nodes}});
+                  grid.with_lists({{"params", &fluid.params},
+                                   {"p", &positions},
+                                   {"q", fluid.s0},
+                                   {"density", &fluid.density},
+                                   {"boundary_nodes", &fluid.boundary_nodes}}));
 }
 
 }  // namespace aquaform

@@ -7,6 +7,7 @@
 #include "gpu/compute_pass.h"
 #include "sim/pressure_solve.h"
 #include "sim/scene_basics.h"
+#include "sim/velocity_filters.h"
 
 namespace aquaform {
 
@@ -28,8 +29,8 @@ private:
 
     gpu::Context* ctx_;
     uint32_t iterations_;
-    bool xsph_on_, vorticity_on_;
-    gpu::ComputePass predict_, lambda_pass_, correct_, correct_last_, xsph_curl_, vorticity_;
+    VelocityFilters filters_;
+    gpu::ComputePass predict_, lambda_pass_, correct_, correct_last_;
 };
 
 }  // namespace aquaform

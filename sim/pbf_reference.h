@@ -1,6 +1,7 @@
-// A CPU reference of the GPU solver: the same equations (the shared headers in
-// shaders/shared/), the same pass order and the same neighbour rule (neighbours within h of
-// the predicted positions, found once per step and kept through the iterations). Only the
+// A CPU reference of the GPU solver, either pressure solve: the same equations (the shared
+// headers in shaders/shared/), the same pass order and the same neighbour rule (neighbours
+// within h of the predicted positions, or for DFSPH of the step's start positions, found once
+// per step and kept through the iterations). Only the
 // order of floating-point sums differs, so GPU and CPU agree to rounding. (One case differs
 // by design: a GPU cell holding more than 16 particles, twice the rest density, treats its
 // extra particles as candidates each pass; the test scenes never reach it.)
@@ -12,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include "shaders/shared/sim/pbf_boundary.h"
+#include "sim/scene_basics.h"
 
 namespace aquaform {
 
@@ -19,9 +21,12 @@ struct CpuParticles {
     std::vector<glm::vec4> x;  ///< w: id
     std::vector<glm::vec4> v;  ///< w: tag
     std::vector<float> density;
+    std::vector<glm::vec4> carry;  ///< DFSPH's sums of k carried to the next step (x, y); empty: zeros
 };
 
 struct ReferenceSettings {
+    PressureMethod method = PressureMethod::pbf;
+    uint32_t divergence_iterations = 2;  ///< DFSPH's
     uint32_t iterations = 4;
     bool xsph = true;
     bool vorticity = false;

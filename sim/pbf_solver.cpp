@@ -14,6 +14,7 @@
 #include "gpu/timer.h"
 #include "gpu/vk_check.h"
 #include "shaders/shared/sim/pbf_boundary.h"
+#include "sim/dfsph_pressure.h"
 #include "sim/pbf_params.h"
 #include "sim/pbf_pressure.h"
 
@@ -63,6 +64,7 @@ Result<MemoryPlan> plan_memory(const Scene& scene, std::optional<uint64_t> parti
     plan.buffers.push_back({"sim.params", sizeof(shader::SimParams)});
     plan.buffers.push_back({"sim.boundary_nodes", Boundary::planned_bytes(scene), true});  // read as texels
     if (scene.probes) plan.buffers.push_back({"sim.pressure", n * 8});
+    if (scene.solver.method == PressureMethod::dfsph) plan.buffers.push_back({"sim.carry", n * 16});
     return plan;
 }
 
@@ -170,9 +172,10 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapsh
     using shader::CountPush;
     const bool has_solids = boundary_->solid_count() > 0;
     const uint32_t local = gpu::kDefaultLocalSize;
-    pressure_solve_ = std::make_unique<PbfPressure>(ctx, scene.solver, has_solids, measure_pressure != 0);
-    reorder_ = gpu::ComputePass(
-        ctx, {"sim/pbf_reorder.comp", 9, sizeof(CountPush), local, solid_constants({measure_pressure}, has_solids)});
+    if (scene.solver.method == PressureMethod::dfsph) add_carry();
+    pressure_solve_ = make_pressure_solve(ctx, scene.solver, has_solids, measure_pressure != 0);
+    reorder_ = gpu::ComputePass(ctx, {"sim/pbf_reorder.comp", 10, sizeof(shader::ReorderPush), local,
+                                      solid_constants({measure_pressure}, has_solids)});
     stats_ = gpu::ComputePass(ctx, {"sim/pbf_stats.comp", 11, sizeof(shader::StatsPush), PBF_STATS_WORKGROUP,
                                     solid_constants({}, has_solids)});
 
@@ -225,7 +228,7 @@ void PbfSolver::relax_start() {
     for (uint32_t round = 0; round < kStartRelaxRounds; ++round) {
         ctx_->submit_and_wait([&](VkCommandBuffer cmd) {
             gpu::record_upload(*ctx_, cmd, *params_buf_, &relax, sizeof relax);
-            record_sort(cmd, *x_, nullptr);
+            record_sort(cmd, *x_, nullptr, false, false);  // p = x; the carry is zeros, in any order
             pressure_solve_->record_projections(cmd, fluid_arrays(), kStartRelaxIterations);
             gpu::record_upload(*ctx_, cmd, *params_buf_, &params_, sizeof params_);
         });
@@ -242,6 +245,29 @@ void PbfSolver::relax_start() {
 }
 
 PbfSolver::~PbfSolver() = default;
+
+std::unique_ptr<PressureSolve> make_pressure_solve(gpu::Context& ctx, const SolverSettings& settings, bool solids,
+                                                   bool measure_pressure) {
+    if (settings.method == PressureMethod::dfsph)
+        return std::make_unique<DfsphPressure>(ctx, settings, solids, measure_pressure);
+    return std::make_unique<PbfPressure>(ctx, settings, solids, measure_pressure);
+}
+
+void PbfSolver::add_carry() {
+    if (!carry_) carry_ = &buffers_.add("sim.carry", uint64_t(count_) * 16);
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) { gpu::fill(*ctx_, cmd, *carry_, 0u); });
+}
+
+bool PbfSolver::gathers_carry() const { return scene_.solver.method == PressureMethod::dfsph && carry_; }
+
+void PbfSolver::set_method(PressureMethod method) {
+    if (method == scene_.solver.method) return;
+    ctx_->wait_queue_idle();  // the old solve's pipelines may be in a frame still in flight
+    scene_.solver.method = method;
+    if (method == PressureMethod::dfsph) add_carry();  // a warm start from nothing
+    pressure_solve_ = make_pressure_solve(*ctx_, scene_.solver, boundary_->solid_count() > 0, probes_ != nullptr);
+    pressure_solve_->watch(observer_);
+}
 
 std::vector<std::string> PbfSolver::enabled_passes() const {
     std::vector<std::string> passes;
@@ -264,7 +290,7 @@ void PbfSolver::attach(SolverStage* stage) {
 void PbfSolver::detach(SolverStage* stage) { std::erase(stages_, stage); }
 
 FluidArrays PbfSolver::fluid_arrays() {
-    return {*params_buf_, x_, v_, p_, s0_, s1_, *density_, *pressure_, *boundary_nodes_, *grid_, count_};
+    return {*params_buf_, x_, v_, p_, s0_, s1_, *density_, *pressure_, carry_, *boundary_nodes_, *grid_, count_};
 }
 
 StepState PbfSolver::fluid_state(double time, gpu::GpuTimer* timer) const {
@@ -282,7 +308,7 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
             stage->record_step(cmd, fluid_state(time_ + params_.dt, timer));
     if (boundary_->moves()) record_solid_motion(cmd);
     const FluidSort sort = [this](VkCommandBuffer c, const gpu::Buffer& keys, gpu::GpuTimer* t) {
-        record_sort(c, keys, t);
+        record_sort(c, keys, t, &keys == x_);
     };
     pressure_solve_->record_step(cmd, fluid_arrays(), sort, timer);
     for (SolverStage* stage : stages_)
@@ -315,11 +341,11 @@ void PbfSolver::record_solid_motion(VkCommandBuffer cmd) {
 }
 
 void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer,
-                            bool lists_of_x) {
+                            bool lists_of_x, bool gather_carry) {
     grid_->build(cmd, key_positions, count_, timer);
     {
         gpu::GpuScope s(timer, cmd, "sim_reorder");
-        const shader::CountPush push{count_};
+        const shader::ReorderPush push{count_, gather_carry && gathers_carry() ? 1u : 0u, 0u, 0u};
         gpu::dispatch(*ctx_, cmd, reorder_, count_, push,
                       {{"params", params_buf_},
                        {"order", &grid_->order()},
@@ -329,9 +355,11 @@ void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_position
                        {"v_out", s1_},
                        {"p_out", p_},
                        {"boundary_nodes", boundary_nodes_},
-                       {"pressure", pressure_}});
+                       {"pressure", pressure_},
+                       {"carry", carry_ ? carry_ : density_}});
         std::swap(x_, s0_);
         std::swap(v_, s1_);
+        if (push.gather_carry) std::swap(carry_, p_);  // the carried state in the new order
     }
     grid_->record_neighbor_lists(cmd, lists_of_x ? *x_ : *p_, count_, params_.h, timer);
 }
@@ -484,6 +512,7 @@ void PbfSolver::set_state(const std::vector<glm::vec4>& x, const std::vector<glm
     last_max_speed_ = 0.0;  // the next frame's steps follow the new velocities
     last_speed_growth_ = 0.0;
     last_max_density_error_ = 0.0;
+    if (carry_) add_carry();  // a new state: the warm start starts from nothing
     for (const glm::vec4& vi : v) last_max_speed_ = std::max(last_max_speed_, double(glm::length(glm::vec3(vi))));
     // Sort by the new positions so that the grid is valid before the first step (measure()).
     ctx_->submit_and_wait([&](VkCommandBuffer cmd) { record_sort(cmd, *x_, nullptr); });

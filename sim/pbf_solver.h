@@ -62,6 +62,10 @@ struct ParticleSnapshot {
     std::vector<float> density;
 };
 
+/// The scene's pressure solve (solver.method): PbfPressure or DfsphPressure.
+std::unique_ptr<PressureSolve> make_pressure_solve(gpu::Context& ctx, const SolverSettings& settings, bool solids,
+                                                   bool measure_pressure);
+
 class PbfSolver {
 public:
     /// Allocates and uploads the scene's particles. Throws gpu::VulkanError or
@@ -105,7 +109,11 @@ public:
     void detach(SolverStage* stage);
     /// Has `observer` watch the pressure solve's passes in every following step (the energy
     /// budget, sim/energy_budget.h); nullptr stops.
-    void watch_pressure_solve(PassObserver* observer) { pressure_solve_->watch(observer); }
+    void watch_pressure_solve(PassObserver* observer) { pressure_solve_->watch(observer_ = observer); }
+    /// Solves the pressure with `method` from the next step on (the viewer switches it live);
+    /// the particles, the grid and the stages stay as they are.
+    void set_method(PressureMethod method);
+    PressureMethod method() const { return scene_.solver.method; }
 
     uint32_t particle_count() const { return count_; }
     gpu::Context& context() const { return *ctx_; }
@@ -157,8 +165,13 @@ private:
     /// Builds the grid over `key_positions` and reorders x, v, p into its Morton order, then
     /// lists the neighbours of the (reordered) predicted positions p, or of x itself with
     /// `lists_of_x` (the frame grid: the lists the statistics use at x).
+    /// p takes the pressure solve's carried state instead where it has one (gathers_carry), unless
+    /// `gather_carry` is false (the start's relaxation, which projects p).
     void record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer,
-                     bool lists_of_x = false);
+                     bool lists_of_x = false, bool gather_carry = true);
+    /// Allocates the carried state (DFSPH's warm start) if it is not there, and zeroes it.
+    void add_carry();
+    bool gathers_carry() const;
     void record_stats(VkCommandBuffer cmd, gpu::GpuTimer* timer);
     /// The particle arrays as the pressure solve works on them (its swaps are the solver's).
     FluidArrays fluid_arrays();
@@ -199,12 +212,14 @@ private:
     /// Every stage of a step and a frame, in order: the scene's own (probes_, whitewater_,
     /// droplets_), then those attached.
     std::vector<SolverStage*> stages_;
-    gpu::Buffer* pressure_;  ///< the particles' pressures (with probes; else a stand-in the passes never touch)
+    gpu::Buffer* carry_ = nullptr;  ///< the pressure solve's carried state (DFSPH), sorted with the particles
+    gpu::Buffer* pressure_;         ///< the particles' pressures (with probes; else a stand-in the passes never touch)
     static inline const ProbeFrame no_probe_frame_{};
     uint32_t step_in_frame_ = 0;  ///< the step being recorded within its frame (the probes' slot)
     gpu::Buffer* partials_;       ///< host-visible: the host reduces them after the frame's fence
     std::unique_ptr<NeighborGrid> grid_;
     std::unique_ptr<PressureSolve> pressure_solve_;
+    PassObserver* observer_ = nullptr;  ///< what watches the pressure solve (watch_pressure_solve)
     gpu::ComputePass reorder_, stats_;
 };
 

@@ -21,9 +21,42 @@ PassTraffic neighbor_pass(const char* name, const GridCounts& c, uint32_t runs, 
     return t;
 }
 
+/// The velocity filters that end either solve's step (sim/velocity_filters.h).
+void add_filters(std::vector<PassTraffic>& passes, const GridCounts& c, const StepShape& shape) {
+    // pbf_xsph_curl: x_i, v_i; each neighbour's x, density, v; v_out and omega stored.
+    if (shape.xsph) passes.push_back(neighbor_pass("sim_xsph_curl", c, 1, 16 + 4 + 16, 4, 16 + 16 + 16 + 16));
+    // pbf_vorticity: x_i, omega_i, v loaded and stored; each neighbour's x, density, omega.
+    if (shape.vorticity) passes.push_back(neighbor_pass("sim_vorticity", c, 1, 16 + 4 + 16, 4, 16 + 16 + 16 + 16));
+}
+
+/// A DFSPH step (sim/dfsph_pressure.h): the sort by x, the factors, both solves (each a warm
+/// start's velocity pass and its iterations' rate and velocity passes), the advance.
+std::vector<PassTraffic> dfsph_step_traffic(const GridCounts& c, const StepShape& shape) {
+    const uint64_t n = c.particles;
+    const std::vector<PassTraffic> grid = grid_pass_traffic(c, "sim_");
+    std::vector<PassTraffic> passes(grid.begin(), grid.end() - 1);
+    // pbf_reorder: order, the gathered x, v and carried state; x, v and p stored.
+    passes.push_back(per_particle("sim_reorder", n, 4 + 3 * 16 + 3 * 16));
+    passes.push_back(grid.back());
+    // dfsph_factors: x_i; each neighbour's x; the factors and the density stored.
+    passes.push_back(neighbor_pass("sim_dfsph_factors", c, 1, 16, 0, 16 + 16 + 4));
+    const uint32_t rates = shape.divergence_iterations + shape.iterations;
+    const uint32_t velocities = rates + 1 + (shape.divergence_iterations > 0 ? 1 : 0);  // the warm starts
+    // dfsph_rate: x_i, v_i, the factors, the state loaded and stored, the increment stored; each
+    // neighbour's x and v.
+    passes.push_back(neighbor_pass("sim_dfsph_rate", c, rates, 32, 0, 6 * 16));
+    // dfsph_velocity: x_i, k_i, v loaded and stored; each neighbour's x and k.
+    passes.push_back(neighbor_pass("sim_dfsph_velocity", c, velocities, 32, 0, 4 * 16));
+    // dfsph_advance: x and v loaded and stored.
+    passes.push_back(per_particle("sim_dfsph_advance", n, 4 * 16));
+    add_filters(passes, c, shape);
+    return passes;
+}
+
 }  // namespace
 
 std::vector<PassTraffic> step_traffic(const GridCounts& c, const StepShape& shape) {
+    if (shape.method == PressureMethod::dfsph) return dfsph_step_traffic(c, shape);
     const uint64_t n = c.particles;
     const std::vector<PassTraffic> grid = grid_pass_traffic(c, "sim_");  // sim_grid_count, ..., sim_neighbor_lists
     std::vector<PassTraffic> passes;
@@ -41,10 +74,7 @@ std::vector<PassTraffic> step_traffic(const GridCounts& c, const StepShape& shap
     correct.bytes += 32 * n;
     correct.unique_bytes += 32 * n;
     passes.push_back(correct);
-    // pbf_xsph_curl: x_i, v_i; each neighbour's x, density, v; v_out and omega stored.
-    if (shape.xsph) passes.push_back(neighbor_pass("sim_xsph_curl", c, 1, 16 + 4 + 16, 4, 16 + 16 + 16 + 16));
-    // pbf_vorticity: x_i, omega_i, v loaded and stored; each neighbour's x, density, omega.
-    if (shape.vorticity) passes.push_back(neighbor_pass("sim_vorticity", c, 1, 16 + 4 + 16, 4, 16 + 16 + 16 + 16));
+    add_filters(passes, c, shape);
     return passes;
 }
 

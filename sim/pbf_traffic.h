@@ -14,14 +14,17 @@ namespace aquaform {
 
 /// What decides which passes a step runs and how often.
 struct StepShape {
-    uint32_t iterations = 4;  ///< sim_lambda and sim_correct run once each per iteration
+    uint32_t iterations = 4;  ///< sim_lambda and sim_correct run once each per iteration (DFSPH: its density solve's)
     bool xsph = true;         ///< sim_xsph_curl (viscosity or vorticity on)
     bool vorticity = true;    ///< vorticity confinement
+    PressureMethod method = PressureMethod::pbf;
+    uint32_t divergence_iterations = 0;  ///< DFSPH's divergence-free solve
 };
 
 /// The passes `settings` make a step run (XSPH runs with viscosity or vorticity).
 inline StepShape step_shape(const SolverSettings& settings) {
-    return {settings.iterations, settings.viscosity > 0.0f || settings.vorticity > 0.0f, settings.vorticity > 0.0f};
+    return {settings.iterations, settings.viscosity > 0.0f || settings.vorticity > 0.0f, settings.vorticity > 0.0f,
+            settings.method, settings.divergence_iterations};
 }
 
 /// Per-pass traffic of one step at the grid's state `counts` (its lists as the step fills them).

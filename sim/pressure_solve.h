@@ -2,7 +2,8 @@
 // solver of the fluid's incompressibility (DFSPH beside PBF) is one more implementation, not a
 // fork of the solver: the solver keeps the particles, the grid and its sort, the time-step rule,
 // the statistics and the stages (sim/solver_stage.h); the pressure solve takes a step's x and v,
-// the stages' accelerations already in v, to the step's final x and v.
+// the stages' accelerations already in v, to the step's final x and v. The solves:
+// sim/pbf_pressure.h and sim/dfsph_pressure.h.
 #pragma once
 
 #include <cstdint>
@@ -33,13 +34,17 @@ struct FluidArrays {
     gpu::Buffer*& s1;
     gpu::Buffer& density;
     gpu::Buffer& pressure;  ///< per particle (the probes'); a stand-in without probes
+    /// The pressure solve's state carried from step to step (DFSPH's warm start), sorted with the
+    /// particles (the sort gathers it into p and swaps the two); null for a solve without one.
+    gpu::Buffer*& carry;
     const gpu::Buffer& boundary_nodes;
     const NeighborGrid& grid;  ///< the grid the arrays are sorted by, with its neighbour lists
     uint32_t count = 0;
 };
 
 /// Sorts the arrays by a grid of `key_positions` (x, v, p, pressure reordered) and lists the
-/// neighbours of the reordered predicted positions p (PbfSolver::record_sort).
+/// neighbours at the keys: of the reordered predicted positions p, or of x itself when the keys
+/// are x (PbfSolver::record_sort).
 using FluidSort = std::function<void(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer)>;
 
 /// What the arrays hold after a pass: the state x and v (a step's start, and from its velocity

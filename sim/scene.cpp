@@ -28,10 +28,10 @@ constexpr std::string_view kTopKeys[] = {"name",         "domain",       "partic
                                          "gravity",      "fluid_blocks", "static_boxes",     "frames",
                                          "column_width", "solver",       "control",          "camera",
                                          "event_frame",  "obstacles",    "probes",           "whitewater"};
-constexpr std::string_view kSolverKeys[] = {"frame_dt",   "substeps",          "iterations", "kernel_radius_factor",
-                                            "relaxation", "viscosity",         "vorticity",  "scorr_k",
-                                            "scorr_n",    "scorr_dq",          "cfl",        "max_substeps",
-                                            "max_speed",  "density_constraint"};
+constexpr std::string_view kSolverKeys[] = {"frame_dt",   "substeps",           "iterations", "kernel_radius_factor",
+                                            "relaxation", "viscosity",          "vorticity",  "scorr_k",
+                                            "scorr_n",    "scorr_dq",           "cfl",        "max_substeps",
+                                            "max_speed",  "density_constraint", "method",     "divergence_iterations"};
 
 constexpr const char* kAxis[] = {"x", "y", "z"};
 
@@ -134,6 +134,22 @@ void read_solver(const json& s, SolverSettings& out) {
                  "; use \"clamped\" (only compression is corrected, "
                  "the default) or \"two_sided\" (under-dense particles are pulled together too)");
         out.density_constraint = c == "two_sided" ? DensityConstraint::two_sided : DensityConstraint::clamped;
+    }
+    if (s.contains("method")) {
+        const json& m = s["method"];
+        if (!m.is_string() || (m != "pbf" && m != "dfsph"))
+            fail("solver.method is " + written(m) +
+                 "; use \"pbf\" (position-based fluids: fast, damps waves; the default) or \"dfsph\" "
+                 "(divergence-free SPH: keeps waves, costs more a step)");
+        out.method = m == "dfsph" ? PressureMethod::dfsph : PressureMethod::pbf;
+    }
+    if (s.contains("divergence_iterations")) {
+        if (out.method != PressureMethod::dfsph)
+            fail(
+                "solver.divergence_iterations is DFSPH's (its divergence-free solve) and this scene's solver.method "
+                "is \"pbf\"; add \"method\": \"dfsph\" to the solver or remove the key");
+        out.divergence_iterations =
+            read_integer(s["divergence_iterations"], "solver.divergence_iterations", 0, kMaxIterations);
     }
 }
 
@@ -354,6 +370,8 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
 }
 
 }  // namespace
+
+const char* method_name(PressureMethod method) { return method == PressureMethod::dfsph ? "dfsph" : "pbf"; }
 
 uint64_t Scene::particle_count() const {
     uint64_t total = 0;

@@ -11,17 +11,29 @@
 
 namespace aquaform {
 
-/// Solver settings (Macklin & Mueller 2013, "Position Based Fluids").
 /// Which densities the PBF constraint corrects (shaders/sim/pbf_lambda.comp explains the choice).
 enum class DensityConstraint { clamped, two_sided };
 
+/// The pressure solve of a step (sim/pressure_solve.h): position-based fluids, the fast end
+/// (Macklin & Mueller 2013, sim/pbf_pressure.h), or divergence-free SPH, the accurate end
+/// (Bender & Koschier 2017, sim/dfsph_pressure.h).
+enum class PressureMethod { pbf, dfsph };
+
+/// The scene's name of a method ("pbf", "dfsph").
+const char* method_name(PressureMethod method);
+
+/// Solver settings (Macklin & Mueller 2013, "Position Based Fluids"; Bender & Koschier 2017,
+/// "Divergence-Free SPH").
 struct SolverSettings {
+    PressureMethod method = PressureMethod::pbf;
     float frame_dt = 1.0f / 60.0f;  ///< simulated seconds per output frame
     /// Solver steps per frame: at least `substeps`, more where the fluid is fast (the time-step
     /// rule: the fastest particle moves at most cfl * h per step), up to `max_substeps`.
     uint32_t substeps = 2;
     uint32_t max_substeps = 32;
-    uint32_t iterations = 4;            ///< constraint iterations per step
+    uint32_t iterations = 4;  ///< constraint iterations per step (DFSPH: of its constant-density solve)
+    /// DFSPH's divergence-free solve: iterations per step (0 switches it off).
+    uint32_t divergence_iterations = 2;
     float kernel_radius_factor = 2.0f;  ///< h = factor * particle_spacing
     float relaxation = 0.01f;  ///< epsilon of eq. 11 relative to a full neighbourhood stiffness (sim/pbf_params.h)
     float viscosity = 0.01f;   ///< XSPH c (eq. 17)

@@ -472,21 +472,21 @@ protected:
         gpu::ComputePass density_pass(ctx(), {"render/classify_density.comp", 7, 0});
         ctx().submit_and_wait([&](VkCommandBuffer cmd) {
             if (anisotropic)
-                gpu::dispatch_raw(ctx(), cmd, shape_pass, n, nullptr, 0,
-                                  {{"params", &params_buffer},
-                                   {"sorted", &positions},
-                                   {"cell_rank", &grid.cell_rank()},
-                                   {"cell_start", &grid.cell_start()},
-                                   {"shape", &shape},
-                                   {"centres", &centres}});
-            gpu::dispatch_raw(ctx(), cmd, density_pass, n, nullptr, 0,
+                gpu::dispatch(ctx(), cmd, shape_pass, n,
                               {{"params", &params_buffer},
                                {"sorted", &positions},
                                {"cell_rank", &grid.cell_rank()},
                                {"cell_start", &grid.cell_start()},
-                               {"shape", anisotropic ? &shape : &dummy_shape},
-                               {"class_density", &density},
-                               {"aggregate", &aggregate}});
+                               {"shape", &shape},
+                               {"centres", &centres}});
+            gpu::dispatch(ctx(), cmd, density_pass, n,
+                          {{"params", &params_buffer},
+                           {"sorted", &positions},
+                           {"cell_rank", &grid.cell_rank()},
+                           {"cell_start", &grid.cell_start()},
+                           {"shape", anisotropic ? &shape : &dummy_shape},
+                           {"class_density", &density},
+                           {"aggregate", &aggregate}});
         });
         Result r;
         if (anisotropic) r.shape = gpu::download_vector<glm::vec4>(ctx(), shape, uint64_t(n) * 3);

@@ -237,6 +237,27 @@ TEST_F(BenchSimTest, TheModelFollowsTheStepsPassesAndTheListsItFills) {
     EXPECT_EQ(pass(model, "sim_lambda").neighbor_visits, 2 * solver.grid_counts().visits());
 }
 
+TEST_F(BenchSimTest, TheDfsphModelFollowsItsStepsPasses) {
+    Scene scene = study::bench_scene(2000, 2);
+    scene.solver.method = PressureMethod::dfsph;
+    scene.solver.iterations = 3;
+    scene.solver.divergence_iterations = 2;
+    PbfSolver solver(ctx(), scene);
+    gpu::GpuTimer timer(ctx());
+    solver.run_steps(1, &timer);
+    std::set<std::string> timed, modelled;
+    for (const auto& [name, ms] : timer.totals_ms()) timed.insert(name);
+    const std::vector<PassTraffic> model = solver.traffic_per_pass();
+    for (const PassTraffic& p : model) modelled.insert(p.name);
+    EXPECT_EQ(timed, modelled);
+    // Each solve: its warm start's velocity pass, then a rate and a velocity pass per iteration.
+    EXPECT_EQ(pass(model, "sim_dfsph_rate").runs, 3u + 2u);
+    EXPECT_EQ(pass(model, "sim_dfsph_velocity").runs, 3u + 2u + 2u);
+    EXPECT_EQ(pass(model, "sim_dfsph_factors").neighbor_visits, solver.grid_counts().visits());
+    scene.solver.divergence_iterations = 0;  // off: no warm start of it either
+    EXPECT_EQ(pass(step_traffic(solver.grid_counts(), step_shape(scene.solver)), "sim_dfsph_velocity").runs, 3u + 1u);
+}
+
 TEST(BenchSimExponent, IsTheSlopeOfLogTimeAgainstLogParticles) {
     std::vector<study::SolverBenchRecord> records(3);
     const double n[] = {1000, 2000, 8000};

@@ -36,9 +36,21 @@ Scene small_splash_scene() {
 // or a missed neighbour moves particles by 1e-2 h or more).
 constexpr float kTolerancePerH = 1.0e-4f;
 
-TEST_F(PbfReferenceTest, GpuStepsMatchCpuReference) {
+/// Five steps of the GPU solver on a disturbed state against the CPU reference's, particle by particle.
+void expect_steps_match(gpu::Context& ctx, const Scene& scene);
+/// Every buffer the memory plan of `scene` lists is allocated at its size, and nothing else.
+void expect_plan_matches(gpu::Context& ctx, const Scene& scene);
+
+TEST_F(PbfReferenceTest, GpuStepsMatchCpuReference) { expect_steps_match(ctx(), small_splash_scene()); }
+
+TEST_F(PbfReferenceTest, DfsphGpuStepsMatchCpuReference) {
     Scene scene = small_splash_scene();
-    PbfSolver solver(ctx(), scene);
+    scene.solver.method = PressureMethod::dfsph;
+    expect_steps_match(ctx(), scene);
+}
+
+void expect_steps_match(gpu::Context& ctx, const Scene& scene) {
+    PbfSolver solver(ctx, scene);
     const uint32_t n = solver.particle_count();
     ASSERT_EQ(n, 10u * 15u * 8u);
 
@@ -53,7 +65,8 @@ TEST_F(PbfReferenceTest, GpuStepsMatchCpuReference) {
         cpu.v.push_back(glm::vec4(speed(rng), speed(rng), speed(rng), start.v[i].w));
     }
     solver.set_state(cpu.x, cpu.v);
-    const ReferenceSettings settings{scene.solver.iterations, true, true};
+    const ReferenceSettings settings{scene.solver.method, scene.solver.divergence_iterations, scene.solver.iterations,
+                                     true, true};
     const float h = solver.params().h;
 
     for (int step = 1; step <= 5; ++step) {
@@ -81,10 +94,18 @@ TEST_F(PbfReferenceTest, GpuStepsMatchCpuReference) {
 }
 
 TEST_F(PbfReferenceTest, MemoryPlanMatchesWhatTheSolverAllocates) {
-    Scene scene = small_splash_scene();
+    for (const PressureMethod method : {PressureMethod::pbf, PressureMethod::dfsph}) {
+        SCOPED_TRACE(method_name(method));
+        Scene scene = small_splash_scene();
+        scene.solver.method = method;
+        expect_plan_matches(ctx(), scene);
+    }
+}
+
+void expect_plan_matches(gpu::Context& ctx, const Scene& scene) {
     auto plan = plan_memory(scene);
     ASSERT_TRUE(plan.ok()) << plan.error();
-    PbfSolver solver(ctx(), scene);
+    PbfSolver solver(ctx, scene);
     auto report = solver.memory_report();
     for (const auto& planned : plan.value().buffers) {
         auto it = std::find_if(report.begin(), report.end(), [&](const auto& b) { return b.name == planned.name; });

@@ -48,7 +48,14 @@ ProbeStep settle_and_average(PbfSolver& solver, int settle, int frames) {
 // column jitters and its sensors read up to about a quarter high (docs/obstacles.md).
 constexpr const char* kConverged = R"("solver": {"iterations": 30, "substeps": 6})";
 
-TEST_F(ProbeTest, AtRestASensorAtDepthDReadsRhoGD) {
+/// A still column's sensors read rho g d at their depths, under the pressure solve `method`.
+void expect_hydrostatic_readings(gpu::Context& ctx, PressureMethod method);
+
+TEST_F(ProbeTest, AtRestASensorAtDepthDReadsRhoGD) { expect_hydrostatic_readings(ctx(), PressureMethod::pbf); }
+
+TEST_F(ProbeTest, UnderDfsphASensorAtDepthDReadsRhoGD) { expect_hydrostatic_readings(ctx(), PressureMethod::dfsph); }
+
+void expect_hydrostatic_readings(gpu::Context& ctx, PressureMethod method) {
     // Sensors on the side wall x = 0 at five depths and one on the floor; a gauge beside them
     // gives the surface. (Probes are listed by name: F, then P05 ... P25.)
     Scene scene = load_text(R"({"name": "hydrostatic probes", "domain": {"min": [0, 0, 0], "max": [0.2, 0.4, 0.08]},
@@ -60,17 +67,22 @@ TEST_F(ProbeTest, AtRestASensorAtDepthDReadsRhoGD) {
                                "P25": {"position": [0, 0.05, 0.04]}, "F": {"position": [0.1, 0, 0.04]}}}})",
                             "probe_hydrostatic");
     ASSERT_TRUE(scene.probes.has_value());
-    PbfSolver solver(ctx(), scene);
+    scene.solver.method = method;
+    PbfSolver solver(ctx, scene);
     const ProbeStep mean = settle_and_average(solver, 60, 20);
     ASSERT_EQ(mean.heights.size(), 1u);
     const double surface = mean.heights[0];
-    EXPECT_NEAR(surface, 0.3, 0.005) << "the gauge reads the column's height";
+    // DFSPH's column does not come to rest as PBF's does (docs/solver.md, DFSPH: measured 0.08 J
+    // of jitter against PBF's 0.001 J): its surface stands 0.285 m high, and its sensors read
+    // 85-94 % of rho g d. The bounds here are what it holds today, and catch a lost factor.
+    const bool pbf = method == PressureMethod::pbf;
+    EXPECT_NEAR(surface, 0.3, pbf ? 0.005 : 0.025) << "the gauge reads the column's height";
     const double rho_g = scene.rest_density * 9.81;
     const double ys[] = {0.0, 0.25, 0.2, 0.15, 0.1, 0.05};
     ASSERT_EQ(scene.probes->sensors[0].name, "F");
     for (size_t i = 0; i < 6; ++i) {
         const double expected = rho_g * (surface - ys[i]);
-        EXPECT_NEAR(mean.pressures[i], expected, 0.05 * expected)
+        EXPECT_NEAR(mean.pressures[i], expected, (pbf ? 0.05 : 0.2) * expected)
             << scene.probes->sensors[i].name << " at depth " << surface - ys[i];
     }
 }

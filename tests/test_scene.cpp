@@ -428,3 +428,37 @@ TEST(SceneFile, GeneratedParticlesMatchCountAndLieInTheirBlocks) {
 
 }  // namespace
 }  // namespace aquaform
+
+namespace aquaform {
+namespace {
+
+TEST(SceneSolverMethod, PbfIsTheDefaultAndDfsphIsChosenByName) {
+    json j = valid_scene();
+    Result<Scene> pbf = parse_scene(j.dump(), kOrigin);
+    ASSERT_TRUE(pbf.ok()) << pbf.error();
+    EXPECT_EQ(pbf.value().solver.method, PressureMethod::pbf);
+    j["solver"]["method"] = "dfsph";
+    j["solver"]["divergence_iterations"] = 0;
+    Result<Scene> dfsph = parse_scene(j.dump(), kOrigin);
+    ASSERT_TRUE(dfsph.ok()) << dfsph.error();
+    EXPECT_EQ(dfsph.value().solver.method, PressureMethod::dfsph);
+    EXPECT_EQ(dfsph.value().solver.divergence_iterations, 0u);
+    EXPECT_STREQ(method_name(dfsph.value().solver.method), "dfsph");
+}
+
+TEST(SceneSolverMethod, AnUnknownMethodOrAKeyOfTheOtherMethodIsRefusedByName) {
+    json j = valid_scene();
+    j["solver"]["method"] = "sph";
+    EXPECT_NE(error_of(j).find("solver.method is \"sph\"; use \"pbf\""), std::string::npos);
+    j["solver"]["method"] = 2;
+    EXPECT_NE(error_of(j).find("solver.method is 2"), std::string::npos);
+    j["solver"].erase("method");
+    j["solver"]["divergence_iterations"] = 2;
+    EXPECT_NE(error_of(j).find("solver.divergence_iterations is DFSPH's"), std::string::npos);
+    j["solver"]["method"] = "dfsph";
+    j["solver"]["divergence_iterations"] = -1;
+    EXPECT_NE(error_of(j).find("solver.divergence_iterations"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace aquaform

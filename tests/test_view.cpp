@@ -481,6 +481,7 @@ TEST(ViewScriptTest, AMissingKeyGetsAnExampleThatFitsItsAction) {
                                                           {"method", "\"value\": \"adaptive\""},
                                                           {"view", "\"value\": \"tiles\""},
                                                           {"iterations", "\"value\": 4"},
+                                                          {"solver", "\"value\": \"dfsph\""},
                                                           {"resize", "\"value\": \"640x480\""},
                                                           {"whitewater", "\"value\": \"on\""}}) {
         auto refused = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": ")" + action + R"("}]})", "s.json");
@@ -490,6 +491,13 @@ TEST(ViewScriptTest, AMissingKeyGetsAnExampleThatFitsItsAction) {
             EXPECT_EQ(refused.error().find("shot.png"), std::string::npos) << refused.error();
         }
     }
+    auto solver = viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "solver", "value": "sph"}]})", "s.json");
+    ASSERT_FALSE(solver.ok());
+    EXPECT_NE(solver.error().find("is \"sph\"; use \"pbf\""), std::string::npos) << solver.error();
+    auto dfsph =
+        viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "solver", "value": "dfsph"}]})", "s.json");
+    ASSERT_TRUE(dfsph.ok()) << dfsph.error();
+    EXPECT_EQ(dfsph.value().front().value, "dfsph");
     // A key the action does not read is refused, not ignored.
     auto ignored =
         viewer::parse_view_script(R"({"actions": [{"frame": 1, "do": "obstacle", "value": "rock.obj"}]})", "s.json");

@@ -31,9 +31,9 @@ namespace {
 using namespace json_fields;
 
 constexpr std::array<std::string_view, 4> kActionKeys{"frame", "do", "value", "file"};
-constexpr std::array<std::string_view, 17> kActions{
-    "play",  "pause", "step",    "reset", "method", "iterations", "substeps",         "screenshot", "attach",
-    "union", "morph", "release", "view",  "resize", "obstacle",   "remove_obstacles", "whitewater"};
+constexpr std::array<std::string_view, 18> kActions{
+    "play",   "pause", "step",  "reset",   "method", "iterations", "substeps", "solver",           "screenshot",
+    "attach", "union", "morph", "release", "view",   "resize",     "obstacle", "remove_obstacles", "whitewater"};
 
 /// Actions whose "file" is a mesh, named relative to the script.
 bool takes_mesh(const std::string& what) {
@@ -50,6 +50,7 @@ std::string example_of(const std::string& what) {
     if (what == "view") return "\"value\": \"tiles\" (image, steps, classification, tiles, depth_all or depth_agg)";
     if (what == "iterations") return "\"value\": 4 (1 to 64)";
     if (what == "substeps") return "\"value\": 2 (1 to 64)";
+    if (what == "solver") return "\"value\": \"dfsph\" (the pressure solve: \"pbf\" or \"dfsph\")";
     if (what == "resize") return "\"value\": \"640x480\"";
     if (what == "whitewater") return "\"value\": \"on\" (or \"off\")";
     return "";
@@ -155,14 +156,16 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
             const bool known =
                 action.what == "quit" || std::find(kActions.begin(), kActions.end(), action.what) != kActions.end();
             if (!known)
-                fail(child(where, "do") + " is \"" + action.what +
-                     "\"; use play, pause, step, reset, method, view, iterations, substeps, screenshot, attach, union, "
-                     "morph, release, obstacle, remove_obstacles, resize, whitewater or quit");
+                fail(
+                    child(where, "do") + " is \"" + action.what +
+                    "\"; use play, pause, step, reset, method, view, iterations, substeps, solver, screenshot, attach, "
+                    "union, "
+                    "morph, release, obstacle, remove_obstacles, resize, whitewater or quit");
             const bool takes_file = action.what == "screenshot" || takes_mesh(action.what);
             const char* key = takes_file ? "file" : "value";
             const bool needs = takes_file || action.what == "method" || action.what == "view" ||
                                action.what == "iterations" || action.what == "substeps" || action.what == "resize" ||
-                               action.what == "whitewater";
+                               action.what == "whitewater" || action.what == "solver";
             // A key the action does not read is refused rather than ignored.
             for (const char* other : {"file", "value"})
                 if (a.contains(other) && (!needs || std::string_view(other) != key))
@@ -190,6 +193,9 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
                     for (const std::string& m : methods) names += (names.empty() ? "" : ", ") + m;
                     fail(child(where, key) + " is \"" + action.value + "\"; use one of the viewer's methods: " + names);
                 }
+                if (action.what == "solver" && action.value != "pbf" && action.value != "dfsph")
+                    fail(child(where, key) + " is \"" + action.value +
+                         "\"; use \"pbf\" (position-based fluids) or \"dfsph\" (divergence-free SPH)");
                 if (action.what == "whitewater" && action.value != "on" && action.value != "off")
                     fail(child(where, key) + " is \"" + action.value + "\"; use \"on\" or \"off\"");
                 if (action.what == "view" && std::find(std::begin(kDebugViewNames), std::end(kDebugViewNames),

@@ -247,7 +247,10 @@ private:
             resize(a.value);
         else if (a.what == "whitewater")
             controls_.show_whitewater = a.value == "on";
-        else if (a.what == "iterations" || a.what == "substeps") {
+        else if (a.what == "solver") {
+            solver_settings_.method = a.value == "dfsph" ? PressureMethod::dfsph : PressureMethod::pbf;
+            post(ViewOp::solver);
+        } else if (a.what == "iterations" || a.what == "substeps") {
             (a.what == "iterations" ? solver_settings_.iterations : solver_settings_.substeps) =
                 uint32_t(std::stoul(a.value));
             post(ViewOp::solver);
@@ -376,6 +379,11 @@ private:
             SolverSettings& s = solver_settings_;
             int iterations = int(s.iterations), substeps = int(s.substeps);
             bool released = false;
+            int method = s.method == PressureMethod::dfsph ? 1 : 0;
+            released |= ImGui::Combo("pressure", &method, "pbf (fast)\0dfsph (keeps waves)\0");
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("the pressure solve: position-based fluids, or divergence-free SPH (docs/solver.md)");
+            s.method = method == 1 ? PressureMethod::dfsph : PressureMethod::pbf;
             ImGui::SliderInt("iterations", &iterations, 1, 16);
             released |= ImGui::IsItemDeactivatedAfterEdit();
             ImGui::SliderInt("substeps", &substeps, 1, 16);

@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Physically reorders the particle arrays into the grid's Morton order (a gather by `order`).
-// p is recomputed from the reordered x and v rather than gathered: it saves a scratch array.
+// p is recomputed from the reordered x and v rather than gathered: it saves a scratch array
+// (DFSPH's carried state is gathered into p instead; the solver then swaps the two buffers).
 #include "shared/sim/pbf_layout.h"
 
 layout(local_size_x_id = 0) in;
@@ -19,7 +20,9 @@ layout(binding = 7, rgba32f) readonly uniform imageBuffer boundary_nodes;
 // solids' pressure channel's start; pbf_correct.comp adds the iterations' pushes to it).
 layout(std430, binding = 8) buffer Pressure { vec2 pressure[]; };
 layout(constant_id = 1) const bool kMeasurePressure = false;
-layout(push_constant) uniform Push { CountPush pc; };
+// DFSPH's carried state (sim/dfsph_pressure.h), gathered into p when pc.gather_carry asks.
+layout(std430, binding = 9) readonly buffer Carry { vec4 carry[]; };
+layout(push_constant) uniform Push { ReorderPush pc; };
 
 void main() {
     uint i = gl_GlobalInvocationID.x;
@@ -29,6 +32,10 @@ void main() {
     vec4 vi = v_in[src];
     x_out[i] = xi;
     v_out[i] = vi;
+    if (pc.gather_carry != 0u) {
+        p_out[i] = carry[src];  // DFSPH writes the pressures itself (dfsph_advance.comp)
+        return;
+    }
     vec3 moved = xi.xyz + params.dt * vi.xyz;
     vec3 p = pbf_collide(xi.xyz, moved);
     p_out[i] = vec4(p, 0.0);

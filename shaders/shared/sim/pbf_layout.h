@@ -11,7 +11,7 @@
 // Per-particle arrays (structure of arrays, all in GPU memory):
 //   x: position, w = particle id (as float: exact below 2^24)
 //   v: velocity, w = tag (fluid block the particle came from, as float)
-//   p: predicted position, w unused
+//   p: predicted position, w unused (DFSPH: the sort's spare for its carried state)
 //   q: scratch written by the lambda pass: xyz = p, w = lambda (one load per neighbour later)
 //   density: one float
 #ifndef AQUAFORM_PBF_LAYOUT_H
@@ -59,7 +59,9 @@ struct SimParams {
     float solid_margin;   ///< particle centres keep this far out of a solid's surface [m]
     float solid_stride;   ///< a move is checked for crossing a solid at this stride [m] (pbf_collide)
     float pressure_scale;  ///< kappa rho0: a particle's pressure is -pressure_scale sum(lambda) / dt^2 (probe_layout.h)
-    float pad1;
+    /// DFSPH: a particle with fewer listed neighbours is at a free surface and its divergence is
+    /// not corrected (shaders/sim/dfsph_rate.comp)
+    float divergence_min_neighbors;
     SolidParams solids[PBF_MAX_SOLIDS];
 };
 
@@ -78,6 +80,24 @@ struct CorrectPush {
     uint pad0;
     uint pad1;
 };
+
+/// Push constants of the reorder (the sort's gather of the particle arrays).
+struct ReorderPush {
+    uint count;
+    uint gather_carry;  ///< 1: p takes the pressure solve's carried state (DFSPH); 0: the prediction
+    uint pad0;
+    uint pad1;
+};
+
+/// Push constants of DFSPH's iterations (shaders/sim/dfsph_rate.comp, dfsph_velocity.comp).
+struct DfsphPush {
+    uint count;
+    uint solve;        ///< DFSPH_DIVERGENCE or DFSPH_DENSITY: the component of the carried state it works on
+    uint add_gravity;  ///< 1: the velocity pass adds dt g first (the density solve's warm start)
+    uint pad0;
+};
+const uint DFSPH_DIVERGENCE = 0u;
+const uint DFSPH_DENSITY = 1u;
 
 /// Per-workgroup partial sums of the stats pass; the host finishes the reduction.
 struct StatsPartial {
@@ -124,6 +144,8 @@ AF_END
 static_assert(sizeof(aquaform::shader::SimParams) == 5 * 16 + 28 * 4 + PBF_MAX_SOLIDS * 5 * 16);
 static_assert(sizeof(aquaform::shader::CountPush) == 16);
 static_assert(sizeof(aquaform::shader::CorrectPush) == 16);
+static_assert(sizeof(aquaform::shader::ReorderPush) == 16);
+static_assert(sizeof(aquaform::shader::DfsphPush) == 16);
 static_assert(sizeof(aquaform::shader::StatsPartial) == 48);
 static_assert(sizeof(aquaform::shader::StatsPush) == 16);
 static_assert(sizeof(aquaform::shader::DropletPush) == 16);
