@@ -140,7 +140,7 @@ void read_solver(const json& s, SolverSettings& out) {
         if (!m.is_string() || (m != "pbf" && m != "dfsph"))
             fail("solver.method is " + written(m) +
                  "; use \"pbf\" (position-based fluids: fast, damps waves; the default) or \"dfsph\" "
-                 "(divergence-free SPH: keeps waves, costs more a step)");
+                 "(divergence-free SPH, experimental: keeps waves, but its surface sprays)");
         out.method = m == "dfsph" ? PressureMethod::dfsph : PressureMethod::pbf;
     }
     if (s.contains("divergence_iterations")) {

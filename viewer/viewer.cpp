@@ -380,7 +380,7 @@ private:
             int iterations = int(s.iterations), substeps = int(s.substeps);
             bool released = false;
             int method = s.method == PressureMethod::dfsph ? 1 : 0;
-            released |= ImGui::Combo("pressure", &method, "pbf (fast)\0dfsph (keeps waves)\0");
+            released |= ImGui::Combo("pressure", &method, "pbf (fast)\0dfsph (experimental)\0");
             if (ImGui::IsItemHovered())
                 ImGui::SetTooltip("the pressure solve: position-based fluids, or divergence-free SPH (docs/solver.md)");
             s.method = method == 1 ? PressureMethod::dfsph : PressureMethod::pbf;
