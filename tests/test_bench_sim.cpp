@@ -86,6 +86,19 @@ const PassTraffic& pass(const std::vector<PassTraffic>& passes, const std::strin
     throw std::runtime_error("no pass " + name + " in the model");
 }
 
+/// The byte model of a step the solver then runs under a timer: every pass it times is
+/// modelled, and nothing else.
+std::vector<PassTraffic> timed_step_model(gpu::Context& ctx, PbfSolver& solver) {
+    gpu::GpuTimer timer(ctx);
+    solver.run_steps(1, &timer);
+    std::set<std::string> timed, modelled;
+    for (const auto& [name, ms] : timer.totals_ms()) timed.insert(name);
+    const std::vector<PassTraffic> model = solver.traffic_per_pass();
+    for (const PassTraffic& p : model) modelled.insert(p.name);
+    EXPECT_EQ(timed, modelled);
+    return model;
+}
+
 TEST(TrafficModel, ALambdaVisitLoadsItsListGroupAndTheNeighboursPosition) {
     // By hand, from pbf_lambda.comp: per particle its count (4 B), its position (16 B), q and the
     // density stored (16 + 4 B); per list group 16 B; per listed neighbour its position (16 B),
@@ -224,14 +237,7 @@ TEST_F(BenchSimTest, TheModelFollowsTheStepsPassesAndTheListsItFills) {
         }
     }
     EXPECT_EQ(c.candidates, candidates);
-    // Every pass a step times is modelled, in the order it runs, and nothing else.
-    gpu::GpuTimer timer(ctx());
-    solver.run_steps(1, &timer);
-    std::set<std::string> timed, modelled;
-    for (const auto& [name, ms] : timer.totals_ms()) timed.insert(name);
-    const std::vector<PassTraffic> model = solver.traffic_per_pass();
-    for (const PassTraffic& p : model) modelled.insert(p.name);
-    EXPECT_EQ(timed, modelled);
+    const std::vector<PassTraffic> model = timed_step_model(ctx(), solver);
     EXPECT_EQ(model.front().name, "sim_predict");
     EXPECT_EQ(pass(model, "sim_lambda").runs, 2u);
     EXPECT_EQ(pass(model, "sim_lambda").neighbor_visits, 2 * solver.grid_counts().visits());
@@ -243,13 +249,7 @@ TEST_F(BenchSimTest, TheDfsphModelFollowsItsStepsPasses) {
     scene.solver.iterations = 3;
     scene.solver.divergence_iterations = 2;
     PbfSolver solver(ctx(), scene);
-    gpu::GpuTimer timer(ctx());
-    solver.run_steps(1, &timer);
-    std::set<std::string> timed, modelled;
-    for (const auto& [name, ms] : timer.totals_ms()) timed.insert(name);
-    const std::vector<PassTraffic> model = solver.traffic_per_pass();
-    for (const PassTraffic& p : model) modelled.insert(p.name);
-    EXPECT_EQ(timed, modelled);
+    const std::vector<PassTraffic> model = timed_step_model(ctx(), solver);
     // Each solve: its warm start's velocity pass, then a rate and a velocity pass per iteration.
     EXPECT_EQ(pass(model, "sim_dfsph_rate").runs, 3u + 2u);
     EXPECT_EQ(pass(model, "sim_dfsph_velocity").runs, 3u + 2u + 2u);
