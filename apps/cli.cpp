@@ -52,6 +52,17 @@ nlohmann::json bench_doc(const gpu::Context& ctx, const std::string& benchmark) 
         {"benchmark", benchmark}, {"device", ctx.info().name}, {"device_type", gpu::device_type_name(ctx.info().type)}};
 }
 
+int run_on_device(const Args& args, const std::string& command, const std::string& what,
+                  const std::function<Result<bool>(gpu::Context&)>& work) {
+    gpu::Context ctx({args.value("--device"), validation_requested(args)});
+    std::printf("%s on %s (%s)%s\n", command.c_str(), ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type),
+                what.c_str());
+    const Result<bool> done = work(ctx);
+    if (!done) return exit_status(ctx, refuse(command, done.error(), kExitFailure));
+    if (!done.value()) return stopped_by_ctrl_c(command.c_str()), exit_status(ctx, kExitInterrupted);
+    return exit_status(ctx, kExitOk);
+}
+
 int exit_status(const gpu::Context& ctx, int status) {
     if (ctx.validation_errors() == 0) return status;
     std::fprintf(stderr,

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,8 @@ int bench_convergence(const Args& args);
 FlagSpec bench_convergence_flags();  ///< `aquaform bench convergence` (apps/cmd_bench_convergence.cpp)
 int bench_spheric(const Args& args);
 FlagSpec bench_spheric_flags();  ///< `aquaform bench spheric` (apps/cmd_bench_spheric.cpp)
+int bench_accuracy(const Args& args);
+FlagSpec bench_accuracy_flags();  ///< `aquaform bench accuracy` (apps/cmd_bench_accuracy.cpp)
 int bench_wave(const Args& args);
 FlagSpec bench_wave_flags();  ///< `aquaform bench wave` (apps/cmd_bench_wave.cpp)
 int bench_frame(const Args& args);
@@ -72,5 +75,11 @@ void print_notes(const char* command, const std::vector<std::string>& notes);
 int exit_status(const gpu::Context& ctx, int status);
 /// A benchmark's JSON starts with what it is and where it ran: {"benchmark", "device", "device_type"}.
 nlohmann::json bench_doc(const gpu::Context& ctx, const std::string& benchmark);
+/// Opens the device `args` names (--device, --validation), says on stdout which one the command
+/// runs on ("COMMAND on NAME (TYPE)WHAT"), runs `work` on it and makes its answer the exit status:
+/// an error is refused (1), false (Ctrl-C stopped it, nothing written) is said (130), true is 0;
+/// Vulkan validation errors make any of them 1.
+int run_on_device(const Args& args, const std::string& command, const std::string& what,
+                  const std::function<Result<bool>(gpu::Context&)>& work);
 
 }  // namespace aquaform::cli

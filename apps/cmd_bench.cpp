@@ -69,6 +69,8 @@ const Bench kBenches[] = {
     {"spheric", "SPHERIC test 2: the dam break against a box, against MARIN's measurements", bench_spheric_flags,
      bench_spheric},
     {"wave", "a standing wave's period and decay against linear theory", bench_wave_flags, bench_wave},
+    {"accuracy", "each solver setting's error against its cost on three experiments", bench_accuracy_flags,
+     bench_accuracy},
 };
 
 }  // namespace
@@ -116,36 +118,35 @@ int bench_sim(const Args& args_value) {
     // Fail before minutes of work when the output cannot go where asked.
     if (auto ready = prepare_output_file(out_path); !ready) return refuse("bench sim", ready.error());
 
-    gpu::Context ctx({args->value("--device"), validation_requested(*args)});
-    std::printf(
-        "bench sim on %s (%s), %ld iterations; best of %ld runs of %ld steps, after %ld warm-up steps or more "
-        "(whole frames, the run's time-step rule)\n",
-        ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type), *iterations, *repeats, *steps, *warmup);
+    const std::string what = ", " + std::to_string(*iterations) + " iterations; best of " + std::to_string(*repeats) +
+                             " runs of " + std::to_string(*steps) + " steps, after " + std::to_string(*warmup) +
+                             " warm-up steps or more (whole frames, the run's time-step rule)";
     const study::SolverBenchOptions options{uint32_t(*iterations), uint32_t(*steps), uint32_t(*repeats),
                                             uint32_t(*warmup), *bandwidth};
-    std::vector<study::SolverBenchRecord> measured;
-    nlohmann::json records = nlohmann::json::array();
-    for (uint32_t target : sizes) {
-        if (interrupted()) break;
-        const study::SolverBenchRecord r = study::measure_solver(ctx, target, options);
-        study::print_solver_record(r);
-        std::fflush(stdout);
-        measured.push_back(r);
-        records.push_back(study::to_json(r));
-    }
-    if (stopped_by_ctrl_c("bench sim")) return exit_status(ctx, kExitInterrupted);
-    const double exponent = study::neighbor_search_exponent(measured);
-    if (!std::isnan(exponent))
-        std::printf("neighbour search (grid build, reorder, neighbour lists) grows as N^%.3f from %u to %u particles\n",
-                    exponent, measured.front().particles, measured.back().particles);
-    nlohmann::json doc = bench_doc(ctx, "sim");
-    doc.update(
-        {{"records", records},
-         {"neighbor_search_exponent", std::isnan(exponent) ? nlohmann::json(nullptr) : nlohmann::json(exponent)}});
-    if (auto written = write_json_file(out_path, doc, 2); !written)
-        return exit_status(ctx, refuse("bench", written.error(), kExitFailure));
-    std::printf("wrote %s\n", out_path.c_str());
-    return exit_status(ctx, kExitOk);
+    return run_on_device(*args, "bench sim", what, [&](gpu::Context& ctx) -> Result<bool> {
+        std::vector<study::SolverBenchRecord> measured;
+        nlohmann::json records = nlohmann::json::array();
+        for (uint32_t target : sizes) {
+            if (interrupted()) return false;
+            const study::SolverBenchRecord r = study::measure_solver(ctx, target, options);
+            study::print_solver_record(r);
+            measured.push_back(r);
+            records.push_back(study::to_json(r));
+        }
+        const double exponent = study::neighbor_search_exponent(measured);
+        if (!std::isnan(exponent))
+            std::printf(
+                "neighbour search (grid build, reorder, neighbour lists) grows as N^%.3f from %u to %u "
+                "particles\n",
+                exponent, measured.front().particles, measured.back().particles);
+        nlohmann::json doc = bench_doc(ctx, "sim");
+        doc.update(
+            {{"records", records},
+             {"neighbor_search_exponent", std::isnan(exponent) ? nlohmann::json(nullptr) : nlohmann::json(exponent)}});
+        if (auto written = write_json_file(out_path, doc, 2); !written) return written;
+        std::printf("wrote %s\n", out_path.c_str());
+        return true;
+    });
 }
 
 }  // namespace

@@ -71,22 +71,20 @@ int bench_control(const Args& args) {
         if (!given) return refuse("bench control", error);
         scales = *given;
     }
-    gpu::Context ctx({args.value("--device"), validation_requested(args)});
-    std::printf("bench control on %s (%s)%s\n", ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type),
-                quick ? " (quick: 10k points only, 2 pressures, 0.5 s runs)" : "");
-    std::fflush(stdout);
-    const auto result = study::run_control_bench(ctx, {quick, spacing, scales});
-    if (!result) return stopped_by_ctrl_c("bench control"), exit_status(ctx, kExitInterrupted);
-    nlohmann::json doc = bench_doc(ctx, "control");
-    doc.update({{"quick", quick},
-                {"sweep_seconds", result->sweep_seconds},
-                {"shape_spacing", spacing},
-                {"records", result->records},
-                {"targets", result->targets}});
-    if (auto written = write_json_file(out_path, doc, 2); !written)
-        return exit_status(ctx, refuse("bench control", written.error(), kExitFailure));
-    std::printf("wrote %s\n", out_path.string().c_str());
-    return exit_status(ctx, kExitOk);
+    const char* what = quick ? " (quick: 10k points only, 2 pressures, 0.5 s runs)" : "";
+    return run_on_device(args, "bench control", what, [&](gpu::Context& ctx) -> Result<bool> {
+        const auto result = study::run_control_bench(ctx, {quick, spacing, scales});
+        if (!result) return false;
+        nlohmann::json doc = bench_doc(ctx, "control");
+        doc.update({{"quick", quick},
+                    {"sweep_seconds", result->sweep_seconds},
+                    {"shape_spacing", spacing},
+                    {"records", result->records},
+                    {"targets", result->targets}});
+        if (auto written = write_json_file(out_path, doc, 2); !written) return written;
+        std::printf("wrote %s\n", out_path.string().c_str());
+        return true;
+    });
 }
 
 }  // namespace aquaform::cli

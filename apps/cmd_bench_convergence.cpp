@@ -62,20 +62,17 @@ int bench_convergence(const Args& args) {
     if (auto files = study::check_bench_files({chart_path, json_path}); !files)
         return refuse("bench convergence", files.error());
 
-    gpu::Context ctx({args.value("--device"), validation_requested(args)});
-    std::printf("bench convergence on %s (%s)%s\n", ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type),
-                quick ? " (quick: spacings a/6 and a/10, to T = 1.5; violent dam break for 0.75 s)" : "");
-    std::fflush(stdout);
-    const auto result = study::run_convergence_bench(ctx, plan.value());
-    if (!result) return stopped_by_ctrl_c("bench convergence"), exit_status(ctx, kExitInterrupted);
-    if (auto written = write_chart_svg(chart_path, result->front_chart); !written)
-        return exit_status(ctx, refuse("bench convergence", written.error(), kExitFailure));
-    nlohmann::json doc = bench_doc(ctx, "convergence");
-    doc.update(result->doc);
-    if (auto written = write_json_file(json_path, doc, 1); !written)
-        return exit_status(ctx, refuse("bench convergence", written.error(), kExitFailure));
-    std::printf("wrote %s and %s\n", json_path.string().c_str(), chart_path.string().c_str());
-    return exit_status(ctx, kExitOk);
+    const char* what = quick ? " (quick: spacings a/6 and a/10, to T = 1.5; violent dam break for 0.75 s)" : "";
+    return run_on_device(args, "bench convergence", what, [&](gpu::Context& ctx) -> Result<bool> {
+        const auto result = study::run_convergence_bench(ctx, plan.value());
+        if (!result) return false;
+        if (auto written = write_chart_svg(chart_path, result->front_chart); !written) return written;
+        nlohmann::json doc = bench_doc(ctx, "convergence");
+        doc.update(result->doc);
+        if (auto written = write_json_file(json_path, doc, 1); !written) return written;
+        std::printf("wrote %s and %s\n", json_path.string().c_str(), chart_path.string().c_str());
+        return true;
+    });
 }
 
 }  // namespace aquaform::cli

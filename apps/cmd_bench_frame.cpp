@@ -50,28 +50,29 @@ int bench_frame(const Args& args) {
     // Fail before minutes of work when the output cannot go where asked.
     if (auto ready = prepare_output_file(out_path); !ready) return usage(ready.error());
 
-    gpu::Context ctx({args.value("--device"), validation_requested(args)});
-    std::printf(
-        "bench frame on %s (%s): bench sim's dam break, %u iterations; per frame the solver's steps at the "
-        "time-step rule, the adaptive reconstruction and its composition at %ux%u; %u frames timed after %u\n",
-        ctx.info().name.c_str(), gpu::device_type_name(ctx.info().type), options.iterations, options.width,
-        options.height, options.frames, options.warmup);
-    const std::optional<study::FrameBenchResult> result = study::run_frame_bench(ctx, sizes, options);
-    if (!result) return stopped_by_ctrl_c("bench frame"), exit_status(ctx, kExitInterrupted);
-    nlohmann::json doc = bench_doc(ctx, "frame");
-    doc.update({{"scene", study::kFrameBenchScene},
-                {"scene_what", "bench sim's dam break: a column a x 2a x a in a 4a x 2.5a x a tank, 1 cm spacing"},
-                {"method", "adaptive"},
-                {"resolution", std::to_string(options.width) + "x" + std::to_string(options.height)},
-                {"warmup_frames", options.warmup},
-                {"frames", options.frames},
-                {"iterations", options.iterations},
-                {"records", result->records},
-                {"targets", result->targets}});
-    if (auto written = write_json_file(out_path, doc, 2); !written)
-        return exit_status(ctx, refuse("bench frame", written.error(), kExitFailure));
-    std::printf("wrote %s\n", out_path.c_str());
-    return exit_status(ctx, kExitOk);
+    const std::string resolution = std::to_string(options.width) + "x" + std::to_string(options.height);
+    const std::string what = ": bench sim's dam break, " + std::to_string(options.iterations) +
+                             " iterations; per frame the solver's steps at the time-step rule, the adaptive "
+                             "reconstruction and its composition at " +
+                             resolution + "; " + std::to_string(options.frames) + " frames timed after " +
+                             std::to_string(options.warmup);
+    return run_on_device(args, "bench frame", what, [&](gpu::Context& ctx) -> Result<bool> {
+        const std::optional<study::FrameBenchResult> result = study::run_frame_bench(ctx, sizes, options);
+        if (!result) return false;
+        nlohmann::json doc = bench_doc(ctx, "frame");
+        doc.update({{"scene", study::kFrameBenchScene},
+                    {"scene_what", "bench sim's dam break: a column a x 2a x a in a 4a x 2.5a x a tank, 1 cm spacing"},
+                    {"method", "adaptive"},
+                    {"resolution", resolution},
+                    {"warmup_frames", options.warmup},
+                    {"frames", options.frames},
+                    {"iterations", options.iterations},
+                    {"records", result->records},
+                    {"targets", result->targets}});
+        if (auto written = write_json_file(out_path, doc, 2); !written) return written;
+        std::printf("wrote %s\n", out_path.c_str());
+        return true;
+    });
 }
 
 }  // namespace aquaform::cli

@@ -8,7 +8,7 @@
 #include "apps/cli.h"
 #include "bench/bench_frames.h"
 #include "bench/bench_wave.h"
-#include "core/interrupt.h"
+#include "core/format_text.h"
 #include "core/number_text.h"
 #include "core/output_dir.h"
 #include "gpu/context.h"
@@ -39,16 +39,11 @@ int bench_wave(const Args& args) {
     const std::filesystem::path out_dir = args.value("--out", "out/bench_wave");
     if (!prepare_output("bench wave", out_dir)) return kExitUsage;
 
-    gpu::Context ctx({args.value("--device"), validation_requested(args)});
-    std::printf("bench wave on %s (%s): %s, %.3g periods at each spacing\n", ctx.info().name.c_str(),
-                gpu::device_type_name(ctx.info().type), plan.value().base.name.c_str(), plan.value().periods);
-    std::fflush(stdout);
-    InterruptScope ctrl_c;
-    nlohmann::json doc = bench_doc(ctx, "wave");
-    const Result<bool> ran = study::run_wave_bench(ctx, plan.value(), doc, out_dir);
-    if (!ran) return exit_status(ctx, refuse("bench wave", ran.error(), kExitFailure));
-    if (!ran.value()) return stopped_by_ctrl_c("bench wave"), exit_status(ctx, kExitInterrupted);
-    return exit_status(ctx, kExitOk);
+    const std::string what =
+        ": " + plan.value().base.name + ", " + format_number("%.3g", plan.value().periods) + " periods at each spacing";
+    return run_on_device(args, "bench wave", what, [&](gpu::Context& ctx) {
+        return study::run_wave_bench(ctx, plan.value(), bench_doc(ctx, "wave"), out_dir);
+    });
 }
 
 }  // namespace aquaform::cli

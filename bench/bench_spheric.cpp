@@ -10,6 +10,7 @@
 #include "bench/bench_checks.h"
 #include "core/data_dir.h"
 #include "core/file_write.h"
+#include "core/format_text.h"
 #include "core/interrupt.h"
 #include "core/text_escape.h"
 #include "gpu/context.h"
@@ -229,6 +230,13 @@ std::optional<SphericRun> run_spheric(gpu::Context& ctx, const Scene& scene, dou
     return run;
 }
 
+std::optional<double> first_rise(const std::vector<double>& time, const std::vector<double>& values, double after,
+                                 double height) {
+    for (size_t k = 1; k < time.size() && k < values.size(); ++k)
+        if (time[k] > after && values[k - 1] < height && values[k] >= height) return time[k];
+    return std::nullopt;
+}
+
 void compare_spheric(SphericRun& run, const SphericData& data, double seconds) {
     run.heights.clear();
     run.pressures.clear();
@@ -246,6 +254,14 @@ void compare_spheric(SphericRun& run, const SphericData& data, double seconds) {
             sum += std::abs(s.heights[g] - *measured), ++n;
         }
         cmp.samples = n;
+        if (run.gauges[g] == kBoreGauge && seconds > kBoreAfter) {
+            std::vector<double> t, h;
+            for (const ProbeStep& s : run.steps_readings)
+                if (s.time_s <= seconds) t.push_back(s.time_s), h.push_back(s.heights[g]);
+            cmp.bore_s = first_rise(t, h, kBoreAfter, kBoreHeight);
+            cmp.measured_bore_s = first_rise(data.heights.time, data.heights.values[*c], kBoreAfter, kBoreHeight);
+            if (cmp.measured_bore_s > seconds) cmp.measured_bore_s.reset();
+        }
         cmp.mean_abs_m = n ? sum / double(n) : 0.0;
         cmp.relative = cmp.peak_m > 0.0 ? cmp.mean_abs_m / cmp.peak_m : 0.0;
         run.heights.push_back(cmp);
@@ -296,6 +312,8 @@ json to_json(const SphericRun& run) {
                            {"measured_peak_m", g.peak_m},
                            {"relative", g.relative},
                            {"steps_compared", g.samples},
+                           {"bore_s", g.bore_s ? json(*g.bore_s) : json(nullptr)},
+                           {"measured_bore_s", g.measured_bore_s ? json(*g.measured_bore_s) : json(nullptr)},
                            {"within_target", g.samples ? json(g.relative <= kHeightTarget) : json(nullptr)}});
     for (const SensorComparison& s : run.pressures) {
         json p = {{"sensor", s.name},       {"steps_compared", s.samples},
@@ -366,6 +384,13 @@ void print_spheric_run(const SphericRun& run) {
         std::printf("  %-4s %10.4f m %10.4f m %8.1f %%  %s\n", g.name.c_str(), g.mean_abs_m, g.peak_m,
                     100.0 * g.relative, verdict(g.relative <= kHeightTarget));
     }
+    for (const auto& g : run.heights)
+        if (g.measured_bore_s)
+            std::printf("  %s: the bore from the far wall rises through %.2f m at %s (MARIN %.2f s)\n", g.name.c_str(),
+                        kBoreHeight,
+                        g.bore_s ? format_text("%.2f s, %+.2f s", *g.bore_s, *g.bore_s - *g.measured_bore_s).c_str()
+                                 : "no time in the run",
+                        *g.measured_bore_s);
     if (run.pressures.empty()) return (void)std::fflush(stdout);
     std::printf("  %-4s %10s %10s %10s %10s %10s %10s\n", "", "arrival", "(MARIN)", "peak kPa", "(MARIN)", "0.5-2 s",
                 "(MARIN)");
@@ -428,6 +453,52 @@ Result<bool> write_spheric_files(const std::filesystem::path& out_dir, const Sph
                 files.gauges.size() + files.sensors.size(), chart_list.empty() ? "none" : chart_list.c_str(),
                 out_dir.string().c_str());
     return true;
+}
+
+Result<SphericBenchPlan> spheric_bench_plan(const Scene& base, const std::vector<uint32_t>& sizes, SphericData data,
+                                            double seconds) {
+    SphericBenchPlan plan;
+    plan.seconds = seconds;
+    for (uint32_t n : sizes) {
+        auto scaled = with_particle_count(base, n, "--sizes");
+        if (!scaled) return Error{scaled.error()};
+        plan.scenes.push_back(std::move(scaled.value()));
+    }
+    if (sizes.empty()) plan.scenes.push_back(base);
+    // Nothing to compare (no step, no name in common, a column with no peak) is refused before any work.
+    for (const Scene& scene : plan.scenes) {
+        auto c = spheric_comparable(scene, data, seconds);
+        if (!c) return Error{c.error()};
+        plan.comparable = std::move(c.value());
+    }
+    plan.files = spheric_files(plan.comparable);
+    plan.data = std::move(data);
+    return plan;
+}
+
+Result<bool> run_spheric_bench(gpu::Context& ctx, const SphericBenchPlan& plan, nlohmann::json doc,
+                               const std::filesystem::path& out_dir) {
+    std::vector<SphericRun> runs;
+    for (const Scene& scene : plan.scenes) {
+        // A run that leaves physics throws its verdict (aquaform bench prints it and exits 1).
+        auto run = run_spheric(ctx, scene, plan.seconds, [](const std::string& line) {
+            std::fprintf(stderr, "bench spheric: %s\n", line.c_str());
+        });
+        if (!run) return false;
+        compare_spheric(*run, plan.data, plan.seconds);
+        print_spheric_run(*run);
+        if (!compared_anything(*run))
+            return Error{run->label +
+                         ": no step of the run fell within the measurement, so nothing was compared; give --seconds "
+                         "within the data's time"};
+        runs.push_back(std::move(*run));
+    }
+    doc.update({{"seconds", plan.seconds},
+                {"targets",
+                 {{"height_relative", kHeightTarget},
+                  {"p1_arrival_s", kArrivalTarget},
+                  {"pressure_level_relative", kPressureLevelTarget}}}});
+    return write_spheric_files(out_dir, plan.files, doc, runs, plan.data);
 }
 
 }  // namespace aquaform::study

@@ -8,7 +8,9 @@
 //   measurement interpolated at their times), divided by the gauge's measured peak;
 // - the impact's arrival at a sensor: the first time its pressure passes a tenth of the measured
 //   peak (P1: 1.12 kPa at 0.394 s; the measurement's noise is about 0.1 kPa);
-// - the pressure level after the peak: the mean over 0.5..2 s, against the measurement's mean there.
+// - the pressure level after the peak: the mean over 0.5..2 s, against the measurement's mean there;
+// - the bore reflected from the far wall: the first time after 3.2 s that H4's water rises
+//   through 0.30 m (the measurement's: 3.70 s), for runs longer than that.
 #pragma once
 
 #include <filesystem>
@@ -51,15 +53,23 @@ struct SphericData {
 Result<SphericData> load_spheric_data(const std::filesystem::path& dir);
 std::filesystem::path default_spheric_data_dir();
 
-inline constexpr double kHeightTarget = 0.05;         ///< mean |difference| / peak
-inline constexpr double kArrivalTarget = 0.010;       ///< [s]
-inline constexpr double kPressureLevelTarget = 0.20;  ///< relative
-inline constexpr double kArrivalFraction = 0.1;       ///< of the measured peak
+inline constexpr double kHeightTarget = 0.05;                  ///< mean |difference| / peak
+inline constexpr double kArrivalTarget = 0.010;                ///< [s]
+inline constexpr double kPressureLevelTarget = 0.20;           ///< relative
+inline constexpr double kArrivalFraction = 0.1;                ///< of the measured peak
+inline constexpr const char* kBoreGauge = "H4";                ///< where the reflected bore is timed
+inline constexpr double kBoreAfter = 3.2, kBoreHeight = 0.30;  ///< [s], [m]
+
+/// The first time after `after` at which a sampled height rises through `height` (from below it
+/// to at or above), or nullopt.
+std::optional<double> first_rise(const std::vector<double>& time, const std::vector<double>& values, double after,
+                                 double height);
 
 struct GaugeComparison {
     std::string name;
     double mean_abs_m = 0.0, peak_m = 0.0, relative = 0.0;
-    size_t samples = 0;  ///< the run's steps compared; 0: not compared (no verdict)
+    size_t samples = 0;                             ///< the run's steps compared; 0: not compared (no verdict)
+    std::optional<double> bore_s, measured_bore_s;  ///< kBoreGauge only: the reflected bore's arrival
 };
 struct SensorComparison {
     std::string name;
@@ -123,5 +133,23 @@ SphericFiles spheric_files(const SphericComparable& comparable);
 /// wrote; the first error.
 Result<bool> write_spheric_files(const std::filesystem::path& out_dir, const SphericFiles& files, nlohmann::json doc,
                                  const std::vector<SphericRun>& runs, const SphericData& data);
+
+/// What `bench spheric` runs: the scene at each size, compared with the data for `seconds`.
+struct SphericBenchPlan {
+    std::vector<Scene> scenes;
+    SphericData data;
+    double seconds = 6.0;
+    SphericComparable comparable;
+    SphericFiles files;
+};
+/// The plan: `base` at each of `sizes` particles (none: as it is), each checked by
+/// spheric_comparable before any work; the error names the flag or what is missing and the fix.
+Result<SphericBenchPlan> spheric_bench_plan(const Scene& base, const std::vector<uint32_t>& sizes, SphericData data,
+                                            double seconds);
+/// Runs each scene of the plan, printing its tables, then writes the files into `out_dir`
+/// (`doc` with the runs and the targets added). False when Ctrl-C stopped it (nothing written);
+/// an error for a run with nothing compared or a file that could not be written.
+Result<bool> run_spheric_bench(gpu::Context& ctx, const SphericBenchPlan& plan, nlohmann::json doc,
+                               const std::filesystem::path& out_dir);
 
 }  // namespace aquaform::study

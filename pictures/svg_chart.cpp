@@ -67,8 +67,7 @@ std::string chart_svg(const Chart& chart) {
            xml_text(chart.x_label) + "</text>\n";
     svg += format_text("<text transform=\"translate(16,%.1f) rotate(-90)\" text-anchor=\"middle\">", kTop + ph / 2) +
            xml_text(chart.y_label) + "</text>\n";
-    for (size_t i = 0; i < chart.series.size(); ++i) {
-        const ChartSeries& s = chart.series[i];
+    for (const ChartSeries& s : chart.series) {
         if (s.markers) {
             for (const auto& [x, y] : s.points)
                 if (std::isfinite(x) && std::isfinite(y))
@@ -81,16 +80,45 @@ std::string chart_svg(const Chart& chart) {
                 if (std::isfinite(x) && std::isfinite(y)) svg += format_text("%.1f,%.1f ", px(x), py(y));
             svg += "\"/>\n";
         }
-        const double ly = kTop + 16 + 18 * double(i);
-        if (s.dashed)
-            svg += format_text("<line x1=\"%.0f\" y1=\"%.0f\" ", kLeft + 8, ly - 4) +
-                   format_text("x2=\"%.0f\" y2=\"%.0f\" stroke-width=\"2\" stroke-dasharray=\"6,4\" ", kLeft + 28,
-                               ly - 4) +
+    }
+    // The legend goes into the corner of the plot that hides the fewest points (top left on a
+    // tie), on a white ground: a curve's points or a run's marker under it would be lost.
+    size_t longest = 0;
+    for (const ChartSeries& s : chart.series) longest = std::max(longest, s.name.size());
+    const double lw = 44 + 7.0 * double(longest), lh = 18.0 * double(chart.series.size()) + 8;
+    const double corners[4][2] = {{kLeft + 4, kTop + 4},
+                                  {kLeft + pw - lw - 4, kTop + 4},
+                                  {kLeft + 4, kTop + ph - lh - 4},
+                                  {kLeft + pw - lw - 4, kTop + ph - lh - 4}};
+    size_t best = 0, fewest = std::numeric_limits<size_t>::max();
+    for (size_t c = 0; c < 4; ++c) {
+        size_t hidden = 0;
+        for (const ChartSeries& s : chart.series)
+            for (const auto& [x, y] : s.points)
+                hidden += std::isfinite(x) && std::isfinite(y) && px(x) >= corners[c][0] - 4 &&
+                          px(x) <= corners[c][0] + lw + 4 && py(y) >= corners[c][1] - 4 &&
+                          py(y) <= corners[c][1] + lh + 4;
+        if (hidden < fewest) fewest = hidden, best = c;
+    }
+    const double lx = corners[best][0], ly0 = corners[best][1];
+    if (!chart.series.empty())
+        svg += format_text("<rect x=\"%.0f\" y=\"%.0f\" ", lx, ly0) +
+               format_text("width=\"%.0f\" height=\"%.0f\" fill=\"white\" fill-opacity=\"0.85\"/>\n", lw, lh);
+    for (size_t i = 0; i < chart.series.size(); ++i) {
+        const ChartSeries& s = chart.series[i];
+        const double ly = ly0 + 16 + 18 * double(i);
+        if (s.markers)
+            svg += format_text("<circle cx=\"%.0f\" cy=\"%.0f\" r=\"3.5\" fill=\"none\" ", lx + 15, ly - 4) +
                    "stroke=\"" + s.color + "\"/>\n";
+        else if (s.dashed)
+            svg +=
+                format_text("<line x1=\"%.0f\" y1=\"%.0f\" ", lx + 4, ly - 4) +
+                format_text("x2=\"%.0f\" y2=\"%.0f\" stroke-width=\"2\" stroke-dasharray=\"6,4\" ", lx + 24, ly - 4) +
+                "stroke=\"" + s.color + "\"/>\n";
         else
-            svg += format_text("<rect x=\"%.0f\" y=\"%.0f\" width=\"14\" height=\"4\" ", kLeft + 12, ly - 6) +
-                   "fill=\"" + s.color + "\"/>\n";
-        svg += format_text("<text x=\"%.0f\" y=\"%.0f\">", kLeft + 32, ly) + xml_text(s.name) + "</text>\n";
+            svg += format_text("<rect x=\"%.0f\" y=\"%.0f\" width=\"14\" height=\"4\" ", lx + 8, ly - 6) + "fill=\"" +
+                   s.color + "\"/>\n";
+        svg += format_text("<text x=\"%.0f\" y=\"%.0f\">", lx + 28, ly) + xml_text(s.name) + "</text>\n";
     }
     svg += "</svg>\n";
     return svg;

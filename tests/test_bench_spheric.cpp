@@ -7,8 +7,11 @@
 
 #include <chrono>
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <vector>
 
+#include "bench/bench_spheric.h"
 #include "tests/cli_helpers.h"
 
 namespace {
@@ -128,3 +131,27 @@ TEST(BenchSpheric, LinkInOutIsRefusedBeforeTheRun) {
 }
 
 }  // namespace
+
+namespace aquaform {
+namespace {
+
+TEST(BenchSpheric, TheReflectedBoreIsTheFirstRiseThroughItsHeightAfterItsTime) {
+    using study::first_rise;
+    // A rise before 3.2 s is the first front, not the bore; one already above at 3.2 s must fall first.
+    const std::vector<double> t = {3.0, 3.1, 3.3, 3.4, 3.5, 3.6, 3.7};
+    EXPECT_EQ(first_rise(t, {0.1, 0.4, 0.5, 0.2, 0.25, 0.31, 0.4}, 3.2, 0.3), 3.6);
+    EXPECT_EQ(first_rise(t, {0.1, 0.2, 0.2, 0.2, 0.2, 0.2, 0.2}, 3.2, 0.3), std::nullopt);
+    EXPECT_EQ(first_rise(t, {0.1, 0.2, 0.3, 0.3, 0.3, 0.3, 0.3}, 3.2, 0.3), 3.3) << "at the height counts";
+    // MARIN's H4 sees the bore return at 3.70 s (issue 49's reading of the data).
+    const Result<study::SphericData> data = study::load_spheric_data(kData);
+    ASSERT_TRUE(data.ok()) << data.error();
+    const auto h4 = data.value().heights.column("H4");
+    ASSERT_TRUE(h4.has_value());
+    const auto bore =
+        first_rise(data.value().heights.time, data.value().heights.values[*h4], study::kBoreAfter, study::kBoreHeight);
+    ASSERT_TRUE(bore.has_value());
+    EXPECT_NEAR(*bore, 3.70, 0.01);
+}
+
+}  // namespace
+}  // namespace aquaform

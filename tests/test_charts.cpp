@@ -66,10 +66,30 @@ TEST(SvgChart, DrawsEverySeriesWithLegendAndEscapedText) {
     EXPECT_NE(svg.find("Front &lt;test&gt; &amp; more"), std::string::npos);
     EXPECT_NE(svg.find("<polyline"), std::string::npos);
     const std::regex circle("<circle");
-    EXPECT_EQ(std::distance(std::sregex_iterator(svg.begin(), svg.end(), circle), std::sregex_iterator()), 2);
+    EXPECT_EQ(std::distance(std::sregex_iterator(svg.begin(), svg.end(), circle), std::sregex_iterator()), 3)
+        << "the two points and their legend's mark";
     EXPECT_NE(svg.find(">line</text>"), std::string::npos);
     EXPECT_NE(svg.find(">points</text>"), std::string::npos);
     EXPECT_EQ(svg.substr(svg.size() - 7), "</svg>\n");
+}
+
+TEST(SvgChart, TheLegendGoesWhereItHidesNoPoint) {
+    // Points fill the top left of the plot, where the legend used to sit: it moves to a free corner.
+    Chart chart{"crowded corner", "x", "y", {}};
+    ChartSeries crowd{"runs", {}, true, "#123456"};
+    for (int i = 0; i <= 10; ++i)
+        for (int j = 0; j <= 10; ++j) crowd.points.push_back({0.02 * i, 1.0 - 0.02 * j});
+    crowd.points.push_back({1.0, 0.0});  // the axes' far corner
+    chart.series.push_back(crowd);
+    const std::string svg = chart_svg(chart);
+    const std::smatch label = [&] {
+        std::smatch m;
+        std::regex_search(svg, m, std::regex("<text x=\"([0-9.]+)\" y=\"([0-9.]+)\">runs</text>"));
+        return m;
+    }();
+    ASSERT_EQ(label.size(), 3u) << svg;
+    const double x = std::stod(label[1]), y = std::stod(label[2]);
+    EXPECT_TRUE(x > 320.0 || y > 210.0) << "the legend left the crowded top left: at " << x << ", " << y;
 }
 
 TEST(SvgChart, DashedSeriesIsDrawnDashedAndOnlyIt) {

@@ -31,6 +31,12 @@ void main() {
     x[i].xyz = reached;
     if (kMeasurePressure) {
         vec4 sums = state[i];
-        pressure[i] = vec2(params.pressure_scale, params.rest_density) * (sums.x + sums.y);
+        float k = sums.x + sums.y;
+        // The collision's push counts as the solids' pressure that would have moved the particle
+        // as far along grad m in the step (dx = -dt^2 k grad m), as PBF counts its pushes.
+        vec3 grad_m = pbf_boundary_term(xi).xyz;
+        float g2 = dot(grad_m, grad_m);
+        float pushed = g2 > 0.0 ? -dot(reached - moved, grad_m) / g2 * params.inv_dt * params.inv_dt : 0.0;
+        pressure[i] = vec2(params.pressure_scale * k, params.rest_density * (k + pushed));
     }
 }
