@@ -7,10 +7,16 @@
 
 namespace aquaform::cli {
 
-FlagSpec bench_accuracy_flags() { return {{"--out", "--device"}, {"--validation", "--quick"}}; }
+FlagSpec bench_accuracy_flags() { return {{"--out", "--device", "--settings"}, {"--validation", "--quick"}}; }
 
 int bench_accuracy(const Args& args) {
-    auto plan = study::accuracy_bench_plan(args.has("--quick"));
+    std::vector<study::AccuracySetting> settings;
+    if (args.has("--settings")) {
+        auto parsed = study::parse_accuracy_settings(args.value("--settings"));
+        if (!parsed) return refuse("bench accuracy", parsed.error());
+        settings = std::move(parsed.value());
+    }
+    auto plan = study::accuracy_bench_plan(args.has("--quick"), std::move(settings));
     if (!plan) return refuse("bench accuracy", plan.error() + " (the shipped scenes and data: reinstall them)");
     const std::filesystem::path out_dir = args.value("--out", "out/bench_accuracy");
     if (!prepare_output("bench accuracy", out_dir)) return kExitUsage;

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <sstream>
 
 #include "bench/bench_convergence.h"
 #include "bench/bench_frames.h"
 #include "bench/bench_sim.h"
 #include "bench/bench_wave.h"
 #include "core/interrupt.h"
+#include "core/number_text.h"
 #include "core/text_escape.h"
 #include "pictures/svg_chart.h"
 #include "sim/blowup.h"
@@ -152,12 +154,45 @@ std::string error_text(const AccuracyPoint& p) {
 
 }  // namespace
 
+AccuracySetting accuracy_setting(PressureMethod method, uint32_t iterations, uint32_t substeps) {
+    std::string label = std::string(method_name(method)) + " " + std::to_string(iterations) + " it";
+    if (substeps != 3) label += ", " + std::to_string(substeps) + " steps";
+    return {label, method, iterations, substeps};
+}
+
 std::vector<AccuracySetting> accuracy_settings(bool quick) {
     using M = PressureMethod;
-    if (quick) return {{"pbf 4 it", M::pbf, 4, 3}, {"dfsph 4 it", M::dfsph, 4, 3}};
-    return {{"pbf 1 it", M::pbf, 1, 3},     {"pbf 2 it", M::pbf, 2, 3},          {"pbf 4 it", M::pbf, 4, 3},
-            {"pbf 8 it", M::pbf, 8, 3},     {"pbf 4 it x2 steps", M::pbf, 4, 6}, {"dfsph 2 it", M::dfsph, 2, 3},
-            {"dfsph 4 it", M::dfsph, 4, 3}, {"dfsph 8 it", M::dfsph, 8, 3}};
+    if (quick) return {accuracy_setting(M::pbf, 4), accuracy_setting(M::dfsph, 4)};
+    return {accuracy_setting(M::pbf, 1),   accuracy_setting(M::pbf, 2),    accuracy_setting(M::pbf, 4),
+            accuracy_setting(M::pbf, 8),   accuracy_setting(M::pbf, 4, 6), accuracy_setting(M::dfsph, 2),
+            accuracy_setting(M::dfsph, 4), accuracy_setting(M::dfsph, 8)};
+}
+
+Result<std::vector<AccuracySetting>> parse_accuracy_settings(const std::string& text) {
+    std::vector<AccuracySetting> settings;
+    std::stringstream items(text);
+    for (std::string item; std::getline(items, item, ',');) {
+        const std::string form =
+            "--settings takes METHOD:ITERATIONS[:STEPS],... (METHOD pbf or dfsph, ITERATIONS 1 to " +
+            std::to_string(kMaxIterations) + ", STEPS 1 to " + std::to_string(kMaxSubsteps) +
+            "), e.g. pbf:2,dfsph:4:6; got \"" + item + "\"";
+        std::vector<std::string> parts;
+        std::stringstream fields(item);
+        for (std::string field; std::getline(fields, field, ':');) parts.push_back(field);
+        if (parts.size() < 2 || parts.size() > 3 || (parts[0] != "pbf" && parts[0] != "dfsph")) return Error{form};
+        uint32_t counts[2] = {0, 3};
+        for (size_t k = 1; k < parts.size(); ++k) {
+            const std::optional<double> n = number_text::finite_number(parts[k]);
+            const double most = k == 1 ? kMaxIterations : kMaxSubsteps;
+            if (!n || *n < 1.0 || *n > most || *n != std::floor(*n)) return Error{form};
+            counts[k - 1] = uint32_t(*n);
+        }
+        settings.push_back(
+            accuracy_setting(parts[0] == "pbf" ? PressureMethod::pbf : PressureMethod::dfsph, counts[0], counts[1]));
+    }
+    if (settings.empty())
+        return Error{"--settings names no setting; give METHOD:ITERATIONS[:STEPS],..., e.g. pbf:2,dfsph:4"};
+    return settings;
 }
 
 Scene with_setting(Scene scene, const AccuracySetting& setting) {
@@ -192,7 +227,7 @@ double AccuracyPoint::gpu_ms_per_s() const {
     return bytes_per_s / (kH200CopyGbps * 1.0e9) * 1.0e3;
 }
 
-Result<AccuracyPlan> accuracy_bench_plan(bool quick) {
+Result<AccuracyPlan> accuracy_bench_plan(bool quick, std::vector<AccuracySetting> settings) {
     const std::filesystem::path scenes = default_scene_dir();
     auto wave_base = load_scene(scenes / "standing_wave.json");
     if (!wave_base) return Error{wave_base.error()};
@@ -203,7 +238,7 @@ Result<AccuracyPlan> accuracy_bench_plan(bool quick) {
     auto data = load_spheric_data(default_spheric_data_dir());
     if (!data) return Error{data.error()};
     AccuracyPlan plan;
-    plan.settings = accuracy_settings(quick);
+    plan.settings = settings.empty() ? accuracy_settings(quick) : std::move(settings);
     if (quick) plan.wave_periods = 1.5, plan.spheric_seconds = 0.8, plan.front_T_end = 1.5, plan.front_T_max = 1.45;
     auto wave = standing_wave_scene(wave_base.value(), quick ? 0.02f : 0.014f, 4);
     if (!wave) return Error{wave.error()};

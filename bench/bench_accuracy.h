@@ -37,6 +37,12 @@ struct AccuracySetting {
 };
 /// PBF at 1, 2, 4 and 8 iterations and at twice the steps, DFSPH at 2, 4 and 8 (quick: each method at 4).
 std::vector<AccuracySetting> accuracy_settings(bool quick);
+/// A setting labelled as the chart shows it: "pbf 4 it", or "pbf 4 it, 6 steps" where the least
+/// steps a frame are not the shipped scenes' 3.
+AccuracySetting accuracy_setting(PressureMethod method, uint32_t iterations, uint32_t substeps = 3);
+/// Settings from "METHOD:ITERATIONS[:STEPS],..." (e.g. "pbf:2,dfsph:4:6"): METHOD pbf or dfsph,
+/// ITERATIONS from 1 to 100, STEPS (the least a frame) from 1 to 64; the error names the item and the form.
+Result<std::vector<AccuracySetting>> parse_accuracy_settings(const std::string& text);
 /// `scene` run with `setting`.
 Scene with_setting(Scene scene, const AccuracySetting& setting);
 
@@ -71,7 +77,8 @@ struct AccuracyPlan {
 };
 /// The plan on the shipped scenes (standing_wave.json, spheric_test2.json, dam_break.json) and
 /// SPHERIC's data (quick: smaller and shorter runs), each experiment's scene checked before any work.
-Result<AccuracyPlan> accuracy_bench_plan(bool quick);
+/// `settings`: empty for accuracy_settings(quick).
+Result<AccuracyPlan> accuracy_bench_plan(bool quick, std::vector<AccuracySetting> settings = {});
 /// The files run_accuracy_bench writes.
 std::vector<std::string> accuracy_file_names();
 

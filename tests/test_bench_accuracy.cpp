@@ -47,6 +47,23 @@ TEST(BenchAccuracy, ASettingIsTheScenesSolverWithItsMethodAndCounts) {
     EXPECT_GE(all.size() - dfsph, 2u);
 }
 
+TEST(BenchAccuracy, SettingsAreReadAsMethodIterationsAndSteps) {
+    const auto parsed = study::parse_accuracy_settings("pbf:2,dfsph:4:6");
+    ASSERT_TRUE(parsed.ok()) << parsed.error();
+    ASSERT_EQ(parsed.value().size(), 2u);
+    EXPECT_EQ(parsed.value()[0].label, "pbf 2 it");
+    EXPECT_EQ(parsed.value()[0].substeps, 3u) << "the shipped scenes' least steps a frame";
+    EXPECT_EQ(parsed.value()[1].label, "dfsph 4 it, 6 steps");
+    EXPECT_EQ(parsed.value()[1].method, PressureMethod::dfsph);
+    EXPECT_EQ(parsed.value()[1].iterations, 4u);
+    EXPECT_EQ(parsed.value()[1].substeps, 6u);
+    for (const char* bad : {"", "pbf", "sph:2", "pbf:0", "pbf:2.5", "pbf:101", "pbf:2:65", "pbf:2:3:1", "pbf:two"}) {
+        const auto refused = study::parse_accuracy_settings(bad);
+        ASSERT_FALSE(refused.ok()) << bad;
+        EXPECT_NE(refused.error().find("--settings"), std::string::npos) << bad << ": " << refused.error();
+    }
+}
+
 TEST(BenchAccuracyCli, TheQuickBenchChartsBothMethodsOnTheThreeExperiments) {
     const std::filesystem::path out = test_cli::temp_dir("bench_accuracy");
     const auto o = test_cli::run_aquaform("bench accuracy --quick --out " + out.string());
@@ -73,11 +90,16 @@ TEST(BenchAccuracyCli, TheQuickBenchChartsBothMethodsOnTheThreeExperiments) {
     }
 }
 
-TEST(BenchAccuracyCli, AnUnknownFlagIsRefusedBeforeAnyWork) {
-    const auto o = test_cli::run_aquaform("bench accuracy --spacings 0.01");
-    EXPECT_EQ(o.exit_code, 2) << o.output;
-    EXPECT_NE(o.output.find("--spacings"), std::string::npos) << o.output;
-    EXPECT_EQ(o.output.find("bench accuracy on"), std::string::npos) << o.output;
+TEST(BenchAccuracyCli, BadFlagsAreRefusedBeforeAnyWork) {
+    for (const auto& [flags, says] :
+         std::vector<std::pair<std::string, std::string>>{{"--spacings 0.01", "--spacings"},
+                                                          {"--settings pbf:abc", "--settings takes METHOD:ITERATIONS"},
+                                                          {"--settings sph:4", "got \"sph:4\""}}) {
+        const auto o = test_cli::run_aquaform("bench accuracy " + flags);
+        EXPECT_EQ(o.exit_code, 2) << flags << "\n" << o.output;
+        EXPECT_NE(o.output.find(says), std::string::npos) << flags << "\n" << o.output;
+        EXPECT_EQ(o.output.find("bench accuracy on"), std::string::npos) << "refused before the device: " << flags;
+    }
 }
 
 }  // namespace
