@@ -127,8 +127,8 @@ int bench_sim(const Args& args_value) {
         std::vector<study::SolverBenchRecord> measured;
         nlohmann::json records = nlohmann::json::array();
         for (uint32_t target : sizes) {
-            if (interrupted()) return false;
             const study::SolverBenchRecord r = study::measure_solver(ctx, target, options);
+            if (interrupted()) return false;  // nothing written for measurements Ctrl-C cut short
             study::print_solver_record(r);
             measured.push_back(r);
             records.push_back(study::to_json(r));
