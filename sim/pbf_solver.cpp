@@ -241,7 +241,9 @@ void PbfSolver::relax_start() {
         gpu::upload(*ctx_, *x_, x.data(), x.size() * sizeof(glm::vec4));
         if (densest <= scene_.rest_density * (1.0 + kStartCompression)) break;
     }
-    ctx_->submit_and_wait([&](VkCommandBuffer cmd) { record_sort(cmd, *x_, nullptr); });
+    // The start's lists: DFSPH's step works on the lists of x (p holds its carried state after
+    // the sort), PBF's on those of its prediction p (= x + dt v).
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) { record_sort(cmd, *x_, nullptr, gathers_carry()); });
 }
 
 PbfSolver::~PbfSolver() = default;
@@ -515,7 +517,9 @@ void PbfSolver::set_state(const std::vector<glm::vec4>& x, const std::vector<glm
     if (carry_) add_carry();  // a new state: the warm start starts from nothing
     for (const glm::vec4& vi : v) last_max_speed_ = std::max(last_max_speed_, double(glm::length(glm::vec3(vi))));
     // Sort by the new positions so that the grid is valid before the first step (measure()).
-    ctx_->submit_and_wait([&](VkCommandBuffer cmd) { record_sort(cmd, *x_, nullptr); });
+    // The start's lists: DFSPH's step works on the lists of x (p holds its carried state after
+    // the sort), PBF's on those of its prediction p (= x + dt v).
+    ctx_->submit_and_wait([&](VkCommandBuffer cmd) { record_sort(cmd, *x_, nullptr, gathers_carry()); });
 }
 
 }  // namespace aquaform
