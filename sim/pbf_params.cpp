@@ -102,9 +102,10 @@ void set_substeps(shader::SimParams& params, float frame_dt, uint32_t substeps) 
 }
 
 float scorr_k_of_step(const Scene& scene, float dt) {
-    const float k = scene.solver.scorr_k / pbf_constants(scene).stiffness_ref;
-    const double below = double(dt) / kScorrFullStep;
-    return below < 1.0 ? float(k * below * below) : k;
+    const double k = scene.solver.scorr_k / pbf_constants(scene).stiffness_ref;
+    const double iterations_share = double(kScorrIterations) / double(std::max(scene.solver.iterations, 1u));
+    const double below = std::min(double(dt) / kScorrStep, 1.0);
+    return float(k * iterations_share * below * below);
 }
 
 uint32_t substeps_for_speed(const SolverSettings& solver, float h, double max_speed, double accel, double growth) {

@@ -34,13 +34,18 @@ shader::SimParams make_sim_params(const Scene& scene, const GridGeometry& grid, 
 /// Sets the block's step to frame_dt / substeps.
 void set_substeps(shader::SimParams& params, float frame_dt, uint32_t substeps);
 
-/// s_corr (eq. 13) is a position correction applied every step whatever the step, so its push
-/// at a free surface becomes a velocity of push / dt: 466 m/s at frame_dt 1e-5 in the dam break.
-/// Below kScorrFullStep it acts as the pressure it stands for, its push scaling as dt^2 (a
-/// force's), so a smaller step is calmer, not wilder. Every shipped scene steps at 0.52 ms or
-/// more (1/60 s over 32 steps), where s_corr is the paper's.
-inline constexpr double kScorrFullStep = 5.0e-4;  ///< [s]
-/// The parameter block's s_corr k (scaled by stiffness_ref) for a step of `dt`.
+/// s_corr (eq. 13) is an artificial pressure written as a position correction, and the paper
+/// applies it in every constraint iteration of every step. So its pressure grew with the
+/// iterations and as 1 / dt^2: 466 m/s at the surface at frame_dt 1e-5 in the dam break, and a
+/// standing wave that lost more the more iterations or steps it was given (docs/solver.md).
+/// Here it is one pressure whatever the solver's counts: the paper's k at the reference step
+/// (kScorrStep, kScorrIterations: the shipped frame of 1/60 s in 2 steps of 4 iterations),
+/// shared among the step's iterations, its push scaling as a force's (dt^2) below the
+/// reference step. Above it, the paper's push a step is kept: a larger push at a large step is
+/// a splash, not a pressure.
+inline constexpr double kScorrStep = 1.0 / 120.0;  ///< [s]
+inline constexpr uint32_t kScorrIterations = 4;
+/// The parameter block's s_corr k (scaled by stiffness_ref) for one iteration of a step of `dt`.
 float scorr_k_of_step(const Scene& scene, float dt);
 
 /// The time-step rule (the CFL condition v_max * dt <= cfl * h, bounded by the scene's substeps

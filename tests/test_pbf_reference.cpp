@@ -178,6 +178,49 @@ TEST(PbfScorr, TheIntegerPowerBySquaringsIsPowForEveryAllowedExponent) {
     }
 }
 
+/// How far s_corr alone moves a free cube of water in one step of `dt` with `iterations`: the
+/// mean displacement [m]. Gravity is off and the constraint's relaxation so large that its
+/// lambdas vanish, so only s_corr's push at the cube's faces moves anything.
+double scorr_push_of_one_step(uint32_t iterations, double dt) {
+    Scene scene;
+    scene.particle_spacing = 0.02f;
+    scene.domain = {glm::vec3(0.0f), glm::vec3(0.4f)};
+    scene.solver.iterations = iterations;
+    scene.solver.relaxation = 1.0e6f;
+    scene.solver.frame_dt = float(dt);
+    scene.solver.substeps = 1;
+    const auto grid = grid_for_domain(scene.domain.min, scene.domain.max, scene.kernel_radius());
+    EXPECT_TRUE(grid.ok());
+    CpuParticles cube;
+    const int side = 6;
+    for (int i = 0; i < side * side * side; ++i) {
+        const glm::vec3 at = glm::vec3(0.14f) + scene.particle_spacing * glm::vec3(i % side, i / side % side, i / 36);
+        cube.x.emplace_back(at, float(i));
+        cube.v.emplace_back(0.0f);
+    }
+    shader::SimParams params = make_sim_params(scene, grid.value(), uint32_t(cube.x.size()));
+    params.gravity = glm::vec4(0.0f);
+    const CpuParticles before = cube;
+    reference_step(params, ReferenceSettings{PressureMethod::pbf, 0, iterations, false, false}, cube);
+    double moved = 0.0;
+    for (size_t i = 0; i < cube.x.size(); ++i) moved += glm::length(glm::vec3(cube.x[i] - before.x[i]));
+    return moved / double(cube.x.size());
+}
+
+TEST(PbfScorr, ItIsOnePressureWhateverTheIterationsAndTheStep) {
+    // The paper applies s_corr in every iteration of every step, so its pressure grew with the
+    // iterations and as 1 / dt^2, and a wave given more of either lost more (docs/solver.md).
+    const double at_reference = scorr_push_of_one_step(kScorrIterations, kScorrStep);
+    ASSERT_GT(at_reference, 1.0e-6) << "s_corr moves the cube's faces";
+    for (uint32_t iterations : {1u, 2u, 8u, 16u})
+        EXPECT_NEAR(scorr_push_of_one_step(iterations, kScorrStep) / at_reference, 1.0, 0.1)
+            << iterations << " iterations push as far a step as " << kScorrIterations;
+    // A force's push: a quarter at half the step, so the same pressure over the step's time.
+    EXPECT_NEAR(scorr_push_of_one_step(kScorrIterations, 0.5 * kScorrStep) / at_reference, 0.25, 0.025);
+    // Above the reference step the paper's push a step, not a stronger one.
+    EXPECT_NEAR(scorr_push_of_one_step(kScorrIterations, 2.0 * kScorrStep) / at_reference, 1.0, 0.1);
+}
+
 TEST(PbfWalls, WallCompletesTheDensityOfALatticeParticleAtTheFloor) {
     Scene scene = small_splash_scene();
     auto grid = grid_for_domain(scene.domain.min, scene.domain.max, 2.0f * scene.particle_spacing);

@@ -191,18 +191,17 @@ TEST_F(AcceptedRuns, TheDamBreakAtTheSmallestFrameDtDoesNotLeavePhysics) {
     // Two pushes became speeds of push / dt at a tiny step: the start lattice's compression in
     // the tank's corners (8.8 %) and s_corr's pull at the free surface. The dam break left
     // physics at frame_dt 1e-4 (70.9 m/s) and reached 466 m/s in one frame at 1e-5. The start is
-    // relaxed to rest density now, and below kScorrFullStep s_corr scales as a force's push.
+    // relaxed to rest density now, and s_corr is one pressure at every step (sim/pbf_params.h):
+    // in 4 frames the water falls at under 0.004 m/s, and what remains of the pushes is a few
+    // cm/s (0.014 and 0.033 m/s measured), where either push came back as metres a second.
     Scene scene = load_scene(std::string(AQUAFORM_ASSETS_DIR) + "/scenes/dam_break.json").value();
     scene = with_particle_count(scene, 2000).value();
-    double fastest_at[2] = {0.0, 0.0};
-    int i = 0;
     for (double dt : {1e-4, kMinFrameDt}) {
         scene.solver.frame_dt = float(dt);
-        EXPECT_EQ(run_frames(ctx(), scene, 4, &fastest_at[i]), "") << "frame_dt " << dt;
-        EXPECT_LT(fastest_at[i], 2.0) << "frame_dt " << dt;
-        ++i;
+        double fastest = 0.0;
+        EXPECT_EQ(run_frames(ctx(), scene, 4, &fastest), "") << "frame_dt " << dt;
+        EXPECT_LT(fastest, 0.2) << "frame_dt " << dt;
     }
-    EXPECT_LE(fastest_at[1], fastest_at[0]) << "the smaller step is the wilder";
 }
 
 TEST_F(AcceptedRuns, TheFastestStartSpeedDoesNotLeavePhysicsAtTheStart) {
