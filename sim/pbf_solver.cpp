@@ -241,6 +241,10 @@ void PbfSolver::relax_start() {
         gpu::upload(*ctx_, *x_, x.data(), x.size() * sizeof(glm::vec4));
         if (densest <= scene_.rest_density * (1.0 + kStartCompression)) break;
     }
+    sort_start();
+}
+
+void PbfSolver::sort_start() {
     // The start's lists: DFSPH's step works on the lists of x (p holds its carried state after
     // the sort), PBF's on those of its prediction p (= x + dt v).
     ctx_->submit_and_wait([&](VkCommandBuffer cmd) { record_sort(cmd, *x_, nullptr, gathers_carry()); });
@@ -516,10 +520,7 @@ void PbfSolver::set_state(const std::vector<glm::vec4>& x, const std::vector<glm
     last_max_density_error_ = 0.0;
     if (carry_) add_carry();  // a new state: the warm start starts from nothing
     for (const glm::vec4& vi : v) last_max_speed_ = std::max(last_max_speed_, double(glm::length(glm::vec3(vi))));
-    // Sort by the new positions so that the grid is valid before the first step (measure()).
-    // The start's lists: DFSPH's step works on the lists of x (p holds its carried state after
-    // the sort), PBF's on those of its prediction p (= x + dt v).
-    ctx_->submit_and_wait([&](VkCommandBuffer cmd) { record_sort(cmd, *x_, nullptr, gathers_carry()); });
+    sort_start();
 }
 
 }  // namespace aquaform

@@ -181,6 +181,9 @@ private:
     bool stages_measure() const;
     /// Moves the start lattice to rest density where it starts compressed (relax_start in the .cpp).
     void relax_start();
+    /// Sorts a new state by its positions so that the grid and the lists are valid before the
+    /// first step (measure() reads them).
+    void sort_start();
     /// Moves the solids to where they stand at the end of the step about to be recorded.
     void record_solid_motion(VkCommandBuffer cmd);
     /// The time-step rule: the next frame's steps from the largest speed, its growth and the
