@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 
 #include "bench/bench_convergence.h"
 #include "bench/bench_frames.h"
@@ -169,29 +168,28 @@ std::vector<AccuracySetting> accuracy_settings(bool quick) {
 }
 
 Result<std::vector<AccuracySetting>> parse_accuracy_settings(const std::string& text) {
+    const std::string form = "--settings takes METHOD:ITERATIONS[:STEPS],... (METHOD pbf or dfsph, ITERATIONS 1 to " +
+                             std::to_string(kMaxIterations) + ", STEPS 1 to " + std::to_string(kMaxSubsteps) +
+                             "), e.g. pbf:2,dfsph:4:6";
+    const auto items = number_text::split_list(text);
+    if (!items) return Error{form + "; got \"" + text + "\""};
     std::vector<AccuracySetting> settings;
-    std::stringstream items(text);
-    for (std::string item; std::getline(items, item, ',');) {
-        const std::string form =
-            "--settings takes METHOD:ITERATIONS[:STEPS],... (METHOD pbf or dfsph, ITERATIONS 1 to " +
-            std::to_string(kMaxIterations) + ", STEPS 1 to " + std::to_string(kMaxSubsteps) +
-            "), e.g. pbf:2,dfsph:4:6; got \"" + item + "\"";
-        std::vector<std::string> parts;
-        std::stringstream fields(item);
-        for (std::string field; std::getline(fields, field, ':');) parts.push_back(field);
-        if (parts.size() < 2 || parts.size() > 3 || (parts[0] != "pbf" && parts[0] != "dfsph")) return Error{form};
+    for (const std::string& item : *items) {
+        std::string fields = item;
+        std::ranges::replace(fields, ':', ',');
+        const auto parts = number_text::split_list(fields);
+        if (!parts || parts->size() < 2 || parts->size() > 3 || ((*parts)[0] != "pbf" && (*parts)[0] != "dfsph"))
+            return Error{form + "; got \"" + item + "\""};
         uint32_t counts[2] = {0, 3};
-        for (size_t k = 1; k < parts.size(); ++k) {
-            const std::optional<double> n = number_text::finite_number(parts[k]);
-            const double most = k == 1 ? kMaxIterations : kMaxSubsteps;
-            if (!n || *n < 1.0 || *n > most || *n != std::floor(*n)) return Error{form};
+        for (size_t k = 1; k < parts->size(); ++k) {
+            const std::optional<uint64_t> n = number_text::whole_number((*parts)[k]);
+            if (!n || *n < 1 || *n > (k == 1 ? kMaxIterations : kMaxSubsteps))
+                return Error{form + "; got \"" + item + "\""};
             counts[k - 1] = uint32_t(*n);
         }
         settings.push_back(
-            accuracy_setting(parts[0] == "pbf" ? PressureMethod::pbf : PressureMethod::dfsph, counts[0], counts[1]));
+            accuracy_setting((*parts)[0] == "pbf" ? PressureMethod::pbf : PressureMethod::dfsph, counts[0], counts[1]));
     }
-    if (settings.empty())
-        return Error{"--settings names no setting; give METHOD:ITERATIONS[:STEPS],..., e.g. pbf:2,dfsph:4"};
     return settings;
 }
 
