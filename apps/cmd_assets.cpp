@@ -43,7 +43,8 @@ int cmd_assets(const std::vector<std::string>& argv) {
         geometry::Mesh mesh;
     };
     std::vector<Named> meshes = {{"sphere.obj", geometry::make_sphere(0.5f, 3)},
-                                 {"torus.obj", geometry::make_torus(0.35f, 0.15f)}};
+                                 {"torus.obj", geometry::make_torus(0.35f, 0.15f)},
+                                 {"glass.obj", geometry::make_glass(0.09f, 0.02f, 0.18f, 0.02f)}};
     for (char c : geometry::kBlockLetters)
         meshes.push_back({std::string("letter_") + c + ".obj", geometry::make_block_letter(c)});
     const geometry::Character character = geometry::make_character();

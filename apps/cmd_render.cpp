@@ -60,7 +60,7 @@ int cmd_render(const std::vector<std::string>& argv) {
     PbfSolver& solver = sim.solver();
     if (summary) print_control_summary(*summary, "render");
     // The renderer first: a picture too large for the device is refused before the simulation.
-    auto made = render_registry().create(ctx, scene.particle_domain(), width, height, solver.particle_count(), *method);
+    auto made = render_registry().create(ctx, scene.particle_domain(), width, height, solver.capacity(), *method);
     std::printf("%s: %u particles on %s; rendering frame %u at %ux%u with the %s method\n", scene.name.c_str(),
                 solver.particle_count(), ctx.info().name.c_str(), frame, width, height, method->method().c_str());
     if (!study::simulate_frames(sim, frame, "simulating to frame " + std::to_string(frame)))

@@ -12,8 +12,8 @@ namespace aquaform::cli {
 void print_run_header(const gpu::Context& ctx, const PbfSolver& solver) {
     const Scene& scene = solver.scene();
     const auto& p = solver.params();
-    std::printf("scene %s: %u particles, spacing %g m, h %g m, %u to %u steps per frame (cfl %g), %u iterations%s\n",
-                scene.name.c_str(), solver.particle_count(), scene.particle_spacing, p.h, scene.solver.substeps,
+    std::printf("scene %s: %s, spacing %g m, h %g m, %u to %u steps per frame (cfl %g), %u iterations%s\n",
+                scene.name.c_str(), solver.count_phrase().c_str(), scene.particle_spacing, p.h, scene.solver.substeps,
                 scene.solver.max_substeps, scene.solver.cfl, scene.solver.iterations,
                 scene.solver.max_speed > 0.0f
                     ? (", speeds capped at " + std::to_string(scene.solver.max_speed) + " m/s").c_str()
@@ -28,8 +28,7 @@ void print_run_header(const gpu::Context& ctx, const PbfSolver& solver) {
         total += b.bytes;
     }
     const uint64_t cells = solver.grid().geometry().cell_count();
-    const double per_particle =
-        double(total - uint64_t(kGridBytesPerCell) * cells) / std::max(1u, solver.particle_count());
+    const double per_particle = double(total - uint64_t(kGridBytesPerCell) * cells) / std::max(1u, solver.capacity());
     std::printf("  %-24s %10.3f MiB (%.0f B per particle + %u B per grid cell, %llu cells)\n", "total",
                 double(total) / (1 << 20), per_particle, kGridBytesPerCell, (unsigned long long)cells);
     std::fflush(stdout);

@@ -12,8 +12,46 @@
 #include "session/simulation_session.h"
 #include "sim/blowup.h"
 #include "sim/pbf_solver.h"
+#include "sim/pbf_traffic.h"
 
 namespace aquaform::study {
+
+namespace {
+
+/// Frames of the flow bench: the dam break's wave reaches the drain by the first, the rest are timed.
+constexpr uint32_t kFlowWarmFrames = 30, kFlowTimedFrames = 10;
+
+FlowBenchRecord measure_flow(gpu::Context& ctx, uint32_t target_particles, const SolverBenchOptions& options) {
+    session::SimulationSession session(
+        ctx, session::plan_session(flow_bench_scene(target_particles, options.iterations), std::nullopt));
+    PbfSolver& solver = session.solver();
+    gpu::GpuTimer timer(ctx);
+    for (uint32_t f = 0; f < kFlowWarmFrames && !interrupted(); ++f)
+        require_physical(solver.run_frame(nullptr), session.scene());
+    FlowBenchRecord r;
+    double steps = 0.0, emit_ms = 0.0, sinks_ms = 0.0;
+    const uint64_t removed_before = solver.flow()->totals().removed, emitted_before = solver.flow()->totals().emitted;
+    for (uint32_t f = 0; f < kFlowTimedFrames && !interrupted(); ++f) {
+        const FrameStats stats = solver.run_frame(&timer);
+        require_physical(stats, session.scene());
+        steps += stats.substeps;
+        for (const auto& [name, ms] : stats.gpu_ms) {
+            if (name == "sim_emit") emit_ms += ms;
+            if (name == "sim_sinks") sinks_ms += ms;
+        }
+    }
+    const FlowCounts& totals = solver.flow()->totals();
+    r.particles = solver.particle_count();
+    r.steps_per_frame = steps / kFlowTimedFrames;
+    r.emit_ms_per_step = emit_ms / std::max(steps, 1.0);
+    r.emitted_per_step = double(totals.emitted - emitted_before) / std::max(steps, 1.0);
+    r.sinks_ms_per_frame = sinks_ms / kFlowTimedFrames;
+    r.removed_per_frame = double(totals.removed - removed_before) / kFlowTimedFrames;
+    r.held = solver.flow()->held_particles();
+    return r;
+}
+
+}  // namespace
 
 SolverBenchRecord measure_solver(gpu::Context& ctx, uint32_t target_particles, const SolverBenchOptions& options) {
     // The bench scene has no control: the session's solver alone, stepped without frame figures.
@@ -65,6 +103,7 @@ SolverBenchRecord measure_solver(gpu::Context& ctx, uint32_t target_particles, c
     uint64_t total = 0;
     for (const auto& b : solver.memory_report()) total += b.bytes;
     rec.gpu_bytes_per_particle = double(total - uint64_t(kGridBytesPerCell) * rec.grid_cells) / rec.particles;
+    rec.flow = measure_flow(ctx, target_particles, options);
     return rec;
 }
 
@@ -138,7 +177,15 @@ nlohmann::json to_json(const SolverBenchRecord& r) {
             {"bandwidth_gbps", r.bandwidth_gbps},
             {"memory_floor_ms", r.memory_floor_ms()},
             {"all_loads_floor_ms", r.all_loads_floor_ms()},
-            {"grid_counts", counts}};
+            {"grid_counts", counts},
+            {"flow",
+             {{"particles", r.flow.particles},
+              {"emit_ms_per_step", r.flow.emit_ms_per_step},
+              {"emitted_per_step", r.flow.emitted_per_step},
+              {"held", r.flow.held},
+              {"sinks_ms_per_frame", r.flow.sinks_ms_per_frame},
+              {"removed_per_frame", r.flow.removed_per_frame},
+              {"steps_per_frame", r.flow.steps_per_frame}}}};
 }
 
 namespace {
@@ -186,6 +233,26 @@ void print_solver_record(const SolverBenchRecord& r) {
                 r.neighbor_list_bytes_per_particle, r.gpu_bytes_per_cell, 100.0 * r.list_overflow_fraction,
                 r.steps_per_frame);
     print_traffic(r);
+    print_flow(r.flow, r.bandwidth_gbps);
+}
+
+void print_flow(const FlowBenchRecord& f, double gbps) {
+    const PassTraffic emit = emission_traffic(f.particles, uint64_t(f.emitted_per_step), uint64_t(f.held));
+    const PassTraffic sinks = removal_traffic(f.particles, f.particles);
+    std::printf(
+        "  emitters and sinks (a nozzle and a drain, %u particles): emission and hold %.3f ms a step (%.0f new, "
+        "%.0f held; model %.2f MB, floor %.4f ms); sinks %.3f ms a frame (%.0f removed; model %.2f MB, floor %.4f ms)\n",
+        f.particles, f.emit_ms_per_step, f.emitted_per_step, f.held, double(emit.bytes) * 1e-6,
+        ms_at(emit.unique_bytes, gbps), f.sinks_ms_per_frame, f.removed_per_frame, double(sinks.bytes) * 1e-6,
+        ms_at(sinks.unique_bytes, gbps));
+    // Both grow with the alive count (the hold reads every id; the sinks test every particle).
+    const PassTraffic emit_1m = emission_traffic(1000000, uint64_t(f.emitted_per_step), uint64_t(f.held));
+    const PassTraffic sinks_1m = removal_traffic(1000000, 1000000);
+    std::printf(
+        "  in the model at 1M particles: emission and hold %.1f MB a step (floor %.4f ms at %g GB/s), sinks "
+        "%.1f MB a frame (floor %.4f ms)\n",
+        double(emit_1m.bytes) * 1e-6, ms_at(emit_1m.unique_bytes, gbps), gbps, double(sinks_1m.bytes) * 1e-6,
+        ms_at(sinks_1m.unique_bytes, gbps));
 }
 
 }  // namespace aquaform::study

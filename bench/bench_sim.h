@@ -31,6 +31,18 @@ struct SolverBenchOptions {
     double bandwidth_gbps = kH200CopyGbps;
 };
 
+/// The cost of emitters and sinks (sim/fluid_flow.h) on the bench dam break with a nozzle over
+/// the tank and a drain at its far end, over frames timed after the wave reaches the drain.
+struct FlowBenchRecord {
+    uint32_t particles = 0;           ///< alive at the end
+    double emit_ms_per_step = 0.0;    ///< sim_emit: the emission and the hold
+    double emitted_per_step = 0.0;    ///< particles
+    double held = 0.0;                ///< particles held on the nozzle at the end
+    double sinks_ms_per_frame = 0.0;  ///< sim_sinks: the mark, the scan and the compaction
+    double removed_per_frame = 0.0;   ///< particles
+    double steps_per_frame = 0.0;
+};
+
 struct SolverBenchRecord {
     uint32_t particles = 0;
     uint32_t iterations = 0;
@@ -52,6 +64,7 @@ struct SolverBenchRecord {
     std::vector<PassTraffic> traffic;
     GridCounts counts;
     double bandwidth_gbps = 0.0;  ///< what the floors below assume
+    FlowBenchRecord flow;         ///< the same size with a nozzle and a drain
 
     uint64_t bytes_per_step() const;
     uint64_t unique_bytes_per_step() const;
@@ -69,7 +82,8 @@ double ms_at(uint64_t bytes, double gbps);
 inline constexpr const char* kNeighborSearchPasses[] = {"sim_grid_count", "sim_grid_scan", "sim_grid_scatter",
                                                         "sim_reorder", "sim_neighbor_lists"};
 
-/// Times the solver on study::bench_scene(target_particles).
+/// Times the solver on study::bench_scene(target_particles), and its emitters and sinks on
+/// flow_bench_scene (the record's `flow`).
 SolverBenchRecord measure_solver(gpu::Context& ctx, uint32_t target_particles, const SolverBenchOptions& options);
 
 /// Least-squares slope of log(neighbour-search time) against log(particles): the growth exponent
@@ -83,5 +97,7 @@ nlohmann::json to_json(const SolverBenchRecord& record);
 void print_traffic(const SolverBenchRecord& record);
 /// A size's figures (time a step, memory, overflow) as a table, then its traffic.
 void print_solver_record(const SolverBenchRecord& record);
+/// The flow record's line, with the byte model at its count and at 1M particles (at `gbps`).
+void print_flow(const FlowBenchRecord& flow, double gbps);
 
 }  // namespace aquaform::study

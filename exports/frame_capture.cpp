@@ -12,12 +12,12 @@ FrameCapturer::FrameCapturer(gpu::Context& ctx, const FrameExports& exports, Pbf
                              const ParticleDomain& domain, const SurfaceSettings& field)
     : ctx_(&ctx), exports_(&exports), solver_(&solver) {
     if (exports.enabled(FrameExport::mesh)) {
-        mesher_ = std::make_unique<SurfaceMesher>(ctx, domain, solver.particle_count(), field);
+        mesher_ = std::make_unique<SurfaceMesher>(ctx, domain, solver.capacity(), field);
         sampler_ = &mesher_->sampler();
     }
     for (const FrameExportKind& kind : frame_export_kinds())
         if (kind.needs == FrameData::volume && exports.enabled(kind.kind) && !sampler_) {
-            own_sampler_ = std::make_unique<DensitySampler>(ctx, domain, solver.particle_count(), field);
+            own_sampler_ = std::make_unique<DensitySampler>(ctx, domain, solver.capacity(), field);
             sampler_ = own_sampler_.get();
         }
 }

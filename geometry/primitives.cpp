@@ -82,6 +82,37 @@ Mesh make_torus(float major_radius, float minor_radius, uint32_t major_segments,
     return mesh;
 }
 
+Mesh make_glass(float outer_radius, float wall, float height, float floor, uint32_t sides) {
+    sides = std::max(sides, 3u);
+    const float inner = outer_radius - wall;
+    // The profile from the outer foot round the rim down to the inner floor's edge, revolved.
+    const glm::vec2 profile[] = {{outer_radius, 0.0f}, {outer_radius, height}, {inner, height}, {inner, floor}};
+    Mesh mesh;
+    const float two_pi = 2.0f * std::numbers::pi_v<float>;
+    for (const glm::vec2& p : profile)
+        for (uint32_t k = 0; k < sides; ++k) {
+            const float a = two_pi * float(k) / float(sides);
+            mesh.vertices.emplace_back(p.x * std::cos(a), p.y, p.x * std::sin(a));
+        }
+    const uint32_t inner_centre = uint32_t(mesh.vertices.size()), foot_centre = inner_centre + 1;
+    mesh.vertices.emplace_back(0.0f, floor, 0.0f);
+    mesh.vertices.emplace_back(0.0f, 0.0f, 0.0f);
+    // Each band between two profile rings faces away from the solid: out on the outer wall, up on
+    // the rim, in towards the axis on the inner wall.
+    for (uint32_t r = 0; r + 1 < std::size(profile); ++r)
+        for (uint32_t k = 0; k < sides; ++k) {
+            const uint32_t a = r * sides + k, b = r * sides + (k + 1) % sides;
+            mesh.faces.push_back({a, a + sides, b + sides});
+            mesh.faces.push_back({a, b + sides, b});
+        }
+    const uint32_t floor_ring = 3 * sides;
+    for (uint32_t k = 0; k < sides; ++k) {
+        mesh.faces.push_back({inner_centre, floor_ring + (k + 1) % sides, floor_ring + k});  // the inner floor, up
+        mesh.faces.push_back({foot_centre, k, (k + 1) % sides});                             // the foot, down
+    }
+    return mesh;
+}
+
 Mesh make_tube(const glm::vec3& a, const glm::vec3& b, float radius_a, float radius_b, uint32_t rings, uint32_t sides) {
     rings = std::max(rings, 2u);
     sides = std::max(sides, 3u);

@@ -22,6 +22,11 @@ Mesh make_torus(float major_radius, float minor_radius, uint32_t major_segments 
 /// least 3), both ends capped with a fan around a centre vertex. More rings let skinning bend it smoothly.
 Mesh make_tube(const glm::vec3& a, const glm::vec3& b, float radius_a, float radius_b, uint32_t rings, uint32_t sides);
 
+/// A drinking glass as a closed solid, standing on the origin along +y: a cup of `outer_radius`
+/// and `height` with a wall `wall` thick and a floor `floor` thick (the inside open at the top),
+/// `sides` segments around.
+Mesh make_glass(float outer_radius, float wall, float height, float floor, uint32_t sides = 48);
+
 /// The capitals make_block_letter draws.
 inline constexpr std::string_view kBlockLetters = "AQUFORM";
 /// A capital from a 5x7 pixel font, each pixel a `cell` square, extruded `depth` along z; reads from +z.

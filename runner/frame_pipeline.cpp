@@ -30,7 +30,7 @@ namespace {
 std::unique_ptr<Renderer> make_surface(gpu::Context& ctx, session::SimulationSession& sim, const PictureOptions& p) {
     if (p.kind != PictureOptions::Kind::surface) return nullptr;
     return render_registry().create(ctx, sim.scene().particle_domain(), p.size.width, p.size.height,
-                                    sim.solver().particle_count(), p.method);
+                                    sim.solver().capacity(), p.method);
 }
 
 /// The progress line's figures: the density error, the speed, the steps; the shape's IoU and the

@@ -80,6 +80,7 @@ Result<bool> RunFiles::write_frame_stats(uint32_t frame, const FrameStats& s, co
         front_samples_.push_back({s.time_s, *s.front});
     }
     if (s.whitewater) whitewater_samples_.push_back({s.time_s, *s.whitewater});
+    if (s.flow) flow_samples_.push_back({s.time_s, s.particles, *s.flow});
     waiting_.push_back({frame, s, shape ? std::optional<ShapeColumns>(*shape) : std::nullopt});
     // Frame 0 (the state at t = 0) takes no step, so its timings name only a few passes: its row
     // waits for the first stepped frame, whose passes make the header's GPU columns.
@@ -100,6 +101,8 @@ Result<bool> RunFiles::write_waiting_rows() {
         if (has_shape) header_ += ",shape_iou,shape_fill_fraction,fluid_outside_shape,active_shapes";
         has_whitewater_ = bool(waiting_.front().stats.whitewater);
         if (has_whitewater_) header_ += ",spray,foam,bubbles,whitewater_emitted,whitewater_dropped";
+        has_flow_ = bool(waiting_.front().stats.flow);
+        if (has_flow_) header_ += ",emitted,removed,not_emitted";  // particle totals since the start
         for (const auto& name : pass_columns_) header_ += ",gpu_ms_" + name;
         text = header_ + "\n";
     }
@@ -129,6 +132,12 @@ Result<bool> RunFiles::write_waiting_rows() {
                           (unsigned long long)c.emitted, (unsigned long long)c.dropped);
             text += row;
         }
+        if (has_flow_) {
+            const FlowCounts c = s.flow.value_or(FlowCounts{});
+            std::snprintf(row, sizeof row, ",%llu,%llu,%llu", (unsigned long long)c.emitted,
+                          (unsigned long long)c.removed, (unsigned long long)c.not_emitted);
+            text += row;
+        }
         for (const auto& name : pass_columns_) {
             auto it = s.gpu_ms.find(name);
             std::snprintf(row, sizeof row, ",%.4f", it == s.gpu_ms.end() ? 0.0 : it->second);
@@ -146,6 +155,8 @@ Result<bool> RunFiles::finish(const Scene& scene) {
     warn_if_never_filled();
     if (auto charted = probes_.finish(scene); !charted) return charted;
     if (auto charted = write_whitewater_chart(scene); !charted) return charted;
+    if (auto charted = write_flow_chart(scene); !charted) return charted;
+    say_flow_totals(scene);
     if (!has_front_ || front_samples_.empty()) return true;
     const double a = *scene.column_width;
     const double g = std::max(1e-6f, std::abs(scene.gravity.y));
@@ -185,13 +196,48 @@ Result<bool> RunFiles::write_whitewater_chart(const Scene& scene) const {
     return write_chart_svg(dir_ / "whitewater.svg", chart);
 }
 
+void RunFiles::say_flow_totals(const Scene& scene) const {
+    if (flow_samples_.empty()) return;
+    const FlowSample& last = flow_samples_.back();
+    std::printf("water: %llu particles emitted, %llu removed, %u alive at the end (flow.svg)\n",
+                (unsigned long long)last.counts.emitted, (unsigned long long)last.counts.removed, last.alive);
+    // Said once, at the end: the nozzles kept running and the layers that did not fit were skipped.
+    const auto full = std::find_if(flow_samples_.begin(), flow_samples_.end(),
+                                   [](const FlowSample& f) { return f.counts.not_emitted > 0; });
+    if (full != flow_samples_.end())
+        std::fprintf(stderr,
+                     "aquaform run: warning: the fluid filled its capacity of %llu particles by t = %.3f s, and %llu "
+                     "particles the emitters would have made were not emitted (not_emitted in stats.csv); raise the "
+                     "scene's \"capacity\" or add a sink\n",
+                     (unsigned long long)scene.particle_capacity(), full->time,
+                     (unsigned long long)last.counts.not_emitted);
+}
+
+Result<bool> RunFiles::write_flow_chart(const Scene& scene) const {
+    if (flow_samples_.empty()) return true;
+    Chart chart{"Water that came and went: " + scene.name, "time [s]", "particles", {}};
+    // A "not emitted" line that leaves zero says the capacity was full (the scene's "capacity").
+    ChartSeries alive{"alive", {}, false, "#1f6fb4"}, emitted{"emitted (total)", {}, false, "#2ca02c", true},
+        removed{"removed (total)", {}, false, "#d62728", true},
+        refused{"not emitted (total)", {}, false, "#ff7f0e", true};
+    for (const FlowSample& f : flow_samples_) {
+        alive.points.push_back({f.time, double(f.alive)});
+        emitted.points.push_back({f.time, double(f.counts.emitted)});
+        removed.points.push_back({f.time, double(f.counts.removed)});
+        refused.points.push_back({f.time, double(f.counts.not_emitted)});
+    }
+    chart.series = {alive, emitted, removed};
+    if (flow_samples_.back().counts.not_emitted > 0) chart.series.push_back(refused);
+    return write_chart_svg(dir_ / "flow.svg", chart);
+}
+
 Result<size_t> clear_earlier_run(const std::filesystem::path& dir) {
     // The numbered frames and the obstacles' meshes; diffuse_*: the whitewater's files' old name.
     static const std::regex written(
         R"((frame|particles|whitewater|diffuse|density|surface)_[0-9]{4,}\.(png|ply|vtu|vdb|obj|vtp)|obstacle_.+\.obj)");
-    static const std::set<std::string> named{"stats.csv",     "front.csv",        "front.svg",      "whitewater.svg",
-                                             "particles.pvd", "surface.pvd",      "whitewater.pvd", "diffuse.pvd",
-                                             kExportListing,  kRunDescriptionName};
+    static const std::set<std::string> named{"stats.csv",   "front.csv",     "front.svg",        "whitewater.svg",
+                                             "flow.svg",    "particles.pvd", "surface.pvd",      "whitewater.pvd",
+                                             "diffuse.pvd", kExportListing,  kRunDescriptionName};
     static const std::set<std::string> probe_files(std::begin(ProbeFiles::kFileNames),
                                                    std::end(ProbeFiles::kFileNames));
     std::vector<std::filesystem::path> earlier;

@@ -1,6 +1,6 @@
 // The files of `aquaform run` besides its frames and exports: run.json (what a tool needs to rebuild
 // the run's world), stats.csv (every frame), front.csv and front.svg (dam breaks), whitewater.svg
-// (with whitewater), and the rule
+// (with whitewater), flow.svg (with emitters or sinks), and the rule
 // for a folder that holds an earlier run.
 #pragma once
 
@@ -41,7 +41,8 @@ public:
     /// The frame's probe readings (probes.csv; nothing without probes).
     Result<bool> write_probes(const ProbeFrame& frame) { return probes_.write_frame(frame); }
     /// The probes' charts (probe_*.svg); with whitewater, whitewater.svg (each kind alive over
-    /// time, and the pool's drops). Dam-break scenes: writes front.svg (the run against Martin & Moyce 1952) and, for a
+    /// time, and the pool's drops); with emitters or sinks, flow.svg (the particles alive, emitted and
+    /// removed over time). Dam-break scenes: writes front.svg (the run against Martin & Moyce 1952) and, for a
     /// single column of height 2a (their n^2 = 2), prints how far the front is from theirs.
     /// Also warns when a control shape pulled for kFillGraceSeconds and never reached an IoU of
     /// kNeverFilledIou with the fluid.
@@ -69,6 +70,17 @@ private:
     bool has_whitewater_ = false;  // the spray, foam, bubbles, whitewater_emitted, whitewater_dropped columns
     Result<bool> write_whitewater_chart(const Scene& scene) const;
     std::vector<std::pair<double, WhitewaterCounts>> whitewater_samples_;  // (time, counts) for whitewater.svg
+    bool has_flow_ = false;                                                // the emitted, removed, not_emitted columns
+    /// flow.svg: the particles alive and the totals that came and went, over time.
+    Result<bool> write_flow_chart(const Scene& scene) const;
+    /// The run's closing line on its water, and a warning when the capacity was full.
+    void say_flow_totals(const Scene& scene) const;
+    struct FlowSample {
+        double time;
+        uint32_t alive;
+        FlowCounts counts;
+    };
+    std::vector<FlowSample> flow_samples_;
     bool has_front_ = false;
     std::vector<std::pair<double, double>> front_samples_;  // (time, front)
     std::string error_;

@@ -8,8 +8,7 @@
 
 namespace aquaform {
 
-DropletCount::DropletCount(gpu::Context& ctx, uint32_t particles, float h2)
-    : ctx_(&ctx), count_(particles), h2_(h2), buffers_(ctx) {
+DropletCount::DropletCount(gpu::Context& ctx, uint32_t particles, float h2) : ctx_(&ctx), h2_(h2), buffers_(ctx) {
     parent_ = &buffers_.add("sim.droplets.parent", uint64_t(particles) * 4);
     sizes_ = &buffers_.add("sim.droplets.sizes", uint64_t(particles) * 4);
     found_ = &buffers_.add("sim.droplets.count", 4, gpu::MemoryUse::host);
@@ -24,8 +23,8 @@ void DropletCount::record_measure(VkCommandBuffer cmd, const StepState& fluid) {
     const NeighborGrid& grid = fluid.grid;
     for (uint32_t phase :
          {DROPLET_INIT, DROPLET_COMPRESS, DROPLET_HOOK, DROPLET_COMPRESS, DROPLET_SIZE, DROPLET_COUNT}) {
-        const DropletPush push{count_, phase, droplet_size_limit(count_), h2_};
-        gpu::dispatch(*ctx_, cmd, pass_, count_, push,
+        const DropletPush push{fluid.count, phase, droplet_size_limit(fluid.count), h2_};
+        gpu::dispatch(*ctx_, cmd, pass_, fluid.count, push,
                       {{"params", &fluid.params},
                        {"x", &fluid.x},
                        {"cell_rank", &grid.cell_rank()},

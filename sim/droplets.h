@@ -12,7 +12,8 @@ namespace aquaform {
 
 class DropletCount : public SolverStage {
 public:
-    /// `h2`: the solver's kernel support squared (two particles within it are linked).
+    /// For up to `particles` (the solver's capacity); `h2`: the solver's kernel support squared (two
+    /// particles within it are linked).
     DropletCount(gpu::Context& ctx, uint32_t particles, float h2);
 
     std::string pass_name() const override { return "sim_droplets"; }
@@ -25,7 +26,6 @@ public:
 
 private:
     gpu::Context* ctx_;
-    uint32_t count_;
     float h2_;
     gpu::BufferSet buffers_;
     gpu::Buffer* parent_ = nullptr;

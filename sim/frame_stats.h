@@ -21,6 +21,13 @@ struct WhitewaterCounts {
     uint32_t live() const { return spray + foam + bubbles; }
 };
 
+/// The water that came and went (sim/fluid_flow.h): particle totals since the start.
+struct FlowCounts {
+    uint64_t emitted = 0;      ///< made by the nozzles
+    uint64_t removed = 0;      ///< taken by the sinks (those marked at this frame's end included)
+    uint64_t not_emitted = 0;  ///< of layers that found the capacity full (or the ids used up)
+};
+
 struct FrameStats {
     double time_s = 0.0;              ///< simulated time at the end of the frame
     double mean_density_error = 0.0;  ///< mean of max(rho/rho0 - 1, 0): compression, the constraint error
@@ -32,12 +39,12 @@ struct FrameStats {
     double dt = 0.0;                      ///< their step [s]
     double cfl_number = 0.0;              ///< max_speed * dt / h at the frame's end (the rule keeps it <= cfl)
     bool speed_capped = false;            ///< the scene's safety cap (solver.max_speed) bound in this frame
-    uint32_t particles = 0;
-    uint32_t outside = 0;          ///< particles outside the domain box (leaked)
-    uint32_t in_solid = 0;         ///< particles whose centre is inside a solid (collision failed)
-    uint32_t non_finite = 0;       ///< particles with NaN or infinite state
-    std::optional<double> front;   ///< dam-break front [m from the wall], when the scene has one
-    double splash_fraction = 0.0;  ///< fraction of the particles with few neighbours (kSplashNeighborFraction)
+    uint32_t particles = 0;               ///< alive at the frame's end (those a sink took then not counted)
+    uint32_t outside = 0;                 ///< particles outside the domain box (leaked)
+    uint32_t in_solid = 0;                ///< particles whose centre is inside a solid (collision failed)
+    uint32_t non_finite = 0;              ///< particles with NaN or infinite state
+    std::optional<double> front;          ///< dam-break front [m from the wall], when the scene has one
+    double splash_fraction = 0.0;         ///< fraction of the particles with few neighbours (kSplashNeighborFraction)
     /// Dam breaks: the highest fluid point on the far wall (domain.max.x), the top of the highest
     /// particle within a spacing of it that is not spray (kSplashNeighborFraction: the sheet
     /// climbing the wall, not droplets flying up it), above the floor [m]; empty when none.
@@ -49,6 +56,7 @@ struct FrameStats {
     double list_overflow_fraction = 0.0;
     std::map<std::string, double> gpu_ms;        ///< GPU time per pass during this frame
     std::optional<WhitewaterCounts> whitewater;  ///< with the scene's whitewater on
+    std::optional<FlowCounts> flow;              ///< with the scene's emitters or sinks
 };
 
 /// A splash particle has fewer fluid neighbours within h than this fraction of a full interior

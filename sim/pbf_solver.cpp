@@ -42,7 +42,7 @@ uint64_t MemoryPlan::total_bytes() const {
 
 Result<MemoryPlan> plan_memory(const Scene& scene, std::optional<uint64_t> particles) {
     MemoryPlan plan;
-    plan.particles = particles.value_or(scene.particle_count());
+    plan.particles = particles.value_or(scene.particle_capacity());
     const float h = scene.solver.kernel_radius_factor * scene.particle_spacing;
     auto grid = grid_for_domain(scene.domain.min, scene.domain.max, h);
     if (!grid) return Error{scene.path.string() + ": " + grid.error()};
@@ -118,11 +118,14 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapsh
                       "; the solver needs at least 1 constraint iteration (4 is usual)");
     // Both are checked before anything is allocated, so a scene too large for the device is bad
     // input (exit 2), named with the fix, not a failure midway.
-    auto plan = plan_memory(scene, start ? std::optional<uint64_t>(start->x.size()) : std::nullopt);
+    auto plan = plan_memory(
+        scene,
+        start ? std::optional<uint64_t>(std::max<uint64_t>(start->x.size(), scene.particle_capacity())) : std::nullopt);
     if (!plan) throw Failure(plan.error());
     auto fits = check_fits(scene, plan.value(), ctx.info());
     if (!fits) throw Failure(fits.error());
-    count_ = static_cast<uint32_t>(plan.value().particles);
+    capacity_ = static_cast<uint32_t>(plan.value().particles);
+    count_ = static_cast<uint32_t>(start ? start->x.size() : scene.particle_count());
     auto boundary = Boundary::build(scene);
     if (!boundary) throw Failure(boundary.error());
     boundary_ = std::make_unique<Boundary>(std::move(boundary.value()));
@@ -139,16 +142,16 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapsh
         last_max_speed_ = std::max(last_max_speed_, double(glm::length(scene.fill_of(b).velocity)));
     set_frame_steps(rule_substeps());
 
-    const uint64_t n = count_;
+    const uint64_t n = capacity_;
     x_ = &buffers_.add(kParticleBuffers[0], n * 16);
     v_ = &buffers_.add(kParticleBuffers[1], n * 16);
     p_ = &buffers_.add(kParticleBuffers[2], n * 16);
     s0_ = &buffers_.add(kParticleBuffers[3], n * 16);
     s1_ = &buffers_.add(kParticleBuffers[4], n * 16);
     density_ = &buffers_.add("sim.density", n * 4);
-    grid_ =
-        std::make_unique<NeighborGrid>(ctx, buffers_, geometry, count_, "sim.grid", params_.neighbor_capacity, "sim_");
-    partials_ = &buffers_.add("sim.stats_partials", uint64_t(stats_groups(count_)) * sizeof(shader::StatsPartial),
+    grid_ = std::make_unique<NeighborGrid>(ctx, buffers_, geometry, capacity_, "sim.grid", params_.neighbor_capacity,
+                                           "sim_");
+    partials_ = &buffers_.add("sim.stats_partials", uint64_t(stats_groups(capacity_)) * sizeof(shader::StatsPartial),
                               gpu::MemoryUse::host);
     params_buf_ = &buffers_.add("sim.params", sizeof(shader::SimParams));
     boundary_->write_params(params_, 0.0);
@@ -165,11 +168,13 @@ PbfSolver::PbfSolver(gpu::Context& ctx, const Scene& scene, const ParticleSnapsh
         attach(probes_.get());
     }
     if (scene.has_whitewater()) {
-        whitewater_ = std::make_unique<Whitewater>(ctx, scene, count_, boundary_->solid_count() > 0);
+        whitewater_ = std::make_unique<Whitewater>(ctx, scene, capacity_, boundary_->solid_count() > 0);
         attach(whitewater_.get());
     }
 
-    using shader::CountPush;
+    if (!scene.emitters.empty() || !scene.sinks.empty())
+        flow_ = std::make_unique<FluidFlow>(ctx, scene, capacity_, count_);  // the nozzles' ids follow the start's
+
     const bool has_solids = boundary_->solid_count() > 0;
     const uint32_t local = gpu::kDefaultLocalSize;
     if (scene.solver.method == PressureMethod::dfsph) add_carry();
@@ -221,6 +226,7 @@ constexpr uint32_t kStartRelaxIterations = 10;  ///< per round, between re-sorts
 // to rest density: PBF's constraint iterations on the positions alone (no gravity, no s_corr,
 // only compression corrected), the velocities kept. A lattice at rest density is not moved.
 void PbfSolver::relax_start() {
+    if (count_ == 0) return sort_start();  // a scene whose water all comes from its nozzles
     shader::SimParams relax = params_;
     relax.dt = 0.0f;       // the sort's p = x + dt v is then x
     relax.scorr_k = 0.0f;  // s_corr pulls a free surface in without end: it is the steps' business
@@ -260,7 +266,7 @@ std::unique_ptr<PressureSolve> make_pressure_solve(gpu::Context& ctx, const Solv
 }
 
 void PbfSolver::add_carry() {
-    if (!carry_) carry_ = &buffers_.add("sim.carry", uint64_t(count_) * 16);
+    if (!carry_) carry_ = &buffers_.add("sim.carry", uint64_t(capacity_) * 16);
     ctx_->submit_and_wait([&](VkCommandBuffer cmd) { gpu::fill(*ctx_, cmd, *carry_, 0u); });
 }
 
@@ -277,6 +283,7 @@ void PbfSolver::set_method(PressureMethod method) {
 
 std::vector<std::string> PbfSolver::enabled_passes() const {
     std::vector<std::string> passes;
+    if (flow_ && flow_->emits()) passes.push_back("sim_emit (the nozzles' new layers, and the hold after the solve)");
     for (const SolverStage* stage : stages_)
         if (stage->place() == StagePlace::before_pressure) passes.push_back(stage->pass_name());
     for (const std::string& pass : pressure_solve_->pass_names()) passes.push_back(pass);
@@ -286,6 +293,7 @@ std::vector<std::string> PbfSolver::enabled_passes() const {
     passes.push_back("sim_stats (once per frame)");
     for (const SolverStage* stage : stages_)
         if (stage->measures_at_frame_end()) passes.push_back(stage->pass_name() + " (once per frame)");
+    if (flow_ && flow_->removes()) passes.push_back("sim_sinks (once per frame)");
     return passes;
 }
 
@@ -309,6 +317,9 @@ bool PbfSolver::stages_measure() const {
 }
 
 void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
+    // The nozzles' new particles first, so that every pass of the step moves them.
+    if (flow_ && flow_->emits())
+        count_ += flow_->record_emit(cmd, *params_buf_, *x_, *v_, carry_, time_ + params_.dt, count_, timer);
     for (SolverStage* stage : stages_)
         if (stage->place() == StagePlace::before_pressure)
             stage->record_step(cmd, fluid_state(time_ + params_.dt, timer));
@@ -317,6 +328,7 @@ void PbfSolver::record_step(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
         record_sort(c, keys, t, &keys == x_);
     };
     pressure_solve_->record_step(cmd, fluid_arrays(), sort, timer);
+    if (flow_ && flow_->emits()) flow_->record_hold(cmd, *x_, *v_, count_, timer);
     for (SolverStage* stage : stages_)
         if (stage->place() == StagePlace::after_pressure)
             stage->record_step(cmd, fluid_state(time_ + params_.dt, timer));
@@ -327,10 +339,13 @@ uint32_t PbfSolver::rule_substeps() const {
     // A moving solid's surface counts as a speed too: it pushes the fluid ahead of it.
     const double solid_speed =
         std::max(boundary_->surface_speed(time_), boundary_->surface_speed(time_ + scene_.solver.frame_dt));
-    return substeps_for_compression(scene_.solver,
-                                    substeps_for_speed(scene_.solver, params_.h, std::max(last_max_speed_, solid_speed),
-                                                       glm::length(scene_.gravity), last_speed_growth_),
-                                    substeps_, last_max_density_error_);
+    // So does a nozzle: its water leaves it at its speed.
+    const double nozzle_speed = flow_ ? flow_->max_speed(time_, time_ + scene_.solver.frame_dt) : 0.0;
+    return substeps_for_compression(
+        scene_.solver,
+        substeps_for_speed(scene_.solver, params_.h, std::max({last_max_speed_, solid_speed, nozzle_speed}),
+                           glm::length(scene_.gravity), last_speed_growth_),
+        substeps_, last_max_density_error_);
 }
 
 bool PbfSolver::set_frame_steps(uint32_t substeps) {
@@ -351,23 +366,39 @@ void PbfSolver::record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_position
     grid_->build(cmd, key_positions, count_, timer);
     {
         gpu::GpuScope s(timer, cmd, "sim_reorder");
-        const shader::ReorderPush push{count_, gather_carry && gathers_carry() ? 1u : 0u, 0u, 0u};
-        gpu::dispatch(*ctx_, cmd, reorder_, count_, push,
-                      {{"params", params_buf_},
-                       {"order", &grid_->order()},
-                       {"x_in", x_},
-                       {"v_in", v_},
-                       {"x_out", s0_},
-                       {"v_out", s1_},
-                       {"p_out", p_},
-                       {"boundary_nodes", boundary_nodes_},
-                       {"pressure", pressure_},
-                       {"carry", carry_ ? carry_ : density_}});
-        std::swap(x_, s0_);
-        std::swap(v_, s1_);
-        if (push.gather_carry) std::swap(carry_, p_);  // the carried state in the new order
+        record_gather(cmd, grid_->order(), count_, gather_carry && gathers_carry());
     }
     grid_->record_neighbor_lists(cmd, lists_of_x ? *x_ : *p_, count_, params_.h, timer);
+}
+
+void PbfSolver::record_gather(VkCommandBuffer cmd, const gpu::Buffer& order, uint32_t count, bool gather_carry) {
+    const shader::ReorderPush push{count, gather_carry ? 1u : 0u, 0u, 0u};
+    gpu::dispatch(*ctx_, cmd, reorder_, count, push,
+                  {{"params", params_buf_},
+                   {"order", &order},
+                   {"x_in", x_},
+                   {"v_in", v_},
+                   {"x_out", s0_},
+                   {"v_out", s1_},
+                   {"p_out", p_},
+                   {"boundary_nodes", boundary_nodes_},
+                   {"pressure", pressure_},
+                   {"carry", carry_ ? carry_ : density_}});
+    std::swap(x_, s0_);
+    std::swap(v_, s1_);
+    if (gather_carry) std::swap(carry_, p_);  // the carried state in the new order
+}
+
+void PbfSolver::record_removal(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
+    const uint32_t kept = count_ - flow_->pending_removal();
+    const gpu::Buffer& order = flow_->record_kept_order(cmd, *x_, count_, timer);
+    gpu::GpuScope s(timer, cmd, "sim_sinks");
+    record_gather(cmd, order, kept, gathers_carry());
+    count_ = kept;
+}
+
+void PbfSolver::record_sink_marks(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
+    if (flow_ && flow_->removes() && count_ > 0) flow_->record_mark(cmd, *x_, count_, timer);
 }
 
 void PbfSolver::run_steps(uint32_t steps, gpu::GpuTimer* timer) {
@@ -424,6 +455,7 @@ void PbfSolver::record_frame(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
         timer->reset(cmd);
     }
     const uint32_t substeps = rule_substeps();  // from the figures collected before this frame
+    if (flow_ && flow_->pending_removal() > 0) record_removal(cmd, timer);
     // A deforming solid is made again once a frame, for the frame's middle (its maps are made on
     // the host); its pose moves every step.
     if (boundary_->deforms() && boundary_->reshape(time_ + 0.5 * scene_.solver.frame_dt))
@@ -441,6 +473,7 @@ void PbfSolver::record_frame(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
         record_sort(cmd, *x_, nullptr, true);
     }
     record_stats(cmd, timer);
+    record_sink_marks(cmd, timer);
 }
 
 void PbfSolver::record_initial_state(VkCommandBuffer cmd, gpu::GpuTimer* timer) {
@@ -453,6 +486,7 @@ void PbfSolver::record_initial_state(VkCommandBuffer cmd, gpu::GpuTimer* timer) 
         record_sort(cmd, *x_, nullptr, true);  // the lists of x that the statistics' density reads
     }
     record_stats(cmd, timer);
+    record_sink_marks(cmd, timer);
     recorded_steps_ = 0;
 }
 
@@ -465,6 +499,10 @@ FrameStats PbfSolver::collect_stats(gpu::GpuTimer* timer) {
     if (scene_.column_width) wall = scene_.domain.min.x - 0.5f * scene_.particle_spacing;
     FrameStats stats = reduce_stats(partials, count_, wall, 0.5f * scene_.particle_spacing - scene_.domain.min.y);
     for (SolverStage* stage : stages_) stage->collect(stats);
+    if (flow_) {
+        stats.particles = count_ - flow_->collect_marked();  // those leave before the next frame
+        stats.flow = flow_->totals();
+    }
     stats.time_s = time_;
     if (timer) stats.gpu_ms = timer->totals_ms();
     stats.substeps = recorded_steps_;
@@ -483,15 +521,22 @@ void PbfSolver::set_measure_droplets(bool on) {
     detach(droplets_.get());
     droplets_.reset();
     if (!on) return;
-    droplets_ = std::make_unique<DropletCount>(*ctx_, count_, params_.h2);
+    droplets_ = std::make_unique<DropletCount>(*ctx_, capacity_, params_.h2);
     attach(droplets_.get());
 }
 
 std::vector<gpu::BufferReport> PbfSolver::memory_report() const {
     std::vector<gpu::BufferReport> report = buffers_.report();
+    if (flow_)
+        for (const gpu::BufferReport& b : flow_->memory_report()) report.push_back(b);
     for (const SolverStage* stage : stages_)
         for (const gpu::BufferReport& b : stage->memory_report()) report.push_back(b);
     return report;
+}
+
+std::string PbfSolver::count_phrase() const {
+    return std::to_string(count_) + " particles" +
+           (flow_ ? " at the start, room for " + std::to_string(capacity_) : std::string());
 }
 
 GridCounts PbfSolver::grid_counts() { return count_grid_work(*ctx_, *grid_, count_); }
@@ -512,6 +557,7 @@ void PbfSolver::set_state(const std::vector<glm::vec4>& x, const std::vector<glm
     if (x.size() != count_ || v.size() != count_)
         throw Failure("PbfSolver::set_state: " + std::to_string(x.size()) + " positions and " +
                       std::to_string(v.size()) + " velocities for " + std::to_string(count_) + " particles");
+    if (flow_) flow_->drop_marks();
     gpu::UploadBatch uploads(*ctx_);  // the uploads join the sort's submission
     gpu::upload(*ctx_, *x_, x.data(), x.size() * sizeof(glm::vec4));
     gpu::upload(*ctx_, *v_, v.data(), v.size() * sizeof(glm::vec4));

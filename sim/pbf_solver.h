@@ -21,6 +21,7 @@
 #include "shaders/shared/sim/pbf_layout.h"
 #include "sim/boundary.h"
 #include "sim/droplets.h"
+#include "sim/fluid_flow.h"
 #include "sim/frame_stats.h"
 #include "sim/pbf_traffic.h"
 #include "sim/pressure_solve.h"
@@ -48,7 +49,7 @@ struct MemoryPlan {
     std::vector<gpu::BufferReport> buffers;
     uint64_t total_bytes() const;
 };
-/// `particles`: the count to plan for when it is not the scene's own (a solver started from
+/// `particles`: the count to plan for when it is not the scene's capacity (a solver started from
 /// particles of its own: PbfSolver's `start`).
 Result<MemoryPlan> plan_memory(const Scene& scene, std::optional<uint64_t> particles = std::nullopt);
 /// Checks a plan against a device: total against its device-local memory, each buffer against
@@ -100,7 +101,8 @@ public:
     /// Statistics of the current state (runs the density and reduction passes).
     FrameStats measure(gpu::GpuTimer* timer);
     ParticleSnapshot snapshot();
-    /// Replaces the particle state (tests); sizes must match particle_count().
+    /// Replaces the particle state (tests); sizes must match particle_count(). Marks of a sink
+    /// on the old state are dropped.
     void set_state(const std::vector<glm::vec4>& x, const std::vector<glm::vec4>& v);
 
     /// Adds `stage` to every following step, at its place after the stages already there (the
@@ -115,7 +117,16 @@ public:
     void set_method(PressureMethod method);
     PressureMethod method() const { return scene_.solver.method; }
 
+    /// The particles alive in the arrays: changes with the scene's emitters (every step) and
+    /// sinks (at a frame's start), known whenever a frame is recorded.
     uint32_t particle_count() const { return count_; }
+    /// The slots every per-particle buffer has (Scene::particle_capacity): what a renderer or
+    /// anything else that follows the particles is made for.
+    uint32_t capacity() const { return capacity_; }
+    /// "N particles", or with emitters or sinks "N particles at the start, room for C".
+    std::string count_phrase() const;
+    /// The scene's emitters and sinks (nullptr without).
+    const FluidFlow* flow() const { return flow_.get(); }
     gpu::Context& context() const { return *ctx_; }
     /// Steps of the last frame (before the first: the scene's least substeps).
     uint32_t substeps() const { return substeps_; }
@@ -169,6 +180,13 @@ private:
     /// `gather_carry` is false (the start's relaxation, which projects p).
     void record_sort(VkCommandBuffer cmd, const gpu::Buffer& key_positions, gpu::GpuTimer* timer,
                      bool lists_of_x = false, bool gather_carry = true);
+    /// Gathers x, v (and the carried state, with `gather_carry`) into `order`'s first `count`
+    /// particles; p is the prediction of the gathered x and v.
+    void record_gather(VkCommandBuffer cmd, const gpu::Buffer& order, uint32_t count, bool gather_carry);
+    /// The frame's start: the particles a sink took at the last frame's end leave the arrays.
+    void record_removal(VkCommandBuffer cmd, gpu::GpuTimer* timer);
+    /// A frame's end: the sinks mark what they take (and the frame's statistics count it).
+    void record_sink_marks(VkCommandBuffer cmd, gpu::GpuTimer* timer);
     /// Allocates the carried state (DFSPH's warm start) if it is not there, and zeroes it.
     void add_carry();
     bool gathers_carry() const;
@@ -195,6 +213,7 @@ private:
     gpu::Context* ctx_;
     Scene scene_;
     uint32_t count_ = 0;
+    uint32_t capacity_ = 0;
     double time_ = 0.0;
     shader::SimParams params_{};
     uint32_t substeps_ = 1;
@@ -212,6 +231,7 @@ private:
     gpu::Buffer* boundary_nodes_;
     std::unique_ptr<ProbeRecorder> probes_;
     std::unique_ptr<DropletCount> droplets_;
+    std::unique_ptr<FluidFlow> flow_;  ///< the scene's emitters and sinks
     /// Every stage of a step and a frame, in order: the scene's own (probes_, whitewater_,
     /// droplets_), then those attached.
     std::vector<SolverStage*> stages_;

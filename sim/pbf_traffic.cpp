@@ -55,6 +55,23 @@ std::vector<PassTraffic> dfsph_step_traffic(const GridCounts& c, const StepShape
 
 }  // namespace
 
+PassTraffic emission_traffic(uint64_t particles, uint64_t emitted, uint64_t held) {
+    // flow_emit: each new particle's x and v stored (a lattice offset and its layer read);
+    // flow_hold: every particle's x read, the held's x and v stored.
+    const uint64_t bytes = emitted * (8 + 80 + 2 * 16) + particles * 16 + held * 2 * 16;
+    return {"sim_emit", 1, bytes, bytes};
+}
+
+PassTraffic removal_traffic(uint64_t particles, uint64_t kept) {
+    // flow_sinks' mark: x read, keep and rank stored; the scan of the ranks; its order: keep and
+    // rank read, the kept's order stored; the gather (pbf_reorder) of the kept.
+    PassTraffic scan = prefix_sum_traffic(particles, "sim_sinks");
+    const uint64_t own = particles * (16 + 4 + 4) + particles * (4 + 4) + kept * 4 + kept * (4 + 2 * 16 + 3 * 16);
+    scan.bytes += own;
+    scan.unique_bytes += own;
+    return scan;
+}
+
 std::vector<PassTraffic> step_traffic(const GridCounts& c, const StepShape& shape) {
     if (shape.method == PressureMethod::dfsph) return dfsph_step_traffic(c, shape);
     const uint64_t n = c.particles;

@@ -30,6 +30,14 @@ inline StepShape step_shape(const SolverSettings& settings) {
 /// Per-pass traffic of one step at the grid's state `counts` (its lists as the step fills them).
 std::vector<PassTraffic> step_traffic(const GridCounts& counts, const StepShape& shape);
 
+/// The emitters' passes of one step (sim/fluid_flow.h) with `particles` alive: sim_emit, the
+/// emission of `emitted` particles and the hold, which reads every particle's id and puts the
+/// `held` back on their lattice.
+PassTraffic emission_traffic(uint64_t particles, uint64_t emitted, uint64_t held);
+/// The sinks' passes of one frame: sim_sinks, the mark and the prefix sum at its end, and the
+/// compaction at the next frame's start of the `kept` of `particles` (the kept order and the gather).
+PassTraffic removal_traffic(uint64_t particles, uint64_t kept);
+
 /// Sums of a model's passes.
 uint64_t total_bytes(const std::vector<PassTraffic>& passes);
 uint64_t total_unique_bytes(const std::vector<PassTraffic>& passes);

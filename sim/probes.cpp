@@ -58,7 +58,7 @@ ProbeRecorder::ProbeRecorder(gpu::Context& ctx, const Scene& scene, const std::v
     const uint64_t per_step = spec_.sensors.size() + uint64_t(spec_.gauges.size()) * samples_per_gauge_;
     readings_ = &buffers_.add("sim.probes.readings", std::max<uint64_t>(per_step * max_steps_, 1) * sizeof(float),
                               gpu::MemoryUse::host);
-    const uint64_t count = scene.particle_count();
+    const uint64_t count = scene.particle_capacity();
     partials_ = &buffers_.add(
         "sim.probes.loads",
         std::max<uint64_t>(uint64_t(force_groups(uint32_t(count))) * solid_names_.size() * 2, 1) * sizeof(glm::vec4),

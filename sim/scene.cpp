@@ -24,10 +24,10 @@ namespace {
 
 using namespace json_fields;
 
-constexpr std::string_view kTopKeys[] = {"name",         "domain",       "particle_spacing", "rest_density",
-                                         "gravity",      "fluid_blocks", "static_boxes",     "frames",
-                                         "column_width", "solver",       "control",          "camera",
-                                         "event_frame",  "obstacles",    "probes",           "whitewater"};
+constexpr std::string_view kTopKeys[] = {
+    "name",   "domain",       "particle_spacing", "rest_density", "gravity", "fluid_blocks", "static_boxes",
+    "frames", "column_width", "solver",           "control",      "camera",  "event_frame",  "obstacles",
+    "probes", "whitewater",   "emitters",         "sinks",        "capacity"};
 constexpr std::string_view kSolverKeys[] = {"frame_dt",   "substeps",           "iterations", "kernel_radius_factor",
                                             "relaxation", "viscosity",          "vorticity",  "scorr_k",
                                             "scorr_n",    "scorr_dq",           "cfl",        "max_substeps",
@@ -254,7 +254,12 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
     require(j, "name", top, "\"name\": \"dam break\"");
     require(j, "domain", top, "\"domain\": {\"min\": [0, 0, 0], \"max\": [1.6, 0.8, 0.2]}");
     require(j, "particle_spacing", top, "\"particle_spacing\": 0.02");
-    require(j, "fluid_blocks", top, "\"fluid_blocks\": [" + std::string(kBlockExample) + "]");
+    // A scene whose water all comes from its nozzles may start empty.
+    if (!j.contains("fluid_blocks") && !j.contains("emitters"))
+        fail(
+            "missing required key \"fluid_blocks\" at top level (and no \"emitters\" bring the water); add it, "
+            "e.g. \"fluid_blocks\": [" +
+            std::string(kBlockExample) + "], or \"emitters\"");
 
     Scene scene;
     const json& name = j["name"];
@@ -289,7 +294,7 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
                     "the solver keeps its solids in a fixed table; merge neighbouring boxes");
         scene.static_boxes = read_boxes(j["static_boxes"], "static_boxes", scene.domain);
     }
-    const json& blocks = j["fluid_blocks"];
+    const json& blocks = j.contains("fluid_blocks") ? j["fluid_blocks"] : json::array();
     if (!blocks.is_array())
         fail("fluid_blocks must be an array of blocks such as [" + std::string(kBlockExample) + "], got " +
              written(blocks) + " (" + kind_of(blocks) + ")");
@@ -307,8 +312,9 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
             fail("event_frame is " + written(j["event_frame"]) + ", past the scene's " + std::to_string(scene.frames) +
                  " frames; give a frame from 0 to " + std::to_string(scene.frames) + " or raise \"frames\"");
     }
-    if (scene.fluid_blocks.empty())
-        fail("fluid_blocks is [] (empty); add at least one block, e.g. [" + std::string(kBlockExample) + "]");
+    if (scene.fluid_blocks.empty() && !j.contains("emitters"))
+        fail("fluid_blocks is [] (empty); add at least one block, e.g. [" + std::string(kBlockExample) +
+             "], or an emitter that brings the water (\"emitters\")");
 
     for (size_t i = 0; i < scene.fluid_blocks.size(); ++i) {
         const Box& b = scene.fluid_blocks[i];
@@ -338,6 +344,8 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
         scene.obstacles = read_obstacles(j["obstacles"], scene, base_dir, PBF_MAX_SOLIDS - scene.static_boxes.size());
     if (j.contains("probes")) scene.probes = read_probes(j["probes"], scene);
     if (j.contains("whitewater")) scene.whitewater = read_whitewater(j["whitewater"]);
+    if (j.contains("emitters")) scene.emitters = read_emitters(j["emitters"], scene);
+    if (j.contains("sinks")) scene.sinks = read_sinks(j["sinks"], scene, scene.emitters);
 
     if (j.contains("column_width")) {
         const json& cw = j["column_width"];
@@ -366,6 +374,15 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
         fail("the fluid blocks hold " + (count < 1000000000000ull ? std::to_string(count) : fmt(double(count))) +
              " particles at particle_spacing " + written(j["particle_spacing"]) + ", more than the limit of " +
              std::to_string(kMaxSceneParticles) + "; increase particle_spacing or shrink fluid_blocks");
+    if (j.contains("capacity")) {
+        scene.capacity = read_integer(j["capacity"], "capacity", uint32_t(std::max<uint64_t>(count, 1)),
+                                      uint32_t(kMaxSceneParticles));
+    } else if (const uint64_t capacity = scene.particle_capacity(); capacity > kMaxSceneParticles) {
+        fail("the emitters would make " + fmt(double(capacity - count)) + " particles over the scene's " +
+             std::to_string(scene.frames) + " frames, more than the limit of " + std::to_string(kMaxSceneParticles) +
+             " particles; set \"capacity\" (a nozzle stops while the fluid fills it, and the run says so), add a "
+             "sink, or shorten the nozzles' run (\"stop\")");
+    }
     return scene;
 }
 
@@ -380,7 +397,32 @@ uint64_t Scene::particle_count() const {
         total = n > std::numeric_limits<uint64_t>::max() - total ? std::numeric_limits<uint64_t>::max() : total + n;
     }
     // Only a count the solver could hold is worth the inside test's time.
-    return total > kMaxSceneParticles || obstacles.empty() ? total : total - particles_in_solids();
+    if (total > kMaxSceneParticles || (obstacles.empty() && emitters.empty())) return total;
+    uint64_t not_started = 0;
+    for_each_block_point(*this, [&](const glm::vec3& p, size_t) { not_started += starts_empty(p) ? 1 : 0; });
+    return total - not_started;
+}
+
+bool Scene::starts_empty(const glm::vec3& p) const {
+    if (!obstacles.empty() && inside_start_solid(obstacles, p)) return true;
+    return std::any_of(emitters.begin(), emitters.end(),
+                       [&](const EmitterSpec& e) { return e.holds(p, particle_spacing, kernel_radius()); });
+}
+
+uint64_t Scene::sized_particle_count() const { return emitters.empty() ? particle_count() : particle_capacity(); }
+
+uint64_t Scene::particle_capacity() const {
+    if (capacity) return *capacity;
+    uint64_t total = particle_count();
+    const double end = double(frames) * solver.frame_dt;
+    for (const EmitterSpec& e : emitters) {
+        const NozzleLattice lattice = nozzle_lattice(e, particle_spacing);
+        const double layers = std::floor(e.distance_at(end) / lattice.layer_spacing) + 1.0;
+        const double made = layers * double(lattice.offsets.size());
+        total = made >= double(std::numeric_limits<uint64_t>::max() - total) ? std::numeric_limits<uint64_t>::max()
+                                                                             : total + uint64_t(made);
+    }
+    return total;
 }
 
 uint64_t Scene::particles_in_solids() const {
@@ -397,7 +439,7 @@ void Scene::generate_particles(std::vector<glm::vec4>& positions, std::vector<ui
     positions.reserve(total);  // throws std::length_error for absurd counts instead of looping forever
     block_of.reserve(total);
     for_each_block_point(*this, [&](const glm::vec3& p, size_t block) {
-        if (!obstacles.empty() && inside_start_solid(obstacles, p)) return;
+        if (starts_empty(p)) return;
         positions.emplace_back(p, 0.0f);
         block_of.push_back(static_cast<uint32_t>(block));
     });
@@ -408,21 +450,28 @@ Result<Scene> with_particle_count(const Scene& scene, uint64_t particles, const 
         return Error{flag + " " + std::to_string(particles) + " is out of range; ask for " +
                      std::to_string(kMinSceneParticles) + " to " + std::to_string(kMaxSceneParticles) + " particles"};
     Scene out = scene;
-    const uint64_t now = scene.particle_count();
+    const uint64_t now = scene.sized_particle_count();
     if (now == 0) return Error{flag + ": " + scene.name + " holds no particle to scale; give its fluid blocks a size"};
+    // A capacity the scene gives is in particles of its own spacing: it scales with the count.
+    const auto at_spacing = [&](Scene& s, double spacing) {
+        s.particle_spacing = float(spacing);
+        if (scene.capacity)
+            s.capacity =
+                uint64_t(std::llround(double(*scene.capacity) * std::pow(scene.particle_spacing / spacing, 3.0)));
+        return s.sized_particle_count();
+    };
     // The count goes as spacing^-3; a few corrections absorb the lattice's rounding at the blocks' faces.
     double spacing = scene.particle_spacing * std::cbrt(double(now) / double(particles));
     float best = scene.particle_spacing;
     double best_error = INFINITY;
     for (int round = 0; round < 8; ++round) {
-        out.particle_spacing = float(spacing);
-        const uint64_t n = out.particle_count();
+        const uint64_t n = at_spacing(out, spacing);
         const double error = std::abs(double(n) - double(particles)) / double(particles);
         if (error < best_error) best_error = error, best = out.particle_spacing;
         if (error < 0.005 || n == 0) break;
         spacing *= std::cbrt(double(n) / double(particles));
     }
-    out.particle_spacing = best;
+    at_spacing(out, best);
     // Every block that holds fluid must keep some: a coarser lattice can miss a small block
     // (droplet_curtain's 60 droplets at 4000 particles) and the scene would lose it silently.
     auto loses_a_block = [&](double spacing, size_t* which) {
@@ -442,16 +491,19 @@ Result<Scene> with_particle_count(const Scene& scene, uint64_t particles, const 
         double keep = scene.particle_spacing;
         while (keep < 64.0 * scene.particle_spacing && !loses_a_block(keep * 1.005, nullptr)) keep *= 1.005;
         Scene kept = scene;
-        kept.particle_spacing = float(keep);
-        const uint64_t keeps = kept.particle_count();
+        const uint64_t keeps = at_spacing(kept, keep);
         if (std::abs(double(keeps) - double(particles)) <= 0.1 * double(particles)) return kept;
         return Error{flag + " " + std::to_string(particles) + " cannot be met by " + scene.name + ": fluid_blocks[" +
                      std::to_string(lost) + "] (and any as small) would hold no particle at that size; at least " +
                      std::to_string(keeps) + " particles keep every block"};
     }
-    if (out.particle_count() == 0 || best_error > 0.5)
+    if (out.sized_particle_count() == 0 || best_error > 0.5)
         return Error{flag + " " + std::to_string(particles) + " cannot be met by " + scene.name +
                      ": its thinnest fluid block holds no particle at that size; ask for more particles"};
+    for (const EmitterSpec& e : out.emitters)
+        if (const std::string small = nozzle_too_small(e, out.particle_spacing); !small.empty())
+            return Error{flag + " " + std::to_string(particles) + " makes the particles of " + scene.name +
+                         " too coarse for emitters." + e.name + ": " + small + "; ask for more particles"};
     // A finer spacing is a shorter step's reach: speeds the scene's own spacing carried may not be.
     if (const std::string fast = speed_beyond_step_rule(out, "at " + flag + " " + std::to_string(particles));
         !fast.empty())
@@ -484,6 +536,9 @@ std::string speed_beyond_step_rule(const Scene& scene, const std::string& at) {
     for (const ObstacleSpec& o : scene.obstacles)
         if (o.max_speed > limit)
             return refuse("obstacles." + o.name + " moves at up to", o.max_speed, "slow its animation down");
+    for (const EmitterSpec& e : scene.emitters)
+        if (const float speed = e.max_speed(0.0, HUGE_VAL); speed > limit)
+            return refuse("emitters." + e.name + " emits at up to", speed, "give the nozzle a slower speed");
     return {};
 }
 

@@ -14,6 +14,7 @@
 #include "core/camera.h"
 #include "core/result.h"
 #include "sim/block_fill.h"
+#include "sim/flow_spec.h"
 #include "sim/probe_spec.h"
 #include "sim/scene_basics.h"
 #include "sim/whitewater_spec.h"
@@ -60,6 +61,13 @@ struct Scene : SceneBasics {
     std::vector<BlockFill> block_fills;  ///< per fluid block; a block without one is a box at rest
     /// What the scene measures every step (its "probes" key): gauges, sensors, forces.
     std::optional<ProbeSpec> probes;
+    /// Nozzles that add water during the run and volumes that take it away (its "emitters" and
+    /// "sinks" keys; sim/fluid_flow.h).
+    std::vector<EmitterSpec> emitters;
+    std::vector<SinkSpec> sinks;
+    /// The particles the solver makes room for (its "capacity" key); without it, the start's
+    /// particles and all the emitters make over the scene's frames (particle_capacity()).
+    std::optional<uint64_t> capacity;
     /// Spray, foam and bubbles made from the flow (its "whitewater" key; sim/whitewater.h).
     std::optional<WhitewaterSettings> whitewater;
     bool has_whitewater() const { return whitewater && whitewater->enabled; }
@@ -85,8 +93,17 @@ struct Scene : SceneBasics {
     }
     /// Number of particles the fluid blocks produce, each block's volume over spacing^3
     /// (sim/block_fill.h; in 64 bits so that absurd spacings are caught before any allocation),
-    /// less those that would start inside an obstacle.
+    /// less those that start empty (starts_empty).
     uint64_t particle_count() const;
+    /// The slots the solver allocates: the "capacity" key, or the start's particles and every
+    /// particle the emitters make over `frames` (saturated at 2^64 - 1).
+    uint64_t particle_capacity() const;
+    /// What `--particles` sizes (with_particle_count): the start's particles, or with emitters the
+    /// capacity.
+    uint64_t sized_particle_count() const;
+    /// Whether a fluid block's lattice point is left empty at t = 0: inside an obstacle, or in a
+    /// nozzle's hold (the water the nozzle itself places there: EmitterSpec::holds).
+    bool starts_empty(const glm::vec3& p) const;
     /// Lattice points of the fluid blocks that stand inside an obstacle at t = 0, which are not
     /// started (the commands say how many).
     uint64_t particles_in_solids() const;

@@ -131,7 +131,7 @@ std::vector<glm::vec4> particles_at_event(gpu::Context& ctx, const Scene& scene,
     }
     const uint64_t wanted =
         scene.control_json ? kControlParticles : std::max<uint64_t>(kParticles, kParticleFrames / frame);
-    auto scaled = with_particle_count(scene, std::min(scene.particle_count(), wanted));
+    auto scaled = with_particle_count(scene, std::min(scene.sized_particle_count(), wanted));
     EXPECT_TRUE(scaled.ok()) << scaled.error();
     if (!scaled) return x;
     auto plan = session::plan_session(scaled.value());

@@ -29,7 +29,7 @@ void check_view_fits(gpu::Context& ctx, const Scene& scene, const MethodSettings
     if (auto fits = check_fits(scene, plan_bytes.value(), ctx.info()); !fits) throw Failure(fits.error());
     const PictureSize picture = picture_of_window(width, height, picture_scale);
     render_registry().create(ctx, scene.particle_domain(), picture.width, picture.height,
-                             uint32_t(scene.particle_count()), method);
+                             uint32_t(scene.particle_capacity()), method);
 }
 
 std::filesystem::path shader_watch_dir(const std::optional<std::filesystem::path>& given, std::string* warning) {

@@ -239,14 +239,14 @@ struct ViewWorker::Sim {
     /// The renderer of `c`'s method, configured with its settings.
     Renderer& renderer(const ViewControls& c) {
         const MethodSettings settings = method_settings(c);
-        // A renderer is sized for its particles: a dropped obstacle or a reset changes their count.
-        if (solver->particle_count() != render_particles) {
+        // A renderer is sized for the solver's capacity: a dropped obstacle or a reset changes it.
+        if (solver->capacity() != render_particles) {
             renderers.clear();
-            render_particles = solver->particle_count();
+            render_particles = solver->capacity();
         }
         auto& r = renderers[render_registry().find(c.method)->family];
         if (!r)
-            r = render_registry().create(ctx, scene.particle_domain(), render_w, render_h, solver->particle_count(),
+            r = render_registry().create(ctx, scene.particle_domain(), render_w, render_h, solver->capacity(),
                                          settings);
         else
             r->configure(settings);
