@@ -69,6 +69,18 @@ ViewCamera read_view_camera(const json& v, const std::string& path);
 /// boxes the solver holds in a fixed table, lists that are checked pairwise).
 void check_count(const json& v, const std::string& path, size_t max, const std::string& fix);
 
+/// Reads an object of named entries ({"H1": {...}, "H2": {...}}) at `path`, read(name, entry,
+/// path.name) each; refuses anything else (naming `example`) and more than `max` entries (naming
+/// the `fix`).
+template <typename Read>
+void read_named(const json& v, const std::string& path, size_t max, const std::string& example, const std::string& fix,
+                Read read) {
+    if (!v.is_object()) fail(path + " must be an object of named entries, e.g. " + example + ", got " + written(v));
+    if (v.size() > max)
+        fail(path + " has " + std::to_string(v.size()) + " entries; at most " + std::to_string(max) + " " + fix);
+    for (const auto& [name, entry] : v.items()) read(name, entry, path + "." + name);
+}
+
 /// The most any aquaform JSON file may hold; parse_strict refuses more (see check_shape).
 constexpr size_t kMaxJsonBytes = size_t(16) << 20;
 constexpr size_t kMaxJsonDepth = 64;

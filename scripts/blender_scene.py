@@ -69,6 +69,10 @@ MAX_SAMPLES = 4096
 EXIT_RUNTIME, EXIT_BAD_INPUT, EXIT_INTERRUPTED = 1, 2, 130
 
 
+# A frame without water (a scene whose nozzles have not started, or whose sinks took it all): the
+# surface export writes its header alone, and the frame shows no surface.
+EMPTY_SURFACE = re.compile(rb"# aquaform [^\n]*: 0 vertices, 0 triangles\s*$")
+
 def leave(message, status):
     """One line on stderr and Blender's exit status: os._exit, since in Blender's window a
     SystemExit only ends the script (blender -b would pass sys.exit's status on; this does both)."""
@@ -326,7 +330,7 @@ def check_file_kind(path):
         problem = "is not an OpenVDB file"
     elif kind == "ply" and not re.match(rb"ply\r?\n", head):
         problem = "is not a PLY file"
-    elif kind == "obj" and (b"\0" in head or not re.search(rb"(^|\n)v\s", head)):
+    elif kind == "obj" and (b"\0" in head or not (re.search(rb"(^|\n)v\s", head) or EMPTY_SURFACE.match(head))):
         problem = "is not an OBJ mesh (no vertex lines)"
     else:
         return
@@ -537,6 +541,12 @@ def to_blender(up):
 
 
 def import_mesh(path):
+    with open(path, "rb") as f:
+        if EMPTY_SURFACE.match(f.read(4096)):  # no water that frame: an empty mesh keeps its place
+            name = os.path.splitext(os.path.basename(path))[0]
+            obj = bpy.data.objects.new(name, bpy.data.meshes.new(name))
+            bpy.context.scene.collection.objects.link(obj)
+            return obj
     before = set(bpy.data.objects)
     if path.lower().endswith(".obj"):
         # Keep the file's coordinates (forward y, up z is no turn); the run's turn is applied below.

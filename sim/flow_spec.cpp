@@ -17,17 +17,9 @@ constexpr std::string_view kEmitterKeys[] = {"position", "direction", "radius", 
                                              "height",   "speed",     "start",  "stop"};
 constexpr std::string_view kSinkKeys[] = {"box", "plane"};
 constexpr std::string_view kPlaneKeys[] = {"point", "normal"};
+constexpr const char* kTableFix = "fit the solver's table: merge neighbouring ones";
 constexpr const char* kEmitterExample =
     "{\"tap\": {\"position\": [0.3, 0.5, 0.3], \"direction\": [0, -1, 0], \"radius\": 0.01, \"speed\": 1.0}}";
-
-template <typename Read>
-void read_named(const json& v, const std::string& path, size_t max, const std::string& example, Read read) {
-    if (!v.is_object()) fail(path + " must be an object of named entries, e.g. " + example + ", got " + written(v));
-    if (v.size() > max)
-        fail(path + " has " + std::to_string(v.size()) + " entries; at most " + std::to_string(max) +
-             " fit the solver's table: merge neighbouring ones");
-    for (const auto& [name, entry] : v.items()) read(name, entry, path + "." + name);
-}
 
 glm::vec3 read_unit(const json& v, const std::string& path) {
     const glm::vec3 d = read_vec3(v, path, "a direction [x, y, z]");
@@ -277,7 +269,7 @@ NozzleLattice nozzle_lattice(const EmitterSpec& e, float s) {
 
 std::vector<EmitterSpec> read_emitters(const json& v, const SceneBasics& scene) {
     std::vector<EmitterSpec> emitters;
-    read_named(v, "emitters", kMaxEmitters, kEmitterExample,
+    read_named(v, "emitters", kMaxEmitters, kEmitterExample, kTableFix,
                [&](const std::string& name, const json& e, const std::string& path) {
                    emitters.push_back(read_emitter(name, e, path, scene));
                });
@@ -288,7 +280,7 @@ std::vector<SinkSpec> read_sinks(const json& v, const SceneBasics& scene, const 
     std::vector<SinkSpec> sinks;
     const Box& d = scene.domain;
     read_named(
-        v, "sinks", kMaxSinks, "{\"drain\": {\"box\": {\"min\": [0, 0, 0], \"max\": [0.1, 0.05, 0.1]}}}",
+        v, "sinks", kMaxSinks, "{\"drain\": {\"box\": {\"min\": [0, 0, 0], \"max\": [0.1, 0.05, 0.1]}}}", kTableFix,
         [&](const std::string& name, const json& s, const std::string& path) {
             if (!s.is_object() || s.size() != 1)
                 fail(path +

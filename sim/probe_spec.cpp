@@ -18,6 +18,7 @@ using namespace json_fields;
 constexpr std::string_view kProbeKeys[] = {"gauges", "sensors", "forces"};
 constexpr std::string_view kGaugeKeys[] = {"x", "z"};
 constexpr std::string_view kSensorKeys[] = {"position", "size"};
+constexpr const char* kProbeFix = "are measured on the GPU: keep the ones you chart";
 
 /// The distance from p to the nearest solid surface: the tank's walls and floor, the static boxes,
 /// the obstacles as they stand at t = 0.
@@ -30,15 +31,6 @@ float distance_to_solids(const SceneBasics& scene, const glm::vec3& p) {
     return nearest;
 }
 
-template <typename Read>
-void read_named(const json& v, const std::string& path, size_t max, const std::string& example, Read read) {
-    if (!v.is_object()) fail(path + " must be an object of named entries, e.g. " + example + ", got " + written(v));
-    if (v.size() > max)
-        fail(path + " has " + std::to_string(v.size()) + " entries; at most " + std::to_string(max) +
-             " are measured on the GPU: keep the ones you chart");
-    for (const auto& [name, entry] : v.items()) read(name, entry, path + "." + name);
-}
-
 }  // namespace
 
 ProbeSpec read_probes(const json& v, const SceneBasics& scene) {
@@ -48,7 +40,7 @@ ProbeSpec read_probes(const json& v, const SceneBasics& scene) {
     ProbeSpec spec;
     const Box& d = scene.domain;
     if (v.contains("gauges"))
-        read_named(v["gauges"], "probes.gauges", PROBE_MAX_GAUGES, "{\"H1\": {\"x\": 0.5, \"z\": 0.5}}",
+        read_named(v["gauges"], "probes.gauges", PROBE_MAX_GAUGES, "{\"H1\": {\"x\": 0.5, \"z\": 0.5}}", kProbeFix,
                    [&](const std::string& name, const json& g, const std::string& path) {
                        if (!g.is_object())
                            fail(path + " must be {\"x\": ..., \"z\": ...} (a vertical line), got " + written(g));
@@ -64,7 +56,7 @@ ProbeSpec read_probes(const json& v, const SceneBasics& scene) {
                    });
     if (v.contains("sensors"))
         read_named(
-            v["sensors"], "probes.sensors", PROBE_MAX_SENSORS, "{\"P1\": {\"position\": [0.8, 0.02, 0.5]}}",
+            v["sensors"], "probes.sensors", PROBE_MAX_SENSORS, "{\"P1\": {\"position\": [0.8, 0.02, 0.5]}}", kProbeFix,
             [&](const std::string& name, const json& s, const std::string& path) {
                 if (!s.is_object())
                     fail(path + " must be {\"position\": [x, y, z], \"size\": 0.009}, got " + written(s));

@@ -527,6 +527,29 @@ TEST(ToolsBlenderScene, PlacesTheRunsObstaclesAsTheyStandAtEachFrame) {
     EXPECT_GT(after, before + 20.0) << "the block moved right by about 60 % of the tank";
 }
 
+TEST(ToolsBlenderScene, ARunThatStartsEmptyShowsNoWaterThenTheNozzlesWater) {
+    // A tap into an empty tank: frame 0's surface export holds no water, and Blender shows the
+    // water as it arrives (the scene's count changes from frame to frame).
+    const fs::path dir = work_dir("scene_tap");
+    test_cli::write_file(dir / "scene.json",
+                         R"({"name": "tap", "domain": {"min": [0, 0, 0], "max": [0.4, 0.4, 0.4]},
+        "particle_spacing": 0.02, "emitters": {"tap": {"position": [0.2, 0.3, 0.2], "direction": [0, -1, 0],
+        "radius": 0.06, "speed": 1.0}}})");
+    const fs::path run = dir / "run";
+    const auto o = test_cli::run_aquaform_split(
+        "run '" + (dir / "scene.json").string() + "' --out '" + run.string() + "' --no-png --frames 13 --mesh-every 12",
+        dir, 300);
+    ASSERT_EQ(o.exit_code, 0) << o.err;
+    const fs::path prefix = dir / "scene_";
+    const std::string command = "blender -b --factory-startup -P '" + kSource + "/scripts/blender_scene.py' -- '" +
+                                run.string() + "' --render '" + prefix.string() +
+                                "' --resolution 64x36 --frames 0:12:12 --samples 4";
+    const auto c = run_command(command, dir, "blender_scene_tap");
+    ASSERT_EQ(c.status, 0) << command << "\n" << c.err;
+    EXPECT_LT(water_pixels(prefix.string() + "0000.png"), 5) << "water drawn before the tap made any";
+    EXPECT_GT(water_pixels(prefix.string() + "0012.png"), 20) << "the tap's water is not drawn";
+}
+
 /// Pixels of `with` that are near-neutral and brighter than in `without` by more than 40 of 255 in
 /// every channel: what blender_scene.py's white whitewater adds to a picture (-1: not comparable).
 long whiter_pixels(const fs::path& with, const fs::path& without) {
