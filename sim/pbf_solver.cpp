@@ -77,7 +77,12 @@ Result<bool> check_fits(const Scene& scene, const MemoryPlan& plan, const gpu::D
     // The fix names the count that fits: every limit below scales with the particle count.
     auto fix = [&](double fraction) {
         const std::string fit = std::to_string(uint64_t(double(n) * std::min(1.0, fraction) * 0.98));
-        return "; at most about " + fit + " particles fit: ask for them with --particles " + fit +
+        // A scene with emitters is as large as the room it makes for them: its capacity.
+        const bool by_capacity = scene.capacity || !scene.emitters.empty();
+        return "; at most about " + fit + " particles fit: " +
+               (by_capacity
+                    ? "set the scene's \"capacity\" to " + fit + " (the room the solver makes for the emitters' water)"
+                    : "ask for them with --particles " + fit) +
                (scene.path.empty() ? std::string()
                                    : " or increase the scene's particle_spacing (now " + std::string(spacing) +
                                          " m; doubling it divides the particle count by 8)");

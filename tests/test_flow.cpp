@@ -9,6 +9,7 @@
 #include <numbers>
 #include <set>
 
+#include "gpu/context.h"
 #include "sim/flow_schedule.h"
 #include "sim/pbf_solver.h"
 #include "tests/cli_helpers.h"
@@ -179,6 +180,18 @@ TEST(FlowSpec, BadEmittersAndSinksAreRefusedNamingTheKeyAndTheFix) {
         const std::string error = parse_error(json);
         for (const std::string& word : c.words) EXPECT_NE(error.find(word), std::string::npos) << error;
     }
+}
+
+TEST_F(FlowTest, ACapacityTooLargeForTheDeviceIsRefusedNamingTheKey) {
+    const Scene scene = parse_ok(tank(std::string(kTap) + R"(, "capacity": 16000000)"));
+    auto plan = plan_memory(scene);
+    ASSERT_TRUE(plan.ok()) << plan.error();
+    EXPECT_EQ(plan.value().particles, 16000000u);
+    gpu::DeviceInfo small = ctx().info();
+    small.device_local_bytes = uint64_t(1) << 30;  // a 1 GiB device
+    const auto fits = check_fits(scene, plan.value(), small);
+    ASSERT_FALSE(fits.ok());
+    EXPECT_NE(fits.error().find("\"capacity\""), std::string::npos) << fits.error();
 }
 
 TEST(FlowSpec, AScenesWaterMayAllComeFromItsNozzles) {
