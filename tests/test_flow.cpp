@@ -318,6 +318,37 @@ TEST_F(FlowTest, ASinkRemovesExactlyWhatEntersItAndKeepsTheRestWhole) {
     EXPECT_EQ(solver.run_frame(nullptr).non_finite, 0u);
 }
 
+TEST_F(FlowTest, EveryMethodDrawsTheWaterAsItsCountGrows) {
+    // Renderers are made once for the solver's capacity and drawn with each frame's count.
+    const Scene scene = parse_ok(tank(kTap));
+    PbfSolver solver(ctx(), scene);
+    ViewCamera camera;
+    camera.eye = {0.15f, 0.2f, 0.8f};
+    camera.target = {0.15f, 0.15f, 0.15f};
+    camera.fov_y_degrees = 40.0f;
+    std::vector<std::unique_ptr<Renderer>> renderers;
+    for (const MethodEntry& entry : render_registry().entries())
+        renderers.push_back(
+            render_registry().create(ctx(), scene.particle_domain(), 64, 64, solver.capacity(), entry.defaults));
+    std::vector<size_t> before;
+    for (int frame = 1; frame <= 15; ++frame) {
+        solver.run_frame(nullptr);
+        if (frame != 5 && frame != 15) continue;
+        for (size_t m = 0; m < renderers.size(); ++m) {
+            SCOPED_TRACE(renderers[m]->method());
+            const SurfaceFrame picture = renderers[m]->render({solver.positions(), solver.particle_count()}, camera);
+            size_t covered = 0;
+            for (size_t p = 0; p < picture.hit.size(); ++p) covered += picture.has_surface(p) ? 1 : 0;
+            if (frame == 5) {
+                EXPECT_GT(covered, 0u) << "the jet is not drawn";
+                before.push_back(covered);
+            } else {
+                EXPECT_GT(covered, before[m]) << "the jet grew from " << before[m] << " pixels";
+            }
+        }
+    }
+}
+
 TEST_F(FlowTest, TwoRunsWithEmittersAndSinksGiveTheSameBits) {
     const std::string keys =
         std::string(kTap) + R"(, "sinks": {"drain": {"box": {"min": [0, 0, 0], "max": [0.3, 0.05, 0.3]}}})";
