@@ -93,7 +93,9 @@ TEST(FlowSpec, TheScheduleEmitsTheIntegralOfTheSpeedLayerByLayer) {
             EXPECT_LT(glm::dot(along, e.direction), schedule.hold_depth() + 1e-6f);
             EXPECT_LT(glm::length(along - glm::dot(along, e.direction) * e.direction), 1e-6f);
         }
-        if (step / 120.0 > e.stop) EXPECT_EQ(plan.layers.size(), plan.emitted_layers) << "nothing held once shut";
+        if (step / 120.0 > e.stop) {
+            EXPECT_EQ(plan.layers.size(), plan.emitted_layers) << "nothing held once shut";
+        }
     }
     const double layers = std::floor(1.1 / lattice.layer_spacing) + 1.0;
     EXPECT_EQ(emitted, uint64_t(layers) * lattice.offsets.size());
