@@ -52,8 +52,10 @@ FlowStep FlowSchedule::plan_step(double t1, uint32_t alive, uint32_t capacity) {
             t1 >= e.start && e.start < e.stop ? uint64_t(std::floor(e.distance_at(t1) / spacing)) + 1 : 0;
         const uint32_t points = uint32_t(n.lattice.offsets.size());
         for (uint64_t k = n.layers_due; k < due; ++k) {
-            if (uint64_t(slot) + points > capacity || next_id_ + points > kMaxParticleId) {
-                step.not_emitted += points;  // counted, said by the run; the layer is skipped
+            if (uint64_t(slot) + points > capacity || next_id_ + points > kMaxSceneParticles + 1) {
+                // Full, or out of ids (kMaxSceneParticles is the last id the solver can index): the
+                // layer is skipped, counted and said by the run.
+                step.not_emitted += points;
                 continue;
             }
             shader::FlowLayer layer = layer_of(n, i, k, uint32_t(next_id_), t1);

@@ -27,9 +27,6 @@ struct FlowStep {
     uint32_t min_held_id = 0;  ///< the smallest id of a held particle
 };
 
-/// Ids are stored as floats (x.w): exact up to 2^24. A nozzle stops when they run out.
-inline constexpr uint64_t kMaxParticleId = uint64_t(1) << 24;
-
 class FlowSchedule {
 public:
     /// `first_id`: the id of the first emitted particle (the scene's start particles take those below).

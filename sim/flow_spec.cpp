@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "core/json_fields.h"
+#include "geometry/animation.h"
+#include "geometry/mesh.h"
 #include "sim/obstacles.h"
 #include "sim/scene_basics.h"
 
@@ -15,8 +17,12 @@ using namespace json_fields;
 
 constexpr std::string_view kEmitterKeys[] = {"position", "direction", "radius", "size", "wall",
                                              "height",   "speed",     "start",  "stop"};
-constexpr std::string_view kSinkKeys[] = {"box", "plane"};
+constexpr std::string_view kSinkKeys[] = {"box", "plane", "mesh"};
 constexpr std::string_view kPlaneKeys[] = {"point", "normal"};
+constexpr std::string_view kSinkMeshKeys[] = {"file", "placement"};
+constexpr const char* kSinkShapes =
+    "{\"box\": {\"min\": [..], \"max\": [..]}}, {\"plane\": {\"point\": [..], \"normal\": [..]}} or "
+    "{\"mesh\": {\"file\": \"../meshes/sphere.obj\", \"placement\": {..}}}";
 constexpr const char* kTableFix = "fit the solver's table: merge neighbouring ones";
 constexpr const char* kEmitterExample =
     "{\"tap\": {\"position\": [0.3, 0.5, 0.3], \"direction\": [0, -1, 0], \"radius\": 0.01, \"speed\": 1.0}}";
@@ -233,8 +239,24 @@ std::string nozzle_too_small(const EmitterSpec& e, float s) {
     return {};
 }
 
-bool SinkSpec::contains(const glm::vec3& p) const {
-    return kind == Kind::box ? box.contains(p) : glm::dot(p - point, normal) > 0.0f;
+shader::FlowSink SinkSpec::packed(uint32_t first_node) const {
+    switch (kind) {
+        case Kind::box:
+            return {glm::vec4(box.min, float(FLOW_SINK_BOX)), glm::vec4(box.max, 0.0f), glm::uvec4(0u)};
+        case Kind::plane:
+            return {glm::vec4(point, float(FLOW_SINK_PLANE)), glm::vec4(normal, 0.0f), glm::uvec4(0u)};
+        case Kind::mesh:
+            break;
+    }
+    return {glm::vec4(field->grid.origin, float(FLOW_SINK_MESH)), glm::vec4(field->grid.cell, 0.0f, 0.0f, 0.0f),
+            glm::uvec4(field->grid.dims, first_node)};
+}
+
+bool SinkSpec::contains(const glm::vec3& p) const { return shader::flow_in_sink(packed(0), p, nodes().data()); }
+
+const std::vector<float>& SinkSpec::nodes() const {
+    static const std::vector<float> none;
+    return field ? field->distance : none;
 }
 
 NozzleLattice nozzle_lattice(const EmitterSpec& e, float s) {
@@ -276,26 +298,74 @@ std::vector<EmitterSpec> read_emitters(const json& v, const SceneBasics& scene) 
     return emitters;
 }
 
-std::vector<SinkSpec> read_sinks(const json& v, const SceneBasics& scene, const std::vector<EmitterSpec>& emitters) {
+namespace {
+
+/// A mesh sink: the OBJ placed in the world, and its signed distances on nodes half a particle
+/// spacing apart reaching a spacing beyond it (so that the sign is sampled all round it).
+void read_sink_mesh(SinkSpec& sink, const json& v, const std::string& path, const SceneBasics& scene,
+                    const std::filesystem::path& base_dir) {
+    if (!v.is_object())
+        fail(path + " must be {\"file\": \"../meshes/sphere.obj\", \"placement\": {...}}, got " + written(v));
+    check_keys(v, "in " + path, kSinkMeshKeys);
+    require(v, "file", "in " + path, "\"file\": \"../meshes/sphere.obj\"");
+    if (!v["file"].is_string()) fail(path + ".file must be a path string, got " + written(v["file"]));
+    sink.kind = SinkSpec::Kind::mesh;
+    sink.file = base_dir / v["file"].get<std::string>();
+    auto loaded = geometry::load_obj(sink.file);  // refuses meshes without volume, with NaNs or large holes
+    if (!loaded) fail(path + ".file: " + loaded.error());
+    geometry::Mesh mesh = std::move(loaded.value().mesh);
+    if (v.contains("placement")) geometry::apply(geometry::parse_placement(v["placement"], path + ".placement"), mesh);
+    const float s = scene.particle_spacing;
+    auto field = geometry::build_distance_field(mesh.triangle_soup(), 0.5f * s, s, "sink " + sink.name);
+    if (!field)
+        fail(path + ": " + field.error() + "; scale the mesh down (" + path +
+             ".placement.scale) or use a box or plane sink");
+    sink.field = std::make_shared<const geometry::DistanceField>(std::move(field.value()));
+}
+
+/// Where to look for a sink's reach in the tank: a lattice of kProbe points an axis over the tank
+/// (its corners included) and, for a mesh, its nodes inside the tank.
+constexpr int kProbe = 17;
+std::vector<glm::vec3> tank_points(const Box& d) {
+    std::vector<glm::vec3> points;
+    for (int k = 0; k < kProbe; ++k)
+        for (int j = 0; j < kProbe; ++j)
+            for (int i = 0; i < kProbe; ++i)
+                points.push_back(d.min + (d.max - d.min) * glm::vec3(i, j, k) / float(kProbe - 1));
+    return points;
+}
+
+bool reaches_into(const SinkSpec& sink, const Box& d, const std::vector<glm::vec3>& tank) {
+    if (std::any_of(tank.begin(), tank.end(), [&](const glm::vec3& p) { return sink.contains(p); })) return true;
+    if (sink.kind == SinkSpec::Kind::box)
+        return glm::all(glm::lessThanEqual(sink.box.min, d.max)) && glm::all(glm::lessThanEqual(d.min, sink.box.max));
+    if (sink.kind == SinkSpec::Kind::mesh)
+        for (size_t n = 0; n < sink.field->grid.node_count(); ++n) {
+            const glm::vec3 p = sink.field->grid.position(sink.field->grid.node_of(n));
+            if (d.contains(p) && sink.field->distance[n] < 0.0f) return true;
+        }
+    return false;
+}
+
+}  // namespace
+
+std::vector<SinkSpec> read_sinks(const json& v, const SceneBasics& scene, const std::vector<EmitterSpec>& emitters,
+                                 const std::filesystem::path& base_dir) {
     std::vector<SinkSpec> sinks;
     const Box& d = scene.domain;
+    const std::vector<glm::vec3> tank = tank_points(d);
     read_named(
         v, "sinks", kMaxSinks, "{\"drain\": {\"box\": {\"min\": [0, 0, 0], \"max\": [0.1, 0.05, 0.1]}}}", kTableFix,
         [&](const std::string& name, const json& s, const std::string& path) {
-            if (!s.is_object() || s.size() != 1)
-                fail(path +
-                     " must be {\"box\": {\"min\": [..], \"max\": [..]}} or {\"plane\": {\"point\": [..], "
-                     "\"normal\": [..]}}, got " +
-                     written(s));
+            if (!s.is_object() || s.size() != 1) fail(path + " must be one of " + kSinkShapes + ", got " + written(s));
             check_keys(s, "in " + path, kSinkKeys);
             SinkSpec sink;
             sink.name = name;
-            std::vector<glm::vec3> corners;
-            for (int c = 0; c < 8; ++c)
-                corners.emplace_back(c & 1 ? d.max.x : d.min.x, c & 2 ? d.max.y : d.min.y, c & 4 ? d.max.z : d.min.z);
             if (s.contains("box")) {
                 sink.kind = SinkSpec::Kind::box;
                 sink.box = read_box(s["box"], path + ".box", "{\"min\": [0, 0, 0], \"max\": [0.1, 0.05, 0.1]}");
+            } else if (s.contains("mesh")) {
+                read_sink_mesh(sink, s["mesh"], path + ".mesh", scene, base_dir);
             } else {
                 const json& plane = s["plane"];
                 if (!plane.is_object())
@@ -308,11 +378,16 @@ std::vector<SinkSpec> read_sinks(const json& v, const SceneBasics& scene, const 
                 sink.normal = read_unit(plane["normal"], path + ".plane.normal");
             }
             // A sink is where water leaves a scene that goes on: one that takes all of the tank, or
-            // takes water as a nozzle makes it, leaves nothing to simulate.
-            if (std::all_of(corners.begin(), corners.end(), [&](const glm::vec3& c) { return sink.contains(c); }))
+            // takes water as a nozzle makes it, leaves nothing to simulate; one that takes none of
+            // it would never remove anything (a typo'd coordinate, a normal the wrong way round).
+            if (std::all_of(tank.begin(), tank.end(), [&](const glm::vec3& c) { return sink.contains(c); }))
                 fail(path + " takes the whole tank " + fmt(d) +
                      ", so every particle would be removed at once; make it cover only where water should leave "
                      "(an outlet, a drain, a region far from the action)");
+            if (!reaches_into(sink, d, tank))
+                fail(path + " lies wholly outside the tank " + fmt(d) + ", so it would never remove anything; " +
+                     (sink.kind == SinkSpec::Kind::plane ? "turn its normal round or move its point into the tank"
+                                                         : "move it into the tank"));
             for (const EmitterSpec& e : emitters)
                 for (const glm::vec3& p : nozzle_points(e, scene.particle_spacing))
                     if (sink.contains(p))

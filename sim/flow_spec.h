@@ -5,7 +5,9 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,6 +16,8 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "core/box.h"
+#include "geometry/distance_field.h"
+#include "shaders/shared/sim/flow_layout.h"
 
 namespace aquaform {
 
@@ -56,15 +60,27 @@ struct EmitterSpec {
     bool holds(const glm::vec3& p, float spacing, float depth) const;
 };
 
-/// A volume whose water is taken away: a box, or the half-space past a plane (on its normal's side).
+/// A volume whose water is taken away: a box, the half-space past a plane (on its normal's side),
+/// or the inside of a closed mesh (a drain's shape, a kill volume), which the GPU tests by the sign
+/// of its distance field, as the solver's solids are (sim/boundary.h). Nodes half a particle
+/// spacing apart: a particle is removed within about a tenth of a spacing of the true surface.
 struct SinkSpec {
-    enum class Kind { box, plane };
+    enum class Kind { box, plane, mesh };
     std::string name;
     Kind kind = Kind::box;
     Box box;
     glm::vec3 point{0.0f};               ///< plane: a point on it
     glm::vec3 normal{1.0f, 0.0f, 0.0f};  ///< plane: unit, pointing into the removed side
+    std::filesystem::path file;          ///< mesh: its OBJ
+    /// mesh: its signed distances in the world's frame (shared, so copies of a scene stay cheap).
+    std::shared_ptr<const geometry::DistanceField> field;
+
+    /// The sink as the GPU's table holds it; a mesh's nodes start at `first_node` of the node array.
+    shader::FlowSink packed(uint32_t first_node) const;
+    /// Whether the sink takes a particle at p: the GPU's own test (flow_in_sink) on packed().
     bool contains(const glm::vec3& p) const;
+    /// The mesh's node values (empty for a box or a plane).
+    const std::vector<float>& nodes() const;
 };
 
 /// One layer of a nozzle's particles: their offsets across it (along across_axes(): x the width's,
@@ -94,9 +110,10 @@ inline constexpr size_t kMaxSinks = 8;
 /// of the solids and its speed is one the solver can carry. Throws json_fields::Invalid.
 std::vector<EmitterSpec> read_emitters(const nlohmann::json& v, const SceneBasics& scene);
 /// Reads {"drain": {"box": {"min": [..], "max": [..]}}, "outflow": {"plane": {"point": [..],
-/// "normal": [1, 0, 0]}}}. Refuses a sink that takes the whole tank or covers a nozzle (its water
-/// would be removed as it is made). Throws json_fields::Invalid.
+/// "normal": [1, 0, 0]}}, "pit": {"mesh": {"file": "../meshes/sphere.obj", "placement": {...}}}}.
+/// Refuses a sink that takes the whole tank, none of it, or covers a nozzle (its water would be
+/// removed as it is made). Throws json_fields::Invalid.
 std::vector<SinkSpec> read_sinks(const nlohmann::json& v, const SceneBasics& scene,
-                                 const std::vector<EmitterSpec>& emitters);
+                                 const std::vector<EmitterSpec>& emitters, const std::filesystem::path& base_dir);
 
 }  // namespace aquaform

@@ -10,16 +10,17 @@ namespace aquaform {
 
 namespace {
 
-shader::FlowSinks sink_table(const std::vector<SinkSpec>& sinks) {
+/// The sinks' table and their mesh nodes, one after another (one float, so that a scene
+/// without mesh sinks still has a buffer to bind).
+shader::FlowSinks sink_table(const std::vector<SinkSpec>& sinks, std::vector<float>& nodes) {
     shader::FlowSinks table{};
     table.count.x = uint32_t(sinks.size());
+    nodes.clear();
     for (size_t i = 0; i < sinks.size(); ++i) {
-        const SinkSpec& s = sinks[i];
-        const bool box = s.kind == SinkSpec::Kind::box;
-        const float kind = float(box ? FLOW_SINK_BOX : FLOW_SINK_PLANE);
-        table.sinks[i] = box ? shader::FlowSink{glm::vec4(s.box.min, kind), glm::vec4(s.box.max, 0.0f)}
-                             : shader::FlowSink{glm::vec4(s.point, kind), glm::vec4(s.normal, 0.0f)};
+        table.sinks[i] = sinks[i].packed(uint32_t(nodes.size()));
+        nodes.insert(nodes.end(), sinks[i].nodes().begin(), sinks[i].nodes().end());
     }
+    if (nodes.empty()) nodes.push_back(0.0f);
     return table;
 }
 
@@ -36,15 +37,18 @@ FluidFlow::FluidFlow(gpu::Context& ctx, const Scene& scene, uint32_t capacity, u
     }
     sinks_in_use_ = uint32_t(scene.sinks.size());
     if (removes()) {
-        const shader::FlowSinks table = sink_table(scene.sinks);
+        std::vector<float> nodes;
+        const shader::FlowSinks table = sink_table(scene.sinks, nodes);
         sinks_ = &buffers_.add("sim.flow.sinks", sizeof table);
         gpu::upload(ctx, *sinks_, &table, sizeof table);
+        sink_nodes_ = &buffers_.add("sim.flow.sink_nodes", nodes.size() * sizeof(float));
+        gpu::upload(ctx, *sink_nodes_, nodes.data(), sink_nodes_->size);
         keep_ = &buffers_.add("sim.flow.keep", uint64_t(capacity) * 4);
         rank_ = &buffers_.add("sim.flow.rank", uint64_t(capacity) * 4);
         order_ = &buffers_.add("sim.flow.order", uint64_t(capacity) * 4);
         removed_ = &buffers_.add("sim.flow.removed", 4, gpu::MemoryUse::host);
         scan_ = gpu::PrefixSum(ctx, buffers_, capacity, "sim.flow");
-        sinks_pass_ = gpu::ComputePass(ctx, {"sim/flow_sinks.comp", 6, sizeof(shader::FlowPush)});
+        sinks_pass_ = gpu::ComputePass(ctx, {"sim/flow_sinks.comp", 7, sizeof(shader::FlowPush)});
     }
 }
 
@@ -88,9 +92,14 @@ void FluidFlow::record_mark(VkCommandBuffer cmd, const gpu::Buffer& x, uint32_t 
     gpu::fill(*ctx_, cmd, *removed_, 0u);
     mark_in_flight_ = true;
     const shader::FlowPush push{alive, 0u, 0u, 0u, 0u, FLOW_MARK, 0u, 0u};
-    gpu::dispatch(
-        *ctx_, cmd, sinks_pass_, alive, push,
-        {{"table", sinks_}, {"x", &x}, {"keep", keep_}, {"rank", rank_}, {"order", order_}, {"removed", removed_}});
+    gpu::dispatch(*ctx_, cmd, sinks_pass_, alive, push,
+                  {{"table", sinks_},
+                   {"sink_nodes", sink_nodes_},
+                   {"x", &x},
+                   {"keep", keep_},
+                   {"rank", rank_},
+                   {"order", order_},
+                   {"removed", removed_}});
     scan_.record(cmd, *rank_, alive);
     gpu::host_read_barrier(cmd);
 }
@@ -107,9 +116,14 @@ const gpu::Buffer& FluidFlow::record_kept_order(VkCommandBuffer cmd, const gpu::
                                                 gpu::GpuTimer* timer) {
     gpu::GpuScope scope(timer, cmd, "sim_sinks");
     const shader::FlowPush push{alive, 0u, 0u, 0u, 0u, FLOW_ORDER, 0u, 0u};
-    gpu::dispatch(
-        *ctx_, cmd, sinks_pass_, alive, push,
-        {{"table", sinks_}, {"x", &x}, {"keep", keep_}, {"rank", rank_}, {"order", order_}, {"removed", removed_}});
+    gpu::dispatch(*ctx_, cmd, sinks_pass_, alive, push,
+                  {{"table", sinks_},
+                   {"sink_nodes", sink_nodes_},
+                   {"x", &x},
+                   {"keep", keep_},
+                   {"rank", rank_},
+                   {"order", order_},
+                   {"removed", removed_}});
     pending_ = 0;
     return *order_;
 }

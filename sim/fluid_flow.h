@@ -76,6 +76,7 @@ private:
     gpu::Buffer* layers_ = nullptr;
     gpu::Buffer* lattice_ = nullptr;
     gpu::Buffer* sinks_ = nullptr;
+    gpu::Buffer* sink_nodes_ = nullptr;  ///< the mesh sinks' distances
     gpu::Buffer* keep_ = nullptr;
     gpu::Buffer* rank_ = nullptr;
     gpu::Buffer* order_ = nullptr;

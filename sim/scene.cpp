@@ -345,7 +345,7 @@ Scene read_scene(const json& j, const std::filesystem::path& base_dir) {
     if (j.contains("probes")) scene.probes = read_probes(j["probes"], scene);
     if (j.contains("whitewater")) scene.whitewater = read_whitewater(j["whitewater"]);
     if (j.contains("emitters")) scene.emitters = read_emitters(j["emitters"], scene);
-    if (j.contains("sinks")) scene.sinks = read_sinks(j["sinks"], scene, scene.emitters);
+    if (j.contains("sinks")) scene.sinks = read_sinks(j["sinks"], scene, scene.emitters, base_dir);
 
     if (j.contains("column_width")) {
         const json& cw = j["column_width"];

@@ -43,6 +43,12 @@ std::string parse_error(const std::string& json) {
     return scene.ok() ? "" : scene.error();
 }
 
+/// The sphere mesh as a sink's "mesh" key, fitted into `box` (a JSON object).
+std::string sphere_sink(const std::string& box) {
+    return R"({"mesh": {"file": ")" + std::string(AQUAFORM_SOURCE_DIR) +
+           R"(/assets/meshes/sphere.obj", "placement": {"fit_into": )" + box + "}}}";
+}
+
 TEST(FlowSpec, ANozzleLatticeCarriesExactlyItsAreaAtRestVolume) {
     // Whatever the nozzle's size against the spacing, n particles a layer and layers n s^3 / A
     // apart give each particle the volume s^3 and the flux exactly rho A v.
@@ -166,7 +172,22 @@ TEST(FlowSpec, BadEmittersAndSinksAreRefusedNamingTheKeyAndTheFix) {
         {std::string(kTap) + R"(, "sinks": {"cup": {"box": {"min": [0.1, 0.25, 0.1], "max": [0.2, 0.35, 0.2]}}})",
          {"sinks.cup", "covers emitters.tap", "move the sink"}},
         {std::string(kTap) + R"(, "sinks": {"out": {"plane": {"point": [0.2, 0, 0]}}})", {"sinks.out.plane", "normal"}},
-        {std::string(kTap) + R"(, "sinks": {"out": {"sphere": 1}})", {"sinks.out"}},
+        {std::string(kTap) + R"(, "sinks": {"out": {"sphere": 1}})", {"sinks.out", "mesh"}},
+        {std::string(kTap) + R"(, "sinks": {"far": {"box": {"min": [1, 1, 1], "max": [2, 2, 2]}}})",
+         {"sinks.far", "wholly outside the tank", "never remove"}},
+        {std::string(kTap) + R"(, "sinks": {"out": {"plane": {"point": [0.4, 0, 0], "normal": [1, 0, 0]}}})",
+         {"sinks.out", "outside the tank", "turn its normal"}},
+        {std::string(kTap) + R"(, "sinks": {"pit": {"mesh": {"file": "no_such.obj"}}})",
+         {"sinks.pit.mesh.file", "no_such.obj"}},
+        {std::string(kTap) + R"(, "sinks": {"pit": {"mesh": {"placement": {}}}})", {"sinks.pit.mesh", "file"}},
+        {std::string(kTap) + R"(, "sinks": {"pit": )" + sphere_sink(R"({"min": [1, 1, 1], "max": [2, 2, 2]})") + "}",
+         {"sinks.pit", "wholly outside the tank"}},
+        {std::string(kTap) + R"(, "sinks": {"pit": )" +
+             sphere_sink(R"({"min": [0.1, 0.25, 0.1], "max": [0.2, 0.35, 0.2]})") + "}",
+         {"sinks.pit", "covers emitters.tap"}},
+        {std::string(kTap) + R"(, "sinks": {"pit": )" +
+             sphere_sink(R"({"min": [-0.2, -0.15, -0.2], "max": [0.5, 0.55, 0.5]})") + "}",
+         {"sinks.pit", "whole tank"}},
         {std::string(kTap) + R"(, "capacity": 0)", {"capacity"}},
         {std::string(kTap) + R"(, "capacity": 99999999999)", {"capacity"}},
         {R"("frames": 1000000, "emitters": {"flood": {"wall": "min_x", "speed": 2}})",
@@ -289,11 +310,34 @@ TEST_F(FlowTest, ANozzleUnderWaterHoldsItsLatticeAndDoesNotBurst) {
     EXPECT_LT(fastest, 2.0 * 1.0);
 }
 
-TEST_F(FlowTest, ASinkRemovesExactlyWhatEntersItAndKeepsTheRestWhole) {
-    // A column falls onto a drain in one corner of the floor.
+TEST(FlowSpec, AMeshSinkTakesWhatIsInsideItsSurface) {
+    // A ball of radius 5 cm about (0.15, 0.1, 0.15); the mesh is a faceted sphere, so the test
+    // allows its facets' depth (under 2 mm at this tessellation) around the true radius.
+    const Scene scene =
+        parse_ok(tank(R"("fluid_blocks": [{"min": [0, 0, 0], "max": [0.3, 0.05, 0.3]}], "sinks": {"pit": )" +
+                      sphere_sink(R"({"min": [0.1, 0.05, 0.1], "max": [0.2, 0.15, 0.2]})") + "}"));
+    ASSERT_EQ(scene.sinks.size(), 1u);
+    const SinkSpec& pit = scene.sinks[0];
+    ASSERT_EQ(pit.kind, SinkSpec::Kind::mesh);
+    const glm::vec3 centre(0.15f, 0.1f, 0.15f);
+    int checked = 0;
+    for (int k = 0; k < 2000; ++k) {
+        // Points on a spiral through the ball and out of it, at radii 0 to 9 cm.
+        const float r = 0.09f * float(k) / 2000.0f, a = 0.37f * float(k), b = 0.11f * float(k);
+        const glm::vec3 p = centre + r * glm::vec3(std::cos(a) * std::sin(b), std::cos(b), std::sin(a) * std::sin(b));
+        if (std::abs(r - 0.05f) < 0.002f) continue;  // within the facets' depth
+        EXPECT_EQ(pit.contains(p), r < 0.05f) << "at radius " << r;
+        ++checked;
+    }
+    EXPECT_GT(checked, 1800);
+}
+
+/// A column falls onto a drain in one corner of the floor: `drain` is the sink's JSON.
+void expect_sink_removes_exactly_what_enters_it(gpu::Context& ctx, const std::string& drain) {
     const Scene scene = parse_ok(tank(R"("fluid_blocks": [{"min": [0, 0.1, 0], "max": [0.3, 0.2, 0.15]}],
-        "sinks": {"drain": {"box": {"min": [0, 0, 0], "max": [0.1, 0.05, 0.1]}}})"));
-    PbfSolver solver(ctx(), scene);
+        "sinks": {"drain": )" + drain +
+                                      "}"));
+    PbfSolver solver(ctx, scene);
     const uint32_t start = solver.particle_count();
     uint64_t removed_before = 0;
     for (int frame = 0; frame < 25; ++frame) {
@@ -318,6 +362,16 @@ TEST_F(FlowTest, ASinkRemovesExactlyWhatEntersItAndKeepsTheRestWhole) {
     }
     EXPECT_GT(removed_before, 50u) << "the drain took the water that fell into it";
     EXPECT_EQ(solver.run_frame(nullptr).non_finite, 0u);
+}
+
+TEST_F(FlowTest, ASinkRemovesExactlyWhatEntersItAndKeepsTheRestWhole) {
+    expect_sink_removes_exactly_what_enters_it(ctx(), R"({"box": {"min": [0, 0, 0], "max": [0.1, 0.05, 0.1]}})");
+}
+
+TEST_F(FlowTest, AMeshSinkRemovesExactlyWhatEntersItsVolume) {
+    // A ball half sunk in the floor's corner: what stands inside its surface goes.
+    expect_sink_removes_exactly_what_enters_it(
+        ctx(), sphere_sink(R"({"min": [-0.06, -0.06, -0.06], "max": [0.1, 0.1, 0.1]})"));
 }
 
 TEST_F(FlowTest, EveryMethodDrawsTheWaterAsItsCountGrows) {

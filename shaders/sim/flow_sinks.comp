@@ -5,6 +5,8 @@
 // counted. At the next frame's start, FLOW_ORDER: the kept particles' order, order[rank[i]] = i,
 // which the solver's gather (pbf_reorder.comp) follows: the kept keep their relative order, so
 // the arrays stay in the Morton order of the last sort.
+#define FLOW_SINK_PASS
+layout(std430, binding = 6) readonly buffer SinkNodes { float sink_nodes[]; };
 #include "shared/sim/flow_layout.h"
 
 layout(local_size_x_id = 0) in;
