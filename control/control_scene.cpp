@@ -99,7 +99,9 @@ ControlSection read_section(const json& j, const Scene& scene, const std::filesy
         s.meshes.push_back(read_mesh(entry, name, "control.meshes." + name, base_dir));
         check_inside_domain(s.meshes.back(), scene.domain, scene.particle_spacing, "control.meshes." + name);
     }
-    s.timeline = Timeline::parse(j["timeline"], "control.timeline", names, scene.fluid_blocks.size());
+    FluidTags tags{scene.fluid_blocks.size(), {}};
+    for (const EmitterSpec& e : scene.emitters) tags.emitters.push_back(e.name);
+    s.timeline = Timeline::parse(j["timeline"], "control.timeline", names, tags);
     return s;
 }
 

@@ -1,13 +1,15 @@
 // The shape timeline of a scene's control section: when each control mesh pulls the fluid and on
 // which fluid tags. Events, in time order:
-//   attach  (fill)  the mesh becomes the only active shape
+//   attach          the mesh becomes the only active shape
+//   fill            attach, on the water of the emitters named in "from" (a tap fills a shape)
 //   union           the mesh is added to the active shapes
 //   morph           the active shapes hand over to the mesh over `duration` seconds, either by
 //                   cross-fading their strengths ("crossfade", the default) or at once ("replace")
 //   hold            nothing changes (a marker that keeps timelines readable)
 //   release         the named mesh, or every mesh, stops pulling: plain physics again
-// attach, union and morph take "tags": the fluid tags (source fluid block indices) the shape
-// acts on, so a coloured group can be pulled out of the rest; default: every tag.
+// attach, union and morph take "tags": the fluid tags the shape acts on, so a coloured group can
+// be pulled out of the rest; default: every tag. A tag is a fluid block's index, or an emitter's
+// name for the water it makes (tag fluid_blocks + the emitter's index: sim/flow_schedule.h).
 #pragma once
 
 #include <cstdint>
@@ -35,16 +37,21 @@ struct ActiveShape {
     uint32_t tag_mask = ~0u;
 };
 
+/// The fluid's tags a scene has: its fluid blocks' (0 to fluid_blocks - 1), then its emitters'.
+struct FluidTags {
+    size_t fluid_blocks = 0;
+    std::vector<std::string> emitters;
+};
+
 class Timeline {
 public:
     Timeline() = default;
     explicit Timeline(std::vector<TimelineEvent> events) : events_(std::move(events)) {}
 
-    /// Reads the "timeline" array; `mesh_names` are the keys of "meshes" and `fluid_blocks` the
-    /// scene's block count (a tag is a block's index). Throws json_fields::Invalid naming the
-    /// event and the fix.
+    /// Reads the "timeline" array; `mesh_names` are the keys of "meshes", `tags` what the scene's
+    /// fluid may be tagged with. Throws json_fields::Invalid naming the event and the fix.
     static Timeline parse(const nlohmann::json& v, const std::string& path, const std::vector<std::string>& mesh_names,
-                          size_t fluid_blocks);
+                          const FluidTags& tags);
 
     /// The shapes pulling at time t (in seconds since the start).
     std::vector<ActiveShape> active_at(double t) const;

@@ -8,6 +8,8 @@
 #include "gpu/context.h"
 #include "render/renderer.h"
 #include "sim/blowup.h"
+#include "sim/flow_schedule.h"
+#include "sim/fluid_flow.h"
 #include "sim/obstacles.h"
 #include "sim/pbf_params.h"
 
@@ -161,6 +163,7 @@ void SimulationSession::start_solver(const ParticleSnapshot* start) {
     driver_.reset();
     solver_.reset();
     solver_ = std::make_unique<PbfSolver>(*ctx_, scene_, start);
+    for (size_t nozzle : shut_nozzles_) solver_->flow()->schedule().set_open(nozzle, false);
     solver_->set_measure_droplets(options_.measure_droplets);
     solver_->set_frame_grid(options_.frame_grid);
     if (control_) {
@@ -305,6 +308,39 @@ bool SimulationSession::remove_added_obstacles() {
     scene_.obstacles.resize(own_obstacles_);
     rebuild(true);
     return true;
+}
+
+Result<std::string> SimulationSession::change_nozzle(const std::string& name, const NozzleChange& change) {
+    const auto it = std::find_if(scene_.emitters.begin(), scene_.emitters.end(),
+                                 [&](const EmitterSpec& e) { return e.name == name; });
+    if (it == scene_.emitters.end()) {
+        std::string names;
+        for (const EmitterSpec& e : scene_.emitters) names += (names.empty() ? "\"" : ", \"") + e.name + "\"";
+        return Error{"the scene has no nozzle \"" + name + "\" (" +
+                     (names.empty() ? std::string("it has no emitters: add one to its \"emitters\"")
+                                    : "its emitters: " + names) +
+                     ")"};
+    }
+    const size_t index = size_t(it - scene_.emitters.begin());
+    EmitterSpec moved = *it;
+    if (change.position) moved.position = *change.position;
+    if (change.direction) {
+        if (!(glm::length(*change.direction) > 1e-6f))
+            return Error{"emitters." + name + ": a direction of length 0 aims nowhere; give e.g. [0, -1, 0]"};
+        moved.direction = glm::normalize(*change.direction);
+    }
+    if (auto placed = check_nozzle(moved, "emitters." + name, scene_); !placed) return Error{placed.error()};
+    *it = moved;
+    FlowSchedule& schedule = solver_->flow()->schedule();
+    if (change.position || change.direction) schedule.steer(index, moved.position, moved.direction);
+    if (change.open) {
+        schedule.set_open(index, *change.open);
+        std::erase(shut_nozzles_, index);
+        if (!*change.open) shut_nozzles_.push_back(index);
+    }
+    const bool open = schedule.is_open(index);
+    return name + " at " + json_fields::fmt(moved.position) + " aimed " + json_fields::fmt(moved.direction) +
+           (open ? ", open" : ", shut");
 }
 
 bool SimulationSession::release() {

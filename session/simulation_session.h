@@ -183,6 +183,18 @@ public:
     /// Takes out the obstacles add_obstacle dropped in (the scene's own stay); false when there were none.
     bool remove_added_obstacles();
 
+    /// What the viewer does to one of the scene's nozzles: moves it, aims it, shuts or opens it.
+    struct NozzleChange {
+        std::optional<glm::vec3> position, direction;
+        std::optional<bool> open;
+    };
+    /// Changes the nozzle `name` (a key of the scene's emitters) from the next step on
+    /// (FlowSchedule::steer, set_open); the session keeps the change for the solvers it makes
+    /// later (reset, settings, shapes). A nozzle the scene's emitters would refuse there (outside
+    /// the tank, inside a solid) leaves everything as it was and the error says why and the fix.
+    /// Returns what the nozzle is now, for the user.
+    Result<std::string> change_nozzle(const std::string& name, const NozzleChange& change);
+
 private:
     /// frame_input()'s parts: the mesh obstacles (nullptr without any) and the whitewater (nullptr
     /// when the scene makes none).
@@ -203,7 +215,8 @@ private:
     std::unique_ptr<control::ControlDriver> driver_;
     std::vector<StepForce*> extra_forces_;
     std::vector<std::filesystem::path> shape_files_;
-    size_t own_obstacles_ = 0;  // the scene's own obstacles, before any add_obstacle added
+    size_t own_obstacles_ = 0;          // the scene's own obstacles, before any add_obstacle added
+    std::vector<size_t> shut_nozzles_;  // emitters change_nozzle shut (every new solver starts them shut)
 };
 
 }  // namespace aquaform::session

@@ -12,7 +12,7 @@ namespace aquaform {
 FlowSchedule::FlowSchedule(const Scene& scene, uint32_t first_id)
     : next_id_(first_id), first_tag_(uint32_t(scene.fluid_blocks.size())), hold_depth_(scene.kernel_radius()) {
     for (const EmitterSpec& spec : scene.emitters) {
-        Nozzle n{spec, nozzle_lattice(spec, scene.particle_spacing), uint32_t(lattice_.size()), 0, {}};
+        Nozzle n{spec, nozzle_lattice(spec, scene.particle_spacing), uint32_t(lattice_.size())};
         lattice_.insert(lattice_.end(), n.lattice.offsets.begin(), n.lattice.offsets.end());
         nozzles_.push_back(std::move(n));
     }
@@ -26,7 +26,7 @@ float FlowSchedule::max_speed(double t0, double t1) const {
 
 shader::FlowLayer FlowSchedule::layer_of(const Nozzle& n, size_t index, uint64_t k, uint32_t first_id, double t) const {
     const EmitterSpec& e = n.spec;
-    const double along = e.distance_at(t) - double(k) * double(n.lattice.layer_spacing);
+    const double along = n.travelled(t) - double(k) * double(n.lattice.layer_spacing);
     // A layer that left in the step the nozzle shut keeps the speed it left with.
     const float speed = e.speed_at(std::min(t, std::nextafter(e.stop, 0.0)));
     const auto [across, up] = e.across_axes();
@@ -39,7 +39,32 @@ shader::FlowLayer FlowSchedule::layer_of(const Nozzle& n, size_t index, uint64_t
     return layer;
 }
 
+std::vector<EmitterSpec> FlowSchedule::nozzles() const {
+    std::vector<EmitterSpec> specs;
+    for (const Nozzle& n : nozzles_) specs.push_back(n.spec);
+    return specs;
+}
+
+void FlowSchedule::steer(size_t nozzle, const glm::vec3& position, const glm::vec3& direction) {
+    Nozzle& n = nozzles_.at(nozzle);
+    n.spec.position = position;
+    n.spec.direction = glm::normalize(direction);
+    n.recent.clear();
+}
+
+void FlowSchedule::set_open(size_t nozzle, bool open) {
+    Nozzle& n = nozzles_.at(nozzle);
+    if (open == n.open) return;
+    if (open)
+        n.shut_distance += n.spec.distance_at(last_t_) - n.shut_at;
+    else
+        n.shut_at = n.spec.distance_at(last_t_);
+    n.open = open;
+    n.recent.clear();
+}
+
 FlowStep FlowSchedule::plan_step(double t1, uint32_t alive, uint32_t capacity) {
+    last_t_ = t1;
     FlowStep step;
     std::vector<shader::FlowLayer> held;
     uint32_t slot = alive;
@@ -48,8 +73,9 @@ FlowStep FlowSchedule::plan_step(double t1, uint32_t alive, uint32_t capacity) {
         Nozzle& n = nozzles_[i];
         const EmitterSpec& e = n.spec;
         const double spacing = n.lattice.layer_spacing;
+        if (!n.open) continue;
         const uint64_t due =
-            t1 >= e.start && e.start < e.stop ? uint64_t(std::floor(e.distance_at(t1) / spacing)) + 1 : 0;
+            t1 >= e.start && e.start < e.stop ? uint64_t(std::floor(n.travelled(t1) / spacing)) + 1 : 0;
         const uint32_t points = uint32_t(n.lattice.offsets.size());
         for (uint64_t k = n.layers_due; k < due; ++k) {
             if (uint64_t(slot) + points > capacity || next_id_ + points > kMaxSceneParticles + 1) {
@@ -70,7 +96,7 @@ FlowStep FlowSchedule::plan_step(double t1, uint32_t alive, uint32_t capacity) {
         n.layers_due = std::max(n.layers_due, due);
         // Held while the nozzle runs and within hold_depth of it; the oldest leave first.
         if (e.speed_at(t1) <= 0.0f) n.recent.clear();
-        const double travelled = e.distance_at(t1);
+        const double travelled = n.travelled(t1);
         while (!n.recent.empty() && travelled - double(n.recent.front().layer) * spacing >= hold_depth_)
             n.recent.pop_front();
         for (const Emitted& r : n.recent) {

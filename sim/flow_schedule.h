@@ -46,6 +46,15 @@ public:
     /// a full neighbourhood of nozzle water behind it).
     float hold_depth() const { return hold_depth_; }
 
+    /// Live changes (the viewer's nozzle tools), from the next planned step on. Moving or aiming
+    /// a nozzle lets its held layers go where they stand (they were held on the old pose) and
+    /// starts the hold anew; a nozzle shut emits nothing and holds nothing, and when opened again
+    /// goes on from the layer it had begun, as if the shut time had not been.
+    std::vector<EmitterSpec> nozzles() const;
+    void steer(size_t nozzle, const glm::vec3& position, const glm::vec3& direction);
+    void set_open(size_t nozzle, bool open);
+    bool is_open(size_t nozzle) const { return nozzles_[nozzle].open; }
+
 private:
     struct Emitted {
         uint64_t layer;  ///< k
@@ -57,12 +66,19 @@ private:
         uint32_t first_offset = 0;   ///< in lattice_
         uint64_t layers_due = 0;     ///< layers whose time has come (emitted or not)
         std::deque<Emitted> recent;  ///< emitted layers that may still be held
+        bool open = true;
+        /// The distance the nozzle's water did not travel while it was shut: its layers go by
+        /// travelled(t) = spec.distance_at(t) - shut_distance.
+        double shut_distance = 0.0;
+        double shut_at = 0.0;  ///< spec.distance_at when it was last shut
+        double travelled(double t) const { return spec.distance_at(t) - shut_distance; }
     };
     shader::FlowLayer layer_of(const Nozzle& n, size_t index, uint64_t k, uint32_t first_id, double t) const;
 
     std::vector<Nozzle> nozzles_;
     std::vector<glm::vec2> lattice_;
     uint64_t next_id_;
+    double last_t_ = 0.0;  ///< the end of the last planned step
     uint32_t first_tag_;
     float hold_depth_;
 };

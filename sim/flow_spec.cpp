@@ -168,6 +168,15 @@ EmitterSpec read_emitter(const std::string& name, const json& v, const std::stri
 
 }  // namespace
 
+Result<bool> check_nozzle(const EmitterSpec& e, const std::string& path, const SceneBasics& scene) {
+    try {
+        check_nozzle_place(e, path, scene);
+    } catch (const Invalid& error) {
+        return Error{error.message};
+    }
+    return true;
+}
+
 float EmitterSpec::area() const { return shape == Shape::disc ? float(M_PI) * radius * radius : size.x * size.y; }
 
 namespace {

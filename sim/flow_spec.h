@@ -16,6 +16,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "core/box.h"
+#include "core/result.h"
 #include "geometry/distance_field.h"
 #include "shaders/shared/sim/flow_layout.h"
 
@@ -109,6 +110,10 @@ inline constexpr size_t kMaxSinks = 8;
 /// facing in); "speed" a number or keys [[t, v], ...]. Checks the nozzle lies in the tank and out
 /// of the solids and its speed is one the solver can carry. Throws json_fields::Invalid.
 std::vector<EmitterSpec> read_emitters(const nlohmann::json& v, const SceneBasics& scene);
+/// Whether the nozzle stands where read_emitters accepts one: in the tank, out of the solids
+/// (the viewer checks a nozzle it moves). The error names `path` and the fix.
+Result<bool> check_nozzle(const EmitterSpec& emitter, const std::string& path, const SceneBasics& scene);
+
 /// Reads {"drain": {"box": {"min": [..], "max": [..]}}, "outflow": {"plane": {"point": [..],
 /// "normal": [1, 0, 0]}}, "pit": {"mesh": {"file": "../meshes/sphere.obj", "placement": {...}}}}.
 /// Refuses a sink that takes the whole tank, none of it, or covers a nozzle (its water would be

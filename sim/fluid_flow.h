@@ -33,6 +33,9 @@ public:
     bool emits() const { return !schedule_.empty(); }
     bool removes() const { return sinks_in_use_ > 0; }
     float max_speed(double t0, double t1) const { return schedule_.max_speed(t0, t1); }
+    /// The nozzles' schedule, for live changes (FlowSchedule::steer, set_open).
+    FlowSchedule& schedule() { return schedule_; }
+    const FlowSchedule& schedule() const { return schedule_; }
 
     /// The step ending at t1: uploads its layer table and writes its new particles into x, v
     /// (and zeroes their `carry`, where there is one) from slot `alive` on. Returns how many.

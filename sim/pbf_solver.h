@@ -127,6 +127,7 @@ public:
     std::string count_phrase() const;
     /// The scene's emitters and sinks (nullptr without).
     const FluidFlow* flow() const { return flow_.get(); }
+    FluidFlow* flow() { return flow_.get(); }
     gpu::Context& context() const { return *ctx_; }
     /// Steps of the last frame (before the first: the scene's least substeps).
     uint32_t substeps() const { return substeps_; }

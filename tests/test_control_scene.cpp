@@ -16,7 +16,7 @@ namespace aquaform::control {
 namespace {
 
 Timeline parse_timeline(const std::string& text, const std::vector<std::string>& names = {"a", "b"}) {
-    return Timeline::parse(nlohmann::json::parse(text), "control.timeline", names, 2);
+    return Timeline::parse(nlohmann::json::parse(text), "control.timeline", names, FluidTags{2, {"tap", "hose"}});
 }
 
 std::string timeline_error(const std::string& text) {
@@ -26,6 +26,42 @@ std::string timeline_error(const std::string& text) {
         return e.message;
     }
     return "";
+}
+
+TEST(ControlTimeline, AFillActsOnItsEmittersWaterAndTagsMayNameEmitters) {
+    // FluidTags{2, {"tap", "hose"}}: blocks 0 and 1, then the tap's water (tag 2) and the hose's (3).
+    const Timeline tl = parse_timeline(R"([
+        {"t": 0, "do": "fill", "mesh": "a", "from": "hose"},
+        {"t": 1, "do": "union", "mesh": "b", "tags": [0, "tap"]},
+        {"t": 2, "do": "fill", "mesh": "a", "from": ["tap", "hose"]}])");
+    ASSERT_EQ(tl.active_at(0.5).size(), 1u);
+    EXPECT_EQ(tl.active_at(0.5)[0].tag_mask, 1u << 3);
+    EXPECT_EQ(tl.active_at(1.5).back().tag_mask, (1u << 0) | (1u << 2));
+    ASSERT_EQ(tl.active_at(2.5).size(), 1u) << "a fill is an attach: the only shape";
+    EXPECT_EQ(tl.active_at(2.5)[0].tag_mask, (1u << 2) | (1u << 3));
+    const struct {
+        const char* text;
+        std::vector<std::string> words;
+    } bad[] = {
+        {R"([{"t": 0, "do": "fill", "mesh": "a"}])", {"timeline[0]", "\"from\": \"tap\""}},
+        {R"([{"t": 0, "do": "fill", "mesh": "a", "from": "tapp"}])", {"timeline[0].from", "\"tap\", \"hose\""}},
+        {R"([{"t": 0, "do": "fill", "mesh": "a", "from": 1}])", {"timeline[0].from", "emitter's name"}},
+        {R"([{"t": 0, "do": "fill", "mesh": "a", "from": "tap", "tags": [0]}])", {"timeline[0]", "remove \"tags\""}},
+        {R"([{"t": 0, "do": "attach", "mesh": "a", "from": "tap"}])", {"timeline[0]", "\"do\": \"fill\""}},
+        {R"([{"t": 0, "do": "attach", "mesh": "a", "tags": ["pump"]}])", {"timeline[0].tags[0]", "emitters"}},
+    };
+    for (const auto& b : bad) {
+        const std::string error = timeline_error(b.text);
+        for (const std::string& w : b.words) EXPECT_NE(error.find(w), std::string::npos) << error;
+    }
+    // A scene without emitters has nothing to fill from.
+    try {
+        Timeline::parse(nlohmann::json::parse(R"([{"t": 0, "do": "fill", "mesh": "a", "from": "tap"}])"),
+                        "control.timeline", {"a"}, FluidTags{1, {}});
+        ADD_FAILURE() << "a fill without emitters was accepted";
+    } catch (const json_fields::Invalid& e) {
+        EXPECT_NE(e.message.find("no emitters"), std::string::npos) << e.message;
+    }
 }
 
 TEST(ControlTimeline, AttachMorphUnionRelease) {

@@ -10,6 +10,7 @@
 #include <set>
 
 #include "gpu/context.h"
+#include "session/simulation_session.h"
 #include "sim/flow_schedule.h"
 #include "sim/pbf_solver.h"
 #include "tests/cli_helpers.h"
@@ -108,6 +109,43 @@ TEST(FlowSpec, TheScheduleEmitsTheIntegralOfTheSpeedLayerByLayer) {
     // Its volume is the nozzle's area times the distance, within one layer.
     const double volume = double(emitted) * 1e-6;
     EXPECT_NEAR(volume, double(e.area()) * 1.1, double(lattice.offsets.size()) * 1e-6);
+}
+
+TEST(FlowSpec, AMovedNozzleEmitsFromItsNewPlaceAndAShutOneGoesOnWhereItStopped) {
+    const Scene scene = parse_ok(tank(kTap));  // 1 m/s
+    const EmitterSpec& e = scene.emitters.at(0);
+    const NozzleLattice lattice = nozzle_lattice(e, scene.particle_spacing);
+    FlowSchedule schedule(scene, 0);
+    uint32_t alive = 0;
+    uint64_t emitted = 0;
+    const auto run = [&](int from, int to) {  // steps of 1/120 s
+        std::vector<FlowStep> plans;
+        for (int step = from; step <= to; ++step) {
+            plans.push_back(schedule.plan_step(step / 120.0, alive, 1000000));
+            alive += plans.back().emitted;
+            emitted += plans.back().emitted;
+        }
+        return plans;
+    };
+    run(1, 24);  // 0.2 s open
+    const glm::vec3 moved(0.08f, 0.25f, 0.2f), aimed = glm::normalize(glm::vec3(1.0f, -1.0f, 0.0f));
+    schedule.steer(0, moved, aimed);
+    for (const FlowStep& plan : run(25, 48)) {  // 0.2 s more, from the new place
+        for (uint32_t l = 0; l < plan.layers.size(); ++l) {
+            const glm::vec3 along = glm::vec3(plan.layers[l].origin) - moved;
+            EXPECT_LT(glm::length(along - glm::dot(along, aimed) * aimed), 1e-5f) << "a layer off the new axis";
+            EXPECT_GE(glm::dot(along, aimed), -1e-6f);
+            EXPECT_NEAR(glm::length(glm::vec3(plan.layers[l].velocity)), 1.0f, 1e-5f);
+        }
+    }
+    schedule.set_open(0, false);
+    EXPECT_FALSE(schedule.is_open(0));
+    for (const FlowStep& plan : run(49, 96))
+        EXPECT_TRUE(plan.layers.empty()) << "a shut nozzle emits and holds nothing";
+    schedule.set_open(0, true);
+    run(97, 120);  // 0.2 s open again
+    // Open 0.6 s of the 1 s: the layers of 0.6 m of travel, as if the shut time had not been.
+    EXPECT_EQ(emitted, uint64_t(std::floor(0.6 / lattice.layer_spacing + 1e-9) + 1.0) * lattice.offsets.size());
 }
 
 TEST(FlowSpec, ALayerThatFindsTheCapacityFullIsCountedNotLost) {
@@ -372,6 +410,79 @@ TEST_F(FlowTest, AMeshSinkRemovesExactlyWhatEntersItsVolume) {
     // A ball half sunk in the floor's corner: what stands inside its surface goes.
     expect_sink_removes_exactly_what_enters_it(
         ctx(), sphere_sink(R"({"min": [-0.06, -0.06, -0.06], "max": [0.1, 0.1, 0.1]})"));
+}
+
+TEST_F(FlowTest, AViewerNozzleMovesShutsAndKeepsItsPlaceInANewSolver) {
+    // A tap 15 cm from the walls, moved to (0.07, 0.3, 0.07): new water comes from there.
+    session::SimulationSession sim(ctx(), session::plan_session(parse_ok(tank(kTap)), std::nullopt),
+                                   {.measure_shapes = false});
+    for (int f = 0; f < 5; ++f) sim.run_frame(nullptr);
+    const uint32_t before = sim.solver().particle_count();
+    auto moved = sim.change_nozzle("tap", {glm::vec3(0.07f, 0.3f, 0.07f), std::nullopt, std::nullopt});
+    ASSERT_TRUE(moved.ok()) << moved.error();
+    EXPECT_NE(moved.value().find("open"), std::string::npos) << moved.value();
+    for (int f = 0; f < 5; ++f) sim.run_frame(nullptr);
+    const ParticleSnapshot after = sim.solver().snapshot();
+    uint32_t newer = 0;
+    for (const glm::vec4& x : after.x) {
+        if (uint32_t(x.w) < before) continue;  // ids follow the order of emission
+        ++newer;
+        EXPECT_LT(glm::length(glm::vec2(x.x, x.z) - glm::vec2(0.07f)), 0.04f) << "new water away from the moved tap";
+    }
+    EXPECT_GT(newer, 50u);
+
+    // Shut: nothing more; the change outlives a new solver (new settings).
+    ASSERT_TRUE(sim.change_nozzle("tap", {std::nullopt, std::nullopt, false}).ok());
+    SolverSettings settings = sim.scene().solver;
+    settings.iterations += 1;
+    sim.set_solver_settings(settings);
+    const uint32_t shut = sim.solver().particle_count();
+    for (int f = 0; f < 5; ++f) sim.run_frame(nullptr);
+    EXPECT_EQ(sim.solver().particle_count(), shut) << "a shut nozzle emitted after a new solver";
+    EXPECT_FLOAT_EQ(sim.scene().emitters[0].position.x, 0.07f);
+
+    // Refused, leaving it as it was: a place outside the tank, a name the scene lacks.
+    auto outside = sim.change_nozzle("tap", {glm::vec3(0.5f, 0.3f, 0.07f), std::nullopt, std::nullopt});
+    ASSERT_FALSE(outside.ok());
+    EXPECT_NE(outside.error().find("outside the tank"), std::string::npos) << outside.error();
+    EXPECT_FLOAT_EQ(sim.scene().emitters[0].position.x, 0.07f);
+    auto unknown = sim.change_nozzle("hose", {std::nullopt, std::nullopt, true});
+    ASSERT_FALSE(unknown.ok());
+    EXPECT_NE(unknown.error().find("\"tap\""), std::string::npos) << unknown.error();
+}
+
+TEST_F(FlowTest, AFillFromATapPullsItsWaterIntoTheShape) {
+    // A ball in mid-air under a slow tap; a pool on the floor is fluid block 0, the tap's water
+    // tag 1. The fill acts on the tap's water; the same shape acting on the pool's tag lets the
+    // tap's water fall through the ball to the floor.
+    const auto run = [&](const std::string& event) {
+        const std::string text = R"({"name": "fill test", "domain": {"min": [0, 0, 0], "max": [0.4, 0.6, 0.4]},
+            "particle_spacing": 0.02, "frames": 60,
+            "fluid_blocks": [{"min": [0, 0, 0], "max": [0.4, 0.04, 0.4]}],
+            "emitters": {"tap": {"position": [0.2, 0.38, 0.2], "direction": [0, -1, 0], "radius": 0.03, "speed": 0.5}},
+            "control": {"meshes": {"ball": {"file": ")" +
+                                 std::string(AQUAFORM_ASSETS_DIR) + R"(/meshes/sphere.obj", "method": "inside",
+                "placement": {"fit_into": {"min": [0.12, 0.2, 0.12], "max": [0.28, 0.36, 0.28]}}}},
+              "timeline": [)" + event +
+                                 "]}}";
+        auto plan = session::plan_session(parse_ok(text));
+        EXPECT_TRUE(plan.ok()) << plan.error();
+        session::SimulationSession sim(ctx(), std::move(plan.value()), {.measure_shapes = false});
+        const uint32_t pool = sim.solver().particle_count();
+        for (int f = 0; f < 60; ++f) sim.run_frame(nullptr);
+        uint32_t tap = 0, in_ball = 0;
+        for (const glm::vec4& x : sim.solver().snapshot().x) {
+            if (uint32_t(x.w) < pool) continue;
+            ++tap;
+            in_ball += glm::length(glm::vec3(x) - glm::vec3(0.2f, 0.28f, 0.2f)) < 0.09f ? 1u : 0u;
+        }
+        EXPECT_GT(tap, 100u);
+        return double(in_ball) / double(std::max(tap, 1u));
+    };
+    const double filled = run(R"({"t": 0, "do": "fill", "mesh": "ball", "from": "tap"})");
+    const double other_tag = run(R"({"t": 0, "do": "attach", "mesh": "ball", "tags": [0]})");
+    EXPECT_GT(filled, 0.8) << "the fill did not hold the tap's water in the ball";
+    EXPECT_LT(other_tag, 0.5) << "the tap's water stayed in the ball without a fill acting on it";
 }
 
 TEST_F(FlowTest, EveryMethodDrawsTheWaterAsItsCountGrows) {

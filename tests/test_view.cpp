@@ -379,6 +379,63 @@ TEST(ViewScriptTest, ActionsAreCheckedAndSortedByFrame) {
     fs::remove_all(dir);
 }
 
+TEST(ViewScriptTest, NozzleActionsAreCheckedAgainstTheScenesEmitters) {
+    auto ok = viewer::parse_view_script(
+        R"({"actions": [{"frame": 2, "do": "nozzle", "name": "tap", "position": [0.1, 0.2, 0.1], "open": false}]})",
+        "s.json");
+    ASSERT_TRUE(ok.ok()) << ok.error();
+    EXPECT_EQ(ok.value()[0].value, "tap");
+    ASSERT_TRUE(ok.value()[0].position && ok.value()[0].open);
+    EXPECT_FALSE(*ok.value()[0].open);
+    EXPECT_FALSE(ok.value()[0].direction);
+    for (const auto& [text, says] : std::vector<std::pair<std::string, std::string>>{
+             {R"({"actions": [{"frame": 2, "do": "nozzle", "name": "tap"}]})", "changes something"},
+             {R"({"actions": [{"frame": 2, "do": "nozzle", "open": true}]})", "\"name\""},
+             {R"({"actions": [{"frame": 2, "do": "nozzle", "name": "tap", "open": "no"}]})", "actions[0].open"},
+             {R"({"actions": [{"frame": 2, "do": "nozzle", "name": "tap", "position": [1, 2]}]})",
+              "actions[0].position"},
+             {R"({"actions": [{"frame": 2, "do": "nozzle", "name": "tap", "value": "x", "open": true}]})",
+              "actions[0].value"},
+             {R"({"actions": [{"frame": 2, "do": "pause", "open": true}]})", "only a nozzle action"}}) {
+        auto refused = viewer::parse_view_script(text, "s.json");
+        ASSERT_FALSE(refused.ok()) << text;
+        EXPECT_NE(refused.error().find(says), std::string::npos) << refused.error();
+    }
+    // Against the tap scene: a name it lacks, a place outside the tank, a place inside the glass.
+    auto scene = load_scene(fs::path(AQUAFORM_ASSETS_DIR) / "scenes/tap_fills_glass.json");
+    ASSERT_TRUE(scene.ok()) << scene.error();
+    for (const auto& [action, says] : std::vector<std::pair<std::string, std::string>>{
+             {R"("name": "hose", "open": true)", "not one of the scene's emitters (\"tap\")"},
+             {R"("name": "tap", "position": [0.5, 0.26, 0.12])", "outside the tank"},
+             {R"("name": "tap", "position": [0.12, 0.005, 0.12])", "inside an obstacle"},
+             {R"("name": "tap", "direction": [0, 0, 0])", "aims nowhere"}}) {
+        auto actions =
+            viewer::parse_view_script(R"({"actions": [{"frame": 3, "do": "nozzle", )" + action + "}]}", "s.json");
+        ASSERT_TRUE(actions.ok()) << actions.error();
+        auto checked = viewer::check_script_actions(actions.value(), scene.value(), {});
+        ASSERT_FALSE(checked.ok()) << action;
+        EXPECT_NE(checked.error().find("line 1: the nozzle at frame 3"), std::string::npos) << checked.error();
+        EXPECT_NE(checked.error().find(says), std::string::npos) << checked.error();
+    }
+    auto moved = viewer::parse_view_script(
+        R"({"actions": [{"frame": 3, "do": "nozzle", "name": "tap", "position": [0.06, 0.26, 0.12]}]})", "s.json");
+    EXPECT_TRUE(viewer::check_script_actions(moved.value(), scene.value(), {}).ok());
+}
+
+TEST(ViewCliTest, AScriptMovesAimsAndShutsANozzle) {
+    const fs::path out = test_cli::temp_dir("view_nozzle");
+    auto [status, output] = run_view_under_xvfb(
+        AQUAFORM_ASSETS_DIR "/scenes/tap_fills_glass.json --resolution 320x240 --script " AQUAFORM_SOURCE_DIR
+                            "/tests/data/view_nozzle.json --record " +
+        out.string());
+    ASSERT_EQ(status, 0) << output;
+    EXPECT_NE(output.find("nozzle tap at [0.07,0.26,0.12]"), std::string::npos) << output;
+    EXPECT_NE(output.find(", shut"), std::string::npos) << output;
+    EXPECT_EQ(output.find("validation error"), std::string::npos) << output;
+    // What the moved nozzle's water does is FlowTest.AViewerNozzleMovesShutsAndKeepsItsPlaceInANewSolver's.
+    fs::remove_all(out);
+}
+
 TEST(ViewScriptTest, AScreenshotThatCannotBeWrittenIsRefusedAtLoadWithItsLine) {
     // A screenshot into an impossible folder passed the load check and failed mid-run. Every
     // output of a script is checked before the viewer starts: exit 2, the line and the fix.

@@ -30,10 +30,32 @@ namespace {
 
 using namespace json_fields;
 
-constexpr std::array<std::string_view, 4> kActionKeys{"frame", "do", "value", "file"};
-constexpr std::array<std::string_view, 18> kActions{
+constexpr std::array<std::string_view, 8> kActionKeys{"frame", "do",       "value",     "file",
+                                                      "name",  "position", "direction", "open"};
+constexpr std::array<std::string_view, 4> kNozzleKeys{"name", "position", "direction", "open"};
+constexpr std::array<std::string_view, 19> kActions{
     "play",   "pause", "step",  "reset",   "method", "iterations", "substeps", "solver",           "screenshot",
-    "attach", "union", "morph", "release", "view",   "resize",     "obstacle", "remove_obstacles", "whitewater"};
+    "attach", "union", "morph", "release", "view",   "resize",     "obstacle", "remove_obstacles", "whitewater",
+    "nozzle"};
+
+/// A nozzle action's keys: the emitter's name and what it changes.
+void read_nozzle_action(const json& a, const std::string& where, ViewAction& action) {
+    require(a, "name", "in " + where, "\"name\": \"tap\" (a key of the scene's emitters)");
+    if (!a["name"].is_string()) fail(child(where, "name") + " must be an emitter's name, got " + written(a["name"]));
+    action.value = a["name"].get<std::string>();
+    if (a.contains("position"))
+        action.position = read_vec3(a["position"], child(where, "position"), "a point [x, y, z]");
+    if (a.contains("direction"))
+        action.direction = read_vec3(a["direction"], child(where, "direction"), "a direction [x, y, z]");
+    if (a.contains("open")) {
+        if (!a["open"].is_boolean()) fail(child(where, "open") + " must be true or false, got " + written(a["open"]));
+        action.open = a["open"].get<bool>();
+    }
+    if (!action.position && !action.direction && !action.open)
+        fail(where +
+             ": a nozzle action changes something: give \"position\": [x, y, z], \"direction\": [x, y, z] or "
+             "\"open\": false");
+}
 
 /// Actions whose "file" is a mesh, named relative to the script.
 bool takes_mesh(const std::string& what) {
@@ -159,8 +181,21 @@ Result<std::vector<ViewAction>> parse_view_script(const std::string& text, const
                 fail(
                     child(where, "do") + " is \"" + action.what +
                     "\"; use play, pause, step, reset, method, view, iterations, substeps, solver, screenshot, attach, "
-                    "union, "
-                    "morph, release, obstacle, remove_obstacles, resize, whitewater or quit");
+                    "union, morph, release, obstacle, remove_obstacles, resize, whitewater, nozzle or quit");
+            for (std::string_view k : kNozzleKeys)
+                if (a.contains(k) && action.what != "nozzle")
+                    fail(child(where, std::string(k)) + ": only a nozzle action takes \"" + std::string(k) +
+                         "\"; remove it");
+            if (action.what == "nozzle") {
+                for (const char* other : {"file", "value"})
+                    if (a.contains(other))
+                        fail(child(where, other) +
+                             ": a nozzle action takes \"name\" and what it changes "
+                             "(\"position\", \"direction\", \"open\"); remove it");
+                read_nozzle_action(a, where, action);
+                actions.push_back(action);
+                continue;
+            }
             const bool takes_file = action.what == "screenshot" || takes_mesh(action.what);
             const char* key = takes_file ? "file" : "value";
             const bool needs = takes_file || action.what == "method" || action.what == "view" ||
@@ -272,10 +307,30 @@ Result<bool> check_script_actions(const std::vector<ViewAction>& actions, const 
                                   const std::vector<fs::path>& shapes) {
     const size_t boxes = scene.static_boxes.size(), own = scene.obstacles.size();
     size_t dropped = 0;
-    std::vector<fs::path> active = shapes;  // the control shapes as the actions before leave them
-    std::optional<Box> shape_place;         // where a shape goes (the fluid as it starts)
+    std::vector<fs::path> active = shapes;              // the control shapes as the actions before leave them
+    std::optional<Box> shape_place;                     // where a shape goes (the fluid as it starts)
+    std::vector<EmitterSpec> nozzles = scene.emitters;  // as the nozzle actions before leave them
     for (const ViewAction& a : actions) {
-        if (a.what == "remove_obstacles")
+        if (a.what == "nozzle") {
+            auto it =
+                std::find_if(nozzles.begin(), nozzles.end(), [&](const EmitterSpec& e) { return e.name == a.value; });
+            if (it == nozzles.end()) {
+                std::string names;
+                for (const EmitterSpec& e : nozzles) names += (names.empty() ? "\"" : ", \"") + e.name + "\"";
+                return Error{
+                    a.where() + " names \"" + a.value + "\", which is not one of the scene's emitters (" +
+                    (names.empty() ? std::string("it has none: a nozzle action needs a scene with emitters") : names) +
+                    "); fix the name"};
+            }
+            if (a.position) it->position = *a.position;
+            if (a.direction) {
+                if (!(glm::length(*a.direction) > 1e-6f))
+                    return Error{a.where() + ": its direction has length 0 and aims nowhere; give e.g. [0, -1, 0]"};
+                it->direction = glm::normalize(*a.direction);
+            }
+            if (auto placed = check_nozzle(*it, "emitters." + it->name, scene); !placed)
+                return Error{a.where() + " cannot move the nozzle there: " + placed.error()};
+        } else if (a.what == "remove_obstacles")
             dropped = 0;
         else if (a.what == "release")
             active.clear();

@@ -13,7 +13,9 @@
 // mesh in one second), release (the shapes let go), obstacle (an OBJ "file" dropped into the
 // flow as a still solid on the floor at the tank's centre; the fluid inside it is taken out),
 // remove_obstacles (those dropped go again), resize (the window to "value": "640x480"), whitewater
-// ("value": "on" or "off": the scene's whitewater drawn or not; it is made either way), quit.
+// ("value": "on" or "off": the scene's whitewater drawn or not; it is made either way), nozzle
+// (one of the scene's emitters, "name": moved to "position", aimed along "direction", or shut and
+// opened with "open": false / true; from the next step on), quit.
 // Frames count from 0 at the first
 // frame drawn; actions of one frame run in the order written.
 // Everything an action needs is checked before the first frame: names and values when the script
@@ -24,8 +26,11 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include <glm/glm.hpp>
 
 #include "core/result.h"
 #include "sim/scene.h"
@@ -36,7 +41,10 @@ struct ViewAction {
     uint32_t frame = 0;
     std::string
         what;  ///< play, pause, step, reset, method, iterations, substeps, screenshot, attach, union, morph, release, obstacle, remove_obstacles, resize, whitewater, quit
-    std::string value;   ///< method name, integer, or file
+    std::string value;  ///< method name, integer, file, or a nozzle's name
+    /// nozzle: what it changes (at least one).
+    std::optional<glm::vec3> position, direction;
+    std::optional<bool> open;
     uint32_t line = 0;   ///< where the script writes it (1-based; 0: not from a file)
     std::string origin;  ///< the script's file (empty: not from a script)
 
@@ -62,7 +70,8 @@ Result<bool> check_script_outputs(const std::vector<ViewAction>& actions, const 
 /// whose control meshes are `shapes`): each obstacle as the viewer drops it (obstacle_box, the
 /// obstacle reader's checks) and within the solver's solids (remove_obstacles frees those
 /// dropped), each shape placed as attach, union or morph place it, over the shapes the actions
-/// before it leave. The error names the action's line and the fix.
+/// before it leave, each nozzle action on an emitter of the scene and where the scene's emitters
+/// may stand. The error names the action's line and the fix.
 Result<bool> check_script_actions(const std::vector<ViewAction>& actions, const Scene& scene,
                                   const std::vector<std::filesystem::path>& shapes);
 

@@ -90,20 +90,54 @@ std::string obstacle_limit_refusal(size_t boxes, size_t own, size_t dropped) {
            std::to_string(PBF_MAX_SOLIDS) + "); " + fix;
 }
 
-std::optional<glm::vec3> point_under_cursor(const ViewCamera& camera, const Box& domain, glm::vec2 ndc, float aspect) {
+namespace {
+
+/// The mouse ray's direction (ndc in [-1, 1], y down).
+glm::vec3 cursor_ray(const ViewCamera& camera, glm::vec2 ndc, float aspect) {
     const glm::mat3 axes = camera_axes(camera);
     const float tan_y = std::tan(glm::radians(camera.fov_y_degrees) * 0.5f), tan_x = tan_y * aspect;
-    const glm::vec3 dir = glm::normalize(axes[2] + ndc.x * tan_x * axes[0] - ndc.y * tan_y * axes[1]);
-    // The vertical plane through the domain's centre that faces the camera (horizontally).
-    glm::vec3 normal(axes[2].x, 0.0f, axes[2].z);
-    if (glm::length(normal) < 1e-4f) normal = glm::vec3(0.0f, 0.0f, 1.0f);  // looking straight down
-    normal = glm::normalize(normal);
-    const glm::vec3 centre = 0.5f * (domain.min + domain.max);
+    return glm::normalize(axes[2] + ndc.x * tan_x * axes[0] - ndc.y * tan_y * axes[1]);
+}
+
+/// Where the mouse ray meets the plane through `point` with `normal`; nothing when it runs
+/// along it or away from it.
+std::optional<glm::vec3> cursor_on_plane(const ViewCamera& camera, glm::vec2 ndc, float aspect, const glm::vec3& point,
+                                         const glm::vec3& normal) {
+    const glm::vec3 dir = cursor_ray(camera, ndc, aspect);
     const float denom = glm::dot(dir, normal);
     if (std::abs(denom) < 1e-6f) return std::nullopt;
-    const float t = glm::dot(centre - camera.eye, normal) / denom;
+    const float t = glm::dot(point - camera.eye, normal) / denom;
     if (!(t > 0.0f)) return std::nullopt;
-    return glm::clamp(camera.eye + t * dir, domain.min, domain.max);
+    return camera.eye + t * dir;
+}
+
+/// The vertical plane's normal that faces the camera (horizontally).
+glm::vec3 facing_normal(const ViewCamera& camera) {
+    const glm::vec3 forward = camera_axes(camera)[2];
+    const glm::vec3 normal(forward.x, 0.0f, forward.z);
+    return glm::length(normal) < 1e-4f ? glm::vec3(0.0f, 0.0f, 1.0f) : glm::normalize(normal);  // looking straight down
+}
+
+}  // namespace
+
+std::optional<glm::vec3> point_under_cursor(const ViewCamera& camera, const Box& domain, glm::vec2 ndc, float aspect) {
+    const auto p = cursor_on_plane(camera, ndc, aspect, 0.5f * (domain.min + domain.max), facing_normal(camera));
+    if (!p) return std::nullopt;
+    return glm::clamp(*p, domain.min, domain.max);
+}
+
+std::optional<glm::vec3> nozzle_place_under_cursor(const ViewCamera& camera, const Box& domain, glm::vec2 ndc,
+                                                   float aspect, const glm::vec3& nozzle) {
+    const auto p = cursor_on_plane(camera, ndc, aspect, nozzle, glm::vec3(0.0f, 1.0f, 0.0f));
+    if (!p) return std::nullopt;
+    return glm::clamp(glm::vec3(p->x, nozzle.y, p->z), domain.min, domain.max);
+}
+
+std::optional<glm::vec3> nozzle_aim_under_cursor(const ViewCamera& camera, glm::vec2 ndc, float aspect,
+                                                 const glm::vec3& nozzle) {
+    const auto p = cursor_on_plane(camera, ndc, aspect, nozzle, facing_normal(camera));
+    if (!p || glm::length(*p - nozzle) < 1e-6f) return std::nullopt;
+    return glm::normalize(*p - nozzle);
 }
 
 }  // namespace aquaform::viewer

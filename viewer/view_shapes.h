@@ -50,4 +50,14 @@ std::string obstacle_limit_refusal(size_t boxes, size_t own, size_t dropped);
 /// clamped into the domain. Nothing when the ray runs away from that plane.
 std::optional<glm::vec3> point_under_cursor(const ViewCamera& camera, const Box& domain, glm::vec2 ndc, float aspect);
 
+/// Where a nozzle at `nozzle` goes when placed with the mouse: it keeps its height, at the point
+/// where the mouse ray meets that level (clamped into the domain). Nothing when the ray does not
+/// come down or up to it (the camera level with the nozzle).
+std::optional<glm::vec3> nozzle_place_under_cursor(const ViewCamera& camera, const Box& domain, glm::vec2 ndc,
+                                                   float aspect, const glm::vec3& nozzle);
+/// Where a nozzle at `nozzle` points when aimed with the mouse: at the point where the mouse ray
+/// meets the vertical plane through the nozzle that faces the camera (a unit direction).
+std::optional<glm::vec3> nozzle_aim_under_cursor(const ViewCamera& camera, glm::vec2 ndc, float aspect,
+                                                 const glm::vec3& nozzle);
+
 }  // namespace aquaform::viewer

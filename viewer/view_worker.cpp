@@ -18,6 +18,7 @@
 #include "render/surface_views.h"
 #include "session/simulation_session.h"
 #include "sim/blowup.h"
+#include "sim/fluid_flow.h"
 #include "sim/pbf_solver.h"
 #include "viewer/view_shapes.h"
 
@@ -191,6 +192,12 @@ struct ViewWorker::Sim {
                 break;
             case ViewOp::remove_obstacles:
                 if (session->remove_added_obstacles()) say("removed the dropped obstacles");
+                break;
+            case ViewOp::nozzle:
+                if (auto changed = session->change_nozzle(c.nozzle, c.nozzle_change); changed)
+                    say("nozzle " + changed.value());
+                else
+                    refuse(c, "cannot change the nozzle: " + changed.error());
                 break;
         }
         return false;
@@ -461,6 +468,11 @@ void ViewWorker::loop() {
         report_.refused = sim_->refused;
         report_.shape_files = sim_->session->shape_files();
         report_.solver = sim_->scene.solver;
+        report_.nozzles.clear();
+        for (size_t i = 0; i < sim_->scene.emitters.size(); ++i) {
+            const EmitterSpec& e = sim_->scene.emitters[i];
+            report_.nozzles.push_back({e.name, e.position, e.direction, sim_->solver->flow()->schedule().is_open(i)});
+        }
         const control::ControlDriver* driver = sim_->session->control();
         if (!driver)
             report_.shapes.reset();

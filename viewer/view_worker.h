@@ -82,8 +82,9 @@ struct PushStroke {
 };
 
 /// attach, union_with, morph and release act on the control shapes; obstacle drops a mesh into
-/// the flow as a still solid, remove_obstacles takes out those dropped.
-enum class ViewOp { step, reset, attach, union_with, morph, release, solver, obstacle, remove_obstacles };
+/// the flow as a still solid, remove_obstacles takes out those dropped; nozzle moves, aims, shuts
+/// or opens one of the scene's emitters.
+enum class ViewOp { step, reset, attach, union_with, morph, release, solver, obstacle, remove_obstacles, nozzle };
 
 struct ViewCommand {
     ViewOp op = ViewOp::step;
@@ -91,14 +92,24 @@ struct ViewCommand {
     SolverSettings solver;       ///< the settings of `solver` (the solver continues from its particles)
     std::optional<glm::vec3>
         at;  ///< where a shape or obstacle goes (a mesh dropped under the cursor); else view_shapes.h's default
+    std::string nozzle;                                      ///< nozzle: the emitter's name
+    session::SimulationSession::NozzleChange nozzle_change;  ///< nozzle: what changes
     /// A script's action (ViewAction::where()), or empty for the window's own: a scripted command
     /// that cannot be done is kept in ViewReport::refused (the command then exits 1); the
     /// window's are said and the session goes on.
     std::string script;
 };
 
+/// One of the scene's nozzles as it stands now (the window's nozzle panel).
+struct NozzleView {
+    std::string name;
+    glm::vec3 position{0.0f}, direction{0.0f, -1.0f, 0.0f};
+    bool open = true;
+};
+
 /// What the worker tells the window: its state after its last frame.
 struct ViewReport {
+    std::vector<NozzleView> nozzles;
     uint32_t particles = 0;
     double sim_time = 0.0;
     uint32_t substeps = 0;                       ///< the time-step rule's steps of the last simulated frame

@@ -193,6 +193,43 @@ private:
     void post(ViewOp op, const fs::path& file = {}, std::optional<glm::vec3> at = std::nullopt) {
         worker_->post({op, file, solver_settings_, at});
     }
+
+    /// Moves, aims, shuts or opens a nozzle of the scene (`script`: the action's where(), or
+    /// empty for the window's own).
+    void post_nozzle(const std::string& name, const session::SimulationSession::NozzleChange& change,
+                     const std::string& script = {}) {
+        ViewCommand c{ViewOp::nozzle};
+        c.solver = solver_settings_;
+        c.nozzle = name;
+        c.nozzle_change = change;
+        c.script = script;
+        worker_->post(std::move(c));
+    }
+
+    /// The nozzle the panel has selected, as the worker last reported it (nothing without emitters).
+    const NozzleView* selected_nozzle() const {
+        if (report_.nozzles.empty()) return nullptr;
+        return &report_.nozzles[size_t(std::clamp(nozzle_, 0, int(report_.nozzles.size()) - 1))];
+    }
+
+    /// Ctrl + left click places the selected nozzle under the cursor (at its height), Ctrl +
+    /// right click aims it at the point under the cursor. True when the click was the nozzle's.
+    bool nozzle_click(const ImGuiIO& io) {
+        const NozzleView* n = selected_nozzle();
+        if (!n || !io.KeyCtrl) return false;
+        const bool place = ImGui::IsMouseClicked(ImGuiMouseButton_Left),
+                   aim = ImGui::IsMouseClicked(ImGuiMouseButton_Right);
+        if (!place && !aim)
+            return ImGui::IsMouseDown(ImGuiMouseButton_Left) || ImGui::IsMouseDown(ImGuiMouseButton_Right);
+        const glm::vec2 size(std::max(io.DisplaySize.x, 1.0f), std::max(io.DisplaySize.y, 1.0f));
+        const glm::vec2 ndc = 2.0f * glm::vec2(io.MousePos.x, io.MousePos.y) / size - 1.0f;
+        session::SimulationSession::NozzleChange change;
+        if (place)
+            change.position = nozzle_place_under_cursor(orbit_.camera(), domain_, ndc, size.x / size.y, n->position);
+        if (aim) change.direction = nozzle_aim_under_cursor(orbit_.camera(), ndc, size.x / size.y, n->position);
+        if (change.position || change.direction) post_nozzle(n->name, change);
+        return true;
+    }
     /// A script's action on the worker: one it cannot do makes the command exit 1.
     void post(ViewOp op, const ViewAction& a) {
         worker_->post({op, a.value, solver_settings_, std::nullopt, a.where()});
@@ -247,6 +284,8 @@ private:
             resize(a.value);
         else if (a.what == "whitewater")
             controls_.show_whitewater = a.value == "on";
+        else if (a.what == "nozzle")
+            post_nozzle(a.value, {a.position, a.direction, a.open}, a.where());
         else if (a.what == "solver") {
             solver_settings_.method = a.value == "dfsph" ? PressureMethod::dfsph : PressureMethod::pbf;
             post(ViewOp::solver);
@@ -292,10 +331,10 @@ private:
     }
 
     /// Left drag pushes the fluid near the mouse ray along the drag; right drag orbits, middle
-    /// drag pans, the wheel zooms.
+    /// drag pans, the wheel zooms; with Ctrl held, clicks place and aim the selected nozzle.
     void handle_input() {
         ImGuiIO& io = ImGui::GetIO();
-        if (!io.WantCaptureMouse) {
+        if (!io.WantCaptureMouse && !nozzle_click(io)) {
             const ViewCamera camera = orbit_.camera();
             const glm::mat3 axes = camera_axes(camera);
             // World metres per pixel at the orbit's target.
@@ -417,6 +456,19 @@ private:
             else
                 ImGui::TextDisabled("no shape: type a mesh path or drop an OBJ on the window (Shift: as an obstacle)");
         }
+        if (!report_.nozzles.empty() && ImGui::CollapsingHeader("Nozzles", ImGuiTreeNodeFlags_DefaultOpen)) {
+            for (size_t i = 0; i < report_.nozzles.size(); ++i) {
+                const NozzleView& n = report_.nozzles[i];
+                if (ImGui::RadioButton(n.name.c_str(), nozzle_ == int(i))) nozzle_ = int(i);
+                ImGui::SameLine();
+                bool open = n.open;
+                if (ImGui::Checkbox(("open##" + n.name).c_str(), &open)) post_nozzle(n.name, {{}, {}, open});
+                ImGui::SameLine();
+                ImGui::TextDisabled("(%.2f, %.2f, %.2f)", n.position.x, n.position.y, n.position.z);
+            }
+            ImGui::TextDisabled("Ctrl + left click: place the selected nozzle (at its height)");
+            ImGui::TextDisabled("Ctrl + right click: aim it at the point under the cursor");
+        }
         if ((controls_.method == "adaptive" || controls_.method == "uniform") && ImGui::CollapsingHeader("Renderer")) {
             SurfaceSettings& r = controls_.surface;
             const SurfaceSettings before = r;
@@ -528,6 +580,7 @@ private:
     bool fly_ = false;  // the right button turns the view about the eye, WASD moves it
     bool show_shapes_ = true;
     char mesh_path_[512] = "assets/meshes/sphere.obj";
+    int nozzle_ = 0;  // the nozzle panel's selection
     VkDescriptorPool ui_pool_ = VK_NULL_HANDLE;
 };
 
