@@ -146,6 +146,25 @@ TEST_F(ProbeTest, ASensorReadsTheMeanPressureOverItsFace) {
     EXPECT_GT(std::abs(disc - centre), 0.01 * centre) << "a face that reads its centre alone would pass for this one";
 }
 
+TEST_F(ProbeTest, AGaugeReadsTheWaterATapPoursIn) {
+    // A tap fills a dry 0.15 x 0.15 m tank for 0.8 s: 7.07e-4 m^2 at 1 m/s makes 5.65e-4 m^3, 2.51 cm
+    // over the floor once it settles. The gauge stands in the corner, away from the jet, where
+    // slots beyond the count (were they read) would hold nothing of the tap's water.
+    const Scene scene = load_text(R"({"name": "tap and gauge", "domain": {"min": [0, 0, 0], "max": [0.15, 0.3, 0.15]},
+        "particle_spacing": 0.01, "frames": 80,
+        "emitters": {"tap": {"position": [0.075, 0.25, 0.075], "direction": [0, -1, 0], "radius": 0.015, "speed": 1,
+                             "stop": 0.8}},
+        "probes": {"gauges": {"corner": {"x": 0.025, "z": 0.025}}}})",
+                                  "probe_tap");
+    PbfSolver solver(ctx(), scene);
+    solver.run_frame(nullptr);
+    EXPECT_EQ(solver.probe_frame().steps.back().heights.at(0), 0.0) << "dry at the start";
+    const ProbeStep settled = settle_and_average(solver, 65, 10);
+    const double volume = double(solver.particle_count()) * 1e-6;
+    EXPECT_NEAR(volume, 7.0686e-4 * 0.8, 0.03 * 5.65e-4) << "the tap's water";
+    EXPECT_NEAR(settled.heights.at(0), volume / (0.15 * 0.15), 0.005) << "the gauge against the water's volume";
+}
+
 TEST(GaugeHeight, CountsTheWaterConnectedToWhatItStandsOnNotSprayAboveIt) {
     // Samples every 0.01 m from y = 0.005: two in a solid, water to 0.055, air, then spray.
     const std::vector<float> samples{PROBE_IN_SOLID, PROBE_IN_SOLID, 1.0f, 1.0f, 1.0f, 0.75f,
