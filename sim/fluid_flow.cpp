@@ -87,11 +87,8 @@ uint32_t FluidFlow::held_particles() const {
     return held;
 }
 
-void FluidFlow::record_mark(VkCommandBuffer cmd, const gpu::Buffer& x, uint32_t alive, gpu::GpuTimer* timer) {
-    gpu::GpuScope scope(timer, cmd, "sim_sinks");
-    gpu::fill(*ctx_, cmd, *removed_, 0u);
-    mark_in_flight_ = true;
-    const shader::FlowPush push{alive, 0u, 0u, 0u, 0u, FLOW_MARK, 0u, 0u};
+void FluidFlow::dispatch_sinks(VkCommandBuffer cmd, const gpu::Buffer& x, uint32_t alive, uint32_t phase) {
+    const shader::FlowPush push{alive, 0u, 0u, 0u, 0u, phase, 0u, 0u};
     gpu::dispatch(*ctx_, cmd, sinks_pass_, alive, push,
                   {{"table", sinks_},
                    {"sink_nodes", sink_nodes_},
@@ -100,6 +97,13 @@ void FluidFlow::record_mark(VkCommandBuffer cmd, const gpu::Buffer& x, uint32_t 
                    {"rank", rank_},
                    {"order", order_},
                    {"removed", removed_}});
+}
+
+void FluidFlow::record_mark(VkCommandBuffer cmd, const gpu::Buffer& x, uint32_t alive, gpu::GpuTimer* timer) {
+    gpu::GpuScope scope(timer, cmd, "sim_sinks");
+    gpu::fill(*ctx_, cmd, *removed_, 0u);
+    mark_in_flight_ = true;
+    dispatch_sinks(cmd, x, alive, FLOW_MARK);
     scan_.record(cmd, *rank_, alive);
     gpu::host_read_barrier(cmd);
 }
@@ -115,15 +119,7 @@ uint32_t FluidFlow::collect_marked() {
 const gpu::Buffer& FluidFlow::record_kept_order(VkCommandBuffer cmd, const gpu::Buffer& x, uint32_t alive,
                                                 gpu::GpuTimer* timer) {
     gpu::GpuScope scope(timer, cmd, "sim_sinks");
-    const shader::FlowPush push{alive, 0u, 0u, 0u, 0u, FLOW_ORDER, 0u, 0u};
-    gpu::dispatch(*ctx_, cmd, sinks_pass_, alive, push,
-                  {{"table", sinks_},
-                   {"sink_nodes", sink_nodes_},
-                   {"x", &x},
-                   {"keep", keep_},
-                   {"rank", rank_},
-                   {"order", order_},
-                   {"removed", removed_}});
+    dispatch_sinks(cmd, x, alive, FLOW_ORDER);
     pending_ = 0;
     return *order_;
 }

@@ -66,6 +66,8 @@ public:
     std::vector<gpu::BufferReport> memory_report() const { return buffers_.report(); }
 
 private:
+    /// flow_sinks.comp over the alive particles, in `phase` (FLOW_MARK or FLOW_ORDER).
+    void dispatch_sinks(VkCommandBuffer cmd, const gpu::Buffer& x, uint32_t alive, uint32_t phase);
     gpu::Context* ctx_;
     FlowSchedule schedule_;
     uint32_t capacity_;

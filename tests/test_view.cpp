@@ -423,17 +423,14 @@ TEST(ViewScriptTest, NozzleActionsAreCheckedAgainstTheScenesEmitters) {
 }
 
 TEST(ViewCliTest, AScriptMovesAimsAndShutsANozzle) {
-    const fs::path out = test_cli::temp_dir("view_nozzle");
     auto [status, output] = run_view_under_xvfb(
         AQUAFORM_ASSETS_DIR "/scenes/tap_fills_glass.json --resolution 320x240 --script " AQUAFORM_SOURCE_DIR
-                            "/tests/data/view_nozzle.json --record " +
-        out.string());
+                            "/tests/data/view_nozzle.json");
     ASSERT_EQ(status, 0) << output;
     EXPECT_NE(output.find("nozzle tap at [0.07,0.26,0.12]"), std::string::npos) << output;
     EXPECT_NE(output.find(", shut"), std::string::npos) << output;
     EXPECT_EQ(output.find("validation error"), std::string::npos) << output;
     // What the moved nozzle's water does is FlowTest.AViewerNozzleMovesShutsAndKeepsItsPlaceInANewSolver's.
-    fs::remove_all(out);
 }
 
 TEST(ViewScriptTest, AScreenshotThatCannotBeWrittenIsRefusedAtLoadWithItsLine) {
