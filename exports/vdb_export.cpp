@@ -17,7 +17,8 @@ namespace {
 
 /// Why `volume` cannot be written, or empty.
 std::string volume_problem(const DensityVolume& volume) {
-    if (volume.dims.x == 0 || volume.dims.y == 0 || volume.dims.z == 0) return "the volume has no samples";
+    // No samples at all is a frame without fluid (a scene whose water all comes from nozzles, a
+    // drain that took it all): an empty grid, so that a series keeps a file for every frame.
     if (volume.values.size() != volume.sample_count())
         return "the volume holds " + std::to_string(volume.values.size()) + " values for " +
                std::to_string(volume.dims.x) + "x" + std::to_string(volume.dims.y) + "x" +

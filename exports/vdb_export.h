@@ -4,7 +4,8 @@
 // iso value the renderer draws is stored in the grid's metadata as "aquaform_iso", so the same
 // surface can be meshed there (e.g. Houdini's Convert VDB at that iso). Index (i, j, k) is at
 // world position origin + voxel * (i, j, k). Samples at or below kVdbZeroTolerance stay
-// inactive background, so the file holds only the fluid's neighbourhood.
+// inactive background, so the file holds only the fluid's neighbourhood. A volume without samples
+// (a frame without fluid) is an empty grid: a series has a file for every frame.
 //
 // OpenVDB's headers stay inside vdb_export.cpp (they are heavy to compile).
 #pragma once

@@ -548,6 +548,23 @@ TEST(ToolsBlenderScene, ARunThatStartsEmptyShowsNoWaterThenTheNozzlesWater) {
     ASSERT_EQ(c.status, 0) << command << "\n" << c.err;
     EXPECT_LT(water_pixels(prefix.string() + "0000.png"), 5) << "water drawn before the tap made any";
     EXPECT_GT(water_pixels(prefix.string() + "0012.png"), 20) << "the tap's water is not drawn";
+
+    // The same with density volumes: frame 0's holds an empty grid (it was refused as "no
+    // samples", which stopped the run), and Blender's volume sequence starts with it.
+    const fs::path volumes = dir / "volumes";
+    const auto v = test_cli::run_aquaform_split("run '" + (dir / "scene.json").string() + "' --out '" +
+                                                    volumes.string() + "' --no-png --frames 13 --vdb-every 1",
+                                                dir, 300);
+    ASSERT_EQ(v.exit_code, 0) << v.err;
+    for (const char* name : {"density_0000.vdb", "density_0012.vdb"}) EXPECT_TRUE(fs::exists(volumes / name)) << name;
+    const fs::path vprefix = dir / "volume_";
+    const std::string vcommand = "blender -b --factory-startup -P '" + kSource + "/scripts/blender_scene.py' -- '" +
+                                 volumes.string() + "' --render '" + vprefix.string() +
+                                 "' --resolution 64x36 --frames 0:12:12 --samples 4";
+    const auto vc = run_command(vcommand, dir, "blender_scene_tap_volumes");
+    ASSERT_EQ(vc.status, 0) << vcommand << "\n" << vc.err;
+    EXPECT_LT(water_pixels(vprefix.string() + "0000.png"), 5) << "water drawn before the tap made any";
+    EXPECT_GT(water_pixels(vprefix.string() + "0012.png"), 20) << "the tap's water is not drawn from its volume";
 }
 
 /// Pixels of `with` that are near-neutral and brighter than in `without` by more than 40 of 255 in
