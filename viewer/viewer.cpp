@@ -149,6 +149,7 @@ private:
         if (options_.lockstep) worker_->wait(worker_->request_frame());
         picture_ = worker_->take_picture();
         draw_shapes();
+        draw_nozzles();
         ImGui::Render();
         window_.blit(cmd, *picture_.rgba, picture_.width, picture_.height);
         window_.begin_ui(cmd);
@@ -168,6 +169,33 @@ private:
             for (const WireEdge& e : project_wireframe(mesh.vertices, mesh.faces, controls_.camera, w, h))
                 draw->AddLine(ImVec2(e.a.x + 0.5f, e.a.y + 0.5f), ImVec2(e.b.x + 0.5f, e.b.y + 0.5f),
                               e.silhouette ? IM_COL32(255, 140, 40, 230) : IM_COL32(255, 140, 40, 50));
+    }
+
+    /// Each nozzle over the picture: a ring where it stands and a line 5 cm along its aim, the
+    /// selected one bright (the window's overlay, not in screenshots).
+    void draw_nozzles() {
+        if (report_.nozzles.empty()) return;
+        const ImGuiIO& io = ImGui::GetIO();
+        const glm::vec2 size(std::max(io.DisplaySize.x, 1.0f), std::max(io.DisplaySize.y, 1.0f));
+        const CameraBlock view = camera_block(controls_.camera, uint32_t(size.x), uint32_t(size.y));
+        const auto on_screen = [&](const glm::vec3& p) -> std::optional<ImVec2> {
+            const glm::vec3 rel = p - glm::vec3(view.eye);
+            const float z = glm::dot(rel, glm::vec3(view.forward));
+            if (!(z > 1e-4f)) return std::nullopt;  // behind the eye
+            const float u = glm::dot(rel, glm::vec3(view.right)) / (z * view.forward.w);
+            const float v = -glm::dot(rel, glm::vec3(view.up)) / (z * view.right.w);
+            return ImVec2(0.5f * (u + 1.0f) * size.x, 0.5f * (v + 1.0f) * size.y);
+        };
+        ImDrawList* draw = ImGui::GetBackgroundDrawList();
+        for (size_t i = 0; i < report_.nozzles.size(); ++i) {
+            const NozzleView& n = report_.nozzles[i];
+            const auto at = on_screen(n.position), to = on_screen(n.position + 0.05f * n.direction);
+            if (!at) continue;
+            const bool selected = int(i) == nozzle_;
+            const ImU32 colour = n.open ? IM_COL32(80, 200, 255, selected ? 255 : 120) : IM_COL32(160, 160, 160, 160);
+            draw->AddCircle(*at, selected ? 7.0f : 5.0f, colour, 16, 2.0f);
+            if (to) draw->AddLine(*at, *to, colour, 2.0f);
+        }
     }
 
     /// The picture the window shows (without the UI) as PNG.
@@ -466,8 +494,12 @@ private:
                 ImGui::SameLine();
                 ImGui::TextDisabled("(%.2f, %.2f, %.2f)", n.position.x, n.position.y, n.position.z);
             }
-            ImGui::TextDisabled("Ctrl + left click: place the selected nozzle (at its height)");
-            ImGui::TextDisabled("Ctrl + right click: aim it at the point under the cursor");
+            // The panel is narrow: the long form is in docs/viewer.md and the tooltip.
+            ImGui::TextDisabled("Ctrl+left click: place, Ctrl+right: aim");
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip(
+                    "Ctrl + left click places the selected nozzle under the cursor, at its height;\n"
+                    "Ctrl + right click aims it at the point under the cursor");
         }
         if ((controls_.method == "adaptive" || controls_.method == "uniform") && ImGui::CollapsingHeader("Renderer")) {
             SurfaceSettings& r = controls_.surface;
