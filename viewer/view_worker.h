@@ -92,12 +92,13 @@ struct ViewCommand {
     SolverSettings solver;       ///< the settings of `solver` (the solver continues from its particles)
     std::optional<glm::vec3>
         at;  ///< where a shape or obstacle goes (a mesh dropped under the cursor); else view_shapes.h's default
-    std::string nozzle;                                      ///< nozzle: the emitter's name
-    session::SimulationSession::NozzleChange nozzle_change;  ///< nozzle: what changes
     /// A script's action (ViewAction::where()), or empty for the window's own: a scripted command
     /// that cannot be done is kept in ViewReport::refused (the command then exits 1); the
     /// window's are said and the session goes on.
     std::string script;
+    // After `script`: positional initialisations {op, file, solver, at, script} stay as they were.
+    std::string nozzle;                                      ///< nozzle: the emitter's name
+    session::SimulationSession::NozzleChange nozzle_change;  ///< nozzle: what changes
 };
 
 /// One of the scene's nozzles as it stands now (the window's nozzle panel).
