@@ -528,43 +528,30 @@ TEST(ToolsBlenderScene, PlacesTheRunsObstaclesAsTheyStandAtEachFrame) {
 }
 
 TEST(ToolsBlenderScene, ARunThatStartsEmptyShowsNoWaterThenTheNozzlesWater) {
-    // A tap into an empty tank: frame 0's surface export holds no water, and Blender shows the
-    // water as it arrives (the scene's count changes from frame to frame).
+    // A tap into an empty tank: frame 0's export holds no water, and Blender shows the water as
+    // it arrives (the scene's count changes from frame to frame), from surfaces and from density
+    // volumes (frame 0's is an empty grid: it was refused as "no samples", which stopped the run).
     const fs::path dir = work_dir("scene_tap");
     test_cli::write_file(dir / "scene.json",
                          R"({"name": "tap", "domain": {"min": [0, 0, 0], "max": [0.4, 0.4, 0.4]},
         "particle_spacing": 0.02, "emitters": {"tap": {"position": [0.2, 0.3, 0.2], "direction": [0, -1, 0],
         "radius": 0.06, "speed": 1.0}}})");
-    const fs::path run = dir / "run";
-    const auto o = test_cli::run_aquaform_split(
-        "run '" + (dir / "scene.json").string() + "' --out '" + run.string() + "' --no-png --frames 13 --mesh-every 12",
-        dir, 300);
-    ASSERT_EQ(o.exit_code, 0) << o.err;
-    const fs::path prefix = dir / "scene_";
-    const std::string command = "blender -b --factory-startup -P '" + kSource + "/scripts/blender_scene.py' -- '" +
-                                run.string() + "' --render '" + prefix.string() +
-                                "' --resolution 64x36 --frames 0:12:12 --samples 4";
-    const auto c = run_command(command, dir, "blender_scene_tap");
-    ASSERT_EQ(c.status, 0) << command << "\n" << c.err;
-    EXPECT_LT(water_pixels(prefix.string() + "0000.png"), 5) << "water drawn before the tap made any";
-    EXPECT_GT(water_pixels(prefix.string() + "0012.png"), 20) << "the tap's water is not drawn";
-
-    // The same with density volumes: frame 0's holds an empty grid (it was refused as "no
-    // samples", which stopped the run), and Blender's volume sequence starts with it.
-    const fs::path volumes = dir / "volumes";
-    const auto v = test_cli::run_aquaform_split("run '" + (dir / "scene.json").string() + "' --out '" +
-                                                    volumes.string() + "' --no-png --frames 13 --vdb-every 1",
-                                                dir, 300);
-    ASSERT_EQ(v.exit_code, 0) << v.err;
-    for (const char* name : {"density_0000.vdb", "density_0012.vdb"}) EXPECT_TRUE(fs::exists(volumes / name)) << name;
-    const fs::path vprefix = dir / "volume_";
-    const std::string vcommand = "blender -b --factory-startup -P '" + kSource + "/scripts/blender_scene.py' -- '" +
-                                 volumes.string() + "' --render '" + vprefix.string() +
-                                 "' --resolution 64x36 --frames 0:12:12 --samples 4";
-    const auto vc = run_command(vcommand, dir, "blender_scene_tap_volumes");
-    ASSERT_EQ(vc.status, 0) << vcommand << "\n" << vc.err;
-    EXPECT_LT(water_pixels(vprefix.string() + "0000.png"), 5) << "water drawn before the tap made any";
-    EXPECT_GT(water_pixels(vprefix.string() + "0012.png"), 20) << "the tap's water is not drawn from its volume";
+    for (const std::string export_flag : {"--mesh-every 12", "--vdb-every 1"}) {
+        const std::string name = export_flag == "--vdb-every 1" ? "volumes" : "surfaces";
+        const fs::path run = dir / name;
+        const auto o = test_cli::run_aquaform_split("run '" + (dir / "scene.json").string() + "' --out '" +
+                                                        run.string() + "' --no-png --frames 13 " + export_flag,
+                                                    dir, 300);
+        ASSERT_EQ(o.exit_code, 0) << export_flag << ": " << o.err;
+        const fs::path prefix = dir / (name + "_");
+        const std::string command = "blender -b --factory-startup -P '" + kSource + "/scripts/blender_scene.py' -- '" +
+                                    run.string() + "' --render '" + prefix.string() +
+                                    "' --resolution 64x36 --frames 0:12:12 --samples 4";
+        const auto c = run_command(command, dir, "blender_scene_tap_" + name);
+        ASSERT_EQ(c.status, 0) << command << "\n" << c.err;
+        EXPECT_LT(water_pixels(prefix.string() + "0000.png"), 5) << name << ": water drawn before the tap made any";
+        EXPECT_GT(water_pixels(prefix.string() + "0012.png"), 20) << name << ": the tap's water is not drawn";
+    }
 }
 
 /// Pixels of `with` that are near-neutral and brighter than in `without` by more than 40 of 255 in
