@@ -118,8 +118,9 @@ SectionBuilder& SectionBuilder::event(TimelineAction action, const std::string& 
         const auto it = std::find_if(section_.meshes.begin(), section_.meshes.end(),
                                      [&](const ControlMesh& m) { return m.name == mesh; });
         if (it == section_.meshes.end()) {
-            std::string names;
-            for (const ControlMesh& m : section_.meshes) names += (names.empty() ? "\"" : ", \"") + m.name + "\"";
+            std::vector<std::string> mesh_names;
+            for (const ControlMesh& m : section_.meshes) mesh_names.push_back(m.name);
+            const std::string names = json_fields::quoted_list(mesh_names);
             fail(where + ".mesh is \"" + mesh + "\", which is not a mesh of the section (" +
                  (names.empty() ? "none defined" : names) + "); add it with mesh() before the event or fix the name");
         } else {

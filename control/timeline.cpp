@@ -31,17 +31,16 @@ uint32_t tag_bit(size_t tag, const FluidTags& tags, const std::string& elem, con
     return 1u << kLastTagBit;
 }
 
-std::string quoted_list(const std::vector<std::string>& names) {
-    std::string list;
-    for (const std::string& n : names) list += (list.empty() ? "\"" : ", \"") + n + "\"";
-    return names.empty() ? "none defined" : list;
+/// The names a message lists, or "none defined".
+std::string listed(const std::vector<std::string>& names) {
+    return names.empty() ? "none defined" : quoted_list(names);
 }
 
 uint32_t emitter_bit(const json& name, const FluidTags& tags, const std::string& elem) {
     const auto it = std::find(tags.emitters.begin(), tags.emitters.end(), name.get<std::string>());
     if (it == tags.emitters.end())
-        fail(elem + " is " + written(name) + ", which is not a key of the scene's emitters (" +
-             quoted_list(tags.emitters) + "); name an emitter, or give a fluid block's index");
+        fail(elem + " is " + written(name) + ", which is not a key of the scene's emitters (" + listed(tags.emitters) +
+             "); name an emitter, or give a fluid block's index");
     return tag_bit(tags.fluid_blocks + size_t(it - tags.emitters.begin()), tags, elem, "emitters." + *it);
 }
 
@@ -140,7 +139,7 @@ Timeline Timeline::parse(const json& v, const std::string& path, const std::vect
                                           : mesh_names.end();
             if (it == mesh_names.end())
                 fail(where + ".mesh is " + written(m) + ", which is not a key of control.meshes (" +
-                     quoted_list(mesh_names) + "); define it there or fix the name");
+                     listed(mesh_names) + "); define it there or fix the name");
             ev.mesh = int(it - mesh_names.begin());
         }
         if (e.contains("tags")) {

@@ -71,6 +71,12 @@ std::string join(std::span<const std::string_view> keys) {
     return s;
 }
 
+std::string quoted_list(std::span<const std::string> names) {
+    std::string s;
+    for (const std::string& n : names) s += (s.empty() ? "\"" : ", \"") + n + "\"";
+    return s;
+}
+
 // ---- keys ------------------------------------------------------------------------------------
 
 namespace {

@@ -35,6 +35,8 @@ std::string fmt(double x);
 std::string fmt(const glm::vec3& v);
 std::string fmt(const Box& b);
 std::string join(std::span<const std::string_view> keys);
+/// "a", "b", "c": names as a message lists them (empty for none).
+std::string quoted_list(std::span<const std::string> names);
 
 /// `where` is "at top level" or "in <path>". Rejects keys outside `allowed`, suggesting the
 /// closest allowed key for a typo.

@@ -314,8 +314,7 @@ Result<std::string> SimulationSession::change_nozzle(const std::string& name, co
     const auto it = std::find_if(scene_.emitters.begin(), scene_.emitters.end(),
                                  [&](const EmitterSpec& e) { return e.name == name; });
     if (it == scene_.emitters.end()) {
-        std::string names;
-        for (const EmitterSpec& e : scene_.emitters) names += (names.empty() ? "\"" : ", \"") + e.name + "\"";
+        const std::string names = emitter_names(scene_.emitters);
         return Error{"the scene has no nozzle \"" + name + "\" (" +
                      (names.empty() ? std::string("it has no emitters: add one to its \"emitters\"")
                                     : "its emitters: " + names) +

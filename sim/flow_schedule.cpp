@@ -39,12 +39,6 @@ shader::FlowLayer FlowSchedule::layer_of(const Nozzle& n, size_t index, uint64_t
     return layer;
 }
 
-std::vector<EmitterSpec> FlowSchedule::nozzles() const {
-    std::vector<EmitterSpec> specs;
-    for (const Nozzle& n : nozzles_) specs.push_back(n.spec);
-    return specs;
-}
-
 void FlowSchedule::steer(size_t nozzle, const glm::vec3& position, const glm::vec3& direction) {
     Nozzle& n = nozzles_.at(nozzle);
     n.spec.position = position;

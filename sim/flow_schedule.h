@@ -50,7 +50,6 @@ public:
     /// a nozzle lets its held layers go where they stand (they were held on the old pose) and
     /// starts the hold anew; a nozzle shut emits nothing and holds nothing, and when opened again
     /// goes on from the layer it had begun, as if the shut time had not been.
-    std::vector<EmitterSpec> nozzles() const;
     void steer(size_t nozzle, const glm::vec3& position, const glm::vec3& direction);
     void set_open(size_t nozzle, bool open);
     bool is_open(size_t nozzle) const { return nozzles_[nozzle].open; }

@@ -168,6 +168,12 @@ EmitterSpec read_emitter(const std::string& name, const json& v, const std::stri
 
 }  // namespace
 
+std::string emitter_names(const std::vector<EmitterSpec>& emitters) {
+    std::vector<std::string> names;
+    for (const EmitterSpec& e : emitters) names.push_back(e.name);
+    return quoted_list(names);
+}
+
 Result<bool> check_nozzle(const EmitterSpec& e, const std::string& path, const SceneBasics& scene) {
     try {
         check_nozzle_place(e, path, scene);

@@ -110,6 +110,9 @@ inline constexpr size_t kMaxSinks = 8;
 /// facing in); "speed" a number or keys [[t, v], ...]. Checks the nozzle lies in the tank and out
 /// of the solids and its speed is one the solver can carry. Throws json_fields::Invalid.
 std::vector<EmitterSpec> read_emitters(const nlohmann::json& v, const SceneBasics& scene);
+/// The emitters' names as a message lists them: "tap", "hose" (empty for none).
+std::string emitter_names(const std::vector<EmitterSpec>& emitters);
+
 /// Whether the nozzle stands where read_emitters accepts one: in the tank, out of the solids
 /// (the viewer checks a nozzle it moves). The error names `path` and the fix.
 Result<bool> check_nozzle(const EmitterSpec& emitter, const std::string& path, const SceneBasics& scene);

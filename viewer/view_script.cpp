@@ -315,8 +315,7 @@ Result<bool> check_script_actions(const std::vector<ViewAction>& actions, const 
             auto it =
                 std::find_if(nozzles.begin(), nozzles.end(), [&](const EmitterSpec& e) { return e.name == a.value; });
             if (it == nozzles.end()) {
-                std::string names;
-                for (const EmitterSpec& e : nozzles) names += (names.empty() ? "\"" : ", \"") + e.name + "\"";
+                const std::string names = emitter_names(nozzles);
                 return Error{
                     a.where() + " names \"" + a.value + "\", which is not one of the scene's emitters (" +
                     (names.empty() ? std::string("it has none: a nozzle action needs a scene with emitters") : names) +
